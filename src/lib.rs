@@ -1,0 +1,19 @@
+//! cwsynth — optimisation-driven counterweight and mechanism synthesis.
+//!
+//! The crate is layered so that physics, synthesis and I/O can change independently:
+//!
+//! * [`units`] — quantities with units at the edges (`"35 mm"` → 0.035 m).
+//! * [`numeric`], [`geom`] — shared 1-D solvers and closed-form constructions.
+//! * [`mech`] — pure mechanism models (kinematics, forces, torques); no I/O, no design
+//!   variables.
+//! * [`synth`] — design vectors, bounds, objectives and the solvers (clarabel for the convex
+//!   sub-problems, argmin for the outer searches).
+//! * [`io`] — problem files (raw serde layer and resolved, checked scenes), results, reports,
+//!   plots.
+//! * [`cli`] — the command line; `main.rs` only calls [`cli::main`].
+
+pub mod geom;
+pub mod mech;
+pub mod numeric;
+pub mod synth;
+pub mod units;

@@ -1,0 +1,233 @@
+//! Shared 1-D numerics: bracketing root finding, bounded maximisation and the refined
+//! peak of a periodic function.
+//!
+//! Every family needs "locate this to 1e-12 in one variable" (a root of C4, a pole of µ, a
+//! local maximum of |F|). These wrappers put argmin's Brent solvers behind plain closures,
+//! so that a model module only writes `f(x)`, and they never panic: a failure is a value.
+
+use argmin::core::{CostFunction, Error as ArgminError, Executor, State};
+use argmin::solver::brent::{BrentOpt, BrentRoot};
+
+/// A closure as an argmin cost function.
+struct FnCost<F>(F);
+
+impl<F: Fn(f64) -> f64> CostFunction for FnCost<F> {
+    type Param = f64;
+    type Output = f64;
+    fn cost(&self, x: &f64) -> Result<f64, ArgminError> {
+        Ok((self.0)(*x))
+    }
+}
+
+/// A root located by [`brent_root`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Root {
+    /// The root's abscissa.
+    pub x: f64,
+    /// The function's value there.
+    pub fx: f64,
+    /// Function evaluations spent.
+    pub evals: u64,
+}
+
+/// Why a 1-D search did not return a value.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum SearchError {
+    /// `f(a)` and `f(b)` have the same sign: there is no bracket.
+    #[error("no sign change on [{a}, {b}]: f(a) = {fa}, f(b) = {fb}")]
+    NotBracketed { a: f64, b: f64, fa: f64, fb: f64 },
+    /// The function returned NaN or an infinity inside the interval.
+    #[error("the function is not finite at x = {x}")]
+    NotFinite { x: f64 },
+    /// The solver itself failed.
+    #[error("1-D solver failed: {0}")]
+    Solver(String),
+}
+
+/// Root of `f` on the bracket `[a, b]` (`f(a)·f(b) ≤ 0`) by Brent's method (argmin's
+/// [`BrentRoot`]) to an absolute tolerance `tol` in x.
+pub fn brent_root<F: Fn(f64) -> f64>(f: F, a: f64, b: f64, tol: f64) -> Result<Root, SearchError> {
+    let (fa, fb) = (f(a), f(b));
+    if !fa.is_finite() {
+        return Err(SearchError::NotFinite { x: a });
+    }
+    if !fb.is_finite() {
+        return Err(SearchError::NotFinite { x: b });
+    }
+    if fa == 0.0 {
+        return Ok(Root { x: a, fx: 0.0, evals: 2 });
+    }
+    if fb == 0.0 {
+        return Ok(Root { x: b, fx: 0.0, evals: 2 });
+    }
+    if fa.signum() == fb.signum() {
+        return Err(SearchError::NotBracketed { a, b, fa, fb });
+    }
+    let solver = BrentRoot::new(a, b, tol);
+    let res = Executor::new(FnCost(&f), solver)
+        .configure(|s| s.param(0.5 * (a + b)).max_iters(200))
+        .run()
+        .map_err(|e| SearchError::Solver(e.to_string()))?;
+    let st = res.state();
+    let x = *st.get_best_param().ok_or(SearchError::Solver("no root returned".into()))?;
+    let fx = f(x);
+    if !fx.is_finite() {
+        return Err(SearchError::NotFinite { x });
+    }
+    Ok(Root { x, fx, evals: st.get_func_counts().get("cost_count").copied().unwrap_or(0) + 2 })
+}
+
+/// A maximum located by [`brent_max`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Extremum {
+    /// Abscissa of the maximum.
+    pub x: f64,
+    /// Value of the function there.
+    pub fx: f64,
+}
+
+/// Maximum of a unimodal `f` on `[a, b]` by Brent's parabolic/golden search (argmin's
+/// [`BrentOpt`] on `−f`), to an absolute tolerance `xtol` in x. The returned value is never
+/// below `max(f(a), f(b))`.
+pub fn brent_max<F: Fn(f64) -> f64>(f: F, a: f64, b: f64, xtol: f64) -> Result<Extremum, SearchError> {
+    let neg = |x: f64| -f(x);
+    let solver = BrentOpt::new(a, b).set_tolerance(1e-14, xtol);
+    let res = Executor::new(FnCost(&neg), solver)
+        .configure(|s| s.max_iters(200))
+        .run()
+        .map_err(|e| SearchError::Solver(e.to_string()))?;
+    let st = res.state();
+    let x = *st.get_best_param().ok_or(SearchError::Solver("no maximum returned".into()))?;
+    let mut best = Extremum { x, fx: f(x) };
+    for e in [a, b] {
+        let fe = f(e);
+        if fe > best.fx {
+            best = Extremum { x: e, fx: fe };
+        }
+    }
+    if !best.fx.is_finite() {
+        return Err(SearchError::NotFinite { x: best.x });
+    }
+    Ok(best)
+}
+
+/// The refined maxima of a 2π-periodic function.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PeriodicPeak {
+    /// Every refined local maximum `(φ in [0, 2π), value)`, sorted by φ.
+    pub maxima: Vec<Extremum>,
+    /// The largest of them.
+    pub peak: Extremum,
+    /// Bound on |true peak − `peak.fx`| from the refinement tolerance (the value error of a
+    /// maximum located to `xtol` is ½·|f''|·xtol², with |f''| estimated from the samples).
+    pub error: f64,
+    /// Function evaluations spent.
+    pub evals: usize,
+}
+
+/// Peak of a 2π-periodic `f`: sample `n` equally spaced angles, take every sample that is
+/// not below its two neighbours as a candidate, and refine each on its two neighbouring
+/// intervals by Brent to `xtol`. A maximum narrower than `2π/n` can be missed; callers pick
+/// `n` for their function's bandwidth and test the choice.
+pub fn periodic_peak<F: Fn(f64) -> f64>(f: F, n: usize, xtol: f64) -> Result<PeriodicPeak, SearchError> {
+    let n = n.max(8);
+    let h = std::f64::consts::TAU / n as f64;
+    let ys: Vec<f64> = (0..n).map(|k| f(k as f64 * h)).collect();
+    if let Some(k) = ys.iter().position(|y| !y.is_finite()) {
+        return Err(SearchError::NotFinite { x: k as f64 * h });
+    }
+    let mut maxima = Vec::new();
+    let mut evals = n;
+    let mut curv: f64 = 0.0;
+    for k in 0..n {
+        let (yp, y, yn) = (ys[(k + n - 1) % n], ys[k], ys[(k + 1) % n]);
+        curv = curv.max(((yp - 2.0 * y + yn) / (h * h)).abs());
+        // A plateau (all equal) has every sample a "maximum": keep only strict-left ones.
+        if y >= yn && y > yp {
+            let c = k as f64 * h;
+            let count = std::cell::Cell::new(0usize);
+            let fc = |x: f64| {
+                count.set(count.get() + 1);
+                f(x)
+            };
+            let e = brent_max(fc, c - h, c + h, xtol)?;
+            evals += count.get();
+            maxima.push(Extremum { x: e.x.rem_euclid(std::f64::consts::TAU), fx: e.fx.max(y) });
+        }
+    }
+    if maxima.is_empty() {
+        // A constant function: every point is the peak.
+        maxima.push(Extremum { x: 0.0, fx: ys[0] });
+    }
+    maxima.sort_by(|a, b| a.x.total_cmp(&b.x));
+    let peak = *maxima.iter().max_by(|a, b| a.fx.total_cmp(&b.fx)).unwrap();
+    Ok(PeriodicPeak { maxima, peak, error: 0.5 * curv * xtol * xtol, evals })
+}
+
+/// Mean and RMS of a 2π-periodic function by the trapezoid rule on `n` points, which is
+/// spectrally accurate for smooth periodic functions; the error estimate is the change from
+/// `n/2` points (an over-estimate once the rule has converged).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PeriodicRms {
+    /// sqrt(mean(f²)).
+    pub rms: f64,
+    /// |rms(n) − rms(n/2)|.
+    pub error: f64,
+}
+
+/// RMS of a periodic function (see [`PeriodicRms`]); `n` is rounded up to an even number.
+pub fn periodic_rms<F: Fn(f64) -> f64>(f: F, n: usize) -> PeriodicRms {
+    let n = (n.max(8) + 1) & !1;
+    let h = std::f64::consts::TAU / n as f64;
+    let (mut even, mut odd) = (0.0, 0.0);
+    for k in 0..n {
+        let y = f(k as f64 * h);
+        if k % 2 == 0 {
+            even += y * y;
+        } else {
+            odd += y * y;
+        }
+    }
+    let full = ((even + odd) / n as f64).sqrt();
+    let half = (even / (n / 2) as f64).sqrt();
+    PeriodicRms { rms: full, error: (full - half).abs() }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn root_of_cosine_is_half_pi() {
+        let r = brent_root(f64::cos, 1.0, 2.0, 1e-14).unwrap();
+        assert!((r.x - std::f64::consts::FRAC_PI_2).abs() < 1e-13);
+    }
+
+    #[test]
+    fn unbracketed_root_is_an_error() {
+        assert!(matches!(brent_root(|x| x * x + 1.0, -1.0, 1.0, 1e-12), Err(SearchError::NotBracketed { .. })));
+        assert!(matches!(brent_root(|_| f64::NAN, -1.0, 1.0, 1e-12), Err(SearchError::NotFinite { .. })));
+    }
+
+    #[test]
+    fn peak_of_two_harmonics_matches_closed_form() {
+        // f = cos φ + 0.5 cos 2φ: maxima 1.5 at 0 and −0.5 at π (f'' = 1 − 4·0.5 < 0 there);
+        // its minima are at cos φ = −1/2.
+        let p = periodic_peak(|x| x.cos() + 0.5 * (2.0 * x).cos(), 36, 1e-10).unwrap();
+        assert!((p.peak.fx - 1.5).abs() < 1e-15);
+        assert_eq!(p.maxima.len(), 2);
+        // A maximum is flat: its abscissa is only defined to ~sqrt(ε), its value to ε.
+        assert!((p.maxima[1].x - std::f64::consts::PI).abs() < 1e-6);
+        assert!((p.maxima[1].fx + 0.5).abs() < 1e-15);
+        // 3 sin φ peaks at π/2 exactly, between samples of a 7-point grid.
+        let p = periodic_peak(|x| 3.0 * x.sin(), 7, 1e-10).unwrap();
+        assert!((p.peak.x - std::f64::consts::FRAC_PI_2).abs() < 1e-8);
+        assert!((p.peak.fx - 3.0).abs() < 1e-15);
+    }
+
+    #[test]
+    fn rms_of_sine_is_one_over_root_two() {
+        let r = periodic_rms(|x| x.sin() + 0.5, 64);
+        assert!((r.rms - (0.5f64 + 0.25).sqrt()).abs() < 1e-14);
+    }
+}

@@ -1,0 +1,1 @@
+//! Synthesis: design vectors with bounds, objectives and the solvers that optimise them.
