@@ -118,16 +118,32 @@ mod tests {
         let p = circle_circle(P2::zeros(), 1.0, P2::new(d, 0.0), 1.0, Side::Left).unwrap();
         let exact = (delta - delta * delta / 4.0).sqrt();
         assert!((p.y - exact).abs() < 1e-12 * exact, "{} vs {}", p.y, exact);
-        assert!(circle_circle(P2::zeros(), 1.0, P2::new(2.0 + 1e-9, 0.0), 1.0, Side::Left).is_none());
+        assert!(
+            circle_circle(P2::zeros(), 1.0, P2::new(2.0 + 1e-9, 0.0), 1.0, Side::Left).is_none()
+        );
         assert!(circle_circle(P2::zeros(), 1.0, P2::zeros(), 1.0, Side::Left).is_none());
     }
 
     #[test]
     fn link_slider_right_triangle() {
         // A at (0, 3), link 5, slider on the x axis: B = (4, 0).
-        let b = link_slider(P2::new(0.0, 3.0), 5.0, P2::zeros(), P2::new(1.0, 0.0), Side::Left).unwrap();
+        let b = link_slider(
+            P2::new(0.0, 3.0),
+            5.0,
+            P2::zeros(),
+            P2::new(1.0, 0.0),
+            Side::Left,
+        )
+        .unwrap();
         assert!((b - P2::new(4.0, 0.0)).norm() < 1e-15);
-        assert!(link_slider(P2::new(0.0, 6.0), 5.0, P2::zeros(), P2::new(1.0, 0.0), Side::Left).is_none());
+        assert!(link_slider(
+            P2::new(0.0, 6.0),
+            5.0,
+            P2::zeros(),
+            P2::new(1.0, 0.0),
+            Side::Left
+        )
+        .is_none());
     }
 
     #[test]

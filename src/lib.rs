@@ -12,8 +12,11 @@
 //!   plots.
 //! * [`cli`] — the command line; `main.rs` only calls [`cli::main`].
 
+pub mod cli;
 pub mod geom;
+pub mod io;
 pub mod mech;
 pub mod numeric;
+pub mod run;
 pub mod synth;
 pub mod units;

@@ -55,10 +55,18 @@ pub fn brent_root<F: Fn(f64) -> f64>(f: F, a: f64, b: f64, tol: f64) -> Result<R
         return Err(SearchError::NotFinite { x: b });
     }
     if fa == 0.0 {
-        return Ok(Root { x: a, fx: 0.0, evals: 2 });
+        return Ok(Root {
+            x: a,
+            fx: 0.0,
+            evals: 2,
+        });
     }
     if fb == 0.0 {
-        return Ok(Root { x: b, fx: 0.0, evals: 2 });
+        return Ok(Root {
+            x: b,
+            fx: 0.0,
+            evals: 2,
+        });
     }
     if fa.signum() == fb.signum() {
         return Err(SearchError::NotBracketed { a, b, fa, fb });
@@ -69,12 +77,18 @@ pub fn brent_root<F: Fn(f64) -> f64>(f: F, a: f64, b: f64, tol: f64) -> Result<R
         .run()
         .map_err(|e| SearchError::Solver(e.to_string()))?;
     let st = res.state();
-    let x = *st.get_best_param().ok_or(SearchError::Solver("no root returned".into()))?;
+    let x = *st
+        .get_best_param()
+        .ok_or(SearchError::Solver("no root returned".into()))?;
     let fx = f(x);
     if !fx.is_finite() {
         return Err(SearchError::NotFinite { x });
     }
-    Ok(Root { x, fx, evals: st.get_func_counts().get("cost_count").copied().unwrap_or(0) + 2 })
+    Ok(Root {
+        x,
+        fx,
+        evals: st.get_func_counts().get("cost_count").copied().unwrap_or(0) + 2,
+    })
 }
 
 /// A maximum located by [`brent_max`].
@@ -89,7 +103,12 @@ pub struct Extremum {
 /// Maximum of a unimodal `f` on `[a, b]` by Brent's parabolic/golden search (argmin's
 /// [`BrentOpt`] on `−f`), to an absolute tolerance `xtol` in x. The returned value is never
 /// below `max(f(a), f(b))`.
-pub fn brent_max<F: Fn(f64) -> f64>(f: F, a: f64, b: f64, xtol: f64) -> Result<Extremum, SearchError> {
+pub fn brent_max<F: Fn(f64) -> f64>(
+    f: F,
+    a: f64,
+    b: f64,
+    xtol: f64,
+) -> Result<Extremum, SearchError> {
     let neg = |x: f64| -f(x);
     let solver = BrentOpt::new(a, b).set_tolerance(1e-14, xtol);
     let res = Executor::new(FnCost(&neg), solver)
@@ -97,7 +116,9 @@ pub fn brent_max<F: Fn(f64) -> f64>(f: F, a: f64, b: f64, xtol: f64) -> Result<E
         .run()
         .map_err(|e| SearchError::Solver(e.to_string()))?;
     let st = res.state();
-    let x = *st.get_best_param().ok_or(SearchError::Solver("no maximum returned".into()))?;
+    let x = *st
+        .get_best_param()
+        .ok_or(SearchError::Solver("no maximum returned".into()))?;
     let mut best = Extremum { x, fx: f(x) };
     for e in [a, b] {
         let fe = f(e);
@@ -129,7 +150,11 @@ pub struct PeriodicPeak {
 /// not below its two neighbours as a candidate, and refine each on its two neighbouring
 /// intervals by Brent to `xtol`. A maximum narrower than `2π/n` can be missed; callers pick
 /// `n` for their function's bandwidth and test the choice.
-pub fn periodic_peak<F: Fn(f64) -> f64>(f: F, n: usize, xtol: f64) -> Result<PeriodicPeak, SearchError> {
+pub fn periodic_peak<F: Fn(f64) -> f64>(
+    f: F,
+    n: usize,
+    xtol: f64,
+) -> Result<PeriodicPeak, SearchError> {
     let n = n.max(8);
     let h = std::f64::consts::TAU / n as f64;
     let ys: Vec<f64> = (0..n).map(|k| f(k as f64 * h)).collect();
@@ -152,7 +177,10 @@ pub fn periodic_peak<F: Fn(f64) -> f64>(f: F, n: usize, xtol: f64) -> Result<Per
             };
             let e = brent_max(fc, c - h, c + h, xtol)?;
             evals += count.get();
-            maxima.push(Extremum { x: e.x.rem_euclid(std::f64::consts::TAU), fx: e.fx.max(y) });
+            maxima.push(Extremum {
+                x: e.x.rem_euclid(std::f64::consts::TAU),
+                fx: e.fx.max(y),
+            });
         }
     }
     if maxima.is_empty() {
@@ -161,7 +189,12 @@ pub fn periodic_peak<F: Fn(f64) -> f64>(f: F, n: usize, xtol: f64) -> Result<Per
     }
     maxima.sort_by(|a, b| a.x.total_cmp(&b.x));
     let peak = *maxima.iter().max_by(|a, b| a.fx.total_cmp(&b.fx)).unwrap();
-    Ok(PeriodicPeak { maxima, peak, error: 0.5 * curv * xtol * xtol, evals })
+    Ok(PeriodicPeak {
+        maxima,
+        peak,
+        error: 0.5 * curv * xtol * xtol,
+        evals,
+    })
 }
 
 /// Mean and RMS of a 2π-periodic function by the trapezoid rule on `n` points, which is
@@ -190,7 +223,10 @@ pub fn periodic_rms<F: Fn(f64) -> f64>(f: F, n: usize) -> PeriodicRms {
     }
     let full = ((even + odd) / n as f64).sqrt();
     let half = (even / (n / 2) as f64).sqrt();
-    PeriodicRms { rms: full, error: (full - half).abs() }
+    PeriodicRms {
+        rms: full,
+        error: (full - half).abs(),
+    }
 }
 
 #[cfg(test)]
@@ -205,8 +241,14 @@ mod tests {
 
     #[test]
     fn unbracketed_root_is_an_error() {
-        assert!(matches!(brent_root(|x| x * x + 1.0, -1.0, 1.0, 1e-12), Err(SearchError::NotBracketed { .. })));
-        assert!(matches!(brent_root(|_| f64::NAN, -1.0, 1.0, 1e-12), Err(SearchError::NotFinite { .. })));
+        assert!(matches!(
+            brent_root(|x| x * x + 1.0, -1.0, 1.0, 1e-12),
+            Err(SearchError::NotBracketed { .. })
+        ));
+        assert!(matches!(
+            brent_root(|_| f64::NAN, -1.0, 1.0, 1e-12),
+            Err(SearchError::NotFinite { .. })
+        ));
     }
 
     #[test]
@@ -217,7 +259,11 @@ mod tests {
         assert!((p.peak.fx - 1.5).abs() < 1e-15);
         assert_eq!(p.maxima.len(), 2);
         // A maximum is flat: its abscissa is only defined to ~sqrt(ε), its value to ε.
-        let low = p.maxima.iter().min_by(|a, b| a.fx.total_cmp(&b.fx)).unwrap();
+        let low = p
+            .maxima
+            .iter()
+            .min_by(|a, b| a.fx.total_cmp(&b.fx))
+            .unwrap();
         assert!((low.x - std::f64::consts::PI).abs() < 1e-6);
         assert!((low.fx + 0.5).abs() < 1e-15);
         // 3 sin φ peaks at π/2 exactly, between samples of a 7-point grid.

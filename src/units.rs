@@ -1,1 +1,607 @@
-//! Quantities with units at the edges (placeholder, filled in by the core work).
+//! Quantities with units at the edges of the program.
+//!
+//! Inside, everything is SI (m, kg, s, rad, N, N·m). Problem files and fleet CSV cells may
+//! write a quantity as a plain number (taken as SI) or as a string with a unit, `"35 mm"`,
+//! `"1000 rpm"`, `"12 deg"`. [`parse`] turns such a string into SI for an expected
+//! [`Dim`]; an unknown unit or a unit of the wrong dimension is an error that lists the
+//! units allowed. [`Qty`] is the serde face of the same thing, so that a bad unit in a
+//! problem file is reported by the TOML reader with its line and column.
+
+use serde::de::{self, Deserializer, Visitor};
+use std::fmt;
+use std::marker::PhantomData;
+
+/// Physical dimension of a quantity.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Dim {
+    /// A pure number (ratios such as λ, k1).
+    Dimensionless,
+    /// m.
+    Length,
+    /// kg.
+    Mass,
+    /// rad.
+    Angle,
+    /// rad/s.
+    AngularSpeed,
+    /// N.
+    Force,
+    /// N·m.
+    Torque,
+    /// kg·m (a static moment, the unbalance m·r of a counterweight).
+    Unbalance,
+    /// kg·m² (a moment of inertia).
+    Inertia,
+    /// kg/m³.
+    Density,
+    /// m/s².
+    Acceleration,
+    /// s.
+    Time,
+}
+
+impl Dim {
+    /// Human name used in messages.
+    pub fn name(self) -> &'static str {
+        match self {
+            Dim::Dimensionless => "pure number",
+            Dim::Length => "length",
+            Dim::Mass => "mass",
+            Dim::Angle => "angle",
+            Dim::AngularSpeed => "angular speed",
+            Dim::Force => "force",
+            Dim::Torque => "torque",
+            Dim::Unbalance => "unbalance (mass × length)",
+            Dim::Inertia => "moment of inertia",
+            Dim::Density => "density",
+            Dim::Acceleration => "acceleration",
+            Dim::Time => "time",
+        }
+    }
+
+    /// The SI unit written in results.
+    pub fn si(self) -> &'static str {
+        UNITS
+            .iter()
+            .find(|u| u.dim == self && u.factor == 1.0)
+            .map_or("", |u| u.symbol)
+    }
+
+    /// The unit strings accepted for this dimension, comma separated.
+    pub fn allowed(self) -> String {
+        let list: Vec<&str> = UNITS
+            .iter()
+            .filter(|u| u.dim == self)
+            .map(|u| u.symbol)
+            .collect();
+        if list.is_empty() {
+            "a plain number".into()
+        } else {
+            format!(
+                "a plain number in {} or a string with one of: {}",
+                self.si_or_one(),
+                list.join(", ")
+            )
+        }
+    }
+
+    fn si_or_one(self) -> &'static str {
+        match self.si() {
+            "" => "(no unit)",
+            s => s,
+        }
+    }
+}
+
+/// One accepted unit: its symbol, dimension and factor to SI.
+#[derive(Debug, Clone, Copy)]
+pub struct Unit {
+    /// As written (`"mm"`).
+    pub symbol: &'static str,
+    /// Dimension.
+    pub dim: Dim,
+    /// SI value of one unit.
+    pub factor: f64,
+}
+
+const DEG: f64 = std::f64::consts::PI / 180.0;
+const RPM: f64 = std::f64::consts::TAU / 60.0;
+
+/// Every unit accepted. The first entry of each dimension with factor 1 is its SI unit.
+pub const UNITS: &[Unit] = &[
+    Unit {
+        symbol: "m",
+        dim: Dim::Length,
+        factor: 1.0,
+    },
+    Unit {
+        symbol: "mm",
+        dim: Dim::Length,
+        factor: 1e-3,
+    },
+    Unit {
+        symbol: "cm",
+        dim: Dim::Length,
+        factor: 1e-2,
+    },
+    Unit {
+        symbol: "km",
+        dim: Dim::Length,
+        factor: 1e3,
+    },
+    Unit {
+        symbol: "kg",
+        dim: Dim::Mass,
+        factor: 1.0,
+    },
+    Unit {
+        symbol: "g",
+        dim: Dim::Mass,
+        factor: 1e-3,
+    },
+    Unit {
+        symbol: "t",
+        dim: Dim::Mass,
+        factor: 1e3,
+    },
+    Unit {
+        symbol: "rad",
+        dim: Dim::Angle,
+        factor: 1.0,
+    },
+    Unit {
+        symbol: "deg",
+        dim: Dim::Angle,
+        factor: DEG,
+    },
+    Unit {
+        symbol: "°",
+        dim: Dim::Angle,
+        factor: DEG,
+    },
+    Unit {
+        symbol: "rad/s",
+        dim: Dim::AngularSpeed,
+        factor: 1.0,
+    },
+    Unit {
+        symbol: "rpm",
+        dim: Dim::AngularSpeed,
+        factor: RPM,
+    },
+    Unit {
+        symbol: "r/min",
+        dim: Dim::AngularSpeed,
+        factor: RPM,
+    },
+    Unit {
+        symbol: "N",
+        dim: Dim::Force,
+        factor: 1.0,
+    },
+    Unit {
+        symbol: "kN",
+        dim: Dim::Force,
+        factor: 1e3,
+    },
+    Unit {
+        symbol: "MN",
+        dim: Dim::Force,
+        factor: 1e6,
+    },
+    Unit {
+        symbol: "N·m",
+        dim: Dim::Torque,
+        factor: 1.0,
+    },
+    Unit {
+        symbol: "N*m",
+        dim: Dim::Torque,
+        factor: 1.0,
+    },
+    Unit {
+        symbol: "Nm",
+        dim: Dim::Torque,
+        factor: 1.0,
+    },
+    Unit {
+        symbol: "N·mm",
+        dim: Dim::Torque,
+        factor: 1e-3,
+    },
+    Unit {
+        symbol: "N*mm",
+        dim: Dim::Torque,
+        factor: 1e-3,
+    },
+    Unit {
+        symbol: "Nmm",
+        dim: Dim::Torque,
+        factor: 1e-3,
+    },
+    Unit {
+        symbol: "kN·m",
+        dim: Dim::Torque,
+        factor: 1e3,
+    },
+    Unit {
+        symbol: "kN*m",
+        dim: Dim::Torque,
+        factor: 1e3,
+    },
+    Unit {
+        symbol: "kg·m",
+        dim: Dim::Unbalance,
+        factor: 1.0,
+    },
+    Unit {
+        symbol: "kg*m",
+        dim: Dim::Unbalance,
+        factor: 1.0,
+    },
+    Unit {
+        symbol: "kg·mm",
+        dim: Dim::Unbalance,
+        factor: 1e-3,
+    },
+    Unit {
+        symbol: "kg*mm",
+        dim: Dim::Unbalance,
+        factor: 1e-3,
+    },
+    Unit {
+        symbol: "g·mm",
+        dim: Dim::Unbalance,
+        factor: 1e-6,
+    },
+    Unit {
+        symbol: "g*mm",
+        dim: Dim::Unbalance,
+        factor: 1e-6,
+    },
+    Unit {
+        symbol: "kg·m²",
+        dim: Dim::Inertia,
+        factor: 1.0,
+    },
+    Unit {
+        symbol: "kg*m^2",
+        dim: Dim::Inertia,
+        factor: 1.0,
+    },
+    Unit {
+        symbol: "kg·mm²",
+        dim: Dim::Inertia,
+        factor: 1e-6,
+    },
+    Unit {
+        symbol: "kg*mm^2",
+        dim: Dim::Inertia,
+        factor: 1e-6,
+    },
+    Unit {
+        symbol: "kg/m³",
+        dim: Dim::Density,
+        factor: 1.0,
+    },
+    Unit {
+        symbol: "kg/m^3",
+        dim: Dim::Density,
+        factor: 1.0,
+    },
+    Unit {
+        symbol: "kg/m3",
+        dim: Dim::Density,
+        factor: 1.0,
+    },
+    Unit {
+        symbol: "g/cm³",
+        dim: Dim::Density,
+        factor: 1e3,
+    },
+    Unit {
+        symbol: "g/cm^3",
+        dim: Dim::Density,
+        factor: 1e3,
+    },
+    Unit {
+        symbol: "m/s²",
+        dim: Dim::Acceleration,
+        factor: 1.0,
+    },
+    Unit {
+        symbol: "m/s^2",
+        dim: Dim::Acceleration,
+        factor: 1.0,
+    },
+    Unit {
+        symbol: "s",
+        dim: Dim::Time,
+        factor: 1.0,
+    },
+    Unit {
+        symbol: "ms",
+        dim: Dim::Time,
+        factor: 1e-3,
+    },
+];
+
+/// Why a quantity string was rejected.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum UnitError {
+    /// The text does not start with a number.
+    #[error("`{text}` is not a quantity: expected a number, optionally followed by a unit; allowed for a {dim}: {allowed}", dim = .dim.name())]
+    NotANumber {
+        text: String,
+        dim: Dim,
+        allowed: String,
+    },
+    /// The number is NaN or infinite.
+    #[error("`{text}` is not a finite number")]
+    NotFinite { text: String },
+    /// The unit is not known at all.
+    #[error("unknown unit `{unit}` for a {dim}; allowed: {allowed}", dim = .dim.name())]
+    UnknownUnit {
+        unit: String,
+        dim: Dim,
+        allowed: String,
+    },
+    /// The unit is known but measures something else.
+    #[error("`{unit}` is a unit of {found} but a {dim} is expected here; allowed: {allowed}", found = .found.name(), dim = .dim.name())]
+    WrongDimension {
+        unit: String,
+        found: Dim,
+        dim: Dim,
+        allowed: String,
+    },
+}
+
+/// Normalises the spellings people type for a product of units: `N.m`, `N-m`, `N⋅m` and
+/// `N · m` all become `N·m`.
+fn normalise(unit: &str) -> String {
+    unit.trim().replace(['.', '⋅', '-'], "·").replace(' ', "")
+}
+
+/// Parses `"35 mm"` (or `"35mm"`, `"1e3 rpm"`, `"12"`) into SI for the dimension `dim`.
+/// A number without a unit is taken as SI.
+pub fn parse(text: &str, dim: Dim) -> Result<f64, UnitError> {
+    let t = text.trim();
+    // The longest prefix that parses as a float is the number; the rest is the unit.
+    let split = (1..=t.len())
+        .rev()
+        .filter(|&i| t.is_char_boundary(i))
+        .find(|&i| t[..i].trim_end().parse::<f64>().is_ok());
+    let Some(i) = split else {
+        return Err(UnitError::NotANumber {
+            text: text.into(),
+            dim,
+            allowed: dim.allowed(),
+        });
+    };
+    let value: f64 = t[..i].trim_end().parse().expect("checked above");
+    // "1e" would parse "1" and leave "e": fine, "e" is no unit and is rejected below.
+    if !value.is_finite() {
+        return Err(UnitError::NotFinite { text: text.into() });
+    }
+    let unit = t[i..].trim();
+    if unit.is_empty() {
+        return Ok(value);
+    }
+    let norm = normalise(unit);
+    let found = UNITS
+        .iter()
+        .find(|u| u.symbol == unit || normalise(u.symbol) == norm);
+    match found {
+        Some(u) if u.dim == dim => Ok(value * u.factor),
+        Some(u) => Err(UnitError::WrongDimension {
+            unit: unit.into(),
+            found: u.dim,
+            dim,
+            allowed: dim.allowed(),
+        }),
+        None => Err(UnitError::UnknownUnit {
+            unit: unit.into(),
+            dim,
+            allowed: dim.allowed(),
+        }),
+    }
+}
+
+/// Parses a quantity whose dimension is given by its unit; returns the SI value and the
+/// dimension (`Dimensionless` for a bare number).
+pub fn parse_any(text: &str) -> Result<(f64, Dim), UnitError> {
+    for dim in [
+        Dim::Length,
+        Dim::Mass,
+        Dim::Angle,
+        Dim::AngularSpeed,
+        Dim::Force,
+        Dim::Torque,
+        Dim::Unbalance,
+        Dim::Inertia,
+        Dim::Density,
+        Dim::Acceleration,
+        Dim::Time,
+    ] {
+        match parse(text, dim) {
+            Ok(v) => {
+                let bare = text.trim().parse::<f64>().is_ok();
+                return Ok((v, if bare { Dim::Dimensionless } else { dim }));
+            }
+            Err(UnitError::WrongDimension { .. }) => continue,
+            Err(e) => return Err(e),
+        }
+    }
+    unreachable!("every known unit has one of the dimensions above")
+}
+
+/// Compile-time dimension marker for [`Qty`].
+pub trait Dimension {
+    /// The dimension checked on input.
+    const DIM: Dim;
+}
+
+macro_rules! dims {
+    ($($name:ident),*) => {$(
+        #[doc = concat!("Marker: a quantity of dimension [`Dim::", stringify!($name), "`].")]
+        #[derive(Debug, Clone, Copy, PartialEq)]
+        pub struct $name;
+        impl Dimension for $name { const DIM: Dim = Dim::$name; }
+    )*};
+}
+dims!(
+    Dimensionless,
+    Length,
+    Mass,
+    Angle,
+    AngularSpeed,
+    Force,
+    Torque,
+    Unbalance,
+    Inertia,
+    Density,
+    Acceleration,
+    Time
+);
+
+/// A quantity read from a problem file: a number (SI) or a string with a unit, converted to
+/// SI and checked for dimension and finiteness while deserialising.
+#[derive(Debug, PartialEq)]
+pub struct Qty<D>(pub f64, PhantomData<D>);
+
+impl<D> Clone for Qty<D> {
+    fn clone(&self) -> Self {
+        *self
+    }
+}
+impl<D> Copy for Qty<D> {}
+
+impl<D> Qty<D> {
+    /// An SI value.
+    pub fn new(si: f64) -> Self {
+        Qty(si, PhantomData)
+    }
+    /// The SI value.
+    pub fn si(self) -> f64 {
+        self.0
+    }
+}
+
+impl<D: Dimension> serde::Serialize for Qty<D> {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.serialize_f64(self.0)
+    }
+}
+
+struct QtyVisitor<D>(PhantomData<D>);
+
+impl<D: Dimension> Visitor<'_> for QtyVisitor<D> {
+    type Value = Qty<D>;
+    fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+        write!(f, "a {}: {}", D::DIM.name(), D::DIM.allowed())
+    }
+    fn visit_f64<E: de::Error>(self, v: f64) -> Result<Self::Value, E> {
+        if v.is_finite() {
+            Ok(Qty::new(v))
+        } else {
+            Err(E::custom(format!(
+                "{v} is not a finite number; expected {}",
+                D::DIM.allowed()
+            )))
+        }
+    }
+    fn visit_i64<E: de::Error>(self, v: i64) -> Result<Self::Value, E> {
+        Ok(Qty::new(v as f64))
+    }
+    fn visit_u64<E: de::Error>(self, v: u64) -> Result<Self::Value, E> {
+        Ok(Qty::new(v as f64))
+    }
+    fn visit_str<E: de::Error>(self, v: &str) -> Result<Self::Value, E> {
+        parse(v, D::DIM).map(Qty::new).map_err(E::custom)
+    }
+}
+
+impl<'de, D: Dimension> serde::Deserialize<'de> for Qty<D> {
+    fn deserialize<De: Deserializer<'de>>(d: De) -> Result<Self, De::Error> {
+        d.deserialize_any(QtyVisitor(PhantomData))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn converts_every_unit_the_issue_names() {
+        let cases = [
+            ("35 mm", Dim::Length, 0.035),
+            ("3.5 cm", Dim::Length, 0.035),
+            ("0.035 m", Dim::Length, 0.035),
+            ("350 g", Dim::Mass, 0.35),
+            ("0.35 kg", Dim::Mass, 0.35),
+            ("60 rpm", Dim::AngularSpeed, std::f64::consts::TAU),
+            ("2 rad/s", Dim::AngularSpeed, 2.0),
+            ("180 deg", Dim::Angle, std::f64::consts::PI),
+            ("1 rad", Dim::Angle, 1.0),
+            ("2 kN", Dim::Force, 2000.0),
+            ("5 N", Dim::Force, 5.0),
+            ("3 N·m", Dim::Torque, 3.0),
+            ("3 N*m", Dim::Torque, 3.0),
+            ("435804 N·mm", Dim::Torque, 435.804),
+            ("2 kg·m", Dim::Unbalance, 2.0),
+            ("2 kg*mm", Dim::Unbalance, 2e-3),
+            ("7850 kg/m³", Dim::Density, 7850.0),
+            ("35mm", Dim::Length, 0.035),
+            (
+                "1e3 rpm",
+                Dim::AngularSpeed,
+                1000.0 * std::f64::consts::TAU / 60.0,
+            ),
+            ("12", Dim::Length, 12.0),
+        ];
+        for (text, dim, si) in cases {
+            let v = parse(text, dim).unwrap_or_else(|e| panic!("{text}: {e}"));
+            assert!((v - si).abs() <= 1e-15 * si.abs(), "{text}: {v} vs {si}");
+        }
+    }
+
+    #[test]
+    fn wrong_or_unknown_units_list_what_is_allowed() {
+        let e = parse("35 kg", Dim::Length).unwrap_err();
+        assert!(matches!(
+            e,
+            UnitError::WrongDimension {
+                found: Dim::Mass,
+                ..
+            }
+        ));
+        assert!(e.to_string().contains("mm"), "{e}");
+        let e = parse("35 furlong", Dim::Length).unwrap_err();
+        assert!(matches!(e, UnitError::UnknownUnit { .. }));
+        assert!(
+            e.to_string().contains("allowed: a plain number in m"),
+            "{e}"
+        );
+        assert!(matches!(
+            parse("mm", Dim::Length),
+            Err(UnitError::NotANumber { .. })
+        ));
+        assert!(matches!(
+            parse("NaN mm", Dim::Length),
+            Err(UnitError::NotFinite { .. })
+        ));
+        assert!(matches!(
+            parse("inf", Dim::Length),
+            Err(UnitError::NotFinite { .. })
+        ));
+    }
+
+    #[test]
+    fn parse_any_infers_the_dimension() {
+        assert_eq!(parse_any("900 N").unwrap(), (900.0, Dim::Force));
+        assert_eq!(parse_any("0.5").unwrap(), (0.5, Dim::Dimensionless));
+        let (v, d) = parse_any("331931 N·mm").unwrap();
+        assert_eq!(d, Dim::Torque);
+        assert!((v - 331.931).abs() < 1e-12);
+    }
+}

@@ -1,0 +1,194 @@
+//! The command line: `cwsynth solve`, `cwsynth check`. Thin: parsing arguments, calling
+//! the library, printing; errors get context here (anyhow), typed errors live below.
+
+use crate::io::problem::{self, Scene};
+use crate::io::result::{fmt_num, write_outputs, SolveResult, Status};
+use crate::run::solve_scene;
+use anyhow::Context;
+use clap::{Parser, Subcommand};
+use std::path::{Path, PathBuf};
+
+/// Optimisation-driven counterweight and mechanism synthesis.
+#[derive(Debug, Parser)]
+#[command(name = "cwsynth", version, about)]
+pub struct Cli {
+    /// What to do.
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+/// Subcommands.
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Solve problem files (or every *.toml in given directories) and report.
+    Solve {
+        /// Problem files or directories.
+        #[arg(required = true)]
+        inputs: Vec<PathBuf>,
+        /// Print one JSON object per scene (a JSON array for several) instead of a summary.
+        #[arg(long)]
+        json: bool,
+        /// Write `<name>.json`, `<name>.md` and SVG plots into this directory.
+        #[arg(long)]
+        out: Option<PathBuf>,
+    },
+    /// Validate problem files without solving.
+    Check {
+        /// Problem files or directories.
+        #[arg(required = true)]
+        inputs: Vec<PathBuf>,
+    },
+}
+
+/// Expands directories into their `*.toml` files (sorted), keeps files as given.
+pub fn expand_inputs(inputs: &[PathBuf]) -> anyhow::Result<Vec<PathBuf>> {
+    let mut out = Vec::new();
+    for p in inputs {
+        if p.is_dir() {
+            let mut v: Vec<PathBuf> = std::fs::read_dir(p)
+                .with_context(|| format!("cannot list {}", p.display()))?
+                .filter_map(|e| e.ok().map(|e| e.path()))
+                .filter(|q| q.extension().is_some_and(|x| x == "toml"))
+                .collect();
+            v.sort();
+            out.extend(v);
+        } else {
+            out.push(p.clone());
+        }
+    }
+    Ok(out)
+}
+
+fn summary(r: &SolveResult) -> String {
+    let mut s = format!(
+        "{} ({}): {}\n",
+        r.name,
+        r.family,
+        serde_json::to_value(r.status)
+            .unwrap()
+            .as_str()
+            .unwrap_or("")
+    );
+    for (k, v) in &r.design {
+        s += &format!("  design     {k:<34} {}\n", fmt_num(*v));
+    }
+    for (k, v) in &r.objectives {
+        let e = r
+            .errors
+            .get(k)
+            .map(|e| format!(" ± {e:.1e}"))
+            .unwrap_or_default();
+        s += &format!("  objective  {k:<34} {}{e}\n", fmt_num(*v));
+    }
+    for (name, b) in &r.baselines {
+        if let (Some(p), Some(i)) = (b.get("peak_shaking_force_n"), b.get("improvement_pct")) {
+            s += &format!(
+                "  baseline   {name:<34} peak {} N (optimum {:+.1} %)\n",
+                fmt_num(*p),
+                -i
+            );
+        }
+    }
+    for c in &r.paper {
+        s += &format!(
+            "  paper      {}: paper {} vs {}{}\n",
+            c.quantity,
+            fmt_num(c.paper),
+            c.computed.map(fmt_num).unwrap_or("–".into()),
+            c.diff_pct
+                .map(|d| format!(" ({d:+.2} %)"))
+                .unwrap_or_default()
+        );
+    }
+    for w in &r.warnings {
+        s += &format!("  warning    {w}\n");
+    }
+    s += &format!(
+        "  method     {}\n  time       {:.3} ms\n",
+        r.method,
+        r.timing.total_s * 1e3
+    );
+    s
+}
+
+fn load_all(files: &[PathBuf]) -> (Vec<Scene>, Vec<String>) {
+    let mut ok = Vec::new();
+    let mut bad = Vec::new();
+    for f in files {
+        match problem::load(f) {
+            Ok(s) => ok.push(s),
+            Err(e) => bad.push(e.to_string()),
+        }
+    }
+    (ok, bad)
+}
+
+/// Runs the CLI; returns the process exit code.
+pub fn run(cli: Cli) -> anyhow::Result<i32> {
+    match cli.command {
+        Command::Check { inputs } => {
+            let files = expand_inputs(&inputs)?;
+            let (ok, bad) = load_all(&files);
+            for s in &ok {
+                println!(
+                    "ok    {} ({}, {})",
+                    s.source.display(),
+                    s.name,
+                    s.family.as_str()
+                );
+            }
+            for e in &bad {
+                eprintln!("error {e}");
+            }
+            Ok(if bad.is_empty() { 0 } else { 1 })
+        }
+        Command::Solve { inputs, json, out } => {
+            let files = expand_inputs(&inputs)?;
+            let (scenes, bad) = load_all(&files);
+            for e in &bad {
+                eprintln!("error {e}");
+            }
+            let mut failed = !bad.is_empty();
+            let mut all = Vec::new();
+            for sc in &scenes {
+                let r = solve_scene(sc);
+                failed |= matches!(r.status, Status::Failed | Status::Infeasible);
+                if let Some(dir) = &out {
+                    write_outputs(&r, dir).with_context(|| {
+                        format!("writing results of {} to {}", r.name, dir.display())
+                    })?;
+                }
+                if !json {
+                    print!("{}", summary(&r));
+                }
+                all.push(r.to_json());
+            }
+            if json {
+                let v = if all.len() == 1 {
+                    all.pop().unwrap()
+                } else {
+                    serde_json::Value::Array(all)
+                };
+                println!("{}", serde_json::to_string_pretty(&v)?);
+            }
+            Ok(if failed { 1 } else { 0 })
+        }
+    }
+}
+
+/// Entry point used by `main.rs`.
+pub fn main() -> i32 {
+    let cli = Cli::parse();
+    match run(cli) {
+        Ok(code) => code,
+        Err(e) => {
+            eprintln!("cwsynth: {e:#}");
+            2
+        }
+    }
+}
+
+/// Convenience for tests: the path as a display string.
+pub fn show(p: &Path) -> String {
+    p.display().to_string()
+}

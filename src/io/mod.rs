@@ -1,0 +1,8 @@
+//! Input and output: problem files (raw serde layer, resolution into checked scenes),
+//! results (JSON, Markdown), plots (SVG) and atomic file writing.
+
+pub mod plot;
+pub mod problem;
+pub mod result;
+pub mod slider_crank;
+pub mod source;

@@ -1,0 +1,412 @@
+//! SVG plots for the reports, drawn with plotters into a string (no files, no fonts needed:
+//! the SVG backend writes text as `<text>` elements).
+//!
+//! Two shapes cover every family: [`panels`] — one or more side-by-side x–y panels of
+//! lines, point sets and labelled markers (curves against crank angle, a force locus with
+//! equal axes, a Pareto front, a jib-head path) — and [`heat_map`] — a scalar field on a
+//! regular grid with overlaid curves and markers (Δh over (k1, k2), C4 over (λ, θ)).
+
+use plotters::coord::Shift;
+use plotters::prelude::*;
+
+/// How a series is drawn.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Style {
+    /// A polyline; a non-finite point breaks the line (for excluded windows, poles).
+    Line,
+    /// Dots.
+    Points,
+    /// Large crosses with the series name in the legend (optima, the paper's design).
+    Marker,
+}
+
+/// One data series.
+#[derive(Debug, Clone)]
+pub struct Series {
+    /// Legend text.
+    pub name: String,
+    /// Points (x, y).
+    pub points: Vec<(f64, f64)>,
+    /// Drawing style.
+    pub style: Style,
+}
+
+impl Series {
+    /// A line series.
+    pub fn line(name: impl Into<String>, points: Vec<(f64, f64)>) -> Self {
+        Series {
+            name: name.into(),
+            points,
+            style: Style::Line,
+        }
+    }
+    /// A marker series.
+    pub fn marker(name: impl Into<String>, points: Vec<(f64, f64)>) -> Self {
+        Series {
+            name: name.into(),
+            points,
+            style: Style::Marker,
+        }
+    }
+    /// A point series.
+    pub fn points(name: impl Into<String>, points: Vec<(f64, f64)>) -> Self {
+        Series {
+            name: name.into(),
+            points,
+            style: Style::Points,
+        }
+    }
+}
+
+/// One x–y panel.
+#[derive(Debug, Clone)]
+pub struct Panel {
+    /// Caption.
+    pub title: String,
+    /// x axis label (with unit).
+    pub x_label: String,
+    /// y axis label (with unit).
+    pub y_label: String,
+    /// The data.
+    pub series: Vec<Series>,
+    /// Same scale on both axes (a locus, a path).
+    pub equal_aspect: bool,
+}
+
+const PALETTE: [RGBColor; 8] = [
+    RGBColor(31, 119, 180),
+    RGBColor(214, 39, 40),
+    RGBColor(44, 160, 44),
+    RGBColor(255, 127, 14),
+    RGBColor(148, 103, 189),
+    RGBColor(140, 86, 75),
+    RGBColor(227, 119, 194),
+    RGBColor(23, 190, 207),
+];
+
+fn bounds(series: &[Series], equal: bool) -> ((f64, f64), (f64, f64)) {
+    let pts = series
+        .iter()
+        .flat_map(|s| s.points.iter())
+        .filter(|p| p.0.is_finite() && p.1.is_finite());
+    let (mut x0, mut x1, mut y0, mut y1) = (
+        f64::INFINITY,
+        f64::NEG_INFINITY,
+        f64::INFINITY,
+        f64::NEG_INFINITY,
+    );
+    for &(x, y) in pts {
+        x0 = x0.min(x);
+        x1 = x1.max(x);
+        y0 = y0.min(y);
+        y1 = y1.max(y);
+    }
+    if !x0.is_finite() {
+        return ((0.0, 1.0), (0.0, 1.0));
+    }
+    let pad = |a: f64, b: f64| {
+        let w = (b - a).abs().max(1e-12 * a.abs().max(b.abs())).max(1e-300);
+        (a - 0.05 * w, b + 0.05 * w)
+    };
+    let (mut xr, mut yr) = (pad(x0, x1), pad(y0, y1));
+    if equal {
+        let w = (xr.1 - xr.0).max(yr.1 - yr.0);
+        let (cx, cy) = (0.5 * (xr.0 + xr.1), 0.5 * (yr.0 + yr.1));
+        xr = (cx - 0.5 * w, cx + 0.5 * w);
+        yr = (cy - 0.5 * w, cy + 0.5 * w);
+    }
+    (xr, yr)
+}
+
+fn draw_panel(area: &DrawingArea<SVGBackend, Shift>, p: &Panel) -> Result<(), String> {
+    let ((x0, x1), (y0, y1)) = bounds(&p.series, p.equal_aspect);
+    let mut chart = ChartBuilder::on(area)
+        .caption(&p.title, ("sans-serif", 18))
+        .margin(12)
+        .x_label_area_size(40)
+        .y_label_area_size(70)
+        .build_cartesian_2d(x0..x1, y0..y1)
+        .map_err(|e| e.to_string())?;
+    chart
+        .configure_mesh()
+        .x_desc(&p.x_label)
+        .y_desc(&p.y_label)
+        .light_line_style(RGBColor(235, 235, 235))
+        .draw()
+        .map_err(|e| e.to_string())?;
+    for (i, s) in p.series.iter().enumerate() {
+        let c = PALETTE[i % PALETTE.len()];
+        match s.style {
+            Style::Line => {
+                // Split at non-finite points so that excluded windows stay empty.
+                let mut first = true;
+                for seg in s.points.split(|q| !(q.0.is_finite() && q.1.is_finite())) {
+                    if seg.len() < 2 {
+                        continue;
+                    }
+                    let a = chart
+                        .draw_series(LineSeries::new(seg.iter().copied(), c.stroke_width(2)))
+                        .map_err(|e| e.to_string())?;
+                    if first {
+                        a.label(s.name.clone()).legend(move |(x, y)| {
+                            PathElement::new(vec![(x, y), (x + 18, y)], c.stroke_width(2))
+                        });
+                        first = false;
+                    }
+                }
+            }
+            Style::Points => {
+                chart
+                    .draw_series(
+                        s.points
+                            .iter()
+                            .filter(|q| q.0.is_finite() && q.1.is_finite())
+                            .map(|&q| Circle::new(q, 2, c.filled())),
+                    )
+                    .map_err(|e| e.to_string())?
+                    .label(s.name.clone())
+                    .legend(move |(x, y)| Circle::new((x + 9, y), 3, c.filled()));
+            }
+            Style::Marker => {
+                chart
+                    .draw_series(
+                        s.points
+                            .iter()
+                            .filter(|q| q.0.is_finite() && q.1.is_finite())
+                            .map(|&q| Cross::new(q, 7, c.stroke_width(3))),
+                    )
+                    .map_err(|e| e.to_string())?
+                    .label(s.name.clone())
+                    .legend(move |(x, y)| Cross::new((x + 9, y), 5, c.stroke_width(2)));
+            }
+        }
+    }
+    chart
+        .configure_series_labels()
+        .background_style(WHITE.mix(0.85))
+        .border_style(RGBColor(180, 180, 180))
+        .position(SeriesLabelPosition::UpperRight)
+        .draw()
+        .map_err(|e| e.to_string())?;
+    Ok(())
+}
+
+/// Side-by-side panels as one SVG document, each panel `w`×`h` pixels.
+pub fn panels(ps: &[Panel], w: u32, h: u32) -> Result<String, String> {
+    let mut buf = String::new();
+    {
+        let n = ps.len().max(1) as u32;
+        let root = SVGBackend::with_string(&mut buf, (w * n, h)).into_drawing_area();
+        root.fill(&WHITE).map_err(|e| e.to_string())?;
+        let areas = root.split_evenly((1, n as usize));
+        for (a, p) in areas.iter().zip(ps) {
+            draw_panel(a, p)?;
+        }
+        root.present().map_err(|e| e.to_string())?;
+    }
+    Ok(buf)
+}
+
+/// A scalar field on a regular grid.
+#[derive(Debug, Clone)]
+pub struct Grid {
+    /// x values (columns), increasing.
+    pub x: Vec<f64>,
+    /// y values (rows), increasing.
+    pub y: Vec<f64>,
+    /// values[row][col]; non-finite cells (infeasible) are drawn grey.
+    pub values: Vec<Vec<f64>>,
+}
+
+fn colour(t: f64) -> RGBColor {
+    // A perceptually ordered blue → yellow ramp (viridis-like, 5 stops).
+    const STOPS: [(f64, f64, f64); 5] = [
+        (68.0, 1.0, 84.0),
+        (59.0, 82.0, 139.0),
+        (33.0, 145.0, 140.0),
+        (94.0, 201.0, 98.0),
+        (253.0, 231.0, 37.0),
+    ];
+    let t = t.clamp(0.0, 1.0) * 4.0;
+    let i = (t.floor() as usize).min(3);
+    let f = t - i as f64;
+    let (a, b) = (STOPS[i], STOPS[i + 1]);
+    let m = |p: f64, q: f64| (p + f * (q - p)).round() as u8;
+    RGBColor(m(a.0, b.0), m(a.1, b.1), m(a.2, b.2))
+}
+
+/// A heat map of `grid` (colour bar in the title range) with `overlay` series on top.
+/// `symmetric_log` colours by sign(v)·log10(1 + |v|/scale) so that a zero set stands out.
+pub fn heat_map(
+    panel: &Panel,
+    grid: &Grid,
+    symmetric_log: Option<f64>,
+    w: u32,
+    h: u32,
+) -> Result<String, String> {
+    let tf = |v: f64| match symmetric_log {
+        Some(s) => v.signum() * (1.0 + v.abs() / s).log10(),
+        None => v,
+    };
+    let vals: Vec<f64> = grid
+        .values
+        .iter()
+        .flatten()
+        .copied()
+        .filter(|v| v.is_finite())
+        .map(tf)
+        .collect();
+    let lo = vals.iter().copied().fold(f64::INFINITY, f64::min);
+    let hi = vals.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    let span = if hi > lo { hi - lo } else { 1.0 };
+    let mut buf = String::new();
+    {
+        let root = SVGBackend::with_string(&mut buf, (w, h)).into_drawing_area();
+        root.fill(&WHITE).map_err(|e| e.to_string())?;
+        let (nx, ny) = (grid.x.len(), grid.y.len());
+        if nx < 2 || ny < 2 {
+            return Err("heat map needs at least a 2×2 grid".into());
+        }
+        let (x0, x1) = (grid.x[0], grid.x[nx - 1]);
+        let (y0, y1) = (grid.y[0], grid.y[ny - 1]);
+        let mut chart = ChartBuilder::on(&root)
+            .caption(&panel.title, ("sans-serif", 18))
+            .margin(12)
+            .x_label_area_size(40)
+            .y_label_area_size(60)
+            .build_cartesian_2d(x0..x1, y0..y1)
+            .map_err(|e| e.to_string())?;
+        chart
+            .configure_mesh()
+            .x_desc(&panel.x_label)
+            .y_desc(&panel.y_label)
+            .disable_mesh()
+            .draw()
+            .map_err(|e| e.to_string())?;
+        let half = |v: &[f64], i: usize| {
+            let a = if i == 0 {
+                v[0]
+            } else {
+                0.5 * (v[i - 1] + v[i])
+            };
+            let b = if i + 1 == v.len() {
+                v[i]
+            } else {
+                0.5 * (v[i] + v[i + 1])
+            };
+            (a, b)
+        };
+        chart
+            .draw_series(
+                (0..ny)
+                    .flat_map(|r| (0..nx).map(move |c| (r, c)))
+                    .map(|(r, c)| {
+                        let (xa, xb) = half(&grid.x, c);
+                        let (ya, yb) = half(&grid.y, r);
+                        let v = grid.values[r][c];
+                        let col = if v.is_finite() {
+                            colour((tf(v) - lo) / span)
+                        } else {
+                            RGBColor(200, 200, 200)
+                        };
+                        Rectangle::new([(xa, ya), (xb, yb)], col.filled())
+                    }),
+            )
+            .map_err(|e| e.to_string())?;
+        for (i, s) in panel.series.iter().enumerate() {
+            let c = [RED, WHITE, BLACK, MAGENTA][i % 4];
+            match s.style {
+                Style::Line | Style::Points => {
+                    for seg in s.points.split(|q| !(q.0.is_finite() && q.1.is_finite())) {
+                        if seg.len() >= 2 {
+                            chart
+                                .draw_series(LineSeries::new(
+                                    seg.iter().copied(),
+                                    c.stroke_width(2),
+                                ))
+                                .map_err(|e| e.to_string())?;
+                        } else if seg.len() == 1 {
+                            chart
+                                .draw_series(std::iter::once(Circle::new(seg[0], 2, c.filled())))
+                                .map_err(|e| e.to_string())?;
+                        }
+                    }
+                }
+                Style::Marker => {
+                    chart
+                        .draw_series(
+                            s.points
+                                .iter()
+                                .map(|&q| Cross::new(q, 8, c.stroke_width(3))),
+                        )
+                        .map_err(|e| e.to_string())?;
+                }
+            }
+            // Legend entry as text in the corner.
+            root.draw(&Text::new(
+                format!(
+                    "{}: {}",
+                    ["red", "white", "black", "magenta"][i % 4],
+                    s.name
+                ),
+                (80, 40 + 16 * i as i32),
+                ("sans-serif", 13).into_font().color(&BLACK),
+            ))
+            .map_err(|e| e.to_string())?;
+        }
+        root.draw(&Text::new(
+            format!(
+                "colour: {} from {:.4} (dark) to {:.4} (yellow)",
+                if symmetric_log.is_some() {
+                    "sign·log10(1+|v|/s)"
+                } else {
+                    "value"
+                },
+                lo,
+                hi
+            ),
+            (80, h as i32 - 12),
+            ("sans-serif", 12).into_font().color(&BLACK),
+        ))
+        .map_err(|e| e.to_string())?;
+        root.present().map_err(|e| e.to_string())?;
+    }
+    Ok(buf)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn writes_an_svg_with_every_series_name() {
+        let p = Panel {
+            title: "t".into(),
+            x_label: "x (m)".into(),
+            y_label: "y (m)".into(),
+            series: vec![
+                Series::line(
+                    "curve",
+                    vec![
+                        (0.0, 0.0),
+                        (1.0, 1.0),
+                        (f64::NAN, 0.0),
+                        (2.0, 0.0),
+                        (3.0, 1.0),
+                    ],
+                ),
+                Series::marker("optimum", vec![(1.0, 1.0)]),
+            ],
+            equal_aspect: true,
+        };
+        let svg = panels(&[p.clone()], 400, 300).unwrap();
+        assert!(svg.starts_with("<svg") && svg.contains("curve") && svg.contains("optimum"));
+        let g = Grid {
+            x: vec![0.0, 1.0, 2.0],
+            y: vec![0.0, 1.0],
+            values: vec![vec![1.0, f64::NAN, 3.0], vec![-1.0, 0.0, 2.0]],
+        };
+        let svg = heat_map(&p, &g, Some(1.0), 400, 300).unwrap();
+        assert!(svg.contains("<rect") && svg.contains("optimum"));
+    }
+}

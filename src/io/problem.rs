@@ -1,0 +1,457 @@
+//! Problem files: reading, the raw serde layer shared by every family, and the errors.
+//!
+//! A problem file is one machine ("scene") in TOML: `name`, `family`, `description`, then
+//! the family's `[mechanism]`, `[model]`, `[design]`, `[objective]`, `[accuracy]` and any
+//! `[[paper]]` reference values. Reading is two-pass: a tolerant header pass finds the
+//! family, then the family's strict struct (`deny_unknown_fields`) reads the whole file, so
+//! an unknown or misspelt key is an error with its line. Values are then checked in the
+//! family's resolver, whose errors name the dotted field and get their line from
+//! [`SourceMap`].
+
+use super::source::SourceMap;
+use crate::units::{self, Dimension, Qty};
+use serde::de::{self, Deserializer, MapAccess, Visitor};
+use serde::Deserialize;
+use std::fmt;
+use std::marker::PhantomData;
+use std::path::{Path, PathBuf};
+
+/// The mechanism families.
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, serde::Serialize, Deserialize,
+)]
+#[serde(rename_all = "kebab-case")]
+pub enum Family {
+    /// Slider-crank with a crank counterweight (piston machines, the felling-head vibrator).
+    SliderCrank,
+    /// Level-luffing four-bar jib crane.
+    LuffingCrane,
+    /// Hypocycloidal (3:1 planetary) reciprocating machine.
+    Hypocycloid,
+    /// Eccentric non-circular gear pair.
+    EccentricGear,
+}
+
+impl Family {
+    /// The name used in files and results.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Family::SliderCrank => "slider-crank",
+            Family::LuffingCrane => "luffing-crane",
+            Family::Hypocycloid => "hypocycloid",
+            Family::EccentricGear => "eccentric-gear",
+        }
+    }
+}
+
+/// A value error found after parsing: the dotted field and what is wrong and allowed.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("field `{field}`: {message}")]
+pub struct FieldError {
+    /// Dotted key, e.g. `mechanism.rod_length`.
+    pub field: String,
+    /// What is wrong and what is allowed.
+    pub message: String,
+}
+
+impl FieldError {
+    /// Shorthand.
+    pub fn new(field: impl Into<String>, message: impl Into<String>) -> Self {
+        FieldError {
+            field: field.into(),
+            message: message.into(),
+        }
+    }
+}
+
+/// A problem file that cannot be used.
+#[derive(Debug, thiserror::Error)]
+pub enum ProblemError {
+    /// The file cannot be read.
+    #[error("{}: cannot read: {source}", file.display())]
+    Read {
+        /// The file.
+        file: PathBuf,
+        /// The I/O error.
+        source: std::io::Error,
+    },
+    /// The file is read but wrong: syntax, an unknown or missing field, a bad value.
+    #[error("{}{}: {}{message}", file.display(), line.map(|l| format!(":{l}")).unwrap_or_default(), field.as_ref().map(|f| format!("field `{f}`: ")).unwrap_or_default())]
+    Invalid {
+        /// The file.
+        file: PathBuf,
+        /// 1-based line, where known.
+        line: Option<usize>,
+        /// Dotted field, where known.
+        field: Option<String>,
+        /// What is wrong and what is allowed.
+        message: String,
+    },
+}
+
+impl ProblemError {
+    /// The dotted field the error names, if any.
+    pub fn field(&self) -> Option<&str> {
+        match self {
+            ProblemError::Invalid { field, .. } => field.as_deref(),
+            ProblemError::Read { .. } => None,
+        }
+    }
+    /// The line, if any.
+    pub fn line(&self) -> Option<usize> {
+        match self {
+            ProblemError::Invalid { line, .. } => *line,
+            ProblemError::Read { .. } => None,
+        }
+    }
+}
+
+/// Context for turning parse and value errors into [`ProblemError`]s.
+pub struct Ctx<'a> {
+    /// The file (for messages).
+    pub file: &'a Path,
+    /// Its key index.
+    pub map: SourceMap,
+}
+
+impl Ctx<'_> {
+    /// A value error, located by its field.
+    pub fn field_error(&self, e: FieldError) -> ProblemError {
+        ProblemError::Invalid {
+            file: self.file.into(),
+            line: self.map.line_of(&e.field),
+            field: Some(e.field),
+            message: e.message,
+        }
+    }
+
+    /// A serde/TOML error, located by its span.
+    pub fn toml_error(&self, e: toml::de::Error) -> ProblemError {
+        let start = e.span().map(|s| s.start);
+        let line = start.map(|o| self.map.line_of_offset(o));
+        let field = start.and_then(|o| self.map.key_at(o)).map(str::to_string);
+        let message = e.message().trim().replace('\n', " ");
+        ProblemError::Invalid {
+            file: self.file.into(),
+            line,
+            field,
+            message,
+        }
+    }
+
+    /// Deserialises the whole text as `T`.
+    pub fn parse<T: for<'de> Deserialize<'de>>(&self, text: &str) -> Result<T, ProblemError> {
+        toml::from_str(text).map_err(|e| self.toml_error(e))
+    }
+}
+
+/// The first pass: only what every file has.
+#[derive(Debug, Deserialize)]
+struct Header {
+    name: Option<String>,
+    family: Option<toml::Value>,
+}
+
+/// A whole problem file of one family: the common fields plus the family's sections.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawFile<M, Mo, D, O, A> {
+    /// Scene name (also the result file's stem): letters, digits, `-`, `_`, `.`.
+    pub name: String,
+    /// Family.
+    pub family: Family,
+    /// Free text.
+    #[serde(default)]
+    pub description: String,
+    /// Mechanism data.
+    pub mechanism: M,
+    /// Model fidelity.
+    #[serde(default)]
+    pub model: Mo,
+    /// Design variables.
+    #[serde(default)]
+    pub design: D,
+    /// Objective and constraints.
+    pub objective: O,
+    /// Accuracy targets.
+    #[serde(default)]
+    pub accuracy: A,
+    /// Printed values of the source paper to compare with.
+    #[serde(default)]
+    pub paper: Vec<PaperRaw>,
+}
+
+/// A value printed in the source paper, compared with a key of the result.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PaperRaw {
+    /// What the paper's number is.
+    pub quantity: String,
+    /// The number, SI or with a unit (`"900 N"`).
+    pub value: PaperValue,
+    /// Dotted key of the result to compare with (`baselines.none.peak_shaking_force_n`).
+    pub key: String,
+    /// How to read the comparison.
+    #[serde(default)]
+    pub note: String,
+}
+
+/// A paper value: a number or a quantity string of any dimension.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PaperValue(pub f64);
+
+impl<'de> Deserialize<'de> for PaperValue {
+    fn deserialize<De: Deserializer<'de>>(d: De) -> Result<Self, De::Error> {
+        struct V;
+        impl Visitor<'_> for V {
+            type Value = PaperValue;
+            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                f.write_str("a number (SI) or a quantity string such as \"900 N\"")
+            }
+            fn visit_f64<E: de::Error>(self, v: f64) -> Result<PaperValue, E> {
+                if v.is_finite() {
+                    Ok(PaperValue(v))
+                } else {
+                    Err(E::custom("not a finite number"))
+                }
+            }
+            fn visit_i64<E: de::Error>(self, v: i64) -> Result<PaperValue, E> {
+                Ok(PaperValue(v as f64))
+            }
+            fn visit_str<E: de::Error>(self, v: &str) -> Result<PaperValue, E> {
+                units::parse_any(v)
+                    .map(|(x, _)| PaperValue(x))
+                    .map_err(E::custom)
+            }
+        }
+        d.deserialize_any(V)
+    }
+}
+
+/// A paper reference, resolved.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct PaperRef {
+    /// What the paper's number is.
+    pub quantity: String,
+    /// The paper's value in SI.
+    pub value: f64,
+    /// The result key compared with.
+    pub key: String,
+    /// How to read the comparison.
+    pub note: String,
+}
+
+/// A design variable in a file: a quantity (fixed) or `{ min = …, max = … }` (free).
+#[derive(Debug, PartialEq)]
+pub enum RawVar<D> {
+    /// Fixed.
+    Fixed(Qty<D>),
+    /// Free within bounds.
+    Free {
+        /// Lower bound.
+        min: Qty<D>,
+        /// Upper bound.
+        max: Qty<D>,
+    },
+}
+
+impl<D> Clone for RawVar<D> {
+    fn clone(&self) -> Self {
+        *self
+    }
+}
+impl<D> Copy for RawVar<D> {}
+
+impl<D> RawVar<D> {
+    /// Checks min ≤ max and converts; `field` names the variable in errors.
+    pub fn resolve(&self, field: &str) -> Result<crate::synth::Var, FieldError> {
+        use crate::synth::Var;
+        match *self {
+            RawVar::Fixed(q) => Ok(Var::Fixed(q.si())),
+            RawVar::Free { min, max } if min.si() <= max.si() => Ok(Var::Free {
+                min: min.si(),
+                max: max.si(),
+            }),
+            RawVar::Free { min, max } => Err(FieldError::new(
+                field,
+                format!(
+                    "min = {} is above max = {} (SI); allowed: min ≤ max",
+                    min.si(),
+                    max.si()
+                ),
+            )),
+        }
+    }
+}
+
+impl<'de, D: Dimension> Deserialize<'de> for RawVar<D> {
+    fn deserialize<De: Deserializer<'de>>(d: De) -> Result<Self, De::Error> {
+        struct V<D>(PhantomData<D>);
+        impl<'de, D: Dimension> Visitor<'de> for V<D> {
+            type Value = RawVar<D>;
+            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                write!(
+                    f,
+                    "a fixed {} ({}) or a free range {{ min = …, max = … }}",
+                    D::DIM.name(),
+                    D::DIM.allowed()
+                )
+            }
+            fn visit_f64<E: de::Error>(self, v: f64) -> Result<Self::Value, E> {
+                Qty::<D>::deserialize(de::value::F64Deserializer::new(v)).map(RawVar::Fixed)
+            }
+            fn visit_i64<E: de::Error>(self, v: i64) -> Result<Self::Value, E> {
+                self.visit_f64(v as f64)
+            }
+            fn visit_u64<E: de::Error>(self, v: u64) -> Result<Self::Value, E> {
+                self.visit_f64(v as f64)
+            }
+            fn visit_str<E: de::Error>(self, v: &str) -> Result<Self::Value, E> {
+                units::parse(v, D::DIM)
+                    .map(|x| RawVar::Fixed(Qty::new(x)))
+                    .map_err(E::custom)
+            }
+            fn visit_map<M: MapAccess<'de>>(self, mut m: M) -> Result<Self::Value, M::Error> {
+                let (mut min, mut max) = (None, None);
+                while let Some(k) = m.next_key::<String>()? {
+                    match k.as_str() {
+                        "min" => min = Some(m.next_value::<Qty<D>>()?),
+                        "max" => max = Some(m.next_value::<Qty<D>>()?),
+                        other => return Err(de::Error::unknown_field(other, &["min", "max"])),
+                    }
+                }
+                match (min, max) {
+                    (Some(min), Some(max)) => Ok(RawVar::Free { min, max }),
+                    (None, _) => Err(de::Error::missing_field("min")),
+                    (_, None) => Err(de::Error::missing_field("max")),
+                }
+            }
+        }
+        d.deserialize_any(V(PhantomData))
+    }
+}
+
+/// A resolved scene of any family.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct Scene {
+    /// Name.
+    pub name: String,
+    /// Family.
+    pub family: Family,
+    /// Description.
+    pub description: String,
+    /// The file it came from.
+    pub source: PathBuf,
+    /// Paper reference values.
+    pub paper: Vec<PaperRef>,
+    /// The family's resolved scene.
+    pub kind: SceneKind,
+}
+
+/// The family-specific part of a [`Scene`].
+#[derive(Debug, Clone, serde::Serialize)]
+#[serde(untagged)]
+pub enum SceneKind {
+    /// A slider-crank scene.
+    SliderCrank(crate::synth::slider_crank::Scene),
+}
+
+/// Reads and resolves a problem file.
+pub fn load(path: &Path) -> Result<Scene, ProblemError> {
+    let text = std::fs::read_to_string(path).map_err(|source| ProblemError::Read {
+        file: path.into(),
+        source,
+    })?;
+    parse_str(&text, path)
+}
+
+/// Resolves problem-file text; `path` is used for messages and as the scene's source.
+pub fn parse_str(text: &str, path: &Path) -> Result<Scene, ProblemError> {
+    let ctx = Ctx {
+        file: path,
+        map: SourceMap::new(text),
+    };
+    let header: Header = ctx.parse(text)?;
+    let Some(family) = header.family else {
+        return Err(ctx.field_error(FieldError::new(
+            "family",
+            "missing; allowed: \"slider-crank\", \"luffing-crane\", \"hypocycloid\", \"eccentric-gear\"",
+        )));
+    };
+    let family = Family::deserialize(family).map_err(|e| {
+        ctx.field_error(FieldError::new(
+            "family",
+            format!("{e}; allowed: \"slider-crank\", \"luffing-crane\", \"hypocycloid\", \"eccentric-gear\""),
+        ))
+    })?;
+    if header.name.is_none() {
+        return Err(ctx.field_error(FieldError::new(
+            "name",
+            "missing; a scene needs a name (letters, digits, -, _, .)",
+        )));
+    }
+    match family {
+        Family::SliderCrank => super::slider_crank::resolve(&ctx, text),
+        other => Err(ctx.field_error(FieldError::new(
+            "family",
+            format!(
+                "the family \"{}\" is not implemented yet; allowed now: \"slider-crank\"",
+                other.as_str()
+            ),
+        ))),
+    }
+}
+
+/// Checks a scene name (it becomes a file name).
+pub fn check_name(name: &str) -> Result<(), FieldError> {
+    let ok = !name.is_empty()
+        && name.len() <= 128
+        && name
+            .chars()
+            .all(|c| c.is_ascii_alphanumeric() || "-_.".contains(c))
+        && !name.starts_with('.');
+    if ok {
+        Ok(())
+    } else {
+        Err(FieldError::new(
+            "name",
+            format!("`{name}` cannot be a file name; allowed: 1–128 ASCII letters, digits, `-`, `_`, `.`, not starting with `.`"),
+        ))
+    }
+}
+
+/// Resolves the `[[paper]]` entries.
+pub fn resolve_paper(raw: &[PaperRaw]) -> Vec<PaperRef> {
+    raw.iter()
+        .map(|p| PaperRef {
+            quantity: p.quantity.clone(),
+            value: p.value.0,
+            key: p.key.clone(),
+            note: p.note.clone(),
+        })
+        .collect()
+}
+
+/// Checks that a value is finite and positive.
+pub fn positive(field: &str, v: f64) -> Result<f64, FieldError> {
+    if v > 0.0 && v.is_finite() {
+        Ok(v)
+    } else {
+        Err(FieldError::new(
+            field,
+            format!("must be positive, got {v}; allowed: a value > 0"),
+        ))
+    }
+}
+
+/// Checks that a value is finite and not negative.
+pub fn non_negative(field: &str, v: f64) -> Result<f64, FieldError> {
+    if v >= 0.0 && v.is_finite() {
+        Ok(v)
+    } else {
+        Err(FieldError::new(
+            field,
+            format!("must not be negative, got {v}; allowed: a value ≥ 0"),
+        ))
+    }
+}

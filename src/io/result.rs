@@ -1,0 +1,309 @@
+//! The result of one scene: the JSON object of `cwsynth solve --json` (schema in
+//! `docs/results.md`), its Markdown summary, and atomic writing of result files.
+//!
+//! Every number is SI and its key carries the unit as a suffix (`_n`, `_nm`, `_kgm`, `_m`,
+//! `_rad`, `_kg`, `_s`, `_pct`); pure numbers have no suffix.
+
+use serde::Serialize;
+use std::collections::BTreeMap;
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+/// Result status.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Status {
+    /// Optimised to the requested tolerance.
+    Optimal,
+    /// Nothing free: the given design was analysed.
+    Analysed,
+    /// Stopped with a larger error than requested; `errors` says how large.
+    Inaccurate,
+    /// The constraints cannot be met.
+    Infeasible,
+    /// The solve failed; `warnings` says why.
+    Failed,
+}
+
+/// A paper's printed value against the program's.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct PaperCheck {
+    /// What the number is.
+    pub quantity: String,
+    /// The result key compared with.
+    pub key: String,
+    /// The paper's value (SI).
+    pub paper: f64,
+    /// The program's value (SI), if the key exists.
+    pub computed: Option<f64>,
+    /// (computed − paper)/|paper| in %.
+    pub diff_pct: Option<f64>,
+    /// How to read it.
+    pub note: String,
+}
+
+/// Wall-clock times (s): the only fields that differ between identical runs.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Default)]
+pub struct Timing {
+    /// The family's solve.
+    pub solve_s: f64,
+    /// Solve plus evaluation, baselines and report data.
+    pub total_s: f64,
+}
+
+/// One SVG plot of a result.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Plot {
+    /// File name suffix: `<name>-<suffix>.svg`.
+    pub suffix: String,
+    /// Caption for reports.
+    pub caption: String,
+    /// The SVG document.
+    pub svg: String,
+}
+
+/// The result of one scene.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SolveResult {
+    /// Scene name.
+    pub name: String,
+    /// Family.
+    pub family: String,
+    /// Status.
+    pub status: Status,
+    /// Problem file.
+    pub source: String,
+    /// The model fidelity actually used (kinematics, masses, …).
+    pub model: BTreeMap<String, serde_json::Value>,
+    /// Design variables (SI, unit suffix).
+    pub design: BTreeMap<String, f64>,
+    /// Objective values of the design (SI, unit suffix).
+    pub objectives: BTreeMap<String, f64>,
+    /// Estimated absolute error of each objective (same keys and units).
+    pub errors: BTreeMap<String, f64>,
+    /// Other computed figures.
+    pub derived: BTreeMap<String, f64>,
+    /// Classical designs evaluated the same way, by name.
+    pub baselines: BTreeMap<String, BTreeMap<String, f64>>,
+    /// The paper's numbers against ours.
+    pub paper: Vec<PaperCheck>,
+    /// Warnings (model limits, paper inconsistencies, solver notes).
+    pub warnings: Vec<String>,
+    /// Solver and evaluation count.
+    pub method: String,
+    /// Wall-clock times.
+    pub timing: Timing,
+    /// Family-specific sections (`pareto`, `zero_curve`, `coefficients`, `poles`, …).
+    #[serde(flatten)]
+    pub extra: serde_json::Map<String, serde_json::Value>,
+    /// Plots (not in the JSON; written beside it).
+    #[serde(skip)]
+    pub plots: Vec<Plot>,
+}
+
+impl SolveResult {
+    /// The JSON value.
+    pub fn to_json(&self) -> serde_json::Value {
+        serde_json::to_value(self).expect("results are plain data")
+    }
+
+    /// Looks up a dotted key (`baselines.none.peak_shaking_force_n`) as a number.
+    pub fn lookup(&self, key: &str) -> Option<f64> {
+        let mut v = &self.to_json();
+        for part in key.split('.') {
+            v = match v {
+                serde_json::Value::Object(m) => m.get(part)?,
+                serde_json::Value::Array(a) => a.get(part.parse::<usize>().ok()?)?,
+                _ => return None,
+            };
+        }
+        v.as_f64()
+    }
+
+    /// Fills `paper` from the scene's references.
+    pub fn compare_with_paper(&mut self, refs: &[crate::io::problem::PaperRef]) {
+        self.paper = refs
+            .iter()
+            .map(|r| {
+                let computed = self.lookup(&r.key);
+                PaperCheck {
+                    quantity: r.quantity.clone(),
+                    key: r.key.clone(),
+                    paper: r.value,
+                    computed,
+                    diff_pct: computed.map(|c| 100.0 * (c - r.value) / r.value.abs().max(1e-300)),
+                    note: if computed.is_some() {
+                        r.note.clone()
+                    } else {
+                        format!("no such result key; {}", r.note)
+                    },
+                }
+            })
+            .collect();
+    }
+}
+
+/// Writes `bytes` to `path` atomically: a temporary file in the same directory, synced,
+/// then renamed over the target, so a reader never sees a half-written file.
+pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+    let dir = path
+        .parent()
+        .filter(|p| !p.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    std::fs::create_dir_all(dir)?;
+    let name = path.file_name().and_then(|n| n.to_str()).unwrap_or("out");
+    let tmp: PathBuf = dir.join(format!(".{name}.{}.tmp", std::process::id()));
+    let res = (|| {
+        let mut f = std::fs::File::create(&tmp)?;
+        f.write_all(bytes)?;
+        f.sync_all()?;
+        std::fs::rename(&tmp, path)
+    })();
+    if res.is_err() {
+        let _ = std::fs::remove_file(&tmp);
+    }
+    res
+}
+
+/// Formats a number for humans: 6 significant digits, exponent outside [1e-3, 1e7).
+pub fn fmt_num(v: f64) -> String {
+    if v == 0.0 || !v.is_finite() {
+        return format!("{v}");
+    }
+    let a = v.abs();
+    if (1e-3..1e7).contains(&a) {
+        let digits = (5 - a.log10().floor() as i32).clamp(0, 9) as usize;
+        format!("{v:.digits$}")
+    } else {
+        format!("{v:.5e}")
+    }
+}
+
+/// The Markdown summary of a result (`<name>.md`).
+pub fn markdown(r: &SolveResult) -> String {
+    let mut s = String::new();
+    let mut p = |line: String| {
+        s.push_str(&line);
+        s.push('\n');
+    };
+    p(format!("# {} ({})\n", r.name, r.family));
+    p(format!(
+        "Status: **{}** · source `{}` · solve {:.3} ms, total {:.3} ms\n",
+        serde_json::to_value(r.status)
+            .unwrap()
+            .as_str()
+            .unwrap_or(""),
+        r.source,
+        r.timing.solve_s * 1e3,
+        r.timing.total_s * 1e3
+    ));
+    p(format!("Method: {}\n", r.method));
+    if !r.model.is_empty() {
+        p("## Model\n".into());
+        p("| setting | value |\n|---|---|".into());
+        for (k, v) in &r.model {
+            p(format!("| {k} | {} |", v.to_string().trim_matches('"')));
+        }
+        p(String::new());
+    }
+    let table =
+        |title: &str, m: &BTreeMap<String, f64>, errs: Option<&BTreeMap<String, f64>>| -> String {
+            if m.is_empty() {
+                return String::new();
+            }
+            let mut t = format!(
+                "## {title}\n\n| key | value |{}\n|---|---|{}\n",
+                if errs.is_some() { " ± error |" } else { "" },
+                if errs.is_some() { "---|" } else { "" }
+            );
+            for (k, v) in m {
+                match errs {
+                    Some(e) => {
+                        t += &format!(
+                            "| {k} | {} | {} |\n",
+                            fmt_num(*v),
+                            e.get(k).map(|x| format!("{x:.2e}")).unwrap_or("–".into())
+                        )
+                    }
+                    None => t += &format!("| {k} | {} |\n", fmt_num(*v)),
+                }
+            }
+            t
+        };
+    p(table("Design", &r.design, None));
+    p(table("Objectives", &r.objectives, Some(&r.errors)));
+    p(table("Derived", &r.derived, None));
+    if !r.baselines.is_empty() {
+        let keys: Vec<&String> = {
+            let mut k: Vec<&String> = r.baselines.values().flat_map(|m| m.keys()).collect();
+            k.sort();
+            k.dedup();
+            k
+        };
+        p("## Baselines\n".into());
+        p(format!(
+            "| baseline | {} |",
+            keys.iter()
+                .map(|k| k.as_str())
+                .collect::<Vec<_>>()
+                .join(" | ")
+        ));
+        p(format!("|---|{}", "---|".repeat(keys.len())));
+        for (name, m) in &r.baselines {
+            let cells: Vec<String> = keys
+                .iter()
+                .map(|k| m.get(*k).map(|v| fmt_num(*v)).unwrap_or("–".into()))
+                .collect();
+            p(format!("| {name} | {} |", cells.join(" | ")));
+        }
+        p(String::new());
+    }
+    if !r.paper.is_empty() {
+        p("## Against the paper\n".into());
+        p("| quantity | paper | cwsynth | diff | note |\n|---|---|---|---|---|".into());
+        for c in &r.paper {
+            p(format!(
+                "| {} (`{}`) | {} | {} | {} | {} |",
+                c.quantity,
+                c.key,
+                fmt_num(c.paper),
+                c.computed.map(fmt_num).unwrap_or("–".into()),
+                c.diff_pct
+                    .map(|d| format!("{d:+.2} %"))
+                    .unwrap_or("–".into()),
+                c.note
+            ));
+        }
+        p(String::new());
+    }
+    if !r.warnings.is_empty() {
+        p("## Warnings\n".into());
+        for w in &r.warnings {
+            p(format!("- {w}"));
+        }
+        p(String::new());
+    }
+    for pl in &r.plots {
+        p(format!("![{}]({}-{}.svg)\n", pl.caption, r.name, pl.suffix));
+    }
+    s
+}
+
+/// Writes `<dir>/<name>.json`, `<name>.md` and every `<name>-<suffix>.svg`, atomically.
+pub fn write_outputs(r: &SolveResult, dir: &Path) -> std::io::Result<Vec<PathBuf>> {
+    let mut written = Vec::new();
+    let json = serde_json::to_string_pretty(&r.to_json()).expect("plain data") + "\n";
+    for (path, bytes) in [
+        (dir.join(format!("{}.json", r.name)), json.into_bytes()),
+        (dir.join(format!("{}.md", r.name)), markdown(r).into_bytes()),
+    ] {
+        write_atomic(&path, &bytes)?;
+        written.push(path);
+    }
+    for pl in &r.plots {
+        let path = dir.join(format!("{}-{}.svg", r.name, pl.suffix));
+        write_atomic(&path, pl.svg.as_bytes())?;
+        written.push(path);
+    }
+    Ok(written)
+}

@@ -1,0 +1,131 @@
+//! Where each key of a problem file stands, so that an error found after parsing (a
+//! negative length, λ ≥ 1) can still name the line.
+//!
+//! serde reports its own errors with a line and column; semantic checks run on the
+//! resolved values and only know the dotted key (`mechanism.rod_length`). This index maps
+//! dotted keys to lines, and a byte offset back to the innermost key that contains it.
+
+use std::ops::Range;
+use toml_edit::{Document, Item, Table, Value};
+
+/// Dotted keys with their byte spans (key start to value end) and lines.
+#[derive(Debug, Clone, Default)]
+pub struct SourceMap {
+    entries: Vec<(String, Range<usize>)>,
+    line_starts: Vec<usize>,
+}
+
+impl SourceMap {
+    /// Indexes a TOML text; an unparsable text gives an empty map (serde reports the syntax
+    /// error itself).
+    pub fn new(text: &str) -> Self {
+        let mut map = SourceMap {
+            entries: Vec::new(),
+            line_starts: std::iter::once(0)
+                .chain(text.match_indices('\n').map(|(i, _)| i + 1))
+                .collect(),
+        };
+        if let Ok(doc) = Document::parse(text) {
+            map.walk_table(doc.as_table(), "");
+        }
+        map
+    }
+
+    fn push(
+        &mut self,
+        path: String,
+        key_span: Option<Range<usize>>,
+        val_span: Option<Range<usize>>,
+    ) {
+        let span = match (key_span, val_span) {
+            (Some(k), Some(v)) => k.start.min(v.start)..k.end.max(v.end),
+            (Some(k), None) => k,
+            (None, Some(v)) => v,
+            (None, None) => return,
+        };
+        self.entries.push((path, span));
+    }
+
+    fn walk_table(&mut self, t: &Table, prefix: &str) {
+        for (k, item) in t.iter() {
+            let path = if prefix.is_empty() {
+                k.to_string()
+            } else {
+                format!("{prefix}.{k}")
+            };
+            let key_span = t.key(k).and_then(|k| k.span());
+            match item {
+                Item::Table(sub) => {
+                    self.push(path.clone(), key_span.or(sub.span()), sub.span());
+                    self.walk_table(sub, &path);
+                }
+                Item::ArrayOfTables(arr) => {
+                    for (i, sub) in arr.iter().enumerate() {
+                        let p = format!("{path}[{i}]");
+                        self.push(p.clone(), sub.span(), None);
+                        self.walk_table(sub, &p);
+                    }
+                }
+                Item::Value(v) => {
+                    self.push(path.clone(), key_span, v.span());
+                    self.walk_value(v, &path);
+                }
+                Item::None => {}
+            }
+        }
+    }
+
+    fn walk_value(&mut self, v: &Value, path: &str) {
+        if let Value::InlineTable(t) = v {
+            for (k, val) in t.iter() {
+                let p = format!("{path}.{k}");
+                self.push(p.clone(), t.key(k).and_then(|k| k.span()), val.span());
+                self.walk_value(val, &p);
+            }
+        }
+    }
+
+    /// Line (1-based) of a byte offset.
+    pub fn line_of_offset(&self, offset: usize) -> usize {
+        self.line_starts.partition_point(|&s| s <= offset).max(1)
+    }
+
+    /// Line of a dotted key; for a key that is absent, the line of its nearest present
+    /// parent (where a missing field should go).
+    pub fn line_of(&self, path: &str) -> Option<usize> {
+        let mut p = path;
+        loop {
+            if let Some((_, span)) = self.entries.iter().find(|(k, _)| k == p) {
+                return Some(self.line_of_offset(span.start));
+            }
+            p = &p[..p.rfind('.')?];
+        }
+    }
+
+    /// The innermost dotted key whose span contains `offset`.
+    pub fn key_at(&self, offset: usize) -> Option<&str> {
+        self.entries
+            .iter()
+            .filter(|(_, s)| s.start <= offset && offset < s.end.max(s.start + 1))
+            .min_by_key(|(_, s)| s.end - s.start)
+            .map(|(k, _)| k.as_str())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn finds_lines_of_nested_and_inline_keys() {
+        let text = "name = \"x\"\n\n[mechanism]\ncrank_radius = \"35 mm\"\n[design]\nangle = { min = 0, max = 3 }\n";
+        let m = SourceMap::new(text);
+        assert_eq!(m.line_of("name"), Some(1));
+        assert_eq!(m.line_of("mechanism.crank_radius"), Some(4));
+        assert_eq!(m.line_of("design.angle.max"), Some(6));
+        // Absent key: its parent's line.
+        assert_eq!(m.line_of("mechanism.rod_length"), Some(3));
+        let off = text.find("35 mm").unwrap();
+        assert_eq!(m.key_at(off), Some("mechanism.crank_radius"));
+    }
+}

@@ -1,0 +1,305 @@
+//! The slider-crank (piston) mechanism: exact kinematics with derivatives, shaking force,
+//! shaking moment and drive torque at constant crank speed.
+//!
+//! Notation follows `shared/domain/slider-crank.md`: crank OA of radius R at angle φ, rod AB
+//! of length L, slider B on the line y = e (e = 0: in-line), λ = R/L. ' is d/dφ; at constant
+//! ω every acceleration is ω² times a second derivative, so the functions here return
+//! quantities per ω² (kg·m for forces, kg·m² for torques and moments) and the caller scales.
+//!
+//! The rod is a rigid body (mass m3, centre of mass G3 at l3 from A, moment of inertia I3
+//! about G3). The classical lumped model — m3·s at A and m3·(1−s) at B — is exactly the rigid
+//! body with l3 = (1−s)·L and I3 = m3·s·(1−s)·L², so both fidelities share one code path
+//! ([`Rod::lumped`], [`Rod::rigid`]).
+
+use crate::geom::{cross, P2};
+
+/// How the slider's position is computed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Kinematics {
+    /// x = R cos φ + sqrt(L² − (R sin φ − e)²), differentiated exactly.
+    Exact,
+    /// The textbook truncation x'' ≈ −R(cos φ + λ cos 2φ) (in-line slider only); the rod
+    /// angle stays exact.
+    TwoHarmonic,
+}
+
+/// The crank's own mass (a point mass at the centroid on the crank line).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct Crank {
+    /// m2 (kg).
+    pub mass: f64,
+    /// r2, distance of the crank's centre of mass from O along OA (m); R/2 for a uniform bar.
+    pub centroid: f64,
+}
+
+/// The connecting rod as a rigid body.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct Rod {
+    /// m3 (kg).
+    pub mass: f64,
+    /// l3, distance of G3 from the crank pin A (m).
+    pub centroid: f64,
+    /// I3, moment of inertia about G3 (kg·m²).
+    pub inertia: f64,
+}
+
+impl Rod {
+    /// Two point masses: `split`·m3 at the crank pin A, the rest at the slider B
+    /// (l3 = (1 − s)L, I3 = m3 s (1 − s) L²).
+    pub fn lumped(mass: f64, split: f64, length: f64) -> Self {
+        Rod {
+            mass,
+            centroid: (1.0 - split) * length,
+            inertia: mass * split * (1.0 - split) * length * length,
+        }
+    }
+    /// A rigid rod; `None` for the centroid or inertia means a uniform bar (L/2, m3 L²/12).
+    pub fn rigid(mass: f64, length: f64, centroid: Option<f64>, inertia: Option<f64>) -> Self {
+        Rod {
+            mass,
+            centroid: centroid.unwrap_or(0.5 * length),
+            inertia: inertia.unwrap_or(mass * length * length / 12.0),
+        }
+    }
+}
+
+/// A slider-crank mechanism.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct SliderCrank {
+    /// R, crank radius (m).
+    pub r: f64,
+    /// L, rod length (m).
+    pub l: f64,
+    /// e, slider offset: the slider runs on y = e (m).
+    pub e: f64,
+    /// Kinematic model.
+    pub kinematics: Kinematics,
+    /// Crank.
+    pub crank: Crank,
+    /// Connecting rod.
+    pub rod: Rod,
+    /// m4, slider (piston) mass (kg).
+    pub slider_mass: f64,
+}
+
+/// Positions and their first two φ-derivatives at one crank angle.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct State {
+    /// Crank angle φ (rad).
+    pub phi: f64,
+    /// Crank pin A, A', A''.
+    pub a: [P2; 3],
+    /// Slider position x, x', x'' along the slider line.
+    pub x: [f64; 3],
+    /// ψ' and ψ'' of the rod angle ψ (from A to B); ψ itself is [`State::psi`].
+    pub dpsi: [f64; 2],
+    /// σ = R sin φ − e and k = L cos ψ, kept for [`State::psi`].
+    pub sigma_k: [f64; 2],
+    /// Rod centre of mass G3, G3', G3''.
+    pub g3: [P2; 3],
+}
+
+impl State {
+    /// Rod angle ψ = atan2(−σ, k) (rad), from A towards B.
+    pub fn psi(&self) -> f64 {
+        (-self.sigma_k[0]).atan2(self.sigma_k[1])
+    }
+}
+
+impl SliderCrank {
+    /// λ = R/L.
+    pub fn lambda(&self) -> f64 {
+        self.r / self.l
+    }
+
+    /// The largest (R + |e|)/L: below 1 the crank turns a full revolution.
+    pub fn assembly_ratio(&self) -> f64 {
+        (self.r + self.e.abs()) / self.l
+    }
+
+    /// Rotating mass equivalent at the crank pin, m_tq = m2 r2/R + m3 (1 − l3/L).
+    pub fn m_rot(&self) -> f64 {
+        self.crank.mass * self.crank.centroid / self.r
+            + self.rod.mass * (1.0 - self.rod.centroid / self.l)
+    }
+
+    /// Reciprocating mass equivalent at the slider, m_ct = m4 + m3 l3/L.
+    pub fn m_rec(&self) -> f64 {
+        self.slider_mass + self.rod.mass * self.rod.centroid / self.l
+    }
+
+    /// Kinematic state at φ, or `None` where the rod cannot reach the slider line
+    /// (|R sin φ − e| ≥ L).
+    ///
+    /// With σ = R sin φ − e and k = sqrt((L − σ)(L + σ)) = L cos ψ:
+    /// x = R cos φ + k, x' = −R sin φ − σ R cos φ / k,
+    /// x'' = −R cos φ − (R² cos²φ − σ R sin φ)/k − σ² R² cos²φ / k³,
+    /// ψ = atan2(−σ, k), ψ' = −R cos φ / k, ψ'' = R sin φ / k − σ R² cos²φ / k³.
+    pub fn state(&self, phi: f64) -> Option<State> {
+        let (s, c) = phi.sin_cos();
+        let r = self.r;
+        let sigma = r * s - self.e;
+        let k2 = (self.l - sigma) * (self.l + sigma);
+        if !(k2 > 0.0) {
+            return None;
+        }
+        let k = k2.sqrt();
+        let rc = r * c;
+        let dpsi = [-rc / k, r * s / k - sigma * rc * rc / (k * k2)];
+        let x = match self.kinematics {
+            Kinematics::Exact => [
+                rc + k,
+                -r * s - sigma * rc / k,
+                -rc - (rc * rc - sigma * r * s) / k - sigma * sigma * rc * rc / (k * k2),
+            ],
+            Kinematics::TwoHarmonic => {
+                let lam = self.lambda();
+                let (s2, c2) = (2.0 * phi).sin_cos();
+                [
+                    r * (c + 0.25 * lam * c2) + self.l - 0.25 * r * lam,
+                    -r * (s + 0.5 * lam * s2),
+                    -r * (c + lam * c2),
+                ]
+            }
+        };
+        let a = [
+            P2::new(rc, r * s),
+            P2::new(-r * s, rc),
+            P2::new(-rc, -r * s),
+        ];
+        let mu = self.rod.centroid / self.l;
+        let b = |i: usize| P2::new(x[i], if i == 0 { self.e } else { 0.0 });
+        let g3 = [0, 1, 2].map(|i| a[i] * (1.0 - mu) + b(i) * mu);
+        Some(State {
+            phi,
+            a,
+            x,
+            dpsi,
+            sigma_k: [sigma, k],
+            g3,
+        })
+    }
+
+    /// Shaking force per ω² without counterweight (kg·m): the force the moving links exert
+    /// on the frame, f₀ = −(m2 G2'' + m3 G3'' + m4 B''), with G2 = (r2/R)·A.
+    pub fn shaking_force0(&self, st: &State) -> P2 {
+        let g2 = st.a[2] * (self.crank.centroid / self.r);
+        -(g2 * self.crank.mass
+            + st.g3[2] * self.rod.mass
+            + P2::new(st.x[2], 0.0) * self.slider_mass)
+    }
+
+    /// Drive torque per ω² at constant speed without gravity or load (kg·m²):
+    /// T/ω² = dE_kin/dφ / ω² = m3 G3'·G3'' + I3 ψ'ψ'' + m4 x'x''. The crank and any
+    /// counterweight turn uniformly and contribute nothing.
+    pub fn drive_torque0(&self, st: &State) -> f64 {
+        self.rod.mass * st.g3[1].dot(&st.g3[2])
+            + self.rod.inertia * st.dpsi[0] * st.dpsi[1]
+            + self.slider_mass * st.x[1] * st.x[2]
+    }
+
+    /// Shaking moment about O per ω² (kg·m²): the moment the moving links exert on the
+    /// frame (motor stator included), −Σ(mᵢ rᵢ × rᵢ'' + Iᵢ θᵢ''). Crank and counterweight
+    /// contribute nothing at constant speed.
+    pub fn shaking_moment0(&self, st: &State) -> f64 {
+        let b = P2::new(st.x[0], self.e);
+        let b2 = P2::new(st.x[2], 0.0);
+        -(self.rod.mass * cross(st.g3[0], st.g3[2])
+            + self.rod.inertia * st.dpsi[1]
+            + self.slider_mass * cross(b, b2))
+    }
+
+    /// Kinetic energy per ω² (kg·m²) of the links without counterweight, used by tests of
+    /// T = dE/dφ: ½(m2 |G2'|² + I2 + m3 |G3'|² + I3 ψ'² + m4 x'²) with the crank's own
+    /// rotational energy omitted (it is constant).
+    pub fn kinetic_energy0(&self, st: &State) -> f64 {
+        let g2 = st.a[1] * (self.crank.centroid / self.r);
+        0.5 * (self.crank.mass * g2.norm_squared()
+            + self.rod.mass * st.g3[1].norm_squared()
+            + self.rod.inertia * st.dpsi[0] * st.dpsi[0]
+            + self.slider_mass * st.x[1] * st.x[1])
+    }
+}
+
+/// Rotation of the crank-fixed vector `u` to crank angle φ: Rot(φ)·u.
+pub fn rot(phi: f64, u: P2) -> P2 {
+    let (s, c) = phi.sin_cos();
+    P2::new(c * u.x - s * u.y, s * u.x + c * u.y)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn piston() -> SliderCrank {
+        SliderCrank {
+            r: 0.035,
+            l: 0.14,
+            e: 0.01,
+            kinematics: Kinematics::Exact,
+            crank: Crank {
+                mass: 0.35,
+                centroid: 0.0175,
+            },
+            rod: Rod::rigid(0.3, 0.14, Some(0.05), Some(4e-4)),
+            slider_mass: 1.03,
+        }
+    }
+
+    #[test]
+    fn derivatives_match_central_differences() {
+        let m = piston();
+        let h = 1e-5;
+        for k in 0..24 {
+            let phi = 0.3 + k as f64 * 0.26;
+            let (s0, sm, sp) = (
+                m.state(phi).unwrap(),
+                m.state(phi - h).unwrap(),
+                m.state(phi + h).unwrap(),
+            );
+            for i in 0..2 {
+                let fd_x = (sp.x[i] - sm.x[i]) / (2.0 * h);
+                assert!((fd_x - s0.x[i + 1]).abs() < 1e-8, "x^({}) at {phi}", i + 1);
+                let (pp, pm) = if i == 0 {
+                    (sp.psi(), sm.psi())
+                } else {
+                    (sp.dpsi[0], sm.dpsi[0])
+                };
+                let fd_psi = (pp - pm) / (2.0 * h);
+                assert!(
+                    (fd_psi - s0.dpsi[i]).abs() < 1e-7,
+                    "psi^({}) at {phi}",
+                    i + 1
+                );
+                let fd_g = (sp.g3[i] - sm.g3[i]) / (2.0 * h);
+                assert!((fd_g - s0.g3[i + 1]).norm() < 1e-8);
+            }
+            // The rod really has length L and ends on the slider line.
+            let b = P2::new(s0.x[0], m.e);
+            assert!(((b - s0.a[0]).norm() - m.l).abs() < 1e-15);
+        }
+    }
+
+    #[test]
+    fn cannot_assemble_past_the_reach() {
+        let mut m = piston();
+        m.l = 0.04; // R + e = 0.045 > L
+        assert!(m.state(-std::f64::consts::FRAC_PI_2).is_none());
+        assert!(m.state(0.0).is_some());
+    }
+
+    #[test]
+    fn torque_is_the_derivative_of_kinetic_energy() {
+        let m = piston();
+        let h = 1e-5;
+        for k in 0..16 {
+            let phi = 0.1 + k as f64 * 0.39;
+            let de = (m.kinetic_energy0(&m.state(phi + h).unwrap())
+                - m.kinetic_energy0(&m.state(phi - h).unwrap()))
+                / (2.0 * h);
+            let t = m.drive_torque0(&m.state(phi).unwrap());
+            assert!((de - t).abs() < 1e-9, "{de} vs {t}");
+        }
+    }
+}

@@ -1,0 +1,576 @@
+//! Counterweight synthesis as a convex program over the unbalance vector U, solved by
+//! clarabel and refined by an exchange (Remez-like) loop.
+//!
+//! Everything a crank counterweight changes at constant speed is affine in U = m·r·(cos β,
+//! sin β) (crank frame): the shaking force f(φ; U) = f₀(φ) + Rot(φ)·U, and with gravity the
+//! drive torque. So, over a finite set of sample angles φ_k,
+//!
+//! * min over U of max_k ‖A_k U + b_k‖ is the SOCP  min t s.t. ‖A_k U + b_k‖ ≤ t;
+//! * min of the mean of ‖A U + b‖² is a QP;
+//! * min ‖U‖ subject to ‖A_k U + b_k‖ ≤ F_max is an SOCP;
+//!
+//! each with optional limits on other fields, ‖U‖ ≤ U_max, a fixed direction of U (with
+//! a lower bound on its length) or a sector of directions up to 180° wide. The sampled
+//! optimum is a lower bound of the true one; the exchange loop locates every local maximum
+//! of each field on the current design with [`crate::numeric::periodic_peak`], adds those
+//! angles and re-solves until the true peak is within the tolerance of the sampled bound.
+//!
+//! All quantities are expected already non-dimensionalised by the caller (O(1) numbers);
+//! clarabel's tolerances are relative to that scale.
+
+use crate::geom::P2;
+use crate::numeric::{periodic_peak, PeriodicPeak, SearchError};
+use clarabel::algebra::CscMatrix;
+use clarabel::solver::{
+    DefaultSettingsBuilder, DefaultSolver, IPSolver, SolverStatus, SupportedConeT,
+};
+
+/// An affine map u ↦ A u + b at one angle; a scalar field uses only the first row.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Affine {
+    /// Rows of A (2×2).
+    pub a: [[f64; 2]; 2],
+    /// b.
+    pub b: [f64; 2],
+}
+
+impl Affine {
+    /// Value at u.
+    pub fn at(&self, u: P2) -> P2 {
+        P2::new(
+            self.a[0][0] * u.x + self.a[0][1] * u.y + self.b[0],
+            self.a[1][0] * u.x + self.a[1][1] * u.y + self.b[1],
+        )
+    }
+}
+
+/// A field over the crank angle, affine in the unbalance.
+pub struct Field<'a> {
+    /// Name used in messages and results.
+    pub name: &'static str,
+    /// 2 for a planar force, 1 for a scalar (torque): only the first row is used.
+    pub dim: usize,
+    /// The field at φ.
+    pub eval: &'a (dyn Fn(f64) -> Affine + Sync),
+}
+
+impl Field<'_> {
+    /// |f(φ; u)| (Euclidean for a vector field, absolute value for a scalar).
+    pub fn magnitude(&self, phi: f64, u: P2) -> f64 {
+        let v = (self.eval)(phi).at(u);
+        if self.dim == 2 {
+            v.x.hypot(v.y)
+        } else {
+            v.x.abs()
+        }
+    }
+}
+
+/// What to minimise.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Goal {
+    /// The peak over φ of |field i|.
+    MinPeak(usize),
+    /// The mean over φ of |field i|² (so its RMS).
+    MinMeanSquare(usize),
+    /// ‖U‖ (the lightest counterweight at a given radius).
+    MinNorm,
+}
+
+/// Restrictions on the direction of U.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Direction {
+    /// Any direction.
+    Free,
+    /// U = s·(cos β, sin β) with s ≥ `min_len`.
+    Fixed { beta: f64, min_len: f64 },
+    /// β in [β_lo, β_hi] with β_hi − β_lo ≤ π: the convex cone between the two rays.
+    Sector { lo: f64, hi: f64 },
+}
+
+/// The convex counterweight problem.
+pub struct Problem<'a> {
+    /// Fields (index 0 usually the shaking force).
+    pub fields: Vec<Field<'a>>,
+    /// Objective.
+    pub goal: Goal,
+    /// Upper limits on the peak of fields: (field index, limit).
+    pub limits: Vec<(usize, f64)>,
+    /// ‖U‖ ≤ u_max (infinite: no bound).
+    pub u_max: f64,
+    /// Direction restriction.
+    pub direction: Direction,
+}
+
+/// Accuracy settings of the exchange loop (flat, with defaults, Clarabel style).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct Settings {
+    /// Stop when (true peak − sampled bound) ≤ `rel_tol`·true peak. Default 1e-9.
+    pub rel_tol: f64,
+    /// Equally spaced angles in the first SOCP. Default 12.
+    pub initial_samples: usize,
+    /// Angles of the scan that brackets the local maxima of a design. Default 360.
+    pub scan_samples: usize,
+    /// Exchange rounds at most. Default 30.
+    pub max_rounds: usize,
+    /// Angle tolerance of the peak refinement (rad). Default 1e-10.
+    pub peak_xtol: f64,
+    /// Quadrature points of mean-square objectives (and of RMS values). Default 720.
+    pub rms_samples: usize,
+    /// Between exchange rounds, keep only the sampled angles whose value is within this
+    /// fraction of the current level (the near-active set). Default 0.05; 1 keeps all.
+    pub keep_band: f64,
+}
+
+impl Default for Settings {
+    fn default() -> Self {
+        Settings {
+            rel_tol: 1e-9,
+            initial_samples: 12,
+            scan_samples: 360,
+            max_rounds: 30,
+            peak_xtol: 1e-10,
+            rms_samples: 720,
+            keep_band: 0.05,
+        }
+    }
+}
+
+impl Settings {
+    /// Checks every field; the error names the field (as in `[accuracy]`) and its range.
+    pub fn validate(&self) -> Result<(), (&'static str, String)> {
+        if !(self.rel_tol > 0.0 && self.rel_tol < 1.0) {
+            return Err((
+                "rel_tol",
+                format!("must be in (0, 1), got {}", self.rel_tol),
+            ));
+        }
+        if self.initial_samples < 3 {
+            return Err((
+                "initial_samples",
+                format!("must be at least 3, got {}", self.initial_samples),
+            ));
+        }
+        if self.scan_samples < 16 {
+            return Err((
+                "scan_samples",
+                format!("must be at least 16, got {}", self.scan_samples),
+            ));
+        }
+        if self.max_rounds == 0 {
+            return Err(("max_rounds", "must be at least 1".into()));
+        }
+        if !(self.peak_xtol > 0.0 && self.peak_xtol < 1e-2) {
+            return Err((
+                "peak_xtol",
+                format!("must be in (0, 0.01) rad, got {}", self.peak_xtol),
+            ));
+        }
+        if !(self.keep_band > 0.0 && self.keep_band <= 1.0) {
+            return Err((
+                "keep_band",
+                format!("must be in (0, 1], got {}", self.keep_band),
+            ));
+        }
+        if self.rms_samples < 16 {
+            return Err((
+                "rms_samples",
+                format!("must be at least 16, got {}", self.rms_samples),
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// How the solve ended.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Status {
+    /// Converged to the tolerance.
+    Optimal,
+    /// Stopped with a larger gap than asked (rounds exhausted, stalled, or clarabel only
+    /// reached reduced accuracy); the gap is reported.
+    Inaccurate,
+    /// The constraints cannot be met (e.g. a force limit below the minimax optimum).
+    Infeasible,
+    /// clarabel failed (numerical error) before any usable iterate.
+    Failed,
+}
+
+/// The outcome of [`solve`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct Solution {
+    /// Status.
+    pub status: Status,
+    /// The unbalance found (normalised units).
+    pub u: P2,
+    /// Objective value on the samples (lower bound of the true optimum for `MinPeak`).
+    pub sampled_objective: f64,
+    /// Refined peak of every field at `u`.
+    pub peaks: Vec<PeriodicPeak>,
+    /// For `MinPeak`: true peak − sampled bound (≥ 0 up to solver tolerance); for limits:
+    /// the largest violation; else 0.
+    pub gap: f64,
+    /// Exchange rounds (SOCP solves).
+    pub rounds: usize,
+    /// Angles in the final SOCP.
+    pub samples: usize,
+    /// Total clarabel interior-point iterations.
+    pub ipm_iterations: u32,
+    /// The last clarabel status, as text.
+    pub solver_status: String,
+    /// Why the loop stopped where not optimal.
+    pub note: Option<String>,
+}
+
+/// The peaks of all fields at `u`.
+pub fn field_peaks(
+    fields: &[Field],
+    u: P2,
+    s: &Settings,
+) -> Result<Vec<PeriodicPeak>, SearchError> {
+    fields
+        .iter()
+        .map(|f| periodic_peak(|phi| f.magnitude(phi, u), s.scan_samples, s.peak_xtol))
+        .collect()
+}
+
+struct Built {
+    p: CscMatrix<f64>,
+    q: Vec<f64>,
+    a: CscMatrix<f64>,
+    b: Vec<f64>,
+    cones: Vec<SupportedConeT<f64>>,
+}
+
+/// Triplet builder for the conic constraints A x + s = b, s ∈ K.
+#[derive(Default)]
+struct Rows {
+    i: Vec<usize>,
+    j: Vec<usize>,
+    v: Vec<f64>,
+    b: Vec<f64>,
+    cones: Vec<SupportedConeT<f64>>,
+}
+
+impl Rows {
+    fn row(&mut self, coeffs: &[(usize, f64)], rhs: f64) {
+        let r = self.b.len();
+        for &(j, v) in coeffs {
+            if v != 0.0 {
+                self.i.push(r);
+                self.j.push(j);
+                self.v.push(v);
+            }
+        }
+        self.b.push(rhs);
+    }
+    /// ‖A u + b‖ ≤ (t-variable `t` or the constant `bound`).
+    fn cone(&mut self, aff: &Affine, dim: usize, t: Option<usize>, bound: f64) {
+        match t {
+            Some(tj) => self.row(&[(tj, -1.0)], 0.0),
+            None => self.row(&[], bound),
+        }
+        for r in 0..dim {
+            self.row(&[(0, -aff.a[r][0]), (1, -aff.a[r][1])], aff.b[r]);
+        }
+        self.cones.push(SupportedConeT::SecondOrderConeT(dim + 1));
+    }
+}
+
+fn build(pb: &Problem, samples: &[f64], s: &Settings) -> Built {
+    // Variables: u (0, 1), then t or s (2) when the goal needs it.
+    let extra = !matches!(pb.goal, Goal::MinMeanSquare(_));
+    let n = if extra { 3 } else { 2 };
+    let mut rows = Rows::default();
+    let mut q = vec![0.0; n];
+    let mut p = CscMatrix::zeros((n, n));
+    match pb.goal {
+        Goal::MinPeak(i) => {
+            q[2] = 1.0;
+            let f = &pb.fields[i];
+            for &phi in samples {
+                rows.cone(&(f.eval)(phi), f.dim, Some(2), 0.0);
+            }
+        }
+        Goal::MinNorm => {
+            q[2] = 1.0;
+            rows.row(&[(2, -1.0)], 0.0);
+            rows.row(&[(0, -1.0)], 0.0);
+            rows.row(&[(1, -1.0)], 0.0);
+            rows.cones.push(SupportedConeT::SecondOrderConeT(3));
+        }
+        Goal::MinMeanSquare(i) => {
+            // mean |A u + b|² = uᵀ H u + 2 gᵀ u + c, with clarabel's ½ xᵀ P x + qᵀ x: P = 2H, q = 2g.
+            let f = &pb.fields[i];
+            let m = s.rms_samples;
+            let (mut h, mut g) = ([[0.0; 2]; 2], [0.0; 2]);
+            for k in 0..m {
+                let aff = (f.eval)(k as f64 * std::f64::consts::TAU / m as f64);
+                for r in 0..f.dim {
+                    for c in 0..2 {
+                        g[c] += aff.a[r][c] * aff.b[r] / m as f64;
+                        for d in 0..2 {
+                            h[c][d] += aff.a[r][c] * aff.a[r][d] / m as f64;
+                        }
+                    }
+                }
+            }
+            p = CscMatrix::new_from_triplets(
+                2,
+                2,
+                vec![0, 0, 1],
+                vec![0, 1, 1],
+                vec![2.0 * h[0][0], 2.0 * h[0][1], 2.0 * h[1][1]],
+            );
+            q = vec![2.0 * g[0], 2.0 * g[1]];
+        }
+    }
+    for &(i, lim) in &pb.limits {
+        let f = &pb.fields[i];
+        for &phi in samples {
+            rows.cone(&(f.eval)(phi), f.dim, None, lim);
+        }
+    }
+    if pb.u_max.is_finite() {
+        rows.row(&[], pb.u_max);
+        rows.row(&[(0, -1.0)], 0.0);
+        rows.row(&[(1, -1.0)], 0.0);
+        rows.cones.push(SupportedConeT::SecondOrderConeT(3));
+    }
+    match pb.direction {
+        Direction::Free => {}
+        Direction::Fixed { beta, min_len } => {
+            let (sb, cb) = beta.sin_cos();
+            // −sin β·u_x + cos β·u_y = 0 and cos β·u_x + sin β·u_y ≥ min_len.
+            rows.row(&[(0, -sb), (1, cb)], 0.0);
+            rows.cones.push(SupportedConeT::ZeroConeT(1));
+            rows.row(&[(0, -cb), (1, -sb)], -min_len);
+            rows.cones.push(SupportedConeT::NonnegativeConeT(1));
+        }
+        Direction::Sector { lo, hi } => {
+            // u inside the wedge: left of the ray at lo and right of the ray at hi.
+            let (sl, cl) = lo.sin_cos();
+            let (sh, ch) = hi.sin_cos();
+            rows.row(&[(0, sl), (1, -cl)], 0.0); // cos lo·u_y − sin lo·u_x ≥ 0
+            rows.row(&[(0, -sh), (1, ch)], 0.0); // sin hi·u_x − cos hi·u_y ≥ 0
+            rows.cones.push(SupportedConeT::NonnegativeConeT(2));
+        }
+    }
+    let m = rows.b.len();
+    let a = CscMatrix::new_from_triplets(m, n, rows.i, rows.j, rows.v);
+    Built {
+        p,
+        q,
+        a,
+        b: rows.b,
+        cones: rows.cones,
+    }
+}
+
+struct ConicResult {
+    status: SolverStatus,
+    x: Vec<f64>,
+    obj: f64,
+    obj_dual: f64,
+    iterations: u32,
+}
+
+/// clarabel's settings for a target relative gap: its own duality-gap tolerance two orders
+/// tighter (within [1e-11, 1e-8]; tighter than 1e-11 it tends to stop at AlmostSolved).
+fn run_clarabel(bt: &Built, rel_tol: f64) -> Result<ConicResult, String> {
+    let gap_tol = (0.01 * rel_tol).clamp(1e-11, 1e-8);
+    let settings = DefaultSettingsBuilder::default()
+        .verbose(false)
+        .tol_gap_abs(gap_tol)
+        .tol_gap_rel(gap_tol)
+        .tol_feas((0.1 * rel_tol).clamp(1e-10, 1e-8))
+        .tol_ktratio(1e-10)
+        .max_iter(100)
+        .build()
+        .map_err(|e| e.to_string())?;
+    let mut solver = DefaultSolver::new(&bt.p, &bt.q, &bt.a, &bt.b, &bt.cones, settings)
+        .map_err(|e| format!("clarabel setup: {e:?}"))?;
+    solver.solve();
+    let sol = &solver.solution;
+    Ok(ConicResult {
+        status: sol.status,
+        x: sol.x.clone(),
+        obj: sol.obj_val,
+        obj_dual: sol.obj_val_dual,
+        iterations: sol.iterations,
+    })
+}
+
+/// Equally spaced angles.
+pub fn uniform_angles(n: usize) -> Vec<f64> {
+    (0..n)
+        .map(|k| k as f64 * std::f64::consts::TAU / n as f64)
+        .collect()
+}
+
+/// Solves the problem by the exchange loop (see the module doc).
+pub fn solve(pb: &Problem, s: &Settings) -> Solution {
+    let mut samples = uniform_angles(s.initial_samples);
+    let mut iters = 0;
+    let mut last = Solution {
+        status: Status::Failed,
+        u: P2::zeros(),
+        sampled_objective: f64::NAN,
+        peaks: Vec::new(),
+        gap: f64::INFINITY,
+        rounds: 0,
+        samples: 0,
+        ipm_iterations: 0,
+        solver_status: String::new(),
+        note: None,
+    };
+    for round in 1..=s.max_rounds {
+        let bt = build(pb, &samples, s);
+        let res = match run_clarabel(&bt, s.rel_tol) {
+            Ok(r) => r,
+            Err(e) => {
+                last.note = Some(e);
+                return last;
+            }
+        };
+        iters += res.iterations;
+        let status_txt = format!("{:?}", res.status);
+        match res.status {
+            SolverStatus::Solved | SolverStatus::AlmostSolved => {}
+            SolverStatus::PrimalInfeasible | SolverStatus::AlmostPrimalInfeasible => {
+                last.status = Status::Infeasible;
+                last.solver_status = status_txt;
+                last.rounds = round;
+                last.samples = samples.len();
+                last.ipm_iterations = iters;
+                last.note = Some("the constraints cannot all be met on the sampled angles (so not on all angles either)".into());
+                return last;
+            }
+            // InsufficientProgress, MaxIterations, NumericalError …: keep the iterate if it
+            // is finite and say so; the gap below tells how good it is.
+            _ if res.x.iter().all(|v| v.is_finite()) && round > 1 => {
+                last.status = Status::Inaccurate;
+                last.solver_status = status_txt.clone();
+                last.note = Some(format!(
+                    "clarabel stopped with {status_txt}; the previous round's design is kept"
+                ));
+                last.rounds = round;
+                last.ipm_iterations = iters;
+                return last;
+            }
+            _ if res.x.iter().all(|v| v.is_finite()) => {}
+            _ => {
+                last.solver_status = status_txt;
+                last.note = Some("clarabel returned no finite iterate".into());
+                return last;
+            }
+        }
+        let u = P2::new(res.x[0], res.x[1]);
+        let peaks = match field_peaks(&pb.fields, u, s) {
+            Ok(p) => p,
+            Err(e) => {
+                last.note = Some(format!("peak evaluation failed: {e}"));
+                return last;
+            }
+        };
+        let lower = res.obj.min(res.obj_dual);
+        // Gap of the objective and worst relative violation of the limits.
+        let (obj_gap, scale) = match pb.goal {
+            Goal::MinPeak(i) => ((peaks[i].peak.fx - lower).max(0.0), peaks[i].peak.fx),
+            _ => (0.0, 1.0),
+        };
+        let violation = pb
+            .limits
+            .iter()
+            .map(|&(i, lim)| (peaks[i].peak.fx - lim).max(0.0) / lim.abs().max(1e-300))
+            .fold(0.0, f64::max);
+        let converged = obj_gap <= s.rel_tol * scale.max(1e-300) && violation <= s.rel_tol;
+        let almost = res.status == SolverStatus::AlmostSolved;
+        last = Solution {
+            status: if converged && !almost {
+                Status::Optimal
+            } else {
+                Status::Inaccurate
+            },
+            u,
+            sampled_objective: match pb.goal {
+                Goal::MinPeak(_) => lower,
+                _ => res.obj,
+            },
+            peaks,
+            gap: obj_gap,
+            rounds: round,
+            samples: samples.len(),
+            ipm_iterations: iters,
+            solver_status: status_txt,
+            note: if almost {
+                Some("clarabel reached reduced accuracy only (AlmostSolved)".into())
+            } else {
+                None
+            },
+        };
+        // Limit violations are reported in the gap too (absolute, normalised units).
+        let viol_abs = pb
+            .limits
+            .iter()
+            .map(|&(i, lim)| (last.peaks[i].peak.fx - lim).max(0.0))
+            .fold(0.0, f64::max);
+        last.gap = last.gap.max(viol_abs);
+        if converged {
+            return last;
+        }
+        // Exchange: drop the samples far from active (a subset still gives a lower bound, and
+        // a small SOCP is a fast one), then add every local maximum that is above the sampled
+        // bound (objective) or above its limit.
+        let keep = |phi: f64| -> bool {
+            let near = |i: usize, level: f64| {
+                pb.fields[i].magnitude(phi, u) >= (1.0 - s.keep_band) * level
+            };
+            let obj = match pb.goal {
+                Goal::MinPeak(i) => near(i, lower),
+                _ => false,
+            };
+            obj || pb.limits.iter().any(|&(i, lim)| near(i, lim))
+        };
+        samples.retain(|&phi| keep(phi));
+        let mut added = 0;
+        let mut add = |phi: f64, samples: &mut Vec<f64>| {
+            if samples.iter().all(|&q| angle_dist(q, phi) > 1e-9) {
+                samples.push(phi);
+                added += 1;
+            }
+        };
+        if let Goal::MinPeak(i) = pb.goal {
+            for m in &last.peaks[i].maxima {
+                if m.fx > lower + 0.5 * s.rel_tol * scale {
+                    add(m.x, &mut samples);
+                }
+            }
+        }
+        for &(i, lim) in &pb.limits {
+            for m in &last.peaks[i].maxima {
+                if m.fx > lim {
+                    add(m.x, &mut samples);
+                }
+            }
+        }
+        if added == 0 {
+            last.note = Some(format!(
+                "exchange stalled after {round} rounds: every local maximum is already sampled; the remaining gap is clarabel's accuracy"
+            ));
+            return last;
+        }
+    }
+    last.note = Some(format!(
+        "stopped after max_rounds = {} exchange rounds",
+        s.max_rounds
+    ));
+    last
+}
+
+/// Distance between two angles on the circle.
+pub fn angle_dist(a: f64, b: f64) -> f64 {
+    let d = (a - b).rem_euclid(std::f64::consts::TAU);
+    d.min(std::f64::consts::TAU - d)
+}

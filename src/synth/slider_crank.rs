@@ -1,0 +1,581 @@
+//! Crank counterweight synthesis for a slider-crank machine.
+//!
+//! The scene fixes the mechanism and the speed; the design is the counterweight (unbalance
+//! U = m·r at angle β from the crank line, and how |U| splits into mass and radius). The
+//! objective is the peak or the RMS shaking force, or the lightest / smallest-radius
+//! counterweight under a peak-force limit. The convex core is [`super::counterweight`];
+//! this module maps the scene onto it, splits |U| into m and r, and evaluates the result
+//! and the classical baselines (no counterweight, y force zeroed, the 50 % rule, equal x and
+//! y ranges) with the same refined peaks.
+
+use super::counterweight::{self as cw, Affine, Direction, Field, Goal, Problem, Status};
+use super::Var;
+use crate::geom::P2;
+use crate::mech::slider_crank::{rot, Kinematics, SliderCrank, State};
+use crate::numeric::{brent_max, brent_root, periodic_peak, periodic_rms};
+use std::collections::BTreeMap;
+
+/// What the synthesis minimises.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Objective {
+    /// The peak over φ of |F| (minimax, SOCP).
+    MinPeakForce,
+    /// The RMS over φ of |F| (QP).
+    MinRmsForce,
+    /// The lightest counterweight whose peak force stays under `max_peak_force`.
+    MinMass,
+    /// The smallest-radius counterweight whose peak force stays under `max_peak_force`.
+    MinRadius,
+}
+
+/// How a free |U| is split into mass and radius when both are free.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize, Default)]
+#[serde(rename_all = "kebab-case")]
+pub enum Prefer {
+    /// The smallest radius the mass bound allows (the paper's aim: a compact machine).
+    #[default]
+    SmallestRadius,
+    /// The lightest mass the radius bound allows.
+    Lightest,
+}
+
+/// The counterweight's design variables (SI).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct CounterweightSpec {
+    /// |U| = m·r (kg·m).
+    pub unbalance: Var,
+    /// β, angle of U from the crank line (rad); π = opposite the crank pin.
+    pub angle: Var,
+    /// Mass m (kg), if the scene sizes it.
+    pub mass: Option<Var>,
+    /// Centroid radius r (m), if the scene sizes it.
+    pub radius: Option<Var>,
+    /// Split preference when mass and radius are both free.
+    pub prefer: Prefer,
+}
+
+/// A resolved, checked slider-crank scene.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct Scene {
+    /// Mechanism.
+    pub mech: SliderCrank,
+    /// ω (rad/s).
+    pub omega: f64,
+    /// Counterweight design variables.
+    pub counterweight: CounterweightSpec,
+    /// Objective.
+    pub objective: Objective,
+    /// Peak shaking-force limit (N), a constraint (required by `MinMass`/`MinRadius`).
+    pub max_peak_force: Option<f64>,
+    /// Accuracy.
+    pub settings: cw::Settings,
+}
+
+/// Force and torque figures of one counterweight, in SI.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct Metrics {
+    /// U in the crank frame (kg·m).
+    pub unbalance: [f64; 2],
+    /// max |F| (N), refined.
+    pub peak: f64,
+    /// Crank angle of the peak (rad).
+    pub peak_angle: f64,
+    /// Bound on the peak's evaluation error (N).
+    pub peak_error: f64,
+    /// RMS of |F| (N).
+    pub rms: f64,
+    /// Quadrature error estimate of the RMS (N).
+    pub rms_error: f64,
+    /// max Fx − min Fx (N).
+    pub ptp_x: f64,
+    /// max Fy − min Fy (N).
+    pub ptp_y: f64,
+    /// max |Fx| (N).
+    pub peak_x: f64,
+    /// max |Fy| (N).
+    pub peak_y: f64,
+}
+
+impl Metrics {
+    /// As result keys (SI, unit suffix).
+    pub fn to_map(&self) -> BTreeMap<String, f64> {
+        let u = P2::new(self.unbalance[0], self.unbalance[1]);
+        BTreeMap::from([
+            ("unbalance_kgm".into(), u.norm()),
+            (
+                "unbalance_angle_rad".into(),
+                if u.norm() > 0.0 {
+                    u.y.atan2(u.x).rem_euclid(std::f64::consts::TAU)
+                } else {
+                    0.0
+                },
+            ),
+            ("peak_shaking_force_n".into(), self.peak),
+            ("rms_shaking_force_n".into(), self.rms),
+            ("peak_to_peak_x_n".into(), self.ptp_x),
+            ("peak_to_peak_y_n".into(), self.ptp_y),
+            ("peak_x_n".into(), self.peak_x),
+            ("peak_y_n".into(), self.peak_y),
+        ])
+    }
+}
+
+/// Everything the solve found.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct Outcome {
+    /// Convex-solver status (or `Optimal` for a pure analysis).
+    pub status: Status,
+    /// The counterweight found.
+    pub design: Metrics,
+    /// Its mass (kg) and radius (m), where the scene sizes them.
+    pub mass: Option<f64>,
+    /// See `mass`.
+    pub radius: Option<f64>,
+    /// Optimality gap of the objective in SI (N): true value of the design minus the sampled
+    /// lower bound; 0 for RMS (exact QP) and for analyses.
+    pub gap: f64,
+    /// Peak drive torque |T| (N·m) at constant speed: independent of the counterweight
+    /// without gravity.
+    pub peak_drive_torque: f64,
+    /// Peak shaking moment about the crank axis (N·m).
+    pub peak_shaking_moment: f64,
+    /// Baselines by name.
+    pub baselines: BTreeMap<String, Metrics>,
+    /// For two-harmonic kinematics: the design's peak force with exact kinematics (N).
+    pub exact_peak: Option<f64>,
+    /// Solver description.
+    pub method: String,
+    /// Warnings.
+    pub warnings: Vec<String>,
+}
+
+/// Why a scene cannot be solved.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum SolveError {
+    /// The crank cannot turn a full revolution.
+    #[error("the rod cannot reach the slider line at every crank angle: (R + |e|)/L = {0:.6} ≥ 1")]
+    CannotAssemble(f64),
+    /// No moving mass at all.
+    #[error("all link masses are zero: there is no shaking force to balance")]
+    NoMass,
+    /// A peak evaluation failed.
+    #[error("{0}")]
+    Numeric(String),
+}
+
+/// The normalised shaking-force field f̂(φ; û) = f₀(φ)/U_ref + Rot(φ)·û, U_ref = (m_tq + m_ct)R.
+struct Normalised<'a> {
+    mech: &'a SliderCrank,
+    u_ref: f64,
+}
+
+impl Normalised<'_> {
+    fn state(&self, phi: f64) -> State {
+        // Assembly was checked for the whole revolution before any field is evaluated.
+        self.mech.state(phi).expect("assembly checked")
+    }
+    fn force(&self, phi: f64) -> Affine {
+        let f0 = self.mech.shaking_force0(&self.state(phi)) / self.u_ref;
+        let (s, c) = phi.sin_cos();
+        Affine {
+            a: [[c, -s], [s, c]],
+            b: [f0.x, f0.y],
+        }
+    }
+}
+
+/// Shaking force (N) at φ for the unbalance `u` (kg·m, crank frame).
+pub fn shaking_force(mech: &SliderCrank, omega: f64, u: P2, phi: f64) -> Option<P2> {
+    mech.state(phi)
+        .map(|st| (mech.shaking_force0(&st) + rot(phi, u)) * (omega * omega))
+}
+
+/// Refined figures of the counterweight `u` (kg·m).
+pub fn metrics(
+    mech: &SliderCrank,
+    omega: f64,
+    u: P2,
+    s: &cw::Settings,
+) -> Result<Metrics, SolveError> {
+    let f = |phi: f64| shaking_force(mech, omega, u, phi).expect("assembly checked");
+    let num = |e: crate::numeric::SearchError| SolveError::Numeric(e.to_string());
+    let pk = periodic_peak(|p| f(p).norm(), s.scan_samples, s.peak_xtol).map_err(num)?;
+    let rms = periodic_rms(|p| f(p).norm(), s.rms_samples);
+    let xmax = periodic_peak(|p| f(p).x, s.scan_samples, s.peak_xtol).map_err(num)?;
+    let xmin = periodic_peak(|p| -f(p).x, s.scan_samples, s.peak_xtol).map_err(num)?;
+    let ymax = periodic_peak(|p| f(p).y, s.scan_samples, s.peak_xtol).map_err(num)?;
+    let ymin = periodic_peak(|p| -f(p).y, s.scan_samples, s.peak_xtol).map_err(num)?;
+    Ok(Metrics {
+        unbalance: [u.x, u.y],
+        peak: pk.peak.fx,
+        peak_angle: pk.peak.x,
+        peak_error: pk.error,
+        rms: rms.rms,
+        rms_error: rms.error,
+        ptp_x: xmax.peak.fx + xmin.peak.fx,
+        ptp_y: ymax.peak.fx + ymin.peak.fx,
+        peak_x: xmax.peak.fx.max(xmin.peak.fx),
+        peak_y: ymax.peak.fx.max(ymin.peak.fx),
+    })
+}
+
+/// The classical counterweights, opposite the crank pin (β = π), as unbalances (kg·m).
+///
+/// * `none`: U = 0;
+/// * `y_force_zeroed`: U = −m_tq R e_x, which cancels F_y exactly (every link's y motion
+///   is proportional to sin φ);
+/// * `fifty_percent`: U = −(m_tq + ½ m_ct) R e_x;
+/// * `equal_ranges`: U = −κ e_x with κ ∈ [m_tq R, (m_tq + m_ct) R] such that the
+///   peak-to-peak ranges of F_x and F_y are equal (Brent on κ).
+pub fn baselines(
+    mech: &SliderCrank,
+    omega: f64,
+    s: &cw::Settings,
+) -> Result<BTreeMap<String, Metrics>, SolveError> {
+    let (mt, mc, r) = (mech.m_rot(), mech.m_rec(), mech.r);
+    let mut out = BTreeMap::new();
+    for (name, k) in [
+        ("none", 0.0),
+        ("y_force_zeroed", mt * r),
+        ("fifty_percent", (mt + 0.5 * mc) * r),
+    ] {
+        out.insert(name.to_string(), metrics(mech, omega, P2::new(-k, 0.0), s)?);
+    }
+    let diff = |k: f64| {
+        metrics(mech, omega, P2::new(-k, 0.0), s)
+            .map(|m| m.ptp_x - m.ptp_y)
+            .unwrap_or(f64::NAN)
+    };
+    let (lo, hi) = (mt * r, (mt + mc) * r);
+    if let Ok(root) = brent_root(diff, lo, hi, 1e-12 * hi.max(1e-300)) {
+        out.insert(
+            "equal_ranges".to_string(),
+            metrics(mech, omega, P2::new(-root.x, 0.0), s)?,
+        );
+    }
+    Ok(out)
+}
+
+/// Resolved bounds on |U| and the direction constraint.
+fn unbalance_bounds(cw: &CounterweightSpec) -> (f64, f64) {
+    let (mut lo, mut hi) = cw.unbalance.bounds();
+    if let (Some(m), Some(r)) = (cw.mass, cw.radius) {
+        let (m0, m1) = m.bounds();
+        let (r0, r1) = r.bounds();
+        lo = lo.max(m0 * r0);
+        hi = hi.min(m1 * r1);
+    }
+    (lo.max(0.0), hi)
+}
+
+/// Splits |U| into (mass, radius) by the scene's variables and preference.
+pub fn split_unbalance(u: f64, cw: &CounterweightSpec) -> (Option<f64>, Option<f64>) {
+    match (cw.mass, cw.radius) {
+        (_, Some(Var::Fixed(r))) => (Some(if r > 0.0 { u / r } else { 0.0 }), Some(r)),
+        (Some(Var::Fixed(m)), _) => (Some(m), Some(if m > 0.0 { u / m } else { 0.0 })),
+        (Some(m), Some(r)) => {
+            let (m0, m1) = m.bounds();
+            let (r0, r1) = r.bounds();
+            let r = match cw.prefer {
+                Prefer::SmallestRadius => r0.max(if m1 > 0.0 { u / m1 } else { r0 }),
+                Prefer::Lightest => r1.min(if m0 > 0.0 { u / m0 } else { r1 }),
+            };
+            (Some(if r > 0.0 { u / r } else { m0 }), Some(r))
+        }
+        _ => (None, None),
+    }
+}
+
+/// The optimal counterweight of a scene, before its evaluation.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Optimum {
+    /// Solver status.
+    pub status: Status,
+    /// Unbalance U in the crank frame (kg·m).
+    pub u: P2,
+    /// Optimality gap of the objective (N), see [`Outcome::gap`].
+    pub gap: f64,
+    /// Solver description.
+    pub method: String,
+    /// Warnings.
+    pub warnings: Vec<String>,
+}
+
+/// Finds the counterweight: the convex solve and its exchange refinement (the part the
+/// benchmark times), without the report figures and baselines.
+pub fn optimise(scene: &Scene) -> Result<Optimum, SolveError> {
+    let mech = &scene.mech;
+    if mech.assembly_ratio() >= 1.0 {
+        return Err(SolveError::CannotAssemble(mech.assembly_ratio()));
+    }
+    let u_ref = (mech.m_rot() + mech.m_rec()) * mech.r;
+    if !(u_ref > 0.0) {
+        return Err(SolveError::NoMass);
+    }
+    let s = &scene.settings;
+    let w2 = scene.omega * scene.omega;
+    let f_ref = w2 * u_ref; // N per normalised unit
+    let nf = Normalised { mech, u_ref };
+    let force = |phi: f64| nf.force(phi);
+    let (u_lo, u_hi) = unbalance_bounds(&scene.counterweight);
+    let mut warnings = Vec::new();
+
+    let cwspec = &scene.counterweight;
+    let (beta_lo, beta_hi) = cwspec.angle.bounds();
+    let full_circle = beta_hi - beta_lo >= std::f64::consts::TAU - 1e-9;
+    let fixed_len = u_hi.is_finite() && (u_hi - u_lo) <= 1e-15 * u_hi.max(1e-300);
+
+    let limit = scene.max_peak_force.map(|f| f / f_ref);
+    let (goal, limits) = match scene.objective {
+        Objective::MinPeakForce => (
+            Goal::MinPeak(0),
+            limit.map(|l| vec![(0, l)]).unwrap_or_default(),
+        ),
+        Objective::MinRmsForce => (
+            Goal::MinMeanSquare(0),
+            limit.map(|l| vec![(0, l)]).unwrap_or_default(),
+        ),
+        Objective::MinMass | Objective::MinRadius => (
+            Goal::MinNorm,
+            limit.map(|l| vec![(0, l)]).unwrap_or_default(),
+        ),
+    };
+
+    let mut method;
+    let (status, u, gap);
+    if let (Some(beta), true) = (cwspec.angle.fixed(), fixed_len) {
+        // Everything fixed: an analysis.
+        status = Status::Optimal;
+        u = P2::new(beta.cos(), beta.sin()) * u_lo;
+        gap = 0.0;
+        method = "analysis of the given counterweight (no free design variable)".to_string();
+    } else if fixed_len && full_circle {
+        // |U| fixed, direction free: a circle, not convex — 1-D search over β.
+        let r = search_on_circle(&nf, scene, u_lo / u_ref)?;
+        status = r.0;
+        u = r.1 * u_ref;
+        gap = 0.0;
+        method = r.2;
+    } else {
+        let direction = if let Some(beta) = cwspec.angle.fixed() {
+            Direction::Fixed {
+                beta,
+                min_len: u_lo / u_ref,
+            }
+        } else if full_circle {
+            Direction::Free
+        } else {
+            Direction::Sector {
+                lo: beta_lo,
+                hi: beta_hi,
+            }
+        };
+        let pb = Problem {
+            fields: vec![Field {
+                name: "shaking force",
+                dim: 2,
+                eval: &force,
+            }],
+            goal,
+            limits,
+            u_max: u_hi / u_ref,
+            direction,
+        };
+        let sol = cw::solve(&pb, s);
+        method = format!(
+            "clarabel {} + exchange loop: {} rounds, {} angles, {} interior-point iterations, last status {}",
+            match goal {
+                Goal::MinPeak(_) => "SOCP (minimax)",
+                Goal::MinMeanSquare(_) => "QP (mean square)",
+                Goal::MinNorm => "SOCP (least |U|)",
+            },
+            sol.rounds,
+            sol.samples,
+            sol.ipm_iterations,
+            sol.solver_status
+        );
+        if let Some(n) = &sol.note {
+            warnings.push(n.clone());
+        }
+        let mut st = sol.status;
+        let mut uu = sol.u * u_ref;
+        let mut g = sol.gap * f_ref;
+        if st != Status::Infeasible
+            && st != Status::Failed
+            && matches!(direction, Direction::Free | Direction::Sector { .. })
+            && uu.norm() < u_lo * (1.0 - 1e-9)
+        {
+            // The lower bound on |U| is active and not convex: search its circle.
+            let r = search_on_circle(&nf, scene, u_lo / u_ref)?;
+            st = r.0;
+            uu = r.1 * u_ref;
+            g = 0.0;
+            method = format!("{method}; |U| ≥ {u_lo:.6e} kg·m active: {}", r.2);
+        }
+        status = st;
+        u = uu;
+        gap = g;
+    }
+    if status == Status::Infeasible {
+        warnings.push(format!(
+            "infeasible: no counterweight within the bounds keeps the peak shaking force under {:.6} N",
+            scene.max_peak_force.unwrap_or(f64::NAN)
+        ));
+    }
+    Ok(Optimum {
+        status,
+        u,
+        gap,
+        method,
+        warnings,
+    })
+}
+
+/// Solves the scene: [`optimise`], then the design's figures and the baselines.
+pub fn solve(scene: &Scene) -> Result<Outcome, SolveError> {
+    let Optimum {
+        status,
+        u,
+        gap,
+        method,
+        mut warnings,
+    } = optimise(scene)?;
+    let mech = &scene.mech;
+    let s = &scene.settings;
+    let w2 = scene.omega * scene.omega;
+    let u_ref = (mech.m_rot() + mech.m_rec()) * mech.r;
+    let nf = Normalised { mech, u_ref };
+    let cwspec = &scene.counterweight;
+
+    let design = metrics(mech, scene.omega, u, s)?;
+    let prefer = match scene.objective {
+        Objective::MinMass => Prefer::Lightest,
+        Objective::MinRadius => Prefer::SmallestRadius,
+        _ => cwspec.prefer,
+    };
+    let (mass, radius) = split_unbalance(
+        P2::new(design.unbalance[0], design.unbalance[1]).norm(),
+        &CounterweightSpec { prefer, ..*cwspec },
+    );
+    let tq = periodic_peak(
+        |p| mech.drive_torque0(&nf.state(p)).abs() * w2,
+        s.scan_samples,
+        s.peak_xtol,
+    )
+    .map_err(|e| SolveError::Numeric(e.to_string()))?;
+    let mm = periodic_peak(
+        |p| mech.shaking_moment0(&nf.state(p)).abs() * w2,
+        s.scan_samples,
+        s.peak_xtol,
+    )
+    .map_err(|e| SolveError::Numeric(e.to_string()))?;
+    let exact_peak = if mech.kinematics == Kinematics::TwoHarmonic {
+        let exact = SliderCrank {
+            kinematics: Kinematics::Exact,
+            ..*mech
+        };
+        let m = metrics(&exact, scene.omega, u, s)?;
+        warnings.push(format!(
+            "two-harmonic kinematics: the design's peak force with exact kinematics is {:.6} N ({:+.3e} N, {:+.3} %)",
+            m.peak,
+            m.peak - design.peak,
+            100.0 * (m.peak - design.peak) / design.peak
+        ));
+        Some(m.peak)
+    } else {
+        None
+    };
+    Ok(Outcome {
+        status,
+        design,
+        mass,
+        radius,
+        gap,
+        peak_drive_torque: tq.peak.fx,
+        peak_shaking_moment: mm.peak.fx,
+        baselines: baselines(mech, scene.omega, s)?,
+        exact_peak,
+        method,
+        warnings,
+    })
+}
+
+/// Minimises the objective over U on the circle |U| = `len` (normalised): a 72-point scan in
+/// β and Brent on the best bracket.
+fn search_on_circle(
+    nf: &Normalised,
+    scene: &Scene,
+    len: f64,
+) -> Result<(Status, P2, String), SolveError> {
+    let s = &scene.settings;
+    let obj = |beta: f64| -> f64 {
+        let u = P2::new(beta.cos(), beta.sin()) * len;
+        let mag = |p: f64| nf.force(p).at(u).norm();
+        match scene.objective {
+            Objective::MinRmsForce => periodic_rms(mag, s.rms_samples).rms,
+            _ => periodic_peak(mag, s.scan_samples, s.peak_xtol)
+                .map(|p| p.peak.fx)
+                .unwrap_or(f64::INFINITY),
+        }
+    };
+    let (lo, hi) = scene.counterweight.angle.bounds();
+    let full = hi - lo >= std::f64::consts::TAU - 1e-9;
+    let n = 72;
+    let h = (hi - lo) / if full { n as f64 } else { (n - 1) as f64 };
+    let vals: Vec<f64> = (0..n).map(|k| obj(lo + k as f64 * h)).collect();
+    let k = (0..n).min_by(|&a, &b| vals[a].total_cmp(&vals[b])).unwrap();
+    let c = lo + k as f64 * h;
+    let (a, b) = if full {
+        (c - h, c + h)
+    } else {
+        ((c - h).max(lo), (c + h).min(hi))
+    };
+    let best = brent_max(|beta| -obj(beta), a, b, s.peak_xtol)
+        .map_err(|e| SolveError::Numeric(e.to_string()))?;
+    let u = P2::new(best.x.cos(), best.x.sin()) * len;
+    Ok((
+        Status::Optimal,
+        u,
+        "|U| fixed, 1-D search over β (72-point scan + Brent), objective not convex on the circle"
+            .into(),
+    ))
+}
+
+/// The paper's piston (`shared/domain/slider-crank.md`, Table 1): R = 35 mm, L = 140 mm,
+/// m2 = 0.35 kg (uniform crank), m3 = 0.30 kg split half–half, m4 = 1.03 kg, at `rpm`, with
+/// a free counterweight direction and size: the minimax scene of `problems/piston-*.toml`.
+pub fn paper_piston(rpm: f64) -> Scene {
+    use crate::mech::slider_crank::{Crank, Rod};
+    Scene {
+        mech: SliderCrank {
+            r: 0.035,
+            l: 0.14,
+            e: 0.0,
+            kinematics: Kinematics::Exact,
+            crank: Crank {
+                mass: 0.35,
+                centroid: 0.0175,
+            },
+            rod: Rod::lumped(0.30, 0.5, 0.14),
+            slider_mass: 1.03,
+        },
+        omega: rpm * std::f64::consts::TAU / 60.0,
+        counterweight: CounterweightSpec {
+            unbalance: Var::Free {
+                min: 0.0,
+                max: f64::INFINITY,
+            },
+            angle: Var::Free {
+                min: 0.0,
+                max: std::f64::consts::TAU,
+            },
+            mass: None,
+            radius: None,
+            prefer: Prefer::SmallestRadius,
+        },
+        objective: Objective::MinPeakForce,
+        max_peak_force: None,
+        settings: cw::Settings::default(),
+    }
+}
