@@ -47,14 +47,14 @@ impl Dim {
             Dim::Dimensionless => "pure number",
             Dim::Length => "length",
             Dim::Mass => "mass",
-            Dim::Angle => "angle",
-            Dim::AngularSpeed => "angular speed",
+            Dim::Angle => "plane angle",
+            Dim::AngularSpeed => "rotational speed",
             Dim::Force => "force",
             Dim::Torque => "torque",
-            Dim::Unbalance => "unbalance (mass × length)",
-            Dim::Inertia => "moment of inertia",
+            Dim::Unbalance => "static unbalance (mass × length)",
+            Dim::Inertia => "mass moment of inertia",
             Dim::Density => "density",
-            Dim::Acceleration => "acceleration",
+            Dim::Acceleration => "linear acceleration",
             Dim::Time => "time",
         }
     }
@@ -347,7 +347,7 @@ pub enum UnitError {
         allowed: String,
     },
     /// The unit is known but measures something else.
-    #[error("`{unit}` is a unit of {found} but a {dim} is expected here; allowed: {allowed}", found = .found.name(), dim = .dim.name())]
+    #[error("`{unit}` is a unit of {found}, but this field is a {dim}; allowed: {allowed}", found = .found.name(), dim = .dim.name())]
     WrongDimension {
         unit: String,
         found: Dim,

@@ -1,0 +1,158 @@
+//! The command line as a user runs it: exit codes, the JSON contract, written files.
+
+use std::path::PathBuf;
+use std::process::Command;
+
+fn bin() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_cwsynth"))
+}
+
+fn problem(name: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("problems")
+        .join(name)
+}
+
+#[test]
+fn solve_json_has_the_documented_keys() {
+    let out = bin()
+        .args(["solve", "--json"])
+        .arg(problem("piston-1000rpm.toml"))
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    for k in [
+        "name",
+        "family",
+        "status",
+        "design",
+        "objectives",
+        "baselines",
+        "errors",
+        "warnings",
+        "timing",
+        "model",
+        "derived",
+        "paper",
+        "method",
+    ] {
+        assert!(v.get(k).is_some(), "missing key {k}");
+    }
+    assert_eq!(v["name"], "piston-1000rpm");
+    assert_eq!(v["family"], "slider-crank");
+    assert_eq!(v["status"], "optimal");
+    for k in [
+        "counterweight_unbalance_kgm",
+        "counterweight_mass_kg",
+        "counterweight_radius_m",
+        "counterweight_angle_rad",
+    ] {
+        assert!(v["design"][k].is_f64(), "design.{k}");
+    }
+    for k in [
+        "peak_shaking_force_n",
+        "rms_shaking_force_n",
+        "peak_drive_torque_nm",
+    ] {
+        assert!(v["objectives"][k].is_f64(), "objectives.{k}");
+        assert!(v["errors"][k].as_f64().unwrap() >= 0.0, "errors.{k}");
+    }
+    for b in ["none", "y_force_zeroed", "fifty_percent", "equal_ranges"] {
+        for k in [
+            "peak_shaking_force_n",
+            "rms_shaking_force_n",
+            "peak_to_peak_x_n",
+            "peak_to_peak_y_n",
+        ] {
+            assert!(v["baselines"][b][k].is_f64(), "baselines.{b}.{k}");
+        }
+    }
+    // The optimum is never worse than a baseline.
+    let peak = v["objectives"]["peak_shaking_force_n"].as_f64().unwrap();
+    for (_, b) in v["baselines"].as_object().unwrap() {
+        assert!(peak <= b["peak_shaking_force_n"].as_f64().unwrap() * (1.0 + 1e-9));
+    }
+    // The error estimate meets the scene's 1e-9 relative target.
+    assert!(v["errors"]["peak_shaking_force_n"].as_f64().unwrap() <= 1e-9 * peak);
+}
+
+#[test]
+fn out_dir_gets_json_markdown_and_svg() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = bin()
+        .args(["solve", "--out"])
+        .arg(dir.path())
+        .arg(problem("piston-2000rpm.toml"))
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    for f in [
+        "piston-2000rpm.json",
+        "piston-2000rpm.md",
+        "piston-2000rpm-shaking-force.svg",
+    ] {
+        let p = dir.path().join(f);
+        assert!(p.exists(), "{f}");
+        assert!(std::fs::metadata(&p).unwrap().len() > 100);
+    }
+    let svg = std::fs::read_to_string(dir.path().join("piston-2000rpm-shaking-force.svg")).unwrap();
+    assert!(svg.contains("<svg") && svg.contains("no counterweight") && svg.contains("optimum"));
+    // No temporary files are left behind.
+    assert!(std::fs::read_dir(dir.path()).unwrap().all(|e| !e
+        .unwrap()
+        .file_name()
+        .to_string_lossy()
+        .ends_with(".tmp")));
+}
+
+#[test]
+fn check_reports_bad_files_and_fails() {
+    let dir = tempfile::tempdir().unwrap();
+    let bad = dir.path().join("bad.toml");
+    let text = std::fs::read_to_string(problem("piston-1000rpm.toml"))
+        .unwrap()
+        .replace("\"140 mm\"", "\"-140 mm\"");
+    std::fs::write(&bad, text).unwrap();
+    let out = bin()
+        .arg("check")
+        .arg(problem("piston-1000rpm.toml"))
+        .arg(&bad)
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr.contains("bad.toml:") && stderr.contains("mechanism.rod_length"),
+        "{stderr}"
+    );
+    assert!(String::from_utf8_lossy(&out.stdout).contains("ok    "));
+    // A good file alone passes.
+    assert!(bin()
+        .arg("check")
+        .arg(problem("piston-1000rpm.toml"))
+        .status()
+        .unwrap()
+        .success());
+}
+
+#[test]
+fn solve_keeps_going_past_a_bad_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let bad = dir.path().join("bad.toml");
+    std::fs::write(&bad, "name = \"x\"\nfamily = \"slider-crank\"\n").unwrap();
+    let out = bin()
+        .args(["solve", "--json"])
+        .arg(&bad)
+        .arg(problem("piston-1000rpm.toml"))
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(v["name"], "piston-1000rpm");
+    assert!(String::from_utf8_lossy(&out.stderr).contains("missing field `mechanism`"));
+}

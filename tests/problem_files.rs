@@ -1,0 +1,245 @@
+//! Problem files: every shipped file loads, and every kind of bad input is rejected with
+//! the file, the line and the field named, and what is allowed said.
+
+use cwsynth::io::problem::{load, parse_str, ProblemError, SceneKind};
+use std::path::Path;
+
+const PISTON: &str = include_str!("../problems/piston-1000rpm.toml");
+
+fn with(replace: &str, by: &str) -> String {
+    assert!(PISTON.contains(replace), "fixture lacks `{replace}`");
+    PISTON.replacen(replace, by, 1)
+}
+
+fn err(text: &str) -> ProblemError {
+    parse_str(text, Path::new("bad.toml")).expect_err("should be rejected")
+}
+
+/// The 1-based line of the first occurrence of `needle` in `text`.
+fn line_of(text: &str, needle: &str) -> usize {
+    text[..text.find(needle).unwrap()].matches('\n').count() + 1
+}
+
+#[track_caller]
+fn assert_names(text: &str, field: &str, line_needle: &str, says: &str) {
+    let e = err(text);
+    let msg = e.to_string();
+    assert_eq!(e.field(), Some(field), "{msg}");
+    assert_eq!(e.line(), Some(line_of(text, line_needle)), "{msg}");
+    assert!(msg.starts_with("bad.toml:"), "{msg}");
+    assert!(msg.contains(says), "`{msg}` should say `{says}`");
+}
+
+#[test]
+fn every_shipped_problem_file_loads() {
+    let mut n = 0;
+    for entry in std::fs::read_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/problems")).unwrap() {
+        let p = entry.unwrap().path();
+        if p.extension().is_some_and(|e| e == "toml") {
+            let s = load(&p).unwrap_or_else(|e| panic!("{e}"));
+            assert_eq!(
+                p.file_stem().unwrap().to_str().unwrap(),
+                s.name,
+                "file name and scene name differ"
+            );
+            n += 1;
+        }
+    }
+    assert!(n >= 2);
+}
+
+#[test]
+fn units_are_converted_to_si() {
+    let s = parse_str(PISTON, Path::new("p.toml")).unwrap();
+    let SceneKind::SliderCrank(sc) = &s.kind;
+    assert_eq!(sc.mech.r, 0.035);
+    assert_eq!(sc.mech.l, 0.14);
+    assert!((sc.omega - 1000.0 * std::f64::consts::TAU / 60.0).abs() < 1e-12);
+    // mm and m files give the same scene.
+    let m = parse_str(
+        &with("crank_radius = \"35 mm\"", "crank_radius = 0.035"),
+        Path::new("p.toml"),
+    )
+    .unwrap();
+    let SceneKind::SliderCrank(sm) = &m.kind;
+    assert_eq!(sm.mech.r, sc.mech.r);
+}
+
+#[test]
+fn unknown_field_names_field_and_line() {
+    let t = with(
+        "rod_mass = \"0.30 kg\"",
+        "rod_mass = \"0.30 kg\"\nrod_mas = \"1 kg\"",
+    );
+    assert_names(
+        &t,
+        "mechanism.rod_mas",
+        "rod_mas =",
+        "unknown field `rod_mas`",
+    );
+}
+
+#[test]
+fn missing_field_is_reported() {
+    let t = with("rod_length = \"140 mm\"\n", "");
+    let e = err(&t);
+    assert!(e.to_string().contains("missing field `rod_length`"), "{e}");
+    assert_eq!(e.field(), Some("mechanism"));
+}
+
+#[test]
+fn negative_length_is_rejected() {
+    let t = with("crank_radius = \"35 mm\"", "crank_radius = \"-35 mm\"");
+    assert_names(
+        &t,
+        "mechanism.crank_radius",
+        "crank_radius",
+        "allowed: a value > 0",
+    );
+}
+
+#[test]
+fn crank_that_cannot_turn_is_rejected_with_lambda() {
+    let t = with("rod_length = \"140 mm\"", "rod_length = \"30 mm\"");
+    assert_names(
+        &t,
+        "mechanism.rod_length",
+        "rod_length",
+        "λ = R/L = 1.166667",
+    );
+    let t = with("rod_length = \"140 mm\"", "rod_length = \"35 mm\"");
+    assert_names(
+        &t,
+        "mechanism.rod_length",
+        "rod_length",
+        "allowed: rod_length > crank_radius",
+    );
+}
+
+#[test]
+fn nan_is_rejected() {
+    let t = with("slider_mass = \"1.03 kg\"", "slider_mass = nan");
+    assert_names(
+        &t,
+        "mechanism.slider_mass",
+        "slider_mass",
+        "not a finite number",
+    );
+    let t = with("slider_mass = \"1.03 kg\"", "slider_mass = \"NaN kg\"");
+    assert_names(
+        &t,
+        "mechanism.slider_mass",
+        "slider_mass",
+        "not a finite number",
+    );
+}
+
+#[test]
+fn unknown_unit_and_wrong_dimension_list_the_allowed_units() {
+    let t = with("\"35 mm\"", "\"35 furlong\"");
+    assert_names(&t, "mechanism.crank_radius", "crank_radius", "unknown unit `furlong` for a length; allowed: a plain number in m or a string with one of: m, mm, cm");
+    let t = with("\"1000 rpm\"", "\"1000 kg\"");
+    assert_names(&t, "mechanism.speed", "speed", "`kg` is a unit of mass, but this field is a rotational speed; allowed: a plain number in rad/s or a string with one of: rad/s, rpm");
+}
+
+#[test]
+fn bad_family_and_bad_name() {
+    let t = with("family = \"slider-crank\"", "family = \"slider_crank\"");
+    assert_names(&t, "family", "family", "allowed: \"slider-crank\"");
+    let t = with("name = \"piston-1000rpm\"", "name = \"../etc/passwd\"");
+    assert_names(&t, "name", "name =", "cannot be a file name");
+}
+
+#[test]
+fn design_ranges_must_be_ordered_and_convex() {
+    let t = with(
+        "unbalance = { min = \"0 kg*m\", max = \"0.2 kg*m\" }",
+        "unbalance = { min = \"0.3 kg*m\", max = \"0.2 kg*m\" }",
+    );
+    assert_names(&t, "design.unbalance", "unbalance =", "allowed: min ≤ max");
+    let t = with(
+        "angle = { min = \"0 deg\", max = \"360 deg\" }",
+        "angle = { min = \"0 deg\", max = \"270 deg\" }",
+    );
+    assert_names(&t, "design.angle", "angle =", "not convex");
+    let t = with(
+        "angle = { min = \"0 deg\", max = \"360 deg\" }",
+        "angle = { min = \"0 deg\", maxi = \"360 deg\" }",
+    );
+    assert_names(
+        &t,
+        "design.angle",
+        "maxi",
+        "unknown field `maxi`, expected `min` or `max`",
+    );
+}
+
+#[test]
+fn model_options_only_where_they_apply() {
+    let t = with("rod_split = 0.5", "rod_split = 1.5");
+    assert_names(
+        &t,
+        "model.rod_split",
+        "rod_split",
+        "allowed: 0 ≤ rod_split ≤ 1",
+    );
+    let t = with(
+        "rod_split = 0.5",
+        "rod_split = 0.5\nrod_inertia = \"1 kg*m^2\"",
+    );
+    assert_names(
+        &t,
+        "model.rod_inertia",
+        "rod_inertia",
+        "only used with masses = \"rigid\"",
+    );
+    let t = with(
+        "kinematics = \"exact\"",
+        "kinematics = \"exact\"\n[mechanism.extra]",
+    );
+    assert!(err(&t).to_string().contains("bad.toml:"));
+    let t = with("kinematics = \"exact\"", "kinematics = \"three-harmonic\"");
+    assert_names(
+        &t,
+        "model.kinematics",
+        "kinematics",
+        "expected `exact` or `two-harmonic`",
+    );
+}
+
+#[test]
+fn objective_needs_what_it_uses() {
+    let t = with("minimize = \"peak-force\"", "minimize = \"mass\"");
+    assert_names(
+        &t,
+        "objective.max_peak_force",
+        "[objective]",
+        "needs a peak-force limit",
+    );
+    let t = with("minimize = \"peak-force\"", "minimize = \"weight\"");
+    assert_names(
+        &t,
+        "objective.minimize",
+        "minimize",
+        "expected one of `peak-force`, `rms-force`, `mass`, `radius`",
+    );
+}
+
+#[test]
+fn accuracy_settings_are_validated() {
+    let t = with("rel_tol = 1e-9", "rel_tol = 2.0");
+    assert_names(&t, "accuracy.rel_tol", "rel_tol", "must be in (0, 1)");
+}
+
+#[test]
+fn syntax_error_has_a_line() {
+    let t = with("rod_mass = \"0.30 kg\"", "rod_mass = \"0.30 kg");
+    let e = err(&t);
+    assert_eq!(e.line(), Some(line_of(&t, "rod_mass")), "{e}");
+}
+
+#[test]
+fn unreadable_file_is_an_error_not_a_panic() {
+    let e = load(Path::new("/nonexistent/x.toml")).unwrap_err();
+    assert!(e.to_string().contains("cannot read"));
+}

@@ -1,0 +1,327 @@
+//! Slider-crank physics and counterweight synthesis against independent references:
+//! closed forms, a brute force computed a different way, identities and scaling laws.
+
+use cwsynth::geom::P2;
+use cwsynth::mech::slider_crank::{rot, Crank, Kinematics, Rod, SliderCrank};
+use cwsynth::synth::counterweight::Status;
+use cwsynth::synth::slider_crank::{
+    optimise, paper_piston, shaking_force, solve, Objective, Scene,
+};
+use cwsynth::synth::Var;
+use std::f64::consts::{PI, TAU};
+
+/// Peak of |F| for the unbalance `u` by brute force: 1024 equally spaced angles, then a
+/// golden-section search (not Brent, not the library's scan) on every sampled local maximum.
+fn brute_peak(mech: &SliderCrank, omega: f64, u: P2) -> f64 {
+    let n = 1024;
+    let h = TAU / n as f64;
+    let f = |phi: f64| shaking_force(mech, omega, u, phi).unwrap().norm();
+    let ys: Vec<f64> = (0..n).map(|k| f(k as f64 * h)).collect();
+    let mut best = f64::NEG_INFINITY;
+    for k in 0..n {
+        let (yp, y, yn) = (ys[(k + n - 1) % n], ys[k], ys[(k + 1) % n]);
+        if y >= yp && y >= yn {
+            let c = k as f64 * h;
+            let (_, v) = golden(|p| -f(p), c - h, c + h);
+            best = best.max(-v).max(y);
+        }
+    }
+    best
+}
+
+/// Golden-section minimum of a convex function on [a, b] to a relative 1e-13 in x.
+fn golden(f: impl Fn(f64) -> f64, mut a: f64, mut b: f64) -> (f64, f64) {
+    let g = 0.5 * (5f64.sqrt() - 1.0);
+    let (mut c, mut d) = (b - g * (b - a), a + g * (b - a));
+    let (mut fc, mut fd) = (f(c), f(d));
+    while (b - a) > 1e-13 * (a.abs() + b.abs()).max(1e-12) {
+        if fc < fd {
+            b = d;
+            d = c;
+            fd = fc;
+            c = b - g * (b - a);
+            fc = f(c);
+        } else {
+            a = c;
+            c = d;
+            fc = fd;
+            d = a + g * (b - a);
+            fd = f(d);
+        }
+    }
+    let x = 0.5 * (a + b);
+    (x, f(x))
+}
+
+#[test]
+fn minimax_matches_brute_force_on_the_symmetry_axis() {
+    // In-line slider: F(−φ) is F(φ) mirrored in x for U on the x axis, so the convex
+    // problem has an optimum on that axis and a 1-D search over U_x is an independent
+    // reference.
+    let sc = paper_piston(1000.0);
+    let o = optimise(&sc).unwrap();
+    assert_eq!(o.status, Status::Optimal);
+    let span = (sc.mech.m_rot() + sc.mech.m_rec()) * sc.mech.r;
+    let (ux, best) = golden(
+        |ux| brute_peak(&sc.mech, sc.omega, P2::new(ux, 0.0)),
+        -span,
+        0.0,
+    );
+    let ours = brute_peak(&sc.mech, sc.omega, o.u);
+    assert!(
+        (ours - best).abs() <= 1e-9 * best,
+        "cwsynth {ours} vs brute force {best}"
+    );
+    assert!(
+        (o.u.x - ux).abs() <= 1e-6 * ux.abs(),
+        "U_x {} vs {ux}",
+        o.u.x
+    );
+    assert!(o.u.y.abs() <= 1e-9 * ux.abs());
+    // The reported gap is an honest bound.
+    let out = solve(&sc).unwrap();
+    assert!((out.design.peak - best).abs() <= out.gap + out.design.peak_error + 1e-9 * best);
+}
+
+#[test]
+fn minimax_matches_nested_brute_force_with_an_offset_slider() {
+    // No symmetry with an offset: nested golden search over (U_x, U_y); the inner minimum of
+    // a convex function is convex in the outer variable.
+    let mut sc = paper_piston(1000.0);
+    sc.mech.e = 0.02;
+    sc.mech.rod = Rod::rigid(0.3, 0.14, Some(0.05), None);
+    let o = optimise(&sc).unwrap();
+    assert_eq!(o.status, Status::Optimal, "{o:?}");
+    let span = (sc.mech.m_rot() + sc.mech.m_rec()) * sc.mech.r;
+    let inner = |ux: f64| {
+        golden(
+            |uy| brute_peak(&sc.mech, sc.omega, P2::new(ux, uy)),
+            -0.5 * span,
+            0.5 * span,
+        )
+        .1
+    };
+    let (_, best) = golden(inner, -span, 0.0);
+    let ours = brute_peak(&sc.mech, sc.omega, o.u);
+    assert!(
+        (ours - best).abs() <= 1e-9 * best,
+        "cwsynth {ours} vs nested brute force {best}"
+    );
+    assert!(
+        o.u.y.abs() > 1e-6 * span,
+        "an offset slider should turn the optimum off the axis"
+    );
+}
+
+#[test]
+fn forces_scale_with_omega_squared() {
+    let (a, b) = (
+        solve(&paper_piston(1000.0)).unwrap(),
+        solve(&paper_piston(2000.0)).unwrap(),
+    );
+    assert!((b.design.peak / a.design.peak - 4.0).abs() < 1e-9);
+    assert!((b.peak_drive_torque / a.peak_drive_torque - 4.0).abs() < 1e-12);
+    for (k, base) in &a.baselines {
+        assert!((b.baselines[k].peak / base.peak - 4.0).abs() < 1e-12, "{k}");
+    }
+    // The optimal counterweight does not depend on the speed.
+    let (ua, ub) = (P2::from(a.design.unbalance), P2::from(b.design.unbalance));
+    assert!((ua - ub).norm() < 1e-8 * ua.norm());
+}
+
+#[test]
+fn long_rod_limit_makes_the_fifty_percent_rule_optimal() {
+    // λ → 0: F = ((m_tq + m_ct)R − κ) cos φ e_x + (m_tq R − κ) sin φ e_y for U = −κ e_x,
+    // whose peak max(|a|, |b|) is least at κ = (m_tq + ½ m_ct) R, with peak ω² m_ct R / 2.
+    let mut sc = paper_piston(1000.0);
+    sc.mech.l = 35.0; // λ = 1e-3
+    sc.mech.rod = Rod::lumped(0.3, 0.5, sc.mech.l);
+    let out = solve(&sc).unwrap();
+    let (mt, mc, r) = (sc.mech.m_rot(), sc.mech.m_rec(), sc.mech.r);
+    let w2 = sc.omega * sc.omega;
+    let lam = sc.mech.lambda();
+    assert!((out.design.peak - w2 * mc * r / 2.0).abs() < 2.0 * lam * w2 * mc * r);
+    let kappa = -out.design.unbalance[0];
+    let fraction = (kappa / r - mt) / mc;
+    assert!(
+        (fraction - 0.5).abs() < 2.0 * lam,
+        "balanced fraction {fraction}"
+    );
+    assert!(
+        (out.baselines["fifty_percent"].peak - out.design.peak).abs() < 2.0 * lam * out.design.peak
+    );
+}
+
+#[test]
+fn rigid_rod_and_its_lumped_split_give_the_same_shaking_force() {
+    // A rigid rod with its centre of mass at l3 is, for the force, m3(1 − l3/L) at A and
+    // m3 l3/L at B, whatever its moment of inertia.
+    let base = paper_piston(1000.0).mech;
+    for (l3, i3) in [(0.07, 4.9e-4), (0.0467, 1e-3), (0.1, 0.0)] {
+        let rigid = SliderCrank {
+            rod: Rod::rigid(0.3, 0.14, Some(l3), Some(i3)),
+            e: 0.01,
+            ..base
+        };
+        let lumped = SliderCrank {
+            rod: Rod::lumped(0.3, 1.0 - l3 / 0.14, 0.14),
+            e: 0.01,
+            ..base
+        };
+        for k in 0..50 {
+            let phi = k as f64 * 0.1257;
+            let (a, b) = (rigid.state(phi).unwrap(), lumped.state(phi).unwrap());
+            let (fa, fb) = (rigid.shaking_force0(&a), lumped.shaking_force0(&b));
+            assert!(
+                (fa - fb).norm() < 1e-15 * fa.norm().max(1.0),
+                "l3 = {l3}, φ = {phi}"
+            );
+        }
+    }
+}
+
+#[test]
+fn drive_torque_is_the_derivative_of_kinetic_energy_and_ignores_the_counterweight() {
+    let mech = SliderCrank {
+        e: 0.012,
+        rod: Rod::rigid(0.3, 0.14, Some(0.052), Some(6e-4)),
+        ..paper_piston(1000.0).mech
+    };
+    let h = 1e-5;
+    for k in 0..40 {
+        let phi = k as f64 * 0.157;
+        let e = |p: f64| mech.kinetic_energy0(&mech.state(p).unwrap());
+        let fd = (e(phi + h) - e(phi - h)) / (2.0 * h);
+        assert!((fd - mech.drive_torque0(&mech.state(phi).unwrap())).abs() < 1e-10);
+    }
+    // Without gravity the counterweight only rotates: the peak torque does not change.
+    let mut sc = paper_piston(1000.0);
+    let free = solve(&sc).unwrap();
+    sc.counterweight.unbalance = Var::Fixed(0.0);
+    sc.counterweight.angle = Var::Fixed(PI);
+    let none = solve(&sc).unwrap();
+    assert_eq!(free.peak_drive_torque, none.peak_drive_torque);
+}
+
+#[test]
+fn min_rms_counterweight_is_the_least_squares_one() {
+    // mean |Rot(φ)U + f₀|² is least at U = −mean Rot(φ)ᵀ f₀ (Rot is orthogonal). For an
+    // in-line slider only the first harmonic of x'' survives the mean, so this is exactly
+    // the 50 % rule U = −(m_tq + ½ m_ct) R: the classical rule is the RMS optimum.
+    let mut sc = paper_piston(1000.0);
+    sc.objective = Objective::MinRmsForce;
+    let out = solve(&sc).unwrap();
+    let n = 2048;
+    let mut u = P2::zeros();
+    for k in 0..n {
+        let phi = k as f64 * TAU / n as f64;
+        let f0 = sc.mech.shaking_force0(&sc.mech.state(phi).unwrap());
+        u -= rot(-phi, f0) / n as f64;
+    }
+    let got = P2::from(out.design.unbalance);
+    assert!((got - u).norm() < 1e-8 * u.norm(), "{got:?} vs {u:?}");
+    let (mt, mc, r) = (sc.mech.m_rot(), sc.mech.m_rec(), sc.mech.r);
+    assert!((got - P2::new(-(mt + 0.5 * mc) * r, 0.0)).norm() < 1e-12);
+    assert!((out.design.rms - out.baselines["fifty_percent"].rms).abs() < 1e-9 * out.design.rms);
+}
+
+#[test]
+fn lightest_counterweight_under_a_force_limit_sits_on_the_limit() {
+    // Reference: on the symmetry axis the peak falls monotonically with κ up to the minimax
+    // optimum, so the least |U| with peak ≤ limit is the root of peak(κ) = limit.
+    let mut sc = paper_piston(1000.0);
+    let limit = 400.0;
+    sc.objective = Objective::MinMass;
+    sc.max_peak_force = Some(limit);
+    sc.counterweight.mass = Some(Var::Free { min: 0.0, max: 5.0 });
+    sc.counterweight.radius = Some(Var::Free {
+        min: 0.02,
+        max: 0.06,
+    });
+    let out = solve(&sc).unwrap();
+    assert_eq!(out.status, Status::Optimal);
+    let root = cwsynth::numeric::brent_root(
+        |k| brute_peak(&sc.mech, sc.omega, P2::new(-k, 0.0)) - limit,
+        0.0,
+        0.0357,
+        1e-15,
+    )
+    .unwrap();
+    let got = P2::from(out.design.unbalance).norm();
+    assert!((got - root.x).abs() < 1e-7 * root.x, "{got} vs {}", root.x);
+    assert!((out.design.peak - limit).abs() < 1e-6 * limit);
+    // Lightest: the largest radius allowed.
+    assert_eq!(out.radius, Some(0.06));
+    assert!((out.mass.unwrap() - got / 0.06).abs() < 1e-15);
+}
+
+#[test]
+fn an_impossible_force_limit_is_reported_infeasible() {
+    let mut sc = paper_piston(1000.0);
+    sc.objective = Objective::MinMass;
+    sc.max_peak_force = Some(250.0); // below the minimax optimum of ≈ 298.9 N
+    sc.counterweight.mass = Some(Var::Free { min: 0.0, max: 5.0 });
+    sc.counterweight.radius = Some(Var::Fixed(0.05));
+    let out = solve(&sc).unwrap();
+    assert_eq!(out.status, Status::Infeasible);
+}
+
+#[test]
+fn fixed_direction_with_a_minimum_size_is_respected() {
+    // β fixed at π, |U| ≥ 0.04 kg·m > the free optimum 0.0357: the bound is active.
+    let mut sc: Scene = paper_piston(1000.0);
+    sc.counterweight.angle = Var::Fixed(PI);
+    sc.counterweight.unbalance = Var::Free {
+        min: 0.04,
+        max: 1.0,
+    };
+    let out = solve(&sc).unwrap();
+    let u = P2::from(out.design.unbalance);
+    assert!((u.norm() - 0.04).abs() < 1e-9, "{}", u.norm());
+    assert!((u.x + 0.04).abs() < 1e-9);
+    let reference = brute_peak(&sc.mech, sc.omega, P2::new(-0.04, 0.0));
+    assert!((out.design.peak - reference).abs() < 1e-9 * reference);
+}
+
+#[test]
+fn two_harmonic_model_reports_its_error_against_exact_kinematics() {
+    let mut sc = paper_piston(1000.0);
+    sc.mech.kinematics = Kinematics::TwoHarmonic;
+    let out = solve(&sc).unwrap();
+    let exact = out.exact_peak.unwrap();
+    let reference = brute_peak(
+        &SliderCrank {
+            kinematics: Kinematics::Exact,
+            ..sc.mech
+        },
+        sc.omega,
+        P2::from(out.design.unbalance),
+    );
+    assert!((exact - reference).abs() < 1e-9 * reference);
+    // λ = 1/4: the neglected 4th harmonic is O(λ³/4) of the reciprocating force, ~0.4 %.
+    let rel = (exact - out.design.peak).abs() / exact;
+    assert!(rel > 1e-5 && rel < 1e-2, "model error {rel}");
+}
+
+#[test]
+fn crank_that_cannot_turn_is_an_error_not_a_nan() {
+    let mut sc = paper_piston(1000.0);
+    sc.mech.l = 0.035; // λ = 1
+    assert!(solve(&sc).is_err());
+    let m = SliderCrank {
+        l: 0.0351,
+        ..sc.mech
+    };
+    // Just assembles: a correct finite answer.
+    let mut sc2 = sc.clone();
+    sc2.mech = SliderCrank {
+        rod: Rod::lumped(0.3, 0.5, 0.0351),
+        crank: Crank {
+            mass: 0.35,
+            centroid: 0.0175,
+        },
+        ..m
+    };
+    let out = solve(&sc2).unwrap();
+    assert!(out.design.peak.is_finite() && out.peak_drive_torque.is_finite());
+}
