@@ -139,8 +139,9 @@ pub struct PeriodicPeak {
     pub maxima: Vec<Extremum>,
     /// The largest of them.
     pub peak: Extremum,
-    /// Bound on |true peak − `peak.fx`| from the refinement tolerance (the value error of a
-    /// maximum located to `xtol` is ½·|f''|·xtol², with |f''| estimated from the samples).
+    /// Bound on |true peak − `peak.fx`|: the refinement tolerance (the value error of a
+    /// maximum located to `xtol` is ½·|f''|·xtol², |f''| estimated from the samples) plus
+    /// the round-off of evaluating f, taken as 16 ulp of the peak.
     pub error: f64,
     /// Function evaluations spent.
     pub evals: usize,

@@ -140,6 +140,10 @@ pub struct Outcome {
     pub peak_drive_torque: f64,
     /// Peak shaking moment about the crank axis (N·m).
     pub peak_shaking_moment: f64,
+    /// Error bound of `peak_drive_torque` (N·m).
+    pub peak_drive_torque_error: f64,
+    /// Error bound of `peak_shaking_moment` (N·m).
+    pub peak_shaking_moment_error: f64,
     /// Baselines by name.
     pub baselines: BTreeMap<String, Metrics>,
     /// For two-harmonic kinematics: the design's peak force with exact kinematics (N).
@@ -494,6 +498,8 @@ pub fn solve(scene: &Scene) -> Result<Outcome, SolveError> {
         gap,
         peak_drive_torque: tq.peak.fx,
         peak_shaking_moment: mm.peak.fx,
+        peak_drive_torque_error: tq.error,
+        peak_shaking_moment_error: mm.error,
         baselines: baselines(mech, scene.omega, s)?,
         exact_peak,
         method,
