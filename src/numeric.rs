@@ -2,11 +2,12 @@
 //! peak of a periodic function.
 //!
 //! Every family needs "locate this to 1e-12 in one variable" (a root of C4, a pole of µ, a
-//! local maximum of |F|). These wrappers put argmin's Brent solvers behind plain closures,
-//! so that a model module only writes `f(x)`, and they never panic: a failure is a value.
+//! local maximum of |F|). These functions take plain closures, so that a model module only
+//! writes `f(x)`, and they never panic: a failure is a value. Roots go through argmin's
+//! Brent solver; maxima through a direct Brent search (see [`brent_max`]).
 
 use argmin::core::{CostFunction, Error as ArgminError, Executor, State};
-use argmin::solver::brent::{BrentOpt, BrentRoot};
+use argmin::solver::brent::BrentRoot;
 
 /// A closure as an argmin cost function.
 struct FnCost<F>(F);
@@ -100,34 +101,101 @@ pub struct Extremum {
     pub fx: f64,
 }
 
-/// Maximum of a unimodal `f` on `[a, b]` by Brent's parabolic/golden search (argmin's
-/// [`BrentOpt`] on `−f`), to an absolute tolerance `xtol` in x. The returned value is never
-/// below `max(f(a), f(b))`.
+/// Maximum of a unimodal `f` on `[a, b]` by Brent's parabolic/golden search, to an
+/// absolute tolerance `xtol` in x (plus 1e-14 relative). The returned value is never below
+/// `max(f(a), f(b))`.
+///
+/// This is Brent's `fmin` (Algorithms for Minimization without Derivatives, 1973) on −f,
+/// written out rather than driven through argmin's `Executor`: it runs in the innermost
+/// loop (every local maximum of every exchange round), where the executor's per-call state,
+/// hashing and allocation cost more than the function evaluations. argmin drives the outer
+/// searches.
 pub fn brent_max<F: Fn(f64) -> f64>(
     f: F,
     a: f64,
     b: f64,
     xtol: f64,
 ) -> Result<Extremum, SearchError> {
-    let neg = |x: f64| -f(x);
-    let solver = BrentOpt::new(a, b).set_tolerance(1e-14, xtol);
-    let res = Executor::new(FnCost(&neg), solver)
-        .configure(|s| s.max_iters(200))
-        .run()
-        .map_err(|e| SearchError::Solver(e.to_string()))?;
-    let st = res.state();
-    let x = *st
-        .get_best_param()
-        .ok_or(SearchError::Solver("no maximum returned".into()))?;
-    let mut best = Extremum { x, fx: f(x) };
-    for e in [a, b] {
-        let fe = f(e);
+    const CGOLD: f64 = 0.381_966_011_250_105_1;
+    let g = |x: f64| -f(x);
+    let (mut a, mut b) = if a <= b { (a, b) } else { (b, a) };
+    let (a0, b0) = (a, b);
+    let (fa0, fb0) = (f(a0), f(b0));
+    let mut x = a + CGOLD * (b - a);
+    let (mut w, mut v) = (x, x);
+    let mut fx = g(x);
+    if !fx.is_finite() {
+        return Err(SearchError::NotFinite { x });
+    }
+    let (mut fw, mut fv) = (fx, fx);
+    let (mut d, mut e): (f64, f64) = (0.0, 0.0);
+    for _ in 0..200 {
+        let xm = 0.5 * (a + b);
+        let tol1 = 1e-14 * x.abs() + xtol / 3.0;
+        let tol2 = 2.0 * tol1;
+        if (x - xm).abs() <= tol2 - 0.5 * (b - a) {
+            break;
+        }
+        let mut golden = true;
+        if e.abs() > tol1 {
+            // Parabola through x, w, v.
+            let r = (x - w) * (fx - fv);
+            let mut q = (x - v) * (fx - fw);
+            let mut p = (x - v) * q - (x - w) * r;
+            q = 2.0 * (q - r);
+            if q > 0.0 {
+                p = -p;
+            }
+            q = q.abs();
+            let etemp = e;
+            e = d;
+            if p.abs() < (0.5 * q * etemp).abs() && p > q * (a - x) && p < q * (b - x) {
+                d = p / q;
+                let u = x + d;
+                if u - a < tol2 || b - u < tol2 {
+                    d = if xm >= x { tol1 } else { -tol1 };
+                }
+                golden = false;
+            }
+        }
+        if golden {
+            e = if x >= xm { a - x } else { b - x };
+            d = CGOLD * e;
+        }
+        let u = if d.abs() >= tol1 {
+            x + d
+        } else {
+            x + tol1.copysign(d)
+        };
+        let fu = g(u);
+        if !fu.is_finite() {
+            return Err(SearchError::NotFinite { x: u });
+        }
+        if fu <= fx {
+            if u >= x {
+                a = x;
+            } else {
+                b = x;
+            }
+            (v, fv, w, fw, x, fx) = (w, fw, x, fx, u, fu);
+        } else {
+            if u < x {
+                a = u;
+            } else {
+                b = u;
+            }
+            if fu <= fw || w == x {
+                (v, fv, w, fw) = (w, fw, u, fu);
+            } else if fu <= fv || v == x || v == w {
+                (v, fv) = (u, fu);
+            }
+        }
+    }
+    let mut best = Extremum { x, fx: -fx };
+    for (e, fe) in [(a0, fa0), (b0, fb0)] {
         if fe > best.fx {
             best = Extremum { x: e, fx: fe };
         }
-    }
-    if !best.fx.is_finite() {
-        return Err(SearchError::NotFinite { x: best.x });
     }
     Ok(best)
 }
@@ -271,6 +339,21 @@ mod tests {
         let p = periodic_peak(|x| 3.0 * x.sin(), 7, 1e-10).unwrap();
         assert!((p.peak.x - std::f64::consts::FRAC_PI_2).abs() < 1e-8);
         assert!((p.peak.fx - 3.0).abs() < 1e-15);
+    }
+
+    #[test]
+    fn brent_max_finds_interior_and_end_maxima() {
+        // x e^{-x} peaks at x = 1 with value 1/e.
+        let m = brent_max(|x| x * (-x).exp(), 0.0, 3.0, 1e-12).unwrap();
+        assert!((m.fx - (-1f64).exp()).abs() < 1e-16);
+        assert!((m.x - 1.0).abs() < 1e-7);
+        // Monotone: the maximum is the right end.
+        let m = brent_max(|x| x, 0.0, 2.0, 1e-12).unwrap();
+        assert_eq!((m.x, m.fx), (2.0, 2.0));
+        assert!(matches!(
+            brent_max(|_| f64::NAN, 0.0, 1.0, 1e-9),
+            Err(SearchError::NotFinite { .. })
+        ));
     }
 
     #[test]

@@ -102,6 +102,28 @@ pub struct SolveResult {
 }
 
 impl SolveResult {
+    /// An empty result of `scene` with status `failed`, to be filled by its family.
+    pub fn new(scene: &crate::io::problem::Scene) -> SolveResult {
+        SolveResult {
+            name: scene.name.clone(),
+            family: scene.family.as_str().into(),
+            status: Status::Failed,
+            source: scene.source.display().to_string(),
+            model: BTreeMap::new(),
+            design: BTreeMap::new(),
+            objectives: BTreeMap::new(),
+            errors: BTreeMap::new(),
+            derived: BTreeMap::new(),
+            baselines: BTreeMap::new(),
+            paper: Vec::new(),
+            warnings: Vec::new(),
+            method: String::new(),
+            timing: Timing::default(),
+            extra: serde_json::Map::new(),
+            plots: Vec::new(),
+        }
+    }
+
     /// The JSON value.
     pub fn to_json(&self) -> serde_json::Value {
         serde_json::to_value(self).expect("results are plain data")
