@@ -58,7 +58,9 @@ impl Angles {
     /// 2 sin((π/2 − y + x)/2) sin((π/2 − y − x)/2), which keeps its digits when φ_max ≈ φ_min
     /// or γ2 + γ3 ≈ π/2. `None` unless k is finite and positive.
     pub fn k(&self) -> Option<f64> {
-        let diff = |x: f64, y: f64| 2.0 * ((FRAC_PI_2 - y + x) / 2.0).sin() * ((FRAC_PI_2 - y - x) / 2.0).sin();
+        let diff = |x: f64, y: f64| {
+            2.0 * ((FRAC_PI_2 - y + x) / 2.0).sin() * ((FRAC_PI_2 - y - x) / 2.0).sin()
+        };
         let k = diff(self.gamma1, self.phi_min) / diff(self.gamma2, self.gamma3);
         (k.is_finite() && k > 0.0).then_some(k)
     }
@@ -100,11 +102,17 @@ impl Boom {
     /// Build from the boom length and the angles (k from [`Angles::k`]).
     pub fn new(l_c: f64, angles: Angles) -> Result<Boom, CraneGeomError> {
         if !(l_c.is_finite() && l_c > 0.0) {
-            return Err(CraneGeomError::Invalid { what: "boom length", value: l_c });
+            return Err(CraneGeomError::Invalid {
+                what: "boom length",
+                value: l_c,
+            });
         }
         let k = angles.k().ok_or_else(|| {
-            let raw = (angles.gamma1.cos() - angles.phi_min.sin()) / (angles.gamma2.cos() - angles.gamma3.sin());
-            CraneGeomError::NoJibRatio { k: if raw.is_finite() { raw } else { 0.0 } }
+            let raw = (angles.gamma1.cos() - angles.phi_min.sin())
+                / (angles.gamma2.cos() - angles.gamma3.sin());
+            CraneGeomError::NoJibRatio {
+                k: if raw.is_finite() { raw } else { 0.0 },
+            }
         })?;
         Ok(Boom { l_c, k, angles })
     }
@@ -151,10 +159,16 @@ pub struct DesignPositions {
 /// between φ_min and φ_max with the jib hanging below D (y_D2 > H1); E_i = D_i + k2(D_i − C_i).
 pub fn design_positions(boom: &Boom, k1: f64, k2: f64) -> Result<DesignPositions, CraneGeomError> {
     if !(k1.is_finite() && (0.0..=1.0).contains(&k1)) {
-        return Err(CraneGeomError::Invalid { what: "k1", value: k1 });
+        return Err(CraneGeomError::Invalid {
+            what: "k1",
+            value: k1,
+        });
     }
     if !(k2.is_finite() && k2 > 0.0) {
-        return Err(CraneGeomError::Invalid { what: "k2", value: k2 });
+        return Err(CraneGeomError::Invalid {
+            what: "k2",
+            value: k2,
+        });
     }
     let (c1, c3) = (boom.c1(), boom.c3());
     let h1 = c1.y;
@@ -167,13 +181,22 @@ pub fn design_positions(boom: &Boom, k1: f64, k2: f64) -> Result<DesignPositions
         .filter(|d| d.y >= h1 && d.x <= 0.0)
         .map(|d| (d, d.y.atan2(-d.x)))
         .filter(|&(_, phi)| phi >= p1 - tol && phi <= p3 + tol)
-        .min_by(|a, b| (a.1 - 0.5 * (p1 + p3)).abs().total_cmp(&(b.1 - 0.5 * (p1 + p3)).abs()))
+        .min_by(|a, b| {
+            (a.1 - 0.5 * (p1 + p3))
+                .abs()
+                .total_cmp(&(b.1 - 0.5 * (p1 + p3)).abs())
+        })
         .ok_or(CraneGeomError::NoMiddlePosition { x: c2.x, y: c2.y })?;
     let (d2, phi2) = (d2.0, d2.1.clamp(p1, p3));
     let d = [boom_head(boom.l_c, p1), d2, boom_head(boom.l_c, p3)];
     let c = [c1, c2, c3];
     let e = [0, 1, 2].map(|i| d[i] + k2 * (d[i] - c[i]));
-    Ok(DesignPositions { phi: [p1, phi2, p3], c, d, e })
+    Ok(DesignPositions {
+        phi: [p1, phi2, p3],
+        c,
+        d,
+        e,
+    })
 }
 
 /// What guides the jib tail E: the tie (a circle about the tie pin B) or, in the limit of
@@ -267,8 +290,13 @@ pub fn synthesize(boom: &Boom, k1: f64, k2: f64) -> Result<Synthesis, CraneGeomE
     let [e1, e2, e3] = positions.e;
     let chord = (e3 - e1).norm();
     let guide = match circumcentre(e1, e2, e3) {
-        Some((centre, radius)) if radius <= LINE_LIMIT_RATIO * chord => Guide::Circle { centre, radius },
-        _ => Guide::Line { point: e1, dir: (e3 - e1) / chord },
+        Some((centre, radius)) if radius <= LINE_LIMIT_RATIO * chord => {
+            Guide::Circle { centre, radius }
+        }
+        _ => Guide::Line {
+            point: e1,
+            dir: (e3 - e1) / chord,
+        },
     };
     let a = k2 * boom.l_v();
     let sides = [0, 1, 2].map(|i| side_of(&guide, positions.d[i], positions.e[i], a));
@@ -282,8 +310,20 @@ pub fn synthesize(boom: &Boom, k1: f64, k2: f64) -> Result<Synthesis, CraneGeomE
         Branch::Consistent(s) => s,
         Branch::Defect(_) => sides[0].or(sides[2]).unwrap_or(Side::Left),
     };
-    let linkage = Linkage { l_c: boom.l_c, a, k2, guide, side, phi_range: [positions.phi[0], positions.phi[2]] };
-    Ok(Synthesis { positions, guide, branch, linkage })
+    let linkage = Linkage {
+        l_c: boom.l_c,
+        a,
+        k2,
+        guide,
+        side,
+        phi_range: [positions.phi[0], positions.phi[2]],
+    };
+    Ok(Synthesis {
+        positions,
+        guide,
+        branch,
+        linkage,
+    })
 }
 
 impl Linkage {
@@ -292,10 +332,16 @@ impl Linkage {
     pub fn pose(&self, phi: f64) -> Option<Pose> {
         let d = boom_head(self.l_c, phi);
         let e = match self.guide {
-            Guide::Circle { centre, radius } => circle_circle(d, self.a, centre, radius, self.side)?,
+            Guide::Circle { centre, radius } => {
+                circle_circle(d, self.a, centre, radius, self.side)?
+            }
             Guide::Line { point, dir } => link_slider(d, self.a, point, dir, self.side)?,
         };
-        Some(Pose { d, e, c: d + (d - e) / self.k2 })
+        Some(Pose {
+            d,
+            e,
+            c: d + (d - e) / self.k2,
+        })
     }
 
     /// Transmission quality at a pose: the angle μ between the tie force line at E (E→B, or
@@ -409,7 +455,13 @@ pub fn load_moment(link: &Linkage, weight: f64, phi: f64, h: f64) -> Option<(f64
     let h = h.min((p1 - p0) / 8.0);
     let c = phi.clamp(p0 + 2.0 * h, p1 - 2.0 * h);
     let y = |p: f64| link.pose(p).map(|q| q.c.y);
-    let (ym2, ym1, y0, yp1, yp2) = (y(c - 2.0 * h)?, y(c - h)?, y(c)?, y(c + h)?, y(c + 2.0 * h)?);
+    let (ym2, ym1, y0, yp1, yp2) = (
+        y(c - 2.0 * h)?,
+        y(c - h)?,
+        y(c)?,
+        y(c + h)?,
+        y(c + 2.0 * h)?,
+    );
     let d2nd = (yp1 - ym1) / (2.0 * h);
     let d4th = (8.0 * (yp1 - ym1) - (yp2 - ym2)) / (12.0 * h);
     let curv = (yp1 - 2.0 * y0 + ym1) / (h * h);
@@ -424,7 +476,16 @@ mod tests {
 
     fn thesis_boom(l_c: f64) -> Boom {
         let d = f64::to_radians;
-        Boom::new(l_c, Angles { phi_min: d(35.0), gamma1: d(10.0), gamma2: d(5.0), gamma3: d(12.0) }).unwrap()
+        Boom::new(
+            l_c,
+            Angles {
+                phi_min: d(35.0),
+                gamma1: d(10.0),
+                gamma2: d(5.0),
+                gamma3: d(12.0),
+            },
+        )
+        .unwrap()
     }
 
     #[test]
@@ -437,7 +498,9 @@ mod tests {
         assert!((boom.k - 0.5216797937624817).abs() < 1e-15);
         let s = synthesize(&boom, 0.2, 0.4).unwrap();
         assert_eq!(s.branch, Branch::Consistent(Side::Left));
-        let Guide::Circle { centre, radius } = s.guide else { panic!("circle expected") };
+        let Guide::Circle { centre, radius } = s.guide else {
+            panic!("circle expected")
+        };
         assert!((centre - P2::new(11.853886600000907, 4.155751777343402)).norm() < 1e-10);
         assert!((radius - 27.70985907306044).abs() < 1e-10);
         let hh = head_heights(&s.linkage, 64, 1e-10).unwrap();
