@@ -155,8 +155,9 @@ pub struct DesignPositions {
 
 /// Step 2 positions for the ratios k1 = C1C2/C1C3 and k2 = a/L_v.
 ///
-/// C2 = (x_C1 + k1(x_C3 − x_C1), H1); D2 = circle(A, L_c) ∩ circle(C2, L_v) on the boom branch
-/// between φ_min and φ_max with the jib hanging below D (y_D2 > H1); E_i = D_i + k2(D_i − C_i).
+/// C2 = (x_C1 + k1(x_C3 − x_C1), H1); D2 = circle(A, L_c) ∩ circle(C2, L_v) on the side of the
+/// line A→C where D1 and D3 lie (the same assembly branch of the boom–jib dyad), which must
+/// give φ_min ≤ φ2 ≤ φ_max and y_D2 ≥ H1; E_i = D_i + k2(D_i − C_i).
 pub fn design_positions(boom: &Boom, k1: f64, k2: f64) -> Result<DesignPositions, CraneGeomError> {
     if !(k1.is_finite() && (0.0..=1.0).contains(&k1)) {
         return Err(CraneGeomError::Invalid {
@@ -174,21 +175,24 @@ pub fn design_positions(boom: &Boom, k1: f64, k2: f64) -> Result<DesignPositions
     let h1 = c1.y;
     let c2 = P2::new(c1.x + k1 * (c3.x - c1.x), h1);
     let (p1, p3) = (boom.angles.phi_min, boom.angles.phi_max());
-    let tol = 1e-12 * (p3 - p1).abs().max(1.0);
-    let d2 = [Side::Left, Side::Right]
-        .into_iter()
-        .filter_map(|s| circle_circle(P2::zeros(), boom.l_c, c2, boom.l_v(), s))
-        .filter(|d| d.y >= h1 && d.x <= 0.0)
-        .map(|d| (d, d.y.atan2(-d.x)))
-        .filter(|&(_, phi)| phi >= p1 - tol && phi <= p3 + tol)
-        .min_by(|a, b| {
-            (a.1 - 0.5 * (p1 + p3))
-                .abs()
-                .total_cmp(&(b.1 - 0.5 * (p1 + p3)).abs())
-        })
-        .ok_or(CraneGeomError::NoMiddlePosition { x: c2.x, y: c2.y })?;
-    let (d2, phi2) = (d2.0, d2.1.clamp(p1, p3));
-    let d = [boom_head(boom.l_c, p1), d2, boom_head(boom.l_c, p3)];
+    let (d1, d3) = (boom_head(boom.l_c, p1), boom_head(boom.l_c, p3));
+    // The boom–jib dyad A–D–C must stay on one assembly branch: D on the same side of the
+    // line A→C at all three positions. (The thesis's "y > H1, x < 0" admits both solutions
+    // when C2 is close to C3, and then picks the wrong one.)
+    let no_d2 = CraneGeomError::NoMiddlePosition { x: c2.x, y: c2.y };
+    let (s1, s3) = (cross(c1, d1), cross(c3, d3));
+    if !(s1 * s3 > 0.0) {
+        return Err(no_d2);
+    }
+    let side = if s1 > 0.0 { Side::Left } else { Side::Right };
+    let d2 = circle_circle(P2::zeros(), boom.l_c, c2, boom.l_v(), side).ok_or(no_d2.clone())?;
+    let phi2 = d2.y.atan2(-d2.x);
+    let tol = 1e-9 * (p3 - p1).abs().max(1.0);
+    if !(phi2 >= p1 - tol && phi2 <= p3 + tol && d2.y >= h1) {
+        return Err(no_d2);
+    }
+    let phi2 = phi2.clamp(p1, p3);
+    let d = [d1, d2, d3];
     let c = [c1, c2, c3];
     let e = [0, 1, 2].map(|i| d[i] + k2 * (d[i] - c[i]));
     Ok(DesignPositions {
