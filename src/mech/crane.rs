@@ -181,7 +181,7 @@ pub fn design_positions(boom: &Boom, k1: f64, k2: f64) -> Result<DesignPositions
     // when C2 is close to C3, and then picks the wrong one.)
     let no_d2 = CraneGeomError::NoMiddlePosition { x: c2.x, y: c2.y };
     let (s1, s3) = (cross(c1, d1), cross(c3, d3));
-    if !(s1 * s3 > 0.0) {
+    if s1.is_nan() || s3.is_nan() || s1 * s3 <= 0.0 {
         return Err(no_d2);
     }
     let side = if s1 > 0.0 { Side::Left } else { Side::Right };
