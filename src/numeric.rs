@@ -266,6 +266,78 @@ pub fn periodic_peak<F: Fn(f64) -> f64>(
     })
 }
 
+/// The refined maxima of a function on a closed interval (not periodic).
+#[derive(Debug, Clone, PartialEq)]
+pub struct IntervalPeak {
+    /// Every refined local maximum `(x in [a, b], value)`, end points included when they are
+    /// maxima, sorted by x.
+    pub maxima: Vec<Extremum>,
+    /// The largest of them.
+    pub peak: Extremum,
+    /// Bound on |true peak − `peak.fx`| from the refinement tolerance, ½·|f''|·xtol² with
+    /// |f''| estimated from the samples (as in [`periodic_peak`]).
+    pub error: f64,
+    /// Function evaluations spent.
+    pub evals: usize,
+}
+
+/// Maximum of `f` on `[a, b]`: sample `n + 1` equally spaced points (end points included),
+/// take every sample not below its neighbours (an end point needs only its one neighbour) as
+/// a candidate, and refine each by Brent on the neighbouring intervals (clipped to `[a, b]`)
+/// to `xtol`. A maximum narrower than `(b − a)/n` can be missed; callers pick `n` for their
+/// function and test the choice. `a == b` returns `f(a)`; `a > b` is swapped.
+pub fn interval_peak<F: Fn(f64) -> f64>(f: F, a: f64, b: f64, n: usize, xtol: f64) -> Result<IntervalPeak, SearchError> {
+    let (a, b) = if a <= b { (a, b) } else { (b, a) };
+    if !(a.is_finite() && b.is_finite()) {
+        return Err(SearchError::NotFinite { x: if a.is_finite() { b } else { a } });
+    }
+    if a == b {
+        let fa = f(a);
+        if !fa.is_finite() {
+            return Err(SearchError::NotFinite { x: a });
+        }
+        let e = Extremum { x: a, fx: fa };
+        return Ok(IntervalPeak { maxima: vec![e], peak: e, error: 0.0, evals: 1 });
+    }
+    let n = n.max(4);
+    let h = (b - a) / n as f64;
+    let xs: Vec<f64> = (0..=n).map(|k| if k == n { b } else { a + k as f64 * h }).collect();
+    let ys: Vec<f64> = xs.iter().map(|&x| f(x)).collect();
+    if let Some(k) = ys.iter().position(|y| !y.is_finite()) {
+        return Err(SearchError::NotFinite { x: xs[k] });
+    }
+    let mut evals = n + 1;
+    let mut curv: f64 = 0.0;
+    for k in 1..n {
+        curv = curv.max(((ys[k - 1] - 2.0 * ys[k] + ys[k + 1]) / (h * h)).abs());
+    }
+    let mut maxima = Vec::new();
+    for k in 0..=n {
+        let left_ok = k == 0 || ys[k] > ys[k - 1];
+        let right_ok = k == n || ys[k] >= ys[k + 1];
+        if !(left_ok && right_ok) {
+            continue;
+        }
+        let lo = if k == 0 { a } else { xs[k - 1] };
+        let hi = if k == n { b } else { xs[k + 1] };
+        let count = std::cell::Cell::new(0usize);
+        let fc = |x: f64| {
+            count.set(count.get() + 1);
+            f(x)
+        };
+        let e = brent_max(fc, lo, hi, xtol)?;
+        evals += count.get();
+        maxima.push(if e.fx >= ys[k] { e } else { Extremum { x: xs[k], fx: ys[k] } });
+    }
+    if maxima.is_empty() {
+        // Constant on the samples: every point is the peak.
+        maxima.push(Extremum { x: a, fx: ys[0] });
+    }
+    maxima.sort_by(|p, q| p.x.total_cmp(&q.x));
+    let peak = *maxima.iter().max_by(|p, q| p.fx.total_cmp(&q.fx)).unwrap();
+    Ok(IntervalPeak { maxima, peak, error: 0.5 * curv * xtol * xtol, evals })
+}
+
 /// Mean and RMS of a 2π-periodic function by the trapezoid rule on `n` points, which is
 /// spectrally accurate for smooth periodic functions; the error estimate is the change from
 /// `n/2` points (an over-estimate once the rule has converged).
@@ -360,5 +432,22 @@ mod tests {
     fn rms_of_sine_is_one_over_root_two() {
         let r = periodic_rms(|x| x.sin() + 0.5, 64);
         assert!((r.rms - (0.5f64 + 0.25).sqrt()).abs() < 1e-14);
+    }
+    #[test]
+    fn interval_peak_finds_interior_and_end_maxima() {
+        // f = sin x on [0, 3]: single interior maximum 1 at π/2.
+        let p = interval_peak(f64::sin, 0.0, 3.0, 7, 1e-10).unwrap();
+        assert!((p.peak.fx - 1.0).abs() < 1e-15);
+        assert!((p.peak.x - std::f64::consts::FRAC_PI_2).abs() < 1e-7);
+        // f = x² on [−1, 2]: maxima at both ends, 1 at −1 and 4 at 2; the minimum at 0 is not one.
+        let p = interval_peak(|x| x * x, -1.0, 2.0, 9, 1e-10).unwrap();
+        assert_eq!(p.maxima.len(), 2);
+        assert_eq!(p.peak.x, 2.0);
+        assert_eq!(p.peak.fx, 4.0);
+        assert!((p.maxima[0].x + 1.0).abs() < 1e-12 && (p.maxima[0].fx - 1.0).abs() < 1e-12);
+        // A maximum next to an end point but inside the first interval: −(x − 0.05)² on [0, 1].
+        let p = interval_peak(|x| -(x - 0.05) * (x - 0.05), 0.0, 1.0, 4, 1e-10).unwrap();
+        assert!(p.peak.fx.abs() < 1e-15 && (p.peak.x - 0.05).abs() < 1e-7);
+        assert!(matches!(interval_peak(|_| f64::NAN, 0.0, 1.0, 4, 1e-9), Err(SearchError::NotFinite { .. })));
     }
 }

@@ -4,6 +4,7 @@
 //! serves analysis (everything fixed) and synthesis.
 
 pub mod counterweight;
+pub mod crane;
 pub mod slider_crank;
 
 /// A design variable: a fixed value, or free within `[min, max]` (SI units).

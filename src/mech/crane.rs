@@ -1,0 +1,514 @@
+//! Level-luffing four-bar jib crane with a straight jib (thesis `003`, portal cranes).
+//!
+//! The boom AD turns about the boom-foot pin A; the straight jib C–D–E hangs on the boom head
+//! D; the tie EB holds the jib tail E to a fixed pin B. While the boom luffs, the jib head C
+//! (and the load) should move almost horizontally. This module is the pure geometry: step 1
+//! (boom and jib lengths from the boom and jib angles at the two extreme reaches), step 2
+//! (the three design positions, the tie pin B as circumcentre of E1 E2 E3) and the jib-head
+//! path with its height variation Δh. No design variables, no I/O.
+//!
+//! Frame: A = (0, 0), reach runs along −x, y up. Boom D(φ) = (−L_c cos φ, L_c sin φ). The
+//! jib tail is E = D + k2 (D − C) with |DE| = a = k2·L_v, |DC| = L_v.
+
+use crate::geom::{circle_circle, circumcentre, cross, link_slider, Side, P2};
+use crate::numeric::{interval_peak, SearchError};
+use std::f64::consts::FRAC_PI_2;
+
+/// Why a crane geometry cannot be built.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum CraneGeomError {
+    /// The step-1 angles give no positive jib/boom ratio k (the jib head cannot be at equal
+    /// heights at the two extreme reaches).
+    #[error("the angles give no positive jib/boom ratio: k = {k}")]
+    NoJibRatio { k: f64 },
+    /// The middle design position D2 does not exist: the circle (C2, L_v) misses the boom
+    /// circle (A, L_c) on the branch between the extreme boom angles.
+    #[error("no middle boom position D2 between phi_min and phi_max for C2 = ({x:.6}, {y:.6})")]
+    NoMiddlePosition { x: f64, y: f64 },
+    /// A length or ratio is not finite and positive.
+    #[error("invalid {what}: {value}")]
+    Invalid { what: &'static str, value: f64 },
+}
+
+/// The step-1 angles (rad). φ_min: boom elevation at maximum reach; γ1: boom from vertical at
+/// minimum reach (φ_max = π/2 − γ1); γ2: jib from vertical at minimum reach; γ3: jib below
+/// horizontal at maximum reach.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct Angles {
+    /// φ_min (rad).
+    pub phi_min: f64,
+    /// γ1 (rad).
+    pub gamma1: f64,
+    /// γ2 (rad).
+    pub gamma2: f64,
+    /// γ3 (rad).
+    pub gamma3: f64,
+}
+
+impl Angles {
+    /// φ_max = π/2 − γ1.
+    pub fn phi_max(&self) -> f64 {
+        FRAC_PI_2 - self.gamma1
+    }
+
+    /// Jib/boom ratio k = L_v/L_c that puts the jib head at equal heights at both extremes
+    /// (thesis eqs. 2.1–2.5): k = (cos γ1 − sin φ_min)/(cos γ2 − sin γ3).
+    ///
+    /// Both differences are evaluated in product form, cos x − sin y =
+    /// 2 sin((π/2 − y + x)/2) sin((π/2 − y − x)/2), which keeps its digits when φ_max ≈ φ_min
+    /// or γ2 + γ3 ≈ π/2. `None` unless k is finite and positive.
+    pub fn k(&self) -> Option<f64> {
+        let diff = |x: f64, y: f64| {
+            2.0 * ((FRAC_PI_2 - y + x) / 2.0).sin() * ((FRAC_PI_2 - y - x) / 2.0).sin()
+        };
+        let k = diff(self.gamma1, self.phi_min) / diff(self.gamma2, self.gamma3);
+        (k.is_finite() && k > 0.0).then_some(k)
+    }
+
+    /// Reach of the jib head from A at maximum reach per metre of boom: cos φ_min + k cos γ3.
+    pub fn unit_reach_max(&self, k: f64) -> f64 {
+        self.phi_min.cos() + k * self.gamma3.cos()
+    }
+
+    /// Reach from A at minimum reach per metre of boom: sin γ1 + k sin γ2.
+    pub fn unit_reach_min(&self, k: f64) -> f64 {
+        self.gamma1.sin() + k * self.gamma2.sin()
+    }
+
+    /// Head height above A at the extremes per metre of boom: sin φ_min − k sin γ3
+    /// (= cos γ1 − k cos γ2 by the choice of k).
+    pub fn unit_head_height(&self, k: f64) -> f64 {
+        self.phi_min.sin() - k * self.gamma3.sin()
+    }
+}
+
+/// Boom position D(φ) = (−L_c cos φ, L_c sin φ).
+pub fn boom_head(l_c: f64, phi: f64) -> P2 {
+    P2::new(-l_c * phi.cos(), l_c * phi.sin())
+}
+
+/// Step 1 resolved: boom length L_c, jib length L_v = k·L_c and the angles.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct Boom {
+    /// Boom length L_c (m).
+    pub l_c: f64,
+    /// Jib/boom ratio k = L_v/L_c.
+    pub k: f64,
+    /// The step-1 angles.
+    pub angles: Angles,
+}
+
+impl Boom {
+    /// Build from the boom length and the angles (k from [`Angles::k`]).
+    pub fn new(l_c: f64, angles: Angles) -> Result<Boom, CraneGeomError> {
+        if !(l_c.is_finite() && l_c > 0.0) {
+            return Err(CraneGeomError::Invalid {
+                what: "boom length",
+                value: l_c,
+            });
+        }
+        let k = angles.k().ok_or_else(|| {
+            let raw = (angles.gamma1.cos() - angles.phi_min.sin())
+                / (angles.gamma2.cos() - angles.gamma3.sin());
+            CraneGeomError::NoJibRatio {
+                k: if raw.is_finite() { raw } else { 0.0 },
+            }
+        })?;
+        Ok(Boom { l_c, k, angles })
+    }
+
+    /// Jib head length L_v = k·L_c.
+    pub fn l_v(&self) -> f64 {
+        self.k * self.l_c
+    }
+
+    /// C1, the jib head at maximum reach: D(φ_min) + L_v(−cos γ3, −sin γ3).
+    pub fn c1(&self) -> P2 {
+        let g = self.angles.gamma3;
+        boom_head(self.l_c, self.angles.phi_min) + self.l_v() * P2::new(-g.cos(), -g.sin())
+    }
+
+    /// C3, the jib head at minimum reach: D(φ_max) + L_v(−sin γ2, −cos γ2).
+    pub fn c3(&self) -> P2 {
+        let g = self.angles.gamma2;
+        boom_head(self.l_c, self.angles.phi_max()) + self.l_v() * P2::new(-g.sin(), -g.cos())
+    }
+
+    /// Head height above A at the extremes, H1 = L_c(sin φ_min − k sin γ3).
+    pub fn head_height(&self) -> f64 {
+        self.l_c * self.angles.unit_head_height(self.k)
+    }
+}
+
+/// The three design positions of step 2 (index 0 = max reach, 2 = min reach).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DesignPositions {
+    /// Boom angles φ1 = φ_min, φ2, φ3 = φ_max (rad).
+    pub phi: [f64; 3],
+    /// Jib heads C1, C2, C3.
+    pub c: [P2; 3],
+    /// Boom heads D1, D2, D3.
+    pub d: [P2; 3],
+    /// Jib tails E1, E2, E3.
+    pub e: [P2; 3],
+}
+
+/// Step 2 positions for the ratios k1 = C1C2/C1C3 and k2 = a/L_v.
+///
+/// C2 = (x_C1 + k1(x_C3 − x_C1), H1); D2 = circle(A, L_c) ∩ circle(C2, L_v) on the side of the
+/// line A→C where D1 and D3 lie (the same assembly branch of the boom–jib dyad), which must
+/// give φ_min ≤ φ2 ≤ φ_max and y_D2 ≥ H1; E_i = D_i + k2(D_i − C_i).
+pub fn design_positions(boom: &Boom, k1: f64, k2: f64) -> Result<DesignPositions, CraneGeomError> {
+    if !(k1.is_finite() && (0.0..=1.0).contains(&k1)) {
+        return Err(CraneGeomError::Invalid {
+            what: "k1",
+            value: k1,
+        });
+    }
+    if !(k2.is_finite() && k2 > 0.0) {
+        return Err(CraneGeomError::Invalid {
+            what: "k2",
+            value: k2,
+        });
+    }
+    let (c1, c3) = (boom.c1(), boom.c3());
+    let h1 = c1.y;
+    let c2 = P2::new(c1.x + k1 * (c3.x - c1.x), h1);
+    let (p1, p3) = (boom.angles.phi_min, boom.angles.phi_max());
+    let (d1, d3) = (boom_head(boom.l_c, p1), boom_head(boom.l_c, p3));
+    // The boom–jib dyad A–D–C must stay on one assembly branch: D on the same side of the
+    // line A→C at all three positions. (The thesis's "y > H1, x < 0" admits both solutions
+    // when C2 is close to C3, and then picks the wrong one.)
+    let no_d2 = CraneGeomError::NoMiddlePosition { x: c2.x, y: c2.y };
+    let (s1, s3) = (cross(c1, d1), cross(c3, d3));
+    if s1.is_nan() || s3.is_nan() || s1 * s3 <= 0.0 {
+        return Err(no_d2);
+    }
+    let side = if s1 > 0.0 { Side::Left } else { Side::Right };
+    let d2 = circle_circle(P2::zeros(), boom.l_c, c2, boom.l_v(), side).ok_or(no_d2.clone())?;
+    let phi2 = d2.y.atan2(-d2.x);
+    let tol = 1e-9 * (p3 - p1).abs().max(1.0);
+    if !(phi2 >= p1 - tol && phi2 <= p3 + tol && d2.y >= h1) {
+        return Err(no_d2);
+    }
+    let phi2 = phi2.clamp(p1, p3);
+    let d = [d1, d2, d3];
+    let c = [c1, c2, c3];
+    let e = [0, 1, 2].map(|i| d[i] + k2 * (d[i] - c[i]));
+    Ok(DesignPositions {
+        phi: [p1, phi2, p3],
+        c,
+        d,
+        e,
+    })
+}
+
+/// What guides the jib tail E: the tie (a circle about the tie pin B) or, in the limit of
+/// collinear E1 E2 E3 (B at infinity), a straight line.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Guide {
+    /// Tie of length `radius` about the pin `centre`.
+    Circle { centre: P2, radius: f64 },
+    /// Straight guide through `point` with unit direction `dir` (the infinite-tie limit).
+    Line { point: P2, dir: P2 },
+}
+
+/// Which assembly branch each design position is on.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Branch {
+    /// All three positions on the same branch (`side` of [`circle_circle`] from D towards B,
+    /// or of [`link_slider`] along the guide).
+    Consistent(Side),
+    /// The positions are on different branches: the linkage cannot move through all three
+    /// without being taken apart. `None` marks a position at a singular (tangent) pose.
+    Defect([Option<Side>; 3]),
+}
+
+/// Ratio of tie length to the chord E1E3 beyond which the circle is replaced by its
+/// straight-line limit: the rounding of the circle intersection (≈ ε·b) then exceeds the
+/// sagitta of the replaced arc (chord²/(8b)); the crossover is b ≈ chord/sqrt(8ε) ≈ 2.4e7·chord.
+pub const LINE_LIMIT_RATIO: f64 = 2.4e7;
+
+/// The four-bar linkage after step 2: boom, jib tail and the guide of the tail.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Linkage {
+    /// Boom length L_c (m).
+    pub l_c: f64,
+    /// Jib tail a = k2·L_v (m).
+    pub a: f64,
+    /// k2 = a/L_v.
+    pub k2: f64,
+    /// Tie or straight guide.
+    pub guide: Guide,
+    /// Assembly branch followed (continuous in φ while the linkage assembles).
+    pub side: Side,
+    /// Luffing range [φ_min, φ_max] (rad).
+    pub phi_range: [f64; 2],
+}
+
+/// A pose of the linkage at boom angle φ.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Pose {
+    /// Boom head D.
+    pub d: P2,
+    /// Jib tail E.
+    pub e: P2,
+    /// Jib head C = D + (D − E)/k2.
+    pub c: P2,
+}
+
+/// Step 2 completed: the positions, the guide, the branch and the linkage to follow.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Synthesis {
+    /// The three design positions.
+    pub positions: DesignPositions,
+    /// Tie about the circumcentre of E1 E2 E3, or its line limit.
+    pub guide: Guide,
+    /// Branch of each design position.
+    pub branch: Branch,
+    /// The linkage on the branch of position 1 (the max-reach position).
+    pub linkage: Linkage,
+}
+
+/// Side of the guide on which E lies as seen from D: sign of (B − D) × (E − D) for a tie,
+/// of (E − foot)·u for a line. `None` within rounding of the singular (tangent) pose.
+fn side_of(guide: &Guide, d: P2, e: P2, a: f64) -> Option<Side> {
+    let (s, scale) = match *guide {
+        Guide::Circle { centre, .. } => (cross(centre - d, e - d), (centre - d).norm() * a),
+        Guide::Line { point, dir } => ((e - point).dot(&dir) - (d - point).dot(&dir), a),
+    };
+    if s.abs() <= 1e-9 * scale {
+        None
+    } else if s > 0.0 {
+        Some(Side::Left)
+    } else {
+        Some(Side::Right)
+    }
+}
+
+/// Step 2: tie pin B = circumcentre of E1 E2 E3, tie length b = |BE1|, and the branch of each
+/// design position. Collinear E points (or a tie longer than [`LINE_LIMIT_RATIO`] chords) give
+/// the straight-guide limit through E1 and E3.
+pub fn synthesize(boom: &Boom, k1: f64, k2: f64) -> Result<Synthesis, CraneGeomError> {
+    let positions = design_positions(boom, k1, k2)?;
+    let [e1, e2, e3] = positions.e;
+    let chord = (e3 - e1).norm();
+    let guide = match circumcentre(e1, e2, e3) {
+        Some((centre, radius)) if radius <= LINE_LIMIT_RATIO * chord => {
+            Guide::Circle { centre, radius }
+        }
+        _ => Guide::Line {
+            point: e1,
+            dir: (e3 - e1) / chord,
+        },
+    };
+    let a = k2 * boom.l_v();
+    let sides = [0, 1, 2].map(|i| side_of(&guide, positions.d[i], positions.e[i], a));
+    let known: Vec<Side> = sides.iter().flatten().copied().collect();
+    let branch = match known.first() {
+        None => Branch::Consistent(Side::Left),
+        Some(&s0) if known.iter().all(|&s| s == s0) => Branch::Consistent(s0),
+        Some(_) => Branch::Defect(sides),
+    };
+    let side = match branch {
+        Branch::Consistent(s) => s,
+        Branch::Defect(_) => sides[0].or(sides[2]).unwrap_or(Side::Left),
+    };
+    let linkage = Linkage {
+        l_c: boom.l_c,
+        a,
+        k2,
+        guide,
+        side,
+        phi_range: [positions.phi[0], positions.phi[2]],
+    };
+    Ok(Synthesis {
+        positions,
+        guide,
+        branch,
+        linkage,
+    })
+}
+
+impl Linkage {
+    /// Pose at boom angle φ: E = circle(D, a) ∩ circle(B, b) (or the line guide) on the
+    /// linkage's fixed side, C = D + (D − E)/k2. `None` where the linkage cannot assemble.
+    pub fn pose(&self, phi: f64) -> Option<Pose> {
+        let d = boom_head(self.l_c, phi);
+        let e = match self.guide {
+            Guide::Circle { centre, radius } => {
+                circle_circle(d, self.a, centre, radius, self.side)?
+            }
+            Guide::Line { point, dir } => link_slider(d, self.a, point, dir, self.side)?,
+        };
+        Some(Pose {
+            d,
+            e,
+            c: d + (d - e) / self.k2,
+        })
+    }
+
+    /// Transmission quality at a pose: the angle μ between the tie force line at E (E→B, or
+    /// the guide normal for a line) and the jib tail E→D, folded to min(μ, π − μ) ∈ [0, π/2].
+    /// 0 is the singular pose (tie and tail aligned), π/2 the best.
+    pub fn transmission_angle(&self, pose: &Pose) -> f64 {
+        let f = match self.guide {
+            Guide::Circle { centre, .. } => centre - pose.e,
+            Guide::Line { dir, .. } => P2::new(-dir.y, dir.x),
+        };
+        let t = pose.d - pose.e;
+        let mu = cross(f, t).abs().atan2(f.dot(&t));
+        mu.min(std::f64::consts::PI - mu)
+    }
+
+    /// Scale of the lengths that enter a pose, for rounding estimates (m).
+    pub fn length_scale(&self) -> f64 {
+        let g = match self.guide {
+            Guide::Circle { centre, radius } => centre.norm() + radius,
+            Guide::Line { point, .. } => point.norm(),
+        };
+        self.l_c + self.a + g
+    }
+}
+
+/// The jib-head height over the luffing range with refined extrema.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct HeadHeights {
+    /// Highest head position y_C,max (m above A) and its boom angle (rad).
+    pub y_max: f64,
+    /// Boom angle of the highest position (rad).
+    pub phi_at_max: f64,
+    /// Lowest head position y_C,min (m above A).
+    pub y_min: f64,
+    /// Boom angle of the lowest position (rad).
+    pub phi_at_min: f64,
+    /// Δh = y_C,max − y_C,min (m).
+    pub delta_h: f64,
+    /// Estimated absolute error of Δh (m): refinement ½|y''|xtol² at both extrema plus
+    /// rounding 64 ε·(length scale)/k2 (the head is extrapolated from D and E by 1/k2).
+    pub error: f64,
+    /// Smallest transmission angle seen on the samples (rad, see
+    /// [`Linkage::transmission_angle`]).
+    pub min_transmission: f64,
+    /// Boom angle of the smallest transmission angle (rad).
+    pub phi_at_min_transmission: f64,
+    /// Pose evaluations spent.
+    pub evals: usize,
+}
+
+/// Why the head path could not be evaluated.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum PathError {
+    /// The linkage does not assemble at this boom angle on its branch.
+    #[error("the linkage cannot assemble at phi = {phi} rad")]
+    CannotAssemble { phi: f64 },
+    /// The refinement failed.
+    #[error("refinement failed: {0}")]
+    Search(#[from] SearchError),
+}
+
+/// Head heights over [φ_min, φ_max]: `n` samples (every one must assemble, so the path
+/// follows one branch continuously between them), each sampled local extremum of y_C refined
+/// by Brent to `xtol` rad with [`interval_peak`].
+pub fn head_heights(link: &Linkage, n: usize, xtol: f64) -> Result<HeadHeights, PathError> {
+    let [p0, p1] = link.phi_range;
+    let n = n.max(8);
+    let mut min_t = f64::INFINITY;
+    let mut phi_t = p0;
+    for i in 0..=n {
+        let phi = p0 + (p1 - p0) * i as f64 / n as f64;
+        let pose = link.pose(phi).ok_or(PathError::CannotAssemble { phi })?;
+        let t = link.transmission_angle(&pose);
+        if t < min_t {
+            min_t = t;
+            phi_t = phi;
+        }
+    }
+    // A pose that fails between samples (a gap narrower than the spacing) shows up as NaN
+    // here and is reported by interval_peak as not finite.
+    let y = |phi: f64| link.pose(phi).map_or(f64::NAN, |p| p.c.y);
+    let to_path = |e: SearchError| match e {
+        SearchError::NotFinite { x } => PathError::CannotAssemble { phi: x },
+        other => PathError::Search(other),
+    };
+    let hi = interval_peak(y, p0, p1, n, xtol).map_err(to_path)?;
+    let lo = interval_peak(|phi| -y(phi), p0, p1, n, xtol).map_err(to_path)?;
+    let rounding = 64.0 * f64::EPSILON * link.length_scale() / link.k2;
+    Ok(HeadHeights {
+        y_max: hi.peak.fx,
+        phi_at_max: hi.peak.x,
+        y_min: -lo.peak.fx,
+        phi_at_min: lo.peak.x,
+        delta_h: hi.peak.fx + lo.peak.fx,
+        error: hi.error + lo.error + rounding,
+        min_transmission: min_t,
+        phi_at_min_transmission: phi_t,
+        evals: n + 1 + hi.evals + lo.evals,
+    })
+}
+
+/// Unbalanced moment of a load of weight W hanging from the jib head on a rope of constant
+/// length (hoist rope parallel to boom or tie, thesis §2.1) about A, by virtual work
+/// M_A(φ) = W·dy_C/dφ. dy_C/dφ by the fourth-order central difference
+/// (8(y(φ+h) − y(φ−h)) − (y(φ+2h) − y(φ−2h)))/(12h); within 2h of an end of the range the
+/// stencil centre is moved inside. Returns (M, error), the error being the change from the
+/// second-order difference plus the shift of the centre times |y''| and rounding. `None` if a
+/// pose fails.
+pub fn load_moment(link: &Linkage, weight: f64, phi: f64, h: f64) -> Option<(f64, f64)> {
+    let [p0, p1] = link.phi_range;
+    let h = h.min((p1 - p0) / 8.0);
+    let c = phi.clamp(p0 + 2.0 * h, p1 - 2.0 * h);
+    let y = |p: f64| link.pose(p).map(|q| q.c.y);
+    let (ym2, ym1, y0, yp1, yp2) = (
+        y(c - 2.0 * h)?,
+        y(c - h)?,
+        y(c)?,
+        y(c + h)?,
+        y(c + 2.0 * h)?,
+    );
+    let d2nd = (yp1 - ym1) / (2.0 * h);
+    let d4th = (8.0 * (yp1 - ym1) - (yp2 - ym2)) / (12.0 * h);
+    let curv = (yp1 - 2.0 * y0 + ym1) / (h * h);
+    let rounding = 64.0 * f64::EPSILON * link.length_scale() / (link.k2 * h);
+    let err = (d4th - d2nd).abs() + (c - phi).abs() * curv.abs() + rounding;
+    Some((weight * d4th, weight.abs() * err))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn thesis_boom(l_c: f64) -> Boom {
+        let d = f64::to_radians;
+        Boom::new(
+            l_c,
+            Angles {
+                phi_min: d(35.0),
+                gamma1: d(10.0),
+                gamma2: d(5.0),
+                gamma3: d(12.0),
+            },
+        )
+        .unwrap()
+    }
+
+    #[test]
+    fn thesis_example_matches_independent_reconstruction() {
+        // Reference: an independent Python reconstruction (textbook circle intersection,
+        // determinant circumcentre, 200 001 samples, max − min), /tmp/crane_proto.py:
+        // k = 0.5216797937624817, B = (11.853886600000907, 4.155751777343402),
+        // b = 27.70985907306044, Δh = 0.5488653233583047 (sampled, a lower bound within ~1e-11).
+        let boom = thesis_boom(22.8);
+        assert!((boom.k - 0.5216797937624817).abs() < 1e-15);
+        let s = synthesize(&boom, 0.2, 0.4).unwrap();
+        assert_eq!(s.branch, Branch::Consistent(Side::Left));
+        let Guide::Circle { centre, radius } = s.guide else {
+            panic!("circle expected")
+        };
+        assert!((centre - P2::new(11.853886600000907, 4.155751777343402)).norm() < 1e-10);
+        assert!((radius - 27.70985907306044).abs() < 1e-10);
+        let hh = head_heights(&s.linkage, 64, 1e-10).unwrap();
+        assert!((hh.delta_h - 0.5488653233583047).abs() < 1e-9, "{hh:?}");
+        assert!(hh.error < 1e-9);
+    }
+}
