@@ -325,6 +325,55 @@ impl Hypocycloid {
     }
 }
 
+/// Fast evaluator of one cosine coefficient a_k of S/R on a fixed n-point trapezoid rule
+/// for many (λ, θ) at one α0: the trigonometric tables are built once, so one value costs n
+/// square roots. Same formula as [`Hypocycloid::cos_coefficient`].
+#[derive(Debug, Clone)]
+pub struct CosBin {
+    k: usize,
+    alpha0: f64,
+    sin_phi: Vec<f64>,
+    sin_g: Vec<f64>,
+    cos_k: Vec<f64>,
+}
+
+impl CosBin {
+    /// Tables for order `k`, orientation `alpha0` and `n` points.
+    pub fn new(k: usize, alpha0: f64, n: usize) -> Self {
+        let h = TAU / n as f64;
+        let ph = |j: usize| j as f64 * h;
+        CosBin {
+            k,
+            alpha0,
+            sin_phi: (0..n).map(|j| ph(j).sin()).collect(),
+            sin_g: (0..n).map(|j| (alpha0 - 2.0 * ph(j)).sin()).collect(),
+            cos_k: (0..n).map(|j| ((k * j % n) as f64 * h).cos()).collect(),
+        }
+    }
+
+    /// Number of points.
+    pub fn n(&self) -> usize {
+        self.sin_phi.len()
+    }
+
+    /// a_k(λ, θ) (requires λ·max|y| < 1; beyond it the square root is clamped at 0).
+    pub fn eval(&self, lambda: f64, theta: f64) -> f64 {
+        let mut s = 0.0;
+        for j in 0..self.sin_phi.len() {
+            let y = self.sin_phi[j] + theta * self.sin_g[j];
+            let ly = lambda * y;
+            let w = ((1.0 - ly) * (1.0 + ly)).max(0.0).sqrt();
+            let opw = 1.0 + w;
+            s += ly * ly * y * y / (opw * opw) * self.cos_k[j];
+        }
+        let n = self.sin_phi.len() as f64;
+        let r = -lambda * s / 2.0 * if self.k == 0 { 1.0 / n } else { 2.0 / n };
+        let m = Hypocycloid { lambda, theta, alpha0: self.alpha0 };
+        let (pa, _) = m.poly_part(self.k);
+        pa[self.k] + r + if self.k == 0 { 1.0 / lambda } else { 0.0 }
+    }
+}
+
 /// Stroke and phase split of the piston motion (see [`Hypocycloid::stroke`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Stroke {
