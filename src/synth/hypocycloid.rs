@@ -155,12 +155,16 @@ pub fn paper_example(v: PaperVariant) -> HypocycloidScene {
 }
 
 /// The C4-search scene: the paper example with λ ∈ [0.02, 0.5], θ ∈ [0, 0.9] free (minimum
-/// stroke 45 mm = 1.8 R) and the zero search of a_4 over the same box.
+/// stroke 45 mm = 1.8 R; in variant 2 also a suction-phase gain ≥ 0.1, i.e. a suction stroke
+/// of at least 198° — in variant 1 S is even in φ, the gain jumps between 0 and 1/3 when the
+/// dwell splits the bottom dead centre, so it is not constrained) and the zero search of a_4
+/// over the same box.
 pub fn c4_search_example(v: PaperVariant) -> HypocycloidScene {
     HypocycloidScene {
         lambda: Var::Free { min: 0.02, max: 0.5 },
         theta: Var::Free { min: 0.0, max: 0.9 },
         min_stroke: Some(0.045),
+        min_suction_gain: if v == PaperVariant::Variant2 { Some(0.1) } else { None },
         zero_search: Some(ZeroSearch { order: 4, lambda: (0.02, 0.5), theta: (0.0, 0.9) }),
         ..paper_example(v)
     }
