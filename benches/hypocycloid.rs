@@ -3,14 +3,20 @@
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use cwsynth::mech::hypocycloid::{Hypocycloid, ALPHA0_VARIANT2};
-use cwsynth::synth::hypocycloid::{paper_example, solve, zero_search, PaperVariant, Settings, ZeroSearch};
+use cwsynth::synth::hypocycloid::{
+    paper_example, solve, zero_search, PaperVariant, Settings, ZeroSearch,
+};
 use std::hint::black_box;
 
 fn bench(c: &mut Criterion) {
     let s = Settings::default();
     assert_eq!(s.curve_points, 100);
     assert_eq!(s.root_tol, 1e-12);
-    let zs = ZeroSearch { order: 4, lambda: (0.02, 0.5), theta: (0.0, 0.9) };
+    let zs = ZeroSearch {
+        order: 4,
+        lambda: (0.02, 0.5),
+        theta: (0.0, 0.9),
+    };
     c.bench_function("zero_curve_100pts_1e-12_variant1", |b| {
         b.iter(|| {
             let z = zero_search(PaperVariant::Variant1.alpha0(), black_box(&zs), 3, 1e-3, &s);
@@ -22,9 +28,13 @@ fn bench(c: &mut Criterion) {
         b.iter(|| zero_search(PaperVariant::Variant2.alpha0(), black_box(&zs), 3, 1e-3, &s))
     });
     let m = Hypocycloid::new(0.25, 0.5, ALPHA0_VARIANT2).unwrap();
-    c.bench_function("coefficients_order8_fft", |b| b.iter(|| black_box(&m).coefficients(8, 64, 1 << 16)));
+    c.bench_function("coefficients_order8_fft", |b| {
+        b.iter(|| black_box(&m).coefficients(8, 64, 1 << 16))
+    });
     let scene = paper_example(PaperVariant::Variant2);
-    c.bench_function("solve_paper_example_variant2", |b| b.iter(|| solve(black_box(&scene), &s).unwrap()));
+    c.bench_function("solve_paper_example_variant2", |b| {
+        b.iter(|| solve(black_box(&scene), &s).unwrap())
+    });
 }
 
 criterion_group!(benches, bench);

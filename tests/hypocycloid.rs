@@ -3,10 +3,12 @@
 //! formula, the binomial series to high power, leading-order asymptotics, symmetry, Parseval.
 
 use cwsynth::mech::hypocycloid::{
-    max_abs_y_variant1, max_abs_y_variant2, Hypocycloid, MechError, ALPHA0_VARIANT1, ALPHA0_VARIANT2,
+    max_abs_y_variant1, max_abs_y_variant2, Hypocycloid, MechError, ALPHA0_VARIANT1,
+    ALPHA0_VARIANT2,
 };
 use cwsynth::synth::hypocycloid::{
-    c4_search_example, paper_example, solve, zero_search, PaperVariant, Settings, Var, ZeroSearch, ZeroStatus,
+    c4_search_example, paper_example, solve, zero_search, PaperVariant, Settings, Var, ZeroSearch,
+    ZeroStatus,
 };
 use std::f64::consts::PI;
 
@@ -49,7 +51,12 @@ fn theta_zero_is_the_slider_crank_closed_form() {
         for i in 1..=10 {
             let exact = slider_crank_a(l, i);
             let tol = 4.0 * c.err[i] + 1e-15;
-            assert!((c.a[i] - exact).abs() <= tol, "λ={l} a{i}: {} vs {exact} (err {})", c.a[i], c.err[i]);
+            assert!(
+                (c.a[i] - exact).abs() <= tol,
+                "λ={l} a{i}: {} vs {exact} (err {})",
+                c.a[i],
+                c.err[i]
+            );
             assert!(c.b[i].abs() <= tol);
         }
         // The textbook expansion of a4: −(λ³/64 + 3λ⁵/256 + …).
@@ -87,7 +94,11 @@ fn gauss_legendre(n: usize) -> Vec<(f64, f64)> {
 #[test]
 fn fft_agrees_with_direct_quadrature() {
     let gl = gauss_legendre(20);
-    for (alpha0, l, t) in [(ALPHA0_VARIANT1, 0.25, 0.5), (ALPHA0_VARIANT2, 0.25, 0.5), (1.0, 0.4, 0.3)] {
+    for (alpha0, l, t) in [
+        (ALPHA0_VARIANT1, 0.25, 0.5),
+        (ALPHA0_VARIANT2, 0.25, 0.5),
+        (1.0, 0.4, 0.3),
+    ] {
         let m = Hypocycloid::new(l, t, alpha0).unwrap();
         let c = m.coefficients(8, 64, 1 << 16);
         // Plain formula, no splitting: S/R − 1/λ = x + (sqrt(1 − λ²y²) − 1)/λ.
@@ -125,7 +136,9 @@ fn truncated_series_converges_to_the_fft() {
         let mut prev = f64::INFINITY;
         for p in 1..=24 {
             let (a, b) = m.series_coefficients(p, 8);
-            let e = (1..=8).map(|i| (a[i] - c.a[i]).abs().max((b[i] - c.b[i]).abs())).fold(0.0, f64::max);
+            let e = (1..=8)
+                .map(|i| (a[i] - c.a[i]).abs().max((b[i] - c.b[i]).abs()))
+                .fold(0.0, f64::max);
             // Tail of the binomial series: ≤ (1/λ) Σ_{k>p} c_k q^{2k} ≤ q^{2p+2}/λ.
             assert!(e <= q.powi(2 * p as i32 + 2) / l + 1e-15, "power {p}: {e}");
             assert!(e <= prev + 1e-16, "power {p}: {e} > {prev}");
@@ -142,8 +155,14 @@ fn coefficients_are_invariant_to_fft_size() {
     for n in [256, 1024, 8192] {
         let c = m.coefficients(12, n, 1 << 16);
         for i in 0..=12 {
-            assert!((c.a[i] - c0.a[i]).abs() <= c.err[i] + c0.err[i], "n={n} a{i}");
-            assert!((c.b[i] - c0.b[i]).abs() <= c.err[i] + c0.err[i], "n={n} b{i}");
+            assert!(
+                (c.a[i] - c0.a[i]).abs() <= c.err[i] + c0.err[i],
+                "n={n} a{i}"
+            );
+            assert!(
+                (c.b[i] - c0.b[i]).abs() <= c.err[i] + c0.err[i],
+                "n={n} b{i}"
+            );
         }
     }
     // Single-bin evaluation used by the zero search: same numbers.
@@ -158,7 +177,11 @@ fn tiny_lambda_has_no_cancellation() {
     let m = Hypocycloid::new(l, 0.0, ALPHA0_VARIANT1).unwrap();
     let c = m.coefficients(6, 64, 1 << 16);
     assert!((c.a[2] / (l / 4.0) - 1.0).abs() < 1e-14, "{}", c.a[2]);
-    assert!((c.a[4] / (-l.powi(3) / 64.0) - 1.0).abs() < 1e-10, "{}", c.a[4]);
+    assert!(
+        (c.a[4] / (-l.powi(3) / 64.0) - 1.0).abs() < 1e-10,
+        "{}",
+        c.a[4]
+    );
     // Variant 1, θ = 0.5: a1 = 1 + λθ/2, a2 = θ + λ/4, a3 = −λθ/2, a4 = λθ²/4 (+ O(λ³)).
     let t = 0.5;
     let m = Hypocycloid::new(l, t, ALPHA0_VARIANT1).unwrap();
@@ -196,16 +219,27 @@ fn symmetries_of_the_two_variants() {
 #[test]
 fn assembly_limits_match_closed_forms_and_fail_cleanly() {
     // Variant 2: λ(1 + θ) < 1; variant 1: λ·max|y| with the quadratic closed form.
-    for (alpha0, ym) in [(ALPHA0_VARIANT1, max_abs_y_variant1(0.5)), (ALPHA0_VARIANT2, max_abs_y_variant2(0.5))] {
+    for (alpha0, ym) in [
+        (ALPHA0_VARIANT1, max_abs_y_variant1(0.5)),
+        (ALPHA0_VARIANT2, max_abs_y_variant2(0.5)),
+    ] {
         let lim = 1.0 / ym;
         assert!(Hypocycloid::new(lim * (1.0 - 1e-9), 0.5, alpha0).is_ok());
         match Hypocycloid::new(lim * (1.0 + 1e-9), 0.5, alpha0) {
-            Err(MechError::CannotAssemble { lambda_limit, .. }) => assert!((lambda_limit - lim).abs() < 1e-13),
+            Err(MechError::CannotAssemble { lambda_limit, .. }) => {
+                assert!((lambda_limit - lim).abs() < 1e-13)
+            }
             other => panic!("expected CannotAssemble, got {other:?}"),
         }
     }
-    assert!(matches!(Hypocycloid::new(f64::NAN, 0.5, 0.0), Err(MechError::BadRatio { name: "lambda", .. })));
-    assert!(matches!(Hypocycloid::new(0.2, -0.1, 0.0), Err(MechError::BadRatio { name: "theta", .. })));
+    assert!(matches!(
+        Hypocycloid::new(f64::NAN, 0.5, 0.0),
+        Err(MechError::BadRatio { name: "lambda", .. })
+    ));
+    assert!(matches!(
+        Hypocycloid::new(0.2, -0.1, 0.0),
+        Err(MechError::BadRatio { name: "theta", .. })
+    ));
     // Near the limit (λ(1+θ) = 1 − 1e-6): finite values, honest error, no panic.
     let m = Hypocycloid::new((1.0 - 1e-6) / 1.5, 0.5, ALPHA0_VARIANT2).unwrap();
     let c = m.coefficients(8, 64, 1 << 14);
@@ -229,7 +263,11 @@ fn assembly_limits_match_closed_forms_and_fail_cleanly() {
 fn every_root_is_bracketed_and_below_1e13() {
     let s = Settings::default();
     for v in [PaperVariant::Variant1, PaperVariant::Variant2] {
-        let zs = ZeroSearch { order: 4, lambda: (0.02, 0.6), theta: (0.0, 0.9) };
+        let zs = ZeroSearch {
+            order: 4,
+            lambda: (0.02, 0.6),
+            theta: (0.0, 0.9),
+        };
         let z = zero_search(v.alpha0(), &zs, 3, 1e-3, &s);
         for r in &z.roots {
             assert!(r.value.abs() < 1e-13, "{r:?}");
@@ -245,7 +283,11 @@ fn every_root_is_bracketed_and_below_1e13() {
                 assert_eq!(z.status, ZeroStatus::Found);
                 assert!(z.single_valued);
                 // Leading order: λθ²/4 = λ³/64 ⇒ θ* ≈ λ/4 for small λ.
-                let r = z.roots.iter().find(|r| (r.lambda - 0.02).abs() < 1e-15).expect("root at λ = 0.02");
+                let r = z
+                    .roots
+                    .iter()
+                    .find(|r| (r.lambda - 0.02).abs() < 1e-15)
+                    .expect("root at λ = 0.02");
                 assert!((r.theta / (r.lambda / 4.0) - 1.0).abs() < 0.01, "{r:?}");
             }
             PaperVariant::Variant2 => {
@@ -269,13 +311,20 @@ fn parseval_links_the_force_and_the_coefficients() {
     scene.orders = 40;
     let o = solve(&scene, &Settings::default()).unwrap();
     let f = o.derived["force_scale_N"];
-    let sum: f64 = (1..=40).map(|i| (i as f64).powi(4) * (o.coefficients.a[i].powi(2) + o.coefficients.b[i].powi(2))).sum();
+    let sum: f64 = (1..=40)
+        .map(|i| (i as f64).powi(4) * (o.coefficients.a[i].powi(2) + o.coefficients.b[i].powi(2)))
+        .sum();
     let rms = f * (0.5 * sum).sqrt();
-    assert!((o.objectives["residual_force_rms_N"] - rms).abs() < 1e-9 * rms + o.errors["residual_force_rms_N"]);
+    assert!(
+        (o.objectives["residual_force_rms_N"] - rms).abs()
+            < 1e-9 * rms + o.errors["residual_force_rms_N"]
+    );
     // Balancing orders 1..=3 removes exactly their share of the mean square.
     scene.balance_orders = vec![1, 2, 3];
     let o3 = solve(&scene, &Settings::default()).unwrap();
-    let sum3: f64 = (4..=40).map(|i| (i as f64).powi(4) * (o.coefficients.a[i].powi(2) + o.coefficients.b[i].powi(2))).sum();
+    let sum3: f64 = (4..=40)
+        .map(|i| (i as f64).powi(4) * (o.coefficients.a[i].powi(2) + o.coefficients.b[i].powi(2)))
+        .sum();
     assert!((o3.objectives["residual_force_rms_N"] - f * (0.5 * sum3).sqrt()).abs() < 1e-9 * rms);
     // m′r′ = ½ m_B R C_i (paper).
     for p in &o3.balancing {
@@ -293,7 +342,10 @@ fn scale_invariance_mm_to_km() {
         s.m_b *= 1.0 / k;
         let o = solve(&s, &Settings::default()).unwrap();
         assert_eq!(o.objectives["c4"], base.objectives["c4"]);
-        let (a, b) = (o.objectives["residual_force_peak_N"], base.objectives["residual_force_peak_N"]);
+        let (a, b) = (
+            o.objectives["residual_force_peak_N"],
+            base.objectives["residual_force_peak_N"],
+        );
         assert!((a - b).abs() < 1e-12 * b);
     }
 }
@@ -307,32 +359,60 @@ fn json_contract_and_paper_checks() {
     assert_eq!(j["coefficients"]["a"].as_array().unwrap().len(), 9);
     assert_eq!(j["coefficients"]["b"].as_array().unwrap().len(), 9);
     assert!(j["zero_curve"].as_array().unwrap().is_empty());
-    assert!(o.paper.iter().any(|p| p.quantity.starts_with("C1^I") && (p.computed - 1.0).abs() < 1e-15));
+    assert!(o
+        .paper
+        .iter()
+        .any(|p| p.quantity.starts_with("C1^I") && (p.computed - 1.0).abs() < 1e-15));
     for key in o.objectives.keys() {
         assert!(o.errors.contains_key(key), "{key} has no error estimate");
     }
-    let o = solve(&c4_search_example(PaperVariant::Variant1), &Settings::default()).unwrap();
+    let o = solve(
+        &c4_search_example(PaperVariant::Variant1),
+        &Settings::default(),
+    )
+    .unwrap();
     let j = serde_json::to_value(&o).unwrap();
     let zc = j["zero_curve"].as_array().unwrap();
     assert!(!zc.is_empty());
     assert!(zc[0]["lambda"].is_f64() && zc[0]["theta"].is_f64());
-    assert!(o.objectives["stroke_m"] >= 0.045 - 1e-9, "{:?}", o.objectives);
+    assert!(
+        o.objectives["stroke_m"] >= 0.045 - 1e-9,
+        "{:?}",
+        o.objectives
+    );
 }
 
 #[test]
 fn print_summary() {
     for v in [PaperVariant::Variant1, PaperVariant::Variant2] {
         let o = solve(&paper_example(v), &Settings::default()).unwrap();
-        println!("{v:?} example: {:?}\n derived {:?}\n warnings {:?}", o.objectives, o.derived, o.warnings);
+        println!(
+            "{v:?} example: {:?}\n derived {:?}\n warnings {:?}",
+            o.objectives, o.derived, o.warnings
+        );
         for p in &o.paper {
-            println!("  paper {}: {} vs {} — {}", p.quantity, p.paper, p.computed, p.note);
+            println!(
+                "  paper {}: {} vs {} — {}",
+                p.quantity, p.paper, p.computed, p.note
+            );
         }
         let o = solve(&c4_search_example(v), &Settings::default()).unwrap();
-        println!("{v:?} search: design {:?} status {:?}\n obj {:?}\n {}", o.design, o.status, o.objectives, o.method);
+        println!(
+            "{v:?} search: design {:?} status {:?}\n obj {:?}\n {}",
+            o.design, o.status, o.objectives, o.method
+        );
         let z = o.zero_search.as_ref().unwrap();
-        println!(" zero: {:?} {} roots; {}", z.status, z.roots.len(), z.reason);
+        println!(
+            " zero: {:?} {} roots; {}",
+            z.status,
+            z.roots.len(),
+            z.reason
+        );
         for r in z.roots.iter().step_by(10) {
-            println!("  λ={:.4} θ*={:.12} series θ={:?} a4={:e}", r.lambda, r.theta, r.series_theta, r.value);
+            println!(
+                "  λ={:.4} θ*={:.12} series θ={:?} a4={:e}",
+                r.lambda, r.theta, r.series_theta, r.value
+            );
         }
         println!(" derived {:?}\n warnings {:?}", o.derived, o.warnings);
     }

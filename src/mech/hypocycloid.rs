@@ -21,6 +21,9 @@
 //! first two parts are trigonometric polynomials whose Fourier coefficients are computed
 //! exactly, so the FFT only sees the O(λ³) remainder.
 
+// `!(x > 0.0)` is deliberate: a NaN must fail every range check.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
 use rustfft::num_complex::Complex64;
 use rustfft::FftPlanner;
 use std::f64::consts::{PI, TAU};
@@ -42,10 +45,19 @@ pub enum MechError {
         "the mechanism cannot assemble: λ·max|y_A/R| = {lambda_ymax} ≥ 1 (λ = {lambda}, θ = {theta}); \
          λ must stay below {lambda_limit}"
     )]
-    CannotAssemble { lambda: f64, theta: f64, lambda_ymax: f64, lambda_limit: f64 },
+    CannotAssemble {
+        lambda: f64,
+        theta: f64,
+        lambda_ymax: f64,
+        lambda_limit: f64,
+    },
     /// A ratio is NaN, infinite or out of its range.
     #[error("invalid ratio {name} = {value}: {allowed}")]
-    BadRatio { name: &'static str, value: f64, allowed: &'static str },
+    BadRatio {
+        name: &'static str,
+        value: f64,
+        allowed: &'static str,
+    },
     /// A 1-D search inside the model failed.
     #[error("search failed: {0}")]
     Search(#[from] SearchError),
@@ -76,7 +88,11 @@ pub struct PistonKinematics {
 /// max_φ |sin φ + θ sin(α0 − 2φ)|, the largest distance of A from the slider axis (÷R),
 /// refined by Brent on every sampled maximum (value error ≤ 1e-18 for θ ≤ 10).
 pub fn max_abs_y(theta: f64, alpha0: f64) -> Result<f64, MechError> {
-    let p = periodic_peak(|f| (f.sin() + theta * (alpha0 - 2.0 * f).sin()).abs(), 72, 1e-10)?;
+    let p = periodic_peak(
+        |f| (f.sin() + theta * (alpha0 - 2.0 * f).sin()).abs(),
+        72,
+        1e-10,
+    )?;
     Ok(p.peak.fx)
 }
 
@@ -97,19 +113,40 @@ impl Hypocycloid {
     /// A checked model: λ > 0 finite, θ ≥ 0 finite, α0 finite, and λ·max|y| < 1.
     pub fn new(lambda: f64, theta: f64, alpha0: f64) -> Result<Self, MechError> {
         if !(lambda.is_finite() && lambda > 0.0) {
-            return Err(MechError::BadRatio { name: "lambda", value: lambda, allowed: "finite and > 0" });
+            return Err(MechError::BadRatio {
+                name: "lambda",
+                value: lambda,
+                allowed: "finite and > 0",
+            });
         }
         if !(theta.is_finite() && theta >= 0.0) {
-            return Err(MechError::BadRatio { name: "theta", value: theta, allowed: "finite and ≥ 0" });
+            return Err(MechError::BadRatio {
+                name: "theta",
+                value: theta,
+                allowed: "finite and ≥ 0",
+            });
         }
         if !alpha0.is_finite() {
-            return Err(MechError::BadRatio { name: "alpha0", value: alpha0, allowed: "finite" });
+            return Err(MechError::BadRatio {
+                name: "alpha0",
+                value: alpha0,
+                allowed: "finite",
+            });
         }
         let ym = max_abs_y(theta, alpha0)?;
         if !(lambda * ym < 1.0) {
-            return Err(MechError::CannotAssemble { lambda, theta, lambda_ymax: lambda * ym, lambda_limit: 1.0 / ym });
+            return Err(MechError::CannotAssemble {
+                lambda,
+                theta,
+                lambda_ymax: lambda * ym,
+                lambda_limit: 1.0 / ym,
+            });
         }
-        Ok(Hypocycloid { lambda, theta, alpha0 })
+        Ok(Hypocycloid {
+            lambda,
+            theta,
+            alpha0,
+        })
     }
 
     /// λ·max|y_A/R| (< 1 for a model built by [`Hypocycloid::new`]); 1 − this is the
@@ -121,7 +158,10 @@ impl Hypocycloid {
     /// Crank pin A/R = (cos φ + θ cos(α0 − 2φ), sin φ + θ sin(α0 − 2φ)).
     pub fn point_a(&self, phi: f64) -> (f64, f64) {
         let g = self.alpha0 - 2.0 * phi;
-        (phi.cos() + self.theta * g.cos(), phi.sin() + self.theta * g.sin())
+        (
+            phi.cos() + self.theta * g.cos(),
+            phi.sin() + self.theta * g.sin(),
+        )
     }
 
     /// S/R and its derivatives. With w = sqrt(1 − λ²y²):
@@ -195,9 +235,16 @@ impl Hypocycloid {
 
     /// Trapezoid (= DFT) coefficients of the remainder on `n` points, orders 0..=order,
     /// and max|g| over the samples.
-    fn remainder_dft(&self, n: usize, order: usize, planner: &mut FftPlanner<f64>) -> (Vec<f64>, Vec<f64>, f64) {
+    fn remainder_dft(
+        &self,
+        n: usize,
+        order: usize,
+        planner: &mut FftPlanner<f64>,
+    ) -> (Vec<f64>, Vec<f64>, f64) {
         let h = TAU / n as f64;
-        let mut buf: Vec<Complex64> = (0..n).map(|j| Complex64::new(self.remainder(j as f64 * h), 0.0)).collect();
+        let mut buf: Vec<Complex64> = (0..n)
+            .map(|j| Complex64::new(self.remainder(j as f64 * h), 0.0))
+            .collect();
         let gmax = buf.iter().fold(0.0f64, |m, c| m.max(c.re.abs()));
         planner.plan_fft_forward(n).process(&mut buf);
         let mut a = vec![0.0; order + 1];
@@ -233,7 +280,9 @@ impl Hypocycloid {
             let (a2, b2, g2) = self.remainder_dft(2 * n, order, &mut planner);
             gmax = gmax.max(g2);
             let floor = 8.0 * f64::EPSILON * (gmax + self.lambda * ymax2 + 1.0 + self.theta);
-            let delta: Vec<f64> = (0..=order).map(|k| (a2[k] - ra[k]).hypot(b2[k] - rb[k])).collect();
+            let delta: Vec<f64> = (0..=order)
+                .map(|k| (a2[k] - ra[k]).hypot(b2[k] - rb[k]))
+                .collect();
             let converged = delta.iter().all(|&d| d <= floor);
             n *= 2;
             ra = a2;
@@ -247,7 +296,13 @@ impl Hypocycloid {
                 }
                 a[0] += 1.0 / self.lambda;
                 let err = delta.iter().map(|d| d + floor).collect();
-                return Coefficients { a, b, err, n_fft: n, converged };
+                return Coefficients {
+                    a,
+                    b,
+                    err,
+                    n_fft: n,
+                    converged,
+                };
             }
         }
     }
@@ -263,7 +318,11 @@ impl Hypocycloid {
             let p = j as f64 * h;
             s += self.remainder(p) * (k as f64 * p).cos();
         }
-        let r = if k == 0 { s / n as f64 } else { 2.0 * s / n as f64 };
+        let r = if k == 0 {
+            s / n as f64
+        } else {
+            2.0 * s / n as f64
+        };
         pa[k] + r + if k == 0 { 1.0 / self.lambda } else { 0.0 }
     }
 
@@ -368,7 +427,11 @@ impl CosBin {
         }
         let n = self.sin_phi.len() as f64;
         let r = -lambda * s / 2.0 * if self.k == 0 { 1.0 / n } else { 2.0 / n };
-        let m = Hypocycloid { lambda, theta, alpha0: self.alpha0 };
+        let m = Hypocycloid {
+            lambda,
+            theta,
+            alpha0: self.alpha0,
+        };
         let (pa, _) = m.poly_part(self.k);
         pa[self.k] + r + if self.k == 0 { 1.0 / lambda } else { 0.0 }
     }
@@ -439,7 +502,14 @@ pub struct LanchesterPair {
 
 /// The pair whose x-forces 2 m′r′ (iω)² cos(±(iφ − γ_i) + π) cancel Φ_i exactly and whose
 /// y-forces cancel each other.
-pub fn lanchester_pair(i: usize, a_i: f64, b_i: f64, m_b: f64, r: f64, omega: f64) -> LanchesterPair {
+pub fn lanchester_pair(
+    i: usize,
+    a_i: f64,
+    b_i: f64,
+    m_b: f64,
+    r: f64,
+    omega: f64,
+) -> LanchesterPair {
     let g = b_i.atan2(a_i);
     LanchesterPair {
         order: i,
@@ -474,7 +544,11 @@ fn conv(p: &[Complex64], q: &[Complex64]) -> Vec<Complex64> {
 
 /// acc + s·p for centred arrays of possibly different lengths.
 fn add_centered(acc: &[Complex64], p: &[Complex64], s: f64) -> Vec<Complex64> {
-    let (big, small, sb, ss) = if acc.len() >= p.len() { (acc, p, 1.0, s) } else { (p, acc, s, 1.0) };
+    let (big, small, sb, ss) = if acc.len() >= p.len() {
+        (acc, p, 1.0, s)
+    } else {
+        (p, acc, s, 1.0)
+    };
     let off = (big.len() - small.len()) / 2;
     let mut r: Vec<Complex64> = big.iter().map(|c| c * sb).collect();
     for (i, c) in small.iter().enumerate() {

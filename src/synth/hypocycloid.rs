@@ -7,6 +7,9 @@
 //! point is [`solve`], whose [`Outcome`] is serialisable and holds every number and series a
 //! report needs.
 
+// `!(x > 0.0)` is deliberate: a NaN must fail every range check.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
 use std::collections::BTreeMap;
 use std::f64::consts::PI;
 
@@ -16,8 +19,8 @@ use argmin_math::{ArgminAdd, ArgminMul, ArgminSub};
 use serde::Serialize;
 
 use crate::mech::hypocycloid::{
-    lanchester_pair, max_abs_y, Coefficients, CosBin, Hypocycloid, LanchesterPair, MechError, ALPHA0_VARIANT1,
-    ALPHA0_VARIANT2,
+    lanchester_pair, max_abs_y, Coefficients, CosBin, Hypocycloid, LanchesterPair, MechError,
+    ALPHA0_VARIANT1, ALPHA0_VARIANT2,
 };
 use crate::numeric::{brent_root, periodic_peak, periodic_rms};
 
@@ -34,7 +37,11 @@ pub struct FieldError {
 }
 
 fn field(key: &str, value: impl std::fmt::Debug, allowed: &str) -> FieldError {
-    FieldError { key: key.into(), value: format!("{value:?}"), allowed: allowed.into() }
+    FieldError {
+        key: key.into(),
+        value: format!("{value:?}"),
+        allowed: allowed.into(),
+    }
 }
 
 /// A design variable: fixed, or free within bounds.
@@ -62,9 +69,11 @@ impl Var {
         let ok = |v: f64| v.is_finite() && if lo_open { v > lo } else { v >= lo };
         match *self {
             Var::Fixed(v) if !ok(v) => Err(field(key, v, allowed)),
-            Var::Free { min, max } if !ok(min) || !ok(max) || !(min < max) => {
-                Err(field(key, (min, max), &format!("{allowed}, with min < max")))
-            }
+            Var::Free { min, max } if !ok(min) || !ok(max) || !(min < max) => Err(field(
+                key,
+                (min, max),
+                &format!("{allowed}, with min < max"),
+            )),
             _ => Ok(()),
         }
     }
@@ -161,11 +170,22 @@ pub fn paper_example(v: PaperVariant) -> HypocycloidScene {
 /// over the same box.
 pub fn c4_search_example(v: PaperVariant) -> HypocycloidScene {
     HypocycloidScene {
-        lambda: Var::Free { min: 0.02, max: 0.5 },
+        lambda: Var::Free {
+            min: 0.02,
+            max: 0.5,
+        },
         theta: Var::Free { min: 0.0, max: 0.9 },
         min_stroke: Some(0.045),
-        min_suction_gain: if v == PaperVariant::Variant2 { Some(0.1) } else { None },
-        zero_search: Some(ZeroSearch { order: 4, lambda: (0.02, 0.5), theta: (0.0, 0.9) }),
+        min_suction_gain: if v == PaperVariant::Variant2 {
+            Some(0.1)
+        } else {
+            None
+        },
+        zero_search: Some(ZeroSearch {
+            order: 4,
+            lambda: (0.02, 0.5),
+            theta: (0.0, 0.9),
+        }),
         ..paper_example(v)
     }
 }
@@ -177,10 +197,16 @@ impl HypocycloidScene {
             return Err(field("hypocycloid.alpha0", self.alpha0, "a finite angle"));
         }
         if !(self.r_carrier.is_finite() && self.r_carrier > 0.0) {
-            return Err(field("hypocycloid.R", self.r_carrier, "a finite length > 0"));
+            return Err(field(
+                "hypocycloid.R",
+                self.r_carrier,
+                "a finite length > 0",
+            ));
         }
-        self.lambda.check("hypocycloid.lambda", 0.0, true, "finite and > 0 (λ = R/L)")?;
-        self.theta.check("hypocycloid.theta", 0.0, false, "finite and ≥ 0 (θ = r/R)")?;
+        self.lambda
+            .check("hypocycloid.lambda", 0.0, true, "finite and > 0 (λ = R/L)")?;
+        self.theta
+            .check("hypocycloid.theta", 0.0, false, "finite and ≥ 0 (θ = r/R)")?;
         if !(self.m_b.is_finite() && self.m_b > 0.0) {
             return Err(field("hypocycloid.m_B", self.m_b, "a finite mass > 0"));
         }
@@ -188,16 +214,36 @@ impl HypocycloidScene {
             return Err(field("hypocycloid.omega", self.omega, "a finite speed > 0"));
         }
         if !(6..=64).contains(&self.orders) {
-            return Err(field("hypocycloid.orders", self.orders, "an integer in 6..=64"));
+            return Err(field(
+                "hypocycloid.orders",
+                self.orders,
+                "an integer in 6..=64",
+            ));
         }
-        if let Some(&o) = self.balance_orders.iter().find(|&&o| o == 0 || o > self.orders) {
-            return Err(field("hypocycloid.balance_orders", o, "orders in 1..=hypocycloid.orders"));
+        if let Some(&o) = self
+            .balance_orders
+            .iter()
+            .find(|&&o| o == 0 || o > self.orders)
+        {
+            return Err(field(
+                "hypocycloid.balance_orders",
+                o,
+                "orders in 1..=hypocycloid.orders",
+            ));
         }
         if !(1..=32).contains(&self.series_power) {
-            return Err(field("hypocycloid.series_power", self.series_power, "an integer in 1..=32"));
+            return Err(field(
+                "hypocycloid.series_power",
+                self.series_power,
+                "an integer in 1..=32",
+            ));
         }
         if !(self.assembly_margin > 0.0 && self.assembly_margin < 0.5) {
-            return Err(field("hypocycloid.assembly_margin", self.assembly_margin, "in (0, 0.5)"));
+            return Err(field(
+                "hypocycloid.assembly_margin",
+                self.assembly_margin,
+                "in (0, 0.5)",
+            ));
         }
         if let Some(s) = self.min_stroke {
             if !(s.is_finite() && s >= 0.0) {
@@ -211,15 +257,27 @@ impl HypocycloidScene {
         }
         if let Some(z) = &self.zero_search {
             if !(1..=self.orders).contains(&z.order) {
-                return Err(field("hypocycloid.zero_search.order", z.order, "an order in 1..=hypocycloid.orders"));
+                return Err(field(
+                    "hypocycloid.zero_search.order",
+                    z.order,
+                    "an order in 1..=hypocycloid.orders",
+                ));
             }
             let (a, b) = z.lambda;
             if !(a.is_finite() && b.is_finite() && a > 0.0 && a < b) {
-                return Err(field("hypocycloid.zero_search.lambda", z.lambda, "0 < min < max, finite"));
+                return Err(field(
+                    "hypocycloid.zero_search.lambda",
+                    z.lambda,
+                    "0 < min < max, finite",
+                ));
             }
             let (a, b) = z.theta;
             if !(a.is_finite() && b.is_finite() && a >= 0.0 && a < b) {
-                return Err(field("hypocycloid.zero_search.theta", z.theta, "0 ≤ min < max, finite"));
+                return Err(field(
+                    "hypocycloid.zero_search.theta",
+                    z.theta,
+                    "0 ≤ min < max, finite",
+                ));
             }
         }
         // A fixed design must assemble.
@@ -227,7 +285,8 @@ impl HypocycloidScene {
             if let Err(e) = Hypocycloid::new(l, t, self.alpha0) {
                 return Err(field("hypocycloid.lambda", l, &format!("{e}")));
             }
-            let ym = max_abs_y(t, self.alpha0).map_err(|e| field("hypocycloid.theta", t, &e.to_string()))?;
+            let ym = max_abs_y(t, self.alpha0)
+                .map_err(|e| field("hypocycloid.theta", t, &e.to_string()))?;
             if l * ym > 1.0 - self.assembly_margin {
                 return Err(field(
                     "hypocycloid.lambda",
@@ -294,22 +353,38 @@ impl Settings {
     /// Check every setting; the key is `settings.<name>`.
     pub fn validate(&self) -> Result<(), FieldError> {
         if !(self.n_fft_min >= 16 && self.n_fft_min.is_power_of_two()) {
-            return Err(field("settings.n_fft_min", self.n_fft_min, "a power of two ≥ 16"));
+            return Err(field(
+                "settings.n_fft_min",
+                self.n_fft_min,
+                "a power of two ≥ 16",
+            ));
         }
         if !(self.n_fft_max >= self.n_fft_min && self.n_fft_max <= 1 << 22) {
-            return Err(field("settings.n_fft_max", self.n_fft_max, "n_fft_min ≤ n_fft_max ≤ 2^22"));
+            return Err(field(
+                "settings.n_fft_max",
+                self.n_fft_max,
+                "n_fft_min ≤ n_fft_max ≤ 2^22",
+            ));
         }
         if !(self.root_tol > 0.0 && self.root_tol < 1e-3) {
             return Err(field("settings.root_tol", self.root_tol, "in (0, 1e-3)"));
         }
         if !(2..=10_000).contains(&self.curve_points) {
-            return Err(field("settings.curve_points", self.curve_points, "2..=10000"));
+            return Err(field(
+                "settings.curve_points",
+                self.curve_points,
+                "2..=10000",
+            ));
         }
         if !(4..=10_000).contains(&self.theta_scan) {
             return Err(field("settings.theta_scan", self.theta_scan, "4..=10000"));
         }
         if !(16..=1 << 20).contains(&self.peak_samples) {
-            return Err(field("settings.peak_samples", self.peak_samples, "16..=2^20"));
+            return Err(field(
+                "settings.peak_samples",
+                self.peak_samples,
+                "16..=2^20",
+            ));
         }
         if !(self.peak_xtol > 0.0 && self.peak_xtol < 1e-3) {
             return Err(field("settings.peak_xtol", self.peak_xtol, "in (0, 1e-3)"));
@@ -324,7 +399,11 @@ impl Settings {
             return Err(field("settings.nm_sd_tol", self.nm_sd_tol, "> 0"));
         }
         if !(8..=100_000).contains(&self.plot_samples) {
-            return Err(field("settings.plot_samples", self.plot_samples, "8..=100000"));
+            return Err(field(
+                "settings.plot_samples",
+                self.plot_samples,
+                "8..=100000",
+            ));
         }
         Ok(())
     }
@@ -436,13 +515,19 @@ fn theta_limit(lambda: f64, alpha0: f64, t0: f64, t1: f64, margin: f64) -> Optio
     if g(t1) <= 0.0 {
         return Some(t1);
     }
-    brent_root(g, t0, t1, 1e-13).ok().map(|r| if g(r.x) > 0.0 { r.x - 1e-13 } else { r.x })
+    brent_root(g, t0, t1, 1e-13)
+        .ok()
+        .map(|r| if g(r.x) > 0.0 { r.x - 1e-13 } else { r.x })
 }
 
 /// FFT size at which all orders ≤ `order` converge at (λ, θ) (see
 /// [`Hypocycloid::coefficients`]) and the error of order `order` there.
 fn column_size(lambda: f64, theta: f64, alpha0: f64, order: usize, s: &Settings) -> (usize, f64) {
-    let m = Hypocycloid { lambda, theta, alpha0 };
+    let m = Hypocycloid {
+        lambda,
+        theta,
+        alpha0,
+    };
     let c = m.coefficients(order, s.n_fft_min, s.n_fft_max);
     (c.n_fft, c.err[order])
 }
@@ -464,15 +549,21 @@ pub fn zero_search(
     let k = zs.order;
     let nl = s.curve_points;
     let nt = s.theta_scan;
-    let lam: Vec<f64> = (0..nl).map(|j| zs.lambda.0 + (zs.lambda.1 - zs.lambda.0) * j as f64 / (nl - 1) as f64).collect();
-    let th: Vec<f64> = (0..nt).map(|j| zs.theta.0 + (zs.theta.1 - zs.theta.0) * j as f64 / (nt - 1) as f64).collect();
+    let lam: Vec<f64> = (0..nl)
+        .map(|j| zs.lambda.0 + (zs.lambda.1 - zs.lambda.0) * j as f64 / (nl - 1) as f64)
+        .collect();
+    let th: Vec<f64> = (0..nt)
+        .map(|j| zs.theta.0 + (zs.theta.1 - zs.theta.0) * j as f64 / (nt - 1) as f64)
+        .collect();
     let mut value = vec![vec![None; nt]; nl];
     let mut roots = Vec::new();
     let mut evals = 0usize;
     let mut bins: Vec<CosBin> = Vec::new();
     let mut single = true;
     for (r, &l) in lam.iter().enumerate() {
-        let Some(tmax) = theta_limit(l, alpha0, zs.theta.0, zs.theta.1, margin) else { continue };
+        let Some(tmax) = theta_limit(l, alpha0, zs.theta.0, zs.theta.1, margin) else {
+            continue;
+        };
         let (n, err) = column_size(l, tmax, alpha0, k, s);
         let bin = match bins.iter().position(|b| b.n() == n) {
             Some(i) => &bins[i],
@@ -482,8 +573,12 @@ pub fn zero_search(
             }
         };
         // Feasible θ samples of this column, plus the limit itself when it cuts the grid.
-        let mut ts: Vec<(Option<usize>, f64)> =
-            th.iter().enumerate().filter(|(_, &t)| t <= tmax).map(|(c, &t)| (Some(c), t)).collect();
+        let mut ts: Vec<(Option<usize>, f64)> = th
+            .iter()
+            .enumerate()
+            .filter(|(_, &t)| t <= tmax)
+            .map(|(c, &t)| (Some(c), t))
+            .collect();
         if tmax < zs.theta.1 {
             ts.push((None, tmax));
         }
@@ -508,7 +603,15 @@ pub fn zero_search(
             };
             if let Ok(rt) = brent_root(f, ta, tb, s.root_tol) {
                 evals += cnt.get();
-                let ser = |t: f64| Hypocycloid { lambda: l, theta: t, alpha0 }.series_coefficients(series_power, k).0[k];
+                let ser = |t: f64| {
+                    Hypocycloid {
+                        lambda: l,
+                        theta: t,
+                        alpha0,
+                    }
+                    .series_coefficients(series_power, k)
+                    .0[k]
+                };
                 let series_theta = brent_root(ser, ta, tb, s.root_tol).ok().map(|r| r.x);
                 roots.push(ZeroRoot {
                     lambda: l,
@@ -540,7 +643,11 @@ pub fn zero_search(
                     neg += 1;
                 }
                 if best.is_none_or(|b| v.abs() < b.value.abs()) {
-                    best = Some(GridMin { lambda: lam[r], theta: th[c], value: v });
+                    best = Some(GridMin {
+                        lambda: lam[r],
+                        theta: th[c],
+                        value: v,
+                    });
                 }
             }
         }
@@ -616,7 +723,12 @@ pub fn zero_search(
         reason,
         max_abs_at_root,
         evals,
-        map: CoefficientMap { order: k, lambda: lam, theta: th, value },
+        map: CoefficientMap {
+            order: k,
+            lambda: lam,
+            theta: th,
+            value,
+        },
     }
 }
 
@@ -628,7 +740,11 @@ fn leading_terms_keep_sign(alpha0: f64, k: usize, th: &[f64]) -> String {
     let mut same = true;
     let mut sgn = 0.0;
     for &t in th {
-        let m = Hypocycloid { lambda: 1.0, theta: t, alpha0 };
+        let m = Hypocycloid {
+            lambda: 1.0,
+            theta: t,
+            alpha0,
+        };
         let p0 = m.series_coefficients(1, k).0[k] - if k == 1 { 1.0 } else { 0.0 };
         let x2 = if k == 2 { t * alpha0.cos() } else { 0.0 };
         let t1 = p0 - x2; // −½[y²]_k
@@ -649,7 +765,7 @@ fn leading_terms_keep_sign(alpha0: f64, k: usize, th: &[f64]) -> String {
              θ of the grid, so they add instead of cancelling"
         )
     } else {
-        format!("The λ¹ and λ³ terms of the series change sign over θ; no zero was found on the grid nevertheless")
+        "The λ¹ and λ³ terms of the series change sign over θ; no zero was found on the grid nevertheless".to_string()
     }
 }
 
@@ -671,7 +787,12 @@ struct Eval {
 /// Peak over φ of |residual inertia force| / (m_B R ω²):
 /// F_res/(m_B R ω²) = −(S/R)'' − Σ_{i∈K} i² (a_i cos iφ + b_i sin iφ), with (S/R)'' in closed
 /// form (independent of the coefficients). Error: refinement + Σ i² err_i.
-fn residual_peak(m: &Hypocycloid, c: &Coefficients, orders: &[usize], s: &Settings) -> Result<(f64, f64), MechError> {
+fn residual_peak(
+    m: &Hypocycloid,
+    c: &Coefficients,
+    orders: &[usize],
+    s: &Settings,
+) -> Result<(f64, f64), MechError> {
     let f = |p: f64| residual_rel(m, c, orders, p).abs();
     let pk = periodic_peak(f, s.peak_samples, s.peak_xtol)?;
     let cerr: f64 = orders.iter().map(|&i| (i * i) as f64 * c.err[i]).sum();
@@ -691,7 +812,13 @@ fn residual_rel(m: &Hypocycloid, c: &Coefficients, orders: &[usize], p: f64) -> 
 fn evaluate(scene: &HypocycloidScene, l: f64, t: f64, s: &Settings) -> Result<Eval, MechError> {
     let m = Hypocycloid::new(l, t, scene.alpha0)?;
     let ratio_ymax = m.lambda_ymax();
-    let coef = m.coefficients(scene.orders.max(*scene.balance_orders.iter().max().unwrap_or(&0)), s.n_fft_min, s.n_fft_max);
+    let coef = m.coefficients(
+        scene
+            .orders
+            .max(*scene.balance_orders.iter().max().unwrap_or(&0)),
+        s.n_fft_min,
+        s.n_fft_max,
+    );
     let (rp, rpe) = residual_peak(&m, &coef, &scene.balance_orders, s)?;
     let st = m.stroke()?;
     Ok(Eval {
@@ -893,13 +1020,19 @@ pub fn solve(scene: &HypocycloidScene, settings: &Settings) -> Result<Outcome, F
     let (lb, tb) = (scene.lambda.bounds(), scene.theta.bounds());
     let free = scene.lambda.is_free() || scene.theta.is_free();
     let (mut x, status, method) = if !free {
-        ([lb.0, tb.0], OptStatus::Analysis, "analysis of the fixed design".to_string())
+        (
+            [lb.0, tb.0],
+            OptStatus::Analysis,
+            "analysis of the fixed design".to_string(),
+        )
     } else {
         // Grid start over the free box.
         let g = s.opt_grid;
         let pts = |b: (f64, f64), f: bool| -> Vec<f64> {
             if f {
-                (0..g).map(|j| b.0 + (b.1 - b.0) * j as f64 / (g - 1) as f64).collect()
+                (0..g)
+                    .map(|j| b.0 + (b.1 - b.0) * j as f64 / (g - 1) as f64)
+                    .collect()
             } else {
                 vec![b.0]
             }
@@ -920,38 +1053,76 @@ pub fn solve(scene: &HypocycloidScene, settings: &Settings) -> Result<Outcome, F
                  the least-violating point is reported",
                 best.1
             ));
-            (best.0, OptStatus::Infeasible, format!("grid {g}×{g}: infeasible"))
+            (
+                best.0,
+                OptStatus::Infeasible,
+                format!("grid {g}×{g}: infeasible"),
+            )
         } else {
             let step = |b: (f64, f64), f: bool| if f { (b.1 - b.0) / (g - 1) as f64 } else { 0.0 };
-            let (dl, dt) = (step(lb, scene.lambda.is_free()), step(tb, scene.theta.is_free()));
+            let (dl, dt) = (
+                step(lb, scene.lambda.is_free()),
+                step(tb, scene.theta.is_free()),
+            );
             let x0 = Pt(best.0);
             let mut simplex = vec![x0];
             if dl > 0.0 {
-                simplex.push(Pt([x0.0[0] + dl * if x0.0[0] + dl > lb.1 { -1.0 } else { 1.0 }, x0.0[1]]));
+                simplex.push(Pt([
+                    x0.0[0] + dl * if x0.0[0] + dl > lb.1 { -1.0 } else { 1.0 },
+                    x0.0[1],
+                ]));
             }
             if dt > 0.0 {
-                simplex.push(Pt([x0.0[0], x0.0[1] + dt * if x0.0[1] + dt > tb.1 { -1.0 } else { 1.0 }]));
+                simplex.push(Pt([
+                    x0.0[0],
+                    x0.0[1] + dt * if x0.0[1] + dt > tb.1 { -1.0 } else { 1.0 },
+                ]));
             }
-            let obj = Objective { scene, s, count: std::cell::Cell::new(0) };
-            let nm = NelderMead::new(simplex).with_sd_tolerance(s.nm_sd_tol).expect("positive tolerance");
-            let res = Executor::new(obj, nm).configure(|c| c.max_iters(s.nm_max_iters)).run();
+            let obj = Objective {
+                scene,
+                s,
+                count: std::cell::Cell::new(0),
+            };
+            let nm = NelderMead::new(simplex)
+                .with_sd_tolerance(s.nm_sd_tol)
+                .expect("positive tolerance");
+            let res = Executor::new(obj, nm)
+                .configure(|c| c.max_iters(s.nm_max_iters))
+                .run();
             match res {
                 Ok(r) => {
                     let st = r.state();
                     let p = st.get_best_param().copied().unwrap_or(x0);
                     let iters = st.get_iter();
-                    let nev = r.problem().problem.as_ref().map(|o| o.count.get()).unwrap_or(0);
+                    let nev = r
+                        .problem()
+                        .problem
+                        .as_ref()
+                        .map(|o| o.count.get())
+                        .unwrap_or(0);
                     evals += nev;
-                    let status = if iters >= s.nm_max_iters { OptStatus::MaxIterations } else { OptStatus::Converged };
+                    let status = if iters >= s.nm_max_iters {
+                        OptStatus::MaxIterations
+                    } else {
+                        OptStatus::Converged
+                    };
                     if status == OptStatus::MaxIterations {
-                        warnings.push(format!("Nelder–Mead stopped at its iteration limit ({iters})"));
+                        warnings.push(format!(
+                            "Nelder–Mead stopped at its iteration limit ({iters})"
+                        ));
                     }
                     let px = [p.0[0].clamp(lb.0, lb.1), p.0[1].clamp(tb.0, tb.1)];
                     (px, status, format!("grid {g}-per-free-variable start + argmin Nelder–Mead ({iters} iterations)"))
                 }
                 Err(e) => {
-                    warnings.push(format!("Nelder–Mead failed ({e}); the best grid point is reported"));
-                    (best.0, OptStatus::MaxIterations, format!("grid {g}-per-free-variable (Nelder–Mead failed)"))
+                    warnings.push(format!(
+                        "Nelder–Mead failed ({e}); the best grid point is reported"
+                    ));
+                    (
+                        best.0,
+                        OptStatus::MaxIterations,
+                        format!("grid {g}-per-free-variable (Nelder–Mead failed)"),
+                    )
                 }
             }
         }
@@ -967,7 +1138,11 @@ pub fn solve(scene: &HypocycloidScene, settings: &Settings) -> Result<Outcome, F
         Err(err) => return Err(field("hypocycloid.lambda", l, &err.to_string())),
     };
     evals += 1;
-    let m = Hypocycloid { lambda: l, theta: t, alpha0: scene.alpha0 };
+    let m = Hypocycloid {
+        lambda: l,
+        theta: t,
+        alpha0: scene.alpha0,
+    };
     let r = scene.r_carrier;
     let fscale = scene.m_b * r * scene.omega * scene.omega;
     let c = &e.coef;
@@ -1000,8 +1175,15 @@ pub fn solve(scene: &HypocycloidScene, settings: &Settings) -> Result<Outcome, F
     // Unbalanced peak and residual RMS.
     let unb = periodic_peak(|p| m.piston(p).dds.abs(), s.peak_samples, s.peak_xtol)
         .map_err(|err| field("hypocycloid.lambda", l, &err.to_string()))?;
-    let rms = periodic_rms(|p| residual_rel(&m, c, &scene.balance_orders, p), 2 * s.peak_samples);
-    let cerr: f64 = scene.balance_orders.iter().map(|&i| (i * i) as f64 * c.err[i]).sum();
+    let rms = periodic_rms(
+        |p| residual_rel(&m, c, &scene.balance_orders, p),
+        2 * s.peak_samples,
+    );
+    let cerr: f64 = scene
+        .balance_orders
+        .iter()
+        .map(|&i| (i * i) as f64 * c.err[i])
+        .sum();
 
     let mut design = BTreeMap::new();
     design.insert("lambda".into(), l);
@@ -1016,9 +1198,21 @@ pub fn solve(scene: &HypocycloidScene, settings: &Settings) -> Result<Outcome, F
         errors.insert(k.to_string(), er);
     };
     put("c4", c.a[4], c.err[4]);
-    put("residual_force_peak_N", fscale * e.residual_peak, fscale * e.residual_peak_err);
-    put("residual_force_rms_N", fscale * rms.rms, fscale * (rms.error + cerr));
-    put("unbalanced_force_peak_N", fscale * unb.peak.fx, fscale * unb.error);
+    put(
+        "residual_force_peak_N",
+        fscale * e.residual_peak,
+        fscale * e.residual_peak_err,
+    );
+    put(
+        "residual_force_rms_N",
+        fscale * rms.rms,
+        fscale * (rms.error + cerr),
+    );
+    put(
+        "unbalanced_force_peak_N",
+        fscale * unb.peak.fx,
+        fscale * unb.error,
+    );
     put("stroke_m", r * e.stroke, r * 1e-12);
     put("suction_gain", e.suction_gain, 1e-9 / PI);
     let mut derived = BTreeMap::new();
@@ -1029,31 +1223,54 @@ pub fn solve(scene: &HypocycloidScene, settings: &Settings) -> Result<Outcome, F
     derived.insert("assembly_margin".into(), 1.0 - e.ratio_ymax);
     derived.insert("n_fft".into(), c.n_fft as f64);
     derived.insert("force_scale_N".into(), fscale);
-    derived.insert("force_order4_amplitude_N".into(), fscale * 16.0 * c.amplitude(4));
+    derived.insert(
+        "force_order4_amplitude_N".into(),
+        fscale * 16.0 * c.amplitude(4),
+    );
     derived.insert("suction_angle_rad".into(), (e.suction_gain + 1.0) * PI);
     derived.insert("evaluations".into(), evals as f64);
 
     // Zero search.
     let (zsr, zero_curve, zero_curve_series) = match &scene.zero_search {
         Some(zs) => {
-            let z = zero_search(scene.alpha0, zs, scene.series_power, scene.assembly_margin, s);
+            let z = zero_search(
+                scene.alpha0,
+                zs,
+                scene.series_power,
+                scene.assembly_margin,
+                s,
+            );
             evals += z.evals;
-            let zc = z.roots.iter().map(|r| ZeroPoint { lambda: r.lambda, theta: r.theta }).collect();
+            let zc = z
+                .roots
+                .iter()
+                .map(|r| ZeroPoint {
+                    lambda: r.lambda,
+                    theta: r.theta,
+                })
+                .collect();
             let zcs = z
                 .roots
                 .iter()
-                .filter_map(|r| r.series_theta.map(|t| ZeroPoint { lambda: r.lambda, theta: t }))
+                .filter_map(|r| {
+                    r.series_theta.map(|t| ZeroPoint {
+                        lambda: r.lambda,
+                        theta: t,
+                    })
+                })
                 .collect();
             if !z.single_valued {
                 warnings.push("the zero set has several branches in some λ columns".into());
             }
-            if let Some(zb) = z.roots.iter().map(|r| (r.series_theta.map(|t| (t - r.theta).abs()), r)).fold(
-                None,
-                |acc: Option<(f64, ZeroRoot)>, (d, r)| match d {
+            if let Some(zb) = z
+                .roots
+                .iter()
+                .map(|r| (r.series_theta.map(|t| (t - r.theta).abs()), r))
+                .fold(None, |acc: Option<(f64, ZeroRoot)>, (d, r)| match d {
                     Some(d) if acc.is_none_or(|a| d > a.0) => Some((d, *r)),
                     _ => acc,
-                },
-            ) {
+                })
+            {
                 derived.insert("zero_curve_series_max_dtheta".into(), zb.0);
                 derived.insert("zero_curve_series_worst_lambda".into(), zb.1.lambda);
             }
@@ -1076,10 +1293,15 @@ pub fn solve(scene: &HypocycloidScene, settings: &Settings) -> Result<Outcome, F
 
     // Curves for plots.
     let np = s.plot_samples;
-    let phi: Vec<f64> = (0..np).map(|j| 2.0 * PI * j as f64 / (np - 1) as f64).collect();
+    let phi: Vec<f64> = (0..np)
+        .map(|j| 2.0 * PI * j as f64 / (np - 1) as f64)
+        .collect();
     let force_curves = ForceCurves {
         unbalanced: phi.iter().map(|&p| -fscale * m.piston(p).dds).collect(),
-        residual: phi.iter().map(|&p| fscale * residual_rel(&m, c, &scene.balance_orders, p)).collect(),
+        residual: phi
+            .iter()
+            .map(|&p| fscale * residual_rel(&m, c, &scene.balance_orders, p))
+            .collect(),
         position: phi.iter().map(|&p| r * m.piston(p).s_rel).collect(),
         phi,
     };
@@ -1118,6 +1340,7 @@ pub fn solve(scene: &HypocycloidScene, settings: &Settings) -> Result<Outcome, F
 
 /// What the paper states (it prints no numbers, only structure and claims) against the
 /// computation.
+#[allow(clippy::needless_range_loop)] // indexes a, b, series a, series b together
 fn paper_checks(
     scene: &HypocycloidScene,
     m: &Hypocycloid,
@@ -1195,12 +1418,21 @@ fn paper_checks(
             _ => z.grid_min_abs.map(|g| g.value.abs()).unwrap_or(f64::NAN),
         };
         v.push(PaperCheck {
-            quantity: format!("a{} = 0 for some (λ, θ) (paper's conjecture, variant 2)", z.order),
+            quantity: format!(
+                "a{} = 0 for some (λ, θ) (paper's conjecture, variant 2)",
+                z.order
+            ),
             paper: 0.0,
             computed: if computed.is_finite() { computed } else { -1.0 },
             note: match z.status {
-                ZeroStatus::Found => format!("{} roots found; computed = max |a| at a root. {}", z.roots.len(), z.reason),
-                ZeroStatus::NoZero => format!("no zero; computed = min |a| on the grid. {}", z.reason),
+                ZeroStatus::Found => format!(
+                    "{} roots found; computed = max |a| at a root. {}",
+                    z.roots.len(),
+                    z.reason
+                ),
+                ZeroStatus::NoZero => {
+                    format!("no zero; computed = min |a| on the grid. {}", z.reason)
+                }
                 ZeroStatus::Infeasible => z.reason.clone(),
             },
         });
