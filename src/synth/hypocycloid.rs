@@ -780,6 +780,7 @@ struct Eval {
     residual_peak: f64,
     residual_peak_err: f64,
     stroke: f64,
+    stroke_err: f64,
     suction_gain: f64,
     ratio_ymax: f64,
 }
@@ -826,6 +827,7 @@ fn evaluate(scene: &HypocycloidScene, l: f64, t: f64, s: &Settings) -> Result<Ev
         residual_peak: rp,
         residual_peak_err: rpe,
         stroke: st.stroke,
+        stroke_err: st.error,
         suction_gain: st.suction_angle / PI - 1.0,
         ratio_ymax,
     })
@@ -1213,7 +1215,7 @@ pub fn solve(scene: &HypocycloidScene, settings: &Settings) -> Result<Outcome, F
         fscale * unb.peak.fx,
         fscale * unb.error,
     );
-    put("stroke_m", r * e.stroke, r * 1e-12);
+    put("stroke_m", r * e.stroke, r * e.stroke_err.max(f64::EPSILON * e.stroke));
     put("suction_gain", e.suction_gain, 1e-9 / PI);
     let mut derived = BTreeMap::new();
     derived.insert("b4".into(), c.b[4]);
