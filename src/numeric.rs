@@ -286,10 +286,18 @@ pub struct IntervalPeak {
 /// a candidate, and refine each by Brent on the neighbouring intervals (clipped to `[a, b]`)
 /// to `xtol`. A maximum narrower than `(b − a)/n` can be missed; callers pick `n` for their
 /// function and test the choice. `a == b` returns `f(a)`; `a > b` is swapped.
-pub fn interval_peak<F: Fn(f64) -> f64>(f: F, a: f64, b: f64, n: usize, xtol: f64) -> Result<IntervalPeak, SearchError> {
+pub fn interval_peak<F: Fn(f64) -> f64>(
+    f: F,
+    a: f64,
+    b: f64,
+    n: usize,
+    xtol: f64,
+) -> Result<IntervalPeak, SearchError> {
     let (a, b) = if a <= b { (a, b) } else { (b, a) };
     if !(a.is_finite() && b.is_finite()) {
-        return Err(SearchError::NotFinite { x: if a.is_finite() { b } else { a } });
+        return Err(SearchError::NotFinite {
+            x: if a.is_finite() { b } else { a },
+        });
     }
     if a == b {
         let fa = f(a);
@@ -297,11 +305,18 @@ pub fn interval_peak<F: Fn(f64) -> f64>(f: F, a: f64, b: f64, n: usize, xtol: f6
             return Err(SearchError::NotFinite { x: a });
         }
         let e = Extremum { x: a, fx: fa };
-        return Ok(IntervalPeak { maxima: vec![e], peak: e, error: 0.0, evals: 1 });
+        return Ok(IntervalPeak {
+            maxima: vec![e],
+            peak: e,
+            error: 0.0,
+            evals: 1,
+        });
     }
     let n = n.max(4);
     let h = (b - a) / n as f64;
-    let xs: Vec<f64> = (0..=n).map(|k| if k == n { b } else { a + k as f64 * h }).collect();
+    let xs: Vec<f64> = (0..=n)
+        .map(|k| if k == n { b } else { a + k as f64 * h })
+        .collect();
     let ys: Vec<f64> = xs.iter().map(|&x| f(x)).collect();
     if let Some(k) = ys.iter().position(|y| !y.is_finite()) {
         return Err(SearchError::NotFinite { x: xs[k] });
@@ -327,7 +342,14 @@ pub fn interval_peak<F: Fn(f64) -> f64>(f: F, a: f64, b: f64, n: usize, xtol: f6
         };
         let e = brent_max(fc, lo, hi, xtol)?;
         evals += count.get();
-        maxima.push(if e.fx >= ys[k] { e } else { Extremum { x: xs[k], fx: ys[k] } });
+        maxima.push(if e.fx >= ys[k] {
+            e
+        } else {
+            Extremum {
+                x: xs[k],
+                fx: ys[k],
+            }
+        });
     }
     if maxima.is_empty() {
         // Constant on the samples: every point is the peak.
@@ -335,7 +357,12 @@ pub fn interval_peak<F: Fn(f64) -> f64>(f: F, a: f64, b: f64, n: usize, xtol: f6
     }
     maxima.sort_by(|p, q| p.x.total_cmp(&q.x));
     let peak = *maxima.iter().max_by(|p, q| p.fx.total_cmp(&q.fx)).unwrap();
-    Ok(IntervalPeak { maxima, peak, error: 0.5 * curv * xtol * xtol, evals })
+    Ok(IntervalPeak {
+        maxima,
+        peak,
+        error: 0.5 * curv * xtol * xtol,
+        evals,
+    })
 }
 
 /// Mean and RMS of a 2π-periodic function by the trapezoid rule on `n` points, which is
@@ -448,6 +475,9 @@ mod tests {
         // A maximum next to an end point but inside the first interval: −(x − 0.05)² on [0, 1].
         let p = interval_peak(|x| -(x - 0.05) * (x - 0.05), 0.0, 1.0, 4, 1e-10).unwrap();
         assert!(p.peak.fx.abs() < 1e-15 && (p.peak.x - 0.05).abs() < 1e-7);
-        assert!(matches!(interval_peak(|_| f64::NAN, 0.0, 1.0, 4, 1e-9), Err(SearchError::NotFinite { .. })));
+        assert!(matches!(
+            interval_peak(|_| f64::NAN, 0.0, 1.0, 4, 1e-9),
+            Err(SearchError::NotFinite { .. })
+        ));
     }
 }

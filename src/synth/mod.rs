@@ -5,6 +5,7 @@
 
 pub mod counterweight;
 pub mod crane;
+pub mod hypocycloid;
 pub mod slider_crank;
 
 /// A design variable: a fixed value, or free within `[min, max]` (SI units).

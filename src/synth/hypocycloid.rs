@@ -1,0 +1,1447 @@
+//! Synthesis for the hypocycloidal (3:1 planetary gear + rod) reciprocating machine of paper
+//! `004`: the resolved scene, the design vector (λ, θ), the Lanchester balancing of chosen
+//! orders, the optimisation of the residual inertia force, and the search that settles the
+//! paper's conjecture about a (λ, θ) where the fourth-order coefficient vanishes.
+//!
+//! Everything here is built on the pure model in [`crate::mech::hypocycloid`]; the one entry
+//! point is [`solve`], whose [`Outcome`] is serialisable and holds every number and series a
+//! report needs.
+
+// `!(x > 0.0)` is deliberate: a NaN must fail every range check.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
+use std::collections::BTreeMap;
+use std::f64::consts::PI;
+
+use argmin::core::{CostFunction, Error as ArgminError, Executor, State};
+use argmin::solver::neldermead::NelderMead;
+use argmin_math::{ArgminAdd, ArgminMul, ArgminSub};
+use serde::Serialize;
+
+use crate::mech::hypocycloid::{
+    lanchester_pair, max_abs_y, Coefficients, CosBin, Hypocycloid, LanchesterPair, MechError,
+    ALPHA0_VARIANT1, ALPHA0_VARIANT2,
+};
+use crate::numeric::{brent_root, periodic_peak, periodic_rms};
+
+/// A bad field of a scene or of the settings, named by its problem-file key.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("{key} = {value}: {allowed}")]
+pub struct FieldError {
+    /// Problem-file key, e.g. `"hypocycloid.lambda"`.
+    pub key: String,
+    /// The offending value as text.
+    pub value: String,
+    /// What is allowed.
+    pub allowed: String,
+}
+
+fn field(key: &str, value: impl std::fmt::Debug, allowed: &str) -> FieldError {
+    FieldError {
+        key: key.into(),
+        value: format!("{value:?}"),
+        allowed: allowed.into(),
+    }
+}
+
+/// A design variable: fixed, or free within bounds.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub enum Var {
+    /// Held at this value.
+    Fixed(f64),
+    /// Chosen by the optimiser in `[min, max]`.
+    Free { min: f64, max: f64 },
+}
+
+impl Var {
+    /// The bounds (a fixed value is a degenerate interval).
+    pub fn bounds(&self) -> (f64, f64) {
+        match *self {
+            Var::Fixed(v) => (v, v),
+            Var::Free { min, max } => (min, max),
+        }
+    }
+    /// Whether the optimiser may move it.
+    pub fn is_free(&self) -> bool {
+        matches!(self, Var::Free { .. })
+    }
+    fn check(&self, key: &str, lo: f64, lo_open: bool, allowed: &str) -> Result<(), FieldError> {
+        let ok = |v: f64| v.is_finite() && if lo_open { v > lo } else { v >= lo };
+        match *self {
+            Var::Fixed(v) if !ok(v) => Err(field(key, v, allowed)),
+            Var::Free { min, max } if !ok(min) || !ok(max) || !(min < max) => Err(field(
+                key,
+                (min, max),
+                &format!("{allowed}, with min < max"),
+            )),
+            _ => Ok(()),
+        }
+    }
+}
+
+/// The domain and order of the zero search.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ZeroSearch {
+    /// Order i whose cosine coefficient a_i is searched for zeros (the paper: 4).
+    pub order: usize,
+    /// λ range [min, max] (`hypocycloid.zero_search.lambda`).
+    pub lambda: (f64, f64),
+    /// θ range [min, max] (`hypocycloid.zero_search.theta`).
+    pub theta: (f64, f64),
+}
+
+/// A resolved, SI scene for the hypocycloidal machine.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct HypocycloidScene {
+    /// Curve orientation α0 (rad): 0 for variant 1, 3π/2 for variant 2
+    /// (`hypocycloid.alpha0`).
+    pub alpha0: f64,
+    /// Carrier length R = OO1 (m) (`hypocycloid.R`).
+    pub r_carrier: f64,
+    /// λ = R/L (`hypocycloid.lambda`).
+    pub lambda: Var,
+    /// θ = r/R (`hypocycloid.theta`).
+    pub theta: Var,
+    /// Reciprocating mass m_B (piston + rod share) (kg) (`hypocycloid.m_B`).
+    pub m_b: f64,
+    /// Carrier speed ω (rad/s) (`hypocycloid.omega`).
+    pub omega: f64,
+    /// Orders cancelled by Lanchester pairs, e.g. [1, 2, 3] (`hypocycloid.balance_orders`).
+    pub balance_orders: Vec<usize>,
+    /// Highest order in the coefficient tables (`hypocycloid.orders`, ≥ 6).
+    pub orders: usize,
+    /// Power of z = λ²y² at which the paper-style series is truncated
+    /// (`hypocycloid.series_power`; the paper: 3, i.e. y⁶).
+    pub series_power: usize,
+    /// Required 1 − λ·max|y/R| (`hypocycloid.assembly_margin`, in (0, 0.5)).
+    pub assembly_margin: f64,
+    /// Minimum stroke (m) for the optimisation (`hypocycloid.min_stroke`).
+    pub min_stroke: Option<f64>,
+    /// Minimum suction-phase gain (suction angle/π − 1) (`hypocycloid.min_suction_gain`).
+    pub min_suction_gain: Option<f64>,
+    /// The zero search, if asked for (`hypocycloid.zero_search.*`).
+    pub zero_search: Option<ZeroSearch>,
+}
+
+/// Which of the paper's two orientations.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+pub enum PaperVariant {
+    /// Fig. 1: α0 = 0, suction lengthened by a dwell.
+    Variant1,
+    /// Fig. 3: α0 = 270°, suction lengthened by a longer path.
+    Variant2,
+}
+
+impl PaperVariant {
+    /// α0 of the variant.
+    pub fn alpha0(self) -> f64 {
+        match self {
+            PaperVariant::Variant1 => ALPHA0_VARIANT1,
+            PaperVariant::Variant2 => ALPHA0_VARIANT2,
+        }
+    }
+}
+
+/// The issue's analysis scene: λ = 0.25, θ = 0.5 (the true three-cusped hypocycloid), with a
+/// small compressor's data chosen here (the paper gives none): R = 25 mm, m_B = 0.35 kg,
+/// ω = 1450 rpm; orders I–III balanced as in the paper's Figs. 2 and 4.
+pub fn paper_example(v: PaperVariant) -> HypocycloidScene {
+    HypocycloidScene {
+        alpha0: v.alpha0(),
+        r_carrier: 0.025,
+        lambda: Var::Fixed(0.25),
+        theta: Var::Fixed(0.5),
+        m_b: 0.35,
+        omega: 1450.0 * PI / 30.0,
+        balance_orders: vec![1, 2, 3],
+        orders: 8,
+        series_power: 3,
+        assembly_margin: 1e-3,
+        min_stroke: None,
+        min_suction_gain: None,
+        zero_search: None,
+    }
+}
+
+/// The C4-search scene: the paper example with λ ∈ [0.02, 0.5], θ ∈ [0, 0.9] free (minimum
+/// stroke 45 mm = 1.8 R; in variant 2 also a suction-phase gain ≥ 0.1, i.e. a suction stroke
+/// of at least 198° — in variant 1 S is even in φ, the gain jumps between 0 and 1/3 when the
+/// dwell splits the bottom dead centre, so it is not constrained) and the zero search of a_4
+/// over the same box.
+pub fn c4_search_example(v: PaperVariant) -> HypocycloidScene {
+    HypocycloidScene {
+        lambda: Var::Free {
+            min: 0.02,
+            max: 0.5,
+        },
+        theta: Var::Free { min: 0.0, max: 0.9 },
+        min_stroke: Some(0.045),
+        min_suction_gain: if v == PaperVariant::Variant2 {
+            Some(0.1)
+        } else {
+            None
+        },
+        zero_search: Some(ZeroSearch {
+            order: 4,
+            lambda: (0.02, 0.5),
+            theta: (0.0, 0.9),
+        }),
+        ..paper_example(v)
+    }
+}
+
+impl HypocycloidScene {
+    /// Check every field; the error names the problem-file key and what is allowed.
+    pub fn validate(&self) -> Result<(), FieldError> {
+        if !self.alpha0.is_finite() {
+            return Err(field("hypocycloid.alpha0", self.alpha0, "a finite angle"));
+        }
+        if !(self.r_carrier.is_finite() && self.r_carrier > 0.0) {
+            return Err(field(
+                "hypocycloid.R",
+                self.r_carrier,
+                "a finite length > 0",
+            ));
+        }
+        self.lambda
+            .check("hypocycloid.lambda", 0.0, true, "finite and > 0 (λ = R/L)")?;
+        self.theta
+            .check("hypocycloid.theta", 0.0, false, "finite and ≥ 0 (θ = r/R)")?;
+        if !(self.m_b.is_finite() && self.m_b > 0.0) {
+            return Err(field("hypocycloid.m_B", self.m_b, "a finite mass > 0"));
+        }
+        if !(self.omega.is_finite() && self.omega > 0.0) {
+            return Err(field("hypocycloid.omega", self.omega, "a finite speed > 0"));
+        }
+        if !(6..=64).contains(&self.orders) {
+            return Err(field(
+                "hypocycloid.orders",
+                self.orders,
+                "an integer in 6..=64",
+            ));
+        }
+        if let Some(&o) = self
+            .balance_orders
+            .iter()
+            .find(|&&o| o == 0 || o > self.orders)
+        {
+            return Err(field(
+                "hypocycloid.balance_orders",
+                o,
+                "orders in 1..=hypocycloid.orders",
+            ));
+        }
+        if !(1..=32).contains(&self.series_power) {
+            return Err(field(
+                "hypocycloid.series_power",
+                self.series_power,
+                "an integer in 1..=32",
+            ));
+        }
+        if !(self.assembly_margin > 0.0 && self.assembly_margin < 0.5) {
+            return Err(field(
+                "hypocycloid.assembly_margin",
+                self.assembly_margin,
+                "in (0, 0.5)",
+            ));
+        }
+        if let Some(s) = self.min_stroke {
+            if !(s.is_finite() && s >= 0.0) {
+                return Err(field("hypocycloid.min_stroke", s, "a finite length ≥ 0"));
+            }
+        }
+        if let Some(g) = self.min_suction_gain {
+            if !(g.is_finite() && g > -1.0 && g < 1.0) {
+                return Err(field("hypocycloid.min_suction_gain", g, "in (−1, 1)"));
+            }
+        }
+        if let Some(z) = &self.zero_search {
+            if !(1..=self.orders).contains(&z.order) {
+                return Err(field(
+                    "hypocycloid.zero_search.order",
+                    z.order,
+                    "an order in 1..=hypocycloid.orders",
+                ));
+            }
+            let (a, b) = z.lambda;
+            if !(a.is_finite() && b.is_finite() && a > 0.0 && a < b) {
+                return Err(field(
+                    "hypocycloid.zero_search.lambda",
+                    z.lambda,
+                    "0 < min < max, finite",
+                ));
+            }
+            let (a, b) = z.theta;
+            if !(a.is_finite() && b.is_finite() && a >= 0.0 && a < b) {
+                return Err(field(
+                    "hypocycloid.zero_search.theta",
+                    z.theta,
+                    "0 ≤ min < max, finite",
+                ));
+            }
+        }
+        // A fixed design must assemble.
+        if let (Var::Fixed(l), Var::Fixed(t)) = (self.lambda, self.theta) {
+            if let Err(e) = Hypocycloid::new(l, t, self.alpha0) {
+                return Err(field("hypocycloid.lambda", l, &format!("{e}")));
+            }
+            let ym = max_abs_y(t, self.alpha0)
+                .map_err(|e| field("hypocycloid.theta", t, &e.to_string()))?;
+            if l * ym > 1.0 - self.assembly_margin {
+                return Err(field(
+                    "hypocycloid.lambda",
+                    l,
+                    &format!(
+                        "λ·max|y/R| = {} exceeds 1 − assembly_margin = {}; λ must be ≤ {}",
+                        l * ym,
+                        1.0 - self.assembly_margin,
+                        (1.0 - self.assembly_margin) / ym
+                    ),
+                ));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Numerical settings (one flat struct; see [`Settings::validate`]).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Settings {
+    /// Smallest FFT size for the coefficients (power of two, ≥ 16).
+    pub n_fft_min: usize,
+    /// Largest FFT size; beyond it the coefficients are reported unconverged.
+    pub n_fft_max: usize,
+    /// Absolute tolerance in θ of every root (the issue: 1e-12).
+    pub root_tol: f64,
+    /// Number of λ columns of the zero curve / C4 map.
+    pub curve_points: usize,
+    /// θ samples per column for the sign-change scan.
+    pub theta_scan: usize,
+    /// φ samples for the peak of the residual force (refined by Brent).
+    pub peak_samples: usize,
+    /// Tolerance in φ of the peak refinement.
+    pub peak_xtol: f64,
+    /// Samples per free variable of the optimiser's start grid.
+    pub opt_grid: usize,
+    /// Nelder–Mead iteration limit.
+    pub nm_max_iters: u64,
+    /// Nelder–Mead stop: standard deviation of the simplex costs (relative to the best).
+    pub nm_sd_tol: f64,
+    /// Samples per turn of the force curves returned for plots.
+    pub plot_samples: usize,
+}
+
+impl Default for Settings {
+    fn default() -> Self {
+        Settings {
+            n_fft_min: 64,
+            n_fft_max: 1 << 16,
+            root_tol: 1e-12,
+            curve_points: 100,
+            theta_scan: 48,
+            peak_samples: 256,
+            peak_xtol: 1e-9,
+            opt_grid: 15,
+            nm_max_iters: 300,
+            nm_sd_tol: 1e-12,
+            plot_samples: 181,
+        }
+    }
+}
+
+impl Settings {
+    /// Check every setting; the key is `settings.<name>`.
+    pub fn validate(&self) -> Result<(), FieldError> {
+        if !(self.n_fft_min >= 16 && self.n_fft_min.is_power_of_two()) {
+            return Err(field(
+                "settings.n_fft_min",
+                self.n_fft_min,
+                "a power of two ≥ 16",
+            ));
+        }
+        if !(self.n_fft_max >= self.n_fft_min && self.n_fft_max <= 1 << 22) {
+            return Err(field(
+                "settings.n_fft_max",
+                self.n_fft_max,
+                "n_fft_min ≤ n_fft_max ≤ 2^22",
+            ));
+        }
+        if !(self.root_tol > 0.0 && self.root_tol < 1e-3) {
+            return Err(field("settings.root_tol", self.root_tol, "in (0, 1e-3)"));
+        }
+        if !(2..=10_000).contains(&self.curve_points) {
+            return Err(field(
+                "settings.curve_points",
+                self.curve_points,
+                "2..=10000",
+            ));
+        }
+        if !(4..=10_000).contains(&self.theta_scan) {
+            return Err(field("settings.theta_scan", self.theta_scan, "4..=10000"));
+        }
+        if !(16..=1 << 20).contains(&self.peak_samples) {
+            return Err(field(
+                "settings.peak_samples",
+                self.peak_samples,
+                "16..=2^20",
+            ));
+        }
+        if !(self.peak_xtol > 0.0 && self.peak_xtol < 1e-3) {
+            return Err(field("settings.peak_xtol", self.peak_xtol, "in (0, 1e-3)"));
+        }
+        if !(3..=1000).contains(&self.opt_grid) {
+            return Err(field("settings.opt_grid", self.opt_grid, "3..=1000"));
+        }
+        if self.nm_max_iters == 0 {
+            return Err(field("settings.nm_max_iters", self.nm_max_iters, "≥ 1"));
+        }
+        if !(self.nm_sd_tol > 0.0) {
+            return Err(field("settings.nm_sd_tol", self.nm_sd_tol, "> 0"));
+        }
+        if !(8..=100_000).contains(&self.plot_samples) {
+            return Err(field(
+                "settings.plot_samples",
+                self.plot_samples,
+                "8..=100000",
+            ));
+        }
+        Ok(())
+    }
+}
+
+// ---------------------------------------------------------------------------------------
+// Zero search
+// ---------------------------------------------------------------------------------------
+
+/// A point of the zero set.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct ZeroPoint {
+    /// λ of the column.
+    pub lambda: f64,
+    /// θ* with a_i(λ, θ*) = 0 (to `root_tol`).
+    pub theta: f64,
+}
+
+/// A refined root with its evidence.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct ZeroRoot {
+    /// λ of the column.
+    pub lambda: f64,
+    /// θ* (refined by Brent to `root_tol`).
+    pub theta: f64,
+    /// a_i(λ, θ*) as evaluated.
+    pub value: f64,
+    /// Bracket [θ_lo, θ_hi] of the sign change found on the scan.
+    pub bracket: (f64, f64),
+    /// a_i at the two ends of the bracket (opposite signs).
+    pub f_bracket: (f64, f64),
+    /// Estimated absolute error of a_i values in this column (aliasing + rounding).
+    pub value_error: f64,
+    /// The paper-style truncated series a_i^(P)(λ, θ*) at the exact root.
+    pub series_value: f64,
+    /// Root θ of the truncated series in the same bracket, if it has one there.
+    pub series_theta: Option<f64>,
+}
+
+/// Whether a zero set was found.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum ZeroStatus {
+    /// At least one bracketed, refined root.
+    Found,
+    /// No sign change anywhere on the feasible grid.
+    NoZero,
+    /// No feasible point in the search box.
+    Infeasible,
+}
+
+/// The map of a_i over (λ, θ) (rows by λ, `None` where the mechanism cannot assemble with
+/// the scene's margin).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct CoefficientMap {
+    /// Order i.
+    pub order: usize,
+    /// λ of each row.
+    pub lambda: Vec<f64>,
+    /// θ of each column.
+    pub theta: Vec<f64>,
+    /// a_i(λ_r, θ_c).
+    pub value: Vec<Vec<Option<f64>>>,
+}
+
+/// Smallest |a_i| on the feasible grid.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct GridMin {
+    /// λ there.
+    pub lambda: f64,
+    /// θ there.
+    pub theta: f64,
+    /// a_i there.
+    pub value: f64,
+}
+
+/// Result of the zero search.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ZeroSearchResult {
+    /// Order searched.
+    pub order: usize,
+    /// Found / no zero / infeasible.
+    pub status: ZeroStatus,
+    /// Every refined root.
+    pub roots: Vec<ZeroRoot>,
+    /// Whether every column has at most one root (the zero set is a curve θ*(λ)).
+    pub single_valued: bool,
+    /// Smallest |a_i| on the feasible grid (and its sign) — the answer when there is no zero.
+    pub grid_min_abs: Option<GridMin>,
+    /// Sign of a_i on the feasible grid when it keeps one (+1/−1), else 0.
+    pub sign: i32,
+    /// Why there is (no) zero, in words.
+    pub reason: String,
+    /// Largest |a_i| at a root (the issue requires < 1e-13).
+    pub max_abs_at_root: f64,
+    /// Coefficient evaluations spent.
+    pub evals: usize,
+    /// The map (for the heat map).
+    pub map: CoefficientMap,
+}
+
+/// Largest θ in [t0, t1] with λ·max|y(θ)| ≤ 1 − margin (max|y| is convex in θ, so the
+/// feasible θ form an interval containing 0); `None` if even t0 is infeasible.
+fn theta_limit(lambda: f64, alpha0: f64, t0: f64, t1: f64, margin: f64) -> Option<f64> {
+    let g = |t: f64| lambda * max_abs_y(t, alpha0).unwrap_or(f64::INFINITY) - (1.0 - margin);
+    if g(t0) > 0.0 {
+        return None;
+    }
+    if g(t1) <= 0.0 {
+        return Some(t1);
+    }
+    brent_root(g, t0, t1, 1e-13)
+        .ok()
+        .map(|r| if g(r.x) > 0.0 { r.x - 1e-13 } else { r.x })
+}
+
+/// FFT size at which all orders ≤ `order` converge at (λ, θ) (see
+/// [`Hypocycloid::coefficients`]) and the error of order `order` there.
+fn column_size(lambda: f64, theta: f64, alpha0: f64, order: usize, s: &Settings) -> (usize, f64) {
+    let m = Hypocycloid {
+        lambda,
+        theta,
+        alpha0,
+    };
+    let c = m.coefficients(order, s.n_fft_min, s.n_fft_max);
+    (c.n_fft, c.err[order])
+}
+
+/// Find, bracket, refine and trace the zeros of a_i over the feasible part of the box.
+///
+/// Columns λ_j (`curve_points`, evenly spaced) × a common θ grid (`theta_scan` points): a
+/// sign change between neighbouring θ samples is refined by Brent to `root_tol`; the FFT
+/// size of a column is the converged size at its most demanding (largest feasible) θ.
+/// Sign changes along λ between columns that no θ-root explains are reported as possible
+/// folds in `reason`.
+pub fn zero_search(
+    alpha0: f64,
+    zs: &ZeroSearch,
+    series_power: usize,
+    margin: f64,
+    s: &Settings,
+) -> ZeroSearchResult {
+    let k = zs.order;
+    let nl = s.curve_points;
+    let nt = s.theta_scan;
+    let lam: Vec<f64> = (0..nl)
+        .map(|j| zs.lambda.0 + (zs.lambda.1 - zs.lambda.0) * j as f64 / (nl - 1) as f64)
+        .collect();
+    let th: Vec<f64> = (0..nt)
+        .map(|j| zs.theta.0 + (zs.theta.1 - zs.theta.0) * j as f64 / (nt - 1) as f64)
+        .collect();
+    let mut value = vec![vec![None; nt]; nl];
+    let mut roots = Vec::new();
+    let mut evals = 0usize;
+    let mut bins: Vec<CosBin> = Vec::new();
+    let mut single = true;
+    for (r, &l) in lam.iter().enumerate() {
+        let Some(tmax) = theta_limit(l, alpha0, zs.theta.0, zs.theta.1, margin) else {
+            continue;
+        };
+        let (n, err) = column_size(l, tmax, alpha0, k, s);
+        let bin = match bins.iter().position(|b| b.n() == n) {
+            Some(i) => &bins[i],
+            None => {
+                bins.push(CosBin::new(k, alpha0, n));
+                bins.last().unwrap()
+            }
+        };
+        // Feasible θ samples of this column, plus the limit itself when it cuts the grid.
+        let mut ts: Vec<(Option<usize>, f64)> = th
+            .iter()
+            .enumerate()
+            .filter(|(_, &t)| t <= tmax)
+            .map(|(c, &t)| (Some(c), t))
+            .collect();
+        if tmax < zs.theta.1 {
+            ts.push((None, tmax));
+        }
+        let fs: Vec<f64> = ts.iter().map(|&(_, t)| bin.eval(l, t)).collect();
+        evals += fs.len();
+        for (&(c, _), &f) in ts.iter().zip(&fs) {
+            if let Some(c) = c {
+                value[r][c] = Some(f);
+            }
+        }
+        let mut count = 0;
+        for w in 0..fs.len().saturating_sub(1) {
+            let (ta, tb, fa, fb) = (ts[w].1, ts[w + 1].1, fs[w], fs[w + 1]);
+            // A sign change, or an exact zero at the left sample.
+            if !(fa == 0.0 || fa.signum() != fb.signum()) || fb == 0.0 && w + 2 < fs.len() {
+                continue;
+            }
+            let cnt = std::cell::Cell::new(0usize);
+            let f = |t: f64| {
+                cnt.set(cnt.get() + 1);
+                bin.eval(l, t)
+            };
+            if let Ok(rt) = brent_root(f, ta, tb, s.root_tol) {
+                evals += cnt.get();
+                let ser = |t: f64| {
+                    Hypocycloid {
+                        lambda: l,
+                        theta: t,
+                        alpha0,
+                    }
+                    .series_coefficients(series_power, k)
+                    .0[k]
+                };
+                let series_theta = brent_root(ser, ta, tb, s.root_tol).ok().map(|r| r.x);
+                roots.push(ZeroRoot {
+                    lambda: l,
+                    theta: rt.x,
+                    value: rt.fx,
+                    bracket: (ta, tb),
+                    f_bracket: (fa, fb),
+                    value_error: err,
+                    series_value: ser(rt.x),
+                    series_theta,
+                });
+                count += 1;
+            }
+        }
+        if count > 1 {
+            single = false;
+        }
+    }
+    // Sign bookkeeping over the feasible grid.
+    let mut pos = 0usize;
+    let mut neg = 0usize;
+    let mut best: Option<GridMin> = None;
+    for (r, row) in value.iter().enumerate() {
+        for (c, v) in row.iter().enumerate() {
+            if let Some(v) = *v {
+                if v > 0.0 {
+                    pos += 1;
+                } else if v < 0.0 {
+                    neg += 1;
+                }
+                if best.is_none_or(|b| v.abs() < b.value.abs()) {
+                    best = Some(GridMin {
+                        lambda: lam[r],
+                        theta: th[c],
+                        value: v,
+                    });
+                }
+            }
+        }
+    }
+    // Sign changes along λ not explained by a root in either neighbouring column.
+    let mut folds = 0;
+    for r in 0..nl.saturating_sub(1) {
+        for c in 0..nt {
+            if let (Some(a), Some(b)) = (value[r][c], value[r + 1][c]) {
+                if a.signum() != b.signum() {
+                    let near = roots.iter().any(|z| {
+                        (z.lambda == lam[r] || z.lambda == lam[r + 1])
+                            && (z.theta - th[c]).abs() <= 1.5 * (th[1] - th[0])
+                    });
+                    if !near {
+                        folds += 1;
+                    }
+                }
+            }
+        }
+    }
+    let max_abs_at_root = roots.iter().fold(0.0f64, |m, z| m.max(z.value.abs()));
+    let sign = if neg == 0 && pos > 0 {
+        1
+    } else if pos == 0 && neg > 0 {
+        -1
+    } else {
+        0
+    };
+    let status = if pos + neg == 0 {
+        ZeroStatus::Infeasible
+    } else if roots.is_empty() {
+        ZeroStatus::NoZero
+    } else {
+        ZeroStatus::Found
+    };
+    let mut reason = match status {
+        ZeroStatus::Infeasible => "no (λ, θ) of the search box assembles with the required margin".to_string(),
+        ZeroStatus::Found => format!(
+            "a_{k} changes sign on the feasible grid ({pos} samples > 0, {neg} < 0); {} bracketed roots refined to \
+             {:e} in θ; the zero set is {}",
+            roots.len(),
+            s.root_tol,
+            if single { "a single-valued curve θ*(λ)" } else { "multi-valued in some columns (several branches)" }
+        ),
+        ZeroStatus::NoZero => {
+            let b = best.unwrap();
+            let lead = leading_terms_keep_sign(alpha0, k, &th);
+            format!(
+                "a_{k} keeps one sign ({}) at all {} feasible grid samples; min |a_{k}| = {:e} at λ = {}, θ = {} \
+                 (on the boundary of the box: |a_{k}| grows with λ). {}",
+                if sign > 0 { "> 0" } else { "< 0" },
+                pos + neg,
+                b.value.abs(),
+                b.lambda,
+                b.theta,
+                lead
+            )
+        }
+    };
+    if folds > 0 {
+        reason.push_str(&format!(
+            "; {folds} sign changes along λ are not explained by a θ-root nearby (possible fold of the zero set)"
+        ));
+    }
+    ZeroSearchResult {
+        order: k,
+        status,
+        roots,
+        single_valued: single,
+        grid_min_abs: best,
+        sign,
+        reason,
+        max_abs_at_root,
+        evals,
+        map: CoefficientMap {
+            order: k,
+            lambda: lam,
+            theta: th,
+            value,
+        },
+    }
+}
+
+/// The series a_k = −Σ_p c_p λ^{2p−1} [y^{2p}]_k: report whether the first two terms
+/// (λ¹ and λ³) have the same sign at every θ of the grid, which is why a_k cannot vanish for
+/// small λ.
+fn leading_terms_keep_sign(alpha0: f64, k: usize, th: &[f64]) -> String {
+    // [y²]_k and [y⁴]_k from the series with λ = 1 (power 1 and power 2 differences).
+    let mut same = true;
+    let mut sgn = 0.0;
+    for &t in th {
+        let m = Hypocycloid {
+            lambda: 1.0,
+            theta: t,
+            alpha0,
+        };
+        let p0 = m.series_coefficients(1, k).0[k] - if k == 1 { 1.0 } else { 0.0 };
+        let x2 = if k == 2 { t * alpha0.cos() } else { 0.0 };
+        let t1 = p0 - x2; // −½[y²]_k
+        let t3 = m.series_coefficients(2, k).0[k] - m.series_coefficients(1, k).0[k]; // −⅛[y⁴]_k
+        for v in [t1, t3] {
+            if v != 0.0 && v.abs() > 1e-15 {
+                if sgn == 0.0 {
+                    sgn = v.signum();
+                } else if v.signum() != sgn {
+                    same = false;
+                }
+            }
+        }
+    }
+    if same {
+        format!(
+            "The λ¹ and λ³ terms of the binomial series, −½λ[y²]_{k} and −⅛λ³[y⁴]_{k}, have the same sign at every \
+             θ of the grid, so they add instead of cancelling"
+        )
+    } else {
+        "The λ¹ and λ³ terms of the series change sign over θ; no zero was found on the grid nevertheless".to_string()
+    }
+}
+
+// ---------------------------------------------------------------------------------------
+// Design evaluation and optimisation
+// ---------------------------------------------------------------------------------------
+
+/// Evaluation of one design.
+#[derive(Debug, Clone, PartialEq)]
+struct Eval {
+    coef: Coefficients,
+    residual_peak: f64,
+    residual_peak_err: f64,
+    stroke: f64,
+    stroke_err: f64,
+    suction_gain: f64,
+    ratio_ymax: f64,
+}
+
+/// Peak over φ of |residual inertia force| / (m_B R ω²):
+/// F_res/(m_B R ω²) = −(S/R)'' − Σ_{i∈K} i² (a_i cos iφ + b_i sin iφ), with (S/R)'' in closed
+/// form (independent of the coefficients). Error: refinement + Σ i² err_i.
+fn residual_peak(
+    m: &Hypocycloid,
+    c: &Coefficients,
+    orders: &[usize],
+    s: &Settings,
+) -> Result<(f64, f64), MechError> {
+    let f = |p: f64| residual_rel(m, c, orders, p).abs();
+    let pk = periodic_peak(f, s.peak_samples, s.peak_xtol)?;
+    let cerr: f64 = orders.iter().map(|&i| (i * i) as f64 * c.err[i]).sum();
+    Ok((pk.peak.fx, pk.error + cerr))
+}
+
+fn residual_rel(m: &Hypocycloid, c: &Coefficients, orders: &[usize], p: f64) -> f64 {
+    let mut f = -m.piston(p).dds;
+    for &i in orders {
+        let k = i as f64;
+        let (sn, cs) = (k * p).sin_cos();
+        f -= k * k * (c.a[i] * cs + c.b[i] * sn);
+    }
+    f
+}
+
+fn evaluate(scene: &HypocycloidScene, l: f64, t: f64, s: &Settings) -> Result<Eval, MechError> {
+    let m = Hypocycloid::new(l, t, scene.alpha0)?;
+    let ratio_ymax = m.lambda_ymax();
+    let coef = m.coefficients(
+        scene
+            .orders
+            .max(*scene.balance_orders.iter().max().unwrap_or(&0)),
+        s.n_fft_min,
+        s.n_fft_max,
+    );
+    let (rp, rpe) = residual_peak(&m, &coef, &scene.balance_orders, s)?;
+    let st = m.stroke()?;
+    Ok(Eval {
+        coef,
+        residual_peak: rp,
+        residual_peak_err: rpe,
+        stroke: st.stroke,
+        stroke_err: st.error,
+        suction_gain: st.suction_angle / PI - 1.0,
+        ratio_ymax,
+    })
+}
+
+/// Penalised objective of the optimiser (dimensionless residual peak; +1e3·violation and
+/// +1e6 when the mechanism cannot be built).
+fn penalised(scene: &HypocycloidScene, x: [f64; 2], s: &Settings) -> f64 {
+    let (lb, tb) = (scene.lambda.bounds(), scene.theta.bounds());
+    let mut viol = 0.0;
+    let l = x[0].clamp(lb.0, lb.1);
+    let t = x[1].clamp(tb.0, tb.1);
+    viol += (x[0] - l).abs() + (x[1] - t).abs();
+    let ym = max_abs_y(t, scene.alpha0).unwrap_or(f64::INFINITY);
+    let over = l * ym - (1.0 - scene.assembly_margin);
+    if over > 0.0 {
+        return 1e6 + over + viol;
+    }
+    match evaluate(scene, l, t, s) {
+        Ok(e) => {
+            if let Some(ms) = scene.min_stroke {
+                viol += (ms / scene.r_carrier - e.stroke).max(0.0);
+            }
+            if let Some(g) = scene.min_suction_gain {
+                viol += (g - e.suction_gain).max(0.0);
+            }
+            e.residual_peak + 1e3 * viol
+        }
+        Err(_) => 1e6 + viol,
+    }
+}
+
+/// A point of the (λ, θ) plane as an argmin parameter.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Pt([f64; 2]);
+impl ArgminAdd<Pt, Pt> for Pt {
+    fn add(&self, o: &Pt) -> Pt {
+        Pt([self.0[0] + o.0[0], self.0[1] + o.0[1]])
+    }
+}
+impl ArgminSub<Pt, Pt> for Pt {
+    fn sub(&self, o: &Pt) -> Pt {
+        Pt([self.0[0] - o.0[0], self.0[1] - o.0[1]])
+    }
+}
+impl ArgminMul<f64, Pt> for Pt {
+    fn mul(&self, k: &f64) -> Pt {
+        Pt([self.0[0] * k, self.0[1] * k])
+    }
+}
+
+struct Objective<'a> {
+    scene: &'a HypocycloidScene,
+    s: &'a Settings,
+    count: std::cell::Cell<usize>,
+}
+impl CostFunction for Objective<'_> {
+    type Param = Pt;
+    type Output = f64;
+    fn cost(&self, p: &Pt) -> Result<f64, ArgminError> {
+        self.count.set(self.count.get() + 1);
+        Ok(penalised(self.scene, p.0, self.s))
+    }
+}
+
+/// How the optimiser ended.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum OptStatus {
+    /// Nothing free: the fixed design was evaluated.
+    Analysis,
+    /// Nelder–Mead met its simplex tolerance.
+    Converged,
+    /// Nelder–Mead hit its iteration limit (the best point is returned).
+    MaxIterations,
+    /// No feasible start point on the grid.
+    Infeasible,
+}
+
+/// One row of the order table.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct OrderRow {
+    /// Order i.
+    pub order: usize,
+    /// a_i (exact).
+    pub a: f64,
+    /// b_i (exact).
+    pub b: f64,
+    /// Estimated absolute error of (a_i, b_i).
+    pub error: f64,
+    /// a_i of the truncated series.
+    pub a_series: f64,
+    /// b_i of the truncated series.
+    pub b_series: f64,
+    /// Amplitude of the i-th order inertia force m_B R ω² i² hypot(a_i, b_i) (N).
+    pub force_amplitude: f64,
+    /// Whether a Lanchester pair cancels it.
+    pub balanced: bool,
+}
+
+/// The `coefficients` JSON section.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct CoefficientTable {
+    /// a_0 … a_n of S/R (cosine; a_0 includes 1/λ).
+    pub a: Vec<f64>,
+    /// b_0 … b_n of S/R (sine).
+    pub b: Vec<f64>,
+    /// Estimated absolute error of each order.
+    pub error: Vec<f64>,
+    /// Truncated-series a (the paper's method, power `series_power`).
+    pub a_series: Vec<f64>,
+    /// Truncated-series b.
+    pub b_series: Vec<f64>,
+    /// Power of z at which the series was truncated.
+    pub series_power: usize,
+    /// FFT size used.
+    pub n_fft: usize,
+    /// Whether the FFT converged to the rounding floor.
+    pub converged: bool,
+    /// Per-order rows for the tables.
+    pub rows: Vec<OrderRow>,
+}
+
+/// A comparison with the paper.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct PaperCheck {
+    /// What is compared.
+    pub quantity: String,
+    /// The paper's value (or the value of the paper's method).
+    pub paper: f64,
+    /// cwsynth's value.
+    pub computed: f64,
+    /// Why they differ, or that they agree.
+    pub note: String,
+}
+
+/// Force over one turn for the plots (N).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ForceCurves {
+    /// φ (rad).
+    pub phi: Vec<f64>,
+    /// Inertia force of m_B without balancing.
+    pub unbalanced: Vec<f64>,
+    /// After the Lanchester pairs.
+    pub residual: Vec<f64>,
+    /// Piston position S − L (m).
+    pub position: Vec<f64>,
+}
+
+/// Everything a report needs.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Outcome {
+    /// `lambda`, `theta`, `R_m`, `r_m`, `L_m`.
+    pub design: BTreeMap<String, f64>,
+    /// `c4` (a_4 of S/R), `residual_force_peak_N`, `residual_force_rms_N`,
+    /// `unbalanced_force_peak_N`, `stroke_m`, `suction_gain`.
+    pub objectives: BTreeMap<String, f64>,
+    /// Estimated absolute error of each objective (same keys).
+    pub errors: BTreeMap<String, f64>,
+    /// Secondary numbers (`b4`, `lambda_ymax`, `n_fft`, `c4_series`, …).
+    pub derived: BTreeMap<String, f64>,
+    /// Things the user should know.
+    pub warnings: Vec<String>,
+    /// Comparison with the paper.
+    pub paper: Vec<PaperCheck>,
+    /// Solver and evaluation count.
+    pub method: String,
+    /// Optimiser status.
+    pub status: OptStatus,
+    /// The coefficient tables.
+    pub coefficients: CoefficientTable,
+    /// The Lanchester pairs of the balanced orders.
+    pub balancing: Vec<LanchesterPair>,
+    /// The zero set of the searched order (empty without a zero search).
+    pub zero_curve: Vec<ZeroPoint>,
+    /// The truncated series' zero set in the same brackets (where it has one).
+    pub zero_curve_series: Vec<ZeroPoint>,
+    /// The full zero-search evidence.
+    pub zero_search: Option<ZeroSearchResult>,
+    /// Force curves over a turn.
+    pub force_curves: ForceCurves,
+}
+
+/// Solve a scene: optimise (λ, θ) if free, evaluate, balance, compare with the paper, and run
+/// the zero search if asked. Invalid input is the only error; solver trouble is a status.
+pub fn solve(scene: &HypocycloidScene, settings: &Settings) -> Result<Outcome, FieldError> {
+    scene.validate()?;
+    settings.validate()?;
+    let s = settings;
+    let mut warnings = Vec::new();
+    let mut evals = 0usize;
+    let (lb, tb) = (scene.lambda.bounds(), scene.theta.bounds());
+    let free = scene.lambda.is_free() || scene.theta.is_free();
+    let (mut x, status, method) = if !free {
+        (
+            [lb.0, tb.0],
+            OptStatus::Analysis,
+            "analysis of the fixed design".to_string(),
+        )
+    } else {
+        // Grid start over the free box.
+        let g = s.opt_grid;
+        let pts = |b: (f64, f64), f: bool| -> Vec<f64> {
+            if f {
+                (0..g)
+                    .map(|j| b.0 + (b.1 - b.0) * j as f64 / (g - 1) as f64)
+                    .collect()
+            } else {
+                vec![b.0]
+            }
+        };
+        let mut best = ([lb.0, tb.0], f64::INFINITY);
+        for &l in &pts(lb, scene.lambda.is_free()) {
+            for &t in &pts(tb, scene.theta.is_free()) {
+                let v = penalised(scene, [l, t], s);
+                evals += 1;
+                if v < best.1 {
+                    best = ([l, t], v);
+                }
+            }
+        }
+        if best.1 >= 1e3 {
+            warnings.push(format!(
+                "no grid point satisfies the assembly margin, stroke and suction constraints (best penalised value {:e}); \
+                 the least-violating point is reported",
+                best.1
+            ));
+            (
+                best.0,
+                OptStatus::Infeasible,
+                format!("grid {g}×{g}: infeasible"),
+            )
+        } else {
+            let step = |b: (f64, f64), f: bool| if f { (b.1 - b.0) / (g - 1) as f64 } else { 0.0 };
+            let (dl, dt) = (
+                step(lb, scene.lambda.is_free()),
+                step(tb, scene.theta.is_free()),
+            );
+            let x0 = Pt(best.0);
+            let mut simplex = vec![x0];
+            if dl > 0.0 {
+                simplex.push(Pt([
+                    x0.0[0] + dl * if x0.0[0] + dl > lb.1 { -1.0 } else { 1.0 },
+                    x0.0[1],
+                ]));
+            }
+            if dt > 0.0 {
+                simplex.push(Pt([
+                    x0.0[0],
+                    x0.0[1] + dt * if x0.0[1] + dt > tb.1 { -1.0 } else { 1.0 },
+                ]));
+            }
+            let obj = Objective {
+                scene,
+                s,
+                count: std::cell::Cell::new(0),
+            };
+            let nm = NelderMead::new(simplex)
+                .with_sd_tolerance(s.nm_sd_tol)
+                .expect("positive tolerance");
+            let res = Executor::new(obj, nm)
+                .configure(|c| c.max_iters(s.nm_max_iters))
+                .run();
+            match res {
+                Ok(r) => {
+                    let st = r.state();
+                    let p = st.get_best_param().copied().unwrap_or(x0);
+                    let iters = st.get_iter();
+                    let nev = r
+                        .problem()
+                        .problem
+                        .as_ref()
+                        .map(|o| o.count.get())
+                        .unwrap_or(0);
+                    evals += nev;
+                    let status = if iters >= s.nm_max_iters {
+                        OptStatus::MaxIterations
+                    } else {
+                        OptStatus::Converged
+                    };
+                    if status == OptStatus::MaxIterations {
+                        warnings.push(format!(
+                            "Nelder–Mead stopped at its iteration limit ({iters})"
+                        ));
+                    }
+                    let px = [p.0[0].clamp(lb.0, lb.1), p.0[1].clamp(tb.0, tb.1)];
+                    (px, status, format!("grid {g}-per-free-variable start + argmin Nelder–Mead ({iters} iterations)"))
+                }
+                Err(e) => {
+                    warnings.push(format!(
+                        "Nelder–Mead failed ({e}); the best grid point is reported"
+                    ));
+                    (
+                        best.0,
+                        OptStatus::MaxIterations,
+                        format!("grid {g}-per-free-variable (Nelder–Mead failed)"),
+                    )
+                }
+            }
+        }
+    };
+    // Keep the reported design feasible.
+    let ym = max_abs_y(x[1], scene.alpha0).unwrap_or(f64::INFINITY);
+    if x[0] * ym > 1.0 - scene.assembly_margin {
+        x[0] = (1.0 - scene.assembly_margin) / ym;
+    }
+    let (l, t) = (x[0], x[1]);
+    let e = match evaluate(scene, l, t, s) {
+        Ok(e) => e,
+        Err(err) => return Err(field("hypocycloid.lambda", l, &err.to_string())),
+    };
+    evals += 1;
+    let m = Hypocycloid {
+        lambda: l,
+        theta: t,
+        alpha0: scene.alpha0,
+    };
+    let r = scene.r_carrier;
+    let fscale = scene.m_b * r * scene.omega * scene.omega;
+    let c = &e.coef;
+    if !c.converged {
+        warnings.push(format!(
+            "the Fourier coefficients did not converge to the rounding floor at n_fft = {} (λ·max|y| = {:.6}); the \
+             errors reported are the last change",
+            c.n_fft, e.ratio_ymax
+        ));
+    }
+    let n_ord = scene.orders;
+    let (sa, sb) = m.series_coefficients(scene.series_power, n_ord);
+    let rows: Vec<OrderRow> = (1..=n_ord)
+        .map(|i| OrderRow {
+            order: i,
+            a: c.a[i],
+            b: c.b[i],
+            error: c.err[i],
+            a_series: sa[i],
+            b_series: sb[i],
+            force_amplitude: fscale * (i * i) as f64 * c.amplitude(i),
+            balanced: scene.balance_orders.contains(&i),
+        })
+        .collect();
+    let balancing: Vec<LanchesterPair> = scene
+        .balance_orders
+        .iter()
+        .map(|&i| lanchester_pair(i, c.a[i], c.b[i], scene.m_b, r, scene.omega))
+        .collect();
+    // Unbalanced peak and residual RMS.
+    let unb = periodic_peak(|p| m.piston(p).dds.abs(), s.peak_samples, s.peak_xtol)
+        .map_err(|err| field("hypocycloid.lambda", l, &err.to_string()))?;
+    let rms = periodic_rms(
+        |p| residual_rel(&m, c, &scene.balance_orders, p),
+        2 * s.peak_samples,
+    );
+    let cerr: f64 = scene
+        .balance_orders
+        .iter()
+        .map(|&i| (i * i) as f64 * c.err[i])
+        .sum();
+
+    let mut design = BTreeMap::new();
+    design.insert("lambda".into(), l);
+    design.insert("theta".into(), t);
+    design.insert("R_m".into(), r);
+    design.insert("r_m".into(), t * r);
+    design.insert("L_m".into(), r / l);
+    let mut objectives = BTreeMap::new();
+    let mut errors = BTreeMap::new();
+    let mut put = |k: &str, v: f64, er: f64| {
+        objectives.insert(k.to_string(), v);
+        errors.insert(k.to_string(), er);
+    };
+    put("c4", c.a[4], c.err[4]);
+    put(
+        "residual_force_peak_N",
+        fscale * e.residual_peak,
+        fscale * e.residual_peak_err,
+    );
+    put(
+        "residual_force_rms_N",
+        fscale * rms.rms,
+        fscale * (rms.error + cerr),
+    );
+    put(
+        "unbalanced_force_peak_N",
+        fscale * unb.peak.fx,
+        fscale * unb.error,
+    );
+    put(
+        "stroke_m",
+        r * e.stroke,
+        r * e.stroke_err.max(f64::EPSILON * e.stroke),
+    );
+    put("suction_gain", e.suction_gain, 1e-9 / PI);
+    let mut derived = BTreeMap::new();
+    derived.insert("b4".into(), c.b[4]);
+    derived.insert("c4_series".into(), sa[4]);
+    derived.insert("c4_series_minus_exact".into(), sa[4] - c.a[4]);
+    derived.insert("lambda_ymax".into(), e.ratio_ymax);
+    derived.insert("assembly_margin".into(), 1.0 - e.ratio_ymax);
+    derived.insert("n_fft".into(), c.n_fft as f64);
+    derived.insert("force_scale_N".into(), fscale);
+    derived.insert(
+        "force_order4_amplitude_N".into(),
+        fscale * 16.0 * c.amplitude(4),
+    );
+    derived.insert("suction_angle_rad".into(), (e.suction_gain + 1.0) * PI);
+    derived.insert("evaluations".into(), evals as f64);
+
+    // Zero search.
+    let (zsr, zero_curve, zero_curve_series) = match &scene.zero_search {
+        Some(zs) => {
+            let z = zero_search(
+                scene.alpha0,
+                zs,
+                scene.series_power,
+                scene.assembly_margin,
+                s,
+            );
+            evals += z.evals;
+            let zc = z
+                .roots
+                .iter()
+                .map(|r| ZeroPoint {
+                    lambda: r.lambda,
+                    theta: r.theta,
+                })
+                .collect();
+            let zcs = z
+                .roots
+                .iter()
+                .filter_map(|r| {
+                    r.series_theta.map(|t| ZeroPoint {
+                        lambda: r.lambda,
+                        theta: t,
+                    })
+                })
+                .collect();
+            if !z.single_valued {
+                warnings.push("the zero set has several branches in some λ columns".into());
+            }
+            if let Some(zb) = z
+                .roots
+                .iter()
+                .map(|r| (r.series_theta.map(|t| (t - r.theta).abs()), r))
+                .fold(None, |acc: Option<(f64, ZeroRoot)>, (d, r)| match d {
+                    Some(d) if acc.is_none_or(|a| d > a.0) => Some((d, *r)),
+                    _ => acc,
+                })
+            {
+                derived.insert("zero_curve_series_max_dtheta".into(), zb.0);
+                derived.insert("zero_curve_series_worst_lambda".into(), zb.1.lambda);
+            }
+            let missing = z.roots.iter().filter(|r| r.series_theta.is_none()).count();
+            if missing > 0 {
+                warnings.push(format!(
+                    "the truncated series (power {}) has no zero in {missing} of the {} brackets where the exact \
+                     coefficient changes sign",
+                    scene.series_power,
+                    z.roots.len()
+                ));
+            }
+            derived.insert("zero_roots".into(), z.roots.len() as f64);
+            derived.insert("zero_max_abs_at_root".into(), z.max_abs_at_root);
+            (Some(z), zc, zcs)
+        }
+        None => (None, Vec::new(), Vec::new()),
+    };
+    let paper = paper_checks(scene, &m, c, &sa, &sb, zsr.as_ref());
+
+    // Curves for plots.
+    let np = s.plot_samples;
+    let phi: Vec<f64> = (0..np)
+        .map(|j| 2.0 * PI * j as f64 / (np - 1) as f64)
+        .collect();
+    let force_curves = ForceCurves {
+        unbalanced: phi.iter().map(|&p| -fscale * m.piston(p).dds).collect(),
+        residual: phi
+            .iter()
+            .map(|&p| fscale * residual_rel(&m, c, &scene.balance_orders, p))
+            .collect(),
+        position: phi.iter().map(|&p| r * m.piston(p).s_rel).collect(),
+        phi,
+    };
+    let method = format!(
+        "{method}; coefficients: exact polynomial part + FFT of the O(λ³) remainder (n = {}); zero search: sign scan \
+         + argmin Brent to {:e}; {evals} evaluations",
+        c.n_fft, s.root_tol
+    );
+    Ok(Outcome {
+        design,
+        objectives,
+        errors,
+        derived,
+        warnings,
+        paper,
+        method,
+        status,
+        coefficients: CoefficientTable {
+            a: c.a[..=n_ord].to_vec(),
+            b: c.b[..=n_ord].to_vec(),
+            error: c.err[..=n_ord].to_vec(),
+            a_series: sa,
+            b_series: sb,
+            series_power: scene.series_power,
+            n_fft: c.n_fft,
+            converged: c.converged,
+            rows,
+        },
+        balancing,
+        zero_curve,
+        zero_curve_series,
+        zero_search: zsr,
+        force_curves,
+    })
+}
+
+/// What the paper states (it prints no numbers, only structure and claims) against the
+/// computation.
+#[allow(clippy::needless_range_loop)] // indexes a, b, series a, series b together
+fn paper_checks(
+    scene: &HypocycloidScene,
+    m: &Hypocycloid,
+    c: &Coefficients,
+    sa: &[f64],
+    sb: &[f64],
+    z: Option<&ZeroSearchResult>,
+) -> Vec<PaperCheck> {
+    let mut v = Vec::new();
+    let p = scene.series_power;
+    let v2 = (scene.alpha0 - ALPHA0_VARIANT2).rem_euclid(2.0 * PI) < 1e-12;
+    let v1 = scene.alpha0.rem_euclid(2.0 * PI) < 1e-12;
+    for i in 1..=6 {
+        v.push(PaperCheck {
+            quantity: format!("a{i} (C{i}{})", if v2 { "^I" } else { "" }),
+            paper: sa[i],
+            computed: c.a[i],
+            note: format!(
+                "paper's method = binomial series to z^{p} (y^{}); difference {:.3e} (series truncation error; the \
+                 exact value's error is {:.1e})",
+                2 * p,
+                sa[i] - c.a[i],
+                c.err[i]
+            ),
+        });
+    }
+    if v2 {
+        v.push(PaperCheck {
+            quantity: "C1^I (from m'_I r'_I = ½ m_B R)".into(),
+            paper: 1.0,
+            computed: c.a[1],
+            note: "the root contributes no cos φ term in variant 2 (its cosine part has only even orders)".into(),
+        });
+        v.push(PaperCheck {
+            quantity: "C2^II (sine part of order 2)".into(),
+            paper: sb[2],
+            computed: c.b[2],
+            note: "−θ exactly: only the crank term −θ sin 2φ contributes; the root's sine part has odd orders only"
+                .into(),
+        });
+        v.push(PaperCheck {
+            quantity: "a3 (paper: the cosine part S^I has no 3rd order)".into(),
+            paper: 0.0,
+            computed: c.a[3],
+            note: "zero by the symmetry y(π − φ) = y(φ)".into(),
+        });
+    }
+    if v1 {
+        v.push(PaperCheck {
+            quantity: "b1..b6 (paper: only cosines in variant 1)".into(),
+            paper: 0.0,
+            computed: c.b[1..=6].iter().fold(0.0f64, |a, &b| a.max(b.abs())),
+            note: "S is even in φ because y is odd: max |b_i| shown".into(),
+        });
+    }
+    // The paper calls the 3rd-order force negligible ("C3, C1^II, C3^II ~ λθ").
+    let f1 = c.amplitude(1);
+    let f3 = 9.0 * c.amplitude(3);
+    v.push(PaperCheck {
+        quantity: "|Φ3|/|Φ1| (paper: 3rd order negligible, ∝ λθ)".into(),
+        paper: 0.0,
+        computed: f3 / f1,
+        note: format!(
+            "the coefficient is O(λθ) = {:.3} but the force carries i² = 9: at λ = {}, θ = {} the 3rd-order force is \
+             {:.0}% of the 1st",
+            m.lambda * m.theta,
+            m.lambda,
+            m.theta,
+            100.0 * f3 / f1
+        ),
+    });
+    if let Some(z) = z {
+        let computed = match z.status {
+            ZeroStatus::Found => z.max_abs_at_root,
+            _ => z.grid_min_abs.map(|g| g.value.abs()).unwrap_or(f64::NAN),
+        };
+        v.push(PaperCheck {
+            quantity: format!(
+                "a{} = 0 for some (λ, θ) (paper's conjecture, variant 2)",
+                z.order
+            ),
+            paper: 0.0,
+            computed: if computed.is_finite() { computed } else { -1.0 },
+            note: match z.status {
+                ZeroStatus::Found => format!(
+                    "{} roots found; computed = max |a| at a root. {}",
+                    z.roots.len(),
+                    z.reason
+                ),
+                ZeroStatus::NoZero => {
+                    format!("no zero; computed = min |a| on the grid. {}", z.reason)
+                }
+                ZeroStatus::Infeasible => z.reason.clone(),
+            },
+        });
+    }
+    v
+}
