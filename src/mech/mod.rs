@@ -1,2 +1,3 @@
 //! Pure mechanism models: positions, their derivatives with respect to the input angle,
 //! forces and torques. No design variables, no I/O: a model is data plus formulas.
+pub mod gear;
