@@ -250,32 +250,49 @@ pub struct Alpha2Map {
 }
 
 impl Alpha2Map {
-    /// Build the map for the pair (c, a), doubling the number of samples until the upper
-    /// half of the spectrum is below 1e-15 of the mean (at most 2¹⁶ samples).
+    /// Build the map for the pair (c, a), doubling the number of samples (64 … 2¹⁶) until
+    /// the largest coefficient of the upper half of the spectrum is below 4·10⁻¹⁵ of the
+    /// integrand's maximum (the FFT's round-off floor); coefficients below 10⁻¹⁷ of it are
+    /// dropped. The error bound is 2π × (sum of dropped and upper-half coefficients) plus
+    /// the round-off of the mean term.
     pub fn new(c: &EccentricCircle, a: f64) -> Self {
         use rustfft::{num_complex::Complex, FftPlanner};
         let mut planner = FftPlanner::<f64>::new();
         let mut n = 64;
         loop {
             let h = TAU / n as f64;
+            let mut fmax: f64 = 0.0;
             let mut buf: Vec<Complex<f64>> = (0..n)
                 .map(|k| {
                     let r1 = c.rho1(k as f64 * h);
-                    Complex::new(r1 / (a - r1), 0.0)
+                    let f = r1 / (a - r1);
+                    fmax = fmax.max(f.abs());
+                    Complex::new(f, 0.0)
                 })
                 .collect();
             planner.plan_fft_forward(n).process(&mut buf);
             let mean = buf[0].re / n as f64;
             let kmax = n / 2 - 1;
-            let a_k: Vec<f64> = (1..=kmax).map(|k| 2.0 * buf[k].re / n as f64).collect();
-            let b_k: Vec<f64> = (1..=kmax).map(|k| -2.0 * buf[k].im / n as f64).collect();
-            let tail: f64 = (kmax / 2..kmax).map(|j| a_k[j].abs() + b_k[j].abs()).sum();
-            if tail <= 1e-15 * mean.abs() || n >= 1 << 16 {
+            let mut a_k: Vec<f64> = (1..=kmax).map(|k| 2.0 * buf[k].re / n as f64).collect();
+            let mut b_k: Vec<f64> = (1..=kmax).map(|k| -2.0 * buf[k].im / n as f64).collect();
+            let upper = (kmax / 2..kmax)
+                .map(|j| a_k[j].abs() + b_k[j].abs())
+                .fold(0.0, f64::max);
+            if upper <= 4e-15 * fmax || n >= 1 << 16 {
+                let keep = (0..kmax)
+                    .rev()
+                    .find(|&j| a_k[j].abs() + b_k[j].abs() > 1e-17 * fmax)
+                    .map_or(0, |j| j + 1);
+                let dropped: f64 = (keep..kmax).map(|j| a_k[j].abs() + b_k[j].abs()).sum();
+                a_k.truncate(keep);
+                b_k.truncate(keep);
+                let error = TAU * (dropped + upper * (kmax / 2) as f64) / (kmax / 2).max(1) as f64
+                    + 4.0 * f64::EPSILON * TAU * mean.abs();
                 return Self {
                     mean,
                     a_k,
                     b_k,
-                    error: tail + 1e-15 * TAU * mean.abs(),
+                    error,
                 };
             }
             n *= 2;
