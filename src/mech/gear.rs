@@ -136,10 +136,14 @@ impl EccentricCircle {
     }
 }
 
-/// Trapezoid rule on `n` points of a 2π-periodic function, spectrally accurate when smooth.
-fn trapezoid_periodic<F: Fn(f64) -> f64>(f: &F, n: usize) -> f64 {
+/// Trapezoid rule on `n` points of a 2π-periodic function, spectrally accurate when
+/// smooth. Returns (∫f, ∫|f|) — the second scales the round-off floor.
+fn trapezoid_periodic<F: Fn(f64) -> f64>(f: &F, n: usize) -> (f64, f64) {
     let h = TAU / n as f64;
-    (0..n).map(|k| f(k as f64 * h)).sum::<f64>() * h
+    let (s, sa) = (0..n)
+        .map(|k| f(k as f64 * h))
+        .fold((0.0, 0.0), |(s, sa), y| (s + y, sa + y.abs()));
+    (s * h, sa * h)
 }
 
 /// A converged periodic integral.
@@ -147,24 +151,26 @@ fn trapezoid_periodic<F: Fn(f64) -> f64>(f: &F, n: usize) -> f64 {
 pub struct Quadrature {
     /// The integral.
     pub value: f64,
-    /// |I(n) − I(n/2)|, an over-estimate of the error once converged.
+    /// |I(n) − I(n/2)| plus the round-off floor 16ε∫|f|: an over-estimate of the error
+    /// once converged.
     pub error: f64,
     /// Points of the last rule.
     pub n: usize,
 }
 
 /// ∫₀^{2π} f by the trapezoid rule, doubling n from 32 until two rules agree to `rtol`
-/// (relative) or n reaches 2²⁰.
+/// (relative) or to the round-off floor 16ε∫|f|, or n reaches 2²⁰.
 pub fn periodic_integral<F: Fn(f64) -> f64>(f: F, rtol: f64) -> Quadrature {
     let mut n = 32;
-    let mut prev = trapezoid_periodic(&f, n / 2);
+    let mut prev = trapezoid_periodic(&f, n / 2).0;
     loop {
-        let cur = trapezoid_periodic(&f, n);
+        let (cur, abs) = trapezoid_periodic(&f, n);
+        let floor = 16.0 * f64::EPSILON * abs;
         let err = (cur - prev).abs();
-        if err <= rtol * cur.abs() || n >= 1 << 20 || !cur.is_finite() {
+        if err <= rtol * cur.abs() + floor || n >= 1 << 20 || !cur.is_finite() {
             return Quadrature {
                 value: cur,
-                error: err,
+                error: err + floor,
                 n,
             };
         }
@@ -196,8 +202,9 @@ pub struct Closure {
     pub evals: u64,
 }
 
-/// Solve J(a) = 2π n2/n1 for a (Brent on the bracket (R + e, (R + e)(2 + n1/n2)], where
-/// J is decreasing from +∞ to below the target: at the upper end J ≤ 2π/(1 + n1/n2)).
+/// Solve J(a) = 2π n2/n1 for a (Brent on a bracket in (R + e, (R + e)(2 + n1/n2)]: J
+/// decreases from +∞ at a = R + e to below the target at the upper end, where
+/// J ≤ 2π/(1 + n1/n2)).
 pub fn closing_center_distance(
     c: &EccentricCircle,
     n1: u32,
@@ -209,13 +216,18 @@ pub fn closing_center_distance(
     let ratio = n1 as f64 / n2 as f64;
     let target = TAU / ratio;
     let rmax = c.r_pitch + c.e;
-    let lo = rmax * (1.0 + 1e-12);
     let hi = rmax * (2.0 + ratio);
     let count = std::cell::Cell::new(0u64);
     let f = |a: f64| {
         count.set(count.get() + 1);
         closure_integral(c, a, 1e-15).value - target
     };
+    // Lower end: approach ρ1max geometrically until J exceeds the target (J → ∞ there);
+    // close to ρ1max the integrand is nearly singular and costly, so start 1 % above it.
+    let mut lo = rmax * (1.0 + 1e-2);
+    while f(lo) <= 0.0 && lo - rmax > 1e-12 * rmax {
+        lo = rmax + 0.1 * (lo - rmax);
+    }
     let root =
         brent_root(f, lo, hi, 1e-15 * rmax).map_err(|e| GearError::Closure(e.to_string()))?;
     let a = root.x;
