@@ -637,7 +637,7 @@ pub fn singularities(
                     continue;
                 }
                 if ya * yb < 0.0 || (ya == 0.0 && k > 0) {
-                    let root = brent_root(&f, xs[k], xs[k + 1], tol)?;
+                    let root = brent_root(f, xs[k], xs[k + 1], tol)?;
                     let phi = pair.contact_on(root.x, i).phi;
                     // The root is bracketed to `tol`; the function value adds |f|/|f'|.
                     let slope = ((yb - ya) / (xs[k + 1] - xs[k]))
@@ -839,4 +839,43 @@ pub fn min_gear2_curvature(pair: &GearPair, n: usize) -> Result<(f64, f64, f64),
         pk.peak.x,
         pk.error + 8.0 * f64::EPSILON * pk.peak.fx.abs(),
     ))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rho1_stable_form_agrees_with_law_of_cosines() {
+        // |O1P|² from the triangle O1-C-P: ρ² − 2eρ cos α + e² = R² (law of cosines).
+        for e in [0.0, 1.0, 2.9, 3.0 - 1e-9] {
+            let c = EccentricCircle::new(3.0, e).unwrap();
+            for k in 0..360 {
+                let al = k as f64 * TAU / 360.0;
+                let r = c.rho1(al);
+                let res = (r - e * al.cos()).powi(2) + (e * al.sin()).powi(2) - 9.0;
+                assert!(res.abs() < 1e-14 * 9.0, "e {e} α {al}: {res}");
+            }
+        }
+        // At e → R and α = π: ρ1 = R − e exactly, not a cancelled difference.
+        let e = 1.0 - 1e-12;
+        let c = EccentricCircle::new(1.0, e).unwrap();
+        let exact = 1.0 - e; // exact by Sterbenz's lemma
+        assert!((c.rho1(PI_TEST) - exact).abs() < 1e-14 * exact);
+    }
+
+    const PI_TEST: f64 = std::f64::consts::PI;
+
+    #[test]
+    fn second_derivative_matches_finite_difference() {
+        let c = EccentricCircle::new(37.5, 15.0).unwrap();
+        for k in 0..50 {
+            let x = 0.1 + k as f64 * 0.12;
+            let h = 1e-4;
+            let fd = (c.rho1(x + h) - 2.0 * c.rho1(x) + c.rho1(x - h)) / (h * h);
+            assert!((fd - c.rho1_d2(x)).abs() < 1e-5, "{x}");
+            let fd1 = (c.rho1(x + h) - c.rho1(x - h)) / (2.0 * h);
+            assert!((fd1 - c.rho1_d1(x)).abs() < 1e-6);
+        }
+    }
 }

@@ -150,7 +150,7 @@ impl GearScene {
             Var::Free { min, max } => {
                 check_e(min, "min")?;
                 check_e(max, "max")?;
-                if !(min < max) {
+                if min >= max {
                     return Err(field(
                         "gear.eccentricity",
                         format!("min = {min} must be < max = {max}"),
@@ -605,7 +605,7 @@ pub fn solve(scene: &GearScene, settings: &Settings) -> Result<Outcome, SolveErr
                             count.set(count.get() + 1);
                             worst_margin(scene, x, settings)
                         };
-                        let root = brent_root(&f, rows[k].0, rows[j].0, tol)?;
+                        let root = brent_root(f, rows[k].0, rows[j].0, tol)?;
                         // Keep the feasible side of the boundary.
                         let mut x = root.x;
                         let step = if rows[j].0 > rows[k].0 { -tol } else { tol };
