@@ -924,8 +924,9 @@ pub fn report(
                 paper: a_st * 1e3,
                 computed: pair.a * 1e3,
                 note: format!(
-                    "closing centre distance for n1/n2 = {n1}/{n2} (±{:.1e} mm); the stated value gives n1/n2 = {ratio_st:.6}, gear 2 missing closure by {miss:.4}° per cycle — the paper's value is the closing one rounded to 0.1 mm",
-                    an.closure.a_error * 1e3
+                    "closing centre distance for n1/n2 = {n1}/{n2} (±{:.1e} mm); the stated value gives n1/n2 = {ratio_st:.6}, gear 2 missing closure by {miss:.4}° per cycle{}",
+                    an.closure.a_error * 1e3,
+                    if (a_st - pair.a).abs() <= 0.05e-3 { " — the stated value is the closing one rounded to 0.1 mm" } else { " — the stated value belongs to a different design" }
                 ),
             });
             if (a_st - pair.a).abs() > 1e-9 * pair.a {
