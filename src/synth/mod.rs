@@ -5,6 +5,7 @@
 
 pub mod counterweight;
 pub mod crane;
+pub mod gear;
 pub mod hypocycloid;
 pub mod slider_crank;
 
