@@ -62,6 +62,18 @@ pub struct Plot {
     pub svg: String,
 }
 
+/// A data table of a result, written as `<name>-<suffix>.csv` beside the JSON (a landscape
+/// grid, a zero curve, a Pareto front).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Table {
+    /// File name suffix: `<name>-<suffix>.csv`.
+    pub suffix: String,
+    /// Caption for reports.
+    pub caption: String,
+    /// The CSV text, header line first.
+    pub csv: String,
+}
+
 /// The result of one scene.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct SolveResult {
@@ -71,6 +83,9 @@ pub struct SolveResult {
     pub family: String,
     /// Status.
     pub status: Status,
+    /// The family's own, finer status where it has one (e.g. `branch-defect`), else absent.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub status_detail: Option<String>,
     /// Problem file.
     pub source: String,
     /// The model fidelity actually used (kinematics, masses, …).
@@ -99,6 +114,9 @@ pub struct SolveResult {
     /// Plots (not in the JSON; written beside it).
     #[serde(skip)]
     pub plots: Vec<Plot>,
+    /// CSV tables (not in the JSON; written beside it).
+    #[serde(skip)]
+    pub tables: Vec<Table>,
 }
 
 impl SolveResult {
@@ -108,6 +126,7 @@ impl SolveResult {
             name: scene.name.clone(),
             family: scene.family.as_str().into(),
             status: Status::Failed,
+            status_detail: None,
             source: scene.source.display().to_string(),
             model: BTreeMap::new(),
             design: BTreeMap::new(),
@@ -121,6 +140,7 @@ impl SolveResult {
             timing: Timing::default(),
             extra: serde_json::Map::new(),
             plots: Vec::new(),
+            tables: Vec::new(),
         }
     }
 
@@ -142,9 +162,10 @@ impl SolveResult {
         v.as_f64()
     }
 
-    /// Fills `paper` from the scene's references.
+    /// Appends to `paper` the scene file's `[[paper]]` references, looked up in this result
+    /// (a family may already have put its own checks there).
     pub fn compare_with_paper(&mut self, refs: &[crate::io::problem::PaperRef]) {
-        self.paper = refs
+        let from_file: Vec<PaperCheck> = refs
             .iter()
             .map(|r| {
                 let computed = self.lookup(&r.key);
@@ -162,6 +183,7 @@ impl SolveResult {
                 }
             })
             .collect();
+        self.paper.extend(from_file);
     }
 }
 
@@ -308,10 +330,14 @@ pub fn markdown(r: &SolveResult) -> String {
     for pl in &r.plots {
         p(format!("![{}]({}-{}.svg)\n", pl.caption, r.name, pl.suffix));
     }
+    for t in &r.tables {
+        p(format!("- [{}]({}-{}.csv)", t.caption, r.name, t.suffix));
+    }
     s
 }
 
-/// Writes `<dir>/<name>.json`, `<name>.md` and every `<name>-<suffix>.svg`, atomically.
+/// Writes `<dir>/<name>.json`, `<name>.md`, every `<name>-<suffix>.svg` and
+/// `<name>-<suffix>.csv`, atomically.
 pub fn write_outputs(r: &SolveResult, dir: &Path) -> std::io::Result<Vec<PathBuf>> {
     let mut written = Vec::new();
     let json = serde_json::to_string_pretty(&r.to_json()).expect("plain data") + "\n";
@@ -325,6 +351,11 @@ pub fn write_outputs(r: &SolveResult, dir: &Path) -> std::io::Result<Vec<PathBuf
     for pl in &r.plots {
         let path = dir.join(format!("{}-{}.svg", r.name, pl.suffix));
         write_atomic(&path, pl.svg.as_bytes())?;
+        written.push(path);
+    }
+    for t in &r.tables {
+        let path = dir.join(format!("{}-{}.csv", r.name, t.suffix));
+        write_atomic(&path, t.csv.as_bytes())?;
         written.push(path);
     }
     Ok(written)
