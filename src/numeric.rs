@@ -7,7 +7,7 @@
 //! Brent solver; maxima through a direct Brent search (see [`brent_max`]).
 
 use argmin::core::{CostFunction, Error as ArgminError, Executor, State};
-use argmin::solver::brent::BrentRoot;
+use argmin::solver::brent::{BrentOpt, BrentRoot};
 
 /// A closure as an argmin cost function.
 struct FnCost<F>(F);
@@ -198,6 +198,64 @@ pub fn brent_max<F: Fn(f64) -> f64>(
         }
     }
     Ok(best)
+}
+
+/// A minimum located by [`minimize_1d`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Minimum {
+    /// Abscissa.
+    pub x: f64,
+    /// Value.
+    pub fx: f64,
+    /// Function evaluations spent.
+    pub evals: u64,
+}
+
+/// Minimum of a unimodal `f` on `[a, b]` by argmin's [`BrentOpt`] to an absolute tolerance
+/// `xtol` in x: for outer design searches (the inner peak loops use [`brent_max`]).
+pub fn minimize_1d<F: Fn(f64) -> f64>(
+    f: F,
+    a: f64,
+    b: f64,
+    xtol: f64,
+) -> Result<Minimum, SearchError> {
+    if !(a < b) {
+        let fa = f(a);
+        return if fa.is_finite() {
+            Ok(Minimum {
+                x: a,
+                fx: fa,
+                evals: 1,
+            })
+        } else {
+            Err(SearchError::NotFinite { x: a })
+        };
+    }
+    let res = Executor::new(FnCost(&f), BrentOpt::new(a, b).set_tolerance(1e-14, xtol))
+        .configure(|s| s.max_iters(200))
+        .run()
+        .map_err(|e| SearchError::Solver(e.to_string()))?;
+    let st = res.state();
+    let x = *st
+        .get_best_param()
+        .ok_or(SearchError::Solver("no minimum returned".into()))?;
+    let fx = f(x);
+    if !fx.is_finite() {
+        return Err(SearchError::NotFinite { x });
+    }
+    let evals = st.get_func_counts().get("cost_count").copied().unwrap_or(0);
+    // The ends, in case the minimum is on the boundary.
+    let (fa, fb) = (f(a), f(b));
+    let best = [(x, fx), (a, fa), (b, fb)]
+        .into_iter()
+        .filter(|p| p.1.is_finite())
+        .min_by(|p, q| p.1.total_cmp(&q.1))
+        .unwrap();
+    Ok(Minimum {
+        x: best.0,
+        fx: best.1,
+        evals: evals + 3,
+    })
 }
 
 /// The refined maxima of a 2π-periodic function.

@@ -120,7 +120,7 @@ fn forces_scale_with_omega_squared() {
         solve(&paper_piston(2000.0)).unwrap(),
     );
     assert!((b.design.peak / a.design.peak - 4.0).abs() < 1e-9);
-    assert!((b.peak_drive_torque / a.peak_drive_torque - 4.0).abs() < 1e-12);
+    assert!((b.design.peak_torque / a.design.peak_torque - 4.0).abs() < 1e-12);
     for (k, base) in &a.baselines {
         assert!((b.baselines[k].peak / base.peak - 4.0).abs() < 1e-12, "{k}");
     }
@@ -200,7 +200,10 @@ fn drive_torque_is_the_derivative_of_kinetic_energy_and_ignores_the_counterweigh
     sc.counterweight.unbalance = Var::Fixed(0.0);
     sc.counterweight.angle = Var::Fixed(PI);
     let none = solve(&sc).unwrap();
-    assert_eq!(free.peak_drive_torque, none.peak_drive_torque);
+    assert!(
+        (free.design.peak_torque - none.design.peak_torque).abs()
+            <= 1e-12 * none.design.peak_torque
+    );
 }
 
 #[test]
@@ -323,5 +326,5 @@ fn crank_that_cannot_turn_is_an_error_not_a_nan() {
         ..m
     };
     let out = solve(&sc2).unwrap();
-    assert!(out.design.peak.is_finite() && out.peak_drive_torque.is_finite());
+    assert!(out.design.peak.is_finite() && out.design.peak_torque.is_finite());
 }

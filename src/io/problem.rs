@@ -353,7 +353,7 @@ pub struct Scene {
 #[serde(untagged)]
 pub enum SceneKind {
     /// A slider-crank scene.
-    SliderCrank(crate::synth::slider_crank::Scene),
+    SliderCrank(super::slider_crank::SliderCrankScene),
 }
 
 /// Reads and resolves a problem file.

@@ -8,15 +8,20 @@ use super::problem::{
     check_name, non_negative, positive, resolve_paper, Ctx, FieldError, ProblemError, RawFile,
     RawVar, Scene, SceneKind,
 };
-use super::result::{Plot, SolveResult, Status};
+use super::result::{Plot, SolveResult, Status, Table};
 use crate::geom::P2;
 use crate::mech::slider_crank::{Crank, Kinematics, Rod, SliderCrank};
+use crate::mech::slider_crank::{Loads, ProcessForce};
 use crate::synth::counterweight::Settings;
 use crate::synth::counterweight::Status as CwStatus;
+use crate::synth::shape::{self, ShapeGoal, ShapeOutcome, ShapeSpec};
 use crate::synth::slider_crank::shaking_force;
 use crate::synth::slider_crank::{self as sc, CounterweightSpec, Objective, Prefer};
 use crate::synth::Var;
-use crate::units::{Angle, AngularSpeed, Force, Inertia, Length, Mass, Qty, Unbalance};
+use crate::units::{
+    Acceleration, Angle, AngularSpeed, Density, Force, Inertia, Length, Mass, Qty, Torque,
+    Unbalance,
+};
 use serde::Deserialize;
 use serde_json::json;
 use std::collections::BTreeMap;
@@ -36,15 +41,65 @@ pub struct MechanismRaw {
     pub offset: Option<Qty<Length>>,
     /// n or ω.
     pub speed: Qty<AngularSpeed>,
-    /// m2.
-    pub crank_mass: Qty<Mass>,
+    /// m2 (or from `mass_items`).
+    #[serde(default)]
+    pub crank_mass: Option<Qty<Mass>>,
     /// r2 (default R/2).
     #[serde(default)]
     pub crank_centroid: Option<Qty<Length>>,
     /// m3.
     pub rod_mass: Qty<Mass>,
-    /// m4.
-    pub slider_mass: Qty<Mass>,
+    /// m4 (or from `mass_items`).
+    #[serde(default)]
+    pub slider_mass: Option<Qty<Mass>>,
+    /// Itemised masses reduced to the crank pin or the slider (replace crank_mass and
+    /// slider_mass).
+    #[serde(default)]
+    pub mass_items: Vec<MassItemRaw>,
+    /// Angle of the slider axis (from the crank axis towards the slider) above the horizontal.
+    #[serde(default)]
+    pub slider_axis_angle: Option<Qty<Angle>>,
+    /// Constant process force on the slider along the axis, away from the crank.
+    #[serde(default)]
+    pub process_force: Option<Qty<Force>>,
+    /// Process force as a periodic table against crank angle.
+    #[serde(default)]
+    pub process_force_table: Option<ForceTableRaw>,
+}
+
+/// Where an itemised mass is reduced to.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum MassAt {
+    /// Moves with the slider.
+    Slider,
+    /// Turns with the crank pin.
+    CrankPin,
+}
+
+/// `[[mechanism.mass_items]]`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MassItemRaw {
+    /// Label.
+    pub name: String,
+    /// Mass.
+    pub mass: Qty<Mass>,
+    /// Reduced to.
+    pub at: MassAt,
+    /// Fraction of the mass reduced there (default 1; ½ for a boom resting on a sub-frame).
+    #[serde(default)]
+    pub fraction: Option<f64>,
+}
+
+/// `[mechanism.process_force_table]`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ForceTableRaw {
+    /// Crank angles, increasing, within one turn.
+    pub angle: Vec<Qty<Angle>>,
+    /// Forces at those angles.
+    pub force: Vec<Qty<Force>>,
 }
 
 /// How the rod's mass is modelled.
@@ -77,6 +132,12 @@ pub struct ModelRaw {
     /// Rigid: rod moment of inertia about its centre of mass (default m3 L²/12).
     #[serde(default)]
     pub rod_inertia: Option<Qty<Inertia>>,
+    /// Model the weights (default false).
+    #[serde(default)]
+    pub gravity: bool,
+    /// g (default 9.80665 m/s²).
+    #[serde(default)]
+    pub gravity_acceleration: Option<Qty<Acceleration>>,
 }
 
 /// `[design]`: the counterweight.
@@ -98,6 +159,46 @@ pub struct DesignRaw {
     /// Split preference.
     #[serde(default)]
     pub prefer: Prefer,
+    /// The paper's classical counterweight (formula (6)) as printed.
+    #[serde(default)]
+    pub paper: Option<PaperDesignRaw>,
+    /// A plate shape to realise the counterweight.
+    #[serde(default)]
+    pub shape: Option<ShapeRaw>,
+}
+
+/// `[design.paper]`: the paper's printed inputs and result of the classical formula (6),
+/// m_pr = (m_r + ½ m_s)·R / r_pr.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PaperDesignRaw {
+    /// The paper's printed rotating mass m_r.
+    pub rotating_mass: Option<Qty<Mass>>,
+    /// The paper's printed reciprocating mass m_s.
+    pub reciprocating_mass: Option<Qty<Mass>>,
+    /// The paper's printed counterweight mass m_pr (at the lever radius `design.radius`,
+    /// opposite the crank pin).
+    pub counterweight_mass: Option<Qty<Mass>>,
+}
+
+/// `[design.shape]`: an annular-sector plate realising the counterweight's unbalance.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ShapeRaw {
+    /// Material density.
+    pub density: Qty<Density>,
+    /// Plate thickness.
+    pub thickness: Qty<Length>,
+    /// Smallest inner radius (clearance to the hub).
+    pub inner_radius_min: Qty<Length>,
+    /// Largest outer radius (envelope).
+    pub outer_radius_max: Qty<Length>,
+    /// Largest sector angle (default 180°).
+    #[serde(default)]
+    pub max_angle: Option<Qty<Angle>>,
+    /// `mass` (default) or `outer-radius`.
+    #[serde(default)]
+    pub minimize: Option<ShapeGoal>,
 }
 
 /// What `objective.minimize` can name.
@@ -112,6 +213,8 @@ pub enum Minimize {
     Mass,
     /// Counterweight radius under `max_peak_force`.
     Radius,
+    /// Peak drive torque.
+    PeakTorque,
 }
 
 /// `[objective]`.
@@ -123,6 +226,12 @@ pub struct ObjectiveRaw {
     /// Peak shaking-force limit.
     #[serde(default)]
     pub max_peak_force: Option<Qty<Force>>,
+    /// Peak drive-torque limit.
+    #[serde(default)]
+    pub max_peak_torque: Option<Qty<Torque>>,
+    /// Points of the torque–force Pareto front (0 or absent: none).
+    #[serde(default)]
+    pub pareto_points: usize,
 }
 
 /// `[accuracy]` for the counterweight solvers (see [`Settings`]).
@@ -164,6 +273,28 @@ impl AccuracyRaw {
     }
 }
 
+/// A resolved slider-crank scene: the synthesis scene plus what only the report needs.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct SliderCrankScene {
+    /// The synthesis scene.
+    pub core: sc::Scene,
+    /// The paper's printed classical design (formula (6)), if given.
+    pub paper: Option<PaperDesign>,
+    /// The plate that should realise the counterweight, if asked for.
+    pub shape: Option<ShapeSpec>,
+}
+
+/// The paper's printed inputs and output of formula (6) (SI).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct PaperDesign {
+    /// Printed m_r (kg).
+    pub rotating_mass: Option<f64>,
+    /// Printed m_s (kg).
+    pub reciprocating_mass: Option<f64>,
+    /// Printed m_pr (kg).
+    pub counterweight_mass: Option<f64>,
+}
+
 /// The whole slider-crank file.
 pub type File = RawFile<MechanismRaw, ModelRaw, DesignRaw, ObjectiveRaw, AccuracyRaw>;
 
@@ -182,20 +313,72 @@ pub fn resolve(ctx: &Ctx, text: &str) -> Result<Scene, ProblemError> {
 }
 
 /// The value checks of a slider-crank file.
-pub fn resolve_raw(raw: &File) -> Result<sc::Scene, FieldError> {
+pub fn resolve_raw(raw: &File) -> Result<SliderCrankScene, FieldError> {
     check_name(&raw.name)?;
     let m = &raw.mechanism;
     let r = positive("mechanism.crank_radius", m.crank_radius.si())?;
     let l = positive("mechanism.rod_length", m.rod_length.si())?;
     let e = m.offset.map_or(0.0, |q| q.si());
     let omega = positive("mechanism.speed", m.speed.si())?;
-    let m2 = non_negative("mechanism.crank_mass", m.crank_mass.si())?;
     let m3 = non_negative("mechanism.rod_mass", m.rod_mass.si())?;
-    let m4 = non_negative("mechanism.slider_mass", m.slider_mass.si())?;
-    let r2 = non_negative(
-        "mechanism.crank_centroid",
-        m.crank_centroid.map_or(0.5 * r, |q| q.si()),
-    )?;
+    let (m2, m4, r2) = if m.mass_items.is_empty() {
+        let need = |q: Option<Qty<Mass>>, f: &str| {
+            q.map(|q| q.si()).ok_or_else(|| {
+                FieldError::new(
+                    f,
+                    "missing: give it, or itemise the masses in [[mechanism.mass_items]]",
+                )
+            })
+        };
+        let m2 = non_negative(
+            "mechanism.crank_mass",
+            need(m.crank_mass, "mechanism.crank_mass")?,
+        )?;
+        let m4 = non_negative(
+            "mechanism.slider_mass",
+            need(m.slider_mass, "mechanism.slider_mass")?,
+        )?;
+        let r2 = non_negative(
+            "mechanism.crank_centroid",
+            m.crank_centroid.map_or(0.5 * r, |q| q.si()),
+        )?;
+        (m2, m4, r2)
+    } else {
+        for (q, f) in [
+            (m.crank_mass, "mechanism.crank_mass"),
+            (m.slider_mass, "mechanism.slider_mass"),
+        ] {
+            if q.is_some() {
+                return Err(FieldError::new(
+                    f,
+                    "given together with mechanism.mass_items; allowed: one or the other",
+                ));
+            }
+        }
+        if m.crank_centroid.is_some() {
+            return Err(FieldError::new(
+                "mechanism.crank_centroid",
+                "itemised crank-pin masses are at the crank pin (r2 = R); remove crank_centroid",
+            ));
+        }
+        let (mut pin, mut slider) = (0.0, 0.0);
+        for (i, it) in m.mass_items.iter().enumerate() {
+            let f = format!("mechanism.mass_items[{i}]");
+            let mass = non_negative(&format!("{f}.mass"), it.mass.si())?;
+            let frac = it.fraction.unwrap_or(1.0);
+            if !(0.0..=1.0).contains(&frac) {
+                return Err(FieldError::new(
+                    format!("{f}.fraction"),
+                    format!("got {frac}; allowed: 0 ≤ fraction ≤ 1"),
+                ));
+            }
+            match it.at {
+                MassAt::CrankPin => pin += frac * mass,
+                MassAt::Slider => slider += frac * mass,
+            }
+        }
+        (pin, slider, r)
+    };
     let ratio = (r + e.abs()) / l;
     if ratio >= 1.0 {
         return Err(FieldError::new(
@@ -263,6 +446,53 @@ pub fn resolve_raw(raw: &File) -> Result<sc::Scene, FieldError> {
             Rod::rigid(m3, l, c, i)
         }
     };
+    let g = md.gravity_acceleration.map_or(9.80665, |q| q.si());
+    if md.gravity_acceleration.is_some() && !md.gravity {
+        return Err(FieldError::new(
+            "model.gravity_acceleration",
+            "given but model.gravity is false; set gravity = true or remove it",
+        ));
+    }
+    non_negative("model.gravity_acceleration", g)?;
+    let axis = m.slider_axis_angle.map_or(0.0, |q| q.si());
+    let gravity = if md.gravity {
+        Loads::gravity_for_axis(g, axis)
+    } else {
+        crate::geom::P2::zeros()
+    };
+    let process = match (&m.process_force, &m.process_force_table) {
+        (Some(_), Some(_)) => {
+            return Err(FieldError::new(
+                "mechanism.process_force_table",
+                "given together with mechanism.process_force; allowed: one or the other",
+            ))
+        }
+        (Some(f), None) => ProcessForce::Constant(f.si()),
+        (None, Some(t)) => {
+            let angles: Vec<f64> = t.angle.iter().map(|q| q.si()).collect();
+            let forces: Vec<f64> = t.force.iter().map(|q| q.si()).collect();
+            if angles.len() != forces.len() || angles.is_empty() {
+                return Err(FieldError::new(
+                    "mechanism.process_force_table",
+                    format!(
+                        "{} angles and {} forces; allowed: equal, non-empty lists",
+                        angles.len(),
+                        forces.len()
+                    ),
+                ));
+            }
+            if angles.windows(2).any(|w| !(w[1] > w[0]))
+                || angles[angles.len() - 1] - angles[0] >= std::f64::consts::TAU
+            {
+                return Err(FieldError::new(
+                    "mechanism.process_force_table.angle",
+                    "allowed: strictly increasing angles spanning less than one turn",
+                ));
+            }
+            ProcessForce::Table { angles, forces }
+        }
+        (None, None) => ProcessForce::None,
+    };
     let mech = SliderCrank {
         r,
         l,
@@ -329,6 +559,7 @@ pub fn resolve_raw(raw: &File) -> Result<sc::Scene, FieldError> {
         Minimize::RmsForce => Objective::MinRmsForce,
         Minimize::Mass => Objective::MinMass,
         Minimize::Radius => Objective::MinRadius,
+        Minimize::PeakTorque => Objective::MinPeakTorque,
     };
     let max_peak_force = o
         .max_peak_force
@@ -348,8 +579,68 @@ pub fn resolve_raw(raw: &File) -> Result<sc::Scene, FieldError> {
             ));
         }
     }
+    let max_peak_torque = o
+        .max_peak_torque
+        .map(|q| positive("objective.max_peak_torque", q.si()))
+        .transpose()?;
+    if o.pareto_points == 1 || o.pareto_points > 200 {
+        return Err(FieldError::new(
+            "objective.pareto_points",
+            format!("got {}; allowed: 0 (none) or 2 to 200", o.pareto_points),
+        ));
+    }
     let settings = raw.accuracy.resolve()?;
-    Ok(sc::Scene {
+    let paper = match &d.paper {
+        None => None,
+        Some(p) => {
+            let pos = |q: Option<Qty<Mass>>, f: &str| q.map(|q| positive(f, q.si())).transpose();
+            let pd = PaperDesign {
+                rotating_mass: pos(p.rotating_mass, "design.paper.rotating_mass")?,
+                reciprocating_mass: pos(p.reciprocating_mass, "design.paper.reciprocating_mass")?,
+                counterweight_mass: pos(p.counterweight_mass, "design.paper.counterweight_mass")?,
+            };
+            if pd.counterweight_mass.is_some() && radius.and_then(|r| r.fixed()).is_none() {
+                return Err(FieldError::new(
+                    "design.paper.counterweight_mass",
+                    "the paper's counterweight needs its lever radius: give design.radius as a fixed value",
+                ));
+            }
+            Some(pd)
+        }
+    };
+    let shape = match &d.shape {
+        None => None,
+        Some(sh) => {
+            let spec = ShapeSpec {
+                density: positive("design.shape.density", sh.density.si())?,
+                thickness: positive("design.shape.thickness", sh.thickness.si())?,
+                inner_radius_min: non_negative(
+                    "design.shape.inner_radius_min",
+                    sh.inner_radius_min.si(),
+                )?,
+                outer_radius_max: positive(
+                    "design.shape.outer_radius_max",
+                    sh.outer_radius_max.si(),
+                )?,
+                max_angle: sh.max_angle.map_or(std::f64::consts::PI, |q| q.si()),
+                goal: sh.minimize.unwrap_or_default(),
+            };
+            if spec.outer_radius_max <= spec.inner_radius_min {
+                return Err(FieldError::new(
+                    "design.shape.outer_radius_max",
+                    "allowed: outer_radius_max > inner_radius_min",
+                ));
+            }
+            if !(spec.max_angle > 0.0 && spec.max_angle <= TAU) {
+                return Err(FieldError::new(
+                    "design.shape.max_angle",
+                    "allowed: 0 < max_angle ≤ 360°",
+                ));
+            }
+            Some(spec)
+        }
+    };
+    let core = sc::Scene {
         mech,
         omega,
         counterweight: CounterweightSpec {
@@ -361,14 +652,21 @@ pub fn resolve_raw(raw: &File) -> Result<sc::Scene, FieldError> {
         },
         objective,
         max_peak_force,
+        max_peak_torque,
+        loads: Loads { gravity, process },
+        pareto_points: o.pareto_points,
         settings,
-    })
+    };
+    Ok(SliderCrankScene { core, paper, shape })
 }
 
-/// The result of a slider-crank scene: solve, then shape keys, errors, baselines, plot.
-pub fn result(scene: &Scene, s: &sc::Scene) -> SolveResult {
+/// The result of a slider-crank scene: solve, then shape keys, errors, baselines, the
+/// Pareto front, the paper's classical design, the plate shape and the plots.
+pub fn result(scene: &Scene, sc_scene: &SliderCrankScene) -> SolveResult {
+    let s = &sc_scene.core;
     let mut r = SolveResult::new(scene);
     let m = &s.mech;
+    let g = s.loads.gravity;
     r.model = BTreeMap::from([
         (
             "kinematics".into(),
@@ -383,7 +681,22 @@ pub fn result(scene: &Scene, s: &sc::Scene) -> SolveResult {
         ),
         ("rod_inertia_kgm2".into(), json!(m.rod.inertia)),
         ("offset_m".into(), json!(m.e)),
-        ("gravity".into(), json!("not modelled")),
+        (
+            "gravity".into(),
+            if g.norm() > 0.0 {
+                json!({"acceleration_m_s2": g.norm(), "x_m_s2": g.x, "y_m_s2": g.y})
+            } else {
+                json!("not modelled")
+            },
+        ),
+        (
+            "process_force".into(),
+            json!(match &s.loads.process {
+                ProcessForce::None => "none".to_string(),
+                ProcessForce::Constant(f) => format!("constant {f} N"),
+                ProcessForce::Table { angles, .. } => format!("table of {} points", angles.len()),
+            }),
+        ),
     ]);
     let t0 = Instant::now();
     let out = match sc::solve(s) {
@@ -412,7 +725,7 @@ pub fn result(scene: &Scene, s: &sc::Scene) -> SolveResult {
     r.design.insert(
         "counterweight_angle_rad".into(),
         if u.norm() > 0.0 {
-            u.y.atan2(u.x).rem_euclid(std::f64::consts::TAU)
+            u.y.atan2(u.x).rem_euclid(TAU)
         } else {
             0.0
         },
@@ -425,23 +738,26 @@ pub fn result(scene: &Scene, s: &sc::Scene) -> SolveResult {
     if let Some(rad) = out.radius {
         r.design.insert("counterweight_radius_m".into(), rad);
     }
+    let torque_objective = s.objective == Objective::MinPeakTorque;
     r.objectives.insert("peak_shaking_force_n".into(), d.peak);
     r.objectives.insert("rms_shaking_force_n".into(), d.rms);
     r.objectives
-        .insert("peak_drive_torque_nm".into(), out.peak_drive_torque);
+        .insert("peak_drive_torque_nm".into(), d.peak_torque);
     r.objectives
         .insert("peak_shaking_moment_nm".into(), out.peak_shaking_moment);
+    let (gap_f, gap_t) = if torque_objective {
+        (0.0, out.gap)
+    } else {
+        (out.gap, 0.0)
+    };
     r.errors
-        .insert("peak_shaking_force_n".into(), out.gap + d.peak_error);
+        .insert("peak_shaking_force_n".into(), gap_f + d.peak_error);
     r.errors.insert("rms_shaking_force_n".into(), d.rms_error);
-    // Torque and moment are refined like the force; their scan error bound is of the same
-    // (round-off) order and reported as the force's relative refinement error.
-    let rel = d.peak_error / d.peak.max(1e-300);
     r.errors
-        .insert("peak_drive_torque_nm".into(), rel * out.peak_drive_torque);
+        .insert("peak_drive_torque_nm".into(), gap_t + d.peak_torque_error);
     r.errors.insert(
         "peak_shaking_moment_nm".into(),
-        rel * out.peak_shaking_moment,
+        out.peak_shaking_moment_error,
     );
     let (mt, mc) = (m.m_rot(), m.m_rec());
     r.derived = BTreeMap::from([
@@ -458,29 +774,225 @@ pub fn result(scene: &Scene, s: &sc::Scene) -> SolveResult {
             },
         ),
         ("peak_angle_rad".into(), d.peak_angle),
+        ("peak_torque_angle_rad".into(), d.peak_torque_angle),
         ("peak_to_peak_x_n".into(), d.ptp_x),
         ("peak_to_peak_y_n".into(), d.ptp_y),
-        ("optimality_gap_n".into(), out.gap),
+        ("optimality_gap".into(), out.gap),
+        ("gravity_ratio".into(), 9.80665 / (m.r * s.omega * s.omega)),
     ]);
+    if out.static_weight > 0.0 {
+        r.derived
+            .insert("static_weight_n".into(), out.static_weight);
+    }
     if let Some(ex) = out.exact_peak {
         r.derived
             .insert("peak_shaking_force_exact_kinematics_n".into(), ex);
         r.errors
             .insert("model_two_harmonic_n".into(), (ex - d.peak).abs());
     }
-    for (name, b) in &out.baselines {
+    let mut baselines = out.baselines.clone();
+    // The classical formula (6) at the lever radius is the 50 % rule: m = (m_r + ½m_s)R/r_pr.
+    if let Some(rad) = s.counterweight.radius.and_then(|v| v.fixed()) {
+        r.derived.insert(
+            "formula6_counterweight_mass_kg".into(),
+            (mt + 0.5 * mc) * m.r / rad,
+        );
+        if let Some(pd) = &sc_scene.paper {
+            paper_design_checks(&mut r, &mut baselines, s, pd, rad);
+        }
+    }
+    for (name, b) in &baselines {
         let mut map = b.to_map();
+        let base = if torque_objective {
+            b.peak_torque
+        } else {
+            b.peak
+        };
+        let ours = if torque_objective {
+            d.peak_torque
+        } else {
+            d.peak
+        };
         map.insert(
             "improvement_pct".into(),
-            100.0 * (b.peak - d.peak) / b.peak.max(1e-300),
+            100.0 * (base - ours) / base.max(1e-300),
         );
         r.baselines.insert(name.clone(), map);
+    }
+    if !out.pareto.is_empty() {
+        r.extra.insert(
+            "pareto".into(),
+            serde_json::to_value(&out.pareto).expect("plain data"),
+        );
+        let mut csv = String::from("force_limit_n,peak_shaking_force_n,peak_drive_torque_nm,gap_nm,unbalance_x_kgm,unbalance_y_kgm,status\n");
+        for p in &out.pareto {
+            csv += &format!(
+                "{},{},{},{},{},{},{}\n",
+                p.force_limit_n,
+                p.peak_shaking_force_n,
+                p.peak_drive_torque_nm,
+                p.gap_nm,
+                p.unbalance_x_kgm,
+                p.unbalance_y_kgm,
+                serde_json::to_value(p.status)
+                    .unwrap()
+                    .as_str()
+                    .unwrap_or("")
+            );
+        }
+        r.tables.push(Table {
+            suffix: "pareto".into(),
+            caption: "Torque–force Pareto front".into(),
+            csv,
+        });
+        match pareto_plot(scene, &out, &baselines) {
+            Ok(p) => r.plots.push(p),
+            Err(e) => r.warnings.push(format!("Pareto plot failed: {e}")),
+        }
+    }
+    if let Some(spec) = &sc_scene.shape {
+        match shape::design(spec, u.norm()) {
+            ShapeOutcome::Found { sector, method } => {
+                r.extra
+                    .insert("shape".into(), json!({"sector": sector, "method": method}));
+                r.derived.insert("shape_mass_kg".into(), sector.mass_kg);
+                r.derived
+                    .insert("shape_centroid_radius_m".into(), sector.centroid_radius_m);
+            }
+            ShapeOutcome::Infeasible { reason } => {
+                r.warnings.push(format!("counterweight plate: {reason}"));
+                r.extra.insert(
+                    "shape".into(),
+                    json!({"status": "infeasible", "reason": reason}),
+                );
+            }
+        }
     }
     match slider_crank_plot(scene, s, &out) {
         Ok(p) => r.plots.push(p),
         Err(e) => r.warnings.push(format!("plot failed: {e}")),
     }
     r
+}
+
+/// The paper's classical design against its own inputs: the printed masses against the
+/// itemised sums, the printed counterweight against formula (6) on the printed inputs, and
+/// the paper's counterweight evaluated as a baseline (`paper_counterweight`).
+fn paper_design_checks(
+    r: &mut SolveResult,
+    baselines: &mut BTreeMap<String, sc::Metrics>,
+    s: &sc::Scene,
+    pd: &PaperDesign,
+    rad: f64,
+) {
+    let m = &s.mech;
+    let (mt, mc) = (m.m_rot(), m.m_rec());
+    let pct = |a: f64, b: f64| 100.0 * (a - b) / b;
+    if let Some(pr) = pd.rotating_mass {
+        if (pr - mt).abs() > 1e-3 * mt {
+            r.warnings.push(format!(
+                "the paper prints a rotating mass of {pr} kg but its own items add up to {mt:.4} kg ({:+.2} %)",
+                pct(pr, mt)
+            ));
+        }
+    }
+    if let Some(ps) = pd.reciprocating_mass {
+        if (ps - mc).abs() > 1e-3 * mc {
+            r.warnings.push(format!(
+                "the paper prints a reciprocating mass of {ps} kg but its own items add up to {mc:.4} kg ({:+.2} %)",
+                pct(ps, mc)
+            ));
+        }
+    }
+    if let (Some(pr), Some(ps)) = (pd.rotating_mass, pd.reciprocating_mass) {
+        let f6 = (pr + 0.5 * ps) * m.r / rad;
+        r.derived
+            .insert("formula6_counterweight_mass_printed_inputs_kg".into(), f6);
+        if let Some(pm) = pd.counterweight_mass {
+            if (pm - f6).abs() > 1e-4 * f6 {
+                r.warnings.push(format!(
+                    "the paper prints a counterweight of {pm} kg but formula (6) on its own printed inputs gives {f6:.4} kg ({:+.3} %)",
+                    pct(pm, f6)
+                ));
+            }
+        }
+    }
+    if let Some(pm) = pd.counterweight_mass {
+        let u_paper = P2::new(-pm * rad, 0.0);
+        match sc::metrics(s, u_paper) {
+            Ok(met) => {
+                if let Some(none) = baselines.get("none") {
+                    r.derived.insert(
+                        "paper_counterweight_torque_reduction_pct".into(),
+                        100.0 * (none.peak_torque - met.peak_torque) / none.peak_torque,
+                    );
+                }
+                baselines.insert("paper_counterweight".into(), met);
+            }
+            Err(e) => r.warnings.push(format!(
+                "the paper's counterweight could not be evaluated: {e}"
+            )),
+        }
+    }
+}
+
+fn pareto_plot(
+    scene: &Scene,
+    out: &sc::Outcome,
+    baselines: &BTreeMap<String, sc::Metrics>,
+) -> Result<Plot, String> {
+    let front: Vec<(f64, f64)> = out
+        .pareto
+        .iter()
+        .map(|p| (p.peak_shaking_force_n, p.peak_drive_torque_nm))
+        .collect();
+    let mut series = vec![Series::line(
+        "Pareto front (least peak torque for a force limit)",
+        front.clone(),
+    )];
+    series.push(Series::points("front points", front.clone()));
+    if let (Some(first), Some(last)) = (out.pareto.first(), out.pareto.last()) {
+        series.push(Series::marker(
+            "force optimum",
+            vec![(first.peak_shaking_force_n, first.peak_drive_torque_nm)],
+        ));
+        series.push(Series::marker(
+            "torque optimum",
+            vec![(last.peak_shaking_force_n, last.peak_drive_torque_nm)],
+        ));
+    }
+    for (name, label) in [
+        ("paper_counterweight", "paper's counterweight"),
+        ("fifty_percent", "formula (6) / 50 % rule"),
+        ("none", "no counterweight"),
+    ] {
+        if let Some(b) = baselines.get(name) {
+            series.push(Series::marker(label, vec![(b.peak, b.peak_torque)]));
+        }
+    }
+    series.push(Series::marker(
+        "this design",
+        vec![(out.design.peak, out.design.peak_torque)],
+    ));
+    let svg = plot::panels(
+        &[Panel {
+            title: format!(
+                "{}: peak drive torque against peak shaking force",
+                scene.name
+            ),
+            x_label: "peak shaking force (N)".into(),
+            y_label: "peak drive torque (N·m)".into(),
+            series,
+            equal_aspect: false,
+        }],
+        760,
+        520,
+    )?;
+    Ok(Plot {
+        suffix: "pareto".into(),
+        caption: "Torque–force Pareto front".into(),
+        svg,
+    })
 }
 
 fn slider_crank_plot(scene: &Scene, s: &sc::Scene, out: &sc::Outcome) -> Result<Plot, String> {
@@ -498,10 +1010,12 @@ fn slider_crank_plot(scene: &Scene, s: &sc::Scene, out: &sc::Outcome) -> Result<
     .collect();
     let mut locus = Vec::new();
     let mut mag = Vec::new();
+    let mut torque = Vec::new();
     for (name, u) in &curves {
-        let pts: Vec<P2> = (0..n)
-            .map(|k| {
-                let phi = k as f64 * std::f64::consts::TAU / (n - 1) as f64;
+        let angles = (0..n).map(|k| k as f64 * TAU / (n - 1) as f64);
+        let pts: Vec<P2> = angles
+            .clone()
+            .map(|phi| {
                 shaking_force(&s.mech, s.omega, *u, phi).unwrap_or(P2::new(f64::NAN, f64::NAN))
             })
             .collect();
@@ -514,6 +1028,12 @@ fn slider_crank_plot(scene: &Scene, s: &sc::Scene, out: &sc::Outcome) -> Result<
             pts.iter()
                 .enumerate()
                 .map(|(k, p)| (k as f64, p.norm()))
+                .collect(),
+        ));
+        torque.push(Series::line(
+            name.clone(),
+            angles
+                .map(|phi| (phi.to_degrees(), sc::drive_torque(s, *u, phi)))
                 .collect(),
         ));
     }
@@ -529,29 +1049,38 @@ fn slider_crank_plot(scene: &Scene, s: &sc::Scene, out: &sc::Outcome) -> Result<
         "peak of optimum",
         vec![(out.design.peak_angle.to_degrees(), out.design.peak)],
     ));
-    let svg = plot::panels(
-        &[
-            Panel {
-                title: format!("{}: shaking force locus", scene.name),
-                x_label: "Fx (N)".into(),
-                y_label: "Fy (N)".into(),
-                series: locus,
-                equal_aspect: true,
-            },
-            Panel {
-                title: "|F| against crank angle".into(),
-                x_label: "crank angle φ (deg)".into(),
-                y_label: "|F| (N)".into(),
-                series: mag,
-                equal_aspect: false,
-            },
-        ],
-        560,
-        480,
-    )?;
+    let mut panels = vec![
+        Panel {
+            title: format!("{}: shaking force locus", scene.name),
+            x_label: "Fx (N)".into(),
+            y_label: "Fy (N)".into(),
+            series: locus,
+            equal_aspect: true,
+        },
+        Panel {
+            title: "|F| against crank angle".into(),
+            x_label: "crank angle φ (deg)".into(),
+            y_label: "|F| (N)".into(),
+            series: mag,
+            equal_aspect: false,
+        },
+    ];
+    if s.loads.gravity.norm() > 0.0
+        || s.objective == Objective::MinPeakTorque
+        || !matches!(s.loads.process, ProcessForce::None)
+    {
+        panels.push(Panel {
+            title: "drive torque against crank angle".into(),
+            x_label: "crank angle φ (deg)".into(),
+            y_label: "T (N·m)".into(),
+            series: torque,
+            equal_aspect: false,
+        });
+    }
+    let svg = plot::panels(&panels, 560, 480)?;
     Ok(Plot {
         suffix: "shaking-force".into(),
-        caption: "Shaking force with and without counterweight".into(),
+        caption: "Shaking force (and drive torque) with and without counterweight".into(),
         svg,
     })
 }

@@ -222,6 +222,103 @@ impl SliderCrank {
     }
 }
 
+/// A force on the slider along its axis (+x, away from the crank axis), as a function of
+/// the crank angle: the gas or process load.
+#[derive(Debug, Clone, PartialEq, serde::Serialize, Default)]
+#[serde(rename_all = "kebab-case")]
+pub enum ProcessForce {
+    /// No process force.
+    #[default]
+    None,
+    /// A constant force (N).
+    Constant(f64),
+    /// A periodic table: crank angles (rad, increasing, within one turn) and forces (N),
+    /// linearly interpolated, wrapping from the last angle to the first + 2π.
+    Table {
+        /// Crank angles (rad).
+        angles: Vec<f64>,
+        /// Forces (N).
+        forces: Vec<f64>,
+    },
+}
+
+impl ProcessForce {
+    /// The force at φ (N).
+    pub fn at(&self, phi: f64) -> f64 {
+        match self {
+            ProcessForce::None => 0.0,
+            ProcessForce::Constant(f) => *f,
+            ProcessForce::Table { angles, forces } => {
+                let n = angles.len();
+                if n == 0 {
+                    return 0.0;
+                }
+                if n == 1 {
+                    return forces[0];
+                }
+                let t = (phi - angles[0]).rem_euclid(std::f64::consts::TAU) + angles[0];
+                // The segment [angles[k], angles[k+1]] holding t, or the wrap segment.
+                let k = angles.partition_point(|&a| a <= t).saturating_sub(1);
+                let (a0, f0) = (angles[k], forces[k]);
+                let (a1, f1) = if k + 1 < n {
+                    (angles[k + 1], forces[k + 1])
+                } else {
+                    (angles[0] + std::f64::consts::TAU, forces[0])
+                };
+                if a1 > a0 {
+                    f0 + (f1 - f0) * (t - a0) / (a1 - a0)
+                } else {
+                    f0
+                }
+            }
+        }
+    }
+}
+
+/// External loads on the mechanism: gravity and a process force on the slider.
+#[derive(Debug, Clone, PartialEq, serde::Serialize, Default)]
+pub struct Loads {
+    /// Gravitational acceleration in the mechanism frame (x along the slider axis, from the
+    /// crank axis towards the slider), m/s²; zero when gravity is not modelled.
+    pub gravity: P2,
+    /// Force on the slider along +x.
+    pub process: ProcessForce,
+}
+
+impl Loads {
+    /// Gravity of magnitude `g` for a slider axis at `axis_angle` above the horizontal
+    /// (90°: slider above the crank, −90°: below, 0: horizontal), in the mechanism frame:
+    /// g_m = (−g sin α, −g cos α).
+    pub fn gravity_for_axis(g: f64, axis_angle: f64) -> P2 {
+        P2::new(-g * axis_angle.sin(), -g * axis_angle.cos())
+    }
+}
+
+impl SliderCrank {
+    /// Torque (N·m) of the weights and the process force at constant speed, the part of
+    /// T = d(E_kin + E_pot)/dφ − F_p x' that is not inertial: −Σ mᵢ g·rᵢ' − F_p(φ) x'
+    /// (without counterweight; see [`counterweight_weight_torque`]).
+    pub fn load_torque0(&self, st: &State, loads: &Loads) -> f64 {
+        let g = loads.gravity;
+        let g2 = st.a[1] * (self.crank.centroid / self.r);
+        let weights = self.crank.mass * g.dot(&g2)
+            + self.rod.mass * g.dot(&st.g3[1])
+            + self.slider_mass * g.x * st.x[1];
+        -weights - loads.process.at(st.phi) * st.x[1]
+    }
+
+    /// Weight of all links (N, magnitude |g|·Σm), the static load on the frame.
+    pub fn link_weight(&self, loads: &Loads) -> f64 {
+        loads.gravity.norm() * (self.crank.mass + self.rod.mass + self.slider_mass)
+    }
+}
+
+/// Torque (N·m) of a counterweight's weight: its potential energy is −g·Rot(φ)U, so
+/// T_cw = −g·Rot'(φ)U = −g·Rot(φ + π/2)U. Its inertia adds nothing at constant speed.
+pub fn counterweight_weight_torque(phi: f64, gravity: P2, u: P2) -> f64 {
+    -gravity.dot(&rot(phi + std::f64::consts::FRAC_PI_2, u))
+}
+
 /// Rotation of the crank-fixed vector `u` to crank angle φ: Rot(φ)·u.
 pub fn rot(phi: f64, u: P2) -> P2 {
     let (s, c) = phi.sin_cos();

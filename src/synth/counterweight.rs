@@ -505,7 +505,11 @@ pub fn solve(pb: &Problem, s: &Settings) -> Solution {
         let next_tol = (0.01 * rel_gap).clamp(s.rel_tol, 1e-6);
         // A round solved at a looser tolerance than the target cannot certify the target:
         // unless it already meets it, the next round tightens.
-        round_tol = if round_tol > s.rel_tol { next_tol.min(round_tol * 0.01).max(s.rel_tol) } else { s.rel_tol };
+        round_tol = if round_tol > s.rel_tol {
+            next_tol.min(round_tol * 0.01).max(s.rel_tol)
+        } else {
+            s.rel_tol
+        };
         let almost = res.status == SolverStatus::AlmostSolved;
         last = Solution {
             status: if converged && !almost {

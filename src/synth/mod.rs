@@ -7,6 +7,7 @@ pub mod counterweight;
 pub mod crane;
 pub mod gear;
 pub mod hypocycloid;
+pub mod shape;
 pub mod slider_crank;
 
 /// A design variable: a fixed value, or free within `[min, max]` (SI units).

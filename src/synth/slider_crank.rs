@@ -11,7 +11,9 @@
 use super::counterweight::{self as cw, Affine, Direction, Field, Goal, Problem, Status};
 use super::Var;
 use crate::geom::P2;
-use crate::mech::slider_crank::{rot, Kinematics, SliderCrank, State};
+use crate::mech::slider_crank::{
+    counterweight_weight_torque, rot, Kinematics, Loads, SliderCrank, State,
+};
 use crate::numeric::{brent_max, brent_root, periodic_peak, periodic_rms};
 use std::collections::BTreeMap;
 
@@ -27,6 +29,9 @@ pub enum Objective {
     MinMass,
     /// The smallest-radius counterweight whose peak force stays under `max_peak_force`.
     MinRadius,
+    /// The peak over φ of the drive torque |T| (with gravity, the counterweight's weight
+    /// makes T affine in U: an LP, solved as 2-D cones by clarabel).
+    MinPeakTorque,
 }
 
 /// How a free |U| is split into mass and radius when both are free.
@@ -68,6 +73,12 @@ pub struct Scene {
     pub objective: Objective,
     /// Peak shaking-force limit (N), a constraint (required by `MinMass`/`MinRadius`).
     pub max_peak_force: Option<f64>,
+    /// Peak drive-torque limit (N·m), a constraint.
+    pub max_peak_torque: Option<f64>,
+    /// Gravity and process force.
+    pub loads: Loads,
+    /// Points of the torque–force Pareto front to compute (0: none).
+    pub pareto_points: usize,
     /// Accuracy.
     pub settings: cw::Settings,
 }
@@ -95,6 +106,12 @@ pub struct Metrics {
     pub peak_x: f64,
     /// max |Fy| (N).
     pub peak_y: f64,
+    /// max |T| of the drive torque (N·m), refined.
+    pub peak_torque: f64,
+    /// Crank angle of the torque peak (rad).
+    pub peak_torque_angle: f64,
+    /// Bound on the torque peak's evaluation error (N·m).
+    pub peak_torque_error: f64,
 }
 
 impl Metrics {
@@ -117,6 +134,7 @@ impl Metrics {
             ("peak_to_peak_y_n".into(), self.ptp_y),
             ("peak_x_n".into(), self.peak_x),
             ("peak_y_n".into(), self.peak_y),
+            ("peak_drive_torque_nm".into(), self.peak_torque),
         ])
     }
 }
@@ -132,18 +150,17 @@ pub struct Outcome {
     pub mass: Option<f64>,
     /// See `mass`.
     pub radius: Option<f64>,
-    /// Optimality gap of the objective in SI (N): true value of the design minus the sampled
-    /// lower bound; 0 for RMS (exact QP) and for analyses.
+    /// Optimality gap of the objective in its SI unit (N, or N·m for the torque): true
+    /// value of the design minus the sampled lower bound; 0 for RMS (exact QP) and analyses.
     pub gap: f64,
-    /// Peak drive torque |T| (N·m) at constant speed: independent of the counterweight
-    /// without gravity.
-    pub peak_drive_torque: f64,
     /// Peak shaking moment about the crank axis (N·m).
     pub peak_shaking_moment: f64,
-    /// Error bound of `peak_drive_torque` (N·m).
-    pub peak_drive_torque_error: f64,
     /// Error bound of `peak_shaking_moment` (N·m).
     pub peak_shaking_moment_error: f64,
+    /// The torque–force Pareto front (empty unless asked for).
+    pub pareto: Vec<ParetoPoint>,
+    /// Static weight of the links and the counterweight (N), 0 without gravity.
+    pub static_weight: f64,
     /// Baselines by name.
     pub baselines: BTreeMap<String, Metrics>,
     /// For two-harmonic kinematics: the design's peak force with exact kinematics (N).
@@ -152,6 +169,26 @@ pub struct Outcome {
     pub method: String,
     /// Warnings.
     pub warnings: Vec<String>,
+}
+
+/// One point of the torque–force Pareto front: the least peak torque with the peak
+/// shaking force limited to `force_limit`.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct ParetoPoint {
+    /// ε, the force limit (N).
+    pub force_limit_n: f64,
+    /// Peak shaking force of the point's design (N).
+    pub peak_shaking_force_n: f64,
+    /// Peak drive torque of the point's design (N·m).
+    pub peak_drive_torque_nm: f64,
+    /// Its optimality gap in torque (N·m).
+    pub gap_nm: f64,
+    /// Unbalance in the crank frame (kg·m).
+    pub unbalance_x_kgm: f64,
+    /// See `unbalance_x_kgm`.
+    pub unbalance_y_kgm: f64,
+    /// Solver status.
+    pub status: Status,
 }
 
 /// Why a scene cannot be solved.
@@ -168,23 +205,45 @@ pub enum SolveError {
     Numeric(String),
 }
 
-/// The normalised shaking-force field f̂(φ; û) = f₀(φ)/U_ref + Rot(φ)·û, U_ref = (m_tq + m_ct)R.
+/// The normalised fields of a scene. Force: f̂(φ; û) = f₀(φ)/U_ref + Rot(φ)·û with
+/// U_ref = (m_tq + m_ct)R; torque: T̂ = T(φ; U)/(ω² U_ref R), affine in û through the
+/// counterweight's weight.
 struct Normalised<'a> {
-    mech: &'a SliderCrank,
+    scene: &'a Scene,
     u_ref: f64,
+    t_ref: f64,
 }
 
-impl Normalised<'_> {
+impl<'a> Normalised<'a> {
+    fn new(scene: &'a Scene) -> Self {
+        let m = &scene.mech;
+        let u_ref = (m.m_rot() + m.m_rec()) * m.r;
+        Normalised {
+            scene,
+            u_ref,
+            t_ref: scene.omega * scene.omega * u_ref * m.r,
+        }
+    }
     fn state(&self, phi: f64) -> State {
         // Assembly was checked for the whole revolution before any field is evaluated.
-        self.mech.state(phi).expect("assembly checked")
+        self.scene.mech.state(phi).expect("assembly checked")
     }
     fn force(&self, phi: f64) -> Affine {
-        let f0 = self.mech.shaking_force0(&self.state(phi)) / self.u_ref;
+        let f0 = self.scene.mech.shaking_force0(&self.state(phi)) / self.u_ref;
         let (s, c) = phi.sin_cos();
         Affine {
             a: [[c, -s], [s, c]],
             b: [f0.x, f0.y],
+        }
+    }
+    fn torque(&self, phi: f64) -> Affine {
+        let g = self.scene.loads.gravity;
+        let k = self.u_ref / self.t_ref;
+        let ax = counterweight_weight_torque(phi, g, P2::new(1.0, 0.0)) * k;
+        let ay = counterweight_weight_torque(phi, g, P2::new(0.0, 1.0)) * k;
+        Affine {
+            a: [[ax, ay], [0.0, 0.0]],
+            b: [drive_torque(self.scene, P2::zeros(), phi) / self.t_ref, 0.0],
         }
     }
 }
@@ -195,13 +254,19 @@ pub fn shaking_force(mech: &SliderCrank, omega: f64, u: P2, phi: f64) -> Option<
         .map(|st| (mech.shaking_force0(&st) + rot(phi, u)) * (omega * omega))
 }
 
+/// Drive torque (N·m) at φ for the unbalance `u` at constant speed:
+/// T = ω²·(dE_kin/dφ)/ω² − Σ mᵢ g·rᵢ' − F_p x' − g·Rot'(φ)U.
+pub fn drive_torque(scene: &Scene, u: P2, phi: f64) -> f64 {
+    let m = &scene.mech;
+    let st = m.state(phi).expect("assembly checked");
+    scene.omega * scene.omega * m.drive_torque0(&st)
+        + m.load_torque0(&st, &scene.loads)
+        + counterweight_weight_torque(phi, scene.loads.gravity, u)
+}
+
 /// Refined figures of the counterweight `u` (kg·m).
-pub fn metrics(
-    mech: &SliderCrank,
-    omega: f64,
-    u: P2,
-    s: &cw::Settings,
-) -> Result<Metrics, SolveError> {
+pub fn metrics(scene: &Scene, u: P2) -> Result<Metrics, SolveError> {
+    let (mech, omega, s) = (&scene.mech, scene.omega, &scene.settings);
     let f = |phi: f64| shaking_force(mech, omega, u, phi).expect("assembly checked");
     let num = |e: crate::numeric::SearchError| SolveError::Numeric(e.to_string());
     let pk = periodic_peak(|p| f(p).norm(), s.scan_samples, s.peak_xtol).map_err(num)?;
@@ -210,6 +275,12 @@ pub fn metrics(
     let xmin = periodic_peak(|p| -f(p).x, s.scan_samples, s.peak_xtol).map_err(num)?;
     let ymax = periodic_peak(|p| f(p).y, s.scan_samples, s.peak_xtol).map_err(num)?;
     let ymin = periodic_peak(|p| -f(p).y, s.scan_samples, s.peak_xtol).map_err(num)?;
+    let tq = periodic_peak(
+        |p| drive_torque(scene, u, p).abs(),
+        s.scan_samples,
+        s.peak_xtol,
+    )
+    .map_err(num)?;
     Ok(Metrics {
         unbalance: [u.x, u.y],
         peak: pk.peak.fx,
@@ -221,6 +292,9 @@ pub fn metrics(
         ptp_y: ymax.peak.fx + ymin.peak.fx,
         peak_x: xmax.peak.fx.max(xmin.peak.fx),
         peak_y: ymax.peak.fx.max(ymin.peak.fx),
+        peak_torque: tq.peak.fx,
+        peak_torque_angle: tq.peak.x,
+        peak_torque_error: tq.error,
     })
 }
 
@@ -232,11 +306,8 @@ pub fn metrics(
 /// * `fifty_percent`: U = −(m_tq + ½ m_ct) R e_x;
 /// * `equal_ranges`: U = −κ e_x with κ ∈ [m_tq R, (m_tq + m_ct) R] such that the
 ///   peak-to-peak ranges of F_x and F_y are equal (Brent on κ).
-pub fn baselines(
-    mech: &SliderCrank,
-    omega: f64,
-    s: &cw::Settings,
-) -> Result<BTreeMap<String, Metrics>, SolveError> {
+pub fn baselines(scene: &Scene) -> Result<BTreeMap<String, Metrics>, SolveError> {
+    let mech = &scene.mech;
     let (mt, mc, r) = (mech.m_rot(), mech.m_rec(), mech.r);
     let mut out = BTreeMap::new();
     for (name, k) in [
@@ -244,10 +315,10 @@ pub fn baselines(
         ("y_force_zeroed", mt * r),
         ("fifty_percent", (mt + 0.5 * mc) * r),
     ] {
-        out.insert(name.to_string(), metrics(mech, omega, P2::new(-k, 0.0), s)?);
+        out.insert(name.to_string(), metrics(scene, P2::new(-k, 0.0))?);
     }
     let diff = |k: f64| {
-        metrics(mech, omega, P2::new(-k, 0.0), s)
+        metrics(scene, P2::new(-k, 0.0))
             .map(|m| m.ptp_x - m.ptp_y)
             .unwrap_or(f64::NAN)
     };
@@ -255,7 +326,7 @@ pub fn baselines(
     if let Ok(root) = brent_root(diff, lo, hi, 1e-12 * hi.max(1e-300)) {
         out.insert(
             "equal_ranges".to_string(),
-            metrics(mech, omega, P2::new(-root.x, 0.0), s)?,
+            metrics(scene, P2::new(-root.x, 0.0))?,
         );
     }
     Ok(out)
@@ -309,19 +380,40 @@ pub struct Optimum {
 /// Finds the counterweight: the convex solve and its exchange refinement (the part the
 /// benchmark times), without the report figures and baselines.
 pub fn optimise(scene: &Scene) -> Result<Optimum, SolveError> {
+    optimise_with(
+        scene,
+        scene.objective,
+        scene.max_peak_force,
+        scene.max_peak_torque,
+    )
+}
+
+fn check(scene: &Scene) -> Result<(), SolveError> {
     let mech = &scene.mech;
     if mech.assembly_ratio() >= 1.0 {
         return Err(SolveError::CannotAssemble(mech.assembly_ratio()));
     }
-    let u_ref = (mech.m_rot() + mech.m_rec()) * mech.r;
-    if !(u_ref > 0.0) {
+    if !((mech.m_rot() + mech.m_rec()) * mech.r > 0.0) {
         return Err(SolveError::NoMass);
     }
+    Ok(())
+}
+
+/// [`optimise`] with the objective and limits given explicitly (the Pareto front solves the
+/// scene again with other ones).
+fn optimise_with(
+    scene: &Scene,
+    objective: Objective,
+    max_force: Option<f64>,
+    max_torque: Option<f64>,
+) -> Result<Optimum, SolveError> {
+    check(scene)?;
     let s = &scene.settings;
-    let w2 = scene.omega * scene.omega;
-    let f_ref = w2 * u_ref; // N per normalised unit
-    let nf = Normalised { mech, u_ref };
+    let nf = Normalised::new(scene);
+    let u_ref = nf.u_ref;
+    let f_ref = scene.omega * scene.omega * u_ref; // N per normalised unit
     let force = |phi: f64| nf.force(phi);
+    let torque = |phi: f64| nf.torque(phi);
     let (u_lo, u_hi) = unbalance_bounds(&scene.counterweight);
     let mut warnings = Vec::new();
 
@@ -330,20 +422,18 @@ pub fn optimise(scene: &Scene) -> Result<Optimum, SolveError> {
     let full_circle = beta_hi - beta_lo >= std::f64::consts::TAU - 1e-9;
     let fixed_len = u_hi.is_finite() && (u_hi - u_lo) <= 1e-15 * u_hi.max(1e-300);
 
-    let limit = scene.max_peak_force.map(|f| f / f_ref);
-    let (goal, limits) = match scene.objective {
-        Objective::MinPeakForce => (
-            Goal::MinPeak(0),
-            limit.map(|l| vec![(0, l)]).unwrap_or_default(),
-        ),
-        Objective::MinRmsForce => (
-            Goal::MinMeanSquare(0),
-            limit.map(|l| vec![(0, l)]).unwrap_or_default(),
-        ),
-        Objective::MinMass | Objective::MinRadius => (
-            Goal::MinNorm,
-            limit.map(|l| vec![(0, l)]).unwrap_or_default(),
-        ),
+    let mut limits = Vec::new();
+    if let Some(f) = max_force {
+        limits.push((0, f / f_ref));
+    }
+    if let Some(t) = max_torque {
+        limits.push((1, t / nf.t_ref));
+    }
+    let (goal, obj_ref) = match objective {
+        Objective::MinPeakForce => (Goal::MinPeak(0), f_ref),
+        Objective::MinRmsForce => (Goal::MinMeanSquare(0), f_ref),
+        Objective::MinMass | Objective::MinRadius => (Goal::MinNorm, f_ref),
+        Objective::MinPeakTorque => (Goal::MinPeak(1), nf.t_ref),
     };
 
     let mut method;
@@ -356,7 +446,7 @@ pub fn optimise(scene: &Scene) -> Result<Optimum, SolveError> {
         method = "analysis of the given counterweight (no free design variable)".to_string();
     } else if fixed_len && full_circle {
         // |U| fixed, direction free: a circle, not convex — 1-D search over β.
-        let r = search_on_circle(&nf, scene, u_lo / u_ref)?;
+        let r = search_on_circle(&nf, objective, u_lo / u_ref)?;
         status = r.0;
         u = r.1 * u_ref;
         gap = 0.0;
@@ -375,12 +465,20 @@ pub fn optimise(scene: &Scene) -> Result<Optimum, SolveError> {
                 hi: beta_hi,
             }
         };
+        let mut fields = vec![Field {
+            name: "shaking force",
+            dim: 2,
+            eval: &force,
+        }];
+        if matches!(goal, Goal::MinPeak(1)) || max_torque.is_some() {
+            fields.push(Field {
+                name: "drive torque",
+                dim: 1,
+                eval: &torque,
+            });
+        }
         let pb = Problem {
-            fields: vec![Field {
-                name: "shaking force",
-                dim: 2,
-                eval: &force,
-            }],
+            fields,
             goal,
             limits,
             u_max: u_hi / u_ref,
@@ -390,7 +488,8 @@ pub fn optimise(scene: &Scene) -> Result<Optimum, SolveError> {
         method = format!(
             "clarabel {} + exchange loop: {} rounds, {} angles, {} interior-point iterations, last status {}",
             match goal {
-                Goal::MinPeak(_) => "SOCP (minimax)",
+                Goal::MinPeak(0) => "SOCP (minimax force)",
+                Goal::MinPeak(_) => "SOCP/LP (minimax torque)",
                 Goal::MinMeanSquare(_) => "QP (mean square)",
                 Goal::MinNorm => "SOCP (least |U|)",
             },
@@ -404,14 +503,14 @@ pub fn optimise(scene: &Scene) -> Result<Optimum, SolveError> {
         }
         let mut st = sol.status;
         let mut uu = sol.u * u_ref;
-        let mut g = sol.gap * f_ref;
+        let mut g = sol.gap * obj_ref;
         if st != Status::Infeasible
             && st != Status::Failed
             && matches!(direction, Direction::Free | Direction::Sector { .. })
             && uu.norm() < u_lo * (1.0 - 1e-9)
         {
             // The lower bound on |U| is active and not convex: search its circle.
-            let r = search_on_circle(&nf, scene, u_lo / u_ref)?;
+            let r = search_on_circle(&nf, objective, u_lo / u_ref)?;
             st = r.0;
             uu = r.1 * u_ref;
             g = 0.0;
@@ -423,8 +522,8 @@ pub fn optimise(scene: &Scene) -> Result<Optimum, SolveError> {
     }
     if status == Status::Infeasible {
         warnings.push(format!(
-            "infeasible: no counterweight within the bounds keeps the peak shaking force under {:.6} N",
-            scene.max_peak_force.unwrap_or(f64::NAN)
+            "infeasible: no counterweight within the bounds meets the limits (peak force ≤ {:?} N, peak torque ≤ {:?} N·m)",
+            max_force, max_torque
         ));
     }
     Ok(Optimum {
@@ -434,6 +533,38 @@ pub fn optimise(scene: &Scene) -> Result<Optimum, SolveError> {
         method,
         warnings,
     })
+}
+
+/// The torque–force Pareto front by the ε-constraint method: the force optimum F* and the
+/// torque optimum (whose peak force is F_T) bound the front; for `n` limits ε spaced evenly
+/// in [F*, F_T], minimise the peak torque subject to peak force ≤ ε.
+pub fn pareto(scene: &Scene, n: usize) -> Result<Vec<ParetoPoint>, SolveError> {
+    let f_opt = optimise_with(scene, Objective::MinPeakForce, None, scene.max_peak_torque)?;
+    let t_opt = optimise_with(scene, Objective::MinPeakTorque, scene.max_peak_force, None)?;
+    let fmin = metrics(scene, f_opt.u)?.peak;
+    let fmax = metrics(scene, t_opt.u)?.peak;
+    let n = n.max(2);
+    let mut out = Vec::with_capacity(n);
+    for k in 0..n {
+        // Slightly above F* so that the first point is feasible despite the gap.
+        let eps = if k == 0 {
+            fmin * (1.0 + 10.0 * scene.settings.rel_tol)
+        } else {
+            fmin + (fmax - fmin) * k as f64 / (n - 1) as f64
+        };
+        let o = optimise_with(scene, Objective::MinPeakTorque, Some(eps), None)?;
+        let m = metrics(scene, o.u)?;
+        out.push(ParetoPoint {
+            force_limit_n: eps,
+            peak_shaking_force_n: m.peak,
+            peak_drive_torque_nm: m.peak_torque,
+            gap_nm: o.gap,
+            unbalance_x_kgm: o.u.x,
+            unbalance_y_kgm: o.u.y,
+            status: o.status,
+        });
+    }
+    Ok(out)
 }
 
 /// Solves the scene: [`optimise`], then the design's figures and the baselines.
@@ -448,11 +579,10 @@ pub fn solve(scene: &Scene) -> Result<Outcome, SolveError> {
     let mech = &scene.mech;
     let s = &scene.settings;
     let w2 = scene.omega * scene.omega;
-    let u_ref = (mech.m_rot() + mech.m_rec()) * mech.r;
-    let nf = Normalised { mech, u_ref };
+    let nf = Normalised::new(scene);
     let cwspec = &scene.counterweight;
 
-    let design = metrics(mech, scene.omega, u, s)?;
+    let design = metrics(scene, u)?;
     let prefer = match scene.objective {
         Objective::MinMass => Prefer::Lightest,
         Objective::MinRadius => Prefer::SmallestRadius,
@@ -462,12 +592,6 @@ pub fn solve(scene: &Scene) -> Result<Outcome, SolveError> {
         P2::new(design.unbalance[0], design.unbalance[1]).norm(),
         &CounterweightSpec { prefer, ..*cwspec },
     );
-    let tq = periodic_peak(
-        |p| mech.drive_torque0(&nf.state(p)).abs() * w2,
-        s.scan_samples,
-        s.peak_xtol,
-    )
-    .map_err(|e| SolveError::Numeric(e.to_string()))?;
     let mm = periodic_peak(
         |p| mech.shaking_moment0(&nf.state(p)).abs() * w2,
         s.scan_samples,
@@ -475,11 +599,14 @@ pub fn solve(scene: &Scene) -> Result<Outcome, SolveError> {
     )
     .map_err(|e| SolveError::Numeric(e.to_string()))?;
     let exact_peak = if mech.kinematics == Kinematics::TwoHarmonic {
-        let exact = SliderCrank {
-            kinematics: Kinematics::Exact,
-            ..*mech
+        let exact = Scene {
+            mech: SliderCrank {
+                kinematics: Kinematics::Exact,
+                ..*mech
+            },
+            ..scene.clone()
         };
-        let m = metrics(&exact, scene.omega, u, s)?;
+        let m = metrics(&exact, u)?;
         warnings.push(format!(
             "two-harmonic kinematics: the design's peak force with exact kinematics is {:.6} N ({:+.3e} N, {:+.3} %)",
             m.peak,
@@ -490,17 +617,38 @@ pub fn solve(scene: &Scene) -> Result<Outcome, SolveError> {
     } else {
         None
     };
+    // Model only what the scene needs: say when gravity is left out but matters, or is in
+    // but does not.
+    let g_ratio = 9.81 / (mech.r * w2);
+    let g = scene.loads.gravity.norm();
+    if g == 0.0 && g_ratio > 0.01 {
+        warnings.push(format!(
+            "gravity is not modelled but g/(Rω²) = {g_ratio:.3}: weights change the drive torque by up to about {:.0} % of its inertial part; set model.gravity for a vertical machine",
+            100.0 * g_ratio
+        ));
+    } else if g > 0.0 && g / (mech.r * w2) < 1e-3 {
+        warnings.push(format!(
+            "gravity is modelled but g/(Rω²) = {:.2e}: its effect on the torque is below 0.1 %; it could be left out",
+            g / (mech.r * w2)
+        ));
+    }
+    let pareto = if scene.pareto_points > 0 {
+        pareto(scene, scene.pareto_points)?
+    } else {
+        Vec::new()
+    };
+    let static_weight = mech.link_weight(&scene.loads) + g * mass.unwrap_or(0.0);
     Ok(Outcome {
         status,
         design,
         mass,
         radius,
         gap,
-        peak_drive_torque: tq.peak.fx,
         peak_shaking_moment: mm.peak.fx,
-        peak_drive_torque_error: tq.error,
         peak_shaking_moment_error: mm.error,
-        baselines: baselines(mech, scene.omega, s)?,
+        pareto,
+        static_weight,
+        baselines: baselines(scene)?,
         exact_peak,
         method,
         warnings,
@@ -511,18 +659,24 @@ pub fn solve(scene: &Scene) -> Result<Outcome, SolveError> {
 /// β and Brent on the best bracket.
 fn search_on_circle(
     nf: &Normalised,
-    scene: &Scene,
+    objective: Objective,
     len: f64,
 ) -> Result<(Status, P2, String), SolveError> {
+    let scene = nf.scene;
     let s = &scene.settings;
     let obj = |beta: f64| -> f64 {
         let u = P2::new(beta.cos(), beta.sin()) * len;
         let mag = |p: f64| nf.force(p).at(u).norm();
-        match scene.objective {
-            Objective::MinRmsForce => periodic_rms(mag, s.rms_samples).rms,
-            _ => periodic_peak(mag, s.scan_samples, s.peak_xtol)
+        let tq = |p: f64| nf.torque(p).at(u).x.abs();
+        let peak = |f: &dyn Fn(f64) -> f64| {
+            periodic_peak(f, s.scan_samples, s.peak_xtol)
                 .map(|p| p.peak.fx)
-                .unwrap_or(f64::INFINITY),
+                .unwrap_or(f64::INFINITY)
+        };
+        match objective {
+            Objective::MinRmsForce => periodic_rms(mag, s.rms_samples).rms,
+            Objective::MinPeakTorque => peak(&tq),
+            _ => peak(&mag),
         }
     };
     let (lo, hi) = scene.counterweight.angle.bounds();
@@ -582,6 +736,9 @@ pub fn paper_piston(rpm: f64) -> Scene {
         },
         objective: Objective::MinPeakForce,
         max_peak_force: None,
+        max_peak_torque: None,
+        loads: Loads::default(),
+        pareto_points: 0,
         settings: cw::Settings::default(),
     }
 }
