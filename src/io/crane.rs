@@ -586,10 +586,37 @@ fn landscape_plot(
                 })
                 .collect();
         series.push(Series::line(
-            "boundary of the tie-pin limit",
+            "tie-pin limit boundary (white dots: B outside)",
             zero_contour(&l.k1, &l.k2, &margin),
         ));
+        // Every fourth grid point with B outside the limit: shows the infeasible side
+        // without hiding the colours.
+        let mut dots = Vec::new();
+        for (j, row) in l.tie_pin_violation_m.iter().enumerate().step_by(4) {
+            for (i, v) in row.iter().enumerate().step_by(4) {
+                if v.is_some_and(|v| v > 0.0) {
+                    dots.extend([(l.k1[i], l.k2[j]), (f64::NAN, f64::NAN)]);
+                }
+            }
+        }
+        series.push(Series::points("grid points with B outside the limit", dots));
+    } else {
+        series.push(Series::line("no tie-pin limit in this scene", vec![]));
+        series.push(Series::points("(no limit, no infeasible points)", vec![]));
     }
+    let ends: Vec<(f64, f64)> = out
+        .basins
+        .iter()
+        .filter_map(|b| Some((*b.end.get("k1")?, *b.end.get("k2")?)))
+        .collect();
+    series.push(Series::marker(
+        if ends.is_empty() {
+            "local-search ends: none (k1, k2 not searched)"
+        } else {
+            "ends of the local searches (each at its own angles)"
+        },
+        ends,
+    ));
     let (k1, k2) = (l.optimum[0], l.optimum[1]);
     let design_name = if cs.k1.fixed().is_some() && cs.k2.fixed().is_some() {
         format!("given design (k1 {k1:.3}, k2 {k2:.3})")
@@ -597,26 +624,6 @@ fn landscape_plot(
         format!("optimum (k1 {k1:.3}, k2 {k2:.3})")
     };
     series.push(Series::marker(design_name, vec![(k1, k2)]));
-    if bounded {
-        let mut dots = Vec::new();
-        for (j, row) in l.tie_pin_violation_m.iter().enumerate() {
-            for (i, v) in row.iter().enumerate() {
-                if v.is_some_and(|v| v > 0.0) {
-                    dots.push((l.k1[i], l.k2[j]));
-                    dots.push((f64::NAN, f64::NAN));
-                }
-            }
-        }
-        series.push(Series::points("grid points with B outside the limit", dots));
-    }
-    let ends: Vec<(f64, f64)> = out
-        .basins
-        .iter()
-        .filter_map(|b| Some((*b.end.get("k1")?, *b.end.get("k2")?)))
-        .collect();
-    if ends.len() > 1 {
-        series.push(Series::marker("ends of the local searches", ends));
-    }
     let svg = plot::heat_map(
         &Panel {
             title: format!("{}: log10(Δh / 1 m) over (k1, k2)", scene.name),
