@@ -358,7 +358,11 @@ pub fn result(scene: &Scene, s: &CraneScene) -> SolveResult {
         ("extremum_xtol_rad".into(), json!(set.xtol)),
         (
             "tie_pin_limit".into(),
-            serde_json::to_value(cs.tie_pin).expect("plain data"),
+            if cs.tie_pin == TiePinLimit::default() {
+                json!("none")
+            } else {
+                serde_json::to_value(cs.tie_pin).expect("plain data")
+            },
         ),
         ("allowed_delta_h_m".into(), json!(cs.allowed_delta_h())),
         (
@@ -602,7 +606,7 @@ fn landscape_plot(
         series.push(Series::points("grid points with B outside the limit", dots));
     } else {
         series.push(Series::line("no tie-pin limit in this scene", vec![]));
-        series.push(Series::points("(no limit, no infeasible points)", vec![]));
+        series.push(Series::points("no grid point outside a limit", vec![]));
     }
     let ends: Vec<(f64, f64)> = out
         .basins
@@ -626,7 +630,10 @@ fn landscape_plot(
     series.push(Series::marker(design_name, vec![(k1, k2)]));
     let svg = plot::heat_map(
         &Panel {
-            title: format!("{}: log10(Δh / 1 m) over (k1, k2)", scene.name),
+            title: format!(
+                "{}: log10(Δh / 1 m) over (k1, k2) (−1: 0.1 m, 0: 1 m)",
+                scene.name
+            ),
             x_label: "k1 = C1C2/C1C3 (–)".into(),
             y_label: "k2 = a/L_v (–)".into(),
             series,
