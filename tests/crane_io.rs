@@ -223,7 +223,7 @@ fn every_crane_file_solves_with_the_contract_keys_and_sane_values() {
     assert!(dh_op < dh, "{dh_op} vs {dh}");
     assert!(dh_op <= num(op, "landscape.grid_min_delta_h_m") + 1e-9);
     let (bx, by) = (num(op, "design.tie_pin_x_m"), num(op, "design.tie_pin_y_m"));
-    assert!(bx.hypot(by) <= 15.0 + 1e-5 && bx >= -1e-5 && bx <= 15.0 + 1e-5);
+    assert!(bx.hypot(by) <= 15.0 + 1e-5 && (-1e-5..=15.0 + 1e-5).contains(&bx));
     // Its reported B is the construction's B for the reported k1, k2.
     let (_, _, b, tie) = thesis_geometry(
         22.8,

@@ -480,10 +480,8 @@ fn landscape_summary(name: &str, l: &cr::Landscape) -> serde_json::Value {
     for (j, row) in l.delta_h_m.iter().enumerate() {
         for (i, v) in row.iter().enumerate() {
             match (v, l.tie_pin_violation_m[j][i]) {
-                (Some(dh), Some(viol)) if viol <= 0.0 => {
-                    if best.is_none_or(|b| *dh < b.0) {
-                        best = Some((*dh, l.k1[i], l.k2[j]));
-                    }
+                (Some(dh), Some(viol)) if viol <= 0.0 && best.is_none_or(|b| *dh < b.0) => {
+                    best = Some((*dh, l.k1[i], l.k2[j]));
                 }
                 (None, _) => no_linkage += 1,
                 _ => {}
