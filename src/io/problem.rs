@@ -354,6 +354,8 @@ pub struct Scene {
 pub enum SceneKind {
     /// A slider-crank scene.
     SliderCrank(super::slider_crank::SliderCrankScene),
+    /// A luffing-crane scene (boxed: it carries its solver settings).
+    LuffingCrane(Box<crate::io::crane::CraneScene>),
 }
 
 /// Reads and resolves a problem file.
@@ -392,10 +394,11 @@ pub fn parse_str(text: &str, path: &Path) -> Result<Scene, ProblemError> {
     }
     match family {
         Family::SliderCrank => super::slider_crank::resolve(&ctx, text),
+        Family::LuffingCrane => super::crane::resolve(&ctx, text),
         other => Err(ctx.field_error(FieldError::new(
             "family",
             format!(
-                "the family \"{}\" is not implemented yet; allowed now: \"slider-crank\"",
+                "the family \"{}\" is not implemented yet; allowed now: \"slider-crank\", \"luffing-crane\"",
                 other.as_str()
             ),
         ))),

@@ -25,28 +25,11 @@ use std::collections::BTreeMap;
 use std::f64::consts::FRAC_PI_2;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
-/// A design variable: fixed, or free within `[min, max]` (SI units).
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
-pub enum Var {
-    /// Held at this value.
-    Fixed(f64),
-    /// Searched within the bounds.
-    Free { min: f64, max: f64 },
-}
+pub use crate::synth::Var;
 
-impl Var {
-    /// Whether the variable is searched.
-    pub fn is_free(&self) -> bool {
-        matches!(self, Var::Free { .. })
-    }
-
-    /// `(min, max)`; a fixed value gives `(v, v)`.
-    pub fn bounds(&self) -> (f64, f64) {
-        match *self {
-            Var::Fixed(v) => (v, v),
-            Var::Free { min, max } => (min, max),
-        }
-    }
+/// Whether a variable is searched.
+fn is_free(v: &Var) -> bool {
+    v.fixed().is_none()
 }
 
 /// How the boom length L_c follows from the step-1 angles.
@@ -269,7 +252,7 @@ impl CraneScene {
                 ));
             }
         }
-        if self.vars().iter().any(Var::is_free) && !self.tie_pin.is_bounded() {
+        if self.vars().iter().any(is_free) && !self.tie_pin.is_bounded() {
             return Err(field(
                 "tie_pin",
                 "an optimisation needs a tie-pin limit (max_distance, or both x_range and y_range): without one the \
@@ -748,7 +731,7 @@ pub fn solve(scene: &CraneScene, settings: &Settings) -> Result<Outcome, FieldEr
         (lo[i], hi[i]) = vars[i].bounds();
         base[i] = 0.5 * (lo[i] + hi[i]);
     }
-    let free: Vec<usize> = (0..6).filter(|&i| vars[i].is_free()).collect();
+    let free: Vec<usize> = (0..6).filter(|&i| is_free(&vars[i])).collect();
     let obj = Objective {
         scene,
         settings,
@@ -1183,7 +1166,7 @@ fn report(
     if !feasible && out.status == Status::Evaluated {
         out.status = Status::Infeasible;
     }
-    if scene.vars().iter().all(|v| !v.is_free()) && out.status == Status::Infeasible {
+    if scene.vars().iter().all(|v| !is_free(v)) && out.status == Status::Infeasible {
         // A given design that misses a check is still an evaluated design: the checks say which.
         out.status = Status::Evaluated;
         warnings.push("the given design fails at least one check (see checks)".into());
@@ -1200,7 +1183,7 @@ fn landscape(scene: &CraneScene, settings: &Settings, x: &[f64; 6]) -> Option<La
     if n1 == 0 {
         return None;
     }
-    let range = |v: &Var, d: (f64, f64)| if v.is_free() { v.bounds() } else { d };
+    let range = |v: &Var, d: (f64, f64)| if is_free(v) { v.bounds() } else { d };
     let (a1, b1) = range(&scene.k1, (0.05, 0.95));
     let (a2, b2) = range(&scene.k2, (0.2, 1.0));
     let k1: Vec<f64> = (0..n1)

@@ -1,0 +1,743 @@
+//! The luffing-crane problem file — its raw sections and their resolution into a checked
+//! [`crate::synth::crane::CraneScene`] with its solver [`Settings`] (every field documented
+//! in `docs/problem-files.md`) — and the shaping of its outcome into a result (keys in
+//! `docs/results.md`): design, Δh and its error, the thesis's checks, the jib-head path and
+//! the Δh landscape over (k1, k2) as SVG and CSV.
+
+use super::plot::{self, Grid, Panel, Series};
+use super::problem::{
+    check_name, resolve_paper, Ctx, FieldError, ProblemError, RawFile, RawVar, Scene, SceneKind,
+};
+use super::result::{PaperCheck, Plot, SolveResult, Status, Table};
+use crate::geom::P2;
+use crate::mech::crane::{synthesize, Angles, Boom, Guide};
+use crate::synth::crane::{
+    self as cr, Outcome, Settings, SizingRule, Status as CraneStatus, TiePinLimit,
+};
+use crate::units::{Angle, Dimensionless, Length, Mass, Qty};
+use serde::Deserialize;
+use serde_json::json;
+use std::collections::BTreeMap;
+use std::time::Instant;
+
+/// `[mechanism]`: the crane's requirements (thesis §3.1).
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MechanismRaw {
+    /// R_max, largest reach from the slewing axis.
+    pub reach_max: Qty<Length>,
+    /// R_min, smallest reach from the slewing axis.
+    pub reach_min: Qty<Length>,
+    /// r, slewing axis to the boom-foot pin A.
+    pub foot_offset: Qty<Length>,
+    /// H, lift height above the rail.
+    pub lift_height: Qty<Length>,
+    /// h, rail to the boom-foot pin.
+    pub foot_height: Qty<Length>,
+    /// Q, rated load (optional): the unbalanced load moment about A is reported.
+    #[serde(default)]
+    pub load_mass: Option<Qty<Mass>>,
+}
+
+/// How the boom length follows from the step-1 angles when `design.boom_length` is absent.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Sizing {
+    /// L_c = (R_min − r)/(sin γ1 + k sin γ2).
+    MinReach,
+    /// L_c = (R_max − r)/(cos φ_min + k cos γ3).
+    MaxReach,
+}
+
+/// `[model]`.
+#[derive(Debug, Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+pub struct ModelRaw {
+    /// Boom-length rule (default `min-reach`; not with `design.boom_length`).
+    #[serde(default)]
+    pub sizing: Option<Sizing>,
+}
+
+/// `[design]`: k1, k2, the step-1 angles (each fixed or `{ min, max }`), and L_c if given.
+#[derive(Debug, Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+pub struct DesignRaw {
+    /// k1 = C1C2/C1C3.
+    #[serde(default)]
+    pub k1: Option<RawVar<Dimensionless>>,
+    /// k2 = a/L_v.
+    #[serde(default)]
+    pub k2: Option<RawVar<Dimensionless>>,
+    /// φ_min, boom elevation at maximum reach.
+    #[serde(default)]
+    pub phi_min: Option<RawVar<Angle>>,
+    /// γ1, boom from vertical at minimum reach.
+    #[serde(default)]
+    pub gamma1: Option<RawVar<Angle>>,
+    /// γ2, jib from vertical at minimum reach.
+    #[serde(default)]
+    pub gamma2: Option<RawVar<Angle>>,
+    /// γ3, jib below horizontal at maximum reach.
+    #[serde(default)]
+    pub gamma3: Option<RawVar<Angle>>,
+    /// L_c given (fixed); otherwise `model.sizing` computes it.
+    #[serde(default)]
+    pub boom_length: Option<Qty<Length>>,
+}
+
+/// What `objective.minimize` can name.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Minimize {
+    /// Δh, the height variation of the jib head over the luffing range.
+    DeltaH,
+}
+
+/// `[objective.tie_pin]`: where the tie pin B may be (frame of A, x behind the foot).
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TiePinRaw {
+    /// |AB| ≤ max_distance.
+    #[serde(default)]
+    pub max_distance: Option<Qty<Length>>,
+    /// x_B within [min, max].
+    #[serde(default)]
+    pub x_range: Option<[Qty<Length>; 2]>,
+    /// y_B within [min, max].
+    #[serde(default)]
+    pub y_range: Option<[Qty<Length>; 2]>,
+}
+
+/// `[objective]`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ObjectiveRaw {
+    /// Always `delta-h`.
+    pub minimize: Minimize,
+    /// Allowed Δh of the check (default 0.1·H).
+    #[serde(default)]
+    pub max_delta_h: Option<Qty<Length>>,
+    /// Tie-pin limit (required when a variable is free).
+    #[serde(default)]
+    pub tie_pin: Option<TiePinRaw>,
+}
+
+/// `[accuracy]`: the solver and sampling settings (see [`Settings`]).
+#[derive(Debug, Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+pub struct AccuracyRaw {
+    /// Luffing-range samples of the path (each sampled extremum is refined).
+    pub path_samples: Option<usize>,
+    /// Abscissa tolerance of the extremum refinement (rad).
+    pub xtol: Option<f64>,
+    /// Path points written for the plot and CSV.
+    pub plot_points: Option<usize>,
+    /// Halton points per free variable.
+    pub global_samples: Option<usize>,
+    /// Nelder–Mead starts.
+    pub local_starts: Option<usize>,
+    /// Nelder–Mead iterations per run.
+    pub nm_max_iters: Option<u64>,
+    /// Nelder–Mead restarts.
+    pub nm_restarts: Option<usize>,
+    /// Nelder–Mead stop (sd of the simplex costs, Δh over the length scale).
+    pub nm_sd_tolerance: Option<f64>,
+    /// Landscape grid along k1.
+    pub landscape_k1: Option<usize>,
+    /// Landscape grid along k2.
+    pub landscape_k2: Option<usize>,
+    /// Penalty weight on constraint violations.
+    pub penalty: Option<f64>,
+    /// Constraint violation accepted (relative to R_max − r).
+    pub constraint_tol: Option<f64>,
+    /// Finite-difference step of the load moment (rad).
+    pub moment_step: Option<f64>,
+}
+
+impl AccuracyRaw {
+    /// Defaults overridden by the file (validated by [`cr::solve`]'s checks in `resolve_raw`).
+    pub fn settings(&self) -> Settings {
+        let d = Settings::default();
+        Settings {
+            path_samples: self.path_samples.unwrap_or(d.path_samples),
+            xtol: self.xtol.unwrap_or(d.xtol),
+            plot_points: self.plot_points.unwrap_or(d.plot_points),
+            global_samples: self.global_samples.unwrap_or(d.global_samples),
+            local_starts: self.local_starts.unwrap_or(d.local_starts),
+            nm_max_iters: self.nm_max_iters.unwrap_or(d.nm_max_iters),
+            nm_restarts: self.nm_restarts.unwrap_or(d.nm_restarts),
+            nm_sd_tolerance: self.nm_sd_tolerance.unwrap_or(d.nm_sd_tolerance),
+            landscape_k1: self.landscape_k1.unwrap_or(d.landscape_k1),
+            landscape_k2: self.landscape_k2.unwrap_or(d.landscape_k2),
+            penalty: self.penalty.unwrap_or(d.penalty),
+            constraint_tol: self.constraint_tol.unwrap_or(d.constraint_tol),
+            moment_step: self.moment_step.unwrap_or(d.moment_step),
+        }
+    }
+}
+
+/// The whole luffing-crane file.
+pub type File = RawFile<MechanismRaw, ModelRaw, DesignRaw, ObjectiveRaw, AccuracyRaw>;
+
+/// A resolved luffing-crane scene: the synthesis scene and its solver settings.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct CraneScene {
+    /// Requirements, variables, sizing rule, tie-pin limit.
+    pub scene: cr::CraneScene,
+    /// Solver and sampling settings.
+    pub settings: Settings,
+}
+
+/// Parses and resolves a luffing-crane problem file.
+pub fn resolve(ctx: &Ctx, text: &str) -> Result<Scene, ProblemError> {
+    let raw: File = ctx.parse(text)?;
+    let scene = resolve_raw(&raw).map_err(|e| ctx.field_error(e))?;
+    Ok(Scene {
+        name: raw.name.clone(),
+        family: raw.family,
+        description: raw.description.clone(),
+        source: ctx.file.into(),
+        paper: resolve_paper(&raw.paper),
+        kind: SceneKind::LuffingCrane(Box::new(scene)),
+    })
+}
+
+/// The problem-file key of a key of [`cr::CraneScene::validate`] / [`Settings::validate`].
+fn file_key(key: &str) -> String {
+    let (head, rest) = key.split_once('.').unwrap_or((key, ""));
+    let section = match head {
+        "reach_max" | "reach_min" | "foot_offset" | "lift_height" | "foot_height" | "load_mass" => {
+            "mechanism"
+        }
+        "k1" | "k2" | "phi_min" | "gamma1" | "gamma2" | "gamma3" => "design",
+        "sizing" => return "design.boom_length".into(),
+        "tie_pin" | "max_delta_h" => "objective",
+        "settings" => return format!("accuracy.{rest}"),
+        _ => return key.into(),
+    };
+    if rest.is_empty() {
+        format!("{section}.{head}")
+    } else {
+        format!("{section}.{head}.{rest}")
+    }
+}
+
+/// A synthesis-layer field error with its problem-file key; angle messages (in rad) get the
+/// range in degrees.
+fn map_error(e: cr::FieldError) -> FieldError {
+    let deg = match e.key.as_str() {
+        "phi_min" | "gamma1" => "; in degrees: allowed 0 < angle < 90 deg",
+        "gamma2" | "gamma3" => "; in degrees: allowed 0 ≤ angle < 90 deg",
+        _ => "",
+    };
+    FieldError::new(file_key(&e.key), format!("{}{deg}", e.message))
+}
+
+/// A required design variable.
+fn var<D>(v: &Option<RawVar<D>>, key: &str, allowed: &str) -> Result<cr::Var, FieldError> {
+    match v {
+        Some(v) => v.resolve(key),
+        None => Err(FieldError::new(
+            key,
+            format!("missing; allowed: a fixed value ({allowed}) or a range {{ min = …, max = … }} to search"),
+        )),
+    }
+}
+
+/// The value checks of a luffing-crane file.
+pub fn resolve_raw(raw: &File) -> Result<CraneScene, FieldError> {
+    check_name(&raw.name)?;
+    let m = &raw.mechanism;
+    let d = &raw.design;
+    let k1 = var(&d.k1, "design.k1", "a number in (0, 1), e.g. 0.2")?;
+    let k2 = var(&d.k2, "design.k2", "a number in (0, 5], e.g. 0.4")?;
+    let phi_min = var(&d.phi_min, "design.phi_min", "an angle, e.g. \"35 deg\"")?;
+    let gamma1 = var(&d.gamma1, "design.gamma1", "an angle, e.g. \"10 deg\"")?;
+    let gamma2 = var(&d.gamma2, "design.gamma2", "an angle, e.g. \"5 deg\"")?;
+    let gamma3 = var(&d.gamma3, "design.gamma3", "an angle, e.g. \"12 deg\"")?;
+    let sizing = match (d.boom_length, raw.model.sizing) {
+        (Some(_), Some(_)) => {
+            return Err(FieldError::new(
+                "model.sizing",
+                "only used without design.boom_length (a given L_c needs no rule); allowed: remove one of the two",
+            ))
+        }
+        (Some(l), None) => SizingRule::Given(l.si()),
+        (None, Some(Sizing::MaxReach)) => SizingRule::MaxReach,
+        (None, Some(Sizing::MinReach) | None) => SizingRule::MinReach,
+    };
+    let o = &raw.objective;
+    let range = |r: &Option<[Qty<Length>; 2]>| r.map(|[a, b]| [a.si(), b.si()]);
+    let tie_pin = o
+        .tie_pin
+        .as_ref()
+        .map(|t| TiePinLimit {
+            max_distance: t.max_distance.map(|q| q.si()),
+            x_range: range(&t.x_range),
+            y_range: range(&t.y_range),
+        })
+        .unwrap_or_default();
+    let scene = cr::CraneScene {
+        reach_max: m.reach_max.si(),
+        reach_min: m.reach_min.si(),
+        foot_offset: m.foot_offset.si(),
+        lift_height: m.lift_height.si(),
+        foot_height: m.foot_height.si(),
+        k1,
+        k2,
+        phi_min,
+        gamma1,
+        gamma2,
+        gamma3,
+        sizing,
+        tie_pin,
+        max_delta_h: o.max_delta_h.map(|q| q.si()),
+        load_mass: m.load_mass.map(|q| q.si()),
+    };
+    scene.validate().map_err(map_error)?;
+    if let Some(t) = &o.tie_pin {
+        if t.max_distance.is_none() && t.x_range.is_none() && t.y_range.is_none() {
+            return Err(FieldError::new(
+                "objective.tie_pin",
+                "an empty tie-pin limit; allowed: max_distance, x_range = [min, max], y_range = [min, max] (m)",
+            ));
+        }
+    }
+    let settings = raw.accuracy.settings();
+    settings.validate().map_err(map_error)?;
+    Ok(CraneScene { scene, settings })
+}
+
+/// The result key a thesis comparison of the synthesis layer is read against.
+fn paper_key(quantity: &str) -> &'static str {
+    match quantity {
+        "k = L_v/L_c" => "derived.k",
+        "boom_length_m" => "design.boom_length_m",
+        "jib_length_m" => "design.jib_length_m",
+        "head_height_m (above A)" => "derived.head_height_m",
+        "reach_max_m - r (from A)" => "derived.reach_max_m",
+        "reach_min_m - r (from A)" => "derived.reach_min_m",
+        "phi_max_deg" => "design.phi_max_rad",
+        "delta_h_m" => "objectives.delta_h_m",
+        _ => "",
+    }
+}
+
+fn status_detail(s: CraneStatus) -> &'static str {
+    match s {
+        CraneStatus::Evaluated => "evaluated",
+        CraneStatus::Optimal => "optimal",
+        CraneStatus::MaxIterations => "max-iterations",
+        CraneStatus::Infeasible => "infeasible",
+        CraneStatus::BranchDefect => "branch-defect",
+        CraneStatus::CannotAssemble => "cannot-assemble",
+        CraneStatus::NoGeometry => "no-geometry",
+    }
+}
+
+/// The result of a luffing-crane scene: solve, then shape keys, checks, paper, plots, CSV.
+pub fn result(scene: &Scene, s: &CraneScene) -> SolveResult {
+    let mut r = SolveResult::new(scene);
+    let (cs, set) = (&s.scene, &s.settings);
+    let t0 = Instant::now();
+    let out = match cr::solve(cs, set) {
+        Ok(o) => o,
+        Err(e) => {
+            r.warnings.push(map_error(e).to_string());
+            return r;
+        }
+    };
+    r.timing.solve_s = t0.elapsed().as_secs_f64();
+    r.model = BTreeMap::from([
+        ("boom_length_sizing".into(), json!(out.sizing_rule)),
+        (
+            "path".into(),
+            json!("one assembly branch followed continuously from the design positions; extrema of the head height refined by Brent"),
+        ),
+        ("path_samples".into(), json!(set.path_samples)),
+        ("extremum_xtol_rad".into(), json!(set.xtol)),
+        (
+            "tie_pin_limit".into(),
+            if cs.tie_pin == TiePinLimit::default() {
+                json!("none")
+            } else {
+                serde_json::to_value(cs.tie_pin).expect("plain data")
+            },
+        ),
+        ("allowed_delta_h_m".into(), json!(cs.allowed_delta_h())),
+        (
+            "gravity".into(),
+            json!(if cs.load_mass.is_some() {
+                "load weight Q g for the unbalanced load moment only"
+            } else {
+                "not modelled"
+            }),
+        ),
+    ]);
+    r.status = match out.status {
+        CraneStatus::Evaluated => Status::Analysed,
+        CraneStatus::Optimal => Status::Optimal,
+        CraneStatus::MaxIterations => Status::Inaccurate,
+        CraneStatus::Infeasible => Status::Infeasible,
+        CraneStatus::BranchDefect | CraneStatus::CannotAssemble | CraneStatus::NoGeometry => {
+            Status::Failed
+        }
+    };
+    r.status_detail = Some(status_detail(out.status).into());
+    r.method = out.method.clone();
+    r.warnings = out.warnings.clone();
+    r.design = out.design.clone();
+    r.objectives = out.objectives.clone();
+    r.errors = out.errors.clone();
+    r.derived = out.derived.clone();
+    // The family's thesis comparisons, except those the file's [[paper]] makes itself.
+    let file_keys: Vec<&str> = scene.paper.iter().map(|p| p.key.as_str()).collect();
+    for p in &out.paper {
+        let key = paper_key(&p.quantity);
+        if file_keys.contains(&key) {
+            continue;
+        }
+        // The synthesis layer compares φ_max in degrees; the result key is in rad.
+        let (quantity, paper, computed) = if p.quantity == "phi_max_deg" {
+            (
+                "phi_max (rad)",
+                p.paper.to_radians(),
+                p.computed.to_radians(),
+            )
+        } else {
+            (p.quantity.as_str(), p.paper, p.computed)
+        };
+        r.paper.push(PaperCheck {
+            quantity: format!("thesis §3.4.2: {quantity}"),
+            key: key.into(),
+            paper,
+            computed: Some(computed),
+            diff_pct: Some(100.0 * (computed - paper) / paper.abs().max(1e-300)),
+            note: p.note.clone(),
+        });
+    }
+    let checks: Vec<serde_json::Value> = out
+        .checks
+        .iter()
+        .map(|c| json!({"name": c.name, "pass": c.pass, "value": c.value, "limit": c.limit, "note": c.note}))
+        .collect();
+    r.extra.insert(
+        "checks_passed".into(),
+        json!(out.checks.iter().all(|c| c.pass)),
+    );
+    r.extra.insert("checks".into(), json!(checks));
+    r.extra.insert("evaluations".into(), json!(out.evaluations));
+    if let Some(p) = &out.positions {
+        r.extra.insert(
+            "positions".into(),
+            serde_json::to_value(p).expect("plain data"),
+        );
+    }
+    if !out.basins.is_empty() {
+        r.extra.insert(
+            "basins".into(),
+            serde_json::to_value(&out.basins).expect("plain data"),
+        );
+    }
+    if let Some(l) = &out.landscape {
+        r.extra
+            .insert("landscape".into(), landscape_summary(&scene.name, l));
+        r.tables.push(Table {
+            suffix: "landscape".into(),
+            caption: "Δh over the (k1, k2) grid with the tie-pin violation".into(),
+            csv: l.to_csv(),
+        });
+        match landscape_plot(scene, cs, &out, l) {
+            Ok(p) => r.plots.push(p),
+            Err(e) => r.warnings.push(format!("landscape plot failed: {e}")),
+        }
+    }
+    if !out.path.is_empty() {
+        let mut csv = String::from("phi_rad,head_x_m,head_y_m,tail_x_m,tail_y_m\n");
+        for ((phi, c), e) in out.path_phi_rad.iter().zip(&out.path).zip(&out.tail_path) {
+            csv += &format!(
+                "{phi:.12e},{:.12e},{:.12e},{:.12e},{:.12e}\n",
+                c[0], c[1], e[0], e[1]
+            );
+        }
+        r.tables.push(Table {
+            suffix: "path".into(),
+            caption: "Jib-head and jib-tail paths over the luffing range".into(),
+            csv,
+        });
+        match path_plot(scene, &out) {
+            Ok(p) => r.plots.push(p),
+            Err(e) => r.warnings.push(format!("path plot failed: {e}")),
+        }
+    }
+    r
+}
+
+/// Compact facts of the landscape (the grid itself is in the CSV).
+fn landscape_summary(name: &str, l: &cr::Landscape) -> serde_json::Value {
+    let mut best: Option<(f64, f64, f64)> = None;
+    let mut no_linkage = 0usize;
+    for (j, row) in l.delta_h_m.iter().enumerate() {
+        for (i, v) in row.iter().enumerate() {
+            match (v, l.tie_pin_violation_m[j][i]) {
+                (Some(dh), Some(viol)) if viol <= 0.0 && best.is_none_or(|b| *dh < b.0) => {
+                    best = Some((*dh, l.k1[i], l.k2[j]));
+                }
+                (None, _) => no_linkage += 1,
+                _ => {}
+            }
+        }
+    }
+    json!({
+        "k1_range": [l.k1[0], l.k1[l.k1.len() - 1]],
+        "k2_range": [l.k2[0], l.k2[l.k2.len() - 1]],
+        "k1_points": l.k1.len(),
+        "k2_points": l.k2.len(),
+        "cells_without_linkage": no_linkage,
+        "grid_min_delta_h_m": best.map(|b| b.0),
+        "grid_min_at": best.map(|b| [b.1, b.2]),
+        "csv": format!("{name}-landscape.csv"),
+    })
+}
+
+/// Signed tie-pin margin (m): the largest of |AB| − R, lo − x, x − hi, …; negative inside.
+fn signed_margin(t: &TiePinLimit, b: P2) -> f64 {
+    let mut v = f64::NEG_INFINITY;
+    if let Some(r) = t.max_distance {
+        v = v.max(b.norm() - r);
+    }
+    if let Some([lo, hi]) = t.x_range {
+        v = v.max(lo - b.x).max(b.x - hi);
+    }
+    if let Some([lo, hi]) = t.y_range {
+        v = v.max(lo - b.y).max(b.y - hi);
+    }
+    v
+}
+
+/// Zero contour of `f` on the grid (marching squares, linear interpolation), as line
+/// segments separated by NaN points.
+fn zero_contour(x: &[f64], y: &[f64], f: &[Vec<f64>]) -> Vec<(f64, f64)> {
+    let mut out = Vec::new();
+    for j in 0..y.len().saturating_sub(1) {
+        for i in 0..x.len().saturating_sub(1) {
+            let c = [
+                (x[i], y[j], f[j][i]),
+                (x[i + 1], y[j], f[j][i + 1]),
+                (x[i + 1], y[j + 1], f[j + 1][i + 1]),
+                (x[i], y[j + 1], f[j + 1][i]),
+            ];
+            if c.iter().any(|p| !p.2.is_finite()) {
+                continue;
+            }
+            let mut pts = Vec::new();
+            for k in 0..4 {
+                let (a, b) = (c[k], c[(k + 1) % 4]);
+                if (a.2 < 0.0) != (b.2 < 0.0) {
+                    let t = a.2 / (a.2 - b.2);
+                    pts.push((a.0 + t * (b.0 - a.0), a.1 + t * (b.1 - a.1)));
+                }
+            }
+            for pair in pts.chunks_exact(2) {
+                out.extend_from_slice(pair);
+                out.push((f64::NAN, f64::NAN));
+            }
+        }
+    }
+    out
+}
+
+fn landscape_plot(
+    scene: &Scene,
+    cs: &cr::CraneScene,
+    out: &Outcome,
+    l: &cr::Landscape,
+) -> Result<Plot, String> {
+    let values: Vec<Vec<f64>> = l
+        .delta_h_m
+        .iter()
+        .map(|row| {
+            row.iter()
+                .map(|v| v.filter(|d| *d > 0.0).map_or(f64::NAN, f64::log10))
+                .collect()
+        })
+        .collect();
+    let mut series = Vec::new();
+    let bounded = cs.tie_pin != TiePinLimit::default();
+    if bounded {
+        // The tie pin B of every grid point (cheap: step 2 only, no path), at the reported
+        // angles and boom length, for the signed margin whose zero contour is the boundary.
+        let g = |k: &str| out.design.get(k).copied().unwrap_or(f64::NAN);
+        let angles = Angles {
+            phi_min: g("phi_min_rad"),
+            gamma1: g("gamma1_rad"),
+            gamma2: g("gamma2_rad"),
+            gamma3: g("gamma3_rad"),
+        };
+        let boom = Boom::new(g("boom_length_m"), angles).map_err(|e| e.to_string())?;
+        let margin: Vec<Vec<f64>> =
+            l.k2.iter()
+                .map(|&k2| {
+                    l.k1.iter()
+                        .map(|&k1| match synthesize(&boom, k1, k2).map(|s| s.guide) {
+                            Ok(Guide::Circle { centre, .. }) => signed_margin(&cs.tie_pin, centre),
+                            Ok(Guide::Line { .. }) => f64::INFINITY,
+                            Err(_) => f64::NAN,
+                        })
+                        .collect()
+                })
+                .collect();
+        series.push(Series::line(
+            "tie-pin limit boundary (white dots: B outside)",
+            zero_contour(&l.k1, &l.k2, &margin),
+        ));
+        // Every fourth grid point with B outside the limit: shows the infeasible side
+        // without hiding the colours.
+        let mut dots = Vec::new();
+        for (j, row) in l.tie_pin_violation_m.iter().enumerate().step_by(4) {
+            for (i, v) in row.iter().enumerate().step_by(4) {
+                if v.is_some_and(|v| v > 0.0) {
+                    dots.extend([(l.k1[i], l.k2[j]), (f64::NAN, f64::NAN)]);
+                }
+            }
+        }
+        series.push(Series::points("grid points with B outside the limit", dots));
+    } else {
+        series.push(Series::line("no tie-pin limit in this scene", vec![]));
+        series.push(Series::points("no grid point outside a limit", vec![]));
+    }
+    let ends: Vec<(f64, f64)> = out
+        .basins
+        .iter()
+        .filter_map(|b| Some((*b.end.get("k1")?, *b.end.get("k2")?)))
+        .collect();
+    series.push(Series::marker(
+        if ends.is_empty() {
+            "local-search ends: none (k1, k2 not searched)"
+        } else {
+            "ends of the local searches (each at its own angles)"
+        },
+        ends,
+    ));
+    let (k1, k2) = (l.optimum[0], l.optimum[1]);
+    let design_name = if cs.k1.fixed().is_some() && cs.k2.fixed().is_some() {
+        format!("given design (k1 {k1:.3}, k2 {k2:.3})")
+    } else {
+        format!("optimum (k1 {k1:.3}, k2 {k2:.3})")
+    };
+    series.push(Series::marker(design_name, vec![(k1, k2)]));
+    let svg = plot::heat_map(
+        &Panel {
+            title: format!(
+                "{}: log10(Δh / 1 m) over (k1, k2) (−1: 0.1 m, 0: 1 m)",
+                scene.name
+            ),
+            x_label: "k1 = C1C2/C1C3 (–)".into(),
+            y_label: "k2 = a/L_v (–)".into(),
+            series,
+            equal_aspect: false,
+        },
+        &Grid {
+            x: l.k1.clone(),
+            y: l.k2.clone(),
+            values,
+        },
+        None,
+        760,
+        620,
+    )?;
+    Ok(Plot {
+        suffix: "landscape".into(),
+        caption: "Δh over (k1, k2) (angles and L_c at the reported design; grey: no linkage or branch defect), tie-pin limit boundary and the design".into(),
+        svg,
+    })
+}
+
+fn path_plot(scene: &Scene, out: &Outcome) -> Result<Plot, String> {
+    let nan = (f64::NAN, f64::NAN);
+    let head: Vec<(f64, f64)> = out.path.iter().map(|p| (p[0], p[1])).collect();
+    let tail: Vec<(f64, f64)> = out.tail_path.iter().map(|p| (p[0], p[1])).collect();
+    let mut series = vec![
+        Series::line("jib-head path C", head.clone()),
+        Series::line("jib-tail path E", tail),
+    ];
+    if let Some(p) = &out.positions {
+        // The linkage at max reach (1) and min reach (3): boom A–D, jib E–D–C, tie B–E.
+        for (i, name) in [(0, "linkage at max reach"), (2, "linkage at min reach")] {
+            let mut pts = vec![(0.0, 0.0), (p.d[i][0], p.d[i][1]), nan];
+            pts.extend([(p.e[i][0], p.e[i][1]), (p.c[i][0], p.c[i][1]), nan]);
+            if let Some(b) = p.tie_pin {
+                pts.extend([(b[0], b[1]), (p.e[i][0], p.e[i][1])]);
+            }
+            series.push(Series::line(name, pts));
+        }
+        series.push(Series::marker(
+            "design positions C1, C2, C3",
+            p.c.iter().map(|c| (c[0], c[1])).collect(),
+        ));
+        let mut pins = vec![(0.0, 0.0)];
+        if let Some(b) = p.tie_pin {
+            pins.push((b[0], b[1]));
+        }
+        series.push(Series::marker("boom foot A, tie pin B", pins));
+    }
+    let height: Vec<(f64, f64)> = out
+        .path_phi_rad
+        .iter()
+        .zip(&out.path)
+        .map(|(phi, c)| (phi.to_degrees(), c[1]))
+        .collect();
+    let g = |k: &str| out.derived.get(k).copied();
+    let mut hs = vec![Series::line("head height y_C", height)];
+    if let (Some(a), Some(ya), Some(b), Some(yb)) = (
+        g("phi_at_head_max_rad"),
+        g("head_y_max_m"),
+        g("phi_at_head_min_rad"),
+        g("head_y_min_m"),
+    ) {
+        hs.push(Series::marker(
+            "refined max and min",
+            vec![(a.to_degrees(), ya), (b.to_degrees(), yb)],
+        ));
+    }
+    if let Some(p) = &out.positions {
+        hs.push(Series::marker(
+            "design positions",
+            (0..3)
+                .map(|i| (p.phi_rad[i].to_degrees(), p.c[i][1]))
+                .collect(),
+        ));
+    }
+    let dh = out
+        .objectives
+        .get("delta_h_m")
+        .map_or("Δh not available".to_string(), |d| {
+            format!("Δh = {d:.4} m")
+        });
+    let svg = plot::panels(
+        &[
+            Panel {
+                title: format!("{}: jib-head path ({dh})", scene.name),
+                x_label: "x from the boom foot A (m; reach is −x)".into(),
+                y_label: "y above A (m)".into(),
+                series,
+                equal_aspect: true,
+            },
+            Panel {
+                title: format!("Jib-head height over the luffing range ({dh})"),
+                x_label: "boom angle φ (deg)".into(),
+                y_label: "jib-head height y_C above A (m)".into(),
+                series: hs,
+                equal_aspect: false,
+            },
+        ],
+        640,
+        520,
+    )?;
+    Ok(Plot {
+        suffix: "path".into(),
+        caption: "Jib-head path over the luffing range and its height against the boom angle"
+            .into(),
+        svg,
+    })
+}
