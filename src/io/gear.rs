@@ -9,13 +9,13 @@ use super::problem::{
     RawVar, Scene, SceneKind,
 };
 use super::result::{PaperCheck, Plot, SolveResult, Status, Table};
-use crate::mech::gear::Which;
+use crate::mech::gear::{EccentricCircle, GearPair, Which, ZeroKind};
 use crate::synth::gear::{self as sg, GearScene, Outcome, Settings, SolveError};
 use crate::units::{Angle, AngularSpeed, Length, Qty};
 use serde::Deserialize;
 use serde_json::json;
 use std::collections::BTreeMap;
-use std::f64::consts::PI;
+use std::f64::consts::{PI, TAU};
 use std::fmt::Write as _;
 use std::time::Instant;
 
@@ -398,7 +398,7 @@ pub fn result(scene: &Scene, p: &GearProblem) -> SolveResult {
     }
     for res in [
         ratio_and_curves_plot(scene, &out),
-        sliding_plot(scene, &out),
+        sliding_plot(scene, g, &out),
     ] {
         match res {
             Ok(pl) => r.plots.push(pl),
@@ -452,20 +452,11 @@ fn ratio_and_curves_plot(scene: &Scene, out: &Outcome) -> Result<Plot, String> {
         .map(|(&a, &i)| (a.to_degrees(), i))
         .collect();
     let (lo, hi) = (out.derived["ratio_min"], out.derived["ratio_max"]);
-    let ends = |v: f64| vec![(0.0, v), (360.0, v)];
     let ratio = Panel {
-        title: "transmission function i12 = ω1/ω2".into(),
+        title: format!("i12 = ω1/ω2: min {lo:.4}, max {hi:.4}"),
         x_label: "α1, angle of gear 1 (deg)".into(),
         y_label: "i12 (–)".into(),
-        series: vec![
-            Series::line("i12(α1)", i12),
-            Series::line(format!("min {lo:.4}, max {hi:.4}"), {
-                let mut v = ends(lo);
-                v.push((f64::NAN, f64::NAN));
-                v.extend(ends(hi));
-                v
-            }),
-        ],
+        series: vec![Series::line("i12(α1)", i12)],
         equal_aspect: false,
     };
     let svg = plot::panels(&[curves, ratio], 560, 480)?;
@@ -485,76 +476,137 @@ fn verticals(xs: &[f64], y0: f64, y1: f64) -> Vec<(f64, f64)> {
     v
 }
 
-/// µ1 and µ2 against α1: a full turn of gear 1 and a zoom on the arches around the peak.
-fn sliding_plot(scene: &Scene, out: &Outcome) -> Result<Plot, String> {
+/// µ1 and µ2 against α1: a full turn of gear 1 (the outcome's series) and a zoom on the
+/// arches around the peak, evaluated afresh on a fine grid that includes the exact window
+/// edges (so that the plotted curve reaches the reported peak).
+fn sliding_plot(scene: &Scene, g: &GearScene, out: &Outcome) -> Result<Plot, String> {
     let s = &out.series;
     let n_arch = out.derived["arches_gear1"].max(1.0);
-    let arch = 360.0 / n_arch;
-    let peak_at = out.derived["peak_sliding_alpha1_rad"].to_degrees();
-    // Zoom: two arches starting at the arch boundary before the peak.
+    let arch = TAU / n_arch;
+    let w = out.derived["pole_window_rad"];
+    let peak_at = out.derived["peak_sliding_alpha1_rad"];
+    let peak = out.objectives["peak_sliding_coefficient"];
+    // Zoom: two arches starting half an arch before the arch holding the peak.
     let z0 = (peak_at / arch).floor() * arch - 0.5 * arch;
     let z1 = z0 + 2.0 * arch;
     let wrap = |x: f64| {
-        // x in [0, 360) shifted into the zoom range when possible.
-        [x - 360.0, x, x + 360.0]
+        [x - TAU, x, x + TAU]
             .into_iter()
             .find(|y| (z0..=z1).contains(y))
     };
-    let mu = |v: &[Option<f64>], zoom: bool| -> Vec<(f64, f64)> {
-        let mut pts: Vec<(f64, f64)> = s
-            .alpha1_rad
-            .iter()
-            .zip(v)
-            .filter_map(|(&a, m)| {
-                let x = a.to_degrees();
-                let x = if zoom { wrap(x)? } else { x };
-                Some((x, m.unwrap_or(f64::NAN)))
-            })
-            .collect();
-        pts.sort_by(|a, b| a.0.total_cmp(&b.0));
-        pts
-    };
-    let peak = out.objectives["peak_sliding_coefficient"];
-    let ylim = peak * 1.05;
-    let pole_x = |w: Which, zoom: bool| -> Vec<f64> {
+    let excluded = |x: f64, which: Which| {
+        let near = |c: f64, tol: f64| {
+            let d = (x - c).rem_euclid(TAU);
+            d.min(TAU - d) < tol
+        };
         out.poles
             .iter()
-            .filter(|p| p.which == w)
+            .any(|p| p.which == which && near(p.alpha1_rad, w + p.error_rad))
+            || out
+                .zeros
+                .iter()
+                .any(|z| z.kind == ZeroKind::Indeterminate && near(z.alpha1_rad, w))
+    };
+    let pair = EccentricCircle::new(g.pitch_radius, out.design["eccentricity_m"])
+        .and_then(|c| {
+            GearPair::new(
+                c,
+                g.generating_radius,
+                out.derived["center_distance_m"],
+                g.omega1,
+            )
+        })
+        .map_err(|e| e.to_string())?;
+    // Fine grid plus both edges of every window in the zoom range (nudged inside the
+    // working region by 1e-9 rad).
+    let mut xs: Vec<f64> = (0..=1200)
+        .map(|k| z0 + (z1 - z0) * k as f64 / 1200.0)
+        .collect();
+    for p in &out.poles {
+        for x in [
+            p.alpha1_rad - w - p.error_rad - 1e-9,
+            p.alpha1_rad + w + p.error_rad + 1e-9,
+        ] {
+            if let Some(x) = wrap(x) {
+                xs.push(x);
+            }
+        }
+    }
+    xs.sort_by(f64::total_cmp);
+    let zoom_mu = |which: Which| -> Vec<(f64, f64)> {
+        xs.iter()
+            .map(|&x| {
+                let ct = pair.contact(x.rem_euclid(TAU));
+                let m = match which {
+                    Which::Mu1 => ct.mu1,
+                    Which::Mu2 => ct.mu2,
+                };
+                let m = if excluded(x, which) { None } else { m };
+                (x.to_degrees(), m.unwrap_or(f64::NAN))
+            })
+            .collect()
+    };
+    let full_mu = |v: &[Option<f64>]| -> Vec<(f64, f64)> {
+        s.alpha1_rad
+            .iter()
+            .zip(v)
+            .map(|(&a, m)| (a.to_degrees(), m.unwrap_or(f64::NAN)))
+            .collect()
+    };
+    let ylim = peak * 1.05;
+    let pole_x = |which: Which, zoom: bool| -> Vec<f64> {
+        out.poles
+            .iter()
+            .filter(|p| p.which == which)
             .filter_map(|p| {
-                let x = p.alpha1_rad.to_degrees();
                 if zoom {
-                    wrap(x)
+                    wrap(p.alpha1_rad)
                 } else {
-                    Some(x)
+                    Some(p.alpha1_rad)
                 }
             })
+            .map(f64::to_degrees)
             .collect()
     };
-    let zeros = |zoom: bool| -> Vec<(f64, f64)> {
+    let zeros = |kind: ZeroKind, zoom: bool| -> Vec<(f64, f64)> {
         out.zeros
             .iter()
+            .filter(|z| z.kind == kind)
             .filter_map(|z| {
-                let x = z.alpha1_rad.to_degrees();
-                let x = if zoom { wrap(x)? } else { x };
-                Some((x, 0.0))
+                if zoom {
+                    wrap(z.alpha1_rad)
+                } else {
+                    Some(z.alpha1_rad)
+                }
             })
+            .map(|x| (x.to_degrees(), 0.0))
             .collect()
     };
-    let panel = |zoom: bool| Panel {
-        title: if zoom {
-            format!("zoom: two arches around the peak |µ| = {peak:.3}")
-        } else {
-            format!(
-                "{}: sliding coefficients (pole window ±{:.3}°)",
-                scene.name,
-                out.derived["pole_window_rad"].to_degrees()
-            )
-        },
-        x_label: "α1, angle of gear 1 (deg)".into(),
-        y_label: "µ (–)".into(),
-        series: vec![
-            Series::line("µ1", mu(&s.mu1, zoom)),
-            Series::line("µ2", mu(&s.mu2, zoom)),
+    // The peak, signed as the coefficient that attains it.
+    let ct = pair.contact(peak_at);
+    let peak_pt = [ct.mu1, ct.mu2]
+        .into_iter()
+        .flatten()
+        .min_by(|a, b| (a.abs() - peak).abs().total_cmp(&(b.abs() - peak).abs()))
+        .unwrap_or(peak);
+    let panel = |zoom: bool| {
+        let mut series = vec![
+            Series::line(
+                "µ1",
+                if zoom {
+                    zoom_mu(Which::Mu1)
+                } else {
+                    full_mu(&s.mu1)
+                },
+            ),
+            Series::line(
+                "µ2",
+                if zoom {
+                    zoom_mu(Which::Mu2)
+                } else {
+                    full_mu(&s.mu2)
+                },
+            ),
             Series::line(
                 "poles of µ1",
                 verticals(&pole_x(Which::Mu1, zoom), -ylim, ylim),
@@ -563,9 +615,33 @@ fn sliding_plot(scene: &Scene, out: &Outcome) -> Result<Plot, String> {
                 "poles of µ2",
                 verticals(&pole_x(Which::Mu2, zoom), -ylim, ylim),
             ),
-            Series::points("µ = 0 (K = P)", zeros(zoom)),
-        ],
-        equal_aspect: false,
+            Series::points("µ = 0 (K = P)", zeros(ZeroKind::PitchPoint, zoom)),
+            Series::marker(
+                format!("peak |µ| = {peak:.4}"),
+                [peak_at]
+                    .into_iter()
+                    .filter_map(|x| if zoom { wrap(x) } else { Some(x) })
+                    .map(|x| (x.to_degrees(), peak_pt))
+                    .collect(),
+            ),
+            Series::points("0/0 cusp, left out", zeros(ZeroKind::Indeterminate, zoom)),
+        ];
+        series.retain(|s| s.points.iter().any(|p| p.0.is_finite() && p.1.is_finite()));
+        Panel {
+            title: if zoom {
+                "zoom: two arches around the peak".into()
+            } else {
+                format!(
+                    "{}: µ1, µ2 (pole windows ±{:.3}° left out)",
+                    scene.name,
+                    w.to_degrees()
+                )
+            },
+            x_label: "α1, angle of gear 1 (deg)".into(),
+            y_label: "sliding coefficient µ (–)".into(),
+            series,
+            equal_aspect: false,
+        }
     };
     let svg = plot::panels(&[panel(false), panel(true)], 640, 480)?;
     Ok(Plot {
