@@ -13,6 +13,7 @@ pub fn solve_scene(scene: &Scene) -> SolveResult {
     let mut r = match &scene.kind {
         SceneKind::SliderCrank(s) => crate::io::slider_crank::result(scene, s),
         SceneKind::LuffingCrane(s) => crate::io::crane::result(scene, s),
+        SceneKind::EccentricGear(s) => crate::io::gear::result(scene, s),
     };
     r.timing.total_s = t0.elapsed().as_secs_f64();
     r.compare_with_paper(&scene.paper);

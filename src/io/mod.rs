@@ -2,6 +2,7 @@
 //! results (JSON, Markdown), plots (SVG) and atomic file writing.
 
 pub mod crane;
+pub mod gear;
 pub mod plot;
 pub mod problem;
 pub mod result;

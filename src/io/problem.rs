@@ -356,6 +356,8 @@ pub enum SceneKind {
     SliderCrank(super::slider_crank::SliderCrankScene),
     /// A luffing-crane scene (boxed: it carries its solver settings).
     LuffingCrane(Box<crate::io::crane::CraneScene>),
+    /// An eccentric-gear scene.
+    EccentricGear(super::gear::GearProblem),
 }
 
 /// Reads and resolves a problem file.
@@ -394,11 +396,12 @@ pub fn parse_str(text: &str, path: &Path) -> Result<Scene, ProblemError> {
     }
     match family {
         Family::SliderCrank => super::slider_crank::resolve(&ctx, text),
+        Family::EccentricGear => super::gear::resolve(&ctx, text),
         Family::LuffingCrane => super::crane::resolve(&ctx, text),
         other => Err(ctx.field_error(FieldError::new(
             "family",
             format!(
-                "the family \"{}\" is not implemented yet; allowed now: \"slider-crank\", \"luffing-crane\"",
+                "the family \"{}\" is not implemented yet; allowed now: \"slider-crank\", \"luffing-crane\", \"eccentric-gear\"",
                 other.as_str()
             ),
         ))),

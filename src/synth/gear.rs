@@ -24,17 +24,10 @@ use serde::Serialize;
 use std::collections::BTreeMap;
 use std::f64::consts::{PI, TAU};
 
-/// A design variable: fixed, or free within bounds (SI).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
-pub enum Var {
-    /// Fixed value.
-    Fixed(f64),
-    /// Free within [min, max].
-    Free { min: f64, max: f64 },
-}
+pub use crate::synth::Var;
 
 /// A problem-file field that is not acceptable: `key` is the problem-file key
-/// (e.g. `"gear.eccentricity"`), `message` says what is allowed.
+/// (e.g. `"design.eccentricity"`), `message` says what is allowed.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 #[error("{key}: {message}")]
 pub struct FieldError {
@@ -61,7 +54,7 @@ pub enum SolveError {
     #[error(transparent)]
     Gear(#[from] GearError),
     /// A settings value is not acceptable.
-    #[error("settings.{0}")]
+    #[error("accuracy.{0}")]
     Settings(String),
     /// A 1-D search failed on the analysed design.
     #[error("search failed: {0}")]
@@ -71,41 +64,41 @@ pub enum SolveError {
 /// The resolved, SI scene of one gear-pair problem. Problem-file keys in brackets.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct GearScene {
-    /// Pitch-circle radius R of gear 1 (m) [`gear.pitch_radius`].
+    /// Pitch-circle radius R of gear 1 (m) [`mechanism.pitch_radius`].
     pub pitch_radius: f64,
-    /// Generating (rolling) circle radius r (m) [`gear.generating_radius`]; R/r must be an
+    /// Generating (rolling) circle radius r (m) [`mechanism.generating_radius`]; R/r must be an
     /// even integer (one arch per turn of the circle, addendum and dedendum alternating).
     pub generating_radius: f64,
-    /// Eccentricity e (m), 0 ≤ e < R [`gear.eccentricity`]; the design variable.
+    /// Eccentricity e (m), 0 ≤ e < R [`design.eccentricity`]; the design variable.
     pub eccentricity: Var,
-    /// Turns of gear 1 per cycle n1 [`gear.turns_gear1`].
+    /// Turns of gear 1 per cycle n1 [`mechanism.turns_gear1`].
     pub turns_gear1: u32,
-    /// Turns of gear 2 per cycle n2 [`gear.turns_gear2`].
+    /// Turns of gear 2 per cycle n2 [`mechanism.turns_gear2`].
     pub turns_gear2: u32,
-    /// Driving speed ω1 (rad/s) [`gear.omega1`].
+    /// Driving speed ω1 (rad/s) [`mechanism.speed`].
     pub omega1: f64,
-    /// Stated module m (m), checked against the pitch 4πr [`gear.module`].
+    /// Stated module m (m), checked against the pitch 4πr [`mechanism.module`].
     pub module: Option<f64>,
-    /// Stated tooth counts (z1, z2), checked [`gear.teeth_gear1`, `gear.teeth_gear2`].
+    /// Stated tooth counts (z1, z2), checked [`mechanism.teeth_gear1`, `mechanism.teeth_gear2`].
     pub teeth: Option<(u32, u32)>,
-    /// Stated pitch on the pitch curve (m), checked [`gear.tooth_pitch`].
+    /// Stated pitch on the pitch curve (m), checked [`mechanism.tooth_pitch`].
     pub tooth_pitch: Option<f64>,
-    /// Stated tooth thickness on the pitch curve (m), checked [`gear.tooth_thickness`].
+    /// Stated tooth thickness on the pitch curve (m), checked [`mechanism.tooth_thickness`].
     pub tooth_thickness: Option<f64>,
-    /// Stated space width on the pitch curve (m), checked [`gear.space_width`].
+    /// Stated space width on the pitch curve (m), checked [`mechanism.space_width`].
     pub space_width: Option<f64>,
-    /// Stated centre distance (m) [`gear.center_distance`]: checked and the ratio it gives
+    /// Stated centre distance (m) [`mechanism.center_distance`]: checked and the ratio it gives
     /// reported; the pair itself is always built with the closing centre distance.
     pub center_distance: Option<f64>,
     /// Half-width (rad of α1) of the window excluded around every pole of µ and every 0/0
-    /// cusp, for plots and the peak [`analysis.pole_window`].
+    /// cusp, for plots and the peak [`model.pole_window`].
     pub pole_window: f64,
-    /// Upper limit of the peak |µ| on the working window [`design.max_sliding_coefficient`].
+    /// Upper limit of the peak |µ| on the working window [`objective.max_sliding_coefficient`].
     pub max_sliding_coefficient: Option<f64>,
-    /// Require gear 2's pitch curve to be convex [`design.require_gear2_convex`].
+    /// Require gear 2's pitch curve to be convex [`objective.require_gear2_convex`].
     pub require_gear2_convex: bool,
     /// Upper limit of the pressure angle at pitch-point contact, max |ψ| = asin(e/R) (rad)
-    /// [`design.max_pressure_angle`].
+    /// [`objective.max_pressure_angle`].
     pub max_pressure_angle: Option<f64>,
 }
 
@@ -119,27 +112,27 @@ impl GearScene {
                 Err(field(key, format!("must be a finite length > 0, got {v}")))
             }
         };
-        pos("gear.pitch_radius", self.pitch_radius)?;
-        pos("gear.generating_radius", self.generating_radius)?;
+        pos("mechanism.pitch_radius", self.pitch_radius)?;
+        pos("mechanism.generating_radius", self.generating_radius)?;
         let r = self.pitch_radius;
         let nf = r / self.generating_radius;
         let n = nf.round();
         if (nf - n).abs() > 1e-9 * nf || n < 2.0 || n % 2.0 != 0.0 {
             return Err(field(
-                "gear.generating_radius",
+                "mechanism.generating_radius",
                 format!("R/r = {nf:.6} must be an even integer (twice the teeth of gear 1) for the cycloid arches (length 2πr each) to close around the pitch circle"),
             ));
         }
         let check_e = |v: f64, what: &str| {
             if !v.is_finite() || v < 0.0 {
                 Err(field(
-                    "gear.eccentricity",
+                    "design.eccentricity",
                     format!("{what} must be finite and ≥ 0, got {v}"),
                 ))
             } else if v >= r {
                 Err(field(
-                    "gear.eccentricity",
-                    format!("{what} = {v} m must be < gear.pitch_radius = {r} m: with e ≥ R the pivot is outside gear 1's pitch circle and the polar pitch curve does not exist"),
+                    "design.eccentricity",
+                    format!("{what} = {v} m must be < mechanism.pitch_radius = {r} m: with e ≥ R the pivot is outside gear 1's pitch circle and the polar pitch curve does not exist"),
                 ))
             } else {
                 Ok(())
@@ -152,37 +145,37 @@ impl GearScene {
                 check_e(max, "max")?;
                 if min >= max {
                     return Err(field(
-                        "gear.eccentricity",
+                        "design.eccentricity",
                         format!("min = {min} must be < max = {max}"),
                     ));
                 }
             }
         }
         if self.turns_gear1 == 0 {
-            return Err(field("gear.turns_gear1", "must be an integer ≥ 1"));
+            return Err(field("mechanism.turns_gear1", "must be an integer ≥ 1"));
         }
         if self.turns_gear2 == 0 {
-            return Err(field("gear.turns_gear2", "must be an integer ≥ 1"));
+            return Err(field("mechanism.turns_gear2", "must be an integer ≥ 1"));
         }
         let arches2 = n * self.turns_gear1 as f64 / self.turns_gear2 as f64;
         if (arches2 - arches2.round()).abs() > 1e-9 || arches2.round() % 2.0 != 0.0 {
             return Err(field(
-                "gear.turns_gear2",
+                "mechanism.turns_gear2",
                 format!("gear 2 would carry N·n1/n2 = {arches2} arches; it must be an even integer for its teeth to close"),
             ));
         }
         if !(self.omega1.is_finite() && self.omega1 > 0.0) {
             return Err(field(
-                "gear.omega1",
+                "mechanism.speed",
                 format!("must be a finite speed > 0, got {}", self.omega1),
             ));
         }
         for (k, v) in [
-            ("gear.module", self.module),
-            ("gear.tooth_pitch", self.tooth_pitch),
-            ("gear.tooth_thickness", self.tooth_thickness),
-            ("gear.space_width", self.space_width),
-            ("gear.center_distance", self.center_distance),
+            ("mechanism.module", self.module),
+            ("mechanism.tooth_pitch", self.tooth_pitch),
+            ("mechanism.tooth_thickness", self.tooth_thickness),
+            ("mechanism.space_width", self.space_width),
+            ("mechanism.center_distance", self.center_distance),
         ] {
             if let Some(v) = v {
                 pos(k, v)?;
@@ -190,15 +183,15 @@ impl GearScene {
         }
         if let Some((z1, z2)) = self.teeth {
             if z1 == 0 {
-                return Err(field("gear.teeth_gear1", "must be ≥ 1"));
+                return Err(field("mechanism.teeth_gear1", "must be ≥ 1"));
             }
             if z2 == 0 {
-                return Err(field("gear.teeth_gear2", "must be ≥ 1"));
+                return Err(field("mechanism.teeth_gear2", "must be ≥ 1"));
             }
         }
         if !(self.pole_window.is_finite() && self.pole_window >= 0.0 && self.pole_window < PI / n) {
             return Err(field(
-                "analysis.pole_window",
+                "model.pole_window",
                 format!(
                     "must be in [0, π/N) = [0, {:.4}) rad, got {}",
                     PI / n,
@@ -209,7 +202,7 @@ impl GearScene {
         if let Some(m) = self.max_sliding_coefficient {
             if !(m.is_finite() && m > 0.0) {
                 return Err(field(
-                    "design.max_sliding_coefficient",
+                    "objective.max_sliding_coefficient",
                     format!("must be > 0, got {m}"),
                 ));
             }
@@ -217,7 +210,7 @@ impl GearScene {
         if let Some(g) = self.max_pressure_angle {
             if !(g.is_finite() && g > 0.0 && g < PI / 2.0) {
                 return Err(field(
-                    "design.max_pressure_angle",
+                    "objective.max_pressure_angle",
                     format!("must be in (0, 90°), got {g} rad"),
                 ));
             }
@@ -354,11 +347,13 @@ pub enum Status {
 /// A comparison with a number printed in the paper.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct PaperCheck {
-    /// What is compared (with unit).
+    /// What is compared.
     pub quantity: String,
-    /// The paper's value.
+    /// The dotted result key holding the computed value (e.g. `derived.center_distance_m`).
+    pub key: String,
+    /// The paper's value (SI, like the key).
     pub paper: f64,
-    /// This program's value.
+    /// This program's value (SI).
     pub computed: f64,
     /// Why they differ (or that they agree).
     pub note: String,
@@ -501,17 +496,20 @@ pub fn analyse(scene: &GearScene, e: f64, settings: &Settings) -> Result<Analysi
 fn margins(scene: &GearScene, an: &Analysis) -> Vec<(&'static str, f64)> {
     let mut m = Vec::new();
     if let Some(lim) = scene.max_sliding_coefficient {
-        m.push(("design.max_sliding_coefficient", an.peak.value / lim - 1.0));
+        m.push((
+            "objective.max_sliding_coefficient",
+            an.peak.value / lim - 1.0,
+        ));
     }
     if scene.require_gear2_convex {
         m.push((
-            "design.require_gear2_convex",
+            "objective.require_gear2_convex",
             -an.curvature.0 * scene.pitch_radius,
         ));
     }
     if let Some(lim) = scene.max_pressure_angle {
         m.push((
-            "design.max_pressure_angle",
+            "objective.max_pressure_angle",
             an.max_pitch_pressure_angle() / lim - 1.0,
         ));
     }
@@ -738,6 +736,8 @@ pub fn report(
     derived.insert("teeth_gear1".into(), z1 as f64);
     derived.insert("teeth_gear2".into(), z2);
     derived.insert("pitch_m".into(), 4.0 * PI * rg);
+    derived.insert("arch_length_m".into(), TAU * rg);
+    derived.insert("arch_span_rad".into(), TAU * rg / r);
     let n_mu1 = an
         .sing
         .poles
@@ -775,7 +775,7 @@ pub fn report(
     // --- warnings ---------------------------------------------------------------------
     if e / r > 0.9 {
         warnings.push(format!(
-            "gear.eccentricity: e/R = {:.4} is close to 1: ρ1 min = {:.3e} m, i12 max = {:.4}; the pair degenerates as e → R",
+            "design.eccentricity: e/R = {:.4} is close to 1: ρ1 min = {:.3e} m, i12 max = {:.4}; the pair degenerates as e → R",
             e / r,
             r - e,
             imax
@@ -783,7 +783,7 @@ pub fn report(
     }
     if r - e <= 2.0 * rg {
         warnings.push(format!(
-            "gear.eccentricity: ρ1 min = R − e = {:.3e} m ≤ 2r = {:.3e} m: the generating circle is as large as gear 1's radius there, hypocycloid flanks run through the pivot and µ1 poles spread over whole arches",
+            "design.eccentricity: ρ1 min = R − e = {:.3e} m ≤ 2r = {:.3e} m: the generating circle is as large as gear 1's radius there, hypocycloid flanks run through the pivot and µ1 poles spread over whole arches",
             r - e,
             2.0 * rg
         ));
@@ -819,7 +819,7 @@ pub fn report(
     });
     if at_edge {
         warnings.push(format!(
-            "the peak |µ| = {:.4} is attained at the edge of a pole window: it is set by analysis.pole_window (|µ| grows like 1/distance to the pole)",
+            "the peak |µ| = {:.4} is attained at the edge of a pole window: it is set by model.pole_window (|µ| grows like 1/distance to the pole)",
             an.peak.value
         ));
     }
@@ -828,13 +828,13 @@ pub fn report(
     let pitch = 4.0 * PI * rg;
     if let Some(m) = scene.module {
         if ((PI * m) - pitch).abs() > 1e-6 * pitch {
-            warnings.push(format!("gear.module: πm = {:.4e} m but the teeth (arch 2πr, tooth = space) give a pitch 4πr = {pitch:.4e} m", PI * m));
+            warnings.push(format!("mechanism.module: πm = {:.4e} m but the teeth (arch 2πr, tooth = space) give a pitch 4πr = {pitch:.4e} m", PI * m));
         }
     }
     if let Some((tz1, tz2)) = scene.teeth {
         if tz1 as usize != z1 {
             warnings.push(format!(
-                "gear.teeth_gear1: stated z1 = {tz1}, but the pitch circle (2πR = {:.4} mm) holds R/(2r) = {z1} teeth of pitch 4πr = {:.4} mm; z1 = {tz1} would need R = {:.4} mm or r = {:.4} mm. The model uses {z1} teeth",
+                "mechanism.teeth_gear1: stated z1 = {tz1}, but the pitch circle (2πR = {:.4} mm) holds R/(2r) = {z1} teeth of pitch 4πr = {:.4} mm; z1 = {tz1} would need R = {:.4} mm or r = {:.4} mm. The model uses {z1} teeth",
                 perim1 * 1e3,
                 pitch * 1e3,
                 2.0 * tz1 as f64 * rg * 1e3,
@@ -842,6 +842,7 @@ pub fn report(
             ));
             paper.push(PaperCheck {
                 quantity: "teeth of gear 1, z1".into(),
+                key: "derived.teeth_gear1".into(),
                 paper: tz1 as f64,
                 computed: z1 as f64,
                 note: format!(
@@ -850,18 +851,20 @@ pub fn report(
                 ),
             });
             paper.push(PaperCheck {
-                quantity: "arch span of eq. (2), π/z1 (deg)".into(),
-                paper: 180.0 / tz1 as f64,
-                computed: (TAU * rg / r).to_degrees(),
+                quantity: "arch span of eq. (2), π/z1 (rad of the pitch circle)".into(),
+                key: "derived.arch_span_rad".into(),
+                paper: PI / tz1 as f64,
+                computed: TAU * rg / r,
                 note: "eq. (2) spans each arch over π/z1 of the pitch circle, but one turn of the r = 1.25 mm generating circle covers 2πr/R; with z1 = 12 the arches would not end in cusps".into(),
             });
         }
         if tz2 as f64 != z2 {
             warnings.push(format!(
-                "gear.teeth_gear2: stated z2 = {tz2}, closure gives (n1/n2)·z1 = {z2}"
+                "mechanism.teeth_gear2: stated z2 = {tz2}, closure gives (n1/n2)·z1 = {z2}"
             ));
             paper.push(PaperCheck {
                 quantity: "teeth of gear 2, z2".into(),
+                key: "derived.teeth_gear2".into(),
                 paper: tz2 as f64,
                 computed: z2,
                 note: "z2 = (n1/n2)·z1 with z1 from the pitch circle; the stated 36 = 3 × 12 keeps the ratio but inherits the wrong z1".into(),
@@ -870,9 +873,10 @@ pub fn report(
         if let Some(p) = scene.tooth_pitch {
             let stated_perim2 = tz2 as f64 * p;
             paper.push(PaperCheck {
-                quantity: "perimeter of gear 2's pitch curve (mm)".into(),
-                paper: stated_perim2 * 1e3,
-                computed: perim2 * 1e3,
+                quantity: "perimeter of gear 2's pitch curve (z2 × pitch)".into(),
+                key: "derived.gear2_perimeter_m".into(),
+                paper: stated_perim2,
+                computed: perim2,
                 note: format!("paper value = z2 × pitch; computed from gear 2's polar curve ∫sqrt(ρ2² + ρ2'²)dα2; must equal (n1/n2)·2πR = {:.4} mm", ratio * perim1 * 1e3),
             });
         }
@@ -880,21 +884,22 @@ pub fn report(
     if let Some(p) = scene.tooth_pitch {
         if (p - pitch).abs() > 0.005 * pitch {
             warnings.push(format!(
-                "gear.tooth_pitch: stated {:.4} mm, teeth give 4πr = {:.4} mm",
+                "mechanism.tooth_pitch: stated {:.4} mm, teeth give 4πr = {:.4} mm",
                 p * 1e3,
                 pitch * 1e3
             ));
         }
         paper.push(PaperCheck {
-            quantity: "pitch on the pitch curve (mm)".into(),
-            paper: p * 1e3,
-            computed: pitch * 1e3,
+            quantity: "pitch on the pitch curve".into(),
+            key: "derived.pitch_m".into(),
+            paper: p,
+            computed: pitch,
             note: "4πr (= πm for m = 4r); agrees to the printed rounding. The pitch 2πR/z1 with the stated z1 would be different".into(),
         });
     }
     for (k, v) in [
-        ("gear.tooth_thickness", scene.tooth_thickness),
-        ("gear.space_width", scene.space_width),
+        ("mechanism.tooth_thickness", scene.tooth_thickness),
+        ("mechanism.space_width", scene.space_width),
     ] {
         if let Some(t) = v {
             let arch = TAU * rg;
@@ -906,9 +911,10 @@ pub fn report(
                 ));
             }
             paper.push(PaperCheck {
-                quantity: format!("{} on the pitch curve (mm)", if k.ends_with("thickness") { "tooth thickness" } else { "space width" }),
-                paper: t * 1e3,
-                computed: arch * 1e3,
+                quantity: format!("{} on the pitch curve", if k.ends_with("thickness") { "tooth thickness" } else { "space width" }),
+                key: "derived.arch_length_m".into(),
+                paper: t,
+                computed: arch,
                 note: "one cycloid arch = one turn of the generating circle, 2πr; agrees to the printed rounding".into(),
             });
         }
@@ -920,9 +926,10 @@ pub fn report(
             let miss = (n1 as f64 * j.value - TAU * n2 as f64).to_degrees();
             derived.insert("ratio_at_stated_center_distance".into(), ratio_st);
             paper.push(PaperCheck {
-                quantity: "centre distance a12 (mm)".into(),
-                paper: a_st * 1e3,
-                computed: pair.a * 1e3,
+                quantity: "centre distance a12".into(),
+                key: "derived.center_distance_m".into(),
+                paper: a_st,
+                computed: pair.a,
                 note: format!(
                     "closing centre distance for n1/n2 = {n1}/{n2} (±{:.1e} mm); the stated value gives n1/n2 = {ratio_st:.6}, gear 2 missing closure by {miss:.4}° per cycle{}",
                     an.closure.a_error * 1e3,
@@ -931,24 +938,26 @@ pub fn report(
             });
             if (a_st - pair.a).abs() > 1e-9 * pair.a {
                 warnings.push(format!(
-                    "gear.center_distance: stated {:.4} mm, closure gives {:.6} mm; the stated value would give n1/n2 = {ratio_st:.6}",
+                    "mechanism.center_distance: stated {:.4} mm, closure gives {:.6} mm; the stated value would give n1/n2 = {ratio_st:.6}",
                     a_st * 1e3,
                     pair.a * 1e3
                 ));
             }
         } else {
-            warnings.push(format!("gear.center_distance: stated {:.4} mm is not above R + e: the pair cannot mesh there", a_st * 1e3));
+            warnings.push(format!("mechanism.center_distance: stated {:.4} mm is not above R + e: the pair cannot mesh there", a_st * 1e3));
         }
     }
     paper.push(PaperCheck {
         quantity: "max |µ1 + µ2| on the working window (paper: µ2 = −µ1, symmetric)".into(),
+        key: "derived.max_mu_asymmetry".into(),
         paper: 0.0,
         computed: an.peak.max_asymmetry,
         note: "by definition µ2 = −µ1/(1 − µ1) exactly, which is −µ1 only to first order; the curves are mirror images only where |µ| ≪ 1".into(),
     });
     if min_sep.is_finite() {
         paper.push(PaperCheck {
-            quantity: "separation of µ1 and µ2 poles (rad of α1) (paper: both at points 2, 4)".into(),
+            quantity: "separation of µ1 and µ2 poles in α1 (paper: both at points 2, 4)".into(),
+            key: "derived.min_mu1_mu2_pole_separation_rad".into(),
             paper: 0.0,
             computed: min_sep,
             note: "µ1 is infinite where the common tangent passes through O1, µ2 where it passes through O2: distinct points (the paper's eq. 11 itself keeps cos β2 ≠ 0)".into(),
@@ -960,10 +969,15 @@ pub fn report(
         .iter()
         .map(|z| pair.c.psi_sin_cos(z.alpha1_rad).0.abs().asin())
         .fold(0.0, f64::max);
+    derived.insert(
+        "max_obliquity_at_pitch_point_contact_rad".into(),
+        psi_at_zeros,
+    );
     paper.push(PaperCheck {
-        quantity: "angle between the common tangent and O1O2 at K = P (deg)".into(),
-        paper: 90.0,
-        computed: psi_at_zeros.to_degrees(),
+        quantity: "angle between the common tangent and O1O2 at K = P".into(),
+        key: "derived.max_obliquity_at_pitch_point_contact_rad".into(),
+        paper: PI / 2.0,
+        computed: psi_at_zeros,
         note: "at K = P the contact is at a cusp, whose tangent is the pitch-curve normal: it deviates from O1O2 by the obliquity |ψ| (max shown), it is not perpendicular to it".into(),
     });
 
