@@ -12,6 +12,7 @@ pub fn solve_scene(scene: &Scene) -> SolveResult {
     let t0 = Instant::now();
     let mut r = match &scene.kind {
         SceneKind::SliderCrank(s) => crate::io::slider_crank::result(scene, s),
+        SceneKind::Hypocycloid(s) => crate::io::hypocycloid::result(scene, s),
     };
     r.timing.total_s = t0.elapsed().as_secs_f64();
     r.compare_with_paper(&scene.paper);

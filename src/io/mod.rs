@@ -1,6 +1,7 @@
 //! Input and output: problem files (raw serde layer, resolution into checked scenes),
 //! results (JSON, Markdown), plots (SVG) and atomic file writing.
 
+pub mod hypocycloid;
 pub mod plot;
 pub mod problem;
 pub mod result;

@@ -354,6 +354,8 @@ pub struct Scene {
 pub enum SceneKind {
     /// A slider-crank scene.
     SliderCrank(crate::synth::slider_crank::Scene),
+    /// A hypocycloid scene.
+    Hypocycloid(super::hypocycloid::Resolved),
 }
 
 /// Reads and resolves a problem file.
@@ -392,10 +394,11 @@ pub fn parse_str(text: &str, path: &Path) -> Result<Scene, ProblemError> {
     }
     match family {
         Family::SliderCrank => super::slider_crank::resolve(&ctx, text),
+        Family::Hypocycloid => super::hypocycloid::resolve(&ctx, text),
         other => Err(ctx.field_error(FieldError::new(
             "family",
             format!(
-                "the family \"{}\" is not implemented yet; allowed now: \"slider-crank\"",
+                "the family \"{}\" is not implemented yet; allowed now: \"slider-crank\", \"hypocycloid\"",
                 other.as_str()
             ),
         ))),
