@@ -51,7 +51,9 @@ fn every_shipped_problem_file_loads() {
 #[test]
 fn units_are_converted_to_si() {
     let s = parse_str(PISTON, Path::new("p.toml")).unwrap();
-    let SceneKind::SliderCrank(sc) = &s.kind;
+    let SceneKind::SliderCrank(sc) = &s.kind else {
+        panic!("not a slider-crank scene")
+    };
     assert_eq!(sc.mech.r, 0.035);
     assert_eq!(sc.mech.l, 0.14);
     assert!((sc.omega - 1000.0 * std::f64::consts::TAU / 60.0).abs() < 1e-12);
@@ -61,7 +63,9 @@ fn units_are_converted_to_si() {
         Path::new("p.toml"),
     )
     .unwrap();
-    let SceneKind::SliderCrank(sm) = &m.kind;
+    let SceneKind::SliderCrank(sm) = &m.kind else {
+        panic!("not a slider-crank scene")
+    };
     assert_eq!(sm.mech.r, sc.mech.r);
 }
 
