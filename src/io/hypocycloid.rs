@@ -722,29 +722,47 @@ fn map_plot(scene: &Scene, out: &Outcome) -> Result<Plot, String> {
         }
         p
     };
-    let mut series = Vec::new();
-    if !out.zero_curve.is_empty() {
-        series.push(Series::line(
-            format!("a{} = 0 (exact)", z.order),
+    // Fixed slots, so that each item keeps its colour (red, white, black, magenta) whether
+    // or not there is a zero curve.
+    let mut series = vec![
+        Series::line(
+            if out.zero_curve.is_empty() {
+                format!("a{} = 0 (exact): none in the box", z.order)
+            } else {
+                format!("a{} = 0 (exact)", z.order)
+            },
             pts(&out.zero_curve),
-        ));
-    }
-    if !out.zero_curve_series.is_empty() {
-        series.push(Series::line(
+        ),
+        Series::line(
             format!(
-                "a{} = 0 (series to z^{})",
-                z.order, out.coefficients.series_power
+                "a{} = 0 (paper's series to z^{}){}",
+                z.order,
+                out.coefficients.series_power,
+                if out.zero_curve_series.is_empty() {
+                    ": none"
+                } else {
+                    ""
+                }
             ),
             pts(&out.zero_curve_series),
-        ));
-    }
+        ),
+    ];
     let l = out.design.get("lambda").copied().unwrap_or(f64::NAN);
     let t = out.design.get("theta").copied().unwrap_or(f64::NAN);
-    series.push(Series::marker("design (min residual force)", vec![(l, t)]));
+    series.push(Series::marker(
+        format!("design of least residual force (λ = {l:.3}, θ = {t:.3})"),
+        vec![(l, t)],
+    ));
     if z.status != ZeroStatus::Found {
         if let Some(g) = z.grid_min_abs {
             series.push(Series::marker(
-                format!("min |a{}| = {:.2e}", z.order, g.value.abs()),
+                format!(
+                    "min |a{}| = {:.2e} at (λ, θ) = ({}, {})",
+                    z.order,
+                    g.value.abs(),
+                    g.lambda,
+                    g.theta
+                ),
                 vec![(g.lambda, g.theta)],
             ));
         }
@@ -752,8 +770,9 @@ fn map_plot(scene: &Scene, out: &Outcome) -> Result<Plot, String> {
     let svg = plot::heat_map(
         &Panel {
             title: format!(
-                "{}: a{} of S/R over (λ, θ); grey = cannot assemble",
-                scene.name, z.order
+                "{}: a{o} of S/R, colour sign(a{o})·log10(1 + |a{o}|/1e-4)",
+                scene.name,
+                o = z.order
             ),
             x_label: "λ = R/L (–)".into(),
             y_label: "θ = r/R (–)".into(),
@@ -762,8 +781,8 @@ fn map_plot(scene: &Scene, out: &Outcome) -> Result<Plot, String> {
         },
         &grid,
         Some(1e-4),
-        760,
-        560,
+        900,
+        620,
     )?;
     Ok(Plot {
         suffix: "c4-map".into(),
@@ -772,54 +791,85 @@ fn map_plot(scene: &Scene, out: &Outcome) -> Result<Plot, String> {
     })
 }
 
+/// An invisible one-point series that raises the top of a panel by a third of its span,
+/// so that the legend (upper right) does not cover the data. A line with one point draws
+/// nothing and has no legend entry.
+fn headroom(series: &[Series]) -> Series {
+    let ys = series
+        .iter()
+        .flat_map(|s| s.points.iter())
+        .filter(|p| p.0.is_finite() && p.1.is_finite());
+    let (lo, hi, x) = ys.fold((f64::INFINITY, f64::NEG_INFINITY, 0.0), |(lo, hi, _), p| {
+        (lo.min(p.1), hi.max(p.1), p.0)
+    });
+    let top = if hi > lo {
+        hi + 0.4 * (hi - lo)
+    } else {
+        f64::NAN
+    };
+    Series::line("", vec![(x, top)])
+}
+
 fn coefficient_plot(scene: &Scene, out: &Outcome) -> Result<Plot, String> {
     let c = &out.coefficients;
-    let lg = |v: f64| {
-        if v.abs() > 0.0 {
+    // Values below the coefficient's own error estimate are zero to working accuracy (e.g.
+    // the b_i of variant 1, the odd a_i of variant 2): not drawn.
+    let lg = |v: f64, i: usize| {
+        if v.abs() > c.error[i] {
             v.abs().log10()
         } else {
             f64::NAN
         }
     };
     let by_order = |f: &dyn Fn(usize) -> f64| -> Vec<(f64, f64)> {
-        (1..c.a.len()).map(|i| (i as f64, lg(f(i)))).collect()
+        (1..c.a.len()).map(|i| (i as f64, lg(f(i), i))).collect()
     };
-    let mut left = vec![
-        Series::line("|a_i| exact", by_order(&|i| c.a[i])),
-        Series::line(
-            format!("|a_i| series (z^{})", c.series_power),
-            by_order(&|i| c.a_series[i]),
-        ),
-    ];
-    let has_b = c.b.iter().skip(1).any(|b| b.abs() > 1e-14);
+    let p = c.series_power;
+    // Series crosses first, exact dots after: a dot inside its cross is agreement.
+    let mut left = vec![Series::marker(
+        format!("|a_i| series to z^{p}"),
+        by_order(&|i| c.a_series[i]),
+    )];
+    let has_b = (1..c.b.len()).any(|i| c.b[i].abs() > c.error[i]);
     if has_b {
-        left.push(Series::line("|b_i| exact", by_order(&|i| c.b[i])));
-        left.push(Series::line(
-            format!("|b_i| series (z^{})", c.series_power),
+        left.push(Series::marker(
+            format!("|b_i| series to z^{p}"),
             by_order(&|i| c.b_series[i]),
         ));
     }
-    let mut right = vec![
-        Series::line("|a_i series − a_i|", by_order(&|i| c.a_series[i] - c.a[i])),
-        Series::line("error estimate of a_i, b_i", by_order(&|i| c.error[i])),
-    ];
+    left.push(Series::points("|a_i| exact", by_order(&|i| c.a[i])));
     if has_b {
-        right.insert(
-            1,
-            Series::line("|b_i series − b_i|", by_order(&|i| c.b_series[i] - c.b[i])),
-        );
+        left.push(Series::points("|b_i| exact", by_order(&|i| c.b[i])));
     }
+    left.push(headroom(&left));
+    let mut right = vec![Series::marker(
+        "|a_i series − a_i|",
+        by_order(&|i| c.a_series[i] - c.a[i]),
+    )];
+    if has_b {
+        right.push(Series::marker(
+            "|b_i series − b_i|",
+            by_order(&|i| c.b_series[i] - c.b[i]),
+        ));
+    }
+    right.push(Series::line(
+        "error estimate of the exact a_i, b_i",
+        (1..c.a.len())
+            .map(|i| (i as f64, c.error[i].log10()))
+            .collect(),
+    ));
+    right.push(headroom(&right));
     let svg = plot::panels(
         &[
             Panel {
-                title: format!("{}: coefficients of S/R", scene.name),
+                title: format!("{}: Fourier coefficients of S/R", scene.name),
                 x_label: "order i (–)".into(),
                 y_label: "log10 |coefficient| (–)".into(),
                 series: left,
                 equal_aspect: false,
             },
             Panel {
-                title: "truncated series − exact".into(),
+                title: format!("paper's series (to z^{p}) − exact"),
                 x_label: "order i (–)".into(),
                 y_label: "log10 |difference| (–)".into(),
                 series: right,
@@ -831,7 +881,7 @@ fn coefficient_plot(scene: &Scene, out: &Outcome) -> Result<Plot, String> {
     )?;
     Ok(Plot {
         suffix: "coefficients".into(),
-        caption: "Coefficients of S/R: exact against the paper-style truncated series".into(),
+        caption: "Coefficients of S/R: exact against the paper-style truncated series (values below the error estimate not drawn)".into(),
         svg,
     })
 }
@@ -843,30 +893,34 @@ fn force_plot(scene: &Scene, out: &Outcome) -> Result<Plot, String> {
         |v: &[f64]| -> Vec<(f64, f64)> { deg.iter().copied().zip(v.iter().copied()).collect() };
     let orders: Vec<String> = out.balancing.iter().map(|p| p.order.to_string()).collect();
     let pos_mm: Vec<f64> = fc.position.iter().map(|x| x * 1e3).collect();
+    let mut force_series = vec![
+        Series::line("unbalanced", zip(&fc.unbalanced)),
+        Series::line(
+            if orders.is_empty() {
+                "residual (nothing balanced)".to_string()
+            } else {
+                format!("after balancing orders {}", orders.join(", "))
+            },
+            zip(&fc.residual),
+        ),
+    ];
+    force_series.push(headroom(&force_series));
+    let mut pos_series = vec![Series::line("S − L", zip(&pos_mm))];
+    pos_series.push(headroom(&pos_series));
     let svg = plot::panels(
         &[
             Panel {
                 title: format!("{}: inertia force of m_B", scene.name),
                 x_label: "carrier angle φ (deg)".into(),
                 y_label: "force (N)".into(),
-                series: vec![
-                    Series::line("unbalanced", zip(&fc.unbalanced)),
-                    Series::line(
-                        if orders.is_empty() {
-                            "residual (nothing balanced)".to_string()
-                        } else {
-                            format!("after balancing orders {}", orders.join(", "))
-                        },
-                        zip(&fc.residual),
-                    ),
-                ],
+                series: force_series,
                 equal_aspect: false,
             },
             Panel {
                 title: "piston position".into(),
                 x_label: "carrier angle φ (deg)".into(),
                 y_label: "S − L (mm)".into(),
-                series: vec![Series::line("S − L", zip(&pos_mm))],
+                series: pos_series,
                 equal_aspect: false,
             },
         ],

@@ -547,10 +547,16 @@ pub fn zero_search(
     let nl = s.curve_points;
     let nt = s.theta_scan;
     let lam: Vec<f64> = (0..nl)
-        .map(|j| zs.lambda.0 + (zs.lambda.1 - zs.lambda.0) * j as f64 / (nl - 1) as f64)
+        // The last sample is the bound itself (rounding must not push it out of the box).
+        .map(|j| {
+            (zs.lambda.0 + (zs.lambda.1 - zs.lambda.0) * j as f64 / (nl - 1) as f64)
+                .min(zs.lambda.1)
+        })
         .collect();
     let th: Vec<f64> = (0..nt)
-        .map(|j| zs.theta.0 + (zs.theta.1 - zs.theta.0) * j as f64 / (nt - 1) as f64)
+        .map(|j| {
+            (zs.theta.0 + (zs.theta.1 - zs.theta.0) * j as f64 / (nt - 1) as f64).min(zs.theta.1)
+        })
         .collect();
     let mut value = vec![vec![None; nt]; nl];
     let mut roots = Vec::new();
