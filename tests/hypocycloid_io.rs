@@ -132,7 +132,7 @@ fn analysis_scenes_agree_with_direct_quadrature_and_brute_force() {
         assert!((num(&v, "design.rod_length_m") - 0.1).abs() < 1e-15);
         assert!((num(&v, "design.crank_arm_m") - 0.0125).abs() < 1e-15);
         // Coefficients against the direct quadrature of the textbook formula.
-        let mut q = vec![(0.0, 0.0); 9];
+        let mut q = [(0.0, 0.0); 9];
         for (i, qi) in q.iter_mut().enumerate().skip(1) {
             *qi = quad(l, t, a0, i, 2048);
             let (a, b) = (
