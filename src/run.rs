@@ -14,6 +14,7 @@ pub fn solve_scene(scene: &Scene) -> SolveResult {
         SceneKind::SliderCrank(s) => crate::io::slider_crank::result(scene, s),
         SceneKind::LuffingCrane(s) => crate::io::crane::result(scene, s),
         SceneKind::EccentricGear(s) => crate::io::gear::result(scene, s),
+        SceneKind::Hypocycloid(s) => crate::io::hypocycloid::result(scene, s),
     };
     r.timing.total_s = t0.elapsed().as_secs_f64();
     r.compare_with_paper(&scene.paper);

@@ -3,6 +3,7 @@
 
 pub mod crane;
 pub mod gear;
+pub mod hypocycloid;
 pub mod plot;
 pub mod problem;
 pub mod result;

@@ -358,6 +358,8 @@ pub enum SceneKind {
     LuffingCrane(Box<crate::io::crane::CraneScene>),
     /// An eccentric-gear scene.
     EccentricGear(super::gear::GearProblem),
+    /// A hypocycloid scene.
+    Hypocycloid(super::hypocycloid::Resolved),
 }
 
 /// Reads and resolves a problem file.
@@ -398,13 +400,7 @@ pub fn parse_str(text: &str, path: &Path) -> Result<Scene, ProblemError> {
         Family::SliderCrank => super::slider_crank::resolve(&ctx, text),
         Family::EccentricGear => super::gear::resolve(&ctx, text),
         Family::LuffingCrane => super::crane::resolve(&ctx, text),
-        other => Err(ctx.field_error(FieldError::new(
-            "family",
-            format!(
-                "the family \"{}\" is not implemented yet; allowed now: \"slider-crank\", \"luffing-crane\", \"eccentric-gear\"",
-                other.as_str()
-            ),
-        ))),
+        Family::Hypocycloid => super::hypocycloid::resolve(&ctx, text),
     }
 }
 

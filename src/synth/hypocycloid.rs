@@ -44,38 +44,25 @@ fn field(key: &str, value: impl std::fmt::Debug, allowed: &str) -> FieldError {
     }
 }
 
-/// A design variable: fixed, or free within bounds.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
-pub enum Var {
-    /// Held at this value.
-    Fixed(f64),
-    /// Chosen by the optimiser in `[min, max]`.
-    Free { min: f64, max: f64 },
+pub use crate::synth::Var;
+
+/// Whether the optimiser may move `v`.
+fn is_free(v: &Var) -> bool {
+    matches!(v, Var::Free { .. })
 }
 
-impl Var {
-    /// The bounds (a fixed value is a degenerate interval).
-    pub fn bounds(&self) -> (f64, f64) {
-        match *self {
-            Var::Fixed(v) => (v, v),
-            Var::Free { min, max } => (min, max),
-        }
-    }
-    /// Whether the optimiser may move it.
-    pub fn is_free(&self) -> bool {
-        matches!(self, Var::Free { .. })
-    }
-    fn check(&self, key: &str, lo: f64, lo_open: bool, allowed: &str) -> Result<(), FieldError> {
-        let ok = |v: f64| v.is_finite() && if lo_open { v > lo } else { v >= lo };
-        match *self {
-            Var::Fixed(v) if !ok(v) => Err(field(key, v, allowed)),
-            Var::Free { min, max } if !ok(min) || !ok(max) || !(min < max) => Err(field(
-                key,
-                (min, max),
-                &format!("{allowed}, with min < max"),
-            )),
-            _ => Ok(()),
-        }
+/// Range check of a design variable: every value finite and above `lo` (strictly if
+/// `lo_open`), and min < max for a free one.
+fn check_var(v: &Var, key: &str, lo: f64, lo_open: bool, allowed: &str) -> Result<(), FieldError> {
+    let ok = |v: f64| v.is_finite() && if lo_open { v > lo } else { v >= lo };
+    match *v {
+        Var::Fixed(x) if !ok(x) => Err(field(key, x, allowed)),
+        Var::Free { min, max } if !ok(min) || !ok(max) || !(min < max) => Err(field(
+            key,
+            (min, max),
+            &format!("{allowed}, with min < max"),
+        )),
+        _ => Ok(()),
     }
 }
 
@@ -203,10 +190,20 @@ impl HypocycloidScene {
                 "a finite length > 0",
             ));
         }
-        self.lambda
-            .check("hypocycloid.lambda", 0.0, true, "finite and > 0 (λ = R/L)")?;
-        self.theta
-            .check("hypocycloid.theta", 0.0, false, "finite and ≥ 0 (θ = r/R)")?;
+        check_var(
+            &self.lambda,
+            "hypocycloid.lambda",
+            0.0,
+            true,
+            "finite and > 0 (λ = R/L)",
+        )?;
+        check_var(
+            &self.theta,
+            "hypocycloid.theta",
+            0.0,
+            false,
+            "finite and ≥ 0 (θ = r/R)",
+        )?;
         if !(self.m_b.is_finite() && self.m_b > 0.0) {
             return Err(field("hypocycloid.m_B", self.m_b, "a finite mass > 0"));
         }
@@ -550,10 +547,16 @@ pub fn zero_search(
     let nl = s.curve_points;
     let nt = s.theta_scan;
     let lam: Vec<f64> = (0..nl)
-        .map(|j| zs.lambda.0 + (zs.lambda.1 - zs.lambda.0) * j as f64 / (nl - 1) as f64)
+        // The last sample is the bound itself (rounding must not push it out of the box).
+        .map(|j| {
+            (zs.lambda.0 + (zs.lambda.1 - zs.lambda.0) * j as f64 / (nl - 1) as f64)
+                .min(zs.lambda.1)
+        })
         .collect();
     let th: Vec<f64> = (0..nt)
-        .map(|j| zs.theta.0 + (zs.theta.1 - zs.theta.0) * j as f64 / (nt - 1) as f64)
+        .map(|j| {
+            (zs.theta.0 + (zs.theta.1 - zs.theta.0) * j as f64 / (nt - 1) as f64).min(zs.theta.1)
+        })
         .collect();
     let mut value = vec![vec![None; nt]; nl];
     let mut roots = Vec::new();
@@ -1020,7 +1023,7 @@ pub fn solve(scene: &HypocycloidScene, settings: &Settings) -> Result<Outcome, F
     let mut warnings = Vec::new();
     let mut evals = 0usize;
     let (lb, tb) = (scene.lambda.bounds(), scene.theta.bounds());
-    let free = scene.lambda.is_free() || scene.theta.is_free();
+    let free = is_free(&scene.lambda) || is_free(&scene.theta);
     let (mut x, status, method) = if !free {
         (
             [lb.0, tb.0],
@@ -1040,8 +1043,8 @@ pub fn solve(scene: &HypocycloidScene, settings: &Settings) -> Result<Outcome, F
             }
         };
         let mut best = ([lb.0, tb.0], f64::INFINITY);
-        for &l in &pts(lb, scene.lambda.is_free()) {
-            for &t in &pts(tb, scene.theta.is_free()) {
+        for &l in &pts(lb, is_free(&scene.lambda)) {
+            for &t in &pts(tb, is_free(&scene.theta)) {
                 let v = penalised(scene, [l, t], s);
                 evals += 1;
                 if v < best.1 {
@@ -1063,8 +1066,8 @@ pub fn solve(scene: &HypocycloidScene, settings: &Settings) -> Result<Outcome, F
         } else {
             let step = |b: (f64, f64), f: bool| if f { (b.1 - b.0) / (g - 1) as f64 } else { 0.0 };
             let (dl, dt) = (
-                step(lb, scene.lambda.is_free()),
-                step(tb, scene.theta.is_free()),
+                step(lb, is_free(&scene.lambda)),
+                step(tb, is_free(&scene.theta)),
             );
             let x0 = Pt(best.0);
             let mut simplex = vec![x0];
