@@ -72,8 +72,13 @@ pub fn brent_root<F: Fn(f64) -> f64>(f: F, a: f64, b: f64, tol: f64) -> Result<R
     if fa.signum() == fb.signum() {
         return Err(SearchError::NotBracketed { a, b, fa, fb });
     }
+    let count = std::cell::Cell::new(0u64);
+    let fc = |x: f64| {
+        count.set(count.get() + 1);
+        f(x)
+    };
     let solver = BrentRoot::new(a, b, tol);
-    let res = Executor::new(FnCost(&f), solver)
+    let res = Executor::new(FnCost(&fc), solver)
         .configure(|s| s.param(0.5 * (a + b)).max_iters(200))
         .run()
         .map_err(|e| SearchError::Solver(e.to_string()))?;
@@ -88,7 +93,7 @@ pub fn brent_root<F: Fn(f64) -> f64>(f: F, a: f64, b: f64, tol: f64) -> Result<R
     Ok(Root {
         x,
         fx,
-        evals: st.get_func_counts().get("cost_count").copied().unwrap_or(0) + 2,
+        evals: count.get() + 3,
     })
 }
 
@@ -231,7 +236,12 @@ pub fn minimize_1d<F: Fn(f64) -> f64>(
             Err(SearchError::NotFinite { x: a })
         };
     }
-    let res = Executor::new(FnCost(&f), BrentOpt::new(a, b).set_tolerance(1e-14, xtol))
+    let count = std::cell::Cell::new(0u64);
+    let fc = |x: f64| {
+        count.set(count.get() + 1);
+        f(x)
+    };
+    let res = Executor::new(FnCost(&fc), BrentOpt::new(a, b).set_tolerance(1e-14, xtol))
         .configure(|s| s.max_iters(200))
         .run()
         .map_err(|e| SearchError::Solver(e.to_string()))?;
@@ -243,7 +253,7 @@ pub fn minimize_1d<F: Fn(f64) -> f64>(
     if !fx.is_finite() {
         return Err(SearchError::NotFinite { x });
     }
-    let evals = st.get_func_counts().get("cost_count").copied().unwrap_or(0);
+    let evals = count.get();
     // The ends, in case the minimum is on the boundary.
     let (fa, fb) = (f(a), f(b));
     let best = [(x, fx), (a, fa), (b, fb)]

@@ -824,6 +824,19 @@ pub fn result(scene: &Scene, sc_scene: &SliderCrankScene) -> SolveResult {
             "pareto".into(),
             serde_json::to_value(&out.pareto).expect("plain data"),
         );
+        if let (Some(a), Some(b)) = (out.pareto.first(), out.pareto.last()) {
+            let (df, dt) = (
+                b.peak_shaking_force_n - a.peak_shaking_force_n,
+                a.peak_drive_torque_nm - b.peak_drive_torque_nm,
+            );
+            r.derived.insert("pareto_force_span_n".into(), df);
+            r.derived.insert("pareto_torque_span_nm".into(), dt);
+            if df < 0.01 * a.peak_shaking_force_n && dt < 0.01 * b.peak_drive_torque_nm {
+                r.warnings.push(format!(
+                    "the force optimum and the torque optimum nearly coincide (the front spans {df:.3} N and {dt:.4} N·m): one counterweight serves both"
+                ));
+            }
+        }
         let mut csv = String::from("force_limit_n,peak_shaking_force_n,peak_drive_torque_nm,gap_nm,unbalance_x_kgm,unbalance_y_kgm,status\n");
         for p in &out.pareto {
             csv += &format!(
@@ -974,18 +987,42 @@ fn pareto_plot(
         "this design",
         vec![(out.design.peak, out.design.peak_torque)],
     ));
+    // The front itself, at its own scale (the optima can be close together).
+    let mut zoom = vec![
+        Series::line("Pareto front", front.clone()),
+        Series::points("front points", front),
+    ];
+    if let (Some(first), Some(last)) = (out.pareto.first(), out.pareto.last()) {
+        zoom.push(Series::marker(
+            "force optimum",
+            vec![(first.peak_shaking_force_n, first.peak_drive_torque_nm)],
+        ));
+        zoom.push(Series::marker(
+            "torque optimum",
+            vec![(last.peak_shaking_force_n, last.peak_drive_torque_nm)],
+        ));
+    }
     let svg = plot::panels(
-        &[Panel {
-            title: format!(
-                "{}: peak drive torque against peak shaking force",
-                scene.name
-            ),
-            x_label: "peak shaking force (N)".into(),
-            y_label: "peak drive torque (N·m)".into(),
-            series,
-            equal_aspect: false,
-        }],
-        760,
+        &[
+            Panel {
+                title: format!(
+                    "{}: peak drive torque against peak shaking force",
+                    scene.name
+                ),
+                x_label: "peak shaking force (N)".into(),
+                y_label: "peak drive torque (N·m)".into(),
+                series,
+                equal_aspect: false,
+            },
+            Panel {
+                title: "the Pareto front at its own scale".into(),
+                x_label: "peak shaking force (N)".into(),
+                y_label: "peak drive torque (N·m)".into(),
+                series: zoom,
+                equal_aspect: false,
+            },
+        ],
+        700,
         520,
     )?;
     Ok(Plot {
