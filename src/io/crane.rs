@@ -122,59 +122,9 @@ pub struct ObjectiveRaw {
     pub tie_pin: Option<TiePinRaw>,
 }
 
-/// `[accuracy]`: the solver and sampling settings (see [`Settings`]).
-#[derive(Debug, Deserialize, Default)]
-#[serde(deny_unknown_fields)]
-pub struct AccuracyRaw {
-    /// Luffing-range samples of the path (each sampled extremum is refined).
-    pub path_samples: Option<usize>,
-    /// Abscissa tolerance of the extremum refinement (rad).
-    pub xtol: Option<f64>,
-    /// Path points written for the plot and CSV.
-    pub plot_points: Option<usize>,
-    /// Halton points per free variable.
-    pub global_samples: Option<usize>,
-    /// Nelder–Mead starts.
-    pub local_starts: Option<usize>,
-    /// Nelder–Mead iterations per run.
-    pub nm_max_iters: Option<u64>,
-    /// Nelder–Mead restarts.
-    pub nm_restarts: Option<usize>,
-    /// Nelder–Mead stop (sd of the simplex costs, Δh over the length scale).
-    pub nm_sd_tolerance: Option<f64>,
-    /// Landscape grid along k1.
-    pub landscape_k1: Option<usize>,
-    /// Landscape grid along k2.
-    pub landscape_k2: Option<usize>,
-    /// Penalty weight on constraint violations.
-    pub penalty: Option<f64>,
-    /// Constraint violation accepted (relative to R_max − r).
-    pub constraint_tol: Option<f64>,
-    /// Finite-difference step of the load moment (rad).
-    pub moment_step: Option<f64>,
-}
-
-impl AccuracyRaw {
-    /// Defaults overridden by the file (validated by [`cr::solve`]'s checks in `resolve_raw`).
-    pub fn settings(&self) -> Settings {
-        let d = Settings::default();
-        Settings {
-            path_samples: self.path_samples.unwrap_or(d.path_samples),
-            xtol: self.xtol.unwrap_or(d.xtol),
-            plot_points: self.plot_points.unwrap_or(d.plot_points),
-            global_samples: self.global_samples.unwrap_or(d.global_samples),
-            local_starts: self.local_starts.unwrap_or(d.local_starts),
-            nm_max_iters: self.nm_max_iters.unwrap_or(d.nm_max_iters),
-            nm_restarts: self.nm_restarts.unwrap_or(d.nm_restarts),
-            nm_sd_tolerance: self.nm_sd_tolerance.unwrap_or(d.nm_sd_tolerance),
-            landscape_k1: self.landscape_k1.unwrap_or(d.landscape_k1),
-            landscape_k2: self.landscape_k2.unwrap_or(d.landscape_k2),
-            penalty: self.penalty.unwrap_or(d.penalty),
-            constraint_tol: self.constraint_tol.unwrap_or(d.constraint_tol),
-            moment_step: self.moment_step.unwrap_or(d.moment_step),
-        }
-    }
-}
+/// `[accuracy]`: the crane solver's [`Settings`] read directly (every key optional, unknown
+/// keys rejected); validated with the scene in `resolve_raw`.
+pub type AccuracyRaw = Settings;
 
 /// The whole luffing-crane file.
 pub type File = RawFile<MechanismRaw, ModelRaw, DesignRaw, ObjectiveRaw, AccuracyRaw>;
@@ -303,7 +253,7 @@ pub fn resolve_raw(raw: &File) -> Result<CraneScene, FieldError> {
             ));
         }
     }
-    let settings = raw.accuracy.settings();
+    let settings = raw.accuracy.clone();
     settings.validate().map_err(map_error)?;
     Ok(CraneScene { scene, settings })
 }

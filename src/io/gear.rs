@@ -99,101 +99,47 @@ pub struct ObjectiveRaw {
     pub max_pressure_angle: Option<Qty<Angle>>,
 }
 
-/// `[accuracy]` (see [`Settings`]).
-#[derive(Debug, Deserialize, Default)]
-#[serde(deny_unknown_fields)]
-pub struct AccuracyRaw {
-    /// Pole-function samples per arch before Brent.
-    pub samples_per_arch: Option<usize>,
-    /// Pole tolerance in α1 (rad).
-    pub pole_tol: Option<f64>,
-    /// Tolerance of maxima refinements (rad).
-    pub peak_xtol: Option<f64>,
-    /// Samples per arch for the peak |µ|.
-    pub peak_samples_per_arch: Option<usize>,
-    /// Samples of gear 2's curvature per turn of gear 1.
-    pub curvature_samples: Option<usize>,
-    /// Points of the α1 series (plots, CSV).
-    pub series_points: Option<usize>,
-    /// Points per pitch curve (plots, CSV).
-    pub curve_points: Option<usize>,
-    /// Points of the design sweep.
-    pub sweep_points: Option<usize>,
-    /// Tolerance of the designed e, relative to R.
-    pub design_rtol: Option<f64>,
-}
+/// `[accuracy]`: the family's solver [`Settings`] read directly (every key optional, unknown
+/// keys rejected), then validated; errors name `accuracy.<key>`.
+pub type AccuracyRaw = Settings;
 
-impl AccuracyRaw {
-    /// Defaults overridden by the file, validated; errors name `accuracy.<key>`.
-    pub fn resolve(&self) -> Result<Settings, FieldError> {
-        let d = Settings::default();
-        let s = Settings {
-            samples_per_arch: self.samples_per_arch.unwrap_or(d.samples_per_arch),
-            pole_tol: self.pole_tol.unwrap_or(d.pole_tol),
-            peak_xtol: self.peak_xtol.unwrap_or(d.peak_xtol),
-            peak_samples_per_arch: self
-                .peak_samples_per_arch
-                .unwrap_or(d.peak_samples_per_arch),
-            curvature_samples: self.curvature_samples.unwrap_or(d.curvature_samples),
-            series_points: self.series_points.unwrap_or(d.series_points),
-            curve_points: self.curve_points.unwrap_or(d.curve_points),
-            sweep_points: self.sweep_points.unwrap_or(d.sweep_points),
-            design_rtol: self.design_rtol.unwrap_or(d.design_rtol),
-        };
-        match s.validate() {
-            Ok(()) => {}
-            Err(SolveError::Settings(m)) => {
-                let key = m.split_whitespace().next().unwrap_or("").to_string();
-                return Err(FieldError::new(
-                    format!("accuracy.{key}"),
-                    format!("{m}; got {}", self.value_of(&key)),
-                ));
-            }
-            Err(e) => return Err(FieldError::new("accuracy", e.to_string())),
+/// Validates the `[accuracy]` section.
+fn resolve_accuracy(s: &Settings) -> Result<Settings, FieldError> {
+    let s = s.clone();
+    match s.validate() {
+        Ok(()) => {}
+        Err(SolveError::Settings(m)) => {
+            let key = m.split_whitespace().next().unwrap_or("").to_string();
+            return Err(FieldError::new(
+                format!("accuracy.{key}"),
+                format!(
+                    "{m}; got {}",
+                    serde_json::to_value(&s)
+                        .ok()
+                        .and_then(|v| v.get(&key).map(|x| x.to_string()))
+                        .unwrap_or_else(|| "?".into())
+                ),
+            ));
         }
-        // Above these the analysis is slow and the files huge: a typo, not a wish.
-        for (k, v, max) in [
-            ("series_points", s.series_points, 100_000),
-            ("curve_points", s.curve_points, 100_000),
-            ("sweep_points", s.sweep_points, 2_001),
-            ("samples_per_arch", s.samples_per_arch, 10_000),
-            ("peak_samples_per_arch", s.peak_samples_per_arch, 10_000),
-            ("curvature_samples", s.curvature_samples, 1_000_000),
-        ] {
-            if v > max {
-                return Err(FieldError::new(
-                    format!("accuracy.{k}"),
-                    format!("{v} is too large; allowed: at most {max}"),
-                ));
-            }
-        }
-        Ok(s)
+        Err(e) => return Err(FieldError::new("accuracy", e.to_string())),
     }
-
-    fn value_of(&self, key: &str) -> String {
-        let d = Settings::default();
-        match key {
-            "samples_per_arch" => self
-                .samples_per_arch
-                .unwrap_or(d.samples_per_arch)
-                .to_string(),
-            "pole_tol" => self.pole_tol.unwrap_or(d.pole_tol).to_string(),
-            "peak_xtol" => self.peak_xtol.unwrap_or(d.peak_xtol).to_string(),
-            "peak_samples_per_arch" => self
-                .peak_samples_per_arch
-                .unwrap_or(d.peak_samples_per_arch)
-                .to_string(),
-            "curvature_samples" => self
-                .curvature_samples
-                .unwrap_or(d.curvature_samples)
-                .to_string(),
-            "series_points" => self.series_points.unwrap_or(d.series_points).to_string(),
-            "curve_points" => self.curve_points.unwrap_or(d.curve_points).to_string(),
-            "sweep_points" => self.sweep_points.unwrap_or(d.sweep_points).to_string(),
-            "design_rtol" => self.design_rtol.unwrap_or(d.design_rtol).to_string(),
-            _ => "?".into(),
+    // Above these the analysis is slow and the files huge: a typo, not a wish.
+    for (k, v, max) in [
+        ("series_points", s.series_points, 100_000),
+        ("curve_points", s.curve_points, 100_000),
+        ("sweep_points", s.sweep_points, 2_001),
+        ("samples_per_arch", s.samples_per_arch, 10_000),
+        ("peak_samples_per_arch", s.peak_samples_per_arch, 10_000),
+        ("curvature_samples", s.curvature_samples, 1_000_000),
+    ] {
+        if v > max {
+            return Err(FieldError::new(
+                format!("accuracy.{k}"),
+                format!("{v} is too large; allowed: at most {max}"),
+            ));
         }
     }
+    Ok(s)
 }
 
 /// The whole eccentric-gear file.
@@ -306,7 +252,7 @@ pub fn resolve_raw(raw: &File) -> Result<GearProblem, FieldError> {
         };
         FieldError::new(f.key, format!("{}{allowed}", f.message))
     })?;
-    let settings = raw.accuracy.resolve()?;
+    let settings = resolve_accuracy(&raw.accuracy)?;
     Ok(GearProblem { gear, settings })
 }
 

@@ -119,54 +119,15 @@ pub struct ObjectiveRaw {
     pub zero_search: Option<ZeroSearchRaw>,
 }
 
-/// `[accuracy]` (see [`Settings`]).
-#[derive(Debug, Deserialize, Default)]
-#[serde(deny_unknown_fields)]
-pub struct AccuracyRaw {
-    /// Smallest FFT size.
-    pub n_fft_min: Option<usize>,
-    /// Largest FFT size.
-    pub n_fft_max: Option<usize>,
-    /// Root tolerance in θ.
-    pub root_tol: Option<f64>,
-    /// λ columns of the zero search.
-    pub curve_points: Option<usize>,
-    /// θ samples per column.
-    pub theta_scan: Option<usize>,
-    /// φ samples of the peak scans.
-    pub peak_samples: Option<usize>,
-    /// φ tolerance of the peak refinement.
-    pub peak_xtol: Option<f64>,
-    /// Start grid per free variable.
-    pub opt_grid: Option<usize>,
-    /// Nelder–Mead iteration limit.
-    pub nm_max_iters: Option<u64>,
-    /// Nelder–Mead simplex tolerance.
-    pub nm_sd_tol: Option<f64>,
-    /// Samples per turn of the force curves.
-    pub plot_samples: Option<usize>,
-}
+/// `[accuracy]`: the family's solver [`Settings`] read directly (every key optional, unknown
+/// keys rejected), then validated; errors name `accuracy.<key>`.
+pub type AccuracyRaw = Settings;
 
-impl AccuracyRaw {
-    /// Defaults overridden by the file, validated.
-    pub fn resolve(&self) -> Result<Settings, FieldError> {
-        let d = Settings::default();
-        let s = Settings {
-            n_fft_min: self.n_fft_min.unwrap_or(d.n_fft_min),
-            n_fft_max: self.n_fft_max.unwrap_or(d.n_fft_max),
-            root_tol: self.root_tol.unwrap_or(d.root_tol),
-            curve_points: self.curve_points.unwrap_or(d.curve_points),
-            theta_scan: self.theta_scan.unwrap_or(d.theta_scan),
-            peak_samples: self.peak_samples.unwrap_or(d.peak_samples),
-            peak_xtol: self.peak_xtol.unwrap_or(d.peak_xtol),
-            opt_grid: self.opt_grid.unwrap_or(d.opt_grid),
-            nm_max_iters: self.nm_max_iters.unwrap_or(d.nm_max_iters),
-            nm_sd_tol: self.nm_sd_tol.unwrap_or(d.nm_sd_tol),
-            plot_samples: self.plot_samples.unwrap_or(d.plot_samples),
-        };
-        s.validate().map_err(map_synth_error)?;
-        Ok(s)
-    }
+/// Validates the `[accuracy]` section.
+fn resolve_accuracy(s: &Settings) -> Result<Settings, FieldError> {
+    let s = s.clone();
+    s.validate().map_err(map_synth_error)?;
+    Ok(s)
 }
 
 /// The whole hypocycloid file.
@@ -361,7 +322,7 @@ pub fn resolve_raw(raw: &File) -> Result<Resolved, FieldError> {
         zero_search,
     };
     scene.validate().map_err(map_synth_error)?;
-    let settings = raw.accuracy.resolve()?;
+    let settings = resolve_accuracy(&raw.accuracy)?;
     Ok(Resolved {
         variant: variant.map(|v| v as u8),
         scene,

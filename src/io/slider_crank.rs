@@ -234,43 +234,16 @@ pub struct ObjectiveRaw {
     pub pareto_points: usize,
 }
 
-/// `[accuracy]` for the counterweight solvers (see [`Settings`]).
-#[derive(Debug, Deserialize, Default)]
-#[serde(deny_unknown_fields)]
-pub struct AccuracyRaw {
-    /// Relative optimality gap.
-    pub rel_tol: Option<f64>,
-    /// First SOCP's angles.
-    pub initial_samples: Option<usize>,
-    /// Scan density of the peak search.
-    pub scan_samples: Option<usize>,
-    /// Exchange rounds at most.
-    pub max_rounds: Option<usize>,
-    /// Angle tolerance of the peak refinement.
-    pub peak_xtol: Option<f64>,
-    /// RMS quadrature points.
-    pub rms_samples: Option<usize>,
-    /// Near-active band kept between rounds.
-    pub keep_band: Option<f64>,
-}
+/// `[accuracy]`: the family's solver [`Settings`] read directly (every key optional, unknown
+/// keys rejected), then validated; errors name `accuracy.<key>`.
+pub type AccuracyRaw = Settings;
 
-impl AccuracyRaw {
-    /// Defaults overridden by the file, validated.
-    pub fn resolve(&self) -> Result<Settings, FieldError> {
-        let d = Settings::default();
-        let s = Settings {
-            rel_tol: self.rel_tol.unwrap_or(d.rel_tol),
-            initial_samples: self.initial_samples.unwrap_or(d.initial_samples),
-            scan_samples: self.scan_samples.unwrap_or(d.scan_samples),
-            max_rounds: self.max_rounds.unwrap_or(d.max_rounds),
-            peak_xtol: self.peak_xtol.unwrap_or(d.peak_xtol),
-            rms_samples: self.rms_samples.unwrap_or(d.rms_samples),
-            keep_band: self.keep_band.unwrap_or(d.keep_band),
-        };
-        s.validate()
-            .map_err(|(f, m)| FieldError::new(format!("accuracy.{f}"), m))?;
-        Ok(s)
-    }
+/// Validates the `[accuracy]` section.
+fn resolve_accuracy(s: &Settings) -> Result<Settings, FieldError> {
+    let s = s.clone();
+    s.validate()
+        .map_err(|(f, m)| FieldError::new(format!("accuracy.{f}"), m))?;
+    Ok(s)
 }
 
 /// A resolved slider-crank scene: the synthesis scene plus what only the report needs.
@@ -589,7 +562,7 @@ pub fn resolve_raw(raw: &File) -> Result<SliderCrankScene, FieldError> {
             format!("got {}; allowed: 0 (none) or 2 to 200", o.pareto_points),
         ));
     }
-    let settings = raw.accuracy.resolve()?;
+    let settings = resolve_accuracy(&raw.accuracy)?;
     let paper = match &d.paper {
         None => None,
         Some(p) => {

@@ -103,7 +103,8 @@ pub struct Problem<'a> {
 }
 
 /// Accuracy settings of the exchange loop (flat, with defaults, Clarabel style).
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(default, deny_unknown_fields)]
 pub struct Settings {
     /// Stop when (true peak − sampled bound) ≤ `rel_tol`·true peak. Default 1e-9.
     pub rel_tol: f64,

@@ -306,7 +306,8 @@ const VAR_NAMES: [&str; 6] = [
 ];
 
 /// Solver and sampling settings (one flat struct; see [`Settings::validate`]).
-#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(default, deny_unknown_fields)]
 pub struct Settings {
     /// Samples of the luffing range for the head path (every one must assemble); each sampled
     /// extremum is refined. Default 32 (the thesis example's Δh agrees with 400 samples to 1e-14 m).

@@ -258,7 +258,8 @@ pub fn paper_table1_design() -> GearScene {
 }
 
 /// Numerical settings, one flat struct.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, serde::Deserialize)]
+#[serde(default, deny_unknown_fields)]
 pub struct Settings {
     /// Samples of each pole function per arch before Brent (≥ 8).
     pub samples_per_arch: usize,

@@ -302,7 +302,8 @@ impl HypocycloidScene {
 }
 
 /// Numerical settings (one flat struct; see [`Settings::validate`]).
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, serde::Deserialize)]
+#[serde(default, deny_unknown_fields)]
 pub struct Settings {
     /// Smallest FFT size for the coefficients (power of two, ≥ 16).
     pub n_fft_min: usize,
