@@ -3,7 +3,9 @@
 //! an independent reconstruction of its geometry), `--out` writes every file, and bad input
 //! is rejected with the file, the line and the dotted field.
 
-use cwsynth::io::problem::{parse_str, ProblemError, SceneKind};
+mod common;
+use common::*;
+use cwsynth::io::problem::{parse_str, SceneKind};
 use serde_json::Value;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -11,12 +13,6 @@ use std::process::Command;
 
 const EXAMPLE: &str = include_str!("../problems/crane-thesis-example.toml");
 const OPTIMISE: &str = include_str!("../problems/crane-thesis-optimise.toml");
-
-fn problem(name: &str) -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("problems")
-        .join(name)
-}
 
 fn crane_files() -> Vec<PathBuf> {
     let mut v: Vec<PathBuf> = std::fs::read_dir(problem(""))
@@ -302,29 +298,6 @@ fn out_dir_gets_json_markdown_svg_and_csv() {
     assert_eq!(csv.lines().count(), 1 + 121);
     let md = std::fs::read_to_string(dir.path().join(format!("{n}.md"))).unwrap();
     assert!(md.contains("delta_h_m") && md.contains(&format!("{n}-landscape.csv")));
-}
-
-fn with(base: &str, replace: &str, by: &str) -> String {
-    assert!(base.contains(replace), "fixture lacks `{replace}`");
-    base.replacen(replace, by, 1)
-}
-
-fn err(text: &str) -> ProblemError {
-    parse_str(text, Path::new("bad.toml")).expect_err("should be rejected")
-}
-
-fn line_of(text: &str, needle: &str) -> usize {
-    text[..text.find(needle).unwrap()].matches('\n').count() + 1
-}
-
-#[track_caller]
-fn assert_names(text: &str, field: &str, line_needle: &str, says: &str) {
-    let e = err(text);
-    let msg = e.to_string();
-    assert_eq!(e.field(), Some(field), "{msg}");
-    assert_eq!(e.line(), Some(line_of(text, line_needle)), "{msg}");
-    assert!(msg.starts_with("bad.toml:"), "{msg}");
-    assert!(msg.contains(says), "`{msg}` should say `{says}`");
 }
 
 #[test]

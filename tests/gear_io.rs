@@ -3,7 +3,9 @@
 //! independent closure quadrature and the library's example scenes), `--out` writes every
 //! file, and bad input names the file, the line and the dotted field.
 
-use cwsynth::io::problem::{parse_str, ProblemError, SceneKind};
+mod common;
+use common::*;
+use cwsynth::io::problem::{parse_str, SceneKind};
 use cwsynth::synth::gear::{paper_table1, paper_table1_design, solve, Settings};
 use serde_json::Value;
 use std::f64::consts::{PI, TAU};
@@ -11,12 +13,6 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 const TABLE1: &str = include_str!("../problems/gear-paper-table1.toml");
-
-fn problem(name: &str) -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("problems")
-        .join(name)
-}
 
 fn shipped() -> Vec<PathBuf> {
     let mut v: Vec<PathBuf> = std::fs::read_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/problems"))
@@ -271,29 +267,6 @@ fn out_dir_gets_json_markdown_svg_and_csv() {
 
 // --- bad input -----------------------------------------------------------------------
 
-fn with(replace: &str, by: &str) -> String {
-    assert!(TABLE1.contains(replace), "fixture lacks `{replace}`");
-    TABLE1.replacen(replace, by, 1)
-}
-
-fn err(text: &str) -> ProblemError {
-    parse_str(text, Path::new("bad.toml")).expect_err("should be rejected")
-}
-
-fn line_of(text: &str, needle: &str) -> usize {
-    text[..text.find(needle).unwrap()].matches('\n').count() + 1
-}
-
-#[track_caller]
-fn assert_names(text: &str, field: &str, line_needle: &str, says: &str) {
-    let e = err(text);
-    let msg = e.to_string();
-    assert_eq!(e.field(), Some(field), "{msg}");
-    assert_eq!(e.line(), Some(line_of(text, line_needle)), "{msg}");
-    assert!(msg.starts_with("bad.toml:"), "{msg}");
-    assert!(msg.contains(says), "`{msg}` should say `{says}`");
-}
-
 #[test]
 fn the_table1_file_resolves_to_the_library_scene() {
     let s = parse_str(TABLE1, Path::new("t.toml")).unwrap();
@@ -310,24 +283,36 @@ fn the_table1_file_resolves_to_the_library_scene() {
 
 #[test]
 fn unknown_and_missing_fields() {
-    let t = with("speed = \"15 rad/s\"", "speed = \"15 rad/s\"\nspeeed = 3");
+    let t = with(
+        TABLE1,
+        "speed = \"15 rad/s\"",
+        "speed = \"15 rad/s\"\nspeeed = 3",
+    );
     assert_names(&t, "mechanism.speeed", "speeed", "unknown field `speeed`");
-    let t = with("pole_window = \"0.01 rad\"", "pole_widow = \"0.01 rad\"");
+    let t = with(
+        TABLE1,
+        "pole_window = \"0.01 rad\"",
+        "pole_widow = \"0.01 rad\"",
+    );
     assert_names(
         &t,
         "model.pole_widow",
         "pole_widow",
         "unknown field `pole_widow`",
     );
-    let e = err(&with("pitch_radius = \"37.5 mm\"      # R, Table 1\n", ""));
+    let e = err(&with(
+        TABLE1,
+        "pitch_radius = \"37.5 mm\"      # R, Table 1\n",
+        "",
+    ));
     assert!(
         e.to_string().contains("missing field `pitch_radius`"),
         "{e}"
     );
     assert_eq!(e.field(), Some("mechanism"));
-    let t = with("eccentricity = \"15 mm\"", "# no e");
+    let t = with(TABLE1, "eccentricity = \"15 mm\"", "# no e");
     assert_names(&t, "design.eccentricity", "[design]", "missing; allowed");
-    let t = with("teeth_gear2 = 36\n", "");
+    let t = with(TABLE1, "teeth_gear2 = 36\n", "");
     assert_names(
         &t,
         "mechanism.teeth_gear2",
@@ -338,44 +323,52 @@ fn unknown_and_missing_fields() {
 
 #[test]
 fn negative_nan_and_wrong_unit() {
-    let t = with("\"37.5 mm\"", "\"-37.5 mm\"");
+    let t = with(TABLE1, "\"37.5 mm\"", "\"-37.5 mm\"");
     assert_names(
         &t,
         "mechanism.pitch_radius",
         "pitch_radius",
         "allowed: a value > 0",
     );
-    let t = with("\"1.25 mm\"", "\"NaN mm\"");
+    let t = with(TABLE1, "\"1.25 mm\"", "\"NaN mm\"");
     assert_names(
         &t,
         "mechanism.generating_radius",
         "generating_radius",
         "not a finite number",
     );
-    let t = with("\"15 rad/s\"", "nan");
+    let t = with(TABLE1, "\"15 rad/s\"", "nan");
     assert_names(&t, "mechanism.speed", "speed", "not a finite number");
-    let t = with("\"15 rad/s\"", "\"15 mm\"");
+    let t = with(TABLE1, "\"15 rad/s\"", "\"15 mm\"");
     assert_names(
         &t,
         "mechanism.speed",
         "speed",
         "`mm` is a unit of length, but this field is a rotational speed",
     );
-    let t = with("eccentricity = \"15 mm\"", "eccentricity = \"15 deg\"");
+    let t = with(
+        TABLE1,
+        "eccentricity = \"15 mm\"",
+        "eccentricity = \"15 deg\"",
+    );
     assert_names(
         &t,
         "design.eccentricity",
         "eccentricity",
         "is a unit of plane angle",
     );
-    let t = with("eccentricity = \"15 mm\"", "eccentricity = \"-1 mm\"");
+    let t = with(
+        TABLE1,
+        "eccentricity = \"15 mm\"",
+        "eccentricity = \"-1 mm\"",
+    );
     assert_names(
         &t,
         "design.eccentricity",
         "eccentricity",
         "allowed: a value ≥ 0",
     );
-    let t = with("turns_gear2 = 1", "turns_gear2 = -1");
+    let t = with(TABLE1, "turns_gear2 = 1", "turns_gear2 = -1");
     assert_names(&t, "mechanism.turns_gear2", "turns_gear2", "u32");
 }
 
@@ -387,7 +380,11 @@ fn geometry_checks_name_their_field() {
         "\"40 mm\"",
         "{ min = \"0 mm\", max = \"38 mm\" }",
     ] {
-        let t = with("eccentricity = \"15 mm\"", &format!("eccentricity = {e}"));
+        let t = with(
+            TABLE1,
+            "eccentricity = \"15 mm\"",
+            &format!("eccentricity = {e}"),
+        );
         assert_names(
             &t,
             "design.eccentricity",
@@ -396,6 +393,7 @@ fn geometry_checks_name_their_field() {
         );
     }
     let t = with(
+        TABLE1,
         "eccentricity = \"15 mm\"",
         "eccentricity = { min = \"20 mm\", max = \"10 mm\" }",
     );
@@ -405,16 +403,16 @@ fn geometry_checks_name_their_field() {
         "eccentricity",
         "allowed: min ≤ max",
     );
-    let t = with("\"1.25 mm\"", "\"1.3 mm\"");
+    let t = with(TABLE1, "\"1.25 mm\"", "\"1.3 mm\"");
     assert_names(
         &t,
         "mechanism.generating_radius",
         "generating_radius",
         "even integer",
     );
-    let t = with("turns_gear1 = 3", "turns_gear1 = 0");
+    let t = with(TABLE1, "turns_gear1 = 3", "turns_gear1 = 0");
     assert_names(&t, "mechanism.turns_gear1", "turns_gear1", "integer ≥ 1");
-    let t = with("\"0.01 rad\"", "\"10 deg\"");
+    let t = with(TABLE1, "\"0.01 rad\"", "\"10 deg\"");
     assert_names(
         &t,
         "model.pole_window",
@@ -422,6 +420,7 @@ fn geometry_checks_name_their_field() {
         "must be in [0, π/N)",
     );
     let t = with(
+        TABLE1,
         "require_gear2_convex = true",
         "require_gear2_convex = true\nmax_pressure_angle = \"95 deg\"",
     );
@@ -431,7 +430,11 @@ fn geometry_checks_name_their_field() {
         "max_pressure_angle",
         "(0, 90°)",
     );
-    let t = with("maximize = \"ratio-variation\"", "maximize = \"speed\"");
+    let t = with(
+        TABLE1,
+        "maximize = \"ratio-variation\"",
+        "maximize = \"speed\"",
+    );
     assert_names(
         &t,
         "objective.maximize",
@@ -439,6 +442,7 @@ fn geometry_checks_name_their_field() {
         "expected `ratio-variation`",
     );
     let t = with(
+        TABLE1,
         "[objective]",
         "[accuracy]\nsamples_per_arch = 2\n\n[objective]",
     );
@@ -454,8 +458,12 @@ fn geometry_checks_name_their_field() {
 fn e_near_r_solves_with_a_warning_naming_the_field() {
     let dir = tempfile::tempdir().unwrap();
     let p = dir.path().join("gear-near.toml");
-    let t = with("eccentricity = \"15 mm\"", "eccentricity = \"35 mm\"")
-        .replace("name = \"gear-paper-table1\"", "name = \"gear-near\"");
+    let t = with(
+        TABLE1,
+        "eccentricity = \"15 mm\"",
+        "eccentricity = \"35 mm\"",
+    )
+    .replace("name = \"gear-paper-table1\"", "name = \"gear-near\"");
     std::fs::write(&p, t).unwrap();
     let v = solve_json(&p);
     assert_eq!(v["status"], "analysed");
@@ -478,7 +486,11 @@ fn bad_file_through_the_binary_names_file_line_and_field() {
     let p = dir.path().join("bad.toml");
     std::fs::write(
         &p,
-        with("eccentricity = \"15 mm\"", "eccentricity = \"45 mm\""),
+        with(
+            TABLE1,
+            "eccentricity = \"15 mm\"",
+            "eccentricity = \"45 mm\"",
+        ),
     )
     .unwrap();
     let out = Command::new(env!("CARGO_BIN_EXE_cwsynth"))

@@ -4,20 +4,16 @@
 //! leading-order closed forms), `--out` writes every file, and bad input is rejected with
 //! the file, the line and the dotted field.
 
-use cwsynth::io::problem::{parse_str, ProblemError};
+mod common;
+use common::*;
+use cwsynth::io::problem::parse_str;
 use serde_json::Value;
 use std::f64::consts::{PI, TAU};
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::Command;
 
 const V1: &str = include_str!("../problems/hypocycloid-variant1.toml");
 const C4V1: &str = include_str!("../problems/hypocycloid-c4-variant1.toml");
-
-fn problem(name: &str) -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("problems")
-        .join(name)
-}
 
 fn solve_json(name: &str) -> Value {
     let out = Command::new(env!("CARGO_BIN_EXE_cwsynth"))
@@ -336,29 +332,6 @@ fn out_dir_gets_json_markdown_svg_and_csv() {
 // ---------------------------------------------------------------------------------------
 // Bad input
 // ---------------------------------------------------------------------------------------
-
-fn with(base: &str, replace: &str, by: &str) -> String {
-    assert!(base.contains(replace), "fixture lacks `{replace}`");
-    base.replacen(replace, by, 1)
-}
-
-fn err(text: &str) -> ProblemError {
-    parse_str(text, Path::new("bad.toml")).expect_err("should be rejected")
-}
-
-fn line_of(text: &str, needle: &str) -> usize {
-    text[..text.find(needle).unwrap()].matches('\n').count() + 1
-}
-
-#[track_caller]
-fn assert_names(text: &str, field: &str, line_needle: &str, says: &str) {
-    let e = err(text);
-    let msg = e.to_string();
-    assert_eq!(e.field(), Some(field), "{msg}");
-    assert_eq!(e.line(), Some(line_of(text, line_needle)), "{msg}");
-    assert!(msg.starts_with("bad.toml:"), "{msg}");
-    assert!(msg.contains(says), "`{msg}` should say `{says}`");
-}
 
 #[test]
 fn shipped_files_load_and_units_convert() {

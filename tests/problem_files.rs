@@ -1,34 +1,12 @@
 //! Problem files: every shipped file loads, and every kind of bad input is rejected with
 //! the file, the line and the field named, and what is allowed said.
 
-use cwsynth::io::problem::{load, parse_str, ProblemError, SceneKind};
+mod common;
+use common::*;
+use cwsynth::io::problem::{load, parse_str, SceneKind};
 use std::path::Path;
 
 const PISTON: &str = include_str!("../problems/piston-1000rpm.toml");
-
-fn with(replace: &str, by: &str) -> String {
-    assert!(PISTON.contains(replace), "fixture lacks `{replace}`");
-    PISTON.replacen(replace, by, 1)
-}
-
-fn err(text: &str) -> ProblemError {
-    parse_str(text, Path::new("bad.toml")).expect_err("should be rejected")
-}
-
-/// The 1-based line of the first occurrence of `needle` in `text`.
-fn line_of(text: &str, needle: &str) -> usize {
-    text[..text.find(needle).unwrap()].matches('\n').count() + 1
-}
-
-#[track_caller]
-fn assert_names(text: &str, field: &str, line_needle: &str, says: &str) {
-    let e = err(text);
-    let msg = e.to_string();
-    assert_eq!(e.field(), Some(field), "{msg}");
-    assert_eq!(e.line(), Some(line_of(text, line_needle)), "{msg}");
-    assert!(msg.starts_with("bad.toml:"), "{msg}");
-    assert!(msg.contains(says), "`{msg}` should say `{says}`");
-}
 
 #[test]
 fn every_shipped_problem_file_loads() {
@@ -60,7 +38,7 @@ fn units_are_converted_to_si() {
     assert!((sc.omega - 1000.0 * std::f64::consts::TAU / 60.0).abs() < 1e-12);
     // mm and m files give the same scene.
     let m = parse_str(
-        &with("crank_radius = \"35 mm\"", "crank_radius = 0.035"),
+        &with(PISTON, "crank_radius = \"35 mm\"", "crank_radius = 0.035"),
         Path::new("p.toml"),
     )
     .unwrap();
@@ -74,6 +52,7 @@ fn units_are_converted_to_si() {
 #[test]
 fn unknown_field_names_field_and_line() {
     let t = with(
+        PISTON,
         "rod_mass = \"0.30 kg\"",
         "rod_mass = \"0.30 kg\"\nrod_mas = \"1 kg\"",
     );
@@ -87,7 +66,7 @@ fn unknown_field_names_field_and_line() {
 
 #[test]
 fn missing_field_is_reported() {
-    let t = with("rod_length = \"140 mm\"\n", "");
+    let t = with(PISTON, "rod_length = \"140 mm\"\n", "");
     let e = err(&t);
     assert!(e.to_string().contains("missing field `rod_length`"), "{e}");
     assert_eq!(e.field(), Some("mechanism"));
@@ -95,7 +74,11 @@ fn missing_field_is_reported() {
 
 #[test]
 fn negative_length_is_rejected() {
-    let t = with("crank_radius = \"35 mm\"", "crank_radius = \"-35 mm\"");
+    let t = with(
+        PISTON,
+        "crank_radius = \"35 mm\"",
+        "crank_radius = \"-35 mm\"",
+    );
     assert_names(
         &t,
         "mechanism.crank_radius",
@@ -106,14 +89,14 @@ fn negative_length_is_rejected() {
 
 #[test]
 fn crank_that_cannot_turn_is_rejected_with_lambda() {
-    let t = with("rod_length = \"140 mm\"", "rod_length = \"30 mm\"");
+    let t = with(PISTON, "rod_length = \"140 mm\"", "rod_length = \"30 mm\"");
     assert_names(
         &t,
         "mechanism.rod_length",
         "rod_length",
         "λ = R/L = 1.166667",
     );
-    let t = with("rod_length = \"140 mm\"", "rod_length = \"35 mm\"");
+    let t = with(PISTON, "rod_length = \"140 mm\"", "rod_length = \"35 mm\"");
     assert_names(
         &t,
         "mechanism.rod_length",
@@ -124,14 +107,18 @@ fn crank_that_cannot_turn_is_rejected_with_lambda() {
 
 #[test]
 fn nan_is_rejected() {
-    let t = with("slider_mass = \"1.03 kg\"", "slider_mass = nan");
+    let t = with(PISTON, "slider_mass = \"1.03 kg\"", "slider_mass = nan");
     assert_names(
         &t,
         "mechanism.slider_mass",
         "slider_mass",
         "not a finite number",
     );
-    let t = with("slider_mass = \"1.03 kg\"", "slider_mass = \"NaN kg\"");
+    let t = with(
+        PISTON,
+        "slider_mass = \"1.03 kg\"",
+        "slider_mass = \"NaN kg\"",
+    );
     assert_names(
         &t,
         "mechanism.slider_mass",
@@ -142,33 +129,44 @@ fn nan_is_rejected() {
 
 #[test]
 fn unknown_unit_and_wrong_dimension_list_the_allowed_units() {
-    let t = with("\"35 mm\"", "\"35 furlong\"");
+    let t = with(PISTON, "\"35 mm\"", "\"35 furlong\"");
     assert_names(&t, "mechanism.crank_radius", "crank_radius", "unknown unit `furlong` for a length; allowed: a plain number in m or a string with one of: m, mm, cm");
-    let t = with("\"1000 rpm\"", "\"1000 kg\"");
+    let t = with(PISTON, "\"1000 rpm\"", "\"1000 kg\"");
     assert_names(&t, "mechanism.speed", "speed", "`kg` is a unit of mass, but this field is a rotational speed; allowed: a plain number in rad/s or a string with one of: rad/s, rpm");
 }
 
 #[test]
 fn bad_family_and_bad_name() {
-    let t = with("family = \"slider-crank\"", "family = \"slider_crank\"");
+    let t = with(
+        PISTON,
+        "family = \"slider-crank\"",
+        "family = \"slider_crank\"",
+    );
     assert_names(&t, "family", "family", "allowed: \"slider-crank\"");
-    let t = with("name = \"piston-1000rpm\"", "name = \"../etc/passwd\"");
+    let t = with(
+        PISTON,
+        "name = \"piston-1000rpm\"",
+        "name = \"../etc/passwd\"",
+    );
     assert_names(&t, "name", "name =", "cannot be a file name");
 }
 
 #[test]
 fn design_ranges_must_be_ordered_and_convex() {
     let t = with(
+        PISTON,
         "unbalance = { min = \"0 kg*m\", max = \"0.2 kg*m\" }",
         "unbalance = { min = \"0.3 kg*m\", max = \"0.2 kg*m\" }",
     );
     assert_names(&t, "design.unbalance", "unbalance =", "allowed: min ≤ max");
     let t = with(
+        PISTON,
         "angle = { min = \"0 deg\", max = \"360 deg\" }",
         "angle = { min = \"0 deg\", max = \"270 deg\" }",
     );
     assert_names(&t, "design.angle", "angle =", "not convex");
     let t = with(
+        PISTON,
         "angle = { min = \"0 deg\", max = \"360 deg\" }",
         "angle = { min = \"0 deg\", maxi = \"360 deg\" }",
     );
@@ -182,7 +180,7 @@ fn design_ranges_must_be_ordered_and_convex() {
 
 #[test]
 fn model_options_only_where_they_apply() {
-    let t = with("rod_split = 0.5", "rod_split = 1.5");
+    let t = with(PISTON, "rod_split = 0.5", "rod_split = 1.5");
     assert_names(
         &t,
         "model.rod_split",
@@ -190,6 +188,7 @@ fn model_options_only_where_they_apply() {
         "allowed: 0 ≤ rod_split ≤ 1",
     );
     let t = with(
+        PISTON,
         "rod_split = 0.5",
         "rod_split = 0.5\nrod_inertia = \"1 kg*m^2\"",
     );
@@ -200,11 +199,16 @@ fn model_options_only_where_they_apply() {
         "only used with masses = \"rigid\"",
     );
     let t = with(
+        PISTON,
         "kinematics = \"exact\"",
         "kinematics = \"exact\"\n[mechanism.extra]",
     );
     assert!(err(&t).to_string().contains("bad.toml:"));
-    let t = with("kinematics = \"exact\"", "kinematics = \"three-harmonic\"");
+    let t = with(
+        PISTON,
+        "kinematics = \"exact\"",
+        "kinematics = \"three-harmonic\"",
+    );
     assert_names(
         &t,
         "model.kinematics",
@@ -215,14 +219,14 @@ fn model_options_only_where_they_apply() {
 
 #[test]
 fn objective_needs_what_it_uses() {
-    let t = with("minimize = \"peak-force\"", "minimize = \"mass\"");
+    let t = with(PISTON, "minimize = \"peak-force\"", "minimize = \"mass\"");
     assert_names(
         &t,
         "objective.max_peak_force",
         "[objective]",
         "needs a peak-force limit",
     );
-    let t = with("minimize = \"peak-force\"", "minimize = \"weight\"");
+    let t = with(PISTON, "minimize = \"peak-force\"", "minimize = \"weight\"");
     assert_names(
         &t,
         "objective.minimize",
@@ -233,13 +237,13 @@ fn objective_needs_what_it_uses() {
 
 #[test]
 fn accuracy_settings_are_validated() {
-    let t = with("rel_tol = 1e-9", "rel_tol = 2.0");
+    let t = with(PISTON, "rel_tol = 1e-9", "rel_tol = 2.0");
     assert_names(&t, "accuracy.rel_tol", "rel_tol", "must be in (0, 1)");
 }
 
 #[test]
 fn syntax_error_has_a_line() {
-    let t = with("rod_mass = \"0.30 kg\"", "rod_mass = \"0.30 kg");
+    let t = with(PISTON, "rod_mass = \"0.30 kg\"", "rod_mass = \"0.30 kg");
     let e = err(&t);
     assert_eq!(e.line(), Some(line_of(&t, "rod_mass")), "{e}");
 }

@@ -1,0 +1,42 @@
+//! Helpers shared by the integration tests: shipped problem files, editing a fixture, and
+//! asserting that a rejection names the file, the line and the field.
+#![allow(dead_code)]
+
+use cwsynth::io::problem::{parse_str, ProblemError};
+use std::path::{Path, PathBuf};
+
+/// A shipped problem file.
+pub fn problem(name: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("problems")
+        .join(name)
+}
+
+/// `base` with the first `replace` replaced by `by` (the fixture must contain it).
+#[track_caller]
+pub fn with(base: &str, replace: &str, by: &str) -> String {
+    assert!(base.contains(replace), "fixture lacks `{replace}`");
+    base.replacen(replace, by, 1)
+}
+
+/// The rejection of `text` (read as `bad.toml`).
+#[track_caller]
+pub fn err(text: &str) -> ProblemError {
+    parse_str(text, Path::new("bad.toml")).expect_err("should be rejected")
+}
+
+/// The 1-based line of the first `needle` in `text`.
+pub fn line_of(text: &str, needle: &str) -> usize {
+    text[..text.find(needle).unwrap()].matches('\n').count() + 1
+}
+
+/// `text` is rejected naming `field` on the line of `line_needle`, saying `says`.
+#[track_caller]
+pub fn assert_names(text: &str, field: &str, line_needle: &str, says: &str) {
+    let e = err(text);
+    let msg = e.to_string();
+    assert_eq!(e.field(), Some(field), "{msg}");
+    assert_eq!(e.line(), Some(line_of(text, line_needle)), "{msg}");
+    assert!(msg.starts_with("bad.toml:"), "{msg}");
+    assert!(msg.contains(says), "`{msg}` should say `{says}`");
+}
