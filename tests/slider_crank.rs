@@ -328,3 +328,30 @@ fn crank_that_cannot_turn_is_an_error_not_a_nan() {
     let out = solve(&sc2).unwrap();
     assert!(out.design.peak.is_finite() && out.design.peak_torque.is_finite());
 }
+
+#[test]
+fn baselines_match_their_definitions() {
+    let sc = paper_piston(1000.0);
+    let b = cwsynth::synth::slider_crank::baselines(&sc).unwrap();
+    let (mt, mc, r, w2) = (
+        sc.mech.m_rot(),
+        sc.mech.m_rec(),
+        sc.mech.r,
+        sc.omega * sc.omega,
+    );
+    // y force zeroed: F_y ≡ 0.
+    assert!(b["y_force_zeroed"].ptp_y < 1e-9 * b["none"].ptp_y);
+    // 50 % rule: U = −(m_tq + ½ m_ct) R.
+    assert!((b["fifty_percent"].unbalance[0] + (mt + 0.5 * mc) * r).abs() < 1e-15);
+    // Equal ranges: the x and y ranges agree, and F_y's range is the closed form 2ω²|m_tq R − κ|.
+    let eq = &b["equal_ranges"];
+    assert!((eq.ptp_x - eq.ptp_y).abs() < 1e-9 * eq.ptp_y);
+    assert!((eq.ptp_y - 2.0 * w2 * (mt * r + eq.unbalance[0]).abs()).abs() < 1e-9 * eq.ptp_y);
+    // No counterweight: the peak is at the inner dead centre, (m_tq + m_ct)Rω²(1 + λ) for an
+    // in-line slider (x'' = −R(1 + λ) at φ = 0).
+    let lam = sc.mech.lambda();
+    assert!(
+        (b["none"].peak - (mt + mc) * r * w2 * (1.0 + lam) + mt * r * w2 * lam).abs()
+            < 1e-9 * b["none"].peak
+    );
+}

@@ -317,10 +317,19 @@ pub fn baselines(scene: &Scene) -> Result<BTreeMap<String, Metrics>, SolveError>
     ] {
         out.insert(name.to_string(), metrics(scene, P2::new(-k, 0.0))?);
     }
+    // For U = −κ e_x every link's y motion is proportional to sin φ, so F_y = ω²(m_tq R − κ)
+    // sin φ and its range is 2ω²|m_tq R − κ| in closed form; only the x range needs peaks.
+    let (w2, st) = (scene.omega * scene.omega, &scene.settings);
     let diff = |k: f64| {
-        metrics(scene, P2::new(-k, 0.0))
-            .map(|m| m.ptp_x - m.ptp_y)
-            .unwrap_or(f64::NAN)
+        let fx = |p: f64| {
+            shaking_force(mech, scene.omega, P2::new(-k, 0.0), p).map_or(f64::NAN, |f| f.x)
+        };
+        let hi = periodic_peak(fx, st.scan_samples, st.peak_xtol).map(|p| p.peak.fx);
+        let lo = periodic_peak(|p| -fx(p), st.scan_samples, st.peak_xtol).map(|p| p.peak.fx);
+        match (hi, lo) {
+            (Ok(a), Ok(b)) => a + b - 2.0 * w2 * (mt * r - k).abs(),
+            _ => f64::NAN,
+        }
     };
     let (lo, hi) = (mt * r, (mt + mc) * r);
     if let Ok(root) = brent_root(diff, lo, hi, 1e-12 * hi.max(1e-300)) {
