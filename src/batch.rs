@@ -658,7 +658,9 @@ fn process(job: Job, opts: &Options) -> (Row, bool) {
             }
         }
     }
+    let was = crate::io::plot::set_drawing(!opts.summary_only);
     let mut r = solve_scene(&scene);
+    crate::io::plot::set_drawing(was);
     r.extra.insert(
         "batch".into(),
         serde_json::json!({
