@@ -1008,7 +1008,7 @@ pub fn write_reports(dir: &Path) -> anyhow::Result<()> {
     let mut n_fail = 0u64;
     let mut families: BTreeMap<String, Agg> = BTreeMap::new();
     let mut total = 0u64;
-    let mut imp_hist = [0u64; 10];
+    let mut imp_hist = [0u64; 20];
     for r in rdr.deserialize::<Row>() {
         let r = r?;
         total += 1;
@@ -1030,7 +1030,7 @@ pub fn write_reports(dir: &Path) -> anyhow::Result<()> {
             a.imp_n += 1;
             a.imp_min = a.imp_min.min(i);
             a.imp_max = a.imp_max.max(i);
-            imp_hist[((i / 10.0).floor().clamp(0.0, 9.0)) as usize] += 1;
+            imp_hist[(i.floor().clamp(0.0, 19.0)) as usize] += 1;
         }
         let bad = matches!(r.status.as_str(), "error" | "failed" | "infeasible");
         if bad {
@@ -1259,11 +1259,11 @@ pub fn write_reports(dir: &Path) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// A bar chart of improvements in 10 % bins, as inline SVG.
-fn histogram_svg(bins: &[u64; 10]) -> String {
-    let (w, hgt, left, bottom) = (620.0, 220.0, 50.0, 40.0);
+/// A bar chart of improvements in 1 % bins (0–1, …, 19+), as inline SVG.
+fn histogram_svg(bins: &[u64; 20]) -> String {
+    let (w, hgt, left, bottom) = (760.0, 220.0, 50.0, 40.0);
     let max = *bins.iter().max().unwrap_or(&1) as f64;
-    let bw = (w - left - 10.0) / 10.0;
+    let bw = (w - left - 10.0) / 20.0;
     let mut s = format!(
         "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{w}\" height=\"{hgt}\" viewBox=\"0 0 {w} {hgt}\" font-family=\"sans-serif\" font-size=\"11\">\n"
     );
@@ -1284,12 +1284,11 @@ fn histogram_svg(bins: &[u64; 10]) -> String {
             (10.0 + ph - bh - 3.0).max(10.0)
         );
         s += &format!(
-            "<text x=\"{:.1}\" y=\"{:.1}\" text-anchor=\"middle\">{}–{}{}</text>\n",
+            "<text x=\"{:.1}\" y=\"{:.1}\" text-anchor=\"middle\">{}{}</text>\n",
             x + bw / 2.0,
             hgt - bottom + 15.0,
-            k * 10,
-            k * 10 + 10,
-            if k == 9 { "+" } else { "" }
+            k,
+            if k == 19 { "+" } else { "" }
         );
     }
     s += &format!(
