@@ -32,6 +32,40 @@ pub enum Command {
         #[arg(long)]
         out: Option<PathBuf>,
     },
+    /// Solve many machines: problem files, directories, fleets `TEMPLATE.toml:FLEET.csv`
+    /// (docs/batch.md). Writes per-machine results, summary.csv, summary.md, index.html.
+    Batch {
+        /// Problem files, directories of them, or fleets `TEMPLATE.toml:FLEET.csv`.
+        inputs: Vec<String>,
+        /// Output directory.
+        #[arg(long)]
+        out: PathBuf,
+        /// Worker threads (default: all cores).
+        #[arg(long)]
+        threads: Option<usize>,
+        /// Only machines with index % n == i, e.g. `--shard 0/4`; writes
+        /// `summary-shard-i-of-n.csv` (join them with `--merge` or `cwsynth merge`).
+        #[arg(long)]
+        shard: Option<String>,
+        /// No progress output.
+        #[arg(long)]
+        quiet: bool,
+        /// Write only summary.csv/md and index.html, no per-machine files (large fleets).
+        #[arg(long)]
+        summary_only: bool,
+        /// Join the shard summaries in --out (after all shards ran) instead of solving.
+        #[arg(long)]
+        merge: bool,
+    },
+    /// Join shard summaries (`summary-shard-i-of-n.csv` in the given directories).
+    Merge {
+        /// Directories holding shard summaries.
+        #[arg(required = true)]
+        dirs: Vec<PathBuf>,
+        /// Where to write summary.csv, summary.md and index.html.
+        #[arg(long)]
+        out: PathBuf,
+    },
     /// Validate problem files without solving.
     Check {
         /// Problem files or directories.
@@ -141,6 +175,66 @@ pub fn run(cli: Cli) -> anyhow::Result<i32> {
                 eprintln!("error {e}");
             }
             Ok(if bad.is_empty() { 0 } else { 1 })
+        }
+        Command::Batch {
+            inputs,
+            out,
+            threads,
+            shard,
+            quiet,
+            summary_only,
+            merge,
+        } => {
+            if merge {
+                if !inputs.is_empty() {
+                    anyhow::bail!("--merge takes no inputs: it joins the shard summaries in --out");
+                }
+                let c = crate::batch::merge(std::slice::from_ref(&out), &out)?;
+                if !quiet {
+                    eprintln!(
+                        "merged {} machines ({} failed) into {}",
+                        c.total,
+                        c.failed,
+                        out.join("summary.csv").display()
+                    );
+                }
+                return Ok(if c.failed > 0 { 1 } else { 0 });
+            }
+            if inputs.is_empty() {
+                anyhow::bail!("batch: no inputs");
+            }
+            let opts = crate::batch::Options {
+                out: out.clone(),
+                threads,
+                shard: shard
+                    .as_deref()
+                    .map(crate::batch::parse_shard)
+                    .transpose()?,
+                quiet,
+                summary_only,
+            };
+            let c = crate::batch::run(crate::batch::expand(&inputs)?, &opts)?;
+            if !quiet {
+                eprintln!(
+                    "batch: {} machines, {} ok, {} failed, {} skipped (unchanged); summary in {}",
+                    c.total,
+                    c.ok,
+                    c.failed,
+                    c.skipped,
+                    out.join(crate::batch::summary_name(opts.shard)).display()
+                );
+            }
+            Ok(if c.failed > 0 { 1 } else { 0 })
+        }
+        Command::Merge { dirs, out } => {
+            let c = crate::batch::merge(&dirs, &out)?;
+            eprintln!(
+                "merged {} machines ({} failed) into {}",
+                c.total,
+                c.failed,
+                out.join("summary.csv").display()
+            );
+            Ok(if c.failed > 0 { 1 } else { 0 })
         }
         Command::Solve { inputs, json, out } => {
             let files = expand_inputs(&inputs)?;

@@ -12,6 +12,7 @@
 //!   plots.
 //! * [`cli`] — the command line; `main.rs` only calls [`cli::main`].
 
+pub mod batch;
 pub mod cli;
 pub mod geom;
 pub mod io;

@@ -191,8 +191,26 @@ fn draw_panel(area: &DrawingArea<SVGBackend, Shift>, p: &Panel) -> Result<(), St
     Ok(())
 }
 
+thread_local! {
+    static DRAW: std::cell::Cell<bool> = const { std::cell::Cell::new(true) };
+}
+
+/// Turns SVG drawing on or off for the current thread (on by default). Off, [`panels`] and
+/// [`heat_map`] return an empty document at once: `cwsynth batch --summary-only` uses it,
+/// since it writes no plots. Returns the previous setting.
+pub fn set_drawing(on: bool) -> bool {
+    DRAW.with(|d| d.replace(on))
+}
+
+fn drawing() -> bool {
+    DRAW.with(|d| d.get())
+}
+
 /// Side-by-side panels as one SVG document, each panel `w`×`h` pixels.
 pub fn panels(ps: &[Panel], w: u32, h: u32) -> Result<String, String> {
+    if !drawing() {
+        return Ok(String::new());
+    }
     let mut buf = String::new();
     {
         let n = ps.len().max(1) as u32;
@@ -244,6 +262,9 @@ pub fn heat_map(
     w: u32,
     h: u32,
 ) -> Result<String, String> {
+    if !drawing() {
+        return Ok(String::new());
+    }
     let tf = |v: f64| match symmetric_log {
         Some(s) => v.signum() * (1.0 + v.abs() / s).log10(),
         None => v,

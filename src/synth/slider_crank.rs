@@ -264,10 +264,77 @@ pub fn drive_torque(scene: &Scene, u: P2, phi: f64) -> f64 {
         + counterweight_weight_torque(phi, scene.loads.gravity, u)
 }
 
+/// The counterweight-independent parts of the shaking force (f₀, before the ω² factor) and
+/// of the drive torque, sampled on the scan grid and the RMS grid that [`periodic_peak`] and
+/// [`periodic_rms`] use. Evaluating many counterweights of one scene (the baselines and the
+/// `equal_ranges` root search) then computes the kinematics once per grid angle instead of
+/// once per angle, peak and counterweight. Values are bit-identical to the direct
+/// evaluation: the same expressions on the same states, only remembered.
+struct Sampled {
+    scan: Grid,
+    rms: Grid,
+}
+
+struct Grid {
+    h: f64,
+    /// (f₀(φₖ), ω²·T_drive0(φₖ) + T_load0(φₖ)).
+    vals: Vec<(P2, f64)>,
+}
+
+impl Grid {
+    fn new(scene: &Scene, n: usize) -> Grid {
+        let m = &scene.mech;
+        let h = std::f64::consts::TAU / n as f64;
+        let vals = (0..n)
+            .map(|k| {
+                let st = m.state(k as f64 * h).expect("assembly checked");
+                (
+                    m.shaking_force0(&st),
+                    scene.omega * scene.omega * m.drive_torque0(&st)
+                        + m.load_torque0(&st, &scene.loads),
+                )
+            })
+            .collect();
+        Grid { h, vals }
+    }
+    /// The cached values if `phi` is exactly a grid angle `k·h`.
+    fn get(&self, phi: f64) -> Option<(P2, f64)> {
+        let k = (phi / self.h).round();
+        if k >= 0.0 && (k as usize) < self.vals.len() && k * self.h == phi {
+            Some(self.vals[k as usize])
+        } else {
+            None
+        }
+    }
+}
+
+impl Sampled {
+    fn new(scene: &Scene) -> Sampled {
+        let s = &scene.settings;
+        Sampled {
+            // The grids of periodic_peak (n ≥ 8) and periodic_rms (even n ≥ 8).
+            scan: Grid::new(scene, s.scan_samples.max(8)),
+            rms: Grid::new(scene, (s.rms_samples.max(8) + 1) & !1),
+        }
+    }
+}
+
 /// Refined figures of the counterweight `u` (kg·m).
 pub fn metrics(scene: &Scene, u: P2) -> Result<Metrics, SolveError> {
+    metrics_sampled(scene, u, &Sampled::new(scene))
+}
+
+fn metrics_sampled(scene: &Scene, u: P2, tab: &Sampled) -> Result<Metrics, SolveError> {
     let (mech, omega, s) = (&scene.mech, scene.omega, &scene.settings);
-    let f = |phi: f64| shaking_force(mech, omega, u, phi).expect("assembly checked");
+    let w2 = omega * omega;
+    let f = |phi: f64| match tab.scan.get(phi).or_else(|| tab.rms.get(phi)) {
+        Some((f0, _)) => (f0 + rot(phi, u)) * w2,
+        None => shaking_force(mech, omega, u, phi).expect("assembly checked"),
+    };
+    let torque = |phi: f64| match tab.scan.get(phi) {
+        Some((_, t0)) => t0 + counterweight_weight_torque(phi, scene.loads.gravity, u),
+        None => drive_torque(scene, u, phi),
+    };
     let num = |e: crate::numeric::SearchError| SolveError::Numeric(e.to_string());
     let pk = periodic_peak(|p| f(p).norm(), s.scan_samples, s.peak_xtol).map_err(num)?;
     let rms = periodic_rms(|p| f(p).norm(), s.rms_samples);
@@ -275,12 +342,7 @@ pub fn metrics(scene: &Scene, u: P2) -> Result<Metrics, SolveError> {
     let xmin = periodic_peak(|p| -f(p).x, s.scan_samples, s.peak_xtol).map_err(num)?;
     let ymax = periodic_peak(|p| f(p).y, s.scan_samples, s.peak_xtol).map_err(num)?;
     let ymin = periodic_peak(|p| -f(p).y, s.scan_samples, s.peak_xtol).map_err(num)?;
-    let tq = periodic_peak(
-        |p| drive_torque(scene, u, p).abs(),
-        s.scan_samples,
-        s.peak_xtol,
-    )
-    .map_err(num)?;
+    let tq = periodic_peak(|p| torque(p).abs(), s.scan_samples, s.peak_xtol).map_err(num)?;
     Ok(Metrics {
         unbalance: [u.x, u.y],
         peak: pk.peak.fx,
@@ -298,6 +360,22 @@ pub fn metrics(scene: &Scene, u: P2) -> Result<Metrics, SolveError> {
     })
 }
 
+/// The peak-to-peak ranges (x, y) of the shaking force for `u`: the part of [`metrics`]
+/// the `equal_ranges` root search needs.
+/// max F_x − min F_x (N) of the counterweight `u`, from the remembered kinematics.
+fn x_range_sampled(scene: &Scene, u: P2, tab: &Sampled) -> Result<f64, SolveError> {
+    let (mech, omega, s) = (&scene.mech, scene.omega, &scene.settings);
+    let w2 = omega * omega;
+    let f = |phi: f64| match tab.scan.get(phi) {
+        Some((f0, _)) => (f0 + rot(phi, u)) * w2,
+        None => shaking_force(mech, omega, u, phi).expect("assembly checked"),
+    };
+    let num = |e: crate::numeric::SearchError| SolveError::Numeric(e.to_string());
+    let xmax = periodic_peak(|p| f(p).x, s.scan_samples, s.peak_xtol).map_err(num)?;
+    let xmin = periodic_peak(|p| -f(p).x, s.scan_samples, s.peak_xtol).map_err(num)?;
+    Ok(xmax.peak.fx + xmin.peak.fx)
+}
+
 /// The classical counterweights, opposite the crank pin (β = π), as unbalances (kg·m).
 ///
 /// * `none`: U = 0;
@@ -310,32 +388,30 @@ pub fn baselines(scene: &Scene) -> Result<BTreeMap<String, Metrics>, SolveError>
     let mech = &scene.mech;
     let (mt, mc, r) = (mech.m_rot(), mech.m_rec(), mech.r);
     let mut out = BTreeMap::new();
+    let tab = Sampled::new(scene);
     for (name, k) in [
         ("none", 0.0),
         ("y_force_zeroed", mt * r),
         ("fifty_percent", (mt + 0.5 * mc) * r),
     ] {
-        out.insert(name.to_string(), metrics(scene, P2::new(-k, 0.0))?);
+        out.insert(
+            name.to_string(),
+            metrics_sampled(scene, P2::new(-k, 0.0), &tab)?,
+        );
     }
     // For U = −κ e_x every link's y motion is proportional to sin φ, so F_y = ω²(m_tq R − κ)
     // sin φ and its range is 2ω²|m_tq R − κ| in closed form; only the x range needs peaks.
-    let (w2, st) = (scene.omega * scene.omega, &scene.settings);
+    let w2 = scene.omega * scene.omega;
     let diff = |k: f64| {
-        let fx = |p: f64| {
-            shaking_force(mech, scene.omega, P2::new(-k, 0.0), p).map_or(f64::NAN, |f| f.x)
-        };
-        let hi = periodic_peak(fx, st.scan_samples, st.peak_xtol).map(|p| p.peak.fx);
-        let lo = periodic_peak(|p| -fx(p), st.scan_samples, st.peak_xtol).map(|p| p.peak.fx);
-        match (hi, lo) {
-            (Ok(a), Ok(b)) => a + b - 2.0 * w2 * (mt * r - k).abs(),
-            _ => f64::NAN,
-        }
+        x_range_sampled(scene, P2::new(-k, 0.0), &tab)
+            .map(|x| x - 2.0 * w2 * (mt * r - k).abs())
+            .unwrap_or(f64::NAN)
     };
     let (lo, hi) = (mt * r, (mt + mc) * r);
     if let Ok(root) = brent_root(diff, lo, hi, 1e-12 * hi.max(1e-300)) {
         out.insert(
             "equal_ranges".to_string(),
-            metrics(scene, P2::new(-root.x, 0.0))?,
+            metrics_sampled(scene, P2::new(-root.x, 0.0), &tab)?,
         );
     }
     Ok(out)

@@ -1,0 +1,1305 @@
+//! Batch design: many machines at once (`cwsynth batch`), with streaming fleets, rayon
+//! across machines, resumable atomic output, deterministic sharding and merged reports.
+//!
+//! An input is a problem file, a directory of them, or a **fleet**
+//! `TEMPLATE.toml:FLEET.csv`: every CSV row overrides dotted keys of the template
+//! (`mechanism.speed`, `design.radius`, …; cells may carry units, `"35 mm"`). The override
+//! edits the template text with `toml_edit` and then runs the normal [`parse_str`], so every
+//! validation and message of `cwsynth solve` applies; a bad row is reported as
+//! `fleet.csv:LINE: field `x.y`: reason`.
+//!
+//! Machines are numbered in input order (0-based `index`, across all inputs). The work is
+//! streamed in chunks of [`CHUNK`] machines: each chunk is solved in parallel on a dedicated
+//! rayon pool, then its summary rows are appended in input order to the summary CSV, so
+//! memory is bounded by one chunk whatever the fleet size. `--shard i/n` keeps the machines
+//! with `index % n == i`.
+//!
+//! Re-runs skip a machine whose result is present and whose input hash matches: with
+//! per-machine files, `<name>.json` carries `batch.input_hash`; with `--summary-only`, the
+//! previous summary row (completed `summary.csv` or the `.partial` of an interrupted run)
+//! carries it. The summary is written to `<summary>.partial` and renamed when complete.
+
+use crate::io::problem::{parse_str, ProblemError};
+use crate::io::result::{fmt_num, write_atomic, write_outputs};
+use crate::run::solve_scene;
+use anyhow::{bail, Context};
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+use std::io::IsTerminal;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::Arc;
+use std::time::Instant;
+
+/// Machines solved per chunk (the memory bound: one chunk of summary rows).
+pub const CHUNK: usize = 2048;
+/// Rows shown in the tables of `summary.md` and `index.html` (all rows are in `summary.csv`).
+pub const REPORT_ROWS: usize = 1000;
+/// Machines whose plots are inlined in `index.html`.
+pub const REPORT_PLOTS: usize = 40;
+
+/// One batch input.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Input {
+    /// A problem file.
+    File(PathBuf),
+    /// A template and a fleet CSV.
+    Fleet {
+        /// The template problem file.
+        template: PathBuf,
+        /// The CSV of overrides, one row per machine.
+        csv: PathBuf,
+    },
+}
+
+impl Input {
+    /// Parses `FILE`, `DIR` (expanded later) or `TEMPLATE.toml:FLEET.csv`.
+    pub fn parse(s: &str) -> Input {
+        if let Some(i) = s.find(".toml:") {
+            let (t, c) = (&s[..i + 5], &s[i + 6..]);
+            if !c.is_empty() {
+                return Input::Fleet {
+                    template: t.into(),
+                    csv: c.into(),
+                };
+            }
+        }
+        Input::File(s.into())
+    }
+}
+
+/// Expands directories into their `*.toml` files (sorted).
+pub fn expand(args: &[String]) -> anyhow::Result<Vec<Input>> {
+    let mut out = Vec::new();
+    for a in args {
+        match Input::parse(a) {
+            Input::File(p) if p.is_dir() => {
+                for f in crate::cli::expand_inputs(&[p])? {
+                    out.push(Input::File(f));
+                }
+            }
+            i => out.push(i),
+        }
+    }
+    Ok(out)
+}
+
+/// Batch options.
+#[derive(Debug, Clone)]
+pub struct Options {
+    /// Output directory.
+    pub out: PathBuf,
+    /// Worker threads (default: available parallelism).
+    pub threads: Option<usize>,
+    /// `(i, n)`: only machines with `index % n == i`.
+    pub shard: Option<(u64, u64)>,
+    /// No progress output (errors are still in the summary).
+    pub quiet: bool,
+    /// Write only the summary (no per-machine JSON, Markdown, plots).
+    pub summary_only: bool,
+}
+
+/// Parses `i/n`.
+pub fn parse_shard(s: &str) -> anyhow::Result<(u64, u64)> {
+    let (a, b) = s
+        .split_once('/')
+        .context("--shard: expected i/n, e.g. 0/4")?;
+    let (i, n): (u64, u64) = (
+        a.trim().parse().context("--shard: i is not a number")?,
+        b.trim().parse().context("--shard: n is not a number")?,
+    );
+    if n == 0 || i >= n {
+        bail!("--shard {s}: need 0 ≤ i < n");
+    }
+    Ok((i, n))
+}
+
+/// One line of `summary.csv` (columns documented in `docs/batch.md`).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Row {
+    /// Position in the input order (0-based, across all inputs).
+    pub index: u64,
+    /// Machine name (result file stem).
+    pub name: String,
+    /// Family, empty when the input could not be read.
+    pub family: String,
+    /// `optimal`, `analysed`, `inaccurate`, `infeasible`, `failed`, or `error` (bad input).
+    pub status: String,
+    /// The family's key objective (a result key).
+    pub objective: String,
+    /// Its value (SI).
+    pub value: Option<f64>,
+    /// Its estimated absolute error.
+    pub error: Option<f64>,
+    /// The best classical baseline, where the family has baselines.
+    pub baseline: String,
+    /// The baseline's value of the key objective.
+    pub baseline_value: Option<f64>,
+    /// Improvement of the optimum over that baseline, %.
+    pub improvement_pct: Option<f64>,
+    /// Design values `key=value;…` (SI).
+    pub design: String,
+    /// All objectives `key=value;…` (SI).
+    pub objectives: String,
+    /// Wall time of the solve, s (the only column that differs between identical runs).
+    pub time_s: f64,
+    /// Content hash of the resolved problem text (and the cwsynth version).
+    pub input_hash: String,
+    /// Where the machine came from: file, or `fleet.csv:LINE`.
+    pub source: String,
+    /// Why it failed (errors, warnings of a failed solve), else empty.
+    pub message: String,
+}
+
+/// Counts of one batch run.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Counts {
+    /// Machines in this run (this shard).
+    pub total: u64,
+    /// Optimal, analysed or inaccurate.
+    pub ok: u64,
+    /// Bad input, infeasible or failed.
+    pub failed: u64,
+    /// Reused from a previous run (content hash unchanged).
+    pub skipped: u64,
+}
+
+/// A 128-bit content hash (two FNV-1a 64 streams), hex; includes the cwsynth version so a
+/// new program re-solves everything.
+pub fn content_hash(text: &str) -> String {
+    let mut a: u64 = 0xcbf2_9ce4_8422_2325;
+    let mut b: u64 = 0x6c62_272e_07bb_0142;
+    let bytes = env!("CARGO_PKG_VERSION")
+        .as_bytes()
+        .iter()
+        .chain(b"\0")
+        .chain(text.as_bytes());
+    for &x in bytes {
+        a = (a ^ x as u64).wrapping_mul(0x0000_0100_0000_01b3);
+        b = (b ^ x as u64 ^ 0x5a).wrapping_mul(0x0000_0100_0000_01b3);
+    }
+    format!("{a:016x}{b:016x}")
+}
+
+/// The family's key objective.
+fn key_objective(family: &str, objectives: &serde_json::Map<String, serde_json::Value>) -> String {
+    let pref = match family {
+        "slider-crank" => "peak_shaking_force_n",
+        "luffing-crane" => "delta_h_m",
+        "hypocycloid" => "residual_force_peak_n",
+        "eccentric-gear" => "peak_sliding_coefficient",
+        _ => "",
+    };
+    if objectives.contains_key(pref) {
+        pref.into()
+    } else {
+        objectives.keys().next().cloned().unwrap_or_default()
+    }
+}
+
+fn kv(m: Option<&serde_json::Value>) -> String {
+    m.and_then(|v| v.as_object())
+        .map(|o| {
+            o.iter()
+                .filter_map(|(k, v)| v.as_f64().map(|x| format!("{k}={x:?}")))
+                .collect::<Vec<_>>()
+                .join(";")
+        })
+        .unwrap_or_default()
+}
+
+/// The summary row of a result JSON (fresh or read back from `<name>.json`).
+pub fn row_from_json(index: u64, source: &str, hash: &str, v: &serde_json::Value) -> Row {
+    let s = |k: &str| v.get(k).and_then(|x| x.as_str()).unwrap_or("").to_string();
+    let empty = serde_json::Map::new();
+    let objs = v
+        .get("objectives")
+        .and_then(|o| o.as_object())
+        .unwrap_or(&empty);
+    let family = s("family");
+    let objective = key_objective(&family, objs);
+    let value = objs.get(&objective).and_then(|x| x.as_f64());
+    let error = v
+        .get("errors")
+        .and_then(|e| e.get(&objective))
+        .and_then(|x| x.as_f64());
+    // Best classical baseline: the smallest improvement (the hardest one to beat).
+    let mut best: Option<(String, Option<f64>, f64)> = None;
+    if let Some(b) = v.get("baselines").and_then(|b| b.as_object()) {
+        for (name, m) in b {
+            if let Some(imp) = m.get("improvement_pct").and_then(|x| x.as_f64()) {
+                if best.as_ref().is_none_or(|(_, _, i)| imp < *i) {
+                    best = Some((
+                        name.clone(),
+                        m.get(&objective).and_then(|x| x.as_f64()),
+                        imp,
+                    ));
+                }
+            }
+        }
+    }
+    let status = s("status");
+    let message = if matches!(status.as_str(), "failed" | "infeasible" | "inaccurate") {
+        v.get("warnings")
+            .and_then(|w| w.as_array())
+            .map(|w| {
+                w.iter()
+                    .filter_map(|x| x.as_str())
+                    .collect::<Vec<_>>()
+                    .join(" | ")
+            })
+            .unwrap_or_default()
+    } else {
+        String::new()
+    };
+    Row {
+        index,
+        name: s("name"),
+        family,
+        status,
+        objective,
+        value,
+        error,
+        baseline: best.as_ref().map(|b| b.0.clone()).unwrap_or_default(),
+        baseline_value: best.as_ref().and_then(|b| b.1),
+        improvement_pct: best.as_ref().map(|b| b.2),
+        design: kv(v.get("design")),
+        objectives: kv(v.get("objectives")),
+        time_s: v
+            .get("timing")
+            .and_then(|t| t.get("total_s"))
+            .and_then(|x| x.as_f64())
+            .unwrap_or(0.0),
+        input_hash: hash.into(),
+        source: source.into(),
+        message,
+    }
+}
+
+fn error_row(index: u64, name: &str, source: &str, hash: &str, message: String) -> Row {
+    Row {
+        index,
+        name: name.into(),
+        family: String::new(),
+        status: "error".into(),
+        objective: String::new(),
+        value: None,
+        error: None,
+        baseline: String::new(),
+        baseline_value: None,
+        improvement_pct: None,
+        design: String::new(),
+        objectives: String::new(),
+        time_s: 0.0,
+        input_hash: hash.into(),
+        source: source.into(),
+        message,
+    }
+}
+
+/// A fleet template: its parsed document, name and path.
+pub struct Template {
+    path: PathBuf,
+    csv: PathBuf,
+    doc: toml_edit::DocumentMut,
+    name: String,
+    header: Vec<String>,
+}
+
+/// Turns a CSV cell into a TOML value: integer, float, boolean, else a string (quantities
+/// with units stay strings, as in a problem file).
+fn cell_value(cell: &str) -> toml_edit::Value {
+    let c = cell.trim();
+    if let Ok(i) = c.parse::<i64>() {
+        return i.into();
+    }
+    if let Ok(x) = c.parse::<f64>() {
+        if x.is_finite() {
+            return x.into();
+        }
+    }
+    match c {
+        "true" => true.into(),
+        "false" => false.into(),
+        _ => c.into(),
+    }
+}
+
+/// Sets the dotted `key` of `doc` to `v`, creating tables as needed.
+fn set_dotted(
+    doc: &mut toml_edit::DocumentMut,
+    key: &str,
+    v: toml_edit::Value,
+) -> Result<(), String> {
+    let parts: Vec<&str> = key.split('.').map(str::trim).collect();
+    if parts.iter().any(|p| p.is_empty()) {
+        return Err("empty key part".into());
+    }
+    let mut t: &mut dyn toml_edit::TableLike = doc.as_table_mut();
+    for (k, p) in parts[..parts.len() - 1].iter().enumerate() {
+        if t.get(p).is_none() {
+            t.insert(p, toml_edit::Item::Table(toml_edit::Table::new()));
+        }
+        let item = t.get_mut(p).expect("just inserted");
+        t = item.as_table_like_mut().ok_or_else(|| {
+            format!(
+                "`{}` is a value in the template, not a table",
+                parts[..=k].join(".")
+            )
+        })?;
+    }
+    let last = parts[parts.len() - 1];
+    match t.get_mut(last) {
+        Some(item) if item.is_value() => {
+            // Keep the template's comment and spacing around the value.
+            let decor = item.as_value().map(|x| x.decor().clone());
+            let mut nv = v;
+            if let Some(d) = decor {
+                *nv.decor_mut() = d;
+            }
+            *item = toml_edit::Item::Value(nv);
+        }
+        _ => {
+            t.insert(last, toml_edit::Item::Value(v));
+        }
+    }
+    Ok(())
+}
+
+impl Template {
+    /// Reads the template and the CSV header.
+    pub fn open(template: &Path, csv: &Path) -> anyhow::Result<Template> {
+        let text = std::fs::read_to_string(template)
+            .with_context(|| format!("{}: cannot read", template.display()))?;
+        // The template itself must be valid (without overrides).
+        parse_str(&text, template).map_err(|e| anyhow::anyhow!("template {e}"))?;
+        let doc: toml_edit::DocumentMut = text
+            .parse()
+            .with_context(|| format!("{}: not TOML", template.display()))?;
+        let name = doc
+            .get("name")
+            .and_then(|n| n.as_str())
+            .unwrap_or("machine")
+            .to_string();
+        let mut rdr = csv_reader(csv)?;
+        let header: Vec<String> = rdr
+            .headers()
+            .with_context(|| format!("{}: cannot read the header", csv.display()))?
+            .iter()
+            .map(|h| h.trim().to_string())
+            .collect();
+        Ok(Template {
+            path: template.into(),
+            csv: csv.into(),
+            doc,
+            name,
+            header,
+        })
+    }
+
+    /// The machine of one CSV row: (name, resolved problem text) or `csv:LINE: reason`.
+    pub fn machine(
+        &self,
+        row: u64,
+        line: u64,
+        cells: &[String],
+    ) -> (String, Result<String, String>) {
+        let at = format!("{}:{line}", self.csv.display());
+        let name = self
+            .header
+            .iter()
+            .position(|h| h == "name")
+            .and_then(|i| cells.get(i))
+            .map(|s| s.trim().to_string())
+            .filter(|s| !s.is_empty())
+            .unwrap_or_else(|| format!("{}-{}", self.name, row));
+        if cells.len() != self.header.len() {
+            return (
+                name,
+                Err(format!(
+                    "{at}: {} cells, the header has {}",
+                    cells.len(),
+                    self.header.len()
+                )),
+            );
+        }
+        let mut doc = self.doc.clone();
+        if let Err(e) = set_dotted(&mut doc, "name", name.as_str().into()) {
+            return (name, Err(format!("{at}: field `name`: {e}")));
+        }
+        for (h, c) in self.header.iter().zip(cells) {
+            if h == "name" || c.trim().is_empty() {
+                continue;
+            }
+            if let Err(e) = set_dotted(&mut doc, h, cell_value(c)) {
+                return (name, Err(format!("{at}: field `{h}`: {e}")));
+            }
+        }
+        (name, Ok(doc.to_string()))
+    }
+}
+
+fn csv_reader(csv: &Path) -> anyhow::Result<csv::Reader<std::fs::File>> {
+    let f = std::fs::File::open(csv).with_context(|| format!("{}: cannot read", csv.display()))?;
+    Ok(csv::ReaderBuilder::new()
+        .flexible(true)
+        .comment(Some(b'#'))
+        .from_reader(f))
+}
+
+/// What a worker gets: where the machine's text comes from.
+enum Work {
+    File(PathBuf),
+    Row {
+        tpl: Arc<Template>,
+        row: u64,
+        line: u64,
+        cells: Vec<String>,
+    },
+    /// The CSV itself could not be read at this point.
+    Broken {
+        name: String,
+        message: String,
+    },
+}
+
+struct Job {
+    index: u64,
+    work: Work,
+    /// The previous summary row of this index, if any (for `--summary-only` re-runs).
+    old: Option<Row>,
+}
+
+/// Streams every machine of the inputs in order, as `(index, work)`.
+struct Jobs {
+    inputs: std::vec::IntoIter<Input>,
+    fleet: Option<(
+        Arc<Template>,
+        csv::StringRecordsIntoIter<std::fs::File>,
+        u64,
+    )>,
+    next: u64,
+}
+
+impl Jobs {
+    fn new(inputs: Vec<Input>) -> Jobs {
+        Jobs {
+            inputs: inputs.into_iter(),
+            fleet: None,
+            next: 0,
+        }
+    }
+}
+
+impl Iterator for Jobs {
+    type Item = (u64, Work);
+    fn next(&mut self) -> Option<(u64, Work)> {
+        loop {
+            if let Some((tpl, recs, row)) = &mut self.fleet {
+                match recs.next() {
+                    Some(rec) => {
+                        *row += 1;
+                        let i = self.next;
+                        self.next += 1;
+                        let w = match rec {
+                            Ok(r) => Work::Row {
+                                tpl: tpl.clone(),
+                                row: *row,
+                                line: r.position().map(|p| p.line()).unwrap_or(*row + 1),
+                                cells: r.iter().map(str::to_string).collect(),
+                            },
+                            Err(e) => Work::Broken {
+                                name: format!("{}-{}", tpl.name, row),
+                                message: format!("{}: {e}", tpl.csv.display()),
+                            },
+                        };
+                        return Some((i, w));
+                    }
+                    None => self.fleet = None,
+                }
+            }
+            let input = self.inputs.next()?;
+            match input {
+                Input::File(p) => {
+                    let i = self.next;
+                    self.next += 1;
+                    return Some((i, Work::File(p)));
+                }
+                Input::Fleet { template, csv } => {
+                    match Template::open(&template, &csv).and_then(|t| Ok((t, csv_reader(&csv)?))) {
+                        Ok((t, rdr)) => {
+                            self.fleet = Some((Arc::new(t), rdr.into_records(), 0));
+                        }
+                        Err(e) => {
+                            let i = self.next;
+                            self.next += 1;
+                            return Some((
+                                i,
+                                Work::Broken {
+                                    name: csv
+                                        .file_stem()
+                                        .map(|s| s.to_string_lossy().into_owned())
+                                        .unwrap_or_default(),
+                                    message: format!("{e:#}"),
+                                },
+                            ));
+                        }
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// Counts the machines of the inputs (a streaming pass over each CSV) for the progress bar.
+fn count_machines(inputs: &[Input]) -> u64 {
+    inputs
+        .iter()
+        .map(|i| match i {
+            Input::File(_) => 1,
+            Input::Fleet { csv, .. } => csv_reader(csv)
+                .map(|r| r.into_records().count() as u64)
+                .unwrap_or(1),
+        })
+        .sum()
+}
+
+/// Re-formats a problem error of a fleet row as `fleet.csv:LINE: field …` (with the
+/// template line where the key is).
+fn row_error(tpl: &Template, line: u64, e: ProblemError) -> String {
+    match e {
+        ProblemError::Invalid {
+            line: tl,
+            field,
+            message,
+            ..
+        } => format!(
+            "{}:{line}: {}{message}{}",
+            tpl.csv.display(),
+            field.map(|f| format!("field `{f}`: ")).unwrap_or_default(),
+            tl.map(|l| format!(" (template {}:{l})", tpl.path.display()))
+                .unwrap_or_default()
+        ),
+        e => format!("{}:{line}: {e}", tpl.csv.display()),
+    }
+}
+
+/// Solves (or skips) one machine; writes its files unless `summary_only`.
+fn process(job: Job, opts: &Options) -> (Row, bool) {
+    let index = job.index;
+    let (name, source, text, path) = match job.work {
+        Work::File(p) => {
+            let name = p
+                .file_stem()
+                .map(|s| s.to_string_lossy().into_owned())
+                .unwrap_or_default();
+            let src = p.display().to_string();
+            match std::fs::read_to_string(&p) {
+                Ok(t) => (name, src, Ok(t), p),
+                Err(e) => {
+                    let m = format!("{src}: cannot read: {e}");
+                    (name, src, Err(m), p)
+                }
+            }
+        }
+        Work::Row {
+            tpl,
+            row,
+            line,
+            cells,
+        } => {
+            let src = format!("{}:{line}", tpl.csv.display());
+            let (name, t) = tpl.machine(row, line, &cells);
+            let text = match t {
+                Ok(t) => {
+                    // Parse here so the error can be phrased for the row.
+                    match parse_str(&t, Path::new(&src)) {
+                        Ok(_) => Ok(t),
+                        Err(e) => Err(row_error(&tpl, line, e)),
+                    }
+                }
+                Err(e) => Err(e),
+            };
+            (name, src.clone(), text, PathBuf::from(src))
+        }
+        Work::Broken { name, message } => {
+            return (error_row(index, &name, "", "", message), false);
+        }
+    };
+    let text = match text {
+        Ok(t) => t,
+        Err(m) => return (error_row(index, &name, &source, "", m), false),
+    };
+    let hash = content_hash(&text);
+    if opts.summary_only {
+        if let Some(old) = job.old {
+            if old.input_hash == hash && old.status != "error" {
+                return (old, true);
+            }
+        }
+    }
+    let scene = match parse_str(&text, &path) {
+        Ok(s) => s,
+        Err(e) => {
+            return (
+                error_row(index, &name, &source, &hash, e.to_string()),
+                false,
+            )
+        }
+    };
+    if !opts.summary_only {
+        let jp = opts.out.join(format!("{}.json", scene.name));
+        if let Ok(b) = std::fs::read(&jp) {
+            if let Ok(v) = serde_json::from_slice::<serde_json::Value>(&b) {
+                if v.pointer("/batch/input_hash").and_then(|h| h.as_str()) == Some(hash.as_str()) {
+                    return (row_from_json(index, &source, &hash, &v), true);
+                }
+            }
+        }
+    }
+    let was = crate::io::plot::set_drawing(!opts.summary_only);
+    let mut r = solve_scene(&scene);
+    crate::io::plot::set_drawing(was);
+    r.extra.insert(
+        "batch".into(),
+        serde_json::json!({
+            "input_hash": hash,
+            "plots": r.plots.iter().map(|p| p.suffix.clone()).collect::<Vec<_>>(),
+        }),
+    );
+    let v = r.to_json();
+    let mut row = row_from_json(index, &source, &hash, &v);
+    if !opts.summary_only {
+        if let Err(e) = write_outputs(&r, &opts.out) {
+            row.status = "error".into();
+            row.message = format!("writing results to {}: {e}", opts.out.display());
+        }
+    }
+    (row, false)
+}
+
+/// Reads a previous summary in index order (merge-join with the current run).
+struct OldRows {
+    rdr: Option<csv::DeserializeRecordsIntoIter<std::fs::File, Row>>,
+    peek: Option<Row>,
+}
+
+impl OldRows {
+    fn open(path: &Path) -> OldRows {
+        let rdr = std::fs::File::open(path)
+            .ok()
+            .map(|f| csv::Reader::from_reader(f).into_deserialize());
+        let mut o = OldRows { rdr, peek: None };
+        o.advance();
+        o
+    }
+    fn advance(&mut self) {
+        self.peek = self
+            .rdr
+            .as_mut()
+            .and_then(|r| r.next())
+            .and_then(|x| x.ok());
+    }
+    /// The old row with this index, if any.
+    fn take(&mut self, index: u64) -> Option<Row> {
+        while let Some(p) = &self.peek {
+            if p.index < index {
+                self.advance();
+            } else if p.index == index {
+                let r = self.peek.take();
+                self.advance();
+                return r;
+            } else {
+                return None;
+            }
+        }
+        None
+    }
+}
+
+/// Progress output: a bar on a terminal, plain lines otherwise, nothing with `--quiet`.
+enum Progress {
+    Bar(indicatif::ProgressBar),
+    Lines {
+        total: u64,
+        last: Instant,
+        t0: Instant,
+    },
+    Quiet,
+}
+
+impl Progress {
+    fn new(total: u64, quiet: bool) -> Progress {
+        if quiet {
+            Progress::Quiet
+        } else if std::io::stderr().is_terminal() {
+            let pb = indicatif::ProgressBar::new(total);
+            pb.set_style(
+                indicatif::ProgressStyle::with_template(
+                    "{bar:40} {pos}/{len} machines  {per_sec}  ETA {eta}  {msg}",
+                )
+                .expect("valid template"),
+            );
+            Progress::Bar(pb)
+        } else {
+            Progress::Lines {
+                total,
+                last: Instant::now(),
+                t0: Instant::now(),
+            }
+        }
+    }
+    fn error(&self, m: &str) {
+        match self {
+            Progress::Bar(pb) => pb.println(format!("error {m}")),
+            Progress::Lines { .. } => eprintln!("error {m}"),
+            Progress::Quiet => {}
+        }
+    }
+    fn update(&mut self, done: u64, c: &Counts, force: bool) {
+        match self {
+            Progress::Bar(pb) => {
+                pb.set_position(done);
+                pb.set_message(format!("{} failed, {} skipped", c.failed, c.skipped));
+            }
+            Progress::Lines { total, last, t0 } => {
+                if force || last.elapsed().as_secs_f64() >= 2.0 {
+                    *last = Instant::now();
+                    let t = t0.elapsed().as_secs_f64();
+                    eprintln!(
+                        "batch: {done}/{total} machines, {} failed, {} skipped, {:.0}/s, {:.1} s",
+                        c.failed,
+                        c.skipped,
+                        done as f64 / t.max(1e-9),
+                        t
+                    );
+                }
+            }
+            Progress::Quiet => {}
+        }
+    }
+    fn finish(&self) {
+        if let Progress::Bar(pb) = self {
+            pb.finish();
+        }
+    }
+}
+
+/// The summary file name of a run: `summary.csv`, or `summary-shard-i-of-n.csv`.
+pub fn summary_name(shard: Option<(u64, u64)>) -> String {
+    match shard {
+        Some((i, n)) => format!("summary-shard-{i}-of-{n}.csv"),
+        None => "summary.csv".into(),
+    }
+}
+
+/// Runs a batch; writes the summary (and, unsharded, `summary.md` and `index.html`).
+pub fn run(inputs: Vec<Input>, opts: &Options) -> anyhow::Result<Counts> {
+    std::fs::create_dir_all(&opts.out)
+        .with_context(|| format!("cannot create {}", opts.out.display()))?;
+    let threads = opts
+        .threads
+        .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads.max(1))
+        .build()
+        .context("cannot start the worker threads")?;
+    let (si, sn) = opts.shard.unwrap_or((0, 1));
+    let all = count_machines(&inputs);
+    let mine = all / sn + u64::from(all % sn > si);
+
+    let final_path = opts.out.join(summary_name(opts.shard));
+    let partial = opts
+        .out
+        .join(format!("{}.partial", summary_name(opts.shard)));
+    let resume = opts
+        .out
+        .join(format!("{}.resume", summary_name(opts.shard)));
+    if partial.exists() {
+        std::fs::rename(&partial, &resume).context("cannot move the interrupted summary")?;
+    }
+    let mut old_resume = OldRows::open(&resume);
+    let mut old_final = OldRows::open(&final_path);
+
+    let file = std::fs::File::create(&partial)
+        .with_context(|| format!("cannot write {}", partial.display()))?;
+    let mut w = csv::Writer::from_writer(std::io::BufWriter::new(file));
+    let mut counts = Counts::default();
+    let mut progress = Progress::new(mine, opts.quiet);
+    let done = AtomicU64::new(0);
+
+    let mut jobs = Jobs::new(inputs).filter(|(i, _)| i % sn == si);
+    loop {
+        let chunk: Vec<Job> = jobs
+            .by_ref()
+            .take(CHUNK)
+            .map(|(index, work)| {
+                let old = old_resume.take(index).or_else(|| old_final.take(index));
+                Job { index, work, old }
+            })
+            .collect();
+        if chunk.is_empty() {
+            break;
+        }
+        let rows: Vec<(Row, bool)> = pool.install(|| {
+            chunk
+                .into_par_iter()
+                .map(|j| {
+                    let r = process(j, opts);
+                    done.fetch_add(1, Ordering::Relaxed);
+                    r
+                })
+                .collect()
+        });
+        for (row, skipped) in rows {
+            counts.total += 1;
+            counts.skipped += u64::from(skipped);
+            if matches!(row.status.as_str(), "error" | "failed" | "infeasible") {
+                counts.failed += 1;
+                progress.error(&if row.message.is_empty() {
+                    format!("{}: {}", row.name, row.status)
+                } else {
+                    format!("{}: {}: {}", row.name, row.status, row.message)
+                });
+            } else {
+                counts.ok += 1;
+            }
+            w.serialize(&row)?;
+        }
+        w.flush()?;
+        progress.update(done.load(Ordering::Relaxed), &counts, false);
+    }
+    if counts.total == 0 {
+        // An empty run still gets a header line.
+        w.write_record(HEADER)?;
+    }
+    w.flush()?;
+    drop(w);
+    progress.update(done.load(Ordering::Relaxed), &counts, true);
+    progress.finish();
+    std::fs::rename(&partial, &final_path)?;
+    let _ = std::fs::remove_file(&resume);
+    if opts.shard.is_none() {
+        write_reports(&opts.out)?;
+    }
+    Ok(counts)
+}
+
+/// The summary columns, in order.
+pub const HEADER: [&str; 16] = [
+    "index",
+    "name",
+    "family",
+    "status",
+    "objective",
+    "value",
+    "error",
+    "baseline",
+    "baseline_value",
+    "improvement_pct",
+    "design",
+    "objectives",
+    "time_s",
+    "input_hash",
+    "source",
+    "message",
+];
+
+/// Joins the shard summaries found in `dirs` (`summary-shard-i-of-n.csv`) into
+/// `out/summary.csv` (in index order, a streaming k-way merge) and writes the reports.
+pub fn merge(dirs: &[PathBuf], out: &Path) -> anyhow::Result<Counts> {
+    let mut files = Vec::new();
+    let mut ns = std::collections::BTreeSet::new();
+    let mut seen = std::collections::BTreeSet::new();
+    for d in dirs {
+        for e in std::fs::read_dir(d).with_context(|| format!("cannot list {}", d.display()))? {
+            let p = e?.path();
+            let n = p.file_name().and_then(|n| n.to_str()).unwrap_or("");
+            if let Some(rest) = n
+                .strip_prefix("summary-shard-")
+                .and_then(|r| r.strip_suffix(".csv"))
+            {
+                if let Some((i, n)) = rest.split_once("-of-") {
+                    if let (Ok(i), Ok(n)) = (i.parse::<u64>(), n.parse::<u64>()) {
+                        ns.insert(n);
+                        seen.insert(i);
+                        files.push(p);
+                    }
+                }
+            }
+        }
+    }
+    files.sort();
+    if files.is_empty() {
+        bail!("no shard summaries (summary-shard-i-of-n.csv) found");
+    }
+    if ns.len() != 1 {
+        bail!("shard summaries of different splits: n = {ns:?}");
+    }
+    let n = *ns.iter().next().unwrap();
+    let missing: Vec<u64> = (0..n).filter(|i| !seen.contains(i)).collect();
+    if !missing.is_empty() {
+        bail!("shards {missing:?} of {n} are missing");
+    }
+    std::fs::create_dir_all(out)?;
+    let mut readers: Vec<OldRows> = files.iter().map(|f| OldRows::open(f)).collect();
+    let tmp = out.join("summary.csv.partial");
+    let mut w = csv::Writer::from_writer(std::io::BufWriter::new(std::fs::File::create(&tmp)?));
+    let mut counts = Counts::default();
+    loop {
+        let k = readers
+            .iter()
+            .enumerate()
+            .filter_map(|(k, r)| r.peek.as_ref().map(|p| (p.index, k)))
+            .min();
+        let Some((_, k)) = k else { break };
+        let row = readers[k].peek.take().expect("peeked");
+        readers[k].advance();
+        counts.total += 1;
+        if matches!(row.status.as_str(), "error" | "failed" | "infeasible") {
+            counts.failed += 1;
+        } else {
+            counts.ok += 1;
+        }
+        w.serialize(&row)?;
+    }
+    if counts.total == 0 {
+        w.write_record(HEADER)?;
+    }
+    w.flush()?;
+    drop(w);
+    std::fs::rename(&tmp, out.join("summary.csv"))?;
+    write_reports(out)?;
+    Ok(counts)
+}
+
+fn opt(v: Option<f64>) -> String {
+    v.map(fmt_num).unwrap_or_else(|| "–".into())
+}
+
+fn esc(s: &str) -> String {
+    s.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+        .replace('"', "&quot;")
+}
+
+/// Per-family aggregate of a summary.
+#[derive(Default)]
+struct Agg {
+    n: u64,
+    by_status: BTreeMap<String, u64>,
+    imp_sum: f64,
+    imp_n: u64,
+    imp_min: f64,
+    imp_max: f64,
+}
+
+/// Writes `summary.md` and `index.html` from `DIR/summary.csv` (streaming; tables capped at
+/// [`REPORT_ROWS`] rows, plots inlined for the first [`REPORT_PLOTS`] machines that have
+/// them).
+pub fn write_reports(dir: &Path) -> anyhow::Result<()> {
+    let path = dir.join("summary.csv");
+    let mut rdr =
+        csv::Reader::from_path(&path).with_context(|| format!("cannot read {}", path.display()))?;
+    let mut shown: Vec<Row> = Vec::new();
+    let mut failures: Vec<Row> = Vec::new();
+    let mut n_fail = 0u64;
+    let mut families: BTreeMap<String, Agg> = BTreeMap::new();
+    let mut total = 0u64;
+    let mut imp_hist = [0u64; 20];
+    for r in rdr.deserialize::<Row>() {
+        let r = r?;
+        total += 1;
+        let a = families
+            .entry(if r.family.is_empty() {
+                "(unread)".into()
+            } else {
+                r.family.clone()
+            })
+            .or_default();
+        a.n += 1;
+        *a.by_status.entry(r.status.clone()).or_default() += 1;
+        if let Some(i) = r.improvement_pct {
+            if a.imp_n == 0 {
+                a.imp_min = i;
+                a.imp_max = i;
+            }
+            a.imp_sum += i;
+            a.imp_n += 1;
+            a.imp_min = a.imp_min.min(i);
+            a.imp_max = a.imp_max.max(i);
+            imp_hist[(i.floor().clamp(0.0, 19.0)) as usize] += 1;
+        }
+        let bad = matches!(r.status.as_str(), "error" | "failed" | "infeasible");
+        if bad {
+            n_fail += 1;
+            if failures.len() < REPORT_ROWS {
+                failures.push(r.clone());
+            }
+        }
+        if shown.len() < REPORT_ROWS {
+            shown.push(r);
+        }
+    }
+
+    // Markdown.
+    let mut md = String::new();
+    md += &format!(
+        "# Batch summary\n\n{total} machines, {n_fail} failed. Every row is in `summary.csv`"
+    );
+    md += if total as usize > REPORT_ROWS {
+        &" (this page shows the first rows only).\n\n"
+    } else {
+        &".\n\n"
+    };
+    md += "| family | machines | by status | improvement over best baseline (mean, min–max) |\n|---|---|---|---|\n";
+    for (f, a) in &families {
+        md += &format!(
+            "| {f} | {} | {} | {} |\n",
+            a.n,
+            a.by_status
+                .iter()
+                .map(|(s, n)| format!("{s} {n}"))
+                .collect::<Vec<_>>()
+                .join(", "),
+            if a.imp_n > 0 {
+                format!(
+                    "{:.2} % ({:.2}–{:.2})",
+                    a.imp_sum / a.imp_n as f64,
+                    a.imp_min,
+                    a.imp_max
+                )
+            } else {
+                "–".into()
+            }
+        );
+    }
+    md += "\n## Machines\n\n| # | name | family | status | objective | value | ± error | best baseline | baseline value | improvement % | time (ms) |\n|---|---|---|---|---|---|---|---|---|---|---|\n";
+    for r in &shown {
+        md += &format!(
+            "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {:.2} |\n",
+            r.index,
+            r.name,
+            r.family,
+            r.status,
+            r.objective,
+            opt(r.value),
+            r.error.map(|e| format!("{e:.1e}")).unwrap_or("–".into()),
+            if r.baseline.is_empty() {
+                "–"
+            } else {
+                &r.baseline
+            },
+            opt(r.baseline_value),
+            r.improvement_pct
+                .map(|i| format!("{i:.2}"))
+                .unwrap_or("–".into()),
+            r.time_s * 1e3
+        );
+    }
+    if n_fail > 0 {
+        md += &format!("\n## Failures ({n_fail})\n\n");
+        for r in &failures {
+            md += &format!("- `{}` ({}): {}\n", r.name, r.status, r.message);
+        }
+        if n_fail as usize > failures.len() {
+            md += &format!(
+                "- … {} more: `grep -E ',(error|failed|infeasible),' summary.csv`\n",
+                n_fail as usize - failures.len()
+            );
+        }
+    }
+    write_atomic(&dir.join("summary.md"), md.as_bytes())?;
+
+    // HTML.
+    let mut h = String::new();
+    h += "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>cwsynth batch</title>\n<style>\n";
+    h += "body{font-family:system-ui,-apple-system,'Segoe UI',sans-serif;margin:24px;color:#222;max-width:1350px}\n";
+    h += "h1{font-size:24px}h2{font-size:19px;margin-top:32px;border-bottom:1px solid #ccc}h3{font-size:16px;margin:20px 0 6px}\n";
+    h += "table{border-collapse:collapse;font-size:13px}td,th{border:1px solid #ddd;padding:3px 7px;text-align:right}\n";
+    h += "th{background:#f2f2f2;position:sticky;top:0}td.l,th.l{text-align:left}tr:nth-child(even){background:#fafafa}\n";
+    h += ".optimal{color:#1a7f37}.analysed{color:#0550ae}.inaccurate{color:#9a6700}.infeasible,.failed,.error{color:#cf222e;font-weight:600}\n";
+    h += ".plots svg{max-width:100%;height:auto;border:1px solid #eee;margin:4px 0}.cap{font-size:12px;color:#555}\n";
+    h += ".scroll{max-height:640px;overflow:auto;border:1px solid #ddd}\n</style></head><body>\n";
+    h += &format!(
+        "<h1>cwsynth batch</h1>\n<p>{total} machines, <b>{n_fail}</b> failed. Every row is in <a href=\"summary.csv\">summary.csv</a>{}.</p>\n",
+        if total as usize > REPORT_ROWS {
+            format!("; the table shows the first {REPORT_ROWS}")
+        } else {
+            String::new()
+        }
+    );
+    h += "<table><tr><th class=l>family</th><th>machines</th><th class=l>by status</th><th>mean improvement %</th><th>min–max %</th></tr>\n";
+    for (f, a) in &families {
+        h += &format!(
+            "<tr><td class=l>{}</td><td>{}</td><td class=l>{}</td><td>{}</td><td>{}</td></tr>\n",
+            esc(f),
+            a.n,
+            a.by_status
+                .iter()
+                .map(|(s, n)| format!("<span class={s}>{s}</span> {n}"))
+                .collect::<Vec<_>>()
+                .join(", "),
+            if a.imp_n > 0 {
+                format!("{:.2}", a.imp_sum / a.imp_n as f64)
+            } else {
+                "–".into()
+            },
+            if a.imp_n > 0 {
+                format!("{:.2}–{:.2}", a.imp_min, a.imp_max)
+            } else {
+                "–".into()
+            }
+        );
+    }
+    h += "</table>\n";
+    if imp_hist.iter().any(|&c| c > 0) {
+        h += "<h2>Improvement over the best classical baseline</h2>\n";
+        h += &histogram_svg(&imp_hist);
+    }
+    h += "<h2>Machines</h2>\n<div class=scroll><table><tr><th>#</th><th class=l>name</th><th class=l>family</th><th class=l>status</th><th class=l>objective</th><th>value</th><th>± error</th><th class=l>best baseline</th><th>baseline</th><th>improvement %</th><th class=l>design</th><th>time ms</th></tr>\n";
+    for r in &shown {
+        h += &format!(
+            "<tr><td>{}</td><td class=l><a href=\"#m-{}\">{}</a></td><td class=l>{}</td><td class=\"l {}\">{}</td><td class=l>{}</td><td>{}</td><td>{}</td><td class=l>{}</td><td>{}</td><td>{}</td><td class=l>{}</td><td>{:.2}</td></tr>\n",
+            r.index,
+            esc(&r.name),
+            esc(&r.name),
+            esc(&r.family),
+            esc(&r.status),
+            esc(&r.status),
+            esc(&r.objective),
+            opt(r.value),
+            r.error.map(|e| format!("{e:.1e}")).unwrap_or("–".into()),
+            esc(&r.baseline),
+            opt(r.baseline_value),
+            r.improvement_pct.map(|i| format!("{i:.2}")).unwrap_or("–".into()),
+            esc(&r
+                .design
+                .split(';')
+                .filter(|s| !s.is_empty())
+                .map(|kv| match kv.split_once('=') {
+                    Some((k, v)) => format!("{k} = {}", v.parse::<f64>().map(fmt_num).unwrap_or(v.into())),
+                    None => kv.into(),
+                })
+                .collect::<Vec<_>>()
+                .join(", ")),
+            r.time_s * 1e3
+        );
+    }
+    h += "</table></div>\n";
+    if n_fail > 0 {
+        h += &format!("<h2>Failures ({n_fail})</h2>\n<ul>\n");
+        for r in &failures {
+            h += &format!(
+                "<li><code>{}</code> <span class={}>{}</span>: {}</li>\n",
+                esc(&r.name),
+                esc(&r.status),
+                esc(&r.status),
+                esc(&r.message)
+            );
+        }
+        h += "</ul>\n";
+    }
+    // Plots of the first machines that have them (listed in their JSON's `batch.plots`).
+    let mut n_plots = 0;
+    let mut plot_html = String::new();
+    for r in &shown {
+        if n_plots >= REPORT_PLOTS {
+            break;
+        }
+        let Ok(b) = std::fs::read(dir.join(format!("{}.json", r.name))) else {
+            continue;
+        };
+        let Ok(v) = serde_json::from_slice::<serde_json::Value>(&b) else {
+            continue;
+        };
+        let suffixes: Vec<String> = v
+            .pointer("/batch/plots")
+            .and_then(|p| p.as_array())
+            .map(|a| {
+                a.iter()
+                    .filter_map(|s| s.as_str().map(String::from))
+                    .collect()
+            })
+            .unwrap_or_default();
+        let mut svgs = String::new();
+        for s in &suffixes {
+            if let Ok(svg) = std::fs::read_to_string(dir.join(format!("{}-{s}.svg", r.name))) {
+                let svg = match svg.find("<svg") {
+                    Some(i) => &svg[i..],
+                    None => continue,
+                };
+                svgs += &format!("<div class=cap>{}</div>\n{svg}\n", esc(s));
+            }
+        }
+        if svgs.is_empty() {
+            continue;
+        }
+        n_plots += 1;
+        plot_html += &format!(
+            "<h3 id=\"m-{}\">{} <span class={}>({}, {})</span> · <a href=\"{}.md\">report</a> · <a href=\"{}.json\">JSON</a></h3>\n<div class=plots>\n{svgs}</div>\n",
+            esc(&r.name),
+            esc(&r.name),
+            esc(&r.status),
+            esc(&r.family),
+            esc(&r.status),
+            esc(&r.name),
+            esc(&r.name)
+        );
+    }
+    if n_plots > 0 {
+        h += &format!(
+            "<h2>Plots</h2>\n<p class=cap>The first {n_plots} machines with plots; every machine's plots are beside its JSON.</p>\n{plot_html}"
+        );
+    }
+    h += "</body></html>\n";
+    write_atomic(&dir.join("index.html"), h.as_bytes())?;
+    Ok(())
+}
+
+/// A bar chart of improvements in 1 % bins (0–1, …, 19+), as inline SVG.
+fn histogram_svg(bins: &[u64; 20]) -> String {
+    let (w, hgt, left, bottom) = (760.0, 220.0, 50.0, 40.0);
+    let max = *bins.iter().max().unwrap_or(&1) as f64;
+    let bw = (w - left - 10.0) / 20.0;
+    let mut s = format!(
+        "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{w}\" height=\"{hgt}\" viewBox=\"0 0 {w} {hgt}\" font-family=\"sans-serif\" font-size=\"11\">\n"
+    );
+    let ph = hgt - bottom - 10.0;
+    for (k, &c) in bins.iter().enumerate() {
+        let bh = if max > 0.0 { ph * c as f64 / max } else { 0.0 };
+        let x = left + k as f64 * bw;
+        s += &format!(
+            "<rect x=\"{:.1}\" y=\"{:.1}\" width=\"{:.1}\" height=\"{:.1}\" fill=\"#1f77b4\"/>\n",
+            x + 2.0,
+            10.0 + ph - bh,
+            bw - 4.0,
+            bh
+        );
+        s += &format!(
+            "<text x=\"{:.1}\" y=\"{:.1}\" text-anchor=\"middle\">{c}</text>\n",
+            x + bw / 2.0,
+            (10.0 + ph - bh - 3.0).max(10.0)
+        );
+        s += &format!(
+            "<text x=\"{:.1}\" y=\"{:.1}\" text-anchor=\"middle\">{}{}</text>\n",
+            x + bw / 2.0,
+            hgt - bottom + 15.0,
+            k,
+            if k == 19 { "+" } else { "" }
+        );
+    }
+    s += &format!(
+        "<line x1=\"{left}\" y1=\"{:.1}\" x2=\"{:.1}\" y2=\"{:.1}\" stroke=\"#333\"/>\n<text x=\"{:.1}\" y=\"{:.1}\" text-anchor=\"middle\">improvement of the optimum over the best classical baseline (%)</text>\n<text x=\"12\" y=\"{:.1}\" transform=\"rotate(-90 12 {:.1})\" text-anchor=\"middle\">machines</text>\n</svg>\n",
+        10.0 + ph,
+        w - 10.0,
+        10.0 + ph,
+        left + (w - left) / 2.0,
+        hgt - 5.0,
+        10.0 + ph / 2.0,
+        10.0 + ph / 2.0
+    );
+    s
+}

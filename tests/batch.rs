@@ -1,0 +1,254 @@
+//! `cwsynth batch`: fleets with broken rows, determinism across threads and shards, re-runs
+//! that skip finished machines, and interrupted runs that complete.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn bin() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_cwsynth"))
+}
+
+fn template() -> String {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("problems/piston-1000rpm.toml")
+        .display()
+        .to_string()
+}
+
+/// 12 machines, rows 3, 7 and 10 broken (negative length, unknown unit, rod too short).
+fn fleet(dir: &Path) -> String {
+    let mut s = String::from(
+        "mechanism.crank_radius,mechanism.rod_length,mechanism.slider_mass,mechanism.speed\n",
+    );
+    for i in 0..12 {
+        let r = 25.0 + 1.5 * i as f64;
+        let row = match i {
+            2 => format!("-{r} mm,{} mm,1.0 kg,1000 rpm", 4.0 * r),
+            6 => format!("{r} mm,{} mm,1.0 furlong,1000 rpm", 4.0 * r),
+            9 => format!("{r} mm,{} mm,1.0 kg,1000 rpm", 0.5 * r),
+            _ => format!(
+                "{r} mm,{} mm,{} kg,{} rpm",
+                4.0 * r,
+                0.8 + 0.05 * i as f64,
+                800 + 100 * i
+            ),
+        };
+        s += &row;
+        s.push('\n');
+    }
+    let p = dir.join("fleet.csv");
+    std::fs::write(&p, s).unwrap();
+    format!("{}:{}", template(), p.display())
+}
+
+fn batch(input: &str, out: &Path, extra: &[&str]) -> Output {
+    bin()
+        .arg("batch")
+        .arg(input)
+        .arg("--out")
+        .arg(out)
+        .arg("--quiet")
+        .args(extra)
+        .output()
+        .unwrap()
+}
+
+/// The summary without the timing column.
+fn summary_sans_time(path: &Path) -> Vec<String> {
+    let text = std::fs::read_to_string(path).unwrap();
+    let mut rdr = csv::Reader::from_reader(text.as_bytes());
+    let h = rdr.headers().unwrap().clone();
+    let t = h.iter().position(|c| c == "time_s").unwrap();
+    rdr.records()
+        .map(|r| {
+            let r = r.unwrap();
+            r.iter()
+                .enumerate()
+                .filter(|(i, _)| *i != t)
+                .map(|(_, c)| c.to_string())
+                .collect::<Vec<_>>()
+                .join(",")
+        })
+        .collect()
+}
+
+/// The result JSON without `timing`.
+fn json_sans_time(path: &Path) -> serde_json::Value {
+    let mut v: serde_json::Value = serde_json::from_slice(&std::fs::read(path).unwrap()).unwrap();
+    v.as_object_mut().unwrap().remove("timing");
+    v
+}
+
+#[test]
+fn broken_rows_are_listed_and_good_rows_finish() {
+    let d = tempfile::tempdir().unwrap();
+    let input = fleet(d.path());
+    let out = d.path().join("out");
+    let o = batch(&input, &out, &["--threads", "2"]);
+    assert_eq!(
+        o.status.code(),
+        Some(1),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    let rows = summary_sans_time(&out.join("summary.csv"));
+    assert_eq!(rows.len(), 12);
+    let text = std::fs::read_to_string(out.join("summary.csv")).unwrap();
+    let mut rdr = csv::Reader::from_reader(text.as_bytes());
+    let mut bad = Vec::new();
+    for r in rdr.records() {
+        let r = r.unwrap();
+        let (index, name, status, msg) = (&r[0], &r[1], &r[3], &r[15]);
+        if matches!(index, "2" | "6" | "9") {
+            assert!(
+                status == "error" || status == "infeasible" || status == "failed",
+                "row {index}: {status}"
+            );
+            assert!(!msg.is_empty(), "row {index} has no reason");
+            bad.push(msg.to_string());
+        } else {
+            assert_eq!(status, "optimal", "row {index}: {msg}");
+            assert!(out.join(format!("{name}.json")).exists());
+        }
+    }
+    assert!(
+        bad[0].contains("fleet.csv:4: field `mechanism.crank_radius`"),
+        "{}",
+        bad[0]
+    );
+    assert!(
+        bad[1].contains("fleet.csv:8: field `mechanism.slider_mass`"),
+        "{}",
+        bad[1]
+    );
+    assert!(bad[1].contains("furlong"), "{}", bad[1]);
+    assert!(bad[2].contains("fleet.csv:11"), "{}", bad[2]);
+    let md = std::fs::read_to_string(out.join("summary.md")).unwrap();
+    assert!(md.contains("## Failures (3)"), "{md}");
+    let html = std::fs::read_to_string(out.join("index.html")).unwrap();
+    assert!(html.contains("<svg") && !html.contains("http://cdn") && !html.contains("<script src"));
+}
+
+#[test]
+fn threads_and_shards_give_identical_results() {
+    let d = tempfile::tempdir().unwrap();
+    let input = fleet(d.path());
+    let (o1, o2, os) = (
+        d.path().join("t1"),
+        d.path().join("t2"),
+        d.path().join("sh"),
+    );
+    batch(&input, &o1, &["--threads", "1"]);
+    batch(&input, &o2, &["--threads", "2"]);
+    let s1 = summary_sans_time(&o1.join("summary.csv"));
+    assert_eq!(s1, summary_sans_time(&o2.join("summary.csv")));
+    let mut n = 0;
+    for e in std::fs::read_dir(&o1).unwrap() {
+        let p = e.unwrap().path();
+        if p.extension().is_some_and(|x| x == "json") {
+            let q = o2.join(p.file_name().unwrap());
+            assert_eq!(json_sans_time(&p), json_sans_time(&q), "{}", p.display());
+            // Byte-identical apart from the timing object.
+            let strip = |p: &Path| {
+                let t = std::fs::read_to_string(p).unwrap();
+                let i = t.find("\"timing\"").unwrap();
+                let j = i + t[i..].find('}').unwrap();
+                format!("{}{}", &t[..i], &t[j..])
+            };
+            assert_eq!(strip(&p), strip(&q));
+            n += 1;
+        }
+    }
+    assert_eq!(n, 9);
+    // Shards 0/2 and 1/2 into one directory, then merge.
+    batch(&input, &os, &["--shard", "0/2", "--summary-only"]);
+    batch(&input, &os, &["--shard", "1/2", "--summary-only"]);
+    assert!(os.join("summary-shard-0-of-2.csv").exists());
+    assert!(!os.join("summary.csv").exists());
+    let m = bin()
+        .args(["batch", "--merge", "--quiet", "--out"])
+        .arg(&os)
+        .output()
+        .unwrap();
+    assert_eq!(
+        m.status.code(),
+        Some(1),
+        "{}",
+        String::from_utf8_lossy(&m.stderr)
+    );
+    assert_eq!(summary_sans_time(&os.join("summary.csv")), s1);
+    assert!(os.join("index.html").exists() && os.join("summary.md").exists());
+}
+
+#[test]
+fn reruns_skip_finished_machines_and_interrupted_runs_complete() {
+    let d = tempfile::tempdir().unwrap();
+    let input = fleet(d.path());
+    let out = d.path().join("out");
+    let o = batch(&input, &out, &[]);
+    assert_eq!(o.status.code(), Some(1));
+    let first = summary_sans_time(&out.join("summary.csv"));
+    let json = out.join("piston-1000rpm-1.json");
+    let mtime = |p: &Path| std::fs::metadata(p).unwrap().modified().unwrap();
+    let t0 = mtime(&json);
+
+    // A re-run solves nothing: every good machine is skipped, files untouched.
+    let o = bin()
+        .arg("batch")
+        .arg(&input)
+        .arg("--out")
+        .arg(&out)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("9 skipped"), "{err}");
+    assert_eq!(mtime(&json), t0);
+    assert_eq!(summary_sans_time(&out.join("summary.csv")), first);
+
+    // Interrupted: a leftover temporary file, a missing result and a half summary.
+    std::fs::write(out.join(".piston-1000rpm-2.json.12345.tmp"), "{\"half").unwrap();
+    std::fs::remove_file(out.join("piston-1000rpm-5.json")).unwrap();
+    let s = std::fs::read_to_string(out.join("summary.csv")).unwrap();
+    let half: String = s.lines().take(5).map(|l| format!("{l}\n")).collect();
+    std::fs::write(out.join("summary.csv.partial"), half).unwrap();
+    std::fs::remove_file(out.join("summary.csv")).unwrap();
+    let o = bin()
+        .arg("batch")
+        .arg(&input)
+        .arg("--out")
+        .arg(&out)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("8 skipped"), "{err}");
+    assert!(out.join("piston-1000rpm-5.json").exists());
+    assert_eq!(summary_sans_time(&out.join("summary.csv")), first);
+    assert!(!out.join("summary.csv.partial").exists());
+
+    // --summary-only re-runs skip through the previous summary.
+    let so = d.path().join("so");
+    batch(&input, &so, &["--summary-only"]);
+    let o = bin()
+        .arg("batch")
+        .arg(&input)
+        .arg("--out")
+        .arg(&so)
+        .arg("--summary-only")
+        .output()
+        .unwrap();
+    assert!(String::from_utf8_lossy(&o.stderr).contains("9 skipped"));
+    assert_eq!(summary_sans_time(&so.join("summary.csv")), first);
+
+    // A changed row is re-solved, the others are not.
+    let csv_path = d.path().join("fleet.csv");
+    let t = std::fs::read_to_string(&csv_path).unwrap();
+    std::fs::write(&csv_path, t.replacen("800 rpm", "850 rpm", 1)).unwrap();
+    let o = bin()
+        .arg("batch")
+        .arg(&input)
+        .arg("--out")
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(String::from_utf8_lossy(&o.stderr).contains("8 skipped"));
+}
