@@ -38,6 +38,8 @@ pub enum Command {
         #[arg(required = true)]
         inputs: Vec<PathBuf>,
     },
+    /// Print the JSON Schema (draft 2020-12) of the problem file, every family.
+    Schema,
 }
 
 /// Expands directories into their `*.toml` files (sorted), keeps files as given.
@@ -141,6 +143,13 @@ pub fn run(cli: Cli) -> anyhow::Result<i32> {
                 eprintln!("error {e}");
             }
             Ok(if bad.is_empty() { 0 } else { 1 })
+        }
+        Command::Schema => {
+            println!(
+                "{}",
+                serde_json::to_string_pretty(&crate::io::schema::problem_schema())?
+            );
+            Ok(0)
         }
         Command::Solve { inputs, json, out } => {
             let files = expand_inputs(&inputs)?;
