@@ -40,6 +40,17 @@ pub enum Command {
     },
     /// Print the JSON Schema (draft 2020-12) of the problem file, every family.
     Schema,
+    /// Solve one scene along a ladder of accuracy and fidelity settings: time against error.
+    Study {
+        /// The problem file.
+        file: PathBuf,
+        /// Write `<name>-study.csv`, `.md` and `.svg` into this directory.
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Timed repeats per rung (the median is reported).
+        #[arg(long, default_value_t = 5)]
+        repeats: usize,
+    },
 }
 
 /// Expands directories into their `*.toml` files (sorted), keeps files as given.
@@ -143,6 +154,25 @@ pub fn run(cli: Cli) -> anyhow::Result<i32> {
                 eprintln!("error {e}");
             }
             Ok(if bad.is_empty() { 0 } else { 1 })
+        }
+        Command::Study { file, out, repeats } => {
+            let text = std::fs::read_to_string(&file)
+                .with_context(|| format!("cannot read {}", file.display()))?;
+            let st = crate::study::study(&text, &file, repeats.max(1))
+                .map_err(|e| anyhow::anyhow!("{e}"))?;
+            let md = crate::study::markdown(&st);
+            print!("{md}");
+            if let Some(dir) = out {
+                std::fs::create_dir_all(&dir)
+                    .with_context(|| format!("cannot create {}", dir.display()))?;
+                let svg = crate::study::svg(&st).map_err(|e| anyhow::anyhow!("plot: {e}"))?;
+                for (ext, body) in [("csv", crate::study::csv(&st)), ("md", md), ("svg", svg)] {
+                    let p = dir.join(format!("{}-study.{ext}", st.name));
+                    crate::io::result::write_atomic(&p, body.as_bytes())
+                        .with_context(|| format!("writing {}", p.display()))?;
+                }
+            }
+            Ok(0)
         }
         Command::Schema => {
             println!(

@@ -384,3 +384,21 @@ fn hypocycloid_series_at_the_edge_of_convergence() {
         }
     }
 }
+
+#[test]
+fn loose_rel_tol_solves_without_panic() {
+    // Regression: rel_tol in (1e-6, 1) is allowed by [accuracy], but the exchange loop
+    // clamped its next tolerance with `clamp(rel_tol, 1e-6)`, which panics for min > max.
+    // Found by `cwsynth study` (its `rel_tol 1e-3` rung). The loose optimum is within
+    // rel_tol of the tight one.
+    let tight = solve_text(PISTON).objectives["peak_shaking_force_n"];
+    for t in ["1e-3", "1e-6", "0.5"] {
+        let r = solve_text(&with(PISTON, "rel_tol = 1e-9", &format!("rel_tol = {t}")));
+        let p = r.objectives["peak_shaking_force_n"];
+        let tol: f64 = t.parse().unwrap();
+        assert!(
+            p >= tight * (1.0 - 1e-9) && p <= tight * (1.0 + 2.0 * tol),
+            "rel_tol {t}: {p} vs {tight}"
+        );
+    }
+}
