@@ -72,6 +72,19 @@ pub enum Command {
         #[arg(required = true)]
         inputs: Vec<PathBuf>,
     },
+    /// Print the JSON Schema (draft 2020-12) of the problem file, every family.
+    Schema,
+    /// Solve one scene along a ladder of accuracy and fidelity settings: time against error.
+    Study {
+        /// The problem file.
+        file: PathBuf,
+        /// Write `<name>-study.csv`, `.md` and `.svg` into this directory.
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Timed repeats per rung (the median is reported).
+        #[arg(long, default_value_t = 5)]
+        repeats: usize,
+    },
 }
 
 /// Expands directories into their `*.toml` files (sorted), keeps files as given.
@@ -235,6 +248,32 @@ pub fn run(cli: Cli) -> anyhow::Result<i32> {
                 out.join("summary.csv").display()
             );
             Ok(if c.failed > 0 { 1 } else { 0 })
+        }
+        Command::Study { file, out, repeats } => {
+            let text = std::fs::read_to_string(&file)
+                .with_context(|| format!("cannot read {}", file.display()))?;
+            let st = crate::study::study(&text, &file, repeats.max(1))
+                .map_err(|e| anyhow::anyhow!("{e}"))?;
+            let md = crate::study::markdown(&st);
+            print!("{md}");
+            if let Some(dir) = out {
+                std::fs::create_dir_all(&dir)
+                    .with_context(|| format!("cannot create {}", dir.display()))?;
+                let svg = crate::study::svg(&st).map_err(|e| anyhow::anyhow!("plot: {e}"))?;
+                for (ext, body) in [("csv", crate::study::csv(&st)), ("md", md), ("svg", svg)] {
+                    let p = dir.join(format!("{}-study.{ext}", st.name));
+                    crate::io::result::write_atomic(&p, body.as_bytes())
+                        .with_context(|| format!("writing {}", p.display()))?;
+                }
+            }
+            Ok(0)
+        }
+        Command::Schema => {
+            println!(
+                "{}",
+                serde_json::to_string_pretty(&crate::io::schema::problem_schema())?
+            );
+            Ok(0)
         }
         Command::Solve { inputs, json, out } => {
             let files = expand_inputs(&inputs)?;

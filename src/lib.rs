@@ -10,6 +10,7 @@
 //!   sub-problems, argmin for the outer searches).
 //! * [`io`] — problem files (raw serde layer and resolved, checked scenes), results, reports,
 //!   plots.
+//! * [`study`] — speed against error: a scene along a ladder of settings (`cwsynth study`).
 //! * [`cli`] — the command line; `main.rs` only calls [`cli::main`].
 
 pub mod batch;
@@ -19,5 +20,6 @@ pub mod io;
 pub mod mech;
 pub mod numeric;
 pub mod run;
+pub mod study;
 pub mod synth;
 pub mod units;

@@ -7,5 +7,6 @@ pub mod hypocycloid;
 pub mod plot;
 pub mod problem;
 pub mod result;
+pub mod schema;
 pub mod slider_crank;
 pub mod source;

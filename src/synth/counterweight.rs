@@ -503,7 +503,9 @@ pub fn solve(pb: &Problem, s: &Settings) -> Solution {
             .fold(0.0, f64::max);
         let converged = obj_gap <= s.rel_tol * scale.max(1e-300) && violation <= s.rel_tol;
         let rel_gap = (obj_gap / scale.abs().max(1e-300)).max(violation);
-        let next_tol = (0.01 * rel_gap).clamp(s.rel_tol, 1e-6);
+        // Between the target and 1e-6; a target looser than 1e-6 (allowed: rel_tol < 1) is
+        // its own next tolerance (`clamp(rel_tol, 1e-6)` would panic there: min > max).
+        let next_tol = (0.01 * rel_gap).min(1e-6).max(s.rel_tol);
         // A round solved at a looser tolerance than the target cannot certify the target:
         // unless it already meets it, the next round tightens.
         round_tol = if round_tol > s.rel_tol {
