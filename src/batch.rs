@@ -218,7 +218,12 @@ pub fn row_from_json(index: u64, source: &str, hash: &str, v: &serde_json::Value
         .and_then(|o| o.as_object())
         .unwrap_or(&empty);
     let family = s("family");
-    let objective = key_objective(&family, objs);
+    let objective = v
+        .get("objective")
+        .and_then(|x| x.as_str())
+        .filter(|k| objs.contains_key(*k))
+        .map(str::to_string)
+        .unwrap_or_else(|| key_objective(&family, objs));
     let value = objs.get(&objective).and_then(|x| x.as_f64());
     let error = v
         .get("errors")

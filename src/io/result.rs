@@ -92,6 +92,9 @@ pub struct SolveResult {
     pub model: BTreeMap<String, serde_json::Value>,
     /// Design variables (SI, unit suffix).
     pub design: BTreeMap<String, f64>,
+    /// The key of `objectives` that the scene optimised, where it is one of them.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub objective: Option<String>,
     /// Objective values of the design (SI, unit suffix).
     pub objectives: BTreeMap<String, f64>,
     /// Estimated absolute error of each objective (same keys and units).
@@ -130,6 +133,7 @@ impl SolveResult {
             source: scene.source.display().to_string(),
             model: BTreeMap::new(),
             design: BTreeMap::new(),
+            objective: None,
             objectives: BTreeMap::new(),
             errors: BTreeMap::new(),
             derived: BTreeMap::new(),

@@ -712,6 +712,14 @@ pub fn result(scene: &Scene, sc_scene: &SliderCrankScene) -> SolveResult {
         r.design.insert("counterweight_radius_m".into(), rad);
     }
     let torque_objective = s.objective == Objective::MinPeakTorque;
+    r.objective = Some(
+        match s.objective {
+            Objective::MinPeakTorque => "peak_drive_torque_nm",
+            Objective::MinRmsForce => "rms_shaking_force_n",
+            _ => "peak_shaking_force_n",
+        }
+        .into(),
+    );
     r.objectives.insert("peak_shaking_force_n".into(), d.peak);
     r.objectives.insert("rms_shaking_force_n".into(), d.rms);
     r.objectives
