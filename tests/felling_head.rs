@@ -13,6 +13,8 @@ use cwsynth::synth::slider_crank::{
 use std::f64::consts::{FRAC_PI_2, TAU};
 use std::path::Path;
 
+mod common;
+
 const FELLING: &str = include_str!("../problems/felling-head-150rpm.toml");
 
 fn felling() -> SliderCrankScene {
@@ -334,4 +336,44 @@ fn bad_gravity_and_item_inputs_name_their_fields() {
         assert_eq!(e.field(), Some(field), "{e}");
         assert!(e.line().is_some(), "{e}");
     }
+}
+
+#[test]
+fn speed_sweep_moves_the_torque_optimum_only_with_gravity() {
+    // With gravity the weight torque does not scale with ω² while inertia does, so the
+    // torque-optimal |U| changes with speed; at the scene's own speed it is the scene's optimum.
+    let s = parse_str(FELLING, Path::new("f.toml")).unwrap();
+    let r = solve_scene(&s);
+    let sweep = r.extra["speed_sweep"].as_array().unwrap();
+    assert_eq!(sweep.len(), 9);
+    let u: Vec<f64> = sweep
+        .iter()
+        .map(|p| p["optimal_unbalance_kgm"].as_f64().unwrap())
+        .collect();
+    assert!((u[0] - u[8]).abs() > 0.01 * u[8], "{u:?}");
+    // 150 rpm is the 3rd point (60, 90, 120, 150, …): its optimum is the scene's design.
+    let at150 = &sweep[3];
+    assert!((at150["speed_rpm"].as_f64().unwrap() - 150.0).abs() < 1e-9);
+    assert!(
+        (at150["optimal_objective"].as_f64().unwrap() - r.objectives["peak_drive_torque_nm"]).abs()
+            < 1e-6
+    );
+    // Without gravity the force optimum is the same at every speed (forces ∝ ω²).
+    let piston = std::fs::read_to_string(common::problem("piston-1000rpm.toml")).unwrap().replace(
+        "minimize = \"peak-force\"",
+        "minimize = \"peak-force\"\n[objective.speed_sweep]\nmin = \"500 rpm\"\nmax = \"3000 rpm\"\npoints = 4",
+    );
+    let r = solve_scene(&parse_str(&piston, Path::new("p.toml")).unwrap());
+    let sweep = r.extra["speed_sweep"].as_array().unwrap();
+    let u0 = sweep[0]["optimal_unbalance_kgm"].as_f64().unwrap();
+    for p in sweep {
+        assert!((p["optimal_unbalance_kgm"].as_f64().unwrap() - u0).abs() < 1e-8 * u0);
+        // Peak force ∝ ω².
+        let ratio =
+            p["optimal_objective"].as_f64().unwrap() / p["omega_rad_s"].as_f64().unwrap().powi(2);
+        let r0 = sweep[0]["optimal_objective"].as_f64().unwrap()
+            / sweep[0]["omega_rad_s"].as_f64().unwrap().powi(2);
+        assert!((ratio - r0).abs() < 1e-8 * r0);
+    }
+    assert!(r.plots.iter().any(|p| p.suffix == "speed-sweep"));
 }

@@ -232,6 +232,51 @@ pub struct ObjectiveRaw {
     /// Points of the torque–force Pareto front (0 or absent: none).
     #[serde(default)]
     pub pareto_points: usize,
+    /// Re-optimise over a range of speeds.
+    #[serde(default)]
+    pub speed_sweep: Option<SpeedSweepRaw>,
+}
+
+/// `[objective.speed_sweep]`: the scene re-optimised at evenly spaced speeds.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SpeedSweepRaw {
+    /// Lowest speed.
+    pub min: Qty<AngularSpeed>,
+    /// Highest speed.
+    pub max: Qty<AngularSpeed>,
+    /// Number of speeds (2–200).
+    pub points: usize,
+}
+
+/// A resolved speed sweep (rad/s).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct SpeedSweep {
+    /// Lowest ω.
+    pub min: f64,
+    /// Highest ω.
+    pub max: f64,
+    /// Number of speeds.
+    pub points: usize,
+}
+
+/// One speed of a sweep: the optimum there, and the scene's design evaluated there.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct SweepPoint {
+    /// Speed (rad/s).
+    pub omega_rad_s: f64,
+    /// Speed (rpm), for reading.
+    pub speed_rpm: f64,
+    /// |U| of the optimum at this speed (kg·m).
+    pub optimal_unbalance_kgm: f64,
+    /// Objective value of that optimum (N or N·m).
+    pub optimal_objective: f64,
+    /// The same objective for the design found at the scene's own speed.
+    pub design_objective: f64,
+    /// The same objective without counterweight.
+    pub none_objective: f64,
+    /// Solver status at this speed.
+    pub status: Status,
 }
 
 /// `[accuracy]`: the family's solver [`Settings`] read directly (every key optional, unknown
@@ -255,6 +300,8 @@ pub struct SliderCrankScene {
     pub paper: Option<PaperDesign>,
     /// The plate that should realise the counterweight, if asked for.
     pub shape: Option<ShapeSpec>,
+    /// Speeds to re-optimise at, if asked for.
+    pub speed_sweep: Option<SpeedSweep>,
 }
 
 /// The paper's printed inputs and output of formula (6) (SI).
@@ -630,7 +677,36 @@ pub fn resolve_raw(raw: &File) -> Result<SliderCrankScene, FieldError> {
         pareto_points: o.pareto_points,
         settings,
     };
-    Ok(SliderCrankScene { core, paper, shape })
+    let speed_sweep = match &o.speed_sweep {
+        None => None,
+        Some(sw) => {
+            let min = positive("objective.speed_sweep.min", sw.min.si())?;
+            let max = positive("objective.speed_sweep.max", sw.max.si())?;
+            if max <= min {
+                return Err(FieldError::new(
+                    "objective.speed_sweep.max",
+                    "allowed: max > min",
+                ));
+            }
+            if !(2..=200).contains(&sw.points) {
+                return Err(FieldError::new(
+                    "objective.speed_sweep.points",
+                    format!("got {}; allowed: 2 to 200", sw.points),
+                ));
+            }
+            Some(SpeedSweep {
+                min,
+                max,
+                points: sw.points,
+            })
+        }
+    };
+    Ok(SliderCrankScene {
+        core,
+        paper,
+        shape,
+        speed_sweep,
+    })
 }
 
 /// The result of a slider-crank scene: solve, then shape keys, errors, baselines, the
@@ -862,11 +938,122 @@ pub fn result(scene: &Scene, sc_scene: &SliderCrankScene) -> SolveResult {
             }
         }
     }
+    if let Some(sw) = &sc_scene.speed_sweep {
+        speed_sweep(&mut r, scene, s, sw, u);
+    }
     match slider_crank_plot(scene, s, &out) {
         Ok(p) => r.plots.push(p),
         Err(e) => r.warnings.push(format!("plot failed: {e}")),
     }
     r
+}
+
+/// Re-optimises the scene at each speed of the sweep and evaluates the scene's own design
+/// and no counterweight there (section `speed_sweep`, `<name>-speed-sweep.csv` and `.svg`).
+fn speed_sweep(r: &mut SolveResult, scene: &Scene, s: &sc::Scene, sw: &SpeedSweep, u: P2) {
+    let torque = s.objective == Objective::MinPeakTorque;
+    let value = |m: &sc::Metrics| match s.objective {
+        Objective::MinPeakTorque => m.peak_torque,
+        Objective::MinRmsForce => m.rms,
+        _ => m.peak,
+    };
+    let mut pts = Vec::with_capacity(sw.points);
+    for k in 0..sw.points {
+        let omega = sw.min + (sw.max - sw.min) * k as f64 / (sw.points - 1) as f64;
+        let at = sc::Scene { omega, ..s.clone() };
+        let point = sc::optimise(&at).and_then(|o| {
+            let opt = sc::metrics(&at, o.u)?;
+            let des = sc::metrics(&at, u)?;
+            let none = sc::metrics(&at, P2::zeros())?;
+            Ok(SweepPoint {
+                omega_rad_s: omega,
+                speed_rpm: omega * 60.0 / TAU,
+                optimal_unbalance_kgm: o.u.norm(),
+                optimal_objective: value(&opt),
+                design_objective: value(&des),
+                none_objective: value(&none),
+                status: match o.status {
+                    CwStatus::Optimal => Status::Optimal,
+                    CwStatus::Inaccurate => Status::Inaccurate,
+                    CwStatus::Infeasible => Status::Infeasible,
+                    CwStatus::Failed => Status::Failed,
+                },
+            })
+        });
+        match point {
+            Ok(p) => pts.push(p),
+            Err(e) => r
+                .warnings
+                .push(format!("speed sweep at {omega:.3} rad/s: {e}")),
+        }
+    }
+    let unit = if torque { "N·m" } else { "N" };
+    let mut csv = String::from("speed_rpm,omega_rad_s,optimal_unbalance_kgm,optimal_objective,design_objective,none_objective,status\n");
+    for p in &pts {
+        csv += &format!(
+            "{},{},{},{},{},{},{}\n",
+            p.speed_rpm,
+            p.omega_rad_s,
+            p.optimal_unbalance_kgm,
+            p.optimal_objective,
+            p.design_objective,
+            p.none_objective,
+            serde_json::to_value(p.status)
+                .unwrap()
+                .as_str()
+                .unwrap_or("")
+        );
+    }
+    r.tables.push(Table {
+        suffix: "speed-sweep".into(),
+        caption: "Optimum against speed".into(),
+        csv,
+    });
+    let line = |f: &dyn Fn(&SweepPoint) -> f64| {
+        pts.iter().map(|p| (p.speed_rpm, f(p))).collect::<Vec<_>>()
+    };
+    let svg = plot::panels(
+        &[
+            Panel {
+                title: format!("{}: objective against speed", scene.name),
+                x_label: "speed (rpm)".into(),
+                y_label: format!("{} ({unit})", r.objective.clone().unwrap_or_default()),
+                series: vec![
+                    Series::line("optimum at each speed", line(&|p| p.optimal_objective)),
+                    Series::line(
+                        "this design (optimised at the scene's speed)",
+                        line(&|p| p.design_objective),
+                    ),
+                    Series::line("no counterweight", line(&|p| p.none_objective)),
+                ],
+                equal_aspect: false,
+            },
+            Panel {
+                title: "optimal unbalance against speed".into(),
+                x_label: "speed (rpm)".into(),
+                y_label: "|U| (kg·m)".into(),
+                series: vec![Series::line(
+                    "optimal |U|",
+                    line(&|p| p.optimal_unbalance_kgm),
+                )],
+                equal_aspect: false,
+            },
+        ],
+        600,
+        460,
+    );
+    match svg {
+        Ok(svg) => r.plots.push(Plot {
+            suffix: "speed-sweep".into(),
+            caption: "Optimum against speed".into(),
+            svg,
+        }),
+        Err(e) => r.warnings.push(format!("speed-sweep plot failed: {e}")),
+    }
+    r.extra.insert(
+        "speed_sweep".into(),
+        serde_json::to_value(&pts).expect("plain data"),
+    );
 }
 
 /// The paper's classical design against its own inputs: the printed masses against the
