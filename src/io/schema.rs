@@ -294,6 +294,18 @@ fn slider_crank() -> Value {
                 "pareto_points",
                 uint("points of the torque–force Pareto front"),
             ),
+            (
+                "speed_sweep",
+                obj(
+                    &[
+                        ("min", qty(AngularSpeed, "lowest speed")),
+                        ("max", qty(AngularSpeed, "highest speed")),
+                        ("points", uint("number of speeds (2–200)")),
+                    ],
+                    &["min", "max", "points"],
+                    "the scene re-optimised at evenly spaced speeds",
+                ),
+            ),
         ],
         &["minimize"],
         "objective and constraints",
