@@ -445,24 +445,12 @@ fn bad_input_names_file_line_and_field() {
 
 #[test]
 fn the_binary_reports_a_degenerate_problem_and_fails() {
-    let dir = tempfile::tempdir().unwrap();
-    let bad = dir.path().join("bad.toml");
-    std::fs::write(
-        &bad,
-        with(
-            OPTIMISE,
-            "[objective.tie_pin]\nmax_distance = \"15 m\"\nx_range = [\"0 m\", \"15 m\"]\n",
-            "",
-        ),
-    )
-    .unwrap();
-    let out = Command::new(env!("CARGO_BIN_EXE_cwsynth"))
-        .args(["solve", "--json"])
-        .arg(&bad)
-        .output()
-        .unwrap();
-    assert_eq!(out.status.code(), Some(1));
-    let stderr = String::from_utf8_lossy(&out.stderr);
+    let (code, stderr) = solve_text(&with(
+        OPTIMISE,
+        "[objective.tie_pin]\nmax_distance = \"15 m\"\nx_range = [\"0 m\", \"15 m\"]\n",
+        "",
+    ));
+    assert_eq!(code, Some(1));
     assert!(
         stderr.contains("bad.toml:")
             && stderr.contains("objective.tie_pin")

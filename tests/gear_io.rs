@@ -482,24 +482,12 @@ fn e_near_r_solves_with_a_warning_naming_the_field() {
 
 #[test]
 fn bad_file_through_the_binary_names_file_line_and_field() {
-    let dir = tempfile::tempdir().unwrap();
-    let p = dir.path().join("bad.toml");
-    std::fs::write(
-        &p,
-        with(
-            TABLE1,
-            "eccentricity = \"15 mm\"",
-            "eccentricity = \"45 mm\"",
-        ),
-    )
-    .unwrap();
-    let out = Command::new(env!("CARGO_BIN_EXE_cwsynth"))
-        .args(["solve", "--json"])
-        .arg(&p)
-        .output()
-        .unwrap();
-    assert_eq!(out.status.code(), Some(1));
-    let stderr = String::from_utf8_lossy(&out.stderr);
+    let (code, stderr) = solve_text(&with(
+        TABLE1,
+        "eccentricity = \"15 mm\"",
+        "eccentricity = \"45 mm\"",
+    ));
+    assert_eq!(code, Some(1));
     let line = line_of(TABLE1, "eccentricity = ");
     assert!(
         stderr.contains(&format!("bad.toml:{line}: field `design.eccentricity`")),

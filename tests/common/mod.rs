@@ -40,3 +40,20 @@ pub fn assert_names(text: &str, field: &str, line_needle: &str, says: &str) {
     assert!(msg.starts_with("bad.toml:"), "{msg}");
     assert!(msg.contains(says), "`{msg}` should say `{says}`");
 }
+
+/// Runs `cwsynth solve --json` on `text` written to a temporary `bad.toml`; returns the exit
+/// code and the standard error.
+pub fn solve_text(text: &str) -> (Option<i32>, String) {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("bad.toml");
+    std::fs::write(&path, text).unwrap();
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_cwsynth"))
+        .args(["solve", "--json"])
+        .arg(&path)
+        .output()
+        .unwrap();
+    (
+        out.status.code(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
