@@ -322,6 +322,10 @@ fn slider_crank() -> Value {
             ),
             ("rms_samples", uint("RMS quadrature points")),
             ("keep_band", num("near-active band kept between rounds")),
+            (
+                "warm_start",
+                boolean("start the first SOCP at the maxima of the least-squares counterweight"),
+            ),
         ],
         &[],
         "accuracy targets",

@@ -100,6 +100,9 @@ pub struct Problem<'a> {
     pub u_max: f64,
     /// Direction restriction.
     pub direction: Direction,
+    /// Extra angles for the first SOCP (e.g. the maxima of a good initial guess), added to
+    /// the equally spaced ones.
+    pub warm_angles: Vec<f64>,
 }
 
 /// Accuracy settings of the exchange loop (flat, with defaults, Clarabel style).
@@ -121,6 +124,11 @@ pub struct Settings {
     /// Between exchange rounds, keep only the sampled angles whose value is within this
     /// fraction of the current level (the near-active set). Default 0.05; 1 keeps all.
     pub keep_band: f64,
+    /// Start the first SOCP also at the local maxima of a closed-form initial guess (the
+    /// least-squares counterweight). Default false: it costs ~25 % on a symmetric in-line
+    /// piston (3 rounds either way) but cuts an offset slider from 8 rounds to 3, where
+    /// the loop otherwise creeps along clarabel's accuracy near 1e-9.
+    pub warm_start: bool,
 }
 
 impl Default for Settings {
@@ -133,6 +141,7 @@ impl Default for Settings {
             peak_xtol: 1e-10,
             rms_samples: 720,
             keep_band: 0.05,
+            warm_start: false,
         }
     }
 }
@@ -424,6 +433,11 @@ pub fn uniform_angles(n: usize) -> Vec<f64> {
 /// Solves the problem by the exchange loop (see the module doc).
 pub fn solve(pb: &Problem, s: &Settings) -> Solution {
     let mut samples = uniform_angles(s.initial_samples);
+    for &phi in &pb.warm_angles {
+        if samples.iter().all(|&q| angle_dist(q, phi) > 1e-9) {
+            samples.push(phi);
+        }
+    }
     let mut iters = 0;
     // clarabel's accuracy per round: a round far from convergence only needs to locate the
     // next angles, so its tolerance follows the last round's relative gap (two orders

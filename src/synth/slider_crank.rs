@@ -562,12 +562,18 @@ fn optimise_with(
                 eval: &torque,
             });
         }
+        let warm_angles = if s.warm_start && goal != Goal::MinNorm {
+            warm_start(&nf, s)
+        } else {
+            Vec::new()
+        };
         let pb = Problem {
             fields,
             goal,
             limits,
             u_max: u_hi / u_ref,
             direction,
+            warm_angles,
         };
         let sol = cw::solve(&pb, s);
         method = format!(
@@ -618,6 +624,22 @@ fn optimise_with(
         method,
         warnings,
     })
+}
+
+/// Angles of the local maxima of |F| for the least-squares counterweight
+/// û = −mean Rot(φ)ᵀ f̂₀(φ) (the RMS optimum of a free direction, in closed form): close to
+/// the minimax optimum's active angles, so the first SOCP starts near them.
+fn warm_start(nf: &Normalised, s: &cw::Settings) -> Vec<f64> {
+    let n = 64;
+    let mut u = P2::zeros();
+    for k in 0..n {
+        let phi = k as f64 * std::f64::consts::TAU / n as f64;
+        let a = nf.force(phi);
+        u -= rot(-phi, P2::new(a.b[0], a.b[1])) / n as f64;
+    }
+    periodic_peak(|p| nf.force(p).at(u).norm(), 90, s.peak_xtol.max(1e-6))
+        .map(|p| p.maxima.iter().map(|m| m.x).collect())
+        .unwrap_or_default()
 }
 
 /// The torque–force Pareto front by the ε-constraint method: the force optimum F* and the
