@@ -1055,9 +1055,9 @@ pub fn write_reports(dir: &Path) -> anyhow::Result<()> {
         "# Batch summary\n\n{total} machines, {n_fail} failed. Every row is in `summary.csv`"
     );
     md += if total as usize > REPORT_ROWS {
-        &" (this page shows the first rows only).\n\n"
+        " (this page shows the first rows only).\n\n"
     } else {
-        &".\n\n"
+        ".\n\n"
     };
     md += "| family | machines | by status | improvement over best baseline (mean, min–max) |\n|---|---|---|---|\n";
     for (f, a) in &families {

@@ -13,6 +13,9 @@
 //! * [`study`] — speed against error: a scene along a ladder of settings (`cwsynth study`).
 //! * [`cli`] — the command line; `main.rs` only calls [`cli::main`].
 
+// `!(x > 0.0)` is how the value checks reject NaN together with the out-of-range values.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
 pub mod batch;
 pub mod cli;
 pub mod geom;

@@ -420,7 +420,7 @@ mod tests {
             ],
             equal_aspect: true,
         };
-        let svg = panels(&[p.clone()], 400, 300).unwrap();
+        let svg = panels(std::slice::from_ref(&p), 400, 300).unwrap();
         assert!(svg.starts_with("<svg") && svg.contains("curve") && svg.contains("optimum"));
         let g = Grid {
             x: vec![0.0, 1.0, 2.0],

@@ -285,7 +285,7 @@ pub type AccuracyRaw = Settings;
 
 /// Validates the `[accuracy]` section.
 fn resolve_accuracy(s: &Settings) -> Result<Settings, FieldError> {
-    let s = s.clone();
+    let s = *s;
     s.validate()
         .map_err(|(f, m)| FieldError::new(format!("accuracy.{f}"), m))?;
     Ok(s)

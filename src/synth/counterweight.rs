@@ -320,8 +320,8 @@ fn build(pb: &Problem, samples: &[f64], s: &Settings) -> Built {
                 for r in 0..f.dim {
                     for c in 0..2 {
                         g[c] += aff.a[r][c] * aff.b[r] / m as f64;
-                        for d in 0..2 {
-                            h[c][d] += aff.a[r][c] * aff.a[r][d] / m as f64;
+                        for (d, hcd) in h[c].iter_mut().enumerate() {
+                            *hcd += aff.a[r][c] * aff.a[r][d] / m as f64;
                         }
                     }
                 }
