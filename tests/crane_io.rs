@@ -60,15 +60,6 @@ fn solve_all() -> BTreeMap<String, Value> {
         .collect()
 }
 
-fn num(v: &Value, path: &str) -> f64 {
-    let mut x = v;
-    for part in path.split('.') {
-        x = &x[part];
-    }
-    x.as_f64()
-        .unwrap_or_else(|| panic!("{path} is not a number in {}", v["name"]))
-}
-
 /// The thesis's construction (shared/domain/luffing-crane.md), written out independently of
 /// the library: returns (L_v, a, B, b).
 fn thesis_geometry(l_c: f64, k1: f64, k2: f64, ang_deg: [f64; 4]) -> (f64, f64, [f64; 2], f64) {
@@ -258,18 +249,7 @@ fn every_crane_file_solves_with_the_contract_keys_and_sane_values() {
 
 #[test]
 fn out_dir_gets_json_markdown_svg_and_csv() {
-    let dir = tempfile::tempdir().unwrap();
-    let out = Command::new(env!("CARGO_BIN_EXE_cwsynth"))
-        .args(["solve", "--out"])
-        .arg(dir.path())
-        .arg(problem("crane-thesis-example.toml"))
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    let dir = solve_out(&["crane-thesis-example.toml"]);
     let n = "crane-thesis-example";
     for f in [
         format!("{n}.json"),

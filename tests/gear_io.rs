@@ -7,10 +7,8 @@ mod common;
 use common::*;
 use cwsynth::io::problem::{parse_str, SceneKind};
 use cwsynth::synth::gear::{paper_table1, paper_table1_design, solve, Settings};
-use serde_json::Value;
 use std::f64::consts::{PI, TAU};
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
 const TABLE1: &str = include_str!("../problems/gear-paper-table1.toml");
 
@@ -27,30 +25,6 @@ fn shipped() -> Vec<PathBuf> {
         .collect();
     v.sort();
     v
-}
-
-fn solve_json(path: &Path) -> Value {
-    let out = Command::new(env!("CARGO_BIN_EXE_cwsynth"))
-        .args(["solve", "--json"])
-        .arg(path)
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}: {}",
-        path.display(),
-        String::from_utf8_lossy(&out.stderr)
-    );
-    serde_json::from_slice(&out.stdout).unwrap()
-}
-
-fn f(v: &Value, key: &str) -> f64 {
-    let mut x = v;
-    for k in key.split('.') {
-        x = &x[k];
-    }
-    x.as_f64()
-        .unwrap_or_else(|| panic!("{key} is not a number: {x}"))
 }
 
 /// ρ1(α) = e cos α + sqrt(R² − e² sin² α).
@@ -95,29 +69,29 @@ fn every_shipped_gear_file_has_the_contract_keys() {
         let name = p.display();
         assert_eq!(v["family"], "eccentric-gear");
         let (r, e, rg) = (
-            f(&v, "design.pitch_radius_m"),
-            f(&v, "design.eccentricity_m"),
-            f(&v, "design.generating_radius_m"),
+            num(&v, "design.pitch_radius_m"),
+            num(&v, "design.eccentricity_m"),
+            num(&v, "design.generating_radius_m"),
         );
         assert!(e >= 0.0 && e < r, "{name}");
         // Closure against an independent quadrature (n1/n2 = 3/1 in both files).
         let a = closing_a(r, e, 3.0, 1.0);
         assert!(
-            (f(&v, "derived.center_distance_m") - a).abs() < 1e-10,
+            (num(&v, "derived.center_distance_m") - a).abs() < 1e-10,
             "{name}: a = {} vs {a}",
-            f(&v, "derived.center_distance_m")
+            num(&v, "derived.center_distance_m")
         );
         // Ratio range in closed form: i12 = (a − ρ1)/ρ1 at ρ1 = R ± e.
-        assert!((f(&v, "derived.ratio_min") - (a - r - e) / (r + e)).abs() < 1e-8);
-        assert!((f(&v, "derived.ratio_max") - (a - r + e) / (r - e)).abs() < 1e-8);
+        assert!((num(&v, "derived.ratio_min") - (a - r - e) / (r + e)).abs() < 1e-8);
+        assert!((num(&v, "derived.ratio_max") - (a - r + e) / (r - e)).abs() < 1e-8);
         assert!(
-            (f(&v, "objectives.ratio_variation")
-                - f(&v, "derived.ratio_max") / f(&v, "derived.ratio_min"))
+            (num(&v, "objectives.ratio_variation")
+                - num(&v, "derived.ratio_max") / num(&v, "derived.ratio_min"))
             .abs()
                 < 1e-12
         );
-        assert_eq!(f(&v, "derived.teeth_gear1"), (r / (2.0 * rg)).round());
-        let mu = f(&v, "objectives.peak_sliding_coefficient");
+        assert_eq!(num(&v, "derived.teeth_gear1"), (r / (2.0 * rg)).round());
+        let mu = num(&v, "objectives.peak_sliding_coefficient");
         assert!(mu.is_finite() && mu > 0.0 && mu < 10.0, "{name}: {mu}");
         // errors has exactly the objectives' keys, all ≥ 0 and small.
         let ok: Vec<&String> = v["objectives"].as_object().unwrap().keys().collect();
@@ -142,7 +116,7 @@ fn every_shipped_gear_file_has_the_contract_keys() {
             }
         }
         assert_eq!(2 * n1, poles.len(), "{name}");
-        assert_eq!(n1 as f64, f(&v, "derived.poles_mu1_per_turn"));
+        assert_eq!(n1 as f64, num(&v, "derived.poles_mu1_per_turn"));
         assert!(v["timing"]["solve_s"].as_f64().unwrap() > 0.0);
         // Compact: dense series live in the SVG/CSV files.
         assert!(v.get("series").is_none() && v.get("pitch_curves").is_none());
@@ -154,15 +128,15 @@ fn every_shipped_gear_file_has_the_contract_keys() {
 fn paper_table1_reports_the_closing_center_distance_and_the_inconsistencies() {
     let v = solve_json(&problem("gear-paper-table1.toml"));
     assert_eq!(v["status"], "analysed");
-    assert_eq!(f(&v, "design.eccentricity_m"), 0.015);
+    assert_eq!(num(&v, "design.eccentricity_m"), 0.015);
     // Same values as the library's own Table 1 scene.
     let lib = solve(&paper_table1(), &Settings::default()).unwrap();
     for k in ["peak_sliding_coefficient", "ratio_variation"] {
-        assert!((f(&v, &format!("objectives.{k}")) - lib.objectives[k]).abs() < 1e-12);
+        assert!((num(&v, &format!("objectives.{k}")) - lib.objectives[k]).abs() < 1e-12);
     }
     assert_eq!(v["poles"].as_array().unwrap().len(), lib.poles.len());
     // The closing a12 rounds to the paper's 148 mm but is not it.
-    let a = f(&v, "derived.center_distance_m");
+    let a = num(&v, "derived.center_distance_m");
     assert!(
         (a - 0.148).abs() < 0.05e-3 && (a - 0.148).abs() > 1e-6,
         "{a}"
@@ -200,7 +174,7 @@ fn paper_table1_reports_the_closing_center_distance_and_the_inconsistencies() {
     }
     // Pitch 15.71 mm and tooth 7.85 mm agree with 4πr and 2πr to the printed rounding.
     assert!(!w.iter().any(|x| x.starts_with("mechanism.tooth_pitch")));
-    assert!((f(&v, "derived.pitch_m") - 4.0 * PI * 1.25e-3).abs() < 1e-15);
+    assert!((num(&v, "derived.pitch_m") - 4.0 * PI * 1.25e-3).abs() < 1e-15);
 }
 
 #[test]
@@ -209,29 +183,18 @@ fn design_file_matches_the_library_scene_and_meets_its_limits() {
     assert_eq!(v["status"], "optimal");
     assert_eq!(v["status_detail"], "constraint-bound");
     let lib = solve(&paper_table1_design(), &Settings::default()).unwrap();
-    let e = f(&v, "design.eccentricity_m");
+    let e = num(&v, "design.eccentricity_m");
     assert!((e - lib.design["eccentricity_m"]).abs() < 1e-9, "{e}");
-    assert!(f(&v, "objectives.peak_sliding_coefficient") <= 0.6 * (1.0 + 1e-9));
+    assert!(num(&v, "objectives.peak_sliding_coefficient") <= 0.6 * (1.0 + 1e-9));
     assert!((e / 0.0375).asin() <= 30f64.to_radians());
-    assert!(f(&v, "objectives.min_gear2_curvature_per_m") > 0.0);
+    assert!(num(&v, "objectives.min_gear2_curvature_per_m") > 0.0);
     // The sweep's best feasible point is no better than the refined design.
-    assert!(e >= f(&v, "derived.sweep_best_feasible_eccentricity_m"));
+    assert!(e >= num(&v, "derived.sweep_best_feasible_eccentricity_m"));
 }
 
 #[test]
 fn out_dir_gets_json_markdown_svg_and_csv() {
-    let dir = tempfile::tempdir().unwrap();
-    let out = Command::new(env!("CARGO_BIN_EXE_cwsynth"))
-        .args(["solve", "--out"])
-        .arg(dir.path())
-        .arg(problem("gear-eccentricity-design.toml"))
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    let dir = solve_out(&["gear-eccentricity-design.toml"]);
     let n = "gear-eccentricity-design";
     for (suffix, needle) in [
         (".json", "\"center_distance_m\""),
@@ -477,7 +440,7 @@ fn e_near_r_solves_with_a_warning_naming_the_field() {
     );
     // i12 max in closed form with the independent closing a.
     let a = closing_a(0.0375, 0.035, 3.0, 1.0);
-    assert!((f(&v, "derived.ratio_max") - (a - 0.0025) / 0.0025).abs() < 1e-6);
+    assert!((num(&v, "derived.ratio_max") - (a - 0.0025) / 0.0025).abs() < 1e-6);
 }
 
 #[test]

@@ -15,32 +15,6 @@ use std::process::Command;
 const V1: &str = include_str!("../problems/hypocycloid-variant1.toml");
 const C4V1: &str = include_str!("../problems/hypocycloid-c4-variant1.toml");
 
-fn solve_json(name: &str) -> Value {
-    let out = Command::new(env!("CARGO_BIN_EXE_cwsynth"))
-        .args(["solve", "--json"])
-        .arg(problem(name))
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{name}: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    serde_json::from_slice(&out.stdout).unwrap()
-}
-
-fn num(v: &Value, path: &str) -> f64 {
-    let mut x = v;
-    for p in path.split('.') {
-        x = match x {
-            Value::Array(a) => &a[p.parse::<usize>().unwrap()],
-            _ => &x[p],
-        };
-    }
-    x.as_f64()
-        .unwrap_or_else(|| panic!("{path} is not a number: {x}"))
-}
-
 /// The textbook piston position S/R (no stable rewriting: an independent formula).
 fn s_over_r(l: f64, t: f64, a0: f64, p: f64) -> f64 {
     let y = p.sin() + t * (a0 - 2.0 * p).sin();
@@ -118,7 +92,7 @@ fn check_contract(v: &Value, orders: usize) {
 #[test]
 fn analysis_scenes_agree_with_direct_quadrature_and_brute_force() {
     for variant in [1u32, 2] {
-        let v = solve_json(&format!("hypocycloid-variant{variant}.toml"));
+        let v = solve_json(&problem(&format!("hypocycloid-variant{variant}.toml")));
         check_contract(&v, 8);
         assert_eq!(v["status"], "analysed");
         let (l, t, a0) = (0.25, 0.5, alpha0(variant));
@@ -206,7 +180,7 @@ fn analysis_scenes_agree_with_direct_quadrature_and_brute_force() {
 
 #[test]
 fn c4_scene_variant1_traces_a_bracketed_zero_curve() {
-    let v = solve_json("hypocycloid-c4-variant1.toml");
+    let v = solve_json(&problem("hypocycloid-c4-variant1.toml"));
     check_contract(&v, 8);
     assert_eq!(v["status"], "optimal");
     assert_eq!(v["zero_search"]["status"], "found");
@@ -234,7 +208,7 @@ fn c4_scene_variant1_traces_a_bracketed_zero_curve() {
     let (l, t) = (num(&v, "design.lambda"), num(&v, "design.theta"));
     assert!((0.02..=0.5).contains(&l) && (0.0..=0.9).contains(&t));
     assert!(num(&v, "objectives.stroke_m") >= 0.045 - 1e-9);
-    let paper = solve_json("hypocycloid-variant1.toml");
+    let paper = solve_json(&problem("hypocycloid-variant1.toml"));
     assert!(
         num(&v, "objectives.residual_force_peak_n")
             < num(&paper, "objectives.residual_force_peak_n")
@@ -243,7 +217,7 @@ fn c4_scene_variant1_traces_a_bracketed_zero_curve() {
 
 #[test]
 fn c4_scene_variant2_has_no_zero_and_says_where_the_minimum_is() {
-    let v = solve_json("hypocycloid-c4-variant2.toml");
+    let v = solve_json(&problem("hypocycloid-c4-variant2.toml"));
     check_contract(&v, 8);
     assert_eq!(v["status"], "optimal");
     let z = &v["zero_search"];
@@ -277,19 +251,7 @@ fn c4_scene_variant2_has_no_zero_and_says_where_the_minimum_is() {
 
 #[test]
 fn out_dir_gets_json_markdown_svg_and_csv() {
-    let dir = tempfile::tempdir().unwrap();
-    let out = Command::new(env!("CARGO_BIN_EXE_cwsynth"))
-        .args(["solve", "--out"])
-        .arg(dir.path())
-        .arg(problem("hypocycloid-c4-variant1.toml"))
-        .arg(problem("hypocycloid-variant2.toml"))
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    let dir = solve_out(&["hypocycloid-c4-variant1.toml", "hypocycloid-variant2.toml"]);
     let n = "hypocycloid-c4-variant1";
     for f in [
         format!("{n}.json"),

@@ -57,3 +57,52 @@ pub fn solve_text(text: &str) -> (Option<i32>, String) {
         String::from_utf8_lossy(&out.stderr).into_owned(),
     )
 }
+
+/// `cwsynth solve --json FILE`, which must succeed: the result object.
+#[track_caller]
+pub fn solve_json(path: &Path) -> serde_json::Value {
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_cwsynth"))
+        .args(["solve", "--json"])
+        .arg(path)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}: {}",
+        path.display(),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    serde_json::from_slice(&out.stdout).unwrap()
+}
+
+/// `cwsynth solve --out DIR` of shipped problem files, which must succeed: the directory.
+#[track_caller]
+pub fn solve_out(names: &[&str]) -> tempfile::TempDir {
+    let dir = tempfile::tempdir().unwrap();
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_cwsynth"))
+        .args(["solve", "--out"])
+        .arg(dir.path())
+        .args(names.iter().map(|n| problem(n)))
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    dir
+}
+
+/// The number at a dotted key of a result (`objectives.c4`, `coefficients.a.4`).
+#[track_caller]
+pub fn num(v: &serde_json::Value, path: &str) -> f64 {
+    let mut x = v;
+    for p in path.split('.') {
+        x = match x {
+            serde_json::Value::Array(a) => &a[p.parse::<usize>().unwrap()],
+            _ => &x[p],
+        };
+    }
+    x.as_f64()
+        .unwrap_or_else(|| panic!("{path} is not a number: {x}"))
+}
