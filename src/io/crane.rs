@@ -35,7 +35,6 @@ pub struct MechanismRaw {
     /// h, rail to the boom-foot pin.
     pub foot_height: Qty<Length>,
     /// Q, rated load (optional): the unbalanced load moment about A is reported.
-    #[serde(default)]
     pub load_mass: Option<Qty<Mass>>,
 }
 
@@ -54,7 +53,6 @@ pub enum Sizing {
 #[serde(deny_unknown_fields)]
 pub struct ModelRaw {
     /// Boom-length rule (default `min-reach`; not with `design.boom_length`).
-    #[serde(default)]
     pub sizing: Option<Sizing>,
 }
 
@@ -63,25 +61,18 @@ pub struct ModelRaw {
 #[serde(deny_unknown_fields)]
 pub struct DesignRaw {
     /// k1 = C1C2/C1C3.
-    #[serde(default)]
     pub k1: Option<RawVar<Dimensionless>>,
     /// k2 = a/L_v.
-    #[serde(default)]
     pub k2: Option<RawVar<Dimensionless>>,
     /// φ_min, boom elevation at maximum reach.
-    #[serde(default)]
     pub phi_min: Option<RawVar<Angle>>,
     /// γ1, boom from vertical at minimum reach.
-    #[serde(default)]
     pub gamma1: Option<RawVar<Angle>>,
     /// γ2, jib from vertical at minimum reach.
-    #[serde(default)]
     pub gamma2: Option<RawVar<Angle>>,
     /// γ3, jib below horizontal at maximum reach.
-    #[serde(default)]
     pub gamma3: Option<RawVar<Angle>>,
     /// L_c given (fixed); otherwise `model.sizing` computes it.
-    #[serde(default)]
     pub boom_length: Option<Qty<Length>>,
 }
 
@@ -98,13 +89,10 @@ pub enum Minimize {
 #[serde(deny_unknown_fields)]
 pub struct TiePinRaw {
     /// |AB| ≤ max_distance.
-    #[serde(default)]
     pub max_distance: Option<Qty<Length>>,
     /// x_B within [min, max].
-    #[serde(default)]
     pub x_range: Option<[Qty<Length>; 2]>,
     /// y_B within [min, max].
-    #[serde(default)]
     pub y_range: Option<[Qty<Length>; 2]>,
 }
 
@@ -115,10 +103,8 @@ pub struct ObjectiveRaw {
     /// Always `delta-h`.
     pub minimize: Minimize,
     /// Allowed Δh of the check (default 0.1·H).
-    #[serde(default)]
     pub max_delta_h: Option<Qty<Length>>,
     /// Tie-pin limit (required when a variable is free).
-    #[serde(default)]
     pub tie_pin: Option<TiePinRaw>,
 }
 

@@ -34,25 +34,18 @@ pub struct MechanismRaw {
     /// ω1.
     pub speed: Qty<AngularSpeed>,
     /// Stated module m (checked).
-    #[serde(default)]
     pub module: Option<Qty<Length>>,
     /// Stated z1 (checked).
-    #[serde(default)]
     pub teeth_gear1: Option<u32>,
     /// Stated z2 (checked).
-    #[serde(default)]
     pub teeth_gear2: Option<u32>,
     /// Stated pitch on the pitch curve (checked).
-    #[serde(default)]
     pub tooth_pitch: Option<Qty<Length>>,
     /// Stated tooth thickness (checked).
-    #[serde(default)]
     pub tooth_thickness: Option<Qty<Length>>,
     /// Stated space width (checked).
-    #[serde(default)]
     pub space_width: Option<Qty<Length>>,
     /// Stated centre distance (checked; the pair uses the closing one).
-    #[serde(default)]
     pub center_distance: Option<Qty<Length>>,
 }
 
@@ -61,7 +54,6 @@ pub struct MechanismRaw {
 #[serde(deny_unknown_fields)]
 pub struct ModelRaw {
     /// Half-width in α1 of the window left out around every pole (and 0/0 cusp).
-    #[serde(default)]
     pub pole_window: Option<Qty<Angle>>,
 }
 
@@ -70,7 +62,6 @@ pub struct ModelRaw {
 #[serde(deny_unknown_fields)]
 pub struct DesignRaw {
     /// e: fixed (analysis) or a range (design).
-    #[serde(default)]
     pub eccentricity: Option<RawVar<Length>>,
 }
 
@@ -89,13 +80,10 @@ pub struct ObjectiveRaw {
     /// What to maximise over a free e.
     pub maximize: Maximize,
     /// Limit of the peak |µ| on the working window.
-    #[serde(default)]
     pub max_sliding_coefficient: Option<f64>,
     /// Gear 2's pitch curve must stay convex (default true).
-    #[serde(default)]
     pub require_gear2_convex: Option<bool>,
     /// Limit of the pitch pressure angle asin(e/R).
-    #[serde(default)]
     pub max_pressure_angle: Option<Qty<Angle>>,
 }
 

@@ -28,10 +28,8 @@ use std::time::Instant;
 #[serde(deny_unknown_fields)]
 pub struct MechanismRaw {
     /// The paper's variant: 1 (α0 = 0) or 2 (α0 = 270°).
-    #[serde(default)]
     pub variant: Option<i64>,
     /// α0, the orientation of the curve, instead of `variant`.
-    #[serde(default)]
     pub orientation: Option<Qty<Angle>>,
     /// R = OO1.
     pub carrier_radius: Qty<Length>,
@@ -46,10 +44,8 @@ pub struct MechanismRaw {
 #[serde(deny_unknown_fields)]
 pub struct ModelRaw {
     /// Highest order in the tables (default 8).
-    #[serde(default)]
     pub orders: Option<usize>,
     /// Power of z = λ²y² of the paper-style series (default 3, the paper's y⁶).
-    #[serde(default)]
     pub series_power: Option<usize>,
 }
 
@@ -58,10 +54,8 @@ pub struct ModelRaw {
 #[serde(deny_unknown_fields)]
 pub struct DesignRaw {
     /// λ = R/L.
-    #[serde(default)]
     pub lambda: Option<RawVar<Dimensionless>>,
     /// θ = r/R.
-    #[serde(default)]
     pub theta: Option<RawVar<Dimensionless>>,
 }
 
@@ -88,7 +82,6 @@ pub struct RangeRaw {
 #[serde(deny_unknown_fields)]
 pub struct ZeroSearchRaw {
     /// Order whose cosine coefficient is searched (default 4).
-    #[serde(default)]
     pub order: Option<usize>,
     /// λ range.
     pub lambda: RangeRaw,
@@ -103,19 +96,14 @@ pub struct ObjectiveRaw {
     /// What to minimise over the free (λ, θ).
     pub minimize: Minimize,
     /// Orders cancelled by Lanchester pairs (default [1, 2, 3]).
-    #[serde(default)]
     pub balance_orders: Option<Vec<usize>>,
     /// Required 1 − λ·max|y_A/R| (default 1e-3).
-    #[serde(default)]
     pub assembly_margin: Option<f64>,
     /// Minimum stroke.
-    #[serde(default)]
     pub min_stroke: Option<Qty<Length>>,
     /// Minimum suction-phase gain (suction angle/π − 1).
-    #[serde(default)]
     pub min_suction_gain: Option<f64>,
     /// The zero search, if wanted.
-    #[serde(default)]
     pub zero_search: Option<ZeroSearchRaw>,
 }
 

@@ -37,33 +37,26 @@ pub struct MechanismRaw {
     /// L.
     pub rod_length: Qty<Length>,
     /// e (default 0).
-    #[serde(default)]
     pub offset: Option<Qty<Length>>,
     /// n or ω.
     pub speed: Qty<AngularSpeed>,
     /// m2 (or from `mass_items`).
-    #[serde(default)]
     pub crank_mass: Option<Qty<Mass>>,
     /// r2 (default R/2).
-    #[serde(default)]
     pub crank_centroid: Option<Qty<Length>>,
     /// m3.
     pub rod_mass: Qty<Mass>,
     /// m4 (or from `mass_items`).
-    #[serde(default)]
     pub slider_mass: Option<Qty<Mass>>,
     /// Itemised masses reduced to the crank pin or the slider (replace crank_mass and
     /// slider_mass).
     #[serde(default)]
     pub mass_items: Vec<MassItemRaw>,
     /// Angle of the slider axis (from the crank axis towards the slider) above the horizontal.
-    #[serde(default)]
     pub slider_axis_angle: Option<Qty<Angle>>,
     /// Constant process force on the slider along the axis, away from the crank.
-    #[serde(default)]
     pub process_force: Option<Qty<Force>>,
     /// Process force as a periodic table against crank angle.
-    #[serde(default)]
     pub process_force_table: Option<ForceTableRaw>,
 }
 
@@ -88,7 +81,6 @@ pub struct MassItemRaw {
     /// Reduced to.
     pub at: MassAt,
     /// Fraction of the mass reduced there (default 1; ½ for a boom resting on a sub-frame).
-    #[serde(default)]
     pub fraction: Option<f64>,
 }
 
@@ -118,25 +110,20 @@ pub enum Masses {
 #[serde(deny_unknown_fields)]
 pub struct ModelRaw {
     /// `exact` (default) or `two-harmonic`.
-    #[serde(default)]
     pub kinematics: Option<Kinematics>,
     /// `lumped` (default) or `rigid`.
     #[serde(default)]
     pub masses: Masses,
     /// Lumped: fraction of the rod mass at the crank pin (default 0.5).
-    #[serde(default)]
     pub rod_split: Option<f64>,
     /// Rigid: rod centre of mass from the crank pin (default L/2).
-    #[serde(default)]
     pub rod_centroid: Option<Qty<Length>>,
     /// Rigid: rod moment of inertia about its centre of mass (default m3 L²/12).
-    #[serde(default)]
     pub rod_inertia: Option<Qty<Inertia>>,
     /// Model the weights (default false).
     #[serde(default)]
     pub gravity: bool,
     /// g (default 9.80665 m/s²).
-    #[serde(default)]
     pub gravity_acceleration: Option<Qty<Acceleration>>,
 }
 
@@ -145,25 +132,19 @@ pub struct ModelRaw {
 #[serde(deny_unknown_fields)]
 pub struct DesignRaw {
     /// |U| = m r.
-    #[serde(default)]
     pub unbalance: Option<RawVar<Unbalance>>,
     /// β from the crank line.
-    #[serde(default)]
     pub angle: Option<RawVar<Angle>>,
     /// m.
-    #[serde(default)]
     pub mass: Option<RawVar<Mass>>,
     /// r.
-    #[serde(default)]
     pub radius: Option<RawVar<Length>>,
     /// Split preference.
     #[serde(default)]
     pub prefer: Prefer,
     /// The paper's classical counterweight (formula (6)) as printed.
-    #[serde(default)]
     pub paper: Option<PaperDesignRaw>,
     /// A plate shape to realise the counterweight.
-    #[serde(default)]
     pub shape: Option<ShapeRaw>,
 }
 
@@ -194,10 +175,8 @@ pub struct ShapeRaw {
     /// Largest outer radius (envelope).
     pub outer_radius_max: Qty<Length>,
     /// Largest sector angle (default 180°).
-    #[serde(default)]
     pub max_angle: Option<Qty<Angle>>,
     /// `mass` (default) or `outer-radius`.
-    #[serde(default)]
     pub minimize: Option<ShapeGoal>,
 }
 
@@ -224,16 +203,13 @@ pub struct ObjectiveRaw {
     /// What to minimise.
     pub minimize: Minimize,
     /// Peak shaking-force limit.
-    #[serde(default)]
     pub max_peak_force: Option<Qty<Force>>,
     /// Peak drive-torque limit.
-    #[serde(default)]
     pub max_peak_torque: Option<Qty<Torque>>,
     /// Points of the torque–force Pareto front (0 or absent: none).
     #[serde(default)]
     pub pareto_points: usize,
     /// Re-optimise over a range of speeds.
-    #[serde(default)]
     pub speed_sweep: Option<SpeedSweepRaw>,
 }
 
