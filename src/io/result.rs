@@ -155,24 +155,17 @@ impl SolveResult {
 
     /// Looks up a dotted key (`baselines.none.peak_shaking_force_n`) as a number.
     pub fn lookup(&self, key: &str) -> Option<f64> {
-        let mut v = &self.to_json();
-        for part in key.split('.') {
-            v = match v {
-                serde_json::Value::Object(m) => m.get(part)?,
-                serde_json::Value::Array(a) => a.get(part.parse::<usize>().ok()?)?,
-                _ => return None,
-            };
-        }
-        v.as_f64()
+        lookup_json(&self.to_json(), key)
     }
 
     /// Appends to `paper` the scene file's `[[paper]]` references, looked up in this result
     /// (a family may already have put its own checks there).
     pub fn compare_with_paper(&mut self, refs: &[crate::io::problem::PaperRef]) {
+        let json = self.to_json();
         let from_file: Vec<PaperCheck> = refs
             .iter()
             .map(|r| {
-                let computed = self.lookup(&r.key);
+                let computed = lookup_json(&json, &r.key);
                 PaperCheck {
                     quantity: r.quantity.clone(),
                     key: r.key.clone(),
@@ -189,6 +182,19 @@ impl SolveResult {
             .collect();
         self.paper.extend(from_file);
     }
+}
+
+/// The number at a dotted key (`baselines.none.peak_shaking_force_n`, `coefficients.a.4`).
+fn lookup_json(v: &serde_json::Value, key: &str) -> Option<f64> {
+    let mut v = v;
+    for part in key.split('.') {
+        v = match v {
+            serde_json::Value::Object(m) => m.get(part)?,
+            serde_json::Value::Array(a) => a.get(part.parse::<usize>().ok()?)?,
+            _ => return None,
+        };
+    }
+    v.as_f64()
 }
 
 /// Writes `bytes` to `path` atomically: a temporary file in the same directory, synced,
