@@ -1369,28 +1369,57 @@ pub fn thesis_optimisation() -> CraneScene {
     }
 }
 
+/// The thesis's recommended step-1 ranges (§2): φ_min 30–45°, γ1 5–15°, γ2 5–10°,
+/// γ3 10–25°, in degrees.
+pub struct Recommended {
+    phi_min: (f64, f64),
+    gamma1: (f64, f64),
+    gamma2: (f64, f64),
+    gamma3: (f64, f64),
+}
+
+/// See [`Recommended`].
+pub const RECOMMENDED: Recommended = Recommended {
+    phi_min: (30.0, 45.0),
+    gamma1: (5.0, 15.0),
+    gamma2: (5.0, 10.0),
+    gamma3: (10.0, 25.0),
+};
+
+impl Recommended {
+    fn free((lo, hi): (f64, f64)) -> Var {
+        Var::Free {
+            min: lo.to_radians(),
+            max: hi.to_radians(),
+        }
+    }
+    /// φ_min free in its range.
+    pub fn phi_min(&self) -> Var {
+        Self::free(self.phi_min)
+    }
+    /// γ1 free in its range.
+    pub fn gamma1(&self) -> Var {
+        Self::free(self.gamma1)
+    }
+    /// γ2 free in its range.
+    pub fn gamma2(&self) -> Var {
+        Self::free(self.gamma2)
+    }
+    /// γ3 free in its range.
+    pub fn gamma3(&self) -> Var {
+        Self::free(self.gamma3)
+    }
+}
+
 /// The thesis example with k1, k2 and the four step-1 angles free (the thesis's recommended
 /// ranges: φ_min 30–45°, γ1 5–15°, γ2 5–10°, γ3 10–25°), L_c by the min-reach rule, and the
 /// tie-pin limit of [`thesis_optimisation`].
 pub fn thesis_optimisation_with_angles() -> CraneScene {
-    let d = f64::to_radians;
     CraneScene {
-        phi_min: Var::Free {
-            min: d(30.0),
-            max: d(45.0),
-        },
-        gamma1: Var::Free {
-            min: d(5.0),
-            max: d(15.0),
-        },
-        gamma2: Var::Free {
-            min: d(5.0),
-            max: d(10.0),
-        },
-        gamma3: Var::Free {
-            min: d(10.0),
-            max: d(25.0),
-        },
+        phi_min: RECOMMENDED.phi_min(),
+        gamma1: RECOMMENDED.gamma1(),
+        gamma2: RECOMMENDED.gamma2(),
+        gamma3: RECOMMENDED.gamma3(),
         sizing: SizingRule::MinReach,
         ..thesis_optimisation()
     }
@@ -1401,7 +1430,6 @@ pub fn thesis_optimisation_with_angles() -> CraneScene {
 /// searched in the recommended ranges (the thesis's step-1 trial), L_c by the min-reach rule,
 /// tie pin behind the boom foot within 12 m of it.
 pub fn tukan_40t() -> CraneScene {
-    let d = f64::to_radians;
     CraneScene {
         reach_max: 30.0,
         reach_min: 8.0,
@@ -1410,22 +1438,10 @@ pub fn tukan_40t() -> CraneScene {
         foot_height: 16.0,
         k1: Var::Fixed(0.2),
         k2: Var::Fixed(0.4),
-        phi_min: Var::Free {
-            min: d(30.0),
-            max: d(45.0),
-        },
-        gamma1: Var::Free {
-            min: d(5.0),
-            max: d(15.0),
-        },
-        gamma2: Var::Free {
-            min: d(5.0),
-            max: d(10.0),
-        },
-        gamma3: Var::Free {
-            min: d(10.0),
-            max: d(25.0),
-        },
+        phi_min: RECOMMENDED.phi_min(),
+        gamma1: RECOMMENDED.gamma1(),
+        gamma2: RECOMMENDED.gamma2(),
+        gamma3: RECOMMENDED.gamma3(),
         sizing: SizingRule::MinReach,
         tie_pin: TiePinLimit {
             max_distance: Some(12.0),
