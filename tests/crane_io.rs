@@ -8,30 +8,15 @@ use common::*;
 use cwsynth::io::problem::{parse_str, SceneKind};
 use serde_json::Value;
 use std::collections::BTreeMap;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::Command;
 
 const EXAMPLE: &str = include_str!("../problems/crane-thesis-example.toml");
 const OPTIMISE: &str = include_str!("../problems/crane-thesis-optimise.toml");
 
-fn crane_files() -> Vec<PathBuf> {
-    let mut v: Vec<PathBuf> = std::fs::read_dir(problem(""))
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .filter(|p| {
-            p.extension().is_some_and(|e| e == "toml")
-                && std::fs::read_to_string(p)
-                    .unwrap()
-                    .contains("family = \"luffing-crane\"")
-        })
-        .collect();
-    v.sort();
-    v
-}
-
 /// `cwsynth solve --json` of every crane file, run in parallel, by scene name.
 fn solve_all() -> BTreeMap<String, Value> {
-    let children: Vec<_> = crane_files()
+    let children: Vec<_> = family_files("luffing-crane")
         .into_iter()
         .map(|p| {
             let child = Command::new(env!("CARGO_BIN_EXE_cwsynth"))

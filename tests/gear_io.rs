@@ -8,24 +8,9 @@ use common::*;
 use cwsynth::io::problem::{parse_str, SceneKind};
 use cwsynth::synth::gear::{paper_table1, paper_table1_design, solve, Settings};
 use std::f64::consts::{PI, TAU};
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 const TABLE1: &str = include_str!("../problems/gear-paper-table1.toml");
-
-fn shipped() -> Vec<PathBuf> {
-    let mut v: Vec<PathBuf> = std::fs::read_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/problems"))
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .filter(|p| {
-            p.extension().is_some_and(|e| e == "toml")
-                && std::fs::read_to_string(p)
-                    .unwrap()
-                    .contains("family = \"eccentric-gear\"")
-        })
-        .collect();
-    v.sort();
-    v
-}
 
 /// ρ1(α) = e cos α + sqrt(R² − e² sin² α).
 fn rho1(r: f64, e: f64, a: f64) -> f64 {
@@ -62,7 +47,7 @@ fn closing_a(r: f64, e: f64, n1: f64, n2: f64) -> f64 {
 
 #[test]
 fn every_shipped_gear_file_has_the_contract_keys() {
-    let files = shipped();
+    let files = family_files("eccentric-gear");
     assert!(files.len() >= 2, "{files:?}");
     for p in &files {
         let v = solve_json(p);

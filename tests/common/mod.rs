@@ -106,3 +106,18 @@ pub fn num(v: &serde_json::Value, path: &str) -> f64 {
     x.as_f64()
         .unwrap_or_else(|| panic!("{path} is not a number: {x}"))
 }
+
+/// The shipped problem files of one family (`"luffing-crane"`, …), sorted.
+pub fn family_files(family: &str) -> Vec<PathBuf> {
+    let tag = format!("family = \"{family}\"");
+    let mut v: Vec<PathBuf> = std::fs::read_dir(problem(""))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| {
+            p.extension().is_some_and(|e| e == "toml")
+                && std::fs::read_to_string(p).unwrap().contains(&tag)
+        })
+        .collect();
+    v.sort();
+    v
+}
