@@ -1,5 +1,6 @@
 //! Closed-form planar constructions shared by the mechanism models: circle–circle
-//! intersection (a dyad), link–slider intersection, circumcentre.
+//! intersection (a dyad), link–slider intersection, circumcentre, and the smallest disc
+//! enclosing a point set (the geometric form of a minimax counterweight).
 //!
 //! A construction that has no solution (the links cannot reach) returns `None`, never NaN:
 //! whether that is an error is for the caller to decide. Every formula is written in the
@@ -96,6 +97,92 @@ pub fn circumcentre(p1: P2, p2: P2, p3: P2) -> Option<(P2, f64)> {
     Some((p1 + o, o.norm()))
 }
 
+/// A disc: centre and radius.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Disc {
+    /// Centre.
+    pub centre: P2,
+    /// Radius (≥ 0).
+    pub radius: f64,
+}
+
+impl Disc {
+    fn through2(a: P2, b: P2) -> Disc {
+        Disc {
+            centre: 0.5 * (a + b),
+            radius: 0.5 * (a - b).norm(),
+        }
+    }
+
+    /// The smallest disc with `a`, `b`, `c` on its boundary or inside: the circumcircle, or
+    /// for (near-)collinear points the disc on their farthest pair.
+    fn through3(a: P2, b: P2, c: P2) -> Disc {
+        match circumcentre(a, b, c) {
+            Some((centre, radius)) => Disc { centre, radius },
+            None => [(a, b), (a, c), (b, c)]
+                .into_iter()
+                .map(|(p, q)| Disc::through2(p, q))
+                .max_by(|d, e| d.radius.total_cmp(&e.radius))
+                .expect("three pairs"),
+        }
+    }
+}
+
+/// The smallest disc enclosing `points` (`None` for an empty set or a non-finite point).
+///
+/// Welzl's randomised incremental algorithm in its iterative form (de Berg et al.,
+/// *Computational Geometry*, §4.7), with the points visited in a fixed scrambled order (a
+/// golden-ratio stride through the indices) instead of a random one, so the result is
+/// deterministic while points sampled along a curve still arrive well spread (expected
+/// linear time). A point counts as inside when its distance from the centre exceeds the
+/// radius by at most 1e-14 of the set's extent, so rounding cannot trigger a rebuild.
+pub fn enclosing_disc(points: &[P2]) -> Option<Disc> {
+    let n = points.len();
+    if n == 0 || points.iter().any(|p| !(p.x.is_finite() && p.y.is_finite())) {
+        return None;
+    }
+    let mut stride = ((n as f64) * 0.618_033_988_749_894_9) as usize;
+    while stride > 1 && gcd(stride, n) != 1 {
+        stride -= 1;
+    }
+    let stride = stride.max(1);
+    let p: Vec<P2> = (0..n).map(|k| points[(k * stride) % n]).collect();
+    let extent = p.iter().map(|q| (q - p[0]).abs().max()).fold(0.0, f64::max);
+    let slack = 1e-14 * extent;
+    let out = |d: &Disc, q: P2| (q - d.centre).norm() > d.radius + slack;
+    let mut d = Disc {
+        centre: p[0],
+        radius: 0.0,
+    };
+    for i in 1..n {
+        if out(&d, p[i]) {
+            d = Disc {
+                centre: p[i],
+                radius: 0.0,
+            };
+            for j in 0..i {
+                if out(&d, p[j]) {
+                    d = Disc::through2(p[i], p[j]);
+                    for k in 0..j {
+                        if out(&d, p[k]) {
+                            d = Disc::through3(p[i], p[j], p[k]);
+                        }
+                    }
+                }
+            }
+        }
+    }
+    Some(d)
+}
+
+fn gcd(a: usize, b: usize) -> usize {
+    if b == 0 {
+        a
+    } else {
+        gcd(b, a % b)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -152,5 +239,82 @@ mod tests {
         assert!((c - P2::new(2.0, 1.5)).norm() < 1e-15);
         assert!((r - 2.5).abs() < 1e-15);
         assert!(circumcentre(P2::zeros(), P2::new(1.0, 1.0), P2::new(2.0, 2.0)).is_none());
+    }
+
+    /// Brute force: the smallest of the discs on every pair and every triple that encloses
+    /// all points (the optimum is always one of them).
+    fn brute_disc(pts: &[P2]) -> f64 {
+        let mut best = f64::INFINITY;
+        let encloses = |d: &Disc| {
+            pts.iter()
+                .all(|q| (q - d.centre).norm() <= d.radius * (1.0 + 1e-12))
+        };
+        for i in 0..pts.len() {
+            for j in i + 1..pts.len() {
+                let d = Disc::through2(pts[i], pts[j]);
+                if encloses(&d) {
+                    best = best.min(d.radius);
+                }
+                for k in j + 1..pts.len() {
+                    if let Some((centre, radius)) = circumcentre(pts[i], pts[j], pts[k]) {
+                        let d = Disc { centre, radius };
+                        if encloses(&d) {
+                            best = best.min(radius);
+                        }
+                    }
+                }
+            }
+        }
+        best
+    }
+
+    #[test]
+    fn enclosing_disc_matches_brute_force_on_random_sets() {
+        // A small deterministic LCG: 300 sets of 2–12 points.
+        let mut state = 0x2545_f491_4f6c_dd1d_u64;
+        let mut rnd = || {
+            state = state
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            (state >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+        };
+        for case in 0..300 {
+            let n = 2 + case % 11;
+            let pts: Vec<P2> = (0..n).map(|_| P2::new(rnd(), rnd())).collect();
+            let d = enclosing_disc(&pts).unwrap();
+            let r = brute_disc(&pts);
+            assert!(
+                (d.radius - r).abs() <= 1e-12,
+                "case {case}: {} vs {r}",
+                d.radius
+            );
+            for q in &pts {
+                assert!((q - d.centre).norm() <= d.radius * (1.0 + 1e-12) + 1e-15);
+            }
+        }
+    }
+
+    #[test]
+    fn enclosing_disc_of_sampled_circle_and_degenerate_sets() {
+        // 360 points on the circle of radius 2 about (1, −3): the disc is that circle.
+        let pts: Vec<P2> = (0..360)
+            .map(|k| {
+                let t = k as f64 * std::f64::consts::TAU / 360.0;
+                P2::new(1.0 + 2.0 * t.cos(), -3.0 + 2.0 * t.sin())
+            })
+            .collect();
+        let d = enclosing_disc(&pts).unwrap();
+        assert!((d.centre - P2::new(1.0, -3.0)).norm() < 1e-14);
+        assert!((d.radius - 2.0).abs() < 1e-14);
+        // Collinear points: the disc on the two ends.
+        let line: Vec<P2> = (0..7).map(|k| P2::new(k as f64, 2.0 * k as f64)).collect();
+        let d = enclosing_disc(&line).unwrap();
+        assert!((d.centre - P2::new(3.0, 6.0)).norm() < 1e-14);
+        assert!((d.radius - 45f64.sqrt()).abs() < 1e-14);
+        // One point, repeated points, empty and NaN.
+        let one = enclosing_disc(&[P2::new(5.0, 5.0); 4]).unwrap();
+        assert_eq!(one.radius, 0.0);
+        assert!(enclosing_disc(&[]).is_none());
+        assert!(enclosing_disc(&[P2::new(f64::NAN, 0.0)]).is_none());
     }
 }

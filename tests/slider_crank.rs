@@ -355,3 +355,102 @@ fn baselines_match_their_definitions() {
             < 1e-9 * b["none"].peak
     );
 }
+
+/// The same scene with the geometric presolve switched on or off.
+fn with_presolve(sc: &Scene, on: bool) -> Scene {
+    let mut s = sc.clone();
+    s.settings.presolve = on;
+    s
+}
+
+#[test]
+fn presolve_and_plain_exchange_loop_find_the_same_optimum() {
+    // Two routes to the optimum: the presolve's angles (1 SOCP) and the exchange loop from
+    // 8 equal angles (several SOCPs). Both are checked by the refined true peak; they must
+    // agree to the tolerance, also with an offset slider and with a direction sector.
+    let mut offset = paper_piston(1000.0);
+    offset.mech.e = 0.02;
+    offset.mech.rod = Rod::rigid(0.3, 0.14, Some(0.05), None);
+    let mut sector = paper_piston(1000.0);
+    sector.counterweight.angle = Var::Free {
+        min: 0.5 * PI,
+        max: 0.9 * PI,
+    };
+    for (what, sc, rounds) in [
+        ("paper piston", paper_piston(1000.0), Some(1)),
+        ("offset slider", offset, Some(1)),
+        ("sector 90°–162°", sector, None),
+    ] {
+        let (a, b) = (
+            optimise(&with_presolve(&sc, true)).unwrap(),
+            optimise(&with_presolve(&sc, false)).unwrap(),
+        );
+        assert_eq!(a.status, Status::Optimal, "{what}: {a:?}");
+        assert_eq!(b.status, Status::Optimal, "{what}: {b:?}");
+        let (pa, pb) = (
+            brute_peak(&sc.mech, sc.omega, a.u),
+            brute_peak(&sc.mech, sc.omega, b.u),
+        );
+        assert!((pa - pb).abs() <= 1e-9 * pb, "{what}: {pa} vs {pb}");
+        if let Some(r) = rounds {
+            assert_eq!(a.rounds, r, "{what}: {}", a.method);
+            assert!(b.rounds > r, "{what}: {}", b.method);
+        }
+    }
+}
+
+#[test]
+fn sampled_minimax_is_the_smallest_disc_around_the_cancelling_unbalances() {
+    // |F(φ; U)| = ω²|U − p(φ)| with p(φ) = −Rot(φ)ᵀF(φ; 0)/ω²: the minimax over sampled
+    // angles (clarabel's SOCP, exchange switched off) is ω² times the radius of the smallest
+    // disc enclosing the p(φ_k) (Welzl), and its centre is the optimal U.
+    use cwsynth::synth::counterweight::{self as cw, Direction, Field, Goal, Problem};
+    let sc = paper_piston(1000.0);
+    let w2 = sc.omega * sc.omega;
+    let n = 90;
+    let pts: Vec<P2> = (0..n)
+        .map(|k| {
+            let phi = k as f64 * TAU / n as f64;
+            -rot(
+                -phi,
+                shaking_force(&sc.mech, sc.omega, P2::zeros(), phi).unwrap(),
+            ) / w2
+        })
+        .collect();
+    let disc = cwsynth::geom::enclosing_disc(&pts).unwrap();
+    // The SOCP in units of kg·m (A = Rot(φ), b = F(φ; 0)/ω²).
+    let eval = |phi: f64| {
+        let b = shaking_force(&sc.mech, sc.omega, P2::zeros(), phi).unwrap() / w2;
+        let (s, c) = phi.sin_cos();
+        cw::Affine {
+            a: [[c, -s], [s, c]],
+            b: [b.x, b.y],
+        }
+    };
+    let pb = Problem {
+        fields: vec![Field {
+            name: "shaking force",
+            dim: 2,
+            eval: &eval,
+        }],
+        goal: Goal::MinPeak(0),
+        limits: vec![],
+        u_max: f64::INFINITY,
+        direction: Direction::Free,
+        warm_angles: vec![],
+    };
+    let settings = cw::Settings {
+        presolve: false,
+        initial_samples: n,
+        max_rounds: 1,
+        ..Default::default()
+    };
+    let sol = cw::solve(&pb, &settings);
+    assert!(
+        (sol.sampled_objective - disc.radius).abs() <= 1e-9 * disc.radius,
+        "SOCP {} vs disc {}",
+        sol.sampled_objective,
+        disc.radius
+    );
+    assert!((sol.u - disc.centre).norm() <= 1e-7 * disc.radius);
+}

@@ -326,6 +326,10 @@ fn slider_crank() -> Value {
                 "warm_start",
                 boolean("start the first SOCP at the maxima of the least-squares counterweight"),
             ),
+            (
+                "presolve",
+                boolean("choose the first SOCP's angles by the smallest enclosing disc"),
+            ),
         ],
         &[],
         "accuracy targets",

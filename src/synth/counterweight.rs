@@ -129,6 +129,10 @@ pub struct Settings {
     /// piston (3 rounds either way) but cuts an offset slider from 8 rounds to 3, where
     /// the loop otherwise creeps along clarabel's accuracy near 1e-9.
     pub warm_start: bool,
+    /// Pick the first SOCP's angles by the geometric presolve (see [`enclosing_presolve`])
+    /// when the objective is a rotating counterweight's peak force. Default true; false
+    /// starts from `initial_samples` equally spaced angles.
+    pub presolve: bool,
 }
 
 impl Default for Settings {
@@ -142,6 +146,7 @@ impl Default for Settings {
             rms_samples: 720,
             keep_band: 0.05,
             warm_start: false,
+            presolve: true,
         }
     }
 }
@@ -229,6 +234,8 @@ pub struct Solution {
     pub ipm_iterations: u32,
     /// The last clarabel status, as text.
     pub solver_status: String,
+    /// Whether the geometric presolve chose the first angles.
+    pub presolved: bool,
     /// Why the loop stopped where not optimal.
     pub note: Option<String>,
 }
@@ -432,7 +439,14 @@ pub fn uniform_angles(n: usize) -> Vec<f64> {
 
 /// Solves the problem by the exchange loop (see the module doc).
 pub fn solve(pb: &Problem, s: &Settings) -> Solution {
-    let mut samples = uniform_angles(s.initial_samples);
+    let presolved = if s.presolve {
+        enclosing_presolve(pb, s)
+    } else {
+        None
+    };
+    let mut samples = presolved
+        .clone()
+        .unwrap_or_else(|| uniform_angles(s.initial_samples));
     for &phi in &pb.warm_angles {
         if samples.iter().all(|&q| angle_dist(q, phi) > 1e-9) {
             samples.push(phi);
@@ -442,7 +456,12 @@ pub fn solve(pb: &Problem, s: &Settings) -> Solution {
     // clarabel's accuracy per round: a round far from convergence only needs to locate the
     // next angles, so its tolerance follows the last round's relative gap (two orders
     // tighter), down to the target in the final rounds.
-    let mut round_tol = 1e-6_f64.max(s.rel_tol);
+    // The presolve's angles are already the active ones: the first round is the last.
+    let mut round_tol = if presolved.is_some() {
+        s.rel_tol
+    } else {
+        1e-6_f64.max(s.rel_tol)
+    };
     let mut last = Solution {
         status: Status::Failed,
         u: P2::zeros(),
@@ -453,6 +472,7 @@ pub fn solve(pb: &Problem, s: &Settings) -> Solution {
         samples: 0,
         ipm_iterations: 0,
         solver_status: String::new(),
+        presolved: false,
         note: None,
     };
     for round in 1..=s.max_rounds {
@@ -545,6 +565,7 @@ pub fn solve(pb: &Problem, s: &Settings) -> Solution {
             samples: samples.len(),
             ipm_iterations: iters,
             solver_status: status_txt,
+            presolved: presolved.is_some(),
             note: if almost {
                 Some("clarabel reached reduced accuracy only (AlmostSolved)".into())
             } else {
@@ -608,6 +629,91 @@ pub fn solve(pb: &Problem, s: &Settings) -> Solution {
         s.max_rounds
     ));
     last
+}
+
+/// Geometric presolve of a minimax force, `min_u max_φ ‖A(φ)u + b(φ)‖`, when every A(φ) is
+/// c·Q(φ) with Q orthogonal and one constant c > 0 — the force of a counterweight turning
+/// with the crank, c·Rot(φ)·U. Then ‖A u + b‖ = c‖u − p(φ)‖ with p(φ) = −Aᵀb/c² (the
+/// unbalance that would cancel the force at φ), so the minimax over sampled angles is the
+/// smallest disc enclosing the points p(φ_k): its centre is the optimal u and c times its
+/// radius the optimal peak ([`crate::geom::enclosing_disc`], linear time).
+///
+/// On `scan_samples` angles this locates the optimum to the sampling error only, so the
+/// angles of the disc's near-active points (local maxima of ‖u − p‖ within `keep_band` of
+/// the radius) are refined on the continuous curve (Brent on the neighbouring intervals)
+/// and the disc of the refined points recomputed, until the angles move less than
+/// `peak_xtol`. Those angles are returned for the first SOCP, which clarabel then solves
+/// at the target tolerance under all the problem's constraints: the presolve only chooses
+/// where to look, and the exchange loop still verifies (and corrects) the result. `None`
+/// when the goal is not a peak force of that form.
+pub fn enclosing_presolve(pb: &Problem, s: &Settings) -> Option<Vec<f64>> {
+    let Goal::MinPeak(i) = pb.goal else {
+        return None;
+    };
+    let f = &pb.fields[i];
+    if f.dim != 2 {
+        return None;
+    }
+    // p(φ) = −Aᵀb/c² when A is c·orthogonal with the common c; None otherwise.
+    let c2_ref = std::cell::Cell::new(f64::NAN);
+    let point = |phi: f64| -> Option<P2> {
+        let aff = (f.eval)(phi);
+        let [[a00, a01], [a10, a11]] = aff.a;
+        let (n0, n1) = (a00 * a00 + a10 * a10, a01 * a01 + a11 * a11);
+        let dot = a00 * a01 + a10 * a11;
+        let c2 = c2_ref.get();
+        let c2 = if c2.is_nan() {
+            c2_ref.set(n0);
+            n0
+        } else {
+            c2
+        };
+        let tol = 1e-12 * c2;
+        if !(c2 > 0.0) || (n0 - c2).abs() > tol || (n1 - c2).abs() > tol || dot.abs() > tol {
+            return None;
+        }
+        let [b0, b1] = aff.b;
+        Some(-P2::new(a00 * b0 + a10 * b1, a01 * b0 + a11 * b1) / c2)
+    };
+    let n = s.scan_samples;
+    let h = std::f64::consts::TAU / n as f64;
+    let pts: Vec<P2> = (0..n).map(|k| point(k as f64 * h)).collect::<Option<_>>()?;
+    let disc = crate::geom::enclosing_disc(&pts)?;
+    let dist = |p: P2, u: P2| (p - u).norm();
+    let level = (1.0 - s.keep_band) * disc.radius;
+    let mut angles: Vec<f64> = (0..n)
+        .filter(|&k| {
+            let d = dist(pts[k], disc.centre);
+            d >= level
+                && d > dist(pts[(k + n - 1) % n], disc.centre)
+                && d >= dist(pts[(k + 1) % n], disc.centre)
+        })
+        .map(|k| k as f64 * h)
+        .collect();
+    let mut u = disc.centre;
+    for _ in 0..8 {
+        let mut moved: f64 = 0.0;
+        let mut refined = Vec::with_capacity(angles.len());
+        for &phi in &angles {
+            let e = crate::numeric::brent_max(
+                |x| point(x).map_or(f64::NAN, |p| dist(p, u)),
+                phi - h,
+                phi + h,
+                s.peak_xtol,
+            )
+            .ok()?;
+            moved = moved.max(angle_dist(e.x, phi));
+            refined.push(e.x.rem_euclid(std::f64::consts::TAU));
+        }
+        refined.dedup_by(|a, b| angle_dist(*a, *b) <= 1e-9);
+        angles = refined;
+        let pts: Vec<P2> = angles.iter().map(|&a| point(a)).collect::<Option<_>>()?;
+        u = crate::geom::enclosing_disc(&pts)?.centre;
+        if moved <= s.peak_xtol {
+            break;
+        }
+    }
+    Some(angles)
 }
 
 /// Distance between two angles on the circle.

@@ -458,6 +458,8 @@ pub struct Optimum {
     pub gap: f64,
     /// Solver description.
     pub method: String,
+    /// clarabel solves of the exchange loop (0 when no convex solve was needed).
+    pub rounds: usize,
     /// Warnings.
     pub warnings: Vec<String>,
 }
@@ -522,6 +524,7 @@ fn optimise_with(
     };
 
     let mut method;
+    let mut rounds = 0;
     let (status, u, gap);
     if let (Some(beta), true) = (cwspec.angle.fixed(), fixed_len) {
         // Everything fixed: an analysis.
@@ -577,7 +580,12 @@ fn optimise_with(
         };
         let sol = cw::solve(&pb, s);
         method = format!(
-            "clarabel {} + exchange loop: {} rounds, {} angles, {} interior-point iterations, last status {}",
+            "{}clarabel {} + exchange loop: {} rounds, {} angles, {} interior-point iterations, last status {}",
+            if sol.presolved {
+                "geometric presolve (smallest disc enclosing the force-cancelling unbalances) + "
+            } else {
+                ""
+            },
             match goal {
                 Goal::MinPeak(0) => "SOCP (minimax force)",
                 Goal::MinPeak(_) => "SOCP/LP (minimax torque)",
@@ -592,6 +600,7 @@ fn optimise_with(
         if let Some(n) = &sol.note {
             warnings.push(n.clone());
         }
+        rounds = sol.rounds;
         let mut st = sol.status;
         let mut uu = sol.u * u_ref;
         let mut g = sol.gap * obj_ref;
@@ -622,6 +631,7 @@ fn optimise_with(
         u,
         gap,
         method,
+        rounds,
         warnings,
     })
 }
@@ -682,6 +692,7 @@ pub fn solve(scene: &Scene) -> Result<Outcome, SolveError> {
         gap,
         method,
         mut warnings,
+        ..
     } = optimise(scene)?;
     let mech = &scene.mech;
     let s = &scene.settings;
