@@ -593,6 +593,8 @@ fn row_error(tpl: &Template, line: u64, e: ProblemError) -> String {
 /// Solves (or skips) one machine; writes its files unless `summary_only`.
 fn process(job: Job, opts: &Options) -> (Row, bool) {
     let index = job.index;
+    // A fleet row is parsed once, where its error can be phrased for the row.
+    let mut parsed = None;
     let (name, source, text, path) = match job.work {
         Work::File(p) => {
             let name = p
@@ -620,7 +622,10 @@ fn process(job: Job, opts: &Options) -> (Row, bool) {
                 Ok(t) => {
                     // Parse here so the error can be phrased for the row.
                     match parse_str(&t, Path::new(&src)) {
-                        Ok(_) => Ok(t),
+                        Ok(sc) => {
+                            parsed = Some(sc);
+                            Ok(t)
+                        }
                         Err(e) => Err(row_error(&tpl, line, e)),
                     }
                 }
@@ -644,7 +649,7 @@ fn process(job: Job, opts: &Options) -> (Row, bool) {
             }
         }
     }
-    let scene = match parse_str(&text, &path) {
+    let scene = match parsed.map_or_else(|| parse_str(&text, &path), Ok) {
         Ok(s) => s,
         Err(e) => {
             return (

@@ -283,6 +283,18 @@ pub struct PeriodicPeak {
     pub evals: usize,
 }
 
+/// Which sampled local maxima [`periodic_peak_sampled`] refines.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Refine {
+    /// Every local maximum (the exchange loop needs them all).
+    All,
+    /// Only those that can be the peak: a local maximum lies within h = 2π/n of its
+    /// sample, so it exceeds the sample by at most ½·|f''|·h²; a candidate whose sample plus
+    /// 2·|f''|·h² (four times that, for the estimate of |f''|) is below the best sample
+    /// cannot be the peak and is skipped. The peak is the same as with `All`.
+    PeakOnly,
+}
+
 /// Peak of a 2π-periodic `f`: sample `n` equally spaced angles, take every sample that is
 /// not below its two neighbours as a candidate, and refine each on its two neighbouring
 /// intervals by Brent to `xtol`. A maximum narrower than `2π/n` can be missed; callers pick
@@ -295,17 +307,54 @@ pub fn periodic_peak<F: Fn(f64) -> f64>(
     let n = n.max(8);
     let h = std::f64::consts::TAU / n as f64;
     let ys: Vec<f64> = (0..n).map(|k| f(k as f64 * h)).collect();
+    periodic_peak_sampled(&ys, f, xtol, Refine::All)
+}
+
+/// [`periodic_peak`] on samples already taken, `ys[k] = f(2πk/n)` with n = `ys.len()` ≥ 3
+/// (a caller evaluating many functions on one grid computes the expensive part once);
+/// `f` is only called by the refinement.
+pub fn periodic_peak_sampled<F: Fn(f64) -> f64>(
+    ys: &[f64],
+    f: F,
+    xtol: f64,
+    refine: Refine,
+) -> Result<PeriodicPeak, SearchError> {
+    let n = ys.len();
+    if n < 3 {
+        return Err(SearchError::Solver(format!(
+            "a periodic peak needs at least 3 samples, got {n}"
+        )));
+    }
+    let h = std::f64::consts::TAU / n as f64;
     if let Some(k) = ys.iter().position(|y| !y.is_finite()) {
         return Err(SearchError::NotFinite { x: k as f64 * h });
     }
-    let mut maxima = Vec::new();
-    let mut evals = n;
-    let mut curv: f64 = 0.0;
+    // One pass: the largest second difference, the best sample and the candidates (a
+    // plateau, all equal, has every sample a "maximum": keep only strict-left ones).
+    let mut d2max: f64 = 0.0;
+    let mut best = f64::NEG_INFINITY;
+    let mut candidates = Vec::new();
+    let mut yp = ys[n - 1];
     for k in 0..n {
-        let (yp, y, yn) = (ys[(k + n - 1) % n], ys[k], ys[(k + 1) % n]);
-        curv = curv.max(((yp - 2.0 * y + yn) / (h * h)).abs());
-        // A plateau (all equal) has every sample a "maximum": keep only strict-left ones.
+        let y = ys[k];
+        let yn = if k + 1 < n { ys[k + 1] } else { ys[0] };
+        d2max = d2max.max((yp - 2.0 * y + yn).abs());
+        best = best.max(y);
         if y >= yn && y > yp {
+            candidates.push(k);
+        }
+        yp = y;
+    }
+    let curv = d2max / (h * h);
+    let floor = match refine {
+        Refine::All => f64::NEG_INFINITY,
+        Refine::PeakOnly => best - 2.0 * d2max,
+    };
+    let mut maxima = Vec::with_capacity(candidates.len());
+    let mut evals = n;
+    for k in candidates {
+        let y = ys[k];
+        if y >= floor {
             let c = k as f64 * h;
             let count = std::cell::Cell::new(0usize);
             let fc = |x: f64| {
@@ -448,17 +497,23 @@ pub struct PeriodicRms {
 pub fn periodic_rms<F: Fn(f64) -> f64>(f: F, n: usize) -> PeriodicRms {
     let n = (n.max(8) + 1) & !1;
     let h = std::f64::consts::TAU / n as f64;
+    let ys: Vec<f64> = (0..n).map(|k| f(k as f64 * h)).collect();
+    periodic_rms_sampled(&ys)
+}
+
+/// [`periodic_rms`] of samples already taken, `ys[k] = f(2πk/n)`, n = `ys.len()` even.
+pub fn periodic_rms_sampled(ys: &[f64]) -> PeriodicRms {
+    let n = ys.len();
     let (mut even, mut odd) = (0.0, 0.0);
-    for k in 0..n {
-        let y = f(k as f64 * h);
+    for (k, y) in ys.iter().enumerate() {
         if k % 2 == 0 {
             even += y * y;
         } else {
             odd += y * y;
         }
     }
-    let full = ((even + odd) / n as f64).sqrt();
-    let half = (even / (n / 2) as f64).sqrt();
+    let full = ((even + odd) / n.max(1) as f64).sqrt();
+    let half = (even / (n / 2).max(1) as f64).sqrt();
     PeriodicRms {
         rms: full,
         error: (full - half).abs(),

@@ -176,9 +176,20 @@ pub fn ladder(scene: &Scene) -> (Vec<Edit>, Vec<Rung>) {
                     vec![
                         Set("accuracy.initial_samples", v_int(n)),
                         Set("accuracy.max_rounds", v_int(1)),
+                        Set("accuracy.presolve", Value::from(false)),
                     ],
                 ));
             }
+            l.push(rung(
+                "no presolve (exchange from 8 samples)",
+                "accuracy",
+                vec![Set("accuracy.presolve", Value::from(false))],
+            ));
+            l.push(rung(
+                "presolve, no exchange",
+                "accuracy",
+                vec![Set("accuracy.max_rounds", v_int(1))],
+            ));
             for n in [64i64, 1440] {
                 l.push(rung(
                     &format!("scan {n}, exchange"),

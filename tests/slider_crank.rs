@@ -432,6 +432,7 @@ fn sampled_minimax_is_the_smallest_disc_around_the_cancelling_unbalances() {
             name: "shaking force",
             dim: 2,
             eval: &eval,
+            grid: None,
         }],
         goal: Goal::MinPeak(0),
         limits: vec![],

@@ -202,7 +202,9 @@ pub fn set_drawing(on: bool) -> bool {
     DRAW.with(|d| d.replace(on))
 }
 
-fn drawing() -> bool {
+/// Whether plots are drawn on this thread (see [`set_drawing`]): callers skip computing
+/// plot data when not.
+pub fn drawing() -> bool {
     DRAW.with(|d| d.get())
 }
 

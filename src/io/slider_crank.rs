@@ -891,9 +891,11 @@ pub fn result(scene: &Scene, sc_scene: &SliderCrankScene) -> SolveResult {
             caption: "Torque–force Pareto front".into(),
             csv,
         });
-        match pareto_plot(scene, &out, &baselines) {
-            Ok(p) => r.plots.push(p),
-            Err(e) => r.warnings.push(format!("Pareto plot failed: {e}")),
+        if plot::drawing() {
+            match pareto_plot(scene, &out, &baselines) {
+                Ok(p) => r.plots.push(p),
+                Err(e) => r.warnings.push(format!("Pareto plot failed: {e}")),
+            }
         }
     }
     if let Some(spec) = &sc_scene.shape {
@@ -917,9 +919,11 @@ pub fn result(scene: &Scene, sc_scene: &SliderCrankScene) -> SolveResult {
     if let Some(sw) = &sc_scene.speed_sweep {
         speed_sweep(&mut r, scene, s, sw, u);
     }
-    match slider_crank_plot(scene, s, &out) {
-        Ok(p) => r.plots.push(p),
-        Err(e) => r.warnings.push(format!("plot failed: {e}")),
+    if plot::drawing() {
+        match slider_crank_plot(scene, s, &out) {
+            Ok(p) => r.plots.push(p),
+            Err(e) => r.warnings.push(format!("plot failed: {e}")),
+        }
     }
     r
 }

@@ -88,6 +88,8 @@ pub struct SliderCrank {
 pub struct State {
     /// Crank angle φ (rad).
     pub phi: f64,
+    /// (cos φ, sin φ).
+    pub cs: [f64; 2],
     /// Crank pin A, A', A''.
     pub a: [P2; 3],
     /// Slider position x, x', x'' along the slider line.
@@ -173,6 +175,7 @@ impl SliderCrank {
         let g3 = [0, 1, 2].map(|i| a[i] * (1.0 - mu) + b(i) * mu);
         Some(State {
             phi,
+            cs: [c, s],
             a,
             x,
             dpsi,
@@ -316,12 +319,26 @@ impl SliderCrank {
 /// Torque (N·m) of a counterweight's weight: its potential energy is −g·Rot(φ)U, so
 /// T_cw = −g·Rot'(φ)U = −g·Rot(φ + π/2)U. Its inertia adds nothing at constant speed.
 pub fn counterweight_weight_torque(phi: f64, gravity: P2, u: P2) -> f64 {
-    -gravity.dot(&rot(phi + std::f64::consts::FRAC_PI_2, u))
+    let (s, c) = phi.sin_cos();
+    weight_torque_cs([c, s], gravity, u)
+}
+
+/// [`counterweight_weight_torque`] from `cs` = (cos φ, sin φ): −g·Rot'(φ)U with
+/// Rot'(φ)U = (−sin φ·U_x − cos φ·U_y, cos φ·U_x − sin φ·U_y).
+pub fn weight_torque_cs(cs: [f64; 2], gravity: P2, u: P2) -> f64 {
+    let [c, s] = cs;
+    -gravity.dot(&P2::new(-s * u.x - c * u.y, c * u.x - s * u.y))
 }
 
 /// Rotation of the crank-fixed vector `u` to crank angle φ: Rot(φ)·u.
 pub fn rot(phi: f64, u: P2) -> P2 {
     let (s, c) = phi.sin_cos();
+    rot_cs([c, s], u)
+}
+
+/// [`rot`] from `cs` = (cos φ, sin φ) already computed (e.g. [`State::cs`]).
+pub fn rot_cs(cs: [f64; 2], u: P2) -> P2 {
+    let [c, s] = cs;
     P2::new(c * u.x - s * u.y, s * u.x + c * u.y)
 }
 

@@ -19,7 +19,7 @@
 //! clarabel's tolerances are relative to that scale.
 
 use crate::geom::P2;
-use crate::numeric::{periodic_peak, PeriodicPeak, SearchError};
+use crate::numeric::{periodic_peak, periodic_peak_sampled, PeriodicPeak, Refine, SearchError};
 use clarabel::algebra::CscMatrix;
 use clarabel::solver::{
     DefaultSettingsBuilder, DefaultSolver, IPSolver, SolverStatus, SupportedConeT,
@@ -52,17 +52,31 @@ pub struct Field<'a> {
     pub dim: usize,
     /// The field at φ.
     pub eval: &'a (dyn Fn(f64) -> Affine + Sync),
+    /// The field at the scan angles 2πk/n, k = 0…n−1, if the caller has them: the scans use
+    /// them when n = `scan_samples` (they must equal `eval` there), so only the refinement
+    /// between grid angles calls `eval`.
+    pub grid: Option<&'a [Affine]>,
 }
 
 impl Field<'_> {
     /// |f(φ; u)| (Euclidean for a vector field, absolute value for a scalar).
     pub fn magnitude(&self, phi: f64, u: P2) -> f64 {
-        let v = (self.eval)(phi).at(u);
+        self.magnitude_of(&(self.eval)(phi), u)
+    }
+
+    /// |A u + b| of one affine value of this field.
+    pub fn magnitude_of(&self, aff: &Affine, u: P2) -> f64 {
+        let v = aff.at(u);
         if self.dim == 2 {
             v.x.hypot(v.y)
         } else {
             v.x.abs()
         }
+    }
+
+    /// The grid, if it is the scan grid of `s`.
+    fn scan_grid(&self, s: &Settings) -> Option<&[Affine]> {
+        self.grid.filter(|g| g.len() == s.scan_samples)
     }
 }
 
@@ -248,7 +262,13 @@ pub fn field_peaks(
 ) -> Result<Vec<PeriodicPeak>, SearchError> {
     fields
         .iter()
-        .map(|f| periodic_peak(|phi| f.magnitude(phi, u), s.scan_samples, s.peak_xtol))
+        .map(|f| match f.scan_grid(s) {
+            Some(g) => {
+                let ys: Vec<f64> = g.iter().map(|a| f.magnitude_of(a, u)).collect();
+                periodic_peak_sampled(&ys, |phi| f.magnitude(phi, u), s.peak_xtol, Refine::All)
+            }
+            None => periodic_peak(|phi| f.magnitude(phi, u), s.scan_samples, s.peak_xtol),
+        })
         .collect()
 }
 
@@ -642,7 +662,7 @@ pub fn solve(pb: &Problem, s: &Settings) -> Solution {
 /// angles of the disc's near-active points (local maxima of ‖u − p‖ within `keep_band` of
 /// the radius) are refined on the continuous curve (Brent on the neighbouring intervals)
 /// and the disc of the refined points recomputed, until the angles move less than
-/// `peak_xtol`. Those angles are returned for the first SOCP, which clarabel then solves
+/// √(0.01·`rel_tol`) (the bound changes with the square of an angle error). Those angles are returned for the first SOCP, which clarabel then solves
 /// at the target tolerance under all the problem's constraints: the presolve only chooses
 /// where to look, and the exchange loop still verifies (and corrects) the result. `None`
 /// when the goal is not a peak force of that form.
@@ -656,8 +676,7 @@ pub fn enclosing_presolve(pb: &Problem, s: &Settings) -> Option<Vec<f64>> {
     }
     // p(φ) = −Aᵀb/c² when A is c·orthogonal with the common c; None otherwise.
     let c2_ref = std::cell::Cell::new(f64::NAN);
-    let point = |phi: f64| -> Option<P2> {
-        let aff = (f.eval)(phi);
+    let point_of = |aff: &Affine| -> Option<P2> {
         let [[a00, a01], [a10, a11]] = aff.a;
         let (n0, n1) = (a00 * a00 + a10 * a10, a01 * a01 + a11 * a11);
         let dot = a00 * a01 + a10 * a11;
@@ -675,9 +694,13 @@ pub fn enclosing_presolve(pb: &Problem, s: &Settings) -> Option<Vec<f64>> {
         let [b0, b1] = aff.b;
         Some(-P2::new(a00 * b0 + a10 * b1, a01 * b0 + a11 * b1) / c2)
     };
+    let point = |phi: f64| point_of(&(f.eval)(phi));
     let n = s.scan_samples;
     let h = std::f64::consts::TAU / n as f64;
-    let pts: Vec<P2> = (0..n).map(|k| point(k as f64 * h)).collect::<Option<_>>()?;
+    let pts: Vec<P2> = match f.scan_grid(s) {
+        Some(g) => g.iter().map(point_of).collect::<Option<_>>()?,
+        None => (0..n).map(|k| point(k as f64 * h)).collect::<Option<_>>()?,
+    };
     let disc = crate::geom::enclosing_disc(&pts)?;
     let dist = |p: P2, u: P2| (p - u).norm();
     let level = (1.0 - s.keep_band) * disc.radius;
@@ -690,6 +713,10 @@ pub fn enclosing_presolve(pb: &Problem, s: &Settings) -> Option<Vec<f64>> {
         })
         .map(|k| k as f64 * h)
         .collect();
+    // An angle δ off a maximum of ‖u − p(φ)‖ moves p(φ) along the circle to first order,
+    // so the disc, and the SOCP's bound, change by O(δ²): angles to √(0.01·rel_tol) are
+    // enough (3e-6 rad for 1e-9), and the loose tolerance saves Brent's end game.
+    let xtol = (0.01 * s.rel_tol).sqrt().max(s.peak_xtol);
     let mut u = disc.centre;
     for _ in 0..8 {
         let mut moved: f64 = 0.0;
@@ -699,7 +726,7 @@ pub fn enclosing_presolve(pb: &Problem, s: &Settings) -> Option<Vec<f64>> {
                 |x| point(x).map_or(f64::NAN, |p| dist(p, u)),
                 phi - h,
                 phi + h,
-                s.peak_xtol,
+                xtol,
             )
             .ok()?;
             moved = moved.max(angle_dist(e.x, phi));
@@ -709,7 +736,7 @@ pub fn enclosing_presolve(pb: &Problem, s: &Settings) -> Option<Vec<f64>> {
         angles = refined;
         let pts: Vec<P2> = angles.iter().map(|&a| point(a)).collect::<Option<_>>()?;
         u = crate::geom::enclosing_disc(&pts)?.centre;
-        if moved <= s.peak_xtol {
+        if moved <= xtol {
             break;
         }
     }

@@ -12,9 +12,12 @@ use super::counterweight::{self as cw, Affine, Direction, Field, Goal, Problem, 
 use super::Var;
 use crate::geom::P2;
 use crate::mech::slider_crank::{
-    counterweight_weight_torque, rot, Kinematics, Loads, SliderCrank, State,
+    rot, rot_cs, weight_torque_cs, Kinematics, Loads, SliderCrank, State,
 };
-use crate::numeric::{brent_max, brent_root, periodic_peak, periodic_rms};
+use crate::numeric::{
+    brent_max, brent_root, periodic_peak, periodic_peak_sampled, periodic_rms,
+    periodic_rms_sampled, Refine,
+};
 use std::collections::BTreeMap;
 
 /// What the synthesis minimises.
@@ -229,21 +232,33 @@ impl<'a> Normalised<'a> {
         self.scene.mech.state(phi).expect("assembly checked")
     }
     fn force(&self, phi: f64) -> Affine {
-        let f0 = self.scene.mech.shaking_force0(&self.state(phi)) / self.u_ref;
-        let (s, c) = phi.sin_cos();
+        let st = self.state(phi);
+        self.force_of(st.cs, self.scene.mech.shaking_force0(&st))
+    }
+    /// f̂ from (cos φ, sin φ) and f₀(φ).
+    fn force_of(&self, [c, s]: [f64; 2], f0: P2) -> Affine {
+        let f0 = f0 / self.u_ref;
         Affine {
             a: [[c, -s], [s, c]],
             b: [f0.x, f0.y],
         }
     }
     fn torque(&self, phi: f64) -> Affine {
+        let st = self.state(phi);
+        let m = &self.scene.mech;
+        let w2 = self.scene.omega * self.scene.omega;
+        let t0 = w2 * m.drive_torque0(&st) + m.load_torque0(&st, &self.scene.loads);
+        self.torque_of(st.cs, t0)
+    }
+    /// T̂ from (cos φ, sin φ) and T(φ; 0) (N·m).
+    fn torque_of(&self, cs: [f64; 2], t0: f64) -> Affine {
         let g = self.scene.loads.gravity;
         let k = self.u_ref / self.t_ref;
-        let ax = counterweight_weight_torque(phi, g, P2::new(1.0, 0.0)) * k;
-        let ay = counterweight_weight_torque(phi, g, P2::new(0.0, 1.0)) * k;
+        let ax = weight_torque_cs(cs, g, P2::new(1.0, 0.0)) * k;
+        let ay = weight_torque_cs(cs, g, P2::new(0.0, 1.0)) * k;
         Affine {
             a: [[ax, ay], [0.0, 0.0]],
-            b: [drive_torque(self.scene, P2::zeros(), phi) / self.t_ref, 0.0],
+            b: [t0 / self.t_ref, 0.0],
         }
     }
 }
@@ -251,7 +266,7 @@ impl<'a> Normalised<'a> {
 /// Shaking force (N) at φ for the unbalance `u` (kg·m, crank frame).
 pub fn shaking_force(mech: &SliderCrank, omega: f64, u: P2, phi: f64) -> Option<P2> {
     mech.state(phi)
-        .map(|st| (mech.shaking_force0(&st) + rot(phi, u)) * (omega * omega))
+        .map(|st| (mech.shaking_force0(&st) + rot_cs(st.cs, u)) * (omega * omega))
 }
 
 /// Drive torque (N·m) at φ for the unbalance `u` at constant speed:
@@ -261,50 +276,63 @@ pub fn drive_torque(scene: &Scene, u: P2, phi: f64) -> f64 {
     let st = m.state(phi).expect("assembly checked");
     scene.omega * scene.omega * m.drive_torque0(&st)
         + m.load_torque0(&st, &scene.loads)
-        + counterweight_weight_torque(phi, scene.loads.gravity, u)
+        + weight_torque_cs(st.cs, scene.loads.gravity, u)
 }
 
 /// The counterweight-independent parts of the shaking force (f₀, before the ω² factor) and
-/// of the drive torque, sampled on the scan grid and the RMS grid that [`periodic_peak`] and
-/// [`periodic_rms`] use. Evaluating many counterweights of one scene (the baselines and the
-/// `equal_ranges` root search) then computes the kinematics once per grid angle instead of
-/// once per angle, peak and counterweight. Values are bit-identical to the direct
-/// evaluation: the same expressions on the same states, only remembered.
+/// of the drive torque, with cos φ and sin φ, sampled on the scan grid and the RMS grid of
+/// [`periodic_peak`] and [`periodic_rms`]. Evaluating many counterweights of one scene (the
+/// design, the baselines, the `equal_ranges` root search, the Pareto points) then computes
+/// the kinematics once per grid angle instead of once per angle, peak and counterweight;
+/// the refinement of a peak between grid angles evaluates the mechanism directly. Values
+/// are bit-identical to the direct evaluation: the same expressions on the same states,
+/// only remembered.
 struct Sampled {
     scan: Grid,
     rms: Grid,
 }
 
 struct Grid {
-    h: f64,
-    /// (f₀(φₖ), ω²·T_drive0(φₖ) + T_load0(φₖ)).
-    vals: Vec<(P2, f64)>,
+    /// (cos φₖ, sin φₖ).
+    cs: Vec<[f64; 2]>,
+    /// f₀(φₖ) (kg·m).
+    f0: Vec<P2>,
+    /// ω²·T_drive0(φₖ) + T_load0(φₖ) (N·m).
+    t0: Vec<f64>,
+    /// Shaking moment per ω², M₀(φₖ) (kg·m²).
+    m0: Vec<f64>,
 }
 
 impl Grid {
     fn new(scene: &Scene, n: usize) -> Grid {
         let m = &scene.mech;
         let h = std::f64::consts::TAU / n as f64;
-        let vals = (0..n)
-            .map(|k| {
-                let st = m.state(k as f64 * h).expect("assembly checked");
-                (
-                    m.shaking_force0(&st),
-                    scene.omega * scene.omega * m.drive_torque0(&st)
-                        + m.load_torque0(&st, &scene.loads),
-                )
-            })
-            .collect();
-        Grid { h, vals }
-    }
-    /// The cached values if `phi` is exactly a grid angle `k·h`.
-    fn get(&self, phi: f64) -> Option<(P2, f64)> {
-        let k = (phi / self.h).round();
-        if k >= 0.0 && (k as usize) < self.vals.len() && k * self.h == phi {
-            Some(self.vals[k as usize])
-        } else {
-            None
+        let w2 = scene.omega * scene.omega;
+        let mut g = Grid {
+            cs: Vec::with_capacity(n),
+            f0: Vec::with_capacity(n),
+            t0: Vec::with_capacity(n),
+            m0: Vec::with_capacity(n),
+        };
+        for k in 0..n {
+            let st = m.state(k as f64 * h).expect("assembly checked");
+            g.cs.push(st.cs);
+            g.f0.push(m.shaking_force0(&st));
+            g.t0.push(w2 * m.drive_torque0(&st) + m.load_torque0(&st, &scene.loads));
+            g.m0.push(m.shaking_moment0(&st));
         }
+        g
+    }
+    fn len(&self) -> usize {
+        self.cs.len()
+    }
+    /// F(φₖ; u) (N), as [`shaking_force`].
+    fn force(&self, k: usize, u: P2, w2: f64) -> P2 {
+        (self.f0[k] + rot_cs(self.cs[k], u)) * w2
+    }
+    /// T(φₖ; u) (N·m), as [`drive_torque`].
+    fn torque(&self, k: usize, gravity: P2, u: P2) -> f64 {
+        self.t0[k] + weight_torque_cs(self.cs[k], gravity, u)
     }
 }
 
@@ -324,25 +352,66 @@ pub fn metrics(scene: &Scene, u: P2) -> Result<Metrics, SolveError> {
     metrics_sampled(scene, u, &Sampled::new(scene))
 }
 
+/// The peak of a periodic function from its samples on the scan grid, refined by `f`.
+/// `scale` is the size of the figure the function is part of (e.g. the peak |F| for a
+/// component of F): a function whose samples vary by less than 1e-12 of it is zero or
+/// constant up to round-off (F_y with the y force zeroed, the torque of a balanced rotor),
+/// so its best sample is the peak, with that variation as the error, and the round-off
+/// wiggles are not refined one by one.
+fn grid_peak(
+    ys: Vec<f64>,
+    f: impl Fn(f64) -> f64,
+    scale: f64,
+    s: &cw::Settings,
+) -> Result<crate::numeric::PeriodicPeak, SolveError> {
+    let (lo, hi) = ys
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &y| {
+            (a.min(y), b.max(y))
+        });
+    if hi - lo <= 1e-12 * scale {
+        let k = ys.iter().position(|&y| y == hi).unwrap_or(0);
+        let best = crate::numeric::Extremum {
+            x: k as f64 * std::f64::consts::TAU / ys.len() as f64,
+            fx: hi,
+        };
+        return Ok(crate::numeric::PeriodicPeak {
+            maxima: vec![best],
+            peak: best,
+            error: hi - lo,
+            evals: 0,
+        });
+    }
+    periodic_peak_sampled(&ys, f, s.peak_xtol, Refine::PeakOnly)
+        .map_err(|e| SolveError::Numeric(e.to_string()))
+}
+
 fn metrics_sampled(scene: &Scene, u: P2, tab: &Sampled) -> Result<Metrics, SolveError> {
     let (mech, omega, s) = (&scene.mech, scene.omega, &scene.settings);
     let w2 = omega * omega;
-    let f = |phi: f64| match tab.scan.get(phi).or_else(|| tab.rms.get(phi)) {
-        Some((f0, _)) => (f0 + rot(phi, u)) * w2,
-        None => shaking_force(mech, omega, u, phi).expect("assembly checked"),
-    };
-    let torque = |phi: f64| match tab.scan.get(phi) {
-        Some((_, t0)) => t0 + counterweight_weight_torque(phi, scene.loads.gravity, u),
-        None => drive_torque(scene, u, phi),
-    };
-    let num = |e: crate::numeric::SearchError| SolveError::Numeric(e.to_string());
-    let pk = periodic_peak(|p| f(p).norm(), s.scan_samples, s.peak_xtol).map_err(num)?;
-    let rms = periodic_rms(|p| f(p).norm(), s.rms_samples);
-    let xmax = periodic_peak(|p| f(p).x, s.scan_samples, s.peak_xtol).map_err(num)?;
-    let xmin = periodic_peak(|p| -f(p).x, s.scan_samples, s.peak_xtol).map_err(num)?;
-    let ymax = periodic_peak(|p| f(p).y, s.scan_samples, s.peak_xtol).map_err(num)?;
-    let ymin = periodic_peak(|p| -f(p).y, s.scan_samples, s.peak_xtol).map_err(num)?;
-    let tq = periodic_peak(|p| torque(p).abs(), s.scan_samples, s.peak_xtol).map_err(num)?;
+    let g = scene.loads.gravity;
+    let f = |phi: f64| shaking_force(mech, omega, u, phi).expect("assembly checked");
+    let fs: Vec<P2> = (0..tab.scan.len())
+        .map(|k| tab.scan.force(k, u, w2))
+        .collect();
+    let col = |c: fn(&P2) -> f64| fs.iter().map(c).collect::<Vec<f64>>();
+    let norms = col(|v| v.norm());
+    let scale = norms.iter().fold(0.0, |a: f64, &b| a.max(b));
+    let pk = grid_peak(norms, |p| f(p).norm(), scale, s)?;
+    let xmax = grid_peak(col(|v| v.x), |p| f(p).x, scale, s)?;
+    let xmin = grid_peak(col(|v| -v.x), |p| -f(p).x, scale, s)?;
+    let ymax = grid_peak(col(|v| v.y), |p| f(p).y, scale, s)?;
+    let ymin = grid_peak(col(|v| -v.y), |p| -f(p).y, scale, s)?;
+    let ts: Vec<f64> = (0..tab.scan.len())
+        .map(|k| tab.scan.torque(k, g, u).abs())
+        .collect();
+    let tscale = ts.iter().fold(0.0, |a: f64, &b| a.max(b));
+    let tq = grid_peak(ts, |p| drive_torque(scene, u, p).abs(), tscale, s)?;
+    let rms = periodic_rms_sampled(
+        &(0..tab.rms.len())
+            .map(|k| tab.rms.force(k, u, w2).norm())
+            .collect::<Vec<f64>>(),
+    );
     Ok(Metrics {
         unbalance: [u.x, u.y],
         peak: pk.peak.fx,
@@ -360,19 +429,18 @@ fn metrics_sampled(scene: &Scene, u: P2, tab: &Sampled) -> Result<Metrics, Solve
     })
 }
 
-/// The peak-to-peak ranges (x, y) of the shaking force for `u`: the part of [`metrics`]
-/// the `equal_ranges` root search needs.
-/// max F_x − min F_x (N) of the counterweight `u`, from the remembered kinematics.
+/// max F_x − min F_x (N) of the counterweight `u`, from the remembered kinematics: the part
+/// of [`metrics`] the `equal_ranges` root search needs.
 fn x_range_sampled(scene: &Scene, u: P2, tab: &Sampled) -> Result<f64, SolveError> {
     let (mech, omega, s) = (&scene.mech, scene.omega, &scene.settings);
     let w2 = omega * omega;
-    let f = |phi: f64| match tab.scan.get(phi) {
-        Some((f0, _)) => (f0 + rot(phi, u)) * w2,
-        None => shaking_force(mech, omega, u, phi).expect("assembly checked"),
-    };
-    let num = |e: crate::numeric::SearchError| SolveError::Numeric(e.to_string());
-    let xmax = periodic_peak(|p| f(p).x, s.scan_samples, s.peak_xtol).map_err(num)?;
-    let xmin = periodic_peak(|p| -f(p).x, s.scan_samples, s.peak_xtol).map_err(num)?;
+    let f = |phi: f64| shaking_force(mech, omega, u, phi).expect("assembly checked");
+    let xs: Vec<f64> = (0..tab.scan.len())
+        .map(|k| tab.scan.force(k, u, w2).x)
+        .collect();
+    let scale = xs.iter().fold(0.0, |a: f64, &b| a.max(b.abs()));
+    let xmax = grid_peak(xs.clone(), |p| f(p).x, scale, s)?;
+    let xmin = grid_peak(xs.into_iter().map(|x| -x).collect(), |p| -f(p).x, scale, s)?;
     Ok(xmax.peak.fx + xmin.peak.fx)
 }
 
@@ -385,10 +453,17 @@ fn x_range_sampled(scene: &Scene, u: P2, tab: &Sampled) -> Result<f64, SolveErro
 /// * `equal_ranges`: U = −κ e_x with κ ∈ [m_tq R, (m_tq + m_ct) R] such that the
 ///   peak-to-peak ranges of F_x and F_y are equal (Brent on κ).
 pub fn baselines(scene: &Scene) -> Result<BTreeMap<String, Metrics>, SolveError> {
+    check(scene)?;
+    baselines_sampled(scene, &Sampled::new(scene))
+}
+
+fn baselines_sampled(
+    scene: &Scene,
+    tab: &Sampled,
+) -> Result<BTreeMap<String, Metrics>, SolveError> {
     let mech = &scene.mech;
     let (mt, mc, r) = (mech.m_rot(), mech.m_rec(), mech.r);
     let mut out = BTreeMap::new();
-    let tab = Sampled::new(scene);
     for (name, k) in [
         ("none", 0.0),
         ("y_force_zeroed", mt * r),
@@ -396,14 +471,14 @@ pub fn baselines(scene: &Scene) -> Result<BTreeMap<String, Metrics>, SolveError>
     ] {
         out.insert(
             name.to_string(),
-            metrics_sampled(scene, P2::new(-k, 0.0), &tab)?,
+            metrics_sampled(scene, P2::new(-k, 0.0), tab)?,
         );
     }
     // For U = −κ e_x every link's y motion is proportional to sin φ, so F_y = ω²(m_tq R − κ)
     // sin φ and its range is 2ω²|m_tq R − κ| in closed form; only the x range needs peaks.
     let w2 = scene.omega * scene.omega;
     let diff = |k: f64| {
-        x_range_sampled(scene, P2::new(-k, 0.0), &tab)
+        x_range_sampled(scene, P2::new(-k, 0.0), tab)
             .map(|x| x - 2.0 * w2 * (mt * r - k).abs())
             .unwrap_or(f64::NAN)
     };
@@ -411,7 +486,7 @@ pub fn baselines(scene: &Scene) -> Result<BTreeMap<String, Metrics>, SolveError>
     if let Ok(root) = brent_root(diff, lo, hi, 1e-12 * hi.max(1e-300)) {
         out.insert(
             "equal_ranges".to_string(),
-            metrics_sampled(scene, P2::new(-root.x, 0.0), &tab)?,
+            metrics_sampled(scene, P2::new(-root.x, 0.0), tab)?,
         );
     }
     Ok(out)
@@ -467,11 +542,13 @@ pub struct Optimum {
 /// Finds the counterweight: the convex solve and its exchange refinement (the part the
 /// benchmark times), without the report figures and baselines.
 pub fn optimise(scene: &Scene) -> Result<Optimum, SolveError> {
+    check(scene)?;
     optimise_with(
         scene,
         scene.objective,
         scene.max_peak_force,
         scene.max_peak_torque,
+        &Grid::new(scene, scene.settings.scan_samples),
     )
 }
 
@@ -493,10 +570,18 @@ fn optimise_with(
     objective: Objective,
     max_force: Option<f64>,
     max_torque: Option<f64>,
+    grid: &Grid,
 ) -> Result<Optimum, SolveError> {
     check(scene)?;
     let s = &scene.settings;
     let nf = Normalised::new(scene);
+    // The fields on the scan grid (the scans of the exchange loop and the presolve).
+    let force_grid: Vec<Affine> = (0..grid.len())
+        .map(|k| nf.force_of(grid.cs[k], grid.f0[k]))
+        .collect();
+    let torque_grid: Vec<Affine> = (0..grid.len())
+        .map(|k| nf.torque_of(grid.cs[k], grid.t0[k]))
+        .collect();
     let u_ref = nf.u_ref;
     let f_ref = scene.omega * scene.omega * u_ref; // N per normalised unit
     let force = |phi: f64| nf.force(phi);
@@ -557,12 +642,14 @@ fn optimise_with(
             name: "shaking force",
             dim: 2,
             eval: &force,
+            grid: Some(&force_grid),
         }];
         if matches!(goal, Goal::MinPeak(1)) || max_torque.is_some() {
             fields.push(Field {
                 name: "drive torque",
                 dim: 1,
                 eval: &torque,
+                grid: Some(&torque_grid),
             });
         }
         let warm_angles = if s.warm_start && goal != Goal::MinNorm {
@@ -656,10 +743,28 @@ fn warm_start(nf: &Normalised, s: &cw::Settings) -> Vec<f64> {
 /// torque optimum (whose peak force is F_T) bound the front; for `n` limits ε spaced evenly
 /// in [F*, F_T], minimise the peak torque subject to peak force ≤ ε.
 pub fn pareto(scene: &Scene, n: usize) -> Result<Vec<ParetoPoint>, SolveError> {
-    let f_opt = optimise_with(scene, Objective::MinPeakForce, None, scene.max_peak_torque)?;
-    let t_opt = optimise_with(scene, Objective::MinPeakTorque, scene.max_peak_force, None)?;
-    let fmin = metrics(scene, f_opt.u)?.peak;
-    let fmax = metrics(scene, t_opt.u)?.peak;
+    check(scene)?;
+    pareto_sampled(scene, n, &Sampled::new(scene))
+}
+
+fn pareto_sampled(scene: &Scene, n: usize, tab: &Sampled) -> Result<Vec<ParetoPoint>, SolveError> {
+    let g = &tab.scan;
+    let f_opt = optimise_with(
+        scene,
+        Objective::MinPeakForce,
+        None,
+        scene.max_peak_torque,
+        g,
+    )?;
+    let t_opt = optimise_with(
+        scene,
+        Objective::MinPeakTorque,
+        scene.max_peak_force,
+        None,
+        g,
+    )?;
+    let fmin = metrics_sampled(scene, f_opt.u, tab)?.peak;
+    let fmax = metrics_sampled(scene, t_opt.u, tab)?.peak;
     let n = n.max(2);
     let mut out = Vec::with_capacity(n);
     for k in 0..n {
@@ -669,8 +774,8 @@ pub fn pareto(scene: &Scene, n: usize) -> Result<Vec<ParetoPoint>, SolveError> {
         } else {
             fmin + (fmax - fmin) * k as f64 / (n - 1) as f64
         };
-        let o = optimise_with(scene, Objective::MinPeakTorque, Some(eps), None)?;
-        let m = metrics(scene, o.u)?;
+        let o = optimise_with(scene, Objective::MinPeakTorque, Some(eps), None, g)?;
+        let m = metrics_sampled(scene, o.u, tab)?;
         out.push(ParetoPoint {
             force_limit_n: eps,
             peak_shaking_force_n: m.peak,
@@ -686,6 +791,8 @@ pub fn pareto(scene: &Scene, n: usize) -> Result<Vec<ParetoPoint>, SolveError> {
 
 /// Solves the scene: [`optimise`], then the design's figures and the baselines.
 pub fn solve(scene: &Scene) -> Result<Outcome, SolveError> {
+    check(scene)?;
+    let tab = Sampled::new(scene);
     let Optimum {
         status,
         u,
@@ -693,14 +800,20 @@ pub fn solve(scene: &Scene) -> Result<Outcome, SolveError> {
         method,
         mut warnings,
         ..
-    } = optimise(scene)?;
+    } = optimise_with(
+        scene,
+        scene.objective,
+        scene.max_peak_force,
+        scene.max_peak_torque,
+        &tab.scan,
+    )?;
     let mech = &scene.mech;
     let s = &scene.settings;
     let w2 = scene.omega * scene.omega;
     let nf = Normalised::new(scene);
     let cwspec = &scene.counterweight;
 
-    let design = metrics(scene, u)?;
+    let design = metrics_sampled(scene, u, &tab)?;
     let prefer = match scene.objective {
         Objective::MinMass => Prefer::Lightest,
         Objective::MinRadius => Prefer::SmallestRadius,
@@ -710,12 +823,14 @@ pub fn solve(scene: &Scene) -> Result<Outcome, SolveError> {
         P2::new(design.unbalance[0], design.unbalance[1]).norm(),
         &CounterweightSpec { prefer, ..*cwspec },
     );
-    let mm = periodic_peak(
+    // The moment is zero for an in-line slider with a lumped rod: its scale is the force's
+    // moment arm, the peak force times (R + L).
+    let mm = grid_peak(
+        tab.scan.m0.iter().map(|m| (m * w2).abs()).collect(),
         |p| mech.shaking_moment0(&nf.state(p)).abs() * w2,
-        s.scan_samples,
-        s.peak_xtol,
-    )
-    .map_err(|e| SolveError::Numeric(e.to_string()))?;
+        design.peak * (mech.r + mech.l),
+        s,
+    )?;
     let exact_peak = if mech.kinematics == Kinematics::TwoHarmonic {
         let exact = Scene {
             mech: SliderCrank {
@@ -751,7 +866,7 @@ pub fn solve(scene: &Scene) -> Result<Outcome, SolveError> {
         ));
     }
     let pareto = if scene.pareto_points > 0 {
-        pareto(scene, scene.pareto_points)?
+        pareto_sampled(scene, scene.pareto_points, &tab)?
     } else {
         Vec::new()
     };
@@ -766,7 +881,7 @@ pub fn solve(scene: &Scene) -> Result<Outcome, SolveError> {
         peak_shaking_moment_error: mm.error,
         pareto,
         static_weight,
-        baselines: baselines(scene)?,
+        baselines: baselines_sampled(scene, &tab)?,
         exact_peak,
         method,
         warnings,
