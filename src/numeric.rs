@@ -603,4 +603,44 @@ mod tests {
             Err(SearchError::NotFinite { .. })
         ));
     }
+
+    #[test]
+    fn peak_only_refinement_finds_the_same_peak_as_refining_all() {
+        // Random trigonometric polynomials of order ≤ 12 (several near-equal maxima): the
+        // pruned refinement must return the very peak of the full one, and the sampled
+        // variant must equal the one that samples itself.
+        let mut state = 0x9e37_79b9_7f4a_7c15_u64;
+        let mut rnd = || {
+            state = state
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            (state >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+        };
+        for _ in 0..200 {
+            let c: Vec<(f64, f64)> = (0..12).map(|_| (rnd(), rnd())).collect();
+            let f = |x: f64| {
+                c.iter()
+                    .enumerate()
+                    .map(|(k, (a, b))| {
+                        let t = (k + 1) as f64 * x;
+                        a * t.cos() + b * t.sin()
+                    })
+                    .sum::<f64>()
+            };
+            let n = 360;
+            let ys: Vec<f64> = (0..n)
+                .map(|k| f(k as f64 * std::f64::consts::TAU / n as f64))
+                .collect();
+            let all = periodic_peak(f, n, 1e-10).unwrap();
+            let same = periodic_peak_sampled(&ys, f, 1e-10, Refine::All).unwrap();
+            let pruned = periodic_peak_sampled(&ys, f, 1e-10, Refine::PeakOnly).unwrap();
+            assert_eq!(
+                (&all.maxima, all.peak, all.evals),
+                (&same.maxima, same.peak, same.evals)
+            );
+            assert!((all.error - same.error).abs() <= 1e-12 * all.error);
+            assert_eq!(pruned.peak, all.peak);
+            assert!(pruned.maxima.len() <= all.maxima.len());
+        }
+    }
 }
