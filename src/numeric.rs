@@ -97,6 +97,74 @@ pub fn brent_root<F: Fn(f64) -> f64>(f: F, a: f64, b: f64, tol: f64) -> Result<R
     })
 }
 
+/// Root of `f` on the bracket `[a, b]` (`f(a)·f(b) ≤ 0`) by Newton's method safeguarded by
+/// bisection (Numerical Recipes' `rtsafe`), to an absolute tolerance `tol` in x. `f` returns
+/// (f(x), f'(x)); a Newton step that leaves the current bracket, or does not halve the
+/// step before last, is replaced by a bisection, so a kink (a one-sided derivative) costs
+/// bisections, never convergence. For functions whose derivative is free, e.g. a peak's
+/// derivative in a parameter by the envelope theorem.
+pub fn newton_root<F: Fn(f64) -> (f64, f64)>(
+    f: F,
+    a: f64,
+    b: f64,
+    tol: f64,
+) -> Result<Root, SearchError> {
+    let ((fa, _), (fb, _)) = (f(a), f(b));
+    for (x, v) in [(a, fa), (b, fb)] {
+        if !v.is_finite() {
+            return Err(SearchError::NotFinite { x });
+        }
+        if v == 0.0 {
+            return Ok(Root {
+                x,
+                fx: 0.0,
+                evals: 2,
+            });
+        }
+    }
+    if fa.signum() == fb.signum() {
+        return Err(SearchError::NotBracketed { a, b, fa, fb });
+    }
+    // Orient so that f(lo) < 0 < f(hi).
+    let (mut lo, mut hi) = if fa < 0.0 { (a, b) } else { (b, a) };
+    let mut x = 0.5 * (a + b);
+    let (mut dx_old, mut dx) = ((b - a).abs(), (b - a).abs());
+    let (mut fx, mut dfx) = f(x);
+    let mut evals = 3;
+    for _ in 0..200 {
+        if !(fx.is_finite() && dfx.is_finite()) {
+            return Err(SearchError::NotFinite { x });
+        }
+        let newton_out = ((x - hi) * dfx - fx) * ((x - lo) * dfx - fx) > 0.0;
+        if newton_out || (2.0 * fx).abs() > (dx_old * dfx).abs() {
+            dx_old = dx;
+            dx = 0.5 * (hi - lo);
+            x = lo + dx;
+        } else {
+            dx_old = dx;
+            dx = fx / dfx;
+            x -= dx;
+        }
+        if dx.abs() < tol {
+            break;
+        }
+        (fx, dfx) = f(x);
+        evals += 1;
+        if fx < 0.0 {
+            lo = x;
+        } else if fx > 0.0 {
+            hi = x;
+        } else {
+            break;
+        }
+    }
+    let fx = f(x).0;
+    if !fx.is_finite() {
+        return Err(SearchError::NotFinite { x });
+    }
+    Ok(Root { x, fx, evals })
+}
+
 /// A maximum located by [`brent_max`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Extremum {
@@ -642,5 +710,28 @@ mod tests {
             assert_eq!(pruned.peak, all.peak);
             assert!(pruned.maxima.len() <= all.maxima.len());
         }
+    }
+
+    #[test]
+    fn newton_root_matches_closed_forms_and_survives_a_kink() {
+        // x³ − 2 on [0, 3]: the cube root of 2.
+        let r = newton_root(|x| (x * x * x - 2.0, 3.0 * x * x), 0.0, 3.0, 1e-14).unwrap();
+        assert!((r.x - 2f64.cbrt()).abs() < 1e-13, "{}", r.x);
+        assert!(r.evals < 15, "{} evaluations", r.evals);
+        // A convex kinked function max(2x − 1, x/2 − 0.25) − 0.1 (root at x = 0.55, on the
+        // steep branch) with the derivative of the active branch.
+        let k = |x: f64| {
+            if 2.0 * x - 1.0 >= 0.5 * x - 0.25 {
+                (2.0 * x - 1.1, 2.0)
+            } else {
+                (0.5 * x - 0.35, 0.5)
+            }
+        };
+        let r = newton_root(k, -2.0, 2.0, 1e-13).unwrap();
+        assert!((r.x - 0.55).abs() < 1e-12, "{}", r.x);
+        assert!(matches!(
+            newton_root(|x| (x * x + 1.0, 2.0 * x), -1.0, 1.0, 1e-12),
+            Err(SearchError::NotBracketed { .. })
+        ));
     }
 }

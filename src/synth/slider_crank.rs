@@ -15,7 +15,7 @@ use crate::mech::slider_crank::{
     rot, rot_cs, weight_torque_cs, Kinematics, Loads, SliderCrank, State,
 };
 use crate::numeric::{
-    brent_max, brent_root, periodic_peak, periodic_peak_sampled, periodic_rms,
+    brent_max, newton_root, periodic_peak, periodic_peak_sampled, periodic_rms,
     periodic_rms_sampled, Refine,
 };
 use std::collections::BTreeMap;
@@ -430,8 +430,10 @@ fn metrics_sampled(scene: &Scene, u: P2, tab: &Sampled) -> Result<Metrics, Solve
 }
 
 /// max F_x − min F_x (N) of the counterweight `u`, from the remembered kinematics: the part
-/// of [`metrics`] the `equal_ranges` root search needs.
-fn x_range_sampled(scene: &Scene, u: P2, tab: &Sampled) -> Result<f64, SolveError> {
+/// of [`metrics`] the `equal_ranges` root search needs; with cos φ at the maximum and at the
+/// minimum (the envelope theorem gives the range's derivative in a counterweight along x
+/// from them).
+fn x_range_sampled(scene: &Scene, u: P2, tab: &Sampled) -> Result<(f64, f64, f64), SolveError> {
     let (mech, omega, s) = (&scene.mech, scene.omega, &scene.settings);
     let w2 = omega * omega;
     let f = |phi: f64| shaking_force(mech, omega, u, phi).expect("assembly checked");
@@ -441,7 +443,11 @@ fn x_range_sampled(scene: &Scene, u: P2, tab: &Sampled) -> Result<f64, SolveErro
     let scale = xs.iter().fold(0.0, |a: f64, &b| a.max(b.abs()));
     let xmax = grid_peak(xs.clone(), |p| f(p).x, scale, s)?;
     let xmin = grid_peak(xs.into_iter().map(|x| -x).collect(), |p| -f(p).x, scale, s)?;
-    Ok(xmax.peak.fx + xmin.peak.fx)
+    Ok((
+        xmax.peak.fx + xmin.peak.fx,
+        xmax.peak.x.cos(),
+        xmin.peak.x.cos(),
+    ))
 }
 
 /// The classical counterweights, opposite the crank pin (β = π), as unbalances (kg·m).
@@ -476,14 +482,17 @@ fn baselines_sampled(
     }
     // For U = −κ e_x every link's y motion is proportional to sin φ, so F_y = ω²(m_tq R − κ)
     // sin φ and its range is 2ω²|m_tq R − κ| in closed form; only the x range needs peaks.
+    // F_x = ω²(f₀ₓ(φ) − κ cos φ), so by the envelope theorem d(range)/dκ = ω²(cos φ₋ − cos φ₊)
+    // (φ₊, φ₋ the angles of the max and the min), and D(κ) = range − 2ω²(κ − m_tq R) is
+    // found by safeguarded Newton on [m_tq R, (m_tq + m_ct) R].
     let w2 = scene.omega * scene.omega;
     let diff = |k: f64| {
         x_range_sampled(scene, P2::new(-k, 0.0), tab)
-            .map(|x| x - 2.0 * w2 * (mt * r - k).abs())
-            .unwrap_or(f64::NAN)
+            .map(|(x, cp, cm)| (x - 2.0 * w2 * (k - mt * r), w2 * (cm - cp) - 2.0 * w2))
+            .unwrap_or((f64::NAN, f64::NAN))
     };
     let (lo, hi) = (mt * r, (mt + mc) * r);
-    if let Ok(root) = brent_root(diff, lo, hi, 1e-12 * hi.max(1e-300)) {
+    if let Ok(root) = newton_root(diff, lo, hi, 1e-12 * hi.max(1e-300)) {
         out.insert(
             "equal_ranges".to_string(),
             metrics_sampled(scene, P2::new(-root.x, 0.0), tab)?,
