@@ -281,7 +281,9 @@ pub fn ladder(scene: &Scene) -> (Vec<Edit>, Vec<Rung>) {
                     ],
                 ));
             }
-            for n in [32i64, 128, 512, 2048] {
+            // Odd counts: φ = 0, π/2, π, 3π/2 (where peaks of these scenes sit) are not all
+            // samples, so the sampled peak converges like h².
+            for n in [31i64, 97, 257, 1021] {
                 l.push(rung(
                     &format!("peak scan {n}, unrefined"),
                     "accuracy",
@@ -315,7 +317,8 @@ pub fn ladder(scene: &Scene) -> (Vec<Edit>, Vec<Rung>) {
                 Set("accuracy.xtol", v_f(1e-12)),
             ];
             let mut l = Vec::new();
-            for n in [8i64, 32, 128, 512] {
+            // Counts that do not divide one another, so no grid contains a coarser one.
+            for n in [8i64, 20, 50, 130, 330] {
                 l.push(rung(
                     &format!("path {n}, unrefined"),
                     "accuracy",
