@@ -372,6 +372,25 @@ pub fn periodic_peak<F: Fn(f64) -> f64>(
     n: usize,
     xtol: f64,
 ) -> Result<PeriodicPeak, SearchError> {
+    periodic_peak_with(f, n, Some(xtol))
+}
+
+/// [`periodic_peak`] without the refinement: the largest sample is the peak. A smooth
+/// maximum lies within h/2 = π/n of a sample, so the sampled peak is low by at most
+/// ½|f''|(h/2)² = |f''|h²/8 (|f''| estimated from the samples), which is the `error`.
+pub fn periodic_peak_sampled<F: Fn(f64) -> f64>(
+    f: F,
+    n: usize,
+) -> Result<PeriodicPeak, SearchError> {
+    periodic_peak_with(f, n, None)
+}
+
+/// [`periodic_peak`] (`Some(xtol)`) or [`periodic_peak_sampled`] (`None`).
+pub fn periodic_peak_with<F: Fn(f64) -> f64>(
+    f: F,
+    n: usize,
+    xtol: Option<f64>,
+) -> Result<PeriodicPeak, SearchError> {
     let n = n.max(8);
     let h = std::f64::consts::TAU / n as f64;
     let ys: Vec<f64> = (0..n).map(|k| f(k as f64 * h)).collect();
@@ -424,6 +443,10 @@ pub fn periodic_peak_sampled<F: Fn(f64) -> f64>(
         let y = ys[k];
         if y >= floor {
             let c = k as f64 * h;
+            let Some(xtol) = xtol else {
+                maxima.push(Extremum { x: c, fx: y });
+                continue;
+            };
             let count = std::cell::Cell::new(0usize);
             let fc = |x: f64| {
                 count.set(count.get() + 1);
@@ -446,7 +469,7 @@ pub fn periodic_peak_sampled<F: Fn(f64) -> f64>(
     Ok(PeriodicPeak {
         maxima,
         peak,
-        error: 0.5 * curv * xtol * xtol,
+        error: peak_error(curv, xtol, h),
         evals,
     })
 }
@@ -477,6 +500,18 @@ pub fn interval_peak<F: Fn(f64) -> f64>(
     b: f64,
     n: usize,
     xtol: f64,
+) -> Result<IntervalPeak, SearchError> {
+    interval_peak_with(f, a, b, n, Some(xtol))
+}
+
+/// [`interval_peak`] with `Some(xtol)`; with `None` the largest sample is the peak, with the
+/// error bound |f''|h²/8 of a smooth interior maximum within h/2 of a sample.
+pub fn interval_peak_with<F: Fn(f64) -> f64>(
+    f: F,
+    a: f64,
+    b: f64,
+    n: usize,
+    xtol: Option<f64>,
 ) -> Result<IntervalPeak, SearchError> {
     let (a, b) = if a <= b { (a, b) } else { (b, a) };
     if !(a.is_finite() && b.is_finite()) {
@@ -518,6 +553,13 @@ pub fn interval_peak<F: Fn(f64) -> f64>(
         if !(left_ok && right_ok) {
             continue;
         }
+        let Some(xtol) = xtol else {
+            maxima.push(Extremum {
+                x: xs[k],
+                fx: ys[k],
+            });
+            continue;
+        };
         let lo = if k == 0 { a } else { xs[k - 1] };
         let hi = if k == n { b } else { xs[k + 1] };
         let count = std::cell::Cell::new(0usize);
@@ -545,9 +587,16 @@ pub fn interval_peak<F: Fn(f64) -> f64>(
     Ok(IntervalPeak {
         maxima,
         peak,
-        error: 0.5 * curv * xtol * xtol,
+        error: peak_error(curv, xtol, h),
         evals,
     })
+}
+
+/// Value error of a located maximum: ½|f''|·xtol² when refined to `xtol`, ½|f''|(h/2)² when
+/// only sampled on spacing h.
+fn peak_error(curv: f64, xtol: Option<f64>, h: f64) -> f64 {
+    let dx = xtol.unwrap_or(0.5 * h);
+    0.5 * curv * dx * dx
 }
 
 /// Mean and RMS of a 2π-periodic function by the trapezoid rule on `n` points, which is

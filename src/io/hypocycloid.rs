@@ -12,7 +12,8 @@ use super::problem::{
 use super::result::{PaperCheck, Plot, SolveResult, Status, Table};
 use crate::mech::hypocycloid::{ALPHA0_VARIANT1, ALPHA0_VARIANT2};
 use crate::synth::hypocycloid::{
-    self as hy, HypocycloidScene, OptStatus, Outcome, Settings, ZeroSearch, ZeroStatus,
+    self as hy, CoefficientModel, HypocycloidScene, OptStatus, Outcome, Settings, ZeroSearch,
+    ZeroStatus,
 };
 use crate::synth::Var;
 use crate::units::{Angle, AngularSpeed, Dimensionless, Length, Mass, Qty};
@@ -47,6 +48,9 @@ pub struct ModelRaw {
     pub orders: Option<usize>,
     /// Power of z = λ²y² of the paper-style series (default 3, the paper's y⁶).
     pub series_power: Option<usize>,
+    /// Coefficients used for balancing and objectives: "exact" (default) or "series" (the
+    /// paper's truncated series of power `series_power`).
+    pub coefficients: Option<CoefficientModel>,
 }
 
 /// `[design]`.
@@ -304,6 +308,7 @@ pub fn resolve_raw(raw: &File) -> Result<Resolved, FieldError> {
         balance_orders: sorted,
         orders: md.orders.unwrap_or(8),
         series_power: md.series_power.unwrap_or(3),
+        coefficients: md.coefficients.unwrap_or_default(),
         assembly_margin: o.assembly_margin.unwrap_or(1e-3),
         min_stroke,
         min_suction_gain: o.min_suction_gain,
@@ -349,9 +354,15 @@ pub fn result(scene: &Scene, s: &Resolved) -> SolveResult {
         ),
         (
             "coefficients".into(),
-            json!(
-                "exact polynomial part + FFT of the O(λ³) remainder, size doubled until converged"
-            ),
+            json!(match h.coefficients {
+                hy::CoefficientModel::Exact =>
+                    "exact polynomial part + FFT of the O(λ³) remainder, size doubled until converged"
+                        .to_string(),
+                hy::CoefficientModel::Series => format!(
+                    "the paper's binomial series truncated at z^{} (model.coefficients = \"series\")",
+                    h.series_power
+                ),
+            }),
         ),
         ("variant".into(), json!(s.variant)),
         ("orientation_rad".into(), json!(h.alpha0)),

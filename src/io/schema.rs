@@ -418,6 +418,10 @@ fn luffing_crane() -> Value {
         &[
             ("path_samples", uint("luffing-range samples")),
             ("xtol", num("extremum refinement tolerance (rad)")),
+            (
+                "refine_peaks",
+                boolean("refine the sampled extrema of the head height (default true)"),
+            ),
             ("plot_points", uint("path points written")),
             ("global_samples", uint("Halton points per free variable")),
             ("local_starts", uint("Nelder–Mead starts")),
@@ -504,6 +508,14 @@ fn eccentric_gear() -> Value {
                 "peak_samples_per_arch",
                 uint("samples per arch for peak |µ|"),
             ),
+            (
+                "refine_poles",
+                boolean("refine each pole by Brent (default true; false: one false-position step)"),
+            ),
+            (
+                "refine_peaks",
+                boolean("refine each sampled maximum of |µ| (default true)"),
+            ),
             ("curvature_samples", uint("curvature samples per turn")),
             ("series_points", uint("points of the α1 series")),
             ("curve_points", uint("points per pitch curve")),
@@ -556,6 +568,13 @@ fn hypocycloid() -> Value {
         &[
             ("orders", uint("highest order in the tables")),
             ("series_power", uint("power of z = λ²y² of the series")),
+            (
+                "coefficients",
+                one_of(
+                    &["exact", "series"],
+                    "coefficients for balancing and objectives (default exact)",
+                ),
+            ),
         ],
         &[],
         "model",
@@ -606,6 +625,16 @@ fn hypocycloid() -> Value {
             ("theta_scan", uint("θ samples per column")),
             ("peak_samples", uint("φ samples of the peak scans")),
             ("peak_xtol", num("φ tolerance of the peak refinement")),
+            (
+                "refine_peaks",
+                boolean("refine the sampled peaks by Brent (default true)"),
+            ),
+            (
+                "fft_adaptive",
+                boolean(
+                    "double the FFT size until converged (default true; false: n_fft_min only)",
+                ),
+            ),
             ("opt_grid", uint("start grid per free variable")),
             ("nm_max_iters", uint("Nelder–Mead iteration limit")),
             ("nm_sd_tol", num("Nelder–Mead simplex tolerance")),

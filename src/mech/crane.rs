@@ -11,7 +11,7 @@
 //! jib tail is E = D + k2 (D − C) with |DE| = a = k2·L_v, |DC| = L_v.
 
 use crate::geom::{circle_circle, circumcentre, cross, link_slider, Side, P2};
-use crate::numeric::{interval_peak, SearchError};
+use crate::numeric::{interval_peak_with, SearchError};
 use std::f64::consts::FRAC_PI_2;
 
 /// Why a crane geometry cannot be built.
@@ -411,6 +411,16 @@ pub enum PathError {
 /// follows one branch continuously between them), each sampled local extremum of y_C refined
 /// by Brent to `xtol` rad with [`interval_peak`].
 pub fn head_heights(link: &Linkage, n: usize, xtol: f64) -> Result<HeadHeights, PathError> {
+    head_heights_with(link, n, Some(xtol))
+}
+
+/// [`head_heights`] with `Some(xtol)`; with `None` the sampled extrema are not refined (each
+/// is low by at most |y_C''|h²/8, h = (φ_max − φ_min)/n, which the `error` then carries).
+pub fn head_heights_with(
+    link: &Linkage,
+    n: usize,
+    xtol: Option<f64>,
+) -> Result<HeadHeights, PathError> {
     let [p0, p1] = link.phi_range;
     let n = n.max(8);
     let mut min_t = f64::INFINITY;
@@ -431,8 +441,8 @@ pub fn head_heights(link: &Linkage, n: usize, xtol: f64) -> Result<HeadHeights, 
         SearchError::NotFinite { x } => PathError::CannotAssemble { phi: x },
         other => PathError::Search(other),
     };
-    let hi = interval_peak(y, p0, p1, n, xtol).map_err(to_path)?;
-    let lo = interval_peak(|phi| -y(phi), p0, p1, n, xtol).map_err(to_path)?;
+    let hi = interval_peak_with(y, p0, p1, n, xtol).map_err(to_path)?;
+    let lo = interval_peak_with(|phi| -y(phi), p0, p1, n, xtol).map_err(to_path)?;
     let rounding = 64.0 * f64::EPSILON * link.length_scale() / link.k2;
     Ok(HeadHeights {
         y_max: hi.peak.fx,

@@ -583,6 +583,17 @@ pub struct Singularities {
     pub evals: usize,
 }
 
+impl Singularities {
+    /// α1 of the cusps where a pole merges with the zero (µ is 0/0 there).
+    pub fn singular_cusps(&self) -> Vec<f64> {
+        self.zeros
+            .iter()
+            .filter(|z| z.kind == ZeroKind::Indeterminate)
+            .map(|z| z.alpha1_rad)
+            .collect()
+    }
+}
+
 /// Locate every pole of µ1, µ2 and every zero over α1 ∈ [0, 2π).
 ///
 /// Each arch [α_i, α_{i+1}] is sampled at `samples_per_arch` + 1 points of the pole
@@ -594,6 +605,17 @@ pub fn singularities(
     pair: &GearPair,
     samples_per_arch: usize,
     tol: f64,
+) -> Result<Singularities, SearchError> {
+    singularities_with(pair, samples_per_arch, Some(tol))
+}
+
+/// [`singularities`] with `Some(tol)`; with `None` each bracketed pole is placed by one
+/// false-position step x = x_a − f_a (x_b − x_a)/(f_b − f_a) instead of Brent, with the error
+/// |f(x)|/|f'| (f' the bracket's secant slope) — cheaper and coarser.
+pub fn singularities_with(
+    pair: &GearPair,
+    samples_per_arch: usize,
+    tol: Option<f64>,
 ) -> Result<Singularities, SearchError> {
     let m = samples_per_arch.max(4);
     let mut poles = Vec::new();
@@ -637,18 +659,31 @@ pub fn singularities(
                     continue;
                 }
                 if ya * yb < 0.0 || (ya == 0.0 && k > 0) {
-                    let root = brent_root(f, xs[k], xs[k + 1], tol)?;
-                    let phi = pair.contact_on(root.x, i).phi;
-                    // The root is bracketed to `tol`; the function value adds |f|/|f'|.
                     let slope = ((yb - ya) / (xs[k + 1] - xs[k]))
                         .abs()
                         .max(f64::MIN_POSITIVE);
+                    let (x, fx, bracket) = match tol {
+                        Some(tol) => {
+                            let root = brent_root(f, xs[k], xs[k + 1], tol)?;
+                            (root.x, root.fx, tol)
+                        }
+                        None => {
+                            let x = if ya == 0.0 {
+                                xs[k]
+                            } else {
+                                xs[k] - ya * (xs[k + 1] - xs[k]) / (yb - ya)
+                            };
+                            (x, f(x), 0.0)
+                        }
+                    };
+                    let phi = pair.contact_on(x, i).phi;
+                    // The root is bracketed to `tol`; the function value adds |f|/|f'|.
                     poles.push(Pole {
-                        alpha1_rad: root.x.rem_euclid(TAU),
+                        alpha1_rad: x.rem_euclid(TAU),
                         which,
                         arch: i,
                         phi_rad: phi,
-                        error_rad: tol + root.fx.abs() / slope,
+                        error_rad: bracket + fx.abs() / slope,
                     });
                 }
             }
@@ -691,6 +726,18 @@ pub fn peak_mu(
     samples_per_arch: usize,
     xtol: f64,
 ) -> Result<MuPeak, SearchError> {
+    peak_mu_with(pair, sing, window, samples_per_arch, Some(xtol))
+}
+
+/// [`peak_mu`] with `Some(xtol)`; with `None` the sampled maxima are not refined (each is
+/// low by at most |µ''|h²/8, which the error then carries).
+pub fn peak_mu_with(
+    pair: &GearPair,
+    sing: &Singularities,
+    window: f64,
+    samples_per_arch: usize,
+    xtol: Option<f64>,
+) -> Result<MuPeak, SearchError> {
     let fine = peak_mu_once(pair, sing, window, samples_per_arch.max(8), xtol)?;
     let coarse = peak_mu_once(pair, sing, window, (samples_per_arch / 2).max(4), xtol)?;
     let mut out = fine;
@@ -704,7 +751,7 @@ fn peak_mu_once(
     sing: &Singularities,
     window: f64,
     m: usize,
-    xtol: f64,
+    xtol: Option<f64>,
 ) -> Result<MuPeak, SearchError> {
     let mut best = MuPeak {
         value: 0.0,
@@ -716,12 +763,7 @@ fn peak_mu_once(
     };
     let mut evals = 0usize;
     let mut err: f64 = 0.0;
-    let singular_cusps: Vec<f64> = sing
-        .zeros
-        .iter()
-        .filter(|z| z.kind == ZeroKind::Indeterminate)
-        .map(|z| z.alpha1_rad)
-        .collect();
+    let singular_cusps = sing.singular_cusps();
     let near = |x: f64, c: f64| {
         let d = (x - c).rem_euclid(TAU);
         d.min(TAU - d)
@@ -806,6 +848,11 @@ fn peak_mu_once(
                 err = err.max(edge_slope * 1e-12);
                 for k in 1..m {
                     if ys[k] >= ys[k - 1] && ys[k] >= ys[k + 1] {
+                        let curv = ((ys[k - 1] - 2.0 * ys[k] + ys[k + 1]) / (h * h)).abs();
+                        let Some(xtol) = xtol else {
+                            err = err.max(0.125 * curv * h * h);
+                            continue;
+                        };
                         let c = std::cell::Cell::new(0usize);
                         let g = |x: f64| {
                             c.set(c.get() + 1);
@@ -813,7 +860,6 @@ fn peak_mu_once(
                         };
                         let e = brent_max(g, xs[k - 1], xs[k + 1], xtol)?;
                         evals += c.get();
-                        let curv = ((ys[k - 1] - 2.0 * ys[k] + ys[k + 1]) / (h * h)).abs();
                         err = err.max(0.5 * curv * xtol * xtol);
                         consider(e.x, e.fx.max(ys[k]));
                     }

@@ -271,39 +271,72 @@ impl Hypocycloid {
     /// hence conservative for the 2n-point value returned) plus that rounding floor.
     pub fn coefficients(&self, order: usize, n_min: usize, n_max: usize) -> Coefficients {
         let mut planner = FftPlanner::new();
-        let (pa, pb) = self.poly_part(order);
         let mut n = n_min.max(2 * order + 2).next_power_of_two().max(16);
         let n_max = n_max.max(n);
         let (mut ra, mut rb, mut gmax) = self.remainder_dft(n, order, &mut planner);
-        let ymax2 = (1.0 + self.theta).powi(2);
         loop {
             let (a2, b2, g2) = self.remainder_dft(2 * n, order, &mut planner);
             gmax = gmax.max(g2);
-            let floor = 8.0 * f64::EPSILON * (gmax + self.lambda * ymax2 + 1.0 + self.theta);
-            let delta: Vec<f64> = (0..=order)
-                .map(|k| (a2[k] - ra[k]).hypot(b2[k] - rb[k]))
-                .collect();
+            let (delta, floor) = self.change(&ra, &rb, &a2, &b2, gmax);
             let converged = delta.iter().all(|&d| d <= floor);
             n *= 2;
             ra = a2;
             rb = b2;
             if converged || n >= n_max {
-                let mut a = pa.clone();
-                let mut b = pb.clone();
-                for k in 0..=order {
-                    a[k] += ra[k];
-                    b[k] += rb[k];
-                }
-                a[0] += 1.0 / self.lambda;
-                let err = delta.iter().map(|d| d + floor).collect();
-                return Coefficients {
-                    a,
-                    b,
-                    err,
-                    n_fft: n,
-                    converged,
-                };
+                return self.assemble(order, ra, rb, &delta, floor, n, converged);
             }
+        }
+    }
+
+    /// The coefficients on one fixed `n`-point rule (`n` a power of two ≥ 16), without the
+    /// adaptive check of [`Hypocycloid::coefficients`]: orders ≥ n/2 of the remainder are
+    /// left out (zero). The error of each order is |c(n) − c(n/2)| plus the rounding floor
+    /// (the n/2 rule is only used for this estimate; for orders ≥ n/4 it is the size of the
+    /// coefficient itself, since the n/2 rule has none).
+    pub fn coefficients_fixed(&self, order: usize, n: usize) -> Coefficients {
+        let mut planner = FftPlanner::new();
+        let n = n.next_power_of_two().max(16);
+        let (ra, rb, g) = self.remainder_dft(n, order, &mut planner);
+        let (ha, hb, gh) = self.remainder_dft(n / 2, order, &mut planner);
+        let (delta, floor) = self.change(&ha, &hb, &ra, &rb, g.max(gh));
+        let converged = delta.iter().all(|&d| d <= floor);
+        self.assemble(order, ra, rb, &delta, floor, n, converged)
+    }
+
+    /// |c(2n) − c(n)| per order and the rounding floor 8ε·(max|g| + λ max y² + 1 + θ).
+    fn change(&self, a: &[f64], b: &[f64], a2: &[f64], b2: &[f64], gmax: f64) -> (Vec<f64>, f64) {
+        let ymax2 = (1.0 + self.theta).powi(2);
+        let floor = 8.0 * f64::EPSILON * (gmax + self.lambda * ymax2 + 1.0 + self.theta);
+        let delta = (0..a.len())
+            .map(|k| (a2[k] - a[k]).hypot(b2[k] - b[k]))
+            .collect();
+        (delta, floor)
+    }
+
+    /// Polynomial part + remainder coefficients + 1/λ, with the error |Δ| + floor.
+    #[allow(clippy::too_many_arguments)]
+    fn assemble(
+        &self,
+        order: usize,
+        ra: Vec<f64>,
+        rb: Vec<f64>,
+        delta: &[f64],
+        floor: f64,
+        n: usize,
+        converged: bool,
+    ) -> Coefficients {
+        let (mut a, mut b) = self.poly_part(order);
+        for k in 0..=order {
+            a[k] += ra[k];
+            b[k] += rb[k];
+        }
+        a[0] += 1.0 / self.lambda;
+        Coefficients {
+            a,
+            b,
+            err: delta.iter().map(|d| d + floor).collect(),
+            n_fft: n,
+            converged,
         }
     }
 

@@ -15,9 +15,9 @@
 
 use crate::geom::P2;
 use crate::mech::gear::{
-    closing_center_distance, closure_integral, min_gear2_curvature, peak_mu, periodic_integral,
-    singularities, Alpha2Map, Closure, EccentricCircle, GearError, GearPair, MuPeak, Pole,
-    Singularities, Which, Zero, ZeroKind,
+    closing_center_distance, closure_integral, min_gear2_curvature, peak_mu_with,
+    periodic_integral, singularities_with, Alpha2Map, Closure, EccentricCircle, GearError,
+    GearPair, MuPeak, Pole, Singularities, Which, Zero, ZeroKind,
 };
 use crate::numeric::{brent_max, brent_root, SearchError};
 use serde::Serialize;
@@ -269,6 +269,13 @@ pub struct Settings {
     pub peak_xtol: f64,
     /// Samples per arch for the peak of |µ| (halved for the error estimate, ≥ 8).
     pub peak_samples_per_arch: usize,
+    /// Refine each pole by Brent to `pole_tol` (default true); false places it by one
+    /// false-position step in its sampled bracket (coarser, cheaper; the pole error grows and
+    /// with it the window edges move).
+    pub refine_poles: bool,
+    /// Refine each sampled maximum of |µ| by Brent to `peak_xtol` (default true); false takes
+    /// the largest sample (low by at most |µ''|h²/8).
+    pub refine_peaks: bool,
     /// Samples of gear 2's curvature over a turn of gear 1 (≥ 64).
     pub curvature_samples: usize,
     /// Points of the α1 series for plots (≥ 16).
@@ -288,6 +295,8 @@ impl Default for Settings {
             pole_tol: 1e-13,
             peak_xtol: 1e-10,
             peak_samples_per_arch: 32,
+            refine_poles: true,
+            refine_peaks: true,
             curvature_samples: 720,
             series_points: 1440,
             curve_points: 720,
@@ -473,13 +482,17 @@ pub fn analyse(scene: &GearScene, e: f64, settings: &Settings) -> Result<Analysi
     let c = EccentricCircle::new(scene.pitch_radius, e)?;
     let closure = closing_center_distance(&c, scene.turns_gear1, scene.turns_gear2)?;
     let pair = GearPair::new(c, scene.generating_radius, closure.a, scene.omega1)?;
-    let sing = singularities(&pair, settings.samples_per_arch, settings.pole_tol)?;
-    let peak = peak_mu(
+    let sing = singularities_with(
+        &pair,
+        settings.samples_per_arch,
+        settings.refine_poles.then_some(settings.pole_tol),
+    )?;
+    let peak = peak_mu_with(
         &pair,
         &sing,
         scene.pole_window,
         settings.peak_samples_per_arch,
-        settings.peak_xtol,
+        settings.refine_peaks.then_some(settings.peak_xtol),
     )?;
     let curvature = min_gear2_curvature(&pair, settings.curvature_samples)?;
     let evals = sing.evals + peak.evals + settings.curvature_samples;

@@ -22,7 +22,7 @@ use crate::mech::hypocycloid::{
     lanchester_pair, max_abs_y, Coefficients, CosBin, Hypocycloid, LanchesterPair, MechError,
     ALPHA0_VARIANT1, ALPHA0_VARIANT2,
 };
-use crate::numeric::{brent_root, periodic_peak, periodic_rms};
+use crate::numeric::{brent_root, periodic_peak_with, periodic_rms};
 
 /// A bad field of a scene or of the settings, named by its problem-file key.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -100,6 +100,10 @@ pub struct HypocycloidScene {
     /// Power of z = λ²y² at which the paper-style series is truncated
     /// (`hypocycloid.series_power`; the paper: 3, i.e. y⁶).
     pub series_power: usize,
+    /// Which coefficients C_i the balancing and the objectives use
+    /// (`hypocycloid.coefficients`): the exact ones, or the paper's series truncated at
+    /// z^`series_power`.
+    pub coefficients: CoefficientModel,
     /// Required 1 − λ·max|y/R| (`hypocycloid.assembly_margin`, in (0, 0.5)).
     pub assembly_margin: f64,
     /// Minimum stroke (m) for the optimisation (`hypocycloid.min_stroke`).
@@ -108,6 +112,17 @@ pub struct HypocycloidScene {
     pub min_suction_gain: Option<f64>,
     /// The zero search, if asked for (`hypocycloid.zero_search.*`).
     pub zero_search: Option<ZeroSearch>,
+}
+
+/// The coefficients a design is balanced and judged with.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, serde::Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum CoefficientModel {
+    /// Exact: polynomial part + converged FFT of the remainder.
+    #[default]
+    Exact,
+    /// The paper's method: sqrt(1 − z) expanded binomially to z^P, P = `series_power`.
+    Series,
 }
 
 /// Which of the paper's two orientations.
@@ -143,6 +158,7 @@ pub fn paper_example(v: PaperVariant) -> HypocycloidScene {
         balance_orders: vec![1, 2, 3],
         orders: 8,
         series_power: 3,
+        coefficients: CoefficientModel::Exact,
         assembly_margin: 1e-3,
         min_stroke: None,
         min_suction_gain: None,
@@ -317,6 +333,13 @@ pub struct Settings {
     pub theta_scan: usize,
     /// φ samples for the peak of the residual force (refined by Brent).
     pub peak_samples: usize,
+    /// Refine each sampled maximum by Brent to `peak_xtol` (default true); false takes the
+    /// largest sample, low by at most |f''|h²/8, h = 2π/`peak_samples` (a cheaper, coarser
+    /// setting for speed-against-error studies).
+    pub refine_peaks: bool,
+    /// Double the FFT size until the coefficients converge (default true); false uses the one
+    /// size `n_fft_min` (its error estimated from the n/2 rule) — coarser and cheaper.
+    pub fft_adaptive: bool,
     /// Tolerance in φ of the peak refinement.
     pub peak_xtol: f64,
     /// Samples per free variable of the optimiser's start grid.
@@ -338,6 +361,8 @@ impl Default for Settings {
             curve_points: 100,
             theta_scan: 48,
             peak_samples: 256,
+            refine_peaks: true,
+            fft_adaptive: true,
             peak_xtol: 1e-9,
             opt_grid: 15,
             nm_max_iters: 300,
@@ -348,6 +373,20 @@ impl Default for Settings {
 }
 
 impl Settings {
+    /// The refinement tolerance of the peaks, `None` when `refine_peaks` is off.
+    pub fn peak_tol(&self) -> Option<f64> {
+        self.refine_peaks.then_some(self.peak_xtol)
+    }
+
+    /// The coefficients of `m` to `order`: adaptive (converged) or on the one size `n_fft_min`.
+    pub fn coefficients(&self, m: &Hypocycloid, order: usize) -> Coefficients {
+        if self.fft_adaptive {
+            m.coefficients(order, self.n_fft_min, self.n_fft_max)
+        } else {
+            m.coefficients_fixed(order, self.n_fft_min)
+        }
+    }
+
     /// Check every setting; the key is `settings.<name>`.
     pub fn validate(&self) -> Result<(), FieldError> {
         if !(self.n_fft_min >= 16 && self.n_fft_min.is_power_of_two()) {
@@ -526,7 +565,7 @@ fn column_size(lambda: f64, theta: f64, alpha0: f64, order: usize, s: &Settings)
         theta,
         alpha0,
     };
-    let c = m.coefficients(order, s.n_fft_min, s.n_fft_max);
+    let c = s.coefficients(&m, order);
     (c.n_fft, c.err[order])
 }
 
@@ -799,7 +838,7 @@ fn residual_peak(
     s: &Settings,
 ) -> Result<(f64, f64), MechError> {
     let f = |p: f64| residual_rel(m, c, orders, p).abs();
-    let pk = periodic_peak(f, s.peak_samples, s.peak_xtol)?;
+    let pk = periodic_peak_with(f, s.peak_samples, s.peak_tol())?;
     let cerr: f64 = orders.iter().map(|&i| (i * i) as f64 * c.err[i]).sum();
     Ok((pk.peak.fx, pk.error + cerr))
 }
@@ -817,13 +856,13 @@ fn residual_rel(m: &Hypocycloid, c: &Coefficients, orders: &[usize], p: f64) -> 
 fn evaluate(scene: &HypocycloidScene, l: f64, t: f64, s: &Settings) -> Result<Eval, MechError> {
     let m = Hypocycloid::new(l, t, scene.alpha0)?;
     let ratio_ymax = m.lambda_ymax();
-    let coef = m.coefficients(
-        scene
-            .orders
-            .max(*scene.balance_orders.iter().max().unwrap_or(&0)),
-        s.n_fft_min,
-        s.n_fft_max,
-    );
+    let order = scene
+        .orders
+        .max(*scene.balance_orders.iter().max().unwrap_or(&0));
+    let mut coef = s.coefficients(&m, order);
+    if scene.coefficients == CoefficientModel::Series {
+        (coef.a, coef.b) = m.series_coefficients(scene.series_power, order);
+    }
     let (rp, rpe) = residual_peak(&m, &coef, &scene.balance_orders, s)?;
     let st = m.stroke()?;
     Ok(Eval {
@@ -1152,6 +1191,15 @@ pub fn solve(scene: &HypocycloidScene, settings: &Settings) -> Result<Outcome, F
     let r = scene.r_carrier;
     let fscale = scene.m_b * r * scene.omega * scene.omega;
     let c = &e.coef;
+    if scene.coefficients == CoefficientModel::Series {
+        warnings.push(format!(
+            "model.coefficients = \"series\": the balancing and the objectives use the paper's series truncated at \
+             z^{} (y^{}), not the exact coefficients; the coefficient errors reported are the FFT's, not the \
+             truncation's",
+            scene.series_power,
+            2 * scene.series_power
+        ));
+    }
     if !c.converged {
         warnings.push(format!(
             "the Fourier coefficients did not converge to the rounding floor at n_fft = {} (λ·max|y| = {:.6}); the \
@@ -1179,7 +1227,7 @@ pub fn solve(scene: &HypocycloidScene, settings: &Settings) -> Result<Outcome, F
         .map(|&i| lanchester_pair(i, c.a[i], c.b[i], scene.m_b, r, scene.omega))
         .collect();
     // Unbalanced peak and residual RMS.
-    let unb = periodic_peak(|p| m.piston(p).dds.abs(), s.peak_samples, s.peak_xtol)
+    let unb = periodic_peak_with(|p| m.piston(p).dds.abs(), s.peak_samples, s.peak_tol())
         .map_err(|err| field("hypocycloid.lambda", l, &err.to_string()))?;
     let rms = periodic_rms(
         |p| residual_rel(&m, c, &scene.balance_orders, p),
