@@ -378,14 +378,14 @@ pub fn periodic_peak<F: Fn(f64) -> f64>(
 /// [`periodic_peak`] without the refinement: the largest sample is the peak. A smooth
 /// maximum lies within h/2 = π/n of a sample, so the sampled peak is low by at most
 /// ½|f''|(h/2)² = |f''|h²/8 (|f''| estimated from the samples), which is the `error`.
-pub fn periodic_peak_sampled<F: Fn(f64) -> f64>(
+pub fn periodic_peak_unrefined<F: Fn(f64) -> f64>(
     f: F,
     n: usize,
 ) -> Result<PeriodicPeak, SearchError> {
     periodic_peak_with(f, n, None)
 }
 
-/// [`periodic_peak`] (`Some(xtol)`) or [`periodic_peak_sampled`] (`None`).
+/// [`periodic_peak`] (`Some(xtol)`) or [`periodic_peak_unrefined`] (`None`).
 pub fn periodic_peak_with<F: Fn(f64) -> f64>(
     f: F,
     n: usize,
@@ -397,13 +397,13 @@ pub fn periodic_peak_with<F: Fn(f64) -> f64>(
     periodic_peak_sampled(&ys, f, xtol, Refine::All)
 }
 
-/// [`periodic_peak`] on samples already taken, `ys[k] = f(2πk/n)` with n = `ys.len()` ≥ 3
-/// (a caller evaluating many functions on one grid computes the expensive part once);
-/// `f` is only called by the refinement.
+/// [`periodic_peak_with`] on samples already taken, `ys[k] = f(2πk/n)` with n = `ys.len()`
+/// ≥ 3 (a caller evaluating many functions on one grid computes the expensive part once);
+/// `f` is only called by the refinement (`xtol` = `None`: none).
 pub fn periodic_peak_sampled<F: Fn(f64) -> f64>(
     ys: &[f64],
     f: F,
-    xtol: f64,
+    xtol: Option<f64>,
     refine: Refine,
 ) -> Result<PeriodicPeak, SearchError> {
     let n = ys.len();
@@ -749,8 +749,8 @@ mod tests {
                 .map(|k| f(k as f64 * std::f64::consts::TAU / n as f64))
                 .collect();
             let all = periodic_peak(f, n, 1e-10).unwrap();
-            let same = periodic_peak_sampled(&ys, f, 1e-10, Refine::All).unwrap();
-            let pruned = periodic_peak_sampled(&ys, f, 1e-10, Refine::PeakOnly).unwrap();
+            let same = periodic_peak_sampled(&ys, f, Some(1e-10), Refine::All).unwrap();
+            let pruned = periodic_peak_sampled(&ys, f, Some(1e-10), Refine::PeakOnly).unwrap();
             assert_eq!(
                 (&all.maxima, all.peak, all.evals),
                 (&same.maxima, same.peak, same.evals)

@@ -7,7 +7,7 @@
 use cwsynth::io::problem::{parse_str, SceneKind};
 use cwsynth::mech::crane::{head_heights, head_heights_with};
 use cwsynth::mech::hypocycloid::Hypocycloid;
-use cwsynth::numeric::{interval_peak_with, periodic_peak_sampled};
+use cwsynth::numeric::{interval_peak_with, periodic_peak_unrefined};
 use cwsynth::run::solve_scene;
 use cwsynth::study::effects::{
     crane_design, series_change, series_tail_bound, unrefined_path_bound, window_edge_mu,
@@ -72,7 +72,7 @@ fn unrefined_peaks_are_within_the_curvature_bound() {
     for n in [16usize, 64, 256] {
         let h = TAU / n as f64;
         let phi0 = 5.0 * h + 0.37 * h;
-        let pk = periodic_peak_sampled(|p| (p - phi0).cos(), n).unwrap();
+        let pk = periodic_peak_unrefined(|p| (p - phi0).cos(), n).unwrap();
         let actual = 1.0 - pk.peak.fx;
         assert!(
             actual > 0.0 && actual <= pk.error,

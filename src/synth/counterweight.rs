@@ -265,7 +265,12 @@ pub fn field_peaks(
         .map(|f| match f.scan_grid(s) {
             Some(g) => {
                 let ys: Vec<f64> = g.iter().map(|a| f.magnitude_of(a, u)).collect();
-                periodic_peak_sampled(&ys, |phi| f.magnitude(phi, u), s.peak_xtol, Refine::All)
+                periodic_peak_sampled(
+                    &ys,
+                    |phi| f.magnitude(phi, u),
+                    Some(s.peak_xtol),
+                    Refine::All,
+                )
             }
             None => periodic_peak(|phi| f.magnitude(phi, u), s.scan_samples, s.peak_xtol),
         })

@@ -382,7 +382,7 @@ fn grid_peak(
             evals: 0,
         });
     }
-    periodic_peak_sampled(&ys, f, s.peak_xtol, Refine::PeakOnly)
+    periodic_peak_sampled(&ys, f, Some(s.peak_xtol), Refine::PeakOnly)
         .map_err(|e| SolveError::Numeric(e.to_string()))
 }
 
