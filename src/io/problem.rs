@@ -110,16 +110,33 @@ impl ProblemError {
 pub struct Ctx<'a> {
     /// The file (for messages).
     pub file: &'a Path,
-    /// Its key index.
-    pub map: SourceMap,
+    /// Its text.
+    pub text: &'a str,
+    /// Its key index, built on the first error only (a valid file never needs it; a fleet
+    /// parses one text per machine).
+    map: std::cell::OnceCell<SourceMap>,
 }
 
-impl Ctx<'_> {
+impl<'a> Ctx<'a> {
+    /// A context for `text` read from `file`.
+    pub fn new(file: &'a Path, text: &'a str) -> Self {
+        Ctx {
+            file,
+            text,
+            map: std::cell::OnceCell::new(),
+        }
+    }
+
+    /// The key index of the text.
+    pub fn map(&self) -> &SourceMap {
+        self.map.get_or_init(|| SourceMap::new(self.text))
+    }
+
     /// A value error, located by its field.
     pub fn field_error(&self, e: FieldError) -> ProblemError {
         ProblemError::Invalid {
             file: self.file.into(),
-            line: self.map.line_of(&e.field),
+            line: self.map().line_of(&e.field),
             field: Some(e.field),
             message: e.message,
         }
@@ -128,8 +145,8 @@ impl Ctx<'_> {
     /// A serde/TOML error, located by its span.
     pub fn toml_error(&self, e: toml::de::Error) -> ProblemError {
         let start = e.span().map(|s| s.start);
-        let line = start.map(|o| self.map.line_of_offset(o));
-        let field = start.and_then(|o| self.map.key_at(o)).map(str::to_string);
+        let line = start.map(|o| self.map().line_of_offset(o));
+        let field = start.and_then(|o| self.map().key_at(o)).map(str::to_string);
         let message = e.message().trim().replace('\n', " ");
         ProblemError::Invalid {
             file: self.file.into(),
@@ -373,10 +390,7 @@ pub fn load(path: &Path) -> Result<Scene, ProblemError> {
 
 /// Resolves problem-file text; `path` is used for messages and as the scene's source.
 pub fn parse_str(text: &str, path: &Path) -> Result<Scene, ProblemError> {
-    let ctx = Ctx {
-        file: path,
-        map: SourceMap::new(text),
-    };
+    let ctx = Ctx::new(path, text);
     let header: Header = ctx.parse(text)?;
     let Some(family) = header.family else {
         return Err(ctx.field_error(FieldError::new(

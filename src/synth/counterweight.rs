@@ -136,7 +136,10 @@ pub struct Settings {
     /// then stalls a few 1e-9 short of the target on constrained or offset scenes: tried and
     /// reverted.)
     pub peak_xtol: f64,
-    /// Quadrature points of mean-square objectives (and of RMS values). Default 720.
+    /// Quadrature points of mean-square objectives (and of RMS values). Default 360: the
+    /// trapezoid rule is spectrally accurate for these smooth periodic functions (the paper
+    /// piston's RMS agrees to 4e-16 relative at 180, 360 and 720 points), and with the scan's
+    /// 360 the slider-crank solve samples the kinematics once for both.
     pub rms_samples: usize,
     /// Between exchange rounds, keep only the sampled angles whose value is within this
     /// fraction of the current level (the near-active set). Default 0.05; 1 keeps all.
@@ -160,7 +163,7 @@ impl Default for Settings {
             scan_samples: 360,
             max_rounds: 30,
             peak_xtol: 1e-10,
-            rms_samples: 720,
+            rms_samples: 360,
             keep_band: 0.05,
             warm_start: false,
             presolve: true,

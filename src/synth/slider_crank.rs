@@ -289,7 +289,8 @@ pub fn drive_torque(scene: &Scene, u: P2, phi: f64) -> f64 {
 /// only remembered.
 struct Sampled {
     scan: Grid,
-    rms: Grid,
+    /// The RMS grid when it differs from the scan grid.
+    rms: Option<Grid>,
 }
 
 struct Grid {
@@ -337,12 +338,18 @@ impl Grid {
 }
 
 impl Sampled {
+    fn rms(&self) -> &Grid {
+        self.rms.as_ref().unwrap_or(&self.scan)
+    }
+
     fn new(scene: &Scene) -> Sampled {
         let s = &scene.settings;
         Sampled {
             // The grids of periodic_peak (n ≥ 8) and periodic_rms (even n ≥ 8).
             scan: Grid::new(scene, s.scan_samples.max(8)),
-            rms: Grid::new(scene, (s.rms_samples.max(8) + 1) & !1),
+            rms: Some((s.rms_samples.max(8) + 1) & !1)
+                .filter(|&n| n != s.scan_samples.max(8))
+                .map(|n| Grid::new(scene, n)),
         }
     }
 }
@@ -352,7 +359,8 @@ pub fn metrics(scene: &Scene, u: P2) -> Result<Metrics, SolveError> {
     metrics_sampled(scene, u, &Sampled::new(scene))
 }
 
-/// The peak of a periodic function from its samples on the scan grid, refined by `f`.
+/// The peak of a periodic function from its samples on the scan grid, refined by `f` to
+/// `peak_xtol`, but not below 1e-8 rad (√ε: the value is then exact to round-off).
 /// `scale` is the size of the figure the function is part of (e.g. the peak |F| for a
 /// component of F): a function whose samples vary by less than 1e-12 of it is zero or
 /// constant up to round-off (F_y with the y force zeroed, the torque of a balanced rotor),
@@ -382,7 +390,9 @@ fn grid_peak(
             evals: 0,
         });
     }
-    periodic_peak_sampled(&ys, f, Some(s.peak_xtol), Refine::PeakOnly)
+    // A value needs its maximum located only to √ε (≈ 1e-8 rad): closer, the values differ
+    // by round-off (½|f''|δ² < ε|f|) and Brent only wanders in the noise.
+    periodic_peak_sampled(&ys, f, Some(s.peak_xtol.max(1e-8)), Refine::PeakOnly)
         .map_err(|e| SolveError::Numeric(e.to_string()))
 }
 
@@ -408,8 +418,8 @@ fn metrics_sampled(scene: &Scene, u: P2, tab: &Sampled) -> Result<Metrics, Solve
     let tscale = ts.iter().fold(0.0, |a: f64, &b| a.max(b));
     let tq = grid_peak(ts, |p| drive_torque(scene, u, p).abs(), tscale, s)?;
     let rms = periodic_rms_sampled(
-        &(0..tab.rms.len())
-            .map(|k| tab.rms.force(k, u, w2).norm())
+        &(0..tab.rms().len())
+            .map(|k| tab.rms().force(k, u, w2).norm())
             .collect::<Vec<f64>>(),
     );
     Ok(Metrics {
