@@ -403,6 +403,18 @@ impl Template {
         })
     }
 
+    /// The name of the machine of CSV row `row` (1-based): its `name` cell, else
+    /// `<template name>-<row>`.
+    pub fn row_name(&self, row: u64, cells: &[String]) -> String {
+        self.header
+            .iter()
+            .position(|h| h == "name")
+            .and_then(|i| cells.get(i))
+            .map(|s| s.trim().to_string())
+            .filter(|s| !s.is_empty())
+            .unwrap_or_else(|| format!("{}-{}", self.name, row))
+    }
+
     /// The machine of one CSV row: (name, resolved problem text) or `csv:LINE: reason`.
     pub fn machine(
         &self,
@@ -411,14 +423,7 @@ impl Template {
         cells: &[String],
     ) -> (String, Result<String, String>) {
         let at = format!("{}:{line}", self.csv.display());
-        let name = self
-            .header
-            .iter()
-            .position(|h| h == "name")
-            .and_then(|i| cells.get(i))
-            .map(|s| s.trim().to_string())
-            .filter(|s| !s.is_empty())
-            .unwrap_or_else(|| format!("{}-{}", self.name, row));
+        let name = self.row_name(row, cells);
         if cells.len() != self.header.len() {
             return (
                 name,
@@ -467,6 +472,57 @@ enum Work {
         name: String,
         message: String,
     },
+}
+
+impl Work {
+    /// The machine's name as far as it is known before solving (a file's `name` key, a
+    /// row's name), which names its result files.
+    fn name(&self) -> Option<String> {
+        match self {
+            Work::File(p) => {
+                let text = std::fs::read_to_string(p).ok()?;
+                let t: toml::Table = toml::from_str(&text).ok()?;
+                t.get("name")?.as_str().map(str::to_string)
+            }
+            Work::Row {
+                tpl, row, cells, ..
+            } => Some(tpl.row_name(*row, cells)),
+            Work::Broken { .. } => None,
+        }
+    }
+
+    fn source(&self) -> String {
+        match self {
+            Work::File(p) => p.display().to_string(),
+            Work::Row { tpl, line, .. } => format!("{}:{line}", tpl.csv.display()),
+            Work::Broken { .. } => String::new(),
+        }
+    }
+}
+
+/// Names already taken in this run, keyed by a 64-bit hash (SipHash with fixed keys, so the
+/// same in every run) instead of the name: about 50 bytes per machine (≈ 5 MB for 100 000).
+/// Two different names colliding (probability ~n²/2⁶⁵) would be reported as a duplicate,
+/// never silently overwritten. Each shard checks its own machines only.
+#[derive(Default)]
+struct Names(std::collections::HashMap<u64, (u64, String)>);
+
+impl Names {
+    /// Claims `name` for machine `index`; a name already claimed gives the first claimant's
+    /// index and source.
+    fn claim(&mut self, name: &str, index: u64, source: String) -> Option<(u64, String)> {
+        use std::hash::{Hash, Hasher};
+        let mut h = std::collections::hash_map::DefaultHasher::new();
+        name.hash(&mut h);
+        match self.0.entry(h.finish()) {
+            std::collections::hash_map::Entry::Occupied(e) => Some(e.get().clone()),
+            std::collections::hash_map::Entry::Vacant(v) => {
+                // The first claimant's source is kept only for files (few); rows keep "".
+                v.insert((index, source));
+                None
+            }
+        }
+    }
 }
 
 struct Job {
@@ -840,12 +896,40 @@ pub fn run(inputs: Vec<Input>, opts: &Options) -> anyhow::Result<Counts> {
     let done = AtomicU64::new(0);
 
     let mut jobs = Jobs::new(inputs).filter(|(i, _)| i % sn == si);
+    // Two machines with one name would write the same result files: the first (in input
+    // order) keeps the name, every later one is reported and not solved. Decided here, in
+    // input order before the parallel solve, so the outcome does not depend on threads.
+    let mut names = Names::default();
     loop {
         let chunk: Vec<Job> = jobs
             .by_ref()
             .take(CHUNK)
             .map(|(index, work)| {
                 let old = old_resume.take(index).or_else(|| old_final.take(index));
+                let work = match work.name() {
+                    Some(name) => {
+                        let source = match &work {
+                            Work::File(_) => work.source(),
+                            _ => String::new(),
+                        };
+                        match names.claim(&name, index, source) {
+                            Some((first, first_src)) => Work::Broken {
+                                message: format!(
+                                    "{}: duplicate name `{name}`: machine {first}{} already has it, and both would write `{name}.json`; give this machine another name",
+                                    work.source(),
+                                    if first_src.is_empty() {
+                                        String::new()
+                                    } else {
+                                        format!(" ({first_src})")
+                                    }
+                                ),
+                                name,
+                            },
+                            None => work,
+                        }
+                    }
+                    None => work,
+                };
                 Job { index, work, old }
             })
             .collect();

@@ -252,3 +252,57 @@ fn reruns_skip_finished_machines_and_interrupted_runs_complete() {
         .unwrap();
     assert!(String::from_utf8_lossy(&o.stderr).contains("8 skipped"));
 }
+
+#[test]
+fn a_duplicate_name_is_reported_and_never_overwrites_the_first_machine() {
+    // Two problem files and two fleet rows with one name each: the first in input order
+    // keeps the name and its results; the later one is an error row naming the first, and
+    // the rest of the batch still runs. Checked with 1 and 2 threads (the decision is made
+    // in input order, not by whichever thread finishes first).
+    let dir = tempfile::tempdir().unwrap();
+    let text = std::fs::read_to_string(template()).unwrap();
+    let slow = text.replace("speed = \"1000 rpm\"", "speed = \"1500 rpm\"");
+    assert_ne!(slow, text, "the template sets the speed as \"1000 rpm\"");
+    let (a, b) = (dir.path().join("a.toml"), dir.path().join("b.toml"));
+    std::fs::write(&a, &text).unwrap();
+    std::fs::write(&b, &slow).unwrap();
+    let csv = dir.path().join("named.csv");
+    std::fs::write(
+        &csv,
+        "name,mechanism.speed\nm-one,900 rpm\nm-two,1100 rpm\nm-one,1300 rpm\n",
+    )
+    .unwrap();
+    let fleet = format!("{}:{}", template(), csv.display());
+    for threads in ["1", "2"] {
+        let out = dir.path().join(format!("out{threads}"));
+        let o = batch(
+            &format!("{}", a.display()),
+            &out,
+            &["--threads", threads, b.to_str().unwrap(), &fleet],
+        );
+        assert_eq!(o.status.code(), Some(1), "{o:?}");
+        let summary = std::fs::read_to_string(out.join("summary.csv")).unwrap();
+        let rows: Vec<&str> = summary.lines().skip(1).collect();
+        assert_eq!(rows.len(), 5, "{summary}");
+        // Row 1 (b.toml) and row 4 (the second m-one) are the duplicates.
+        assert!(rows[0].contains(",optimal,"), "{}", rows[0]);
+        assert!(
+            rows[1].contains("duplicate name `piston-1000rpm`"),
+            "{}",
+            rows[1]
+        );
+        assert!(rows[1].contains("a.toml"), "{}", rows[1]);
+        assert!(rows[2].contains(",optimal,") && rows[3].contains(",optimal,"));
+        assert!(rows[4].contains("duplicate name `m-one`"), "{}", rows[4]);
+        assert!(rows[4].contains("machine 2"), "{}", rows[4]);
+        // The first machines' results are theirs: 1000 rpm for a.toml, 900 rpm for m-one.
+        let speed = |name: &str| {
+            let v: serde_json::Value =
+                serde_json::from_slice(&std::fs::read(out.join(format!("{name}.json"))).unwrap())
+                    .unwrap();
+            v["derived"]["omega_rad_s"].as_f64().unwrap() * 60.0 / std::f64::consts::TAU
+        };
+        assert!((speed("piston-1000rpm") - 1000.0).abs() < 1e-9);
+        assert!((speed("m-one") - 900.0).abs() < 1e-9);
+    }
+}
