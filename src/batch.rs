@@ -501,24 +501,33 @@ impl Work {
 }
 
 /// Names already taken in this run, keyed by a 64-bit hash (SipHash with fixed keys, so the
-/// same in every run) instead of the name: about 50 bytes per machine (≈ 5 MB for 100 000).
-/// Two different names colliding (probability ~n²/2⁶⁵) would be reported as a duplicate,
-/// never silently overwritten. Each shard checks its own machines only.
+/// same in every run) instead of the name: 16 bytes per machine plus the table's overhead
+/// (≈ 3 MB for 100 000), and the source only for files (few). Two different names colliding
+/// (probability ~n²/2⁶⁵) would be reported as a duplicate, never silently overwritten. Each
+/// shard checks its own machines only.
 #[derive(Default)]
-struct Names(std::collections::HashMap<u64, (u64, String)>);
+struct Names {
+    index: std::collections::HashMap<u64, u64>,
+    file: std::collections::HashMap<u64, String>,
+}
 
 impl Names {
-    /// Claims `name` for machine `index`; a name already claimed gives the first claimant's
-    /// index and source.
-    fn claim(&mut self, name: &str, index: u64, source: String) -> Option<(u64, String)> {
+    /// Claims `name` for machine `index` (from the file `file`, if any); a name already
+    /// claimed gives the first claimant's index and file ("" for a fleet row).
+    fn claim(&mut self, name: &str, index: u64, file: Option<String>) -> Option<(u64, String)> {
         use std::hash::{Hash, Hasher};
         let mut h = std::collections::hash_map::DefaultHasher::new();
         name.hash(&mut h);
-        match self.0.entry(h.finish()) {
-            std::collections::hash_map::Entry::Occupied(e) => Some(e.get().clone()),
+        let key = h.finish();
+        match self.index.entry(key) {
+            std::collections::hash_map::Entry::Occupied(e) => {
+                Some((*e.get(), self.file.get(&key).cloned().unwrap_or_default()))
+            }
             std::collections::hash_map::Entry::Vacant(v) => {
-                // The first claimant's source is kept only for files (few); rows keep "".
-                v.insert((index, source));
+                v.insert(index);
+                if let Some(f) = file {
+                    self.file.insert(key, f);
+                }
                 None
             }
         }
@@ -908,11 +917,11 @@ pub fn run(inputs: Vec<Input>, opts: &Options) -> anyhow::Result<Counts> {
                 let old = old_resume.take(index).or_else(|| old_final.take(index));
                 let work = match work.name() {
                     Some(name) => {
-                        let source = match &work {
-                            Work::File(_) => work.source(),
-                            _ => String::new(),
+                        let file = match &work {
+                            Work::File(_) => Some(work.source()),
+                            _ => None,
                         };
-                        match names.claim(&name, index, source) {
+                        match names.claim(&name, index, file) {
                             Some((first, first_src)) => Work::Broken {
                                 message: format!(
                                     "{}: duplicate name `{name}`: machine {first}{} already has it, and both would write `{name}.json`; give this machine another name",
