@@ -165,14 +165,17 @@ pub struct Counts {
     pub skipped: u64,
 }
 
-/// A 128-bit content hash (two FNV-1a 64 streams), hex; includes the cwsynth version so a
-/// new program re-solves everything.
+/// A 128-bit content hash (two FNV-1a 64 streams), hex; includes the cwsynth version and a
+/// hash of its source (`CWSYNTH_SOURCE_HASH`, from `build.rs`), so a changed program
+/// re-solves everything instead of keeping results the old code computed.
 pub fn content_hash(text: &str) -> String {
     let mut a: u64 = 0xcbf2_9ce4_8422_2325;
     let mut b: u64 = 0x6c62_272e_07bb_0142;
     let bytes = env!("CARGO_PKG_VERSION")
         .as_bytes()
         .iter()
+        .chain(b"\0")
+        .chain(env!("CWSYNTH_SOURCE_HASH").as_bytes())
         .chain(b"\0")
         .chain(text.as_bytes());
     for &x in bytes {
