@@ -463,7 +463,14 @@ fn csv_reader(csv: &Path) -> anyhow::Result<csv::Reader<std::fs::File>> {
 
 /// What a worker gets: where the machine's text comes from.
 enum Work {
-    File(PathBuf),
+    /// A problem file of the input (in this shard or not).
+    Path(PathBuf),
+    /// A problem file of this shard and its text (read once, in input order, when the job is
+    /// made), or why it could not be read.
+    File {
+        path: PathBuf,
+        text: Result<String, String>,
+    },
     Row {
         tpl: Arc<Template>,
         row: u64,
@@ -471,32 +478,40 @@ enum Work {
         cells: Vec<String>,
     },
     /// The CSV itself could not be read at this point.
-    Broken {
-        name: String,
-        message: String,
-    },
+    Broken { name: String, message: String },
 }
 
 impl Work {
+    /// Reads a file's text (other work is returned as it is).
+    fn read(self) -> Work {
+        match self {
+            Work::Path(path) => {
+                let text = std::fs::read_to_string(&path)
+                    .map_err(|e| format!("{}: cannot read: {e}", path.display()));
+                Work::File { path, text }
+            }
+            w => w,
+        }
+    }
+
     /// The machine's name as far as it is known before solving (a file's `name` key, a
     /// row's name), which names its result files.
     fn name(&self) -> Option<String> {
         match self {
-            Work::File(p) => {
-                let text = std::fs::read_to_string(p).ok()?;
-                let t: toml::Table = toml::from_str(&text).ok()?;
+            Work::File { text, .. } => {
+                let t: toml::Table = toml::from_str(text.as_ref().ok()?).ok()?;
                 t.get("name")?.as_str().map(str::to_string)
             }
             Work::Row {
                 tpl, row, cells, ..
             } => Some(tpl.row_name(*row, cells)),
-            Work::Broken { .. } => None,
+            Work::Path(_) | Work::Broken { .. } => None,
         }
     }
 
     fn source(&self) -> String {
         match self {
-            Work::File(p) => p.display().to_string(),
+            Work::Path(path) | Work::File { path, .. } => path.display().to_string(),
             Work::Row { tpl, line, .. } => format!("{}:{line}", tpl.csv.display()),
             Work::Broken { .. } => String::new(),
         }
@@ -597,7 +612,7 @@ impl Iterator for Jobs {
                 Input::File(p) => {
                     let i = self.next;
                     self.next += 1;
-                    return Some((i, Work::File(p)));
+                    return Some((i, Work::Path(p)));
                 }
                 Input::Fleet { template, csv } => {
                     match Template::open(&template, &csv).and_then(|t| Ok((t, csv_reader(&csv)?))) {
@@ -663,20 +678,14 @@ fn process(job: Job, opts: &Options) -> (Row, bool) {
     let index = job.index;
     // A fleet row is parsed once, where its error can be phrased for the row.
     let mut parsed = None;
-    let (name, source, text, path) = match job.work {
-        Work::File(p) => {
-            let name = p
+    let (name, source, text, path) = match job.work.read() {
+        Work::Path(_) => unreachable!("`read` turns a path into a file"),
+        Work::File { path, text } => {
+            let name = path
                 .file_stem()
                 .map(|s| s.to_string_lossy().into_owned())
                 .unwrap_or_default();
-            let src = p.display().to_string();
-            match std::fs::read_to_string(&p) {
-                Ok(t) => (name, src, Ok(t), p),
-                Err(e) => {
-                    let m = format!("{src}: cannot read: {e}");
-                    (name, src, Err(m), p)
-                }
-            }
+            (name, path.display().to_string(), text, path)
         }
         Work::Row {
             tpl,
@@ -918,10 +927,11 @@ pub fn run(inputs: Vec<Input>, opts: &Options) -> anyhow::Result<Counts> {
             .take(CHUNK)
             .map(|(index, work)| {
                 let old = old_resume.take(index).or_else(|| old_final.take(index));
+                let work = work.read();
                 let work = match work.name() {
                     Some(name) => {
                         let file = match &work {
-                            Work::File(_) => Some(work.source()),
+                            Work::File { .. } => Some(work.source()),
                             _ => None,
                         };
                         match names.claim(&name, index, file) {

@@ -271,13 +271,7 @@ mod tests {
     #[test]
     fn enclosing_disc_matches_brute_force_on_random_sets() {
         // A small deterministic LCG: 300 sets of 2–12 points.
-        let mut state = 0x2545_f491_4f6c_dd1d_u64;
-        let mut rnd = || {
-            state = state
-                .wrapping_mul(6_364_136_223_846_793_005)
-                .wrapping_add(1_442_695_040_888_963_407);
-            (state >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
-        };
+        let mut rnd = crate::numeric::uniform_pm1(0x2545_f491_4f6c_dd1d);
         for case in 0..300 {
             let n = 2 + case % 11;
             let pts: Vec<P2> = (0..n).map(|_| P2::new(rnd(), rnd())).collect();

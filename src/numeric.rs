@@ -45,32 +45,35 @@ pub enum SearchError {
     Solver(String),
 }
 
+/// The checks of a bracket `[a, b]` before a root search: a non-finite end value is an error,
+/// an end where f = 0 is the root, and ends of one sign are not a bracket.
+fn bracket_ends(a: f64, fa: f64, b: f64, fb: f64) -> Result<Option<Root>, SearchError> {
+    for (x, v) in [(a, fa), (b, fb)] {
+        if !v.is_finite() {
+            return Err(SearchError::NotFinite { x });
+        }
+    }
+    for (x, v) in [(a, fa), (b, fb)] {
+        if v == 0.0 {
+            return Ok(Some(Root {
+                x,
+                fx: 0.0,
+                evals: 2,
+            }));
+        }
+    }
+    if fa.signum() == fb.signum() {
+        return Err(SearchError::NotBracketed { a, b, fa, fb });
+    }
+    Ok(None)
+}
+
 /// Root of `f` on the bracket `[a, b]` (`f(a)·f(b) ≤ 0`) by Brent's method (argmin's
 /// [`BrentRoot`]) to an absolute tolerance `tol` in x.
 pub fn brent_root<F: Fn(f64) -> f64>(f: F, a: f64, b: f64, tol: f64) -> Result<Root, SearchError> {
     let (fa, fb) = (f(a), f(b));
-    if !fa.is_finite() {
-        return Err(SearchError::NotFinite { x: a });
-    }
-    if !fb.is_finite() {
-        return Err(SearchError::NotFinite { x: b });
-    }
-    if fa == 0.0 {
-        return Ok(Root {
-            x: a,
-            fx: 0.0,
-            evals: 2,
-        });
-    }
-    if fb == 0.0 {
-        return Ok(Root {
-            x: b,
-            fx: 0.0,
-            evals: 2,
-        });
-    }
-    if fa.signum() == fb.signum() {
-        return Err(SearchError::NotBracketed { a, b, fa, fb });
+    if let Some(end) = bracket_ends(a, fa, b, fb)? {
+        return Ok(end);
     }
     let count = std::cell::Cell::new(0u64);
     let fc = |x: f64| {
@@ -110,20 +113,8 @@ pub fn newton_root<F: Fn(f64) -> (f64, f64)>(
     tol: f64,
 ) -> Result<Root, SearchError> {
     let ((fa, _), (fb, _)) = (f(a), f(b));
-    for (x, v) in [(a, fa), (b, fb)] {
-        if !v.is_finite() {
-            return Err(SearchError::NotFinite { x });
-        }
-        if v == 0.0 {
-            return Ok(Root {
-                x,
-                fx: 0.0,
-                evals: 2,
-            });
-        }
-    }
-    if fa.signum() == fb.signum() {
-        return Err(SearchError::NotBracketed { a, b, fa, fb });
+    if let Some(end) = bracket_ends(a, fa, b, fb)? {
+        return Ok(end);
     }
     // Orient so that f(lo) < 0 < f(hi).
     let (mut lo, mut hi) = if fa < 0.0 { (a, b) } else { (b, a) };
@@ -637,6 +628,19 @@ pub fn periodic_rms_sampled(ys: &[f64]) -> PeriodicRms {
     }
 }
 
+/// Test helper: a deterministic stream of numbers uniform in [−1, 1) (a 64-bit LCG, Knuth's
+/// MMIX constants), for randomised tests that must not depend on a crate or a seed file.
+#[cfg(test)]
+pub(crate) fn uniform_pm1(seed: u64) -> impl FnMut() -> f64 {
+    let mut state = seed;
+    move || {
+        state = state
+            .wrapping_mul(6_364_136_223_846_793_005)
+            .wrapping_add(1_442_695_040_888_963_407);
+        (state >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -726,13 +730,7 @@ mod tests {
         // Random trigonometric polynomials of order ≤ 12 (several near-equal maxima): the
         // pruned refinement must return the very peak of the full one, and the sampled
         // variant must equal the one that samples itself.
-        let mut state = 0x9e37_79b9_7f4a_7c15_u64;
-        let mut rnd = || {
-            state = state
-                .wrapping_mul(6_364_136_223_846_793_005)
-                .wrapping_add(1_442_695_040_888_963_407);
-            (state >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
-        };
+        let mut rnd = uniform_pm1(0x9e37_79b9_7f4a_7c15);
         for _ in 0..200 {
             let c: Vec<(f64, f64)> = (0..12).map(|_| (rnd(), rnd())).collect();
             let f = |x: f64| {

@@ -6,7 +6,7 @@
 
 use super::plot::{self, Grid, Panel, Series};
 use super::problem::{
-    check_name, resolve_paper, Ctx, FieldError, ProblemError, RawFile, RawVar, Scene, SceneKind,
+    check_name, Ctx, FieldError, ProblemError, RawFile, RawVar, Scene, SceneKind,
 };
 use super::result::{PaperCheck, Plot, SolveResult, Status, Table};
 use crate::geom::P2;
@@ -126,15 +126,8 @@ pub struct CraneScene {
 
 /// Parses and resolves a luffing-crane problem file.
 pub fn resolve(ctx: &Ctx, text: &str) -> Result<Scene, ProblemError> {
-    let raw: File = ctx.parse(text)?;
-    let scene = resolve_raw(&raw).map_err(|e| ctx.field_error(e))?;
-    Ok(Scene {
-        name: raw.name.clone(),
-        family: raw.family,
-        description: raw.description.clone(),
-        source: ctx.file.into(),
-        paper: resolve_paper(&raw.paper),
-        kind: SceneKind::LuffingCrane(Box::new(scene)),
+    File::resolve(ctx, text, resolve_raw, |s| {
+        SceneKind::LuffingCrane(Box::new(s))
     })
 }
 

@@ -5,8 +5,8 @@
 
 use super::plot::{self, Panel, Series};
 use super::problem::{
-    check_name, non_negative, positive, resolve_paper, Ctx, FieldError, ProblemError, RawFile,
-    RawVar, Scene, SceneKind,
+    check_name, non_negative, positive, Ctx, FieldError, ProblemError, RawFile, RawVar, Scene,
+    SceneKind,
 };
 use super::result::{PaperCheck, Plot, SolveResult, Status, Table};
 use crate::mech::gear::{EccentricCircle, GearPair, Which, ZeroKind};
@@ -144,16 +144,7 @@ pub struct GearProblem {
 
 /// Parses and resolves an eccentric-gear problem file.
 pub fn resolve(ctx: &Ctx, text: &str) -> Result<Scene, ProblemError> {
-    let raw: File = ctx.parse(text)?;
-    let scene = resolve_raw(&raw).map_err(|e| ctx.field_error(e))?;
-    Ok(Scene {
-        name: raw.name.clone(),
-        family: raw.family,
-        description: raw.description.clone(),
-        source: ctx.file.into(),
-        paper: resolve_paper(&raw.paper),
-        kind: SceneKind::EccentricGear(scene),
-    })
+    File::resolve(ctx, text, resolve_raw, SceneKind::EccentricGear)
 }
 
 /// Default pole window: 0.01 rad, at most a tenth of an arch's half span π/N.

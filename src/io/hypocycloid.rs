@@ -6,8 +6,7 @@
 
 use super::plot::{self, Grid, Panel, Series};
 use super::problem::{
-    check_name, positive, resolve_paper, Ctx, FieldError, ProblemError, RawFile, RawVar, Scene,
-    SceneKind,
+    check_name, positive, Ctx, FieldError, ProblemError, RawFile, RawVar, Scene, SceneKind,
 };
 use super::result::{PaperCheck, Plot, SolveResult, Status, Table};
 use crate::mech::hypocycloid::{ALPHA0_VARIANT1, ALPHA0_VARIANT2};
@@ -175,16 +174,7 @@ fn map_synth_error(e: hy::FieldError) -> FieldError {
 
 /// Parses and resolves a hypocycloid problem file.
 pub fn resolve(ctx: &Ctx, text: &str) -> Result<Scene, ProblemError> {
-    let raw: File = ctx.parse(text)?;
-    let scene = resolve_raw(&raw).map_err(|e| ctx.field_error(e))?;
-    Ok(Scene {
-        name: raw.name.clone(),
-        family: raw.family,
-        description: raw.description.clone(),
-        source: ctx.file.into(),
-        paper: resolve_paper(&raw.paper),
-        kind: SceneKind::Hypocycloid(scene),
-    })
+    File::resolve(ctx, text, resolve_raw, SceneKind::Hypocycloid)
 }
 
 /// A pure-number design variable: equal bounds collapse to a fixed value.

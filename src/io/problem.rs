@@ -198,6 +198,31 @@ pub struct RawFile<M, Mo, D, O, A> {
     pub paper: Vec<PaperRaw>,
 }
 
+impl<M, Mo, D, O, A> RawFile<M, Mo, D, O, A>
+where
+    Self: for<'de> Deserialize<'de>,
+{
+    /// Parses `text` as this family's file, checks its values with `resolve_raw` (a
+    /// [`FieldError`] is located by its field), and wraps the family's part with `kind`.
+    pub fn resolve<K>(
+        ctx: &Ctx,
+        text: &str,
+        resolve_raw: impl FnOnce(&Self) -> Result<K, FieldError>,
+        kind: impl FnOnce(K) -> SceneKind,
+    ) -> Result<Scene, ProblemError> {
+        let raw: Self = ctx.parse(text)?;
+        let part = resolve_raw(&raw).map_err(|e| ctx.field_error(e))?;
+        Ok(Scene {
+            name: raw.name,
+            family: raw.family,
+            description: raw.description,
+            source: ctx.file.into(),
+            paper: resolve_paper(&raw.paper),
+            kind: kind(part),
+        })
+    }
+}
+
 /// A value printed in the source paper, compared with a key of the result.
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]

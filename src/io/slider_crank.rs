@@ -5,8 +5,8 @@
 
 use super::plot::{self, Panel, Series};
 use super::problem::{
-    check_name, non_negative, positive, resolve_paper, Ctx, FieldError, ProblemError, RawFile,
-    RawVar, Scene, SceneKind,
+    check_name, non_negative, positive, Ctx, FieldError, ProblemError, RawFile, RawVar, Scene,
+    SceneKind,
 };
 use super::result::{Plot, SolveResult, Status, Table};
 use crate::geom::P2;
@@ -296,16 +296,7 @@ pub type File = RawFile<MechanismRaw, ModelRaw, DesignRaw, ObjectiveRaw, Accurac
 
 /// Parses and resolves a slider-crank problem file.
 pub fn resolve(ctx: &Ctx, text: &str) -> Result<Scene, ProblemError> {
-    let raw: File = ctx.parse(text)?;
-    let scene = resolve_raw(&raw).map_err(|e| ctx.field_error(e))?;
-    Ok(Scene {
-        name: raw.name.clone(),
-        family: raw.family,
-        description: raw.description.clone(),
-        source: ctx.file.into(),
-        paper: resolve_paper(&raw.paper),
-        kind: SceneKind::SliderCrank(scene),
-    })
+    File::resolve(ctx, text, resolve_raw, SceneKind::SliderCrank)
 }
 
 /// The value checks of a slider-crank file.

@@ -475,9 +475,8 @@ pub fn solve(pb: &Problem, s: &Settings) -> Solution {
     } else {
         None
     };
-    let mut samples = presolved
-        .clone()
-        .unwrap_or_else(|| uniform_angles(s.initial_samples));
+    let was_presolved = presolved.is_some();
+    let mut samples = presolved.unwrap_or_else(|| uniform_angles(s.initial_samples));
     for &phi in &pb.warm_angles {
         if samples.iter().all(|&q| angle_dist(q, phi) > 1e-9) {
             samples.push(phi);
@@ -488,7 +487,7 @@ pub fn solve(pb: &Problem, s: &Settings) -> Solution {
     // next angles, so its tolerance follows the last round's relative gap (two orders
     // tighter), down to the target in the final rounds.
     // The presolve's angles are already the active ones: the first round is the last.
-    let mut round_tol = if presolved.is_some() {
+    let mut round_tol = if was_presolved {
         s.rel_tol
     } else {
         1e-6_f64.max(s.rel_tol)
@@ -596,7 +595,7 @@ pub fn solve(pb: &Problem, s: &Settings) -> Solution {
             samples: samples.len(),
             ipm_iterations: iters,
             solver_status: status_txt,
-            presolved: presolved.is_some(),
+            presolved: was_presolved,
             note: if almost {
                 Some("clarabel reached reduced accuracy only (AlmostSolved)".into())
             } else {
@@ -685,21 +684,21 @@ pub fn enclosing_presolve(pb: &Problem, s: &Settings) -> Option<Vec<f64>> {
     if f.dim != 2 {
         return None;
     }
-    // p(φ) = −Aᵀb/c² when A is c·orthogonal with the common c; None otherwise.
-    let c2_ref = std::cell::Cell::new(f64::NAN);
+    // p(φ) = −Aᵀb/c² when A is c·orthogonal with the common c (that of φ = 0); None
+    // otherwise.
+    let c2 = {
+        let [[a00, _], [a10, _]] = (f.eval)(0.0).a;
+        a00 * a00 + a10 * a10
+    };
+    if !(c2 > 0.0) {
+        return None;
+    }
+    let tol = 1e-12 * c2;
     let point_of = |aff: &Affine| -> Option<P2> {
         let [[a00, a01], [a10, a11]] = aff.a;
         let (n0, n1) = (a00 * a00 + a10 * a10, a01 * a01 + a11 * a11);
         let dot = a00 * a01 + a10 * a11;
-        let c2 = c2_ref.get();
-        let c2 = if c2.is_nan() {
-            c2_ref.set(n0);
-            n0
-        } else {
-            c2
-        };
-        let tol = 1e-12 * c2;
-        if !(c2 > 0.0) || (n0 - c2).abs() > tol || (n1 - c2).abs() > tol || dot.abs() > tol {
+        if (n0 - c2).abs() > tol || (n1 - c2).abs() > tol || dot.abs() > tol {
             return None;
         }
         let [b0, b1] = aff.b;

@@ -245,10 +245,7 @@ impl<'a> Normalised<'a> {
     }
     fn torque(&self, phi: f64) -> Affine {
         let st = self.state(phi);
-        let m = &self.scene.mech;
-        let w2 = self.scene.omega * self.scene.omega;
-        let t0 = w2 * m.drive_torque0(&st) + m.load_torque0(&st, &self.scene.loads);
-        self.torque_of(st.cs, t0)
+        self.torque_of(st.cs, torque0(self.scene, &st))
     }
     /// T̂ from (cos φ, sin φ) and T(φ; 0) (N·m).
     fn torque_of(&self, cs: [f64; 2], t0: f64) -> Affine {
@@ -272,11 +269,15 @@ pub fn shaking_force(mech: &SliderCrank, omega: f64, u: P2, phi: f64) -> Option<
 /// Drive torque (N·m) at φ for the unbalance `u` at constant speed:
 /// T = ω²·(dE_kin/dφ)/ω² − Σ mᵢ g·rᵢ' − F_p x' − g·Rot'(φ)U.
 pub fn drive_torque(scene: &Scene, u: P2, phi: f64) -> f64 {
+    let st = scene.mech.state(phi).expect("assembly checked");
+    torque0(scene, &st) + weight_torque_cs(st.cs, scene.loads.gravity, u)
+}
+
+/// The drive torque without counterweight (N·m): ω²·T_drive0 + T_load0 (inertia, link
+/// weights, process force).
+fn torque0(scene: &Scene, st: &State) -> f64 {
     let m = &scene.mech;
-    let st = m.state(phi).expect("assembly checked");
-    scene.omega * scene.omega * m.drive_torque0(&st)
-        + m.load_torque0(&st, &scene.loads)
-        + weight_torque_cs(st.cs, scene.loads.gravity, u)
+    scene.omega * scene.omega * m.drive_torque0(st) + m.load_torque0(st, &scene.loads)
 }
 
 /// The counterweight-independent parts of the shaking force (f₀, before the ω² factor) and
@@ -308,7 +309,6 @@ impl Grid {
     fn new(scene: &Scene, n: usize) -> Grid {
         let m = &scene.mech;
         let h = std::f64::consts::TAU / n as f64;
-        let w2 = scene.omega * scene.omega;
         let mut g = Grid {
             cs: Vec::with_capacity(n),
             f0: Vec::with_capacity(n),
@@ -319,7 +319,7 @@ impl Grid {
             let st = m.state(k as f64 * h).expect("assembly checked");
             g.cs.push(st.cs);
             g.f0.push(m.shaking_force0(&st));
-            g.t0.push(w2 * m.drive_torque0(&st) + m.load_torque0(&st, &scene.loads));
+            g.t0.push(torque0(scene, &st));
             g.m0.push(m.shaking_moment0(&st));
         }
         g
@@ -591,7 +591,7 @@ fn optimise_with(
     max_torque: Option<f64>,
     grid: &Grid,
 ) -> Result<Optimum, SolveError> {
-    check(scene)?;
+    // The caller has run `check` (the grid needed it).
     let s = &scene.settings;
     let nf = Normalised::new(scene);
     // The fields on the scan grid (the scans of the exchange loop and the presolve).
