@@ -1,5 +1,6 @@
 //! The full minimax counterweight solve of the paper's piston (Table 1, 1000 rpm, rod split
-//! half–half) to 1e-9 relative: clarabel SOCP + exchange loop + verified refined peak.
+//! half–half) to 1e-9 relative: presolve + exact disc rounds (the default) or clarabel's SOCP
+//! (`exact_disc = false`) + exchange loop + verified refined peak.
 use criterion::{criterion_group, criterion_main, Criterion};
 use cwsynth::synth::slider_crank::{optimise, solve, Scene};
 
@@ -13,6 +14,13 @@ fn bench(c: &mut Criterion) {
     assert!(o.gap <= 1e-9 * 300.0, "gap {}", o.gap);
     c.bench_function("slider_crank/minimax_1e-9", |b| {
         b.iter(|| optimise(std::hint::black_box(&sc)).unwrap())
+    });
+    let mut socp = sc.clone();
+    socp.settings.exact_disc = false;
+    let os = optimise(&socp).unwrap();
+    assert!(os.gap <= 1e-9 * 300.0 && os.method.contains("clarabel"));
+    c.bench_function("slider_crank/minimax_1e-9_clarabel", |b| {
+        b.iter(|| optimise(std::hint::black_box(&socp)).unwrap())
     });
     c.bench_function("slider_crank/full_solve_with_baselines", |b| {
         b.iter(|| solve(std::hint::black_box(&sc)).unwrap())

@@ -287,6 +287,30 @@ fn fixed_direction_with_a_minimum_size_is_respected() {
 }
 
 #[test]
+fn an_active_unbalance_bound_is_solved_by_clarabel_on_its_circle() {
+    // |U| ≤ 0.02 kg·m < the free optimum's 0.0357: the disc's centre is out of bounds, so
+    // the exact disc does not apply and clarabel solves the bounded SOCP. The optimum lies on
+    // the circle |U| = 0.02 (convexity); reference: golden search over β of the brute peak.
+    let mut sc: Scene = paper_piston(1000.0);
+    sc.counterweight.unbalance = Var::Free {
+        min: 0.0,
+        max: 0.02,
+    };
+    let out = optimise(&sc).unwrap();
+    assert_eq!(out.status, Status::Optimal, "{out:?}");
+    assert!(out.method.contains("clarabel"), "{}", out.method);
+    assert!(out.u.norm() <= 0.02 * (1.0 + 1e-9), "{}", out.u.norm());
+    let on_circle =
+        |beta: f64| brute_peak(&sc.mech, sc.omega, P2::new(beta.cos(), beta.sin()) * 0.02);
+    let (_, reference) = golden(on_circle, PI - 0.5, PI + 0.5);
+    let got = brute_peak(&sc.mech, sc.omega, out.u);
+    assert!(
+        (got - reference).abs() <= 1e-8 * reference,
+        "{got} vs {reference}"
+    );
+}
+
+#[test]
 fn two_harmonic_model_reports_its_error_against_exact_kinematics() {
     let mut sc = paper_piston(1000.0);
     sc.mech.kinematics = Kinematics::TwoHarmonic;
@@ -356,18 +380,21 @@ fn baselines_match_their_definitions() {
     );
 }
 
-/// The same scene with the geometric presolve switched on or off.
-fn with_presolve(sc: &Scene, on: bool) -> Scene {
+/// The same scene with the geometric presolve and the exact disc rounds switched on or off.
+fn with_presolve(sc: &Scene, on: bool, disc: bool) -> Scene {
     let mut s = sc.clone();
     s.settings.presolve = on;
+    s.settings.exact_disc = disc;
     s
 }
 
 #[test]
-fn presolve_and_plain_exchange_loop_find_the_same_optimum() {
-    // Two routes to the optimum: the presolve's angles (1 SOCP) and the exchange loop from
-    // 8 equal angles (several SOCPs). Both are checked by the refined true peak; they must
-    // agree to the tolerance, also with an offset slider and with a direction sector.
+fn presolve_disc_and_plain_exchange_loop_find_the_same_optimum() {
+    // Three routes to the optimum: the presolve's angles solved exactly as discs (no
+    // clarabel, where the problem is one), the presolve's angles in clarabel's SOCP (1 SOCP),
+    // and the exchange loop from 8 equal angles (several SOCPs). Each is checked by the
+    // refined true peak; they must agree to the tolerance, also with an offset slider and
+    // with a direction sector (which is not a disc problem: clarabel runs there).
     let mut offset = paper_piston(1000.0);
     offset.mech.e = 0.02;
     offset.mech.rod = Rod::rigid(0.3, 0.14, Some(0.05), None);
@@ -376,17 +403,20 @@ fn presolve_and_plain_exchange_loop_find_the_same_optimum() {
         min: 0.5 * PI,
         max: 0.9 * PI,
     };
-    for (what, sc, rounds) in [
-        ("paper piston", paper_piston(1000.0), Some(1)),
-        ("offset slider", offset, Some(1)),
-        ("sector 90°–162°", sector, None),
+    for (what, sc, free) in [
+        ("paper piston", paper_piston(1000.0), true),
+        ("offset slider", offset, true),
+        ("sector 90°–162°", sector, false),
     ] {
-        let (a, b) = (
-            optimise(&with_presolve(&sc, true)).unwrap(),
-            optimise(&with_presolve(&sc, false)).unwrap(),
+        let (d, a, b) = (
+            optimise(&with_presolve(&sc, true, true)).unwrap(),
+            optimise(&with_presolve(&sc, true, false)).unwrap(),
+            optimise(&with_presolve(&sc, false, false)).unwrap(),
         );
+        assert_eq!(d.status, Status::Optimal, "{what}: {d:?}");
         assert_eq!(a.status, Status::Optimal, "{what}: {a:?}");
-        let (pa, pb) = (
+        let (pd, pa, pb) = (
+            brute_peak(&sc.mech, sc.omega, d.u),
             brute_peak(&sc.mech, sc.omega, a.u),
             brute_peak(&sc.mech, sc.omega, b.u),
         );
@@ -406,11 +436,21 @@ fn presolve_and_plain_exchange_loop_find_the_same_optimum() {
             (pa - pb).abs() <= (1e-9 * pb).max(b.gap),
             "{what}: {pa} vs {pb}"
         );
-        // The presolve route is never worse than the plain loop's.
+        assert!((pd - pa).abs() <= 1e-9 * pa, "{what}: {pd} vs {pa}");
+        // The presolve routes are never worse than the plain loop's; the exact disc is
+        // never worse than clarabel's SOCP on the same angles.
         assert!(pa <= pb * (1.0 + 1e-9), "{what}: {pa} vs {pb}");
-        if let Some(r) = rounds {
-            assert_eq!(a.rounds, r, "{what}: {}", a.method);
-            assert!(b.rounds > r, "{what}: {}", b.method);
+        assert!(pd <= pa * (1.0 + 1e-12), "{what}: {pd} vs {pa}");
+        // The reported gaps bound the distance to the brute-force peak's optimum.
+        assert!(d.gap <= 1e-9 * pd, "{what}: {d:?}");
+        if free {
+            assert_eq!(d.rounds, 0, "{what}: no SOCP: {}", d.method);
+            assert!(d.method.contains("Welzl"), "{what}: {}", d.method);
+            assert_eq!(a.rounds, 1, "{what}: {}", a.method);
+            assert!(b.rounds > 1, "{what}: {}", b.method);
+        } else {
+            assert!(d.method.contains("clarabel"), "{what}: {}", d.method);
+            assert_eq!(d, a, "{what}: the sector is clarabel's either way");
         }
     }
 }

@@ -330,6 +330,10 @@ fn slider_crank() -> Value {
                 "presolve",
                 boolean("choose the first SOCP's angles by the smallest enclosing disc"),
             ),
+            (
+                "exact_disc",
+                boolean("solve the sampled minimax exactly as a smallest enclosing disc where it is one (else clarabel)"),
+            ),
         ],
         &[],
         "accuracy targets",

@@ -153,6 +153,11 @@ pub struct Settings {
     /// when the objective is a rotating counterweight's peak force. Default true; false
     /// starts from `initial_samples` equally spaced angles.
     pub presolve: bool,
+    /// After the presolve, solve each round's sampled minimax exactly as a smallest enclosing
+    /// disc (Welzl) instead of by clarabel's SOCP, when the problem is one (peak force of a
+    /// turning counterweight, free direction, no limits, |U| bound not active; see
+    /// [`disc_exchange`]). Default true; false always runs clarabel.
+    pub exact_disc: bool,
 }
 
 impl Default for Settings {
@@ -167,6 +172,7 @@ impl Default for Settings {
             keep_band: 0.05,
             warm_start: false,
             presolve: true,
+            exact_disc: true,
         }
     }
 }
@@ -256,8 +262,31 @@ pub struct Solution {
     pub solver_status: String,
     /// Whether the geometric presolve chose the first angles.
     pub presolved: bool,
+    /// Whether the rounds were solved exactly as smallest enclosing discs, without clarabel
+    /// (`rounds` are then disc rounds and `ipm_iterations` is 0).
+    pub disc: bool,
     /// Why the loop stopped where not optimal.
     pub note: Option<String>,
+}
+
+impl Solution {
+    /// No design yet.
+    fn failed() -> Solution {
+        Solution {
+            status: Status::Failed,
+            u: P2::zeros(),
+            sampled_objective: f64::NAN,
+            peaks: Vec::new(),
+            gap: f64::INFINITY,
+            rounds: 0,
+            samples: 0,
+            ipm_iterations: 0,
+            solver_status: String::new(),
+            presolved: false,
+            disc: false,
+            note: None,
+        }
+    }
 }
 
 /// The peaks of all fields at `u`.
@@ -476,6 +505,11 @@ pub fn solve(pb: &Problem, s: &Settings) -> Solution {
         None
     };
     let was_presolved = presolved.is_some();
+    if let (Some(start), true) = (&presolved, s.exact_disc) {
+        if let Some(sol) = disc_exchange(pb, s, start) {
+            return sol;
+        }
+    }
     let mut samples = presolved.unwrap_or_else(|| uniform_angles(s.initial_samples));
     for &phi in &pb.warm_angles {
         if samples.iter().all(|&q| angle_dist(q, phi) > 1e-9) {
@@ -492,19 +526,7 @@ pub fn solve(pb: &Problem, s: &Settings) -> Solution {
     } else {
         1e-6_f64.max(s.rel_tol)
     };
-    let mut last = Solution {
-        status: Status::Failed,
-        u: P2::zeros(),
-        sampled_objective: f64::NAN,
-        peaks: Vec::new(),
-        gap: f64::INFINITY,
-        rounds: 0,
-        samples: 0,
-        ipm_iterations: 0,
-        solver_status: String::new(),
-        presolved: false,
-        note: None,
-    };
+    let mut last = Solution::failed();
     for round in 1..=s.max_rounds {
         let bt = build(pb, &samples, s);
         let res = match run_clarabel(&bt, round_tol) {
@@ -596,6 +618,7 @@ pub fn solve(pb: &Problem, s: &Settings) -> Solution {
             ipm_iterations: iters,
             solver_status: status_txt,
             presolved: was_presolved,
+            disc: false,
             note: if almost {
                 Some("clarabel reached reduced accuracy only (AlmostSolved)".into())
             } else {
@@ -672,43 +695,18 @@ pub fn solve(pb: &Problem, s: &Settings) -> Solution {
 /// angles of the disc's near-active points (local maxima of ‖u − p‖ within `keep_band` of
 /// the radius) are refined on the continuous curve (Brent on the neighbouring intervals)
 /// and the disc of the refined points recomputed, until the angles move less than
-/// √(0.01·`rel_tol`) (the bound changes with the square of an angle error). Those angles are returned for the first SOCP, which clarabel then solves
-/// at the target tolerance under all the problem's constraints: the presolve only chooses
-/// where to look, and the exchange loop still verifies (and corrects) the result. `None`
-/// when the goal is not a peak force of that form.
+/// √(0.01·`rel_tol`) (the bound changes with the square of an angle error). Those angles
+/// start the exchange loop: solved exactly as discs when [`disc_exchange`] applies, else by
+/// clarabel at the target tolerance under all the problem's constraints. The presolve only
+/// chooses where to look; the exchange loop still verifies (and corrects) the result.
+/// `None` when the goal is not a peak force of that form.
 pub fn enclosing_presolve(pb: &Problem, s: &Settings) -> Option<Vec<f64>> {
-    let Goal::MinPeak(i) = pb.goal else {
-        return None;
-    };
-    let f = &pb.fields[i];
-    if f.dim != 2 {
-        return None;
-    }
-    // p(φ) = −Aᵀb/c² when A is c·orthogonal with the common c (that of φ = 0); None
-    // otherwise.
-    let c2 = {
-        let [[a00, _], [a10, _]] = (f.eval)(0.0).a;
-        a00 * a00 + a10 * a10
-    };
-    if !(c2 > 0.0) {
-        return None;
-    }
-    let tol = 1e-12 * c2;
-    let point_of = |aff: &Affine| -> Option<P2> {
-        let [[a00, a01], [a10, a11]] = aff.a;
-        let (n0, n1) = (a00 * a00 + a10 * a10, a01 * a01 + a11 * a11);
-        let dot = a00 * a01 + a10 * a11;
-        if (n0 - c2).abs() > tol || (n1 - c2).abs() > tol || dot.abs() > tol {
-            return None;
-        }
-        let [b0, b1] = aff.b;
-        Some(-P2::new(a00 * b0 + a10 * b1, a01 * b0 + a11 * b1) / c2)
-    };
-    let point = |phi: f64| point_of(&(f.eval)(phi));
+    let form = DiscForm::of(pb)?;
+    let point = |phi: f64| form.point(phi);
     let n = s.scan_samples;
     let h = std::f64::consts::TAU / n as f64;
-    let pts: Vec<P2> = match f.scan_grid(s) {
-        Some(g) => g.iter().map(point_of).collect::<Option<_>>()?,
+    let pts: Vec<P2> = match form.f.scan_grid(s) {
+        Some(g) => g.iter().map(|a| form.point_of(a)).collect::<Option<_>>()?,
         None => (0..n).map(|k| point(k as f64 * h)).collect::<Option<_>>()?,
     };
     let disc = crate::geom::enclosing_disc(&pts)?;
@@ -744,13 +742,151 @@ pub fn enclosing_presolve(pb: &Problem, s: &Settings) -> Option<Vec<f64>> {
         }
         refined.dedup_by(|a, b| angle_dist(*a, *b) <= 1e-9);
         angles = refined;
-        let pts: Vec<P2> = angles.iter().map(|&a| point(a)).collect::<Option<_>>()?;
-        u = crate::geom::enclosing_disc(&pts)?.centre;
+        u = form.disc(&angles)?.centre;
         if moved <= xtol {
             break;
         }
     }
     Some(angles)
+}
+
+/// A minimax force `max_φ ‖A(φ)u + b(φ)‖` whose every A(φ) is c·Q(φ), Q orthogonal, one
+/// constant c > 0 (a counterweight turning with the crank): ‖A u + b‖ = c‖u − p(φ)‖ with
+/// p(φ) = −Aᵀb/c², the unbalance that would cancel the force at φ.
+struct DiscForm<'p, 'a> {
+    f: &'p Field<'a>,
+    /// c².
+    c2: f64,
+}
+
+impl<'p, 'a> DiscForm<'p, 'a> {
+    /// The form of the objective field of `pb`, when the goal is its peak and it has it
+    /// (c from φ = 0).
+    fn of(pb: &'p Problem<'a>) -> Option<Self> {
+        let Goal::MinPeak(i) = pb.goal else {
+            return None;
+        };
+        let f = &pb.fields[i];
+        if f.dim != 2 {
+            return None;
+        }
+        let [[a00, _], [a10, _]] = (f.eval)(0.0).a;
+        let c2 = a00 * a00 + a10 * a10;
+        (c2 > 0.0).then_some(DiscForm { f, c2 })
+    }
+
+    /// p of one affine value (`None` when its A is not c·orthogonal).
+    fn point_of(&self, aff: &Affine) -> Option<P2> {
+        let tol = 1e-12 * self.c2;
+        let [[a00, a01], [a10, a11]] = aff.a;
+        let (n0, n1) = (a00 * a00 + a10 * a10, a01 * a01 + a11 * a11);
+        let dot = a00 * a01 + a10 * a11;
+        if (n0 - self.c2).abs() > tol || (n1 - self.c2).abs() > tol || dot.abs() > tol {
+            return None;
+        }
+        let [b0, b1] = aff.b;
+        Some(-P2::new(a00 * b0 + a10 * b1, a01 * b0 + a11 * b1) / self.c2)
+    }
+
+    /// p(φ).
+    fn point(&self, phi: f64) -> Option<P2> {
+        self.point_of(&(self.f.eval)(phi))
+    }
+
+    /// The smallest disc enclosing p at `angles`: its centre is the minimax u over those
+    /// angles and c times its radius the minimax value.
+    fn disc(&self, angles: &[f64]) -> Option<crate::geom::Disc> {
+        let pts: Vec<P2> = angles
+            .iter()
+            .map(|&a| self.point(a))
+            .collect::<Option<_>>()?;
+        crate::geom::enclosing_disc(&pts)
+    }
+}
+
+/// The exchange loop with the sampled minimax solved exactly, as the smallest disc enclosing
+/// p(φ_k) ([`DiscForm`]) by Welzl's algorithm, instead of by clarabel's SOCP: the two are
+/// the same problem when the goal is the peak of such a force, the direction is free, no
+/// field has a limit and the disc's centre is within `u_max` (the disc is then also the
+/// SOCP's optimum, to round-off instead of to an interior-point tolerance). Starts from the
+/// presolve's angles; each round checks the refined true peak at the centre, as the SOCP
+/// loop does, and adds the maxima above the disc's bound. `None` when the problem is not of
+/// that kind (the caller then runs clarabel).
+fn disc_exchange(pb: &Problem, s: &Settings, start: &[f64]) -> Option<Solution> {
+    if !(pb.limits.is_empty() && pb.direction == Direction::Free) {
+        return None;
+    }
+    let form = DiscForm::of(pb)?;
+    let Goal::MinPeak(i) = pb.goal else {
+        return None;
+    };
+    let c = form.c2.sqrt();
+    let mut samples = start.to_vec();
+    let mut last = None;
+    for round in 1..=s.max_rounds {
+        let disc = form.disc(&samples)?;
+        if !(disc.centre.norm() <= pb.u_max) {
+            return None;
+        }
+        let (u, lower) = (disc.centre, c * disc.radius);
+        let peaks = match field_peaks(&pb.fields, u, s) {
+            Ok(p) => p,
+            Err(e) => {
+                return Some(Solution {
+                    note: Some(format!("peak evaluation failed: {e}")),
+                    ..Solution::failed()
+                })
+            }
+        };
+        let peak = peaks[i].peak.fx;
+        let gap = (peak - lower).max(0.0);
+        let converged = gap <= s.rel_tol * peak.max(1e-300);
+        let added: Vec<f64> = peaks[i]
+            .maxima
+            .iter()
+            .filter(|m| m.fx > lower + 0.5 * s.rel_tol * peak)
+            .map(|m| m.x)
+            .filter(|&x| samples.iter().all(|&q| angle_dist(q, x) > 1e-9))
+            .collect();
+        let sol = Solution {
+            status: if converged {
+                Status::Optimal
+            } else {
+                Status::Inaccurate
+            },
+            u,
+            sampled_objective: lower,
+            peaks,
+            gap,
+            rounds: round,
+            samples: samples.len(),
+            ipm_iterations: 0,
+            solver_status: "exact".into(),
+            presolved: true,
+            disc: true,
+            note: None,
+        };
+        if converged {
+            return Some(sol);
+        }
+        if added.is_empty() {
+            return Some(Solution {
+                note: Some(format!(
+                    "exchange stalled after {round} rounds: every local maximum is already sampled; the remaining gap is the peak refinement's accuracy"
+                )),
+                ..sol
+            });
+        }
+        samples.extend(added);
+        last = Some(sol);
+    }
+    last.map(|l| Solution {
+        note: Some(format!(
+            "stopped after max_rounds = {} exchange rounds",
+            s.max_rounds
+        )),
+        ..l
+    })
 }
 
 /// Distance between two angles on the circle.

@@ -685,28 +685,35 @@ fn optimise_with(
             warm_angles,
         };
         let sol = cw::solve(&pb, s);
-        method = format!(
-            "{}clarabel {} + exchange loop: {} rounds, {} angles, {} interior-point iterations, last status {}",
-            if sol.presolved {
-                "geometric presolve (smallest disc enclosing the force-cancelling unbalances) + "
-            } else {
-                ""
-            },
-            match goal {
-                Goal::MinPeak(0) => "SOCP (minimax force)",
-                Goal::MinPeak(_) => "SOCP/LP (minimax torque)",
-                Goal::MinMeanSquare(_) => "QP (mean square)",
-                Goal::MinNorm => "SOCP (least |U|)",
-            },
-            sol.rounds,
-            sol.samples,
-            sol.ipm_iterations,
-            sol.solver_status
-        );
+        let presolve = if sol.presolved {
+            "geometric presolve (smallest disc enclosing the force-cancelling unbalances) + "
+        } else {
+            ""
+        };
+        method = if sol.disc {
+            format!(
+                "{presolve}exact sampled minimax (smallest enclosing disc, Welzl; the SOCP's optimum without clarabel) + exchange loop: {} rounds, {} angles",
+                sol.rounds, sol.samples
+            )
+        } else {
+            format!(
+                "{presolve}clarabel {} + exchange loop: {} rounds, {} angles, {} interior-point iterations, last status {}",
+                match goal {
+                    Goal::MinPeak(0) => "SOCP (minimax force)",
+                    Goal::MinPeak(_) => "SOCP/LP (minimax torque)",
+                    Goal::MinMeanSquare(_) => "QP (mean square)",
+                    Goal::MinNorm => "SOCP (least |U|)",
+                },
+                sol.rounds,
+                sol.samples,
+                sol.ipm_iterations,
+                sol.solver_status
+            )
+        };
         if let Some(n) = &sol.note {
             warnings.push(n.clone());
         }
-        rounds = sol.rounds;
+        rounds = if sol.disc { 0 } else { sol.rounds };
         let mut st = sol.status;
         let mut uu = sol.u * u_ref;
         let mut g = sol.gap * obj_ref;
