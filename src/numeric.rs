@@ -264,6 +264,140 @@ pub fn brent_max<F: Fn(f64) -> f64>(
     Ok(best)
 }
 
+/// Refines a sampled local maximum: `c` is a sample not below its neighbours, `ys` =
+/// [f(c − h), f(c), f(c + h)] their known values, f unimodal on [c − h, c + h]. Returns the
+/// maximum to `xtol` in x (plus 1e-14 relative), or to the round-off limit δ =
+/// sqrt(8ε|f|/|C|) (C = f''/2 estimated from the samples) where that is larger — within δ
+/// of the maximum the values differ from it by at most 8ε|f|, so the value is exact to
+/// round-off either way — and the evaluations spent.
+///
+/// Safeguarded parabolic interpolation, as in Brent's `fmin`, but started from the scan's
+/// three samples: a bracket a < x < b holds the maximum (x the best point so far, w and v
+/// the next best, which start as the samples at c ∓ h); each step evaluates the vertex of
+/// the parabola through x, w, v, u = x − ½[(x−w)²(f_x−f_v) − (x−v)²(f_x−f_w)] /
+/// [(x−w)(f_x−f_v) − (x−v)(f_x−f_w)], and shrinks the bracket around the better point.
+/// A vertex within `xtol` of x, or one that would gain only round-off (|C|·(u − x)² ≤ 4ε|f|,
+/// C the parabola's leading coefficient), probes x ± `xtol` on the longer side instead,
+/// which closes the bracket; a vertex outside it, or a bracket that has not halved in three steps (a
+/// kink, a flat top), takes a golden step into the longer side, so the bracket shrinks at
+/// least linearly. It stops when both sides are within the tolerance: for a unimodal f the
+/// maximum is certified within [a, b] (or, where a probe gained only round-off, its value
+/// is exact to round-off). Brent's `fmin` starts from one interior point and
+/// needs golden steps to build its parabola; from the samples, a smooth maximum takes
+/// about five evaluations instead of about fifteen.
+pub fn refine_sampled_max<F: Fn(f64) -> f64>(
+    f: F,
+    c: f64,
+    h: f64,
+    ys: [f64; 3],
+    xtol: f64,
+) -> Result<(Extremum, usize), SearchError> {
+    const CGOLD: f64 = 0.381_966_011_250_105_1;
+    let [fl, fc, fr] = ys;
+    if !(fc >= fl && fc >= fr) {
+        return Err(SearchError::Solver(format!(
+            "refine_sampled_max: the sample at {c} is not a sampled maximum"
+        )));
+    }
+    let (mut a, mut b) = (c - h, c + h);
+    let (mut x, mut fx) = (c, fc);
+    let ((mut w, mut fw), (mut v, mut fv)) = if fl >= fr {
+        ((a, fl), (b, fr))
+    } else {
+        ((b, fr), (a, fl))
+    };
+    // Below δ = sqrt(8ε|f|/|C|) (C = f''/2 from the samples) the values near the maximum
+    // differ from it only by round-off, |C|δ² = 8ε|f|: x cannot be located closer from
+    // values, and the value is exact to round-off there. Not below that.
+    let c0 = (fl - 2.0 * fc + fr).abs() / (2.0 * h * h);
+    let noise = if c0 > 0.0 {
+        (8.0 * f64::EPSILON * fc.abs() / c0).sqrt()
+    } else {
+        0.0
+    };
+    let tol = (xtol + 1e-14 * c.abs()).max(noise);
+    let mut widths = [f64::INFINITY; 3];
+    let mut evals = 0;
+    for step in 0..400 {
+        let (d1, d2) = (x - a, b - x);
+        if d1 <= tol && d2 <= tol {
+            break;
+        }
+        let stalled = b - a > 0.5 * widths[step % 3];
+        widths[step % 3] = b - a;
+        let golden = || {
+            if d2 >= d1 {
+                x + CGOLD * d2
+            } else {
+                x - CGOLD * d1
+            }
+        };
+        let probe = || {
+            if d2 >= d1 {
+                x + tol.min(0.5 * d2)
+            } else {
+                x - tol.min(0.5 * d1)
+            }
+        };
+        let (r, q) = ((x - w) * (fx - fv), (x - v) * (fx - fw));
+        let den = r - q;
+        // The vertex of the parabola through x, w, v and its gain over f(x), |C|·(u − x)²
+        // with C the parabola's leading coefficient (none when the points are collinear).
+        let vertex = (den != 0.0).then(|| {
+            let u = x - 0.5 * ((x - w) * r - (x - v) * q) / den;
+            let curv = ((fw - fx) / (w - x) - (fv - fx) / (v - x)) / (w - v);
+            (u, (curv * (u - x) * (u - x)).abs())
+        });
+        let flat = fx == fw && fx == fv;
+        let converged = match vertex {
+            Some((u, gain)) => (u - x).abs() < tol || gain <= 4.0 * f64::EPSILON * fx.abs(),
+            None => flat,
+        };
+        let probing = converged;
+        let u = match vertex {
+            // Nothing left to gain (or flat to the last bit where sampled): close the bracket.
+            _ if converged => probe(),
+            Some((u, _)) if !stalled && u > a && u < b => {
+                // At least `tol` away from the ends.
+                u.clamp(a + tol.min(0.5 * d1), b - tol.min(0.5 * d2))
+            }
+            _ => golden(),
+        };
+        let fu = f(u);
+        evals += 1;
+        if !fu.is_finite() {
+            return Err(SearchError::NotFinite { x: u });
+        }
+        // A probe that gains only round-off (a few ulps of f) closes its side: the value is
+        // then exact to round-off, and the search does not wander in the noise.
+        let gain = if probing {
+            4.0 * f64::EPSILON * fx.abs()
+        } else {
+            0.0
+        };
+        if fu > fx + gain {
+            if u > x {
+                a = x;
+            } else {
+                b = x;
+            }
+            (v, fv, w, fw, x, fx) = (w, fw, x, fx, u, fu);
+        } else {
+            if u > x {
+                b = u;
+            } else {
+                a = u;
+            }
+            if fu > fw || w == x {
+                (v, fv, w, fw) = (w, fw, u, fu);
+            } else if fu > fv || v == x || v == w {
+                (v, fv) = (u, fu);
+            }
+        }
+    }
+    Ok((Extremum { x, fx }, evals))
+}
+
 /// A minimum located by [`minimize_1d`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Minimum {
@@ -388,9 +522,11 @@ pub fn periodic_peak_with<F: Fn(f64) -> f64>(
     periodic_peak_sampled(&ys, f, xtol, Refine::All)
 }
 
-/// [`periodic_peak_with`] on samples already taken, `ys[k] = f(2πk/n)` with n = `ys.len()`
-/// ≥ 3 (a caller evaluating many functions on one grid computes the expensive part once);
-/// `f` is only called by the refinement (`xtol` = `None`: none).
+/// [`periodic_peak_with`] on samples already taken, `ys[k] = f(k·h)` with h = 2π/n computed
+/// as `TAU / n as f64` and n = `ys.len()` ≥ 3 (a caller evaluating many functions on one
+/// grid computes the expensive part once); `f` is only called by the refinement (`xtol` =
+/// `None`: none), which starts from the samples ([`refine_sampled_max`]), so they must be
+/// the function's values at exactly those abscissae.
 pub fn periodic_peak_sampled<F: Fn(f64) -> f64>(
     ys: &[f64],
     f: F,
@@ -409,20 +545,28 @@ pub fn periodic_peak_sampled<F: Fn(f64) -> f64>(
     }
     // One pass: the largest second difference, the best sample and the candidates (a
     // plateau, all equal, has every sample a "maximum": keep only strict-left ones).
+    // (The values are finite here, so plain comparisons replace `f64::max`; the interior
+    // runs over windows without index checks, the two wrapped ends separately.)
     let mut d2max: f64 = 0.0;
     let mut best = f64::NEG_INFINITY;
     let mut candidates = Vec::new();
-    let mut yp = ys[n - 1];
-    for k in 0..n {
-        let y = ys[k];
-        let yn = if k + 1 < n { ys[k + 1] } else { ys[0] };
-        d2max = d2max.max((yp - 2.0 * y + yn).abs());
-        best = best.max(y);
+    let mut visit = |k: usize, yp: f64, y: f64, yn: f64| {
+        let d2 = (yp - 2.0 * y + yn).abs();
+        if d2 > d2max {
+            d2max = d2;
+        }
+        if y > best {
+            best = y;
+        }
         if y >= yn && y > yp {
             candidates.push(k);
         }
-        yp = y;
+    };
+    visit(0, ys[n - 1], ys[0], ys[1]);
+    for (k, w) in ys.windows(3).enumerate() {
+        visit(k + 1, w[0], w[1], w[2]);
     }
+    visit(n - 1, ys[n - 2], ys[n - 1], ys[0]);
     let curv = d2max / (h * h);
     let floor = match refine {
         Refine::All => f64::NEG_INFINITY,
@@ -438,13 +582,9 @@ pub fn periodic_peak_sampled<F: Fn(f64) -> f64>(
                 maxima.push(Extremum { x: c, fx: y });
                 continue;
             };
-            let count = std::cell::Cell::new(0usize);
-            let fc = |x: f64| {
-                count.set(count.get() + 1);
-                f(x)
-            };
-            let e = brent_max(fc, c - h, c + h, xtol)?;
-            evals += count.get();
+            let around = [ys[(k + n - 1) % n], y, ys[(k + 1) % n]];
+            let (e, used) = refine_sampled_max(&f, c, h, around, xtol)?;
+            evals += used;
             maxima.push(Extremum {
                 x: e.x.rem_euclid(std::f64::consts::TAU),
                 fx: e.fx.max(y),
@@ -743,9 +883,10 @@ mod tests {
                     .sum::<f64>()
             };
             let n = 360;
-            let ys: Vec<f64> = (0..n)
-                .map(|k| f(k as f64 * std::f64::consts::TAU / n as f64))
-                .collect();
+            // The grid of `periodic_peak`, φ_k = k·h with h = 2π/n (the refinement starts
+            // from the samples, so they must be at the very same abscissae).
+            let h = std::f64::consts::TAU / n as f64;
+            let ys: Vec<f64> = (0..n).map(|k| f(k as f64 * h)).collect();
             let all = periodic_peak(f, n, 1e-10).unwrap();
             let same = periodic_peak_sampled(&ys, f, Some(1e-10), Refine::All).unwrap();
             let pruned = periodic_peak_sampled(&ys, f, Some(1e-10), Refine::PeakOnly).unwrap();
@@ -754,9 +895,91 @@ mod tests {
                 (&same.maxima, same.peak, same.evals)
             );
             assert!((all.error - same.error).abs() <= 1e-12 * all.error);
-            assert_eq!(pruned.peak, all.peak);
+            assert_eq!(
+                pruned.peak, all.peak,
+                "{:?}\n{:?}",
+                pruned.maxima, all.maxima
+            );
             assert!(pruned.maxima.len() <= all.maxima.len());
         }
+    }
+
+    #[test]
+    fn sampled_refinement_matches_brent_with_fewer_evaluations() {
+        // Every sampled maximum of random trigonometric polynomials (order ≤ 12), refined from
+        // its three samples and by Brent's fmin on the same bracket (a different algorithm,
+        // started from scratch): the values agree to round-off plus the tolerance's bound
+        // ½|f''|xtol², and the refinement needs far fewer evaluations on average.
+        let mut rnd = uniform_pm1(0x2545_f491_4f6c_dd1d);
+        let (mut ours, mut brents, mut count) = (0usize, 0usize, 0usize);
+        for _ in 0..100 {
+            let c: Vec<(f64, f64)> = (0..12).map(|_| (rnd(), rnd())).collect();
+            let f = |x: f64| {
+                c.iter()
+                    .enumerate()
+                    .map(|(k, (a, b))| {
+                        let t = (k + 1) as f64 * x;
+                        a * t.cos() + b * t.sin()
+                    })
+                    .sum::<f64>()
+            };
+            let n = 360;
+            let h = std::f64::consts::TAU / n as f64;
+            let ys: Vec<f64> = (0..n).map(|k| f(k as f64 * h)).collect();
+            for k in 0..n {
+                let around = [ys[(k + n - 1) % n], ys[k], ys[(k + 1) % n]];
+                if !(around[1] >= around[0] && around[1] > around[2]) {
+                    continue;
+                }
+                let x0 = k as f64 * h;
+                for xtol in [1e-8, 1e-10] {
+                    let (e, used) = refine_sampled_max(f, x0, h, around, xtol).unwrap();
+                    let evals = std::cell::Cell::new(0usize);
+                    let b = brent_max(
+                        |x| {
+                            evals.set(evals.get() + 1);
+                            f(x)
+                        },
+                        x0 - h,
+                        x0 + h,
+                        xtol,
+                    )
+                    .unwrap();
+                    // Round-off of the 24-term sum (≤ 24ε·Σ(|a| + |b|) ≤ 24ε·24, doubled for
+                    // both values) plus the tolerance's bound: |f''| ≤ Σ k²(|a| + |b|) ≤ 1300.
+                    let bound = 2.0 * 24.0 * 24.0 * f64::EPSILON + 650.0 * xtol * xtol;
+                    assert!((e.fx - b.fx).abs() <= bound, "{e:?} vs {b:?}");
+                    assert!((e.x - b.x).abs() <= 1e-6, "{e:?} vs {b:?}");
+                    ours += used;
+                    brents += evals.get();
+                    count += 1;
+                }
+            }
+        }
+        let (mean, mean_brent) = (ours as f64 / count as f64, brents as f64 / count as f64);
+        assert!(
+            mean <= 8.0 && mean < 0.6 * mean_brent,
+            "{mean} vs Brent {mean_brent}"
+        );
+    }
+
+    #[test]
+    fn sampled_refinement_survives_kinks_flat_tops_and_bad_input() {
+        let h = 0.02;
+        // A kink (no parabola fits): golden steps still close the bracket to xtol.
+        let f = |x: f64| -(x - 0.013).abs();
+        let (e, used) = refine_sampled_max(f, 0.02, h, [f(0.0), f(0.02), f(0.04)], 1e-9).unwrap();
+        assert!((e.x - 0.013).abs() <= 2e-9 && used < 80, "{e:?} {used}");
+        // A flat top: nothing to gain, the bracket closes at once.
+        let (e, used) = refine_sampled_max(|_| 2.5, 1.0, h, [2.5; 3], 1e-9).unwrap();
+        assert_eq!(e.fx, 2.5);
+        assert!(used <= 4, "{used}");
+        // Not a sampled maximum, or a NaN inside: errors, not panics or NaN results.
+        assert!(refine_sampled_max(|x| x, 1.0, h, [0.98, 1.0, 1.02], 1e-9).is_err());
+        assert!(matches!(
+            refine_sampled_max(|_| f64::NAN, 1.0, h, [0.0, 1.0, 0.0], 1e-9),
+            Err(SearchError::NotFinite { .. })
+        ));
     }
 
     #[test]
