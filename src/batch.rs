@@ -3,9 +3,11 @@
 //!
 //! An input is a problem file, a directory of them, or a **fleet**
 //! `TEMPLATE.toml:FLEET.csv`: every CSV row overrides dotted keys of the template
-//! (`mechanism.speed`, `design.radius`, …; cells may carry units, `"35 mm"`). The override
-//! edits the template text with `toml_edit` and then runs the normal [`parse_str`], so every
-//! validation and message of `cwsynth solve` applies; a bad row is reported as
+//! (`mechanism.speed`, `design.radius`, …; cells may carry units, `"35 mm"`). The template
+//! is parsed once; a row sets its cells in a copy of the parsed table and resolves that with
+//! [`parse_table`] (the checks of `cwsynth solve`, no TOML printed or re-parsed). A row that
+//! fails there is redone the slow way, editing the template text with `toml_edit` and running
+//! [`parse_str`], so its message is the one `cwsynth solve` gives, reported as
 //! `fleet.csv:LINE: field `x.y`: reason`.
 //!
 //! Machines are numbered in input order (0-based `index`, across all inputs). The work is
@@ -19,7 +21,7 @@
 //! previous summary row (completed `summary.csv` or the `.partial` of an interrupted run)
 //! carries it. The summary is written to `<summary>.partial` and renamed when complete.
 
-use crate::io::problem::{parse_str, ProblemError};
+use crate::io::problem::{parse_str, parse_table, ProblemError, Scene};
 use crate::io::result::{fmt_num, write_atomic, write_outputs};
 use crate::run::solve_scene;
 use anyhow::{bail, Context};
@@ -144,7 +146,8 @@ pub struct Row {
     pub objectives: String,
     /// Wall time of the solve, s (the only column that differs between identical runs).
     pub time_s: f64,
-    /// Content hash of the resolved problem text (and the cwsynth version).
+    /// Content hash of the machine's input (file text, or template text, CSV header and the
+    /// row's name and cells) and the cwsynth build.
     pub input_hash: String,
     /// Where the machine came from: file, or `fleet.csv:LINE`.
     pub source: String,
@@ -165,24 +168,52 @@ pub struct Counts {
     pub skipped: u64,
 }
 
-/// A 128-bit content hash (two FNV-1a 64 streams), hex; includes the cwsynth version and a
-/// hash of its source (`CWSYNTH_SOURCE_HASH`, from `build.rs`), so a changed program
-/// re-solves everything instead of keeping results the old code computed.
-pub fn content_hash(text: &str) -> String {
-    let mut a: u64 = 0xcbf2_9ce4_8422_2325;
-    let mut b: u64 = 0x6c62_272e_07bb_0142;
-    let bytes = env!("CARGO_PKG_VERSION")
-        .as_bytes()
-        .iter()
-        .chain(b"\0")
-        .chain(env!("CWSYNTH_SOURCE_HASH").as_bytes())
-        .chain(b"\0")
-        .chain(text.as_bytes());
-    for &x in bytes {
-        a = (a ^ x as u64).wrapping_mul(0x0000_0100_0000_01b3);
-        b = (b ^ x as u64 ^ 0x5a).wrapping_mul(0x0000_0100_0000_01b3);
+/// A 128-bit content hash being computed (two FNV-1a 64 streams), started with the cwsynth
+/// version and a hash of its source (`CWSYNTH_SOURCE_HASH`, from `build.rs`), so a changed
+/// program re-solves everything instead of keeping results the old code computed.
+#[derive(Clone)]
+struct Hasher {
+    a: u64,
+    b: u64,
+}
+
+impl Hasher {
+    /// A hash of the cwsynth build so far.
+    fn new() -> Hasher {
+        let mut h = Hasher {
+            a: 0xcbf2_9ce4_8422_2325,
+            b: 0x6c62_272e_07bb_0142,
+        };
+        h.bytes(env!("CARGO_PKG_VERSION").as_bytes());
+        h.bytes(b"\0");
+        h.bytes(env!("CWSYNTH_SOURCE_HASH").as_bytes());
+        h.bytes(b"\0");
+        h
     }
-    format!("{a:016x}{b:016x}")
+
+    fn bytes(&mut self, bytes: &[u8]) {
+        for &x in bytes {
+            self.a = (self.a ^ x as u64).wrapping_mul(0x0000_0100_0000_01b3);
+            self.b = (self.b ^ x as u64 ^ 0x5a).wrapping_mul(0x0000_0100_0000_01b3);
+        }
+    }
+
+    /// One string of a sequence: its length, then its bytes (so no two sequences run together).
+    fn field(&mut self, s: &str) {
+        self.bytes(&(s.len() as u64).to_le_bytes());
+        self.bytes(s.as_bytes());
+    }
+
+    fn hex(&self) -> String {
+        format!("{:016x}{:016x}", self.a, self.b)
+    }
+}
+
+/// The content hash of a problem file's text and the cwsynth build, hex.
+pub fn content_hash(text: &str) -> String {
+    let mut h = Hasher::new();
+    h.bytes(text.as_bytes());
+    h.hex()
 }
 
 /// The family's key objective.
@@ -306,32 +337,84 @@ fn error_row(index: u64, name: &str, source: &str, hash: &str, message: String) 
     }
 }
 
-/// A fleet template: its parsed document, name and path.
+/// A fleet template: its parsed table (the fast way), its document (the slow way, for a
+/// bad row's message), name, path, the CSV header, and the input hash of the template text
+/// and the header (each row's is finished by [`Template::input_hash`]).
 pub struct Template {
     path: PathBuf,
     csv: PathBuf,
+    table: toml::Table,
     doc: toml_edit::DocumentMut,
     name: String,
     header: Vec<String>,
+    hash: Hasher,
 }
 
-/// Turns a CSV cell into a TOML value: integer, float, boolean, else a string (quantities
-/// with units stay strings, as in a problem file).
-fn cell_value(cell: &str) -> toml_edit::Value {
-    let c = cell.trim();
-    if let Ok(i) = c.parse::<i64>() {
-        return i.into();
-    }
-    if let Ok(x) = c.parse::<f64>() {
-        if x.is_finite() {
-            return x.into();
+/// The TOML value of a CSV cell: integer, float, boolean, else a string (quantities with
+/// units stay strings, as in a problem file).
+enum Cell<'a> {
+    Int(i64),
+    Float(f64),
+    Bool(bool),
+    Str(&'a str),
+}
+
+impl Cell<'_> {
+    /// The value of a cell as written in the CSV.
+    fn of(cell: &str) -> Cell<'_> {
+        let c = cell.trim();
+        if let Ok(i) = c.parse::<i64>() {
+            return Cell::Int(i);
+        }
+        if let Ok(x) = c.parse::<f64>() {
+            if x.is_finite() {
+                return Cell::Float(x);
+            }
+        }
+        match c {
+            "true" => Cell::Bool(true),
+            "false" => Cell::Bool(false),
+            _ => Cell::Str(c),
         }
     }
-    match c {
-        "true" => true.into(),
-        "false" => false.into(),
-        _ => c.into(),
+
+    /// The cell as a value of `toml` or `toml_edit`.
+    fn value<V>(self) -> V
+    where
+        V: From<i64> + From<f64> + From<bool> + for<'s> From<&'s str>,
+    {
+        match self {
+            Cell::Int(i) => i.into(),
+            Cell::Float(x) => x.into(),
+            Cell::Bool(b) => b.into(),
+            Cell::Str(s) => s.into(),
+        }
     }
+}
+
+/// The parts of a dotted key (`mechanism.speed`), each trimmed and not empty.
+fn key_parts(key: &str) -> Result<Vec<&str>, String> {
+    let parts: Vec<&str> = key.split('.').map(str::trim).collect();
+    if parts.iter().any(|p| p.is_empty()) {
+        return Err("empty key part".into());
+    }
+    Ok(parts)
+}
+
+/// Sets the dotted `key` of `table` to `v`, creating tables as needed; `None` where a part
+/// of the key is a value, not a table.
+fn set_dotted_table(table: &mut toml::Table, key: &str, v: toml::Value) -> Option<()> {
+    let parts = key_parts(key).ok()?;
+    let (last, path) = parts.split_last()?;
+    let mut t = table;
+    for p in path {
+        t = t
+            .entry(*p)
+            .or_insert_with(|| toml::Value::Table(toml::Table::new()))
+            .as_table_mut()?;
+    }
+    t.insert(last.to_string(), v);
+    Some(())
 }
 
 /// Sets the dotted `key` of `doc` to `v`, creating tables as needed.
@@ -340,10 +423,7 @@ fn set_dotted(
     key: &str,
     v: toml_edit::Value,
 ) -> Result<(), String> {
-    let parts: Vec<&str> = key.split('.').map(str::trim).collect();
-    if parts.iter().any(|p| p.is_empty()) {
-        return Err("empty key part".into());
-    }
+    let parts = key_parts(key)?;
     let mut t: &mut dyn toml_edit::TableLike = doc.as_table_mut();
     for (k, p) in parts[..parts.len() - 1].iter().enumerate() {
         if t.get(p).is_none() {
@@ -385,6 +465,8 @@ impl Template {
         let doc: toml_edit::DocumentMut = text
             .parse()
             .with_context(|| format!("{}: not TOML", template.display()))?;
+        let table: toml::Table =
+            toml::from_str(&text).with_context(|| format!("{}: not TOML", template.display()))?;
         let name = doc
             .get("name")
             .and_then(|n| n.as_str())
@@ -397,13 +479,87 @@ impl Template {
             .iter()
             .map(|h| h.trim().to_string())
             .collect();
+        let mut hash = Hasher::new();
+        hash.bytes(b"fleet row\0");
+        hash.field(&text);
+        hash.field(&header.len().to_string());
+        for h in &header {
+            hash.field(h);
+        }
         Ok(Template {
             path: template.into(),
             csv: csv.into(),
+            table,
             doc,
             name,
             header,
+            hash,
         })
+    }
+
+    /// The input hash of a row named `name` with these cells: the template text, the CSV
+    /// header, the name and the cells (as they are in the CSV), and the cwsynth build.
+    pub fn input_hash(&self, name: &str, cells: &[String]) -> String {
+        let mut h = self.hash.clone();
+        h.field(name);
+        h.field(&cells.len().to_string());
+        for c in cells {
+            h.field(c);
+        }
+        h.hex()
+    }
+
+    /// The (dotted key, cell) pairs a row overrides: every column but `name`, without the
+    /// empty cells (which keep the template's value).
+    fn overrides<'a>(&'a self, cells: &'a [String]) -> impl Iterator<Item = (&'a str, &'a str)> {
+        self.header
+            .iter()
+            .zip(cells)
+            .filter(|(h, c)| *h != "name" && !c.trim().is_empty())
+            .map(|(h, c)| (h.as_str(), c.as_str()))
+    }
+
+    /// The scene of one CSV row (its source `fleet.csv:LINE`), the fast way: the row's
+    /// cells set in a copy of the template's table, resolved by [`parse_table`]. `None` for
+    /// a row that cannot be read this way; [`Template::scene`] then takes the slow way.
+    pub fn fast_scene(&self, name: &str, line: u64, cells: &[String]) -> Option<Scene> {
+        if cells.len() != self.header.len() {
+            return None;
+        }
+        let mut table = self.table.clone();
+        table.insert("name".into(), name.into());
+        for (key, cell) in self.overrides(cells) {
+            set_dotted_table(&mut table, key, Cell::of(cell).value())?;
+        }
+        let src = format!("{}:{line}", self.csv.display());
+        parse_table(table, Path::new(&src)).ok()
+    }
+
+    /// The machine of one CSV row: (name, its scene) or `fleet.csv:LINE: reason`. A good row
+    /// takes the fast way ([`Template::fast_scene`]); a bad one is read again as the
+    /// template's edited text ([`Template::machine`], [`parse_str`]) for the message of
+    /// `cwsynth solve`, with the CSV line and the template line.
+    pub fn scene(&self, row: u64, line: u64, cells: &[String]) -> (String, Result<Scene, String>) {
+        let name = self.row_name(row, cells);
+        match self.fast_scene(&name, line, cells) {
+            Some(scene) => (name, Ok(scene)),
+            None => self.slow_scene(row, line, cells),
+        }
+    }
+
+    /// The machine of one CSV row the slow way: the template's text edited
+    /// ([`Template::machine`]) and read by [`parse_str`]; an error is phrased for the row.
+    pub fn slow_scene(
+        &self,
+        row: u64,
+        line: u64,
+        cells: &[String],
+    ) -> (String, Result<Scene, String>) {
+        let (name, text) = self.machine(row, line, cells);
+        let src = format!("{}:{line}", self.csv.display());
+        let scene =
+            text.and_then(|t| parse_str(&t, Path::new(&src)).map_err(|e| row_error(self, line, e)));
+        (name, scene)
     }
 
     /// The name of the machine of CSV row `row` (1-based): its `name` cell, else
@@ -441,11 +597,8 @@ impl Template {
         if let Err(e) = set_dotted(&mut doc, "name", name.as_str().into()) {
             return (name, Err(format!("{at}: field `name`: {e}")));
         }
-        for (h, c) in self.header.iter().zip(cells) {
-            if h == "name" || c.trim().is_empty() {
-                continue;
-            }
-            if let Err(e) = set_dotted(&mut doc, h, cell_value(c)) {
+        for (h, c) in self.overrides(cells) {
+            if let Err(e) = set_dotted(&mut doc, h, Cell::of(c).value()) {
                 return (name, Err(format!("{at}: field `{h}`: {e}")));
             }
         }
@@ -673,19 +826,27 @@ fn row_error(tpl: &Template, line: u64, e: ProblemError) -> String {
     }
 }
 
+/// A machine's input, before it is solved: a fleet row's scene (resolved when the row was
+/// read, where its error can be phrased for the row), or a file's text (resolved only if the
+/// machine is not skipped).
+enum Ready {
+    Scene(Box<Scene>),
+    Text(String, PathBuf),
+}
+
 /// Solves (or skips) one machine; writes its files unless `summary_only`.
 fn process(job: Job, opts: &Options) -> (Row, bool) {
     let index = job.index;
-    // A fleet row is parsed once, where its error can be phrased for the row.
-    let mut parsed = None;
-    let (name, source, text, path) = match job.work.read() {
+    let (name, source, input) = match job.work.read() {
         Work::Path(_) => unreachable!("`read` turns a path into a file"),
         Work::File { path, text } => {
             let name = path
                 .file_stem()
                 .map(|s| s.to_string_lossy().into_owned())
                 .unwrap_or_default();
-            (name, path.display().to_string(), text, path)
+            let source = path.display().to_string();
+            let input = text.map(|t| (content_hash(&t), Ready::Text(t, path)));
+            (name, source, input)
         }
         Work::Row {
             tpl,
@@ -693,32 +854,19 @@ fn process(job: Job, opts: &Options) -> (Row, bool) {
             line,
             cells,
         } => {
-            let src = format!("{}:{line}", tpl.csv.display());
-            let (name, t) = tpl.machine(row, line, &cells);
-            let text = match t {
-                Ok(t) => {
-                    // Parse here so the error can be phrased for the row.
-                    match parse_str(&t, Path::new(&src)) {
-                        Ok(sc) => {
-                            parsed = Some(sc);
-                            Ok(t)
-                        }
-                        Err(e) => Err(row_error(&tpl, line, e)),
-                    }
-                }
-                Err(e) => Err(e),
-            };
-            (name, src.clone(), text, PathBuf::from(src))
+            let source = format!("{}:{line}", tpl.csv.display());
+            let (name, scene) = tpl.scene(row, line, &cells);
+            let input = scene.map(|s| (tpl.input_hash(&name, &cells), Ready::Scene(Box::new(s))));
+            (name, source, input)
         }
         Work::Broken { name, message } => {
             return (error_row(index, &name, "", "", message), false);
         }
     };
-    let text = match text {
-        Ok(t) => t,
+    let (hash, ready) = match input {
+        Ok(x) => x,
         Err(m) => return (error_row(index, &name, &source, "", m), false),
     };
-    let hash = content_hash(&text);
     if opts.summary_only {
         if let Some(old) = job.old {
             if old.input_hash == hash && old.status != "error" {
@@ -726,7 +874,11 @@ fn process(job: Job, opts: &Options) -> (Row, bool) {
             }
         }
     }
-    let scene = match parsed.map_or_else(|| parse_str(&text, &path), Ok) {
+    let scene = match ready {
+        Ready::Scene(s) => Ok(*s),
+        Ready::Text(text, path) => parse_str(&text, &path),
+    };
+    let scene = match scene {
         Ok(s) => s,
         Err(e) => {
             return (
@@ -1418,4 +1570,245 @@ fn histogram_svg(bins: &[u64; 20]) -> String {
         10.0 + ph / 2.0
     );
     s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn template_path() -> PathBuf {
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("problems/piston-1000rpm.toml")
+    }
+
+    /// Writes `rows` under `header` as `dir/name`, opens the fleet with `template`, and
+    /// returns it with its records as [`Jobs`] reads them: (row, CSV line, cells).
+    fn fleet(
+        dir: &Path,
+        name: &str,
+        template: &Path,
+        header: &[&str],
+        rows: &[Vec<String>],
+    ) -> (Template, Vec<(u64, u64, Vec<String>)>) {
+        let csv = dir.join(name);
+        let mut w = csv::WriterBuilder::new()
+            .flexible(true)
+            .from_path(&csv)
+            .unwrap();
+        w.write_record(header).unwrap();
+        for r in rows {
+            w.write_record(r).unwrap();
+        }
+        w.flush().unwrap();
+        let tpl = Template::open(template, &csv).unwrap();
+        let recs = csv_reader(&csv)
+            .unwrap()
+            .into_records()
+            .enumerate()
+            .map(|(k, r)| {
+                let r = r.unwrap();
+                let line = r.position().unwrap().line();
+                (k as u64 + 1, line, r.iter().map(str::to_string).collect())
+            })
+            .collect();
+        (tpl, recs)
+    }
+
+    /// Every row gives the same machine the fast way as the slow way (the template's text
+    /// edited and re-parsed): equal scenes for a good row, and for a bad row the slow way's
+    /// message from both [`Template::scene`] and the slow way. Returns (good, bad) counts.
+    fn same_both_ways(tpl: &Template, recs: &[(u64, u64, Vec<String>)]) -> (usize, usize) {
+        let (mut good, mut bad) = (0, 0);
+        for (row, line, cells) in recs {
+            let (slow_name, slow) = tpl.slow_scene(*row, *line, cells);
+            let (name, scene) = tpl.scene(*row, *line, cells);
+            assert_eq!(name, slow_name);
+            let fast = tpl.fast_scene(&name, *line, cells);
+            match slow {
+                Ok(slow) => {
+                    good += 1;
+                    let fast = fast.unwrap_or_else(|| panic!("line {line}: no fast scene"));
+                    let slow = format!("{slow:?}");
+                    assert_eq!(format!("{fast:?}"), slow, "line {line}");
+                    assert_eq!(format!("{:?}", scene.unwrap()), slow, "line {line}");
+                    assert!(slow.contains(&format!("source: \"{}:{line}\"", tpl.csv.display())));
+                }
+                Err(m) => {
+                    bad += 1;
+                    assert!(fast.is_none(), "line {line}: fast scene of a bad row: {m}");
+                    assert_eq!(scene.unwrap_err(), m, "line {line}");
+                }
+            }
+        }
+        (good, bad)
+    }
+
+    /// Many rows of the piston fleet: cells with units, plain SI numbers, integers, empty
+    /// cells, a `name` column (given, empty, not a file name), a key inside an inline table,
+    /// quoted text, and every broken row of `scripts/make_fleet.py` (negative length, rod
+    /// shorter than the crank, unknown unit, not a quantity, negative mass).
+    #[test]
+    fn fast_rows_equal_slow_rows() {
+        let dir = tempfile::tempdir().unwrap();
+        let header = [
+            "name",
+            "mechanism.crank_radius",
+            "mechanism.rod_length",
+            "mechanism.crank_mass",
+            "mechanism.rod_mass",
+            "mechanism.slider_mass",
+            "mechanism.speed",
+            "model.rod_split",
+            "design.unbalance.max",
+            "accuracy.rel_tol",
+            "description",
+        ];
+        let mut seed = 0x2545_f491_4f6c_dd1du64;
+        let mut next = move |n: u64| {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            seed % n
+        };
+        let mut rows = Vec::new();
+        for i in 0..400u64 {
+            let r = 25.0 + next(20_000) as f64 / 1000.0;
+            let l = r * (3.0 + next(2000) as f64 / 1000.0);
+            let mut c: Vec<String> = vec![
+                match next(4) {
+                    0 => format!("m-{i}"),
+                    1 if i % 50 == 1 => "not a name!".into(),
+                    _ => String::new(),
+                },
+                match next(4) {
+                    0 => format!("{r:.3} mm"),
+                    1 => format!("{}", r / 1000.0),
+                    2 => format!("{:.4} cm", r / 10.0),
+                    _ => String::new(),
+                },
+                match next(3) {
+                    0 => format!("{:.3}", l / 1000.0),
+                    1 => String::new(),
+                    _ => format!("{l:.3} mm"),
+                },
+                match next(4) {
+                    0 => "1".into(),
+                    1 => format!("{:.4}", 0.2 + next(300) as f64 / 1000.0),
+                    2 => String::new(),
+                    _ => format!("{} g", 200 + next(300)),
+                },
+                match next(3) {
+                    0 => format!(" {:.4} kg ", 0.2 + next(250) as f64 / 1000.0),
+                    _ => String::new(),
+                },
+                match next(3) {
+                    0 => "2".into(),
+                    1 => format!("{:.4} kg", 0.6 + next(900) as f64 / 1000.0),
+                    _ => String::new(),
+                },
+                match next(4) {
+                    0 => format!("{}", 60 + next(250)),
+                    1 => format!("{:.1} rpm", 600.0 + next(24_000) as f64 / 10.0),
+                    2 => format!("{}.5", 60 + next(250)),
+                    _ => String::new(),
+                },
+                match next(4) {
+                    0 => "0.5".into(),
+                    1 => "0".into(),
+                    2 => "1".into(),
+                    _ => String::new(),
+                },
+                match next(3) {
+                    0 => "0.3 kg*m".into(),
+                    1 => "0.25".into(),
+                    _ => String::new(),
+                },
+                match next(3) {
+                    0 => "1e-8".into(),
+                    1 => "0.000001".into(),
+                    _ => String::new(),
+                },
+                match next(3) {
+                    0 => format!("row {i}: a \"quoted\", \\ back\\slash, tab\t, é"),
+                    1 if i % 40 == 3 => "true".into(),
+                    _ => String::new(),
+                },
+            ];
+            // The broken rows of scripts/make_fleet.py, about one in four.
+            match next(20) {
+                0 => c[1] = format!("-{r:.3} mm"),
+                1 => c[2] = format!("{:.3} mm", 0.5 * r),
+                2 => c[3] = "0.3 furlong".into(),
+                3 => c[6] = "fast".into(),
+                4 => c[5] = "-1 kg".into(),
+                _ => {}
+            }
+            rows.push(c);
+        }
+        let (tpl, recs) = fleet(dir.path(), "fleet.csv", &template_path(), &header, &rows);
+        let (good, bad) = same_both_ways(&tpl, &recs);
+        assert_eq!(good + bad, 400);
+        assert!(good > 200 && bad > 60, "good {good}, bad {bad}");
+    }
+
+    /// Rows broken by their shape: a wrong cell count, a key through a value or an array, an
+    /// unknown key, an empty key part, a value of the wrong type, another family.
+    #[test]
+    fn broken_shapes_fail_both_ways_with_the_slow_message() {
+        let dir = tempfile::tempdir().unwrap();
+        let cases: [(&str, &[&str]); 9] = [
+            ("mechanism.speed", &["1000 rpm", "x"]),
+            ("mechanism.speed.x", &["3"]),
+            ("paper.value", &["3 N"]),
+            ("mechanism.colour", &["red"]),
+            ("mechanism..speed", &["3"]),
+            ("model.rod_split", &["true"]),
+            ("objective.minimize", &["everything"]),
+            ("family", &["hypocycloid"]),
+            ("name", &["../x"]),
+        ];
+        for (k, (key, cells)) in cases.iter().enumerate() {
+            let rows = vec![cells.iter().map(|c| c.to_string()).collect()];
+            let csv = format!("f{k}.csv");
+            let (tpl, recs) = fleet(dir.path(), &csv, &template_path(), &[key], &rows);
+            assert_eq!(same_both_ways(&tpl, &recs), (0, 1), "{key}");
+        }
+    }
+
+    /// The input hash of a row changes with the template text, the header, the name and each
+    /// cell, and is the same for the same input read again.
+    #[test]
+    fn row_hash_follows_the_input() {
+        let dir = tempfile::tempdir().unwrap();
+        let header = ["mechanism.speed", "mechanism.crank_mass"];
+        let rows = vec![vec!["1000 rpm".to_string(), "0.3 kg".to_string()]];
+        let t = template_path();
+        let (a, _) = fleet(dir.path(), "a.csv", &t, &header, &rows);
+        let (a2, _) = fleet(dir.path(), "a2.csv", &t, &header, &rows);
+        let (b, _) = fleet(
+            dir.path(),
+            "b.csv",
+            &t,
+            &["mechanism.speed", "model.rod_split"],
+            &rows,
+        );
+        let t2 = dir.path().join("t2.toml");
+        std::fs::write(&t2, std::fs::read_to_string(&t).unwrap() + "# edited\n").unwrap();
+        let (c, _) = fleet(dir.path(), "c.csv", &t2, &header, &rows);
+        let cells = |x: &[&str]| x.iter().map(|s| s.to_string()).collect::<Vec<_>>();
+        let h = a.input_hash("m", &cells(&["1000 rpm", "0.3 kg"]));
+        assert_eq!(h.len(), 32);
+        assert_eq!(h, a.input_hash("m", &cells(&["1000 rpm", "0.3 kg"])));
+        assert_eq!(h, a2.input_hash("m", &cells(&["1000 rpm", "0.3 kg"])));
+        for other in [
+            a.input_hash("n", &cells(&["1000 rpm", "0.3 kg"])),
+            a.input_hash("m", &cells(&["1001 rpm", "0.3 kg"])),
+            a.input_hash("m", &cells(&["1000 rpm", "0.4 kg"])),
+            a.input_hash("m", &cells(&["1000 rpm0.3 kg", ""])),
+            a.input_hash("m", &cells(&["1000 rpm", "0.3 kg", ""])),
+            b.input_hash("m", &cells(&["1000 rpm", "0.3 kg"])),
+            c.input_hash("m", &cells(&["1000 rpm", "0.3 kg"])),
+        ] {
+            assert_ne!(h, other);
+        }
+    }
 }

@@ -356,42 +356,71 @@ pub enum UnitError {
     },
 }
 
-/// Normalises the spellings people type for a product of units: `N.m`, `N-m`, `N⋅m` and
-/// `N · m` all become `N·m`.
-fn normalise(unit: &str) -> String {
-    unit.trim().replace(['.', '⋅', '-'], "·").replace(' ', "")
+/// Whether `a` and `b` are one unit once the spellings people type for a product of units
+/// are normalised: `N.m`, `N-m`, `N⋅m` and `N · m` all read as `N·m` (trimmed, `.`, `⋅`, `-`
+/// read as `·`, spaces dropped). Compares without allocating.
+fn same_unit(a: &str, b: &str) -> bool {
+    fn normalised(s: &str) -> impl Iterator<Item = char> + '_ {
+        s.trim().chars().filter(|&c| c != ' ').map(|c| {
+            if matches!(c, '.' | '⋅' | '-') {
+                '·'
+            } else {
+                c
+            }
+        })
+    }
+    normalised(a).eq(normalised(b))
+}
+
+/// The accepted unit written `symbol` (in any of its spellings), if any. Every symbol of
+/// [`UNITS`] is written normalised, so the symbol itself is looked for first.
+fn find_unit(symbol: &str) -> Option<&'static Unit> {
+    UNITS
+        .iter()
+        .find(|u| u.symbol == symbol)
+        .or_else(|| UNITS.iter().find(|u| same_unit(u.symbol, symbol)))
+}
+
+/// Splits trimmed text into its number (the longest prefix that parses as a float) and the
+/// rest, trimmed (the unit, maybe empty); `None` if it does not start with a number.
+fn split_number(t: &str) -> Option<(f64, &str)> {
+    // A float is written in these characters, but for `inf`, `infinity` and `nan`: so the
+    // number ends before the first other one (a longer prefix that parses only adds spaces).
+    let word = t
+        .trim_start_matches(['+', '-'])
+        .starts_with(['i', 'I', 'n', 'N']);
+    let end = match word {
+        true => t.len(),
+        false => t
+            .find(|c: char| !matches!(c, '0'..='9' | '.' | 'e' | 'E' | '+' | '-'))
+            .unwrap_or(t.len()),
+    };
+    let i = (1..=end)
+        .rev()
+        .filter(|&i| t.is_char_boundary(i))
+        .find(|&i| t[..i].trim_end().parse::<f64>().is_ok())?;
+    let value = t[..i].trim_end().parse().expect("checked above");
+    Some((value, t[i..].trim()))
 }
 
 /// Parses `"35 mm"` (or `"35mm"`, `"1e3 rpm"`, `"12"`) into SI for the dimension `dim`.
 /// A number without a unit is taken as SI.
 pub fn parse(text: &str, dim: Dim) -> Result<f64, UnitError> {
-    let t = text.trim();
-    // The longest prefix that parses as a float is the number; the rest is the unit.
-    let split = (1..=t.len())
-        .rev()
-        .filter(|&i| t.is_char_boundary(i))
-        .find(|&i| t[..i].trim_end().parse::<f64>().is_ok());
-    let Some(i) = split else {
+    let Some((value, unit)) = split_number(text.trim()) else {
         return Err(UnitError::NotANumber {
             text: text.into(),
             dim,
             allowed: dim.allowed(),
         });
     };
-    let value: f64 = t[..i].trim_end().parse().expect("checked above");
     // "1e" would parse "1" and leave "e": fine, "e" is no unit and is rejected below.
     if !value.is_finite() {
         return Err(UnitError::NotFinite { text: text.into() });
     }
-    let unit = t[i..].trim();
     if unit.is_empty() {
         return Ok(value);
     }
-    let norm = normalise(unit);
-    let found = UNITS
-        .iter()
-        .find(|u| u.symbol == unit || normalise(u.symbol) == norm);
-    match found {
+    match find_unit(unit) {
         Some(u) if u.dim == dim => Ok(value * u.factor),
         Some(u) => Err(UnitError::WrongDimension {
             unit: unit.into(),
@@ -408,31 +437,15 @@ pub fn parse(text: &str, dim: Dim) -> Result<f64, UnitError> {
 }
 
 /// Parses a quantity whose dimension is given by its unit; returns the SI value and the
-/// dimension (`Dimensionless` for a bare number).
+/// dimension (`Dimensionless` for a bare number). Text that is no quantity is reported as
+/// for a length.
 pub fn parse_any(text: &str) -> Result<(f64, Dim), UnitError> {
-    for dim in [
-        Dim::Length,
-        Dim::Mass,
-        Dim::Angle,
-        Dim::AngularSpeed,
-        Dim::Force,
-        Dim::Torque,
-        Dim::Unbalance,
-        Dim::Inertia,
-        Dim::Density,
-        Dim::Acceleration,
-        Dim::Time,
-    ] {
-        match parse(text, dim) {
-            Ok(v) => {
-                let bare = text.trim().parse::<f64>().is_ok();
-                return Ok((v, if bare { Dim::Dimensionless } else { dim }));
-            }
-            Err(UnitError::WrongDimension { .. }) => continue,
-            Err(e) => return Err(e),
-        }
-    }
-    unreachable!("every known unit has one of the dimensions above")
+    let dim = split_number(text.trim())
+        .and_then(|(_, unit)| find_unit(unit))
+        .map_or(Dim::Length, |u| u.dim);
+    let v = parse(text, dim)?;
+    let bare = text.trim().parse::<f64>().is_ok();
+    Ok((v, if bare { Dim::Dimensionless } else { dim }))
 }
 
 /// Compile-time dimension marker for [`Qty`].
@@ -562,7 +575,19 @@ mod tests {
         for (text, dim, si) in cases {
             let v = parse(text, dim).unwrap_or_else(|e| panic!("{text}: {e}"));
             assert!((v - si).abs() <= 1e-15 * si.abs(), "{text}: {v} vs {si}");
+            let any = if text == "12" {
+                Dim::Dimensionless
+            } else {
+                dim
+            };
+            assert_eq!(parse_any(text), Ok((v, any)), "{text}");
         }
+        // Spellings of a product of units.
+        for text in ["3 N.m", "3 N-m", "3 N⋅m", " 3  N . m "] {
+            assert_eq!(parse_any(text), Ok((3.0, Dim::Torque)), "{text}");
+        }
+        assert_eq!(parse_any("3 kg.m²"), Ok((3.0, Dim::Inertia)));
+        assert_eq!(parse_any("3 rad / s"), Ok((3.0, Dim::AngularSpeed)));
     }
 
     #[test]
@@ -594,6 +619,12 @@ mod tests {
             parse("inf", Dim::Length),
             Err(UnitError::NotFinite { .. })
         ));
+        for text in ["3 N..m", "3 N\tm"] {
+            assert!(matches!(
+                parse(text, Dim::Torque),
+                Err(UnitError::UnknownUnit { .. })
+            ));
+        }
     }
 
     #[test]
@@ -603,5 +634,47 @@ mod tests {
         let (v, d) = parse_any("331931 N·mm").unwrap();
         assert_eq!(d, Dim::Torque);
         assert!((v - 331.931).abs() < 1e-12);
+        // Text that is no quantity is reported as for a length.
+        for bad in ["fast", "3 furlong", "inf N", "NaN", ""] {
+            assert_eq!(
+                parse_any(bad),
+                Err(parse(bad, Dim::Length).unwrap_err()),
+                "{bad}"
+            );
+        }
+    }
+
+    #[test]
+    fn numbers_end_where_the_unit_starts() {
+        for (text, dim, si) in [
+            ("-2.5e-3 m", Dim::Length, -2.5e-3),
+            ("+4E2mm", Dim::Length, 0.4),
+            ("1e mm", Dim::Length, f64::NAN),
+            ("1e3", Dim::Length, 1e3),
+            ("3 ms", Dim::Time, 3e-3),
+            (".5 kg", Dim::Mass, 0.5),
+            ("5. kg", Dim::Mass, 5.0),
+            ("7  \t kN", Dim::Force, 7e3),
+            ("2 e", Dim::Length, f64::NAN),
+        ] {
+            match parse(text, dim) {
+                Ok(v) => assert!((v - si).abs() <= 1e-15 * si.abs(), "{text}: {v}"),
+                Err(e) => assert!(si.is_nan(), "{text}: {e}"),
+            }
+        }
+        for text in ["inf", "-infinity mm", "NaN kg", "+Inf"] {
+            assert!(
+                matches!(parse(text, Dim::Length), Err(UnitError::NotFinite { .. })),
+                "{text}"
+            );
+        }
+    }
+
+    #[test]
+    fn unit_symbols_are_distinct_and_normalised() {
+        for (k, u) in UNITS.iter().enumerate() {
+            assert!(!u.symbol.contains(['.', '⋅', '-', ' ']), "{}", u.symbol);
+            assert!(UNITS[..k].iter().all(|v| !same_unit(u.symbol, v.symbol)));
+        }
     }
 }

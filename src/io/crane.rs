@@ -6,7 +6,7 @@
 
 use super::plot::{self, Grid, Panel, Series};
 use super::problem::{
-    check_name, Ctx, FieldError, ProblemError, RawFile, RawVar, Scene, SceneKind,
+    check_name, Ctx, FieldError, Input, ProblemError, RawFile, RawVar, Scene, SceneKind,
 };
 use super::result::{PaperCheck, Plot, SolveResult, Status, Table};
 use crate::geom::P2;
@@ -124,9 +124,9 @@ pub struct CraneScene {
     pub settings: Settings,
 }
 
-/// Parses and resolves a luffing-crane problem file.
-pub fn resolve(ctx: &Ctx, text: &str) -> Result<Scene, ProblemError> {
-    File::resolve(ctx, text, resolve_raw, |s| {
+/// Reads and resolves a luffing-crane problem file (its text or its table).
+pub fn resolve(ctx: &Ctx, input: Input) -> Result<Scene, ProblemError> {
+    File::resolve(ctx, input, resolve_raw, |s| {
         SceneKind::LuffingCrane(Box::new(s))
     })
 }

@@ -5,8 +5,8 @@
 
 use super::plot::{self, Panel, Series};
 use super::problem::{
-    check_name, non_negative, positive, Ctx, FieldError, ProblemError, RawFile, RawVar, Scene,
-    SceneKind,
+    check_name, non_negative, positive, Ctx, FieldError, Input, ProblemError, RawFile, RawVar,
+    Scene, SceneKind,
 };
 use super::result::{PaperCheck, Plot, SolveResult, Status, Table};
 use crate::mech::gear::{EccentricCircle, GearPair, Which, ZeroKind};
@@ -142,9 +142,9 @@ pub struct GearProblem {
     pub settings: Settings,
 }
 
-/// Parses and resolves an eccentric-gear problem file.
-pub fn resolve(ctx: &Ctx, text: &str) -> Result<Scene, ProblemError> {
-    File::resolve(ctx, text, resolve_raw, SceneKind::EccentricGear)
+/// Reads and resolves an eccentric-gear problem file (its text or its table).
+pub fn resolve(ctx: &Ctx, input: Input) -> Result<Scene, ProblemError> {
+    File::resolve(ctx, input, resolve_raw, SceneKind::EccentricGear)
 }
 
 /// Default pole window: 0.01 rad, at most a tenth of an arch's half span π/N.

@@ -6,7 +6,7 @@
 
 use super::plot::{self, Grid, Panel, Series};
 use super::problem::{
-    check_name, positive, Ctx, FieldError, ProblemError, RawFile, RawVar, Scene, SceneKind,
+    check_name, positive, Ctx, FieldError, Input, ProblemError, RawFile, RawVar, Scene, SceneKind,
 };
 use super::result::{PaperCheck, Plot, SolveResult, Status, Table};
 use crate::mech::hypocycloid::{ALPHA0_VARIANT1, ALPHA0_VARIANT2};
@@ -172,9 +172,9 @@ fn map_synth_error(e: hy::FieldError) -> FieldError {
     )
 }
 
-/// Parses and resolves a hypocycloid problem file.
-pub fn resolve(ctx: &Ctx, text: &str) -> Result<Scene, ProblemError> {
-    File::resolve(ctx, text, resolve_raw, SceneKind::Hypocycloid)
+/// Reads and resolves a hypocycloid problem file (its text or its table).
+pub fn resolve(ctx: &Ctx, input: Input) -> Result<Scene, ProblemError> {
+    File::resolve(ctx, input, resolve_raw, SceneKind::Hypocycloid)
 }
 
 /// A pure-number design variable: equal bounds collapse to a fixed value.

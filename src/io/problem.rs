@@ -6,7 +6,8 @@
 //! family, then the family's strict struct (`deny_unknown_fields`) reads the whole file, so
 //! an unknown or misspelt key is an error with its line. Values are then checked in the
 //! family's resolver, whose errors name the dotted field and get their line from
-//! [`SourceMap`].
+//! [`SourceMap`]. A table already parsed from TOML (a fleet row) goes through the same
+//! passes and checks without its text ([`parse_table`]); its errors have no line.
 
 use super::source::SourceMap;
 use crate::units::{self, Dimension, Qty};
@@ -162,11 +163,41 @@ impl<'a> Ctx<'a> {
     }
 }
 
+/// What a problem file is read from: its text, or a table already parsed from TOML (a
+/// fleet row: the template's table with the row's cells set, see [`parse_table`]).
+pub enum Input<'a> {
+    /// The file's text.
+    Text(&'a str),
+    /// The file's parsed table.
+    Table(toml::Table),
+}
+
+impl Input<'_> {
+    /// Deserialises the whole input as `T` (a table's errors have no line).
+    pub fn parse<T: for<'de> Deserialize<'de>>(self, ctx: &Ctx) -> Result<T, ProblemError> {
+        match self {
+            Input::Text(text) => ctx.parse(text),
+            Input::Table(table) => T::deserialize(table).map_err(|e| ctx.toml_error(e)),
+        }
+    }
+}
+
 /// The first pass: only what every file has.
 #[derive(Debug, Deserialize)]
 struct Header {
     name: Option<String>,
     family: Option<toml::Value>,
+}
+
+impl Header {
+    /// The header of a table: its `name` and `family` entries read as in a text.
+    fn of_table(ctx: &Ctx, table: &toml::Table) -> Result<Header, ProblemError> {
+        let part: toml::Table = ["name", "family"]
+            .into_iter()
+            .filter_map(|k| Some((k.to_string(), table.get(k)?.clone())))
+            .collect();
+        Input::Table(part).parse(ctx)
+    }
 }
 
 /// A whole problem file of one family: the common fields plus the family's sections.
@@ -202,15 +233,15 @@ impl<M, Mo, D, O, A> RawFile<M, Mo, D, O, A>
 where
     Self: for<'de> Deserialize<'de>,
 {
-    /// Parses `text` as this family's file, checks its values with `resolve_raw` (a
+    /// Reads `input` as this family's file, checks its values with `resolve_raw` (a
     /// [`FieldError`] is located by its field), and wraps the family's part with `kind`.
     pub fn resolve<K>(
         ctx: &Ctx,
-        text: &str,
+        input: Input,
         resolve_raw: impl FnOnce(&Self) -> Result<K, FieldError>,
         kind: impl FnOnce(K) -> SceneKind,
     ) -> Result<Scene, ProblemError> {
-        let raw: Self = ctx.parse(text)?;
+        let raw: Self = input.parse(ctx)?;
         let part = resolve_raw(&raw).map_err(|e| ctx.field_error(e))?;
         Ok(Scene {
             name: raw.name,
@@ -417,6 +448,21 @@ pub fn load(path: &Path) -> Result<Scene, ProblemError> {
 pub fn parse_str(text: &str, path: &Path) -> Result<Scene, ProblemError> {
     let ctx = Ctx::new(path, text);
     let header: Header = ctx.parse(text)?;
+    resolve(&ctx, header, Input::Text(text))
+}
+
+/// Resolves a problem file already parsed into a table, with the same checks as
+/// [`parse_str`] (which gives the same scene for the table's text); `path` is used for
+/// messages and as the scene's source. Its errors have no line: a caller that needs one reads
+/// the text with [`parse_str`]. A fleet row takes this way and never prints TOML.
+pub fn parse_table(table: toml::Table, path: &Path) -> Result<Scene, ProblemError> {
+    let ctx = Ctx::new(path, "");
+    let header = Header::of_table(&ctx, &table)?;
+    resolve(&ctx, header, Input::Table(table))
+}
+
+/// Checks the header and resolves `input` as a file of its family.
+fn resolve(ctx: &Ctx, header: Header, input: Input) -> Result<Scene, ProblemError> {
     let Some(family) = header.family else {
         return Err(ctx.field_error(FieldError::new(
             "family",
@@ -436,10 +482,10 @@ pub fn parse_str(text: &str, path: &Path) -> Result<Scene, ProblemError> {
         )));
     }
     match family {
-        Family::SliderCrank => super::slider_crank::resolve(&ctx, text),
-        Family::EccentricGear => super::gear::resolve(&ctx, text),
-        Family::LuffingCrane => super::crane::resolve(&ctx, text),
-        Family::Hypocycloid => super::hypocycloid::resolve(&ctx, text),
+        Family::SliderCrank => super::slider_crank::resolve(ctx, input),
+        Family::EccentricGear => super::gear::resolve(ctx, input),
+        Family::LuffingCrane => super::crane::resolve(ctx, input),
+        Family::Hypocycloid => super::hypocycloid::resolve(ctx, input),
     }
 }
 

@@ -5,8 +5,8 @@
 
 use super::plot::{self, Panel, Series};
 use super::problem::{
-    check_name, non_negative, positive, Ctx, FieldError, ProblemError, RawFile, RawVar, Scene,
-    SceneKind,
+    check_name, non_negative, positive, Ctx, FieldError, Input, ProblemError, RawFile, RawVar,
+    Scene, SceneKind,
 };
 use super::result::{Plot, SolveResult, Status, Table};
 use crate::geom::P2;
@@ -294,9 +294,9 @@ pub struct PaperDesign {
 /// The whole slider-crank file.
 pub type File = RawFile<MechanismRaw, ModelRaw, DesignRaw, ObjectiveRaw, AccuracyRaw>;
 
-/// Parses and resolves a slider-crank problem file.
-pub fn resolve(ctx: &Ctx, text: &str) -> Result<Scene, ProblemError> {
-    File::resolve(ctx, text, resolve_raw, SceneKind::SliderCrank)
+/// Reads and resolves a slider-crank problem file (its text or its table).
+pub fn resolve(ctx: &Ctx, input: Input) -> Result<Scene, ProblemError> {
+    File::resolve(ctx, input, resolve_raw, SceneKind::SliderCrank)
 }
 
 /// The value checks of a slider-crank file.
