@@ -865,6 +865,24 @@ mod tests {
         ));
     }
 
+    /// A random trigonometric polynomial Σ_{k=1..12} a_k cos kx + b_k sin kx, coefficients
+    /// uniform in [−1, 1] (several near-equal maxima).
+    fn random_trig(rnd: &mut impl FnMut() -> f64) -> impl Fn(f64) -> f64 + Copy {
+        let mut c = [(0.0, 0.0); 12];
+        for ck in &mut c {
+            *ck = (rnd(), rnd());
+        }
+        move |x: f64| {
+            c.iter()
+                .enumerate()
+                .map(|(k, (a, b))| {
+                    let t = (k + 1) as f64 * x;
+                    a * t.cos() + b * t.sin()
+                })
+                .sum::<f64>()
+        }
+    }
+
     #[test]
     fn peak_only_refinement_finds_the_same_peak_as_refining_all() {
         // Random trigonometric polynomials of order ≤ 12 (several near-equal maxima): the
@@ -872,16 +890,7 @@ mod tests {
         // variant must equal the one that samples itself.
         let mut rnd = uniform_pm1(0x9e37_79b9_7f4a_7c15);
         for _ in 0..200 {
-            let c: Vec<(f64, f64)> = (0..12).map(|_| (rnd(), rnd())).collect();
-            let f = |x: f64| {
-                c.iter()
-                    .enumerate()
-                    .map(|(k, (a, b))| {
-                        let t = (k + 1) as f64 * x;
-                        a * t.cos() + b * t.sin()
-                    })
-                    .sum::<f64>()
-            };
+            let f = random_trig(&mut rnd);
             let n = 360;
             // The grid of `periodic_peak`, φ_k = k·h with h = 2π/n (the refinement starts
             // from the samples, so they must be at the very same abscissae).
@@ -913,16 +922,7 @@ mod tests {
         let mut rnd = uniform_pm1(0x2545_f491_4f6c_dd1d);
         let (mut ours, mut brents, mut count) = (0usize, 0usize, 0usize);
         for _ in 0..100 {
-            let c: Vec<(f64, f64)> = (0..12).map(|_| (rnd(), rnd())).collect();
-            let f = |x: f64| {
-                c.iter()
-                    .enumerate()
-                    .map(|(k, (a, b))| {
-                        let t = (k + 1) as f64 * x;
-                        a * t.cos() + b * t.sin()
-                    })
-                    .sum::<f64>()
-            };
+            let f = random_trig(&mut rnd);
             let n = 360;
             let h = std::f64::consts::TAU / n as f64;
             let ys: Vec<f64> = (0..n).map(|k| f(k as f64 * h)).collect();
