@@ -156,6 +156,45 @@ pub fn newton_root<F: Fn(f64) -> (f64, f64)>(
     Ok(Root { x, fx, evals })
 }
 
+/// Newton's method from a start `x0` already close to a root (e.g. the root of a cheaper
+/// approximation of `f`), without a bracket search: at most `max_steps` steps, each of
+/// which must stay in [a, b] and at least halve the previous one (quadratic convergence
+/// does far better). `None` when a step breaks that, a value or derivative is not finite
+/// or the derivative is zero, or the steps do not get below `tol` — the caller then falls
+/// back to [`newton_root`]. `Root::fx` is f at the last evaluated point, one step (< `tol`)
+/// before `x`.
+pub fn newton_polish<F: Fn(f64) -> (f64, f64)>(
+    f: F,
+    x0: f64,
+    a: f64,
+    b: f64,
+    tol: f64,
+    max_steps: usize,
+) -> Option<Root> {
+    let (lo, hi) = if a <= b { (a, b) } else { (b, a) };
+    let (mut x, mut last) = (x0, f64::INFINITY);
+    for evals in 1..=max_steps as u64 {
+        let (fx, dfx) = f(x);
+        if !(fx.is_finite() && dfx.is_finite()) || dfx == 0.0 {
+            return None;
+        }
+        let dx = fx / dfx;
+        if fx == 0.0 || dx.abs() < tol {
+            return Some(Root {
+                x: x - dx,
+                fx,
+                evals,
+            });
+        }
+        let shrinks = dx.abs() <= 0.5 * last;
+        if !(shrinks && x - dx >= lo && x - dx <= hi) {
+            return None;
+        }
+        (x, last) = (x - dx, dx.abs());
+    }
+    None
+}
+
 /// A maximum located by [`brent_max`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Extremum {
@@ -533,76 +572,174 @@ pub fn periodic_peak_sampled<F: Fn(f64) -> f64>(
     xtol: Option<f64>,
     refine: Refine,
 ) -> Result<PeriodicPeak, SearchError> {
-    let n = ys.len();
-    if n < 3 {
-        return Err(SearchError::Solver(format!(
-            "a periodic peak needs at least 3 samples, got {n}"
-        )));
-    }
-    let h = std::f64::consts::TAU / n as f64;
-    if let Some(k) = ys.iter().position(|y| !y.is_finite()) {
-        return Err(SearchError::NotFinite { x: k as f64 * h });
-    }
-    // One pass: the largest second difference, the best sample and the candidates (a
-    // plateau, all equal, has every sample a "maximum": keep only strict-left ones).
-    // (The values are finite here, so plain comparisons replace `f64::max`; the interior
-    // runs over windows without index checks, the two wrapped ends separately.)
-    let mut d2max: f64 = 0.0;
-    let mut best = f64::NEG_INFINITY;
-    let mut candidates = Vec::new();
-    let mut visit = |k: usize, yp: f64, y: f64, yn: f64| {
-        let d2 = (yp - 2.0 * y + yn).abs();
-        if d2 > d2max {
-            d2max = d2;
+    let shape = Shape::of(ys, false, refine)?;
+    shape.peak(ys, 1.0, f, xtol, refine)
+}
+
+/// The largest and the smallest value of a periodic function from one pass over its
+/// samples (as [`periodic_peak_sampled`] of f and of −f, without the negated copy): the
+/// peak of f and the peak of −f, whose values are the negated minima.
+pub fn periodic_extremes_sampled<F: Fn(f64) -> f64>(
+    ys: &[f64],
+    f: F,
+    xtol: Option<f64>,
+    refine: Refine,
+) -> Result<(PeriodicPeak, PeriodicPeak), SearchError> {
+    let shape = Shape::of(ys, true, refine)?;
+    Ok((
+        shape.peak(ys, 1.0, &f, xtol, refine)?,
+        shape.peak(ys, -1.0, &f, xtol, refine)?,
+    ))
+}
+
+/// What one pass over the samples `ys[k] = f(k·h)` of a periodic function finds.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Shape {
+    /// Grid spacing h = 2π/n.
+    pub h: f64,
+    /// The largest second difference |y_{k−1} − 2y_k + y_{k+1}| (≈ |f''|h²).
+    pub d2max: f64,
+    /// The largest and the smallest sample.
+    pub best: f64,
+    /// The smallest sample.
+    pub worst: f64,
+    /// Samples above their left and not below their right neighbour (a plateau, all equal,
+    /// has every sample a "maximum": only strict-left ones are kept).
+    maxima: Vec<usize>,
+    /// The same for −f, when asked for.
+    minima: Vec<usize>,
+}
+
+impl Shape {
+    /// Two passes over `ys` (n ≥ 3 finite values); the minima too when `minima`; with
+    /// `Refine::PeakOnly` only the candidates that can be the peak are kept.
+    pub fn of(ys: &[f64], minima: bool, refine: Refine) -> Result<Shape, SearchError> {
+        let n = ys.len();
+        if n < 3 {
+            return Err(SearchError::Solver(format!(
+                "a periodic peak needs at least 3 samples, got {n}"
+            )));
         }
-        if y > best {
-            best = y;
+        let h = std::f64::consts::TAU / n as f64;
+        // Pass 1, branch-free: the largest second difference and the extreme samples, in
+        // four independent lanes (`if b > a {b} else {a}` is a max for finite values and
+        // vectorises), and y·0, which is NaN for a NaN or infinite sample.
+        let lane_max = |a: [f64; 4], b: [f64; 4]| -> [f64; 4] {
+            std::array::from_fn(|l| if b[l] > a[l] { b[l] } else { a[l] })
+        };
+        let (mut d2, mut hi, mut lo) =
+            ([0.0f64; 4], [f64::NEG_INFINITY; 4], [f64::NEG_INFINITY; 4]);
+        let mut bad = [0.0f64; 4];
+        let wrap = |k: usize| [ys[(k + n - 1) % n], ys[k], ys[(k + 1) % n]];
+        let mut visit4 = |p: [f64; 4], y: [f64; 4], q: [f64; 4]| {
+            d2 = lane_max(
+                d2,
+                std::array::from_fn(|l| (p[l] - 2.0 * y[l] + q[l]).abs()),
+            );
+            hi = lane_max(hi, y);
+            lo = lane_max(lo, y.map(|v| -v));
+            bad = std::array::from_fn(|l| bad[l] + y[l] * 0.0);
+        };
+        let (left, mid, right) = (&ys[..n - 2], &ys[1..n - 1], &ys[2..]);
+        let chunks = (n - 2) / 4;
+        for c in 0..chunks {
+            let at = |s: &[f64]| -> [f64; 4] { std::array::from_fn(|l| s[4 * c + l]) };
+            visit4(at(left), at(mid), at(right));
         }
-        if y >= yn && y > yp {
-            candidates.push(k);
+        for j in (4 * chunks + 1..n - 1).chain([0, n - 1]) {
+            let [yp, y, yn] = wrap(j);
+            visit4([yp; 4], [y; 4], [yn; 4]);
         }
-    };
-    visit(0, ys[n - 1], ys[0], ys[1]);
-    for (k, w) in ys.windows(3).enumerate() {
-        visit(k + 1, w[0], w[1], w[2]);
+        let fold = |a: [f64; 4]| a.into_iter().fold(f64::NEG_INFINITY, f64::max);
+        if !bad.iter().all(|b| *b == 0.0) {
+            let k = ys.iter().position(|y| !y.is_finite()).unwrap_or(0);
+            return Err(SearchError::NotFinite { x: k as f64 * h });
+        }
+        let (d2max, best, worst) = (fold(d2), fold(hi), -fold(lo));
+        // Pass 2: the candidates, only among the samples that can matter (see [`Refine`]):
+        // a cheap, predictable test per sample, the neighbours only near an extreme.
+        let (hi_floor, lo_floor) = match refine {
+            Refine::All => (f64::NEG_INFINITY, f64::INFINITY),
+            Refine::PeakOnly => (best - 2.0 * d2max, worst + 2.0 * d2max),
+        };
+        let (mut maxima, mut minima_at) = (Vec::new(), Vec::new());
+        for (j, &y) in ys.iter().enumerate() {
+            if y >= hi_floor {
+                let [yp, _, yn] = wrap(j);
+                if y >= yn && y > yp {
+                    maxima.push(j);
+                }
+            }
+            if minima && y <= lo_floor {
+                let [yp, _, yn] = wrap(j);
+                if y <= yn && y < yp {
+                    minima_at.push(j);
+                }
+            }
+        }
+        let sh = Shape {
+            h,
+            d2max,
+            best,
+            worst,
+            maxima,
+            minima: minima_at,
+        };
+        Ok(sh)
     }
-    visit(n - 1, ys[n - 2], ys[n - 1], ys[0]);
-    let curv = d2max / (h * h);
-    let floor = match refine {
-        Refine::All => f64::NEG_INFINITY,
-        Refine::PeakOnly => best - 2.0 * d2max,
-    };
-    let mut maxima = Vec::with_capacity(candidates.len());
-    let mut evals = n;
-    for k in candidates {
-        let y = ys[k];
-        if y >= floor {
+
+    /// The refined peak of `sign`·f (`sign` = ±1) from the samples and this shape.
+    pub fn peak<F: Fn(f64) -> f64>(
+        &self,
+        ys: &[f64],
+        sign: f64,
+        f: F,
+        xtol: Option<f64>,
+        refine: Refine,
+    ) -> Result<PeriodicPeak, SearchError> {
+        let (n, h) = (ys.len(), self.h);
+        let (best, candidates) = if sign > 0.0 {
+            (self.best, &self.maxima)
+        } else {
+            (-self.worst, &self.minima)
+        };
+        let y = |k: usize| sign * ys[k];
+        let floor = match refine {
+            Refine::All => f64::NEG_INFINITY,
+            Refine::PeakOnly => best - 2.0 * self.d2max,
+        };
+        let mut maxima = Vec::with_capacity(candidates.len());
+        let mut evals = n;
+        for &k in candidates {
+            if y(k) < floor {
+                continue;
+            }
             let c = k as f64 * h;
             let Some(xtol) = xtol else {
-                maxima.push(Extremum { x: c, fx: y });
+                maxima.push(Extremum { x: c, fx: y(k) });
                 continue;
             };
-            let around = [ys[(k + n - 1) % n], y, ys[(k + 1) % n]];
-            let (e, used) = refine_sampled_max(&f, c, h, around, xtol)?;
+            let around = [y((k + n - 1) % n), y(k), y((k + 1) % n)];
+            let (e, used) = refine_sampled_max(|x| sign * f(x), c, h, around, xtol)?;
             evals += used;
             maxima.push(Extremum {
                 x: e.x.rem_euclid(std::f64::consts::TAU),
-                fx: e.fx.max(y),
+                fx: e.fx.max(y(k)),
             });
         }
+        if maxima.is_empty() {
+            // A constant function: every point is the peak.
+            maxima.push(Extremum { x: 0.0, fx: y(0) });
+        }
+        maxima.sort_by(|a, b| a.x.total_cmp(&b.x));
+        let peak = *maxima.iter().max_by(|a, b| a.fx.total_cmp(&b.fx)).unwrap();
+        Ok(PeriodicPeak {
+            maxima,
+            peak,
+            error: peak_error(self.d2max / (h * h), xtol, h),
+            evals,
+        })
     }
-    if maxima.is_empty() {
-        // A constant function: every point is the peak.
-        maxima.push(Extremum { x: 0.0, fx: ys[0] });
-    }
-    maxima.sort_by(|a, b| a.x.total_cmp(&b.x));
-    let peak = *maxima.iter().max_by(|a, b| a.fx.total_cmp(&b.fx)).unwrap();
-    Ok(PeriodicPeak {
-        maxima,
-        peak,
-        error: peak_error(curv, xtol, h),
-        evals,
-    })
 }
 
 /// The refined maxima of a function on a closed interval (not periodic).
@@ -883,6 +1020,17 @@ mod tests {
         }
     }
 
+    /// [`random_trig`] and its samples on the grid of `periodic_peak` with n = 360: φ_k = k·h,
+    /// h = 2π/n (the refinement starts from the samples, so they must be at the very same
+    /// abscissae).
+    fn random_trig_on_grid(
+        rnd: &mut impl FnMut() -> f64,
+    ) -> (impl Fn(f64) -> f64 + Copy, Vec<f64>, f64) {
+        let f = random_trig(rnd);
+        let h = std::f64::consts::TAU / 360.0;
+        (f, (0..360).map(|k| f(k as f64 * h)).collect(), h)
+    }
+
     #[test]
     fn peak_only_refinement_finds_the_same_peak_as_refining_all() {
         // Random trigonometric polynomials of order ≤ 12 (several near-equal maxima): the
@@ -890,13 +1038,8 @@ mod tests {
         // variant must equal the one that samples itself.
         let mut rnd = uniform_pm1(0x9e37_79b9_7f4a_7c15);
         for _ in 0..200 {
-            let f = random_trig(&mut rnd);
-            let n = 360;
-            // The grid of `periodic_peak`, φ_k = k·h with h = 2π/n (the refinement starts
-            // from the samples, so they must be at the very same abscissae).
-            let h = std::f64::consts::TAU / n as f64;
-            let ys: Vec<f64> = (0..n).map(|k| f(k as f64 * h)).collect();
-            let all = periodic_peak(f, n, 1e-10).unwrap();
+            let (f, ys, _) = random_trig_on_grid(&mut rnd);
+            let all = periodic_peak(f, ys.len(), 1e-10).unwrap();
             let same = periodic_peak_sampled(&ys, f, Some(1e-10), Refine::All).unwrap();
             let pruned = periodic_peak_sampled(&ys, f, Some(1e-10), Refine::PeakOnly).unwrap();
             assert_eq!(
@@ -922,10 +1065,8 @@ mod tests {
         let mut rnd = uniform_pm1(0x2545_f491_4f6c_dd1d);
         let (mut ours, mut brents, mut count) = (0usize, 0usize, 0usize);
         for _ in 0..100 {
-            let f = random_trig(&mut rnd);
-            let n = 360;
-            let h = std::f64::consts::TAU / n as f64;
-            let ys: Vec<f64> = (0..n).map(|k| f(k as f64 * h)).collect();
+            let (f, ys, h) = random_trig_on_grid(&mut rnd);
+            let n = ys.len();
             for k in 0..n {
                 let around = [ys[(k + n - 1) % n], ys[k], ys[(k + 1) % n]];
                 if !(around[1] >= around[0] && around[1] > around[2]) {
@@ -980,6 +1121,49 @@ mod tests {
             refine_sampled_max(|_| f64::NAN, 1.0, h, [0.0, 1.0, 0.0], 1e-9),
             Err(SearchError::NotFinite { .. })
         ));
+    }
+
+    #[test]
+    fn extremes_in_one_pass_equal_the_peaks_of_f_and_of_minus_f() {
+        // The one-pass extremes against two separate peak searches, the second on a negated
+        // copy of the samples (the way they were computed before).
+        let mut rnd = uniform_pm1(0x0123_4567_89ab_cdef);
+        for _ in 0..50 {
+            let (f, ys, _) = random_trig_on_grid(&mut rnd);
+            let neg: Vec<f64> = ys.iter().map(|y| -y).collect();
+            for (xtol, refine) in [(Some(1e-8), Refine::PeakOnly), (None, Refine::All)] {
+                let (mx, mn) = periodic_extremes_sampled(&ys, f, xtol, refine).unwrap();
+                let mx2 = periodic_peak_sampled(&ys, f, xtol, refine).unwrap();
+                let mn2 = periodic_peak_sampled(&neg, |x| -f(x), xtol, refine).unwrap();
+                assert_eq!((mx.peak, mn.peak), (mx2.peak, mn2.peak));
+                assert_eq!(mn.maxima.len(), mn2.maxima.len());
+            }
+        }
+        let flat = [1.0; 16];
+        let (mx, mn) = periodic_extremes_sampled(&flat, |_| 1.0, Some(1e-9), Refine::All).unwrap();
+        assert_eq!((mx.peak.fx, mn.peak.fx), (1.0, -1.0));
+    }
+
+    #[test]
+    fn newton_polish_finishes_close_starts_and_declines_far_ones() {
+        // x³ − 2 from 1.3 (the cube root of 2 is 1.2599…): quadratic convergence.
+        let cube = |x: f64| (x * x * x - 2.0, 3.0 * x * x);
+        let r = newton_polish(cube, 1.3, 0.0, 3.0, 1e-14, 8).unwrap();
+        assert!((r.x - 2f64.cbrt()).abs() < 1e-14 && r.evals <= 5, "{r:?}");
+        // atan from 1.5: Newton overshoots and diverges; polish declines instead.
+        assert!(newton_polish(
+            |x: f64| (x.atan(), 1.0 / (1.0 + x * x)),
+            1.5,
+            -10.0,
+            10.0,
+            1e-12,
+            8
+        )
+        .is_none());
+        // A step out of the bracket, a zero derivative, too few steps: None.
+        assert!(newton_polish(cube, 1.3, 1.28, 3.0, 1e-14, 8).is_none());
+        assert!(newton_polish(|x: f64| (x * x - 1.0, 2.0 * x), 0.0, -2.0, 2.0, 1e-12, 8).is_none());
+        assert!(newton_polish(cube, 3.0, 0.0, 3.0, 1e-14, 2).is_none());
     }
 
     #[test]

@@ -15,8 +15,8 @@ use crate::mech::slider_crank::{
     rot, rot_cs, weight_torque_cs, Kinematics, Loads, SliderCrank, State,
 };
 use crate::numeric::{
-    brent_max, newton_root, periodic_peak, periodic_peak_sampled, periodic_rms,
-    periodic_rms_sampled, Refine,
+    brent_max, newton_polish, newton_root, periodic_extremes_sampled, periodic_peak, periodic_rms,
+    periodic_rms_sampled, Extremum, PeriodicPeak, Refine, Shape,
 };
 use std::collections::BTreeMap;
 
@@ -360,40 +360,44 @@ pub fn metrics(scene: &Scene, u: P2) -> Result<Metrics, SolveError> {
 }
 
 /// The peak of a periodic function from its samples on the scan grid, refined by `f` to
-/// `peak_xtol`, but not below 1e-8 rad (√ε: the value is then exact to round-off).
-/// `scale` is the size of the figure the function is part of (e.g. the peak |F| for a
-/// component of F): a function whose samples vary by less than 1e-12 of it is zero or
-/// constant up to round-off (F_y with the y force zeroed, the torque of a balanced rotor),
-/// so its best sample is the peak, with that variation as the error, and the round-off
-/// wiggles are not refined one by one.
-fn grid_peak(
-    ys: Vec<f64>,
+/// `peak_xtol`, but not below 1e-8 rad (√ε: the value is then exact to round-off), and with
+/// `minima` also the peak of −f (the negated minimum). `scale` is the size of the figure
+/// the function is part of (e.g. the peak |F| for a component of F): a function whose
+/// samples vary by less than 1e-12 of it is zero or constant up to round-off (F_y with the
+/// y force zeroed, the torque of a balanced rotor), so its best sample is the peak, with
+/// that variation as the error, and the round-off wiggles are not refined one by one.
+fn grid_extremes(
+    ys: &[f64],
     f: impl Fn(f64) -> f64,
     scale: f64,
+    minima: bool,
     s: &cw::Settings,
-) -> Result<crate::numeric::PeriodicPeak, SolveError> {
-    let (lo, hi) = ys
-        .iter()
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &y| {
-            (a.min(y), b.max(y))
-        });
-    if hi - lo <= 1e-12 * scale {
-        let k = ys.iter().position(|&y| y == hi).unwrap_or(0);
-        let best = crate::numeric::Extremum {
-            x: k as f64 * std::f64::consts::TAU / ys.len() as f64,
-            fx: hi,
-        };
-        return Ok(crate::numeric::PeriodicPeak {
-            maxima: vec![best],
-            peak: best,
-            error: hi - lo,
-            evals: 0,
-        });
-    }
-    // A value needs its maximum located only to √ε (≈ 1e-8 rad): closer, the values differ
-    // by round-off (½|f''|δ² < ε|f|) and Brent only wanders in the noise.
-    periodic_peak_sampled(&ys, f, Some(s.peak_xtol.max(1e-8)), Refine::PeakOnly)
-        .map_err(|e| SolveError::Numeric(e.to_string()))
+) -> Result<(PeriodicPeak, Option<PeriodicPeak>), SolveError> {
+    let num = |e: crate::numeric::SearchError| SolveError::Numeric(e.to_string());
+    let shape = Shape::of(ys, minima, Refine::PeakOnly).map_err(num)?;
+    let spread = shape.best - shape.worst;
+    let peak = |sign: f64| -> Result<PeriodicPeak, SolveError> {
+        if spread <= 1e-12 * scale {
+            let target = if sign > 0.0 { shape.best } else { shape.worst };
+            let k = ys.iter().position(|&y| y == target).unwrap_or(0);
+            let best = Extremum {
+                x: k as f64 * shape.h,
+                fx: sign * target,
+            };
+            return Ok(PeriodicPeak {
+                maxima: vec![best],
+                peak: best,
+                error: spread,
+                evals: 0,
+            });
+        }
+        // A value needs its maximum located only to √ε (≈ 1e-8 rad): closer, the values
+        // differ by round-off (½|f''|δ² < ε|f|).
+        shape
+            .peak(ys, sign, &f, Some(s.peak_xtol.max(1e-8)), Refine::PeakOnly)
+            .map_err(num)
+    };
+    Ok((peak(1.0)?, if minima { Some(peak(-1.0)?) } else { None }))
 }
 
 fn metrics_sampled(scene: &Scene, u: P2, tab: &Sampled) -> Result<Metrics, SolveError> {
@@ -401,27 +405,34 @@ fn metrics_sampled(scene: &Scene, u: P2, tab: &Sampled) -> Result<Metrics, Solve
     let w2 = omega * omega;
     let g = scene.loads.gravity;
     let f = |phi: f64| shaking_force(mech, omega, u, phi).expect("assembly checked");
-    let fs: Vec<P2> = (0..tab.scan.len())
-        .map(|k| tab.scan.force(k, u, w2))
-        .collect();
-    let col = |c: fn(&P2) -> f64| fs.iter().map(c).collect::<Vec<f64>>();
-    let norms = col(|v| v.norm());
+    // The sampled figures in one pass: F_x, F_y, |F| and |T| on the scan grid.
+    let n = tab.scan.len();
+    let mut cols = vec![0.0; 4 * n];
+    let (fx, rest) = cols.split_at_mut(n);
+    let (fy, rest) = rest.split_at_mut(n);
+    let (norms, ts) = rest.split_at_mut(n);
+    for k in 0..n {
+        let v = tab.scan.force(k, u, w2);
+        (fx[k], fy[k]) = (v.x, v.y);
+        norms[k] = (v.x * v.x + v.y * v.y).sqrt();
+        ts[k] = tab.scan.torque(k, g, u).abs();
+    }
     let scale = norms.iter().fold(0.0, |a: f64, &b| a.max(b));
-    let pk = grid_peak(norms, |p| f(p).norm(), scale, s)?;
-    let xmax = grid_peak(col(|v| v.x), |p| f(p).x, scale, s)?;
-    let xmin = grid_peak(col(|v| -v.x), |p| -f(p).x, scale, s)?;
-    let ymax = grid_peak(col(|v| v.y), |p| f(p).y, scale, s)?;
-    let ymin = grid_peak(col(|v| -v.y), |p| -f(p).y, scale, s)?;
-    let ts: Vec<f64> = (0..tab.scan.len())
-        .map(|k| tab.scan.torque(k, g, u).abs())
-        .collect();
+    let (pk, _) = grid_extremes(norms, |p| f(p).norm(), scale, false, s)?;
+    let (xmax, xmin) = grid_extremes(fx, |p| f(p).x, scale, true, s)?;
+    let (ymax, ymin) = grid_extremes(fy, |p| f(p).y, scale, true, s)?;
+    let (xmin, ymin) = (xmin.expect("asked"), ymin.expect("asked"));
     let tscale = ts.iter().fold(0.0, |a: f64, &b| a.max(b));
-    let tq = grid_peak(ts, |p| drive_torque(scene, u, p).abs(), tscale, s)?;
-    let rms = periodic_rms_sampled(
-        &(0..tab.rms().len())
-            .map(|k| tab.rms().force(k, u, w2).norm())
-            .collect::<Vec<f64>>(),
-    );
+    let (tq, _) = grid_extremes(ts, |p| drive_torque(scene, u, p).abs(), tscale, false, s)?;
+    let rms = if tab.rms.is_none() {
+        periodic_rms_sampled(norms)
+    } else {
+        periodic_rms_sampled(
+            &(0..tab.rms().len())
+                .map(|k| tab.rms().force(k, u, w2).norm())
+                .collect::<Vec<f64>>(),
+        )
+    };
     Ok(Metrics {
         unbalance: [u.x, u.y],
         peak: pk.peak.fx,
@@ -439,20 +450,34 @@ fn metrics_sampled(scene: &Scene, u: P2, tab: &Sampled) -> Result<Metrics, Solve
     })
 }
 
-/// max F_x − min F_x (N) of the counterweight `u`, from the remembered kinematics: the part
-/// of [`metrics`] the `equal_ranges` root search needs; with cos φ at the maximum and at the
-/// minimum (the envelope theorem gives the range's derivative in a counterweight along x
-/// from them).
-fn x_range_sampled(scene: &Scene, u: P2, tab: &Sampled) -> Result<(f64, f64, f64), SolveError> {
+/// max F_x − min F_x (N) of the counterweight `u`, from the remembered kinematics (the part
+/// of [`metrics`] the `equal_ranges` root search needs), with cos φ at the maximum and at
+/// the minimum (the envelope theorem gives the range's derivative in a counterweight along
+/// x from them). `refined`: the extremes refined as in [`metrics`]; else the sampled ones.
+fn x_range_sampled(
+    scene: &Scene,
+    u: P2,
+    tab: &Sampled,
+    refined: bool,
+) -> Result<(f64, f64, f64), SolveError> {
     let (mech, omega, s) = (&scene.mech, scene.omega, &scene.settings);
     let w2 = omega * omega;
-    let f = |phi: f64| shaking_force(mech, omega, u, phi).expect("assembly checked");
+    let f = |phi: f64| {
+        shaking_force(mech, omega, u, phi)
+            .expect("assembly checked")
+            .x
+    };
     let xs: Vec<f64> = (0..tab.scan.len())
         .map(|k| tab.scan.force(k, u, w2).x)
         .collect();
-    let scale = xs.iter().fold(0.0, |a: f64, &b| a.max(b.abs()));
-    let xmax = grid_peak(xs.clone(), |p| f(p).x, scale, s)?;
-    let xmin = grid_peak(xs.into_iter().map(|x| -x).collect(), |p| -f(p).x, scale, s)?;
+    let (xmax, xmin) = if refined {
+        let scale = xs.iter().fold(0.0, |a: f64, &b| a.max(b.abs()));
+        let (mx, mn) = grid_extremes(&xs, f, scale, true, s)?;
+        (mx, mn.expect("asked"))
+    } else {
+        periodic_extremes_sampled(&xs, f, None, Refine::PeakOnly)
+            .map_err(|e| SolveError::Numeric(e.to_string()))?
+    };
     Ok((
         xmax.peak.fx + xmin.peak.fx,
         xmax.peak.x.cos(),
@@ -495,14 +520,24 @@ fn baselines_sampled(
     // F_x = ω²(f₀ₓ(φ) − κ cos φ), so by the envelope theorem d(range)/dκ = ω²(cos φ₋ − cos φ₊)
     // (φ₊, φ₋ the angles of the max and the min), and D(κ) = range − 2ω²(κ − m_tq R) is
     // found by safeguarded Newton on [m_tq R, (m_tq + m_ct) R].
+    // The root of the sampled D (extremes of the scan grid, piecewise linear in κ, cheap)
+    // is within O(h²) of the refined one; a few Newton steps on the refined D from there
+    // finish it (the full safeguarded search again if they do not converge).
     let w2 = scene.omega * scene.omega;
-    let diff = |k: f64| {
-        x_range_sampled(scene, P2::new(-k, 0.0), tab)
-            .map(|(x, cp, cm)| (x - 2.0 * w2 * (k - mt * r), w2 * (cm - cp) - 2.0 * w2))
-            .unwrap_or((f64::NAN, f64::NAN))
+    let diff = |refined: bool| {
+        move |k: f64| {
+            x_range_sampled(scene, P2::new(-k, 0.0), tab, refined)
+                .map(|(x, cp, cm)| (x - 2.0 * w2 * (k - mt * r), w2 * (cm - cp) - 2.0 * w2))
+                .unwrap_or((f64::NAN, f64::NAN))
+        }
     };
     let (lo, hi) = (mt * r, (mt + mc) * r);
-    if let Ok(root) = newton_root(diff, lo, hi, 1e-12 * hi.max(1e-300)) {
+    let tol = 1e-12 * hi.max(1e-300);
+    let root = newton_root(diff(false), lo, hi, 1e-6 * hi).and_then(|sampled| {
+        newton_polish(diff(true), sampled.x, lo, hi, tol, 6)
+            .map_or_else(|| newton_root(diff(true), lo, hi, tol), Ok)
+    });
+    if let Ok(root) = root {
         out.insert(
             "equal_ranges".to_string(),
             metrics_sampled(scene, P2::new(-root.x, 0.0), tab)?,
@@ -851,10 +886,15 @@ pub fn solve(scene: &Scene) -> Result<Outcome, SolveError> {
     );
     // The moment is zero for an in-line slider with a lumped rod: its scale is the force's
     // moment arm, the peak force times (R + L).
-    let mm = grid_peak(
-        tab.scan.m0.iter().map(|m| (m * w2).abs()).collect(),
+    let (mm, _) = grid_extremes(
+        &tab.scan
+            .m0
+            .iter()
+            .map(|m| (m * w2).abs())
+            .collect::<Vec<f64>>(),
         |p| mech.shaking_moment0(&nf.state(p)).abs() * w2,
         design.peak * (mech.r + mech.l),
+        false,
         s,
     )?;
     let exact_peak = if mech.kinematics == Kinematics::TwoHarmonic {
