@@ -306,3 +306,56 @@ fn a_duplicate_name_is_reported_and_never_overwrites_the_first_machine() {
         assert!((speed("m-one") - 900.0).abs() < 1e-9);
     }
 }
+
+#[test]
+fn summary_rows_need_only_the_short_json_and_lookups_match_the_full_json() {
+    // For every shipped scene: the row made from `summary_json` (what `--summary-only`
+    // serialises) equals the row made from the whole result JSON, and `lookup`'s direct
+    // path through the number maps gives what a JSON pointer into the whole result gives.
+    use cwsynth::batch::row_from_json;
+    use cwsynth::io::problem::load;
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("problems");
+    let mut n = 0;
+    for entry in std::fs::read_dir(dir).unwrap() {
+        let p = entry.unwrap().path();
+        if p.extension().is_none_or(|e| e != "toml") {
+            continue;
+        }
+        let r = cwsynth::run::solve_scene(&load(&p).unwrap());
+        let full = r.to_json();
+        assert_eq!(
+            row_from_json(7, "src", "hash", &r.summary_json()),
+            row_from_json(7, "src", "hash", &full),
+            "{}",
+            p.display()
+        );
+        let mut keys = 0;
+        for section in ["design", "objectives", "errors", "derived", "baselines"] {
+            let Some(m) = full.get(section).and_then(|m| m.as_object()) else {
+                continue;
+            };
+            for (k, v) in m {
+                let leaves: Vec<(String, String)> = match v.as_object() {
+                    Some(inner) => inner
+                        .keys()
+                        .map(|k2| {
+                            (
+                                format!("{section}.{k}.{k2}"),
+                                format!("/{section}/{k}/{k2}"),
+                            )
+                        })
+                        .collect(),
+                    None => vec![(format!("{section}.{k}"), format!("/{section}/{k}"))],
+                };
+                for (dotted, pointer) in leaves {
+                    let want = full.pointer(&pointer).and_then(|x| x.as_f64());
+                    assert_eq!(r.lookup(&dotted), want, "{}: {dotted}", p.display());
+                    keys += 1;
+                }
+            }
+        }
+        assert!(keys > 5, "{}: {keys} keys", p.display());
+        n += 1;
+    }
+    assert!(n >= 10, "{n} problem files");
+}

@@ -153,19 +153,52 @@ impl SolveResult {
         serde_json::to_value(self).expect("results are plain data")
     }
 
-    /// Looks up a dotted key (`baselines.none.peak_shaking_force_n`) as a number.
+    /// Looks up a dotted key (`baselines.none.peak_shaking_force_n`) as a number: directly
+    /// in the number maps (`design`, `objectives`, `errors`, `derived`, `baselines.NAME`),
+    /// through the JSON value for any other key.
     pub fn lookup(&self, key: &str) -> Option<f64> {
-        lookup_json(&self.to_json(), key)
+        // (A non-finite number is null in the JSON, so not a number there either.)
+        let direct =
+            |m: &BTreeMap<String, f64>, k: &str| m.get(k).copied().filter(|v| v.is_finite());
+        match key.split_once('.') {
+            Some(("design", k)) => direct(&self.design, k),
+            Some(("objectives", k)) => direct(&self.objectives, k),
+            Some(("errors", k)) => direct(&self.errors, k),
+            Some(("derived", k)) => direct(&self.derived, k),
+            Some(("baselines", k)) => {
+                let (name, k) = k.split_once('.')?;
+                direct(self.baselines.get(name)?, k)
+            }
+            _ => lookup_json(&self.to_json(), key),
+        }
+    }
+
+    /// The JSON value of the fields a batch summary row reads (`crate::batch::row_from_json`):
+    /// name, family, status, objective, design, objectives, errors, baselines, warnings and
+    /// timing — the row is the same as from [`SolveResult::to_json`], without serialising
+    /// the rest.
+    pub fn summary_json(&self) -> serde_json::Value {
+        serde_json::json!({
+            "name": self.name,
+            "family": self.family,
+            "status": self.status,
+            "objective": self.objective,
+            "design": self.design,
+            "objectives": self.objectives,
+            "errors": self.errors,
+            "baselines": self.baselines,
+            "warnings": self.warnings,
+            "timing": self.timing,
+        })
     }
 
     /// Appends to `paper` the scene file's `[[paper]]` references, looked up in this result
     /// (a family may already have put its own checks there).
     pub fn compare_with_paper(&mut self, refs: &[crate::io::problem::PaperRef]) {
-        let json = self.to_json();
         let from_file: Vec<PaperCheck> = refs
             .iter()
             .map(|r| {
-                let computed = lookup_json(&json, &r.key);
+                let computed = self.lookup(&r.key);
                 PaperCheck {
                     quantity: r.quantity.clone(),
                     key: r.key.clone(),
