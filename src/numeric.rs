@@ -624,48 +624,54 @@ impl Shape {
         // Pass 1, branch-free: the largest second difference and the extreme samples, in
         // four independent lanes (`if b > a {b} else {a}` is a max for finite values and
         // vectorises), and y·0, which is NaN for a NaN or infinite sample.
-        let lane_max = |a: [f64; 4], b: [f64; 4]| -> [f64; 4] {
-            std::array::from_fn(|l| if b[l] > a[l] { b[l] } else { a[l] })
+        let wrap = |k: usize| {
+            let prev = if k == 0 { n - 1 } else { k - 1 };
+            let next = if k + 1 == n { 0 } else { k + 1 };
+            [ys[prev], ys[k], ys[next]]
         };
-        let (mut d2, mut hi, mut lo) =
-            ([0.0f64; 4], [f64::NEG_INFINITY; 4], [f64::NEG_INFINITY; 4]);
-        let mut bad = [0.0f64; 4];
-        let wrap = |k: usize| [ys[(k + n - 1) % n], ys[k], ys[(k + 1) % n]];
-        let mut visit4 = |p: [f64; 4], y: [f64; 4], q: [f64; 4]| {
-            d2 = lane_max(
-                d2,
-                std::array::from_fn(|l| (p[l] - 2.0 * y[l] + q[l]).abs()),
-            );
-            hi = lane_max(hi, y);
-            lo = lane_max(lo, y.map(|v| -v));
-            bad = std::array::from_fn(|l| bad[l] + y[l] * 0.0);
-        };
+        let (mut d2, mut hi, mut lo, mut bad) =
+            ([0.0f64; 4], [f64::MIN; 4], [f64::MAX; 4], [0.0; 4]);
         let (left, mid, right) = (&ys[..n - 2], &ys[1..n - 1], &ys[2..]);
-        let chunks = (n - 2) / 4;
-        for c in 0..chunks {
-            let at = |s: &[f64]| -> [f64; 4] { std::array::from_fn(|l| s[4 * c + l]) };
-            visit4(at(left), at(mid), at(right));
+        for ((a, b), c) in left
+            .chunks_exact(4)
+            .zip(mid.chunks_exact(4))
+            .zip(right.chunks_exact(4))
+        {
+            for l in 0..4 {
+                let v = (a[l] - 2.0 * b[l] + c[l]).abs();
+                d2[l] = if v > d2[l] { v } else { d2[l] };
+                hi[l] = if b[l] > hi[l] { b[l] } else { hi[l] };
+                lo[l] = if b[l] < lo[l] { b[l] } else { lo[l] };
+                bad[l] += b[l] * 0.0;
+            }
         }
-        for j in (4 * chunks + 1..n - 1).chain([0, n - 1]) {
+        let done = 4 * ((n - 2) / 4);
+        for j in (done + 1..n - 1).chain([0, n - 1]) {
             let [yp, y, yn] = wrap(j);
-            visit4([yp; 4], [y; 4], [yn; 4]);
+            let v = (yp - 2.0 * y + yn).abs();
+            d2[0] = if v > d2[0] { v } else { d2[0] };
+            hi[0] = if y > hi[0] { y } else { hi[0] };
+            lo[0] = if y < lo[0] { y } else { lo[0] };
+            bad[0] += y * 0.0;
         }
-        let fold = |a: [f64; 4]| a.into_iter().fold(f64::NEG_INFINITY, f64::max);
-        if !bad.iter().all(|b| *b == 0.0) {
+        if bad.iter().any(|b| *b != 0.0) {
             let k = ys.iter().position(|y| !y.is_finite()).unwrap_or(0);
             return Err(SearchError::NotFinite { x: k as f64 * h });
         }
-        let (d2max, best, worst) = (fold(d2), fold(hi), -fold(lo));
+        let (d2max, best, worst) = (
+            d2.into_iter().fold(0.0, f64::max),
+            hi.into_iter().fold(f64::MIN, f64::max),
+            lo.into_iter().fold(f64::MAX, f64::min),
+        );
         // Pass 2: the candidates, only among the samples that can matter (see [`Refine`]):
-        // a cheap, predictable test per sample, the neighbours only near an extreme.
+        // four samples at a time tested without short-circuit (so that the test
+        // vectorises); a block with a hit is then looked at sample by sample.
         let (hi_floor, lo_floor) = match refine {
             Refine::All => (f64::NEG_INFINITY, f64::INFINITY),
             Refine::PeakOnly => (best - 2.0 * d2max, worst + 2.0 * d2max),
         };
-        // (Four samples at a time, tested without short-circuit so that the test vectorises;
-        // a block with a hit is then looked at sample by sample.)
-        let (mut maxima, mut minima_at) = (Vec::new(), Vec::new());
         let lo_floor = if minima { lo_floor } else { f64::NEG_INFINITY };
+        let (mut maxima, mut minima_at) = (Vec::new(), Vec::new());
         let mut look = |j: usize| {
             let [yp, y, yn] = wrap(j);
             if y >= hi_floor && y >= yn && y > yp {
@@ -675,17 +681,16 @@ impl Shape {
                 minima_at.push(j);
             }
         };
-        let blocks = n / 4;
-        for b in 0..blocks {
-            let y: [f64; 4] = std::array::from_fn(|l| ys[4 * b + l]);
-            let hit = y
-                .iter()
-                .fold(false, |h, &v| h | (v >= hi_floor) | (v <= lo_floor));
+        for (b, q) in ys.chunks_exact(4).enumerate() {
+            let mut hit = false;
+            for &v in q {
+                hit |= (v >= hi_floor) | (v <= lo_floor);
+            }
             if hit {
                 (4 * b..4 * b + 4).for_each(&mut look);
             }
         }
-        (4 * blocks..n).for_each(look);
+        (4 * (n / 4)..n).for_each(look);
         let sh = Shape {
             h,
             d2max,
