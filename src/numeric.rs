@@ -630,14 +630,14 @@ impl Shape {
             [ys[prev], ys[k], ys[next]]
         };
         let (mut d2, mut hi, mut lo, mut bad) =
-            ([0.0f64; 4], [f64::MIN; 4], [f64::MAX; 4], [0.0; 4]);
+            ([0.0f64; 2], [f64::MIN; 2], [f64::MAX; 2], [0.0; 2]);
         let (left, mid, right) = (&ys[..n - 2], &ys[1..n - 1], &ys[2..]);
         for ((a, b), c) in left
-            .chunks_exact(4)
-            .zip(mid.chunks_exact(4))
-            .zip(right.chunks_exact(4))
+            .chunks_exact(2)
+            .zip(mid.chunks_exact(2))
+            .zip(right.chunks_exact(2))
         {
-            for l in 0..4 {
+            for l in 0..2 {
                 let v = (a[l] - 2.0 * b[l] + c[l]).abs();
                 d2[l] = if v > d2[l] { v } else { d2[l] };
                 hi[l] = if b[l] > hi[l] { b[l] } else { hi[l] };
@@ -645,7 +645,7 @@ impl Shape {
                 bad[l] += b[l] * 0.0;
             }
         }
-        let done = 4 * ((n - 2) / 4);
+        let done = 2 * ((n - 2) / 2);
         for j in (done + 1..n - 1).chain([0, n - 1]) {
             let [yp, y, yn] = wrap(j);
             let v = (yp - 2.0 * y + yn).abs();

@@ -171,8 +171,13 @@ impl SliderCrank {
             P2::new(-rc, -r * s),
         ];
         let mu = self.rod.centroid / self.l;
-        let b = |i: usize| P2::new(x[i], if i == 0 { self.e } else { 0.0 });
-        let g3 = [0, 1, 2].map(|i| a[i] * (1.0 - mu) + b(i) * mu);
+        // G3 = (1 − µ)A + µB with B = (x, e), B' = (x', 0), B'' = (x'', 0) (written out: the
+        // array map was not inlined, and this runs for every sample and refinement).
+        let g3 = [
+            a[0] * (1.0 - mu) + P2::new(x[0], self.e) * mu,
+            a[1] * (1.0 - mu) + P2::new(x[1], 0.0) * mu,
+            a[2] * (1.0 - mu) + P2::new(x[2], 0.0) * mu,
+        ];
         Some(State {
             phi,
             cs: [c, s],

@@ -15,8 +15,8 @@ use crate::mech::slider_crank::{
     rot, rot_cs, weight_torque_cs, Kinematics, Loads, SliderCrank, State,
 };
 use crate::numeric::{
-    brent_max, newton_polish, newton_root, periodic_extremes_sampled, periodic_peak, periodic_rms,
-    periodic_rms_sampled, Extremum, PeriodicPeak, Refine, Shape,
+    brent_max, newton_polish, newton_root, periodic_peak, periodic_rms, periodic_rms_sampled,
+    Extremum, PeriodicPeak, Refine, Shape,
 };
 use std::collections::BTreeMap;
 
@@ -450,34 +450,48 @@ fn metrics_sampled(scene: &Scene, u: P2, tab: &Sampled) -> Result<Metrics, Solve
     })
 }
 
-/// max F_x − min F_x (N) of the counterweight `u`, from the remembered kinematics (the part
-/// of [`metrics`] the `equal_ranges` root search needs), with cos φ at the maximum and at
-/// the minimum (the envelope theorem gives the range's derivative in a counterweight along
-/// x from them). `refined`: the extremes refined as in [`metrics`]; else the sampled ones.
+/// max F_x − min F_x (N) of the counterweight U = −κ e_x, from the remembered kinematics
+/// (the part of [`metrics`] the `equal_ranges` root search needs), with cos φ at the maximum
+/// and at the minimum (the envelope theorem gives the range's derivative in κ from them).
+/// `refined`: the extremes refined as in [`metrics`]; else those of the scan grid, found by
+/// one tight pass over F_x(φₖ) = ω²(f₀ₓ(φₖ) − κ cos φₖ).
 fn x_range_sampled(
     scene: &Scene,
-    u: P2,
+    kappa: f64,
     tab: &Sampled,
     refined: bool,
 ) -> Result<(f64, f64, f64), SolveError> {
     let (mech, omega, s) = (&scene.mech, scene.omega, &scene.settings);
     let w2 = omega * omega;
+    let g = &tab.scan;
+    if !refined {
+        let (mut hi, mut lo) = ((f64::NEG_INFINITY, 0), (f64::INFINITY, 0));
+        for (k, (f0, [c, _])) in g.f0.iter().zip(&g.cs).enumerate() {
+            let x = w2 * (f0.x - kappa * c);
+            if x > hi.0 {
+                hi = (x, k);
+            }
+            if x < lo.0 {
+                lo = (x, k);
+            }
+        }
+        if !(hi.0 - lo.0).is_finite() {
+            return Err(SolveError::Numeric(
+                "F_x is not finite on the scan grid".into(),
+            ));
+        }
+        return Ok((hi.0 - lo.0, g.cs[hi.1][0], g.cs[lo.1][0]));
+    }
+    let u = P2::new(-kappa, 0.0);
     let f = |phi: f64| {
         shaking_force(mech, omega, u, phi)
             .expect("assembly checked")
             .x
     };
-    let xs: Vec<f64> = (0..tab.scan.len())
-        .map(|k| tab.scan.force(k, u, w2).x)
-        .collect();
-    let (xmax, xmin) = if refined {
-        let scale = xs.iter().fold(0.0, |a: f64, &b| a.max(b.abs()));
-        let (mx, mn) = grid_extremes(&xs, f, scale, true, s)?;
-        (mx, mn.expect("asked"))
-    } else {
-        periodic_extremes_sampled(&xs, f, None, Refine::PeakOnly)
-            .map_err(|e| SolveError::Numeric(e.to_string()))?
-    };
+    let xs: Vec<f64> = (0..g.len()).map(|k| g.force(k, u, w2).x).collect();
+    let scale = xs.iter().fold(0.0, |a: f64, &b| a.max(b.abs()));
+    let (xmax, xmin) = grid_extremes(&xs, f, scale, true, s)?;
+    let xmin = xmin.expect("asked");
     Ok((
         xmax.peak.fx + xmin.peak.fx,
         xmax.peak.x.cos(),
@@ -526,7 +540,7 @@ fn baselines_sampled(
     let w2 = scene.omega * scene.omega;
     let diff = |refined: bool| {
         move |k: f64| {
-            x_range_sampled(scene, P2::new(-k, 0.0), tab, refined)
+            x_range_sampled(scene, k, tab, refined)
                 .map(|(x, cp, cm)| (x - 2.0 * w2 * (k - mt * r), w2 * (cm - cp) - 2.0 * w2))
                 .unwrap_or((f64::NAN, f64::NAN))
         }
