@@ -206,6 +206,11 @@ pub fn ladder(scene: &Scene) -> (Vec<Edit>, Vec<Rung>) {
                 "accuracy",
                 vec![Set("accuracy.max_rounds", v_int(1))],
             ));
+            l.push(rung(
+                "presolve, clarabel SOCP rounds (no exact disc)",
+                "accuracy",
+                vec![Set("accuracy.exact_disc", Value::from(false))],
+            ));
             for n in [64i64, 1440] {
                 l.push(rung(
                     &format!("scan {n}, exchange"),

@@ -234,7 +234,7 @@ pub struct Grid {
     pub x: Vec<f64>,
     /// y values (rows), increasing.
     pub y: Vec<f64>,
-    /// values[row][col]; non-finite cells (infeasible) are drawn grey.
+    /// `values[row][col]`; non-finite cells (infeasible) are drawn grey.
     pub values: Vec<Vec<f64>>,
 }
 

@@ -409,7 +409,7 @@ pub enum PathError {
 
 /// Head heights over [φ_min, φ_max]: `n` samples (every one must assemble, so the path
 /// follows one branch continuously between them), each sampled local extremum of y_C refined
-/// by Brent to `xtol` rad with [`interval_peak`].
+/// by Brent to `xtol` rad with [`crate::numeric::interval_peak`].
 pub fn head_heights(link: &Linkage, n: usize, xtol: f64) -> Result<HeadHeights, PathError> {
     head_heights_with(link, n, Some(xtol))
 }

@@ -15,6 +15,11 @@
 //! of each field on the current design with [`crate::numeric::periodic_peak`], adds those
 //! angles and re-solves until the true peak is within the tolerance of the sampled bound.
 //!
+//! Where the sampled problem is a smallest enclosing disc (the peak force of a counterweight
+//! turning with the crank, free direction, no limits, |U| bound inactive), each round is
+//! solved exactly by Welzl's algorithm instead (`disc_exchange`, `Settings::exact_disc`);
+//! clarabel solves every other variant.
+//!
 //! All quantities are expected already non-dimensionalised by the caller (O(1) numbers);
 //! clarabel's tolerances are relative to that scale.
 
@@ -156,7 +161,7 @@ pub struct Settings {
     /// After the presolve, solve each round's sampled minimax exactly as a smallest enclosing
     /// disc (Welzl) instead of by clarabel's SOCP, when the problem is one (peak force of a
     /// turning counterweight, free direction, no limits, |U| bound not active; see
-    /// [`disc_exchange`]). Default true; false always runs clarabel.
+    /// `disc_exchange`). Default true; false always runs clarabel.
     pub exact_disc: bool,
 }
 
@@ -696,7 +701,7 @@ pub fn solve(pb: &Problem, s: &Settings) -> Solution {
 /// the radius) are refined on the continuous curve (Brent on the neighbouring intervals)
 /// and the disc of the refined points recomputed, until the angles move less than
 /// √(0.01·`rel_tol`) (the bound changes with the square of an angle error). Those angles
-/// start the exchange loop: solved exactly as discs when [`disc_exchange`] applies, else by
+/// start the exchange loop: solved exactly as discs when `disc_exchange` applies, else by
 /// clarabel at the target tolerance under all the problem's constraints. The presolve only
 /// chooses where to look; the exchange loop still verifies (and corrects) the result.
 /// `None` when the goal is not a peak force of that form.

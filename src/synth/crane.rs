@@ -492,7 +492,7 @@ pub struct Landscape {
     pub k1: Vec<f64>,
     /// k2 values (rows).
     pub k2: Vec<f64>,
-    /// `delta_h_m[j][i]` at (k1[i], k2[j]) in m; `None` where the linkage cannot be built,
+    /// `delta_h_m[j][i]` at (`k1[i]`, `k2[j]`) in m; `None` where the linkage cannot be built,
     /// assemble over the range, or has a branch defect.
     pub delta_h_m: Vec<Vec<Option<f64>>>,
     /// Tie-pin limit violation (m, 0 inside; `None` as above), for drawing the boundary as
