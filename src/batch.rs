@@ -531,8 +531,7 @@ impl Template {
         for (key, cell) in self.overrides(cells) {
             set_dotted_table(&mut table, key, Cell::of(cell).value())?;
         }
-        let src = format!("{}:{line}", self.csv.display());
-        parse_table(table, Path::new(&src)).ok()
+        parse_table(table, Path::new(&self.source(line))).ok()
     }
 
     /// The machine of one CSV row: (name, its scene) or `fleet.csv:LINE: reason`. A good row
@@ -556,10 +555,16 @@ impl Template {
         cells: &[String],
     ) -> (String, Result<Scene, String>) {
         let (name, text) = self.machine(row, line, cells);
-        let src = format!("{}:{line}", self.csv.display());
+        let src = self.source(line);
         let scene =
             text.and_then(|t| parse_str(&t, Path::new(&src)).map_err(|e| row_error(self, line, e)));
         (name, scene)
+    }
+
+    /// Where CSV line `line` comes from, `fleet.csv:LINE`: a row's scene source and the
+    /// start of its messages.
+    pub fn source(&self, line: u64) -> String {
+        format!("{}:{line}", self.csv.display())
     }
 
     /// The name of the machine of CSV row `row` (1-based): its `name` cell, else
@@ -581,7 +586,7 @@ impl Template {
         line: u64,
         cells: &[String],
     ) -> (String, Result<String, String>) {
-        let at = format!("{}:{line}", self.csv.display());
+        let at = self.source(line);
         let name = self.row_name(row, cells);
         if cells.len() != self.header.len() {
             return (
@@ -665,7 +670,7 @@ impl Work {
     fn source(&self) -> String {
         match self {
             Work::Path(path) | Work::File { path, .. } => path.display().to_string(),
-            Work::Row { tpl, line, .. } => format!("{}:{line}", tpl.csv.display()),
+            Work::Row { tpl, line, .. } => tpl.source(*line),
             Work::Broken { .. } => String::new(),
         }
     }
@@ -816,22 +821,26 @@ fn row_error(tpl: &Template, line: u64, e: ProblemError) -> String {
             message,
             ..
         } => format!(
-            "{}:{line}: {}{message}{}",
-            tpl.csv.display(),
+            "{}: {}{message}{}",
+            tpl.source(line),
             field.map(|f| format!("field `{f}`: ")).unwrap_or_default(),
             tl.map(|l| format!(" (template {}:{l})", tpl.path.display()))
                 .unwrap_or_default()
         ),
-        e => format!("{}:{line}: {e}", tpl.csv.display()),
+        e => format!("{}: {e}", tpl.source(line)),
     }
 }
 
-/// A machine's input, before it is solved: a fleet row's scene (resolved when the row was
-/// read, where its error can be phrased for the row), or a file's text (resolved only if the
-/// machine is not skipped).
+/// A machine's input, before it is resolved (only if the machine is not skipped): a file's
+/// text, or a fleet row (whose error is phrased for the row).
 enum Ready {
-    Scene(Box<Scene>),
     Text(String, PathBuf),
+    Row {
+        tpl: Arc<Template>,
+        row: u64,
+        line: u64,
+        cells: Vec<String>,
+    },
 }
 
 /// Solves (or skips) one machine; writes its files unless `summary_only`.
@@ -854,10 +863,15 @@ fn process(job: Job, opts: &Options) -> (Row, bool) {
             line,
             cells,
         } => {
-            let source = format!("{}:{line}", tpl.csv.display());
-            let (name, scene) = tpl.scene(row, line, &cells);
-            let input = scene.map(|s| (tpl.input_hash(&name, &cells), Ready::Scene(Box::new(s))));
-            (name, source, input)
+            let (name, source) = (tpl.row_name(row, &cells), tpl.source(line));
+            let hash = tpl.input_hash(&name, &cells);
+            let ready = Ready::Row {
+                tpl,
+                row,
+                line,
+                cells,
+            };
+            (name, source, Ok((hash, ready)))
         }
         Work::Broken { name, message } => {
             return (error_row(index, &name, "", "", message), false);
@@ -874,18 +888,19 @@ fn process(job: Job, opts: &Options) -> (Row, bool) {
             }
         }
     }
+    // A bad file's error row keeps its hash; a bad row's has none (as when it was read).
     let scene = match ready {
-        Ready::Scene(s) => Ok(*s),
-        Ready::Text(text, path) => parse_str(&text, &path),
+        Ready::Text(text, path) => parse_str(&text, &path).map_err(|e| (e.to_string(), &*hash)),
+        Ready::Row {
+            tpl,
+            row,
+            line,
+            cells,
+        } => tpl.scene(row, line, &cells).1.map_err(|m| (m, "")),
     };
     let scene = match scene {
         Ok(s) => s,
-        Err(e) => {
-            return (
-                error_row(index, &name, &source, &hash, e.to_string()),
-                false,
-            )
-        }
+        Err((m, h)) => return (error_row(index, &name, &source, h, m), false),
     };
     if !opts.summary_only {
         let jp = opts.out.join(format!("{}.json", scene.name));

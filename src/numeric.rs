@@ -392,7 +392,6 @@ pub fn refine_sampled_max<F: Fn(f64) -> f64>(
             Some((u, gain)) => (u - x).abs() < tol || gain <= 4.0 * f64::EPSILON * fx.abs(),
             None => flat,
         };
-        let probing = converged;
         let u = match vertex {
             // Nothing left to gain (or flat to the last bit where sampled): close the bracket.
             _ if converged => probe(),
@@ -409,7 +408,7 @@ pub fn refine_sampled_max<F: Fn(f64) -> f64>(
         }
         // A probe that gains only round-off (a few ulps of f) closes its side: the value is
         // then exact to round-off, and the search does not wander in the noise.
-        let gain = if probing {
+        let gain = if converged {
             4.0 * f64::EPSILON * fx.abs()
         } else {
             0.0
@@ -572,39 +571,25 @@ pub fn periodic_peak_sampled<F: Fn(f64) -> f64>(
     xtol: Option<f64>,
     refine: Refine,
 ) -> Result<PeriodicPeak, SearchError> {
-    let shape = Shape::of(ys, false, refine)?;
-    shape.peak(ys, 1.0, f, xtol, refine)
+    Shape::of(ys, false, refine)?.peak(ys, 1.0, f, xtol)
 }
 
-/// The largest and the smallest value of a periodic function from one pass over its
-/// samples (as [`periodic_peak_sampled`] of f and of −f, without the negated copy): the
-/// peak of f and the peak of −f, whose values are the negated minima.
-pub fn periodic_extremes_sampled<F: Fn(f64) -> f64>(
-    ys: &[f64],
-    f: F,
-    xtol: Option<f64>,
-    refine: Refine,
-) -> Result<(PeriodicPeak, PeriodicPeak), SearchError> {
-    let shape = Shape::of(ys, true, refine)?;
-    Ok((
-        shape.peak(ys, 1.0, &f, xtol, refine)?,
-        shape.peak(ys, -1.0, &f, xtol, refine)?,
-    ))
-}
-
-/// What one pass over the samples `ys[k] = f(k·h)` of a periodic function finds.
+/// What a pass over the samples `ys[k] = f(k·h)` of a periodic function finds: its
+/// curvature bound, its extreme samples and the candidates of its maxima (and, if asked, of
+/// its minima, so that both extremes come from one scan without a negated copy).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Shape {
     /// Grid spacing h = 2π/n.
     pub h: f64,
     /// The largest second difference |y_{k−1} − 2y_k + y_{k+1}| (≈ |f''|h²).
     pub d2max: f64,
-    /// The largest and the smallest sample.
+    /// The largest sample.
     pub best: f64,
     /// The smallest sample.
     pub worst: f64,
     /// Samples above their left and not below their right neighbour (a plateau, all equal,
-    /// has every sample a "maximum": only strict-left ones are kept).
+    /// has every sample a "maximum": only strict-left ones are kept); with
+    /// `Refine::PeakOnly`, only those that can be the peak.
     maxima: Vec<usize>,
     /// The same for −f, when asked for.
     minima: Vec<usize>,
@@ -622,7 +607,7 @@ impl Shape {
         }
         let h = std::f64::consts::TAU / n as f64;
         // Pass 1, branch-free: the largest second difference and the extreme samples, in
-        // four independent lanes (`if b > a {b} else {a}` is a max for finite values and
+        // two independent lanes (`if b > a {b} else {a}` is a max for finite values and
         // vectorises), and y·0, which is NaN for a NaN or infinite sample.
         let wrap = |k: usize| {
             let prev = if k == 0 { n - 1 } else { k - 1 };
@@ -691,43 +676,35 @@ impl Shape {
             }
         }
         (4 * (n / 4)..n).for_each(look);
-        let sh = Shape {
+        Ok(Shape {
             h,
             d2max,
             best,
             worst,
             maxima,
             minima: minima_at,
-        };
-        Ok(sh)
+        })
     }
 
-    /// The refined peak of `sign`·f (`sign` = ±1) from the samples and this shape.
+    /// The refined peak of `sign`·f (`sign` = ±1: the minima need `Shape::of(…, true, …)`)
+    /// from the samples `ys` this shape was made of; `xtol` = `None`: the sampled peak.
     pub fn peak<F: Fn(f64) -> f64>(
         &self,
         ys: &[f64],
         sign: f64,
         f: F,
         xtol: Option<f64>,
-        refine: Refine,
     ) -> Result<PeriodicPeak, SearchError> {
         let (n, h) = (ys.len(), self.h);
-        let (best, candidates) = if sign > 0.0 {
-            (self.best, &self.maxima)
+        let candidates = if sign > 0.0 {
+            &self.maxima
         } else {
-            (-self.worst, &self.minima)
+            &self.minima
         };
         let y = |k: usize| sign * ys[k];
-        let floor = match refine {
-            Refine::All => f64::NEG_INFINITY,
-            Refine::PeakOnly => best - 2.0 * self.d2max,
-        };
         let mut maxima = Vec::with_capacity(candidates.len());
         let mut evals = n;
         for &k in candidates {
-            if y(k) < floor {
-                continue;
-            }
             let c = k as f64 * h;
             let Some(xtol) = xtol else {
                 maxima.push(Extremum { x: c, fx: y(k) });
@@ -1146,7 +1123,11 @@ mod tests {
             let (f, ys, _) = random_trig_on_grid(&mut rnd);
             let neg: Vec<f64> = ys.iter().map(|y| -y).collect();
             for (xtol, refine) in [(Some(1e-8), Refine::PeakOnly), (None, Refine::All)] {
-                let (mx, mn) = periodic_extremes_sampled(&ys, f, xtol, refine).unwrap();
+                let shape = Shape::of(&ys, true, refine).unwrap();
+                let (mx, mn) = (
+                    shape.peak(&ys, 1.0, f, xtol).unwrap(),
+                    shape.peak(&ys, -1.0, f, xtol).unwrap(),
+                );
                 let mx2 = periodic_peak_sampled(&ys, f, xtol, refine).unwrap();
                 let mn2 = periodic_peak_sampled(&neg, |x| -f(x), xtol, refine).unwrap();
                 assert_eq!((mx.peak, mn.peak), (mx2.peak, mn2.peak));
@@ -1154,7 +1135,11 @@ mod tests {
             }
         }
         let flat = [1.0; 16];
-        let (mx, mn) = periodic_extremes_sampled(&flat, |_| 1.0, Some(1e-9), Refine::All).unwrap();
+        let shape = Shape::of(&flat, true, Refine::All).unwrap();
+        let (mx, mn) = (
+            shape.peak(&flat, 1.0, |_| 1.0, Some(1e-9)).unwrap(),
+            shape.peak(&flat, -1.0, |_| 1.0, Some(1e-9)).unwrap(),
+        );
         assert_eq!((mx.peak.fx, mn.peak.fx), (1.0, -1.0));
     }
 

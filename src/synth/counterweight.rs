@@ -517,7 +517,7 @@ pub fn solve(pb: &Problem, s: &Settings) -> Solution {
     }
     let mut samples = presolved.unwrap_or_else(|| uniform_angles(s.initial_samples));
     for &phi in &pb.warm_angles {
-        if samples.iter().all(|&q| angle_dist(q, phi) > 1e-9) {
+        if is_new(&samples, phi) {
             samples.push(phi);
         }
     }
@@ -656,7 +656,7 @@ pub fn solve(pb: &Problem, s: &Settings) -> Solution {
         samples.retain(|&phi| keep(phi));
         let mut added = 0;
         let mut add = |phi: f64, samples: &mut Vec<f64>| {
-            if samples.iter().all(|&q| angle_dist(q, phi) > 1e-9) {
+            if is_new(samples, phi) {
                 samples.push(phi);
                 added += 1;
             }
@@ -759,7 +759,9 @@ pub fn enclosing_presolve(pb: &Problem, s: &Settings) -> Option<Vec<f64>> {
 /// constant c > 0 (a counterweight turning with the crank): ‖A u + b‖ = c‖u − p(φ)‖ with
 /// p(φ) = −Aᵀb/c², the unbalance that would cancel the force at φ.
 struct DiscForm<'p, 'a> {
+    /// The objective field and its index in the problem.
     f: &'p Field<'a>,
+    i: usize,
     /// c².
     c2: f64,
 }
@@ -777,7 +779,7 @@ impl<'p, 'a> DiscForm<'p, 'a> {
         }
         let [[a00, _], [a10, _]] = (f.eval)(0.0).a;
         let c2 = a00 * a00 + a10 * a10;
-        (c2 > 0.0).then_some(DiscForm { f, c2 })
+        (c2 > 0.0).then_some(DiscForm { f, i, c2 })
     }
 
     /// p of one affine value (`None` when its A is not c·orthogonal).
@@ -822,10 +824,7 @@ fn disc_exchange(pb: &Problem, s: &Settings, start: &[f64]) -> Option<Solution> 
         return None;
     }
     let form = DiscForm::of(pb)?;
-    let Goal::MinPeak(i) = pb.goal else {
-        return None;
-    };
-    let c = form.c2.sqrt();
+    let (i, c) = (form.i, form.c2.sqrt());
     let mut samples = start.to_vec();
     let mut last = None;
     for round in 1..=s.max_rounds {
@@ -851,7 +850,7 @@ fn disc_exchange(pb: &Problem, s: &Settings, start: &[f64]) -> Option<Solution> 
             .iter()
             .filter(|m| m.fx > lower + 0.5 * s.rel_tol * peak)
             .map(|m| m.x)
-            .filter(|&x| samples.iter().all(|&q| angle_dist(q, x) > 1e-9))
+            .filter(|&x| is_new(&samples, x))
             .collect();
         let sol = Solution {
             status: if converged {
@@ -892,6 +891,11 @@ fn disc_exchange(pb: &Problem, s: &Settings, start: &[f64]) -> Option<Solution> 
         )),
         ..l
     })
+}
+
+/// Whether `phi` is not yet among the sampled angles (none within 1e-9 rad).
+fn is_new(samples: &[f64], phi: f64) -> bool {
+    samples.iter().all(|&q| angle_dist(q, phi) > 1e-9)
 }
 
 /// Distance between two angles on the circle.

@@ -394,7 +394,7 @@ fn grid_extremes(
         // A value needs its maximum located only to √ε (≈ 1e-8 rad): closer, the values
         // differ by round-off (½|f''|δ² < ε|f|).
         shape
-            .peak(ys, sign, &f, Some(s.peak_xtol.max(1e-8)), Refine::PeakOnly)
+            .peak(ys, sign, &f, Some(s.peak_xtol.max(1e-8)))
             .map_err(num)
     };
     Ok((peak(1.0)?, if minima { Some(peak(-1.0)?) } else { None }))
