@@ -279,7 +279,9 @@ pub fn row_from_json(index: u64, source: &str, hash: &str, v: &serde_json::Value
         }
     }
     let status = s("status");
-    let message = if matches!(status.as_str(), "failed" | "infeasible" | "inaccurate") {
+    let message = if status == "degenerate" {
+        s("status_detail")
+    } else if matches!(status.as_str(), "failed" | "infeasible" | "inaccurate") {
         v.get("warnings")
             .and_then(|w| w.as_array())
             .map(|w| {

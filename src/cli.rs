@@ -108,14 +108,21 @@ pub fn expand_inputs(inputs: &[PathBuf]) -> anyhow::Result<Vec<PathBuf>> {
 
 fn summary(r: &SolveResult) -> String {
     let mut s = format!(
-        "{} ({}): {}\n",
+        "{} ({}): {}{}\n",
         r.name,
         r.family,
-        serde_json::to_value(r.status)
-            .unwrap()
-            .as_str()
-            .unwrap_or("")
+        r.status,
+        r.status_detail
+            .as_ref()
+            .map(|d| format!(" ({d})"))
+            .unwrap_or_default()
     );
+    if let Some(e) = &r.search {
+        s += &format!(
+            "  search     {} starts, {} basins, {} at the best, {} evaluations (not proven optimal)\n",
+            e.starts, e.distinct_basins, e.starts_at_best, e.evaluations
+        );
+    }
     for (k, v) in &r.design {
         s += &format!("  design     {k:<34} {}\n", fmt_num(*v));
     }

@@ -9,12 +9,24 @@ use std::collections::BTreeMap;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
-/// Result status.
+/// Result status: one vocabulary for every family, each a claim the result can back
+/// (`docs/results.md`, "Statuses").
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "kebab-case")]
+#[serde(rename_all = "snake_case")]
 pub enum Status {
-    /// Optimised to the requested tolerance.
+    /// Certified optimum: a convex problem solved to its tolerance (clarabel's duality gap,
+    /// the exchange loop's refined peak), or a search whose bound is proven (a 1-D problem
+    /// bracketed and converged, a lower bound within the stated error). `errors` bounds the
+    /// distance of every objective from the true optimum.
     Optimal,
+    /// A heuristic global search (multistart, Halton + local) found this design; nothing proves
+    /// it is the global optimum. The evidence is in `search` (starts, distinct basins,
+    /// evaluations, the spread of the best few); `errors` covers evaluation of this design only.
+    BestFound,
+    /// The problem is meaningless as posed: the objective does not depend on a free variable,
+    /// or the optimum sits on a bound that turns the machine into another one.
+    /// `status_detail` says which; the numbers are those of the given or bounding design.
+    Degenerate,
     /// Nothing free: the given design was analysed.
     Analysed,
     /// Stopped with a larger error than requested; `errors` says how large.
@@ -23,6 +35,65 @@ pub enum Status {
     Infeasible,
     /// The solve failed; `warnings` says why.
     Failed,
+}
+
+impl Status {
+    /// The JSON / summary spelling (`optimal`, `best_found`, …).
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Status::Optimal => "optimal",
+            Status::BestFound => "best_found",
+            Status::Degenerate => "degenerate",
+            Status::Analysed => "analysed",
+            Status::Inaccurate => "inaccurate",
+            Status::Infeasible => "infeasible",
+            Status::Failed => "failed",
+        }
+    }
+
+    /// What the status promises, one line (reports, `docs/results.md`).
+    pub fn promise(self) -> &'static str {
+        match self {
+            Status::Optimal => "certified optimum: the true optimum is within the stated error",
+            Status::BestFound => {
+                "best design a heuristic global search found; not proven optimal (see the search evidence)"
+            }
+            Status::Degenerate => {
+                "the problem is degenerate as posed (see the detail); the numbers optimise nothing"
+            }
+            Status::Analysed => "nothing free: the given design, evaluated to the stated error",
+            Status::Inaccurate => "stopped short of the requested accuracy; the stated error says how far",
+            Status::Infeasible => "the constraints cannot be met",
+            Status::Failed => "the solve failed; the warnings say why",
+        }
+    }
+}
+
+impl std::fmt::Display for Status {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.as_str())
+    }
+}
+
+/// The evidence behind a `best_found` status: what a heuristic global search did and how
+/// consistent its best results were (JSON key `search`).
+#[derive(Debug, Clone, PartialEq, Serialize, Default)]
+pub struct SearchEvidence {
+    /// The search, with its reference (e.g. "Halton 256 + Nelder–Mead (Lagarias 1998) from 8 starts").
+    pub method: String,
+    /// Local searches started.
+    pub starts: usize,
+    /// Distinct local optima (basins) the starts ended in.
+    pub distinct_basins: usize,
+    /// Objective evaluations in all.
+    pub evaluations: usize,
+    /// The best few distinct local optima's objective values, best first (SI, the objective's unit).
+    pub best_values: Vec<f64>,
+    /// How many starts ended within `rel_tol` of the best value.
+    pub starts_at_best: usize,
+    /// (second best − best)/|best| over distinct basins; absent with one basin.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub spread_rel: Option<f64>,
 }
 
 /// A paper's printed value against the program's.
@@ -86,6 +157,9 @@ pub struct SolveResult {
     /// The family's own, finer status where it has one (e.g. `branch-defect`), else absent.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub status_detail: Option<String>,
+    /// With `best_found`: what the heuristic search did (absent otherwise).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub search: Option<SearchEvidence>,
     /// Problem file.
     pub source: String,
     /// The model fidelity actually used (kinematics, masses, …).
@@ -130,6 +204,7 @@ impl SolveResult {
             family: scene.family.as_str().into(),
             status: Status::Failed,
             status_detail: None,
+            search: None,
             source: scene.source.display().to_string(),
             model: BTreeMap::new(),
             design: BTreeMap::new(),
@@ -182,6 +257,7 @@ impl SolveResult {
             "name": self.name,
             "family": self.family,
             "status": self.status,
+            "status_detail": self.status_detail,
             "objective": self.objective,
             "design": self.design,
             "objectives": self.objectives,
@@ -275,16 +351,33 @@ pub fn markdown(r: &SolveResult) -> String {
     };
     p(format!("# {} ({})\n", r.name, r.family));
     p(format!(
-        "Status: **{}** · source `{}` · solve {:.3} ms, total {:.3} ms\n",
-        serde_json::to_value(r.status)
-            .unwrap()
-            .as_str()
-            .unwrap_or(""),
+        "Status: **{}** ({}) · source `{}` · solve {:.3} ms, total {:.3} ms\n",
+        r.status.as_str(),
+        r.status.promise(),
         r.source,
         r.timing.solve_s * 1e3,
         r.timing.total_s * 1e3
     ));
+    if let Some(d) = &r.status_detail {
+        p(format!("Status detail: {d}\n"));
+    }
     p(format!("Method: {}\n", r.method));
+    if let Some(e) = &r.search {
+        p("## Search evidence (status `best_found`: not proven optimal)\n".into());
+        p(format!("- method: {}", e.method));
+        p(format!(
+            "- {} starts, {} distinct basins, {} at the best value, {} evaluations",
+            e.starts, e.distinct_basins, e.starts_at_best, e.evaluations
+        ));
+        if !e.best_values.is_empty() {
+            let v: Vec<String> = e.best_values.iter().map(|x| fmt_num(*x)).collect();
+            p(format!("- best distinct values: {}", v.join(", ")));
+        }
+        if let Some(sp) = e.spread_rel {
+            p(format!("- relative gap to the second basin: {sp:.2e}"));
+        }
+        p(String::new());
+    }
     if !r.model.is_empty() {
         p("## Model\n".into());
         p("| setting | value |\n|---|---|".into());
