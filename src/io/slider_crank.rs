@@ -732,6 +732,12 @@ pub fn result(scene: &Scene, sc_scene: &SliderCrankScene) -> SolveResult {
         CwStatus::Infeasible => Status::Infeasible,
         CwStatus::Failed => Status::Failed,
     };
+    if let Some(why) = &out.degenerate {
+        if free {
+            r.status = Status::Degenerate;
+            r.status_detail = Some(why.clone());
+        }
+    }
     r.method = out.method.clone();
     r.warnings.extend(out.warnings.iter().cloned());
     let d = &out.design;
@@ -769,7 +775,8 @@ pub fn result(scene: &Scene, sc_scene: &SliderCrankScene) -> SolveResult {
         .insert("peak_drive_torque_nm".into(), d.peak_torque);
     r.objectives
         .insert("peak_shaking_moment_nm".into(), out.peak_shaking_moment);
-    let (gap_f, gap_t) = if torque_objective {
+    // A degenerate torque objective was solved as the minimax force: its gap is in N.
+    let (gap_f, gap_t) = if torque_objective && out.degenerate.is_none() {
         (0.0, out.gap)
     } else {
         (out.gap, 0.0)

@@ -19,8 +19,11 @@ use crate::geom::{cross, P2};
 pub enum Kinematics {
     /// x = R cos φ + sqrt(L² − (R sin φ − e)²), differentiated exactly.
     Exact,
-    /// The textbook truncation x'' ≈ −R(cos φ + λ cos 2φ) (in-line slider only); the rod
-    /// angle stays exact.
+    /// The textbook truncation x'' ≈ −R(cos φ + λ cos 2φ) (in-line slider only), applied
+    /// consistently: the rod is its two point masses m3(1 − l3/L) at A and m3·l3/L at B plus
+    /// the correction couple of its remaining inertia ΔI = I3 − m3 l3 (L − l3), whose angle is
+    /// the series to the same order, ψ ≈ −λ sin φ (so ψ' = −λ cos φ, ψ'' = λ sin φ). A lumped
+    /// rod (ΔI = 0) then has exactly zero shaking moment and the torque m_ct x'x''.
     TwoHarmonic,
 }
 
@@ -148,7 +151,13 @@ impl SliderCrank {
         }
         let k = k2.sqrt();
         let rc = r * c;
-        let dpsi = [-rc / k, r * s / k - sigma * rc * rc / (k * k2)];
+        let dpsi = match self.kinematics {
+            Kinematics::Exact => [-rc / k, r * s / k - sigma * rc * rc / (k * k2)],
+            Kinematics::TwoHarmonic => {
+                let lam = self.lambda();
+                [-lam * c, lam * s]
+            }
+        };
         let x = match self.kinematics {
             Kinematics::Exact => [
                 rc + k,
@@ -201,21 +210,51 @@ impl SliderCrank {
     /// Drive torque per ω² at constant speed without gravity or load (kg·m²):
     /// T/ω² = dE_kin/dφ / ω² = m3 G3'·G3'' + I3 ψ'ψ'' + m4 x'x''. The crank and any
     /// counterweight turn uniformly and contribute nothing.
+    ///
+    /// Two-harmonic kinematics: the rod as two point masses plus the couple ΔI ψ'ψ''
+    /// (see [`Kinematics::TwoHarmonic`]): T/ω² = m_ct x'x'' + ΔI ψ'ψ'' (A'·A'' = 0 on the
+    /// crank circle).
     pub fn drive_torque0(&self, st: &State) -> f64 {
-        self.rod.mass * st.g3[1].dot(&st.g3[2])
-            + self.rod.inertia * st.dpsi[0] * st.dpsi[1]
-            + self.slider_mass * st.x[1] * st.x[2]
+        match self.kinematics {
+            Kinematics::Exact => {
+                self.rod.mass * st.g3[1].dot(&st.g3[2])
+                    + self.rod.inertia * st.dpsi[0] * st.dpsi[1]
+                    + self.slider_mass * st.x[1] * st.x[2]
+            }
+            Kinematics::TwoHarmonic => {
+                self.m_rec() * st.x[1] * st.x[2]
+                    + self.rod_inertia_excess() * st.dpsi[0] * st.dpsi[1]
+            }
+        }
+    }
+
+    /// ΔI = I3 − m3 l3 (L − l3) (kg·m²): the rod's inertia about G3 beyond that of its two
+    /// point masses at A and B; 0 for a lumped rod.
+    pub fn rod_inertia_excess(&self) -> f64 {
+        let l3 = self.rod.centroid;
+        self.rod.inertia - self.rod.mass * l3 * (self.l - l3)
     }
 
     /// Shaking moment about O per ω² (kg·m²): the moment the moving links exert on the
     /// frame (motor stator included), −Σ(mᵢ rᵢ × rᵢ'' + Iᵢ θᵢ''). Crank and counterweight
     /// contribute nothing at constant speed.
+    ///
+    /// Two-harmonic kinematics (in-line, e = 0): the two point masses at A (on the crank
+    /// circle at constant speed, A × A'' = 0) and B (on the line through O, B × B'' = 0)
+    /// exert none, so M₀ = −ΔI ψ''.
     pub fn shaking_moment0(&self, st: &State) -> f64 {
         let b = P2::new(st.x[0], self.e);
         let b2 = P2::new(st.x[2], 0.0);
-        -(self.rod.mass * cross(st.g3[0], st.g3[2])
-            + self.rod.inertia * st.dpsi[1]
-            + self.slider_mass * cross(b, b2))
+        match self.kinematics {
+            Kinematics::Exact => {
+                -(self.rod.mass * cross(st.g3[0], st.g3[2])
+                    + self.rod.inertia * st.dpsi[1]
+                    + self.slider_mass * cross(b, b2))
+            }
+            Kinematics::TwoHarmonic => {
+                -(self.rod_inertia_excess() * st.dpsi[1] + self.m_rec() * cross(b, b2))
+            }
+        }
     }
 
     /// Kinetic energy per ω² (kg·m²) of the links without counterweight, used by tests of
@@ -223,10 +262,90 @@ impl SliderCrank {
     /// rotational energy omitted (it is constant).
     pub fn kinetic_energy0(&self, st: &State) -> f64 {
         let g2 = st.a[1] * (self.crank.centroid / self.r);
-        0.5 * (self.crank.mass * g2.norm_squared()
-            + self.rod.mass * st.g3[1].norm_squared()
-            + self.rod.inertia * st.dpsi[0] * st.dpsi[0]
-            + self.slider_mass * st.x[1] * st.x[1])
+        let rod = match self.kinematics {
+            Kinematics::Exact => {
+                self.rod.mass * st.g3[1].norm_squared() + self.rod.inertia * st.dpsi[0] * st.dpsi[0]
+            }
+            // Two point masses (the one at A moves at constant speed) and ΔI.
+            Kinematics::TwoHarmonic => {
+                let mu = self.rod.centroid / self.l;
+                self.rod.mass * ((1.0 - mu) * st.a[1].norm_squared() + mu * st.x[1] * st.x[1])
+                    + self.rod_inertia_excess() * st.dpsi[0] * st.dpsi[0]
+            }
+        };
+        0.5 * (self.crank.mass * g2.norm_squared() + rod + self.slider_mass * st.x[1] * st.x[1])
+    }
+}
+
+/// A priori bounds, over every crank angle, on the kinematic quantities of
+/// [`SliderCrank::state`] and on the round-off committed in computing them: the
+/// conditioning part of every stated error (issue 14).
+///
+/// With a = R + |e| (the largest |σ|), the assembly margin d = L − a and
+/// k_min = sqrt(d (L + a)), the computed k = sqrt((L − σ)(L + σ)) carries a relative error
+/// ρ_k ≤ ε (2 + (L + 4a)/d): L − σ loses the digits that the margin d does not have. Then,
+/// term by term of the formulas in [`SliderCrank::state`] (each a few roundings, k^−n
+/// amplifying ρ_k n times):
+/// |x''| ≤ X2 = R + R(R + a)/k_min + a²R²/k_min³,
+/// δx'' ≤ 6ε X2 + ρ_k (R(R + a)/k_min + 3a²R²/k_min³), and likewise for x, x', ψ', ψ''.
+/// Near toggle (d → 0) the bounds grow as d^−3/2 and the stated errors with them.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RoundOff {
+    /// Bounds on |x|, |x'|, |x''| (m per rad^n).
+    pub x: [f64; 3],
+    /// Bounds on their round-off.
+    pub dx: [f64; 3],
+    /// Bounds on |ψ'|, |ψ''|.
+    pub psi: [f64; 2],
+    /// Bounds on their round-off.
+    pub dpsi: [f64; 2],
+    /// ρ_k, the relative round-off of k (0 for two-harmonic kinematics).
+    pub rho_k: f64,
+}
+
+impl SliderCrank {
+    /// [`RoundOff`] of this mechanism (it must assemble: R + |e| < L).
+    pub fn round_off(&self) -> RoundOff {
+        let eps = f64::EPSILON;
+        let (r, l) = (self.r, self.l);
+        match self.kinematics {
+            Kinematics::Exact => {
+                let a = r + self.e.abs();
+                let d = l - a;
+                let kmin = (d * (l + a)).sqrt();
+                let rho = eps * (2.0 + (l + 4.0 * a) / d);
+                let t2 = r * (r + a) / kmin;
+                let t3 = a * a * r * r / (kmin * kmin * kmin);
+                let x1 = r + a * r / kmin;
+                let p1 = r / kmin;
+                let p2 = r / kmin + a * r * r / (kmin * kmin * kmin);
+                RoundOff {
+                    x: [r + l, x1, r + t2 + t3],
+                    dx: [
+                        3.0 * eps * (r + l) + rho * l,
+                        4.0 * eps * x1 + rho * a * r / kmin,
+                        6.0 * eps * (r + t2 + t3) + rho * (t2 + 3.0 * t3),
+                    ],
+                    psi: [p1, p2],
+                    dpsi: [
+                        3.0 * eps * p1 + rho * p1,
+                        5.0 * eps * p2 + rho * (r / kmin + 3.0 * a * r * r / (kmin * kmin * kmin)),
+                    ],
+                    rho_k: rho,
+                }
+            }
+            Kinematics::TwoHarmonic => {
+                let lam = self.lambda();
+                let xb = r * (1.0 + lam);
+                RoundOff {
+                    x: [r + l + xb, xb, xb],
+                    dx: [8.0 * eps * (r + l + xb), 6.0 * eps * xb, 6.0 * eps * xb],
+                    psi: [lam, lam],
+                    dpsi: [3.0 * eps * lam, 3.0 * eps * lam],
+                    rho_k: 0.0,
+                }
+            }
+        }
     }
 }
 
@@ -251,6 +370,15 @@ pub enum ProcessForce {
 }
 
 impl ProcessForce {
+    /// max over φ of |F_p| (N).
+    pub fn max_abs(&self) -> f64 {
+        match self {
+            ProcessForce::None => 0.0,
+            ProcessForce::Constant(f) => f.abs(),
+            ProcessForce::Table { forces, .. } => forces.iter().fold(0.0, |a, f| a.max(f.abs())),
+        }
+    }
+
     /// The force at φ (N).
     pub fn at(&self, phi: f64) -> f64 {
         match self {
@@ -419,6 +547,41 @@ mod tests {
                 / (2.0 * h);
             let t = m.drive_torque0(&m.state(phi).unwrap());
             assert!((de - t).abs() < 1e-9, "{de} vs {t}");
+        }
+    }
+
+    /// Issue 14 item 3: two-harmonic kinematics is one consistent model. A lumped rod (two
+    /// point masses) has zero shaking moment and the torque m_ct x'x'' exactly; a rigid rod's
+    /// torque is still dE/dφ of the same model, and its moment is −ΔI ψ''.
+    #[test]
+    fn two_harmonic_model_is_consistent() {
+        let mut m = piston();
+        m.e = 0.0;
+        m.kinematics = Kinematics::TwoHarmonic;
+        m.rod = Rod::lumped(0.3, 0.5, m.l);
+        assert!(m.rod_inertia_excess().abs() < 1e-18);
+        let h = 1e-5;
+        for k in 0..24 {
+            let phi = 0.05 + k as f64 * 0.27;
+            let st = m.state(phi).unwrap();
+            assert_eq!(m.shaking_moment0(&st), 0.0, "lumped moment at {phi}");
+            let t = m.drive_torque0(&st);
+            assert!((t - m.m_rec() * st.x[1] * st.x[2]).abs() < 1e-18);
+        }
+        m.rod = Rod::rigid(0.3, m.l, Some(0.05), Some(4e-4));
+        let di = m.rod_inertia_excess();
+        assert!(di.abs() > 1e-5);
+        for k in 0..16 {
+            let phi = 0.1 + k as f64 * 0.39;
+            let de = (m.kinetic_energy0(&m.state(phi + h).unwrap())
+                - m.kinetic_energy0(&m.state(phi - h).unwrap()))
+                / (2.0 * h);
+            let st = m.state(phi).unwrap();
+            assert!((de - m.drive_torque0(&st)).abs() < 1e-9);
+            let lam = m.lambda();
+            assert!((m.shaking_moment0(&st) + di * lam * phi.sin()).abs() < 1e-15);
+            // ψ' and ψ'' are the derivatives of the series ψ = −λ sin φ.
+            assert!((st.dpsi[0] + lam * phi.cos()).abs() < 1e-15);
         }
     }
 }

@@ -172,6 +172,9 @@ pub struct Outcome {
     pub method: String,
     /// Warnings.
     pub warnings: Vec<String>,
+    /// Why the problem is degenerate as posed (the objective does not depend on the free
+    /// counterweight), if it is: the result's status is then `degenerate`.
+    pub degenerate: Option<String>,
 }
 
 /// One point of the torque–force Pareto front: the least peak torque with the peak
@@ -400,6 +403,56 @@ fn grid_extremes(
     Ok((peak(1.0)?, if minima { Some(peak(-1.0)?) } else { None }))
 }
 
+/// Bounds on the round-off of one evaluation of the shaking force (N), the drive torque
+/// (N·m) and the shaking moment (N·m) of the counterweight `u`, at any crank angle: the
+/// conditioning term of every stated error. Built from the kinematic bounds of
+/// [`SliderCrank::round_off`] through the formulas of [`SliderCrank::shaking_force0`],
+/// [`SliderCrank::drive_torque0`], [`SliderCrank::load_torque0`] and
+/// [`SliderCrank::shaking_moment0`], each product's error as |a|δb + |b|δa + (rounding)·|ab|.
+/// Tested against a double-double evaluation in `tests/certified.rs`.
+pub fn round_off_bounds(scene: &Scene, u: P2) -> [f64; 3] {
+    let eps = f64::EPSILON;
+    let m = &scene.mech;
+    let ro = m.round_off();
+    let w2 = scene.omega * scene.omega;
+    let mu = (m.rod.centroid / m.l).abs();
+    let (m2, m3, m4) = (m.crank.mass, m.rod.mass, m.slider_mass);
+    let r = m.r;
+    let [x0, x1, x2] = ro.x;
+    let [dx0, dx1, dx2] = ro.dx;
+    let [p1, p2] = ro.psi;
+    let [dp1, dp2] = ro.dpsi;
+    let i_eff = m.rod.inertia.abs() + m.rod_inertia_excess().abs();
+    let un = u.norm();
+    let r2 = (m.crank.centroid).abs();
+    // Shaking force: f₀ = −(m2 (r2/R) A'' + m3 G3'' + m4 x'' e_x), F = ω²(f₀ + Rot U).
+    let (g1, g2) = (r + x1, r + x2);
+    let f0 = m2 * r2 + m3 * g2 + m4 * x2;
+    let force = w2 * ((m3 * mu + m4) * dx2 + 20.0 * eps * (f0 + un));
+    // Drive torque: ω²(m3 G3'·G3'' + I ψ'ψ'' + m4 x'x'') − Σ m g·r' − F_p x' − g·Rot'U.
+    let t_in = m3 * (g1 * mu * dx2 + g2 * mu * dx1 + 6.0 * eps * g1 * g2)
+        + i_eff * (p1 * dp2 + p2 * dp1 + 6.0 * eps * p1 * p2)
+        + m4 * (x1 * dx2 + x2 * dx1 + 6.0 * eps * x1 * x2);
+    let t_in_size = m3 * g1 * g2 + i_eff * p1 * p2 + m4 * x1 * x2;
+    let g = scene.loads.gravity.norm();
+    let fp = scene.loads.process.max_abs();
+    let t_load = g
+        * (4.0 * eps * m2 * r2 + m3 * (mu * dx1 + 4.0 * eps * g1) + m4 * (dx1 + 4.0 * eps * x1))
+        + fp * (dx1 + 4.0 * eps * x1);
+    let t_load_size = g * (m2 * r2 + m3 * g1 + m4 * x1) + fp * x1;
+    let torque = w2 * t_in
+        + t_load
+        + 6.0 * eps * g * un
+        + 6.0 * eps * (w2 * t_in_size + t_load_size + g * un);
+    // Shaking moment: −ω²(m3 G3 × G3'' + I ψ'' + m4 B × B'').
+    let b0 = x0 + m.e.abs();
+    let m_err = m3 * (b0 * (mu * dx2 + 4.0 * eps * g2) + g2 * (mu * dx0 + 4.0 * eps * b0))
+        + i_eff * (dp2 + 2.0 * eps * p2)
+        + m4 * (b0 * dx2 + x2 * dx0 + 4.0 * eps * b0 * x2)
+        + 6.0 * eps * (m3 * b0 * g2 + i_eff * p2 + m4 * b0 * x2);
+    [force, torque, w2 * m_err * (1.0 + 4.0 * eps)]
+}
+
 fn metrics_sampled(scene: &Scene, u: P2, tab: &Sampled) -> Result<Metrics, SolveError> {
     let (mech, omega, s) = (&scene.mech, scene.omega, &scene.settings);
     let w2 = omega * omega;
@@ -433,20 +486,22 @@ fn metrics_sampled(scene: &Scene, u: P2, tab: &Sampled) -> Result<Metrics, Solve
                 .collect::<Vec<f64>>(),
         )
     };
+    // Round-off of each evaluation (conditioning), on top of sampling and refinement.
+    let [ro_f, ro_t, _] = round_off_bounds(scene, u);
     Ok(Metrics {
         unbalance: [u.x, u.y],
         peak: pk.peak.fx,
         peak_angle: pk.peak.x,
-        peak_error: pk.error,
+        peak_error: pk.error + ro_f,
         rms: rms.rms,
-        rms_error: rms.error,
+        rms_error: rms.error + ro_f,
         ptp_x: xmax.peak.fx + xmin.peak.fx,
         ptp_y: ymax.peak.fx + ymin.peak.fx,
         peak_x: xmax.peak.fx.max(xmin.peak.fx),
         peak_y: ymax.peak.fx.max(ymin.peak.fx),
         peak_torque: tq.peak.fx,
         peak_torque_angle: tq.peak.x,
-        peak_torque_error: tq.error,
+        peak_torque_error: tq.error + ro_t,
     })
 }
 
@@ -865,9 +920,28 @@ fn pareto_sampled(scene: &Scene, n: usize, tab: &Sampled) -> Result<Vec<ParetoPo
 }
 
 /// Solves the scene: [`optimise`], then the design's figures and the baselines.
+///
+/// Degenerate objectives are flagged, not solved: without gravity the drive torque of a
+/// constant-speed crank does not depend on its counterweight (the counterweight's inertia
+/// adds no torque, [`crate::mech::slider_crank::SliderCrank::drive_torque0`]), so "minimise
+/// the peak torque" leaves U arbitrary. The design is then the minimax-force counterweight
+/// under the same limits, and [`Outcome::degenerate`] says why.
 pub fn solve(scene: &Scene) -> Result<Outcome, SolveError> {
     check(scene)?;
     let tab = Sampled::new(scene);
+    let torque_fixed = torque_independent_of_counterweight(scene);
+    let degenerate = (torque_fixed && scene.objective == Objective::MinPeakTorque).then(|| {
+        "the objective, the peak drive torque, does not depend on the counterweight: without \
+         gravity a counterweight turning at constant speed adds no torque, so every \
+         counterweight is equally 'optimal'; the design shown minimises the peak shaking force \
+         instead (set model.gravity for a vertical machine, or minimise the shaking force)"
+            .to_string()
+    });
+    let objective = if degenerate.is_some() {
+        Objective::MinPeakForce
+    } else {
+        scene.objective
+    };
     let Optimum {
         status,
         u,
@@ -877,7 +951,7 @@ pub fn solve(scene: &Scene) -> Result<Outcome, SolveError> {
         ..
     } = optimise_with(
         scene,
-        scene.objective,
+        objective,
         scene.max_peak_force,
         scene.max_peak_torque,
         &tab.scan,
@@ -945,12 +1019,42 @@ pub fn solve(scene: &Scene) -> Result<Outcome, SolveError> {
             g / (mech.r * w2)
         ));
     }
-    let pareto = if scene.pareto_points > 0 {
+    let pareto = if scene.pareto_points > 0 && torque_fixed {
+        warnings.push(
+            "no torque–force Pareto front: without gravity the drive torque does not depend on \
+             the counterweight, so the two objectives do not trade off"
+                .into(),
+        );
+        Vec::new()
+    } else if scene.pareto_points > 0 {
         pareto_sampled(scene, scene.pareto_points, &tab)?
     } else {
         Vec::new()
     };
     let static_weight = mech.link_weight(&scene.loads) + g * mass.unwrap_or(0.0);
+    // Conditioning: say how many digits are left when round-off eats into them (near toggle).
+    let round_off = round_off_bounds(scene, u);
+    let rel = round_off[0] / design.peak.max(f64::MIN_POSITIVE);
+    if rel > 1e-10 {
+        warnings.push(format!(
+            "ill-conditioned mechanism (assembly margin (L − R − |e|)/L = {:.2e}): round-off \
+             alone can reach {:.1e} N in the shaking force, so about {:.0} significant digits \
+             of the figures are reliable; the stated errors include it",
+            (mech.l - mech.r - mech.e.abs()) / mech.l,
+            round_off[0],
+            (-rel.log10()).floor().max(0.0)
+        ));
+    }
+    // The gap is the refined peak minus the solver's sampled lower bound: the bound was
+    // computed in floating point too, so it carries the same round-off as one evaluation.
+    let gap = if gap > 0.0 {
+        gap + match objective {
+            Objective::MinPeakTorque => round_off[1],
+            _ => round_off[0],
+        }
+    } else {
+        gap
+    };
     Ok(Outcome {
         status,
         design,
@@ -958,14 +1062,21 @@ pub fn solve(scene: &Scene) -> Result<Outcome, SolveError> {
         radius,
         gap,
         peak_shaking_moment: mm.peak.fx,
-        peak_shaking_moment_error: mm.error,
+        peak_shaking_moment_error: mm.error + round_off[2],
         pareto,
         static_weight,
         baselines: baselines_sampled(scene, &tab)?,
         exact_peak,
         method,
         warnings,
+        degenerate,
     })
+}
+
+/// True when the drive torque cannot depend on the counterweight: its only path into the
+/// torque is its weight, T_cw = −g·Rot'(φ)U, which is zero without gravity.
+fn torque_independent_of_counterweight(scene: &Scene) -> bool {
+    scene.loads.gravity.norm() == 0.0
 }
 
 /// Minimises the objective over U on the circle |U| = `len` (normalised): a 72-point scan in
