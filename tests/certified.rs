@@ -178,55 +178,96 @@ fn round_off_bounds_cover_a_double_double_evaluation() {
     );
 }
 
-/// The true peak of |F| for the design `u`: every sampled maximum refined by golden section
-/// on the double-double values (independent of the library's refinement).
-fn true_peak(sc: &Scene, u: P2) -> f64 {
-    let n = 2048;
+/// The true peak of |F| (`which` = 0) or |T| (1) for the design `u`: every sampled maximum
+/// refined by golden section on the double-double values (independent of the library's
+/// refinement).
+fn true_peak(sc: &Scene, u: P2, which: usize) -> f64 {
+    let val = |phi: f64| {
+        let (f, t, _) = truth(sc, u, phi);
+        if which == 0 {
+            f
+        } else {
+            t.abs()
+        }
+    };
+    let n = 1024;
     let h = TAU / n as f64;
-    let v: Vec<f64> = (0..n).map(|k| truth(sc, u, k as f64 * h).0).collect();
+    let v: Vec<f64> = (0..n).map(|k| val(k as f64 * h)).collect();
     let mut best = 0.0f64;
     for k in 0..n {
         let (a, b, c) = (v[(k + n - 1) % n], v[k], v[(k + 1) % n]);
         if b >= a && b >= c {
             let (mut lo, mut hi) = ((k as f64 - 1.0) * h, (k as f64 + 1.0) * h);
             let gr = 0.5 * (5f64.sqrt() - 1.0);
-            for _ in 0..80 {
+            for _ in 0..60 {
                 let (x1, x2) = (hi - gr * (hi - lo), lo + gr * (hi - lo));
-                if truth(sc, u, x1).0 < truth(sc, u, x2).0 {
+                if val(x1) < val(x2) {
                     lo = x1
                 } else {
                     hi = x2
                 }
             }
-            best = best.max(truth(sc, u, 0.5 * (lo + hi)).0).max(b);
+            best = best.max(val(0.5 * (lo + hi))).max(b);
         }
     }
     best
 }
 
+/// Random scenes of three kinds — free minimax force (the exact-disc route), minimax force
+/// with the direction restricted to a sector (clarabel's SOCP), and the peak drive torque
+/// with gravity (an LP) — each solved, its stated error checked against the double-double
+/// true peak, and its `optimal` checked against perturbed designs.
 #[test]
 fn stated_peak_errors_cover_the_truth_and_optimal_is_unbeaten() {
+    use cwsynth::synth::Var;
     let mut g = Lcg(1414);
+    let mut optimal = 0;
     for case in 0..24 {
-        let margin = if case % 3 == 0 {
+        let margin = if case % 4 == 0 {
             g.log(1e-7, 1e-3)
         } else {
             g.log(1e-3, 0.5)
         };
         let mut sc = random_scene(&mut g, margin);
+        let kind = case % 3;
         sc.loads = Loads::default();
         sc.objective = Objective::MinPeakForce;
+        if kind == 1 {
+            let mid = std::f64::consts::PI + (g.next() - 0.5);
+            sc.counterweight.angle = Var::Free {
+                min: mid - 0.3,
+                max: mid + 0.3,
+            };
+        } else if kind == 2 {
+            // A slow vertical machine, where weights matter: g/(Rω²) ~ 0.1–3.
+            sc.omega = (9.80665 / (sc.mech.r * g.log(0.1, 3.0))).sqrt();
+            sc.loads.gravity = Loads::gravity_for_axis(9.80665, TAU / 4.0);
+            sc.objective = Objective::MinPeakTorque;
+        }
         let out = solve(&sc).unwrap();
-        let u = P2::from(out.design.unbalance);
-        let truth_peak = true_peak(&sc, u);
-        let stated = out.design.peak_error;
+        // `inaccurate` (an exchange loop stalled at clarabel's accuracy) is an honest status
+        // too; its stated error must cover the truth all the same.
+        let status = format!("{:?}", out.status);
         assert!(
-            (out.design.peak - truth_peak).abs() <= stated,
-            "case {case}: peak {} vs true {truth_peak} (diff {:e} > stated {stated:e}, margin {margin:e})",
-            out.design.peak,
-            (out.design.peak - truth_peak).abs()
+            status == "Optimal" || status == "Inaccurate",
+            "case {case}: {status} {:?}",
+            out.warnings
         );
-        // `optimal`: no counterweight near the optimum has a lower true peak than the
+        optimal += usize::from(status == "Optimal");
+        let which = usize::from(kind == 2);
+        let u = P2::from(out.design.unbalance);
+        let (value, stated) = if which == 0 {
+            (out.design.peak, out.design.peak_error)
+        } else {
+            (out.design.peak_torque, out.design.peak_torque_error)
+        };
+        let truth_peak = true_peak(&sc, u, which);
+        assert!(
+            (value - truth_peak).abs() <= stated,
+            "case {case} kind {kind}: {value} vs true {truth_peak} (diff {:e} > stated {stated:e}, margin {margin:e})",
+            (value - truth_peak).abs()
+        );
+        // `optimal`: no feasible counterweight near the optimum has a lower true peak than the
         // stated optimum minus its error (gap + evaluation error).
         let err = out.gap + stated;
         let scale = u.norm().max(sc.mech.m_rec() * sc.mech.r);
@@ -234,15 +275,26 @@ fn stated_peak_errors_cover_the_truth_and_optimal_is_unbeaten() {
             let ang = TAU * j as f64 / 12.0;
             for rad in [1e-3, 1e-6] {
                 let v = u + P2::new(ang.cos(), ang.sin()) * (rad * scale);
-                let p = true_peak(&sc, v);
+                if kind == 1 {
+                    let (Var::Free { min, max }, beta) =
+                        (sc.counterweight.angle, v.y.atan2(v.x).rem_euclid(TAU))
+                    else {
+                        unreachable!()
+                    };
+                    if beta < min || beta > max {
+                        continue;
+                    }
+                }
+                let p = true_peak(&sc, v, which);
                 assert!(
-                    p >= out.design.peak - err,
-                    "case {case}: U + δ beats the optimum: {p} < {} − {err:e}",
-                    out.design.peak
+                    p >= value - err,
+                    "case {case} kind {kind}: U + δ beats the optimum: {p} < {value} − {err:e}"
                 );
             }
         }
     }
+    // 17 of 24 on this seed: the rest stop `inaccurate` at clarabel's accuracy, and say so.
+    assert!(optimal >= 16, "only {optimal} of 24 certified");
 }
 
 mod common;
