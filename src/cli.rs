@@ -25,7 +25,8 @@ pub enum Command {
         /// Problem files or directories.
         #[arg(required = true)]
         inputs: Vec<PathBuf>,
-        /// Print one JSON object per scene (a JSON array for several) instead of a summary.
+        /// Print each scene's result as one JSON object on one line (JSON Lines, the same
+        /// shape for one file or many) instead of a summary.
         #[arg(long)]
         json: bool,
         /// Write `<name>.json`, `<name>.md` and SVG plots into this directory.
@@ -87,10 +88,48 @@ pub enum Command {
     },
 }
 
-/// Expands directories into their `*.toml` files (sorted), keeps files as given.
+/// Standard output that ends quietly when its reader goes away (`cwsynth solve --json |
+/// head`): a closed pipe is not an error of ours, so the run stops writing and exits.
+struct Stdout {
+    out: std::io::StdoutLock<'static>,
+    closed: bool,
+}
+
+impl Stdout {
+    fn new() -> Self {
+        Stdout {
+            out: std::io::stdout().lock(),
+            closed: false,
+        }
+    }
+    /// Writes `text`; `Err` only for a real I/O error (a closed pipe sets `closed`).
+    fn write(&mut self, text: &str) -> anyhow::Result<()> {
+        use std::io::Write;
+        if self.closed {
+            return Ok(());
+        }
+        match self
+            .out
+            .write_all(text.as_bytes())
+            .and_then(|_| self.out.flush())
+        {
+            Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => {
+                self.closed = true;
+                Ok(())
+            }
+            r => r.context("writing to standard output"),
+        }
+    }
+}
+
+/// Expands directories into their `*.toml` files (sorted), keeps files as given. A path
+/// that does not exist, or a directory without a problem file, is a usage error (exit 2).
 pub fn expand_inputs(inputs: &[PathBuf]) -> anyhow::Result<Vec<PathBuf>> {
     let mut out = Vec::new();
     for p in inputs {
+        if !p.exists() {
+            anyhow::bail!("{}: no such file or directory", p.display());
+        }
         if p.is_dir() {
             let mut v: Vec<PathBuf> = std::fs::read_dir(p)
                 .with_context(|| format!("cannot list {}", p.display()))?
@@ -98,6 +137,12 @@ pub fn expand_inputs(inputs: &[PathBuf]) -> anyhow::Result<Vec<PathBuf>> {
                 .filter(|q| q.extension().is_some_and(|x| x == "toml"))
                 .collect();
             v.sort();
+            if v.is_empty() {
+                anyhow::bail!(
+                    "{}: no problem files (*.toml) in this directory",
+                    p.display()
+                );
+            }
             out.extend(v);
         } else {
             out.push(p.clone());
@@ -183,13 +228,14 @@ pub fn run(cli: Cli) -> anyhow::Result<i32> {
         Command::Check { inputs } => {
             let files = expand_inputs(&inputs)?;
             let (ok, bad) = load_all(&files);
+            let mut stdout = Stdout::new();
             for s in &ok {
-                println!(
-                    "ok    {} ({}, {})",
+                stdout.write(&format!(
+                    "ok    {} ({}, {})\n",
                     s.source.display(),
                     s.name,
                     s.family.as_str()
-                );
+                ))?;
             }
             for e in &bad {
                 eprintln!("error {e}");
@@ -262,7 +308,7 @@ pub fn run(cli: Cli) -> anyhow::Result<i32> {
             let st = crate::study::study(&text, &file, repeats.max(1))
                 .map_err(|e| anyhow::anyhow!("{e}"))?;
             let md = crate::study::markdown(&st);
-            print!("{md}");
+            Stdout::new().write(&md)?;
             if let Some(dir) = out {
                 std::fs::create_dir_all(&dir)
                     .with_context(|| format!("cannot create {}", dir.display()))?;
@@ -276,10 +322,9 @@ pub fn run(cli: Cli) -> anyhow::Result<i32> {
             Ok(0)
         }
         Command::Schema => {
-            println!(
-                "{}",
-                serde_json::to_string_pretty(&crate::io::schema::problem_schema())?
-            );
+            Stdout::new().write(
+                &(serde_json::to_string_pretty(&crate::io::schema::problem_schema())? + "\n"),
+            )?;
             Ok(0)
         }
         Command::Solve { inputs, json, out } => {
@@ -289,8 +334,25 @@ pub fn run(cli: Cli) -> anyhow::Result<i32> {
                 eprintln!("error {e}");
             }
             let mut failed = !bad.is_empty();
-            let mut all = Vec::new();
+            let mut stdout = Stdout::new();
+            // With --out, two scenes whose file names clash (same name, or names equal but
+            // for case, which clash on case-insensitive file systems) would overwrite each
+            // other: the first keeps it, the later one is an error.
+            let mut taken: std::collections::BTreeMap<String, &Path> = Default::default();
             for sc in &scenes {
+                if out.is_some() {
+                    if let Some(first) = taken.get(&sc.name.to_lowercase()) {
+                        eprintln!(
+                            "error {}: name `{}` clashes with {} (result files would overwrite each other); give it another `name`",
+                            sc.source.display(),
+                            sc.name,
+                            first.display()
+                        );
+                        failed = true;
+                        continue;
+                    }
+                    taken.insert(sc.name.to_lowercase(), &sc.source);
+                }
                 let r = solve_scene(sc);
                 failed |= matches!(r.status, Status::Failed | Status::Infeasible);
                 if let Some(dir) = &out {
@@ -298,18 +360,11 @@ pub fn run(cli: Cli) -> anyhow::Result<i32> {
                         format!("writing results of {} to {}", r.name, dir.display())
                     })?;
                 }
-                if !json {
-                    print!("{}", summary(&r));
-                }
-                all.push(r.to_json());
-            }
-            if json {
-                let v = if all.len() == 1 {
-                    all.pop().unwrap()
+                if json {
+                    stdout.write(&(serde_json::to_string(&r.to_json())? + "\n"))?;
                 } else {
-                    serde_json::Value::Array(all)
-                };
-                println!("{}", serde_json::to_string_pretty(&v)?);
+                    stdout.write(&summary(&r))?;
+                }
             }
             Ok(if failed { 1 } else { 0 })
         }

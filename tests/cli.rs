@@ -156,3 +156,91 @@ fn solve_keeps_going_past_a_bad_file() {
     assert_eq!(v["name"], "piston-1000rpm");
     assert!(String::from_utf8_lossy(&out.stderr).contains("missing field `mechanism`"));
 }
+
+/// Issue 15: `solve --json` prints one shape whatever the number of files — one compact JSON
+/// object per line (JSON Lines) — and a closed pipe ends the run quietly.
+#[test]
+fn solve_json_is_json_lines_and_a_closed_pipe_is_quiet() {
+    let out = bin()
+        .args(["solve", "--json"])
+        .arg(problem("piston-1000rpm.toml"))
+        .arg(problem("piston-2000rpm.toml"))
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    let text = String::from_utf8(out.stdout).unwrap();
+    let names: Vec<String> = text
+        .lines()
+        .map(|l| serde_json::from_str::<serde_json::Value>(l).unwrap()["name"].to_string())
+        .collect();
+    assert_eq!(names, ["\"piston-1000rpm\"", "\"piston-2000rpm\""]);
+
+    // A reader that closes the pipe at once (`| head -c0`): no panic, no message.
+    let mut child = bin()
+        .args(["solve", "--json"])
+        .arg(problem("piston-1000rpm.toml"))
+        .arg(problem("piston-2000rpm.toml"))
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    drop(child.stdout.take());
+    let out = child.wait_with_output().unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!err.contains("panicked"), "{err}");
+    assert_eq!(out.status.code(), Some(0), "{err}");
+}
+
+/// Issue 15: a missing input or a directory without problem files is a usage error (exit 2,
+/// as the README says), named in the message.
+#[test]
+fn missing_inputs_and_empty_directories_exit_2() {
+    let dir = tempfile::tempdir().unwrap();
+    for verb in ["solve", "check"] {
+        let out = bin()
+            .arg(verb)
+            .arg(dir.path().join("nope.toml"))
+            .output()
+            .unwrap();
+        assert_eq!(out.status.code(), Some(2), "{verb}");
+        assert!(String::from_utf8_lossy(&out.stderr).contains("nope.toml: no such file"));
+        let out = bin().arg(verb).arg(dir.path()).output().unwrap();
+        assert_eq!(out.status.code(), Some(2), "{verb}");
+        assert!(String::from_utf8_lossy(&out.stderr).contains("no problem files"));
+    }
+}
+
+/// Issue 15: `solve --out` never lets two scenes overwrite each other's files (same name, or
+/// names equal but for case).
+#[test]
+fn solve_out_refuses_clashing_names() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = std::fs::read_to_string(problem("piston-1000rpm.toml")).unwrap();
+    let a = dir.path().join("a.toml");
+    let b = dir.path().join("b.toml");
+    std::fs::write(&a, &text).unwrap();
+    std::fs::write(
+        &b,
+        text.replace("name = \"piston-1000rpm\"", "name = \"Piston-1000RPM\""),
+    )
+    .unwrap();
+    let out_dir = dir.path().join("out");
+    let out = bin()
+        .args(["solve", "--out"])
+        .arg(&out_dir)
+        .arg(&a)
+        .arg(&b)
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("b.toml") && err.contains("clashes with"),
+        "{err}"
+    );
+    let v: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(out_dir.join("piston-1000rpm.json")).unwrap())
+            .unwrap();
+    assert!(v["source"].as_str().unwrap().ends_with("a.toml"));
+    assert!(!out_dir.join("Piston-1000RPM.json").exists());
+}
