@@ -22,7 +22,7 @@
 //! carries it. The summary is written to `<summary>.partial` and renamed when complete.
 
 use crate::io::problem::{parse_str, parse_table, ProblemError, Scene};
-use crate::io::result::{fmt_num, write_atomic, write_outputs};
+use crate::io::result::{fmt_num, md_escape, truncate, write_atomic, write_outputs};
 use crate::run::solve_scene;
 use anyhow::{bail, Context};
 use rayon::prelude::*;
@@ -153,6 +153,61 @@ pub struct Row {
     pub source: String,
     /// Why it failed (errors, warnings of a failed solve), else empty.
     pub message: String,
+}
+
+/// Every status a summary row can carry: the result vocabulary plus `error` (bad input).
+pub const ROW_STATUSES: [&str; 8] = [
+    "optimal",
+    "best_found",
+    "degenerate",
+    "analysed",
+    "inaccurate",
+    "infeasible",
+    "failed",
+    "error",
+];
+
+impl Row {
+    /// Checks a row read back from a summary CSV (a resumed run's checkpoint, or a shard
+    /// given to `merge`): a file written by someone else is input like any other. The status
+    /// must be one of [`ROW_STATUSES`], the family a known one, the name a valid machine name
+    /// (for an error row: no path separator, control character or leading `.`), so nothing
+    /// from the file can name a path outside the folder or reach a report as markup.
+    pub fn validate(&self) -> Result<(), String> {
+        if !ROW_STATUSES.contains(&self.status.as_str()) {
+            return Err(format!(
+                "status `{}` is not one of {}",
+                self.status.escape_debug(),
+                ROW_STATUSES.join(", ")
+            ));
+        }
+        if !(self.family.is_empty()
+            || crate::io::problem::Family::ALL
+                .iter()
+                .any(|f| f.as_str() == self.family))
+        {
+            return Err(format!("unknown family `{}`", self.family.escape_debug()));
+        }
+        let plain_name = !self.name.starts_with('.')
+            && !self
+                .name
+                .chars()
+                .any(|c| c.is_control() || matches!(c, '/' | '\\' | ':'));
+        if self.status == "error" {
+            if !plain_name {
+                return Err(format!(
+                    "name `{}` is not a plain name",
+                    self.name.escape_debug()
+                ));
+            }
+        } else {
+            crate::io::problem::check_name(&self.name).map_err(|e| e.to_string())?;
+        }
+        if !self.input_hash.chars().all(|c| c.is_ascii_hexdigit()) {
+            return Err("input_hash is not hexadecimal".into());
+        }
+        Ok(())
+    }
 }
 
 /// Counts of one batch run.
@@ -956,11 +1011,14 @@ impl OldRows {
         o
     }
     fn advance(&mut self) {
+        // A checkpoint row that does not parse or validate is not reused (it is solved
+        // again); reading stops at the first such row, as at a truncated tail.
         self.peek = self
             .rdr
             .as_mut()
             .and_then(|r| r.next())
-            .and_then(|x| x.ok());
+            .and_then(|x| x.ok())
+            .filter(|r| r.validate().is_ok());
     }
     /// The old row with this index, if any.
     fn take(&mut self, index: u64) -> Option<Row> {
@@ -1232,6 +1290,10 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> anyhow::Result<Counts> {
     if !missing.is_empty() {
         bail!("shards {missing:?} of {n} are missing");
     }
+    // Shard summaries are input: every row must parse and validate, in index order.
+    for f in &files {
+        check_shard(f)?;
+    }
     std::fs::create_dir_all(out)?;
     let mut readers: Vec<OldRows> = files.iter().map(|f| OldRows::open(f)).collect();
     let tmp = out.join("summary.csv.partial");
@@ -1262,6 +1324,40 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> anyhow::Result<Counts> {
     std::fs::rename(&tmp, out.join("summary.csv"))?;
     write_reports(out)?;
     Ok(counts)
+}
+
+/// Reads a shard summary strictly: a row that does not parse, does not validate
+/// ([`Row::validate`]) or is out of index order is an error naming the file and its line.
+fn check_shard(path: &Path) -> anyhow::Result<()> {
+    let mut rdr = csv::Reader::from_path(path)
+        .with_context(|| format!("cannot read shard summary {}", path.display()))?;
+    let header = rdr.headers()?.clone();
+    if header.iter().ne(HEADER.iter().copied()) {
+        bail!(
+            "{}:1: the header is not a cwsynth summary header ({})",
+            path.display(),
+            HEADER.join(",")
+        );
+    }
+    let mut last: Option<u64> = None;
+    for rec in rdr.records() {
+        let rec = rec.map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
+        let line = rec.position().map_or(0, |p| p.line());
+        let row: Row = rec
+            .deserialize(Some(&header))
+            .map_err(|e| anyhow::anyhow!("{}:{line}: {e}", path.display()))?;
+        row.validate()
+            .map_err(|e| anyhow::anyhow!("{}:{line}: {e}", path.display()))?;
+        if last.is_some_and(|l| row.index <= l) {
+            bail!(
+                "{}:{line}: index {} is out of order",
+                path.display(),
+                row.index
+            );
+        }
+        last = Some(row.index);
+    }
+    Ok(())
 }
 
 fn opt(v: Option<f64>) -> String {
@@ -1395,16 +1491,16 @@ pub fn write_reports(dir: &Path) -> anyhow::Result<()> {
         md += &format!(
             "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {:.2} |\n",
             r.index,
-            r.name,
-            r.family,
-            r.status,
-            r.objective,
+            md_escape(&r.name),
+            md_escape(&r.family),
+            md_escape(&r.status),
+            md_escape(&r.objective),
             opt(r.value),
             r.error.map(|e| format!("{e:.1e}")).unwrap_or("–".into()),
             if r.baseline.is_empty() {
-                "–"
+                "–".to_string()
             } else {
-                &r.baseline
+                md_escape(&r.baseline)
             },
             opt(r.baseline_value),
             r.improvement_pct
@@ -1416,7 +1512,12 @@ pub fn write_reports(dir: &Path) -> anyhow::Result<()> {
     if n_fail > 0 {
         md += &format!("\n## Failures ({n_fail})\n\n");
         for r in &failures {
-            md += &format!("- `{}` ({}): {}\n", r.name, r.status, r.message);
+            md += &format!(
+                "- {} ({}): {}\n",
+                md_escape(&r.name),
+                md_escape(&r.status),
+                md_escape(&truncate(&r.message, 2000))
+            );
         }
         if n_fail as usize > failures.len() {
             md += &format!(
@@ -1434,7 +1535,7 @@ pub fn write_reports(dir: &Path) -> anyhow::Result<()> {
     h += "h1{font-size:24px}h2{font-size:19px;margin-top:32px;border-bottom:1px solid #ccc}h3{font-size:16px;margin:20px 0 6px}\n";
     h += "table{border-collapse:collapse;font-size:13px}td,th{border:1px solid #ddd;padding:3px 7px;text-align:right}\n";
     h += "th{background:#f2f2f2;position:sticky;top:0}td.l,th.l{text-align:left}tr:nth-child(even){background:#fafafa}\n";
-    h += ".optimal{color:#1a7f37}.analysed{color:#0550ae}.inaccurate{color:#9a6700}.infeasible,.failed,.error{color:#cf222e;font-weight:600}\n";
+    h += ".optimal{color:#1a7f37}.best_found{color:#1a7f37;font-style:italic}.analysed{color:#0550ae}.inaccurate,.degenerate{color:#9a6700}.infeasible,.failed,.error{color:#cf222e;font-weight:600}\n";
     h += ".plots svg{max-width:100%;height:auto;border:1px solid #eee;margin:4px 0}.cap{font-size:12px;color:#555}\n";
     h += ".scroll{max-height:640px;overflow:auto;border:1px solid #ddd}\n</style></head><body>\n";
     h += &format!(
@@ -1453,7 +1554,7 @@ pub fn write_reports(dir: &Path) -> anyhow::Result<()> {
             a.n,
             a.by_status
                 .iter()
-                .map(|(s, n)| format!("<span class={s}>{s}</span> {n}"))
+                .map(|(s, n)| format!("<span class=\"{}\">{}</span> {n}", esc(s), esc(s)))
                 .collect::<Vec<_>>()
                 .join(", "),
             if a.imp_n > 0 {
@@ -1507,7 +1608,7 @@ pub fn write_reports(dir: &Path) -> anyhow::Result<()> {
         h += &format!("<h2>Failures ({n_fail})</h2>\n<ul>\n");
         for r in &failures {
             h += &format!(
-                "<li><code>{}</code> <span class={}>{}</span>: {}</li>\n",
+                "<li><code>{}</code> <span class=\"{}\">{}</span>: {}</li>\n",
                 esc(&r.name),
                 esc(&r.status),
                 esc(&r.status),
@@ -1522,6 +1623,9 @@ pub fn write_reports(dir: &Path) -> anyhow::Result<()> {
     for r in &shown {
         if n_plots >= REPORT_PLOTS {
             break;
+        }
+        if crate::io::problem::check_name(&r.name).is_err() {
+            continue;
         }
         let Ok(b) = std::fs::read(dir.join(format!("{}.json", r.name))) else {
             continue;
@@ -1553,7 +1657,7 @@ pub fn write_reports(dir: &Path) -> anyhow::Result<()> {
         }
         n_plots += 1;
         plot_html += &format!(
-            "<h3 id=\"m-{}\">{} <span class={}>({}, {})</span> · <a href=\"{}.md\">report</a> · <a href=\"{}.json\">JSON</a></h3>\n<div class=plots>\n{svgs}</div>\n",
+            "<h3 id=\"m-{}\">{} <span class=\"{}\">({}, {})</span> · <a href=\"{}.md\">report</a> · <a href=\"{}.json\">JSON</a></h3>\n<div class=plots>\n{svgs}</div>\n",
             esc(&r.name),
             esc(&r.name),
             esc(&r.status),

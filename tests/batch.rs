@@ -359,3 +359,99 @@ fn summary_rows_need_only_the_short_json_and_lookups_match_the_full_json() {
     }
     assert!(n >= 10, "{n} problem files");
 }
+
+/// Issue 15: `merge` validates shard summaries like any other input — a forged status or a
+/// name that points outside the folder is an error naming the file and line — and nothing
+/// from input reaches the reports as markup.
+#[test]
+fn merge_validates_shards_and_reports_escape_input() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = fleet(dir.path());
+    let s0 = dir.path().join("s0");
+    let s1 = dir.path().join("s1");
+    for (i, d) in [(0, &s0), (1, &s1)] {
+        let shard = format!("{i}/2");
+        batch(&input, d, &["--shard", &shard, "--summary-only"]);
+    }
+    let merged = dir.path().join("m");
+    let out = bin()
+        .args(["merge", "--out"])
+        .arg(&merged)
+        .arg(&s0)
+        .arg(&s1)
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1), "3 broken rows");
+    // Forge shard 1: a status carrying markup, then a name leaving the folder.
+    let p1 = s1.join("summary-shard-1-of-2.csv");
+    let good = std::fs::read_to_string(&p1).unwrap();
+    for (from, to, says) in [
+        (",optimal,", ",<script>alert(1)</script>,", "status"),
+        ("piston-1000rpm-2,", "../evil,", "name"),
+    ] {
+        std::fs::write(&p1, good.replacen(from, to, 1)).unwrap();
+        let out = bin()
+            .args(["merge", "--out"])
+            .arg(&merged)
+            .arg(&s0)
+            .arg(&s1)
+            .output()
+            .unwrap();
+        assert_eq!(out.status.code(), Some(2), "{from}");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            err.contains("summary-shard-1-of-2.csv:") && err.contains(says),
+            "{err}"
+        );
+    }
+    std::fs::write(&p1, good).unwrap();
+    let html = std::fs::read_to_string(merged.join("index.html")).unwrap();
+    assert!(!html.contains("<script"));
+    // An error message quoting input (a unit `<b>furlong</b>`) is escaped in both reports.
+    let tpl = template();
+    let csv = dir.path().join("x.csv");
+    std::fs::write(
+        &csv,
+        "mechanism.slider_mass\n\"1.0 <b>furlong</b>\"\n\"1.0 kg\"\n",
+    )
+    .unwrap();
+    let out_dir = dir.path().join("x");
+    batch(&format!("{tpl}:{}", csv.display()), &out_dir, &[]);
+    let md = std::fs::read_to_string(out_dir.join("summary.md")).unwrap();
+    let html = std::fs::read_to_string(out_dir.join("index.html")).unwrap();
+    assert!(md.contains("furlong") && !md.contains("<b>"), "{md}");
+    assert!(
+        html.contains("furlong") && !html.contains("<b>furlong"),
+        "{html}"
+    );
+}
+
+/// Issue 15: names that would clash with the batch's own files or with devices are refused.
+#[test]
+fn reserved_machine_names_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = std::fs::read_to_string(template()).unwrap();
+    for name in [
+        "summary",
+        "Index",
+        "CON",
+        "nul.txt",
+        "com1",
+        "summary-shard-0-of-2",
+        "a.",
+    ] {
+        let p = dir.path().join("n.toml");
+        std::fs::write(
+            &p,
+            text.replace("name = \"piston-1000rpm\"", &format!("name = \"{name}\"")),
+        )
+        .unwrap();
+        let out = bin().arg("check").arg(&p).output().unwrap();
+        assert_eq!(out.status.code(), Some(1), "{name}");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            err.contains("n.toml:") && err.contains("field `name`"),
+            "{name}: {err}"
+        );
+    }
+}

@@ -34,6 +34,14 @@ pub enum Family {
 }
 
 impl Family {
+    /// Every family.
+    pub const ALL: [Family; 4] = [
+        Family::SliderCrank,
+        Family::LuffingCrane,
+        Family::Hypocycloid,
+        Family::EccentricGear,
+    ];
+
     /// The name used in files and results.
     pub fn as_str(self) -> &'static str {
         match self {
@@ -489,22 +497,42 @@ fn resolve(ctx: &Ctx, header: Header, input: Input) -> Result<Scene, ProblemErro
     }
 }
 
-/// Checks a scene name (it becomes a file name).
+/// Names a machine cannot have, compared without case: the batch's own files
+/// (`summary.csv`, `summary.md`, `index.html`, `summary-shard-*`) and the device names that
+/// Windows reserves with any extension (`CON`, `nul.txt`, `COM1`, …).
+const RESERVED_NAMES: [&str; 24] = [
+    "summary", "index", "con", "prn", "aux", "nul", "com1", "com2", "com3", "com4", "com5", "com6",
+    "com7", "com8", "com9", "lpt1", "lpt2", "lpt3", "lpt4", "lpt5", "lpt6", "lpt7", "lpt8", "lpt9",
+];
+
+/// Checks a scene name (it becomes a file name, the same on every file system): 1–128 ASCII
+/// letters, digits, `-`, `_`, `.`, not starting or ending with `.`, not a reserved name
+/// ([`RESERVED_NAMES`], before any extension, without case) nor a shard summary's name.
+/// Names that differ only in case clash on case-insensitive file systems: `solve --out` and
+/// `batch` compare them without case.
 pub fn check_name(name: &str) -> Result<(), FieldError> {
-    let ok = !name.is_empty()
+    let charset = !name.is_empty()
         && name.len() <= 128
         && name
             .chars()
             .all(|c| c.is_ascii_alphanumeric() || "-_.".contains(c))
-        && !name.starts_with('.');
-    if ok {
-        Ok(())
-    } else {
-        Err(FieldError::new(
+        && !name.starts_with('.')
+        && !name.ends_with('.');
+    if !charset {
+        let shown: String = name.chars().take(64).collect();
+        return Err(FieldError::new(
             "name",
-            format!("`{name}` cannot be a file name; allowed: 1–128 ASCII letters, digits, `-`, `_`, `.`, not starting with `.`"),
-        ))
+            format!("`{}` cannot be a file name; allowed: 1–128 ASCII letters, digits, `-`, `_`, `.`, not starting or ending with `.`", shown.escape_debug()),
+        ));
     }
+    let stem = name.split('.').next().unwrap_or("").to_ascii_lowercase();
+    if RESERVED_NAMES.contains(&stem.as_str()) || stem.starts_with("summary-shard-") {
+        return Err(FieldError::new(
+            "name",
+            format!("`{name}` is reserved (the batch's own files `summary`, `index`, `summary-shard-*`, or a Windows device name such as `CON`, `NUL`, `COM1`); choose another name"),
+        ));
+    }
+    Ok(())
 }
 
 /// Resolves the `[[paper]]` entries.

@@ -160,6 +160,9 @@ pub struct SolveResult {
     /// With `best_found`: what the heuristic search did (absent otherwise).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub search: Option<SearchEvidence>,
+    /// The problem file's `description` (absent when empty).
+    #[serde(skip_serializing_if = "String::is_empty")]
+    pub description: String,
     /// Problem file.
     pub source: String,
     /// The model fidelity actually used (kinematics, masses, …).
@@ -205,6 +208,7 @@ impl SolveResult {
             status: Status::Failed,
             status_detail: None,
             search: None,
+            description: scene.description.clone(),
             source: scene.source.display().to_string(),
             model: BTreeMap::new(),
             design: BTreeMap::new(),
@@ -328,6 +332,41 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
     res
 }
 
+/// Escapes text that comes from input (names, paper notes, messages) for a Markdown page:
+/// HTML-significant characters become entities, Markdown markup characters are
+/// backslash-escaped, and line breaks become spaces, so the text can never open a tag, a
+/// link or a table cell.
+pub fn md_escape(s: &str) -> String {
+    let mut out = String::with_capacity(s.len());
+    for c in s.chars() {
+        match c {
+            '&' => out.push_str("&amp;"),
+            '<' => out.push_str("&lt;"),
+            '>' => out.push_str("&gt;"),
+            '\\' | '`' | '*' | '_' | '[' | ']' | '|' | '#' | '!' => {
+                out.push('\\');
+                out.push(c);
+            }
+            '\n' | '\r' | '\t' => out.push(' '),
+            c if c.is_control() => {}
+            c => out.push(c),
+        }
+    }
+    out
+}
+
+/// At most `max` bytes of `s` (on a character boundary), with `…` and the length cut.
+pub fn truncate(s: &str, max: usize) -> std::borrow::Cow<'_, str> {
+    if s.len() <= max {
+        return s.into();
+    }
+    let mut i = max;
+    while !s.is_char_boundary(i) {
+        i -= 1;
+    }
+    format!("{}… ({} more bytes)", &s[..i], s.len() - i).into()
+}
+
 /// Formats a number for humans: 6 significant digits, exponent outside [1e-3, 1e7).
 pub fn fmt_num(v: f64) -> String {
     if v == 0.0 || !v.is_finite() {
@@ -349,22 +388,25 @@ pub fn markdown(r: &SolveResult) -> String {
         s.push_str(&line);
         s.push('\n');
     };
-    p(format!("# {} ({})\n", r.name, r.family));
+    p(format!("# {} ({})\n", md_escape(&r.name), r.family));
+    if !r.description.is_empty() {
+        p(format!("{}\n", md_escape(&r.description)));
+    }
     p(format!(
         "Status: **{}** ({}) · source `{}` · solve {:.3} ms, total {:.3} ms\n",
         r.status.as_str(),
         r.status.promise(),
-        r.source,
+        md_escape(&r.source),
         r.timing.solve_s * 1e3,
         r.timing.total_s * 1e3
     ));
     if let Some(d) = &r.status_detail {
-        p(format!("Status detail: {d}\n"));
+        p(format!("Status detail: {}\n", md_escape(d)));
     }
-    p(format!("Method: {}\n", r.method));
+    p(format!("Method: {}\n", md_escape(&r.method)));
     if let Some(e) = &r.search {
         p("## Search evidence (status `best_found`: not proven optimal)\n".into());
-        p(format!("- method: {}", e.method));
+        p(format!("- method: {}", md_escape(&e.method)));
         p(format!(
             "- {} starts, {} distinct basins, {} at the best value, {} evaluations",
             e.starts, e.distinct_basins, e.starts_at_best, e.evaluations
@@ -382,7 +424,10 @@ pub fn markdown(r: &SolveResult) -> String {
         p("## Model\n".into());
         p("| setting | value |\n|---|---|".into());
         for (k, v) in &r.model {
-            p(format!("| {k} | {} |", v.to_string().trim_matches('"')));
+            p(format!(
+                "| {k} | {} |",
+                md_escape(v.to_string().trim_matches('"'))
+            ));
         }
         p(String::new());
     }
@@ -443,15 +488,15 @@ pub fn markdown(r: &SolveResult) -> String {
         p("| quantity | paper | cwsynth | diff | note |\n|---|---|---|---|---|".into());
         for c in &r.paper {
             p(format!(
-                "| {} (`{}`) | {} | {} | {} | {} |",
-                c.quantity,
-                c.key,
+                "| {} ({}) | {} | {} | {} | {} |",
+                md_escape(&c.quantity),
+                md_escape(&c.key),
                 fmt_num(c.paper),
                 c.computed.map(fmt_num).unwrap_or("–".into()),
                 c.diff_pct
                     .map(|d| format!("{d:+.2} %"))
                     .unwrap_or("–".into()),
-                c.note
+                md_escape(&c.note)
             ));
         }
         p(String::new());
@@ -459,7 +504,7 @@ pub fn markdown(r: &SolveResult) -> String {
     if !r.warnings.is_empty() {
         p("## Warnings\n".into());
         for w in &r.warnings {
-            p(format!("- {w}"));
+            p(format!("- {}", md_escape(w)));
         }
         p(String::new());
     }
