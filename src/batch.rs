@@ -745,12 +745,15 @@ struct Names {
 }
 
 impl Names {
-    /// Claims `name` for machine `index` (from the file `file`, if any); a name already
-    /// claimed gives the first claimant's index and file ("" for a fleet row).
+    /// Claims `name` (compared without case) for machine `index` (from the file `file`, if
+    /// any); a name already claimed gives the first claimant's index and file ("" for a fleet row).
     fn claim(&mut self, name: &str, index: u64, file: Option<String>) -> Option<(u64, String)> {
         use std::hash::{Hash, Hasher};
+        // Without case: names equal but for case clash on case-insensitive file systems.
         let mut h = std::collections::hash_map::DefaultHasher::new();
-        name.hash(&mut h);
+        for b in name.bytes() {
+            b.to_ascii_lowercase().hash(&mut h);
+        }
         let key = h.finish();
         match self.index.entry(key) {
             std::collections::hash_map::Entry::Occupied(e) => {

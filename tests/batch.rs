@@ -269,7 +269,7 @@ fn a_duplicate_name_is_reported_and_never_overwrites_the_first_machine() {
     let csv = dir.path().join("named.csv");
     std::fs::write(
         &csv,
-        "name,mechanism.speed\nm-one,900 rpm\nm-two,1100 rpm\nm-one,1300 rpm\n",
+        "name,mechanism.speed\nm-one,900 rpm\nm-two,1100 rpm\nM-One,1300 rpm\n",
     )
     .unwrap();
     let fleet = format!("{}:{}", template(), csv.display());
@@ -284,7 +284,8 @@ fn a_duplicate_name_is_reported_and_never_overwrites_the_first_machine() {
         let summary = std::fs::read_to_string(out.join("summary.csv")).unwrap();
         let rows: Vec<&str> = summary.lines().skip(1).collect();
         assert_eq!(rows.len(), 5, "{summary}");
-        // Row 1 (b.toml) and row 4 (the second m-one) are the duplicates.
+        // Row 1 (b.toml) and row 4 (`M-One`, equal to m-one but for case: one file on a
+        // case-insensitive file system) are the duplicates.
         assert!(rows[0].contains(",optimal,"), "{}", rows[0]);
         assert!(
             rows[1].contains("duplicate name `piston-1000rpm`"),
@@ -293,7 +294,7 @@ fn a_duplicate_name_is_reported_and_never_overwrites_the_first_machine() {
         );
         assert!(rows[1].contains("a.toml"), "{}", rows[1]);
         assert!(rows[2].contains(",optimal,") && rows[3].contains(",optimal,"));
-        assert!(rows[4].contains("duplicate name `m-one`"), "{}", rows[4]);
+        assert!(rows[4].contains("duplicate name `M-One`"), "{}", rows[4]);
         assert!(rows[4].contains("machine 2"), "{}", rows[4]);
         // The first machines' results are theirs: 1000 rpm for a.toml, 900 rpm for m-one.
         let speed = |name: &str| {
