@@ -1116,6 +1116,31 @@ pub fn summary_name(shard: Option<(u64, u64)>) -> String {
     }
 }
 
+/// Locks `<out>/.<summary>.lock` for this process: one writer per summary. A second batch
+/// (or merge) on the same --out and shard does not wait, it stops with a clear message. The
+/// OS releases the lock when the process ends, even by kill -9, so a crash never leaves a
+/// stale lock. The lock is held while the returned file lives.
+fn lock_out(out: &Path, summary: &str) -> anyhow::Result<std::fs::File> {
+    let lock_path = out.join(format!(".{summary}.lock"));
+    let lock = std::fs::OpenOptions::new()
+        .create(true)
+        .truncate(false)
+        .write(true)
+        .open(&lock_path)
+        .with_context(|| format!("cannot create {}", lock_path.display()))?;
+    match lock.try_lock() {
+        Ok(()) => Ok(lock),
+        Err(std::fs::TryLockError::WouldBlock) => bail!(
+            "{} is in use by another cwsynth batch or merge (lock {}); wait for it to finish or choose another --out",
+            out.display(),
+            lock_path.display()
+        ),
+        Err(std::fs::TryLockError::Error(e)) => {
+            Err(e).with_context(|| format!("cannot lock {}", lock_path.display()))
+        }
+    }
+}
+
 /// Runs a batch; writes the summary (and, unsharded, `summary.md` and `index.html`).
 pub fn run(inputs: Vec<Input>, opts: &Options) -> anyhow::Result<Counts> {
     std::fs::create_dir_all(&opts.out)
@@ -1128,6 +1153,7 @@ pub fn run(inputs: Vec<Input>, opts: &Options) -> anyhow::Result<Counts> {
         .build()
         .context("cannot start the worker threads")?;
     let (si, sn) = opts.shard.unwrap_or((0, 1));
+    let _lock = lock_out(&opts.out, &summary_name(opts.shard))?;
     let all = count_machines(&inputs);
     let mine = all / sn + u64::from(all % sn > si);
 
@@ -1138,8 +1164,16 @@ pub fn run(inputs: Vec<Input>, opts: &Options) -> anyhow::Result<Counts> {
     let resume = opts
         .out
         .join(format!("{}.resume", summary_name(opts.shard)));
+    // The checkpoint never goes backwards: after a second interruption the earlier
+    // checkpoint may hold more rows than the newer partial one, and the larger is kept.
     if partial.exists() {
-        std::fs::rename(&partial, &resume).context("cannot move the interrupted summary")?;
+        let rows =
+            |p: &Path| std::fs::read(p).map_or(0, |b| b.iter().filter(|&&c| c == b'\n').count());
+        if resume.exists() && rows(&resume) > rows(&partial) {
+            std::fs::remove_file(&partial).context("cannot remove the smaller checkpoint")?;
+        } else {
+            std::fs::rename(&partial, &resume).context("cannot move the interrupted summary")?;
+        }
     }
     let mut old_resume = OldRows::open(&resume);
     let mut old_final = OldRows::open(&final_path);
@@ -1298,6 +1332,7 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> anyhow::Result<Counts> {
         check_shard(f)?;
     }
     std::fs::create_dir_all(out)?;
+    let _lock = lock_out(out, "summary.csv")?;
     let mut readers: Vec<OldRows> = files.iter().map(|f| OldRows::open(f)).collect();
     let tmp = out.join("summary.csv.partial");
     let mut w = csv::Writer::from_writer(std::io::BufWriter::new(std::fs::File::create(&tmp)?));

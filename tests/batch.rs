@@ -456,3 +456,45 @@ fn reserved_machine_names_are_refused() {
         );
     }
 }
+
+/// Issue 15: one writer per --out. A second batch on a directory in use stops at once with a
+/// clear message (here the test holds the lock); a checkpoint never goes backwards (a newer,
+/// smaller `.partial` does not replace a larger `.resume`).
+#[test]
+fn a_busy_out_directory_is_refused_and_checkpoints_never_shrink() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = fleet(dir.path());
+    let out = dir.path().join("out");
+    std::fs::create_dir_all(&out).unwrap();
+    let lock = std::fs::File::create(out.join(".summary.csv.lock")).unwrap();
+    lock.lock().unwrap();
+    let o = batch(&input, &out, &["--summary-only"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("in use by another cwsynth batch"));
+    drop(lock);
+    assert_eq!(
+        batch(&input, &out, &["--summary-only"]).status.code(),
+        Some(1)
+    );
+    // Pretend two interruptions: the first left 12 rows (now `.resume`), the second only the
+    // header (`.partial`). The re-run must skip the 9 good machines of the larger one.
+    let summary = out.join("summary.csv");
+    let header = std::fs::read_to_string(&summary)
+        .unwrap()
+        .lines()
+        .next()
+        .unwrap()
+        .to_string();
+    std::fs::rename(&summary, out.join("summary.csv.resume")).unwrap();
+    std::fs::write(out.join("summary.csv.partial"), header + "\n").unwrap();
+    let o = bin()
+        .arg("batch")
+        .arg(&input)
+        .arg("--out")
+        .arg(&out)
+        .arg("--summary-only")
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("9 skipped"), "{err}");
+}
