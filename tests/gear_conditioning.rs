@@ -58,7 +58,12 @@ fn dd_asin(x: D) -> D {
 /// paper's definitions: sin ψ = −e sin α/R, θ = α − ψ, ϕ = Nθ − 2πi, ρ1 = e cos α + R cos ψ,
 /// d_x = σ cos ψ sin(ϕ/2) − sin ψ cos(ϕ/2), f_j = (ρ1 − a_j) d_x + 2r sin(ϕ/2).
 fn dd_pole_fns(p: &GearPair, alpha: f64, i: usize) -> (f64, f64) {
-    let (r, e, rg, a) = (D::from(p.c.r_pitch), D::from(p.c.e), D::from(p.r_gen), D::from(p.a));
+    let (r, e, rg, a) = (
+        D::from(p.c.r_pitch),
+        D::from(p.c.e),
+        D::from(p.r_gen),
+        D::from(p.a),
+    );
     let n = p.n_arches as f64;
     let (s, c) = dd_sin_cos(D::from(alpha));
     let sp = -e * s / r;
@@ -140,9 +145,10 @@ fn check_poles(p: &GearPair, label: &str) -> usize {
         assert!(
             s.poles.iter().any(|q| q.which == w
                 && q.arch == i
-                && (q.alpha1_rad - 0.5 * (lo + hi)).rem_euclid(TAU).min(
-                    TAU - (q.alpha1_rad - 0.5 * (lo + hi)).rem_euclid(TAU)
-                ) <= hi - lo),
+                && (q.alpha1_rad - 0.5 * (lo + hi))
+                    .rem_euclid(TAU)
+                    .min(TAU - (q.alpha1_rad - 0.5 * (lo + hi)).rem_euclid(TAU))
+                    <= hi - lo),
             "{label}: the reference pole {w:?} on arch {i} in [{lo}, {hi}] is missing"
         );
     }
@@ -239,8 +245,7 @@ fn brute_peak(p: &GearPair, s: &Singularities, window: f64) -> f64 {
         let x = TAU * (k as f64 + 0.5) / n as f64;
         let ct = p.contact(x);
         for (w, mu) in [(Which::Mu1, ct.mu1), (Which::Mu2, ct.mu2)] {
-            if s
-                .poles
+            if s.poles
                 .iter()
                 .any(|q| q.which == w && near(x, q.alpha1_rad, window + q.error_rad))
                 || s.singular_cusps().iter().any(|&c| near(x, c, window))
@@ -308,7 +313,10 @@ fn designed_eccentricity_is_best_found_with_evidence_and_not_beaten_on_the_sweep
         ..Settings::default()
     };
     let out = solve(&paper_table1_design(), &st).unwrap();
-    let ev = out.search.as_ref().expect("a designed e carries its search evidence");
+    let ev = out
+        .search
+        .as_ref()
+        .expect("a designed e carries its search evidence");
     assert!(ev.evaluations >= 13 && ev.distinct_basins >= 1);
     assert_eq!(ev.best_values[0], out.objectives["ratio_variation"]);
     // No feasible sweep sample beats the reported design.

@@ -184,7 +184,10 @@ fn c4_scene_variant1_traces_a_bracketed_zero_curve() {
     check_contract(&v, 8);
     // The best design found is a plain slider-crank (crank arm → 0, no suction gain).
     assert_eq!(v["status"], "degenerate");
-    assert!(v["status_detail"].as_str().unwrap().contains("slider-crank"));
+    assert!(v["status_detail"]
+        .as_str()
+        .unwrap()
+        .contains("slider-crank"));
     assert!(v["search"]["starts"].as_u64().unwrap() >= 2);
     assert_eq!(v["zero_search"]["status"], "found");
     let zc = v["zero_curve"].as_array().unwrap();

@@ -490,6 +490,25 @@ impl GearPair {
         self.c.r_pitch / (self.c.r_pitch - self.c.e)
     }
 
+    /// Bound on the shift (rad) of the point at which the model is effectively evaluated:
+    /// θ(α1) and ϕ carry 4ε(|θ| + 2π) of rounding, which is a shift of α1 by that times
+    /// dα1/dθ ≤ κ, times κ again for the rounding of R cos ψ: 4εκ²(|θ| + 2π).
+    pub fn eval_shift(&self, alpha1: f64) -> f64 {
+        let th = self.c.theta_of_alpha(alpha1).abs();
+        4.0 * f64::EPSILON * self.condition().powi(2) * (th + TAU)
+    }
+
+    /// Bound on the rounding error (m) of the products in the pole function (K − O_j)·d at a
+    /// given evaluation point: 16εκ(|K − O_j| + 2r).
+    pub fn pole_fn_product_roundoff(&self, alpha1: f64, arch: usize, which: Which) -> f64 {
+        let ct = self.contact_on(alpha1, arch);
+        let o = match which {
+            Which::Mu1 => P2::new(0.0, 0.0),
+            Which::Mu2 => P2::new(self.a, 0.0),
+        };
+        16.0 * f64::EPSILON * self.condition() * ((ct.k - o).norm() + 2.0 * self.r_gen)
+    }
+
     /// Bound on the rounding error (m) of the pole functions (K − O_j)·d at α1 on arch i:
     /// 16ε·κ·(a + ρ1 + 2r + 2r·N·(|θ| + 2π)) — the rolling angle ϕ = N(θ − θ_i) carries
     /// N·ε·(|θ| + 2π), the contact point moves by 2r times that, and the rest is the
@@ -497,7 +516,9 @@ impl GearPair {
     pub fn pole_fn_roundoff(&self, alpha1: f64) -> f64 {
         let th = self.c.theta_of_alpha(alpha1).abs();
         let nr = 2.0 * self.r_gen * self.n_arches as f64 * (th + TAU);
-        16.0 * f64::EPSILON * self.condition() * (self.a + self.c.rho1(alpha1) + 2.0 * self.r_gen + nr)
+        16.0 * f64::EPSILON
+            * self.condition()
+            * (self.a + self.c.rho1(alpha1) + 2.0 * self.r_gen + nr)
     }
 
     /// Contact state at α1 on the arch containing it.
@@ -672,7 +693,10 @@ pub fn singularities_with(
     for i in 0..pair.n_arches {
         let a0 = pair.arch_start(i);
         let a1 = pair.arch_start(i + 1);
-        let indeterminate = [pair.cusp_is_indeterminate(i), pair.cusp_is_indeterminate(i + 1)];
+        let indeterminate = [
+            pair.cusp_is_indeterminate(i),
+            pair.cusp_is_indeterminate(i + 1),
+        ];
         let kind = if indeterminate[0] {
             ZeroKind::Indeterminate
         } else {
@@ -702,7 +726,8 @@ pub fn singularities_with(
                 // Endpoints at the cusps: at a ψ = 0 cusp the pole function vanishes (the
                 // 0/0 point, not a pole), elsewhere a value within its rounding bound has no
                 // reliable sign. The bound grows like κ = R/(R − e) (see `pole_fn_roundoff`).
-                let end_a = k == 0 && (indeterminate[0] || ya.abs() <= pair.pole_fn_roundoff(xs[0]));
+                let end_a =
+                    k == 0 && (indeterminate[0] || ya.abs() <= pair.pole_fn_roundoff(xs[0]));
                 let end_b =
                     k + 1 == m && (indeterminate[1] || yb.abs() <= pair.pole_fn_roundoff(xs[m]));
                 if end_a || end_b {
@@ -879,11 +904,19 @@ fn peak_mu_once(
             // Exactly at a 0/0 cusp (reachable only with a zero window) µ has no value; its
             // one-sided limit from inside the arch is taken, 1e-9 of the arch away.
             let nudge = 1e-9 * (a1 - a0);
-            // The window edges are uncertain by the pole errors (and the nudge).
-            let edge_shift = sing.poles.iter().map(|p| p.error_rad).fold(nudge, f64::max);
+            // The window edges are uncertain by the pole errors (and the nudge), and every
+            // sample by the rounding of its evaluation point.
+            let edge_shift =
+                sing.poles.iter().map(|p| p.error_rad).fold(nudge, f64::max) + pair.eval_shift(a1);
             let mu = |x: f64| {
                 mu_at(x)
-                    .or_else(|| mu_at(if x - a0 < a1 - x { x + nudge } else { x - nudge }))
+                    .or_else(|| {
+                        mu_at(if x - a0 < a1 - x {
+                            x + nudge
+                        } else {
+                            x - nudge
+                        })
+                    })
                     .map_or(f64::INFINITY, f64::abs)
             };
             for (u, v) in pieces {
@@ -946,14 +979,16 @@ fn peak_mu_once(
     if !best.value.is_finite() {
         return Err(SearchError::NotFinite { x: best.alpha1 });
     }
-    // Rounding of µ = v_slide/v_t at the peak: v_t/Ω is the pole function, whose relative
-    // rounding is δf/|f| (large near a pole, and growing like κ = R/(R − e)).
+    // Rounding of µ = v_slide/v_t at the peak (the shift of the evaluation point is in the
+    // edge term above): v_t/Ω is the pole function f, whose products round by δf, a relative
+    // δf/|f| that is large near a pole and grows like κ = R/(R − e).
     let arch = pair.arch_of(best.alpha1);
     let f = match best.which {
         Which::Mu1 => pair.pole_fn_mu1(best.alpha1, arch),
         Which::Mu2 => pair.pole_fn_mu2(best.alpha1, arch),
     };
-    let rel = pair.pole_fn_roundoff(best.alpha1) / f.abs().max(f64::MIN_POSITIVE)
+    let rel = pair.pole_fn_product_roundoff(best.alpha1, arch, best.which)
+        / f.abs().max(f64::MIN_POSITIVE)
         + 16.0 * f64::EPSILON * pair.condition();
     best.error = err + rel * best.value;
     best.evals = evals;

@@ -14,12 +14,12 @@
 //! maximisation of the objective for an interior optimum).
 
 use crate::geom::P2;
+use crate::io::result::SearchEvidence;
 use crate::mech::gear::{
     closing_center_distance, closure_integral, min_gear2_curvature, peak_mu_with,
     periodic_integral, singularities_with, Alpha2Map, Closure, EccentricCircle, GearError,
     GearPair, MuPeak, Pole, Singularities, Which, Zero, ZeroKind,
 };
-use crate::io::result::SearchEvidence;
 use crate::numeric::{brent_max, brent_root, SearchError};
 use serde::Serialize;
 use std::collections::BTreeMap;

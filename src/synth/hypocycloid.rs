@@ -18,11 +18,11 @@ use argmin::solver::neldermead::NelderMead;
 use argmin_math::{ArgminAdd, ArgminMul, ArgminSub};
 use serde::Serialize;
 
+use crate::io::result::SearchEvidence;
 use crate::mech::hypocycloid::{
     lanchester_pair, max_abs_y, Coefficients, CosBin, Hypocycloid, LanchesterPair, MechError,
     ALPHA0_VARIANT1, ALPHA0_VARIANT2,
 };
-use crate::io::result::SearchEvidence;
 use crate::numeric::{brent_root, periodic_peak_with, periodic_rms};
 
 /// A bad field of a scene or of the settings, named by its problem-file key.
@@ -1147,8 +1147,16 @@ pub fn solve(scene: &HypocycloidScene, settings: &Settings) -> Result<Outcome, F
                     continue;
                 }
                 let far = starts.iter().all(|q| {
-                    let dx = if dl > 0.0 { (p[0] - q[0]).abs() / dl } else { 0.0 };
-                    let dy = if dt > 0.0 { (p[1] - q[1]).abs() / dt } else { 0.0 };
+                    let dx = if dl > 0.0 {
+                        (p[0] - q[0]).abs() / dl
+                    } else {
+                        0.0
+                    };
+                    let dy = if dt > 0.0 {
+                        (p[1] - q[1]).abs() / dt
+                    } else {
+                        0.0
+                    };
                     dx.max(dy) >= 2.0 - 1e-9
                 });
                 if far {
@@ -1207,7 +1215,8 @@ pub fn solve(scene: &HypocycloidScene, settings: &Settings) -> Result<Outcome, F
                 }
             }
             if runs.is_empty() {
-                warnings.push("every Nelder–Mead run failed; the best grid point is reported".into());
+                warnings
+                    .push("every Nelder–Mead run failed; the best grid point is reported".into());
                 runs.push((best.0, best.1, 0, false));
             }
             runs.sort_by(|a, b| a.1.total_cmp(&b.1));
