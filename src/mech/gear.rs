@@ -498,15 +498,21 @@ impl GearPair {
         4.0 * f64::EPSILON * self.condition().powi(2) * (th + TAU)
     }
 
-    /// Bound on the rounding error (m) of the products in the pole function (K − O_j)·d at a
-    /// given evaluation point: 16εκ(|K − O_j| + 2r).
+    /// Bound on the rounding error (m) of the products in the pole function at a given
+    /// evaluation point: f_j = ρ_j(σ cos ψ sin(ϕ/2) − sin ψ cos(ϕ/2)) + 2r sin(ϕ/2),
+    /// ρ_j = ρ1 − a_j (a_1 = 0, a_2 = a), bounded by the sum of its terms' magnitudes,
+    /// 16εκ(|ρ_j|(|cos ψ sin(ϕ/2)| + |sin ψ cos(ϕ/2)|) + 2r|sin(ϕ/2)|).
     pub fn pole_fn_product_roundoff(&self, alpha1: f64, arch: usize, which: Which) -> f64 {
         let ct = self.contact_on(alpha1, arch);
-        let o = match which {
-            Which::Mu1 => P2::new(0.0, 0.0),
-            Which::Mu2 => P2::new(self.a, 0.0),
+        let (sp, cp) = self.c.psi_sin_cos(alpha1);
+        let (sh, ch) = (0.5 * ct.phi).sin_cos();
+        let rho = match which {
+            Which::Mu1 => ct.p.x,
+            Which::Mu2 => ct.p.x - self.a,
         };
-        16.0 * f64::EPSILON * self.condition() * ((ct.k - o).norm() + 2.0 * self.r_gen)
+        16.0 * f64::EPSILON
+            * self.condition()
+            * (rho.abs() * ((cp * sh).abs() + (sp * ch).abs()) + 2.0 * self.r_gen * sh.abs())
     }
 
     /// Bound on the rounding error (m) of the pole functions (K − O_j)·d at α1 on arch i:
