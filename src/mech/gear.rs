@@ -912,8 +912,12 @@ fn peak_mu_once(
             let nudge = 1e-9 * (a1 - a0);
             // The window edges are uncertain by the pole errors (and the nudge), and every
             // sample by the rounding of its evaluation point.
-            let edge_shift =
-                sing.poles.iter().map(|p| p.error_rad).fold(nudge, f64::max) + pair.eval_shift(a1);
+            let edge_shift = sing
+                .poles
+                .iter()
+                .map(|p| p.error_rad)
+                .fold(if window == 0.0 { nudge } else { 0.0 }, f64::max)
+                + pair.eval_shift(a1);
             let mu = |x: f64| {
                 mu_at(x)
                     .or_else(|| {
