@@ -165,8 +165,10 @@ fn paper_table1_reports_the_closing_center_distance_and_the_inconsistencies() {
 #[test]
 fn design_file_matches_the_library_scene_and_meets_its_limits() {
     let v = solve_json(&problem("gear-eccentricity-design.toml"));
-    assert_eq!(v["status"], "optimal");
+    // A sampled sweep + Brent is not a certificate: best_found, with its evidence.
+    assert_eq!(v["status"], "best_found");
     assert_eq!(v["status_detail"], "constraint-bound");
+    assert!(v["search"]["evaluations"].as_u64().unwrap() >= 31);
     let lib = solve(&paper_table1_design(), &Settings::default()).unwrap();
     let e = num(&v, "design.eccentricity_m");
     assert!((e - lib.design["eccentricity_m"]).abs() < 1e-9, "{e}");

@@ -182,7 +182,13 @@ fn analysis_scenes_agree_with_direct_quadrature_and_brute_force() {
 fn c4_scene_variant1_traces_a_bracketed_zero_curve() {
     let v = solve_json(&problem("hypocycloid-c4-variant1.toml"));
     check_contract(&v, 8);
-    assert_eq!(v["status"], "optimal");
+    // The best design found is a plain slider-crank (crank arm → 0, no suction gain).
+    assert_eq!(v["status"], "degenerate");
+    assert!(v["status_detail"]
+        .as_str()
+        .unwrap()
+        .contains("slider-crank"));
+    assert!(v["search"]["starts"].as_u64().unwrap() >= 2);
     assert_eq!(v["zero_search"]["status"], "found");
     let zc = v["zero_curve"].as_array().unwrap();
     assert!(zc.len() >= 50, "{} points", zc.len());
@@ -219,7 +225,9 @@ fn c4_scene_variant1_traces_a_bracketed_zero_curve() {
 fn c4_scene_variant2_has_no_zero_and_says_where_the_minimum_is() {
     let v = solve_json(&problem("hypocycloid-c4-variant2.toml"));
     check_contract(&v, 8);
-    assert_eq!(v["status"], "optimal");
+    // Multi-start Nelder–Mead is a heuristic: best_found with its evidence.
+    assert_eq!(v["status"], "best_found");
+    assert!(v["search"]["starts"].as_u64().unwrap() >= 2);
     let z = &v["zero_search"];
     assert_eq!(z["status"], "no-zero");
     assert_eq!(z["sign"], -1);

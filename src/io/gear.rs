@@ -274,10 +274,14 @@ pub fn result(scene: &Scene, p: &GearProblem) -> SolveResult {
     r.timing.solve_s = t0.elapsed().as_secs_f64();
     r.status = match out.status {
         sg::Status::Analysed => Status::Analysed,
-        sg::Status::Optimal | sg::Status::ConstraintBound | sg::Status::AtBound => Status::Optimal,
+        // A sampled sweep + Brent is a heuristic search, not a certificate.
+        sg::Status::Optimal | sg::Status::ConstraintBound | sg::Status::AtBound => {
+            Status::BestFound
+        }
         sg::Status::Infeasible => Status::Infeasible,
     };
     r.status_detail = Some(status_detail(out.status).into());
+    r.search = out.search.clone();
     r.method = out.method.clone();
     r.design = out.design.clone();
     r.objectives = out.objectives.clone();

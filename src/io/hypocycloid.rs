@@ -374,16 +374,22 @@ pub fn result(scene: &Scene, s: &Resolved) -> SolveResult {
         }
     };
     r.timing.solve_s = t0.elapsed().as_secs_f64();
+    // Nelder–Mead from a few starts is a heuristic search: `best_found` with its evidence.
     r.status = match out.status {
         OptStatus::Analysis => Status::Analysed,
-        OptStatus::Converged => Status::Optimal,
+        OptStatus::Converged => Status::BestFound,
         OptStatus::MaxIterations => Status::Inaccurate,
         OptStatus::Infeasible => Status::Infeasible,
     };
-    if !out.coefficients.converged && matches!(r.status, Status::Analysed | Status::Optimal) {
+    if !out.coefficients.converged && matches!(r.status, Status::Analysed | Status::BestFound) {
         r.status = Status::Inaccurate;
     }
+    r.search = out.search.clone();
     let mut detail = kebab(out.status);
+    if let Some(d) = &out.degenerate {
+        r.status = Status::Degenerate;
+        let _ = write!(detail, "; degenerate: {d}");
+    }
     if let Some(z) = &out.zero_search {
         let _ = write!(detail, "; zero search: {}", kebab(z.status));
     }

@@ -640,6 +640,10 @@ fn hypocycloid() -> Value {
                 ),
             ),
             ("opt_grid", uint("start grid per free variable")),
+            (
+                "opt_starts",
+                uint("Nelder–Mead runs from the best distant grid points"),
+            ),
             ("nm_max_iters", uint("Nelder–Mead iteration limit")),
             ("nm_sd_tol", num("Nelder–Mead simplex tolerance")),
             ("plot_samples", uint("samples per turn of the force curves")),

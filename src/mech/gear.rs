@@ -447,9 +447,84 @@ impl GearPair {
             as usize
     }
 
-    /// α1 at the start of arch i (a cusp, contact at the pitch point), closed form.
+    /// α1 at the start of arch i (a cusp, contact at the pitch point), closed form
+    /// α_i = θ_i − atan2(e sin θ_i, R + e cos θ_i), θ_i = 2πi/N.
+    ///
+    /// dα/dθ = R/(R − e) at θ = π, so the rounding of θ_i would move the cusp by
+    /// ε·π·R/(R − e) (4.6e-13 rad at e/R = 0.9997): θ_i is written as π − δ with
+    /// δ = π(N − 2i)/N exact in its integer part, sin θ_i = sin δ and
+    /// R + e cos θ_i = (R − e) + 2e sin²(δ/2), which have no cancellation; the ψ = 0 cusps
+    /// (i = 0 and i = N/2) come out exactly at 0 and π.
     pub fn arch_start(&self, i: usize) -> f64 {
-        self.c.alpha_of_theta(TAU * i as f64 / self.n_arches as f64)
+        let n = self.n_arches;
+        let k = i / n;
+        let j = i % n;
+        let base = TAU * k as f64;
+        if j == 0 {
+            return base;
+        }
+        if 2 * j == n {
+            return base + std::f64::consts::PI;
+        }
+        let (r, e) = (self.c.r_pitch, self.c.e);
+        let m = n as isize - 2 * j as isize; // θ_i = π − δ, δ = πm/N
+        let delta = std::f64::consts::PI * m as f64 / n as f64;
+        let (sd, _) = delta.sin_cos();
+        let sh = (0.5 * delta).sin();
+        let theta = base + TAU * j as f64 / n as f64;
+        theta - (e * sd).atan2((r - e) + 2.0 * e * sh * sh)
+    }
+
+    /// Whether the cusp at the start of arch i has ψ = 0 (sin α_i = 0, i.e. θ_i ∈ {0, π},
+    /// or e = 0 where ψ ≡ 0): there a µ pole merges with the zero and µ is 0/0. Decided from
+    /// the integers (i = 0 or 2i = N), not from a rounded ψ.
+    pub fn cusp_is_indeterminate(&self, i: usize) -> bool {
+        let j = i % self.n_arches;
+        self.c.e == 0.0 || j == 0 || 2 * j == self.n_arches
+    }
+
+    /// Condition factor κ = R/(R − e) of the model near α1 = π: dα1/dθ there, and the
+    /// relative rounding of R cos ψ = sqrt((R − e sin α)(R + e sin α)) near sin α = ±1 grows
+    /// with it. Every round-off bound below is proportional to it.
+    pub fn condition(&self) -> f64 {
+        self.c.r_pitch / (self.c.r_pitch - self.c.e)
+    }
+
+    /// Bound on the shift (rad) of the point at which the model is effectively evaluated:
+    /// θ(α1) and ϕ carry 4ε(|θ| + 2π) of rounding, which is a shift of α1 by that times
+    /// dα1/dθ ≤ κ, times κ again for the rounding of R cos ψ: 4εκ²(|θ| + 2π).
+    pub fn eval_shift(&self, alpha1: f64) -> f64 {
+        let th = self.c.theta_of_alpha(alpha1).abs();
+        4.0 * f64::EPSILON * self.condition().powi(2) * (th + TAU)
+    }
+
+    /// Bound on the rounding error (m) of the products in the pole function at a given
+    /// evaluation point: f_j = ρ_j(σ cos ψ sin(ϕ/2) − sin ψ cos(ϕ/2)) + 2r sin(ϕ/2),
+    /// ρ_j = ρ1 − a_j (a_1 = 0, a_2 = a), bounded by the sum of its terms' magnitudes,
+    /// 16εκ(|ρ_j|(|cos ψ sin(ϕ/2)| + |sin ψ cos(ϕ/2)|) + 2r|sin(ϕ/2)|).
+    pub fn pole_fn_product_roundoff(&self, alpha1: f64, arch: usize, which: Which) -> f64 {
+        let ct = self.contact_on(alpha1, arch);
+        let (sp, cp) = self.c.psi_sin_cos(alpha1);
+        let (sh, ch) = (0.5 * ct.phi).sin_cos();
+        let rho = match which {
+            Which::Mu1 => ct.p.x,
+            Which::Mu2 => ct.p.x - self.a,
+        };
+        16.0 * f64::EPSILON
+            * self.condition()
+            * (rho.abs() * ((cp * sh).abs() + (sp * ch).abs()) + 2.0 * self.r_gen * sh.abs())
+    }
+
+    /// Bound on the rounding error (m) of the pole functions (K − O_j)·d at α1 on arch i:
+    /// 16ε·κ·(a + ρ1 + 2r + 2r·N·(|θ| + 2π)) — the rolling angle ϕ = N(θ − θ_i) carries
+    /// N·ε·(|θ| + 2π), the contact point moves by 2r times that, and the rest is the
+    /// rounding of the products, amplified by κ = [`Self::condition`].
+    pub fn pole_fn_roundoff(&self, alpha1: f64) -> f64 {
+        let th = self.c.theta_of_alpha(alpha1).abs();
+        let nr = 2.0 * self.r_gen * self.n_arches as f64 * (th + TAU);
+        16.0 * f64::EPSILON
+            * self.condition()
+            * (self.a + self.c.rho1(alpha1) + 2.0 * self.r_gen + nr)
     }
 
     /// Contact state at α1 on the arch containing it.
@@ -621,12 +696,14 @@ pub fn singularities_with(
     let mut poles = Vec::new();
     let mut zeros = Vec::new();
     let mut evals = 0usize;
-    let r = pair.c.r_pitch;
     for i in 0..pair.n_arches {
         let a0 = pair.arch_start(i);
         let a1 = pair.arch_start(i + 1);
-        let (sp, _) = pair.c.psi_sin_cos(a0);
-        let kind = if sp.abs() <= 1e-12 * (pair.c.e / r).max(1e-300) || sp == 0.0 {
+        let indeterminate = [
+            pair.cusp_is_indeterminate(i),
+            pair.cusp_is_indeterminate(i + 1),
+        ];
+        let kind = if indeterminate[0] {
             ZeroKind::Indeterminate
         } else {
             ZeroKind::PitchPoint
@@ -652,9 +729,13 @@ pub fn singularities_with(
             let ys: Vec<f64> = xs.iter().map(|&x| f(x)).collect();
             for k in 0..m {
                 let (ya, yb) = (ys[k], ys[k + 1]);
-                // Endpoints at the cusps: a zero there is the 0/0 point, not a pole.
-                let end_a = k == 0 && ya.abs() <= 1e-12 * pair.a;
-                let end_b = k + 1 == m && yb.abs() <= 1e-12 * pair.a;
+                // Endpoints at the cusps: at a ψ = 0 cusp the pole function vanishes (the
+                // 0/0 point, not a pole), elsewhere a value within its rounding bound has no
+                // reliable sign. The bound grows like κ = R/(R − e) (see `pole_fn_roundoff`).
+                let end_a =
+                    k == 0 && (indeterminate[0] || ya.abs() <= pair.pole_fn_roundoff(xs[0]));
+                let end_b =
+                    k + 1 == m && (indeterminate[1] || yb.abs() <= pair.pole_fn_roundoff(xs[m]));
                 if end_a || end_b {
                     continue;
                 }
@@ -677,13 +758,14 @@ pub fn singularities_with(
                         }
                     };
                     let phi = pair.contact_on(x, i).phi;
-                    // The root is bracketed to `tol`; the function value adds |f|/|f'|.
+                    // The root is bracketed to `tol`; the function value adds |f|/|f'| and
+                    // the function's own rounding δf/|f'| (the conditioning of the root).
                     poles.push(Pole {
                         alpha1_rad: x.rem_euclid(TAU),
                         which,
                         arch: i,
                         phi_rad: phi,
-                        error_rad: bracket + fx.abs() / slope,
+                        error_rad: bracket + (fx.abs() + pair.pole_fn_roundoff(x)) / slope,
                     });
                 }
             }
@@ -731,6 +813,10 @@ pub fn peak_mu(
 
 /// [`peak_mu`] with `Some(xtol)`; with `None` the sampled maxima are not refined (each is
 /// low by at most |µ''|h²/8, which the error then carries).
+///
+/// `window = 0` leaves nothing out: if µ1 or µ2 has a pole, the peak is unbounded and the
+/// result has `value = +∞` at the first pole (error 0, `max_asymmetry = +∞`, since
+/// µ1 + µ2 = −µ1²/(1 − µ1) is unbounded there too).
 pub fn peak_mu_with(
     pair: &GearPair,
     sing: &Singularities,
@@ -738,6 +824,18 @@ pub fn peak_mu_with(
     samples_per_arch: usize,
     xtol: Option<f64>,
 ) -> Result<MuPeak, SearchError> {
+    if window == 0.0 {
+        if let Some(p) = sing.poles.first() {
+            return Ok(MuPeak {
+                value: f64::INFINITY,
+                alpha1: p.alpha1_rad,
+                which: p.which,
+                error: 0.0,
+                max_asymmetry: f64::INFINITY,
+                evals: 0,
+            });
+        }
+    }
     let fine = peak_mu_once(pair, sing, window, samples_per_arch.max(8), xtol)?;
     let coarse = peak_mu_once(pair, sing, window, (samples_per_arch / 2).max(4), xtol)?;
     let mut out = fine;
@@ -802,13 +900,34 @@ fn peak_mu_once(
             if start < a1 {
                 pieces.push((start, a1));
             }
-            let mu = |x: f64| {
+            let mu_at = |x: f64| {
                 let ct = pair.contact_on(x, i);
                 match which {
                     Which::Mu1 => ct.mu1,
                     Which::Mu2 => ct.mu2,
                 }
-                .map_or(f64::INFINITY, f64::abs)
+            };
+            // Exactly at a 0/0 cusp (reachable only with a zero window) µ has no value; its
+            // one-sided limit from inside the arch is taken, 1e-9 of the arch away.
+            let nudge = 1e-9 * (a1 - a0);
+            // The window edges are uncertain by the pole errors (and the nudge), and every
+            // sample by the rounding of its evaluation point.
+            let edge_shift = sing
+                .poles
+                .iter()
+                .map(|p| p.error_rad)
+                .fold(if window == 0.0 { nudge } else { 0.0 }, f64::max)
+                + pair.eval_shift(a1);
+            let mu = |x: f64| {
+                mu_at(x)
+                    .or_else(|| {
+                        mu_at(if x - a0 < a1 - x {
+                            x + nudge
+                        } else {
+                            x - nudge
+                        })
+                    })
+                    .map_or(f64::INFINITY, f64::abs)
             };
             for (u, v) in pieces {
                 if v <= u {
@@ -845,7 +964,7 @@ fn peak_mu_once(
                 let edge_slope = ((ys[1] - ys[0]) / h)
                     .abs()
                     .max(((ys[m] - ys[m - 1]) / h).abs());
-                err = err.max(edge_slope * 1e-12);
+                err = err.max(edge_slope * edge_shift);
                 for k in 1..m {
                     if ys[k] >= ys[k - 1] && ys[k] >= ys[k + 1] {
                         let curv = ((ys[k - 1] - 2.0 * ys[k] + ys[k + 1]) / (h * h)).abs();
@@ -870,7 +989,18 @@ fn peak_mu_once(
     if !best.value.is_finite() {
         return Err(SearchError::NotFinite { x: best.alpha1 });
     }
-    best.error = err + 4.0 * f64::EPSILON * best.value;
+    // Rounding of µ = v_slide/v_t at the peak (the shift of the evaluation point is in the
+    // edge term above): v_t/Ω is the pole function f, whose products round by δf, a relative
+    // δf/|f| that is large near a pole and grows like κ = R/(R − e).
+    let arch = pair.arch_of(best.alpha1);
+    let f = match best.which {
+        Which::Mu1 => pair.pole_fn_mu1(best.alpha1, arch),
+        Which::Mu2 => pair.pole_fn_mu2(best.alpha1, arch),
+    };
+    let rel = pair.pole_fn_product_roundoff(best.alpha1, arch, best.which)
+        / f.abs().max(f64::MIN_POSITIVE)
+        + 16.0 * f64::EPSILON * pair.condition();
+    best.error = err + rel * best.value;
     best.evals = evals;
     Ok(best)
 }

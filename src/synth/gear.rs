@@ -14,6 +14,7 @@
 //! maximisation of the objective for an interior optimum).
 
 use crate::geom::P2;
+use crate::io::result::SearchEvidence;
 use crate::mech::gear::{
     closing_center_distance, closure_integral, min_gear2_curvature, peak_mu_with,
     periodic_integral, singularities_with, Alpha2Map, Closure, EccentricCircle, GearError,
@@ -338,17 +339,19 @@ impl Settings {
     }
 }
 
-/// How the solve ended.
+/// How the solve ended. A designed e comes from a sampled sweep refined by Brent, which is
+/// not a certificate: `Optimal`, `ConstraintBound` and `AtBound` say where the best found e
+/// lies and are all reported as `best_found` (with [`Outcome::search`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Status {
     /// e was fixed: analysis only.
     Analysed,
-    /// Interior maximum of the ratio variation.
+    /// Best found: an interior maximum of the ratio variation (Brent between samples).
     Optimal,
-    /// The optimum lies on a constraint boundary (named in `method`).
+    /// Best found: on a constraint boundary (named in `method`).
     ConstraintBound,
-    /// The optimum is at a bound of e.
+    /// Best found: at a bound of e.
     AtBound,
     /// No sampled e satisfies the constraints; the least-violating one is reported.
     Infeasible,
@@ -449,6 +452,9 @@ pub struct Outcome {
     pub pitch_curves: PitchCurves,
     /// The eccentricity sweep (empty when e is fixed).
     pub sweep: Vec<SweepRow>,
+    /// What the design search did (absent when e is fixed): a sampled sweep is not a proof
+    /// of optimality, so a designed e is reported as `best_found` with this evidence.
+    pub search: Option<SearchEvidence>,
 }
 
 /// Full-cycle analysis of one design.
@@ -551,6 +557,7 @@ pub fn solve(scene: &GearScene, settings: &Settings) -> Result<Outcome, SolveErr
     let mut method = String::new();
     let mut sweep = Vec::new();
     let mut design_error = 0.0;
+    let mut search: Option<SearchEvidence> = None;
     let (e, status) = match scene.eccentricity {
         Var::Fixed(e) => (e, Status::Analysed),
         Var::Free { min, max } => {
@@ -584,6 +591,38 @@ pub fn solve(scene: &GearScene, settings: &Settings) -> Result<Outcome, SolveErr
                 .enumerate()
                 .filter_map(|(k, r)| r.1.filter(|x| x.1 <= 0.0).map(|x| (k, x.0)))
                 .max_by(|a, b| a.1.total_cmp(&b.1));
+            // The sweep's evidence: the best objective of each maximal run of feasible
+            // samples (a run is a basin of the 1-D search), best first.
+            let mut run_best: Vec<f64> = Vec::new();
+            let mut in_run = false;
+            for r in &rows {
+                match r.1.filter(|x| x.1 <= 0.0) {
+                    Some((o, _)) if in_run => {
+                        let last = run_best.last_mut().expect("in a run");
+                        *last = last.max(o);
+                    }
+                    Some((o, _)) => {
+                        run_best.push(o);
+                        in_run = true;
+                    }
+                    None => in_run = false,
+                }
+            }
+            run_best.sort_by(|a, b| b.total_cmp(a));
+            search = Some(SearchEvidence {
+                method: format!(
+                    "sweep of {n} equally spaced eccentricities over [{min:e}, {max:e}] m, then Brent \
+                     (Brent 1973) on the best sample's neighbourhood; no bound on the constraints \
+                     between samples, so a feasible e between two infeasible samples can be missed"
+                ),
+                starts: 1,
+                distinct_basins: run_best.len(),
+                evaluations: n,
+                best_values: run_best.iter().take(5).copied().collect(),
+                starts_at_best: 1,
+                spread_rel: (run_best.len() > 1)
+                    .then(|| (run_best[0] - run_best[1]) / run_best[0].abs()),
+            });
             let tol = settings.design_rtol * scene.pitch_radius;
             match best {
                 None => {
@@ -627,6 +666,9 @@ pub fn solve(scene: &GearScene, settings: &Settings) -> Result<Outcome, SolveErr
                             guard += 1;
                         }
                         design_error = 2.0 * tol;
+                        if let Some(ev) = search.as_mut() {
+                            ev.evaluations += count.get();
+                        }
                         method.push_str(&format!(
                             "sweep of {n} eccentricities, then Brent root of the worst constraint margin on [{:.6e}, {:.6e}] m ({} analyses, tol {:.1e} m). ",
                             rows[k].0.min(rows[j].0),
@@ -649,6 +691,9 @@ pub fn solve(scene: &GearScene, settings: &Settings) -> Result<Outcome, SolveErr
                         };
                         let ext = brent_max(g, rows[k - 1].0, rows[k + 1].0, tol)?;
                         design_error = tol;
+                        if let Some(ev) = search.as_mut() {
+                            ev.evaluations += count.get();
+                        }
                         method.push_str(&format!(
                             "sweep of {n} eccentricities, then Brent maximisation ({} analyses). ",
                             count.get()
@@ -663,6 +708,15 @@ pub fn solve(scene: &GearScene, settings: &Settings) -> Result<Outcome, SolveErr
     let mut out = report(scene, &an, settings)?;
     out.status = status;
     out.sweep = sweep;
+    if let Some(ev) = search.as_mut() {
+        // The refined design heads the list (it is at least the best sample).
+        let v = out.objectives["ratio_variation"];
+        if status != Status::Infeasible && ev.best_values.first().is_none_or(|&b| v >= b) {
+            ev.best_values.insert(0, v);
+            ev.best_values.truncate(5);
+        }
+    }
+    out.search = search;
     out.method = format!(
         "{method}Analysis: closure a by Brent on the trapezoid closure integral ({} integrals); poles: {} samples/arch + Brent (argmin BrentRoot) to {:.0e} rad; peak |µ|: {} samples/arch + Brent (argmin BrentOpt) to {:.0e} rad; {} contact evaluations.",
         an.closure.evals, settings.samples_per_arch, settings.pole_tol, settings.peak_samples_per_arch, settings.peak_xtol, an.evals
@@ -800,6 +854,13 @@ pub fn report(
             "design.eccentricity: ρ1 min = R − e = {:.3e} m ≤ 2r = {:.3e} m: the generating circle is as large as gear 1's radius there, hypocycloid flanks run through the pivot and µ1 poles spread over whole arches",
             r - e,
             2.0 * rg
+        ));
+    }
+    if !an.peak.value.is_finite() {
+        warnings.push(format!(
+            "model.pole_window = 0: no window is left out, and |µ| is unbounded at the {} poles of µ1, µ2 (the first at α1 = {:.6} rad); objectives.peak_sliding_coefficient has no finite value (null)",
+            an.sing.poles.len(),
+            an.peak.alpha1
         ));
     }
     if an.curvature.0 <= 0.0 {
@@ -1051,6 +1112,7 @@ pub fn report(
         series,
         pitch_curves,
         sweep: Vec::new(),
+        search: None,
     })
 }
 

@@ -18,6 +18,7 @@ use argmin::solver::neldermead::NelderMead;
 use argmin_math::{ArgminAdd, ArgminMul, ArgminSub};
 use serde::Serialize;
 
+use crate::io::result::SearchEvidence;
 use crate::mech::hypocycloid::{
     lanchester_pair, max_abs_y, Coefficients, CosBin, Hypocycloid, LanchesterPair, MechError,
     ALPHA0_VARIANT1, ALPHA0_VARIANT2,
@@ -344,6 +345,8 @@ pub struct Settings {
     pub peak_xtol: f64,
     /// Samples per free variable of the optimiser's start grid.
     pub opt_grid: usize,
+    /// Nelder–Mead runs, from the best mutually distant grid points (the search evidence).
+    pub opt_starts: usize,
     /// Nelder–Mead iteration limit.
     pub nm_max_iters: u64,
     /// Nelder–Mead stop: standard deviation of the simplex costs (relative to the best).
@@ -365,6 +368,7 @@ impl Default for Settings {
             fft_adaptive: true,
             peak_xtol: 1e-9,
             opt_grid: 15,
+            opt_starts: 4,
             nm_max_iters: 300,
             nm_sd_tol: 1e-12,
             plot_samples: 181,
@@ -429,6 +433,9 @@ impl Settings {
         if !(3..=1000).contains(&self.opt_grid) {
             return Err(field("settings.opt_grid", self.opt_grid, "3..=1000"));
         }
+        if !(1..=64).contains(&self.opt_starts) {
+            return Err(field("settings.opt_starts", self.opt_starts, "1..=64"));
+        }
         if self.nm_max_iters == 0 {
             return Err(field("settings.nm_max_iters", self.nm_max_iters, "≥ 1"));
         }
@@ -476,7 +483,8 @@ pub struct ZeroRoot {
     pub value_error: f64,
     /// The paper-style truncated series a_i^(P)(λ, θ*) at the exact root.
     pub series_value: f64,
-    /// Root θ of the truncated series in the same bracket, if it has one there.
+    /// The truncated series' root nearest to θ* in the same λ column (searched over the
+    /// column's whole feasible θ range), if the series has one there.
     pub series_theta: Option<f64>,
 }
 
@@ -627,6 +635,23 @@ pub fn zero_search(
         }
         let fs: Vec<f64> = ts.iter().map(|&(_, t)| bin.eval(l, t)).collect();
         evals += fs.len();
+        // The truncated series' own roots anywhere in the column's feasible θ range (they
+        // need not lie in the exact roots' brackets).
+        let ser = |t: f64| {
+            Hypocycloid {
+                lambda: l,
+                theta: t,
+                alpha0,
+            }
+            .series_coefficients(series_power, k)
+            .0[k]
+        };
+        let ss: Vec<f64> = ts.iter().map(|&(_, t)| ser(t)).collect();
+        let series_roots: Vec<f64> = (0..ss.len().saturating_sub(1))
+            .filter(|&w| ss[w] == 0.0 || ss[w].signum() != ss[w + 1].signum())
+            .filter_map(|w| brent_root(ser, ts[w].1, ts[w + 1].1, s.root_tol).ok())
+            .map(|r| r.x)
+            .collect();
         for (&(c, _), &f) in ts.iter().zip(&fs) {
             if let Some(c) = c {
                 value[r][c] = Some(f);
@@ -646,16 +671,10 @@ pub fn zero_search(
             };
             if let Ok(rt) = brent_root(f, ta, tb, s.root_tol) {
                 evals += cnt.get();
-                let ser = |t: f64| {
-                    Hypocycloid {
-                        lambda: l,
-                        theta: t,
-                        alpha0,
-                    }
-                    .series_coefficients(series_power, k)
-                    .0[k]
-                };
-                let series_theta = brent_root(ser, ta, tb, s.root_tol).ok().map(|r| r.x);
+                let series_theta = series_roots
+                    .iter()
+                    .copied()
+                    .min_by(|a, b| (a - rt.x).abs().total_cmp(&(b - rt.x).abs()));
                 roots.push(ZeroRoot {
                     lambda: l,
                     theta: rt.x,
@@ -1040,13 +1059,20 @@ pub struct Outcome {
     pub method: String,
     /// Optimiser status.
     pub status: OptStatus,
+    /// What the Nelder–Mead search did (absent when nothing is free): a multi-start heuristic,
+    /// so a converged search is `best_found`, never `optimal`.
+    pub search: Option<SearchEvidence>,
+    /// Why the best design found is degenerate (it is no longer the machine the scene asks
+    /// for), if it is.
+    pub degenerate: Option<String>,
     /// The coefficient tables.
     pub coefficients: CoefficientTable,
     /// The Lanchester pairs of the balanced orders.
     pub balancing: Vec<LanchesterPair>,
     /// The zero set of the searched order (empty without a zero search).
     pub zero_curve: Vec<ZeroPoint>,
-    /// The truncated series' zero set in the same brackets (where it has one).
+    /// The truncated series' zero set: for each exact root, the series root nearest to it in
+    /// the same λ column (where the series has one).
     pub zero_curve_series: Vec<ZeroPoint>,
     /// The full zero-search evidence.
     pub zero_search: Option<ZeroSearchResult>,
@@ -1062,6 +1088,8 @@ pub fn solve(scene: &HypocycloidScene, settings: &Settings) -> Result<Outcome, F
     let s = settings;
     let mut warnings = Vec::new();
     let mut evals = 0usize;
+    let mut search: Option<SearchEvidence> = None;
+    let fscale = scene.m_b * scene.r_carrier * scene.omega * scene.omega;
     let (lb, tb) = (scene.lambda.bounds(), scene.theta.bounds());
     let free = is_free(&scene.lambda) || is_free(&scene.theta);
     let (mut x, status, method) = if !free {
@@ -1083,10 +1111,12 @@ pub fn solve(scene: &HypocycloidScene, settings: &Settings) -> Result<Outcome, F
             }
         };
         let mut best = ([lb.0, tb.0], f64::INFINITY);
+        let mut grid = Vec::new();
         for &l in &pts(lb, is_free(&scene.lambda)) {
             for &t in &pts(tb, is_free(&scene.theta)) {
                 let v = penalised(scene, [l, t], s);
                 evals += 1;
+                grid.push(([l, t], v));
                 if v < best.1 {
                     best = ([l, t], v);
                 }
@@ -1109,67 +1139,134 @@ pub fn solve(scene: &HypocycloidScene, settings: &Settings) -> Result<Outcome, F
                 step(lb, is_free(&scene.lambda)),
                 step(tb, is_free(&scene.theta)),
             );
-            let x0 = Pt(best.0);
-            let mut simplex = vec![x0];
-            if dl > 0.0 {
-                simplex.push(Pt([
-                    x0.0[0] + dl * if x0.0[0] + dl > lb.1 { -1.0 } else { 1.0 },
-                    x0.0[1],
-                ]));
-            }
-            if dt > 0.0 {
-                simplex.push(Pt([
-                    x0.0[0],
-                    x0.0[1] + dt * if x0.0[1] + dt > tb.1 { -1.0 } else { 1.0 },
-                ]));
-            }
-            let obj = Objective {
-                scene,
-                s,
-                count: std::cell::Cell::new(0),
-            };
-            let nm = NelderMead::new(simplex)
-                .with_sd_tolerance(s.nm_sd_tol)
-                .expect("positive tolerance");
-            let res = Executor::new(obj, nm)
-                .configure(|c| c.max_iters(s.nm_max_iters))
-                .run();
-            match res {
-                Ok(r) => {
-                    let st = r.state();
-                    let p = st.get_best_param().copied().unwrap_or(x0);
-                    let iters = st.get_iter();
-                    let nev = r
-                        .problem()
-                        .problem
-                        .as_ref()
-                        .map(|o| o.count.get())
-                        .unwrap_or(0);
-                    evals += nev;
-                    let status = if iters >= s.nm_max_iters {
-                        OptStatus::MaxIterations
+            // Starts: the best grid points that are at least two grid steps apart.
+            grid.sort_by(|a, b| a.1.total_cmp(&b.1));
+            let mut starts: Vec<[f64; 2]> = Vec::new();
+            for (p, v) in &grid {
+                if *v >= 1e3 || starts.len() >= s.opt_starts {
+                    continue;
+                }
+                let far = starts.iter().all(|q| {
+                    let dx = if dl > 0.0 {
+                        (p[0] - q[0]).abs() / dl
                     } else {
-                        OptStatus::Converged
+                        0.0
                     };
-                    if status == OptStatus::MaxIterations {
-                        warnings.push(format!(
-                            "Nelder–Mead stopped at its iteration limit ({iters})"
-                        ));
-                    }
-                    let px = [p.0[0].clamp(lb.0, lb.1), p.0[1].clamp(tb.0, tb.1)];
-                    (px, status, format!("grid {g}-per-free-variable start + argmin Nelder–Mead ({iters} iterations)"))
-                }
-                Err(e) => {
-                    warnings.push(format!(
-                        "Nelder–Mead failed ({e}); the best grid point is reported"
-                    ));
-                    (
-                        best.0,
-                        OptStatus::MaxIterations,
-                        format!("grid {g}-per-free-variable (Nelder–Mead failed)"),
-                    )
+                    let dy = if dt > 0.0 {
+                        (p[1] - q[1]).abs() / dt
+                    } else {
+                        0.0
+                    };
+                    dx.max(dy) >= 2.0 - 1e-9
+                });
+                if far {
+                    starts.push(*p);
                 }
             }
+            let mut runs: Vec<([f64; 2], f64, u64, bool)> = Vec::new();
+            let mut total_iters = 0;
+            for x0 in starts {
+                let x0 = Pt(x0);
+                let mut simplex = vec![x0];
+                if dl > 0.0 {
+                    simplex.push(Pt([
+                        x0.0[0] + dl * if x0.0[0] + dl > lb.1 { -1.0 } else { 1.0 },
+                        x0.0[1],
+                    ]));
+                }
+                if dt > 0.0 {
+                    simplex.push(Pt([
+                        x0.0[0],
+                        x0.0[1] + dt * if x0.0[1] + dt > tb.1 { -1.0 } else { 1.0 },
+                    ]));
+                }
+                let obj = Objective {
+                    scene,
+                    s,
+                    count: std::cell::Cell::new(0),
+                };
+                let nm = NelderMead::new(simplex)
+                    .with_sd_tolerance(s.nm_sd_tol)
+                    .expect("positive tolerance");
+                let res = Executor::new(obj, nm)
+                    .configure(|c| c.max_iters(s.nm_max_iters))
+                    .run();
+                match res {
+                    Ok(r) => {
+                        let st = r.state();
+                        let p = st.get_best_param().copied().unwrap_or(x0);
+                        let iters = st.get_iter();
+                        total_iters += iters;
+                        evals += r
+                            .problem()
+                            .problem
+                            .as_ref()
+                            .map(|o| o.count.get())
+                            .unwrap_or(0);
+                        let px = [p.0[0].clamp(lb.0, lb.1), p.0[1].clamp(tb.0, tb.1)];
+                        let v = penalised(scene, px, s);
+                        evals += 1;
+                        runs.push((px, v, iters, iters < s.nm_max_iters));
+                    }
+                    Err(e) => warnings.push(format!(
+                        "Nelder–Mead from ({:.6}, {:.6}) failed ({e})",
+                        x0.0[0], x0.0[1]
+                    )),
+                }
+            }
+            if runs.is_empty() {
+                warnings
+                    .push("every Nelder–Mead run failed; the best grid point is reported".into());
+                runs.push((best.0, best.1, 0, false));
+            }
+            runs.sort_by(|a, b| a.1.total_cmp(&b.1));
+            let (px, fbest, _, converged) = runs[0];
+            if !converged {
+                warnings.push(format!(
+                    "the best Nelder–Mead run stopped at its iteration limit ({})",
+                    s.nm_max_iters
+                ));
+            }
+            // Basins: runs whose end points differ by more than 1e-6 of the box (or whose
+            // values differ by more than 1e-9 relative) are distinct local optima.
+            let rel = |v: f64| (v - fbest) / fbest.abs().max(f64::MIN_POSITIVE);
+            let mut basins: Vec<([f64; 2], f64)> = Vec::new();
+            for (p, v, _, _) in &runs {
+                let same = basins.iter().any(|(q, w)| {
+                    let dx = (p[0] - q[0]).abs() / (lb.1 - lb.0).max(f64::MIN_POSITIVE);
+                    let dy = (p[1] - q[1]).abs() / (tb.1 - tb.0).max(f64::MIN_POSITIVE);
+                    dx.max(dy) <= 1e-6 || (v - w).abs() <= 1e-9 * w.abs()
+                });
+                if !same {
+                    basins.push((*p, *v));
+                }
+            }
+            let at_best = runs.iter().filter(|r| rel(r.1) <= 1e-9).count();
+            search = Some(SearchEvidence {
+                method: format!(
+                    "grid {g} per free variable, then argmin Nelder–Mead (Nelder & Mead 1965) from the {} best \
+                     grid points at least two steps apart; penalised residual-force peak",
+                    runs.len()
+                ),
+                starts: runs.len(),
+                distinct_basins: basins.len(),
+                evaluations: evals,
+                best_values: basins.iter().take(5).map(|b| b.1 * fscale).collect(),
+                starts_at_best: at_best,
+                spread_rel: (basins.len() > 1).then(|| rel(basins[1].1)),
+            });
+            (
+                px,
+                if converged {
+                    OptStatus::Converged
+                } else {
+                    OptStatus::MaxIterations
+                },
+                format!(
+                    "grid {g}-per-free-variable start + argmin Nelder–Mead from {} starts ({total_iters} iterations)",
+                    runs.len()
+                ),
+            )
         }
     };
     // Keep the reported design feasible.
@@ -1189,8 +1286,40 @@ pub fn solve(scene: &HypocycloidScene, settings: &Settings) -> Result<Outcome, F
         alpha0: scene.alpha0,
     };
     let r = scene.r_carrier;
-    let fscale = scene.m_b * r * scene.omega * scene.omega;
     let c = &e.coef;
+    // A design that the search pushed onto a bound, and one that lost what makes the machine
+    // hypocycloidal (the suction lengthening of paper 004), are said so.
+    let mut degenerate = None;
+    if free {
+        for (name, v, b) in [("λ", l, lb), ("θ", t, tb)] {
+            let span = b.1 - b.0;
+            if span > 0.0 && ((v - b.0).abs() <= 1e-6 * span || (b.1 - v).abs() <= 1e-6 * span) {
+                warnings.push(format!(
+                    "{name} = {v:.6} is at a bound of its range [{}, {}]: the bound, not an interior optimum, \
+                     decides the design{}",
+                    b.0,
+                    b.1,
+                    if name == "λ" && (v - b.0).abs() <= 1e-6 * span {
+                        format!(" (the residual force falls as λ → 0, i.e. as the rod L = R/λ = {:.4} m grows)", r / l)
+                    } else {
+                        String::new()
+                    }
+                ));
+            }
+        }
+        if status != OptStatus::Infeasible && e.suction_gain <= 1e-9 {
+            degenerate = Some(format!(
+                "the best design found has no suction lengthening (suction gain {:.1e}) with a crank arm \
+                 r = θR = {:.4} mm ({:.2} % of R) and a rod L = {:.4} m: it is a plain slider-crank, not the \
+                 hypocycloidal machine of paper 004; set hypocycloid.min_suction_gain (as variant 2 does) or a \
+                 lower bound on θ to ask for one",
+                e.suction_gain,
+                t * r * 1e3,
+                100.0 * t,
+                r / l
+            ));
+        }
+    }
     if scene.coefficients == CoefficientModel::Series {
         warnings.push(format!(
             "model.coefficients = \"series\": the balancing and the objectives use the paper's series truncated at \
@@ -1335,8 +1464,8 @@ pub fn solve(scene: &HypocycloidScene, settings: &Settings) -> Result<Outcome, F
             let missing = z.roots.iter().filter(|r| r.series_theta.is_none()).count();
             if missing > 0 {
                 warnings.push(format!(
-                    "the truncated series (power {}) has no zero in {missing} of the {} brackets where the exact \
-                     coefficient changes sign",
+                    "the truncated series (power {}) has no zero in {missing} of the {} λ columns where the exact \
+                     coefficient has one",
                     scene.series_power,
                     z.roots.len()
                 ));
@@ -1377,6 +1506,8 @@ pub fn solve(scene: &HypocycloidScene, settings: &Settings) -> Result<Outcome, F
         paper,
         method,
         status,
+        search,
+        degenerate,
         coefficients: CoefficientTable {
             a: c.a[..=n_ord].to_vec(),
             b: c.b[..=n_ord].to_vec(),
