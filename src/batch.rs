@@ -1747,8 +1747,40 @@ mod tests {
         (good, bad)
     }
 
-    /// Many rows of the piston fleet: cells with units, plain SI numbers, integers, empty
-    /// cells, a `name` column (given, empty, not a file name), a key inside an inline table,
+    /// A unit in a column header (`mechanism.speed [rpm]`) is the unit of that column's bare
+    /// numbers; a cell's own unit still counts; a bare number in a dimensional column
+    /// without a unit in its header is an error naming the file, line and column; an
+    /// unknown header unit is an error of the header line.
+    #[test]
+    fn units_come_from_the_cell_or_the_header_never_guessed() {
+        let dir = tempfile::tempdir().unwrap();
+        let header = ["mechanism.speed [rpm]", "mechanism.crank_mass"];
+        let cell = |a: &str, b: &str| vec![a.to_string(), b.to_string()];
+        let rows = [
+            cell("1000", "0.35 kg"),
+            cell("104.71975511965977 rad/s", "350 g"),
+            cell("1000", "0.35"),
+        ];
+        let (tpl, recs) = fleet(dir.path(), "f.csv", &template_path(), &header, &rows);
+        assert_eq!(same_both_ways(&tpl, &recs), (2, 1));
+        let speed = |k: usize| {
+            let (_, s) = tpl.scene(recs[k].0, recs[k].1, &recs[k].2);
+            format!("{:?}", s.unwrap().kind)
+        };
+        let omega = 1000.0 * std::f64::consts::TAU / 60.0;
+        assert!(speed(0).contains(&format!("omega: {omega:?}")), "{}", speed(0));
+        let (_, bad) = tpl.scene(recs[2].0, recs[2].1, &recs[2].2);
+        let bad = bad.unwrap_err();
+        assert!(bad.starts_with(&format!("{}:4: field `mechanism.crank_mass` (column 2): `0.35` has no unit", tpl.csv.display())), "{bad}");
+        assert!(bad.contains("kg"), "{bad}");
+        let csv = dir.path().join("g.csv");
+        std::fs::write(&csv, "mechanism.speed [furlong]\n1\n").unwrap();
+        let e = Template::open(&template_path(), &csv).err().unwrap().to_string();
+        assert!(e.contains("g.csv:1: column `mechanism.speed [furlong]`: unknown unit `furlong`"), "{e}");
+    }
+
+    /// Many rows of the piston fleet: cells with units, plain numbers under a header with a
+    /// unit, plain numbers without one (errors), integers, empty cells, a `name` column (given, empty, not a file name), a key inside an inline table,
     /// quoted text, and every broken row of `scripts/make_fleet.py` (negative length, rod
     /// shorter than the crank, unknown unit, not a quantity, negative mass).
     #[test]
@@ -1756,14 +1788,14 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         let header = [
             "name",
-            "mechanism.crank_radius",
+            "mechanism.crank_radius [m]",
             "mechanism.rod_length",
-            "mechanism.crank_mass",
+            "mechanism.crank_mass [kg]",
             "mechanism.rod_mass",
-            "mechanism.slider_mass",
-            "mechanism.speed",
+            "mechanism.slider_mass [ kg ]",
+            "mechanism.speed [rad/s]",
             "model.rod_split",
-            "design.unbalance.max",
+            "design.unbalance.max [kg·m]",
             "accuracy.rel_tol",
             "description",
         ];

@@ -398,7 +398,7 @@ fn geometry_checks_name_their_field() {
         &t,
         "accuracy.samples_per_arch",
         "samples_per_arch",
-        "must be ≥ 8",
+        "allowed: an integer from 8 to 10000",
     );
 }
 

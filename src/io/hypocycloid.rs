@@ -5,6 +5,8 @@
 //! (λ, θ) optimisation and the zero search of the fourth-order coefficient.
 
 use super::plot::{self, Grid, Panel, Series};
+use super::limits;
+use super::problem::Family;
 use super::problem::{
     check_name, positive, Ctx, FieldError, Input, ProblemError, RawFile, RawVar, Scene, SceneKind,
 };
@@ -117,6 +119,7 @@ pub type AccuracyRaw = Settings;
 /// Validates the `[accuracy]` section.
 fn resolve_accuracy(s: &Settings) -> Result<Settings, FieldError> {
     let s = s.clone();
+    limits::check_section(Family::Hypocycloid, "accuracy", &s)?;
     s.validate().map_err(map_synth_error)?;
     Ok(s)
 }
@@ -210,6 +213,21 @@ fn range(r: &RangeRaw, f: &str, lo_open: bool) -> Result<(f64, f64), FieldError>
 pub fn resolve_raw(raw: &File) -> Result<Resolved, FieldError> {
     check_name(&raw.name)?;
     let m = &raw.mechanism;
+    let count = |key: &str, v: Option<usize>| {
+        v.map_or(Ok(()), |v| limits::check(Family::Hypocycloid, key, v as i128))
+    };
+    if let Some(v) = m.variant {
+        limits::check(Family::Hypocycloid, "mechanism.variant", v.into())?;
+    }
+    count("model.orders", raw.model.orders)?;
+    count("model.series_power", raw.model.series_power)?;
+    for &o in raw.objective.balance_orders.iter().flatten() {
+        count("objective.balance_orders", Some(o))?;
+    }
+    count(
+        "objective.zero_search.order",
+        raw.objective.zero_search.as_ref().and_then(|z| z.order),
+    )?;
     let (variant, alpha0) =
         match (m.variant, m.orientation) {
             (Some(_), Some(_)) => {
