@@ -1768,15 +1768,31 @@ mod tests {
             format!("{:?}", s.unwrap().kind)
         };
         let omega = 1000.0 * std::f64::consts::TAU / 60.0;
-        assert!(speed(0).contains(&format!("omega: {omega:?}")), "{}", speed(0));
+        assert!(
+            speed(0).contains(&format!("omega: {omega:?}")),
+            "{}",
+            speed(0)
+        );
         let (_, bad) = tpl.scene(recs[2].0, recs[2].1, &recs[2].2);
         let bad = bad.unwrap_err();
-        assert!(bad.starts_with(&format!("{}:4: field `mechanism.crank_mass` (column 2): `0.35` has no unit", tpl.csv.display())), "{bad}");
+        assert!(
+            bad.starts_with(&format!(
+                "{}:4: field `mechanism.crank_mass` (column 2): `0.35` has no unit",
+                tpl.csv.display()
+            )),
+            "{bad}"
+        );
         assert!(bad.contains("kg"), "{bad}");
         let csv = dir.path().join("g.csv");
         std::fs::write(&csv, "mechanism.speed [furlong]\n1\n").unwrap();
-        let e = Template::open(&template_path(), &csv).err().unwrap().to_string();
-        assert!(e.contains("g.csv:1: column `mechanism.speed [furlong]`: unknown unit `furlong`"), "{e}");
+        let e = Template::open(&template_path(), &csv)
+            .err()
+            .unwrap()
+            .to_string();
+        assert!(
+            e.contains("g.csv:1: column `mechanism.speed [furlong]`: unknown unit `furlong`"),
+            "{e}"
+        );
     }
 
     /// Many rows of the piston fleet: cells with units, plain numbers under a header with a

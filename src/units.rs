@@ -622,7 +622,8 @@ mod tests {
         let e = parse("35 furlong", Dim::Length).unwrap_err();
         assert!(matches!(e, UnitError::UnknownUnit { .. }));
         assert!(
-            e.to_string().contains("allowed: a string with a number and one of the units: m, mm"),
+            e.to_string()
+                .contains("allowed: a string with a number and one of the units: m, mm"),
             "{e}"
         );
         assert!(matches!(

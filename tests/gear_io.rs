@@ -359,7 +359,12 @@ fn geometry_checks_name_their_field() {
         "even integer",
     );
     let t = with(TABLE1, "turns_gear1 = 3", "turns_gear1 = 0");
-    assert_names(&t, "mechanism.turns_gear1", "turns_gear1", "an integer from 1 to 100");
+    assert_names(
+        &t,
+        "mechanism.turns_gear1",
+        "turns_gear1",
+        "an integer from 1 to 100",
+    );
     let t = with(TABLE1, "\"0.01 rad\"", "\"10 deg\"");
     assert_names(
         &t,

@@ -15,7 +15,9 @@ use std::sync::mpsc;
 use std::time::{Duration, Instant};
 
 fn problem(name: &str) -> String {
-    let p = Path::new(env!("CARGO_MANIFEST_DIR")).join("problems").join(name);
+    let p = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("problems")
+        .join(name);
     std::fs::read_to_string(p).unwrap()
 }
 
@@ -44,7 +46,10 @@ fn set(text: &str, key: &str, value: &str) -> String {
     let (table, name) = key.rsplit_once('.').unwrap();
     let header = format!("[{table}]");
     let mut lines: Vec<String> = text.lines().map(str::to_string).collect();
-    let Some(h) = lines.iter().position(|l| l.split('#').next().unwrap().trim() == header) else {
+    let Some(h) = lines
+        .iter()
+        .position(|l| l.split('#').next().unwrap().trim() == header)
+    else {
         return format!("{text}\n{header}\n{name} = {value}\n");
     };
     let end = lines[h + 1..]

@@ -38,7 +38,11 @@ fn units_are_converted_to_si() {
     assert!((sc.omega - 1000.0 * std::f64::consts::TAU / 60.0).abs() < 1e-12);
     // mm and m files give the same scene.
     let m = parse_str(
-        &with(PISTON, "crank_radius = \"35 mm\"", "crank_radius = \"0.035 m\""),
+        &with(
+            PISTON,
+            "crank_radius = \"35 mm\"",
+            "crank_radius = \"0.035 m\"",
+        ),
         Path::new("p.toml"),
     )
     .unwrap();
@@ -61,8 +65,15 @@ fn bare_numbers_in_dimensional_fields_are_errors() {
         ("\"0.30 kg\"", "0", "mechanism.rod_mass", "kg"),
     ] {
         let t = with(PISTON, from, to);
-        assert_names(&t, field, field.rsplit('.').next().unwrap(), "has no unit, and units are never guessed");
-        let e = parse_str(&t, Path::new("bad.toml")).unwrap_err().to_string();
+        assert_names(
+            &t,
+            field,
+            field.rsplit('.').next().unwrap(),
+            "has no unit, and units are never guessed",
+        );
+        let e = parse_str(&t, Path::new("bad.toml"))
+            .unwrap_err()
+            .to_string();
         assert!(e.contains(unit), "{e}");
     }
     // A free range's bounds (an angle range of plain numbers would have been radians).

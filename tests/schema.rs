@@ -211,7 +211,11 @@ fn unknown_keys_wrong_types_and_bad_units_fail() {
         piston.replacen("min = \"0 deg\"", "min = 0", 1),
         // An integer setting above its maximum, or at u64::MAX.
         piston.replacen("rel_tol = 1e-9", "rel_tol = 1e-9\nrms_samples = 100001", 1),
-        piston.replacen("rel_tol = 1e-9", "rel_tol = 1e-9\nscan_samples = 18446744073709551615", 1),
+        piston.replacen(
+            "rel_tol = 1e-9",
+            "rel_tol = 1e-9\nscan_samples = 18446744073709551615",
+            1,
+        ),
     ];
     for (i, t) in bad.iter().enumerate() {
         assert_ne!(t, piston, "case {i} did not change the file");

@@ -4,8 +4,8 @@
 //! `docs/results.md`): design, Δh and its error, the thesis's checks, the jib-head path and
 //! the Δh landscape over (k1, k2) as SVG and CSV.
 
-use super::plot::{self, Grid, Panel, Series};
 use super::limits;
+use super::plot::{self, Grid, Panel, Series};
 use super::problem::Family;
 use super::problem::{
     check_name, Ctx, FieldError, Input, ProblemError, RawFile, RawVar, Scene, SceneKind,

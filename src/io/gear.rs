@@ -3,8 +3,8 @@
 //! `docs/problem-files.md`) — and the shaping of its outcome into a result (keys in
 //! `docs/results.md`): pitch curves, i12(α1), µ1 and µ2 with their poles, the design sweep.
 
-use super::plot::{self, Panel, Series};
 use super::limits;
+use super::plot::{self, Panel, Series};
 use super::problem::Family;
 use super::problem::{
     check_name, non_negative, positive, Ctx, FieldError, Input, ProblemError, RawFile, RawVar,

@@ -4,8 +4,8 @@
 //! (keys in `docs/results.md`): the order coefficients of S/R, the Lanchester balancing, the
 //! (λ, θ) optimisation and the zero search of the fourth-order coefficient.
 
-use super::plot::{self, Grid, Panel, Series};
 use super::limits;
+use super::plot::{self, Grid, Panel, Series};
 use super::problem::Family;
 use super::problem::{
     check_name, positive, Ctx, FieldError, Input, ProblemError, RawFile, RawVar, Scene, SceneKind,
@@ -214,7 +214,9 @@ pub fn resolve_raw(raw: &File) -> Result<Resolved, FieldError> {
     check_name(&raw.name)?;
     let m = &raw.mechanism;
     let count = |key: &str, v: Option<usize>| {
-        v.map_or(Ok(()), |v| limits::check(Family::Hypocycloid, key, v as i128))
+        v.map_or(Ok(()), |v| {
+            limits::check(Family::Hypocycloid, key, v as i128)
+        })
     };
     if let Some(v) = m.variant {
         limits::check(Family::Hypocycloid, "mechanism.variant", v.into())?;

@@ -304,7 +304,9 @@ impl<'de> Deserialize<'de> for PaperValue {
         impl Visitor<'_> for V {
             type Value = PaperValue;
             fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
-                f.write_str("a quantity string such as \"900 N\" (a plain number for a pure number)")
+                f.write_str(
+                    "a quantity string such as \"900 N\" (a plain number for a pure number)",
+                )
             }
             fn visit_f64<E: de::Error>(self, v: f64) -> Result<PaperValue, E> {
                 if v.is_finite() {

@@ -3,8 +3,8 @@
 //! `docs/problem-files.md`) — and the shaping of its outcome into a result (keys in
 //! `docs/results.md`).
 
-use super::plot::{self, Panel, Series};
 use super::limits;
+use super::plot::{self, Panel, Series};
 use super::problem::Family;
 use super::problem::{
     check_name, non_negative, positive, Ctx, FieldError, Input, ProblemError, RawFile, RawVar,
