@@ -404,7 +404,7 @@ fn bad_input_names_file_line_and_field() {
         &t,
         "accuracy.path_samples",
         "path_samples",
-        "allowed: an integer from 8 to 1000",
+        "allowed: an integer from 8 to 1024",
     );
 }
 

@@ -83,7 +83,10 @@ fn bare_numbers_in_dimensional_fields_are_errors() {
         "angle = { min = 0, max = 3 }",
     );
     if let Err(e) = parse_str(&t, Path::new("bad.toml")) {
-        assert_eq!(e.field(), Some("design.angle.min"), "{e}");
+        assert!(
+            e.field().is_some_and(|f| f.starts_with("design.angle.")),
+            "{e}"
+        );
         assert!(e.to_string().contains("no unit"), "{e}");
         assert!(e.line().is_some(), "{e}");
     } else {

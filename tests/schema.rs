@@ -209,13 +209,9 @@ fn unknown_keys_wrong_types_and_bad_units_fail() {
         piston.replacen("\"1000 rpm\"", "1500", 1),
         piston.replacen("\"35 mm\"", "\"35\"", 1),
         piston.replacen("min = \"0 deg\"", "min = 0", 1),
-        // An integer setting above its maximum, or at u64::MAX.
+        // An integer setting above its maximum (u64::MAX is no JSON value to validate; the
+        // reader's error for it is in tests/integer_limits.rs).
         piston.replacen("rel_tol = 1e-9", "rel_tol = 1e-9\nrms_samples = 100001", 1),
-        piston.replacen(
-            "rel_tol = 1e-9",
-            "rel_tol = 1e-9\nscan_samples = 18446744073709551615",
-            1,
-        ),
     ];
     for (i, t) in bad.iter().enumerate() {
         assert_ne!(t, piston, "case {i} did not change the file");

@@ -213,23 +213,8 @@ fn range(r: &RangeRaw, f: &str, lo_open: bool) -> Result<(f64, f64), FieldError>
 pub fn resolve_raw(raw: &File) -> Result<Resolved, FieldError> {
     check_name(&raw.name)?;
     let m = &raw.mechanism;
-    let count = |key: &str, v: Option<usize>| {
-        v.map_or(Ok(()), |v| {
-            limits::check(Family::Hypocycloid, key, v as i128)
-        })
-    };
-    if let Some(v) = m.variant {
-        limits::check(Family::Hypocycloid, "mechanism.variant", v.into())?;
-    }
-    count("model.orders", raw.model.orders)?;
-    count("model.series_power", raw.model.series_power)?;
-    for &o in raw.objective.balance_orders.iter().flatten() {
-        count("objective.balance_orders", Some(o))?;
-    }
-    count(
-        "objective.zero_search.order",
-        raw.objective.zero_search.as_ref().and_then(|z| z.order),
-    )?;
+    // `mechanism.variant`, `model.*` and `objective.*` integers keep the scene's own checks
+    // (the ranges of `io::limits`, with messages that say what each value means).
     let (variant, alpha0) =
         match (m.variant, m.orientation) {
             (Some(_), Some(_)) => {

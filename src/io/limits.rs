@@ -30,7 +30,7 @@ const fn c(key: &'static str, min: u64, max: u64) -> Count {
 pub const SLIDER_CRANK: &[Count] = &[
     c("objective.pareto_points", 0, 200),
     c("objective.speed_sweep.points", 2, 200),
-    c("accuracy.initial_samples", 3, 360),
+    c("accuracy.initial_samples", 3, 1024),
     c("accuracy.scan_samples", 16, 20_000),
     c("accuracy.max_rounds", 1, 1000),
     c("accuracy.rms_samples", 16, 100_000),
@@ -38,7 +38,7 @@ pub const SLIDER_CRANK: &[Count] = &[
 
 /// Luffing-crane integer keys.
 pub const LUFFING_CRANE: &[Count] = &[
-    c("accuracy.path_samples", 8, 1000),
+    c("accuracy.path_samples", 8, 1024),
     c("accuracy.plot_points", 2, 10_000),
     c("accuracy.global_samples", 1, 1000),
     c("accuracy.local_starts", 1, 50),
