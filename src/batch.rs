@@ -3,7 +3,10 @@
 //!
 //! An input is a problem file, a directory of them, or a **fleet**
 //! `TEMPLATE.toml:FLEET.csv`: every CSV row overrides dotted keys of the template
-//! (`mechanism.speed`, `design.radius`, …; cells may carry units, `"35 mm"`). The template
+//! (`mechanism.speed`, `design.radius`, …). Units are never guessed: a dimensional cell
+//! carries its unit (`35 mm`), or its column header does (`mechanism.speed [rpm]`: a bare
+//! number in that column is in rpm); a bare number with neither is an error naming the
+//! file, line and column. The template
 //! is parsed once; a row sets its cells in a copy of the parsed table and resolves that with
 //! [`parse_table`] (the checks of `cwsynth solve`, no TOML printed or re-parsed). A row that
 //! fails there is redone the slow way, editing the template text with `toml_edit` and running
@@ -24,6 +27,7 @@
 use crate::io::problem::{parse_str, parse_table, ProblemError, Scene};
 use crate::io::result::{fmt_num, md_escape, truncate, write_atomic, write_outputs};
 use crate::run::solve_scene;
+use crate::units::Unit;
 use anyhow::{bail, Context};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
@@ -403,23 +407,60 @@ pub struct Template {
     table: toml::Table,
     doc: toml_edit::DocumentMut,
     name: String,
+    /// The dotted keys of the columns (the header without its units).
     header: Vec<String>,
+    /// The unit of each column's bare numbers (`mechanism.speed [rpm]`), if its header
+    /// gives one.
+    units: Vec<Option<&'static Unit>>,
     hash: Hasher,
 }
 
+/// A column header: its dotted key and, if written `key [unit]`, its unit (an unknown unit
+/// is an error).
+fn column(h: &str) -> Result<(String, Option<&'static Unit>), String> {
+    let h = h.trim();
+    let Some((key, rest)) = h.split_once('[') else {
+        return Ok((h.to_string(), None));
+    };
+    let Some(symbol) = rest.trim().strip_suffix(']') else {
+        return Err(format!(
+            "column `{h}`: a unit is written `key [unit]`, e.g. `mechanism.speed [rpm]`"
+        ));
+    };
+    match crate::units::unit(symbol) {
+        Some(u) => Ok((key.trim().to_string(), Some(u))),
+        None => Err(format!(
+            "column `{h}`: unknown unit `{}`; allowed: {}",
+            symbol.trim(),
+            crate::units::UNITS
+                .iter()
+                .map(|u| u.symbol)
+                .collect::<Vec<_>>()
+                .join(", ")
+        )),
+    }
+}
+
 /// The TOML value of a CSV cell: integer, float, boolean, else a string (quantities with
-/// units stay strings, as in a problem file).
+/// units stay strings, as in a problem file); a number in a column whose header has a unit
+/// is that quantity (`1500` under `mechanism.speed [rpm]` is `"1500 rpm"`).
 enum Cell<'a> {
     Int(i64),
     Float(f64),
     Bool(bool),
     Str(&'a str),
+    Qty(&'a str, &'static str),
 }
 
 impl Cell<'_> {
-    /// The value of a cell as written in the CSV.
-    fn of(cell: &str) -> Cell<'_> {
+    /// The value of a cell as written in the CSV, in a column of unit `unit`.
+    fn of<'a>(cell: &'a str, unit: Option<&'static Unit>) -> Cell<'a> {
         let c = cell.trim();
+        if let Some(u) = unit {
+            if c.parse::<f64>().is_ok_and(f64::is_finite) {
+                return Cell::Qty(c, u.symbol);
+            }
+        }
         if let Ok(i) = c.parse::<i64>() {
             return Cell::Int(i);
         }
@@ -445,6 +486,7 @@ impl Cell<'_> {
             Cell::Float(x) => x.into(),
             Cell::Bool(b) => b.into(),
             Cell::Str(s) => s.into(),
+            Cell::Qty(x, unit) => format!("{x} {unit}").as_str().into(),
         }
     }
 }
@@ -530,17 +572,22 @@ impl Template {
             .unwrap_or("machine")
             .to_string();
         let mut rdr = csv_reader(csv)?;
-        let header: Vec<String> = rdr
+        let columns: Vec<String> = rdr
             .headers()
             .with_context(|| format!("{}: cannot read the header", csv.display()))?
             .iter()
             .map(|h| h.trim().to_string())
             .collect();
+        let (header, units) = columns
+            .iter()
+            .map(|h| column(h))
+            .collect::<Result<(Vec<_>, Vec<_>), String>>()
+            .map_err(|e| anyhow::anyhow!("{}:1: {e}", csv.display()))?;
         let mut hash = Hasher::new();
         hash.bytes(b"fleet row\0");
         hash.field(&text);
-        hash.field(&header.len().to_string());
-        for h in &header {
+        hash.field(&columns.len().to_string());
+        for h in &columns {
             hash.field(h);
         }
         Ok(Template {
@@ -550,6 +597,7 @@ impl Template {
             doc,
             name,
             header,
+            units,
             hash,
         })
     }
@@ -566,14 +614,15 @@ impl Template {
         h.hex()
     }
 
-    /// The (dotted key, cell) pairs a row overrides: every column but `name`, without the
-    /// empty cells (which keep the template's value).
-    fn overrides<'a>(&'a self, cells: &'a [String]) -> impl Iterator<Item = (&'a str, &'a str)> {
+    /// The (dotted key, cell value) pairs a row overrides: every column but `name`, without
+    /// the empty cells (which keep the template's value).
+    fn overrides<'a>(&'a self, cells: &'a [String]) -> impl Iterator<Item = (&'a str, Cell<'a>)> {
         self.header
             .iter()
+            .zip(&self.units)
             .zip(cells)
-            .filter(|(h, c)| *h != "name" && !c.trim().is_empty())
-            .map(|(h, c)| (h.as_str(), c.as_str()))
+            .filter(|((h, _), c)| *h != "name" && !c.trim().is_empty())
+            .map(|((h, u), c)| (h.as_str(), Cell::of(c, *u)))
     }
 
     /// The scene of one CSV row (its source `fleet.csv:LINE`), the fast way: the row's
@@ -586,7 +635,7 @@ impl Template {
         let mut table = self.table.clone();
         table.insert("name".into(), name.into());
         for (key, cell) in self.overrides(cells) {
-            set_dotted_table(&mut table, key, Cell::of(cell).value())?;
+            set_dotted_table(&mut table, key, cell.value())?;
         }
         parse_table(table, Path::new(&self.source(line))).ok()
     }
@@ -660,7 +709,7 @@ impl Template {
             return (name, Err(format!("{at}: field `name`: {e}")));
         }
         for (h, c) in self.overrides(cells) {
-            if let Err(e) = set_dotted(&mut doc, h, Cell::of(c).value()) {
+            if let Err(e) = set_dotted(&mut doc, h, c.value()) {
                 return (name, Err(format!("{at}: field `{h}`: {e}")));
             }
         }
@@ -880,13 +929,23 @@ fn row_error(tpl: &Template, line: u64, e: ProblemError) -> String {
             field,
             message,
             ..
-        } => format!(
-            "{}: {}{message}{}",
-            tpl.source(line),
-            field.map(|f| format!("field `{f}`: ")).unwrap_or_default(),
-            tl.map(|l| format!(" (template {}:{l})", tpl.path.display()))
-                .unwrap_or_default()
-        ),
+        } => {
+            // A field set by a column: name the column (1-based, as written in the header).
+            let col = field
+                .as_ref()
+                .and_then(|f| tpl.header.iter().position(|h| h == f))
+                .map(|k| format!(" (column {})", k + 1))
+                .unwrap_or_default();
+            format!(
+                "{}: {}{message}{}",
+                tpl.source(line),
+                field
+                    .map(|f| format!("field `{f}`{col}: "))
+                    .unwrap_or_default(),
+                tl.map(|l| format!(" (template {}:{l})", tpl.path.display()))
+                    .unwrap_or_default()
+            )
+        }
         e => format!("{}: {e}", tpl.source(line)),
     }
 }
@@ -1830,8 +1889,56 @@ mod tests {
         (good, bad)
     }
 
-    /// Many rows of the piston fleet: cells with units, plain SI numbers, integers, empty
-    /// cells, a `name` column (given, empty, not a file name), a key inside an inline table,
+    /// A unit in a column header (`mechanism.speed [rpm]`) is the unit of that column's bare
+    /// numbers; a cell's own unit still counts; a bare number in a dimensional column
+    /// without a unit in its header is an error naming the file, line and column; an
+    /// unknown header unit is an error of the header line.
+    #[test]
+    fn units_come_from_the_cell_or_the_header_never_guessed() {
+        let dir = tempfile::tempdir().unwrap();
+        let header = ["mechanism.speed [rpm]", "mechanism.crank_mass"];
+        let cell = |a: &str, b: &str| vec![a.to_string(), b.to_string()];
+        let rows = [
+            cell("1000", "0.35 kg"),
+            cell("104.71975511965977 rad/s", "350 g"),
+            cell("1000", "0.35"),
+        ];
+        let (tpl, recs) = fleet(dir.path(), "f.csv", &template_path(), &header, &rows);
+        assert_eq!(same_both_ways(&tpl, &recs), (2, 1));
+        let speed = |k: usize| {
+            let (_, s) = tpl.scene(recs[k].0, recs[k].1, &recs[k].2);
+            format!("{:?}", s.unwrap().kind)
+        };
+        let omega = 1000.0 * std::f64::consts::TAU / 60.0;
+        assert!(
+            speed(0).contains(&format!("omega: {omega:?}")),
+            "{}",
+            speed(0)
+        );
+        let (_, bad) = tpl.scene(recs[2].0, recs[2].1, &recs[2].2);
+        let bad = bad.unwrap_err();
+        assert!(
+            bad.starts_with(&format!(
+                "{}:4: field `mechanism.crank_mass` (column 2): `0.35` has no unit",
+                tpl.csv.display()
+            )),
+            "{bad}"
+        );
+        assert!(bad.contains("kg"), "{bad}");
+        let csv = dir.path().join("g.csv");
+        std::fs::write(&csv, "mechanism.speed [furlong]\n1\n").unwrap();
+        let e = Template::open(&template_path(), &csv)
+            .err()
+            .unwrap()
+            .to_string();
+        assert!(
+            e.contains("g.csv:1: column `mechanism.speed [furlong]`: unknown unit `furlong`"),
+            "{e}"
+        );
+    }
+
+    /// Many rows of the piston fleet: cells with units, plain numbers under a header with a
+    /// unit, plain numbers without one (errors), integers, empty cells, a `name` column (given, empty, not a file name), a key inside an inline table,
     /// quoted text, and every broken row of `scripts/make_fleet.py` (negative length, rod
     /// shorter than the crank, unknown unit, not a quantity, negative mass).
     #[test]
@@ -1839,14 +1946,14 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         let header = [
             "name",
-            "mechanism.crank_radius",
+            "mechanism.crank_radius [m]",
             "mechanism.rod_length",
-            "mechanism.crank_mass",
+            "mechanism.crank_mass [kg]",
             "mechanism.rod_mass",
-            "mechanism.slider_mass",
-            "mechanism.speed",
+            "mechanism.slider_mass [ kg ]",
+            "mechanism.speed [rad/s]",
             "model.rod_split",
-            "design.unbalance.max",
+            "design.unbalance.max [kg·m]",
             "accuracy.rel_tol",
             "description",
         ];

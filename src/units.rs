@@ -1,10 +1,11 @@
 //! Quantities with units at the edges of the program.
 //!
-//! Inside, everything is SI (m, kg, s, rad, N, N·m). Problem files and fleet CSV cells may
-//! write a quantity as a plain number (taken as SI) or as a string with a unit, `"35 mm"`,
-//! `"1000 rpm"`, `"12 deg"`. [`parse`] turns such a string into SI for an expected
-//! [`Dim`]; an unknown unit or a unit of the wrong dimension is an error that lists the
-//! units allowed. [`Qty`] is the serde face of the same thing, so that a bad unit in a
+//! Inside, everything is SI (m, kg, s, rad, N, N·m). Problem files and fleet CSV cells
+//! write a dimensional quantity as a string with a unit, `"35 mm"`, `"1000 rpm"`,
+//! `"12 deg"`; units are never guessed, so a bare number (`speed = 1500`) is an error for
+//! any dimension but [`Dim::Dimensionless`] (λ, k1, counts stay plain numbers). [`parse`]
+//! turns such a string into SI for an expected [`Dim`]; a missing, unknown or wrong unit
+//! is an error that lists the units allowed. [`Qty`] is the serde face of the same thing, so that a bad unit in a
 //! problem file is reported by the TOML reader with its line and column.
 
 use serde::de::{self, Deserializer, Visitor};
@@ -67,7 +68,8 @@ impl Dim {
             .map_or("", |u| u.symbol)
     }
 
-    /// The unit strings accepted for this dimension, comma separated.
+    /// What a value of this dimension may be written as: for a pure number a plain
+    /// number, else a string with a number and one of the accepted units.
     pub fn allowed(self) -> String {
         let list: Vec<&str> = UNITS
             .iter()
@@ -78,17 +80,10 @@ impl Dim {
             "a plain number".into()
         } else {
             format!(
-                "a plain number in {} or a string with one of: {}",
-                self.si_or_one(),
-                list.join(", ")
+                "a string with a number and one of the units: {} (e.g. \"1 {}\")",
+                list.join(", "),
+                list[0]
             )
-        }
-    }
-
-    fn si_or_one(self) -> &'static str {
-        match self.si() {
-            "" => "(no unit)",
-            s => s,
         }
     }
 }
@@ -339,6 +334,13 @@ pub enum UnitError {
     /// The number is NaN or infinite.
     #[error("`{text}` is not a finite number")]
     NotFinite { text: String },
+    /// A dimensional quantity is written without a unit.
+    #[error("`{text}` has no unit, and units are never guessed: a {dim} needs one; allowed: {allowed}", dim = .dim.name())]
+    NoUnit {
+        text: String,
+        dim: Dim,
+        allowed: String,
+    },
     /// The unit is not known at all.
     #[error("unknown unit `{unit}` for a {dim}; allowed: {allowed}", dim = .dim.name())]
     UnknownUnit {
@@ -403,8 +405,9 @@ fn split_number(t: &str) -> Option<(f64, &str)> {
     Some((value, t[i..].trim()))
 }
 
-/// Parses `"35 mm"` (or `"35mm"`, `"1e3 rpm"`, `"12"`) into SI for the dimension `dim`.
-/// A number without a unit is taken as SI.
+/// Parses `"35 mm"` (or `"35mm"`, `"1e3 rpm"`) into SI for the dimension `dim`. A number
+/// without a unit is a pure number: accepted for [`Dim::Dimensionless`] only, else
+/// [`UnitError::NoUnit`] (see [`bare`]).
 pub fn parse(text: &str, dim: Dim) -> Result<f64, UnitError> {
     let Some((value, unit)) = split_number(text.trim()) else {
         return Err(UnitError::NotANumber {
@@ -418,7 +421,7 @@ pub fn parse(text: &str, dim: Dim) -> Result<f64, UnitError> {
         return Err(UnitError::NotFinite { text: text.into() });
     }
     if unit.is_empty() {
-        return Ok(value);
+        return bare(value, dim);
     }
     match find_unit(unit) {
         Some(u) if u.dim == dim => Ok(value * u.factor),
@@ -436,16 +439,36 @@ pub fn parse(text: &str, dim: Dim) -> Result<f64, UnitError> {
     }
 }
 
+/// A number written without a unit, for a field of dimension `dim`: itself for a pure
+/// number, [`UnitError::NoUnit`] for anything else (units are never guessed).
+pub fn bare(value: f64, dim: Dim) -> Result<f64, UnitError> {
+    match dim {
+        Dim::Dimensionless => Ok(value),
+        _ => Err(UnitError::NoUnit {
+            text: value.to_string(),
+            dim,
+            allowed: dim.allowed(),
+        }),
+    }
+}
+
+/// The accepted unit written `symbol` (any of its spellings), if any: for a unit written
+/// once for many values (a fleet CSV column header `mechanism.speed [rpm]`).
+pub fn unit(symbol: &str) -> Option<&'static Unit> {
+    find_unit(symbol.trim())
+}
+
 /// Parses a quantity whose dimension is given by its unit; returns the SI value and the
 /// dimension (`Dimensionless` for a bare number). Text that is no quantity is reported as
 /// for a length.
 pub fn parse_any(text: &str) -> Result<(f64, Dim), UnitError> {
-    let dim = split_number(text.trim())
-        .and_then(|(_, unit)| find_unit(unit))
-        .map_or(Dim::Length, |u| u.dim);
-    let v = parse(text, dim)?;
-    let bare = text.trim().parse::<f64>().is_ok();
-    Ok((v, if bare { Dim::Dimensionless } else { dim }))
+    let dim = match split_number(text.trim()) {
+        Some((_, "")) => Dim::Dimensionless,
+        s => s
+            .and_then(|(_, unit)| find_unit(unit))
+            .map_or(Dim::Length, |u| u.dim),
+    };
+    Ok((parse(text, dim)?, dim))
 }
 
 /// Compile-time dimension marker for [`Qty`].
@@ -477,8 +500,9 @@ dims!(
     Time
 );
 
-/// A quantity read from a problem file: a number (SI) or a string with a unit, converted to
-/// SI and checked for dimension and finiteness while deserialising.
+/// A quantity read from a problem file: a string with a unit (a plain number only for
+/// [`Dimensionless`]), converted to SI and checked for dimension and finiteness while
+/// deserialising.
 #[derive(Debug, PartialEq)]
 pub struct Qty<D>(pub f64, PhantomData<D>);
 
@@ -514,20 +538,19 @@ impl<D: Dimension> Visitor<'_> for QtyVisitor<D> {
         write!(f, "a {}: {}", D::DIM.name(), D::DIM.allowed())
     }
     fn visit_f64<E: de::Error>(self, v: f64) -> Result<Self::Value, E> {
-        if v.is_finite() {
-            Ok(Qty::new(v))
-        } else {
-            Err(E::custom(format!(
-                "{v} is not a finite number; expected {}",
+        if !v.is_finite() {
+            return Err(E::custom(format!(
+                "{v} is not a finite number; allowed: {}",
                 D::DIM.allowed()
-            )))
+            )));
         }
+        bare(v, D::DIM).map(Qty::new).map_err(E::custom)
     }
     fn visit_i64<E: de::Error>(self, v: i64) -> Result<Self::Value, E> {
-        Ok(Qty::new(v as f64))
+        self.visit_f64(v as f64)
     }
     fn visit_u64<E: de::Error>(self, v: u64) -> Result<Self::Value, E> {
-        Ok(Qty::new(v as f64))
+        self.visit_f64(v as f64)
     }
     fn visit_str<E: de::Error>(self, v: &str) -> Result<Self::Value, E> {
         parse(v, D::DIM).map(Qty::new).map_err(E::custom)
@@ -570,17 +593,12 @@ mod tests {
                 Dim::AngularSpeed,
                 1000.0 * std::f64::consts::TAU / 60.0,
             ),
-            ("12", Dim::Length, 12.0),
+            ("12", Dim::Dimensionless, 12.0),
         ];
         for (text, dim, si) in cases {
             let v = parse(text, dim).unwrap_or_else(|e| panic!("{text}: {e}"));
             assert!((v - si).abs() <= 1e-15 * si.abs(), "{text}: {v} vs {si}");
-            let any = if text == "12" {
-                Dim::Dimensionless
-            } else {
-                dim
-            };
-            assert_eq!(parse_any(text), Ok((v, any)), "{text}");
+            assert_eq!(parse_any(text), Ok((v, dim)), "{text}");
         }
         // Spellings of a product of units.
         for text in ["3 N.m", "3 N-m", "3 N⋅m", " 3  N . m "] {
@@ -604,7 +622,8 @@ mod tests {
         let e = parse("35 furlong", Dim::Length).unwrap_err();
         assert!(matches!(e, UnitError::UnknownUnit { .. }));
         assert!(
-            e.to_string().contains("allowed: a plain number in m"),
+            e.to_string()
+                .contains("allowed: a string with a number and one of the units: m, mm"),
             "{e}"
         );
         assert!(matches!(
@@ -625,6 +644,51 @@ mod tests {
                 Err(UnitError::UnknownUnit { .. })
             ));
         }
+    }
+
+    #[test]
+    fn units_are_never_guessed() {
+        // A bare number is a pure number: an error for every other dimension, as text or
+        // as a TOML number (the serde face), naming the units allowed.
+        let dims = [
+            Dim::Length,
+            Dim::Mass,
+            Dim::Angle,
+            Dim::AngularSpeed,
+            Dim::Force,
+            Dim::Torque,
+            Dim::Unbalance,
+            Dim::Inertia,
+            Dim::Density,
+            Dim::Acceleration,
+            Dim::Time,
+        ];
+        for dim in dims {
+            for text in ["1500", " 0 ", "-2.5e3"] {
+                let e = parse(text, dim).unwrap_err();
+                assert!(matches!(e, UnitError::NoUnit { .. }), "{text}: {e}");
+                assert!(e.to_string().contains(dim.name()), "{e}");
+                assert!(e.to_string().contains(dim.si()), "{e}");
+            }
+        }
+        assert_eq!(parse("1500", Dim::Dimensionless), Ok(1500.0));
+        #[derive(serde::Deserialize, Debug)]
+        struct T {
+            #[allow(dead_code)]
+            speed: Qty<AngularSpeed>,
+        }
+        for text in ["speed = 1500", "speed = 1500.0", "speed = -3"] {
+            let e = toml::from_str::<T>(text).unwrap_err();
+            assert!(e.message().contains("no unit"), "{e}");
+            assert!(e.message().contains("rpm"), "{e}");
+        }
+        let t: T = toml::from_str("speed = \"60 rpm\"").unwrap();
+        assert!((t.speed.si() - std::f64::consts::TAU).abs() < 1e-15);
+        #[derive(serde::Deserialize, Debug)]
+        struct P {
+            lambda: Qty<Dimensionless>,
+        }
+        assert_eq!(toml::from_str::<P>("lambda = 3").unwrap().lambda.si(), 3.0);
     }
 
     #[test]
@@ -650,7 +714,7 @@ mod tests {
             ("-2.5e-3 m", Dim::Length, -2.5e-3),
             ("+4E2mm", Dim::Length, 0.4),
             ("1e mm", Dim::Length, f64::NAN),
-            ("1e3", Dim::Length, 1e3),
+            ("1e3", Dim::Dimensionless, 1e3),
             ("3 ms", Dim::Time, 3e-3),
             (".5 kg", Dim::Mass, 0.5),
             ("5. kg", Dim::Mass, 5.0),

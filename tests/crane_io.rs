@@ -333,7 +333,7 @@ fn bad_input_names_file_line_and_field() {
         &t,
         "design.phi_min",
         "phi_min",
-        "`m` is a unit of length, but this field is a plane angle; allowed: a plain number in rad",
+        "`m` is a unit of length, but this field is a plane angle; allowed: a string with a number and one of the units: rad, deg",
     );
     let t = with(EXAMPLE, "gamma1 = \"10 deg\"", "gamma1 = \"95 deg\"");
     assert_names(
@@ -404,7 +404,7 @@ fn bad_input_names_file_line_and_field() {
         &t,
         "accuracy.path_samples",
         "path_samples",
-        "must be at least 8",
+        "allowed: an integer from 8 to 1024",
     );
 }
 

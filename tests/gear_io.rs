@@ -361,7 +361,12 @@ fn geometry_checks_name_their_field() {
         "even integer",
     );
     let t = with(TABLE1, "turns_gear1 = 3", "turns_gear1 = 0");
-    assert_names(&t, "mechanism.turns_gear1", "turns_gear1", "integer ≥ 1");
+    assert_names(
+        &t,
+        "mechanism.turns_gear1",
+        "turns_gear1",
+        "an integer from 1 to 100",
+    );
     let t = with(TABLE1, "\"0.01 rad\"", "\"10 deg\"");
     assert_names(
         &t,
@@ -400,7 +405,7 @@ fn geometry_checks_name_their_field() {
         &t,
         "accuracy.samples_per_arch",
         "samples_per_arch",
-        "must be ≥ 8",
+        "allowed: an integer from 8 to 1000",
     );
 }
 

@@ -38,7 +38,11 @@ fn units_are_converted_to_si() {
     assert!((sc.omega - 1000.0 * std::f64::consts::TAU / 60.0).abs() < 1e-12);
     // mm and m files give the same scene.
     let m = parse_str(
-        &with(PISTON, "crank_radius = \"35 mm\"", "crank_radius = 0.035"),
+        &with(
+            PISTON,
+            "crank_radius = \"35 mm\"",
+            "crank_radius = \"0.035 m\"",
+        ),
         Path::new("p.toml"),
     )
     .unwrap();
@@ -47,6 +51,65 @@ fn units_are_converted_to_si() {
     };
     let sm = &sm.core;
     assert_eq!(sm.mech.r, sc.mech.r);
+}
+
+/// Issue 14, item 8: units are never guessed. A bare number in a dimensional field (a
+/// fixed value, a design range's bound, an array of angles, a `[[paper]]` value whose key
+/// has a unit) is an error naming the file, the line, the field and the units allowed;
+/// pure numbers (λ, counts) stay plain numbers.
+#[test]
+fn bare_numbers_in_dimensional_fields_are_errors() {
+    for (from, to, field, unit) in [
+        ("\"1000 rpm\"", "1500", "mechanism.speed", "rpm"),
+        ("\"35 mm\"", "0.035", "mechanism.crank_radius", "mm"),
+        ("\"0.30 kg\"", "0", "mechanism.rod_mass", "kg"),
+    ] {
+        let t = with(PISTON, from, to);
+        assert_names(
+            &t,
+            field,
+            field.rsplit('.').next().unwrap(),
+            "has no unit, and units are never guessed",
+        );
+        let e = parse_str(&t, Path::new("bad.toml"))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains(unit), "{e}");
+    }
+    // A free range's bounds (an angle range of plain numbers would have been radians).
+    let t = with(
+        PISTON,
+        "angle = { min = \"0 deg\", max = \"360 deg\" }",
+        "angle = { min = 0, max = 3 }",
+    );
+    if let Err(e) = parse_str(&t, Path::new("bad.toml")) {
+        assert!(
+            e.field().is_some_and(|f| f.starts_with("design.angle.")),
+            "{e}"
+        );
+        assert!(e.to_string().contains("no unit"), "{e}");
+        assert!(e.line().is_some(), "{e}");
+    } else {
+        panic!("a bare angle range was accepted");
+    }
+    // A [[paper]] value: its unit must be of the dimension of its key's unit suffix.
+    for (value, ok) in [("\"900 N\"", true), ("900", false), ("\"900 kg\"", false)] {
+        let t = format!("{PISTON}\n[[paper]]\nquantity = \"q\"\nvalue = {value}\nkey = \"baselines.none.peak_shaking_force_n\"\n");
+        match parse_str(&t, Path::new("bad.toml")) {
+            Ok(_) => assert!(ok, "{value} accepted"),
+            Err(e) => {
+                assert!(!ok, "{value}: {e}");
+                assert_eq!(e.field(), Some("paper[2].value"), "{e}");
+                assert!(e.line().is_some() && e.to_string().contains("force"), "{e}");
+            }
+        }
+    }
+    // A key without a unit suffix takes a plain number (a percentage), not a quantity.
+    let pct = "key = \"derived.paper_counterweight_torque_reduction_pct\"";
+    let t = format!("{PISTON}\n[[paper]]\nquantity = \"q\"\nvalue = 23.8\n{pct}\n");
+    parse_str(&t, Path::new("ok.toml")).unwrap();
+    let t = format!("{PISTON}\n[[paper]]\nquantity = \"q\"\nvalue = \"23.8 N\"\n{pct}\n");
+    assert!(parse_str(&t, Path::new("bad.toml")).is_err());
 }
 
 #[test]
@@ -130,9 +193,9 @@ fn nan_is_rejected() {
 #[test]
 fn unknown_unit_and_wrong_dimension_list_the_allowed_units() {
     let t = with(PISTON, "\"35 mm\"", "\"35 furlong\"");
-    assert_names(&t, "mechanism.crank_radius", "crank_radius", "unknown unit `furlong` for a length; allowed: a plain number in m or a string with one of: m, mm, cm");
+    assert_names(&t, "mechanism.crank_radius", "crank_radius", "unknown unit `furlong` for a length; allowed: a string with a number and one of the units: m, mm, cm");
     let t = with(PISTON, "\"1000 rpm\"", "\"1000 kg\"");
-    assert_names(&t, "mechanism.speed", "speed", "`kg` is a unit of mass, but this field is a rotational speed; allowed: a plain number in rad/s or a string with one of: rad/s, rpm");
+    assert_names(&t, "mechanism.speed", "speed", "`kg` is a unit of mass, but this field is a rotational speed; allowed: a string with a number and one of the units: rad/s, rpm");
 }
 
 #[test]

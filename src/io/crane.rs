@@ -4,7 +4,9 @@
 //! `docs/results.md`): design, Δh and its error, the thesis's checks, the jib-head path and
 //! the Δh landscape over (k1, k2) as SVG and CSV.
 
+use super::limits;
 use super::plot::{self, Grid, Panel, Series};
+use super::problem::Family;
 use super::problem::{
     check_name, Ctx, FieldError, Input, ProblemError, RawFile, RawVar, Scene, SceneKind,
 };
@@ -233,6 +235,7 @@ pub fn resolve_raw(raw: &File) -> Result<CraneScene, FieldError> {
         }
     }
     let settings = raw.accuracy.clone();
+    limits::check_section(Family::LuffingCrane, "accuracy", &settings)?;
     settings.validate().map_err(map_error)?;
     Ok(CraneScene { scene, settings })
 }

@@ -3,7 +3,9 @@
 //! `docs/problem-files.md`) — and the shaping of its outcome into a result (keys in
 //! `docs/results.md`): pitch curves, i12(α1), µ1 and µ2 with their poles, the design sweep.
 
+use super::limits;
 use super::plot::{self, Panel, Series};
+use super::problem::Family;
 use super::problem::{
     check_name, non_negative, positive, Ctx, FieldError, Input, ProblemError, RawFile, RawVar,
     Scene, SceneKind,
@@ -94,6 +96,8 @@ pub type AccuracyRaw = Settings;
 /// Validates the `[accuracy]` section.
 fn resolve_accuracy(s: &Settings) -> Result<Settings, FieldError> {
     let s = s.clone();
+    // Above the maxima the analysis is slow and the files huge: a typo, not a wish.
+    limits::check_section(Family::EccentricGear, "accuracy", &s)?;
     match s.validate() {
         Ok(()) => {}
         Err(SolveError::Settings(m)) => {
@@ -110,22 +114,6 @@ fn resolve_accuracy(s: &Settings) -> Result<Settings, FieldError> {
             ));
         }
         Err(e) => return Err(FieldError::new("accuracy", e.to_string())),
-    }
-    // Above these the analysis is slow and the files huge: a typo, not a wish.
-    for (k, v, max) in [
-        ("series_points", s.series_points, 100_000),
-        ("curve_points", s.curve_points, 100_000),
-        ("sweep_points", s.sweep_points, 2_001),
-        ("samples_per_arch", s.samples_per_arch, 10_000),
-        ("peak_samples_per_arch", s.peak_samples_per_arch, 10_000),
-        ("curvature_samples", s.curvature_samples, 1_000_000),
-    ] {
-        if v > max {
-            return Err(FieldError::new(
-                format!("accuracy.{k}"),
-                format!("{v} is too large; allowed: at most {max}"),
-            ));
-        }
     }
     Ok(s)
 }
@@ -165,6 +153,16 @@ pub fn resolve_raw(raw: &File) -> Result<GearProblem, FieldError> {
     let tooth_thickness = opt(m.tooth_thickness, "mechanism.tooth_thickness")?;
     let space_width = opt(m.space_width, "mechanism.space_width")?;
     let center_distance = opt(m.center_distance, "mechanism.center_distance")?;
+    for (key, v) in [
+        ("mechanism.turns_gear1", Some(m.turns_gear1)),
+        ("mechanism.turns_gear2", Some(m.turns_gear2)),
+        ("mechanism.teeth_gear1", m.teeth_gear1),
+        ("mechanism.teeth_gear2", m.teeth_gear2),
+    ] {
+        if let Some(v) = v {
+            limits::check(Family::EccentricGear, key, v.into())?;
+        }
+    }
     let teeth = match (m.teeth_gear1, m.teeth_gear2) {
         (Some(z1), Some(z2)) => Some((z1, z2)),
         (None, None) => None,

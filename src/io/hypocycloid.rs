@@ -4,7 +4,9 @@
 //! (keys in `docs/results.md`): the order coefficients of S/R, the Lanchester balancing, the
 //! (λ, θ) optimisation and the zero search of the fourth-order coefficient.
 
+use super::limits;
 use super::plot::{self, Grid, Panel, Series};
+use super::problem::Family;
 use super::problem::{
     check_name, positive, Ctx, FieldError, Input, ProblemError, RawFile, RawVar, Scene, SceneKind,
 };
@@ -117,6 +119,7 @@ pub type AccuracyRaw = Settings;
 /// Validates the `[accuracy]` section.
 fn resolve_accuracy(s: &Settings) -> Result<Settings, FieldError> {
     let s = s.clone();
+    limits::check_section(Family::Hypocycloid, "accuracy", &s)?;
     s.validate().map_err(map_synth_error)?;
     Ok(s)
 }
@@ -210,6 +213,8 @@ fn range(r: &RangeRaw, f: &str, lo_open: bool) -> Result<(f64, f64), FieldError>
 pub fn resolve_raw(raw: &File) -> Result<Resolved, FieldError> {
     check_name(&raw.name)?;
     let m = &raw.mechanism;
+    // `mechanism.variant`, `model.*` and `objective.*` integers keep the scene's own checks
+    // (the ranges of `io::limits`, with messages that say what each value means).
     let (variant, alpha0) =
         match (m.variant, m.orientation) {
             (Some(_), Some(_)) => {

@@ -4,6 +4,7 @@
 pub mod crane;
 pub mod gear;
 pub mod hypocycloid;
+pub mod limits;
 pub mod plot;
 pub mod problem;
 pub mod result;

@@ -10,7 +10,7 @@
 //! passes and checks without its text ([`parse_table`]); its errors have no line.
 
 use super::source::SourceMap;
-use crate::units::{self, Dimension, Qty};
+use crate::units::{self, Dim, Dimension, Qty};
 use serde::de::{self, Deserializer, MapAccess, Visitor};
 use serde::Deserialize;
 use std::fmt;
@@ -251,12 +251,13 @@ where
     ) -> Result<Scene, ProblemError> {
         let raw: Self = input.parse(ctx)?;
         let part = resolve_raw(&raw).map_err(|e| ctx.field_error(e))?;
+        let paper = resolve_paper(&raw.paper).map_err(|e| ctx.field_error(e))?;
         Ok(Scene {
             name: raw.name,
             family: raw.family,
             description: raw.description,
             source: ctx.file.into(),
-            paper: resolve_paper(&raw.paper),
+            paper,
             kind: kind(part),
         })
     }
@@ -268,7 +269,8 @@ where
 pub struct PaperRaw {
     /// What the paper's number is.
     pub quantity: String,
-    /// The number, SI or with a unit (`"900 N"`).
+    /// The number with a unit (`"900 N"`), of the dimension of the key's unit suffix; a
+    /// plain number only for a key without one (`_pct`, a ratio).
     pub value: PaperValue,
     /// Dotted key of the result to compare with (`baselines.none.peak_shaking_force_n`).
     pub key: String,
@@ -277,9 +279,32 @@ pub struct PaperRaw {
     pub note: String,
 }
 
-/// A paper value: a number or a quantity string of any dimension.
+/// A paper value: a quantity string of any dimension (SI value and the dimension of its
+/// unit), or a plain number (a pure number, [`Dim::Dimensionless`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct PaperValue(pub f64);
+pub struct PaperValue(pub f64, pub Dim);
+
+/// The dimension of a result key, read from its SI unit suffix (`peak_force_n`: force,
+/// `delta_h_m`: length); a key without one (`_pct`, `_rpm`, a ratio) is a pure number.
+pub fn key_dim(key: &str) -> Dim {
+    let last = key.rsplit('.').next().unwrap_or(key);
+    [
+        ("_rad_s", Dim::AngularSpeed),
+        ("_m_s2", Dim::Acceleration),
+        ("_kg_m3", Dim::Density),
+        ("_kgm2", Dim::Inertia),
+        ("_kgm", Dim::Unbalance),
+        ("_nm", Dim::Torque),
+        ("_n", Dim::Force),
+        ("_kg", Dim::Mass),
+        ("_m", Dim::Length),
+        ("_rad", Dim::Angle),
+        ("_s", Dim::Time),
+    ]
+    .into_iter()
+    .find(|(suffix, _)| last.ends_with(suffix))
+    .map_or(Dim::Dimensionless, |(_, d)| d)
+}
 
 impl<'de> Deserialize<'de> for PaperValue {
     fn deserialize<De: Deserializer<'de>>(d: De) -> Result<Self, De::Error> {
@@ -287,21 +312,26 @@ impl<'de> Deserialize<'de> for PaperValue {
         impl Visitor<'_> for V {
             type Value = PaperValue;
             fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
-                f.write_str("a number (SI) or a quantity string such as \"900 N\"")
+                f.write_str(
+                    "a quantity string such as \"900 N\" (a plain number for a pure number)",
+                )
             }
             fn visit_f64<E: de::Error>(self, v: f64) -> Result<PaperValue, E> {
                 if v.is_finite() {
-                    Ok(PaperValue(v))
+                    Ok(PaperValue(v, Dim::Dimensionless))
                 } else {
                     Err(E::custom("not a finite number"))
                 }
             }
             fn visit_i64<E: de::Error>(self, v: i64) -> Result<PaperValue, E> {
-                Ok(PaperValue(v as f64))
+                self.visit_f64(v as f64)
+            }
+            fn visit_u64<E: de::Error>(self, v: u64) -> Result<PaperValue, E> {
+                self.visit_f64(v as f64)
             }
             fn visit_str<E: de::Error>(self, v: &str) -> Result<PaperValue, E> {
                 units::parse_any(v)
-                    .map(|(x, _)| PaperValue(x))
+                    .map(|(x, d)| PaperValue(x, d))
                     .map_err(E::custom)
             }
         }
@@ -535,14 +565,42 @@ pub fn check_name(name: &str) -> Result<(), FieldError> {
     Ok(())
 }
 
-/// Resolves the `[[paper]]` entries.
-pub fn resolve_paper(raw: &[PaperRaw]) -> Vec<PaperRef> {
+/// Resolves the `[[paper]]` entries: each value's unit must be of the dimension of its
+/// key's SI suffix ([`key_dim`]); a plain number only for a key that is a pure number.
+pub fn resolve_paper(raw: &[PaperRaw]) -> Result<Vec<PaperRef>, FieldError> {
     raw.iter()
-        .map(|p| PaperRef {
-            quantity: p.quantity.clone(),
-            value: p.value.0,
-            key: p.key.clone(),
-            note: p.note.clone(),
+        .enumerate()
+        .map(|(i, p)| {
+            let PaperValue(value, dim) = p.value;
+            let want = key_dim(&p.key);
+            if dim != want {
+                let field = format!("paper[{i}].value");
+                let found = match dim {
+                    Dim::Dimensionless => "a plain number (no unit)".to_string(),
+                    d => format!("a {}", d.name()),
+                };
+                let allowed = match want {
+                    Dim::Dimensionless => format!(
+                        "a plain number in the unit of `{}` (its name has no SI unit suffix)",
+                        p.key
+                    ),
+                    d => d.allowed(),
+                };
+                return Err(FieldError::new(
+                    field,
+                    format!(
+                        "{found}, but the key `{}` is a {}; allowed: {allowed}",
+                        p.key,
+                        want.name()
+                    ),
+                ));
+            }
+            Ok(PaperRef {
+                quantity: p.quantity.clone(),
+                value,
+                key: p.key.clone(),
+                note: p.note.clone(),
+            })
         })
         .collect()
 }

@@ -2,18 +2,22 @@
 //!
 //! Written by hand from the raw serde structs of each family (`io::<family>::*Raw`): one
 //! branch per family under `oneOf`, selected by `family`, each closed with
-//! `additionalProperties: false` like the structs' `deny_unknown_fields`. A quantity is a
-//! `number` (SI) or a `string` whose pattern is a number and one of the units of its
-//! dimension, built from [`crate::units::UNITS`]. The schema checks shape and spelling; value
-//! ranges (λ < 1, min ≤ max, …) stay with the resolvers, whose errors name the field.
+//! `additionalProperties: false` like the structs' `deny_unknown_fields`. A dimensional
+//! quantity is a `string` whose pattern is a number and one of the units of its dimension,
+//! built from [`crate::units::UNITS`] (units are never guessed: no bare number); a pure
+//! number (λ, k1) is a `number`. Every integer setting has the `minimum` and `maximum` of
+//! [`super::limits`]. The schema checks shape and spelling; other value ranges (λ < 1,
+//! min ≤ max, …) stay with the resolvers, whose errors name the field.
 //!
 //! Keep it in step with the structs: `tests/schema.rs` validates every shipped problem file
 //! against it and shows that unknown keys fail.
 
+use super::limits::counts;
+use super::problem::Family;
 use crate::units::{Dim, UNITS};
 use serde_json::{json, Map, Value};
 
-/// A number, then optional spaces and a unit of `dim` (`None`: any known unit).
+/// A number, then optional spaces and a unit of `dim` (`None`: any known unit, or none).
 fn quantity_pattern(dim: Option<Dim>) -> String {
     let mut alts: Vec<String> = UNITS
         .iter()
@@ -37,21 +41,24 @@ fn quantity_pattern(dim: Option<Dim>) -> String {
     // Longest first, so that `mm` is not read as `m` + rest.
     alts.sort_by_key(|a| std::cmp::Reverse(a.len()));
     let num = r"[+-]?(\d+(\.\d*)?|\.\d+)([eE][+-]?\d+)?";
+    let optional = if dim.is_none() { "?" } else { "" };
     if alts.is_empty() {
         format!(r"^\s*{num}\s*$")
     } else {
-        format!(r"^\s*{num}\s*({})?\s*$", alts.join("|"))
+        format!(r"^\s*{num}\s*({}){optional}\s*$", alts.join("|"))
     }
 }
 
 fn qty(dim: Dim, desc: &str) -> Value {
-    json!({
-        "description": format!("{desc} — {}", dim.allowed()),
-        "anyOf": [
-            { "type": "number" },
-            { "type": "string", "pattern": quantity_pattern(Some(dim)) }
-        ]
-    })
+    let description = format!("{desc} — {}", dim.allowed());
+    match dim {
+        Dim::Dimensionless => json!({ "type": "number", "description": description }),
+        _ => json!({
+            "description": description,
+            "type": "string",
+            "pattern": quantity_pattern(Some(dim))
+        }),
+    }
 }
 
 fn var(dim: Dim, desc: &str) -> Value {
@@ -110,7 +117,7 @@ fn paper() -> Value {
                 (
                     "value",
                     json!({
-                        "description": "the paper's value: a number (SI) or a quantity string of any dimension",
+                        "description": "the paper's value: a quantity string whose unit is of the dimension of the key's SI unit suffix (`_n`: \"900 N\"), or a plain number for a key without one (`_pct`, a ratio)",
                         "anyOf": [
                             { "type": "number" },
                             { "type": "string", "pattern": quantity_pattern(None) }
@@ -656,11 +663,21 @@ fn hypocycloid() -> Value {
 
 /// The JSON Schema of a problem file, every family.
 pub fn problem_schema() -> Value {
+    let mut branches = [
+        (Family::SliderCrank, slider_crank()),
+        (Family::LuffingCrane, luffing_crane()),
+        (Family::Hypocycloid, hypocycloid()),
+        (Family::EccentricGear, eccentric_gear()),
+    ];
+    for (family, branch) in &mut branches {
+        with_ranges(*family, branch);
+    }
+    let branches: Vec<Value> = branches.into_iter().map(|(_, b)| b).collect();
     json!({
         "$schema": "https://json-schema.org/draft/2020-12/schema",
         "$id": "https://github.com/cwsynth/cwsynth/problem-file.schema.json",
         "title": "cwsynth problem file",
-        "description": "One machine (scene) in TOML; see docs/problem-files.md. Quantities are a number in SI or a string with a unit (\"35 mm\").",
+        "description": "One machine (scene) in TOML; see docs/problem-files.md. A dimensional quantity is a string with a unit (\"35 mm\"); a bare number is a pure number.",
         "type": "object",
         "required": ["name", "family", "mechanism", "objective"],
         "properties": {
@@ -669,6 +686,28 @@ pub fn problem_schema() -> Value {
                 "enum": ["slider-crank", "luffing-crane", "hypocycloid", "eccentric-gear"]
             }
         },
-        "oneOf": [slider_crank(), luffing_crane(), hypocycloid(), eccentric_gear()]
+        "oneOf": branches
     })
+}
+
+/// Sets `minimum` and `maximum` of every integer key of `family` ([`super::limits`]) in its
+/// branch (for an array of integers, on its items).
+fn with_ranges(family: Family, branch: &mut Value) {
+    for c in counts(family) {
+        let mut node = &mut *branch;
+        for part in c.key.split('.') {
+            node = &mut node["properties"][part];
+        }
+        if node.get("items").is_some() {
+            node = &mut node["items"];
+        }
+        assert!(
+            node["type"] == "integer",
+            "schema: {} {} is no integer",
+            family.as_str(),
+            c.key
+        );
+        node["minimum"] = c.min.into();
+        node["maximum"] = c.max.into();
+    }
 }

@@ -3,7 +3,9 @@
 //! `docs/problem-files.md`) — and the shaping of its outcome into a result (keys in
 //! `docs/results.md`).
 
+use super::limits;
 use super::plot::{self, Panel, Series};
+use super::problem::Family;
 use super::problem::{
     check_name, non_negative, positive, Ctx, FieldError, Input, ProblemError, RawFile, RawVar,
     Scene, SceneKind,
@@ -27,6 +29,11 @@ use serde_json::json;
 use std::collections::BTreeMap;
 use std::f64::consts::{PI, TAU};
 use std::time::Instant;
+
+/// Smallest counterweight radius (`design.radius`, fixed or a range's lower end above 0) as a
+/// fraction of the crank radius: below it the mass |U|/r is out of all proportion to the
+/// machine (and at 1e-308 mm it overflowed to inf).
+pub const MIN_RADIUS_OF_CRANK: f64 = 1e-6;
 
 /// `[mechanism]`.
 #[derive(Debug, Deserialize)]
@@ -262,6 +269,7 @@ pub type AccuracyRaw = Settings;
 /// Validates the `[accuracy]` section.
 fn resolve_accuracy(s: &Settings) -> Result<Settings, FieldError> {
     let s = *s;
+    limits::check_section(Family::SliderCrank, "accuracy", &s)?;
     s.validate()
         .map_err(|(f, m)| FieldError::new(format!("accuracy.{f}"), m))?;
     Ok(s)
@@ -515,6 +523,20 @@ pub fn resolve_raw(raw: &File) -> Result<SliderCrankScene, FieldError> {
             non_negative(f, v.bounds().0)?;
         }
     }
+    // m = |U|/r: a counterweight radius far below the crank's makes the mass overflow (a
+    // radius of 1e-308 mm gave an infinite mass), so it has a floor relative to the machine.
+    if let Some(v) = radius {
+        let floor = MIN_RADIUS_OF_CRANK * r;
+        let lo = v.bounds().0;
+        if lo < floor && (v.fixed().is_some() || lo > 0.0) {
+            return Err(FieldError::new(
+                "design.radius",
+                format!(
+                    "{lo:e} m is below {MIN_RADIUS_OF_CRANK:e} × crank_radius = {floor:e} m: the counterweight's mass |U|/r would be out of all proportion to the machine; allowed: a radius ≥ {floor:e} m (a free range may start at 0)"
+                ),
+            ));
+        }
+    }
     if let (Some(Var::Fixed(mm)), Some(Var::Fixed(rr))) = (mass, radius) {
         if !unbalance.contains(mm * rr) {
             return Err(FieldError::new(
@@ -570,7 +592,12 @@ pub fn resolve_raw(raw: &File) -> Result<SliderCrankScene, FieldError> {
         .max_peak_torque
         .map(|q| positive("objective.max_peak_torque", q.si()))
         .transpose()?;
-    if o.pareto_points == 1 || o.pareto_points > 200 {
+    limits::check(
+        Family::SliderCrank,
+        "objective.pareto_points",
+        o.pareto_points as i128,
+    )?;
+    if o.pareto_points == 1 {
         return Err(FieldError::new(
             "objective.pareto_points",
             format!("got {}; allowed: 0 (none) or 2 to 200", o.pareto_points),
@@ -655,12 +682,11 @@ pub fn resolve_raw(raw: &File) -> Result<SliderCrankScene, FieldError> {
                     "allowed: max > min",
                 ));
             }
-            if !(2..=200).contains(&sw.points) {
-                return Err(FieldError::new(
-                    "objective.speed_sweep.points",
-                    format!("got {}; allowed: 2 to 200", sw.points),
-                ));
-            }
+            limits::check(
+                Family::SliderCrank,
+                "objective.speed_sweep.points",
+                sw.points as i128,
+            )?;
             Some(SpeedSweep {
                 min,
                 max,

@@ -25,10 +25,51 @@ impl SourceMap {
                 .chain(text.match_indices('\n').map(|(i, _)| i + 1))
                 .collect(),
         };
-        if let Ok(doc) = Document::parse(text) {
-            map.walk_table(doc.as_table(), "");
+        match Document::parse(text) {
+            Ok(doc) => map.walk_table(doc.as_table(), ""),
+            // serde read it, but toml_edit does not (an integer above i64::MAX): index the
+            // plain `key = value` lines under their `[table]` headers.
+            Err(_) => map.walk_lines(text),
         }
         map
+    }
+
+    /// A line-by-line index of `[table]`, `[[array]]` and `key = value` lines, for a text
+    /// that toml_edit cannot parse (inline tables and multi-line values are not entered).
+    fn walk_lines(&mut self, text: &str) {
+        let mut prefix = String::new();
+        let mut arrays: Vec<(String, usize)> = Vec::new();
+        let mut start = 0;
+        for line in text.split_inclusive('\n') {
+            let span = start..start + line.trim_end().len();
+            start += line.len();
+            let t = line.trim();
+            if let Some(name) = t.strip_prefix("[[").and_then(|r| r.split_once("]]")) {
+                let name = name.0.trim().to_string();
+                let k = match arrays.iter_mut().find(|(n, _)| *n == name) {
+                    Some((_, k)) => {
+                        *k += 1;
+                        *k
+                    }
+                    None => {
+                        arrays.push((name.clone(), 0));
+                        0
+                    }
+                };
+                prefix = format!("{name}[{k}]");
+                self.entries.push((prefix.clone(), span));
+            } else if let Some(name) = t.strip_prefix('[').and_then(|r| r.split_once(']')) {
+                prefix = name.0.trim().to_string();
+                self.entries.push((prefix.clone(), span));
+            } else if let Some((key, _)) = t.split_once('=').filter(|_| !t.starts_with('#')) {
+                let key = key.trim().trim_matches('"');
+                let path = match prefix.as_str() {
+                    "" => key.to_string(),
+                    p => format!("{p}.{key}"),
+                };
+                self.entries.push((path, span));
+            }
+        }
     }
 
     fn push(
@@ -127,5 +168,15 @@ mod tests {
         assert_eq!(m.line_of("mechanism.rod_length"), Some(3));
         let off = text.find("35 mm").unwrap();
         assert_eq!(m.key_at(off), Some("mechanism.crank_radius"));
+    }
+
+    #[test]
+    fn a_text_toml_edit_rejects_is_indexed_by_lines() {
+        // serde reads u64::MAX; toml_edit does not: the error still gets its line.
+        let text = "name = \"x\"\n[accuracy]\n# n\nrms_samples = 18446744073709551615\n[[paper]]\nkey = \"a\"\n[[paper]]\nkey = \"b\"\n";
+        let m = SourceMap::new(text);
+        assert_eq!(m.line_of("accuracy.rms_samples"), Some(4));
+        assert_eq!(m.line_of("paper[1].key"), Some(8));
+        assert_eq!(m.line_of("accuracy.scan_samples"), Some(2));
     }
 }

@@ -1,0 +1,177 @@
+//! Issue 14, item 7: every integer setting of every family (the table of
+//! `cwsynth::io::limits`) at 0, 1, its minimum, its maximum, one past each end, i64::MAX and
+//! u64::MAX. Out of its range a value is an error naming the file, the line and the key; in
+//! its range the file either resolves, or is rejected by another check with a field and a
+//! line; a resolved file solves within a time bound (no panic, abort or hang) and its result
+//! has no inf or NaN in its number maps. Independent reference: the documented range itself
+//! (`docs/problem-files.md`), and the finiteness of every reported number.
+
+use cwsynth::io::limits::{counts, Count};
+use cwsynth::io::problem::{parse_str, Family};
+use cwsynth::io::result::SolveResult;
+use cwsynth::run::solve_scene;
+use std::path::Path;
+use std::sync::mpsc;
+use std::time::{Duration, Instant};
+
+fn problem(name: &str) -> String {
+    let p = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("problems")
+        .join(name);
+    std::fs::read_to_string(p).unwrap()
+}
+
+/// The shipped file a key is tried on: one where the key takes effect.
+fn base(family: Family, key: &str) -> &'static str {
+    match family {
+        Family::SliderCrank => "felling-head-150rpm.toml",
+        Family::LuffingCrane => "crane-thesis-optimise.toml",
+        Family::EccentricGear if key == "accuracy.sweep_points" => "gear-eccentricity-design.toml",
+        Family::EccentricGear => "gear-paper-table1.toml",
+        Family::Hypocycloid
+            if key.starts_with("objective.zero_search")
+                || ["curve_points", "theta_scan", "opt_grid", "nm_max_iters"]
+                    .iter()
+                    .any(|k| key == format!("accuracy.{k}")) =>
+        {
+            "hypocycloid-c4-variant1.toml"
+        }
+        Family::Hypocycloid => "hypocycloid-variant1.toml",
+    }
+}
+
+/// `text` with `key = value` set: the key's line replaced inside its `[table]`, else
+/// inserted after the table's header, else the table appended.
+fn set(text: &str, key: &str, value: &str) -> String {
+    let (table, name) = key.rsplit_once('.').unwrap();
+    let header = format!("[{table}]");
+    let mut lines: Vec<String> = text.lines().map(str::to_string).collect();
+    let Some(h) = lines
+        .iter()
+        .position(|l| l.split('#').next().unwrap().trim() == header)
+    else {
+        return format!("{text}\n{header}\n{name} = {value}\n");
+    };
+    let end = lines[h + 1..]
+        .iter()
+        .position(|l| l.trim_start().starts_with('['))
+        .map_or(lines.len(), |k| h + 1 + k);
+    let line = format!("{name} = {value}");
+    match (h + 1..end).find(|&k| {
+        lines[k]
+            .split_once('=')
+            .is_some_and(|(a, _)| a.trim() == name)
+    }) {
+        Some(k) => lines[k] = line,
+        None => lines.insert(h + 1, line),
+    }
+    lines.join("\n") + "\n"
+}
+
+fn assert_finite(r: &SolveResult, what: &str) {
+    for (sec, m) in [
+        ("design", &r.design),
+        ("objectives", &r.objectives),
+        ("errors", &r.errors),
+        ("derived", &r.derived),
+    ] {
+        for (k, v) in m {
+            assert!(v.is_finite(), "{what}: {sec}.{k} = {v}");
+        }
+    }
+    for (b, m) in &r.baselines {
+        for (k, v) in m {
+            assert!(v.is_finite(), "{what}: baselines.{b}.{k} = {v}");
+        }
+    }
+}
+
+/// Solves on a thread; the result, or an error after `limit`.
+fn solve_bounded(s: cwsynth::io::problem::Scene, limit: Duration) -> Result<SolveResult, String> {
+    let (tx, rx) = mpsc::channel();
+    std::thread::spawn(move || {
+        let _ = tx.send(solve_scene(&s));
+    });
+    rx.recv_timeout(limit)
+        .map_err(|_| format!("no result within {limit:?}"))
+}
+
+/// The sweep of one family (one test per family, so that they run side by side).
+fn sweep(family: Family) {
+    // Generous for a shared 2-core machine in the test profile; each maximum was chosen to
+    // solve in about a second or less there.
+    let limit = Duration::from_secs(20);
+    let mut slowest = (Duration::ZERO, String::new());
+    let mut slow = Vec::new();
+    {
+        for &Count { key, min, max } in counts(family) {
+            let text = problem(base(family, key));
+            let mut values = vec![0, 1, min, max, max + 1, i64::MAX as u64, u64::MAX];
+            if min > 0 {
+                values.push(min - 1);
+            }
+            values.sort_unstable();
+            values.dedup();
+            for v in values {
+                let written = if key == "objective.balance_orders" {
+                    format!("[{v}]")
+                } else {
+                    v.to_string()
+                };
+                let t = set(&text, key, &written);
+                let what = format!("{} {key} = {written}", family.as_str());
+                let file = Path::new("limits.toml");
+                match parse_str(&t, file) {
+                    Err(e) => {
+                        assert!(e.line().is_some() && e.field().is_some(), "{what}: {e}");
+                        if !(min..=max).contains(&v) {
+                            assert_eq!(e.field(), Some(key), "{what}: {e}");
+                            assert!(e.to_string().starts_with("limits.toml:"), "{what}: {e}");
+                        }
+                    }
+                    Ok(scene) => {
+                        assert!((min..=max).contains(&v), "{what}: accepted out of range");
+                        let t0 = Instant::now();
+                        let r = match solve_bounded(scene, limit) {
+                            Ok(r) => r,
+                            Err(e) => {
+                                slow.push(format!("{what}: {e}"));
+                                continue;
+                            }
+                        };
+                        let dt = t0.elapsed();
+                        if dt > Duration::from_millis(300) {
+                            eprintln!("{what}: {dt:?}");
+                        }
+                        if dt > slowest.0 {
+                            slowest = (dt, what.clone());
+                        }
+                        assert_finite(&r, &what);
+                    }
+                }
+            }
+        }
+    }
+    eprintln!("slowest accepted run: {:?} ({})", slowest.0, slowest.1);
+    assert!(slow.is_empty(), "{slow:#?}");
+}
+
+#[test]
+fn slider_crank_integer_settings() {
+    sweep(Family::SliderCrank);
+}
+
+#[test]
+fn luffing_crane_integer_settings() {
+    sweep(Family::LuffingCrane);
+}
+
+#[test]
+fn eccentric_gear_integer_settings() {
+    sweep(Family::EccentricGear);
+}
+
+#[test]
+fn hypocycloid_integer_settings() {
+    sweep(Family::Hypocycloid);
+}
