@@ -457,6 +457,57 @@ pub fn head_heights_with(
     })
 }
 
+/// A local extremum of the head height: boom angle φ (rad), y_C (m above A), maximum or minimum.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LocalExtremum {
+    /// Boom angle (rad).
+    pub phi: f64,
+    /// Head height y_C (m above A).
+    pub y: f64,
+    /// A maximum (`false`: a minimum).
+    pub is_max: bool,
+}
+
+/// Every local extremum of y_C over [φ_min, φ_max], ends included: `n` samples (every one
+/// must assemble), each sampled local maximum (minimum) refined by Brent to `xtol` rad on
+/// its two neighbouring intervals. The largest maximum minus the smallest minimum is Δh; the
+/// others are the pieces a local search must watch, since they can take over.
+pub fn head_extrema(link: &Linkage, n: usize, xtol: f64) -> Result<Vec<LocalExtremum>, PathError> {
+    let [p0, p1] = link.phi_range;
+    let n = n.max(8);
+    let phi = |i: usize| p0 + (p1 - p0) * i as f64 / n as f64;
+    let ys = (0..=n)
+        .map(|i| {
+            let p = phi(i);
+            link.pose(p)
+                .map(|q| q.c.y)
+                .ok_or(PathError::CannotAssemble { phi: p })
+        })
+        .collect::<Result<Vec<f64>, _>>()?;
+    let y = |p: f64| link.pose(p).map_or(f64::NAN, |q| q.c.y);
+    let to_path = |e: SearchError| match e {
+        SearchError::NotFinite { x } => PathError::CannotAssemble { phi: x },
+        other => PathError::Search(other),
+    };
+    let mut out = Vec::new();
+    for i in 0..=n {
+        let (l, r) = (i.saturating_sub(1), (i + 1).min(n));
+        for sign in [1.0, -1.0] {
+            let s = |j: usize| sign * ys[j];
+            if s(i) >= s(l) && s(i) >= s(r) && (i == 0 || s(i) > s(l)) {
+                let e = crate::numeric::brent_max(|p| sign * y(p), phi(l), phi(r), xtol)
+                    .map_err(to_path)?;
+                out.push(LocalExtremum {
+                    phi: e.x,
+                    y: sign * e.fx,
+                    is_max: sign > 0.0,
+                });
+            }
+        }
+    }
+    Ok(out)
+}
+
 /// Unbalanced moment of a load of weight W hanging from the jib head on a rope of constant
 /// length (hoist rope parallel to boom or tie, thesis §2.1) about A, by virtual work
 /// M_A(φ) = W·dy_C/dφ. dy_C/dφ by the fourth-order central difference
