@@ -260,6 +260,7 @@ fn status_detail(s: CraneStatus) -> &'static str {
         CraneStatus::BranchDefect => "branch-defect",
         CraneStatus::CannotAssemble => "cannot-assemble",
         CraneStatus::NoGeometry => "no-geometry",
+        CraneStatus::Degenerate => "ill-conditioned: the rounding bound of delta h exceeds delta h",
     }
 }
 
@@ -305,6 +306,7 @@ pub fn result(scene: &Scene, s: &CraneScene) -> SolveResult {
     r.status = match out.status {
         CraneStatus::Evaluated => Status::Analysed,
         CraneStatus::BestFound => Status::BestFound,
+        CraneStatus::Degenerate => Status::Degenerate,
         CraneStatus::Infeasible => Status::Infeasible,
         CraneStatus::BranchDefect | CraneStatus::CannotAssemble | CraneStatus::NoGeometry => {
             Status::Failed

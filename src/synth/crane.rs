@@ -415,6 +415,9 @@ pub enum Status {
     CannotAssemble,
     /// No geometry: the angles give no jib ratio, or no middle position exists.
     NoGeometry,
+    /// The design is so ill-conditioned that Δh has no correct digit (its rounding bound
+    /// exceeds Δh itself).
+    Degenerate,
 }
 
 /// A thesis check, pass or fail.
@@ -648,11 +651,19 @@ pub fn evaluate(
 ) -> Result<Evaluation, CraneGeomError> {
     let (boom, synthesis) = build(scene, x)?;
     let (angles, k) = (boom.angles, boom.k);
+    // The tie pin's rounding (its condition, see `tie_circle`) moves the tail by at most
+    // |δB| + |δb| over sin μ (μ the smallest transmission angle) and the head by that over
+    // k2, each extremum: Δh by twice that.
     let heights = head_heights_with(
         &synthesis.linkage,
         settings.path_samples,
         settings.refine_peaks.then_some(settings.xtol),
-    );
+    )
+    .map(|mut h| {
+        let tangency = h.min_transmission.sin().max(f64::EPSILON.sqrt());
+        h.error += 4.0 * synthesis.guide_error / (x[1] * tangency);
+        h
+    });
     let tie_pin_violation = match synthesis.guide {
         Guide::Circle { centre, .. } => scene.tie_pin.violation(centre),
         Guide::Line { .. } if scene.tie_pin.is_bounded() => f64::INFINITY,
@@ -1388,6 +1399,7 @@ fn report(
             out.design.insert("tie_length_m".into(), radius);
             out.derived
                 .insert("tie_pin_distance_m".into(), centre.norm());
+            out.derived.insert("tie_pin_error_m".into(), syn.guide_error);
         }
         Guide::Line { dir, .. } => {
             warnings.push(
@@ -1512,6 +1524,24 @@ fn report(
             if out.status != Status::BranchDefect {
                 out.objectives.insert("delta_h_m".into(), hh.delta_h);
                 out.errors.insert("delta_h_m".into(), hh.error);
+                let rel = hh.error / hh.delta_h.abs();
+                if rel >= 1.0 {
+                    out.status = Status::Degenerate;
+                    warnings.push(format!(
+                        "ill-conditioned design: the rounding bound of delta h ({:.1e} m) exceeds delta h itself; no \
+                         digit is certain (smallest angle of the triangle E1 E2 E3 {:.2e} rad, tie-pin error bound {:.1e} m)",
+                        hh.error, syn.min_angle, syn.guide_error
+                    ));
+                } else if rel > 1e-6 {
+                    warnings.push(format!(
+                        "ill-conditioned design: delta h is good to {:.1e} m, about {:.0} significant digits (smallest \
+                         angle of the triangle E1 E2 E3 {:.2e} rad, tie-pin error bound {:.1e} m)",
+                        hh.error,
+                        (-rel.log10()).floor(),
+                        syn.min_angle,
+                        syn.guide_error
+                    ));
+                }
                 check(
                     "delta_h_allowed",
                     hh.delta_h,
