@@ -68,9 +68,21 @@ fn reference_delta_h(l_c: f64, x: [f64; 6]) -> Option<f64> {
     // digits against the ~1e-21 accuracy of twofloat's sin and cos when k1 is near 0 or 1).
     let d2c = cc(V(t(0.0), t(0.0)), l_c, c2, l_v, side)?;
     let near1 = x[0] <= 0.5;
-    let (pa, da, ca) = if near1 { (phi_min, d1, c1) } else { (phi_max, d3, c3) };
-    let w = if near1 { V(g3.cos(), g3.sin()).mul(l_v) } else { V(g2.sin(), g2.cos()).mul(l_v) };
-    let dc = if near1 { V(k1 * (c3.0 - c1.0), t(0.0)) } else { V((t(1.0) - k1) * (c1.0 - c3.0), t(0.0)) };
+    let (pa, da, ca) = if near1 {
+        (phi_min, d1, c1)
+    } else {
+        (phi_max, d3, c3)
+    };
+    let w = if near1 {
+        V(g3.cos(), g3.sin()).mul(l_v)
+    } else {
+        V(g2.sin(), g2.cos()).mul(l_v)
+    };
+    let dc = if near1 {
+        V(k1 * (c3.0 - c1.0), t(0.0))
+    } else {
+        V((t(1.0) - k1) * (c1.0 - c3.0), t(0.0))
+    };
     let _ = ca;
     let ddf = |del: T| {
         let h = del / t(2.0);
@@ -93,7 +105,11 @@ fn reference_delta_h(l_c: f64, x: [f64; 6]) -> Option<f64> {
     let pin = e1.add(o);
     let rb = o.norm();
     let a = k2 * l_v;
-    let s_e = if pin.sub(d1).cross(e1.sub(d1)) > t(0.0) { 1.0 } else { -1.0 };
+    let s_e = if pin.sub(d1).cross(e1.sub(d1)) > t(0.0) {
+        1.0
+    } else {
+        -1.0
+    };
     let y = |p: T| -> Option<T> {
         let d = dph(p);
         let ee = cc(d, a, pin, rb, s_e)?;
@@ -103,7 +119,8 @@ fn reference_delta_h(l_c: f64, x: [f64; 6]) -> Option<f64> {
     let ph = |i: usize| phi_min + (phi_max - phi_min) * t(i as f64 / n as f64);
     let ys: Vec<T> = (0..=n).map(|i| y(ph(i))).collect::<Option<_>>()?;
     let mut ext = |sign: f64| -> Option<T> {
-        let i = (0..=n).max_by(|&a, &b| (ys[a] * t(sign)).partial_cmp(&(ys[b] * t(sign))).unwrap())?;
+        let i =
+            (0..=n).max_by(|&a, &b| (ys[a] * t(sign)).partial_cmp(&(ys[b] * t(sign))).unwrap())?;
         let (mut lo, mut hi) = (ph(i.saturating_sub(1)), ph((i + 1).min(n)));
         let g = t(0.381_966_011_250_105_1);
         let f = |p: T| y(p).map(|v| v * t(sign));
@@ -257,7 +274,12 @@ fn stated_delta_h_error_covers_the_double_double_truth() {
         }
     }
     assert!(checked >= 60, "only {checked} cases checked");
-    assert!(outside.is_empty(), "{} of {checked} outside:\n{}", outside.len(), outside.join("\n"));
+    assert!(
+        outside.is_empty(),
+        "{} of {checked} outside:\n{}",
+        outside.len(),
+        outside.join("\n")
+    );
 }
 #[test]
 fn k1_near_one_converges() {
@@ -270,10 +292,51 @@ fn k1_near_one_converges() {
         let x = [1.0 - e, 0.4, d(35.0), d(10.0), d(5.0), d(12.0)];
         let o = solve(&scene(22.8, x), &quick()).unwrap();
         let (dh, err) = (o.objectives["delta_h_m"], o.errors["delta_h_m"]);
-        assert!(o.design.contains_key("tie_pin_x_m"), "tie pin dropped at 1 - {e:e}");
+        assert!(
+            o.design.contains_key("tie_pin_x_m"),
+            "tie pin dropped at 1 - {e:e}"
+        );
         if let Some((pd, pe, pk)) = prev {
-            assert!((dh - pd).abs() <= err + pe + 1e3 * pk, "1 - {e:e}: {dh} vs {pd}");
+            assert!(
+                (dh - pd).abs() <= err + pe + 1e3 * pk,
+                "1 - {e:e}: {dh} vs {pd}"
+            );
         }
         prev = Some((dh, err, e));
+    }
+}
+
+#[test]
+fn best_found_reaches_the_reference_optima() {
+    // Reference optima: the same scenes solved with 40 SQP starts from 400 Halton points per
+    // variable (every default run below uses 6 from 64), which ended at these values from 33
+    // to 40 of their 40 starts; the tester found 0.2799 m (|AB| <= 15 m), 0.3491 m
+    // (<= 10 m) and 0.182866 m (Tukan) independently. Target: within 1e-4 relative.
+    let mut cases: Vec<(CraneScene, f64)> = Vec::new();
+    for (r, best) in [
+        (10.0, 0.3490972644),
+        (15.0, 0.2799236701),
+        (20.0, 0.2169971526),
+        (30.0, 0.1358823085),
+    ] {
+        let mut s = thesis_optimisation_with_angles();
+        s.tie_pin = TiePinLimit {
+            max_distance: Some(r),
+            x_range: Some([0.0, r]),
+            y_range: None,
+        };
+        cases.push((s, best));
+    }
+    cases.push((tukan_40t_optimisation(), 0.1828656412));
+    cases.push((tukan_40t(), 0.1921091562));
+    cases.push((thesis_optimisation(), 0.5029242597));
+    for (s, best) in cases {
+        let o = solve(&s, &quick()).unwrap();
+        assert_eq!(o.status, Status::BestFound);
+        assert!(o.checks.iter().all(|c| c.pass), "{:?}", o.checks);
+        let dh = o.objectives["delta_h_m"];
+        assert!(dh <= best * (1.0 + 1e-4), "{dh} vs reference {best}");
+        let ev = o.search.unwrap();
+        assert!(ev.starts_at_best >= 1 && ev.best_values[0] <= dh * (1.0 + 1e-9));
     }
 }

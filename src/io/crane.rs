@@ -255,7 +255,9 @@ fn paper_key(quantity: &str) -> &'static str {
 fn status_detail(s: CraneStatus) -> &'static str {
     match s {
         CraneStatus::Evaluated => "evaluated",
-        CraneStatus::BestFound => "best-found: multistart (Halton + SQP), not proven globally optimal",
+        CraneStatus::BestFound => {
+            "best-found: multistart (Halton + SQP), not proven globally optimal"
+        }
         CraneStatus::Infeasible => "infeasible",
         CraneStatus::BranchDefect => "branch-defect",
         CraneStatus::CannotAssemble => "cannot-assemble",

@@ -203,9 +203,19 @@ pub fn design_positions(boom: &Boom, k1: f64, k2: f64) -> Result<DesignPositions
     // within rounding of C1 or C3 (k1 near 0 or 1).
     let (g2, g3) = (boom.angles.gamma2, boom.angles.gamma3);
     let (a, pa, w, dc) = if k1 <= 0.5 {
-        (0, p1, boom.l_v() * P2::new(g3.cos(), g3.sin()), P2::new(k1 * (c3.x - c1.x), 0.0))
+        (
+            0,
+            p1,
+            boom.l_v() * P2::new(g3.cos(), g3.sin()),
+            P2::new(k1 * (c3.x - c1.x), 0.0),
+        )
     } else {
-        (2, p3, boom.l_v() * P2::new(g2.sin(), g2.cos()), P2::new((1.0 - k1) * (c1.x - c3.x), 0.0))
+        (
+            2,
+            p3,
+            boom.l_v() * P2::new(g2.sin(), g2.cos()),
+            P2::new((1.0 - k1) * (c1.x - c3.x), 0.0),
+        )
     };
     let dd = |del: f64| {
         let h = 0.5 * del;
@@ -379,7 +389,9 @@ pub fn tie_circle(pos: &DesignPositions) -> TieCircle {
     // The smallest angle is opposite the shortest side: sin = 2·area/(product of the others).
     let shortest = l12.min(l23).min(l13);
     let min_angle = if longest > 0.0 {
-        (cr.abs() / (longest * (l12 + l23 + l13 - longest - shortest))).min(1.0).asin()
+        (cr.abs() / (longest * (l12 + l23 + l13 - longest - shortest)))
+            .min(1.0)
+            .asin()
     } else {
         0.0
     };

@@ -15,8 +15,8 @@
 
 use crate::geom::P2;
 use crate::mech::crane::{
-    head_extrema, head_heights_with, load_moment, synthesize, Angles, Boom, Branch, CraneGeomError, Guide,
-    HeadHeights, PathError, Synthesis,
+    head_extrema, head_heights_with, load_moment, synthesize, Angles, Boom, Branch, CraneGeomError,
+    Guide, HeadHeights, PathError, Synthesis,
 };
 use std::collections::BTreeMap;
 use std::f64::consts::FRAC_PI_2;
@@ -319,7 +319,7 @@ pub struct Settings {
     pub plot_points: usize,
     /// Halton points of the global stage per free variable. Default 64.
     pub global_samples: usize,
-    /// SQP local searches from the best distinct global points. Default 8.
+    /// SQP local searches from the best distinct global points. Default 6.
     pub local_starts: usize,
     /// SQP iteration limit per local search. Default 150.
     pub local_max_iters: u64,
@@ -345,7 +345,7 @@ impl Default for Settings {
             refine_peaks: true,
             plot_points: 121,
             global_samples: 64,
-            local_starts: 8,
+            local_starts: 6,
             local_max_iters: 150,
             local_tol: 1e-10,
             landscape_k1: 41,
@@ -372,7 +372,10 @@ impl Settings {
         min_count("settings.global_samples", self.global_samples, 1)?;
         min_count("settings.local_starts", self.local_starts, 1)?;
         if self.local_max_iters == 0 {
-            return Err(field("settings.local_max_iters", "must be at least 1".into()));
+            return Err(field(
+                "settings.local_max_iters",
+                "must be at least 1".into(),
+            ));
         }
         if (self.landscape_k1 == 0) != (self.landscape_k2 == 0)
             || self.landscape_k1 == 1
@@ -924,8 +927,9 @@ fn qp_step(
     let (nc, nx, nn) = (p.cons.len(), p.maxima.len(), p.minima.len());
     let nv = n + 2 + nc;
     let (is, ir) = (n, n + 1);
-    let y0 = 0.5 * (p.maxima.iter().map(|q| q.1).fold(f64::MIN, f64::max)
-        + p.minima.iter().map(|q| q.1).fold(f64::MAX, f64::min));
+    let y0 = 0.5
+        * (p.maxima.iter().map(|q| q.1).fold(f64::MIN, f64::max)
+            + p.minima.iter().map(|q| q.1).fold(f64::MAX, f64::min));
     let (mut pi, mut pj, mut pv) = (vec![], vec![], vec![]);
     for i in 0..n {
         for j in i..n {
@@ -1262,9 +1266,9 @@ pub fn solve(scene: &CraneScene, settings: &Settings) -> Result<Outcome, FieldEr
                 iterations: run.iterations,
             });
             // Feasible ends first, then the smaller merit.
-            let better = best.as_ref().is_none_or(|b| {
-                (feasible && !b.3) || (feasible == b.3 && merit < b.1)
-            });
+            let better = best
+                .as_ref()
+                .is_none_or(|b| (feasible && !b.3) || (feasible == b.3 && merit < b.1));
             if better {
                 best = Some((run.u, merit, run.converged, feasible));
             }
@@ -1399,7 +1403,8 @@ fn report(
             out.design.insert("tie_length_m".into(), radius);
             out.derived
                 .insert("tie_pin_distance_m".into(), centre.norm());
-            out.derived.insert("tie_pin_error_m".into(), syn.guide_error);
+            out.derived
+                .insert("tie_pin_error_m".into(), syn.guide_error);
         }
         Guide::Line { dir, .. } => {
             warnings.push(
