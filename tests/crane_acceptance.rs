@@ -68,11 +68,7 @@ fn reference_delta_h(l_c: f64, x: [f64; 6]) -> Option<f64> {
     // digits against the ~1e-21 accuracy of twofloat's sin and cos when k1 is near 0 or 1).
     let d2c = cc(V(t(0.0), t(0.0)), l_c, c2, l_v, side)?;
     let near1 = x[0] <= 0.5;
-    let (pa, da, ca) = if near1 {
-        (phi_min, d1, c1)
-    } else {
-        (phi_max, d3, c3)
-    };
+    let (pa, da) = if near1 { (phi_min, d1) } else { (phi_max, d3) };
     let w = if near1 {
         V(g3.cos(), g3.sin()).mul(l_v)
     } else {
@@ -83,7 +79,7 @@ fn reference_delta_h(l_c: f64, x: [f64; 6]) -> Option<f64> {
     } else {
         V((t(1.0) - k1) * (c1.0 - c3.0), t(0.0))
     };
-    let _ = ca;
+
     let ddf = |del: T| {
         let h = del / t(2.0);
         V((pa + h).sin(), (pa + h).cos()).mul(t(2.0) * l_c * h.sin())
@@ -93,7 +89,7 @@ fn reference_delta_h(l_c: f64, x: [f64; 6]) -> Option<f64> {
         let r = ddf(del).sub(dc);
         let f = t(2.0) * w.dot(r) + r.dot(r);
         let fp = t(2.0) * w.add(r).dot(V((pa + del).sin(), (pa + del).cos()).mul(l_c));
-        del = del - f / fp;
+        del -= f / fp;
     }
     let d2 = da.add(ddf(del));
     let e = |d: V, c: V| d.add(d.sub(c).mul(k2));
@@ -118,7 +114,7 @@ fn reference_delta_h(l_c: f64, x: [f64; 6]) -> Option<f64> {
     let n = 400;
     let ph = |i: usize| phi_min + (phi_max - phi_min) * t(i as f64 / n as f64);
     let ys: Vec<T> = (0..=n).map(|i| y(ph(i))).collect::<Option<_>>()?;
-    let mut ext = |sign: f64| -> Option<T> {
+    let ext = |sign: f64| -> Option<T> {
         let i =
             (0..=n).max_by(|&a, &b| (ys[a] * t(sign)).partial_cmp(&(ys[b] * t(sign))).unwrap())?;
         let (mut lo, mut hi) = (ph(i.saturating_sub(1)), ph((i + 1).min(n)));

@@ -911,6 +911,7 @@ struct QpStep {
 ///
 /// min ½dᵀBd + s − r + μ Σ v  s.t.  y_i + g_i·d ≤ s,  y_k + g_k·d ≥ r,
 /// c_m + a_m·d ≤ v_m,  v ≥ 0,  max(−Δ, −u) ≤ d ≤ min(Δ, 1 − u).
+#[allow(clippy::needless_range_loop)]
 fn qp_step(
     u: &[f64],
     p: &Probe,
