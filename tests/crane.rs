@@ -548,7 +548,12 @@ fn two_variable_optimisation_beats_the_thesis_within_the_tie_pin_limit() {
         },
     )
     .unwrap();
-    assert_eq!(o.status, Status::Optimal, "{:?}", o.warnings);
+    // A heuristic search: best_found with its evidence (issue 14; was asserted "optimal").
+    assert_eq!(o.status, Status::BestFound, "{:?}", o.warnings);
+    assert!(o
+        .search
+        .as_ref()
+        .is_some_and(|s| s.starts >= 1 && s.starts_at_best >= 1));
     let dh = o.objectives["delta_h_m"];
     // The thesis's own design (B at 12.56 m, x_B > 0) is feasible: the optimum cannot be worse.
     assert!(dh <= 0.5488653233583047, "{dh}");
@@ -567,7 +572,7 @@ fn two_variable_optimisation_beats_the_thesis_within_the_tie_pin_limit() {
     // The optimum is on the tie-pin boundary: the degenerate direction is cut by the limit.
     assert!(b.norm() > 15.0 - 1e-3);
     assert!(o.checks.iter().all(|c| c.pass));
-    assert!(o.method.contains("Nelder-Mead") && o.evaluations > 100);
+    assert!(o.method.contains("SQP") && o.evaluations > 100);
     let csv = l.to_csv();
     assert_eq!(csv.lines().count(), 1 + 21 * 21);
     assert!(csv.starts_with("k1,k2,delta_h_m,tie_pin_violation_m"));
@@ -579,11 +584,7 @@ fn tukan_step1_search_and_six_variable_optimisation() {
     let four = solve(&tukan_40t(), &s).unwrap();
     let six = solve(&tukan_40t_optimisation(), &s).unwrap();
     for o in [&four, &six] {
-        assert!(
-            matches!(o.status, Status::Optimal | Status::MaxIterations),
-            "{:?}",
-            o.status
-        );
+        assert!(o.status == Status::BestFound, "{:?}", o.status);
         assert!(o.checks.iter().all(|c| c.pass), "{:?}", o.checks);
         // Min-reach sizing meets R_min exactly; R_max is a constraint.
         assert!((o.derived["reach_min_m"] - 8.0).abs() < 1e-9);

@@ -190,7 +190,9 @@ fn every_crane_file_solves_with_the_contract_keys_and_sane_values() {
     // Optimising k1, k2 beats the thesis's rule of thumb, keeps B inside its limit, and is
     // no worse than the best feasible point of its own landscape grid.
     let op = &all["crane-thesis-optimise"];
-    assert_eq!(op["status"], "optimal");
+    // A heuristic search is best_found with its evidence (issue 14; was asserted "optimal").
+    assert_eq!(op["status"], "best_found");
+    assert!(op["search"]["starts"].as_u64().unwrap() >= 1);
     let dh_op = num(op, "objectives.delta_h_m");
     assert!(dh_op < dh, "{dh_op} vs {dh}");
     assert!(dh_op <= num(op, "landscape.grid_min_delta_h_m") + 1e-9);
@@ -210,7 +212,7 @@ fn every_crane_file_solves_with_the_contract_keys_and_sane_values() {
     // Tukan 40T: the requirements are met, L_c meets R_min exactly (min-reach rule).
     for name in ["crane-tukan-40t", "crane-tukan-40t-optimise"] {
         let t = &all[name];
-        assert_eq!(t["status"], "optimal", "{name}");
+        assert_eq!(t["status"], "best_found", "{name}");
         assert!((num(t, "derived.reach_min_m") - 8.0).abs() < 1e-9, "{name}");
         assert!(num(t, "derived.reach_max_m") >= 30.0 - 1e-5, "{name}");
         assert!(

@@ -10,7 +10,7 @@ use super::problem::Family;
 use super::problem::{
     check_name, Ctx, FieldError, Input, ProblemError, RawFile, RawVar, Scene, SceneKind,
 };
-use super::result::{PaperCheck, Plot, SolveResult, Status, Table};
+use super::result::{PaperCheck, Plot, SearchEvidence, SolveResult, Status, Table};
 use crate::geom::P2;
 use crate::mech::crane::{synthesize, Angles, Boom, Guide};
 use crate::synth::crane::{
@@ -258,12 +258,14 @@ fn paper_key(quantity: &str) -> &'static str {
 fn status_detail(s: CraneStatus) -> &'static str {
     match s {
         CraneStatus::Evaluated => "evaluated",
-        CraneStatus::Optimal => "optimal",
-        CraneStatus::MaxIterations => "max-iterations",
+        CraneStatus::BestFound => {
+            "best-found: multistart (Halton + SQP), not proven globally optimal"
+        }
         CraneStatus::Infeasible => "infeasible",
         CraneStatus::BranchDefect => "branch-defect",
         CraneStatus::CannotAssemble => "cannot-assemble",
         CraneStatus::NoGeometry => "no-geometry",
+        CraneStatus::Degenerate => "ill-conditioned: the rounding bound of delta h exceeds delta h",
     }
 }
 
@@ -308,8 +310,8 @@ pub fn result(scene: &Scene, s: &CraneScene) -> SolveResult {
     ]);
     r.status = match out.status {
         CraneStatus::Evaluated => Status::Analysed,
-        CraneStatus::Optimal => Status::Optimal,
-        CraneStatus::MaxIterations => Status::Inaccurate,
+        CraneStatus::BestFound => Status::BestFound,
+        CraneStatus::Degenerate => Status::Degenerate,
         CraneStatus::Infeasible => Status::Infeasible,
         CraneStatus::BranchDefect | CraneStatus::CannotAssemble | CraneStatus::NoGeometry => {
             Status::Failed
@@ -317,6 +319,15 @@ pub fn result(scene: &Scene, s: &CraneScene) -> SolveResult {
     };
     r.status_detail = Some(status_detail(out.status).into());
     r.method = out.method.clone();
+    r.search = out.search.as_ref().map(|s| SearchEvidence {
+        method: "Halton global stage + trust-region SQP (Fletcher's Sl1QP) from the best distinct points".into(),
+        starts: s.starts,
+        distinct_basins: s.distinct_basins,
+        evaluations: s.evaluations,
+        best_values: s.best_values.clone(),
+        starts_at_best: s.starts_at_best,
+        spread_rel: s.spread_rel,
+    });
     r.warnings = out.warnings.clone();
     r.design = out.design.clone();
     r.objectives = out.objectives.clone();

@@ -42,8 +42,7 @@ pub const LUFFING_CRANE: &[Count] = &[
     c("accuracy.plot_points", 2, 10_000),
     c("accuracy.global_samples", 1, 1000),
     c("accuracy.local_starts", 1, 50),
-    c("accuracy.nm_max_iters", 1, 100_000),
-    c("accuracy.nm_restarts", 0, 50),
+    c("accuracy.local_max_iters", 1, 100_000),
     c("accuracy.landscape_k1", 0, 201),
     c("accuracy.landscape_k2", 0, 201),
 ];
@@ -75,6 +74,7 @@ pub const HYPOCYCLOID: &[Count] = &[
     c("accuracy.theta_scan", 4, 400),
     c("accuracy.peak_samples", 16, 4096),
     c("accuracy.opt_grid", 3, 40),
+    c("accuracy.opt_starts", 1, 64),
     c("accuracy.nm_max_iters", 1, 100_000),
     c("accuracy.plot_samples", 8, 100_000),
 ];

@@ -10,7 +10,7 @@
 //! Frame: A = (0, 0), reach runs along −x, y up. Boom D(φ) = (−L_c cos φ, L_c sin φ). The
 //! jib tail is E = D + k2 (D − C) with |DE| = a = k2·L_v, |DC| = L_v.
 
-use crate::geom::{circle_circle, circumcentre, cross, link_slider, Side, P2};
+use crate::geom::{circle_circle, cross, link_slider, Side, P2};
 use crate::numeric::{interval_peak_with, SearchError};
 use std::f64::consts::FRAC_PI_2;
 
@@ -151,6 +151,10 @@ pub struct DesignPositions {
     pub d: [P2; 3],
     /// Jib tails E1, E2, E3.
     pub e: [P2; 3],
+    /// The nearer extreme position to the middle one (0 for k1 ≤ ½, else 2) and E2 − E_anchor
+    /// computed in difference form (accurate to rounding relative to its own length even
+    /// when E2 nearly coincides with E1 or E3, where subtracting the points would lose it).
+    pub e_step: (usize, P2),
 }
 
 /// Step 2 positions for the ratios k1 = C1C2/C1C3 and k2 = a/L_v.
@@ -191,6 +195,52 @@ pub fn design_positions(boom: &Boom, k1: f64, k2: f64) -> Result<DesignPositions
     if !(phi2 >= p1 - tol && phi2 <= p3 + tol && d2.y >= h1) {
         return Err(no_d2);
     }
+    // D2 again in difference form from the nearer extreme position a: with w = D_a − C_a
+    // (= L_v(cos γ3, sin γ3) at a = 1, L_v(sin γ2, cos γ2) at a = 3), ΔC = C2 − C_a and
+    // ΔD(δ) = D(φ_a + δ) − D(φ_a) = 2 L_c sin(δ/2)(sin(φ_a + δ/2), cos(φ_a + δ/2)), the angle
+    // δ = φ2 − φ_a solves f(δ) = 2 w·(ΔD − ΔC) + |ΔD − ΔC|² = 0 (|D2 − C2| = L_v) by Newton
+    // from the rounded φ2. Every term is relative to |ΔC|, so δ keeps its digits when C2 is
+    // within rounding of C1 or C3 (k1 near 0 or 1).
+    let (g2, g3) = (boom.angles.gamma2, boom.angles.gamma3);
+    let (a, pa, w, dc) = if k1 <= 0.5 {
+        (
+            0,
+            p1,
+            boom.l_v() * P2::new(g3.cos(), g3.sin()),
+            P2::new(k1 * (c3.x - c1.x), 0.0),
+        )
+    } else {
+        (
+            2,
+            p3,
+            boom.l_v() * P2::new(g2.sin(), g2.cos()),
+            P2::new((1.0 - k1) * (c1.x - c3.x), 0.0),
+        )
+    };
+    let dd = |del: f64| {
+        let h = 0.5 * del;
+        2.0 * boom.l_c * h.sin() * P2::new((pa + h).sin(), (pa + h).cos())
+    };
+    let mut del = phi2 - pa;
+    for _ in 0..6 {
+        let r = dd(del) - dc;
+        let f = 2.0 * w.dot(&r) + r.dot(&r);
+        let fp = 2.0 * (w + r).dot(&(boom.l_c * P2::new((pa + del).sin(), (pa + del).cos())));
+        let step = f / fp;
+        if !step.is_finite() {
+            break;
+        }
+        del -= step;
+        if step.abs() <= 1e-17 * del.abs() {
+            break;
+        }
+    }
+    let (d2, phi2, dd2) = if del.is_finite() && (pa + del - phi2).abs() <= 1e-6 {
+        let dd2 = dd(del);
+        ([d1, d2, d3][a] + dd2, pa + del, dd2)
+    } else {
+        (d2, phi2, d2 - [d1, d2, d3][a])
+    };
     let phi2 = phi2.clamp(p1, p3);
     let d = [d1, d2, d3];
     let c = [c1, c2, c3];
@@ -200,6 +250,7 @@ pub fn design_positions(boom: &Boom, k1: f64, k2: f64) -> Result<DesignPositions
         c,
         d,
         e,
+        e_step: (a, (1.0 + k2) * dd2 - k2 * dc),
     })
 }
 
@@ -264,6 +315,11 @@ pub struct Synthesis {
     pub positions: DesignPositions,
     /// Tie about the circumcentre of E1 E2 E3, or its line limit.
     pub guide: Guide,
+    /// Bound on the rounding error of the tie pin B and of the tie length (m): see
+    /// [`tie_circle`].
+    pub guide_error: f64,
+    /// Smallest angle of the triangle E1 E2 E3 (rad; 0 when two points coincide).
+    pub min_angle: f64,
     /// Branch of each design position.
     pub branch: Branch,
     /// The linkage on the branch of position 1 (the max-reach position).
@@ -286,21 +342,99 @@ fn side_of(guide: &Guide, d: P2, e: P2, a: f64) -> Option<Side> {
     }
 }
 
+/// The circle through E1 E2 E3 as [`tie_circle`] computes it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TieCircle {
+    /// Centre B and radius b, `None` for collinear points.
+    pub circle: Option<(P2, f64)>,
+    /// Bound on the rounding error of B and b (m).
+    pub error: f64,
+    /// Longest side of the triangle (m).
+    pub longest: f64,
+    /// Smallest angle of the triangle (rad).
+    pub min_angle: f64,
+}
+
+/// Circumcentre of E1 E2 E3, anchored at the vertex of the largest angle A (opposite the
+/// longest side), from the sides in difference form (E2 − E_anchor of
+/// [`DesignPositions::e_step`], the other side by E3 − E1): with u, v the sides from that
+/// vertex, B = vertex + (v_y|u|² − u_y|v|², u_x|v|² − v_x|u|²)/(2 u×v). The whole triangle
+/// decides collinearity: the points are collinear only when A is within rounding of π
+/// (sin A = 0); two nearly coinciding points with a finite circle (A well below π, the
+/// smallest angle near 0) keep their circle. Rounding: u×v carries a relative error of
+/// ~ε/sin A, so |δB| ≤ 16ε(|B − vertex|/sin A + |vertex| + longest side) — the condition
+/// estimate 1/sin A times ε times the scale.
+pub fn tie_circle(pos: &DesignPositions) -> TieCircle {
+    let [e1, e2, e3] = pos.e;
+    let (a, step) = pos.e_step;
+    let v13 = e3 - e1;
+    let (v12, v23) = if a == 0 {
+        (step, v13 - step)
+    } else {
+        (v13 + step, -step)
+    };
+    let (l12, l23, l13) = (v12.norm(), v23.norm(), v13.norm());
+    let longest = l12.max(l23).max(l13);
+    // Vertex of the largest angle and the sides from it.
+    let (vertex, u, v) = if l13 >= l12 && l13 >= l23 {
+        (e2, -v12, v23)
+    } else if l12 >= l23 {
+        (e3, -v13, -v23)
+    } else {
+        (e1, v12, v13)
+    };
+    let (uu, vv) = (u.norm_squared(), v.norm_squared());
+    let cr = cross(u, v);
+    let sin_a = cr.abs() / (uu * vv).sqrt();
+    // The smallest angle is opposite the shortest side: sin = 2·area/(product of the others).
+    let shortest = l12.min(l23).min(l13);
+    let min_angle = if longest > 0.0 {
+        (cr.abs() / (longest * (l12 + l23 + l13 - longest - shortest)))
+            .min(1.0)
+            .asin()
+    } else {
+        0.0
+    };
+    if !(sin_a > 0.0) || !sin_a.is_finite() {
+        return TieCircle {
+            circle: None,
+            error: f64::INFINITY,
+            longest,
+            min_angle,
+        };
+    }
+    let o = P2::new(v.y * uu - u.y * vv, u.x * vv - v.x * uu) / (2.0 * cr);
+    let r = o.norm();
+    TieCircle {
+        circle: Some((vertex + o, r)),
+        error: 16.0 * f64::EPSILON * (r / sin_a + vertex.norm() + longest),
+        longest,
+        min_angle,
+    }
+}
+
 /// Step 2: tie pin B = circumcentre of E1 E2 E3, tie length b = |BE1|, and the branch of each
 /// design position. Collinear E points (or a tie longer than [`LINE_LIMIT_RATIO`] chords) give
 /// the straight-guide limit through E1 and E3.
 pub fn synthesize(boom: &Boom, k1: f64, k2: f64) -> Result<Synthesis, CraneGeomError> {
     let positions = design_positions(boom, k1, k2)?;
-    let [e1, e2, e3] = positions.e;
+    let [e1, _, e3] = positions.e;
     let chord = (e3 - e1).norm();
-    let guide = match circumcentre(e1, e2, e3) {
-        Some((centre, radius)) if radius <= LINE_LIMIT_RATIO * chord => {
-            Guide::Circle { centre, radius }
+    let tc = tie_circle(&positions);
+    let (guide, guide_error) = match tc.circle {
+        Some((centre, radius)) if radius <= LINE_LIMIT_RATIO * tc.longest => {
+            (Guide::Circle { centre, radius }, tc.error)
         }
-        _ => Guide::Line {
-            point: e1,
-            dir: (e3 - e1) / chord,
-        },
+        // The line limit departs from the circle (radius b, if the points are not exactly
+        // collinear) by at most its sagitta over the tail's travel, ~longest²/(8b); twice that
+        // is carried as the guide's error.
+        circle => (
+            Guide::Line {
+                point: e1,
+                dir: (e3 - e1) / chord,
+            },
+            circle.map_or(0.0, |(_, b)| tc.longest * tc.longest / (4.0 * b)),
+        ),
     };
     let a = k2 * boom.l_v();
     let sides = [0, 1, 2].map(|i| side_of(&guide, positions.d[i], positions.e[i], a));
@@ -325,6 +459,8 @@ pub fn synthesize(boom: &Boom, k1: f64, k2: f64) -> Result<Synthesis, CraneGeomE
     Ok(Synthesis {
         positions,
         guide,
+        guide_error,
+        min_angle: tc.min_angle,
         branch,
         linkage,
     })
@@ -443,7 +579,10 @@ pub fn head_heights_with(
     };
     let hi = interval_peak_with(y, p0, p1, n, xtol).map_err(to_path)?;
     let lo = interval_peak_with(|phi| -y(phi), p0, p1, n, xtol).map_err(to_path)?;
-    let rounding = 64.0 * f64::EPSILON * link.length_scale() / link.k2;
+    // A pose within μ of the singular (tangent) one loses digits as 1/sin μ (the circle
+    // intersection's height over its rounding), at most to sqrt(ε).
+    let tangency = min_t.sin().max(f64::EPSILON.sqrt());
+    let rounding = 64.0 * f64::EPSILON * link.length_scale() / (link.k2 * tangency);
     Ok(HeadHeights {
         y_max: hi.peak.fx,
         phi_at_max: hi.peak.x,
@@ -455,6 +594,57 @@ pub fn head_heights_with(
         phi_at_min_transmission: phi_t,
         evals: n + 1 + hi.evals + lo.evals,
     })
+}
+
+/// A local extremum of the head height: boom angle φ (rad), y_C (m above A), maximum or minimum.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LocalExtremum {
+    /// Boom angle (rad).
+    pub phi: f64,
+    /// Head height y_C (m above A).
+    pub y: f64,
+    /// A maximum (`false`: a minimum).
+    pub is_max: bool,
+}
+
+/// Every local extremum of y_C over [φ_min, φ_max], ends included: `n` samples (every one
+/// must assemble), each sampled local maximum (minimum) refined by Brent to `xtol` rad on
+/// its two neighbouring intervals. The largest maximum minus the smallest minimum is Δh; the
+/// others are the pieces a local search must watch, since they can take over.
+pub fn head_extrema(link: &Linkage, n: usize, xtol: f64) -> Result<Vec<LocalExtremum>, PathError> {
+    let [p0, p1] = link.phi_range;
+    let n = n.max(8);
+    let phi = |i: usize| p0 + (p1 - p0) * i as f64 / n as f64;
+    let ys = (0..=n)
+        .map(|i| {
+            let p = phi(i);
+            link.pose(p)
+                .map(|q| q.c.y)
+                .ok_or(PathError::CannotAssemble { phi: p })
+        })
+        .collect::<Result<Vec<f64>, _>>()?;
+    let y = |p: f64| link.pose(p).map_or(f64::NAN, |q| q.c.y);
+    let to_path = |e: SearchError| match e {
+        SearchError::NotFinite { x } => PathError::CannotAssemble { phi: x },
+        other => PathError::Search(other),
+    };
+    let mut out = Vec::new();
+    for i in 0..=n {
+        let (l, r) = (i.saturating_sub(1), (i + 1).min(n));
+        for sign in [1.0, -1.0] {
+            let s = |j: usize| sign * ys[j];
+            if s(i) >= s(l) && s(i) >= s(r) && (i == 0 || s(i) > s(l)) {
+                let e = crate::numeric::brent_max(|p| sign * y(p), phi(l), phi(r), xtol)
+                    .map_err(to_path)?;
+                out.push(LocalExtremum {
+                    phi: e.x,
+                    y: sign * e.fx,
+                    is_max: sign > 0.0,
+                });
+            }
+        }
+    }
+    Ok(out)
 }
 
 /// Unbalanced moment of a load of weight W hanging from the jib head on a rope of constant

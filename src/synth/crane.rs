@@ -15,12 +15,9 @@
 
 use crate::geom::P2;
 use crate::mech::crane::{
-    head_heights_with, load_moment, synthesize, Angles, Boom, Branch, CraneGeomError, Guide,
-    HeadHeights, PathError, Synthesis,
+    head_extrema, head_heights_with, load_moment, synthesize, Angles, Boom, Branch, CraneGeomError,
+    Guide, HeadHeights, PathError, Synthesis,
 };
-use argmin::core::{CostFunction, Error as ArgminError, Executor, State, TerminationReason};
-use argmin::solver::neldermead::NelderMead;
-use argmin_math::{ArgminAdd, ArgminMul, ArgminSub};
 use std::collections::BTreeMap;
 use std::f64::consts::FRAC_PI_2;
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -322,15 +319,12 @@ pub struct Settings {
     pub plot_points: usize,
     /// Halton points of the global stage per free variable. Default 64.
     pub global_samples: usize,
-    /// Nelder–Mead starts from the best distinct global points. Default 3.
+    /// SQP local searches from the best distinct global points. Default 6.
     pub local_starts: usize,
-    /// Nelder–Mead iteration limit per run. Default 400.
-    pub nm_max_iters: u64,
-    /// Nelder–Mead restarts from the best point with a fresh simplex (steps 0.05, 0.025, …
-    /// of the unit box), until a restart gains less than `nm_sd_tolerance`. Default 4.
-    pub nm_restarts: usize,
-    /// Nelder–Mead stop: standard deviation of the simplex costs (Δh / length scale). Default 1e-10.
-    pub nm_sd_tolerance: f64,
+    /// SQP iteration limit per local search. Default 150.
+    pub local_max_iters: u64,
+    /// SQP stop: predicted gain of the merit below this fraction of the merit. Default 1e-10.
+    pub local_tol: f64,
     /// Landscape grid points along k1 and k2 (0 = no landscape). Default 41 × 41.
     pub landscape_k1: usize,
     /// See `landscape_k1`.
@@ -351,10 +345,9 @@ impl Default for Settings {
             refine_peaks: true,
             plot_points: 121,
             global_samples: 64,
-            local_starts: 3,
-            nm_max_iters: 400,
-            nm_restarts: 4,
-            nm_sd_tolerance: 1e-10,
+            local_starts: 6,
+            local_max_iters: 150,
+            local_tol: 1e-10,
             landscape_k1: 41,
             landscape_k2: 41,
             penalty: 100.0,
@@ -378,8 +371,11 @@ impl Settings {
         min_count("settings.plot_points", self.plot_points, 2)?;
         min_count("settings.global_samples", self.global_samples, 1)?;
         min_count("settings.local_starts", self.local_starts, 1)?;
-        if self.nm_max_iters == 0 {
-            return Err(field("settings.nm_max_iters", "must be at least 1".into()));
+        if self.local_max_iters == 0 {
+            return Err(field(
+                "settings.local_max_iters",
+                "must be at least 1".into(),
+            ));
         }
         if (self.landscape_k1 == 0) != (self.landscape_k2 == 0)
             || self.landscape_k1 == 1
@@ -392,7 +388,7 @@ impl Settings {
         }
         for (key, v) in [
             ("settings.xtol", self.xtol),
-            ("settings.nm_sd_tolerance", self.nm_sd_tolerance),
+            ("settings.local_tol", self.local_tol),
             ("settings.penalty", self.penalty),
             ("settings.constraint_tol", self.constraint_tol),
             ("settings.moment_step", self.moment_step),
@@ -411,10 +407,9 @@ impl Settings {
 pub enum Status {
     /// All variables fixed: the design was evaluated.
     Evaluated,
-    /// Optimised; every local search converged and the best design meets every constraint.
-    Optimal,
-    /// Optimised, feasible, but the best local search hit its iteration limit.
-    MaxIterations,
+    /// Searched: the best design the multistart found; not proven globally optimal (the
+    /// evidence is in [`Outcome::search`]).
+    BestFound,
     /// The best design found violates a constraint (tie pin, reach or height).
     Infeasible,
     /// The design positions lie on different assembly branches.
@@ -423,6 +418,9 @@ pub enum Status {
     CannotAssemble,
     /// No geometry: the angles give no jib ratio, or no middle position exists.
     NoGeometry,
+    /// The design is so ill-conditioned that Δh has no correct digit (its rounding bound
+    /// exceeds Δh itself).
+    Degenerate,
 }
 
 /// A thesis check, pass or fail.
@@ -479,8 +477,10 @@ pub struct Basin {
     pub delta_h_m: Option<f64>,
     /// Penalised cost at the end (Δh and violations over the length scale).
     pub cost: f64,
-    /// Whether Nelder–Mead met its tolerance.
+    /// Whether the SQP met its stopping test (predicted gain or trust region below tolerance).
     pub converged: bool,
+    /// Whether the end meets every constraint within `constraint_tol`.
+    pub feasible: bool,
     /// Iterations.
     pub iterations: u64,
 }
@@ -558,6 +558,55 @@ pub struct Outcome {
     pub basins: Vec<Basin>,
     /// Δh over (k1, k2).
     pub landscape: Option<Landscape>,
+    /// What the multistart did (`None` when nothing is free).
+    pub search: Option<Search>,
+}
+
+/// The evidence behind [`Status::BestFound`]: what the multistart did and how consistent
+/// its ends were.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct Search {
+    /// Local searches started.
+    pub starts: usize,
+    /// Distinct feasible ends (Δh differing by more than 1e-6 relative).
+    pub distinct_basins: usize,
+    /// Δh evaluations in all.
+    pub evaluations: usize,
+    /// Δh of the distinct feasible ends, best first (at most five, m).
+    pub best_values: Vec<f64>,
+    /// Feasible ends within 1e-6 relative of the best.
+    pub starts_at_best: usize,
+    /// (second best − best)/best over the distinct ends; `None` with one.
+    pub spread_rel: Option<f64>,
+}
+
+impl Search {
+    /// Relative distance under which two ends count as the same basin.
+    pub const SAME: f64 = 1e-6;
+
+    /// From the local searches' ends.
+    pub fn of(basins: &[Basin], evaluations: usize) -> Search {
+        let mut v: Vec<f64> = basins
+            .iter()
+            .filter(|b| b.feasible)
+            .filter_map(|b| b.delta_h_m)
+            .collect();
+        v.sort_by(f64::total_cmp);
+        let best = v.first().copied();
+        let at_best = best.map_or(0, |b| {
+            v.iter().filter(|&&d| d <= b + Self::SAME * b.abs()).count()
+        });
+        v.dedup_by(|a, b| (*a - *b).abs() <= Self::SAME * b.abs());
+        let spread_rel = (v.len() > 1).then(|| (v[1] - v[0]) / v[0].abs().max(1e-300));
+        Search {
+            starts: basins.len(),
+            distinct_basins: v.len(),
+            evaluations,
+            starts_at_best: at_best,
+            spread_rel,
+            best_values: v.into_iter().take(5).collect(),
+        }
+    }
 }
 
 /// One design point evaluated: boom, synthesis, heights and constraint violations.
@@ -603,20 +652,21 @@ pub fn evaluate(
     x: &[f64; 6],
     settings: &Settings,
 ) -> Result<Evaluation, CraneGeomError> {
-    let angles = Angles {
-        phi_min: x[2],
-        gamma1: x[3],
-        gamma2: x[4],
-        gamma3: x[5],
-    };
-    let k = Boom::new(1.0, angles)?.k;
-    let boom = Boom::new(scene.boom_length(&angles, k), angles)?;
-    let synthesis = synthesize(&boom, x[0], x[1])?;
+    let (boom, synthesis) = build(scene, x)?;
+    let (angles, k) = (boom.angles, boom.k);
+    // The tie pin's rounding (its condition, see `tie_circle`) moves the tail by at most
+    // |δB| + |δb| over sin μ (μ the smallest transmission angle) and the head by that over
+    // k2, each extremum: Δh by twice that.
     let heights = head_heights_with(
         &synthesis.linkage,
         settings.path_samples,
         settings.refine_peaks.then_some(settings.xtol),
-    );
+    )
+    .map(|mut h| {
+        let tangency = h.min_transmission.sin().max(f64::EPSILON.sqrt());
+        h.error += 4.0 * synthesis.guide_error / (x[1] * tangency);
+        h
+    });
     let tie_pin_violation = match synthesis.guide {
         Guide::Circle { centre, .. } => scene.tie_pin.violation(centre),
         Guide::Line { .. } if scene.tie_pin.is_bounded() => f64::INFINITY,
@@ -637,31 +687,11 @@ pub fn evaluate(
     })
 }
 
-/// A parameter vector for argmin's Nelder–Mead (argmin-math is built without its `vec`
-/// feature, so the vector arithmetic is provided here).
-#[derive(Debug, Clone, PartialEq)]
-struct Dv(Vec<f64>);
-
-impl ArgminAdd<Dv, Dv> for Dv {
-    fn add(&self, o: &Dv) -> Dv {
-        Dv(self.0.iter().zip(&o.0).map(|(a, b)| a + b).collect())
-    }
-}
-impl ArgminSub<Dv, Dv> for Dv {
-    fn sub(&self, o: &Dv) -> Dv {
-        Dv(self.0.iter().zip(&o.0).map(|(a, b)| a - b).collect())
-    }
-}
-impl ArgminMul<f64, Dv> for Dv {
-    fn mul(&self, s: &f64) -> Dv {
-        Dv(self.0.iter().map(|a| a * s).collect())
-    }
-}
-
 /// Cost of an infeasible geometry (in units of the length scale; a valid Δh is ~1e-2).
 const NO_GEOMETRY_COST: f64 = 10.0;
 
-/// The penalised objective over the unit box of the free variables.
+/// The design problem over the unit box of the free variables: the penalised cost of the
+/// global stage and the pieces of the local SQP.
 struct Objective<'a> {
     scene: &'a CraneScene,
     settings: &'a Settings,
@@ -670,6 +700,71 @@ struct Objective<'a> {
     lo: [f64; 6],
     hi: [f64; 6],
     evals: AtomicUsize,
+}
+
+/// One design seen by the local search: Δh and every local extremum of the head height
+/// (normalised boom angle t = (φ − φ_min)/(φ_max − φ_min), height over the length scale L),
+/// and the signed constraints over L (≤ 0 met).
+#[derive(Debug, Clone)]
+struct Probe {
+    /// Δh/L.
+    dh: f64,
+    /// (t, y/L) of the local maxima.
+    maxima: Vec<(f64, f64)>,
+    /// (t, y/L) of the local minima.
+    minima: Vec<(f64, f64)>,
+    /// Signed constraints over L.
+    cons: Vec<f64>,
+}
+
+impl Probe {
+    /// Exact L1 merit Δh/L + μ Σ max(0, c).
+    fn merit(&self, mu: f64) -> f64 {
+        self.dh + mu * self.cons.iter().map(|c| c.max(0.0)).sum::<f64>()
+    }
+}
+
+/// Signed constraints of a built design over the length scale (≤ 0 met): each tie-pin limit
+/// (|AB| − R, lo − x_B, x_B − hi, lo − y_B, y_B − hi), the reach shortfall at maximum reach,
+/// the reach excess at minimum reach and the head-height shortfall. `None` for the
+/// straight-guide limit under a bounded tie-pin limit (B at infinity).
+fn signed_constraints(scene: &CraneScene, boom: &Boom, syn: &Synthesis) -> Option<Vec<f64>> {
+    let l = scene.length_scale();
+    let mut c = Vec::with_capacity(8);
+    let t = &scene.tie_pin;
+    if t != &TiePinLimit::default() {
+        let Guide::Circle { centre: b, .. } = syn.guide else {
+            return None;
+        };
+        if let Some(r) = t.max_distance {
+            c.push((b.norm() - r) / l);
+        }
+        if let Some([lo, hi]) = t.x_range {
+            c.extend([(lo - b.x) / l, (b.x - hi) / l]);
+        }
+        if let Some([lo, hi]) = t.y_range {
+            c.extend([(lo - b.y) / l, (b.y - hi) / l]);
+        }
+    }
+    let (a, k) = (&boom.angles, boom.k);
+    c.push((scene.reach_max - scene.foot_offset - boom.l_c * a.unit_reach_max(k)) / l);
+    c.push((boom.l_c * a.unit_reach_min(k) - (scene.reach_min - scene.foot_offset)) / l);
+    c.push((scene.lift_height - scene.foot_height - boom.head_height()) / l);
+    Some(c)
+}
+
+/// Boom and synthesis of the design x (steps 1 and 2).
+fn build(scene: &CraneScene, x: &[f64; 6]) -> Result<(Boom, Synthesis), CraneGeomError> {
+    let angles = Angles {
+        phi_min: x[2],
+        gamma1: x[3],
+        gamma2: x[4],
+        gamma3: x[5],
+    };
+    let k = Boom::new(1.0, angles)?.k;
+    let boom = Boom::new(scene.boom_length(&angles, k), angles)?;
+    let synthesis = synthesize(&boom, x[0], x[1])?;
+    Ok((boom, synthesis))
 }
 
 impl Objective<'_> {
@@ -686,7 +781,7 @@ impl Objective<'_> {
     }
 
     /// Δh/L + penalty·(violations/L + distance outside the box); a geometry that fails costs
-    /// [`NO_GEOMETRY_COST`] more.
+    /// [`NO_GEOMETRY_COST`] more. The screening cost of the global stage.
     fn value(&self, u: &[f64]) -> f64 {
         self.evals.fetch_add(1, Ordering::Relaxed);
         let (x, outside) = self.point(u);
@@ -702,13 +797,369 @@ impl Objective<'_> {
             Err(_) => NO_GEOMETRY_COST + w * outside,
         }
     }
+
+    /// The built design at u if it is a valid linkage on one branch.
+    fn linkage(&self, u: &[f64]) -> Option<(Boom, Synthesis)> {
+        let (x, _) = self.point(u);
+        let (boom, syn) = build(self.scene, &x).ok()?;
+        matches!(syn.branch, Branch::Consistent(_)).then_some((boom, syn))
+    }
+
+    /// Δh, the local extrema and the constraints at u (`None`: no valid linkage there).
+    fn probe(&self, u: &[f64]) -> Option<Probe> {
+        self.evals.fetch_add(1, Ordering::Relaxed);
+        let (boom, syn) = self.linkage(u)?;
+        let cons = signed_constraints(self.scene, &boom, &syn)?;
+        let link = &syn.linkage;
+        let [p0, p1] = link.phi_range;
+        let ext = head_extrema(link, self.settings.path_samples, self.settings.xtol).ok()?;
+        let l = self.scene.length_scale();
+        let pieces = |m: bool| -> Vec<(f64, f64)> {
+            ext.iter()
+                .filter(|e| e.is_max == m)
+                .map(|e| ((e.phi - p0) / (p1 - p0), e.y / l))
+                .collect()
+        };
+        let (maxima, minima) = (pieces(true), pieces(false));
+        let top = maxima.iter().map(|p| p.1).fold(f64::MIN, f64::max);
+        let bottom = minima.iter().map(|p| p.1).fold(f64::MAX, f64::min);
+        Some(Probe {
+            dh: top - bottom,
+            maxima,
+            minima,
+            cons,
+        })
+    }
+
+    /// y/L at the normalised boom angles `ts` and the constraints, for finite differences.
+    fn values(&self, u: &[f64], ts: &[f64]) -> Option<Vec<f64>> {
+        let (boom, syn) = self.linkage(u)?;
+        let mut v = signed_constraints(self.scene, &boom, &syn)?;
+        let link = &syn.linkage;
+        let [p0, p1] = link.phi_range;
+        let l = self.scene.length_scale();
+        for &t in ts {
+            v.push(link.pose(p0 + t * (p1 - p0))?.c.y / l);
+        }
+        Some(v)
+    }
+
+    /// Jacobian (rows: constraints, then maxima, then minima; columns: free variables) by
+    /// central differences at fixed t (one-sided at the box faces or where one side fails).
+    fn jacobian(&self, u: &[f64], p: &Probe) -> Option<Vec<Vec<f64>>> {
+        let ts: Vec<f64> = p.maxima.iter().chain(&p.minima).map(|q| q.0).collect();
+        let rows = p.cons.len() + ts.len();
+        let mut centre: Option<Vec<f64>> = None;
+        let mut jac = vec![vec![0.0; u.len()]; rows];
+        const H: f64 = 1e-6;
+        for j in 0..u.len() {
+            let step = |s: f64| {
+                let mut w = u.to_vec();
+                w[j] = (u[j] + s).clamp(0.0, 1.0);
+                let dw = w[j] - u[j];
+                (w, dw)
+            };
+            let (wp, hp) = step(H);
+            let (wm, hm) = step(-H);
+            self.evals.fetch_add(2, Ordering::Relaxed);
+            let (fp, fm) = (self.values(&wp, &ts), self.values(&wm, &ts));
+            let (a, b, h) = match (fp, fm) {
+                (Some(a), Some(b)) if hp > hm => (a, b, hp - hm),
+                (a, b) => {
+                    if centre.is_none() {
+                        centre = Some(self.values(u, &ts)?);
+                    }
+                    let c = centre.clone()?;
+                    match (a, b) {
+                        (Some(a), _) if hp > 0.0 => (a, c, hp),
+                        (_, Some(b)) if hm < 0.0 => (c, b, -hm),
+                        _ => return None,
+                    }
+                }
+            };
+            for r in 0..rows {
+                jac[r][j] = (a[r] - b[r]) / h;
+            }
+        }
+        Some(jac)
+    }
 }
 
-impl CostFunction for &Objective<'_> {
-    type Param = Dv;
-    type Output = f64;
-    fn cost(&self, p: &Dv) -> Result<f64, ArgminError> {
-        Ok(self.value(&p.0))
+/// Where one local search ended.
+#[derive(Debug, Clone)]
+struct LocalRun {
+    u: Vec<f64>,
+    probe: Option<Probe>,
+    converged: bool,
+    iterations: u64,
+}
+
+/// Solution of the SQP subproblem: step, model value and the multipliers of the maxima,
+/// minima and constraints.
+struct QpStep {
+    d: Vec<f64>,
+    model: f64,
+    lam_max: Vec<f64>,
+    lam_min: Vec<f64>,
+    lam_con: Vec<f64>,
+    /// Σ v beyond the violation already present at d = 0 (the QP leaned on a slack).
+    slack: f64,
+}
+
+/// The SQP subproblem of the minimax Δh = max_i y_i − min_k y_k (elastic ℓ1 form, trust
+/// region Δ in the ∞-norm, inside the unit box), solved by clarabel:
+///
+/// min ½dᵀBd + s − r + μ Σ v  s.t.  y_i + g_i·d ≤ s,  y_k + g_k·d ≥ r,
+/// c_m + a_m·d ≤ v_m,  v ≥ 0,  max(−Δ, −u) ≤ d ≤ min(Δ, 1 − u).
+#[allow(clippy::needless_range_loop)]
+fn qp_step(
+    u: &[f64],
+    p: &Probe,
+    jac: &[Vec<f64>],
+    b: &[Vec<f64>],
+    delta: f64,
+    mu: f64,
+) -> Option<QpStep> {
+    use clarabel::algebra::CscMatrix;
+    use clarabel::solver::{
+        DefaultSettingsBuilder, DefaultSolver, IPSolver, SolverStatus, SupportedConeT,
+    };
+    let n = u.len();
+    let (nc, nx, nn) = (p.cons.len(), p.maxima.len(), p.minima.len());
+    let nv = n + 2 + nc;
+    let (is, ir) = (n, n + 1);
+    let y0 = 0.5
+        * (p.maxima.iter().map(|q| q.1).fold(f64::MIN, f64::max)
+            + p.minima.iter().map(|q| q.1).fold(f64::MAX, f64::min));
+    let (mut pi, mut pj, mut pv) = (vec![], vec![], vec![]);
+    for i in 0..n {
+        for j in i..n {
+            if b[i][j] != 0.0 {
+                pi.push(i);
+                pj.push(j);
+                pv.push(b[i][j]);
+            }
+        }
+    }
+    let mut q = vec![0.0; nv];
+    q[is] = 1.0;
+    q[ir] = -1.0;
+    for m in 0..nc {
+        q[n + 2 + m] = mu;
+    }
+    let (mut ai, mut aj, mut av, mut rhs) = (vec![], vec![], vec![], vec![]);
+    let mut row = 0;
+    let mut push = |coefs: &[(usize, f64)], r: f64, rhs: &mut Vec<f64>| {
+        for &(j, v) in coefs {
+            ai.push(row);
+            aj.push(j);
+            av.push(v);
+        }
+        rhs.push(r);
+        row += 1;
+    };
+    for (m, c) in p.cons.iter().enumerate() {
+        let mut co: Vec<(usize, f64)> = (0..n).map(|j| (j, jac[m][j])).collect();
+        co.push((n + 2 + m, -1.0));
+        push(&co, -c, &mut rhs);
+    }
+    for (i, (_, y)) in p.maxima.iter().enumerate() {
+        let mut co: Vec<(usize, f64)> = (0..n).map(|j| (j, jac[nc + i][j])).collect();
+        co.push((is, -1.0));
+        push(&co, -(y - y0), &mut rhs);
+    }
+    for (k, (_, y)) in p.minima.iter().enumerate() {
+        let mut co: Vec<(usize, f64)> = (0..n).map(|j| (j, -jac[nc + nx + k][j])).collect();
+        co.push((ir, 1.0));
+        push(&co, y - y0, &mut rhs);
+    }
+    for m in 0..nc {
+        push(&[(n + 2 + m, -1.0)], 0.0, &mut rhs);
+    }
+    for j in 0..n {
+        push(&[(j, 1.0)], delta.min(1.0 - u[j]), &mut rhs);
+        push(&[(j, -1.0)], delta.min(u[j]), &mut rhs);
+    }
+    let a = CscMatrix::new_from_triplets(row, nv, ai, aj, av);
+    let pm = CscMatrix::new_from_triplets(nv, nv, pi, pj, pv);
+    let cones = [SupportedConeT::NonnegativeConeT(row)];
+    let settings = DefaultSettingsBuilder::default()
+        .verbose(false)
+        .tol_gap_abs(1e-13)
+        .tol_gap_rel(1e-11)
+        .tol_feas(1e-11)
+        .max_iter(60)
+        .build()
+        .ok()?;
+    let mut solver = DefaultSolver::new(&pm, &q, &a, &rhs, &cones, settings).ok()?;
+    solver.solve();
+    let sol = &solver.solution;
+    if !matches!(
+        sol.status,
+        SolverStatus::Solved | SolverStatus::AlmostSolved
+    ) {
+        return None;
+    }
+    let z = &sol.z;
+    let v0: f64 = p.cons.iter().map(|c| c.max(0.0)).sum();
+    let v: f64 = sol.x[n + 2..].iter().sum();
+    Some(QpStep {
+        slack: (v - v0).max(0.0).max(if v0 == 0.0 { v } else { 0.0 }),
+        d: sol.x[..n].to_vec(),
+        model: sol.obj_val,
+        lam_con: z[..nc].to_vec(),
+        lam_max: z[nc..nc + nx].to_vec(),
+        lam_min: z[nc + nx..nc + nx + nn].to_vec(),
+    })
+}
+
+/// Gradient of the Lagrangian Σ λ_i g_i − Σ λ_k g_k + Σ ν_m a_m at a probe, each multiplier
+/// of a maximum (minimum) given to the piece of the probe nearest in t.
+fn lagrangian_gradient(p: &Probe, jac: &[Vec<f64>], old: &Probe, st: &QpStep) -> Vec<f64> {
+    let n = jac.first().map_or(0, |r| r.len());
+    let nc = p.cons.len();
+    let mut g = vec![0.0; n];
+    let nearest = |set: &[(f64, f64)], t: f64| {
+        (0..set.len())
+            .min_by(|&a, &b| (set[a].0 - t).abs().total_cmp(&(set[b].0 - t).abs()))
+            .unwrap_or(0)
+    };
+    for (m, lam) in st.lam_con.iter().enumerate() {
+        for j in 0..n {
+            g[j] += lam * jac[m][j];
+        }
+    }
+    for (i, lam) in st.lam_max.iter().enumerate() {
+        let r = nc + nearest(&p.maxima, old.maxima[i].0);
+        for j in 0..n {
+            g[j] += lam * jac[r][j];
+        }
+    }
+    for (k, lam) in st.lam_min.iter().enumerate() {
+        let r = nc + p.maxima.len() + nearest(&p.minima, old.minima[k].0);
+        for j in 0..n {
+            g[j] -= lam * jac[r][j];
+        }
+    }
+    g
+}
+
+impl Objective<'_> {
+    /// Local search from u0: trust-region SQP on the minimax form of Δh (every local extremum
+    /// of the head height a piece, the constraints linearised with elastic slacks, damped
+    /// BFGS for the Hessian of the Lagrangian, exact ℓ1 merit; Fletcher's Sℓ1QP, Practical
+    /// Methods of Optimization, 1987, §14.5). The tie-pin limit is followed as a constraint,
+    /// not a penalty, so the search slides along it when it is active.
+    fn sqp(&self, u0: &[f64]) -> LocalRun {
+        let n = u0.len();
+        // The ℓ1 weight: above the largest constraint multiplier seen (so the merit is exact),
+        // but no larger, since a large weight lets the constraints' curvature eat the gain of
+        // a step along them (the Maratos effect). Raised when the QP leans on a slack.
+        let mut mu: f64 = 1e-2;
+        let mut u = u0.to_vec();
+        let fail = |u: Vec<f64>, it| LocalRun {
+            u,
+            probe: None,
+            converged: false,
+            iterations: it,
+        };
+        let Some(mut p) = self.probe(&u) else {
+            return fail(u, 0);
+        };
+        let Some(mut jac) = self.jacobian(&u, &p) else {
+            return fail(u, 0);
+        };
+        let mut b: Vec<Vec<f64>> = (0..n)
+            .map(|i| (0..n).map(|j| if i == j { 1e-3 } else { 0.0 }).collect())
+            .collect();
+        let mut delta: f64 = 0.1;
+        let mut converged = false;
+        let mut it = 0;
+        while it < self.settings.local_max_iters {
+            it += 1;
+            let Some(mut st) = qp_step(&u, &p, &jac, &b, delta, mu) else {
+                break;
+            };
+            while st.slack > 1e-13 && mu < self.settings.penalty {
+                mu = (10.0 * mu).min(self.settings.penalty);
+                match qp_step(&u, &p, &jac, &b, delta, mu) {
+                    Some(s2) => st = s2,
+                    None => break,
+                }
+            }
+            let lam = st.lam_con.iter().fold(0.0f64, |a, &l| a.max(l));
+            if 2.0 * lam > mu {
+                mu = (2.0 * lam).min(self.settings.penalty);
+            }
+            let m0 = p.merit(mu);
+            // s − r does not depend on the shift y0 of the QP: the model at d = 0 is m0.
+            let pred = m0 - st.model;
+            let dn = st.d.iter().fold(0.0f64, |a, x| a.max(x.abs()));
+            if pred <= self.settings.local_tol * m0.abs().max(1e-12) || dn < 1e-12 {
+                converged = true;
+                break;
+            }
+            let un: Vec<f64> = u
+                .iter()
+                .zip(&st.d)
+                .map(|(a, d)| (a + d).clamp(0.0, 1.0))
+                .collect();
+            let pn = self.probe(&un);
+            let rho = pn.as_ref().map_or(-1.0, |q| (m0 - q.merit(mu)) / pred);
+            if rho >= 0.1 {
+                let (pn, jn) = match pn.and_then(|q| self.jacobian(&un, &q).map(|j| (q, j))) {
+                    Some(v) => v,
+                    None => {
+                        delta = 0.25 * dn;
+                        continue;
+                    }
+                };
+                // Damped BFGS (Powell 1978) on the Lagrangian's gradient.
+                let g1 = lagrangian_gradient(&pn, &jn, &p, &st);
+                let g0 = lagrangian_gradient(&p, &jac, &p, &st);
+                let s: Vec<f64> = un.iter().zip(&u).map(|(a, c)| a - c).collect();
+                let mut yv: Vec<f64> = g1.iter().zip(&g0).map(|(a, c)| a - c).collect();
+                let bs: Vec<f64> = (0..n)
+                    .map(|i| (0..n).map(|j| b[i][j] * s[j]).sum())
+                    .collect();
+                let sbs: f64 = s.iter().zip(&bs).map(|(a, c)| a * c).sum();
+                let sy: f64 = s.iter().zip(&yv).map(|(a, c)| a * c).sum();
+                if sbs > 0.0 {
+                    if sy < 0.2 * sbs {
+                        let th = 0.8 * sbs / (sbs - sy);
+                        for i in 0..n {
+                            yv[i] = th * yv[i] + (1.0 - th) * bs[i];
+                        }
+                    }
+                    let sy: f64 = s.iter().zip(&yv).map(|(a, c)| a * c).sum();
+                    if sy > 0.0 {
+                        for i in 0..n {
+                            for j in 0..n {
+                                b[i][j] += yv[i] * yv[j] / sy - bs[i] * bs[j] / sbs;
+                            }
+                        }
+                    }
+                }
+                if rho > 0.75 && dn > 0.8 * delta {
+                    delta = (2.0 * delta).min(0.5);
+                }
+                u = un;
+                p = pn;
+                jac = jn;
+            } else {
+                delta = 0.25 * dn;
+            }
+            if delta < 1e-12 {
+                converged = true;
+                break;
+            }
+        }
+        LocalRun {
+            u,
+            probe: Some(p),
+            converged,
+            iterations: it,
+        }
     }
 }
 
@@ -787,83 +1238,53 @@ pub fn solve(scene: &CraneScene, settings: &Settings) -> Result<Outcome, FieldEr
                 starts.push(u.clone());
             }
         }
-        let mut best: Option<(Vec<f64>, f64, bool)> = None;
+        let name = |u: &[f64]| {
+            let (x, _) = obj.point(u);
+            free.iter()
+                .map(|&i| (VAR_NAMES[i].to_string(), x[i]))
+                .collect::<BTreeMap<_, _>>()
+        };
+        let tol = settings.constraint_tol;
+        let l = scene.length_scale();
+        let mut best: Option<(Vec<f64>, f64, bool, bool)> = None;
         for s in starts {
-            let (mut u_end, mut cost, mut converged, mut iters) =
-                (s.clone(), f64::INFINITY, false, 0u64);
-            for restart in 0..=settings.nm_restarts {
-                let step = 0.05 * 0.5f64.powi(restart as i32);
-                let mut simplex = vec![Dv(u_end.clone())];
-                for d in 0..n {
-                    let mut v = u_end.clone();
-                    v[d] += if v[d] + step <= 1.0 { step } else { -step };
-                    simplex.push(Dv(v));
-                }
-                let solver = NelderMead::new(simplex)
-                    .with_sd_tolerance(settings.nm_sd_tolerance)
-                    .expect("positive tolerance");
-                match Executor::new(&obj, solver)
-                    .configure(|c| c.max_iters(settings.nm_max_iters))
-                    .run()
-                {
-                    Ok(r) => {
-                        let st = r.state();
-                        let c = st.get_best_cost();
-                        iters += st.get_iter();
-                        converged = matches!(
-                            st.get_termination_reason(),
-                            Some(TerminationReason::SolverConverged)
-                        );
-                        let gain = cost - c;
-                        if c < cost {
-                            cost = c;
-                            u_end = st.get_best_param().map_or(u_end, |p| p.0.clone());
-                        }
-                        if converged && gain < settings.nm_sd_tolerance {
-                            break;
-                        }
-                    }
-                    Err(e) => {
-                        warnings.push(format!("a Nelder-Mead run failed: {e}"));
-                        if !cost.is_finite() {
-                            cost = obj.value(&u_end);
-                        }
-                        break;
-                    }
-                }
-            }
-            let name = |u: &[f64]| {
-                let (x, _) = obj.point(u);
-                free.iter()
-                    .map(|&i| (VAR_NAMES[i].to_string(), x[i]))
-                    .collect::<BTreeMap<_, _>>()
+            let run = obj.sqp(&s);
+            let (dh, feasible, merit) = match &run.probe {
+                Some(p) => (
+                    Some(p.dh * l),
+                    p.cons.iter().all(|&c| c <= tol),
+                    p.merit(settings.penalty),
+                ),
+                None => (None, false, NO_GEOMETRY_COST),
             };
-            let (x_end, _) = obj.point(&u_end);
-            let dh = evaluate(scene, &x_end, settings)
-                .ok()
-                .and_then(|e| e.delta_h());
             basins.push(Basin {
                 start: name(&s),
-                end: name(&u_end),
+                end: name(&run.u),
                 delta_h_m: dh,
-                cost,
-                converged,
-                iterations: iters,
+                cost: merit,
+                converged: run.converged,
+                feasible,
+                iterations: run.iterations,
             });
-            if best.as_ref().is_none_or(|b| cost < b.1) {
-                best = Some((u_end, cost, converged));
+            // Feasible ends first, then the smaller merit.
+            let better = best
+                .as_ref()
+                .is_none_or(|b| (feasible && !b.3) || (feasible == b.3 && merit < b.1));
+            if better {
+                best = Some((run.u, merit, run.converged, feasible));
             }
         }
-        let (u, _, converged) = best.expect("at least one start");
+        let (u, _, converged, _) = best.expect("at least one start");
         let (x, _) = obj.point(&u);
         let method = format!(
-            "multistart: {} Halton points, then argmin Nelder-Mead from the {} best distinct points (sd tolerance {:e}, \
-             at most {} iterations per run, up to {} restarts); penalty {} on constraint violations",
+            "multistart: {} Halton points (global stage, penalised cost), then trust-region SQP (Fletcher's Sl1QP: \
+             minimax of the head-height extrema, constraints linearised with elastic slacks, damped BFGS, clarabel QP) \
+             from the {} best distinct points (at most {} iterations each, stop at a predicted gain below {:e} of the \
+             merit); l1 penalty {} in the merit",
             settings.global_samples * n,
             basins.len(),
-            settings.nm_sd_tolerance,
-            settings.nm_max_iters,
-            settings.nm_restarts,
+            settings.local_max_iters,
+            settings.local_tol,
             settings.penalty
         );
         (x, method, Some(converged))
@@ -874,23 +1295,21 @@ pub fn solve(scene: &CraneScene, settings: &Settings) -> Result<Outcome, FieldEr
     out.basins = basins;
     if let Some(converged) = status_opt {
         if out.status == Status::Evaluated {
-            out.status = if converged {
-                Status::Optimal
-            } else {
-                Status::MaxIterations
-            };
-            if !converged {
-                warnings.push("the best local search stopped at its iteration limit".into());
-            }
+            out.status = Status::BestFound;
         }
-        if out.basins.len() > 1 {
-            let mut dhs: Vec<f64> = out.basins.iter().filter_map(|b| b.delta_h_m).collect();
-            dhs.sort_by(f64::total_cmp);
-            dhs.dedup_by(|a, b| (*a - *b).abs() <= 1e-6 * scene.length_scale());
-            if dhs.len() > 1 {
-                warnings.push(format!("the local searches ended in {} different basins (delta h from {:.6} to {:.6} m)", dhs.len(), dhs[0], dhs[dhs.len() - 1]));
-            }
+        if !converged {
+            warnings.push("the best local search stopped at its iteration limit".into());
         }
+        let search = Search::of(&out.basins, out.evaluations);
+        if search.distinct_basins > 1 {
+            warnings.push(format!(
+                "the local searches ended in {} different feasible basins (delta h from {:.6} to {:.6} m)",
+                search.distinct_basins,
+                search.best_values[0],
+                search.best_values[search.best_values.len() - 1]
+            ));
+        }
+        out.search = Some(search);
     }
     out.warnings = warnings;
     Ok(out)
@@ -921,6 +1340,7 @@ fn report(
         path_phi_rad: Vec::new(),
         basins: Vec::new(),
         landscape: None,
+        search: None,
     };
     for (i, name) in VAR_NAMES.iter().enumerate() {
         out.design.insert(name.to_string(), x[i]);
@@ -984,6 +1404,8 @@ fn report(
             out.design.insert("tie_length_m".into(), radius);
             out.derived
                 .insert("tie_pin_distance_m".into(), centre.norm());
+            out.derived
+                .insert("tie_pin_error_m".into(), syn.guide_error);
         }
         Guide::Line { dir, .. } => {
             warnings.push(
@@ -1108,6 +1530,24 @@ fn report(
             if out.status != Status::BranchDefect {
                 out.objectives.insert("delta_h_m".into(), hh.delta_h);
                 out.errors.insert("delta_h_m".into(), hh.error);
+                let rel = hh.error / hh.delta_h.abs();
+                if rel >= 1.0 {
+                    out.status = Status::Degenerate;
+                    warnings.push(format!(
+                        "ill-conditioned design: the rounding bound of delta h ({:.1e} m) exceeds delta h itself; no \
+                         digit is certain (smallest angle of the triangle E1 E2 E3 {:.2e} rad, tie-pin error bound {:.1e} m)",
+                        hh.error, syn.min_angle, syn.guide_error
+                    ));
+                } else if rel > 1e-6 {
+                    warnings.push(format!(
+                        "ill-conditioned design: delta h is good to {:.1e} m, about {:.0} significant digits (smallest \
+                         angle of the triangle E1 E2 E3 {:.2e} rad, tie-pin error bound {:.1e} m)",
+                        hh.error,
+                        (-rel.log10()).floor(),
+                        syn.min_angle,
+                        syn.guide_error
+                    ));
+                }
                 check(
                     "delta_h_allowed",
                     hh.delta_h,
