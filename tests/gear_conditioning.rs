@@ -71,7 +71,7 @@ fn dd_pole_fns(p: &GearPair, alpha: f64, i: usize) -> (f64, f64) {
     let psi = dd_asin(sp);
     let phi = (D::from(alpha) - psi) * n - twofloat::consts::TAU * i as f64;
     let (sh, ch) = dd_sin_cos(phi * 0.5);
-    let sigma = if i % 2 == 0 { 1.0 } else { -1.0 };
+    let sigma = if i.is_multiple_of(2) { 1.0 } else { -1.0 };
     let rho1 = e * c + r * cp;
     let dx = cp * sh * sigma - sp * ch;
     let t = rg * sh * 2.0;

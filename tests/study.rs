@@ -97,7 +97,7 @@ fn unrefined_peaks_are_within_the_curvature_bound() {
 /// binom(½, k) = Π_{j<k} (½ − j)/(j + 1) (a different recursion from the library's).
 fn c_binom(k: usize) -> f64 {
     let b = (0..k).fold(1.0, |p, j| p * (0.5 - j as f64) / (j as f64 + 1.0));
-    -b * if k % 2 == 0 { 1.0 } else { -1.0 }
+    -b * if k.is_multiple_of(2) { 1.0 } else { -1.0 }
 }
 
 #[test]

@@ -388,7 +388,7 @@ impl GearPair {
         }
         let nf = c.r_pitch / r_gen;
         let n = nf.round();
-        if (nf - n).abs() > 1e-9 * nf || n < 2.0 || (n as usize) % 2 != 0 {
+        if (nf - n).abs() > 1e-9 * nf || n < 2.0 || !(n as usize).is_multiple_of(2) {
             return Err(GearError::Invalid(format!(
                 "R/r = {nf} must be an even integer (2 × teeth of gear 1) for the cycloid arches to close"
             )));
@@ -536,7 +536,7 @@ impl GearPair {
     /// evaluated at both cusps of the arch, 0 and 2π).
     pub fn contact_on(&self, alpha1: f64, arch: usize) -> Contact {
         let c = &self.c;
-        let sigma = if arch % 2 == 0 { 1.0 } else { -1.0 };
+        let sigma = if arch.is_multiple_of(2) { 1.0 } else { -1.0 };
         let phi = self.n_arches as f64
             * (c.theta_of_alpha(alpha1) - TAU * arch as f64 / self.n_arches as f64);
         let (sh, ch) = (0.5 * phi).sin_cos();
