@@ -835,6 +835,8 @@ struct Jobs {
         u64,
     )>,
     next: u64,
+    /// Error rows still to emit for the lines an unterminated quote swallowed.
+    swallowed: std::collections::VecDeque<Work>,
 }
 
 impl Jobs {
@@ -843,14 +845,37 @@ impl Jobs {
             inputs: inputs.into_iter(),
             fleet: None,
             next: 0,
+            swallowed: Default::default(),
         }
     }
+}
+
+/// Lines of the file a CSV record spans beyond its first: a line break can only be inside a
+/// record through a quoted cell, which in a fleet is always an unterminated `"` (no cell of
+/// a fleet holds a line break). Each such line is a machine the user wrote, so each is
+/// reported (rows in = rows out); [`count_machines`] counts them the same way.
+fn swallowed_lines(r: &csv::StringRecord) -> u64 {
+    r.iter()
+        // (An unterminated quote on the last line runs to the end of the file and takes its
+        // final line break along: that one starts no line.)
+        .map(|c| {
+            c.trim_end_matches(['\n', '\r'])
+                .bytes()
+                .filter(|&b| b == b'\n')
+                .count() as u64
+        })
+        .sum()
 }
 
 impl Iterator for Jobs {
     type Item = (u64, Work);
     fn next(&mut self) -> Option<(u64, Work)> {
         loop {
+            if let Some(w) = self.swallowed.pop_front() {
+                let i = self.next;
+                self.next += 1;
+                return Some((i, w));
+            }
             if let Some((tpl, recs, row)) = &mut self.fleet {
                 match recs.next() {
                     Some(rec) => {
@@ -858,6 +883,29 @@ impl Iterator for Jobs {
                         let i = self.next;
                         self.next += 1;
                         let w = match rec {
+                            Ok(r) if swallowed_lines(&r) > 0 => {
+                                let line = r.position().map(|p| p.line()).unwrap_or(*row + 1);
+                                let extra = swallowed_lines(&r);
+                                let csv = tpl.csv.display();
+                                for k in 1..=extra {
+                                    *row += 1;
+                                    self.swallowed.push_back(Work::Broken {
+                                        name: format!("{}-{}", tpl.name, row),
+                                        message: format!(
+                                            "{csv}:{}: this line is inside the quoted cell opened on line {line} (an unterminated `\"`); it was not read",
+                                            line + k
+                                        ),
+                                    });
+                                }
+                                Work::Broken {
+                                    name: format!("{}-{}", tpl.name, *row - extra),
+                                    message: format!(
+                                        "{csv}:{line}: a `\"` opens a quoted cell that is never closed on its line: it runs over lines {line}–{}, so those {} rows are lost; close the quote",
+                                        line + extra,
+                                        extra + 1
+                                    ),
+                                }
+                            }
                             Ok(r) => Work::Row {
                                 tpl: tpl.clone(),
                                 row: *row,
@@ -914,7 +962,11 @@ fn count_machines(inputs: &[Input]) -> u64 {
         .map(|i| match i {
             Input::File(_) => 1,
             Input::Fleet { csv, .. } => csv_reader(csv)
-                .map(|r| r.into_records().count() as u64)
+                .map(|r| {
+                    r.into_records()
+                        .map(|rec| 1 + rec.map_or(0, |r| swallowed_lines(&r)))
+                        .sum::<u64>()
+                })
                 .unwrap_or(1),
         })
         .sum()

@@ -498,3 +498,37 @@ fn a_busy_out_directory_is_refused_and_checkpoints_never_shrink() {
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(err.contains("9 skipped"), "{err}");
 }
+
+/// Issue 15: rows in = rows out. An unterminated `"` in a fleet CSV is an error at its real
+/// line, and every line it swallowed is reported as its own error row; nothing is dropped.
+#[test]
+fn an_unterminated_quote_loses_no_row_silently() {
+    let dir = tempfile::tempdir().unwrap();
+    let csv = dir.path().join("q.csv");
+    std::fs::write(
+        &csv,
+        "mechanism.slider_mass\n1.0 kg\n\"1.1 kg\n1.2 kg\n1.3 kg\n1.4 kg\n",
+    )
+    .unwrap();
+    let out = dir.path().join("out");
+    let o = batch(
+        &format!("{}:{}", template(), csv.display()),
+        &out,
+        &["--summary-only"],
+    );
+    assert_eq!(o.status.code(), Some(1));
+    let text = std::fs::read_to_string(out.join("summary.csv")).unwrap();
+    let mut rdr = csv::Reader::from_reader(text.as_bytes());
+    let rows: Vec<csv::StringRecord> = rdr.records().map(Result::unwrap).collect();
+    assert_eq!(rows.len(), 5, "{text}");
+    assert_eq!(&rows[0][3], "optimal");
+    assert!(rows[1][15].contains("q.csv:3:") && rows[1][15].contains("never closed"));
+    for (k, line) in (2..5).zip(4..) {
+        assert_eq!(&rows[k][3], "error");
+        assert!(
+            rows[k][15].contains(&format!("q.csv:{line}:")),
+            "{}",
+            &rows[k][15]
+        );
+    }
+}
