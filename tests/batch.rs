@@ -41,6 +41,13 @@ fn fleet(dir: &Path) -> String {
     format!("{}:{}", template(), p.display())
 }
 
+/// The fleet `TEMPLATE:DIR/FILE` of the shipped piston with the CSV `text`.
+fn fleet_of(dir: &Path, file: &str, text: &str) -> String {
+    let p = dir.join(file);
+    std::fs::write(&p, text).unwrap();
+    format!("{}:{}", template(), p.display())
+}
+
 fn batch(input: &str, out: &Path, extra: &[&str]) -> Output {
     bin()
         .arg("batch")
@@ -409,15 +416,13 @@ fn merge_validates_shards_and_reports_escape_input() {
     let html = std::fs::read_to_string(merged.join("index.html")).unwrap();
     assert!(!html.contains("<script"));
     // An error message quoting input (a unit `<b>furlong</b>`) is escaped in both reports.
-    let tpl = template();
-    let csv = dir.path().join("x.csv");
-    std::fs::write(
-        &csv,
+    let input = fleet_of(
+        dir.path(),
+        "x.csv",
         "mechanism.slider_mass\n\"1.0 <b>furlong</b>\"\n\"1.0 kg\"\n",
-    )
-    .unwrap();
+    );
     let out_dir = dir.path().join("x");
-    batch(&format!("{tpl}:{}", csv.display()), &out_dir, &[]);
+    batch(&input, &out_dir, &[]);
     let md = std::fs::read_to_string(out_dir.join("summary.md")).unwrap();
     let html = std::fs::read_to_string(out_dir.join("index.html")).unwrap();
     assert!(md.contains("furlong") && !md.contains("<b>"), "{md}");
@@ -504,18 +509,13 @@ fn a_busy_out_directory_is_refused_and_checkpoints_never_shrink() {
 #[test]
 fn an_unterminated_quote_loses_no_row_silently() {
     let dir = tempfile::tempdir().unwrap();
-    let csv = dir.path().join("q.csv");
-    std::fs::write(
-        &csv,
+    let input = fleet_of(
+        dir.path(),
+        "q.csv",
         "mechanism.slider_mass\n1.0 kg\n\"1.1 kg\n1.2 kg\n1.3 kg\n1.4 kg\n",
-    )
-    .unwrap();
-    let out = dir.path().join("out");
-    let o = batch(
-        &format!("{}:{}", template(), csv.display()),
-        &out,
-        &["--summary-only"],
     );
+    let out = dir.path().join("out");
+    let o = batch(&input, &out, &["--summary-only"]);
     assert_eq!(o.status.code(), Some(1));
     let text = std::fs::read_to_string(out.join("summary.csv")).unwrap();
     let mut rdr = csv::Reader::from_reader(text.as_bytes());
