@@ -883,35 +883,38 @@ impl Iterator for Jobs {
                         let i = self.next;
                         self.next += 1;
                         let w = match rec {
-                            Ok(r) if swallowed_lines(&r) > 0 => {
+                            Ok(r) => {
                                 let line = r.position().map(|p| p.line()).unwrap_or(*row + 1);
-                                let extra = swallowed_lines(&r);
-                                let csv = tpl.csv.display();
-                                for k in 1..=extra {
-                                    *row += 1;
-                                    self.swallowed.push_back(Work::Broken {
-                                        name: format!("{}-{}", tpl.name, row),
-                                        message: format!(
-                                            "{csv}:{}: this line is inside the quoted cell opened on line {line} (an unterminated `\"`); it was not read",
-                                            line + k
-                                        ),
-                                    });
-                                }
-                                Work::Broken {
-                                    name: format!("{}-{}", tpl.name, *row - extra),
-                                    message: format!(
-                                        "{csv}:{line}: a `\"` opens a quoted cell that is never closed on its line: it runs over lines {line}–{}, so those {} rows are lost; close the quote",
-                                        line + extra,
-                                        extra + 1
-                                    ),
+                                match swallowed_lines(&r) {
+                                    0 => Work::Row {
+                                        tpl: tpl.clone(),
+                                        row: *row,
+                                        line,
+                                        cells: r.iter().map(str::to_string).collect(),
+                                    },
+                                    extra => {
+                                        let csv = tpl.csv.display();
+                                        for k in 1..=extra {
+                                            *row += 1;
+                                            self.swallowed.push_back(Work::Broken {
+                                                name: format!("{}-{}", tpl.name, row),
+                                                message: format!(
+                                                    "{csv}:{}: this line is inside the quoted cell opened on line {line} (an unterminated `\"`); it was not read",
+                                                    line + k
+                                                ),
+                                            });
+                                        }
+                                        Work::Broken {
+                                            name: format!("{}-{}", tpl.name, *row - extra),
+                                            message: format!(
+                                                "{csv}:{line}: a `\"` opens a quoted cell that is never closed on its line: it runs over lines {line}–{}, so those {} rows are lost; close the quote",
+                                                line + extra,
+                                                extra + 1
+                                            ),
+                                        }
+                                    }
                                 }
                             }
-                            Ok(r) => Work::Row {
-                                tpl: tpl.clone(),
-                                row: *row,
-                                line: r.position().map(|p| p.line()).unwrap_or(*row + 1),
-                                cells: r.iter().map(str::to_string).collect(),
-                            },
                             Err(e) => Work::Broken {
                                 name: format!("{}-{}", tpl.name, row),
                                 message: format!("{}: {e}", tpl.csv.display()),
@@ -1109,30 +1112,78 @@ fn process(job: Job, opts: &Options) -> (Row, bool) {
     (row, false)
 }
 
-/// Reads a previous summary in index order (merge-join with the current run).
+/// Reads a summary CSV in index order: a resumed run's checkpoint (merge-join with the
+/// current run) or a shard given to `merge`. A file written by someone else is input like
+/// any other: the header must be cwsynth's and every row must parse, validate
+/// ([`Row::validate`]) and come in increasing index order. Reading stops at the first row
+/// that does not, and [`OldRows::stopped`] says where and why: a resumed run re-solves
+/// from there (as after a truncated tail), `merge` refuses the shard.
 struct OldRows {
-    rdr: Option<csv::DeserializeRecordsIntoIter<std::fs::File, Row>>,
+    path: PathBuf,
+    rdr: Option<csv::StringRecordsIntoIter<std::fs::File>>,
+    header: csv::StringRecord,
     peek: Option<Row>,
+    last: Option<u64>,
+    /// `FILE:LINE: what is wrong`, when reading stopped before the end of the file.
+    stopped: Option<String>,
 }
 
 impl OldRows {
     fn open(path: &Path) -> OldRows {
-        let rdr = std::fs::File::open(path)
-            .ok()
-            .map(|f| csv::Reader::from_reader(f).into_deserialize());
-        let mut o = OldRows { rdr, peek: None };
+        let mut o = OldRows {
+            path: path.to_path_buf(),
+            rdr: None,
+            header: csv::StringRecord::new(),
+            peek: None,
+            last: None,
+            stopped: None,
+        };
+        match csv::Reader::from_path(path) {
+            Ok(mut r) => match r.headers() {
+                Ok(h) if h.iter().eq(HEADER.iter().copied()) => {
+                    o.header = h.clone();
+                    o.rdr = Some(r.into_records());
+                }
+                _ => {
+                    o.stopped = Some(format!(
+                        "{}:1: the header is not a cwsynth summary header ({})",
+                        path.display(),
+                        HEADER.join(",")
+                    ))
+                }
+            },
+            Err(e) if e.is_io_error() && !path.exists() => {}
+            Err(e) => o.stopped = Some(format!("{}: {e}", path.display())),
+        }
         o.advance();
         o
     }
     fn advance(&mut self) {
-        // A checkpoint row that does not parse or validate is not reused (it is solved
-        // again); reading stops at the first such row, as at a truncated tail.
-        self.peek = self
-            .rdr
-            .as_mut()
-            .and_then(|r| r.next())
-            .and_then(|x| x.ok())
-            .filter(|r| r.validate().is_ok());
+        self.peek = None;
+        let Some(rec) = self.rdr.as_mut().and_then(|r| r.next()) else {
+            return;
+        };
+        let row = rec.map_err(|e| e.to_string()).and_then(|rec| {
+            let line = rec.position().map_or(0, |p| p.line());
+            let row: Row = rec
+                .deserialize(Some(&self.header))
+                .map_err(|e| format!("{line}: {e}"))?;
+            row.validate().map_err(|e| format!("{line}: {e}"))?;
+            if self.last.is_some_and(|l| row.index <= l) {
+                return Err(format!("{line}: index {} is out of order", row.index));
+            }
+            Ok(row)
+        });
+        match row {
+            Ok(r) => {
+                self.last = Some(r.index);
+                self.peek = Some(r);
+            }
+            Err(e) => {
+                self.stopped = Some(format!("{}:{e}", self.path.display()));
+                self.rdr = None;
+            }
+        }
     }
     /// The old row with this index, if any.
     fn take(&mut self, index: u64) -> Option<Row> {
@@ -1438,10 +1489,6 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> anyhow::Result<Counts> {
     if !missing.is_empty() {
         bail!("shards {missing:?} of {n} are missing");
     }
-    // Shard summaries are input: every row must parse and validate, in index order.
-    for f in &files {
-        check_shard(f)?;
-    }
     std::fs::create_dir_all(out)?;
     let _lock = lock_out(out, "summary.csv")?;
     let mut readers: Vec<OldRows> = files.iter().map(|f| OldRows::open(f)).collect();
@@ -1470,43 +1517,15 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> anyhow::Result<Counts> {
     }
     w.flush()?;
     drop(w);
+    // Shard summaries are input: a row that did not parse, validate or keep the index
+    // order stopped its reader, and the merge is refused.
+    if let Some(e) = readers.iter().find_map(|r| r.stopped.clone()) {
+        let _ = std::fs::remove_file(&tmp);
+        bail!(e);
+    }
     std::fs::rename(&tmp, out.join("summary.csv"))?;
     write_reports(out)?;
     Ok(counts)
-}
-
-/// Reads a shard summary strictly: a row that does not parse, does not validate
-/// ([`Row::validate`]) or is out of index order is an error naming the file and its line.
-fn check_shard(path: &Path) -> anyhow::Result<()> {
-    let mut rdr = csv::Reader::from_path(path)
-        .with_context(|| format!("cannot read shard summary {}", path.display()))?;
-    let header = rdr.headers()?.clone();
-    if header.iter().ne(HEADER.iter().copied()) {
-        bail!(
-            "{}:1: the header is not a cwsynth summary header ({})",
-            path.display(),
-            HEADER.join(",")
-        );
-    }
-    let mut last: Option<u64> = None;
-    for rec in rdr.records() {
-        let rec = rec.map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
-        let line = rec.position().map_or(0, |p| p.line());
-        let row: Row = rec
-            .deserialize(Some(&header))
-            .map_err(|e| anyhow::anyhow!("{}:{line}: {e}", path.display()))?;
-        row.validate()
-            .map_err(|e| anyhow::anyhow!("{}:{line}: {e}", path.display()))?;
-        if last.is_some_and(|l| row.index <= l) {
-            bail!(
-                "{}:{line}: index {} is out of order",
-                path.display(),
-                row.index
-            );
-        }
-        last = Some(row.index);
-    }
-    Ok(())
 }
 
 fn opt(v: Option<f64>) -> String {

@@ -382,14 +382,16 @@ fn merge_validates_shards_and_reports_escape_input() {
         batch(&input, d, &["--shard", &shard, "--summary-only"]);
     }
     let merged = dir.path().join("m");
-    let out = bin()
-        .args(["merge", "--out"])
-        .arg(&merged)
-        .arg(&s0)
-        .arg(&s1)
-        .output()
-        .unwrap();
-    assert_eq!(out.status.code(), Some(1), "3 broken rows");
+    let merge = || {
+        bin()
+            .args(["merge", "--out"])
+            .arg(&merged)
+            .arg(&s0)
+            .arg(&s1)
+            .output()
+            .unwrap()
+    };
+    assert_eq!(merge().status.code(), Some(1), "3 broken rows");
     // Forge shard 1: a status carrying markup, then a name leaving the folder.
     let p1 = s1.join("summary-shard-1-of-2.csv");
     let good = std::fs::read_to_string(&p1).unwrap();
@@ -398,13 +400,7 @@ fn merge_validates_shards_and_reports_escape_input() {
         ("piston-1000rpm-2,", "../evil,", "name"),
     ] {
         std::fs::write(&p1, good.replacen(from, to, 1)).unwrap();
-        let out = bin()
-            .args(["merge", "--out"])
-            .arg(&merged)
-            .arg(&s0)
-            .arg(&s1)
-            .output()
-            .unwrap();
+        let out = merge();
         assert_eq!(out.status.code(), Some(2), "{from}");
         let err = String::from_utf8_lossy(&out.stderr);
         assert!(

@@ -5,10 +5,13 @@
 //! the items 4 (e = 37.49 mm, spurious µ2 pole at the α1 = π cusp) and 5
 //! (`pole_window = 0`).
 
+use common::dd_sin_cos;
 use cwsynth::mech::gear::*;
 use cwsynth::synth::gear::*;
 use std::f64::consts::{PI, TAU};
 use twofloat::TwoFloat as D;
+
+mod common;
 
 const R: f64 = 37.5e-3;
 const RG: f64 = 1.25e-3;
@@ -20,29 +23,6 @@ fn pair_with(r: f64, rg: f64, e: f64, n1: u32, n2: u32) -> GearPair {
 }
 
 // ---- double-double reference ---------------------------------------------------------
-
-/// sin and cos of a double-double x (|x| ≲ 100): reduction by the double-double π/2 and
-/// Taylor series to y²⁰ on |y| ≤ π/4 (term < 1e-33).
-fn dd_sin_cos(x: D) -> (D, D) {
-    let k = (x.hi() / std::f64::consts::FRAC_PI_2).round();
-    let y = x - twofloat::consts::FRAC_PI_2 * k;
-    let y2 = y * y;
-    let (mut s, mut c) = (y, D::from(1.0));
-    let (mut ts, mut tc) = (y, D::from(1.0));
-    for n in 1..=14 {
-        let nf = n as f64;
-        ts = -ts * y2 / ((2.0 * nf) * (2.0 * nf + 1.0));
-        tc = -tc * y2 / ((2.0 * nf - 1.0) * (2.0 * nf));
-        s += ts;
-        c += tc;
-    }
-    match (k as i64).rem_euclid(4) {
-        0 => (s, c),
-        1 => (c, -s),
-        2 => (-s, -c),
-        _ => (-c, s),
-    }
-}
 
 /// asin by two Newton steps on sin from the f64 value.
 fn dd_asin(x: D) -> D {

@@ -4,6 +4,7 @@
 //! source (a closed form written here, not the library's formula) or a specific error; none
 //! may give NaN or panic.
 
+use common::assert_finite;
 use cwsynth::geom::{circle_circle, circumcentre, Side, P2};
 use cwsynth::io::problem::{parse_str, ProblemError};
 use cwsynth::io::result::SolveResult;
@@ -13,6 +14,8 @@ use cwsynth::synth::slider_crank::shaking_force;
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 use std::path::Path;
 
+mod common;
+
 const PISTON: &str = include_str!("../problems/piston-1000rpm.toml");
 const HYPO: &str = include_str!("../problems/hypocycloid-variant1.toml");
 const GEAR: &str = include_str!("../problems/gear-paper-table1.toml");
@@ -21,27 +24,6 @@ const CRANE: &str = include_str!("../problems/crane-thesis-example.toml");
 fn with(text: &str, replace: &str, by: &str) -> String {
     assert!(text.contains(replace), "fixture lacks `{replace}`");
     text.replacen(replace, by, 1)
-}
-
-/// Every number of a result (JSON) is finite: serde_json writes NaN and ±inf as `null`, so a
-/// `null` where the result has numbers is what a NaN looks like there; the maps are checked
-/// directly.
-fn assert_finite(r: &SolveResult) {
-    for (sec, m) in [
-        ("design", &r.design),
-        ("objectives", &r.objectives),
-        ("errors", &r.errors),
-        ("derived", &r.derived),
-    ] {
-        for (k, v) in m {
-            assert!(v.is_finite(), "{}: {sec}.{k} = {v}", r.name);
-        }
-    }
-    for (b, m) in &r.baselines {
-        for (k, v) in m {
-            assert!(v.is_finite(), "{}: baselines.{b}.{k} = {v}", r.name);
-        }
-    }
 }
 
 fn solve_text(text: &str) -> SolveResult {

@@ -4,32 +4,14 @@
 //! honest statuses of the C4 searches (best_found with evidence, degenerate when the best
 //! design is a plain slider-crank).
 
+use common::dd_sin_cos;
 use cwsynth::mech::hypocycloid::{max_abs_y, Hypocycloid, ALPHA0_VARIANT1, ALPHA0_VARIANT2};
 use cwsynth::synth::hypocycloid::{
     c4_search_example, paper_example, solve, zero_search, PaperVariant, Settings, Var, ZeroSearch,
 };
 use twofloat::TwoFloat as D;
 
-fn dd_sin_cos(x: D) -> (D, D) {
-    let k = (x.hi() / std::f64::consts::FRAC_PI_2).round();
-    let y = x - twofloat::consts::FRAC_PI_2 * k;
-    let y2 = y * y;
-    let (mut s, mut c) = (y, D::from(1.0));
-    let (mut ts, mut tc) = (y, D::from(1.0));
-    for n in 1..=14 {
-        let nf = n as f64;
-        ts = -ts * y2 / ((2.0 * nf) * (2.0 * nf + 1.0));
-        tc = -tc * y2 / ((2.0 * nf - 1.0) * (2.0 * nf));
-        s += ts;
-        c += tc;
-    }
-    match (k as i64).rem_euclid(4) {
-        0 => (s, c),
-        1 => (c, -s),
-        2 => (-s, -c),
-        _ => (-c, s),
-    }
-}
+mod common;
 
 /// a_4 of S/R − 1/λ = x + (sqrt(1 − λ²y²) − 1)/λ by the trapezoid rule in double-double,
 /// doubling n (reusing the previous points) until two rules agree to 1e-22; returns (value,

@@ -14,6 +14,9 @@ use std::path::Path;
 use std::sync::mpsc;
 use std::time::{Duration, Instant};
 
+mod common;
+use common::assert_finite_as;
+
 fn problem(name: &str) -> String {
     let p = Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("problems")
@@ -66,24 +69,6 @@ fn set(text: &str, key: &str, value: &str) -> String {
         None => lines.insert(h + 1, line),
     }
     lines.join("\n") + "\n"
-}
-
-fn assert_finite(r: &SolveResult, what: &str) {
-    for (sec, m) in [
-        ("design", &r.design),
-        ("objectives", &r.objectives),
-        ("errors", &r.errors),
-        ("derived", &r.derived),
-    ] {
-        for (k, v) in m {
-            assert!(v.is_finite(), "{what}: {sec}.{k} = {v}");
-        }
-    }
-    for (b, m) in &r.baselines {
-        for (k, v) in m {
-            assert!(v.is_finite(), "{what}: baselines.{b}.{k} = {v}");
-        }
-    }
 }
 
 /// Solves on a thread; the result, or an error after `limit`.
@@ -146,7 +131,7 @@ fn sweep(family: Family) {
                         if dt > slowest.0 {
                             slowest = (dt, what.clone());
                         }
-                        assert_finite(&r, &what);
+                        assert_finite_as(&r, &what);
                     }
                 }
             }
