@@ -10,7 +10,7 @@ use super::problem::Family;
 use super::problem::{
     check_name, Ctx, FieldError, Input, ProblemError, RawFile, RawVar, Scene, SceneKind,
 };
-use super::result::{PaperCheck, Plot, SearchEvidence, SolveResult, Status, Table};
+use super::result::{PaperCheck, Plot, SolveResult, Status, Table};
 use crate::geom::P2;
 use crate::mech::crane::{synthesize, Angles, Boom, Guide};
 use crate::synth::crane::{
@@ -319,15 +319,7 @@ pub fn result(scene: &Scene, s: &CraneScene) -> SolveResult {
     };
     r.status_detail = Some(status_detail(out.status).into());
     r.method = out.method.clone();
-    r.search = out.search.as_ref().map(|s| SearchEvidence {
-        method: "Halton global stage + trust-region SQP (Fletcher's Sl1QP) from the best distinct points".into(),
-        starts: s.starts,
-        distinct_basins: s.distinct_basins,
-        evaluations: s.evaluations,
-        best_values: s.best_values.clone(),
-        starts_at_best: s.starts_at_best,
-        spread_rel: s.spread_rel,
-    });
+    r.search = out.search.clone();
     r.warnings = out.warnings.clone();
     r.design = out.design.clone();
     r.objectives = out.objectives.clone();

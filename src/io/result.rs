@@ -75,26 +75,8 @@ impl std::fmt::Display for Status {
     }
 }
 
-/// The evidence behind a `best_found` status: what a heuristic global search did and how
-/// consistent its best results were (JSON key `search`).
-#[derive(Debug, Clone, PartialEq, Serialize, Default)]
-pub struct SearchEvidence {
-    /// The search, with its reference (e.g. "Halton 256 + Nelder–Mead (Lagarias 1998) from 8 starts").
-    pub method: String,
-    /// Local searches started.
-    pub starts: usize,
-    /// Distinct local optima (basins) the starts ended in.
-    pub distinct_basins: usize,
-    /// Objective evaluations in all.
-    pub evaluations: usize,
-    /// The best few distinct local optima's objective values, best first (SI, the objective's unit).
-    pub best_values: Vec<f64>,
-    /// How many starts ended within `rel_tol` of the best value.
-    pub starts_at_best: usize,
-    /// (second best − best)/|best| over distinct basins; absent with one basin.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub spread_rel: Option<f64>,
-}
+/// The evidence of a `best_found` result (defined with the searches that produce it).
+pub use crate::synth::SearchEvidence;
 
 /// A paper's printed value against the program's.
 #[derive(Debug, Clone, PartialEq, Serialize)]

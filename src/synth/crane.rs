@@ -559,55 +559,11 @@ pub struct Outcome {
     /// Δh over (k1, k2).
     pub landscape: Option<Landscape>,
     /// What the multistart did (`None` when nothing is free).
-    pub search: Option<Search>,
+    pub search: Option<super::SearchEvidence>,
 }
 
-/// The evidence behind [`Status::BestFound`]: what the multistart did and how consistent
-/// its ends were.
-#[derive(Debug, Clone, PartialEq, serde::Serialize)]
-pub struct Search {
-    /// Local searches started.
-    pub starts: usize,
-    /// Distinct feasible ends (Δh differing by more than 1e-6 relative).
-    pub distinct_basins: usize,
-    /// Δh evaluations in all.
-    pub evaluations: usize,
-    /// Δh of the distinct feasible ends, best first (at most five, m).
-    pub best_values: Vec<f64>,
-    /// Feasible ends within 1e-6 relative of the best.
-    pub starts_at_best: usize,
-    /// (second best − best)/best over the distinct ends; `None` with one.
-    pub spread_rel: Option<f64>,
-}
-
-impl Search {
-    /// Relative distance under which two ends count as the same basin.
-    pub const SAME: f64 = 1e-6;
-
-    /// From the local searches' ends.
-    pub fn of(basins: &[Basin], evaluations: usize) -> Search {
-        let mut v: Vec<f64> = basins
-            .iter()
-            .filter(|b| b.feasible)
-            .filter_map(|b| b.delta_h_m)
-            .collect();
-        v.sort_by(f64::total_cmp);
-        let best = v.first().copied();
-        let at_best = best.map_or(0, |b| {
-            v.iter().filter(|&&d| d <= b + Self::SAME * b.abs()).count()
-        });
-        v.dedup_by(|a, b| (*a - *b).abs() <= Self::SAME * b.abs());
-        let spread_rel = (v.len() > 1).then(|| (v[1] - v[0]) / v[0].abs().max(1e-300));
-        Search {
-            starts: basins.len(),
-            distinct_basins: v.len(),
-            evaluations,
-            starts_at_best: at_best,
-            spread_rel,
-            best_values: v.into_iter().take(5).collect(),
-        }
-    }
-}
+/// Relative distance in Δh under which two local searches' ends count as the same basin.
+pub const SAME_BASIN: f64 = 1e-6;
 
 /// One design point evaluated: boom, synthesis, heights and constraint violations.
 #[derive(Debug, Clone)]
@@ -1300,7 +1256,17 @@ pub fn solve(scene: &CraneScene, settings: &Settings) -> Result<Outcome, FieldEr
         if !converged {
             warnings.push("the best local search stopped at its iteration limit".into());
         }
-        let search = Search::of(&out.basins, out.evaluations);
+        let search = super::SearchEvidence::of_minima(
+            "Halton global stage + trust-region SQP (Fletcher's Sl1QP) from the best distinct points".into(),
+            out.basins
+                .iter()
+                .filter(|b| b.feasible)
+                .filter_map(|b| b.delta_h_m)
+                .collect(),
+            out.basins.len(),
+            out.evaluations,
+            SAME_BASIN,
+        );
         if search.distinct_basins > 1 {
             warnings.push(format!(
                 "the local searches ended in {} different feasible basins (delta h from {:.6} to {:.6} m)",

@@ -13,8 +13,8 @@
 //! Brent (root of the worst constraint margin at a constraint boundary, or a bounded
 //! maximisation of the objective for an interior optimum).
 
+use super::SearchEvidence;
 use crate::geom::P2;
-use crate::io::result::SearchEvidence;
 use crate::mech::gear::{
     closing_center_distance, closure_integral, min_gear2_curvature, peak_mu_with,
     periodic_integral, singularities_with, Alpha2Map, Closure, EccentricCircle, GearError,

@@ -18,7 +18,7 @@ use argmin::solver::neldermead::NelderMead;
 use argmin_math::{ArgminAdd, ArgminMul, ArgminSub};
 use serde::Serialize;
 
-use crate::io::result::SearchEvidence;
+use super::SearchEvidence;
 use crate::mech::hypocycloid::{
     lanchester_pair, max_abs_y, Coefficients, CosBin, Hypocycloid, LanchesterPair, MechError,
     ALPHA0_VARIANT1, ALPHA0_VARIANT2,
