@@ -4,7 +4,7 @@
 //! benchmarked for scale.
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use cwsynth::synth::crane::*;
+use cwsynth::families::crane::synth::*;
 use std::hint::black_box;
 
 fn settings() -> Settings {

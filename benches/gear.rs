@@ -3,8 +3,8 @@
 //! gear 2's convexity) under 10 ms median.
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use cwsynth::mech::gear::{closing_center_distance, singularities, EccentricCircle, GearPair};
-use cwsynth::synth::gear::{analyse, paper_table1, solve, Settings};
+use cwsynth::families::gear::model::{closing_center_distance, singularities, EccentricCircle, GearPair};
+use cwsynth::families::gear::synth::{analyse, paper_table1, solve, Settings};
 use std::hint::black_box;
 
 fn bench(c: &mut Criterion) {

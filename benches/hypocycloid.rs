@@ -2,8 +2,8 @@
 //! plus the cost of one exact coefficient table and of a full `solve` of the paper example.
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use cwsynth::mech::hypocycloid::{Hypocycloid, ALPHA0_VARIANT2};
-use cwsynth::synth::hypocycloid::{
+use cwsynth::families::hypocycloid::model::{Hypocycloid, ALPHA0_VARIANT2};
+use cwsynth::families::hypocycloid::synth::{
     paper_example, solve, zero_search, PaperVariant, Settings, ZeroSearch,
 };
 use std::hint::black_box;

@@ -2,10 +2,10 @@
 //! half–half) to 1e-9 relative: presolve + exact disc rounds (the default) or clarabel's SOCP
 //! (`exact_disc = false`) + exchange loop + verified refined peak.
 use criterion::{criterion_group, criterion_main, Criterion};
-use cwsynth::synth::slider_crank::{optimise, solve, Scene};
+use cwsynth::families::slider_crank::synth::{optimise, solve, Scene};
 
 fn scene() -> Scene {
-    cwsynth::synth::slider_crank::paper_piston(1000.0)
+    cwsynth::families::slider_crank::synth::paper_piston(1000.0)
 }
 
 fn bench(c: &mut Criterion) {

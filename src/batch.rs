@@ -24,8 +24,8 @@
 //! previous summary row (completed `summary.csv` or the `.partial` of an interrupted run)
 //! carries it. The summary is written to `<summary>.partial` and renamed when complete.
 
-use crate::io::problem::{parse_str, parse_table, ProblemError, Scene};
-use crate::io::result::{fmt_num, md_escape, truncate, write_atomic, write_outputs};
+use crate::problem::{parse_str, parse_table, ProblemError, Scene};
+use crate::report::{fmt_num, md_escape, truncate, write_atomic, write_outputs};
 use crate::run::solve_scene;
 use crate::units::Unit;
 use anyhow::{bail, Context};
@@ -186,7 +186,7 @@ impl Row {
             ));
         }
         if !(self.family.is_empty()
-            || crate::io::problem::Family::ALL
+            || crate::problem::Family::ALL
                 .iter()
                 .any(|f| f.as_str() == self.family))
         {
@@ -205,7 +205,7 @@ impl Row {
                 ));
             }
         } else {
-            crate::io::problem::check_name(&self.name).map_err(|e| e.to_string())?;
+            crate::problem::check_name(&self.name).map_err(|e| e.to_string())?;
         }
         if !self.input_hash.chars().all(|c| c.is_ascii_hexdigit()) {
             return Err("input_hash is not hexadecimal".into());
@@ -1086,9 +1086,9 @@ fn process(job: Job, opts: &Options) -> (Row, bool) {
             }
         }
     }
-    let was = crate::io::plot::set_drawing(!opts.summary_only);
+    let was = crate::report::plot::set_drawing(!opts.summary_only);
     let mut r = solve_scene(&scene);
-    crate::io::plot::set_drawing(was);
+    crate::report::plot::set_drawing(was);
     r.extra.insert(
         "batch".into(),
         serde_json::json!({
@@ -1792,7 +1792,7 @@ pub fn write_reports(dir: &Path) -> anyhow::Result<()> {
         if n_plots >= REPORT_PLOTS {
             break;
         }
-        if crate::io::problem::check_name(&r.name).is_err() {
+        if crate::problem::check_name(&r.name).is_err() {
             continue;
         }
         let Ok(b) = std::fs::read(dir.join(format!("{}.json", r.name))) else {

@@ -1,8 +1,8 @@
 //! The command line: `cwsynth solve`, `cwsynth check`. Thin: parsing arguments, calling
 //! the library, printing; errors get context here (anyhow), typed errors live below.
 
-use crate::io::problem::{self, Scene};
-use crate::io::result::{fmt_num, write_outputs, SolveResult, Status};
+use crate::problem::{self, Scene};
+use crate::report::{fmt_num, write_outputs, SolveResult, Status};
 use crate::run::solve_scene;
 use anyhow::Context;
 use clap::{Parser, Subcommand};
@@ -315,7 +315,7 @@ pub fn run(cli: Cli) -> anyhow::Result<i32> {
                 let svg = crate::study::svg(&st).map_err(|e| anyhow::anyhow!("plot: {e}"))?;
                 for (ext, body) in [("csv", crate::study::csv(&st)), ("md", md), ("svg", svg)] {
                     let p = dir.join(format!("{}-study.{ext}", st.name));
-                    crate::io::result::write_atomic(&p, body.as_bytes())
+                    crate::report::write_atomic(&p, body.as_bytes())
                         .with_context(|| format!("writing {}", p.display()))?;
                 }
             }
@@ -323,7 +323,7 @@ pub fn run(cli: Cli) -> anyhow::Result<i32> {
         }
         Command::Schema => {
             Stdout::new().write(
-                &(serde_json::to_string_pretty(&crate::io::schema::problem_schema())? + "\n"),
+                &(serde_json::to_string_pretty(&crate::problem::schema::problem_schema())? + "\n"),
             )?;
             Ok(0)
         }

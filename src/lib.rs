@@ -18,10 +18,11 @@
 
 pub mod batch;
 pub mod cli;
+pub mod families;
 pub mod geom;
-pub mod io;
-pub mod mech;
 pub mod numeric;
+pub mod problem;
+pub mod report;
 pub mod run;
 pub mod study;
 pub mod synth;

@@ -2,8 +2,8 @@
 //! `io` module shapes its outcome into the common [`SolveResult`] (keys, errors,
 //! baselines, plots); the paper comparison and total timing are added here.
 
-use crate::io::problem::{Scene, SceneKind};
-use crate::io::result::SolveResult;
+use crate::problem::{Scene, SceneKind};
+use crate::report::SolveResult;
 use std::time::Instant;
 
 /// Solves a scene. Never panics on a valid scene; a solver failure becomes
@@ -11,10 +11,10 @@ use std::time::Instant;
 pub fn solve_scene(scene: &Scene) -> SolveResult {
     let t0 = Instant::now();
     let mut r = match &scene.kind {
-        SceneKind::SliderCrank(s) => crate::io::slider_crank::result(scene, s),
-        SceneKind::LuffingCrane(s) => crate::io::crane::result(scene, s),
-        SceneKind::EccentricGear(s) => crate::io::gear::result(scene, s),
-        SceneKind::Hypocycloid(s) => crate::io::hypocycloid::result(scene, s),
+        SceneKind::SliderCrank(s) => crate::families::slider_crank::file::result(scene, s),
+        SceneKind::LuffingCrane(s) => crate::families::crane::file::result(scene, s),
+        SceneKind::EccentricGear(s) => crate::families::gear::file::result(scene, s),
+        SceneKind::Hypocycloid(s) => crate::families::hypocycloid::file::result(scene, s),
     };
     r.timing.total_s = t0.elapsed().as_secs_f64();
     r.compare_with_paper(&scene.paper);
@@ -44,7 +44,7 @@ fn reject_non_finite(r: &mut SolveResult) {
         sweep(format!("baselines.{b}"), m);
     }
     if !bad.is_empty() {
-        r.status = crate::io::result::Status::Failed;
+        r.status = crate::report::Status::Failed;
         r.status_detail = Some(format!(
             "not finite, so not reported: {}; an input is out of proportion (e.g. a counterweight radius far below the machine's size)",
             bad.join(", ")

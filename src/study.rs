@@ -9,10 +9,10 @@
 //! Accuracy rungs measure numerical error; model rungs (`model.*`) measure the size of the
 //! effect the model adds or leaves out (their "error" is a modelling difference).
 
-use crate::io::plot::{self, Panel, Series};
-use crate::io::problem::{parse_str, Family, Scene, SceneKind};
-use crate::io::result::SolveResult;
-use crate::mech::slider_crank::Kinematics;
+use crate::report::plot::{self, Panel, Series};
+use crate::problem::{parse_str, Family, Scene, SceneKind};
+use crate::report::SolveResult;
+use crate::families::slider_crank::model::Kinematics;
 use crate::run::solve_scene;
 use std::fmt::Write as _;
 use std::path::Path;

@@ -5,8 +5,8 @@
 //! `shared/domain/slider-crank.md`, not from the library's code path.
 
 use cwsynth::geom::P2;
-use cwsynth::mech::slider_crank::{Crank, Kinematics, Loads, ProcessForce, Rod, SliderCrank};
-use cwsynth::synth::slider_crank::{
+use cwsynth::families::slider_crank::model::{Crank, Kinematics, Loads, ProcessForce, Rod, SliderCrank};
+use cwsynth::families::slider_crank::synth::{
     drive_torque, paper_piston, round_off_bounds, shaking_force, solve, Objective, Scene,
 };
 use std::f64::consts::TAU;

@@ -4,9 +4,9 @@
 //! feasibility of a known point.
 
 use cwsynth::geom::{cross, P2};
-use cwsynth::mech::crane::*;
+use cwsynth::families::crane::model::*;
 use cwsynth::numeric::brent_root;
-use cwsynth::synth::crane::*;
+use cwsynth::families::crane::synth::*;
 
 fn deg(x: f64) -> f64 {
     x.to_radians()

@@ -5,7 +5,7 @@
 //! tail points, tiny and huge scale); (2) the multistart's `best_found` is not beaten by an
 //! independent search (precomputed reference optima and an in-test compass search).
 
-use cwsynth::synth::crane::*;
+use cwsynth::families::crane::synth::*;
 use twofloat::TwoFloat as T;
 
 fn t(x: f64) -> T {

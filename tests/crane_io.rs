@@ -5,7 +5,7 @@
 
 mod common;
 use common::*;
-use cwsynth::io::problem::{parse_str, SceneKind};
+use cwsynth::problem::{parse_str, SceneKind};
 use serde_json::Value;
 use std::collections::BTreeMap;
 use std::path::Path;

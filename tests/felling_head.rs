@@ -2,12 +2,12 @@
 //! energy conservation, closed forms, brute force and the paper's own inputs.
 
 use cwsynth::geom::P2;
-use cwsynth::io::problem::{parse_str, SceneKind};
-use cwsynth::io::slider_crank::SliderCrankScene;
-use cwsynth::mech::slider_crank::{Loads, ProcessForce};
+use cwsynth::problem::{parse_str, SceneKind};
+use cwsynth::families::slider_crank::file::SliderCrankScene;
+use cwsynth::families::slider_crank::model::{Loads, ProcessForce};
 use cwsynth::run::solve_scene;
 use cwsynth::synth::shape::{self, ShapeGoal, ShapeOutcome, ShapeSpec};
-use cwsynth::synth::slider_crank::{
+use cwsynth::families::slider_crank::synth::{
     drive_torque, metrics, optimise, pareto, shaking_force, Objective, Scene,
 };
 use std::f64::consts::{FRAC_PI_2, TAU};

@@ -3,8 +3,8 @@
 //! brute-force scans and the paper's Table 1.
 
 use cwsynth::geom::{circumcentre, cross, P2};
-use cwsynth::mech::gear::*;
-use cwsynth::synth::gear::*;
+use cwsynth::families::gear::model::*;
+use cwsynth::families::gear::synth::*;
 use std::f64::consts::{PI, TAU};
 
 const R: f64 = 37.5e-3;

@@ -6,8 +6,8 @@
 //! (`pole_window = 0`).
 
 use common::dd_sin_cos;
-use cwsynth::mech::gear::*;
-use cwsynth::synth::gear::*;
+use cwsynth::families::gear::model::*;
+use cwsynth::families::gear::synth::*;
 use std::f64::consts::{PI, TAU};
 use twofloat::TwoFloat as D;
 

@@ -5,8 +5,8 @@
 
 mod common;
 use common::*;
-use cwsynth::io::problem::{parse_str, SceneKind};
-use cwsynth::synth::gear::{paper_table1, paper_table1_design, solve, Settings};
+use cwsynth::problem::{parse_str, SceneKind};
+use cwsynth::families::gear::synth::{paper_table1, paper_table1_design, solve, Settings};
 use std::f64::consts::{PI, TAU};
 use std::path::Path;
 

@@ -6,11 +6,11 @@
 
 use common::assert_finite;
 use cwsynth::geom::{circle_circle, circumcentre, Side, P2};
-use cwsynth::io::problem::{parse_str, ProblemError};
-use cwsynth::io::result::SolveResult;
-use cwsynth::mech::slider_crank::{Crank, Kinematics, Rod, SliderCrank};
+use cwsynth::problem::{parse_str, ProblemError};
+use cwsynth::report::SolveResult;
+use cwsynth::families::slider_crank::model::{Crank, Kinematics, Rod, SliderCrank};
 use cwsynth::run::solve_scene;
-use cwsynth::synth::slider_crank::shaking_force;
+use cwsynth::families::slider_crank::synth::shaking_force;
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 use std::path::Path;
 

@@ -2,11 +2,11 @@
 //! independent source: the slider-crank closed form, Gauss–Legendre quadrature of the plain
 //! formula, the binomial series to high power, leading-order asymptotics, symmetry, Parseval.
 
-use cwsynth::mech::hypocycloid::{
+use cwsynth::families::hypocycloid::model::{
     max_abs_y_variant1, max_abs_y_variant2, Hypocycloid, MechError, ALPHA0_VARIANT1,
     ALPHA0_VARIANT2,
 };
-use cwsynth::synth::hypocycloid::{
+use cwsynth::families::hypocycloid::synth::{
     c4_search_example, paper_example, solve, zero_search, PaperVariant, Settings, Var, ZeroSearch,
     ZeroStatus,
 };

@@ -5,8 +5,8 @@
 //! design is a plain slider-crank).
 
 use common::dd_sin_cos;
-use cwsynth::mech::hypocycloid::{max_abs_y, Hypocycloid, ALPHA0_VARIANT1, ALPHA0_VARIANT2};
-use cwsynth::synth::hypocycloid::{
+use cwsynth::families::hypocycloid::model::{max_abs_y, Hypocycloid, ALPHA0_VARIANT1, ALPHA0_VARIANT2};
+use cwsynth::families::hypocycloid::synth::{
     c4_search_example, paper_example, solve, zero_search, PaperVariant, Settings, Var, ZeroSearch,
 };
 use twofloat::TwoFloat as D;
@@ -144,7 +144,7 @@ fn c4_errors_hold_on_random_and_near_degenerate_designs() {
         } else {
             PaperVariant::Variant2
         };
-        let sc = cwsynth::synth::hypocycloid::HypocycloidScene {
+        let sc = cwsynth::families::hypocycloid::synth::HypocycloidScene {
             lambda: Var::Fixed(l),
             theta: Var::Fixed(t),
             ..paper_example(v)

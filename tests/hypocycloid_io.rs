@@ -6,7 +6,7 @@
 
 mod common;
 use common::*;
-use cwsynth::io::problem::parse_str;
+use cwsynth::problem::parse_str;
 use serde_json::Value;
 use std::f64::consts::{PI, TAU};
 use std::path::Path;
@@ -306,7 +306,7 @@ fn out_dir_gets_json_markdown_svg_and_csv() {
 #[test]
 fn shipped_files_load_and_units_convert() {
     let s = parse_str(V1, Path::new("p.toml")).unwrap();
-    let cwsynth::io::problem::SceneKind::Hypocycloid(h) = &s.kind else {
+    let cwsynth::problem::SceneKind::Hypocycloid(h) = &s.kind else {
         panic!("not a hypocycloid scene")
     };
     assert_eq!(h.scene.r_carrier, 0.025);
@@ -315,7 +315,7 @@ fn shipped_files_load_and_units_convert() {
     // orientation = "270 deg" is variant 2.
     let t = with(V1, "variant = 1", "orientation = \"270 deg\"");
     let s = parse_str(&t, Path::new("p.toml")).unwrap();
-    let cwsynth::io::problem::SceneKind::Hypocycloid(h) = &s.kind else {
+    let cwsynth::problem::SceneKind::Hypocycloid(h) = &s.kind else {
         panic!()
     };
     assert_eq!(h.variant, Some(2));

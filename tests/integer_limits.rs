@@ -1,14 +1,14 @@
 //! Issue 14, item 7: every integer setting of every family (the table of
-//! `cwsynth::io::limits`) at 0, 1, its minimum, its maximum, one past each end, i64::MAX and
+//! `cwsynth::problem::limits`) at 0, 1, its minimum, its maximum, one past each end, i64::MAX and
 //! u64::MAX. Out of its range a value is an error naming the file, the line and the key; in
 //! its range the file either resolves, or is rejected by another check with a field and a
 //! line; a resolved file solves within a time bound (no panic, abort or hang) and its result
 //! has no inf or NaN in its number maps. Independent reference: the documented range itself
 //! (`docs/problem-files.md`), and the finiteness of every reported number.
 
-use cwsynth::io::limits::{counts, Count};
-use cwsynth::io::problem::{parse_str, Family};
-use cwsynth::io::result::SolveResult;
+use cwsynth::problem::limits::{counts, Count};
+use cwsynth::problem::{parse_str, Family};
+use cwsynth::report::SolveResult;
 use cwsynth::run::solve_scene;
 use std::path::Path;
 use std::sync::mpsc;
@@ -72,7 +72,7 @@ fn set(text: &str, key: &str, value: &str) -> String {
 }
 
 /// Solves on a thread; the result, or an error after `limit`.
-fn solve_bounded(s: cwsynth::io::problem::Scene, limit: Duration) -> Result<SolveResult, String> {
+fn solve_bounded(s: cwsynth::problem::Scene, limit: Duration) -> Result<SolveResult, String> {
     let (tx, rx) = mpsc::channel();
     std::thread::spawn(move || {
         let _ = tx.send(solve_scene(&s));

@@ -3,7 +3,7 @@
 
 mod common;
 use common::*;
-use cwsynth::io::problem::{load, parse_str, SceneKind};
+use cwsynth::problem::{load, parse_str, SceneKind};
 use std::path::Path;
 
 const PISTON: &str = include_str!("../problems/piston-1000rpm.toml");

@@ -3,10 +3,10 @@
 //! force optimum on the crank axis. Case counts are kept small so the suite stays fast
 //! (`PROPTEST_CASES` overrides them for a longer run).
 
-use cwsynth::io::problem::parse_str;
-use cwsynth::mech::slider_crank::{Crank, Kinematics, Rod, SliderCrank};
+use cwsynth::problem::parse_str;
+use cwsynth::families::slider_crank::model::{Crank, Kinematics, Rod, SliderCrank};
 use cwsynth::run::solve_scene;
-use cwsynth::synth::slider_crank::{baselines, metrics, optimise, paper_piston, Objective, Scene};
+use cwsynth::families::slider_crank::synth::{baselines, metrics, optimise, paper_piston, Objective, Scene};
 use proptest::prelude::*;
 use std::path::Path;
 

@@ -2,9 +2,9 @@
 //! closed forms, a brute force computed a different way, identities and scaling laws.
 
 use cwsynth::geom::P2;
-use cwsynth::mech::slider_crank::{rot, Crank, Kinematics, Rod, SliderCrank};
+use cwsynth::families::slider_crank::model::{rot, Crank, Kinematics, Rod, SliderCrank};
 use cwsynth::synth::counterweight::Status;
-use cwsynth::synth::slider_crank::{
+use cwsynth::families::slider_crank::synth::{
     optimise, paper_piston, shaking_force, solve, Objective, Scene,
 };
 use cwsynth::synth::Var;
@@ -356,7 +356,7 @@ fn crank_that_cannot_turn_is_an_error_not_a_nan() {
 #[test]
 fn baselines_match_their_definitions() {
     let sc = paper_piston(1000.0);
-    let b = cwsynth::synth::slider_crank::baselines(&sc).unwrap();
+    let b = cwsynth::families::slider_crank::synth::baselines(&sc).unwrap();
     let (mt, mc, r, w2) = (
         sc.mech.m_rot(),
         sc.mech.m_rec(),

@@ -4,9 +4,9 @@
 //! model leaves out hold against an independent computation (brute force, closed form, or
 //! the scene re-solved with the effect switched on).
 
-use cwsynth::io::problem::{parse_str, SceneKind};
-use cwsynth::mech::crane::{head_heights, head_heights_with};
-use cwsynth::mech::hypocycloid::Hypocycloid;
+use cwsynth::problem::{parse_str, SceneKind};
+use cwsynth::families::crane::model::{head_heights, head_heights_with};
+use cwsynth::families::hypocycloid::model::Hypocycloid;
 use cwsynth::numeric::{interval_peak_with, periodic_peak_unrefined};
 use cwsynth::run::solve_scene;
 use cwsynth::study::effects::{
@@ -60,7 +60,7 @@ fn hypocycloid_ladder_runs() {
 // Ladders that trade speed for error, and the bounds of the effects left out
 // ---------------------------------------------------------------------------------------
 
-fn solve_edited(text: &str, edits: &[Edit]) -> cwsynth::io::result::SolveResult {
+fn solve_edited(text: &str, edits: &[Edit]) -> cwsynth::report::SolveResult {
     let t = apply(text, edits).unwrap();
     solve_scene(&parse_str(&t, Path::new("x.toml")).unwrap())
 }
@@ -272,7 +272,7 @@ fn gear_window_edge_sets_the_peak_and_halving_it_gives_the_stated_value() {
     let peak = r.lookup("objectives.peak_sliding_coefficient").unwrap();
     let e = r.lookup("design.eccentricity_m").unwrap();
     let w = g.gear.pole_window;
-    let an = cwsynth::synth::gear::analyse(&g.gear, e, &g.settings).unwrap();
+    let an = cwsynth::families::gear::synth::analyse(&g.gear, e, &g.settings).unwrap();
     // The sampled-and-refined peak equals |µ| evaluated directly at a window edge.
     let edge = window_edge_mu(&an.pair, &an.sing, w, w);
     assert!((edge - peak).abs() <= 1e-9 * peak, "{edge} vs {peak}");

@@ -2,13 +2,13 @@
 //! scene as resolved (and from the reference solution's design), stated against the
 //! headline objective. One function per family; the pure physics is in [`crate::mech`].
 
-use crate::io::problem::{Scene, SceneKind};
-use crate::io::result::SolveResult;
-use crate::mech::crane::{head_heights, head_heights_with, Linkage};
-use crate::mech::gear::{GearPair, Pole, Singularities, Which};
-use crate::mech::hypocycloid::{max_abs_y, Hypocycloid};
-use crate::mech::slider_crank::Kinematics;
-use crate::synth::hypocycloid::CoefficientModel;
+use crate::problem::{Scene, SceneKind};
+use crate::report::SolveResult;
+use crate::families::crane::model::{head_heights, head_heights_with, Linkage};
+use crate::families::gear::model::{GearPair, Pole, Singularities, Which};
+use crate::families::hypocycloid::model::{max_abs_y, Hypocycloid};
+use crate::families::slider_crank::model::Kinematics;
+use crate::families::hypocycloid::synth::CoefficientModel;
 use std::f64::consts::TAU;
 
 /// Standard gravity (m/s²).
@@ -33,7 +33,7 @@ fn rel(x: f64, headline: f64) -> f64 {
     x / headline.abs().max(1e-300)
 }
 
-fn slider_crank(s: &crate::io::slider_crank::SliderCrankScene, reference: f64) -> Vec<Effect> {
+fn slider_crank(s: &crate::families::slider_crank::file::SliderCrankScene, reference: f64) -> Vec<Effect> {
     let c = &s.core;
     let m = &c.mech;
     let w2 = c.omega * c.omega;
@@ -171,7 +171,7 @@ pub fn series_change(m: &Hypocycloid, power: usize, orders: &[usize]) -> (f64, f
 }
 
 fn hypocycloid(
-    h: &crate::io::hypocycloid::Resolved,
+    h: &crate::families::hypocycloid::file::Resolved,
     reference: &SolveResult,
     headline: f64,
 ) -> Vec<Effect> {
@@ -302,9 +302,9 @@ pub fn unrefined_path_bound(link: &Linkage, n: usize, xtol: f64) -> Option<f64> 
 /// The crane design of a solution, (k1, k2, φ_min, γ1, γ2, γ3) from its `design.*`,
 /// evaluated again (linkage and head path) with the scene's settings.
 pub fn crane_design(
-    c: &crate::io::crane::CraneScene,
+    c: &crate::families::crane::file::CraneScene,
     result: &SolveResult,
-) -> Option<crate::synth::crane::Evaluation> {
+) -> Option<crate::families::crane::synth::Evaluation> {
     let keys = [
         "design.k1",
         "design.k2",
@@ -317,10 +317,10 @@ pub fn crane_design(
         .iter()
         .map(|k| result.lookup(k))
         .collect::<Option<_>>()?;
-    crate::synth::crane::evaluate(&c.scene, &[x[0], x[1], x[2], x[3], x[4], x[5]], &c.settings).ok()
+    crate::families::crane::synth::evaluate(&c.scene, &[x[0], x[1], x[2], x[3], x[4], x[5]], &c.settings).ok()
 }
 
-fn crane(c: &crate::io::crane::CraneScene, reference: &SolveResult, headline: f64) -> Vec<Effect> {
+fn crane(c: &crate::families::crane::file::CraneScene, reference: &SolveResult, headline: f64) -> Vec<Effect> {
     let sc = &c.scene;
     let s = &c.settings;
     let ev = crane_design(c, reference);
@@ -417,7 +417,7 @@ pub fn window_edge_mu(pair: &GearPair, sing: &Singularities, window: f64, d: f64
     best
 }
 
-fn gear(g: &crate::io::gear::GearProblem, reference: &SolveResult, headline: f64) -> Vec<Effect> {
+fn gear(g: &crate::families::gear::file::GearProblem, reference: &SolveResult, headline: f64) -> Vec<Effect> {
     let sc = &g.gear;
     let s = &g.settings;
     let mut out = Vec::new();
@@ -427,7 +427,7 @@ fn gear(g: &crate::io::gear::GearProblem, reference: &SolveResult, headline: f64
             "the reference has no eccentricity: no bound".into(),
         )];
     };
-    let an = match crate::synth::gear::analyse(sc, e, s) {
+    let an = match crate::families::gear::synth::analyse(sc, e, s) {
         Ok(a) => a,
         Err(err) => {
             return vec![(
@@ -485,8 +485,8 @@ fn gear(g: &crate::io::gear::GearProblem, reference: &SolveResult, headline: f64
     let sens = GearPair::new(an.pair.c, sc.generating_radius, an.pair.a + step, sc.omega1)
         .ok()
         .and_then(|p2| {
-            let s2 = crate::mech::gear::singularities(&p2, s.samples_per_arch, s.pole_tol).ok()?;
-            let pk = crate::mech::gear::peak_mu(&p2, &s2, w, s.peak_samples_per_arch, s.peak_xtol)
+            let s2 = crate::families::gear::model::singularities(&p2, s.samples_per_arch, s.pole_tol).ok()?;
+            let pk = crate::families::gear::model::peak_mu(&p2, &s2, w, s.peak_samples_per_arch, s.peak_xtol)
                 .ok()?;
             Some((pk.value - an.peak.value).abs() / step)
         });

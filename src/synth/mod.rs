@@ -4,11 +4,7 @@
 //! serves analysis (everything fixed) and synthesis.
 
 pub mod counterweight;
-pub mod crane;
-pub mod gear;
-pub mod hypocycloid;
 pub mod shape;
-pub mod slider_crank;
 
 /// The evidence behind a `best_found` status: what a heuristic global search did and how
 /// consistent its best results were (JSON key `search`).

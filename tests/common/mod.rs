@@ -2,7 +2,7 @@
 //! asserting that a rejection names the file, the line and the field.
 #![allow(dead_code)]
 
-use cwsynth::io::problem::{parse_str, ProblemError};
+use cwsynth::problem::{parse_str, ProblemError};
 use std::path::{Path, PathBuf};
 
 /// A shipped problem file.
@@ -149,13 +149,13 @@ pub fn dd_sin_cos(x: twofloat::TwoFloat) -> (twofloat::TwoFloat, twofloat::TwoFl
 /// `null` where the result has numbers is what a NaN looks like there; the maps are checked
 /// directly.
 #[track_caller]
-pub fn assert_finite(r: &cwsynth::io::result::SolveResult) {
+pub fn assert_finite(r: &cwsynth::report::SolveResult) {
     assert_finite_as(r, &r.name);
 }
 
 /// [`assert_finite`], naming the case `what` in the message.
 #[track_caller]
-pub fn assert_finite_as(r: &cwsynth::io::result::SolveResult, what: &str) {
+pub fn assert_finite_as(r: &cwsynth::report::SolveResult, what: &str) {
     for (sec, m) in [
         ("design", &r.design),
         ("objectives", &r.objectives),

@@ -12,8 +12,8 @@
 //! Keep it in step with the structs: `tests/schema.rs` validates every shipped problem file
 //! against it and shows that unknown keys fail.
 
-use super::limits::counts;
-use super::problem::Family;
+use crate::problem::limits::counts;
+use crate::problem::Family;
 use crate::units::{Dim, UNITS};
 use serde_json::{json, Map, Value};
 

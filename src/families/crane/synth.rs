@@ -14,7 +14,7 @@
 //! `max_delta_h`, `load_mass`, `settings.*`.
 
 use crate::geom::P2;
-use crate::mech::crane::{
+use crate::families::crane::model::{
     head_extrema, head_heights_with, load_moment, synthesize, Angles, Boom, Branch, CraneGeomError,
     Guide, HeadHeights, PathError, Synthesis,
 };
@@ -559,7 +559,7 @@ pub struct Outcome {
     /// Δh over (k1, k2).
     pub landscape: Option<Landscape>,
     /// What the multistart did (`None` when nothing is free).
-    pub search: Option<super::SearchEvidence>,
+    pub search: Option<crate::synth::SearchEvidence>,
 }
 
 /// Relative distance in Δh under which two local searches' ends count as the same basin.
@@ -1256,7 +1256,7 @@ pub fn solve(scene: &CraneScene, settings: &Settings) -> Result<Outcome, FieldEr
         if !converged {
             warnings.push("the best local search stopped at its iteration limit".into());
         }
-        let search = super::SearchEvidence::of_minima(
+        let search = crate::synth::SearchEvidence::of_minima(
             "Halton global stage + trust-region SQP (Fletcher's Sl1QP) from the best distinct points".into(),
             out.basins
                 .iter()

@@ -8,7 +8,7 @@
 //! maximum keeps one run of an otherwise default scene within about a second
 //! (`tests/hostile_input.rs` runs each at its minimum and maximum).
 
-use super::problem::{Family, FieldError};
+use crate::problem::{Family, FieldError};
 
 /// One integer key of a problem file and its allowed range.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

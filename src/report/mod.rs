@@ -4,6 +4,8 @@
 //! Every number is SI and its key carries the unit as a suffix (`_n`, `_nm`, `_kgm`, `_m`,
 //! `_rad`, `_kg`, `_s`, `_pct`); pure numbers have no suffix.
 
+pub mod plot;
+
 use serde::Serialize;
 use std::collections::BTreeMap;
 use std::io::Write;
@@ -183,7 +185,7 @@ pub struct SolveResult {
 
 impl SolveResult {
     /// An empty result of `scene` with status `failed`, to be filled by its family.
-    pub fn new(scene: &crate::io::problem::Scene) -> SolveResult {
+    pub fn new(scene: &crate::problem::Scene) -> SolveResult {
         SolveResult {
             name: scene.name.clone(),
             family: scene.family.as_str().into(),
@@ -256,7 +258,7 @@ impl SolveResult {
 
     /// Appends to `paper` the scene file's `[[paper]]` references, looked up in this result
     /// (a family may already have put its own checks there).
-    pub fn compare_with_paper(&mut self, refs: &[crate::io::problem::PaperRef]) {
+    pub fn compare_with_paper(&mut self, refs: &[crate::problem::PaperRef]) {
         let from_file: Vec<PaperCheck> = refs
             .iter()
             .map(|r| {

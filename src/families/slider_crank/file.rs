@@ -1,24 +1,24 @@
 //! The slider-crank problem file — its raw sections and their resolution into a checked
-//! [`crate::synth::slider_crank::Scene`] (every field documented in
+//! [`crate::families::slider_crank::synth::Scene`] (every field documented in
 //! `docs/problem-files.md`) — and the shaping of its outcome into a result (keys in
 //! `docs/results.md`).
 
-use super::limits;
-use super::plot::{self, Panel, Series};
-use super::problem::Family;
-use super::problem::{
+use crate::problem::limits;
+use crate::report::plot::{self, Panel, Series};
+use crate::problem::Family;
+use crate::problem::{
     check_name, non_negative, positive, Ctx, FieldError, Input, ProblemError, RawFile, RawVar,
     Scene, SceneKind,
 };
-use super::result::{Plot, SolveResult, Status, Table};
+use crate::report::{Plot, SolveResult, Status, Table};
 use crate::geom::P2;
-use crate::mech::slider_crank::{Crank, Kinematics, Rod, SliderCrank};
-use crate::mech::slider_crank::{Loads, ProcessForce};
+use crate::families::slider_crank::model::{Crank, Kinematics, Rod, SliderCrank};
+use crate::families::slider_crank::model::{Loads, ProcessForce};
 use crate::synth::counterweight::Settings;
 use crate::synth::counterweight::Status as CwStatus;
 use crate::synth::shape::{self, ShapeGoal, ShapeOutcome, ShapeSpec};
-use crate::synth::slider_crank::shaking_force;
-use crate::synth::slider_crank::{self as sc, CounterweightSpec, Objective, Prefer};
+use crate::families::slider_crank::synth::shaking_force;
+use crate::families::slider_crank::synth::{self as sc, CounterweightSpec, Objective, Prefer};
 use crate::synth::Var;
 use crate::units::{
     Acceleration, Angle, AngularSpeed, Density, Force, Inertia, Length, Mass, Qty, Torque,
@@ -400,7 +400,7 @@ pub fn resolve_raw(raw: &File) -> Result<SliderCrankScene, FieldError> {
         ));
     }
     let rod = match md.masses {
-        super::slider_crank::Masses::Lumped => {
+        self::Masses::Lumped => {
             if md.rod_centroid.is_some() || md.rod_inertia.is_some() {
                 let f = if md.rod_centroid.is_some() {
                     "model.rod_centroid"
@@ -421,7 +421,7 @@ pub fn resolve_raw(raw: &File) -> Result<SliderCrankScene, FieldError> {
             }
             Rod::lumped(m3, s, l)
         }
-        super::slider_crank::Masses::Rigid => {
+        self::Masses::Rigid => {
             if md.rod_split.is_some() {
                 return Err(FieldError::new("model.rod_split", "only used with masses = \"lumped\"; a rigid rod takes rod_centroid and rod_inertia"));
             }

@@ -1,18 +1,18 @@
 //! The eccentric-gear problem file — its raw sections and their resolution into a checked
-//! [`crate::synth::gear::GearScene`] with its [`Settings`] (every field documented in
+//! [`crate::families::gear::synth::GearScene`] with its [`Settings`] (every field documented in
 //! `docs/problem-files.md`) — and the shaping of its outcome into a result (keys in
 //! `docs/results.md`): pitch curves, i12(α1), µ1 and µ2 with their poles, the design sweep.
 
-use super::limits;
-use super::plot::{self, Panel, Series};
-use super::problem::Family;
-use super::problem::{
+use crate::problem::limits;
+use crate::report::plot::{self, Panel, Series};
+use crate::problem::Family;
+use crate::problem::{
     check_name, non_negative, positive, Ctx, FieldError, Input, ProblemError, RawFile, RawVar,
     Scene, SceneKind,
 };
-use super::result::{PaperCheck, Plot, SolveResult, Status, Table};
-use crate::mech::gear::{EccentricCircle, GearPair, Which, ZeroKind};
-use crate::synth::gear::{self as sg, GearScene, Outcome, Settings, SolveError};
+use crate::report::{PaperCheck, Plot, SolveResult, Status, Table};
+use crate::families::gear::model::{EccentricCircle, GearPair, Which, ZeroKind};
+use crate::families::gear::synth::{self as sg, GearScene, Outcome, Settings, SolveError};
 use crate::units::{Angle, AngularSpeed, Length, Qty};
 use serde::Deserialize;
 use serde_json::json;

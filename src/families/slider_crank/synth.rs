@@ -8,10 +8,10 @@
 //! and the classical baselines (no counterweight, y force zeroed, the 50 % rule, equal x and
 //! y ranges) with the same refined peaks.
 
-use super::counterweight::{self as cw, Affine, Direction, Field, Goal, Problem, Status};
-use super::Var;
+use crate::synth::counterweight::{self as cw, Affine, Direction, Field, Goal, Problem, Status};
+use crate::synth::Var;
 use crate::geom::P2;
-use crate::mech::slider_crank::{
+use crate::families::slider_crank::model::{
     rot, rot_cs, weight_torque_cs, Kinematics, Loads, SliderCrank, State,
 };
 use crate::numeric::{
@@ -923,7 +923,7 @@ fn pareto_sampled(scene: &Scene, n: usize, tab: &Sampled) -> Result<Vec<ParetoPo
 ///
 /// Degenerate objectives are flagged, not solved: without gravity the drive torque of a
 /// constant-speed crank does not depend on its counterweight (the counterweight's inertia
-/// adds no torque, [`crate::mech::slider_crank::SliderCrank::drive_torque0`]), so "minimise
+/// adds no torque, [`crate::families::slider_crank::model::SliderCrank::drive_torque0`]), so "minimise
 /// the peak torque" leaves U arbitrary. The design is then the minimax-force counterweight
 /// under the same limits, and [`Outcome::degenerate`] says why.
 pub fn solve(scene: &Scene) -> Result<Outcome, SolveError> {
@@ -1130,7 +1130,7 @@ fn search_on_circle(
 /// m2 = 0.35 kg (uniform crank), m3 = 0.30 kg split half–half, m4 = 1.03 kg, at `rpm`, with
 /// a free counterweight direction and size: the minimax scene of `problems/piston-*.toml`.
 pub fn paper_piston(rpm: f64) -> Scene {
-    use crate::mech::slider_crank::{Crank, Rod};
+    use crate::families::slider_crank::model::{Crank, Rod};
     Scene {
         mech: SliderCrank {
             r: 0.035,

@@ -2,7 +2,7 @@
 //! consistency checks of the gear data (paper's Table 1), the full-cycle analysis that a
 //! report needs, and the design of the eccentricity e.
 //!
-//! Exists to turn the pure model of [`crate::mech::gear`] into one call, [`solve`], whose
+//! Exists to turn the pure model of [`crate::families::gear::model`] into one call, [`solve`], whose
 //! [`Outcome`] serialises to the JSON contract of issue 6 (`design.eccentricity_m`,
 //! `derived.center_distance_m`, `derived.ratio_min`, `derived.ratio_max`,
 //! `objectives.peak_sliding_coefficient`, `poles`).
@@ -13,9 +13,9 @@
 //! Brent (root of the worst constraint margin at a constraint boundary, or a bounded
 //! maximisation of the objective for an interior optimum).
 
-use super::SearchEvidence;
+use crate::synth::SearchEvidence;
 use crate::geom::P2;
-use crate::mech::gear::{
+use crate::families::gear::model::{
     closing_center_distance, closure_integral, min_gear2_curvature, peak_mu_with,
     periodic_integral, singularities_with, Alpha2Map, Closure, EccentricCircle, GearError,
     GearPair, MuPeak, Pole, Singularities, Which, Zero, ZeroKind,

@@ -1,19 +1,19 @@
 //! The luffing-crane problem file — its raw sections and their resolution into a checked
-//! [`crate::synth::crane::CraneScene`] with its solver [`Settings`] (every field documented
+//! [`crate::families::crane::synth::CraneScene`] with its solver [`Settings`] (every field documented
 //! in `docs/problem-files.md`) — and the shaping of its outcome into a result (keys in
 //! `docs/results.md`): design, Δh and its error, the thesis's checks, the jib-head path and
 //! the Δh landscape over (k1, k2) as SVG and CSV.
 
-use super::limits;
-use super::plot::{self, Grid, Panel, Series};
-use super::problem::Family;
-use super::problem::{
+use crate::problem::limits;
+use crate::report::plot::{self, Grid, Panel, Series};
+use crate::problem::Family;
+use crate::problem::{
     check_name, Ctx, FieldError, Input, ProblemError, RawFile, RawVar, Scene, SceneKind,
 };
-use super::result::{PaperCheck, Plot, SolveResult, Status, Table};
+use crate::report::{PaperCheck, Plot, SolveResult, Status, Table};
 use crate::geom::P2;
-use crate::mech::crane::{synthesize, Angles, Boom, Guide};
-use crate::synth::crane::{
+use crate::families::crane::model::{synthesize, Angles, Boom, Guide};
+use crate::families::crane::synth::{
     self as cr, Outcome, Settings, SizingRule, Status as CraneStatus, TiePinLimit,
 };
 use crate::units::{Angle, Dimensionless, Length, Mass, Qty};

@@ -9,7 +9,11 @@
 //! [`SourceMap`]. A table already parsed from TOML (a fleet row) goes through the same
 //! passes and checks without its text ([`parse_table`]); its errors have no line.
 
-use super::source::SourceMap;
+pub mod limits;
+pub mod schema;
+pub mod source;
+
+use self::source::SourceMap;
 use crate::units::{self, Dim, Dimension, Qty};
 use serde::de::{self, Deserializer, MapAccess, Visitor};
 use serde::Deserialize;
@@ -464,13 +468,13 @@ pub struct Scene {
 #[serde(untagged)]
 pub enum SceneKind {
     /// A slider-crank scene.
-    SliderCrank(super::slider_crank::SliderCrankScene),
+    SliderCrank(crate::families::slider_crank::file::SliderCrankScene),
     /// A luffing-crane scene (boxed: it carries its solver settings).
-    LuffingCrane(Box<crate::io::crane::CraneScene>),
+    LuffingCrane(Box<crate::families::crane::file::CraneScene>),
     /// An eccentric-gear scene.
-    EccentricGear(super::gear::GearProblem),
+    EccentricGear(crate::families::gear::file::GearProblem),
     /// A hypocycloid scene.
-    Hypocycloid(super::hypocycloid::Resolved),
+    Hypocycloid(crate::families::hypocycloid::file::Resolved),
 }
 
 /// Reads and resolves a problem file.
@@ -520,10 +524,10 @@ fn resolve(ctx: &Ctx, header: Header, input: Input) -> Result<Scene, ProblemErro
         )));
     }
     match family {
-        Family::SliderCrank => super::slider_crank::resolve(ctx, input),
-        Family::EccentricGear => super::gear::resolve(ctx, input),
-        Family::LuffingCrane => super::crane::resolve(ctx, input),
-        Family::Hypocycloid => super::hypocycloid::resolve(ctx, input),
+        Family::SliderCrank => crate::families::slider_crank::file::resolve(ctx, input),
+        Family::EccentricGear => crate::families::gear::file::resolve(ctx, input),
+        Family::LuffingCrane => crate::families::crane::file::resolve(ctx, input),
+        Family::Hypocycloid => crate::families::hypocycloid::file::resolve(ctx, input),
     }
 }
 

@@ -3,7 +3,7 @@
 //! orders, the optimisation of the residual inertia force, and the search that settles the
 //! paper's conjecture about a (λ, θ) where the fourth-order coefficient vanishes.
 //!
-//! Everything here is built on the pure model in [`crate::mech::hypocycloid`]; the one entry
+//! Everything here is built on the pure model in [`crate::families::hypocycloid::model`]; the one entry
 //! point is [`solve`], whose [`Outcome`] is serialisable and holds every number and series a
 //! report needs.
 
@@ -18,8 +18,8 @@ use argmin::solver::neldermead::NelderMead;
 use argmin_math::{ArgminAdd, ArgminMul, ArgminSub};
 use serde::Serialize;
 
-use super::SearchEvidence;
-use crate::mech::hypocycloid::{
+use crate::synth::SearchEvidence;
+use crate::families::hypocycloid::model::{
     lanchester_pair, max_abs_y, Coefficients, CosBin, Hypocycloid, LanchesterPair, MechError,
     ALPHA0_VARIANT1, ALPHA0_VARIANT2,
 };

@@ -1,18 +1,18 @@
 //! The hypocycloid problem file — its raw sections and their resolution into a checked
-//! [`crate::synth::hypocycloid::HypocycloidScene`] with its [`Settings`] (every field
+//! [`crate::families::hypocycloid::synth::HypocycloidScene`] with its [`Settings`] (every field
 //! documented in `docs/problem-files.md`) — and the shaping of its outcome into a result
 //! (keys in `docs/results.md`): the order coefficients of S/R, the Lanchester balancing, the
 //! (λ, θ) optimisation and the zero search of the fourth-order coefficient.
 
-use super::limits;
-use super::plot::{self, Grid, Panel, Series};
-use super::problem::Family;
-use super::problem::{
+use crate::problem::limits;
+use crate::report::plot::{self, Grid, Panel, Series};
+use crate::problem::Family;
+use crate::problem::{
     check_name, positive, Ctx, FieldError, Input, ProblemError, RawFile, RawVar, Scene, SceneKind,
 };
-use super::result::{PaperCheck, Plot, SolveResult, Status, Table};
-use crate::mech::hypocycloid::{ALPHA0_VARIANT1, ALPHA0_VARIANT2};
-use crate::synth::hypocycloid::{
+use crate::report::{PaperCheck, Plot, SolveResult, Status, Table};
+use crate::families::hypocycloid::model::{ALPHA0_VARIANT1, ALPHA0_VARIANT2};
+use crate::families::hypocycloid::synth::{
     self as hy, CoefficientModel, HypocycloidScene, OptStatus, Outcome, Settings, ZeroSearch,
     ZeroStatus,
 };
