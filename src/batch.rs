@@ -24,9 +24,10 @@
 //! previous summary row (completed `summary.csv` or the `.partial` of an interrupted run)
 //! carries it. The summary is written to `<summary>.partial` and renamed when complete.
 
-use crate::problem::{parse_str, parse_table, ProblemError, Scene};
+use crate::families::{parse_str, parse_table, Scene};
+use crate::problem::ProblemError;
 use crate::report::{fmt_num, md_escape, truncate, write_atomic, write_outputs};
-use crate::run::solve_scene;
+use crate::families::solve_scene;
 use crate::units::Unit;
 use anyhow::{bail, Context};
 use rayon::prelude::*;
@@ -185,10 +186,7 @@ impl Row {
                 ROW_STATUSES.join(", ")
             ));
         }
-        if !(self.family.is_empty()
-            || crate::problem::Family::ALL
-                .iter()
-                .any(|f| f.as_str() == self.family))
+        if !(self.family.is_empty() || crate::families::by_name(&self.family).is_some())
         {
             return Err(format!("unknown family `{}`", self.family.escape_debug()));
         }
@@ -275,21 +273,6 @@ pub fn content_hash(text: &str) -> String {
     h.hex()
 }
 
-/// The family's key objective.
-fn key_objective(family: &str, objectives: &serde_json::Map<String, serde_json::Value>) -> String {
-    let pref = match family {
-        "slider-crank" => "peak_shaking_force_n",
-        "luffing-crane" => "delta_h_m",
-        "hypocycloid" => "residual_force_peak_n",
-        "eccentric-gear" => "peak_sliding_coefficient",
-        _ => "",
-    };
-    if objectives.contains_key(pref) {
-        pref.into()
-    } else {
-        objectives.keys().next().cloned().unwrap_or_default()
-    }
-}
 
 fn kv(m: Option<&serde_json::Value>) -> String {
     m.and_then(|v| v.as_object())
@@ -316,7 +299,9 @@ pub fn row_from_json(index: u64, source: &str, hash: &str, v: &serde_json::Value
         .and_then(|x| x.as_str())
         .filter(|k| objs.contains_key(*k))
         .map(str::to_string)
-        .unwrap_or_else(|| key_objective(&family, objs));
+        // Every result names its key objective (its family's headline); a result without
+        // one is judged on its first objective.
+        .unwrap_or_else(|| objs.keys().next().cloned().unwrap_or_default());
     let value = objs.get(&objective).and_then(|x| x.as_f64());
     let error = v
         .get("errors")
@@ -1978,7 +1963,7 @@ mod tests {
         assert_eq!(same_both_ways(&tpl, &recs), (2, 1));
         let speed = |k: usize| {
             let (_, s) = tpl.scene(recs[k].0, recs[k].1, &recs[k].2);
-            format!("{:?}", s.unwrap().kind)
+            format!("{:?}", s.unwrap().machine)
         };
         let omega = 1000.0 * std::f64::consts::TAU / 60.0;
         assert!(

@@ -1,9 +1,9 @@
 //! The command line: `cwsynth solve`, `cwsynth check`. Thin: parsing arguments, calling
 //! the library, printing; errors get context here (anyhow), typed errors live below.
 
-use crate::problem::{self, Scene};
+use crate::families::{self, Scene};
 use crate::report::{fmt_num, write_outputs, SolveResult, Status};
-use crate::run::solve_scene;
+use crate::families::solve_scene;
 use anyhow::Context;
 use clap::{Parser, Subcommand};
 use std::path::{Path, PathBuf};
@@ -214,7 +214,7 @@ fn load_all(files: &[PathBuf]) -> (Vec<Scene>, Vec<String>) {
     let mut ok = Vec::new();
     let mut bad = Vec::new();
     for f in files {
-        match problem::load(f) {
+        match families::load(f) {
             Ok(s) => ok.push(s),
             Err(e) => bad.push(e.to_string()),
         }
@@ -234,7 +234,7 @@ pub fn run(cli: Cli) -> anyhow::Result<i32> {
                     "ok    {} ({}, {})\n",
                     s.source.display(),
                     s.name,
-                    s.family.as_str()
+                    s.family.name()
                 ))?;
             }
             for e in &bad {
@@ -323,7 +323,7 @@ pub fn run(cli: Cli) -> anyhow::Result<i32> {
         }
         Command::Schema => {
             Stdout::new().write(
-                &(serde_json::to_string_pretty(&crate::problem::schema::problem_schema())? + "\n"),
+                &(serde_json::to_string_pretty(&crate::families::problem_schema())? + "\n"),
             )?;
             Ok(0)
         }

@@ -23,7 +23,6 @@ pub mod geom;
 pub mod numeric;
 pub mod problem;
 pub mod report;
-pub mod run;
 pub mod study;
 pub mod synth;
 pub mod units;

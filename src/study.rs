@@ -9,37 +9,12 @@
 //! Accuracy rungs measure numerical error; model rungs (`model.*`) measure the size of the
 //! effect the model adds or leaves out (their "error" is a modelling difference).
 
+use crate::families::{parse_str, solve_scene};
+use crate::problem::edit::{apply, Edit};
 use crate::report::plot::{self, Panel, Series};
-use crate::problem::{parse_str, Family, Scene, SceneKind};
 use crate::report::SolveResult;
-use crate::families::slider_crank::model::Kinematics;
-use crate::run::solve_scene;
 use std::fmt::Write as _;
 use std::path::Path;
-use toml_edit::{DocumentMut, Item, Value};
-
-pub mod effects;
-pub use effects::effects;
-
-/// One change of the problem text.
-#[derive(Debug, Clone)]
-pub enum Edit {
-    /// Set `section.key` to a value.
-    Set(&'static str, Value),
-    /// Remove `section.key` if present.
-    Remove(&'static str),
-}
-
-/// A rung of the ladder.
-#[derive(Debug, Clone)]
-pub struct Rung {
-    /// Short label.
-    pub label: String,
-    /// `accuracy` or `model`.
-    pub kind: &'static str,
-    /// Edits applied to the file as written.
-    pub edits: Vec<Edit>,
-}
 
 /// The outcome of one rung.
 #[derive(Debug, Clone, serde::Serialize)]
@@ -81,42 +56,6 @@ pub struct Study {
     pub effects: Vec<(String, String)>,
 }
 
-fn v_int(x: i64) -> Value {
-    Value::from(x)
-}
-fn v_f(x: f64) -> Value {
-    Value::from(x)
-}
-fn v_s(x: &str) -> Value {
-    Value::from(x)
-}
-
-/// The problem text with `edits` applied (tables created as needed).
-pub fn apply(text: &str, edits: &[Edit]) -> Result<String, String> {
-    let mut doc: DocumentMut = text.parse().map_err(|e| format!("{e}"))?;
-    for e in edits {
-        match e {
-            Edit::Set(path, v) => {
-                let (sec, key) = path.split_once('.').expect("section.key");
-                if doc.get(sec).is_none() {
-                    doc.insert(sec, Item::Table(toml_edit::Table::new()));
-                }
-                let t = doc[sec]
-                    .as_table_like_mut()
-                    .ok_or_else(|| format!("`{sec}` is not a table"))?;
-                t.insert(key, Item::Value(v.clone()));
-            }
-            Edit::Remove(path) => {
-                let (sec, key) = path.split_once('.').expect("section.key");
-                if let Some(t) = doc.get_mut(sec).and_then(Item::as_table_like_mut) {
-                    t.remove(key);
-                }
-            }
-        }
-    }
-    Ok(doc.to_string())
-}
-
 fn settings_text(edits: &[Edit]) -> String {
     edits
         .iter()
@@ -126,294 +65,6 @@ fn settings_text(edits: &[Edit]) -> String {
         })
         .collect::<Vec<_>>()
         .join(", ")
-}
-
-fn rung(label: &str, kind: &'static str, edits: Vec<Edit>) -> Rung {
-    Rung {
-        label: label.into(),
-        kind,
-        edits,
-    }
-}
-
-/// The headline result key of a scene.
-fn headline(scene: &Scene, doc: &DocumentMut) -> String {
-    match scene.family {
-        Family::SliderCrank => {
-            match doc
-                .get("objective")
-                .and_then(|o| o.get("minimize"))
-                .and_then(|m| m.as_str())
-            {
-                Some("rms-force") => "objectives.rms_shaking_force_n",
-                Some("peak-torque") => "objectives.peak_drive_torque_nm",
-                Some("mass") => "design.counterweight_mass_kg",
-                Some("radius") => "design.counterweight_radius_m",
-                _ => "objectives.peak_shaking_force_n",
-            }
-        }
-        Family::LuffingCrane => "objectives.delta_h_m",
-        // A design of e holds the peak |µ| at its limit: the objective is the ratio variation.
-        Family::EccentricGear => match &scene.kind {
-            SceneKind::EccentricGear(g)
-                if matches!(g.gear.eccentricity, crate::synth::Var::Free { .. }) =>
-            {
-                "objectives.ratio_variation"
-            }
-            _ => "objectives.peak_sliding_coefficient",
-        },
-        // A scene asking the paper's C4 question is judged on C4 (a4 of S/R) itself.
-        Family::Hypocycloid => match &scene.kind {
-            SceneKind::Hypocycloid(h) if h.scene.zero_search.is_some() => "objectives.c4",
-            _ => "objectives.residual_force_peak_n",
-        },
-    }
-    .to_string()
-}
-
-/// The reference edits (tightest settings) and the ladder of a scene.
-pub fn ladder(scene: &Scene) -> (Vec<Edit>, Vec<Rung>) {
-    use Edit::{Remove, Set};
-    match &scene.kind {
-        SceneKind::SliderCrank(s) => {
-            let reference = vec![
-                Set("accuracy.rel_tol", v_f(1e-11)),
-                Set("accuracy.initial_samples", v_int(64)),
-                Set("accuracy.scan_samples", v_int(2880)),
-                Set("accuracy.max_rounds", v_int(100)),
-                Set("accuracy.peak_xtol", v_f(1e-12)),
-                Set("accuracy.rms_samples", v_int(4096)),
-            ];
-            let mut l = Vec::new();
-            for n in [8i64, 32, 128, 512] {
-                l.push(rung(
-                    &format!("{n} samples, no exchange"),
-                    "accuracy",
-                    vec![
-                        Set("accuracy.initial_samples", v_int(n)),
-                        Set("accuracy.max_rounds", v_int(1)),
-                        Set("accuracy.presolve", Value::from(false)),
-                    ],
-                ));
-            }
-            l.push(rung(
-                "no presolve (exchange from 8 samples)",
-                "accuracy",
-                vec![Set("accuracy.presolve", Value::from(false))],
-            ));
-            l.push(rung(
-                "presolve, no exchange",
-                "accuracy",
-                vec![Set("accuracy.max_rounds", v_int(1))],
-            ));
-            l.push(rung(
-                "presolve, clarabel SOCP rounds (no exact disc)",
-                "accuracy",
-                vec![Set("accuracy.exact_disc", Value::from(false))],
-            ));
-            for n in [64i64, 1440] {
-                l.push(rung(
-                    &format!("scan {n}, exchange"),
-                    "accuracy",
-                    vec![Set("accuracy.scan_samples", v_int(n))],
-                ));
-            }
-            for t in [1e-3, 1e-6] {
-                l.push(rung(
-                    &format!("rel_tol {t:e}"),
-                    "accuracy",
-                    vec![Set("accuracy.rel_tol", v_f(t))],
-                ));
-            }
-            let m = &s.core.mech;
-            if m.kinematics == Kinematics::Exact {
-                l.push(rung(
-                    "two-harmonic kinematics",
-                    "model",
-                    vec![Set("model.kinematics", v_s("two-harmonic"))],
-                ));
-            } else {
-                l.push(rung(
-                    "exact kinematics",
-                    "model",
-                    vec![Set("model.kinematics", v_s("exact"))],
-                ));
-            }
-            let lumped = (m.rod.inertia - m.rod.mass * (m.l - m.rod.centroid) * m.rod.centroid)
-                .abs()
-                <= 1e-12 * (m.rod.mass * m.l * m.l).max(1e-300);
-            if lumped {
-                l.push(rung(
-                    "rigid uniform rod",
-                    "model",
-                    vec![Remove("model.rod_split"), Set("model.masses", v_s("rigid"))],
-                ));
-            } else {
-                l.push(rung(
-                    "lumped rod (½ + ½)",
-                    "model",
-                    vec![
-                        Remove("model.rod_centroid"),
-                        Remove("model.rod_inertia"),
-                        Set("model.masses", v_s("lumped")),
-                    ],
-                ));
-            }
-            if s.core.loads.gravity.norm() > 0.0 {
-                l.push(rung(
-                    "no gravity",
-                    "model",
-                    vec![
-                        Remove("model.gravity_acceleration"),
-                        Set("model.gravity", Value::from(false)),
-                    ],
-                ));
-            } else {
-                l.push(rung(
-                    "with gravity",
-                    "model",
-                    vec![Set("model.gravity", Value::from(true))],
-                ));
-            }
-            (reference, l)
-        }
-        SceneKind::Hypocycloid(_) => {
-            let reference = vec![
-                Set("accuracy.n_fft_min", v_int(8192)),
-                Set("accuracy.n_fft_max", v_int(1 << 18)),
-                Set("accuracy.peak_samples", v_int(4096)),
-                Set("accuracy.peak_xtol", v_f(1e-12)),
-                Set("accuracy.root_tol", v_f(1e-14)),
-            ];
-            let mut l = Vec::new();
-            // One fixed FFT size, no adaptive doubling (orders ≥ n/2 of the remainder left out).
-            for n in [16i64, 32, 64] {
-                l.push(rung(
-                    &format!("FFT {n} fixed"),
-                    "accuracy",
-                    vec![
-                        Set("accuracy.fft_adaptive", Value::from(false)),
-                        Set("accuracy.n_fft_min", v_int(n)),
-                    ],
-                ));
-            }
-            // Odd counts: φ = 0, π/2, π, 3π/2 (where peaks of these scenes sit) are not all
-            // samples, so the sampled peak converges like h².
-            for n in [31i64, 97, 257, 1021] {
-                l.push(rung(
-                    &format!("peak scan {n}, unrefined"),
-                    "accuracy",
-                    vec![
-                        Set("accuracy.refine_peaks", Value::from(false)),
-                        Set("accuracy.peak_samples", v_int(n)),
-                    ],
-                ));
-            }
-            l.push(rung(
-                "peak scan 32, refined",
-                "accuracy",
-                vec![Set("accuracy.peak_samples", v_int(32))],
-            ));
-            // The paper's method: coefficients from the binomial series truncated at z^p.
-            for p in [1i64, 2, 3, 6] {
-                l.push(rung(
-                    &format!("paper series, power {p}"),
-                    "model",
-                    vec![
-                        Set("model.coefficients", v_s("series")),
-                        Set("model.series_power", v_int(p)),
-                    ],
-                ));
-            }
-            (reference, l)
-        }
-        SceneKind::LuffingCrane(_) => {
-            let reference = vec![
-                Set("accuracy.path_samples", v_int(1024)),
-                Set("accuracy.xtol", v_f(1e-12)),
-            ];
-            let mut l = Vec::new();
-            // Counts that do not divide one another, so no grid contains a coarser one.
-            for n in [8i64, 20, 50, 130, 330] {
-                l.push(rung(
-                    &format!("path {n}, unrefined"),
-                    "accuracy",
-                    vec![
-                        Set("accuracy.refine_peaks", Value::from(false)),
-                        Set("accuracy.path_samples", v_int(n)),
-                    ],
-                ));
-            }
-            for n in [8i64, 64] {
-                l.push(rung(
-                    &format!("path {n}, refined"),
-                    "accuracy",
-                    vec![Set("accuracy.path_samples", v_int(n))],
-                ));
-            }
-            for t in [1e-4, 1e-10] {
-                l.push(rung(
-                    &format!("xtol {t:e}"),
-                    "accuracy",
-                    vec![Set("accuracy.xtol", v_f(t))],
-                ));
-            }
-            (reference, l)
-        }
-        SceneKind::EccentricGear(_) => {
-            let reference = vec![
-                Set("accuracy.samples_per_arch", v_int(96)),
-                Set("accuracy.peak_samples_per_arch", v_int(512)),
-                Set("accuracy.peak_xtol", v_f(1e-12)),
-                Set("accuracy.pole_tol", v_f(1e-13)),
-            ];
-            let mut l = Vec::new();
-            // Poles placed by one false-position step in their sampled bracket (no Brent).
-            for n in [8i64, 24, 96] {
-                l.push(rung(
-                    &format!("poles unrefined, {n} samples/arch"),
-                    "accuracy",
-                    vec![
-                        Set("accuracy.refine_poles", Value::from(false)),
-                        Set("accuracy.samples_per_arch", v_int(n)),
-                    ],
-                ));
-            }
-            l.push(rung(
-                "8 samples/arch, refined",
-                "accuracy",
-                vec![Set("accuracy.samples_per_arch", v_int(8))],
-            ));
-            for n in [8i64, 32, 128] {
-                l.push(rung(
-                    &format!("peak {n}/arch, unrefined"),
-                    "accuracy",
-                    vec![
-                        Set("accuracy.refine_peaks", Value::from(false)),
-                        Set("accuracy.peak_samples_per_arch", v_int(n)),
-                    ],
-                ));
-            }
-            l.push(rung(
-                "pole_tol 1e-12",
-                "accuracy",
-                vec![Set("accuracy.pole_tol", v_f(1e-12))],
-            ));
-            l.push(rung(
-                "peak_xtol 1e-5",
-                "accuracy",
-                vec![Set("accuracy.peak_xtol", v_f(1e-5))],
-            ));
-            for w in ["0.001 rad", "0.05 rad"] {
-                l.push(rung(
-                    &format!("pole window {w}"),
-                    "model",
-                    vec![Set("model.pole_window", v_s(w))],
-                ));
-            }
-            (reference, l)
-        }
-    }
 }
 
 fn median(mut v: Vec<f64>) -> f64 {
@@ -459,9 +110,9 @@ fn status_of(r: &SolveResult) -> String {
 /// Runs the study of a problem text.
 pub fn study(text: &str, path: &Path, repeats: usize) -> Result<Study, String> {
     let scene = parse_str(text, path).map_err(|e| e.to_string())?;
-    let doc: DocumentMut = text.parse().map_err(|e| format!("{e}"))?;
-    let key = headline(&scene, &doc);
-    let (ref_edits, rungs) = ladder(&scene);
+    let key = scene.machine.headline();
+    let ladder = scene.machine.ladder();
+    let (ref_edits, rungs) = (ladder.reference, ladder.rungs);
     let ref_text = apply(text, &ref_edits)?;
     let (rr, rs, rt, rn) = timed(&ref_text, path, 1)?;
     let reference = rr
@@ -516,11 +167,11 @@ pub fn study(text: &str, path: &Path, repeats: usize) -> Result<Study, String> {
     });
     Ok(Study {
         name: scene.name.clone(),
-        family: scene.family.as_str().into(),
+        family: scene.family.name().into(),
         key,
         reference,
         rungs: out,
-        effects: effects(&scene, &rr, reference),
+        effects: scene.machine.effects(&rr, reference),
     })
 }
 

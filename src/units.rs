@@ -12,6 +12,9 @@ use serde::de::{self, Deserializer, Visitor};
 use std::fmt;
 use std::marker::PhantomData;
 
+/// Standard gravity g₀ (m/s², exact by definition, CGPM 1901).
+pub const STANDARD_GRAVITY: f64 = 9.80665;
+
 /// Physical dimension of a quantity.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum Dim {

@@ -321,7 +321,7 @@ fn summary_rows_need_only_the_short_json_and_lookups_match_the_full_json() {
     // serialises) equals the row made from the whole result JSON, and `lookup`'s direct
     // path through the number maps gives what a JSON pointer into the whole result gives.
     use cwsynth::batch::row_from_json;
-    use cwsynth::problem::load;
+    use cwsynth::families::load;
     let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("problems");
     let mut n = 0;
     for entry in std::fs::read_dir(dir).unwrap() {
@@ -329,7 +329,7 @@ fn summary_rows_need_only_the_short_json_and_lookups_match_the_full_json() {
         if p.extension().is_none_or(|e| e != "toml") {
             continue;
         }
-        let r = cwsynth::run::solve_scene(&load(&p).unwrap());
+        let r = cwsynth::families::solve_scene(&load(&p).unwrap());
         let full = r.to_json();
         assert_eq!(
             row_from_json(7, "src", "hash", &r.summary_json()),

@@ -5,7 +5,7 @@
 
 mod common;
 use common::*;
-use cwsynth::problem::{parse_str, SceneKind};
+use cwsynth::families::parse_str;
 use serde_json::Value;
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -270,13 +270,13 @@ fn out_dir_gets_json_markdown_svg_and_csv() {
 #[test]
 fn files_resolve_to_si() {
     let s = parse_str(EXAMPLE, Path::new("x.toml")).unwrap();
-    let SceneKind::LuffingCrane(c) = &s.kind else {
+    let Some(c) = s.machine::<cwsynth::families::crane::file::CraneProblem>() else {
         panic!("not a crane")
     };
     assert_eq!(c.scene.reach_max, 35.0);
     assert!((c.scene.phi_min.fixed().unwrap() - 35f64.to_radians()).abs() < 1e-15);
     let s = parse_str(OPTIMISE, Path::new("x.toml")).unwrap();
-    let SceneKind::LuffingCrane(c) = &s.kind else {
+    let Some(c) = s.machine::<cwsynth::families::crane::file::CraneProblem>() else {
         panic!("not a crane")
     };
     assert_eq!(c.scene.k1.bounds(), (0.05, 0.95));

@@ -2,10 +2,10 @@
 //! energy conservation, closed forms, brute force and the paper's own inputs.
 
 use cwsynth::geom::P2;
-use cwsynth::problem::{parse_str, SceneKind};
-use cwsynth::families::slider_crank::file::SliderCrankScene;
+use cwsynth::families::parse_str;
+use cwsynth::families::slider_crank::file::SliderCrankProblem;
 use cwsynth::families::slider_crank::model::{Loads, ProcessForce};
-use cwsynth::run::solve_scene;
+use cwsynth::families::solve_scene;
 use cwsynth::synth::shape::{self, ShapeGoal, ShapeOutcome, ShapeSpec};
 use cwsynth::families::slider_crank::synth::{
     drive_torque, metrics, optimise, pareto, shaking_force, Objective, Scene,
@@ -17,12 +17,12 @@ mod common;
 
 const FELLING: &str = include_str!("../problems/felling-head-150rpm.toml");
 
-fn felling() -> SliderCrankScene {
+fn felling() -> SliderCrankProblem {
     let s = parse_str(FELLING, Path::new("felling.toml")).unwrap();
-    let SceneKind::SliderCrank(sc) = s.kind else {
+    let Some(sc) = s.machine::<cwsynth::families::slider_crank::file::SliderCrankProblem>() else {
         panic!("not a slider-crank scene")
     };
-    sc
+    sc.clone()
 }
 
 /// Potential energy of the links and the counterweight (J), E_pot = −Σ mᵢ g·rᵢ − g·Rot(φ)U.

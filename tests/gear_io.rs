@@ -5,7 +5,7 @@
 
 mod common;
 use common::*;
-use cwsynth::problem::{parse_str, SceneKind};
+use cwsynth::families::parse_str;
 use cwsynth::families::gear::synth::{paper_table1, paper_table1_design, solve, Settings};
 use std::f64::consts::{PI, TAU};
 use std::path::Path;
@@ -220,7 +220,7 @@ fn out_dir_gets_json_markdown_svg_and_csv() {
 #[test]
 fn the_table1_file_resolves_to_the_library_scene() {
     let s = parse_str(TABLE1, Path::new("t.toml")).unwrap();
-    let SceneKind::EccentricGear(p) = &s.kind else {
+    let Some(p) = s.machine::<cwsynth::families::gear::file::GearProblem>() else {
         panic!("not a gear scene")
     };
     // mm → m may round in the last bit: compare that field approximately.

@@ -6,10 +6,11 @@
 
 use common::assert_finite;
 use cwsynth::geom::{circle_circle, circumcentre, Side, P2};
-use cwsynth::problem::{parse_str, ProblemError};
+use cwsynth::families::parse_str;
+use cwsynth::problem::ProblemError;
 use cwsynth::report::SolveResult;
 use cwsynth::families::slider_crank::model::{Crank, Kinematics, Rod, SliderCrank};
-use cwsynth::run::solve_scene;
+use cwsynth::families::solve_scene;
 use cwsynth::families::slider_crank::synth::shaking_force;
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 use std::path::Path;

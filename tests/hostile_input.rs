@@ -17,8 +17,8 @@
 //! that resolve — after it is used up, later inputs are only parsed and resolved;
 //! `PROPTEST_RNG_SEED` changes the sequence.)
 
-use cwsynth::problem::parse_str;
-use cwsynth::run::solve_scene;
+use cwsynth::families::parse_str;
+use cwsynth::families::solve_scene;
 use proptest::prelude::*;
 use proptest::test_runner::{Config, TestCaseError, TestRunner};
 use std::path::Path;
@@ -209,7 +209,7 @@ fn env_or<T: std::str::FromStr>(k: &str, d: T) -> T {
 
 /// Solves on a worker thread; `Err` when it takes longer than `limit` (the thread is left
 /// behind: the test fails anyway) or panics.
-fn solve_bounded(s: cwsynth::problem::Scene, limit: Duration) -> Result<(), String> {
+fn solve_bounded(s: cwsynth::families::Scene, limit: Duration) -> Result<(), String> {
     let (tx, rx) = mpsc::channel();
     std::thread::spawn(move || {
         let r = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| solve_scene(&s)));

@@ -6,7 +6,7 @@
 
 mod common;
 use common::*;
-use cwsynth::problem::parse_str;
+use cwsynth::families::parse_str;
 use serde_json::Value;
 use std::f64::consts::{PI, TAU};
 use std::path::Path;
@@ -306,7 +306,7 @@ fn out_dir_gets_json_markdown_svg_and_csv() {
 #[test]
 fn shipped_files_load_and_units_convert() {
     let s = parse_str(V1, Path::new("p.toml")).unwrap();
-    let cwsynth::problem::SceneKind::Hypocycloid(h) = &s.kind else {
+    let Some(h) = s.machine::<cwsynth::families::hypocycloid::file::HypocycloidProblem>() else {
         panic!("not a hypocycloid scene")
     };
     assert_eq!(h.scene.r_carrier, 0.025);
@@ -315,7 +315,7 @@ fn shipped_files_load_and_units_convert() {
     // orientation = "270 deg" is variant 2.
     let t = with(V1, "variant = 1", "orientation = \"270 deg\"");
     let s = parse_str(&t, Path::new("p.toml")).unwrap();
-    let cwsynth::problem::SceneKind::Hypocycloid(h) = &s.kind else {
+    let Some(h) = s.machine::<cwsynth::families::hypocycloid::file::HypocycloidProblem>() else {
         panic!()
     };
     assert_eq!(h.variant, Some(2));

@@ -3,7 +3,7 @@
 
 mod common;
 use common::*;
-use cwsynth::problem::{load, parse_str, SceneKind};
+use cwsynth::families::{load, parse_str};
 use std::path::Path;
 
 const PISTON: &str = include_str!("../problems/piston-1000rpm.toml");
@@ -29,7 +29,7 @@ fn every_shipped_problem_file_loads() {
 #[test]
 fn units_are_converted_to_si() {
     let s = parse_str(PISTON, Path::new("p.toml")).unwrap();
-    let SceneKind::SliderCrank(sc) = &s.kind else {
+    let Some(sc) = s.machine::<cwsynth::families::slider_crank::file::SliderCrankProblem>() else {
         panic!("family")
     };
     let sc = &sc.core;
@@ -46,7 +46,7 @@ fn units_are_converted_to_si() {
         Path::new("p.toml"),
     )
     .unwrap();
-    let SceneKind::SliderCrank(sm) = &m.kind else {
+    let Some(sm) = m.machine::<cwsynth::families::slider_crank::file::SliderCrankProblem>() else {
         panic!("family")
     };
     let sm = &sm.core;

@@ -3,9 +3,9 @@
 //! force optimum on the crank axis. Case counts are kept small so the suite stays fast
 //! (`PROPTEST_CASES` overrides them for a longer run).
 
-use cwsynth::problem::parse_str;
+use cwsynth::families::parse_str;
 use cwsynth::families::slider_crank::model::{Crank, Kinematics, Rod, SliderCrank};
-use cwsynth::run::solve_scene;
+use cwsynth::families::solve_scene;
 use cwsynth::families::slider_crank::synth::{baselines, metrics, optimise, paper_piston, Objective, Scene};
 use proptest::prelude::*;
 use std::path::Path;

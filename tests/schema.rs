@@ -6,7 +6,7 @@
 //! minItems/maxItems, minimum and pattern. TOML is converted to JSON with `toml` and
 //! `serde_json`.
 
-use cwsynth::problem::schema::problem_schema;
+use cwsynth::families::problem_schema;
 use serde_json::Value;
 
 /// Errors of `v` against schema `s`, each with its JSON path.
@@ -219,7 +219,7 @@ fn unknown_keys_wrong_types_and_bad_units_fail() {
         assert!(!e.is_empty(), "case {i} should fail:\n{t}");
         // The program rejects it too (the schema is no looser than the reader here).
         assert!(
-            cwsynth::problem::parse_str(t, std::path::Path::new("x.toml")).is_err(),
+            cwsynth::families::parse_str(t, std::path::Path::new("x.toml")).is_err(),
             "case {i}"
         );
     }

@@ -4,15 +4,15 @@
 //! model leaves out hold against an independent computation (brute force, closed form, or
 //! the scene re-solved with the effect switched on).
 
-use cwsynth::problem::{parse_str, SceneKind};
+use cwsynth::families::parse_str;
 use cwsynth::families::crane::model::{head_heights, head_heights_with};
 use cwsynth::families::hypocycloid::model::Hypocycloid;
 use cwsynth::numeric::{interval_peak_with, periodic_peak_unrefined};
-use cwsynth::run::solve_scene;
-use cwsynth::study::effects::{
-    crane_design, series_change, series_tail_bound, unrefined_path_bound, window_edge_mu,
-};
-use cwsynth::study::{apply, Edit};
+use cwsynth::families::solve_scene;
+use cwsynth::families::crane::study::{crane_design, unrefined_path_bound};
+use cwsynth::families::gear::study::window_edge_mu;
+use cwsynth::families::hypocycloid::study::{series_change, series_tail_bound};
+use cwsynth::problem::edit::{apply, Edit};
 use cwsynth::study::{csv, markdown, study, svg};
 use cwsynth::synth::Var;
 use std::f64::consts::{PI, TAU};
@@ -150,7 +150,7 @@ fn hypocycloid_series_rungs_stay_within_the_stated_bound() {
         let base = solve_edited(text, &[]);
         let r0 = base.lookup("objectives.residual_force_peak_n").unwrap();
         let scene = parse_str(text, Path::new("h.toml")).unwrap();
-        let SceneKind::Hypocycloid(h) = &scene.kind else {
+        let Some(h) = scene.machine::<cwsynth::families::hypocycloid::file::HypocycloidProblem>() else {
             panic!()
         };
         let sc = &h.scene;
@@ -203,7 +203,7 @@ fn hypocycloid_series_rungs_stay_within_the_stated_bound() {
 fn crane_unrefined_path_error_matches_its_curvature_bound() {
     let text = include_str!("../problems/crane-thesis-example.toml");
     let scene = parse_str(text, Path::new("c.toml")).unwrap();
-    let SceneKind::LuffingCrane(c) = &scene.kind else {
+    let Some(c) = scene.machine::<cwsynth::families::crane::file::CraneProblem>() else {
         panic!()
     };
     let r = solve_scene(&scene);
@@ -265,7 +265,7 @@ fn crane_unrefined_path_error_matches_its_curvature_bound() {
 fn gear_window_edge_sets_the_peak_and_halving_it_gives_the_stated_value() {
     let text = include_str!("../problems/gear-paper-table1.toml");
     let scene = parse_str(text, Path::new("g.toml")).unwrap();
-    let SceneKind::EccentricGear(g) = &scene.kind else {
+    let Some(g) = scene.machine::<cwsynth::families::gear::file::GearProblem>() else {
         panic!()
     };
     let r = solve_scene(&scene);

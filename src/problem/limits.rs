@@ -2,13 +2,14 @@
 //!
 //! A count of samples, points, rounds or iterations sizes an allocation or a loop, so a huge
 //! one (`rms_samples = 18446744073709551615`) would overflow, abort or hang, and a tiny one
-//! would mean nothing. Each integer key of a problem file has a range here, checked by the
+//! would mean nothing. Each integer key of a problem file has a range in its family's table
+//! (`COUNTS` in `families/<family>/file.rs`), checked by the
 //! family's resolver before anything is sized by it ([`check`], [`check_section`]), written in
 //! `docs/problem-files.md`, and given to the JSON schema as `minimum`/`maximum`. Every
 //! maximum keeps one run of an otherwise default scene within about a second
 //! (`tests/hostile_input.rs` runs each at its minimum and maximum).
 
-use crate::problem::{Family, FieldError};
+use crate::problem::FieldError;
 
 /// One integer key of a problem file and its allowed range.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -22,88 +23,25 @@ pub struct Count {
     pub max: u64,
 }
 
-const fn c(key: &'static str, min: u64, max: u64) -> Count {
+pub const fn c(key: &'static str, min: u64, max: u64) -> Count {
     Count { key, min, max }
 }
 
-/// Slider-crank integer keys.
-pub const SLIDER_CRANK: &[Count] = &[
-    c("objective.pareto_points", 0, 200),
-    c("objective.speed_sweep.points", 2, 200),
-    c("accuracy.initial_samples", 3, 1024),
-    c("accuracy.scan_samples", 16, 20_000),
-    c("accuracy.max_rounds", 1, 1000),
-    c("accuracy.rms_samples", 16, 100_000),
-];
-
-/// Luffing-crane integer keys.
-pub const LUFFING_CRANE: &[Count] = &[
-    c("accuracy.path_samples", 8, 1024),
-    c("accuracy.plot_points", 2, 10_000),
-    c("accuracy.global_samples", 1, 1000),
-    c("accuracy.local_starts", 1, 50),
-    c("accuracy.local_max_iters", 1, 100_000),
-    c("accuracy.landscape_k1", 0, 201),
-    c("accuracy.landscape_k2", 0, 201),
-];
-
-/// Eccentric-gear integer keys.
-pub const ECCENTRIC_GEAR: &[Count] = &[
-    c("mechanism.turns_gear1", 1, 100),
-    c("mechanism.turns_gear2", 1, 100),
-    c("mechanism.teeth_gear1", 1, 10_000),
-    c("mechanism.teeth_gear2", 1, 10_000),
-    c("accuracy.samples_per_arch", 8, 1000),
-    c("accuracy.peak_samples_per_arch", 8, 1000),
-    c("accuracy.curvature_samples", 64, 50_000),
-    c("accuracy.series_points", 16, 20_000),
-    c("accuracy.curve_points", 16, 10_000),
-    c("accuracy.sweep_points", 3, 101),
-];
-
-/// Hypocycloid integer keys.
-pub const HYPOCYCLOID: &[Count] = &[
-    c("mechanism.variant", 1, 2),
-    c("model.orders", 6, 64),
-    c("model.series_power", 1, 32),
-    c("objective.balance_orders", 1, 64),
-    c("objective.zero_search.order", 1, 64),
-    c("accuracy.n_fft_min", 16, 1 << 20),
-    c("accuracy.n_fft_max", 16, 1 << 20),
-    c("accuracy.curve_points", 2, 400),
-    c("accuracy.theta_scan", 4, 400),
-    c("accuracy.peak_samples", 16, 4096),
-    c("accuracy.opt_grid", 3, 40),
-    c("accuracy.opt_starts", 1, 64),
-    c("accuracy.nm_max_iters", 1, 100_000),
-    c("accuracy.plot_samples", 8, 100_000),
-];
-
-/// The integer keys of a family.
-pub fn counts(family: Family) -> &'static [Count] {
-    match family {
-        Family::SliderCrank => SLIDER_CRANK,
-        Family::LuffingCrane => LUFFING_CRANE,
-        Family::EccentricGear => ECCENTRIC_GEAR,
-        Family::Hypocycloid => HYPOCYCLOID,
-    }
-}
-
-/// The range of `key` in `family`.
+/// The range of `key` in a family's table.
 ///
 /// # Panics
-/// If the key is not in the family's table (a programming error: every integer key of a
-/// raw struct is listed; `tests/hostile_input.rs` reads them all).
-pub fn count(family: Family, key: &str) -> Count {
-    *counts(family)
+/// If the key is not in the table (a programming error: every integer key of a raw struct
+/// is listed; `tests/hostile_input.rs` reads them all).
+pub fn count(counts: &[Count], key: &str) -> Count {
+    *counts
         .iter()
         .find(|c| c.key == key)
-        .unwrap_or_else(|| panic!("{key} is no integer key of {}", family.as_str()))
+        .unwrap_or_else(|| panic!("{key} is no integer key of this family"))
 }
 
 /// Checks `v` against the range of `key`: an error naming the key and the range.
-pub fn check(family: Family, key: &str, v: i128) -> Result<(), FieldError> {
-    let Count { min, max, .. } = count(family, key);
+pub fn check(counts: &[Count], key: &str, v: i128) -> Result<(), FieldError> {
+    let Count { min, max, .. } = count(counts, key);
     if (i128::from(min)..=i128::from(max)).contains(&v) {
         Ok(())
     } else {
@@ -114,15 +52,15 @@ pub fn check(family: Family, key: &str, v: i128) -> Result<(), FieldError> {
     }
 }
 
-/// Checks every integer key of `family` under `section` (`accuracy`) in `value` (a
+/// Checks every integer key of a family's table under `section` (`accuracy`) in `value` (a
 /// section's struct, read through its serde form so that no key is forgotten).
 pub fn check_section<T: serde::Serialize>(
-    family: Family,
+    counts: &[Count],
     section: &str,
     value: &T,
 ) -> Result<(), FieldError> {
     let json = serde_json::to_value(value).expect("settings serialise");
-    for c in counts(family) {
+    for c in counts {
         let Some(name) = c
             .key
             .strip_prefix(section)
@@ -131,7 +69,7 @@ pub fn check_section<T: serde::Serialize>(
             continue;
         };
         if let Some(v) = json.get(name).and_then(serde_json::Value::as_u64) {
-            check(family, c.key, i128::from(v))?;
+            check(counts, c.key, i128::from(v))?;
         }
     }
     Ok(())
@@ -142,19 +80,9 @@ mod tests {
     use super::*;
 
     #[test]
-    fn ranges_are_ordered_and_keys_distinct() {
-        for f in [
-            Family::SliderCrank,
-            Family::LuffingCrane,
-            Family::EccentricGear,
-            Family::Hypocycloid,
-        ] {
-            for (k, c) in counts(f).iter().enumerate() {
-                assert!(c.min <= c.max, "{}", c.key);
-                assert!(counts(f)[..k].iter().all(|d| d.key != c.key), "{}", c.key);
-            }
-        }
-        let e = check(Family::SliderCrank, "accuracy.rms_samples", u64::MAX.into()).unwrap_err();
+    fn check_names_the_key_and_range() {
+        const T: &[Count] = &[c("accuracy.rms_samples", 16, 100_000)];
+        let e = check(T, "accuracy.rms_samples", u64::MAX.into()).unwrap_err();
         assert_eq!(e.field, "accuracy.rms_samples");
         assert!(e.message.contains("16 to 100000"), "{}", e.message);
     }

@@ -9,6 +9,7 @@
 //! [`SourceMap`]. A table already parsed from TOML (a fleet row) goes through the same
 //! passes and checks without its text ([`parse_table`]); its errors have no line.
 
+pub mod edit;
 pub mod limits;
 pub mod schema;
 pub mod source;
@@ -20,42 +21,6 @@ use serde::Deserialize;
 use std::fmt;
 use std::marker::PhantomData;
 use std::path::{Path, PathBuf};
-
-/// The mechanism families.
-#[derive(
-    Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, serde::Serialize, Deserialize,
-)]
-#[serde(rename_all = "kebab-case")]
-pub enum Family {
-    /// Slider-crank with a crank counterweight (piston machines, the felling-head vibrator).
-    SliderCrank,
-    /// Level-luffing four-bar jib crane.
-    LuffingCrane,
-    /// Hypocycloidal (3:1 planetary) reciprocating machine.
-    Hypocycloid,
-    /// Eccentric non-circular gear pair.
-    EccentricGear,
-}
-
-impl Family {
-    /// Every family.
-    pub const ALL: [Family; 4] = [
-        Family::SliderCrank,
-        Family::LuffingCrane,
-        Family::Hypocycloid,
-        Family::EccentricGear,
-    ];
-
-    /// The name used in files and results.
-    pub fn as_str(self) -> &'static str {
-        match self {
-            Family::SliderCrank => "slider-crank",
-            Family::LuffingCrane => "luffing-crane",
-            Family::Hypocycloid => "hypocycloid",
-            Family::EccentricGear => "eccentric-gear",
-        }
-    }
-}
 
 /// A value error found after parsing: the dotted field and what is wrong and allowed.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -194,16 +159,19 @@ impl Input<'_> {
     }
 }
 
-/// The first pass: only what every file has.
+/// The first pass: only what every file has, read leniently so that the family can be
+/// chosen before its strict struct reads the whole file.
 #[derive(Debug, Deserialize)]
-struct Header {
-    name: Option<String>,
-    family: Option<toml::Value>,
+pub struct Header {
+    /// `name`, if present.
+    pub name: Option<String>,
+    /// `family`, if present (any TOML value: checked against the registry).
+    pub family: Option<toml::Value>,
 }
 
 impl Header {
     /// The header of a table: its `name` and `family` entries read as in a text.
-    fn of_table(ctx: &Ctx, table: &toml::Table) -> Result<Header, ProblemError> {
+    pub fn of_table(ctx: &Ctx, table: &toml::Table) -> Result<Header, ProblemError> {
         let part: toml::Table = ["name", "family"]
             .into_iter()
             .filter_map(|k| Some((k.to_string(), table.get(k)?.clone())))
@@ -218,8 +186,8 @@ impl Header {
 pub struct RawFile<M, Mo, D, O, A> {
     /// Scene name (also the result file's stem): letters, digits, `-`, `_`, `.`.
     pub name: String,
-    /// Family.
-    pub family: Family,
+    /// Family (already matched against the registry by the header pass).
+    pub family: String,
     /// Free text.
     #[serde(default)]
     pub description: String,
@@ -245,26 +213,40 @@ impl<M, Mo, D, O, A> RawFile<M, Mo, D, O, A>
 where
     Self: for<'de> Deserialize<'de>,
 {
-    /// Reads `input` as this family's file, checks its values with `resolve_raw` (a
-    /// [`FieldError`] is located by its field), and wraps the family's part with `kind`.
+    /// Reads `input` as this family's file and checks its values with `resolve_raw` (a
+    /// [`FieldError`] is located by its field): the family's resolved part with the parts
+    /// every file has.
     pub fn resolve<K>(
         ctx: &Ctx,
         input: Input,
         resolve_raw: impl FnOnce(&Self) -> Result<K, FieldError>,
-        kind: impl FnOnce(K) -> SceneKind,
-    ) -> Result<Scene, ProblemError> {
+    ) -> Result<Resolved<K>, ProblemError> {
         let raw: Self = input.parse(ctx)?;
         let part = resolve_raw(&raw).map_err(|e| ctx.field_error(e))?;
         let paper = resolve_paper(&raw.paper).map_err(|e| ctx.field_error(e))?;
-        Ok(Scene {
+        Ok(Resolved {
             name: raw.name,
-            family: raw.family,
             description: raw.description,
             source: ctx.file.into(),
             paper,
-            kind: kind(part),
+            part,
         })
     }
+}
+
+/// A problem file read and checked: the parts every file has, and the family's own part.
+#[derive(Debug, Clone)]
+pub struct Resolved<K> {
+    /// Name.
+    pub name: String,
+    /// Description.
+    pub description: String,
+    /// The file it came from.
+    pub source: PathBuf,
+    /// Paper reference values.
+    pub paper: Vec<PaperRef>,
+    /// The family's resolved part.
+    pub part: K,
 }
 
 /// A value printed in the source paper, compared with a key of the result.
@@ -443,91 +425,6 @@ impl<'de, D: Dimension> Deserialize<'de> for RawVar<D> {
             }
         }
         d.deserialize_any(V(PhantomData))
-    }
-}
-
-/// A resolved scene of any family.
-#[derive(Debug, Clone, serde::Serialize)]
-pub struct Scene {
-    /// Name.
-    pub name: String,
-    /// Family.
-    pub family: Family,
-    /// Description.
-    pub description: String,
-    /// The file it came from.
-    pub source: PathBuf,
-    /// Paper reference values.
-    pub paper: Vec<PaperRef>,
-    /// The family's resolved scene.
-    pub kind: SceneKind,
-}
-
-/// The family-specific part of a [`Scene`].
-#[derive(Debug, Clone, serde::Serialize)]
-#[serde(untagged)]
-pub enum SceneKind {
-    /// A slider-crank scene.
-    SliderCrank(crate::families::slider_crank::file::SliderCrankScene),
-    /// A luffing-crane scene (boxed: it carries its solver settings).
-    LuffingCrane(Box<crate::families::crane::file::CraneScene>),
-    /// An eccentric-gear scene.
-    EccentricGear(crate::families::gear::file::GearProblem),
-    /// A hypocycloid scene.
-    Hypocycloid(crate::families::hypocycloid::file::Resolved),
-}
-
-/// Reads and resolves a problem file.
-pub fn load(path: &Path) -> Result<Scene, ProblemError> {
-    let text = std::fs::read_to_string(path).map_err(|source| ProblemError::Read {
-        file: path.into(),
-        source,
-    })?;
-    parse_str(&text, path)
-}
-
-/// Resolves problem-file text; `path` is used for messages and as the scene's source.
-pub fn parse_str(text: &str, path: &Path) -> Result<Scene, ProblemError> {
-    let ctx = Ctx::new(path, text);
-    let header: Header = ctx.parse(text)?;
-    resolve(&ctx, header, Input::Text(text))
-}
-
-/// Resolves a problem file already parsed into a table, with the same checks as
-/// [`parse_str`] (which gives the same scene for the table's text); `path` is used for
-/// messages and as the scene's source. Its errors have no line: a caller that needs one reads
-/// the text with [`parse_str`]. A fleet row takes this way and never prints TOML.
-pub fn parse_table(table: toml::Table, path: &Path) -> Result<Scene, ProblemError> {
-    let ctx = Ctx::new(path, "");
-    let header = Header::of_table(&ctx, &table)?;
-    resolve(&ctx, header, Input::Table(table))
-}
-
-/// Checks the header and resolves `input` as a file of its family.
-fn resolve(ctx: &Ctx, header: Header, input: Input) -> Result<Scene, ProblemError> {
-    let Some(family) = header.family else {
-        return Err(ctx.field_error(FieldError::new(
-            "family",
-            "missing; allowed: \"slider-crank\", \"luffing-crane\", \"hypocycloid\", \"eccentric-gear\"",
-        )));
-    };
-    let family = Family::deserialize(family).map_err(|e| {
-        ctx.field_error(FieldError::new(
-            "family",
-            format!("{e}; allowed: \"slider-crank\", \"luffing-crane\", \"hypocycloid\", \"eccentric-gear\""),
-        ))
-    })?;
-    if header.name.is_none() {
-        return Err(ctx.field_error(FieldError::new(
-            "name",
-            "missing; a scene needs a name (letters, digits, -, _, .)",
-        )));
-    }
-    match family {
-        Family::SliderCrank => crate::families::slider_crank::file::resolve(ctx, input),
-        Family::EccentricGear => crate::families::gear::file::resolve(ctx, input),
-        Family::LuffingCrane => crate::families::crane::file::resolve(ctx, input),
-        Family::Hypocycloid => crate::families::hypocycloid::file::resolve(ctx, input),
     }
 }
 

@@ -184,16 +184,17 @@ pub struct SolveResult {
 }
 
 impl SolveResult {
-    /// An empty result of `scene` with status `failed`, to be filled by its family.
-    pub fn new(scene: &crate::problem::Scene) -> SolveResult {
+    /// An empty result of a scene (its name, family, description and source file) with
+    /// status `failed`, to be filled by its family.
+    pub fn new(name: &str, family: &str, description: &str, source: &std::path::Path) -> SolveResult {
         SolveResult {
-            name: scene.name.clone(),
-            family: scene.family.as_str().into(),
+            name: name.into(),
+            family: family.into(),
             status: Status::Failed,
             status_detail: None,
             search: None,
-            description: scene.description.clone(),
-            source: scene.source.display().to_string(),
+            description: description.into(),
+            source: source.display().to_string(),
             model: BTreeMap::new(),
             design: BTreeMap::new(),
             objective: None,

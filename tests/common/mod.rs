@@ -2,7 +2,8 @@
 //! asserting that a rejection names the file, the line and the field.
 #![allow(dead_code)]
 
-use cwsynth::problem::{parse_str, ProblemError};
+use cwsynth::families::parse_str;
+use cwsynth::problem::ProblemError;
 use std::path::{Path, PathBuf};
 
 /// A shipped problem file.

@@ -4,13 +4,13 @@
 //! `docs/results.md`): design, Δh and its error, the thesis's checks, the jib-head path and
 //! the Δh landscape over (k1, k2) as SVG and CSV.
 
-use crate::problem::limits;
+use crate::problem::limits::{self, c, Count};
 use crate::report::plot::{self, Grid, Panel, Series};
-use crate::problem::Family;
 use crate::problem::{
-    check_name, Ctx, FieldError, Input, ProblemError, RawFile, RawVar, Scene, SceneKind,
+    check_name, Ctx, FieldError, Input, ProblemError, RawFile, RawVar, Resolved,
 };
 use crate::report::{PaperCheck, Plot, SolveResult, Status, Table};
+use crate::families::Scene;
 use crate::geom::P2;
 use crate::families::crane::model::{synthesize, Angles, Boom, Guide};
 use crate::families::crane::synth::{
@@ -23,6 +23,17 @@ use std::collections::BTreeMap;
 use std::time::Instant;
 
 /// `[mechanism]`: the crane's requirements (thesis §3.1).
+/// The integer keys of this family's file and their ranges (see [`limits`]).
+pub const COUNTS: &[Count] = &[
+    c("accuracy.path_samples", 8, 1024),
+    c("accuracy.plot_points", 2, 10_000),
+    c("accuracy.global_samples", 1, 1000),
+    c("accuracy.local_starts", 1, 50),
+    c("accuracy.local_max_iters", 1, 100_000),
+    c("accuracy.landscape_k1", 0, 201),
+    c("accuracy.landscape_k2", 0, 201),
+];
+
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct MechanismRaw {
@@ -119,7 +130,7 @@ pub type File = RawFile<MechanismRaw, ModelRaw, DesignRaw, ObjectiveRaw, Accurac
 
 /// A resolved luffing-crane scene: the synthesis scene and its solver settings.
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
-pub struct CraneScene {
+pub struct CraneProblem {
     /// Requirements, variables, sizing rule, tie-pin limit.
     pub scene: cr::CraneScene,
     /// Solver and sampling settings.
@@ -127,10 +138,8 @@ pub struct CraneScene {
 }
 
 /// Reads and resolves a luffing-crane problem file (its text or its table).
-pub fn resolve(ctx: &Ctx, input: Input) -> Result<Scene, ProblemError> {
-    File::resolve(ctx, input, resolve_raw, |s| {
-        SceneKind::LuffingCrane(Box::new(s))
-    })
+pub fn resolve(ctx: &Ctx, input: Input) -> Result<Resolved<CraneProblem>, ProblemError> {
+    File::resolve(ctx, input, resolve_raw)
 }
 
 /// The problem-file key of a key of [`cr::CraneScene::validate`] / [`Settings::validate`].
@@ -176,7 +185,7 @@ fn var<D>(v: &Option<RawVar<D>>, key: &str, allowed: &str) -> Result<cr::Var, Fi
 }
 
 /// The value checks of a luffing-crane file.
-pub fn resolve_raw(raw: &File) -> Result<CraneScene, FieldError> {
+pub fn resolve_raw(raw: &File) -> Result<CraneProblem, FieldError> {
     check_name(&raw.name)?;
     let m = &raw.mechanism;
     let d = &raw.design;
@@ -235,9 +244,9 @@ pub fn resolve_raw(raw: &File) -> Result<CraneScene, FieldError> {
         }
     }
     let settings = raw.accuracy.clone();
-    limits::check_section(Family::LuffingCrane, "accuracy", &settings)?;
+    limits::check_section(COUNTS, "accuracy", &settings)?;
     settings.validate().map_err(map_error)?;
-    Ok(CraneScene { scene, settings })
+    Ok(CraneProblem { scene, settings })
 }
 
 /// The result key a thesis comparison of the synthesis layer is read against.
@@ -270,8 +279,8 @@ fn status_detail(s: CraneStatus) -> &'static str {
 }
 
 /// The result of a luffing-crane scene: solve, then shape keys, checks, paper, plots, CSV.
-pub fn result(scene: &Scene, s: &CraneScene) -> SolveResult {
-    let mut r = SolveResult::new(scene);
+pub fn result(scene: &Scene, s: &CraneProblem) -> SolveResult {
+    let mut r = scene.new_result();
     let (cs, set) = (&s.scene, &s.settings);
     let t0 = Instant::now();
     let out = match cr::solve(cs, set) {

@@ -3,12 +3,12 @@
 //! `docs/problem-files.md`) — and the shaping of its outcome into a result (keys in
 //! `docs/results.md`): pitch curves, i12(α1), µ1 and µ2 with their poles, the design sweep.
 
-use crate::problem::limits;
+use crate::problem::limits::{self, c, Count};
+use crate::families::Scene;
 use crate::report::plot::{self, Panel, Series};
-use crate::problem::Family;
 use crate::problem::{
     check_name, non_negative, positive, Ctx, FieldError, Input, ProblemError, RawFile, RawVar,
-    Scene, SceneKind,
+    Resolved,
 };
 use crate::report::{PaperCheck, Plot, SolveResult, Status, Table};
 use crate::families::gear::model::{EccentricCircle, GearPair, Which, ZeroKind};
@@ -22,6 +22,20 @@ use std::fmt::Write as _;
 use std::time::Instant;
 
 /// `[mechanism]`: the pair and the stated gear data (checked, never silently used).
+/// The integer keys of this family's file and their ranges (see [`limits`]).
+pub const COUNTS: &[Count] = &[
+    c("mechanism.turns_gear1", 1, 100),
+    c("mechanism.turns_gear2", 1, 100),
+    c("mechanism.teeth_gear1", 1, 10_000),
+    c("mechanism.teeth_gear2", 1, 10_000),
+    c("accuracy.samples_per_arch", 8, 1000),
+    c("accuracy.peak_samples_per_arch", 8, 1000),
+    c("accuracy.curvature_samples", 64, 50_000),
+    c("accuracy.series_points", 16, 20_000),
+    c("accuracy.curve_points", 16, 10_000),
+    c("accuracy.sweep_points", 3, 101),
+];
+
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct MechanismRaw {
@@ -97,7 +111,7 @@ pub type AccuracyRaw = Settings;
 fn resolve_accuracy(s: &Settings) -> Result<Settings, FieldError> {
     let s = s.clone();
     // Above the maxima the analysis is slow and the files huge: a typo, not a wish.
-    limits::check_section(Family::EccentricGear, "accuracy", &s)?;
+    limits::check_section(COUNTS, "accuracy", &s)?;
     match s.validate() {
         Ok(()) => {}
         Err(SolveError::Settings(m)) => {
@@ -131,8 +145,8 @@ pub struct GearProblem {
 }
 
 /// Reads and resolves an eccentric-gear problem file (its text or its table).
-pub fn resolve(ctx: &Ctx, input: Input) -> Result<Scene, ProblemError> {
-    File::resolve(ctx, input, resolve_raw, SceneKind::EccentricGear)
+pub fn resolve(ctx: &Ctx, input: Input) -> Result<Resolved<GearProblem>, ProblemError> {
+    File::resolve(ctx, input, resolve_raw)
 }
 
 /// Default pole window: 0.01 rad, at most a tenth of an arch's half span π/N.
@@ -160,7 +174,7 @@ pub fn resolve_raw(raw: &File) -> Result<GearProblem, FieldError> {
         ("mechanism.teeth_gear2", m.teeth_gear2),
     ] {
         if let Some(v) = v {
-            limits::check(Family::EccentricGear, key, v.into())?;
+            limits::check(COUNTS, key, v.into())?;
         }
     }
     let teeth = match (m.teeth_gear1, m.teeth_gear2) {
@@ -245,7 +259,7 @@ fn status_detail(s: sg::Status) -> &'static str {
 
 /// The result of an eccentric-gear scene: solve, then shape keys, checks, plots and tables.
 pub fn result(scene: &Scene, p: &GearProblem) -> SolveResult {
-    let mut r = SolveResult::new(scene);
+    let mut r = scene.new_result();
     let g = &p.gear;
     r.model = BTreeMap::from([
         (

@@ -4,11 +4,11 @@
 //! (keys in `docs/results.md`): the order coefficients of S/R, the Lanchester balancing, the
 //! (λ, θ) optimisation and the zero search of the fourth-order coefficient.
 
-use crate::problem::limits;
+use crate::problem::limits::{self, c, Count};
+use crate::families::Scene;
 use crate::report::plot::{self, Grid, Panel, Series};
-use crate::problem::Family;
 use crate::problem::{
-    check_name, positive, Ctx, FieldError, Input, ProblemError, RawFile, RawVar, Scene, SceneKind,
+    check_name, positive, Ctx, FieldError, Input, ProblemError, RawFile, RawVar, Resolved,
 };
 use crate::report::{PaperCheck, Plot, SolveResult, Status, Table};
 use crate::families::hypocycloid::model::{ALPHA0_VARIANT1, ALPHA0_VARIANT2};
@@ -26,6 +26,24 @@ use std::fmt::Write as _;
 use std::time::Instant;
 
 /// `[mechanism]`.
+/// The integer keys of this family's file and their ranges (see [`limits`]).
+pub const COUNTS: &[Count] = &[
+    c("mechanism.variant", 1, 2),
+    c("model.orders", 6, 64),
+    c("model.series_power", 1, 32),
+    c("objective.balance_orders", 1, 64),
+    c("objective.zero_search.order", 1, 64),
+    c("accuracy.n_fft_min", 16, 1 << 20),
+    c("accuracy.n_fft_max", 16, 1 << 20),
+    c("accuracy.curve_points", 2, 400),
+    c("accuracy.theta_scan", 4, 400),
+    c("accuracy.peak_samples", 16, 4096),
+    c("accuracy.opt_grid", 3, 40),
+    c("accuracy.opt_starts", 1, 64),
+    c("accuracy.nm_max_iters", 1, 100_000),
+    c("accuracy.plot_samples", 8, 100_000),
+];
+
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct MechanismRaw {
@@ -119,7 +137,7 @@ pub type AccuracyRaw = Settings;
 /// Validates the `[accuracy]` section.
 fn resolve_accuracy(s: &Settings) -> Result<Settings, FieldError> {
     let s = s.clone();
-    limits::check_section(Family::Hypocycloid, "accuracy", &s)?;
+    limits::check_section(COUNTS, "accuracy", &s)?;
     s.validate().map_err(map_synth_error)?;
     Ok(s)
 }
@@ -129,7 +147,7 @@ pub type File = RawFile<MechanismRaw, ModelRaw, DesignRaw, ObjectiveRaw, Accurac
 
 /// A resolved hypocycloid scene: the synthesis scene and its numerical settings.
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
-pub struct Resolved {
+pub struct HypocycloidProblem {
     /// The paper's variant (1 or 2), when the file names one.
     pub variant: Option<u8>,
     /// The scene.
@@ -176,8 +194,8 @@ fn map_synth_error(e: hy::FieldError) -> FieldError {
 }
 
 /// Reads and resolves a hypocycloid problem file (its text or its table).
-pub fn resolve(ctx: &Ctx, input: Input) -> Result<Scene, ProblemError> {
-    File::resolve(ctx, input, resolve_raw, SceneKind::Hypocycloid)
+pub fn resolve(ctx: &Ctx, input: Input) -> Result<Resolved<HypocycloidProblem>, ProblemError> {
+    File::resolve(ctx, input, resolve_raw)
 }
 
 /// A pure-number design variable: equal bounds collapse to a fixed value.
@@ -210,7 +228,7 @@ fn range(r: &RangeRaw, f: &str, lo_open: bool) -> Result<(f64, f64), FieldError>
 }
 
 /// The value checks of a hypocycloid file.
-pub fn resolve_raw(raw: &File) -> Result<Resolved, FieldError> {
+pub fn resolve_raw(raw: &File) -> Result<HypocycloidProblem, FieldError> {
     check_name(&raw.name)?;
     let m = &raw.mechanism;
     // `mechanism.variant`, `model.*` and `objective.*` integers keep the scene's own checks
@@ -311,7 +329,7 @@ pub fn resolve_raw(raw: &File) -> Result<Resolved, FieldError> {
     };
     scene.validate().map_err(map_synth_error)?;
     let settings = resolve_accuracy(&raw.accuracy)?;
-    Ok(Resolved {
+    Ok(HypocycloidProblem {
         variant: variant.map(|v| v as u8),
         scene,
         settings,
@@ -339,8 +357,8 @@ fn kebab<T: serde::Serialize>(v: T) -> String {
 }
 
 /// The result of a hypocycloid scene: solve, then shape keys, errors, sections, plots.
-pub fn result(scene: &Scene, s: &Resolved) -> SolveResult {
-    let mut r = SolveResult::new(scene);
+pub fn result(scene: &Scene, s: &HypocycloidProblem) -> SolveResult {
+    let mut r = scene.new_result();
     let h = &s.scene;
     r.model = BTreeMap::from([
         (

@@ -3,14 +3,14 @@
 //! `docs/problem-files.md`) — and the shaping of its outcome into a result (keys in
 //! `docs/results.md`).
 
-use crate::problem::limits;
+use crate::problem::limits::{self, c, Count};
 use crate::report::plot::{self, Panel, Series};
-use crate::problem::Family;
 use crate::problem::{
     check_name, non_negative, positive, Ctx, FieldError, Input, ProblemError, RawFile, RawVar,
-    Scene, SceneKind,
+    Resolved,
 };
 use crate::report::{Plot, SolveResult, Status, Table};
+use crate::families::Scene;
 use crate::geom::P2;
 use crate::families::slider_crank::model::{Crank, Kinematics, Rod, SliderCrank};
 use crate::families::slider_crank::model::{Loads, ProcessForce};
@@ -36,6 +36,16 @@ use std::time::Instant;
 pub const MIN_RADIUS_OF_CRANK: f64 = 1e-6;
 
 /// `[mechanism]`.
+/// The integer keys of this family's file and their ranges (see [`limits`]).
+pub const COUNTS: &[Count] = &[
+    c("objective.pareto_points", 0, 200),
+    c("objective.speed_sweep.points", 2, 200),
+    c("accuracy.initial_samples", 3, 1024),
+    c("accuracy.scan_samples", 16, 20_000),
+    c("accuracy.max_rounds", 1, 1000),
+    c("accuracy.rms_samples", 16, 100_000),
+];
+
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct MechanismRaw {
@@ -269,7 +279,7 @@ pub type AccuracyRaw = Settings;
 /// Validates the `[accuracy]` section.
 fn resolve_accuracy(s: &Settings) -> Result<Settings, FieldError> {
     let s = *s;
-    limits::check_section(Family::SliderCrank, "accuracy", &s)?;
+    limits::check_section(COUNTS, "accuracy", &s)?;
     s.validate()
         .map_err(|(f, m)| FieldError::new(format!("accuracy.{f}"), m))?;
     Ok(s)
@@ -277,7 +287,7 @@ fn resolve_accuracy(s: &Settings) -> Result<Settings, FieldError> {
 
 /// A resolved slider-crank scene: the synthesis scene plus what only the report needs.
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
-pub struct SliderCrankScene {
+pub struct SliderCrankProblem {
     /// The synthesis scene.
     pub core: sc::Scene,
     /// The paper's printed classical design (formula (6)), if given.
@@ -303,12 +313,12 @@ pub struct PaperDesign {
 pub type File = RawFile<MechanismRaw, ModelRaw, DesignRaw, ObjectiveRaw, AccuracyRaw>;
 
 /// Reads and resolves a slider-crank problem file (its text or its table).
-pub fn resolve(ctx: &Ctx, input: Input) -> Result<Scene, ProblemError> {
-    File::resolve(ctx, input, resolve_raw, SceneKind::SliderCrank)
+pub fn resolve(ctx: &Ctx, input: Input) -> Result<Resolved<SliderCrankProblem>, ProblemError> {
+    File::resolve(ctx, input, resolve_raw)
 }
 
 /// The value checks of a slider-crank file.
-pub fn resolve_raw(raw: &File) -> Result<SliderCrankScene, FieldError> {
+pub fn resolve_raw(raw: &File) -> Result<SliderCrankProblem, FieldError> {
     check_name(&raw.name)?;
     let m = &raw.mechanism;
     let r = positive("mechanism.crank_radius", m.crank_radius.si())?;
@@ -593,7 +603,7 @@ pub fn resolve_raw(raw: &File) -> Result<SliderCrankScene, FieldError> {
         .map(|q| positive("objective.max_peak_torque", q.si()))
         .transpose()?;
     limits::check(
-        Family::SliderCrank,
+        COUNTS,
         "objective.pareto_points",
         o.pareto_points as i128,
     )?;
@@ -683,7 +693,7 @@ pub fn resolve_raw(raw: &File) -> Result<SliderCrankScene, FieldError> {
                 ));
             }
             limits::check(
-                Family::SliderCrank,
+                COUNTS,
                 "objective.speed_sweep.points",
                 sw.points as i128,
             )?;
@@ -694,7 +704,7 @@ pub fn resolve_raw(raw: &File) -> Result<SliderCrankScene, FieldError> {
             })
         }
     };
-    Ok(SliderCrankScene {
+    Ok(SliderCrankProblem {
         core,
         paper,
         shape,
@@ -704,9 +714,9 @@ pub fn resolve_raw(raw: &File) -> Result<SliderCrankScene, FieldError> {
 
 /// The result of a slider-crank scene: solve, then shape keys, errors, baselines, the
 /// Pareto front, the paper's classical design, the plate shape and the plots.
-pub fn result(scene: &Scene, sc_scene: &SliderCrankScene) -> SolveResult {
+pub fn result(scene: &Scene, sc_scene: &SliderCrankProblem) -> SolveResult {
     let s = &sc_scene.core;
-    let mut r = SolveResult::new(scene);
+    let mut r = scene.new_result();
     let m = &s.mech;
     let g = s.loads.gravity;
     r.model = BTreeMap::from([
