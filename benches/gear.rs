@@ -3,7 +3,9 @@
 //! gear 2's convexity) under 10 ms median.
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use cwsynth::families::gear::model::{closing_center_distance, singularities, EccentricCircle, GearPair};
+use cwsynth::families::gear::model::{
+    closing_center_distance, singularities, EccentricCircle, GearPair,
+};
 use cwsynth::families::gear::synth::{analyse, paper_table1, solve, Settings};
 use std::hint::black_box;
 

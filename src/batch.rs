@@ -24,10 +24,10 @@
 //! previous summary row (completed `summary.csv` or the `.partial` of an interrupted run)
 //! carries it. The summary is written to `<summary>.partial` and renamed when complete.
 
+use crate::families::solve_scene;
 use crate::families::{parse_str, parse_table, Scene};
 use crate::problem::ProblemError;
 use crate::report::{fmt_num, md_escape, truncate, write_atomic, write_outputs};
-use crate::families::solve_scene;
 use crate::units::Unit;
 use anyhow::{bail, Context};
 use rayon::prelude::*;
@@ -186,8 +186,7 @@ impl Row {
                 ROW_STATUSES.join(", ")
             ));
         }
-        if !(self.family.is_empty() || crate::families::by_name(&self.family).is_some())
-        {
+        if !(self.family.is_empty() || crate::families::by_name(&self.family).is_some()) {
             return Err(format!("unknown family `{}`", self.family.escape_debug()));
         }
         let plain_name = !self.name.starts_with('.')
@@ -272,7 +271,6 @@ pub fn content_hash(text: &str) -> String {
     h.bytes(text.as_bytes());
     h.hex()
 }
-
 
 fn kv(m: Option<&serde_json::Value>) -> String {
     m.and_then(|v| v.as_object())

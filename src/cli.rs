@@ -1,9 +1,9 @@
 //! The command line: `cwsynth solve`, `cwsynth check`. Thin: parsing arguments, calling
 //! the library, printing; errors get context here (anyhow), typed errors live below.
 
+use crate::families::solve_scene;
 use crate::families::{self, Scene};
 use crate::report::{fmt_num, write_outputs, SolveResult, Status};
-use crate::families::solve_scene;
 use anyhow::Context;
 use clap::{Parser, Subcommand};
 use std::path::{Path, PathBuf};

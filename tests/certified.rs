@@ -4,11 +4,13 @@
 //! evaluation of the same closed-form kinematics, written out here from
 //! `shared/domain/slider-crank.md`, not from the library's code path.
 
-use cwsynth::geom::P2;
-use cwsynth::families::slider_crank::model::{Crank, Kinematics, Loads, ProcessForce, Rod, SliderCrank};
+use cwsynth::families::slider_crank::model::{
+    Crank, Kinematics, Loads, ProcessForce, Rod, SliderCrank,
+};
 use cwsynth::families::slider_crank::synth::{
     drive_torque, paper_piston, round_off_bounds, shaking_force, solve, Objective, Scene,
 };
+use cwsynth::geom::P2;
 use std::f64::consts::TAU;
 use twofloat::TwoFloat as D;
 

@@ -3,10 +3,10 @@
 //! a dense brute-force sampling, construction identities, scaling, virtual work, or the
 //! feasibility of a known point.
 
-use cwsynth::geom::{cross, P2};
 use cwsynth::families::crane::model::*;
-use cwsynth::numeric::brent_root;
 use cwsynth::families::crane::synth::*;
+use cwsynth::geom::{cross, P2};
+use cwsynth::numeric::brent_root;
 
 fn deg(x: f64) -> f64 {
     x.to_radians()

@@ -1,15 +1,15 @@
 //! Gravity, drive torque and the felling-head vibration mechanism (issue 3), against
 //! energy conservation, closed forms, brute force and the paper's own inputs.
 
-use cwsynth::geom::P2;
 use cwsynth::families::parse_str;
 use cwsynth::families::slider_crank::file::SliderCrankProblem;
 use cwsynth::families::slider_crank::model::{Loads, ProcessForce};
-use cwsynth::families::solve_scene;
-use cwsynth::synth::shape::{self, ShapeGoal, ShapeOutcome, ShapeSpec};
 use cwsynth::families::slider_crank::synth::{
     drive_torque, metrics, optimise, pareto, shaking_force, Objective, Scene,
 };
+use cwsynth::families::solve_scene;
+use cwsynth::geom::P2;
+use cwsynth::synth::shape::{self, ShapeGoal, ShapeOutcome, ShapeSpec};
 use std::f64::consts::{FRAC_PI_2, TAU};
 use std::path::Path;
 

@@ -2,9 +2,9 @@
 //! closed forms (e = 0), an independent quadrature, finite-difference tooth profiles,
 //! brute-force scans and the paper's Table 1.
 
-use cwsynth::geom::{circumcentre, cross, P2};
 use cwsynth::families::gear::model::*;
 use cwsynth::families::gear::synth::*;
+use cwsynth::geom::{circumcentre, cross, P2};
 use std::f64::consts::{PI, TAU};
 
 const R: f64 = 37.5e-3;

@@ -5,8 +5,8 @@
 
 mod common;
 use common::*;
-use cwsynth::families::parse_str;
 use cwsynth::families::gear::synth::{paper_table1, paper_table1_design, solve, Settings};
+use cwsynth::families::parse_str;
 use std::f64::consts::{PI, TAU};
 use std::path::Path;
 

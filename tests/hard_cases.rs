@@ -5,13 +5,13 @@
 //! may give NaN or panic.
 
 use common::assert_finite;
-use cwsynth::geom::{circle_circle, circumcentre, Side, P2};
 use cwsynth::families::parse_str;
+use cwsynth::families::slider_crank::model::{Crank, Kinematics, Rod, SliderCrank};
+use cwsynth::families::slider_crank::synth::shaking_force;
+use cwsynth::families::solve_scene;
+use cwsynth::geom::{circle_circle, circumcentre, Side, P2};
 use cwsynth::problem::ProblemError;
 use cwsynth::report::SolveResult;
-use cwsynth::families::slider_crank::model::{Crank, Kinematics, Rod, SliderCrank};
-use cwsynth::families::solve_scene;
-use cwsynth::families::slider_crank::synth::shaking_force;
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 use std::path::Path;
 

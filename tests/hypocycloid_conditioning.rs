@@ -5,7 +5,9 @@
 //! design is a plain slider-crank).
 
 use common::dd_sin_cos;
-use cwsynth::families::hypocycloid::model::{max_abs_y, Hypocycloid, ALPHA0_VARIANT1, ALPHA0_VARIANT2};
+use cwsynth::families::hypocycloid::model::{
+    max_abs_y, Hypocycloid, ALPHA0_VARIANT1, ALPHA0_VARIANT2,
+};
 use cwsynth::families::hypocycloid::synth::{
     c4_search_example, paper_example, solve, zero_search, PaperVariant, Settings, Var, ZeroSearch,
 };

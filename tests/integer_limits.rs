@@ -7,10 +7,10 @@
 //! (`docs/problem-files.md`), and the finiteness of every reported number.
 
 use cwsynth::families::by_name;
-use cwsynth::problem::limits::Count;
 use cwsynth::families::parse_str;
-use cwsynth::report::SolveResult;
 use cwsynth::families::solve_scene;
+use cwsynth::problem::limits::Count;
+use cwsynth::report::SolveResult;
 use std::path::Path;
 use std::sync::mpsc;
 use std::time::{Duration, Instant};

@@ -5,8 +5,10 @@
 
 use cwsynth::families::parse_str;
 use cwsynth::families::slider_crank::model::{Crank, Kinematics, Rod, SliderCrank};
+use cwsynth::families::slider_crank::synth::{
+    baselines, metrics, optimise, paper_piston, Objective, Scene,
+};
 use cwsynth::families::solve_scene;
-use cwsynth::families::slider_crank::synth::{baselines, metrics, optimise, paper_piston, Objective, Scene};
 use proptest::prelude::*;
 use std::path::Path;
 

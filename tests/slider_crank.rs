@@ -1,12 +1,12 @@
 //! Slider-crank physics and counterweight synthesis against independent references:
 //! closed forms, a brute force computed a different way, identities and scaling laws.
 
-use cwsynth::geom::P2;
 use cwsynth::families::slider_crank::model::{rot, Crank, Kinematics, Rod, SliderCrank};
-use cwsynth::synth::counterweight::Status;
 use cwsynth::families::slider_crank::synth::{
     optimise, paper_piston, shaking_force, solve, Objective, Scene,
 };
+use cwsynth::geom::P2;
+use cwsynth::synth::counterweight::Status;
 use cwsynth::synth::Var;
 use std::f64::consts::{PI, TAU};
 

@@ -4,14 +4,14 @@
 //! model leaves out hold against an independent computation (brute force, closed form, or
 //! the scene re-solved with the effect switched on).
 
-use cwsynth::families::parse_str;
 use cwsynth::families::crane::model::{head_heights, head_heights_with};
-use cwsynth::families::hypocycloid::model::Hypocycloid;
-use cwsynth::numeric::{interval_peak_with, periodic_peak_unrefined};
-use cwsynth::families::solve_scene;
 use cwsynth::families::crane::study::{crane_design, unrefined_path_bound};
 use cwsynth::families::gear::study::window_edge_mu;
+use cwsynth::families::hypocycloid::model::Hypocycloid;
 use cwsynth::families::hypocycloid::study::{series_change, series_tail_bound};
+use cwsynth::families::parse_str;
+use cwsynth::families::solve_scene;
+use cwsynth::numeric::{interval_peak_with, periodic_peak_unrefined};
 use cwsynth::problem::edit::{apply, Edit};
 use cwsynth::study::{csv, markdown, study, svg};
 use cwsynth::synth::Var;
@@ -150,7 +150,8 @@ fn hypocycloid_series_rungs_stay_within_the_stated_bound() {
         let base = solve_edited(text, &[]);
         let r0 = base.lookup("objectives.residual_force_peak_n").unwrap();
         let scene = parse_str(text, Path::new("h.toml")).unwrap();
-        let Some(h) = scene.machine::<cwsynth::families::hypocycloid::file::HypocycloidProblem>() else {
+        let Some(h) = scene.machine::<cwsynth::families::hypocycloid::file::HypocycloidProblem>()
+        else {
             panic!()
         };
         let sc = &h.scene;

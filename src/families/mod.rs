@@ -177,7 +177,10 @@ pub fn parse_table(table: toml::Table, path: &Path) -> Result<Scene, ProblemErro
 
 /// The allowed `family` values, for messages.
 fn allowed() -> String {
-    let names: Vec<String> = FAMILIES.iter().map(|f| format!("\"{}\"", f.name())).collect();
+    let names: Vec<String> = FAMILIES
+        .iter()
+        .map(|f| format!("\"{}\"", f.name()))
+        .collect();
     format!("allowed: {}", names.join(", "))
 }
 

@@ -51,4 +51,3 @@ pub fn apply(text: &str, edits: &[Edit]) -> Result<String, String> {
     }
     Ok(doc.to_string())
 }
-

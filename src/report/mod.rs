@@ -186,7 +186,12 @@ pub struct SolveResult {
 impl SolveResult {
     /// An empty result of a scene (its name, family, description and source file) with
     /// status `failed`, to be filled by its family.
-    pub fn new(name: &str, family: &str, description: &str, source: &std::path::Path) -> SolveResult {
+    pub fn new(
+        name: &str,
+        family: &str,
+        description: &str,
+        source: &std::path::Path,
+    ) -> SolveResult {
         SolveResult {
             name: name.into(),
             family: family.into(),

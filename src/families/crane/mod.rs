@@ -2,6 +2,7 @@
 
 pub mod file;
 pub mod model;
+pub mod report;
 pub mod schema;
 pub mod study;
 pub mod synth;
@@ -34,7 +35,7 @@ impl Family for LuffingCrane {
 
 impl Machine for file::CraneProblem {
     fn solve(&self, scene: &Scene) -> SolveResult {
-        file::result(scene, self)
+        report::result(scene, self)
     }
     fn headline(&self) -> String {
         "objectives.delta_h_m".into()

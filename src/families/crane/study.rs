@@ -2,46 +2,46 @@
 //! settings — and the effects its model leaves out or includes, each with a bound computed
 //! from the scene as resolved.
 
+use super::model::{head_heights, head_heights_with, Linkage};
 use crate::families::{relative, Effect, Ladder, Rung};
 use crate::problem::edit::{v_f, v_int, Edit};
 use crate::report::SolveResult;
 use toml_edit::Value;
-use super::model::{head_heights, head_heights_with, Linkage};
 
 /// The reference edits (tightest settings) and the ladder of settings.
 pub fn ladder(_s: &super::file::CraneProblem) -> Ladder {
     use Edit::Set;
-        let reference = vec![
-            Set("accuracy.path_samples", v_int(1024)),
-            Set("accuracy.xtol", v_f(1e-12)),
-        ];
-        let mut l = Vec::new();
-        // Counts that do not divide one another, so no grid contains a coarser one.
-        for n in [8i64, 20, 50, 130, 330] {
-            l.push(Rung::new(
-                &format!("path {n}, unrefined"),
-                "accuracy",
-                vec![
-                    Set("accuracy.refine_peaks", Value::from(false)),
-                    Set("accuracy.path_samples", v_int(n)),
-                ],
-            ));
-        }
-        for n in [8i64, 64] {
-            l.push(Rung::new(
-                &format!("path {n}, refined"),
-                "accuracy",
-                vec![Set("accuracy.path_samples", v_int(n))],
-            ));
-        }
-        for t in [1e-4, 1e-10] {
-            l.push(Rung::new(
-                &format!("xtol {t:e}"),
-                "accuracy",
-                vec![Set("accuracy.xtol", v_f(t))],
-            ));
-        }
-        Ladder {
+    let reference = vec![
+        Set("accuracy.path_samples", v_int(1024)),
+        Set("accuracy.xtol", v_f(1e-12)),
+    ];
+    let mut l = Vec::new();
+    // Counts that do not divide one another, so no grid contains a coarser one.
+    for n in [8i64, 20, 50, 130, 330] {
+        l.push(Rung::new(
+            &format!("path {n}, unrefined"),
+            "accuracy",
+            vec![
+                Set("accuracy.refine_peaks", Value::from(false)),
+                Set("accuracy.path_samples", v_int(n)),
+            ],
+        ));
+    }
+    for n in [8i64, 64] {
+        l.push(Rung::new(
+            &format!("path {n}, refined"),
+            "accuracy",
+            vec![Set("accuracy.path_samples", v_int(n))],
+        ));
+    }
+    for t in [1e-4, 1e-10] {
+        l.push(Rung::new(
+            &format!("xtol {t:e}"),
+            "accuracy",
+            vec![Set("accuracy.xtol", v_f(t))],
+        ));
+    }
+    Ladder {
         reference,
         rungs: l,
     }
@@ -97,12 +97,21 @@ pub fn crane_design(
         .iter()
         .map(|k| result.lookup(k))
         .collect::<Option<_>>()?;
-    crate::families::crane::synth::evaluate(&c.scene, &[x[0], x[1], x[2], x[3], x[4], x[5]], &c.settings).ok()
+    crate::families::crane::synth::evaluate(
+        &c.scene,
+        &[x[0], x[1], x[2], x[3], x[4], x[5]],
+        &c.settings,
+    )
+    .ok()
 }
 
 /// What the model leaves out or includes, with a bound for each effect (see
 /// [`crate::families::Machine::effects`]).
-pub fn effects(c: &crate::families::crane::file::CraneProblem, reference: &SolveResult, headline: f64) -> Vec<Effect> {
+pub fn effects(
+    c: &crate::families::crane::file::CraneProblem,
+    reference: &SolveResult,
+    headline: f64,
+) -> Vec<Effect> {
     let sc = &c.scene;
     let s = &c.settings;
     let ev = crane_design(c, reference);

@@ -13,11 +13,11 @@
 //! `sizing.boom_length`, `tie_pin.max_distance`, `tie_pin.x_range`, `tie_pin.y_range`,
 //! `max_delta_h`, `load_mass`, `settings.*`.
 
-use crate::geom::P2;
 use crate::families::crane::model::{
     head_extrema, head_heights_with, load_moment, synthesize, Angles, Boom, Branch, CraneGeomError,
     Guide, HeadHeights, PathError, Synthesis,
 };
+use crate::geom::P2;
 use std::collections::BTreeMap;
 use std::f64::consts::FRAC_PI_2;
 use std::sync::atomic::{AtomicUsize, Ordering};

@@ -2,6 +2,7 @@
 
 pub mod file;
 pub mod model;
+pub mod report;
 pub mod schema;
 pub mod study;
 pub mod synth;
@@ -34,7 +35,7 @@ impl Family for EccentricGear {
 
 impl Machine for file::GearProblem {
     fn solve(&self, scene: &Scene) -> SolveResult {
-        file::result(scene, self)
+        report::result(scene, self)
     }
     // A design of e holds the peak |µ| at its limit: the objective is the ratio variation.
     fn headline(&self) -> String {

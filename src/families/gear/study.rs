@@ -2,72 +2,71 @@
 //! settings — and the effects its model leaves out or includes, each with a bound computed
 //! from the scene as resolved.
 
+use super::model::{GearPair, Pole, Singularities, Which};
 use crate::families::{relative, Effect, Ladder, Rung};
 use crate::problem::edit::{v_f, v_int, v_s, Edit};
 use crate::report::SolveResult;
-use toml_edit::Value;
 use std::f64::consts::TAU;
-use super::model::{GearPair, Pole, Singularities, Which};
+use toml_edit::Value;
 
 /// The reference edits (tightest settings) and the ladder of settings.
 pub fn ladder(_s: &super::file::GearProblem) -> Ladder {
     use Edit::Set;
-        let reference = vec![
-            Set("accuracy.samples_per_arch", v_int(96)),
-            Set("accuracy.peak_samples_per_arch", v_int(512)),
-            Set("accuracy.peak_xtol", v_f(1e-12)),
-            Set("accuracy.pole_tol", v_f(1e-13)),
-        ];
-        let mut l = Vec::new();
-        // Poles placed by one false-position step in their sampled bracket (no Brent).
-        for n in [8i64, 24, 96] {
-            l.push(Rung::new(
-                &format!("poles unrefined, {n} samples/arch"),
-                "accuracy",
-                vec![
-                    Set("accuracy.refine_poles", Value::from(false)),
-                    Set("accuracy.samples_per_arch", v_int(n)),
-                ],
-            ));
-        }
+    let reference = vec![
+        Set("accuracy.samples_per_arch", v_int(96)),
+        Set("accuracy.peak_samples_per_arch", v_int(512)),
+        Set("accuracy.peak_xtol", v_f(1e-12)),
+        Set("accuracy.pole_tol", v_f(1e-13)),
+    ];
+    let mut l = Vec::new();
+    // Poles placed by one false-position step in their sampled bracket (no Brent).
+    for n in [8i64, 24, 96] {
         l.push(Rung::new(
-            "8 samples/arch, refined",
+            &format!("poles unrefined, {n} samples/arch"),
             "accuracy",
-            vec![Set("accuracy.samples_per_arch", v_int(8))],
+            vec![
+                Set("accuracy.refine_poles", Value::from(false)),
+                Set("accuracy.samples_per_arch", v_int(n)),
+            ],
         ));
-        for n in [8i64, 32, 128] {
-            l.push(Rung::new(
-                &format!("peak {n}/arch, unrefined"),
-                "accuracy",
-                vec![
-                    Set("accuracy.refine_peaks", Value::from(false)),
-                    Set("accuracy.peak_samples_per_arch", v_int(n)),
-                ],
-            ));
-        }
+    }
+    l.push(Rung::new(
+        "8 samples/arch, refined",
+        "accuracy",
+        vec![Set("accuracy.samples_per_arch", v_int(8))],
+    ));
+    for n in [8i64, 32, 128] {
         l.push(Rung::new(
-            "pole_tol 1e-12",
+            &format!("peak {n}/arch, unrefined"),
             "accuracy",
-            vec![Set("accuracy.pole_tol", v_f(1e-12))],
+            vec![
+                Set("accuracy.refine_peaks", Value::from(false)),
+                Set("accuracy.peak_samples_per_arch", v_int(n)),
+            ],
         ));
+    }
+    l.push(Rung::new(
+        "pole_tol 1e-12",
+        "accuracy",
+        vec![Set("accuracy.pole_tol", v_f(1e-12))],
+    ));
+    l.push(Rung::new(
+        "peak_xtol 1e-5",
+        "accuracy",
+        vec![Set("accuracy.peak_xtol", v_f(1e-5))],
+    ));
+    for w in ["0.001 rad", "0.05 rad"] {
         l.push(Rung::new(
-            "peak_xtol 1e-5",
-            "accuracy",
-            vec![Set("accuracy.peak_xtol", v_f(1e-5))],
+            &format!("pole window {w}"),
+            "model",
+            vec![Set("model.pole_window", v_s(w))],
         ));
-        for w in ["0.001 rad", "0.05 rad"] {
-            l.push(Rung::new(
-                &format!("pole window {w}"),
-                "model",
-                vec![Set("model.pole_window", v_s(w))],
-            ));
-        }
-        Ladder {
+    }
+    Ladder {
         reference,
         rungs: l,
     }
 }
-
 
 fn mu_at(pair: &GearPair, which: Which, x: f64) -> Option<f64> {
     let ct = pair.contact(x.rem_euclid(TAU));
@@ -111,7 +110,11 @@ pub fn window_edge_mu(pair: &GearPair, sing: &Singularities, window: f64, d: f64
 
 /// What the model leaves out or includes, with a bound for each effect (see
 /// [`crate::families::Machine::effects`]).
-pub fn effects(g: &crate::families::gear::file::GearProblem, reference: &SolveResult, headline: f64) -> Vec<Effect> {
+pub fn effects(
+    g: &crate::families::gear::file::GearProblem,
+    reference: &SolveResult,
+    headline: f64,
+) -> Vec<Effect> {
     let sc = &g.gear;
     let s = &g.settings;
     let mut out = Vec::new();
@@ -179,9 +182,17 @@ pub fn effects(g: &crate::families::gear::file::GearProblem, reference: &SolveRe
     let sens = GearPair::new(an.pair.c, sc.generating_radius, an.pair.a + step, sc.omega1)
         .ok()
         .and_then(|p2| {
-            let s2 = crate::families::gear::model::singularities(&p2, s.samples_per_arch, s.pole_tol).ok()?;
-            let pk = crate::families::gear::model::peak_mu(&p2, &s2, w, s.peak_samples_per_arch, s.peak_xtol)
-                .ok()?;
+            let s2 =
+                crate::families::gear::model::singularities(&p2, s.samples_per_arch, s.pole_tol)
+                    .ok()?;
+            let pk = crate::families::gear::model::peak_mu(
+                &p2,
+                &s2,
+                w,
+                s.peak_samples_per_arch,
+                s.peak_xtol,
+            )
+            .ok()?;
             Some((pk.value - an.peak.value).abs() / step)
         });
     out.push((

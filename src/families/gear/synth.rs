@@ -13,14 +13,14 @@
 //! Brent (root of the worst constraint margin at a constraint boundary, or a bounded
 //! maximisation of the objective for an interior optimum).
 
-use crate::synth::SearchEvidence;
-use crate::geom::P2;
 use crate::families::gear::model::{
     closing_center_distance, closure_integral, min_gear2_curvature, peak_mu_with,
     periodic_integral, singularities_with, Alpha2Map, Closure, EccentricCircle, GearError,
     GearPair, MuPeak, Pole, Singularities, Which, Zero, ZeroKind,
 };
+use crate::geom::P2;
 use crate::numeric::{brent_max, brent_root, SearchError};
+use crate::synth::SearchEvidence;
 use serde::Serialize;
 use std::collections::BTreeMap;
 use std::f64::consts::{PI, TAU};

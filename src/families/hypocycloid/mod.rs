@@ -2,6 +2,7 @@
 
 pub mod file;
 pub mod model;
+pub mod report;
 pub mod schema;
 pub mod study;
 pub mod synth;
@@ -34,7 +35,7 @@ impl Family for HypocycloidFamily {
 
 impl Machine for file::HypocycloidProblem {
     fn solve(&self, scene: &Scene) -> SolveResult {
-        file::result(scene, self)
+        report::result(scene, self)
     }
     // A scene asking the paper's C4 question is judged on C4 (a4 of S/R) itself.
     fn headline(&self) -> String {

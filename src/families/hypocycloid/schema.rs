@@ -117,4 +117,3 @@ pub fn schema() -> Value {
     );
     family("hypocycloid", mechanism, model, design, objective, accuracy)
 }
-

@@ -2,66 +2,66 @@
 //! settings — and the effects its model leaves out or includes, each with a bound computed
 //! from the scene as resolved.
 
+use super::model::{max_abs_y, Hypocycloid};
+use super::synth::CoefficientModel;
 use crate::families::{relative, Effect, Ladder, Rung};
 use crate::problem::edit::{v_f, v_int, v_s, Edit};
 use crate::report::SolveResult;
-use toml_edit::Value;
 use crate::units::STANDARD_GRAVITY as G;
 use std::f64::consts::TAU;
-use super::model::{max_abs_y, Hypocycloid};
-use super::synth::CoefficientModel;
+use toml_edit::Value;
 
 /// The reference edits (tightest settings) and the ladder of settings.
 pub fn ladder(_s: &super::file::HypocycloidProblem) -> Ladder {
     use Edit::Set;
-        let reference = vec![
-            Set("accuracy.n_fft_min", v_int(8192)),
-            Set("accuracy.n_fft_max", v_int(1 << 18)),
-            Set("accuracy.peak_samples", v_int(4096)),
-            Set("accuracy.peak_xtol", v_f(1e-12)),
-            Set("accuracy.root_tol", v_f(1e-14)),
-        ];
-        let mut l = Vec::new();
-        // One fixed FFT size, no adaptive doubling (orders ≥ n/2 of the remainder left out).
-        for n in [16i64, 32, 64] {
-            l.push(Rung::new(
-                &format!("FFT {n} fixed"),
-                "accuracy",
-                vec![
-                    Set("accuracy.fft_adaptive", Value::from(false)),
-                    Set("accuracy.n_fft_min", v_int(n)),
-                ],
-            ));
-        }
-        // Odd counts: φ = 0, π/2, π, 3π/2 (where peaks of these scenes sit) are not all
-        // samples, so the sampled peak converges like h².
-        for n in [31i64, 97, 257, 1021] {
-            l.push(Rung::new(
-                &format!("peak scan {n}, unrefined"),
-                "accuracy",
-                vec![
-                    Set("accuracy.refine_peaks", Value::from(false)),
-                    Set("accuracy.peak_samples", v_int(n)),
-                ],
-            ));
-        }
+    let reference = vec![
+        Set("accuracy.n_fft_min", v_int(8192)),
+        Set("accuracy.n_fft_max", v_int(1 << 18)),
+        Set("accuracy.peak_samples", v_int(4096)),
+        Set("accuracy.peak_xtol", v_f(1e-12)),
+        Set("accuracy.root_tol", v_f(1e-14)),
+    ];
+    let mut l = Vec::new();
+    // One fixed FFT size, no adaptive doubling (orders ≥ n/2 of the remainder left out).
+    for n in [16i64, 32, 64] {
         l.push(Rung::new(
-            "peak scan 32, refined",
+            &format!("FFT {n} fixed"),
             "accuracy",
-            vec![Set("accuracy.peak_samples", v_int(32))],
+            vec![
+                Set("accuracy.fft_adaptive", Value::from(false)),
+                Set("accuracy.n_fft_min", v_int(n)),
+            ],
         ));
-        // The paper's method: coefficients from the binomial series truncated at z^p.
-        for p in [1i64, 2, 3, 6] {
-            l.push(Rung::new(
-                &format!("paper series, power {p}"),
-                "model",
-                vec![
-                    Set("model.coefficients", v_s("series")),
-                    Set("model.series_power", v_int(p)),
-                ],
-            ));
-        }
-        Ladder {
+    }
+    // Odd counts: φ = 0, π/2, π, 3π/2 (where peaks of these scenes sit) are not all
+    // samples, so the sampled peak converges like h².
+    for n in [31i64, 97, 257, 1021] {
+        l.push(Rung::new(
+            &format!("peak scan {n}, unrefined"),
+            "accuracy",
+            vec![
+                Set("accuracy.refine_peaks", Value::from(false)),
+                Set("accuracy.peak_samples", v_int(n)),
+            ],
+        ));
+    }
+    l.push(Rung::new(
+        "peak scan 32, refined",
+        "accuracy",
+        vec![Set("accuracy.peak_samples", v_int(32))],
+    ));
+    // The paper's method: coefficients from the binomial series truncated at z^p.
+    for p in [1i64, 2, 3, 6] {
+        l.push(Rung::new(
+            &format!("paper series, power {p}"),
+            "model",
+            vec![
+                Set("model.coefficients", v_s("series")),
+                Set("model.series_power", v_int(p)),
+            ],
+        ));
+    }
+    Ladder {
         reference,
         rungs: l,
     }
@@ -199,4 +199,3 @@ pub fn effects(
 // ---------------------------------------------------------------------------------------
 // Luffing crane
 // ---------------------------------------------------------------------------------------
-

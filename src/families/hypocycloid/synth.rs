@@ -18,12 +18,12 @@ use argmin::solver::neldermead::NelderMead;
 use argmin_math::{ArgminAdd, ArgminMul, ArgminSub};
 use serde::Serialize;
 
-use crate::synth::SearchEvidence;
 use crate::families::hypocycloid::model::{
     lanchester_pair, max_abs_y, Coefficients, CosBin, Hypocycloid, LanchesterPair, MechError,
     ALPHA0_VARIANT1, ALPHA0_VARIANT2,
 };
 use crate::numeric::{brent_root, periodic_peak_with, periodic_rms};
+use crate::synth::SearchEvidence;
 
 /// A bad field of a scene or of the settings, named by its problem-file key.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]

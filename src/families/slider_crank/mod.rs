@@ -2,6 +2,7 @@
 
 pub mod file;
 pub mod model;
+pub mod report;
 pub mod schema;
 pub mod study;
 pub mod synth;
@@ -34,7 +35,7 @@ impl Family for SliderCrank {
 
 impl Machine for file::SliderCrankProblem {
     fn solve(&self, scene: &Scene) -> SolveResult {
-        file::result(scene, self)
+        report::result(scene, self)
     }
     fn headline(&self) -> String {
         use synth::Objective;

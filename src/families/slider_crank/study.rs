@@ -2,116 +2,115 @@
 //! settings — and the effects its model leaves out or includes, each with a bound computed
 //! from the scene as resolved.
 
+use super::model::Kinematics;
 use crate::families::{relative, Effect, Ladder, Rung};
 use crate::problem::edit::{v_f, v_int, v_s, Edit};
-use toml_edit::Value;
-use super::model::Kinematics;
 use crate::units::STANDARD_GRAVITY as G;
 use std::f64::consts::TAU;
+use toml_edit::Value;
 
 /// The reference edits (tightest settings) and the ladder of settings.
 pub fn ladder(s: &super::file::SliderCrankProblem) -> Ladder {
     use Edit::{Remove, Set};
-        let reference = vec![
-            Set("accuracy.rel_tol", v_f(1e-11)),
-            Set("accuracy.initial_samples", v_int(64)),
-            Set("accuracy.scan_samples", v_int(2880)),
-            Set("accuracy.max_rounds", v_int(100)),
-            Set("accuracy.peak_xtol", v_f(1e-12)),
-            Set("accuracy.rms_samples", v_int(4096)),
-        ];
-        let mut l = Vec::new();
-        for n in [8i64, 32, 128, 512] {
-            l.push(Rung::new(
-                &format!("{n} samples, no exchange"),
-                "accuracy",
-                vec![
-                    Set("accuracy.initial_samples", v_int(n)),
-                    Set("accuracy.max_rounds", v_int(1)),
-                    Set("accuracy.presolve", Value::from(false)),
-                ],
-            ));
-        }
+    let reference = vec![
+        Set("accuracy.rel_tol", v_f(1e-11)),
+        Set("accuracy.initial_samples", v_int(64)),
+        Set("accuracy.scan_samples", v_int(2880)),
+        Set("accuracy.max_rounds", v_int(100)),
+        Set("accuracy.peak_xtol", v_f(1e-12)),
+        Set("accuracy.rms_samples", v_int(4096)),
+    ];
+    let mut l = Vec::new();
+    for n in [8i64, 32, 128, 512] {
         l.push(Rung::new(
-            "no presolve (exchange from 8 samples)",
+            &format!("{n} samples, no exchange"),
             "accuracy",
-            vec![Set("accuracy.presolve", Value::from(false))],
+            vec![
+                Set("accuracy.initial_samples", v_int(n)),
+                Set("accuracy.max_rounds", v_int(1)),
+                Set("accuracy.presolve", Value::from(false)),
+            ],
         ));
+    }
+    l.push(Rung::new(
+        "no presolve (exchange from 8 samples)",
+        "accuracy",
+        vec![Set("accuracy.presolve", Value::from(false))],
+    ));
+    l.push(Rung::new(
+        "presolve, no exchange",
+        "accuracy",
+        vec![Set("accuracy.max_rounds", v_int(1))],
+    ));
+    l.push(Rung::new(
+        "presolve, clarabel SOCP rounds (no exact disc)",
+        "accuracy",
+        vec![Set("accuracy.exact_disc", Value::from(false))],
+    ));
+    for n in [64i64, 1440] {
         l.push(Rung::new(
-            "presolve, no exchange",
+            &format!("scan {n}, exchange"),
             "accuracy",
-            vec![Set("accuracy.max_rounds", v_int(1))],
+            vec![Set("accuracy.scan_samples", v_int(n))],
         ));
+    }
+    for t in [1e-3, 1e-6] {
         l.push(Rung::new(
-            "presolve, clarabel SOCP rounds (no exact disc)",
+            &format!("rel_tol {t:e}"),
             "accuracy",
-            vec![Set("accuracy.exact_disc", Value::from(false))],
+            vec![Set("accuracy.rel_tol", v_f(t))],
         ));
-        for n in [64i64, 1440] {
-            l.push(Rung::new(
-                &format!("scan {n}, exchange"),
-                "accuracy",
-                vec![Set("accuracy.scan_samples", v_int(n))],
-            ));
-        }
-        for t in [1e-3, 1e-6] {
-            l.push(Rung::new(
-                &format!("rel_tol {t:e}"),
-                "accuracy",
-                vec![Set("accuracy.rel_tol", v_f(t))],
-            ));
-        }
-        let m = &s.core.mech;
-        if m.kinematics == Kinematics::Exact {
-            l.push(Rung::new(
-                "two-harmonic kinematics",
-                "model",
-                vec![Set("model.kinematics", v_s("two-harmonic"))],
-            ));
-        } else {
-            l.push(Rung::new(
-                "exact kinematics",
-                "model",
-                vec![Set("model.kinematics", v_s("exact"))],
-            ));
-        }
-        let lumped = (m.rod.inertia - m.rod.mass * (m.l - m.rod.centroid) * m.rod.centroid)
-            .abs()
-            <= 1e-12 * (m.rod.mass * m.l * m.l).max(1e-300);
-        if lumped {
-            l.push(Rung::new(
-                "rigid uniform rod",
-                "model",
-                vec![Remove("model.rod_split"), Set("model.masses", v_s("rigid"))],
-            ));
-        } else {
-            l.push(Rung::new(
-                "lumped rod (½ + ½)",
-                "model",
-                vec![
-                    Remove("model.rod_centroid"),
-                    Remove("model.rod_inertia"),
-                    Set("model.masses", v_s("lumped")),
-                ],
-            ));
-        }
-        if s.core.loads.gravity.norm() > 0.0 {
-            l.push(Rung::new(
-                "no gravity",
-                "model",
-                vec![
-                    Remove("model.gravity_acceleration"),
-                    Set("model.gravity", Value::from(false)),
-                ],
-            ));
-        } else {
-            l.push(Rung::new(
-                "with gravity",
-                "model",
-                vec![Set("model.gravity", Value::from(true))],
-            ));
-        }
-        Ladder {
+    }
+    let m = &s.core.mech;
+    if m.kinematics == Kinematics::Exact {
+        l.push(Rung::new(
+            "two-harmonic kinematics",
+            "model",
+            vec![Set("model.kinematics", v_s("two-harmonic"))],
+        ));
+    } else {
+        l.push(Rung::new(
+            "exact kinematics",
+            "model",
+            vec![Set("model.kinematics", v_s("exact"))],
+        ));
+    }
+    let lumped = (m.rod.inertia - m.rod.mass * (m.l - m.rod.centroid) * m.rod.centroid).abs()
+        <= 1e-12 * (m.rod.mass * m.l * m.l).max(1e-300);
+    if lumped {
+        l.push(Rung::new(
+            "rigid uniform rod",
+            "model",
+            vec![Remove("model.rod_split"), Set("model.masses", v_s("rigid"))],
+        ));
+    } else {
+        l.push(Rung::new(
+            "lumped rod (½ + ½)",
+            "model",
+            vec![
+                Remove("model.rod_centroid"),
+                Remove("model.rod_inertia"),
+                Set("model.masses", v_s("lumped")),
+            ],
+        ));
+    }
+    if s.core.loads.gravity.norm() > 0.0 {
+        l.push(Rung::new(
+            "no gravity",
+            "model",
+            vec![
+                Remove("model.gravity_acceleration"),
+                Set("model.gravity", Value::from(false)),
+            ],
+        ));
+    } else {
+        l.push(Rung::new(
+            "with gravity",
+            "model",
+            vec![Set("model.gravity", Value::from(true))],
+        ));
+    }
+    Ladder {
         reference,
         rungs: l,
     }
@@ -119,7 +118,10 @@ pub fn ladder(s: &super::file::SliderCrankProblem) -> Ladder {
 
 /// What the model leaves out or includes, with a bound for each effect (see
 /// [`crate::families::Machine::effects`]).
-pub fn effects(s: &crate::families::slider_crank::file::SliderCrankProblem, reference: f64) -> Vec<Effect> {
+pub fn effects(
+    s: &crate::families::slider_crank::file::SliderCrankProblem,
+    reference: f64,
+) -> Vec<Effect> {
     let c = &s.core;
     let m = &c.mech;
     let w2 = c.omega * c.omega;
@@ -221,4 +223,3 @@ pub fn effects(s: &crate::families::slider_crank::file::SliderCrankProblem, refe
 // ---------------------------------------------------------------------------------------
 // Hypocycloid
 // ---------------------------------------------------------------------------------------
-

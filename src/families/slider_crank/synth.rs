@@ -8,16 +8,16 @@
 //! and the classical baselines (no counterweight, y force zeroed, the 50 % rule, equal x and
 //! y ranges) with the same refined peaks.
 
-use crate::synth::counterweight::{self as cw, Affine, Direction, Field, Goal, Problem, Status};
-use crate::synth::Var;
-use crate::geom::P2;
 use crate::families::slider_crank::model::{
     rot, rot_cs, weight_torque_cs, Kinematics, Loads, SliderCrank, State,
 };
+use crate::geom::P2;
 use crate::numeric::{
     brent_max, newton_polish, newton_root, periodic_peak, periodic_rms, periodic_rms_sampled,
     Extremum, PeriodicPeak, Refine, Shape,
 };
+use crate::synth::counterweight::{self as cw, Affine, Direction, Field, Goal, Problem, Status};
+use crate::synth::Var;
 use std::collections::BTreeMap;
 
 /// What the synthesis minimises.

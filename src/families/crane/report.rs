@@ -1,0 +1,451 @@
+//! The crane result: its outcome shaped into the common result — design,
+//! objectives with their errors, baselines, paper checks, tables and plots (keys in
+//! `docs/results.md`).
+
+use super::file::*;
+use crate::families::crane::model::{synthesize, Angles, Boom, Guide};
+use crate::families::crane::synth::{self as cr, Outcome, Status as CraneStatus, TiePinLimit};
+use crate::families::Scene;
+use crate::geom::P2;
+use crate::report::plot::{self, Grid, Panel, Series};
+use crate::report::{PaperCheck, Plot, SolveResult, Status, Table};
+use serde_json::json;
+use std::collections::BTreeMap;
+use std::time::Instant;
+
+/// The result key a thesis comparison of the synthesis layer is read against.
+fn paper_key(quantity: &str) -> &'static str {
+    match quantity {
+        "k = L_v/L_c" => "derived.k",
+        "boom_length_m" => "design.boom_length_m",
+        "jib_length_m" => "design.jib_length_m",
+        "head_height_m (above A)" => "derived.head_height_m",
+        "reach_max_m - r (from A)" => "derived.reach_max_m",
+        "reach_min_m - r (from A)" => "derived.reach_min_m",
+        "phi_max_deg" => "design.phi_max_rad",
+        "delta_h_m" => "objectives.delta_h_m",
+        _ => "",
+    }
+}
+
+fn status_detail(s: CraneStatus) -> &'static str {
+    match s {
+        CraneStatus::Evaluated => "evaluated",
+        CraneStatus::BestFound => {
+            "best-found: multistart (Halton + SQP), not proven globally optimal"
+        }
+        CraneStatus::Infeasible => "infeasible",
+        CraneStatus::BranchDefect => "branch-defect",
+        CraneStatus::CannotAssemble => "cannot-assemble",
+        CraneStatus::NoGeometry => "no-geometry",
+        CraneStatus::Degenerate => "ill-conditioned: the rounding bound of delta h exceeds delta h",
+    }
+}
+
+/// The result of a luffing-crane scene: solve, then shape keys, checks, paper, plots, CSV.
+pub fn result(scene: &Scene, s: &CraneProblem) -> SolveResult {
+    let mut r = scene.new_result();
+    let (cs, set) = (&s.scene, &s.settings);
+    let t0 = Instant::now();
+    let out = match cr::solve(cs, set) {
+        Ok(o) => o,
+        Err(e) => {
+            r.warnings.push(map_error(e).to_string());
+            return r;
+        }
+    };
+    r.timing.solve_s = t0.elapsed().as_secs_f64();
+    r.model = BTreeMap::from([
+        ("boom_length_sizing".into(), json!(out.sizing_rule)),
+        (
+            "path".into(),
+            json!("one assembly branch followed continuously from the design positions; extrema of the head height refined by Brent"),
+        ),
+        ("path_samples".into(), json!(set.path_samples)),
+        ("extremum_xtol_rad".into(), json!(set.xtol)),
+        (
+            "tie_pin_limit".into(),
+            if cs.tie_pin == TiePinLimit::default() {
+                json!("none")
+            } else {
+                serde_json::to_value(cs.tie_pin).expect("plain data")
+            },
+        ),
+        ("allowed_delta_h_m".into(), json!(cs.allowed_delta_h())),
+        (
+            "gravity".into(),
+            json!(if cs.load_mass.is_some() {
+                "load weight Q g for the unbalanced load moment only"
+            } else {
+                "not modelled"
+            }),
+        ),
+    ]);
+    r.status = match out.status {
+        CraneStatus::Evaluated => Status::Analysed,
+        CraneStatus::BestFound => Status::BestFound,
+        CraneStatus::Degenerate => Status::Degenerate,
+        CraneStatus::Infeasible => Status::Infeasible,
+        CraneStatus::BranchDefect | CraneStatus::CannotAssemble | CraneStatus::NoGeometry => {
+            Status::Failed
+        }
+    };
+    r.status_detail = Some(status_detail(out.status).into());
+    r.method = out.method.clone();
+    r.search = out.search.clone();
+    r.warnings = out.warnings.clone();
+    r.design = out.design.clone();
+    r.objectives = out.objectives.clone();
+    r.errors = out.errors.clone();
+    r.derived = out.derived.clone();
+    // The family's thesis comparisons, except those the file's [[paper]] makes itself.
+    let file_keys: Vec<&str> = scene.paper.iter().map(|p| p.key.as_str()).collect();
+    for p in &out.paper {
+        let key = paper_key(&p.quantity);
+        if file_keys.contains(&key) {
+            continue;
+        }
+        // The synthesis layer compares φ_max in degrees; the result key is in rad.
+        let (quantity, paper, computed) = if p.quantity == "phi_max_deg" {
+            (
+                "phi_max (rad)",
+                p.paper.to_radians(),
+                p.computed.to_radians(),
+            )
+        } else {
+            (p.quantity.as_str(), p.paper, p.computed)
+        };
+        r.paper.push(PaperCheck {
+            quantity: format!("thesis §3.4.2: {quantity}"),
+            key: key.into(),
+            paper,
+            computed: Some(computed),
+            diff_pct: Some(100.0 * (computed - paper) / paper.abs().max(1e-300)),
+            note: p.note.clone(),
+        });
+    }
+    let checks: Vec<serde_json::Value> = out
+        .checks
+        .iter()
+        .map(|c| json!({"name": c.name, "pass": c.pass, "value": c.value, "limit": c.limit, "note": c.note}))
+        .collect();
+    r.extra.insert(
+        "checks_passed".into(),
+        json!(out.checks.iter().all(|c| c.pass)),
+    );
+    r.extra.insert("checks".into(), json!(checks));
+    r.extra.insert("evaluations".into(), json!(out.evaluations));
+    if let Some(p) = &out.positions {
+        r.extra.insert(
+            "positions".into(),
+            serde_json::to_value(p).expect("plain data"),
+        );
+    }
+    if !out.basins.is_empty() {
+        r.extra.insert(
+            "basins".into(),
+            serde_json::to_value(&out.basins).expect("plain data"),
+        );
+    }
+    if let Some(l) = &out.landscape {
+        r.extra
+            .insert("landscape".into(), landscape_summary(&scene.name, l));
+        r.tables.push(Table {
+            suffix: "landscape".into(),
+            caption: "Δh over the (k1, k2) grid with the tie-pin violation".into(),
+            csv: l.to_csv(),
+        });
+        match landscape_plot(scene, cs, &out, l) {
+            Ok(p) => r.plots.push(p),
+            Err(e) => r.warnings.push(format!("landscape plot failed: {e}")),
+        }
+    }
+    if !out.path.is_empty() {
+        let mut csv = String::from("phi_rad,head_x_m,head_y_m,tail_x_m,tail_y_m\n");
+        for ((phi, c), e) in out.path_phi_rad.iter().zip(&out.path).zip(&out.tail_path) {
+            csv += &format!(
+                "{phi:.12e},{:.12e},{:.12e},{:.12e},{:.12e}\n",
+                c[0], c[1], e[0], e[1]
+            );
+        }
+        r.tables.push(Table {
+            suffix: "path".into(),
+            caption: "Jib-head and jib-tail paths over the luffing range".into(),
+            csv,
+        });
+        match path_plot(scene, &out) {
+            Ok(p) => r.plots.push(p),
+            Err(e) => r.warnings.push(format!("path plot failed: {e}")),
+        }
+    }
+    r
+}
+
+/// Compact facts of the landscape (the grid itself is in the CSV).
+fn landscape_summary(name: &str, l: &cr::Landscape) -> serde_json::Value {
+    let mut best: Option<(f64, f64, f64)> = None;
+    let mut no_linkage = 0usize;
+    for (j, row) in l.delta_h_m.iter().enumerate() {
+        for (i, v) in row.iter().enumerate() {
+            match (v, l.tie_pin_violation_m[j][i]) {
+                (Some(dh), Some(viol)) if viol <= 0.0 && best.is_none_or(|b| *dh < b.0) => {
+                    best = Some((*dh, l.k1[i], l.k2[j]));
+                }
+                (None, _) => no_linkage += 1,
+                _ => {}
+            }
+        }
+    }
+    json!({
+        "k1_range": [l.k1[0], l.k1[l.k1.len() - 1]],
+        "k2_range": [l.k2[0], l.k2[l.k2.len() - 1]],
+        "k1_points": l.k1.len(),
+        "k2_points": l.k2.len(),
+        "cells_without_linkage": no_linkage,
+        "grid_min_delta_h_m": best.map(|b| b.0),
+        "grid_min_at": best.map(|b| [b.1, b.2]),
+        "csv": format!("{name}-landscape.csv"),
+    })
+}
+
+/// Signed tie-pin margin (m): the largest of |AB| − R, lo − x, x − hi, …; negative inside.
+fn signed_margin(t: &TiePinLimit, b: P2) -> f64 {
+    let mut v = f64::NEG_INFINITY;
+    if let Some(r) = t.max_distance {
+        v = v.max(b.norm() - r);
+    }
+    if let Some([lo, hi]) = t.x_range {
+        v = v.max(lo - b.x).max(b.x - hi);
+    }
+    if let Some([lo, hi]) = t.y_range {
+        v = v.max(lo - b.y).max(b.y - hi);
+    }
+    v
+}
+
+/// Zero contour of `f` on the grid (marching squares, linear interpolation), as line
+/// segments separated by NaN points.
+fn zero_contour(x: &[f64], y: &[f64], f: &[Vec<f64>]) -> Vec<(f64, f64)> {
+    let mut out = Vec::new();
+    for j in 0..y.len().saturating_sub(1) {
+        for i in 0..x.len().saturating_sub(1) {
+            let c = [
+                (x[i], y[j], f[j][i]),
+                (x[i + 1], y[j], f[j][i + 1]),
+                (x[i + 1], y[j + 1], f[j + 1][i + 1]),
+                (x[i], y[j + 1], f[j + 1][i]),
+            ];
+            if c.iter().any(|p| !p.2.is_finite()) {
+                continue;
+            }
+            let mut pts = Vec::new();
+            for k in 0..4 {
+                let (a, b) = (c[k], c[(k + 1) % 4]);
+                if (a.2 < 0.0) != (b.2 < 0.0) {
+                    let t = a.2 / (a.2 - b.2);
+                    pts.push((a.0 + t * (b.0 - a.0), a.1 + t * (b.1 - a.1)));
+                }
+            }
+            for pair in pts.chunks_exact(2) {
+                out.extend_from_slice(pair);
+                out.push((f64::NAN, f64::NAN));
+            }
+        }
+    }
+    out
+}
+
+fn landscape_plot(
+    scene: &Scene,
+    cs: &cr::CraneScene,
+    out: &Outcome,
+    l: &cr::Landscape,
+) -> Result<Plot, String> {
+    let values: Vec<Vec<f64>> = l
+        .delta_h_m
+        .iter()
+        .map(|row| {
+            row.iter()
+                .map(|v| v.filter(|d| *d > 0.0).map_or(f64::NAN, f64::log10))
+                .collect()
+        })
+        .collect();
+    let mut series = Vec::new();
+    let bounded = cs.tie_pin != TiePinLimit::default();
+    if bounded {
+        // The tie pin B of every grid point (cheap: step 2 only, no path), at the reported
+        // angles and boom length, for the signed margin whose zero contour is the boundary.
+        let g = |k: &str| out.design.get(k).copied().unwrap_or(f64::NAN);
+        let angles = Angles {
+            phi_min: g("phi_min_rad"),
+            gamma1: g("gamma1_rad"),
+            gamma2: g("gamma2_rad"),
+            gamma3: g("gamma3_rad"),
+        };
+        let boom = Boom::new(g("boom_length_m"), angles).map_err(|e| e.to_string())?;
+        let margin: Vec<Vec<f64>> =
+            l.k2.iter()
+                .map(|&k2| {
+                    l.k1.iter()
+                        .map(|&k1| match synthesize(&boom, k1, k2).map(|s| s.guide) {
+                            Ok(Guide::Circle { centre, .. }) => signed_margin(&cs.tie_pin, centre),
+                            Ok(Guide::Line { .. }) => f64::INFINITY,
+                            Err(_) => f64::NAN,
+                        })
+                        .collect()
+                })
+                .collect();
+        series.push(Series::line(
+            "tie-pin limit boundary (white dots: B outside)",
+            zero_contour(&l.k1, &l.k2, &margin),
+        ));
+        // Every fourth grid point with B outside the limit: shows the infeasible side
+        // without hiding the colours.
+        let mut dots = Vec::new();
+        for (j, row) in l.tie_pin_violation_m.iter().enumerate().step_by(4) {
+            for (i, v) in row.iter().enumerate().step_by(4) {
+                if v.is_some_and(|v| v > 0.0) {
+                    dots.extend([(l.k1[i], l.k2[j]), (f64::NAN, f64::NAN)]);
+                }
+            }
+        }
+        series.push(Series::points("grid points with B outside the limit", dots));
+    } else {
+        series.push(Series::line("no tie-pin limit in this scene", vec![]));
+        series.push(Series::points("no grid point outside a limit", vec![]));
+    }
+    let ends: Vec<(f64, f64)> = out
+        .basins
+        .iter()
+        .filter_map(|b| Some((*b.end.get("k1")?, *b.end.get("k2")?)))
+        .collect();
+    series.push(Series::marker(
+        if ends.is_empty() {
+            "local-search ends: none (k1, k2 not searched)"
+        } else {
+            "ends of the local searches (each at its own angles)"
+        },
+        ends,
+    ));
+    let (k1, k2) = (l.optimum[0], l.optimum[1]);
+    let design_name = if cs.k1.fixed().is_some() && cs.k2.fixed().is_some() {
+        format!("given design (k1 {k1:.3}, k2 {k2:.3})")
+    } else {
+        format!("optimum (k1 {k1:.3}, k2 {k2:.3})")
+    };
+    series.push(Series::marker(design_name, vec![(k1, k2)]));
+    let svg = plot::heat_map(
+        &Panel {
+            title: format!(
+                "{}: log10(Δh / 1 m) over (k1, k2) (−1: 0.1 m, 0: 1 m)",
+                scene.name
+            ),
+            x_label: "k1 = C1C2/C1C3 (–)".into(),
+            y_label: "k2 = a/L_v (–)".into(),
+            series,
+            equal_aspect: false,
+        },
+        &Grid {
+            x: l.k1.clone(),
+            y: l.k2.clone(),
+            values,
+        },
+        None,
+        760,
+        620,
+    )?;
+    Ok(Plot {
+        suffix: "landscape".into(),
+        caption: "Δh over (k1, k2) (angles and L_c at the reported design; grey: no linkage or branch defect), tie-pin limit boundary and the design".into(),
+        svg,
+    })
+}
+
+fn path_plot(scene: &Scene, out: &Outcome) -> Result<Plot, String> {
+    let nan = (f64::NAN, f64::NAN);
+    let head: Vec<(f64, f64)> = out.path.iter().map(|p| (p[0], p[1])).collect();
+    let tail: Vec<(f64, f64)> = out.tail_path.iter().map(|p| (p[0], p[1])).collect();
+    let mut series = vec![
+        Series::line("jib-head path C", head.clone()),
+        Series::line("jib-tail path E", tail),
+    ];
+    if let Some(p) = &out.positions {
+        // The linkage at max reach (1) and min reach (3): boom A–D, jib E–D–C, tie B–E.
+        for (i, name) in [(0, "linkage at max reach"), (2, "linkage at min reach")] {
+            let mut pts = vec![(0.0, 0.0), (p.d[i][0], p.d[i][1]), nan];
+            pts.extend([(p.e[i][0], p.e[i][1]), (p.c[i][0], p.c[i][1]), nan]);
+            if let Some(b) = p.tie_pin {
+                pts.extend([(b[0], b[1]), (p.e[i][0], p.e[i][1])]);
+            }
+            series.push(Series::line(name, pts));
+        }
+        series.push(Series::marker(
+            "design positions C1, C2, C3",
+            p.c.iter().map(|c| (c[0], c[1])).collect(),
+        ));
+        let mut pins = vec![(0.0, 0.0)];
+        if let Some(b) = p.tie_pin {
+            pins.push((b[0], b[1]));
+        }
+        series.push(Series::marker("boom foot A, tie pin B", pins));
+    }
+    let height: Vec<(f64, f64)> = out
+        .path_phi_rad
+        .iter()
+        .zip(&out.path)
+        .map(|(phi, c)| (phi.to_degrees(), c[1]))
+        .collect();
+    let g = |k: &str| out.derived.get(k).copied();
+    let mut hs = vec![Series::line("head height y_C", height)];
+    if let (Some(a), Some(ya), Some(b), Some(yb)) = (
+        g("phi_at_head_max_rad"),
+        g("head_y_max_m"),
+        g("phi_at_head_min_rad"),
+        g("head_y_min_m"),
+    ) {
+        hs.push(Series::marker(
+            "refined max and min",
+            vec![(a.to_degrees(), ya), (b.to_degrees(), yb)],
+        ));
+    }
+    if let Some(p) = &out.positions {
+        hs.push(Series::marker(
+            "design positions",
+            (0..3)
+                .map(|i| (p.phi_rad[i].to_degrees(), p.c[i][1]))
+                .collect(),
+        ));
+    }
+    let dh = out
+        .objectives
+        .get("delta_h_m")
+        .map_or("Δh not available".to_string(), |d| {
+            format!("Δh = {d:.4} m")
+        });
+    let svg = plot::panels(
+        &[
+            Panel {
+                title: format!("{}: jib-head path ({dh})", scene.name),
+                x_label: "x from the boom foot A (m; reach is −x)".into(),
+                y_label: "y above A (m)".into(),
+                series,
+                equal_aspect: true,
+            },
+            Panel {
+                title: format!("Jib-head height over the luffing range ({dh})"),
+                x_label: "boom angle φ (deg)".into(),
+                y_label: "jib-head height y_C above A (m)".into(),
+                series: hs,
+                equal_aspect: false,
+            },
+        ],
+        640,
+        520,
+    )?;
+    Ok(Plot {
+        suffix: "path".into(),
+        caption: "Jib-head path over the luffing range and its height against the boom angle"
+            .into(),
+        svg,
+    })
+}

@@ -1,0 +1,611 @@
+//! The slider-crank result: its outcome shaped into the common result — design,
+//! objectives with their errors, baselines, paper checks, tables and plots (keys in
+//! `docs/results.md`).
+
+use super::file::*;
+use crate::families::slider_crank::model::Kinematics;
+use crate::families::slider_crank::model::ProcessForce;
+use crate::families::slider_crank::synth::shaking_force;
+use crate::families::slider_crank::synth::{self as sc, Objective};
+use crate::families::Scene;
+use crate::geom::P2;
+use crate::report::plot::{self, Panel, Series};
+use crate::report::{Plot, SolveResult, Status, Table};
+use crate::synth::counterweight::Status as CwStatus;
+use crate::synth::shape::{self, ShapeOutcome};
+use serde_json::json;
+use std::collections::BTreeMap;
+use std::f64::consts::TAU;
+use std::time::Instant;
+
+/// The result of a slider-crank scene: solve, then shape keys, errors, baselines, the
+/// Pareto front, the paper's classical design, the plate shape and the plots.
+pub fn result(scene: &Scene, sc_scene: &SliderCrankProblem) -> SolveResult {
+    let s = &sc_scene.core;
+    let mut r = scene.new_result();
+    let m = &s.mech;
+    let g = s.loads.gravity;
+    r.model = BTreeMap::from([
+        (
+            "kinematics".into(),
+            json!(match m.kinematics {
+                Kinematics::Exact => "exact",
+                Kinematics::TwoHarmonic => "two-harmonic",
+            }),
+        ),
+        (
+            "rod_centroid_from_crank_pin_m".into(),
+            json!(m.rod.centroid),
+        ),
+        ("rod_inertia_kgm2".into(), json!(m.rod.inertia)),
+        ("offset_m".into(), json!(m.e)),
+        (
+            "gravity".into(),
+            if g.norm() > 0.0 {
+                json!({"acceleration_m_s2": g.norm(), "x_m_s2": g.x, "y_m_s2": g.y})
+            } else {
+                json!("not modelled")
+            },
+        ),
+        (
+            "process_force".into(),
+            json!(match &s.loads.process {
+                ProcessForce::None => "none".to_string(),
+                ProcessForce::Constant(f) => format!("constant {f} N"),
+                ProcessForce::Table { angles, .. } => format!("table of {} points", angles.len()),
+            }),
+        ),
+    ]);
+    let t0 = Instant::now();
+    let out = match sc::solve(s) {
+        Ok(o) => o,
+        Err(e) => {
+            r.warnings.push(e.to_string());
+            return r;
+        }
+    };
+    r.timing.solve_s = t0.elapsed().as_secs_f64();
+    let free =
+        s.counterweight.angle.fixed().is_none() || s.counterweight.unbalance.fixed().is_none();
+    r.status = match out.status {
+        CwStatus::Optimal if !free => Status::Analysed,
+        CwStatus::Optimal => Status::Optimal,
+        CwStatus::Inaccurate => Status::Inaccurate,
+        CwStatus::Infeasible => Status::Infeasible,
+        CwStatus::Failed => Status::Failed,
+    };
+    if let Some(why) = &out.degenerate {
+        if free {
+            r.status = Status::Degenerate;
+            r.status_detail = Some(why.clone());
+        }
+    }
+    r.method = out.method.clone();
+    r.warnings.extend(out.warnings.iter().cloned());
+    let d = &out.design;
+    let u = P2::new(d.unbalance[0], d.unbalance[1]);
+    r.design
+        .insert("counterweight_unbalance_kgm".into(), u.norm());
+    r.design.insert(
+        "counterweight_angle_rad".into(),
+        if u.norm() > 0.0 {
+            u.y.atan2(u.x).rem_euclid(TAU)
+        } else {
+            0.0
+        },
+    );
+    r.design.insert("counterweight_unbalance_x_kgm".into(), u.x);
+    r.design.insert("counterweight_unbalance_y_kgm".into(), u.y);
+    if let Some(mass) = out.mass {
+        r.design.insert("counterweight_mass_kg".into(), mass);
+    }
+    if let Some(rad) = out.radius {
+        r.design.insert("counterweight_radius_m".into(), rad);
+    }
+    let torque_objective = s.objective == Objective::MinPeakTorque;
+    r.objective = Some(
+        match s.objective {
+            Objective::MinPeakTorque => "peak_drive_torque_nm",
+            Objective::MinRmsForce => "rms_shaking_force_n",
+            _ => "peak_shaking_force_n",
+        }
+        .into(),
+    );
+    r.objectives.insert("peak_shaking_force_n".into(), d.peak);
+    r.objectives.insert("rms_shaking_force_n".into(), d.rms);
+    r.objectives
+        .insert("peak_drive_torque_nm".into(), d.peak_torque);
+    r.objectives
+        .insert("peak_shaking_moment_nm".into(), out.peak_shaking_moment);
+    // A degenerate torque objective was solved as the minimax force: its gap is in N.
+    let (gap_f, gap_t) = if torque_objective && out.degenerate.is_none() {
+        (0.0, out.gap)
+    } else {
+        (out.gap, 0.0)
+    };
+    r.errors
+        .insert("peak_shaking_force_n".into(), gap_f + d.peak_error);
+    r.errors.insert("rms_shaking_force_n".into(), d.rms_error);
+    r.errors
+        .insert("peak_drive_torque_nm".into(), gap_t + d.peak_torque_error);
+    r.errors.insert(
+        "peak_shaking_moment_nm".into(),
+        out.peak_shaking_moment_error,
+    );
+    let (mt, mc) = (m.m_rot(), m.m_rec());
+    r.derived = BTreeMap::from([
+        ("lambda".into(), m.lambda()),
+        ("omega_rad_s".into(), s.omega),
+        ("rotating_mass_kg".into(), mt),
+        ("reciprocating_mass_kg".into(), mc),
+        (
+            "reciprocating_fraction_balanced".into(),
+            if mc > 0.0 {
+                (-u.x / m.r - mt) / mc
+            } else {
+                0.0
+            },
+        ),
+        ("peak_angle_rad".into(), d.peak_angle),
+        ("peak_torque_angle_rad".into(), d.peak_torque_angle),
+        ("peak_to_peak_x_n".into(), d.ptp_x),
+        ("peak_to_peak_y_n".into(), d.ptp_y),
+        ("optimality_gap".into(), out.gap),
+        ("gravity_ratio".into(), 9.80665 / (m.r * s.omega * s.omega)),
+    ]);
+    if out.static_weight > 0.0 {
+        r.derived
+            .insert("static_weight_n".into(), out.static_weight);
+    }
+    if let Some(ex) = out.exact_peak {
+        r.derived
+            .insert("peak_shaking_force_exact_kinematics_n".into(), ex);
+        r.errors
+            .insert("model_two_harmonic_n".into(), (ex - d.peak).abs());
+    }
+    let mut baselines = out.baselines.clone();
+    // The classical formula (6) at the lever radius is the 50 % rule: m = (m_r + ½m_s)R/r_pr.
+    if let Some(rad) = s.counterweight.radius.and_then(|v| v.fixed()) {
+        r.derived.insert(
+            "formula6_counterweight_mass_kg".into(),
+            (mt + 0.5 * mc) * m.r / rad,
+        );
+        if let Some(pd) = &sc_scene.paper {
+            paper_design_checks(&mut r, &mut baselines, s, pd, rad);
+        }
+    }
+    for (name, b) in &baselines {
+        let mut map = b.to_map();
+        let base = if torque_objective {
+            b.peak_torque
+        } else {
+            b.peak
+        };
+        let ours = if torque_objective {
+            d.peak_torque
+        } else {
+            d.peak
+        };
+        map.insert(
+            "improvement_pct".into(),
+            100.0 * (base - ours) / base.max(1e-300),
+        );
+        r.baselines.insert(name.clone(), map);
+    }
+    if !out.pareto.is_empty() {
+        r.extra.insert(
+            "pareto".into(),
+            serde_json::to_value(&out.pareto).expect("plain data"),
+        );
+        if let (Some(a), Some(b)) = (out.pareto.first(), out.pareto.last()) {
+            let (df, dt) = (
+                b.peak_shaking_force_n - a.peak_shaking_force_n,
+                a.peak_drive_torque_nm - b.peak_drive_torque_nm,
+            );
+            r.derived.insert("pareto_force_span_n".into(), df);
+            r.derived.insert("pareto_torque_span_nm".into(), dt);
+            if df < 0.01 * a.peak_shaking_force_n && dt < 0.01 * b.peak_drive_torque_nm {
+                r.warnings.push(format!(
+                    "the force optimum and the torque optimum nearly coincide (the front spans {df:.3} N and {dt:.4} N·m): one counterweight serves both"
+                ));
+            }
+        }
+        let mut csv = String::from("force_limit_n,peak_shaking_force_n,peak_drive_torque_nm,gap_nm,unbalance_x_kgm,unbalance_y_kgm,status\n");
+        for p in &out.pareto {
+            csv += &format!(
+                "{},{},{},{},{},{},{}\n",
+                p.force_limit_n,
+                p.peak_shaking_force_n,
+                p.peak_drive_torque_nm,
+                p.gap_nm,
+                p.unbalance_x_kgm,
+                p.unbalance_y_kgm,
+                serde_json::to_value(p.status)
+                    .unwrap()
+                    .as_str()
+                    .unwrap_or("")
+            );
+        }
+        r.tables.push(Table {
+            suffix: "pareto".into(),
+            caption: "Torque–force Pareto front".into(),
+            csv,
+        });
+        if plot::drawing() {
+            match pareto_plot(scene, &out, &baselines) {
+                Ok(p) => r.plots.push(p),
+                Err(e) => r.warnings.push(format!("Pareto plot failed: {e}")),
+            }
+        }
+    }
+    if let Some(spec) = &sc_scene.shape {
+        match shape::design(spec, u.norm()) {
+            ShapeOutcome::Found { sector, method } => {
+                r.extra
+                    .insert("shape".into(), json!({"sector": sector, "method": method}));
+                r.derived.insert("shape_mass_kg".into(), sector.mass_kg);
+                r.derived
+                    .insert("shape_centroid_radius_m".into(), sector.centroid_radius_m);
+            }
+            ShapeOutcome::Infeasible { reason } => {
+                r.warnings.push(format!("counterweight plate: {reason}"));
+                r.extra.insert(
+                    "shape".into(),
+                    json!({"status": "infeasible", "reason": reason}),
+                );
+            }
+        }
+    }
+    if let Some(sw) = &sc_scene.speed_sweep {
+        speed_sweep(&mut r, scene, s, sw, u);
+    }
+    if plot::drawing() {
+        match slider_crank_plot(scene, s, &out) {
+            Ok(p) => r.plots.push(p),
+            Err(e) => r.warnings.push(format!("plot failed: {e}")),
+        }
+    }
+    r
+}
+
+/// Re-optimises the scene at each speed of the sweep and evaluates the scene's own design
+/// and no counterweight there (section `speed_sweep`, `<name>-speed-sweep.csv` and `.svg`).
+fn speed_sweep(r: &mut SolveResult, scene: &Scene, s: &sc::Scene, sw: &SpeedSweep, u: P2) {
+    let torque = s.objective == Objective::MinPeakTorque;
+    let value = |m: &sc::Metrics| match s.objective {
+        Objective::MinPeakTorque => m.peak_torque,
+        Objective::MinRmsForce => m.rms,
+        _ => m.peak,
+    };
+    let mut pts = Vec::with_capacity(sw.points);
+    for k in 0..sw.points {
+        let omega = sw.min + (sw.max - sw.min) * k as f64 / (sw.points - 1) as f64;
+        let at = sc::Scene { omega, ..s.clone() };
+        let point = sc::optimise(&at).and_then(|o| {
+            let opt = sc::metrics(&at, o.u)?;
+            let des = sc::metrics(&at, u)?;
+            let none = sc::metrics(&at, P2::zeros())?;
+            Ok(SweepPoint {
+                omega_rad_s: omega,
+                speed_rpm: omega * 60.0 / TAU,
+                optimal_unbalance_kgm: o.u.norm(),
+                optimal_objective: value(&opt),
+                design_objective: value(&des),
+                none_objective: value(&none),
+                status: match o.status {
+                    CwStatus::Optimal => Status::Optimal,
+                    CwStatus::Inaccurate => Status::Inaccurate,
+                    CwStatus::Infeasible => Status::Infeasible,
+                    CwStatus::Failed => Status::Failed,
+                },
+            })
+        });
+        match point {
+            Ok(p) => pts.push(p),
+            Err(e) => r
+                .warnings
+                .push(format!("speed sweep at {omega:.3} rad/s: {e}")),
+        }
+    }
+    let unit = if torque { "N·m" } else { "N" };
+    let mut csv = String::from("speed_rpm,omega_rad_s,optimal_unbalance_kgm,optimal_objective,design_objective,none_objective,status\n");
+    for p in &pts {
+        csv += &format!(
+            "{},{},{},{},{},{},{}\n",
+            p.speed_rpm,
+            p.omega_rad_s,
+            p.optimal_unbalance_kgm,
+            p.optimal_objective,
+            p.design_objective,
+            p.none_objective,
+            serde_json::to_value(p.status)
+                .unwrap()
+                .as_str()
+                .unwrap_or("")
+        );
+    }
+    r.tables.push(Table {
+        suffix: "speed-sweep".into(),
+        caption: "Optimum against speed".into(),
+        csv,
+    });
+    let line = |f: &dyn Fn(&SweepPoint) -> f64| {
+        pts.iter().map(|p| (p.speed_rpm, f(p))).collect::<Vec<_>>()
+    };
+    let svg = plot::panels(
+        &[
+            Panel {
+                title: format!("{}: objective against speed", scene.name),
+                x_label: "speed (rpm)".into(),
+                y_label: format!("{} ({unit})", r.objective.clone().unwrap_or_default()),
+                series: vec![
+                    Series::line("optimum at each speed", line(&|p| p.optimal_objective)),
+                    Series::line(
+                        "this design (optimised at the scene's speed)",
+                        line(&|p| p.design_objective),
+                    ),
+                    Series::line("no counterweight", line(&|p| p.none_objective)),
+                ],
+                equal_aspect: false,
+            },
+            Panel {
+                title: "optimal unbalance against speed".into(),
+                x_label: "speed (rpm)".into(),
+                y_label: "|U| (kg·m)".into(),
+                series: vec![Series::line(
+                    "optimal |U|",
+                    line(&|p| p.optimal_unbalance_kgm),
+                )],
+                equal_aspect: false,
+            },
+        ],
+        600,
+        460,
+    );
+    match svg {
+        Ok(svg) => r.plots.push(Plot {
+            suffix: "speed-sweep".into(),
+            caption: "Optimum against speed".into(),
+            svg,
+        }),
+        Err(e) => r.warnings.push(format!("speed-sweep plot failed: {e}")),
+    }
+    r.extra.insert(
+        "speed_sweep".into(),
+        serde_json::to_value(&pts).expect("plain data"),
+    );
+}
+
+/// The paper's classical design against its own inputs: the printed masses against the
+/// itemised sums, the printed counterweight against formula (6) on the printed inputs, and
+/// the paper's counterweight evaluated as a baseline (`paper_counterweight`).
+fn paper_design_checks(
+    r: &mut SolveResult,
+    baselines: &mut BTreeMap<String, sc::Metrics>,
+    s: &sc::Scene,
+    pd: &PaperDesign,
+    rad: f64,
+) {
+    let m = &s.mech;
+    let (mt, mc) = (m.m_rot(), m.m_rec());
+    let pct = |a: f64, b: f64| 100.0 * (a - b) / b;
+    if let Some(pr) = pd.rotating_mass {
+        if (pr - mt).abs() > 1e-3 * mt {
+            r.warnings.push(format!(
+                "the paper prints a rotating mass of {pr} kg but its own items add up to {mt:.4} kg ({:+.2} %)",
+                pct(pr, mt)
+            ));
+        }
+    }
+    if let Some(ps) = pd.reciprocating_mass {
+        if (ps - mc).abs() > 1e-3 * mc {
+            r.warnings.push(format!(
+                "the paper prints a reciprocating mass of {ps} kg but its own items add up to {mc:.4} kg ({:+.2} %)",
+                pct(ps, mc)
+            ));
+        }
+    }
+    if let (Some(pr), Some(ps)) = (pd.rotating_mass, pd.reciprocating_mass) {
+        let f6 = (pr + 0.5 * ps) * m.r / rad;
+        r.derived
+            .insert("formula6_counterweight_mass_printed_inputs_kg".into(), f6);
+        if let Some(pm) = pd.counterweight_mass {
+            if (pm - f6).abs() > 1e-4 * f6 {
+                r.warnings.push(format!(
+                    "the paper prints a counterweight of {pm} kg but formula (6) on its own printed inputs gives {f6:.4} kg ({:+.3} %)",
+                    pct(pm, f6)
+                ));
+            }
+        }
+    }
+    if let Some(pm) = pd.counterweight_mass {
+        let u_paper = P2::new(-pm * rad, 0.0);
+        match sc::metrics(s, u_paper) {
+            Ok(met) => {
+                if let Some(none) = baselines.get("none") {
+                    r.derived.insert(
+                        "paper_counterweight_torque_reduction_pct".into(),
+                        100.0 * (none.peak_torque - met.peak_torque) / none.peak_torque,
+                    );
+                }
+                baselines.insert("paper_counterweight".into(), met);
+            }
+            Err(e) => r.warnings.push(format!(
+                "the paper's counterweight could not be evaluated: {e}"
+            )),
+        }
+    }
+}
+
+fn pareto_plot(
+    scene: &Scene,
+    out: &sc::Outcome,
+    baselines: &BTreeMap<String, sc::Metrics>,
+) -> Result<Plot, String> {
+    let front: Vec<(f64, f64)> = out
+        .pareto
+        .iter()
+        .map(|p| (p.peak_shaking_force_n, p.peak_drive_torque_nm))
+        .collect();
+    let mut series = vec![Series::line(
+        "Pareto front (least peak torque for a force limit)",
+        front.clone(),
+    )];
+    series.push(Series::points("front points", front.clone()));
+    if let (Some(first), Some(last)) = (out.pareto.first(), out.pareto.last()) {
+        series.push(Series::marker(
+            "force optimum",
+            vec![(first.peak_shaking_force_n, first.peak_drive_torque_nm)],
+        ));
+        series.push(Series::marker(
+            "torque optimum",
+            vec![(last.peak_shaking_force_n, last.peak_drive_torque_nm)],
+        ));
+    }
+    for (name, label) in [
+        ("paper_counterweight", "paper's counterweight"),
+        ("fifty_percent", "formula (6) / 50 % rule"),
+        ("none", "no counterweight"),
+    ] {
+        if let Some(b) = baselines.get(name) {
+            series.push(Series::marker(label, vec![(b.peak, b.peak_torque)]));
+        }
+    }
+    series.push(Series::marker(
+        "this design",
+        vec![(out.design.peak, out.design.peak_torque)],
+    ));
+    // The front itself, at its own scale (the optima can be close together).
+    let mut zoom = vec![
+        Series::line("Pareto front", front.clone()),
+        Series::points("front points", front),
+    ];
+    if let (Some(first), Some(last)) = (out.pareto.first(), out.pareto.last()) {
+        zoom.push(Series::marker(
+            "force optimum",
+            vec![(first.peak_shaking_force_n, first.peak_drive_torque_nm)],
+        ));
+        zoom.push(Series::marker(
+            "torque optimum",
+            vec![(last.peak_shaking_force_n, last.peak_drive_torque_nm)],
+        ));
+    }
+    let svg = plot::panels(
+        &[
+            Panel {
+                title: format!(
+                    "{}: peak drive torque against peak shaking force",
+                    scene.name
+                ),
+                x_label: "peak shaking force (N)".into(),
+                y_label: "peak drive torque (N·m)".into(),
+                series,
+                equal_aspect: false,
+            },
+            Panel {
+                title: "the Pareto front at its own scale".into(),
+                x_label: "peak shaking force (N)".into(),
+                y_label: "peak drive torque (N·m)".into(),
+                series: zoom,
+                equal_aspect: false,
+            },
+        ],
+        700,
+        520,
+    )?;
+    Ok(Plot {
+        suffix: "pareto".into(),
+        caption: "Torque–force Pareto front".into(),
+        svg,
+    })
+}
+
+fn slider_crank_plot(scene: &Scene, s: &sc::Scene, out: &sc::Outcome) -> Result<Plot, String> {
+    let n = 361;
+    let curves: Vec<(String, P2)> = [
+        ("no counterweight".to_string(), P2::zeros()),
+        ("optimum".to_string(), P2::from(out.design.unbalance)),
+    ]
+    .into_iter()
+    .chain(
+        out.baselines
+            .get("fifty_percent")
+            .map(|b| ("50 % rule".to_string(), P2::from(b.unbalance))),
+    )
+    .collect();
+    let mut locus = Vec::new();
+    let mut mag = Vec::new();
+    let mut torque = Vec::new();
+    for (name, u) in &curves {
+        let angles = (0..n).map(|k| k as f64 * TAU / (n - 1) as f64);
+        let pts: Vec<P2> = angles
+            .clone()
+            .map(|phi| {
+                shaking_force(&s.mech, s.omega, *u, phi).unwrap_or(P2::new(f64::NAN, f64::NAN))
+            })
+            .collect();
+        locus.push(Series::line(
+            name.clone(),
+            pts.iter().map(|p| (p.x, p.y)).collect(),
+        ));
+        mag.push(Series::line(
+            name.clone(),
+            pts.iter()
+                .enumerate()
+                .map(|(k, p)| (k as f64, p.norm()))
+                .collect(),
+        ));
+        torque.push(Series::line(
+            name.clone(),
+            angles
+                .map(|phi| (phi.to_degrees(), sc::drive_torque(s, *u, phi)))
+                .collect(),
+        ));
+    }
+    let f_opt = shaking_force(
+        &s.mech,
+        s.omega,
+        P2::from(out.design.unbalance),
+        out.design.peak_angle,
+    )
+    .unwrap_or(P2::zeros());
+    locus.push(Series::marker("peak of optimum", vec![(f_opt.x, f_opt.y)]));
+    mag.push(Series::marker(
+        "peak of optimum",
+        vec![(out.design.peak_angle.to_degrees(), out.design.peak)],
+    ));
+    let mut panels = vec![
+        Panel {
+            title: format!("{}: shaking force locus", scene.name),
+            x_label: "Fx (N)".into(),
+            y_label: "Fy (N)".into(),
+            series: locus,
+            equal_aspect: true,
+        },
+        Panel {
+            title: "|F| against crank angle".into(),
+            x_label: "crank angle φ (deg)".into(),
+            y_label: "|F| (N)".into(),
+            series: mag,
+            equal_aspect: false,
+        },
+    ];
+    if s.loads.gravity.norm() > 0.0
+        || s.objective == Objective::MinPeakTorque
+        || !matches!(s.loads.process, ProcessForce::None)
+    {
+        panels.push(Panel {
+            title: "drive torque against crank angle".into(),
+            x_label: "crank angle φ (deg)".into(),
+            y_label: "T (N·m)".into(),
+            series: torque,
+            equal_aspect: false,
+        });
+    }
+    let svg = plot::panels(&panels, 560, 480)?;
+    Ok(Plot {
+        suffix: "shaking-force".into(),
+        caption: "Shaking force (and drive torque) with and without counterweight".into(),
+        svg,
+    })
+}
