@@ -1,16 +1,16 @@
 //! cwsynth — optimisation-driven counterweight and mechanism synthesis.
 //!
-//! The crate is layered so that physics, synthesis and I/O can change independently:
+//! The crate is layered so that physics, synthesis and I/O can change independently (the
+//! layers and one file's way from text to report: `docs/architecture.md`):
 //!
-//! * [`units`] — quantities with units at the edges (`"35 mm"` → 0.035 m).
-//! * [`numeric`], [`geom`] — shared 1-D solvers and closed-form constructions.
-//! * [`mech`] — pure mechanism models (kinematics, forces, torques); no I/O, no design
-//!   variables.
-//! * [`synth`] — design vectors, bounds, objectives and the solvers (clarabel for the convex
-//!   sub-problems, argmin for the outer searches).
-//! * [`io`] — problem files (raw serde layer and resolved, checked scenes), results, reports,
-//!   plots.
-//! * [`study`] — speed against error: a scene along a ladder of settings (`cwsynth study`).
+//! * [`units`], [`numeric`], [`geom`] — quantities with units at the edges (`"35 mm"` →
+//!   0.035 m), shared 1-D solvers and closed-form constructions.
+//! * [`problem`], [`report`], [`synth`] — the generic engines: reading a problem file with
+//!   located errors; the common result, Markdown and plots; design variables, the
+//!   counterweight SOCP and the shared searches.
+//! * [`families`] — one folder per mechanism family (model, file, synth, report, schema,
+//!   study) behind the `Family` and `Machine` traits, with a one-line-per-family registry.
+//! * [`batch`], [`study`] — many machines; speed against error (`cwsynth study`).
 //! * [`cli`] — the command line; `main.rs` only calls [`cli::main`].
 
 // `!(x > 0.0)` is how the value checks reject NaN together with the out-of-range values.

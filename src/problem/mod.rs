@@ -7,7 +7,7 @@
 //! an unknown or misspelt key is an error with its line. Values are then checked in the
 //! family's resolver, whose errors name the dotted field and get their line from
 //! [`SourceMap`]. A table already parsed from TOML (a fleet row) goes through the same
-//! passes and checks without its text ([`parse_table`]); its errors have no line.
+//! passes and checks without its text (`families::parse_table`); its errors have no line.
 
 pub mod edit;
 pub mod limits;
@@ -141,7 +141,7 @@ impl<'a> Ctx<'a> {
 }
 
 /// What a problem file is read from: its text, or a table already parsed from TOML (a
-/// fleet row: the template's table with the row's cells set, see [`parse_table`]).
+/// fleet row: the template's table with the row's cells set, see `families::parse_table`).
 pub enum Input<'a> {
     /// The file's text.
     Text(&'a str),
@@ -431,7 +431,7 @@ impl<'de, D: Dimension> Deserialize<'de> for RawVar<D> {
 /// Names a machine cannot have, compared without case: the batch's own files
 /// (`summary.csv`, `summary.md`, `index.html`, `summary-shard-*`) and the device names that
 /// Windows reserves with any extension (`CON`, `nul.txt`, `COM1`, …).
-const RESERVED_NAMES: [&str; 24] = [
+pub const RESERVED_NAMES: [&str; 24] = [
     "summary", "index", "con", "prn", "aux", "nul", "com1", "com2", "com3", "com4", "com5", "com6",
     "com7", "com8", "com9", "lpt1", "lpt2", "lpt3", "lpt4", "lpt5", "lpt6", "lpt7", "lpt8", "lpt9",
 ];

@@ -65,41 +65,41 @@ pub enum SolveError {
 /// The resolved, SI scene of one gear-pair problem. Problem-file keys in brackets.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct GearScene {
-    /// Pitch-circle radius R of gear 1 (m) [`mechanism.pitch_radius`].
+    /// Pitch-circle radius R of gear 1 (m) (`mechanism.pitch_radius`).
     pub pitch_radius: f64,
-    /// Generating (rolling) circle radius r (m) [`mechanism.generating_radius`]; R/r must be an
+    /// Generating (rolling) circle radius r (m) (`mechanism.generating_radius`); R/r must be an
     /// even integer (one arch per turn of the circle, addendum and dedendum alternating).
     pub generating_radius: f64,
-    /// Eccentricity e (m), 0 ≤ e < R [`design.eccentricity`]; the design variable.
+    /// Eccentricity e (m), 0 ≤ e < R (`design.eccentricity`); the design variable.
     pub eccentricity: Var,
-    /// Turns of gear 1 per cycle n1 [`mechanism.turns_gear1`].
+    /// Turns of gear 1 per cycle n1 (`mechanism.turns_gear1`).
     pub turns_gear1: u32,
-    /// Turns of gear 2 per cycle n2 [`mechanism.turns_gear2`].
+    /// Turns of gear 2 per cycle n2 (`mechanism.turns_gear2`).
     pub turns_gear2: u32,
-    /// Driving speed ω1 (rad/s) [`mechanism.speed`].
+    /// Driving speed ω1 (rad/s) (`mechanism.speed`).
     pub omega1: f64,
-    /// Stated module m (m), checked against the pitch 4πr [`mechanism.module`].
+    /// Stated module m (m), checked against the pitch 4πr (`mechanism.module`).
     pub module: Option<f64>,
     /// Stated tooth counts (z1, z2), checked [`mechanism.teeth_gear1`, `mechanism.teeth_gear2`].
     pub teeth: Option<(u32, u32)>,
-    /// Stated pitch on the pitch curve (m), checked [`mechanism.tooth_pitch`].
+    /// Stated pitch on the pitch curve (m), checked (`mechanism.tooth_pitch`).
     pub tooth_pitch: Option<f64>,
-    /// Stated tooth thickness on the pitch curve (m), checked [`mechanism.tooth_thickness`].
+    /// Stated tooth thickness on the pitch curve (m), checked (`mechanism.tooth_thickness`).
     pub tooth_thickness: Option<f64>,
-    /// Stated space width on the pitch curve (m), checked [`mechanism.space_width`].
+    /// Stated space width on the pitch curve (m), checked (`mechanism.space_width`).
     pub space_width: Option<f64>,
-    /// Stated centre distance (m) [`mechanism.center_distance`]: checked and the ratio it gives
+    /// Stated centre distance (m) (`mechanism.center_distance`): checked and the ratio it gives
     /// reported; the pair itself is always built with the closing centre distance.
     pub center_distance: Option<f64>,
     /// Half-width (rad of α1) of the window excluded around every pole of µ and every 0/0
-    /// cusp, for plots and the peak [`model.pole_window`].
+    /// cusp, for plots and the peak (`model.pole_window`).
     pub pole_window: f64,
-    /// Upper limit of the peak |µ| on the working window [`objective.max_sliding_coefficient`].
+    /// Upper limit of the peak |µ| on the working window (`objective.max_sliding_coefficient`).
     pub max_sliding_coefficient: Option<f64>,
-    /// Require gear 2's pitch curve to be convex [`objective.require_gear2_convex`].
+    /// Require gear 2's pitch curve to be convex (`objective.require_gear2_convex`).
     pub require_gear2_convex: bool,
     /// Upper limit of the pressure angle at pitch-point contact, max |ψ| = asin(e/R) (rad)
-    /// [`objective.max_pressure_angle`].
+    /// (`objective.max_pressure_angle`).
     pub max_pressure_angle: Option<f64>,
 }
 

@@ -224,7 +224,7 @@ pub fn resolve_raw(raw: &File) -> Result<HypocycloidProblem, FieldError> {
     check_name(&raw.name)?;
     let m = &raw.mechanism;
     // `mechanism.variant`, `model.*` and `objective.*` integers keep the scene's own checks
-    // (the ranges of `io::limits`, with messages that say what each value means).
+    // (the ranges of `problem::limits`, with messages that say what each value means).
     let (variant, alpha0) =
         match (m.variant, m.orientation) {
             (Some(_), Some(_)) => {

@@ -3,7 +3,7 @@
 //! The scene fixes the mechanism and the speed; the design is the counterweight (unbalance
 //! U = m·r at angle β from the crank line, and how |U| splits into mass and radius). The
 //! objective is the peak or the RMS shaking force, or the lightest / smallest-radius
-//! counterweight under a peak-force limit. The convex core is [`super::counterweight`];
+//! counterweight under a peak-force limit. The convex core is [`crate::synth::counterweight`];
 //! this module maps the scene onto it, splits |U| into m and r, and evaluates the result
 //! and the classical baselines (no counterweight, y force zeroed, the 50 % rule, equal x and
 //! y ranges) with the same refined peaks.
