@@ -5,7 +5,7 @@
 use super::file::*;
 use crate::families::crane::model::{synthesize, Angles, Boom, Guide};
 use crate::families::crane::synth::{self as cr, Outcome, Status as CraneStatus, TiePinLimit};
-use crate::families::Scene;
+use crate::families::family::Scene;
 use crate::geom::P2;
 use crate::report::plot::{self, Grid, Panel, Series};
 use crate::report::{PaperCheck, Plot, SolveResult, Status, Table};

@@ -3,7 +3,7 @@
 //! from the scene as resolved.
 
 use super::model::{head_heights, head_heights_with, Linkage};
-use crate::families::{relative, Effect, Ladder, Rung};
+use crate::families::family::{relative, Effect, Ladder, Rung};
 use crate::problem::edit::{v_f, v_int, Edit};
 use crate::report::SolveResult;
 use toml_edit::Value;

@@ -3,9 +3,9 @@
 //! `docs/results.md`).
 
 use super::file::*;
+use crate::families::family::Scene;
 use crate::families::gear::model::{EccentricCircle, GearPair, Which, ZeroKind};
 use crate::families::gear::synth::{self as sg, GearScene, Outcome};
-use crate::families::Scene;
 use crate::report::plot::{self, Panel, Series};
 use crate::report::{PaperCheck, Plot, SolveResult, Status, Table};
 use serde_json::json;

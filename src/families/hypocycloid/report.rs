@@ -3,8 +3,8 @@
 //! `docs/results.md`).
 
 use super::file::*;
+use crate::families::family::Scene;
 use crate::families::hypocycloid::synth::{self as hy, OptStatus, Outcome, ZeroStatus};
-use crate::families::Scene;
 use crate::report::plot::{self, Grid, Panel, Series};
 use crate::report::{PaperCheck, Plot, SolveResult, Status, Table};
 use serde_json::json;

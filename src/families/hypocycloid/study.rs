@@ -4,7 +4,7 @@
 
 use super::model::{max_abs_y, Hypocycloid};
 use super::synth::CoefficientModel;
-use crate::families::{relative, Effect, Ladder, Rung};
+use crate::families::family::{relative, Effect, Ladder, Rung};
 use crate::problem::edit::{v_f, v_int, v_s, Edit};
 use crate::report::SolveResult;
 use crate::units::STANDARD_GRAVITY as G;

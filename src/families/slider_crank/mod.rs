@@ -1,4 +1,6 @@
-//! The slider_crank family, whole: its physics (`model`), its problem file (`file`) and its synthesis (`synth`).
+//! The slider-crank (piston machines, presses, the felling-head vibrator) family, whole: its physics (`model`), its problem file (`file`), its synthesis
+//! (`synth`), its result and plots (`report`), its schema branch (`schema`) and its study
+//! ladder and left-out effects (`study`), behind the `Family` and `Machine` traits.
 
 pub mod file;
 pub mod model;
@@ -7,7 +9,7 @@ pub mod schema;
 pub mod study;
 pub mod synth;
 
-use crate::families::{Effect, Family, Ladder, Machine, Scene};
+use crate::families::family::{Effect, Family, Ladder, Machine, Scene};
 use crate::problem::limits::Count;
 use crate::problem::{Ctx, Input, ProblemError, Resolved};
 use crate::report::SolveResult;
@@ -29,7 +31,7 @@ impl Family for SliderCrank {
         schema::schema()
     }
     fn resolve(&self, ctx: &Ctx, input: Input) -> Result<Resolved<Arc<dyn Machine>>, ProblemError> {
-        file::resolve(ctx, input).map(crate::families::machine)
+        file::resolve(ctx, input).map(crate::families::family::machine)
     }
 }
 

@@ -3,11 +3,11 @@
 //! `docs/results.md`).
 
 use super::file::*;
+use crate::families::family::Scene;
 use crate::families::slider_crank::model::Kinematics;
 use crate::families::slider_crank::model::ProcessForce;
 use crate::families::slider_crank::synth::shaking_force;
 use crate::families::slider_crank::synth::{self as sc, Objective};
-use crate::families::Scene;
 use crate::geom::P2;
 use crate::report::plot::{self, Panel, Series};
 use crate::report::{Plot, SolveResult, Status, Table};

@@ -3,7 +3,7 @@
 //! from the scene as resolved.
 
 use super::model::Kinematics;
-use crate::families::{relative, Effect, Ladder, Rung};
+use crate::families::family::{relative, Effect, Ladder, Rung};
 use crate::problem::edit::{v_f, v_int, v_s, Edit};
 use crate::units::STANDARD_GRAVITY as G;
 use std::f64::consts::TAU;

@@ -1,0 +1,126 @@
+//! What a mechanism family is to the engines above it: the [`Family`] that reads its files
+//! and the [`Machine`] that solves and studies a resolved scene, with the [`Scene`] they
+//! make and the vocabulary of a study (rungs, ladders, effects). Each family's folder
+//! implements these; the registry in `families/mod.rs` lists them.
+
+use crate::problem::edit::Edit;
+use crate::problem::limits::Count;
+use crate::problem::{Ctx, Input, PaperRef, ProblemError, Resolved};
+use crate::report::SolveResult;
+use std::any::Any;
+use std::fmt;
+use std::path::PathBuf;
+use std::sync::Arc;
+
+/// A mechanism family: what reads its problem files.
+pub trait Family: Sync + fmt::Debug {
+    /// The `family = "…"` value of its files and results (`slider-crank`).
+    fn name(&self) -> &'static str;
+    /// The integer keys of its files and their ranges.
+    fn counts(&self) -> &'static [Count];
+    /// Its branch of the JSON Schema (ranges are added from [`Family::counts`]).
+    fn schema(&self) -> serde_json::Value;
+    /// Reads and checks a file of this family.
+    fn resolve(&self, ctx: &Ctx, input: Input) -> Result<Resolved<Arc<dyn Machine>>, ProblemError>;
+}
+
+/// A resolved scene's own part: what solves and studies it.
+pub trait Machine: fmt::Debug + Send + Sync + Any {
+    /// Solves the scene (numbers, report tables and plots). Never panics on a resolved
+    /// scene; a solver failure is `status = failed`.
+    fn solve(&self, scene: &Scene) -> SolveResult;
+    /// The headline: the dotted result key the design is judged on (`objectives.delta_h_m`)
+    /// — the objective the scene optimises, or its main figure for an analysis.
+    fn headline(&self) -> String;
+    /// The reference edits (tightest settings) and the ladder of settings of `cwsynth study`.
+    fn ladder(&self) -> Ladder;
+    /// What the model leaves out or includes, each with a bound; `reference` is the solution
+    /// at the tightest settings, whose headline value is `headline`.
+    fn effects(&self, reference: &SolveResult, headline: f64) -> Vec<Effect>;
+    /// For [`Scene::machine`].
+    fn as_any(&self) -> &dyn Any;
+}
+
+/// One entry of [`Machine::effects`]: (effect, what is left out or included, with its bound).
+pub type Effect = (String, String);
+
+/// A rung of a study's ladder: one change of the settings.
+#[derive(Debug, Clone)]
+pub struct Rung {
+    /// Short label.
+    pub label: String,
+    /// `accuracy` or `model`.
+    pub kind: &'static str,
+    /// Edits applied to the file as written.
+    pub edits: Vec<Edit>,
+}
+
+impl Rung {
+    /// A rung.
+    pub fn new(label: &str, kind: &'static str, edits: Vec<Edit>) -> Rung {
+        Rung {
+            label: label.into(),
+            kind,
+            edits,
+        }
+    }
+}
+
+/// A family's study plan for one scene.
+#[derive(Debug, Clone)]
+pub struct Ladder {
+    /// The edits of the reference (tightest settings).
+    pub reference: Vec<Edit>,
+    /// The rungs, each against the reference.
+    pub rungs: Vec<Rung>,
+}
+
+/// A resolved scene of any family.
+#[derive(Debug, Clone)]
+pub struct Scene {
+    /// Name.
+    pub name: String,
+    /// Family.
+    pub family: &'static dyn Family,
+    /// Description.
+    pub description: String,
+    /// The file it came from.
+    pub source: PathBuf,
+    /// Paper reference values.
+    pub paper: Vec<PaperRef>,
+    /// The family's resolved part.
+    pub machine: Arc<dyn Machine>,
+}
+
+impl Scene {
+    /// The family's resolved part as its concrete type (`None` for another family).
+    pub fn machine<T: Machine>(&self) -> Option<&T> {
+        self.machine.as_any().downcast_ref()
+    }
+
+    /// An empty result of this scene: its name, family, description and source.
+    pub fn new_result(&self) -> SolveResult {
+        SolveResult::new(
+            &self.name,
+            self.family.name(),
+            &self.description,
+            &self.source,
+        )
+    }
+}
+
+/// `x` relative to a headline value (a bound stated against the headline; never divides by 0).
+pub fn relative(x: f64, headline: f64) -> f64 {
+    x / headline.abs().max(1e-300)
+}
+
+/// Wraps a family's resolved part as a [`Machine`].
+pub fn machine<K: Machine>(r: Resolved<K>) -> Resolved<Arc<dyn Machine>> {
+    Resolved {
+        name: r.name,
+        description: r.description,
+        source: r.source,
+        paper: r.paper,
+        part: Arc::new(r.part),
+    }
+}
