@@ -1069,9 +1069,7 @@ fn process(job: Job, opts: &Options) -> (Row, bool) {
             }
         }
     }
-    let was = crate::report::plot::set_drawing(!opts.summary_only);
     let mut r = solve_scene(&scene);
-    crate::report::plot::set_drawing(was);
     r.extra.insert(
         "batch".into(),
         serde_json::json!({

@@ -316,3 +316,37 @@ fn unreadable_file_is_an_error_not_a_panic() {
     let e = load(Path::new("/nonexistent/x.toml")).unwrap_err();
     assert!(e.to_string().contains("cannot read"));
 }
+
+/// Issue 16: solving computes numbers only. Solving a shipped scene draws no SVG document
+/// (plots are drawn when written); writing the result draws each of its plots once.
+#[test]
+fn solving_draws_nothing_and_writing_draws_each_plot() {
+    use cwsynth::report::plot::documents_drawn;
+    for name in [
+        "piston-1000rpm",
+        "crane-thesis-example",
+        "gear-paper-table1",
+    ] {
+        let s = load(&problem(&format!("{name}.toml"))).unwrap();
+        let before = documents_drawn();
+        let r = cwsynth::families::solve_scene(&s);
+        assert_eq!(documents_drawn(), before, "{name}: solving drew a plot");
+        assert!(!r.plots.is_empty(), "{name}: no plots");
+        let dir = tempfile::tempdir().unwrap();
+        cwsynth::report::write_outputs(&r, dir.path()).unwrap();
+        assert_eq!(
+            documents_drawn() - before,
+            r.plots.len() as u64,
+            "{name}: each plot drawn once when written"
+        );
+        for p in &r.plots {
+            let svg = std::fs::read_to_string(dir.path().join(format!("{name}-{}.svg", p.suffix)))
+                .unwrap();
+            assert!(
+                svg.contains("<svg") && !svg.contains("plot not drawn"),
+                "{name}-{}",
+                p.suffix
+            );
+        }
+    }
+}

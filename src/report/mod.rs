@@ -106,15 +106,64 @@ pub struct Timing {
     pub total_s: f64,
 }
 
-/// One SVG plot of a result.
-#[derive(Debug, Clone, PartialEq)]
+/// One SVG plot of a result, drawn only when it is written: solving computes numbers, and a
+/// result that is only printed or summarised (`solve --json`, `batch --summary-only`,
+/// `study`) samples and draws nothing.
+#[derive(Clone)]
 pub struct Plot {
     /// File name suffix: `<name>-<suffix>.svg`.
     pub suffix: String,
     /// Caption for reports.
     pub caption: String,
-    /// The SVG document.
-    pub svg: String,
+    /// Samples the plot's data and draws the SVG document.
+    draw: std::sync::Arc<dyn Fn() -> Result<String, String> + Send + Sync>,
+}
+
+impl Plot {
+    /// A plot whose SVG document `draw` makes when the plot is written.
+    pub fn new(
+        suffix: impl Into<String>,
+        caption: impl Into<String>,
+        draw: impl Fn() -> Result<String, String> + Send + Sync + 'static,
+    ) -> Plot {
+        Plot {
+            suffix: suffix.into(),
+            caption: caption.into(),
+            draw: std::sync::Arc::new(draw),
+        }
+    }
+
+    /// The SVG document, drawn now.
+    pub fn svg(&self) -> Result<String, String> {
+        (self.draw)()
+    }
+
+    /// The SVG document, or, if it cannot be drawn, a small SVG that says why (a report's
+    /// image link never breaks; a plot that cannot be drawn is a bug to report).
+    pub fn svg_or_note(&self) -> String {
+        self.svg().unwrap_or_else(|e| {
+            format!(
+                "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"640\" height=\"40\"><text x=\"8\" y=\"24\">plot not drawn: {}</text></svg>\n",
+                html_escape(&e)
+            )
+        })
+    }
+}
+
+impl std::fmt::Debug for Plot {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Plot")
+            .field("suffix", &self.suffix)
+            .field("caption", &self.caption)
+            .finish_non_exhaustive()
+    }
+}
+
+impl PartialEq for Plot {
+    /// Plots are equal when they would be written to the same file with the same caption.
+    fn eq(&self, other: &Plot) -> bool {
+        self.suffix == other.suffix && self.caption == other.caption
+    }
 }
 
 /// A data table of a result, written as `<name>-<suffix>.csv` beside the JSON (a landscape
@@ -345,6 +394,14 @@ pub fn md_escape(s: &str) -> String {
     out
 }
 
+/// Escapes text for HTML or SVG text and attribute values (`&`, `<`, `>`, `"`).
+pub fn html_escape(s: &str) -> String {
+    s.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+        .replace('"', "&quot;")
+}
+
 /// At most `max` bytes of `s` (on a character boundary), with `…` and the length cut.
 pub fn truncate(s: &str, max: usize) -> std::borrow::Cow<'_, str> {
     if s.len() <= max {
@@ -521,7 +578,7 @@ pub fn write_outputs(r: &SolveResult, dir: &Path) -> std::io::Result<Vec<PathBuf
     }
     for pl in &r.plots {
         let path = dir.join(format!("{}-{}.svg", r.name, pl.suffix));
-        write_atomic(&path, pl.svg.as_bytes())?;
+        write_atomic(&path, pl.svg_or_note().as_bytes())?;
         written.push(path);
     }
     for t in &r.tables {

@@ -192,27 +192,22 @@ fn draw_panel(area: &DrawingArea<SVGBackend, Shift>, p: &Panel) -> Result<(), St
 }
 
 thread_local! {
-    static DRAW: std::cell::Cell<bool> = const { std::cell::Cell::new(true) };
+    static DRAWN: std::cell::Cell<u64> = const { std::cell::Cell::new(0) };
 }
 
-/// Turns SVG drawing on or off for the current thread (on by default). Off, [`panels`] and
-/// [`heat_map`] return an empty document at once: `cwsynth batch --summary-only` uses it,
-/// since it writes no plots. Returns the previous setting.
-pub fn set_drawing(on: bool) -> bool {
-    DRAW.with(|d| d.replace(on))
+/// SVG documents drawn on this thread so far. Plots are drawn only when written
+/// ([`crate::report::Plot`]); a test uses this to show that solving draws nothing.
+pub fn documents_drawn() -> u64 {
+    DRAWN.with(|d| d.get())
 }
 
-/// Whether plots are drawn on this thread (see [`set_drawing`]): callers skip computing
-/// plot data when not.
-pub fn drawing() -> bool {
-    DRAW.with(|d| d.get())
+fn count_document() {
+    DRAWN.with(|d| d.set(d.get() + 1));
 }
 
 /// Side-by-side panels as one SVG document, each panel `w`×`h` pixels.
 pub fn panels(ps: &[Panel], w: u32, h: u32) -> Result<String, String> {
-    if !drawing() {
-        return Ok(String::new());
-    }
+    count_document();
     let mut buf = String::new();
     {
         let n = ps.len().max(1) as u32;
@@ -264,9 +259,7 @@ pub fn heat_map(
     w: u32,
     h: u32,
 ) -> Result<String, String> {
-    if !drawing() {
-        return Ok(String::new());
-    }
+    count_document();
     let tf = |v: f64| match symmetric_log {
         Some(s) => v.signum() * (1.0 + v.abs() / s).log10(),
         None => v,

@@ -155,10 +155,12 @@ pub fn result(scene: &Scene, s: &CraneProblem) -> SolveResult {
             caption: "Δh over the (k1, k2) grid with the tie-pin violation".into(),
             csv: l.to_csv(),
         });
-        match landscape_plot(scene, cs, &out, l) {
-            Ok(p) => r.plots.push(p),
-            Err(e) => r.warnings.push(format!("landscape plot failed: {e}")),
-        }
+        let (scene, cs, out, l) = (scene.clone(), cs.clone(), out.clone(), l.clone());
+        r.plots.push(Plot::new(
+            "landscape",
+            "Δh over (k1, k2) (angles and L_c at the reported design; grey: no linkage or branch defect), tie-pin limit boundary and the design",
+            move || landscape_plot(&scene, &cs, &out, &l),
+        ));
     }
     if !out.path.is_empty() {
         let mut csv = String::from("phi_rad,head_x_m,head_y_m,tail_x_m,tail_y_m\n");
@@ -173,10 +175,12 @@ pub fn result(scene: &Scene, s: &CraneProblem) -> SolveResult {
             caption: "Jib-head and jib-tail paths over the luffing range".into(),
             csv,
         });
-        match path_plot(scene, &out) {
-            Ok(p) => r.plots.push(p),
-            Err(e) => r.warnings.push(format!("path plot failed: {e}")),
-        }
+        let (scene, out) = (scene.clone(), out.clone());
+        r.plots.push(Plot::new(
+            "path",
+            "Jib-head path over the luffing range and its height against the boom angle",
+            move || path_plot(&scene, &out),
+        ));
     }
     r
 }
@@ -260,7 +264,7 @@ fn landscape_plot(
     cs: &cr::CraneScene,
     out: &Outcome,
     l: &cr::Landscape,
-) -> Result<Plot, String> {
+) -> Result<String, String> {
     let values: Vec<Vec<f64>> = l
         .delta_h_m
         .iter()
@@ -354,14 +358,10 @@ fn landscape_plot(
         760,
         620,
     )?;
-    Ok(Plot {
-        suffix: "landscape".into(),
-        caption: "Δh over (k1, k2) (angles and L_c at the reported design; grey: no linkage or branch defect), tie-pin limit boundary and the design".into(),
-        svg,
-    })
+    Ok(svg)
 }
 
-fn path_plot(scene: &Scene, out: &Outcome) -> Result<Plot, String> {
+fn path_plot(scene: &Scene, out: &Outcome) -> Result<String, String> {
     let nan = (f64::NAN, f64::NAN);
     let head: Vec<(f64, f64)> = out.path.iter().map(|p| (p[0], p[1])).collect();
     let tail: Vec<(f64, f64)> = out.tail_path.iter().map(|p| (p[0], p[1])).collect();
@@ -442,10 +442,5 @@ fn path_plot(scene: &Scene, out: &Outcome) -> Result<Plot, String> {
         640,
         520,
     )?;
-    Ok(Plot {
-        suffix: "path".into(),
-        caption: "Jib-head path over the luffing range and its height against the boom angle"
-            .into(),
-        svg,
-    })
+    Ok(svg)
 }

@@ -104,22 +104,28 @@ pub fn result(scene: &Scene, p: &GearProblem) -> SolveResult {
             out.sweep.iter().filter(|s| s.feasible).count() as f64,
         );
     }
-    for res in [
-        ratio_and_curves_plot(scene, &out),
-        sliding_plot(scene, g, &out),
-    ] {
-        match res {
-            Ok(pl) => r.plots.push(pl),
-            Err(e) => r.warnings.push(format!("plot failed: {e}")),
-        }
-    }
-    if !out.sweep.is_empty() {
-        match sweep_plot(scene, g, &out) {
-            Ok(pl) => r.plots.push(pl),
-            Err(e) => r.warnings.push(format!("plot failed: {e}")),
-        }
-    }
     r.tables = tables(&out);
+    let shared = std::sync::Arc::new((scene.clone(), g.clone(), out));
+    let d = shared.clone();
+    r.plots.push(Plot::new(
+        "pitch-curves",
+        "Pitch curves of both gears and the transmission function i12(α1)",
+        move || ratio_and_curves_plot(&d.0, &d.2),
+    ));
+    let d = shared.clone();
+    r.plots.push(Plot::new(
+        "sliding",
+        "Sliding coefficients µ1, µ2 against α1, poles marked, pole windows left empty",
+        move || sliding_plot(&d.0, &d.1, &d.2),
+    ));
+    if !shared.2.sweep.is_empty() {
+        let d = shared.clone();
+        r.plots.push(Plot::new(
+            "sweep",
+            "Design sweep over the eccentricity e",
+            move || sweep_plot(&d.0, &d.1, &d.2),
+        ));
+    }
     r
 }
 
@@ -132,7 +138,7 @@ fn closed(pts: &[[f64; 2]], scale: f64) -> Vec<(f64, f64)> {
 }
 
 /// Pitch curves (equal axes, mm) and i12(α1).
-fn ratio_and_curves_plot(scene: &Scene, out: &Outcome) -> Result<Plot, String> {
+fn ratio_and_curves_plot(scene: &Scene, out: &Outcome) -> Result<String, String> {
     let pc = &out.pitch_curves;
     let mm = 1e3;
     let curves = Panel {
@@ -168,11 +174,7 @@ fn ratio_and_curves_plot(scene: &Scene, out: &Outcome) -> Result<Plot, String> {
         equal_aspect: false,
     };
     let svg = plot::panels(&[curves, ratio], 560, 480)?;
-    Ok(Plot {
-        suffix: "pitch-curves".into(),
-        caption: "Pitch curves of both gears and the transmission function i12(α1)".into(),
-        svg,
-    })
+    Ok(svg)
 }
 
 /// Vertical lines at the given x between y0 and y1, broken between lines.
@@ -187,7 +189,7 @@ fn verticals(xs: &[f64], y0: f64, y1: f64) -> Vec<(f64, f64)> {
 /// µ1 and µ2 against α1: a full turn of gear 1 (the outcome's series) and a zoom on the
 /// arches around the peak, evaluated afresh on a fine grid that includes the exact window
 /// edges (so that the plotted curve reaches the reported peak).
-fn sliding_plot(scene: &Scene, g: &GearScene, out: &Outcome) -> Result<Plot, String> {
+fn sliding_plot(scene: &Scene, g: &GearScene, out: &Outcome) -> Result<String, String> {
     let s = &out.series;
     let n_arch = out.derived["arches_gear1"].max(1.0);
     let arch = TAU / n_arch;
@@ -352,16 +354,11 @@ fn sliding_plot(scene: &Scene, g: &GearScene, out: &Outcome) -> Result<Plot, Str
         }
     };
     let svg = plot::panels(&[panel(false), panel(true)], 640, 480)?;
-    Ok(Plot {
-        suffix: "sliding".into(),
-        caption: "Sliding coefficients µ1, µ2 against α1, poles marked, pole windows left empty"
-            .into(),
-        svg,
-    })
+    Ok(svg)
 }
 
 /// The eccentricity sweep: ratio variation, peak |µ|, gear 2's curvature.
-fn sweep_plot(scene: &Scene, g: &GearScene, out: &Outcome) -> Result<Plot, String> {
+fn sweep_plot(scene: &Scene, g: &GearScene, out: &Outcome) -> Result<String, String> {
     let mm = 1e3;
     let e_star = out.design["eccentricity_m"] * mm;
     let xs = |f: &dyn Fn(&sg::SweepRow) -> f64, feasible: Option<bool>| -> Vec<(f64, f64)> {
@@ -451,11 +448,7 @@ fn sweep_plot(scene: &Scene, g: &GearScene, out: &Outcome) -> Result<Plot, Strin
         480,
         420,
     )?;
-    Ok(Plot {
-        suffix: "sweep".into(),
-        caption: "Design sweep over the eccentricity e".into(),
-        svg,
-    })
+    Ok(svg)
 }
 
 fn num(v: f64) -> String {

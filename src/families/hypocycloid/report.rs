@@ -181,18 +181,28 @@ pub fn result(scene: &Scene, s: &HypocycloidProblem) -> SolveResult {
 
     // Tables and plots.
     r.tables = tables(&out);
-    for p in [coefficient_plot(scene, &out), force_plot(scene, &out)] {
-        match p {
-            Ok(p) => r.plots.push(p),
-            Err(e) => r.warnings.push(format!("plot failed: {e}")),
-        }
+    let order = out.zero_search.as_ref().map(|z| z.order);
+    let shared = std::sync::Arc::new((scene.clone(), out));
+    if let Some(order) = order {
+        let d = shared.clone();
+        r.plots.push(Plot::new(
+            "c4-map",
+            format!("a{order} over (λ, θ) with its zero curve"),
+            move || map_plot(&d.0, &d.1),
+        ));
     }
-    if out.zero_search.is_some() {
-        match map_plot(scene, &out) {
-            Ok(p) => r.plots.insert(0, p),
-            Err(e) => r.warnings.push(format!("plot failed: {e}")),
-        }
-    }
+    let d = shared.clone();
+    r.plots.push(Plot::new(
+        "coefficients",
+        "Coefficients of S/R: exact against the paper-style truncated series (values below the error estimate not drawn)",
+        move || coefficient_plot(&d.0, &d.1),
+    ));
+    let d = shared;
+    r.plots.push(Plot::new(
+        "force",
+        "Inertia force of the reciprocating mass over one turn, and the piston path",
+        move || force_plot(&d.0, &d.1),
+    ));
     r
 }
 
@@ -345,7 +355,7 @@ fn tables(out: &Outcome) -> Vec<Table> {
     t
 }
 
-fn map_plot(scene: &Scene, out: &Outcome) -> Result<Plot, String> {
+fn map_plot(scene: &Scene, out: &Outcome) -> Result<String, String> {
     let z = out.zero_search.as_ref().ok_or("no zero search")?;
     let m = &z.map;
     let grid = Grid {
@@ -440,11 +450,7 @@ fn map_plot(scene: &Scene, out: &Outcome) -> Result<Plot, String> {
         900,
         620,
     )?;
-    Ok(Plot {
-        suffix: "c4-map".into(),
-        caption: format!("a{} over (λ, θ) with its zero curve", z.order),
-        svg,
-    })
+    Ok(svg)
 }
 
 /// An invisible one-point series that raises the top of a panel by a third of its span,
@@ -466,7 +472,7 @@ fn headroom(series: &[Series]) -> Series {
     Series::line("", vec![(x, top)])
 }
 
-fn coefficient_plot(scene: &Scene, out: &Outcome) -> Result<Plot, String> {
+fn coefficient_plot(scene: &Scene, out: &Outcome) -> Result<String, String> {
     let c = &out.coefficients;
     // Values below the coefficient's own error estimate are zero to working accuracy (e.g.
     // the b_i of variant 1, the odd a_i of variant 2): not drawn.
@@ -535,14 +541,10 @@ fn coefficient_plot(scene: &Scene, out: &Outcome) -> Result<Plot, String> {
         560,
         460,
     )?;
-    Ok(Plot {
-        suffix: "coefficients".into(),
-        caption: "Coefficients of S/R: exact against the paper-style truncated series (values below the error estimate not drawn)".into(),
-        svg,
-    })
+    Ok(svg)
 }
 
-fn force_plot(scene: &Scene, out: &Outcome) -> Result<Plot, String> {
+fn force_plot(scene: &Scene, out: &Outcome) -> Result<String, String> {
     let fc = &out.force_curves;
     let deg: Vec<f64> = fc.phi.iter().map(|p| p * 180.0 / PI).collect();
     let zip =
@@ -583,10 +585,5 @@ fn force_plot(scene: &Scene, out: &Outcome) -> Result<Plot, String> {
         560,
         460,
     )?;
-    Ok(Plot {
-        suffix: "force".into(),
-        caption: "Inertia force of the reciprocating mass over one turn, and the piston path"
-            .into(),
-        svg,
-    })
+    Ok(svg)
 }

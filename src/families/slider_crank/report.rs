@@ -231,12 +231,12 @@ pub fn result(scene: &Scene, sc_scene: &SliderCrankProblem) -> SolveResult {
             caption: "Torque–force Pareto front".into(),
             csv,
         });
-        if plot::drawing() {
-            match pareto_plot(scene, &out, &baselines) {
-                Ok(p) => r.plots.push(p),
-                Err(e) => r.warnings.push(format!("Pareto plot failed: {e}")),
-            }
-        }
+        let (scene, out, baselines) = (scene.clone(), out.clone(), baselines.clone());
+        r.plots.push(Plot::new(
+            "pareto",
+            "Torque–force Pareto front",
+            move || pareto_plot(&scene, &out, &baselines),
+        ));
     }
     if let Some(spec) = &sc_scene.shape {
         match shape::design(spec, u.norm()) {
@@ -259,12 +259,12 @@ pub fn result(scene: &Scene, sc_scene: &SliderCrankProblem) -> SolveResult {
     if let Some(sw) = &sc_scene.speed_sweep {
         speed_sweep(&mut r, scene, s, sw, u);
     }
-    if plot::drawing() {
-        match slider_crank_plot(scene, s, &out) {
-            Ok(p) => r.plots.push(p),
-            Err(e) => r.warnings.push(format!("plot failed: {e}")),
-        }
-    }
+    let (scene, s, out) = (scene.clone(), s.clone(), out.clone());
+    r.plots.push(Plot::new(
+        "shaking-force",
+        "Shaking force (and drive torque) with and without counterweight",
+        move || slider_crank_plot(&scene, &s, &out),
+    ));
     r
 }
 
@@ -329,47 +329,51 @@ fn speed_sweep(r: &mut SolveResult, scene: &Scene, s: &sc::Scene, sw: &SpeedSwee
         caption: "Optimum against speed".into(),
         csv,
     });
-    let line = |f: &dyn Fn(&SweepPoint) -> f64| {
-        pts.iter().map(|p| (p.speed_rpm, f(p))).collect::<Vec<_>>()
-    };
-    let svg = plot::panels(
-        &[
-            Panel {
-                title: format!("{}: objective against speed", scene.name),
-                x_label: "speed (rpm)".into(),
-                y_label: format!("{} ({unit})", r.objective.clone().unwrap_or_default()),
-                series: vec![
-                    Series::line("optimum at each speed", line(&|p| p.optimal_objective)),
-                    Series::line(
-                        "this design (optimised at the scene's speed)",
-                        line(&|p| p.design_objective),
-                    ),
-                    Series::line("no counterweight", line(&|p| p.none_objective)),
-                ],
-                equal_aspect: false,
-            },
-            Panel {
-                title: "optimal unbalance against speed".into(),
-                x_label: "speed (rpm)".into(),
-                y_label: "|U| (kg·m)".into(),
-                series: vec![Series::line(
-                    "optimal |U|",
-                    line(&|p| p.optimal_unbalance_kgm),
-                )],
-                equal_aspect: false,
-            },
-        ],
-        600,
-        460,
+    let (name, y_label, pts_plot) = (
+        scene.name.clone(),
+        format!("{} ({unit})", r.objective.clone().unwrap_or_default()),
+        pts.clone(),
     );
-    match svg {
-        Ok(svg) => r.plots.push(Plot {
-            suffix: "speed-sweep".into(),
-            caption: "Optimum against speed".into(),
-            svg,
-        }),
-        Err(e) => r.warnings.push(format!("speed-sweep plot failed: {e}")),
-    }
+    r.plots.push(Plot::new(
+        "speed-sweep",
+        "Optimum against speed",
+        move || {
+            let pts = &pts_plot;
+            let line = |f: &dyn Fn(&SweepPoint) -> f64| {
+                pts.iter().map(|p| (p.speed_rpm, f(p))).collect::<Vec<_>>()
+            };
+            plot::panels(
+                &[
+                    Panel {
+                        title: format!("{name}: objective against speed"),
+                        x_label: "speed (rpm)".into(),
+                        y_label: y_label.clone(),
+                        series: vec![
+                            Series::line("optimum at each speed", line(&|p| p.optimal_objective)),
+                            Series::line(
+                                "this design (optimised at the scene's speed)",
+                                line(&|p| p.design_objective),
+                            ),
+                            Series::line("no counterweight", line(&|p| p.none_objective)),
+                        ],
+                        equal_aspect: false,
+                    },
+                    Panel {
+                        title: "optimal unbalance against speed".into(),
+                        x_label: "speed (rpm)".into(),
+                        y_label: "|U| (kg·m)".into(),
+                        series: vec![Series::line(
+                            "optimal |U|",
+                            line(&|p| p.optimal_unbalance_kgm),
+                        )],
+                        equal_aspect: false,
+                    },
+                ],
+                600,
+                460,
+            )
+        },
+    ));
     r.extra.insert(
         "speed_sweep".into(),
         serde_json::to_value(&pts).expect("plain data"),
@@ -441,7 +445,7 @@ fn pareto_plot(
     scene: &Scene,
     out: &sc::Outcome,
     baselines: &BTreeMap<String, sc::Metrics>,
-) -> Result<Plot, String> {
+) -> Result<String, String> {
     let front: Vec<(f64, f64)> = out
         .pareto
         .iter()
@@ -513,14 +517,10 @@ fn pareto_plot(
         700,
         520,
     )?;
-    Ok(Plot {
-        suffix: "pareto".into(),
-        caption: "Torque–force Pareto front".into(),
-        svg,
-    })
+    Ok(svg)
 }
 
-fn slider_crank_plot(scene: &Scene, s: &sc::Scene, out: &sc::Outcome) -> Result<Plot, String> {
+fn slider_crank_plot(scene: &Scene, s: &sc::Scene, out: &sc::Outcome) -> Result<String, String> {
     let n = 361;
     let curves: Vec<(String, P2)> = [
         ("no counterweight".to_string(), P2::zeros()),
@@ -603,9 +603,5 @@ fn slider_crank_plot(scene: &Scene, s: &sc::Scene, out: &sc::Outcome) -> Result<
         });
     }
     let svg = plot::panels(&panels, 560, 480)?;
-    Ok(Plot {
-        suffix: "shaking-force".into(),
-        caption: "Shaking force (and drive torque) with and without counterweight".into(),
-        svg,
-    })
+    Ok(svg)
 }
