@@ -15,7 +15,6 @@ use std::f64::consts::PI;
 
 use argmin::core::{CostFunction, Error as ArgminError, Executor, State};
 use argmin::solver::neldermead::NelderMead;
-use argmin_math::{ArgminAdd, ArgminMul, ArgminSub};
 use serde::Serialize;
 
 use crate::families::hypocycloid::model::{
@@ -922,36 +921,18 @@ fn penalised(scene: &HypocycloidScene, x: [f64; 2], s: &Settings) -> f64 {
     }
 }
 
-/// A point of the (λ, θ) plane as an argmin parameter.
-#[derive(Debug, Clone, Copy, PartialEq)]
-struct Pt([f64; 2]);
-impl ArgminAdd<Pt, Pt> for Pt {
-    fn add(&self, o: &Pt) -> Pt {
-        Pt([self.0[0] + o.0[0], self.0[1] + o.0[1]])
-    }
-}
-impl ArgminSub<Pt, Pt> for Pt {
-    fn sub(&self, o: &Pt) -> Pt {
-        Pt([self.0[0] - o.0[0], self.0[1] - o.0[1]])
-    }
-}
-impl ArgminMul<f64, Pt> for Pt {
-    fn mul(&self, k: &f64) -> Pt {
-        Pt([self.0[0] * k, self.0[1] * k])
-    }
-}
-
 struct Objective<'a> {
     scene: &'a HypocycloidScene,
     s: &'a Settings,
     count: std::cell::Cell<usize>,
 }
 impl CostFunction for Objective<'_> {
-    type Param = Pt;
+    /// (λ, θ).
+    type Param = Vec<f64>;
     type Output = f64;
-    fn cost(&self, p: &Pt) -> Result<f64, ArgminError> {
+    fn cost(&self, p: &Vec<f64>) -> Result<f64, ArgminError> {
         self.count.set(self.count.get() + 1);
-        Ok(penalised(self.scene, p.0, self.s))
+        Ok(penalised(self.scene, [p[0], p[1]], self.s))
     }
 }
 
@@ -1166,19 +1147,18 @@ pub fn solve(scene: &HypocycloidScene, settings: &Settings) -> Result<Outcome, F
             let mut runs: Vec<([f64; 2], f64, u64, bool)> = Vec::new();
             let mut total_iters = 0;
             for x0 in starts {
-                let x0 = Pt(x0);
-                let mut simplex = vec![x0];
+                let mut simplex = vec![x0.to_vec()];
                 if dl > 0.0 {
-                    simplex.push(Pt([
-                        x0.0[0] + dl * if x0.0[0] + dl > lb.1 { -1.0 } else { 1.0 },
-                        x0.0[1],
-                    ]));
+                    simplex.push(vec![
+                        x0[0] + dl * if x0[0] + dl > lb.1 { -1.0 } else { 1.0 },
+                        x0[1],
+                    ]);
                 }
                 if dt > 0.0 {
-                    simplex.push(Pt([
-                        x0.0[0],
-                        x0.0[1] + dt * if x0.0[1] + dt > tb.1 { -1.0 } else { 1.0 },
-                    ]));
+                    simplex.push(vec![
+                        x0[0],
+                        x0[1] + dt * if x0[1] + dt > tb.1 { -1.0 } else { 1.0 },
+                    ]);
                 }
                 let obj = Objective {
                     scene,
@@ -1194,7 +1174,7 @@ pub fn solve(scene: &HypocycloidScene, settings: &Settings) -> Result<Outcome, F
                 match res {
                     Ok(r) => {
                         let st = r.state();
-                        let p = st.get_best_param().copied().unwrap_or(x0);
+                        let p = st.get_best_param().map_or(x0, |p| [p[0], p[1]]);
                         let iters = st.get_iter();
                         total_iters += iters;
                         evals += r
@@ -1203,14 +1183,14 @@ pub fn solve(scene: &HypocycloidScene, settings: &Settings) -> Result<Outcome, F
                             .as_ref()
                             .map(|o| o.count.get())
                             .unwrap_or(0);
-                        let px = [p.0[0].clamp(lb.0, lb.1), p.0[1].clamp(tb.0, tb.1)];
+                        let px = [p[0].clamp(lb.0, lb.1), p[1].clamp(tb.0, tb.1)];
                         let v = penalised(scene, px, s);
                         evals += 1;
                         runs.push((px, v, iters, iters < s.nm_max_iters));
                     }
                     Err(e) => warnings.push(format!(
                         "Nelder–Mead from ({:.6}, {:.6}) failed ({e})",
-                        x0.0[0], x0.0[1]
+                        x0[0], x0[1]
                     )),
                 }
             }
