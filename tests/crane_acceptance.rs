@@ -217,9 +217,13 @@ fn stated_delta_h_error_covers_the_double_double_truth() {
     let d = f64::to_radians;
     let thesis = [0.2, 0.4, d(35.0), d(10.0), d(5.0), d(12.0)];
     let mut cases: Vec<(f64, [f64; 6])> = Vec::new();
-    // Issue 14's cases: k1 near 0 and near 1 on the thesis example, down to 1e-15 and
-    // 1 − 1e-10 (the reference's sin and cos are `common::dd_sin_cos`, good to ~1e-32;
-    // twofloat's own, ~1e-21, made its Δh drift as 1/(1 − k1) there).
+    // Issue 14's cases: k1 near 0 (down to 1e-15) and near 1 (up to 1 − 1e-6) on the
+    // thesis example. The reference's sin and cos are `common::dd_sin_cos` (~1e-32), which
+    // took the agreement from 1 − 1e-4 to 1 − 1e-6. Nearer 1 the reference itself drifts:
+    // its Δh moves by 5.3e-6 m between 1 − 1e-8 and 1 − 1e-10 (secant slope 535 m per unit
+    // of k1) where it moved with slope 156.6 between 1 − 1e-6 and 1 − 1e-8, while cwsynth's
+    // secant slope is 156.5 on both (smooth, as the limit circle tangent at E3 requires);
+    // those k1 are held by `k1_near_one_converges` instead.
     for k1 in [
         1e-15,
         1e-12,
@@ -230,8 +234,6 @@ fn stated_delta_h_error_covers_the_double_double_truth() {
         1.0 - 1e-3,
         1.0 - 1e-4,
         1.0 - 1e-6,
-        1.0 - 1e-8,
-        1.0 - 1e-10,
     ] {
         for l_c in [1e-3, 22.8, 1e4] {
             let mut x = thesis;
@@ -307,7 +309,9 @@ fn k1_at_or_beyond_one_is_refused() {
 fn k1_near_one_converges() {
     // As k1 → 1 the circle through E1 E2 E3 tends to the one through E1 tangent to the tail
     // path at E3: Δh converges. Each value must agree with the next within the stated
-    // errors plus the first-order change in k1 (|dΔh/dk1| < 1000 m here: 155 m measured between 1 − 1e-6 and 1 − 1e-8).
+    // errors plus the first-order change in k1 (|dΔh/dk1| ≤ 200 m here: the secant slope
+    // is 156.5 m from 1 − 1e-6 to 1 − 1e-8 and again to 1 − 1e-10, so a drift growing as
+    // ε/(1 − k1) — 5.3e-6 m at 1 − 1e-10 in the double-double reference — would fail).
     let d = f64::to_radians;
     let mut prev: Option<(f64, f64, f64)> = None;
     for e in [1e-6, 1e-8, 1e-10, 1e-12, 1e-14] {
@@ -320,7 +324,7 @@ fn k1_near_one_converges() {
         );
         if let Some((pd, pe, pk)) = prev {
             assert!(
-                (dh - pd).abs() <= err + pe + 1e3 * pk,
+                (dh - pd).abs() <= err + pe + 200.0 * pk,
                 "1 - {e:e}: {dh} vs {pd}"
             );
         }
@@ -504,7 +508,13 @@ fn least_norm(j: &[[f64; 6]], rows: &[usize], rhs: &[f64]) -> Option<[f64; 6]> {
 /// the inward normals of those constraints; an infeasible trial point is pulled back by up
 /// to four Gauss–Newton (chord) restoration steps. Step doubled on success, halved on
 /// failure, stop below 1e-9 of the box or after `budget` Δh evaluations.
-fn pattern_search(p: &RefProblem, rng: &mut Rng, mut u: [f64; 6], mut f: f64, budget: usize) -> f64 {
+fn pattern_search(
+    p: &RefProblem,
+    rng: &mut Rng,
+    mut u: [f64; 6],
+    mut f: f64,
+    budget: usize,
+) -> f64 {
     let start = p.evals.get();
     let mut s: f64 = 0.05;
     let Some(mut jac) = p.jac(&u) else {
@@ -535,7 +545,11 @@ fn pattern_search(p: &RefProblem, rng: &mut Rng, mut u: [f64; 6], mut f: f64, bu
         }
         let mut dirs: Vec<[f64; 6]> = Vec::new();
         for v in &basis {
-            let proj = match least_norm(&jac, &near, &near.iter().map(|&r| dot6(&jac[r], v)).collect::<Vec<_>>()) {
+            let proj = match least_norm(
+                &jac,
+                &near,
+                &near.iter().map(|&r| dot6(&jac[r], v)).collect::<Vec<_>>(),
+            ) {
                 Some(d) if !near.is_empty() => std::array::from_fn(|k| v[k] - d[k]),
                 _ => *v,
             };
@@ -562,7 +576,9 @@ fn pattern_search(p: &RefProblem, rng: &mut Rng, mut u: [f64; 6], mut f: f64, bu
                 }
                 // Aim a hair inside: −1e-3 of the tolerance.
                 let rhs: Vec<f64> = viol.iter().map(|&r| -cz[r] - 1e-3 * p.tol()).collect();
-                let Some(dz) = least_norm(&jac, &viol, &rhs) else { break };
+                let Some(dz) = least_norm(&jac, &viol, &rhs) else {
+                    break;
+                };
                 z = std::array::from_fn(|k| (z[k] + dz[k]).clamp(0.0, 1.0));
             }
             if let Some(fz) = p.f(&z) {
@@ -636,12 +652,20 @@ fn random_crane(rng: &mut Rng, i: usize) -> CraneScene {
 
 /// cwsynth's Δh and the reference's on random crane `i` (`None` where neither finds a
 /// feasible design), with the reference's Δh evaluations.
-fn compare_random_crane(i: usize, samples: usize, starts: usize, budget: usize) -> Option<(f64, f64, usize)> {
+fn compare_random_crane(
+    i: usize,
+    samples: usize,
+    starts: usize,
+    budget: usize,
+) -> Option<(f64, f64, usize)> {
     let mut rng = Rng(1400 + i as u64);
     let s = random_crane(&mut rng, i);
     let o = solve(&s, &quick()).unwrap();
     let cw = o.objectives.get("delta_h_m").copied();
-    let feasible = o.checks.iter().all(|c| c.pass || c.name == "delta_h_allowed");
+    let feasible = o
+        .checks
+        .iter()
+        .all(|c| c.pass || c.name == "delta_h_allowed");
     let p = RefProblem {
         s: &s,
         set: quick(),
@@ -659,7 +683,12 @@ fn compare_random_crane(i: usize, samples: usize, starts: usize, budget: usize) 
     for &(u, f) in &pts {
         if chosen.len() < starts
             && chosen.iter().all(|(w, _)| {
-                u.iter().zip(w).map(|(a, b)| (a - b) * (a - b)).sum::<f64>().sqrt() > 0.25
+                u.iter()
+                    .zip(w)
+                    .map(|(a, b)| (a - b) * (a - b))
+                    .sum::<f64>()
+                    .sqrt()
+                    > 0.25
             })
         {
             chosen.push((u, f));
@@ -689,7 +718,10 @@ fn compare_random_crane(i: usize, samples: usize, starts: usize, budget: usize) 
         .map(|(u, f)| pattern_search(&p, &mut rng, u, f, budget))
         .fold(f64::INFINITY, f64::min);
     if !reference.is_finite() {
-        assert!(!feasible || cw.is_none(), "crane {i}: only cwsynth found a feasible design: {cw:?}");
+        assert!(
+            !feasible || cw.is_none(),
+            "crane {i}: only cwsynth found a feasible design: {cw:?}"
+        );
         return None;
     }
     assert!(
@@ -700,14 +732,23 @@ fn compare_random_crane(i: usize, samples: usize, starts: usize, budget: usize) 
     );
     let cw = cw.unwrap();
     let ev = o.search.as_ref().unwrap();
-    assert!(ev.starts_at_best >= 1 && ev.starts_at_best <= ev.starts, "crane {i}: {ev:?}");
-    assert!(ev.distinct_basins >= 1 && ev.distinct_basins <= ev.starts, "crane {i}: {ev:?}");
+    assert!(
+        ev.starts_at_best >= 1 && ev.starts_at_best <= ev.starts,
+        "crane {i}: {ev:?}"
+    );
+    assert!(
+        ev.distinct_basins >= 1 && ev.distinct_basins <= ev.starts,
+        "crane {i}: {ev:?}"
+    );
     assert!(
         (ev.best_values[0] - cw).abs() <= 1e-9 * cw,
         "crane {i}: the evidence's best {} is not the reported {cw}",
         ev.best_values[0]
     );
-    assert!(ev.best_values.windows(2).all(|w| w[0] <= w[1]), "crane {i}: {ev:?}");
+    assert!(
+        ev.best_values.windows(2).all(|w| w[0] <= w[1]),
+        "crane {i}: {ev:?}"
+    );
     Some((cw, reference, p.evals.get()))
 }
 
@@ -715,10 +756,15 @@ fn compare_random_crane(i: usize, samples: usize, starts: usize, budget: usize) 
 /// one line per crane (`--nocapture`). `CRANE_REF_SCALE` multiplies the reference's effort
 /// (for a measurement run: `CRANE_REF_SCALE=10 CRANE_CASES=60 cargo test --release ...`).
 fn random_cranes(range: std::ops::Range<usize>) {
-    let scale: usize = std::env::var("CRANE_REF_SCALE").ok().and_then(|v| v.parse().ok()).unwrap_or(1);
+    let scale: usize = std::env::var("CRANE_REF_SCALE")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(1);
     let (mut lost, mut compared) = (Vec::new(), 0);
     for i in range {
-        let Some((cw, reference, evals)) = compare_random_crane(i, 600 * scale, 4 + scale, 1500 * scale) else {
+        let Some((cw, reference, evals)) =
+            compare_random_crane(i, 600 * scale, 4 + scale, 1500 * scale)
+        else {
             eprintln!("crane {i}: no feasible design (both agree)");
             continue;
         };
@@ -726,51 +772,33 @@ fn random_cranes(range: std::ops::Range<usize>) {
         let rel = (cw - reference) / reference;
         eprintln!("crane {i}: cwsynth {cw:.10} reference {reference:.10} rel {rel:+.3e} ({evals} reference evaluations)");
         if rel > 1e-4 {
-            lost.push(format!("crane {i}: cwsynth {cw} reference {reference} ({rel:+.2e})"));
+            lost.push(format!(
+                "crane {i}: cwsynth {cw} reference {reference} ({rel:+.2e})"
+            ));
         }
     }
     assert!(compared >= 1);
-    assert!(lost.is_empty(), "cwsynth beaten by more than 1e-4:\n{}", lost.join("\n"));
+    assert!(
+        lost.is_empty(),
+        "cwsynth beaten by more than 1e-4:\n{}",
+        lost.join("\n")
+    );
 }
 
 #[test]
 fn random_cranes_best_found_is_not_beaten_a() {
-    let n: usize = std::env::var("CRANE_CASES").ok().and_then(|v| v.parse().ok()).unwrap_or(12);
+    let n: usize = std::env::var("CRANE_CASES")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(12);
     random_cranes(0..n.div_ceil(2));
 }
 
 #[test]
 fn random_cranes_best_found_is_not_beaten_b() {
-    let n: usize = std::env::var("CRANE_CASES").ok().and_then(|v| v.parse().ok()).unwrap_or(12);
+    let n: usize = std::env::var("CRANE_CASES")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(12);
     random_cranes(n.div_ceil(2)..n);
-}
-
-#[test]
-#[ignore]
-fn debug_crane() {
-    let i: usize = std::env::var("CRANE_I").unwrap().parse().unwrap();
-    let mut rng = Rng(1400 + i as u64);
-    let s = random_crane(&mut rng, i);
-    eprintln!("{s:?}");
-    for (gs, ls) in [(64, 6), (64, 20), (400, 40)] {
-        let set = Settings { global_samples: gs, local_starts: ls, ..quick() };
-        let t0 = std::time::Instant::now();
-        let o = solve(&s, &set).unwrap();
-        eprintln!("gs {gs} ls {ls}: {:?} dh {:?} err {:?} {:?} in {:?}", o.status, o.objectives, o.errors, o.search, t0.elapsed());
-        for b in &o.basins {
-            eprintln!("  {:?} feas {} conv {} it {} end {:?}", b.delta_h_m, b.feasible, b.converged, b.iterations, b.end);
-        }
-        eprintln!("  design {:?}", o.design);
-    }
-}
-
-#[test]
-#[ignore]
-fn debug_trace() {
-    let i: usize = std::env::var("CRANE_I").unwrap().parse().unwrap();
-    let mut rng = Rng(1400 + i as u64);
-    let s = random_crane(&mut rng, i);
-    let set = Settings { local_starts: 1, ..quick() };
-    let o = solve(&s, &set).unwrap();
-    eprintln!("{:?} {:?}", o.objectives, o.search);
 }

@@ -638,7 +638,11 @@ pub fn head_extrema(link: &Linkage, n: usize, xtol: f64) -> Result<Vec<LocalExtr
                     .map_err(to_path)?;
                 // An extremum at an end of the range is the end sample itself: Brent would
                 // stop up to xtol inside it and lose |y'|·xtol.
-                let (phi_e, fx) = if s(i) > e.fx { (phi(i), s(i)) } else { (e.x, e.fx) };
+                let (phi_e, fx) = if s(i) > e.fx {
+                    (phi(i), s(i))
+                } else {
+                    (e.x, e.fx)
+                };
                 out.push(LocalExtremum {
                     phi: phi_e,
                     y: sign * fx,

@@ -3,7 +3,7 @@
 //! The thesis chooses the step-1 angles by trial and k1, k2 by rule of thumb, then checks the
 //! jib-head height variation Δh. This module does that job for given values, and searches the
 //! same choices to minimise Δh: a deterministic global stage (Halton points over the box of
-//! free variables) followed by Nelder–Mead (argmin) from the best distinct points. The tie pin
+//! free variables) followed by a trust-region SQP from the best distinct points. The tie pin
 //! B must be confined by the scene: without a limit the problem is degenerate (a tie of
 //! unbounded length is a straight guide and drives Δh to ~0), and [`CraneScene::validate`]
 //! refuses it.
@@ -1078,7 +1078,11 @@ impl Objective<'_> {
             return fail(u, 0);
         };
         let mut b: Vec<Vec<f64>> = (0..n)
-            .map(|i| (0..n).map(|j| if i == j { HESSIAN_INITIAL } else { 0.0 }).collect())
+            .map(|i| {
+                (0..n)
+                    .map(|j| if i == j { HESSIAN_INITIAL } else { 0.0 })
+                    .collect()
+            })
             .collect();
         let mut delta: f64 = TRUST_INITIAL;
         let mut converged = false;
@@ -1244,10 +1248,7 @@ impl Objective<'_> {
 #[allow(clippy::needless_range_loop)]
 fn solve_small(mut m: Vec<Vec<f64>>, mut b: Vec<f64>) -> Option<Vec<f64>> {
     let k = b.len();
-    let scale = m
-        .iter()
-        .flatten()
-        .fold(0.0f64, |a, v| a.max(v.abs()));
+    let scale = m.iter().flatten().fold(0.0f64, |a, v| a.max(v.abs()));
     for col in 0..k {
         let piv = (col..k).max_by(|&i, &j| m[i][col].abs().total_cmp(&m[j][col].abs()))?;
         m.swap(col, piv);
@@ -1285,7 +1286,7 @@ fn halton(mut i: usize, b: usize) -> f64 {
 const PRIMES: [usize; 6] = [2, 3, 5, 7, 11, 13];
 
 /// Solve a crane scene: evaluate it when every variable is fixed, otherwise minimise Δh over
-/// the free variables (Halton global stage + Nelder–Mead from the best distinct points),
+/// the free variables (Halton global stage + trust-region SQP from the best distinct points),
 /// then evaluate the best design in full (path, checks, landscape, thesis comparison).
 ///
 /// `Err` only for a scene or settings field that is not allowed (including an optimisation
@@ -1386,7 +1387,8 @@ pub fn solve(scene: &CraneScene, settings: &Settings) -> Result<Outcome, FieldEr
         let (x, _) = obj.point(&u);
         let method = format!(
             "multistart: {} Halton points (global stage, penalised cost), then trust-region SQP (Fletcher's Sl1QP: \
-             minimax of the head-height extrema, constraints linearised with elastic slacks, damped BFGS, clarabel QP) \
+             minimax of the head-height extrema, constraints linearised with elastic slacks, damped BFGS, clarabel QP, \
+             second-order correction onto the active constraints) \
              from the {} best distinct points (at most {} iterations each, stop at a predicted gain below {:e} of the \
              merit); l1 penalty {} in the merit",
             settings.global_samples * n,
