@@ -484,11 +484,12 @@ fn least_norm(j: &[[f64; 6]], rows: &[usize], rhs: &[f64]) -> Option<[f64; 6]> {
         if a[col][col].abs() < 1e-300 {
             return None;
         }
-        for r in 0..m {
+        let pivot = a[col].clone();
+        for (r, row) in a.iter_mut().enumerate() {
             if r != col {
-                let f = a[r][col] / a[col][col];
-                for k in col..=m {
-                    a[r][k] -= f * a[col][k];
+                let f = row[col] / pivot[col];
+                for (x, p) in row.iter_mut().zip(&pivot).skip(col) {
+                    *x -= f * p;
                 }
             }
         }
@@ -605,7 +606,7 @@ fn pattern_search(
 /// requirements scaled by 0.92–1.08 each, all six variables free in the rule-of-thumb and
 /// recommended ranges, a tie-pin limit of 8–25 m in one of three shapes.
 fn random_crane(rng: &mut Rng, i: usize) -> CraneScene {
-    let base = if i % 2 == 0 {
+    let base = if i.is_multiple_of(2) {
         thesis_optimisation_with_angles()
     } else {
         tukan_40t_optimisation()
@@ -756,10 +757,7 @@ fn compare_random_crane(
 /// one line per crane (`--nocapture`). `CRANE_REF_SCALE` multiplies the reference's effort
 /// (for a measurement run: `CRANE_REF_SCALE=10 CRANE_CASES=60 cargo test --release ...`).
 fn random_cranes(range: std::ops::Range<usize>) {
-    let scale: usize = std::env::var("CRANE_REF_SCALE")
-        .ok()
-        .and_then(|v| v.parse().ok())
-        .unwrap_or(1);
+    let scale = env_count("CRANE_REF_SCALE", 1);
     let (mut lost, mut compared) = (Vec::new(), 0);
     for i in range {
         let Some((cw, reference, evals)) =
@@ -785,20 +783,21 @@ fn random_cranes(range: std::ops::Range<usize>) {
     );
 }
 
-#[test]
-fn random_cranes_best_found_is_not_beaten_a() {
-    let n: usize = std::env::var("CRANE_CASES")
+/// An environment setting (`CRANE_CASES`, `CRANE_REF_SCALE`) or its default.
+fn env_count(key: &str, default: usize) -> usize {
+    std::env::var(key)
         .ok()
         .and_then(|v| v.parse().ok())
-        .unwrap_or(12);
-    random_cranes(0..n.div_ceil(2));
+        .unwrap_or(default)
+}
+
+#[test]
+fn random_cranes_best_found_is_not_beaten_a() {
+    random_cranes(0..env_count("CRANE_CASES", 12).div_ceil(2));
 }
 
 #[test]
 fn random_cranes_best_found_is_not_beaten_b() {
-    let n: usize = std::env::var("CRANE_CASES")
-        .ok()
-        .and_then(|v| v.parse().ok())
-        .unwrap_or(12);
+    let n = env_count("CRANE_CASES", 12);
     random_cranes(n.div_ceil(2)..n);
 }
