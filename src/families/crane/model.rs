@@ -636,9 +636,16 @@ pub fn head_extrema(link: &Linkage, n: usize, xtol: f64) -> Result<Vec<LocalExtr
             if s(i) >= s(l) && s(i) >= s(r) && (i == 0 || s(i) > s(l)) {
                 let e = crate::numeric::brent_max(|p| sign * y(p), phi(l), phi(r), xtol)
                     .map_err(to_path)?;
+                // An extremum at an end of the range is the end sample itself: Brent would
+                // stop up to xtol inside it and lose |y'|·xtol.
+                let (phi_e, fx) = if s(i) > e.fx {
+                    (phi(i), s(i))
+                } else {
+                    (e.x, e.fx)
+                };
                 out.push(LocalExtremum {
-                    phi: e.x,
-                    y: sign * e.fx,
+                    phi: phi_e,
+                    y: sign * fx,
                     is_max: sign > 0.0,
                 });
             }

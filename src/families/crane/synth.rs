@@ -3,7 +3,7 @@
 //! The thesis chooses the step-1 angles by trial and k1, k2 by rule of thumb, then checks the
 //! jib-head height variation Δh. This module does that job for given values, and searches the
 //! same choices to minimise Δh: a deterministic global stage (Halton points over the box of
-//! free variables) followed by Nelder–Mead (argmin) from the best distinct points. The tie pin
+//! free variables) followed by a trust-region SQP from the best distinct points. The tie pin
 //! B must be confined by the scene: without a limit the problem is degenerate (a tie of
 //! unbounded length is a straight guide and drives Δh to ~0), and [`CraneScene::validate`]
 //! refuses it.
@@ -565,6 +565,58 @@ pub struct Outcome {
 /// Relative distance in Δh under which two local searches' ends count as the same basin.
 pub const SAME_BASIN: f64 = 1e-6;
 
+/// Reach and height shortfalls below this fraction of the length scale R_max − r are counted
+/// as 0: the sizing rule meets one reach exactly, and its rounding (a few ε of the scale)
+/// must not read as a violation. Far below `settings.constraint_tol` (1e-7), so it never
+/// decides feasibility by itself.
+pub const REACH_ROUNDING: f64 = 1e-12;
+
+/// Step (in the unit box of the free variables) of the SQP's central differences. The
+/// heights are accurate to ~1e-15 of the scale, so the derivative's rounding is ~1e-9
+/// relative and its truncation ~H² = 1e-12: the QP's model is good to ~1e-9, far below what
+/// moves the merit; the reported Δh never depends on it (it is evaluated, not modelled).
+const JACOBIAN_STEP: f64 = 1e-6;
+
+/// Initial trust-region radius of the SQP (∞-norm, unit box) and its cap: a tenth and a
+/// half of the box's side.
+const TRUST_INITIAL: f64 = 0.1;
+/// See [`TRUST_INITIAL`].
+const TRUST_MAX: f64 = 0.5;
+
+/// The SQP stops when the trust region or the step falls below this (unit box): 1e-12 of
+/// the box is ~1e-13 rad in an angle, beyond what moves Δh by more than round-off.
+const TRUST_MIN: f64 = 1e-12;
+
+/// Initial ℓ1 merit weight of the SQP (raised to twice the largest multiplier).
+const MU_INITIAL: f64 = 1e-2;
+
+/// Initial Hessian of the SQP's Lagrangian, a multiple of the identity (Δh/L is ~1e-2, its
+/// curvature over the unit box of that order or less).
+const HESSIAN_INITIAL: f64 = 1e-3;
+
+/// Linearised constraint values (over L) within this of 0 count as active in the QP's
+/// step, for the second-order correction.
+const ACTIVE_TOL: f64 = 1e-9;
+
+/// A constraint's derivative (over L, per unit box) below this is rounding noise (a real
+/// limit moves by ~0.1–1 of the scale across the box; the noise of an exactly met one is
+/// ~ε/JACOBIAN_STEP ≈ 1e-10).
+const FLAT_ROW: f64 = 1e-6;
+
+/// Tolerance (rad) of the Brent refinement of the largest load moment: its value error
+/// ½|M''|·tol² is ~1e-18 of |M| per rad², far below the moment's finite-difference error,
+/// which is what `max_load_moment_error_nm` carries.
+const MOMENT_PEAK_XTOL: f64 = 1e-9;
+
+/// The jib head is at equal heights at both extremes by construction (the choice of k); the
+/// check passes when they differ by less than this fraction of L_c (the rounding of k and of
+/// the two head positions is a few ε·L_c).
+const EQUAL_HEIGHTS_TOL: f64 = 1e-9;
+
+/// A stated relative error of Δh above this draws the digits-left warning (well-conditioned
+/// designs state ~1e-10 or less).
+const DIGITS_WARNING: f64 = 1e-6;
+
 /// One design point evaluated: boom, synthesis, heights and constraint violations.
 #[derive(Debug, Clone)]
 pub struct Evaluation {
@@ -630,7 +682,7 @@ pub fn evaluate(
     };
     let r_max = boom.l_c * angles.unit_reach_max(k);
     let r_min = boom.l_c * angles.unit_reach_min(k);
-    let tol = 1e-12 * scene.length_scale();
+    let tol = REACH_ROUNDING * scene.length_scale();
     let pos = |v: f64| if v > tol { v } else { 0.0 };
     Ok(Evaluation {
         boom,
@@ -807,7 +859,7 @@ impl Objective<'_> {
         let rows = p.cons.len() + ts.len();
         let mut centre: Option<Vec<f64>> = None;
         let mut jac = vec![vec![0.0; u.len()]; rows];
-        const H: f64 = 1e-6;
+        const H: f64 = JACOBIAN_STEP;
         for j in 0..u.len() {
             let step = |s: f64| {
                 let mut w = u.to_vec();
@@ -1011,7 +1063,7 @@ impl Objective<'_> {
         // The ℓ1 weight: above the largest constraint multiplier seen (so the merit is exact),
         // but no larger, since a large weight lets the constraints' curvature eat the gain of
         // a step along them (the Maratos effect). Raised when the QP leans on a slack.
-        let mut mu: f64 = 1e-2;
+        let mut mu: f64 = MU_INITIAL;
         let mut u = u0.to_vec();
         let fail = |u: Vec<f64>, it| LocalRun {
             u,
@@ -1026,9 +1078,13 @@ impl Objective<'_> {
             return fail(u, 0);
         };
         let mut b: Vec<Vec<f64>> = (0..n)
-            .map(|i| (0..n).map(|j| if i == j { 1e-3 } else { 0.0 }).collect())
+            .map(|i| {
+                (0..n)
+                    .map(|j| if i == j { HESSIAN_INITIAL } else { 0.0 })
+                    .collect()
+            })
             .collect();
-        let mut delta: f64 = 0.1;
+        let mut delta: f64 = TRUST_INITIAL;
         let mut converged = false;
         let mut it = 0;
         while it < self.settings.local_max_iters {
@@ -1051,7 +1107,7 @@ impl Objective<'_> {
             // s − r does not depend on the shift y0 of the QP: the model at d = 0 is m0.
             let pred = m0 - st.model;
             let dn = st.d.iter().fold(0.0f64, |a, x| a.max(x.abs()));
-            if pred <= self.settings.local_tol * m0.abs().max(1e-12) || dn < 1e-12 {
+            if pred <= self.settings.local_tol * m0.abs().max(1e-12) || dn < TRUST_MIN {
                 converged = true;
                 break;
             }
@@ -1060,6 +1116,7 @@ impl Objective<'_> {
                 .zip(&st.d)
                 .map(|(a, d)| (a + d).clamp(0.0, 1.0))
                 .collect();
+            let un = self.second_order_correction(un, &p, &jac, &st);
             let pn = self.probe(&un);
             let rho = pn.as_ref().map_or(-1.0, |q| (m0 - q.merit(mu)) / pred);
             if rho >= 0.1 {
@@ -1097,7 +1154,7 @@ impl Objective<'_> {
                     }
                 }
                 if rho > 0.75 && dn > 0.8 * delta {
-                    delta = (2.0 * delta).min(0.5);
+                    delta = (2.0 * delta).min(TRUST_MAX);
                 }
                 u = un;
                 p = pn;
@@ -1105,7 +1162,7 @@ impl Objective<'_> {
             } else {
                 delta = 0.25 * dn;
             }
-            if delta < 1e-12 {
+            if delta < TRUST_MIN {
                 converged = true;
                 break;
             }
@@ -1117,6 +1174,102 @@ impl Objective<'_> {
             iterations: it,
         }
     }
+}
+
+impl Objective<'_> {
+    /// Signed constraints over L at u (no head path: cheap).
+    fn constraints(&self, u: &[f64]) -> Option<Vec<f64>> {
+        let (boom, syn) = self.linkage(u)?;
+        signed_constraints(self.scene, &boom, &syn)
+    }
+
+    /// Second-order correction of an SQP trial point (Fletcher, Practical Methods of
+    /// Optimization, 1987, §14.4): the active constraints are curved (the tie pin moves on
+    /// a curve as the variables change), so the full step d leaves them by O(|d|²) and the
+    /// merit gains less than the model predicted — the Maratos effect, which pins the trust
+    /// region and makes the search creep along an active tie-pin limit. Up to two chord
+    /// Gauss–Newton steps δ = −Aᵀ(AAᵀ)⁻¹c(u + d), A the constraints' Jacobian at u (rows:
+    /// active in the QP, or violated at the trial point; columns: variables not on a face
+    /// of the box), bring the trial point back onto them. (Activity is read from the
+    /// linearisation, not the multipliers: clarabel's interior-point multipliers are
+    /// positive on every row.) Unchanged when the correction
+    /// cannot be computed.
+    fn second_order_correction(
+        &self,
+        mut un: Vec<f64>,
+        p: &Probe,
+        jac: &[Vec<f64>],
+        st: &QpStep,
+    ) -> Vec<f64> {
+        let n = un.len();
+        let lin = |m: usize| p.cons[m] + (0..n).map(|j| jac[m][j] * st.d[j]).sum::<f64>();
+        let free: Vec<usize> = (0..n).filter(|&j| un[j] > 0.0 && un[j] < 1.0).collect();
+        for _ in 0..2 {
+            let Some(c) = self.constraints(&un) else {
+                break;
+            };
+            // A constraint the free variables cannot move (e.g. the reach met exactly by the
+            // sizing rule) has a row of rounding noise only and is left out.
+            let moves = |m: usize| free.iter().any(|&j| jac[m][j].abs() > FLAT_ROW);
+            let rows: Vec<usize> = (0..p.cons.len())
+                .filter(|&m| c[m] > 0.0 || lin(m) > -ACTIVE_TOL)
+                .filter(|&m| moves(m))
+                .collect();
+            if rows.is_empty() || rows.len() > free.len() {
+                break;
+            }
+            if rows.iter().all(|&m| c[m].abs() <= f64::EPSILON) {
+                break;
+            }
+            let a = |r: usize, j: usize| jac[rows[r]][free[j]];
+            let k = rows.len();
+            let gram: Vec<Vec<f64>> = (0..k)
+                .map(|r| {
+                    (0..k)
+                        .map(|q| (0..free.len()).map(|j| a(r, j) * a(q, j)).sum())
+                        .collect()
+                })
+                .collect();
+            let rhs: Vec<f64> = rows.iter().map(|&m| c[m]).collect();
+            let Some(w) = solve_small(gram, rhs) else {
+                break;
+            };
+            for (j, &col) in free.iter().enumerate() {
+                let dj: f64 = (0..k).map(|r| a(r, j) * w[r]).sum();
+                un[col] = (un[col] - dj).clamp(0.0, 1.0);
+            }
+        }
+        un
+    }
+}
+
+/// Solves the small dense system M w = b by Gaussian elimination with partial pivoting;
+/// `None` when M is singular to working precision.
+#[allow(clippy::needless_range_loop)]
+fn solve_small(mut m: Vec<Vec<f64>>, mut b: Vec<f64>) -> Option<Vec<f64>> {
+    let k = b.len();
+    let scale = m.iter().flatten().fold(0.0f64, |a, v| a.max(v.abs()));
+    for col in 0..k {
+        let piv = (col..k).max_by(|&i, &j| m[i][col].abs().total_cmp(&m[j][col].abs()))?;
+        m.swap(col, piv);
+        b.swap(col, piv);
+        if !(m[col][col].abs() > 1e-12 * scale) {
+            return None;
+        }
+        for r in col + 1..k {
+            let f = m[r][col] / m[col][col];
+            for c in col..k {
+                m[r][c] -= f * m[col][c];
+            }
+            b[r] -= f * b[col];
+        }
+    }
+    let mut w = vec![0.0; k];
+    for r in (0..k).rev() {
+        let s: f64 = (r + 1..k).map(|c| m[r][c] * w[c]).sum();
+        w[r] = (b[r] - s) / m[r][r];
+    }
+    w.iter().all(|v| v.is_finite()).then_some(w)
 }
 
 /// Radical inverse of `i` in base `b` (the Halton sequence).
@@ -1133,7 +1286,7 @@ fn halton(mut i: usize, b: usize) -> f64 {
 const PRIMES: [usize; 6] = [2, 3, 5, 7, 11, 13];
 
 /// Solve a crane scene: evaluate it when every variable is fixed, otherwise minimise Δh over
-/// the free variables (Halton global stage + Nelder–Mead from the best distinct points),
+/// the free variables (Halton global stage + trust-region SQP from the best distinct points),
 /// then evaluate the best design in full (path, checks, landscape, thesis comparison).
 ///
 /// `Err` only for a scene or settings field that is not allowed (including an optimisation
@@ -1234,7 +1387,8 @@ pub fn solve(scene: &CraneScene, settings: &Settings) -> Result<Outcome, FieldEr
         let (x, _) = obj.point(&u);
         let method = format!(
             "multistart: {} Halton points (global stage, penalised cost), then trust-region SQP (Fletcher's Sl1QP: \
-             minimax of the head-height extrema, constraints linearised with elastic slacks, damped BFGS, clarabel QP) \
+             minimax of the head-height extrema, constraints linearised with elastic slacks, damped BFGS, clarabel QP, \
+             second-order correction onto the active constraints) \
              from the {} best distinct points (at most {} iterations each, stop at a predicted gain below {:e} of the \
              merit); l1 penalty {} in the merit",
             settings.global_samples * n,
@@ -1404,8 +1558,8 @@ fn report(
     check(
         "equal_head_heights",
         (c3.y - h1).abs(),
-        1e-9 * boom.l_c,
-        (c3.y - h1).abs() <= 1e-9 * boom.l_c,
+        EQUAL_HEIGHTS_TOL * boom.l_c,
+        (c3.y - h1).abs() <= EQUAL_HEIGHTS_TOL * boom.l_c,
         "|y_C3 - y_C1| (m)",
     );
     check(
@@ -1504,7 +1658,7 @@ fn report(
                          digit is certain (smallest angle of the triangle E1 E2 E3 {:.2e} rad, tie-pin error bound {:.1e} m)",
                         hh.error, syn.min_angle, syn.guide_error
                     ));
-                } else if rel > 1e-6 {
+                } else if rel > DIGITS_WARNING {
                     warnings.push(format!(
                         "ill-conditioned design: delta h is good to {:.1e} m, about {:.0} significant digits (smallest \
                          angle of the triangle E1 E2 E3 {:.2e} rad, tie-pin error bound {:.1e} m)",
@@ -1562,7 +1716,7 @@ fn report(
                     f,
                     (worst.2 - dphi).max(p0),
                     (worst.2 + dphi).min(p1),
-                    1e-9,
+                    MOMENT_PEAK_XTOL,
                 ) {
                     let err = load_moment(l, w, e.x, h).map_or(worst.1, |(_, er)| er);
                     out.derived.insert("max_load_moment_nm".into(), e.fx);
