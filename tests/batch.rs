@@ -48,6 +48,18 @@ fn fleet_of(dir: &Path, file: &str, text: &str) -> String {
     format!("{}:{}", template(), p.display())
 }
 
+/// `cwsynth batch INPUT --out OUT EXTRA…` with its progress and final message on stderr.
+fn loud(input: &str, out: &Path, extra: &[&str]) -> Output {
+    bin()
+        .arg("batch")
+        .arg(input)
+        .arg("--out")
+        .arg(out)
+        .args(extra)
+        .output()
+        .unwrap()
+}
+
 fn batch(input: &str, out: &Path, extra: &[&str]) -> Output {
     bin()
         .arg("batch")
@@ -209,13 +221,7 @@ fn reruns_skip_finished_machines_and_interrupted_runs_complete() {
     let t0 = mtime(&json);
 
     // A re-run solves nothing: every good machine is skipped, files untouched.
-    let o = bin()
-        .arg("batch")
-        .arg(&input)
-        .arg("--out")
-        .arg(&out)
-        .output()
-        .unwrap();
+    let o = loud(&input, &out, &[]);
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(err.contains("9 skipped"), "{err}");
     assert_eq!(mtime(&json), t0);
@@ -228,13 +234,7 @@ fn reruns_skip_finished_machines_and_interrupted_runs_complete() {
     let half: String = s.lines().take(5).map(|l| format!("{l}\n")).collect();
     std::fs::write(out.join("summary.csv.partial"), half).unwrap();
     std::fs::remove_file(out.join("summary.csv")).unwrap();
-    let o = bin()
-        .arg("batch")
-        .arg(&input)
-        .arg("--out")
-        .arg(&out)
-        .output()
-        .unwrap();
+    let o = loud(&input, &out, &[]);
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(err.contains("8 skipped"), "{err}");
     assert!(out.join("piston-1000rpm-5.json").exists());
@@ -259,13 +259,7 @@ fn reruns_skip_finished_machines_and_interrupted_runs_complete() {
     let csv_path = d.path().join("fleet.csv");
     let t = std::fs::read_to_string(&csv_path).unwrap();
     std::fs::write(&csv_path, t.replacen("800 rpm", "850 rpm", 1)).unwrap();
-    let o = bin()
-        .arg("batch")
-        .arg(&input)
-        .arg("--out")
-        .arg(&out)
-        .output()
-        .unwrap();
+    let o = loud(&input, &out, &[]);
     assert!(String::from_utf8_lossy(&o.stderr).contains("8 skipped"));
 }
 
@@ -599,11 +593,7 @@ fn a_panicking_machine_fails_alone() {
     let rows = records(&so.join("summary.csv"));
     assert_eq!((rows.len(), &rows[4][3]), (12, "failed"));
     // Without the panic the machine is solved; the 8 others are skipped.
-    let o = bin()
-        .args(["batch", &input, "--out"])
-        .arg(&out)
-        .output()
-        .unwrap();
+    let o = loud(&input, &out, &[]);
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(err.contains("8 skipped"), "{err}");
     assert_eq!(&records(&out.join("summary.csv"))[4][3], "optimal");
@@ -639,11 +629,7 @@ fn resume_redoes_machines_with_missing_or_torn_files() {
     // A temporary file of a process that is gone (no process has this id).
     let stale = out.join(".piston-1000rpm-1.json.4000000000.tmp");
     std::fs::write(&stale, "{\"half").unwrap();
-    let o = bin()
-        .args(["batch", &input, "--out"])
-        .arg(&out)
-        .output()
-        .unwrap();
+    let o = loud(&input, &out, &[]);
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(err.contains("5 skipped"), "{err}");
     assert!(!stale.exists());
@@ -652,11 +638,7 @@ fn resume_redoes_machines_with_missing_or_torn_files() {
     assert_ne!(std::fs::read(&md).unwrap()[0], 0);
     assert_eq!(summary_sans_time(&out.join("summary.csv")), first);
     // Now complete: everything is skipped.
-    let o = bin()
-        .args(["batch", &input, "--out"])
-        .arg(&out)
-        .output()
-        .unwrap();
+    let o = loud(&input, &out, &[]);
     assert!(String::from_utf8_lossy(&o.stderr).contains("9 skipped"));
 }
 
@@ -697,11 +679,7 @@ fn summary_cells_are_formula_escaped_and_read_back() {
     // A negative number in a numeric column stays a number.
     let neg = rows.iter().find(|r| r[9].starts_with('-'));
     assert!(neg.is_none_or(|r| r[9].parse::<f64>().is_ok()));
-    let o = bin()
-        .args(["batch", &input, "--summary-only", "--out"])
-        .arg(&out)
-        .output()
-        .unwrap();
+    let o = loud(&input, &out, &["--summary-only"]);
     assert!(String::from_utf8_lossy(&o.stderr).contains("2 skipped"));
     assert_eq!(
         std::fs::read_to_string(out.join("summary.csv"))
