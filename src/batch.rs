@@ -24,10 +24,11 @@
 //! previous summary row (completed `summary.csv` or the `.partial` of an interrupted run)
 //! carries it. The summary is written to `<summary>.partial` and renamed when complete.
 
-use crate::families::solve_scene;
-use crate::families::{parse_str, parse_table, Scene};
+use crate::families::{parse_str, parse_table, solve_scene, Scene};
 use crate::problem::ProblemError;
-use crate::report::{fmt_num, md_escape, truncate, write_atomic, write_outputs};
+use crate::report::{
+    fmt_num, json_path, md_escape, report_files, truncate, write_atomic, write_replace,
+};
 use crate::units::Unit;
 use anyhow::{bail, Context};
 use rayon::prelude::*;
@@ -172,7 +173,54 @@ pub const ROW_STATUSES: [&str; 8] = [
     "error",
 ];
 
+/// First characters that make a spreadsheet read a cell as a formula (OWASP, "CSV
+/// injection"); a text cell starting with one, or with the escape `'` itself, is written with
+/// a leading `'`.
+const FORMULA_START: [char; 7] = ['=', '+', '-', '@', '\t', '\r', '\''];
+
 impl Row {
+    /// The text columns (every column but the numbers `index`, `value`, `error`,
+    /// `baseline_value`, `improvement_pct`, `time_s`).
+    fn texts(&mut self) -> [&mut String; 10] {
+        [
+            &mut self.name,
+            &mut self.family,
+            &mut self.status,
+            &mut self.objective,
+            &mut self.baseline,
+            &mut self.design,
+            &mut self.objectives,
+            &mut self.input_hash,
+            &mut self.source,
+            &mut self.message,
+        ]
+    }
+
+    /// The row as written to a summary CSV: a text cell starting with `=`, `+`, `-`, `@`, a
+    /// tab, a carriage return or `'` gets a leading `'`, so no spreadsheet runs it as a
+    /// formula. Numeric columns are numbers and never escaped (`-3.5` stays). Undone by
+    /// [`Row::csv_unescaped`].
+    pub fn csv_escaped(&self) -> Row {
+        let mut r = self.clone();
+        for t in r.texts() {
+            if t.starts_with(FORMULA_START) {
+                t.insert(0, '\'');
+            }
+        }
+        r
+    }
+
+    /// A row read from a summary CSV with [`Row::csv_escaped`] undone: one leading `'` of a
+    /// text cell is dropped.
+    pub fn csv_unescaped(mut self) -> Row {
+        for t in self.texts() {
+            if t.starts_with('\'') {
+                t.remove(0);
+            }
+        }
+        self
+    }
+
     /// Checks a row read back from a summary CSV (a resumed run's checkpoint, or a shard
     /// given to `merge`): a file written by someone else is input like any other. The status
     /// must be one of [`ROW_STATUSES`], the family a known one, the name a valid machine name
@@ -360,10 +408,16 @@ pub fn row_from_json(index: u64, source: &str, hash: &str, v: &serde_json::Value
     }
 }
 
+/// Bytes of a message or an error row's name kept in the summary (a 10 MB cell is not echoed
+/// whole).
+pub const MESSAGE_BYTES: usize = 2000;
+/// Bytes of an error row's name kept in the summary (a valid name has at most 128).
+const NAME_BYTES: usize = 200;
+
 fn error_row(index: u64, name: &str, source: &str, hash: &str, message: String) -> Row {
     Row {
         index,
-        name: name.into(),
+        name: truncate(name, NAME_BYTES).into_owned(),
         family: String::new(),
         status: "error".into(),
         objective: String::new(),
@@ -376,8 +430,83 @@ fn error_row(index: u64, name: &str, source: &str, hash: &str, message: String) 
         objectives: String::new(),
         time_s: 0.0,
         input_hash: hash.into(),
-        source: source.into(),
-        message,
+        source: truncate(source, MESSAGE_BYTES).into_owned(),
+        message: truncate(&message, MESSAGE_BYTES).into_owned(),
+    }
+}
+
+/// The row of a machine whose pipeline panicked: `failed`, the panic as the reason, and no
+/// input hash (so a re-run tries it again).
+fn panic_row(index: u64, name: &str, source: &str, panic: &str) -> Row {
+    let mut row = error_row(
+        index,
+        name,
+        source,
+        "",
+        format!("{source}: internal error (a panic, please report it): {panic}"),
+    );
+    row.status = "failed".into();
+    row
+}
+
+thread_local! {
+    /// Set while [`isolate`] runs on this thread: the panic hook records instead of printing.
+    static CATCHING: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
+    /// The last panic [`isolate`] caught on this thread: message and location.
+    static CAUGHT: std::cell::RefCell<Option<String>> = const { std::cell::RefCell::new(None) };
+}
+
+/// Runs `f`; a panic inside it is returned as `Err("message at file:line")` instead of
+/// unwinding further, and the default hook's report on stderr is replaced by that value
+/// (the caller reports it once, as the machine's reason). Panics on other threads, or
+/// outside `isolate`, are reported by the previous hook as before. This is how one machine
+/// of a batch (or one file of `cwsynth solve`) cannot take the others down: whatever its
+/// parse, solve, report or plot does, the run finishes and says why that machine failed.
+/// (An abort, e.g. an allocation failure, cannot be caught; input limits prevent those.)
+pub fn isolate<T>(f: impl FnOnce() -> T) -> Result<T, String> {
+    static HOOK: std::sync::Once = std::sync::Once::new();
+    HOOK.call_once(|| {
+        let previous = std::panic::take_hook();
+        std::panic::set_hook(Box::new(move |info| {
+            if CATCHING.with(|c| c.get()) {
+                let at = info
+                    .location()
+                    .map(|l| format!(" at {}:{}", l.file(), l.line()))
+                    .unwrap_or_default();
+                let message = panic_message(info.payload());
+                CAUGHT.with(|c| *c.borrow_mut() = Some(format!("{message}{at}")));
+            } else {
+                previous(info)
+            }
+        }));
+    });
+    let was = CATCHING.with(|c| c.replace(true));
+    let r = std::panic::catch_unwind(std::panic::AssertUnwindSafe(f));
+    CATCHING.with(|c| c.set(was));
+    r.map_err(|payload| {
+        CAUGHT
+            .with(|c| c.borrow_mut().take())
+            .unwrap_or_else(|| panic_message(&*payload))
+    })
+}
+
+/// The text of a panic's payload (`panic!("…")` gives a `&str` or a `String`).
+fn panic_message(payload: &(dyn std::any::Any + Send)) -> String {
+    let m = payload
+        .downcast_ref::<&str>()
+        .copied()
+        .or_else(|| payload.downcast_ref::<String>().map(String::as_str))
+        .unwrap_or("(no message)");
+    truncate(m, MESSAGE_BYTES).into_owned()
+}
+
+/// A debugging and test hook of debug builds only: `CWSYNTH_TEST_PANIC=NAME` makes the
+/// machine named `NAME` panic just before it is solved (`cwsynth batch` and `cwsynth solve`),
+/// to show that one machine's panic fails that machine only (`tests/batch.rs`). Release
+/// builds ignore the variable.
+pub fn test_panic(name: &str) {
+    if cfg!(debug_assertions) && std::env::var_os("CWSYNTH_TEST_PANIC").is_some_and(|n| n == name) {
+        panic!("CWSYNTH_TEST_PANIC: a test panic in machine `{name}`");
     }
 }
 
@@ -566,6 +695,21 @@ impl Template {
             .map(|h| column(h))
             .collect::<Result<(Vec<_>, Vec<_>), String>>()
             .map_err(|e| anyhow::anyhow!("{}:1: {e}", csv.display()))?;
+        // A key set by two columns: which cell wins would be a guess.
+        let mut seen: std::collections::HashMap<String, usize> = Default::default();
+        for (k, key) in header.iter().enumerate() {
+            let canonical = key_parts(key).map_or_else(|_| key.clone(), |p| p.join("."));
+            if let Some(first) = seen.insert(canonical.clone(), k) {
+                bail!(
+                    "{}:1: columns {} (`{}`) and {} (`{}`) both set `{canonical}`; keep one",
+                    csv.display(),
+                    first + 1,
+                    truncate(&columns[first], 200),
+                    k + 1,
+                    truncate(&columns[k], 200)
+                );
+            }
+        }
         let mut hash = Hasher::new();
         hash.bytes(b"fleet row\0");
         hash.field(&text);
@@ -756,6 +900,26 @@ impl Work {
         }
     }
 
+    /// The machine's name and source for its row before it is read: a file's stem, a row's
+    /// name (the row of a machine that panicked).
+    fn label(&self) -> (String, String) {
+        match self {
+            Work::Path(path) | Work::File { path, .. } => (
+                path.file_stem()
+                    .map(|s| s.to_string_lossy().into_owned())
+                    .unwrap_or_default(),
+                path.display().to_string(),
+            ),
+            Work::Row {
+                tpl,
+                row,
+                line,
+                cells,
+            } => (tpl.row_name(*row, cells), tpl.source(*line)),
+            Work::Broken { name, .. } => (name.clone(), String::new()),
+        }
+    }
+
     fn source(&self) -> String {
         match self {
             Work::Path(path) | Work::File { path, .. } => path.display().to_string(),
@@ -816,10 +980,25 @@ struct Jobs {
         Arc<Template>,
         csv::StringRecordsIntoIter<std::fs::File>,
         u64,
+        Lines,
     )>,
     next: u64,
     /// Error rows still to emit for the lines an unterminated quote swallowed.
     swallowed: std::collections::VecDeque<Work>,
+    /// A fleet whose template or header is broken: each of its rows is an error row.
+    dead: Option<DeadFleet>,
+}
+
+/// A fleet that cannot be read (broken template or header): its rows are still streamed,
+/// each an error row with the reason, so rows in = rows out.
+struct DeadFleet {
+    recs: csv::StringRecordsIntoIter<std::fs::File>,
+    lines: Lines,
+    csv: PathBuf,
+    /// The name stem of its rows (the CSV's file stem): `<stem>-<row>`.
+    stem: String,
+    reason: String,
+    row: u64,
 }
 
 impl Jobs {
@@ -829,7 +1008,68 @@ impl Jobs {
             fleet: None,
             next: 0,
             swallowed: Default::default(),
+            dead: None,
         }
+    }
+}
+
+/// The real line numbers of a fleet CSV's records. The `csv` crate's own line count is off
+/// with CRLF line endings, and a record's position is where its reading started, which is
+/// before any comment or blank lines the reader skipped: so the line is counted here, from
+/// the record's byte position, in a second sequential pass over the file (streamed with the
+/// records: every byte is read once more, nothing is kept).
+struct Lines {
+    rdr: std::io::BufReader<std::fs::File>,
+    /// Bytes consumed so far.
+    pos: u64,
+    /// The (1-based) line of byte `pos`.
+    line: u64,
+}
+
+impl Lines {
+    fn open(csv: &Path) -> anyhow::Result<Lines> {
+        let f =
+            std::fs::File::open(csv).with_context(|| format!("{}: cannot read", csv.display()))?;
+        Ok(Lines {
+            rdr: std::io::BufReader::new(f),
+            pos: 0,
+            line: 1,
+        })
+    }
+
+    /// The line where the record whose reading started at byte `byte` begins: the line of
+    /// that byte, past the rest of a line already ended (a CRLF's `\n`), blank lines and
+    /// comment lines (`#`), as the CSV reader skips them. Bytes must not decrease from call
+    /// to call.
+    fn record_line(&mut self, byte: u64) -> u64 {
+        use std::io::BufRead;
+        while self.pos < byte {
+            let Ok(buf) = self.rdr.fill_buf() else { break };
+            if buf.is_empty() {
+                break;
+            }
+            let n = buf.len().min((byte - self.pos) as usize);
+            self.line += buf[..n].iter().filter(|&&b| b == b'\n').count() as u64;
+            self.rdr.consume(n);
+            self.pos += n as u64;
+        }
+        // Skip what the reader skipped: line ends, blank lines and comments.
+        let mut comment = false;
+        while let Some(&b) = self.rdr.fill_buf().ok().and_then(|buf| buf.first()) {
+            match b {
+                b'\n' => {
+                    self.line += 1;
+                    comment = false;
+                }
+                _ if comment => {}
+                b'\r' => {}
+                b'#' => comment = true,
+                _ => break,
+            }
+            self.rdr.consume(1);
+            self.pos += 1;
+        }
+        self.line
     }
 }
 
@@ -859,7 +1099,40 @@ impl Iterator for Jobs {
                 self.next += 1;
                 return Some((i, w));
             }
-            if let Some((tpl, recs, row)) = &mut self.fleet {
+            if let Some(d) = &mut self.dead {
+                match d.recs.next() {
+                    Some(rec) => {
+                        d.row += 1;
+                        let line = rec
+                            .ok()
+                            .and_then(|r| r.position().map(|p| d.lines.record_line(p.byte())))
+                            .unwrap_or(d.row + 1);
+                        let i = self.next;
+                        self.next += 1;
+                        let message = format!(
+                            "{}:{line}: this row was not read: {}",
+                            d.csv.display(),
+                            truncate(&d.reason, 500)
+                        );
+                        let name = format!("{}-{}", d.stem, d.row);
+                        return Some((i, Work::Broken { name, message }));
+                    }
+                    None => {
+                        let d = self.dead.take().expect("matched");
+                        if d.row == 0 {
+                            // No data rows: the reason is one row.
+                            let i = self.next;
+                            self.next += 1;
+                            let w = Work::Broken {
+                                name: d.stem,
+                                message: d.reason,
+                            };
+                            return Some((i, w));
+                        }
+                    }
+                }
+            }
+            if let Some((tpl, recs, row, lines)) = &mut self.fleet {
                 match recs.next() {
                     Some(rec) => {
                         *row += 1;
@@ -867,7 +1140,10 @@ impl Iterator for Jobs {
                         self.next += 1;
                         let w = match rec {
                             Ok(r) => {
-                                let line = r.position().map(|p| p.line()).unwrap_or(*row + 1);
+                                let line = r
+                                    .position()
+                                    .map(|p| lines.record_line(p.byte()))
+                                    .unwrap_or(*row + 1);
                                 match swallowed_lines(&r) {
                                     0 => Work::Row {
                                         tpl: tpl.clone(),
@@ -900,7 +1176,13 @@ impl Iterator for Jobs {
                             }
                             Err(e) => Work::Broken {
                                 name: format!("{}-{}", tpl.name, row),
-                                message: format!("{}: {e}", tpl.csv.display()),
+                                message: match e.position() {
+                                    Some(p) => {
+                                        let line = lines.record_line(p.byte());
+                                        format!("{}: {e}", tpl.source(line))
+                                    }
+                                    None => format!("{}: {e}", tpl.csv.display()),
+                                },
                             },
                         };
                         return Some((i, w));
@@ -916,23 +1198,44 @@ impl Iterator for Jobs {
                     return Some((i, Work::Path(p)));
                 }
                 Input::Fleet { template, csv } => {
-                    match Template::open(&template, &csv).and_then(|t| Ok((t, csv_reader(&csv)?))) {
-                        Ok((t, rdr)) => {
-                            self.fleet = Some((Arc::new(t), rdr.into_records(), 0));
+                    let opened = Template::open(&template, &csv)
+                        .and_then(|t| Ok((t, csv_reader(&csv)?, Lines::open(&csv)?)));
+                    match opened {
+                        Ok((t, rdr, lines)) => {
+                            self.fleet = Some((Arc::new(t), rdr.into_records(), 0, lines));
                         }
                         Err(e) => {
-                            let i = self.next;
-                            self.next += 1;
-                            return Some((
-                                i,
-                                Work::Broken {
-                                    name: csv
-                                        .file_stem()
-                                        .map(|s| s.to_string_lossy().into_owned())
-                                        .unwrap_or_default(),
-                                    message: format!("{e:#}"),
-                                },
-                            ));
+                            let stem = csv
+                                .file_stem()
+                                .map(|s| s.to_string_lossy().into_owned())
+                                .unwrap_or_default();
+                            let reason = format!("{e:#}");
+                            // Every data row is reported (rows in = rows out); a fleet that
+                            // cannot be opened, or has no rows, is one error row.
+                            let rows = csv_reader(&csv)
+                                .ok()
+                                .and_then(|r| Some((r.into_records(), Lines::open(&csv).ok()?)));
+                            match rows {
+                                Some((recs, lines)) => {
+                                    self.dead = Some(DeadFleet {
+                                        recs,
+                                        lines,
+                                        csv,
+                                        stem,
+                                        reason,
+                                        row: 0,
+                                    });
+                                }
+                                None => {
+                                    let i = self.next;
+                                    self.next += 1;
+                                    let w = Work::Broken {
+                                        name: stem,
+                                        message: reason,
+                                    };
+                                    return Some((i, w));
+                                }
+                            }
                         }
                     }
                 }
@@ -1061,36 +1364,99 @@ fn process(job: Job, opts: &Options) -> (Row, bool) {
     };
     if !opts.summary_only {
         let jp = opts.out.join(format!("{}.json", scene.name));
-        if let Ok(b) = std::fs::read(&jp) {
-            if let Ok(v) = serde_json::from_slice::<serde_json::Value>(&b) {
-                if v.pointer("/batch/input_hash").and_then(|h| h.as_str()) == Some(hash.as_str()) {
-                    return (row_from_json(index, &source, &hash, &v), true);
-                }
-            }
+        if let Some(v) = complete_result(&jp, &hash, &opts.out) {
+            return (row_from_json(index, &source, &hash, &v), true);
         }
     }
+    test_panic(&scene.name);
     let mut r = solve_scene(&scene);
-    r.extra.insert(
-        "batch".into(),
-        serde_json::json!({
-            "input_hash": hash,
-            "plots": r.plots.iter().map(|p| p.suffix.clone()).collect::<Vec<_>>(),
-        }),
-    );
-    // Without result files only the row is needed: its fields, not the whole JSON.
-    let v = if opts.summary_only {
-        r.summary_json()
-    } else {
-        r.to_json()
-    };
-    let mut row = row_from_json(index, &source, &hash, &v);
-    if !opts.summary_only {
-        if let Err(e) = write_outputs(&r, &opts.out) {
-            row.status = "error".into();
-            row.message = format!("writing results to {}: {e}", opts.out.display());
+    let mut batch = serde_json::json!({
+        "input_hash": hash,
+        "plots": r.plots.iter().map(|p| p.suffix.clone()).collect::<Vec<_>>(),
+    });
+    if opts.summary_only {
+        // Without result files only the row is needed: its fields, not the whole JSON.
+        r.extra.insert("batch".into(), batch);
+        return (
+            row_from_json(index, &source, &hash, &r.summary_json()),
+            false,
+        );
+    }
+    // The report files first, each listed in the JSON with its size and hash; the JSON
+    // last: a machine is done when its JSON and every file it lists are whole.
+    let files = report_files(&r, &opts.out);
+    let mut written = Ok(());
+    let mut listed = serde_json::Map::new();
+    for (path, bytes) in &files {
+        let file = path.file_name().map(|n| n.to_string_lossy().into_owned());
+        listed.insert(
+            file.unwrap_or_default(),
+            serde_json::json!({"bytes": bytes.len(), "hash": file_hash(bytes)}),
+        );
+        if written.is_ok() {
+            written = write_replace(path, bytes);
         }
+    }
+    batch["files"] = listed.into();
+    r.extra.insert("batch".into(), batch);
+    let v = r.to_json();
+    let mut row = row_from_json(index, &source, &hash, &v);
+    let json = serde_json::to_string_pretty(&v).expect("plain data") + "\n";
+    if let Err(e) = written.and_then(|()| write_replace(&json_path(&r, &opts.out), json.as_bytes()))
+    {
+        row.status = "error".into();
+        row.input_hash.clear();
+        row.message = format!("writing the results: {e}");
     }
     (row, false)
+}
+
+/// A content hash of a result file, 128 bits in hex, to tell a whole file from a torn one at
+/// resume: two multiply-rotate streams over 8-byte words (fast, not cryptographic), the
+/// length folded in.
+pub fn file_hash(bytes: &[u8]) -> String {
+    let (mut a, mut b) = (0x9e37_79b9_7f4a_7c15u64, 0xc2b2_ae3d_27d4_eb4fu64);
+    let mut words = bytes.chunks_exact(8);
+    for w in words.by_ref() {
+        let x = u64::from_le_bytes(w.try_into().expect("8 bytes"));
+        a = (a ^ x).wrapping_mul(0xff51_afd7_ed55_8ccd).rotate_left(29);
+        b = (b ^ x.rotate_left(32))
+            .wrapping_mul(0xc4ce_b9fe_1a85_ec53)
+            .rotate_left(31);
+    }
+    let mut tail = [0u8; 8];
+    tail[..words.remainder().len()].copy_from_slice(words.remainder());
+    let x = u64::from_le_bytes(tail) ^ ((bytes.len() as u64) << 3);
+    a = (a ^ x).wrapping_mul(0xff51_afd7_ed55_8ccd);
+    b = (b ^ x.rotate_left(32) ^ a).wrapping_mul(0xc4ce_b9fe_1a85_ec53);
+    a ^= a >> 33;
+    b ^= b >> 29;
+    format!("{a:016x}{b:016x}")
+}
+
+/// The result JSON at `json` if the machine is done: the JSON parses, its `batch.input_hash`
+/// is `hash`, and every file it lists in `batch.files` (name: size and [`file_hash`]) is in
+/// `dir` with that size and hash. Anything else (a file missing, torn by a crash, edited, a
+/// JSON of an older cwsynth without the list) means the machine is solved again.
+fn complete_result(json: &Path, hash: &str, dir: &Path) -> Option<serde_json::Value> {
+    let v: serde_json::Value = serde_json::from_slice(&std::fs::read(json).ok()?).ok()?;
+    let batch = v.get("batch")?;
+    if batch.get("input_hash")?.as_str()? != hash {
+        return None;
+    }
+    for (name, f) in batch.get("files")?.as_object()? {
+        // Only plain file names of this directory (the JSON is input like any other).
+        if Path::new(name).file_name() != Some(std::ffi::OsStr::new(name)) {
+            return None;
+        }
+        let bytes = std::fs::read(dir.join(name)).ok()?;
+        if f.get("bytes")?.as_u64()? != bytes.len() as u64
+            || f.get("hash")?.as_str()? != file_hash(&bytes)
+        {
+            return None;
+        }
+    }
+    Some(v)
 }
 
 /// Reads a summary CSV in index order: a resumed run's checkpoint (merge-join with the
@@ -1146,9 +1512,10 @@ impl OldRows {
         };
         let row = rec.map_err(|e| e.to_string()).and_then(|rec| {
             let line = rec.position().map_or(0, |p| p.line());
-            let row: Row = rec
-                .deserialize(Some(&self.header))
-                .map_err(|e| format!("{line}: {e}"))?;
+            let row = rec
+                .deserialize::<Row>(Some(&self.header))
+                .map_err(|e| format!("{line}: {e}"))?
+                .csv_unescaped();
             row.validate().map_err(|e| format!("{line}: {e}"))?;
             if self.last.is_some_and(|l| row.index <= l) {
                 return Err(format!("{line}: index {} is out of order", row.index));
@@ -1297,6 +1664,7 @@ pub fn run(inputs: Vec<Input>, opts: &Options) -> anyhow::Result<Counts> {
         .context("cannot start the worker threads")?;
     let (si, sn) = opts.shard.unwrap_or((0, 1));
     let _lock = lock_out(&opts.out, &summary_name(opts.shard))?;
+    remove_stale_tmp(&opts.out);
     let all = count_machines(&inputs);
     let mine = all / sn + u64::from(all % sn > si);
 
@@ -1323,6 +1691,7 @@ pub fn run(inputs: Vec<Input>, opts: &Options) -> anyhow::Result<Counts> {
 
     let file = std::fs::File::create(&partial)
         .with_context(|| format!("cannot write {}", partial.display()))?;
+    let writing = || format!("writing {}", partial.display());
     let mut w = csv::Writer::from_writer(std::io::BufWriter::new(file));
     let mut counts = Counts::default();
     let mut progress = Progress::new(mine, opts.quiet);
@@ -1374,7 +1743,10 @@ pub fn run(inputs: Vec<Input>, opts: &Options) -> anyhow::Result<Counts> {
             chunk
                 .into_par_iter()
                 .map(|j| {
-                    let r = process(j, opts);
+                    // Whatever one machine does, the others finish (a panic is its row).
+                    let (index, (name, source)) = (j.index, j.work.label());
+                    let r = isolate(|| process(j, opts))
+                        .unwrap_or_else(|m| (panic_row(index, &name, &source, &m), false));
                     done.fetch_add(1, Ordering::Relaxed);
                     r
                 })
@@ -1393,25 +1765,131 @@ pub fn run(inputs: Vec<Input>, opts: &Options) -> anyhow::Result<Counts> {
             } else {
                 counts.ok += 1;
             }
-            w.serialize(&row)?;
+            w.serialize(row.csv_escaped()).with_context(writing)?;
         }
-        w.flush()?;
+        w.flush().with_context(writing)?;
         progress.update(done.load(Ordering::Relaxed), &counts, false);
     }
     if counts.total == 0 {
         // An empty run still gets a header line.
-        w.write_record(HEADER)?;
+        w.write_record(HEADER).with_context(writing)?;
     }
-    w.flush()?;
-    drop(w);
     progress.update(done.load(Ordering::Relaxed), &counts, true);
     progress.finish();
-    std::fs::rename(&partial, &final_path)?;
+    if !opts.summary_only {
+        // The per-machine files were written without a sync each: made durable here at once,
+        // before the summary that lists them is committed.
+        sync_filesystem(&opts.out)?;
+    }
+    commit(w, &partial, &final_path)?;
     let _ = std::fs::remove_file(&resume);
     if opts.shard.is_none() {
         write_reports(&opts.out)?;
     }
     Ok(counts)
+}
+
+/// Commits a summary: flushes and syncs `partial`, renames it to `summary`, and syncs the
+/// directory, so the summary is durable once this returns (the run's one commit point).
+fn commit(
+    w: csv::Writer<std::io::BufWriter<std::fs::File>>,
+    partial: &Path,
+    summary: &Path,
+) -> anyhow::Result<()> {
+    let writing = || format!("writing {}", partial.display());
+    let file = w
+        .into_inner()
+        .map_err(|e| anyhow::anyhow!("{}", e.error()))
+        .with_context(writing)?
+        .into_inner()
+        .map_err(|e| anyhow::anyhow!("{}", e.error()))
+        .with_context(writing)?;
+    file.sync_all().with_context(writing)?;
+    std::fs::rename(partial, summary).with_context(|| {
+        format!(
+            "cannot rename {} to {}",
+            partial.display(),
+            summary.display()
+        )
+    })?;
+    sync_dir(summary.parent().unwrap_or(Path::new(".")))
+}
+
+/// Syncs a directory (its entries: a rename in it becomes durable). Unix only; elsewhere a
+/// no-op.
+fn sync_dir(dir: &Path) -> anyhow::Result<()> {
+    #[cfg(unix)]
+    std::fs::File::open(dir)
+        .and_then(|d| d.sync_all())
+        .with_context(|| format!("cannot sync {}", dir.display()))?;
+    let _ = dir;
+    Ok(())
+}
+
+/// Makes every file written to the file system of `dir` durable at once (Linux `syncfs`,
+/// one call instead of one sync per file; `sync` on other Unix systems; elsewhere each file
+/// was left to the operating system and a crash is caught at resume by [`complete_result`]).
+fn sync_filesystem(dir: &Path) -> anyhow::Result<()> {
+    #[cfg(target_os = "linux")]
+    {
+        use std::os::fd::AsRawFd;
+        let d =
+            std::fs::File::open(dir).with_context(|| format!("cannot open {}", dir.display()))?;
+        // SAFETY: `syncfs` reads only the descriptor, which `d` keeps open.
+        if unsafe { libc::syncfs(d.as_raw_fd()) } != 0 {
+            return Err(std::io::Error::last_os_error())
+                .with_context(|| format!("cannot sync the files in {}", dir.display()));
+        }
+    }
+    #[cfg(all(unix, not(target_os = "linux")))]
+    // SAFETY: `sync` takes no arguments and cannot fail.
+    unsafe {
+        libc::sync()
+    };
+    let _ = dir;
+    Ok(())
+}
+
+/// Removes the temporary files (`.NAME.PID.tmp`) a killed run left in `dir`: those whose
+/// process is gone (Unix: `kill(PID, 0)` fails), so a live run sharing the directory (another
+/// shard) keeps its own. Elsewhere every leftover of another process id is removed.
+fn remove_stale_tmp(dir: &Path) {
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        return;
+    };
+    for e in entries.flatten() {
+        let name = e.file_name();
+        let Some(pid) = name
+            .to_str()
+            .filter(|n| n.starts_with('.'))
+            .and_then(|n| n.strip_suffix(".tmp"))
+            .and_then(|n| n.rsplit_once('.'))
+            .and_then(|(_, pid)| pid.parse::<u32>().ok())
+        else {
+            continue;
+        };
+        if !process_alive(pid) {
+            let _ = std::fs::remove_file(e.path());
+        }
+    }
+}
+
+/// Whether process `pid` runs (this one always does).
+fn process_alive(pid: u32) -> bool {
+    if pid == std::process::id() {
+        return true;
+    }
+    #[cfg(unix)]
+    {
+        let Ok(p) = libc::pid_t::try_from(pid) else {
+            return false;
+        };
+        // SAFETY: signal 0 only checks that the process exists; nothing is sent.
+        let r = unsafe { libc::kill(p, 0) };
+        r == 0 || std::io::Error::last_os_error().raw_os_error() == Some(libc::EPERM)
+    }
+    #[cfg(not(unix))]
+    false
 }
 
 /// The summary columns, in order.
@@ -1474,7 +1952,10 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> anyhow::Result<Counts> {
     let _lock = lock_out(out, "summary.csv")?;
     let mut readers: Vec<OldRows> = files.iter().map(|f| OldRows::open(f)).collect();
     let tmp = out.join("summary.csv.partial");
-    let mut w = csv::Writer::from_writer(std::io::BufWriter::new(std::fs::File::create(&tmp)?));
+    let mut w = csv::Writer::from_writer(std::io::BufWriter::new(
+        std::fs::File::create(&tmp).with_context(|| format!("cannot write {}", tmp.display()))?,
+    ));
+    let writing = || format!("writing {}", tmp.display());
     let mut counts = Counts::default();
     loop {
         let k = readers
@@ -1491,20 +1972,19 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> anyhow::Result<Counts> {
         } else {
             counts.ok += 1;
         }
-        w.serialize(&row)?;
+        w.serialize(row.csv_escaped()).with_context(writing)?;
     }
     if counts.total == 0 {
-        w.write_record(HEADER)?;
+        w.write_record(HEADER).with_context(writing)?;
     }
-    w.flush()?;
-    drop(w);
     // Shard summaries are input: a row that did not parse, validate or keep the index
     // order stopped its reader, and the merge is refused.
     if let Some(e) = readers.iter().find_map(|r| r.stopped.clone()) {
+        drop(w);
         let _ = std::fs::remove_file(&tmp);
         bail!(e);
     }
-    std::fs::rename(&tmp, out.join("summary.csv"))?;
+    commit(w, &tmp, &out.join("summary.csv"))?;
     write_reports(out)?;
     Ok(counts)
 }
@@ -1563,7 +2043,9 @@ pub fn write_reports(dir: &Path) -> anyhow::Result<()> {
         };
         let status = &rec[c_status];
         let bad = matches!(status, "error" | "failed" | "infeasible");
-        let whole = || -> anyhow::Result<Row> { Ok(rec.deserialize(Some(&headers))?) };
+        let whole = || -> anyhow::Result<Row> {
+            Ok(rec.deserialize::<Row>(Some(&headers))?.csv_unescaped())
+        };
         if bad {
             n_fail += 1;
             if failures.len() < REPORT_ROWS {
@@ -2156,6 +2638,75 @@ mod tests {
             c.input_hash("m", &cells(&["1000 rpm", "0.3 kg"])),
         ] {
             assert_ne!(h, other);
+        }
+    }
+
+    /// Formula escaping round-trips every text exactly, escapes only texts a spreadsheet
+    /// would run, and never numbers.
+    #[test]
+    fn formula_escape_round_trips() {
+        let texts = [
+            "", "plain", "=1+2", "+x", "-x", "@x", "\tx", "\rx", "'x", "''=x", "'", "a=b", "-",
+            "é=",
+        ];
+        for t in texts {
+            let mut r = error_row(0, t, t, "", t.to_string());
+            r.value = Some(-3.5);
+            let e = r.csv_escaped();
+            let risky = t.starts_with(['=', '+', '-', '@', '\t', '\r', '\'']);
+            assert_eq!(
+                e.name.starts_with('\'') && e.name.len() == t.len() + 1,
+                risky,
+                "{t:?}"
+            );
+            assert_eq!(e.value, Some(-3.5));
+            let mut w = csv::Writer::from_writer(Vec::new());
+            w.serialize(&e).unwrap();
+            let bytes = w.into_inner().unwrap();
+            let mut rdr = csv::Reader::from_reader(&bytes[..]);
+            let hdr = rdr.headers().unwrap().clone();
+            assert!(hdr.iter().eq(HEADER));
+            let rec = rdr.records().next().unwrap().unwrap();
+            let back: Row = rec.deserialize::<Row>(Some(&hdr)).unwrap().csv_unescaped();
+            assert_eq!(back, r, "{t:?}");
+        }
+    }
+
+    /// The line of each record from its byte position: past CRLF ends, blank lines and
+    /// comments.
+    #[test]
+    fn record_lines_skip_what_the_reader_skips() {
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("l.csv");
+        std::fs::write(&p, "h\r\na\r\n# c\r\n\r\nb\n\n#x\n#y\nc").unwrap();
+        let mut rdr = csv_reader(&p).unwrap();
+        let mut lines = Lines::open(&p).unwrap();
+        let got: Vec<(String, u64)> = rdr
+            .records()
+            .map(|r| {
+                let r = r.unwrap();
+                (
+                    r[0].to_string(),
+                    lines.record_line(r.position().unwrap().byte()),
+                )
+            })
+            .collect();
+        assert_eq!(got, [("a".into(), 2), ("b".into(), 5), ("c".into(), 9)]);
+    }
+
+    /// A file hash changes with any byte and the length.
+    #[test]
+    fn file_hash_sees_torn_files() {
+        let a: Vec<u8> = (0..1000u32).map(|i| (i * 7 % 251) as u8).collect();
+        let h = file_hash(&a);
+        assert_eq!(h.len(), 32);
+        assert_ne!(h, file_hash(&a[..999]));
+        assert_ne!(h, file_hash(&a[..500]));
+        assert_ne!(file_hash(&[0; 8]), file_hash(&[0; 9]));
+        for k in [0, 7, 8, 500, 999] {
+            let mut b = a.clone();
+            b[k] ^= 1;
+            assert_ne!(h, file_hash(&b), "{k}");
         }
     }
 }

@@ -353,13 +353,30 @@ pub fn run(cli: Cli) -> anyhow::Result<i32> {
                     }
                     taken.insert(sc.name.to_lowercase(), &sc.source);
                 }
-                let r = solve_scene(sc);
+                // One scene's panic fails that scene only (reported once, on stderr).
+                let r = match crate::batch::isolate(|| {
+                    crate::batch::test_panic(&sc.name);
+                    let r = solve_scene(sc);
+                    let written = out.as_ref().map(|dir| write_outputs(&r, dir));
+                    (r, written)
+                }) {
+                    Ok((r, written)) => {
+                        if let Some(Err(e)) = written {
+                            return Err(e)
+                                .with_context(|| format!("writing results of {}", r.name));
+                        }
+                        r
+                    }
+                    Err(panic) => {
+                        eprintln!(
+                            "error {}: internal error (a panic, please report it): {panic}",
+                            sc.source.display()
+                        );
+                        failed = true;
+                        continue;
+                    }
+                };
                 failed |= matches!(r.status, Status::Failed | Status::Infeasible);
-                if let Some(dir) = &out {
-                    write_outputs(&r, dir).with_context(|| {
-                        format!("writing results of {} to {}", r.name, dir.display())
-                    })?;
-                }
                 if json {
                     stdout.write(&(serde_json::to_string(&r.to_json())? + "\n"))?;
                 } else {

@@ -48,6 +48,18 @@ fn fleet_of(dir: &Path, file: &str, text: &str) -> String {
     format!("{}:{}", template(), p.display())
 }
 
+/// `cwsynth batch INPUT --out OUT EXTRA…` with its progress and final message on stderr.
+fn loud(input: &str, out: &Path, extra: &[&str]) -> Output {
+    bin()
+        .arg("batch")
+        .arg(input)
+        .arg("--out")
+        .arg(out)
+        .args(extra)
+        .output()
+        .unwrap()
+}
+
 fn batch(input: &str, out: &Path, extra: &[&str]) -> Output {
     bin()
         .arg("batch")
@@ -79,10 +91,16 @@ fn summary_sans_time(path: &Path) -> Vec<String> {
         .collect()
 }
 
-/// The result JSON without `timing`.
+/// The result JSON without `timing` and the size and hash of the `.md` (which shows the
+/// timing).
 fn json_sans_time(path: &Path) -> serde_json::Value {
     let mut v: serde_json::Value = serde_json::from_slice(&std::fs::read(path).unwrap()).unwrap();
     v.as_object_mut().unwrap().remove("timing");
+    if let Some(f) = v.pointer_mut("/batch/files") {
+        f.as_object_mut()
+            .unwrap()
+            .retain(|k, _| !k.ends_with(".md"));
+    }
     v
 }
 
@@ -155,12 +173,15 @@ fn threads_and_shards_give_identical_results() {
         if p.extension().is_some_and(|x| x == "json") {
             let q = o2.join(p.file_name().unwrap());
             assert_eq!(json_sans_time(&p), json_sans_time(&q), "{}", p.display());
-            // Byte-identical apart from the timing object.
+            // Byte-identical apart from the timing object and the `.md`'s size and hash.
             let strip = |p: &Path| {
-                let t = std::fs::read_to_string(p).unwrap();
-                let i = t.find("\"timing\"").unwrap();
-                let j = i + t[i..].find('}').unwrap();
-                format!("{}{}", &t[..i], &t[j..])
+                let mut t = std::fs::read_to_string(p).unwrap();
+                for key in ["\"timing\"", ".md\": {"] {
+                    let i = t.find(key).unwrap();
+                    let j = i + t[i..].find('}').unwrap();
+                    t = format!("{}{}", &t[..i], &t[j..]);
+                }
+                t
             };
             assert_eq!(strip(&p), strip(&q));
             n += 1;
@@ -200,13 +221,7 @@ fn reruns_skip_finished_machines_and_interrupted_runs_complete() {
     let t0 = mtime(&json);
 
     // A re-run solves nothing: every good machine is skipped, files untouched.
-    let o = bin()
-        .arg("batch")
-        .arg(&input)
-        .arg("--out")
-        .arg(&out)
-        .output()
-        .unwrap();
+    let o = loud(&input, &out, &[]);
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(err.contains("9 skipped"), "{err}");
     assert_eq!(mtime(&json), t0);
@@ -219,13 +234,7 @@ fn reruns_skip_finished_machines_and_interrupted_runs_complete() {
     let half: String = s.lines().take(5).map(|l| format!("{l}\n")).collect();
     std::fs::write(out.join("summary.csv.partial"), half).unwrap();
     std::fs::remove_file(out.join("summary.csv")).unwrap();
-    let o = bin()
-        .arg("batch")
-        .arg(&input)
-        .arg("--out")
-        .arg(&out)
-        .output()
-        .unwrap();
+    let o = loud(&input, &out, &[]);
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(err.contains("8 skipped"), "{err}");
     assert!(out.join("piston-1000rpm-5.json").exists());
@@ -250,13 +259,7 @@ fn reruns_skip_finished_machines_and_interrupted_runs_complete() {
     let csv_path = d.path().join("fleet.csv");
     let t = std::fs::read_to_string(&csv_path).unwrap();
     std::fs::write(&csv_path, t.replacen("800 rpm", "850 rpm", 1)).unwrap();
-    let o = bin()
-        .arg("batch")
-        .arg(&input)
-        .arg("--out")
-        .arg(&out)
-        .output()
-        .unwrap();
+    let o = loud(&input, &out, &[]);
     assert!(String::from_utf8_lossy(&o.stderr).contains("8 skipped"));
 }
 
@@ -527,4 +530,329 @@ fn an_unterminated_quote_loses_no_row_silently() {
             &rows[k][15]
         );
     }
+}
+
+/// The summary's rows as records.
+fn records(path: &Path) -> Vec<csv::StringRecord> {
+    let text = std::fs::read_to_string(path).unwrap();
+    let mut rdr = csv::Reader::from_reader(text.as_bytes());
+    rdr.records().map(Result::unwrap).collect()
+}
+
+/// Issue 15: whatever one machine does (here a panic from the debug builds' test hook
+/// `CWSYNTH_TEST_PANIC=<name>`), the batch finishes, that row is `failed` with the panic's
+/// message, every other machine is solved and written, the reports are written, exit 1. A
+/// re-run without the panic solves that machine (a failed row is not kept).
+#[test]
+fn a_panicking_machine_fails_alone() {
+    let d = tempfile::tempdir().unwrap();
+    let input = fleet(d.path());
+    let out = d.path().join("out");
+    let o = bin()
+        .env("CWSYNTH_TEST_PANIC", "piston-1000rpm-5")
+        .args(["batch", &input, "--threads", "2", "--out"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert!(!err.contains("panicked at"), "{err}");
+    let rows = records(&out.join("summary.csv"));
+    assert_eq!(rows.len(), 12);
+    for r in &rows {
+        let (index, name, status, msg) = (&r[0], &r[1], &r[3], &r[15]);
+        match index {
+            "4" => {
+                assert_eq!((name, status), ("piston-1000rpm-5", "failed"));
+                assert!(
+                    msg.contains("fleet.csv:6: internal error (a panic")
+                        && msg.contains("CWSYNTH_TEST_PANIC"),
+                    "{msg}"
+                );
+                assert!(!out.join("piston-1000rpm-5.json").exists());
+            }
+            "2" | "6" | "9" => assert_eq!(status, "error"),
+            _ => {
+                assert_eq!(status, "optimal", "{msg}");
+                assert!(out.join(format!("{name}.md")).exists());
+            }
+        }
+    }
+    let md = std::fs::read_to_string(out.join("summary.md")).unwrap();
+    assert!(md.contains("## Failures (4)"), "{md}");
+    assert!(out.join("index.html").exists());
+    // --summary-only: the same row, and the run goes on.
+    let so = d.path().join("so");
+    let o = bin()
+        .env("CWSYNTH_TEST_PANIC", "piston-1000rpm-5")
+        .args(["batch", &input, "--quiet", "--summary-only", "--out"])
+        .arg(&so)
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(1));
+    let rows = records(&so.join("summary.csv"));
+    assert_eq!((rows.len(), &rows[4][3]), (12, "failed"));
+    // Without the panic the machine is solved; the 8 others are skipped.
+    let o = loud(&input, &out, &[]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("8 skipped"), "{err}");
+    assert_eq!(&records(&out.join("summary.csv"))[4][3], "optimal");
+}
+
+/// Issue 15: resume is complete. A machine is done only when its JSON and every file the
+/// JSON lists (with size and hash) are there and whole: a deleted report, a torn plot or a
+/// torn JSON is solved again; a leftover temporary file of a dead run is removed.
+#[test]
+fn resume_redoes_machines_with_missing_or_torn_files() {
+    let d = tempfile::tempdir().unwrap();
+    let input = fleet(d.path());
+    let out = d.path().join("out");
+    assert_eq!(batch(&input, &out, &[]).status.code(), Some(1));
+    let first = summary_sans_time(&out.join("summary.csv"));
+    let v: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(out.join("piston-1000rpm-1.json")).unwrap()).unwrap();
+    let files = v["batch"]["files"].as_object().unwrap();
+    assert!(files.contains_key("piston-1000rpm-1.md"), "{files:?}");
+    assert!(files.contains_key("piston-1000rpm-1-shaking-force.svg"));
+    std::fs::remove_file(out.join("piston-1000rpm-2.md")).unwrap();
+    let svg = out.join("piston-1000rpm-4-shaking-force.svg");
+    let text = std::fs::read(&svg).unwrap();
+    std::fs::write(&svg, &text[..text.len() / 2]).unwrap();
+    // Same size, other bytes (a crash can leave zeros in place of the data).
+    let md = out.join("piston-1000rpm-6.md");
+    std::fs::write(
+        &md,
+        vec![0u8; std::fs::metadata(&md).unwrap().len() as usize],
+    )
+    .unwrap();
+    std::fs::write(out.join("piston-1000rpm-8.json"), "{\"name\": \"piston-10").unwrap();
+    // A temporary file of a process that is gone (no process has this id).
+    let stale = out.join(".piston-1000rpm-1.json.4000000000.tmp");
+    std::fs::write(&stale, "{\"half").unwrap();
+    let o = loud(&input, &out, &[]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("5 skipped"), "{err}");
+    assert!(!stale.exists());
+    assert!(out.join("piston-1000rpm-2.md").exists());
+    assert_eq!(std::fs::read(&svg).unwrap().len(), text.len());
+    assert_ne!(std::fs::read(&md).unwrap()[0], 0);
+    assert_eq!(summary_sans_time(&out.join("summary.csv")), first);
+    // Now complete: everything is skipped.
+    let o = loud(&input, &out, &[]);
+    assert!(String::from_utf8_lossy(&o.stderr).contains("9 skipped"));
+}
+
+/// Issue 15: summary.csv cells are safe to open in a spreadsheet: a text cell starting with
+/// `=`, `+`, `-`, `@` (or the escape `'`) gets a leading `'`, numbers never do, and the
+/// summary reader undoes it (a --summary-only re-run skips through it, shards merge to the
+/// same summary).
+#[test]
+fn summary_cells_are_formula_escaped_and_read_back() {
+    let d = tempfile::tempdir().unwrap();
+    let input = fleet_of(
+        d.path(),
+        "inj.csv",
+        "name,mechanism.slider_mass\n-minus,1.0 kg\n=HYPERLINK(\"x\"),1.1 kg\n@sum,1.2 kg\nplain,1.3 kg\n+plus,1.4 kg\n",
+    );
+    let out = d.path().join("out");
+    assert_eq!(
+        batch(&input, &out, &["--summary-only"]).status.code(),
+        Some(1)
+    );
+    let text = std::fs::read_to_string(out.join("summary.csv")).unwrap();
+    let rows = records(&out.join("summary.csv"));
+    let names: Vec<&str> = rows.iter().map(|r| &r[1]).collect();
+    assert_eq!(
+        names,
+        ["'-minus", "'=HYPERLINK(\"x\")", "'@sum", "plain", "'+plus"],
+        "{text}"
+    );
+    assert_eq!(
+        (&rows[0][3], &rows[1][3], &rows[2][3]),
+        ("optimal", "error", "error")
+    );
+    for r in &rows {
+        for c in [5, 6, 8, 9, 12] {
+            assert!(r[c].is_empty() || r[c].parse::<f64>().is_ok(), "{:?}", r);
+        }
+    }
+    // A negative number in a numeric column stays a number.
+    let neg = rows.iter().find(|r| r[9].starts_with('-'));
+    assert!(neg.is_none_or(|r| r[9].parse::<f64>().is_ok()));
+    let o = loud(&input, &out, &["--summary-only"]);
+    assert!(String::from_utf8_lossy(&o.stderr).contains("2 skipped"));
+    assert_eq!(
+        std::fs::read_to_string(out.join("summary.csv"))
+            .unwrap()
+            .lines()
+            .count(),
+        6
+    );
+    let md = std::fs::read_to_string(out.join("summary.md")).unwrap();
+    assert!(md.contains("| -minus |") && !md.contains("'-minus"), "{md}");
+    let sh = d.path().join("sh");
+    for s in ["0/2", "1/2"] {
+        batch(&input, &sh, &["--summary-only", "--shard", s]);
+    }
+    let m = bin()
+        .args(["merge", "--out"])
+        .arg(&sh)
+        .arg(&sh)
+        .output()
+        .unwrap();
+    assert_eq!(
+        m.status.code(),
+        Some(1),
+        "{}",
+        String::from_utf8_lossy(&m.stderr)
+    );
+    assert_eq!(
+        summary_sans_time(&sh.join("summary.csv")),
+        summary_sans_time(&out.join("summary.csv"))
+    );
+}
+
+/// Issue 15: the fleet reader keeps line numbers right with a BOM, CRLF line endings,
+/// comment lines and blank lines; a repeated header column is an error naming both; a huge
+/// cell is not echoed whole; and rows in = rows out (ok + error) for broken fleets.
+#[test]
+fn fleet_lines_are_real_and_rows_in_equal_rows_out() {
+    let d = tempfile::tempdir().unwrap();
+    // Line:  1 header, 2 ok, 3 bad, 4 comment, 5 blank, 6 bad, 7 ok, 8 two cells, 9 bad.
+    let text = "\u{feff}mechanism.slider_mass\r\n1.0 kg\r\nbad\r\n# comment, x\r\n\r\nbad2\r\n1.1 kg\r\n1 kg,2\r\nbad3\r\n";
+    let input = fleet_of(d.path(), "crlf.csv", text);
+    let out = d.path().join("o1");
+    assert_eq!(
+        batch(&input, &out, &["--summary-only"]).status.code(),
+        Some(1)
+    );
+    let rows = records(&out.join("summary.csv"));
+    let lines: Vec<String> = rows
+        .iter()
+        .map(|r| r[14].rsplit(':').next().unwrap().to_string())
+        .collect();
+    assert_eq!(lines, ["2", "3", "6", "7", "8", "9"], "{rows:?}");
+    for r in &rows {
+        if &r[3] == "error" {
+            let line = r[14].rsplit(':').next().unwrap();
+            assert!(r[15].contains(&format!("crlf.csv:{line}:")), "{:?}", r);
+        }
+    }
+    // The same with LF line endings and comments right after the header.
+    let lf = "mechanism.slider_mass\n# c1\n# c2\nbad\n\n\nbad2\n1 kg\n";
+    let out = d.path().join("o2");
+    batch(&fleet_of(d.path(), "lf.csv", lf), &out, &["--summary-only"]);
+    let rows = records(&out.join("summary.csv"));
+    let src: Vec<&str> = rows
+        .iter()
+        .map(|r| r[14].rsplit(':').next().unwrap())
+        .collect();
+    assert_eq!(src, ["4", "7", "8"]);
+
+    // A repeated column (with and without a unit): an error naming both columns, in the
+    // row of every data line (none is read).
+    let out = d.path().join("o3");
+    let dup = "mechanism.speed [rpm],mechanism.slider_mass,mechanism . speed\n1000,1 kg,900 rpm\n# c\n1000,1 kg,\n";
+    let o = batch(
+        &fleet_of(d.path(), "dup.csv", dup),
+        &out,
+        &["--summary-only"],
+    );
+    assert_eq!(o.status.code(), Some(1));
+    let rows = records(&out.join("summary.csv"));
+    assert_eq!(rows.len(), 2);
+    for (r, line) in rows.iter().zip([2, 4]) {
+        assert_eq!(&r[3], "error");
+        assert!(
+            r[15].starts_with(&format!("{}:{line}: this row was not read: ", d.path().join("dup.csv").display()))
+                && r[15].contains("dup.csv:1: columns 1 (`mechanism.speed [rpm]`) and 3 (`mechanism . speed`) both set `mechanism.speed`"),
+            "{}",
+            &r[15]
+        );
+    }
+
+    // A 10 MB cell: reported, not echoed whole (summary, stderr).
+    let huge = format!(
+        "mechanism.slider_mass\n1 kg\n{} kg\n1.2 kg\n",
+        "9".repeat(10 << 20)
+    );
+    let out = d.path().join("o4");
+    let o = bin()
+        .args([
+            "batch",
+            &fleet_of(d.path(), "huge.csv", &huge),
+            "--summary-only",
+            "--out",
+        ])
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(1));
+    assert!(
+        o.stderr.len() < 20_000,
+        "{} bytes on stderr",
+        o.stderr.len()
+    );
+    assert!(std::fs::metadata(out.join("summary.csv")).unwrap().len() < 20_000);
+    let rows = records(&out.join("summary.csv"));
+    assert_eq!(
+        rows.iter().map(|r| r[3].to_string()).collect::<Vec<_>>(),
+        ["optimal", "error", "optimal"]
+    );
+    assert!(
+        rows[1][15].contains("huge.csv:3:"),
+        "{}",
+        truncate(&rows[1][15])
+    );
+
+    // Rows in = rows out: every data line of a broken fleet is a row of the summary.
+    let broken = "mechanism.slider_mass,mechanism.speed\n1 kg,1000 rpm\n# note\n1.3 kg,1000 rpm,x\n\n,\nfast,slow\n1.4 kg,1000 rpm\n\"1.1 kg,1000 rpm\n1.2 kg\n";
+    let data_lines = broken
+        .lines()
+        .skip(1)
+        .filter(|l| !l.is_empty() && !l.starts_with('#'))
+        .count();
+    let out = d.path().join("o5");
+    batch(
+        &fleet_of(d.path(), "broken.csv", broken),
+        &out,
+        &["--summary-only"],
+    );
+    let rows = records(&out.join("summary.csv"));
+    assert_eq!(rows.len(), data_lines, "{rows:?}");
+}
+
+fn truncate(s: &str) -> &str {
+    &s[..s.len().min(300)]
+}
+
+/// Issue 15: I/O errors name the path: an --out under a file (exit 2), and a result file
+/// that cannot be written (its row is an error naming the file; the others are written).
+#[test]
+fn io_errors_name_the_path() {
+    let d = tempfile::tempdir().unwrap();
+    let input = fleet(d.path());
+    let file = d.path().join("somefile");
+    std::fs::write(&file, "x").unwrap();
+    let o = batch(&input, &file.join("sub"), &[]);
+    assert_eq!(o.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains(&file.join("sub").display().to_string()),
+        "{err}"
+    );
+    // A directory where the JSON of machine 1 should go.
+    let out = d.path().join("out");
+    std::fs::create_dir_all(out.join("piston-1000rpm-1.json")).unwrap();
+    let o = batch(&input, &out, &[]);
+    assert_eq!(o.status.code(), Some(1));
+    let rows = records(&out.join("summary.csv"));
+    assert_eq!(&rows[0][3], "error");
+    assert!(
+        rows[0][15].contains("writing the results")
+            && rows[0][15].contains(&out.join("piston-1000rpm-1.json").display().to_string()),
+        "{}",
+        &rows[0][15]
+    );
+    assert_eq!(&rows[1][3], "optimal");
 }

@@ -244,3 +244,33 @@ fn solve_out_refuses_clashing_names() {
     assert!(v["source"].as_str().unwrap().ends_with("a.toml"));
     assert!(!out_dir.join("Piston-1000RPM.json").exists());
 }
+
+/// Issue 15: one file's panic does not stop `solve` with several files: that file is
+/// reported once on stderr (with the panic's message), the others are solved, exit 1. The
+/// panic comes from the debug builds' test hook `CWSYNTH_TEST_PANIC=<name>`.
+#[test]
+fn solve_survives_a_panicking_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = bin()
+        .env("CWSYNTH_TEST_PANIC", "piston-1000rpm")
+        .args(["solve", "--json", "--out"])
+        .arg(dir.path())
+        .arg(problem("piston-1000rpm.toml"))
+        .arg(problem("piston-2000rpm.toml"))
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(
+        err.contains("piston-1000rpm.toml: internal error (a panic")
+            && err.contains("CWSYNTH_TEST_PANIC"),
+        "{err}"
+    );
+    // The default hook's report ("thread … panicked at …") is replaced by that one line.
+    assert!(!err.contains("panicked at"), "{err}");
+    let text = String::from_utf8(out.stdout).unwrap();
+    let v: serde_json::Value = serde_json::from_str(text.trim()).unwrap();
+    assert_eq!(v["name"], "piston-2000rpm");
+    assert!(dir.path().join("piston-2000rpm.json").exists());
+    assert!(!dir.path().join("piston-1000rpm.json").exists());
+}

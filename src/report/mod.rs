@@ -350,20 +350,45 @@ fn lookup_json(v: &serde_json::Value, key: &str) -> Option<f64> {
 }
 
 /// Writes `bytes` to `path` atomically: a temporary file in the same directory, synced,
-/// then renamed over the target, so a reader never sees a half-written file.
+/// then renamed over the target, so a reader never sees a half-written file. An error names
+/// the file.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+    write_via_tmp(path, bytes, true)
+}
+
+/// [`write_atomic`] without the sync: the rename still makes the file appear whole to every
+/// reader, but after a power loss it may be missing or torn. For files whose wholeness is
+/// checked later (a batch's per-machine files, listed with their sizes and hashes in the
+/// machine's JSON, made durable at once at the end of the run: `docs/batch.md`).
+pub fn write_replace(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+    write_via_tmp(path, bytes, false)
+}
+
+/// The temporary file of [`write_atomic`] for `path`: `.<name>.<pid>.tmp` beside it.
+pub fn tmp_path(path: &Path) -> PathBuf {
     let dir = path
         .parent()
         .filter(|p| !p.as_os_str().is_empty())
         .unwrap_or(Path::new("."));
-    std::fs::create_dir_all(dir)?;
     let name = path.file_name().and_then(|n| n.to_str()).unwrap_or("out");
-    let tmp: PathBuf = dir.join(format!(".{name}.{}.tmp", std::process::id()));
+    dir.join(format!(".{name}.{}.tmp", std::process::id()))
+}
+
+fn write_via_tmp(path: &Path, bytes: &[u8], sync: bool) -> std::io::Result<()> {
+    let at = |e: std::io::Error, p: &Path| {
+        std::io::Error::new(e.kind(), format!("{}: {e}", p.display()))
+    };
+    let tmp = tmp_path(path);
+    if let Some(dir) = tmp.parent() {
+        std::fs::create_dir_all(dir).map_err(|e| at(e, dir))?;
+    }
     let res = (|| {
-        let mut f = std::fs::File::create(&tmp)?;
-        f.write_all(bytes)?;
-        f.sync_all()?;
-        std::fs::rename(&tmp, path)
+        let mut f = std::fs::File::create(&tmp).map_err(|e| at(e, &tmp))?;
+        f.write_all(bytes).map_err(|e| at(e, &tmp))?;
+        if sync {
+            f.sync_all().map_err(|e| at(e, &tmp))?;
+        }
+        std::fs::rename(&tmp, path).map_err(|e| at(e, path))
     })();
     if res.is_err() {
         let _ = std::fs::remove_file(&tmp);
@@ -564,26 +589,39 @@ pub fn markdown(r: &SolveResult) -> String {
     s
 }
 
-/// Writes `<dir>/<name>.json`, `<name>.md`, every `<name>-<suffix>.svg` and
-/// `<name>-<suffix>.csv`, atomically.
-pub fn write_outputs(r: &SolveResult, dir: &Path) -> std::io::Result<Vec<PathBuf>> {
-    let mut written = Vec::new();
-    let json = serde_json::to_string_pretty(&r.to_json()).expect("plain data") + "\n";
-    for (path, bytes) in [
-        (dir.join(format!("{}.json", r.name)), json.into_bytes()),
-        (dir.join(format!("{}.md", r.name)), markdown(r).into_bytes()),
-    ] {
-        write_atomic(&path, &bytes)?;
-        written.push(path);
-    }
+/// The report files of a result beside its JSON: `<dir>/<name>.md`, every
+/// `<name>-<suffix>.svg` and `<name>-<suffix>.csv`, with their contents.
+pub fn report_files(r: &SolveResult, dir: &Path) -> Vec<(PathBuf, Vec<u8>)> {
+    let mut files = vec![(dir.join(format!("{}.md", r.name)), markdown(r).into_bytes())];
     for pl in &r.plots {
         let path = dir.join(format!("{}-{}.svg", r.name, pl.suffix));
-        write_atomic(&path, pl.svg_or_note().as_bytes())?;
-        written.push(path);
+        files.push((path, pl.svg_or_note().into_bytes()));
     }
     for t in &r.tables {
         let path = dir.join(format!("{}-{}.csv", r.name, t.suffix));
-        write_atomic(&path, t.csv.as_bytes())?;
+        files.push((path, t.csv.as_bytes().to_vec()));
+    }
+    files
+}
+
+/// The path of a result's JSON in `dir`, `<name>.json`.
+pub fn json_path(r: &SolveResult, dir: &Path) -> PathBuf {
+    dir.join(format!("{}.json", r.name))
+}
+
+/// The JSON file of a result, pretty-printed.
+pub fn json_text(r: &SolveResult) -> String {
+    serde_json::to_string_pretty(&r.to_json()).expect("plain data") + "\n"
+}
+
+/// Writes `<dir>/<name>.json` and the [`report_files`] (`<name>.md`, every
+/// `<name>-<suffix>.svg` and `<name>-<suffix>.csv`), atomically.
+pub fn write_outputs(r: &SolveResult, dir: &Path) -> std::io::Result<Vec<PathBuf>> {
+    let json = json_path(r, dir);
+    write_atomic(&json, json_text(r).as_bytes())?;
+    let mut written = vec![json];
+    for (path, bytes) in report_files(r, dir) {
+        write_atomic(&path, &bytes)?;
         written.push(path);
     }
     Ok(written)
