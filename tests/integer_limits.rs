@@ -15,7 +15,7 @@ use std::sync::mpsc;
 use std::time::{Duration, Instant};
 
 mod common;
-use common::assert_finite_as;
+use common::{assert_finite_as, set_key};
 
 fn problem(name: &str) -> String {
     let p = Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -41,34 +41,6 @@ fn base(family: Family, key: &str) -> &'static str {
         }
         Family::Hypocycloid => "hypocycloid-variant1.toml",
     }
-}
-
-/// `text` with `key = value` set: the key's line replaced inside its `[table]`, else
-/// inserted after the table's header, else the table appended.
-fn set(text: &str, key: &str, value: &str) -> String {
-    let (table, name) = key.rsplit_once('.').unwrap();
-    let header = format!("[{table}]");
-    let mut lines: Vec<String> = text.lines().map(str::to_string).collect();
-    let Some(h) = lines
-        .iter()
-        .position(|l| l.split('#').next().unwrap().trim() == header)
-    else {
-        return format!("{text}\n{header}\n{name} = {value}\n");
-    };
-    let end = lines[h + 1..]
-        .iter()
-        .position(|l| l.trim_start().starts_with('['))
-        .map_or(lines.len(), |k| h + 1 + k);
-    let line = format!("{name} = {value}");
-    match (h + 1..end).find(|&k| {
-        lines[k]
-            .split_once('=')
-            .is_some_and(|(a, _)| a.trim() == name)
-    }) {
-        Some(k) => lines[k] = line,
-        None => lines.insert(h + 1, line),
-    }
-    lines.join("\n") + "\n"
 }
 
 /// Solves on a thread; the result, or an error after `limit`.
@@ -103,7 +75,7 @@ fn sweep(family: Family) {
                 } else {
                     v.to_string()
                 };
-                let t = set(&text, key, &written);
+                let t = set_key(&text, key, &written);
                 let what = format!("{} {key} = {written}", family.as_str());
                 let file = Path::new("limits.toml");
                 match parse_str(&t, file) {

@@ -475,11 +475,21 @@ pub enum SceneKind {
 
 /// Reads and resolves a problem file.
 pub fn load(path: &Path) -> Result<Scene, ProblemError> {
-    let text = std::fs::read_to_string(path).map_err(|source| ProblemError::Read {
+    let bytes = std::fs::read(path).map_err(|source| ProblemError::Read {
         file: path.into(),
         source,
     })?;
-    parse_str(&text, path)
+    parse_bytes(&bytes, path)
+}
+
+/// Resolves the bytes of a problem file (what [`load`] reads); `path` is used for messages
+/// and as the scene's source.
+pub fn parse_bytes(bytes: &[u8], path: &Path) -> Result<Scene, ProblemError> {
+    let text = std::str::from_utf8(bytes).map_err(|e| ProblemError::Read {
+        file: path.into(),
+        source: std::io::Error::new(std::io::ErrorKind::InvalidData, e),
+    })?;
+    parse_str(text, path)
 }
 
 /// Resolves problem-file text; `path` is used for messages and as the scene's source.
