@@ -19,8 +19,8 @@
 //! * an accepted scene's result has only finite numbers (`common::non_finite`);
 //! * a rejection starts `mut.toml:LINE:` with the line inside the file; it names the field
 //!   (`` field `…` ``) whenever the text is TOML (read by the `toml` crate as an independent
-//!   check), so only a text that is not TOML at all (syntax, bad UTF-8, too large, too
-//!   deep) may lack one; a duplicated key names the key.
+//!   check) within the size limit, so only a text that is not TOML at all (syntax, bad
+//!   UTF-8, too deep) or too large may lack one; a duplicated key names the key.
 //!
 //! The tallies of every kind of failure are printed before the assertion, so a run on an
 //! older build is the issue's table (`cargo test --test mutants -- --nocapture`).
@@ -29,7 +29,7 @@ mod common;
 
 use common::{non_finite, set_key};
 use cwsynth::io::limits::counts;
-use cwsynth::io::problem::{parse_bytes, Family};
+use cwsynth::io::problem::{parse_bytes, parse_str, Family, MAX_FILE_BYTES};
 use cwsynth::run::solve_scene;
 use std::collections::{BTreeMap, HashSet};
 use std::path::Path;
@@ -153,7 +153,8 @@ fn quoted_unit(value: &str) -> Option<(usize, usize)> {
     if num_end == 0 {
         return None;
     }
-    let unit_start = open + 1 + num_end + (inner[num_end..].len() - inner[num_end..].trim_start().len());
+    let unit_start =
+        open + 1 + num_end + (inner[num_end..].len() - inner[num_end..].trim_start().len());
     (unit_start < close).then_some((unit_start, close))
 }
 
@@ -205,22 +206,38 @@ fn mutants() -> Vec<Mutant> {
             push(format!("line {} deleted", i + 1), join(&l), None);
             let mut l = owned();
             l.insert(i, lines[i].to_string());
-            push(format!("line {} duplicated", i + 1), join(&l), dotted_key(&lines, i));
+            push(
+                format!("line {} duplicated", i + 1),
+                join(&l),
+                dotted_key(&lines, i),
+            );
             if i + 1 < n {
                 let mut l = owned();
                 l.swap(i, i + 1);
-                push(format!("lines {} and {} swapped", i + 1, i + 2), join(&l), None);
+                push(
+                    format!("lines {} and {} swapped", i + 1, i + 2),
+                    join(&l),
+                    None,
+                );
             }
         }
         for _ in 0..10 {
             let (a, b) = (rng.below(n), rng.below(n));
             let mut l = owned();
             l.swap(a, b);
-            push(format!("lines {} and {} swapped", a + 1, b + 1), join(&l), None);
+            push(
+                format!("lines {} and {} swapped", a + 1, b + 1),
+                join(&l),
+                None,
+            );
         }
         for _ in 0..25 {
             let at = rng.below(text.len() + 1);
-            push(format!("truncated at byte {at}"), text.as_bytes()[..at].to_vec(), None);
+            push(
+                format!("truncated at byte {at}"),
+                text.as_bytes()[..at].to_vec(),
+                None,
+            );
         }
         for (i, line) in lines.iter().enumerate() {
             let Some((k, v)) = assignment(line) else {
@@ -232,7 +249,11 @@ fn mutants() -> Vec<Mutant> {
                     };
                     let mut l = owned();
                     l[i] = flipped;
-                    push(format!("line {}: table ↔ array of tables", i + 1), join(&l), None);
+                    push(
+                        format!("line {}: table ↔ array of tables", i + 1),
+                        join(&l),
+                        None,
+                    );
                 }
                 continue;
             };
@@ -270,7 +291,11 @@ fn mutants() -> Vec<Mutant> {
             let mut l = owned();
             let key = k.trim();
             l[i] = format!("{}{}={v}", &key[..key.len() - 1], "x");
-            push(format!("line {}: key `{key}` misspelt", i + 1), join(&l), None);
+            push(
+                format!("line {}: key `{key}` misspelt", i + 1),
+                join(&l),
+                None,
+            );
         }
         for _ in 0..6 {
             const BAD: [&[u8]; 6] = [
@@ -289,7 +314,10 @@ fn mutants() -> Vec<Mutant> {
         }
         let deep = 10_000;
         let nests = [
-            ("array", format!("{}1{}", "[".repeat(deep), "]".repeat(deep))),
+            (
+                "array",
+                format!("{}1{}", "[".repeat(deep), "]".repeat(deep)),
+            ),
             (
                 "inline table",
                 format!("{}1{}", "{ a = ".repeat(deep), " }".repeat(deep)),
@@ -302,10 +330,17 @@ fn mutants() -> Vec<Mutant> {
                 None,
             );
             // In place of a real value.
-            if let Some(i) = lines.iter().position(|l| assignment(l).is_some() && !l.starts_with("name")) {
+            if let Some(i) = lines
+                .iter()
+                .position(|l| assignment(l).is_some() && !l.starts_with("name"))
+            {
                 let mut l = owned();
                 l[i] = format!("{}= {v}", assignment(lines[i]).unwrap().0);
-                push(format!("line {}: {kind} nested {deep} deep", i + 1), join(&l), None);
+                push(
+                    format!("line {}: {kind} nested {deep} deep", i + 1),
+                    join(&l),
+                    None,
+                );
             }
         }
         push(
@@ -313,25 +348,36 @@ fn mutants() -> Vec<Mutant> {
             format!("{text}\n[{}]\n", vec!["a"; deep].join(".")).into_bytes(),
             None,
         );
-        let long = "x".repeat(1 << 20);
+        let long = "x".repeat(100_000);
         for (label, edit) in [
-            ("description of 1 MiB", format!("description = \"{long}\"")),
-            ("name of 1 MiB", format!("name = \"{long}\"")),
-            ("key of 1 MiB", format!("{long} = 1")),
-            ("number of 100,000 digits", format!("mechanism_x = \"{}1 m\"", "1".repeat(100_000))),
-            ("quantity of 100,000 dots", format!("mechanism_x = \"1{} m\"", ".1".repeat(50_000))),
+            ("description of 100 kB", format!("description = \"{long}\"")),
+            ("name of 100 kB", format!("name = \"{long}\"")),
+            ("key of 100 kB", format!("{long} = 1")),
+            (
+                "number of 100,000 digits",
+                format!("mechanism_x = \"{}1 m\"", "1".repeat(100_000)),
+            ),
+            (
+                "quantity of 100,000 dots",
+                format!("mechanism_x = \"1{} m\"", ".1".repeat(50_000)),
+            ),
         ] {
             let key = edit.split('=').next().unwrap().trim().to_string();
             let mut l = owned();
             let replaced = if key.starts_with("mechanism_x") {
                 // Into the first quantity of the file.
-                let i = lines.iter().position(|l| assignment(l).is_some_and(|(_, v)| quoted_unit(v).is_some()));
+                let i = lines
+                    .iter()
+                    .position(|l| assignment(l).is_some_and(|(_, v)| quoted_unit(v).is_some()));
                 i.map(|i| {
                     let (k, _) = assignment(lines[i]).unwrap();
                     l[i] = format!("{k}={}", edit.split_once('=').unwrap().1);
                 })
             } else {
-                lines.iter().position(|x| x.starts_with(&key)).map(|i| l[i] = edit.clone())
+                lines
+                    .iter()
+                    .position(|x| x.starts_with(&key))
+                    .map(|i| l[i] = edit.clone())
             };
             if replaced.is_none() {
                 l.insert(0, edit);
@@ -339,17 +385,37 @@ fn mutants() -> Vec<Mutant> {
             push(label.to_string(), join(&l), None);
         }
         // Many elements: [[paper]] entries, a long array, many keys in one table.
-        let paper = "[[paper]]\nquantity = \"q\"\nvalue = 1\nkey = \"objectives.x_pct\"\n".repeat(50_000);
-        push("50,000 [[paper]] entries".into(), format!("{text}\n{paper}").into_bytes(), None);
-        let many = (0..200_000).map(|k| k.to_string()).collect::<Vec<_>>().join(", ");
+        let paper =
+            "[[paper]]\nquantity = \"q\"\nvalue = 1\nkey = \"objectives.x_pct\"\n".repeat(5_000);
         push(
-            "array of 200,000 numbers".into(),
+            "5,000 [[paper]] entries".into(),
+            format!("{text}\n{paper}").into_bytes(),
+            None,
+        );
+        let many = (0..100_000)
+            .map(|k| k.to_string())
+            .collect::<Vec<_>>()
+            .join(", ");
+        push(
+            "array of 100,000 numbers".into(),
             format!("big = [{many}]\n{text}").into_bytes(),
             None,
         );
-        let keys: String = (0..100_000).map(|k| format!("k{k} = 1\n")).collect();
-        push("100,000 keys in [accuracy]".into(), format!("{text}\n[accuracy_x]\n{keys}").into_bytes(), None);
-        push("file of 16 MiB (comments)".into(), format!("{text}\n{}", format!("# {}\n", "c".repeat(1000)).repeat(16_000)).into_bytes(), None);
+        let keys: String = (0..50_000).map(|k| format!("k{k} = 1\n")).collect();
+        push(
+            "50,000 keys in a table".into(),
+            format!("{text}\n[accuracy_x]\n{keys}").into_bytes(),
+            None,
+        );
+        push(
+            "file of 16 MiB (comments)".into(),
+            format!(
+                "{text}\n{}",
+                format!("# {}\n", "c".repeat(1000)).repeat(16_000)
+            )
+            .into_bytes(),
+            None,
+        );
     }
     out.extend(slider_crank_arrays());
     out.extend(integer_settings());
@@ -360,15 +426,18 @@ fn mutants() -> Vec<Mutant> {
 fn slider_crank_arrays() -> Vec<Mutant> {
     let text = std::fs::read_to_string(common::problem("piston-1000rpm.toml")).unwrap();
     let table = |n: usize| {
-        let angle = (0..n).map(|k| format!("\"{} deg\"", k as f64 * 360.0 / n as f64)).collect::<Vec<_>>().join(", ");
+        let angle = (0..n)
+            .map(|k| format!("\"{} deg\"", k as f64 * 360.0 / n as f64))
+            .collect::<Vec<_>>()
+            .join(", ");
         let force = vec!["\"1 N\""; n].join(", ");
         format!("\n[mechanism.process_force_table]\nangle = [{angle}]\nforce = [{force}]\n")
     };
-    let with_table = |n: usize| {
-        text.replace("\n[model]", &format!("{}\n[model]", table(n)))
-    };
+    let with_table = |n: usize| text.replace("\n[model]", &format!("{}\n[model]", table(n)));
     let items = |n: usize| {
-        let t = text.replace("crank_mass = \"0.35 kg\"", "").replace("slider_mass = \"1.03 kg\"", "");
+        let t = text
+            .replace("crank_mass = \"0.35 kg\"", "")
+            .replace("slider_mass = \"1.03 kg\"", "");
         let items: String = (0..n)
             .map(|k| format!("[[mechanism.mass_items]]\nname = \"i{k}\"\nmass = \"0.001 kg\"\nat = \"slider\"\n"))
             .collect();
@@ -376,8 +445,8 @@ fn slider_crank_arrays() -> Vec<Mutant> {
     };
     [
         ("process_force_table of 1,000 points", with_table(1000)),
-        ("process_force_table of 100,000 points", with_table(100_000)),
-        ("20,000 mass_items", items(20_000)),
+        ("process_force_table of 20,000 points", with_table(20_000)),
+        ("5,000 mass_items", items(5_000)),
         ("100 mass_items", items(100)),
     ]
     .into_iter()
@@ -436,8 +505,11 @@ fn integer_settings() -> Vec<Mutant> {
             for c in counts(family) {
                 // n_fft_min must stay a power of two; the variant 1 or 2.
                 let v = match c.key {
-                    "mechanism.variant" | "mechanism.turns_gear1" | "mechanism.turns_gear2"
-                    | "mechanism.teeth_gear1" | "mechanism.teeth_gear2" => continue,
+                    "mechanism.variant"
+                    | "mechanism.turns_gear1"
+                    | "mechanism.turns_gear2"
+                    | "mechanism.teeth_gear1"
+                    | "mechanism.teeth_gear2" => continue,
                     _ => c.max,
                 };
                 text = set_key(&text, c.key, &write(c.key, v));
@@ -528,7 +600,7 @@ fn check(m: &Mutant, seen: &'static Mutex<HashSet<String>>) -> (Vec<(Failure, St
             let named = field
                 .as_ref()
                 .is_some_and(|k| msg.contains(&format!("field `{k}`")));
-            if is_toml && !named {
+            if is_toml && m.bytes.len() <= MAX_FILE_BYTES && !named {
                 f.push((Failure::NoField, msg.clone()));
             }
             if let Some(k) = &m.duplicated {
@@ -570,7 +642,10 @@ fn mutants_of_every_shipped_problem_file() {
     for (i, f, _) in &results {
         for (kind, msg) in f {
             let msg: String = msg.chars().take(300).collect();
-            tally.entry(*kind).or_default().push(format!("{} → {msg}", all[*i].what));
+            tally
+                .entry(*kind)
+                .or_default()
+                .push(format!("{} → {msg}", all[*i].what));
         }
     }
     let slowest = results.iter().max_by_key(|r| r.2).unwrap();
@@ -584,9 +659,121 @@ fn mutants_of_every_shipped_problem_file() {
     );
     for (kind, v) in &tally {
         println!("{kind:?}: {}", v.len());
-        for m in v.iter().take(if std::env::var_os("MUTANTS_ALL").is_some() { usize::MAX } else { 8 }) {
+        for m in v.iter().take(if std::env::var_os("MUTANTS_ALL").is_some() {
+            usize::MAX
+        } else {
+            8
+        }) {
             println!("    {m}");
         }
     }
-    assert!(tally.is_empty(), "failures: {:?}", tally.iter().map(|(k, v)| (k, v.len())).collect::<Vec<_>>());
+    assert!(
+        tally.is_empty(),
+        "failures: {:?}",
+        tally.iter().map(|(k, v)| (k, v.len())).collect::<Vec<_>>()
+    );
+}
+
+/// "Did you mean" for a misspelt key, enum value, family and unit; a missing field named
+/// with its table at the table's line; a work estimate over the budget names the setting
+/// raised most.
+#[test]
+fn rejections_suggest_and_name_missing_fields() {
+    use common::assert_names;
+    let piston = std::fs::read_to_string(common::problem("piston-1000rpm.toml")).unwrap();
+    let p = |a: &str, b: &str| common::with(&piston, a, b);
+    assert_names(
+        &p("crank_mass =", "crank_mas ="),
+        "mechanism.crank_mas",
+        "crank_mas =",
+        "did you mean `crank_mass`?",
+    );
+    assert_names(
+        &p("\"peak-force\"", "\"peak-forse\""),
+        "objective.minimize",
+        "peak-forse",
+        "did you mean `peak-force`?",
+    );
+    assert_names(
+        &p("\"slider-crank\"", "\"slider-crnk\""),
+        "family",
+        "slider-crnk",
+        "did you mean `slider-crank`?",
+    );
+    assert_names(
+        &p("\"140 mm\"", "\"140 mn\""),
+        "mechanism.rod_length",
+        "140 mn",
+        "did you mean `mm`?",
+    );
+    assert_names(
+        &p("minimize = \"peak-force\"\n", ""),
+        "objective.minimize",
+        "[objective]",
+        "missing",
+    );
+    assert_names(
+        &p("rod_length = \"140 mm\"\n", ""),
+        "mechanism.rod_length",
+        "[mechanism]",
+        "missing",
+    );
+    let no_name = p("name = \"piston-1000rpm\"\n", "");
+    let e = parse_str(&no_name, Path::new("bad.toml")).unwrap_err();
+    assert_eq!((e.line(), e.field()), (Some(1), Some("name")), "{e}");
+    assert_names(
+        &p("\"35 mm\"", "\"1e308 mm\""),
+        "mechanism.crank_radius",
+        "1e308",
+        "allowed: a magnitude up to",
+    );
+    assert_names(
+        &p("[[paper]]", "[mechanism.x]\n[[paper]]").replacen("[[paper]]", "[[paper]]", 1),
+        "mechanism.x",
+        "[mechanism.x]",
+        "unknown field",
+    );
+    let crane = std::fs::read_to_string(common::problem("crane-thesis-optimise.toml")).unwrap();
+    let big = set_key(
+        &set_key(&crane, "accuracy.path_samples", "1024"),
+        "accuracy.landscape_k1",
+        "201",
+    );
+    let big = set_key(&big, "accuracy.landscape_k2", "201");
+    assert_names(
+        &big,
+        "accuracy.landscape_k1",
+        "landscape_k1",
+        "work estimate",
+    );
+}
+
+/// A few mutants through the `cwsynth` binary: exit 1 with `FILE:LINE:` on stderr, never a
+/// crash (101 or a signal).
+#[test]
+fn cli_rejects_hostile_files_with_a_line() {
+    let piston = std::fs::read_to_string(common::problem("piston-1000rpm.toml")).unwrap();
+    let mut bad_utf8 = piston.clone().into_bytes();
+    bad_utf8.splice(200..200, [0xff, 0xfe]);
+    let deep = format!("{piston}\n[{}]\n", vec!["a"; 10_000].join("."));
+    let huge = format!("{piston}\n{}", "# comment\n".repeat(200_000));
+    for (what, bytes) in [
+        ("bad UTF-8", bad_utf8),
+        ("deep", deep.into_bytes()),
+        ("huge", huge.into_bytes()),
+    ] {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("bad.toml");
+        std::fs::write(&path, bytes).unwrap();
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_cwsynth"))
+            .args(["check"])
+            .arg(&path)
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&out.stdout).into_owned()
+            + &String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "{what}: {err}");
+        let located = regex::Regex::new(r"bad\.toml:\d+: ").unwrap();
+        assert!(located.is_match(&err), "{what}: {err}");
+    }
 }

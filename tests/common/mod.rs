@@ -197,13 +197,13 @@ pub fn non_finite(r: &cwsynth::io::result::SolveResult) -> Option<String> {
         ("errors".to_string(), &r.errors),
         ("derived".to_string(), &r.derived),
     ];
-    let baselines = r.baselines.iter().map(|(b, m)| (format!("baselines.{b}"), m));
-    sections
-        .into_iter()
-        .chain(baselines)
-        .find_map(|(sec, m)| {
-            m.iter()
-                .find(|(_, v)| !v.is_finite())
-                .map(|(k, v)| format!("{sec}.{k} = {v}"))
-        })
+    let baselines = r
+        .baselines
+        .iter()
+        .map(|(b, m)| (format!("baselines.{b}"), m));
+    sections.into_iter().chain(baselines).find_map(|(sec, m)| {
+        m.iter()
+            .find(|(_, v)| !v.is_finite())
+            .map(|(k, v)| format!("{sec}.{k} = {v}"))
+    })
 }
