@@ -15,32 +15,13 @@ use std::sync::mpsc;
 use std::time::{Duration, Instant};
 
 mod common;
-use common::{assert_finite_as, set_key};
+use common::{assert_finite_as, integer_key_base, set_key};
 
 fn problem(name: &str) -> String {
     let p = Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("problems")
         .join(name);
     std::fs::read_to_string(p).unwrap()
-}
-
-/// The shipped file a key is tried on: one where the key takes effect.
-fn base(family: Family, key: &str) -> &'static str {
-    match family {
-        Family::SliderCrank => "felling-head-150rpm.toml",
-        Family::LuffingCrane => "crane-thesis-optimise.toml",
-        Family::EccentricGear if key == "accuracy.sweep_points" => "gear-eccentricity-design.toml",
-        Family::EccentricGear => "gear-paper-table1.toml",
-        Family::Hypocycloid
-            if key.starts_with("objective.zero_search")
-                || ["curve_points", "theta_scan", "opt_grid", "nm_max_iters"]
-                    .iter()
-                    .any(|k| key == format!("accuracy.{k}")) =>
-        {
-            "hypocycloid-c4-variant1.toml"
-        }
-        Family::Hypocycloid => "hypocycloid-variant1.toml",
-    }
 }
 
 /// Solves on a thread; the result, or an error after `limit`.
@@ -62,7 +43,7 @@ fn sweep(family: Family) {
     let mut slow = Vec::new();
     {
         for &Count { key, min, max } in counts(family) {
-            let text = problem(base(family, key));
+            let text = problem(integer_key_base(family, key));
             let mut values = vec![0, 1, min, max, max + 1, i64::MAX as u64, u64::MAX];
             if min > 0 {
                 values.push(min - 1);

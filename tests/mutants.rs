@@ -458,25 +458,6 @@ fn slider_crank_arrays() -> Vec<Mutant> {
     .collect()
 }
 
-/// The shipped file an integer key is tried on: one of its family where the key acts.
-fn base_of(family: Family, key: &str) -> &'static str {
-    match family {
-        Family::SliderCrank => "felling-head-150rpm.toml",
-        Family::LuffingCrane => "crane-thesis-optimise.toml",
-        Family::EccentricGear if key == "accuracy.sweep_points" => "gear-eccentricity-design.toml",
-        Family::EccentricGear => "gear-paper-table1.toml",
-        Family::Hypocycloid
-            if key.starts_with("objective.zero_search")
-                || ["curve_points", "theta_scan", "opt_grid", "nm_max_iters"]
-                    .iter()
-                    .any(|k| key == format!("accuracy.{k}")) =>
-        {
-            "hypocycloid-c4-variant1.toml"
-        }
-        Family::Hypocycloid => "hypocycloid-variant1.toml",
-    }
-}
-
 /// Every integer setting at 0, 1, its maximum and u64::MAX; and per family every setting
 /// at its maximum at once, on each of the family's shipped files.
 fn integer_settings() -> Vec<Mutant> {
@@ -490,7 +471,7 @@ fn integer_settings() -> Vec<Mutant> {
     };
     for family in Family::ALL {
         for c in counts(family) {
-            let file = base_of(family, c.key);
+            let file = common::integer_key_base(family, c.key);
             let text = std::fs::read_to_string(common::problem(file)).unwrap();
             for v in [0, 1, c.max, u64::MAX] {
                 out.push(Mutant {
@@ -682,57 +663,69 @@ fn rejections_suggest_and_name_missing_fields() {
     use common::assert_names;
     let piston = std::fs::read_to_string(common::problem("piston-1000rpm.toml")).unwrap();
     let p = |a: &str, b: &str| common::with(&piston, a, b);
-    assert_names(
-        &p("crank_mass =", "crank_mas ="),
-        "mechanism.crank_mas",
-        "crank_mas =",
-        "did you mean `crank_mass`?",
-    );
-    assert_names(
-        &p("\"peak-force\"", "\"peak-forse\""),
-        "objective.minimize",
-        "peak-forse",
-        "did you mean `peak-force`?",
-    );
-    assert_names(
-        &p("\"slider-crank\"", "\"slider-crnk\""),
-        "family",
-        "slider-crnk",
-        "did you mean `slider-crank`?",
-    );
-    assert_names(
-        &p("\"140 mm\"", "\"140 mn\""),
-        "mechanism.rod_length",
-        "140 mn",
-        "did you mean `mm`?",
-    );
-    assert_names(
-        &p("minimize = \"peak-force\"\n", ""),
-        "objective.minimize",
-        "[objective]",
-        "missing",
-    );
-    assert_names(
-        &p("rod_length = \"140 mm\"\n", ""),
-        "mechanism.rod_length",
-        "[mechanism]",
-        "missing",
-    );
+    for (from, to, field, line, says) in [
+        (
+            "crank_mass =",
+            "crank_mas =",
+            "mechanism.crank_mas",
+            "crank_mas =",
+            "did you mean `crank_mass`?",
+        ),
+        (
+            "\"peak-force\"",
+            "\"peak-forse\"",
+            "objective.minimize",
+            "peak-forse",
+            "did you mean `peak-force`?",
+        ),
+        (
+            "\"slider-crank\"",
+            "\"slider-crnk\"",
+            "family",
+            "slider-crnk",
+            "did you mean `slider-crank`?",
+        ),
+        (
+            "\"140 mm\"",
+            "\"140 mn\"",
+            "mechanism.rod_length",
+            "140 mn",
+            "did you mean `mm`?",
+        ),
+        (
+            "minimize = \"peak-force\"\n",
+            "",
+            "objective.minimize",
+            "[objective]",
+            "missing field `minimize`",
+        ),
+        (
+            "rod_length = \"140 mm\"\n",
+            "",
+            "mechanism.rod_length",
+            "[mechanism]",
+            "missing field `rod_length`",
+        ),
+        (
+            "\"35 mm\"",
+            "\"1e308 mm\"",
+            "mechanism.crank_radius",
+            "1e308",
+            "allowed: a magnitude up to",
+        ),
+        (
+            "[[paper]]",
+            "[mechanism.x]\n[[paper]]",
+            "mechanism.x",
+            "[mechanism.x]",
+            "unknown field",
+        ),
+    ] {
+        assert_names(&p(from, to), field, line, says);
+    }
     let no_name = p("name = \"piston-1000rpm\"\n", "");
     let e = parse_str(&no_name, Path::new("bad.toml")).unwrap_err();
     assert_eq!((e.line(), e.field()), (Some(1), Some("name")), "{e}");
-    assert_names(
-        &p("\"35 mm\"", "\"1e308 mm\""),
-        "mechanism.crank_radius",
-        "1e308",
-        "allowed: a magnitude up to",
-    );
-    assert_names(
-        &p("[[paper]]", "[mechanism.x]\n[[paper]]").replacen("[[paper]]", "[[paper]]", 1),
-        "mechanism.x",
-        "[mechanism.x]",
-        "unknown field",
-    );
     let crane = std::fs::read_to_string(common::problem("crane-thesis-optimise.toml")).unwrap();
     let big = set_key(
         &set_key(&crane, "accuracy.path_samples", "1024"),
@@ -740,10 +733,11 @@ fn rejections_suggest_and_name_missing_fields() {
         "201",
     );
     let big = set_key(&big, "accuracy.landscape_k2", "201");
+    // path_samples is raised most above its default (32×).
     assert_names(
         &big,
-        "accuracy.landscape_k1",
-        "landscape_k1",
+        "accuracy.path_samples",
+        "path_samples",
         "work estimate",
     );
 }

@@ -184,7 +184,7 @@ impl<'a> Ctx<'a> {
                 .as_deref()
                 .and_then(|t| self.map().line_of(t))
                 .or(line);
-            message = format!("missing; allowed: add `{missing}`");
+            message = format!("missing field `{missing}`: it is required; allowed: add it");
             field = Some(path);
         } else if let Some(hint) = suggestion(&message) {
             message.push_str(&hint);

@@ -58,6 +58,27 @@ pub fn set_key(text: &str, key: &str, value: &str) -> String {
     lines.join("\n") + "\n"
 }
 
+/// The shipped file a key is tried on: one where the key takes effect.
+pub fn integer_key_base(family: cwsynth::io::problem::Family, key: &str) -> &'static str {
+    match family {
+        cwsynth::io::problem::Family::SliderCrank => "felling-head-150rpm.toml",
+        cwsynth::io::problem::Family::LuffingCrane => "crane-thesis-optimise.toml",
+        cwsynth::io::problem::Family::EccentricGear if key == "accuracy.sweep_points" => {
+            "gear-eccentricity-design.toml"
+        }
+        cwsynth::io::problem::Family::EccentricGear => "gear-paper-table1.toml",
+        cwsynth::io::problem::Family::Hypocycloid
+            if key.starts_with("objective.zero_search")
+                || ["curve_points", "theta_scan", "opt_grid", "nm_max_iters"]
+                    .iter()
+                    .any(|k| key == format!("accuracy.{k}")) =>
+        {
+            "hypocycloid-c4-variant1.toml"
+        }
+        cwsynth::io::problem::Family::Hypocycloid => "hypocycloid-variant1.toml",
+    }
+}
+
 /// `text` is rejected naming `field` on the line of `line_needle`, saying `says`.
 #[track_caller]
 pub fn assert_names(text: &str, field: &str, line_needle: &str, says: &str) {
