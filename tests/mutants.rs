@@ -548,6 +548,9 @@ fn run_one(bytes: Vec<u8>, seen: &'static Mutex<HashSet<String>>) -> Outcome {
     })
 }
 
+/// A checked mutant: its index, its failures (empty when all is well) and its time.
+type Checked = (usize, Vec<(Failure, String)>, Duration);
+
 /// Checks one mutant: its failures (empty when all is well) and its time.
 fn check(m: &Mutant, seen: &'static Mutex<HashSet<String>>) -> (Vec<(Failure, String)>, Duration) {
     let (tx, rx) = mpsc::channel();
@@ -601,7 +604,7 @@ fn mutants_of_every_shipped_problem_file() {
     let seen: &'static Mutex<HashSet<String>> = Box::leak(Box::default());
     let t0 = Instant::now();
     let next = Mutex::new(0usize);
-    let results: Mutex<Vec<(usize, Vec<(Failure, String)>, Duration)>> = Mutex::default();
+    let results: Mutex<Vec<Checked>> = Mutex::default();
     // Two lanes (the machine has two cores); each mutant on its own thread under LIMIT.
     std::thread::scope(|s| {
         for _ in 0..2 {
@@ -751,6 +754,7 @@ fn cli_rejects_hostile_files_with_a_line() {
     bad_utf8.splice(200..200, [0xff, 0xfe]);
     let deep = format!("{piston}\n[{}]\n", vec!["a"; 10_000].join("."));
     let huge = format!("{piston}\n{}", "# comment\n".repeat(200_000));
+    let located = regex::Regex::new(r"bad\.toml:\d+: ").unwrap();
     for (what, bytes) in [
         ("bad UTF-8", bad_utf8),
         ("deep", deep.into_bytes()),
@@ -767,7 +771,6 @@ fn cli_rejects_hostile_files_with_a_line() {
         let err = String::from_utf8_lossy(&out.stdout).into_owned()
             + &String::from_utf8_lossy(&out.stderr);
         assert_eq!(out.status.code(), Some(1), "{what}: {err}");
-        let located = regex::Regex::new(r"bad\.toml:\d+: ").unwrap();
         assert!(located.is_match(&err), "{what}: {err}");
     }
 }
