@@ -124,6 +124,8 @@ pub struct Ctx<'a> {
     /// Its key index, built on the first error only (a valid file never needs it; a fleet
     /// parses one text per machine).
     map: std::cell::OnceCell<SourceMap>,
+    /// Whether there is a text at all (a fleet row's table has none: no lines).
+    has_text: bool,
 }
 
 impl<'a> Ctx<'a> {
@@ -133,6 +135,15 @@ impl<'a> Ctx<'a> {
             file,
             text,
             map: std::cell::OnceCell::new(),
+            has_text: true,
+        }
+    }
+
+    /// A context for a table already parsed (no text, so its errors have no line).
+    pub fn of_table(file: &'a Path) -> Self {
+        Ctx {
+            has_text: false,
+            ..Ctx::new(file, "")
         }
     }
 
@@ -142,9 +153,9 @@ impl<'a> Ctx<'a> {
     }
 
     /// Whether the context has a text (a fleet row's table has none: its errors have no
-    /// line).
+    /// line; an empty file does have one).
     fn has_text(&self) -> bool {
-        !self.text.is_empty()
+        self.has_text
     }
 
     /// A value error, located by its field: the field's line, or for a missing field the
@@ -160,7 +171,8 @@ impl<'a> Ctx<'a> {
     }
 
     /// A serde/TOML error, located by its span. A missing field is named with its table
-    /// (`mechanism.rod_length`) at the table's line; an unknown key, variant or field gets
+    /// (`mechanism.rod_length`) at the table's line (a table without text has no spans: its
+    /// error keeps serde's words without a field); an unknown key, variant or field gets
     /// "did you mean" when one of the allowed names is close; an error without a span (the
     /// TOML reader's recursion limit) gets the line where the nesting is deepest.
     pub fn toml_error(&self, e: toml::de::Error) -> ProblemError {
@@ -168,7 +180,8 @@ impl<'a> Ctx<'a> {
         let mut line = start.map(|o| self.map().line_of_offset(o));
         let mut field = start.and_then(|o| self.map().key_at(o)).map(str::to_string);
         let mut message = shorten(&e.message().trim().replace('\n', " "), 1000);
-        if let Some(missing) = quoted_after(&message, "missing field `") {
+        let missing = quoted_after(&message, "missing field `").filter(|_| self.has_text());
+        if let Some(missing) = missing {
             // The span is the table's (or the whole text's): the field goes in that table.
             let at = |o: usize| self.text.get(o..).unwrap_or("");
             let table = match start {
@@ -674,7 +687,7 @@ pub fn parse_str(text: &str, path: &Path) -> Result<Scene, ProblemError> {
 /// messages and as the scene's source. Its errors have no line: a caller that needs one reads
 /// the text with [`parse_str`]. A fleet row takes this way and never prints TOML.
 pub fn parse_table(table: toml::Table, path: &Path) -> Result<Scene, ProblemError> {
-    let ctx = Ctx::new(path, "");
+    let ctx = Ctx::of_table(path);
     let header = Header::of_table(&ctx, &table)?;
     resolve(&ctx, header, Input::Table(table))
 }
