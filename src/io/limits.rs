@@ -6,7 +6,9 @@
 //! family's resolver before anything is sized by it ([`check`], [`check_section`]), written in
 //! `docs/problem-files.md`, and given to the JSON schema as `minimum`/`maximum`. Every
 //! maximum keeps one run of an otherwise default scene within about a second
-//! (`tests/hostile_input.rs` runs each at its minimum and maximum).
+//! (`tests/integer_limits.rs` runs each at its minimum and maximum). Their products are
+//! bounded by a per-family work budget ([`check_work`], formulas in each family's
+//! `check_work` and in `docs/problem-files.md`).
 
 use super::problem::{Family, FieldError};
 
