@@ -311,11 +311,57 @@ pub fn resolve_raw(raw: &File) -> Result<Resolved, FieldError> {
     };
     scene.validate().map_err(map_synth_error)?;
     let settings = resolve_accuracy(&raw.accuracy)?;
+    check_work(&scene, &settings)?;
     Ok(Resolved {
         variant: variant.map(|v| v as u8),
         scene,
         settings,
     })
+}
+
+/// The work budget ([`limits::check_work`]): W = E·(1 + n_grid^n + n_starts·n_iter·(n + 1) +
+/// n_curve·(n_scan + 60)) + n_plot·orders, E = n_fft·log2(n_fft) + n_peak·orders the work of
+/// one evaluation at the first FFT size (n_fft = `n_fft_min`; the adaptive doublings stop at
+/// `n_fft_max`), n the free variables (grid, then Nelder–Mead), the zero search's columns
+/// each scanned and refined (at most 60 Brent steps); the zero-search term only with a zero
+/// search.
+fn check_work(scene: &HypocycloidScene, s: &Settings) -> Result<(), FieldError> {
+    let d = Settings::default();
+    let f = |v: usize| v as f64;
+    let n = [&scene.lambda, &scene.theta]
+        .iter()
+        .filter(|v| matches!(v, crate::synth::Var::Free { .. }))
+        .count() as f64;
+    let fft = f(s.n_fft_min) * f(s.n_fft_min).log2();
+    let eval = fft + f(s.peak_samples) * f(scene.orders);
+    let search = if n > 0.0 {
+        f(s.opt_grid).powf(n) + f(s.opt_starts) * s.nm_max_iters as f64 * (n + 1.0)
+    } else {
+        0.0
+    };
+    let zeros = if scene.zero_search.is_some() {
+        f(s.curve_points) * (f(s.theta_scan) + 60.0)
+    } else {
+        0.0
+    };
+    let estimate = eval * (1.0 + search + zeros) + f(s.plot_samples) * f(scene.orders);
+    let t = |k, v: f64, d: f64| limits::term(k, v, d);
+    limits::check_work(
+        Family::Hypocycloid,
+        estimate,
+        "(n_fft_min·log2(n_fft_min) + peak_samples·orders)·(1 + opt_grid^n + opt_starts·nm_max_iters·(n + 1) + curve_points·(theta_scan + 60)) + plot_samples·orders",
+        &[
+            t("accuracy.n_fft_min", f(s.n_fft_min), f(d.n_fft_min)),
+            t("accuracy.peak_samples", f(s.peak_samples), f(d.peak_samples)),
+            t("model.orders", f(scene.orders), 8.0),
+            t("accuracy.opt_grid", f(s.opt_grid), f(d.opt_grid)),
+            t("accuracy.opt_starts", f(s.opt_starts), f(d.opt_starts)),
+            t("accuracy.nm_max_iters", s.nm_max_iters as f64, d.nm_max_iters as f64),
+            t("accuracy.curve_points", f(s.curve_points), f(d.curve_points)),
+            t("accuracy.theta_scan", f(s.theta_scan), f(d.theta_scan)),
+            t("accuracy.plot_samples", f(s.plot_samples), f(d.plot_samples)),
+        ],
+    )
 }
 
 /// `residual_force_peak_N` → `residual_force_peak_n` (the results' unit suffixes).

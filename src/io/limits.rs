@@ -6,7 +6,9 @@
 //! family's resolver before anything is sized by it ([`check`], [`check_section`]), written in
 //! `docs/problem-files.md`, and given to the JSON schema as `minimum`/`maximum`. Every
 //! maximum keeps one run of an otherwise default scene within about a second
-//! (`tests/hostile_input.rs` runs each at its minimum and maximum).
+//! (`tests/integer_limits.rs` runs each at its minimum and maximum). Their products are
+//! bounded by a per-family work budget ([`check_work`], formulas in each family's
+//! `check_work` and in `docs/problem-files.md`).
 
 use super::problem::{Family, FieldError};
 
@@ -42,7 +44,7 @@ pub const LUFFING_CRANE: &[Count] = &[
     c("accuracy.plot_points", 2, 10_000),
     c("accuracy.global_samples", 1, 1000),
     c("accuracy.local_starts", 1, 50),
-    c("accuracy.local_max_iters", 1, 100_000),
+    c("accuracy.local_max_iters", 1, 2000),
     c("accuracy.landscape_k1", 0, 201),
     c("accuracy.landscape_k2", 0, 201),
 ];
@@ -75,7 +77,7 @@ pub const HYPOCYCLOID: &[Count] = &[
     c("accuracy.peak_samples", 16, 4096),
     c("accuracy.opt_grid", 3, 40),
     c("accuracy.opt_starts", 1, 64),
-    c("accuracy.nm_max_iters", 1, 100_000),
+    c("accuracy.nm_max_iters", 1, 5000),
     c("accuracy.plot_samples", 8, 100_000),
 ];
 
@@ -135,6 +137,73 @@ pub fn check_section<T: serde::Serialize>(
         }
     }
     Ok(())
+}
+
+/// One factor of a work estimate: the dotted key, its value and its default (the key
+/// raised most above its default is the one an error names).
+#[derive(Debug, Clone, Copy)]
+pub struct Term<'a> {
+    /// Dotted key (or the keys that set a derived count, e.g. the arch count).
+    pub key: &'a str,
+    /// Its value in the scene.
+    pub value: f64,
+    /// Its default (or a typical value).
+    pub default: f64,
+}
+
+/// A term: `key = value` with its default.
+pub fn term(key: &str, value: impl Into<f64>, default: impl Into<f64>) -> Term<'_> {
+    Term {
+        key,
+        value: value.into(),
+        default: default.into(),
+    }
+}
+
+/// The work budget of one scene of each family, in the units of its estimate (see
+/// `docs/problem-files.md`, "Work budget"): integer settings can each be at their maximum,
+/// but their products multiply (samples × starts × iterations × grid points), so a scene's
+/// estimated work is bounded too. Each budget lets every single setting at its maximum
+/// (with the others at their defaults, on the shipped files) through and keeps a scene's run
+/// to seconds: one row can neither stall a batch nor exhaust its memory.
+pub fn budget(family: Family) -> f64 {
+    match family {
+        Family::SliderCrank => 1e7,
+        Family::LuffingCrane => 2e7,
+        Family::EccentricGear => 3e7,
+        Family::Hypocycloid => 5e8,
+    }
+}
+
+/// Checks a scene's work `estimate` (written as `formula`) against the family's
+/// [`budget`]: over it, an error naming the term raised most above its default, and listing
+/// every term with its value.
+pub fn check_work(
+    family: Family,
+    estimate: f64,
+    formula: &str,
+    terms: &[Term],
+) -> Result<(), FieldError> {
+    let limit = budget(family);
+    if estimate <= limit {
+        return Ok(());
+    }
+    let worst = terms
+        .iter()
+        .max_by(|a, b| (a.value / a.default).total_cmp(&(b.value / b.default)))
+        .map_or("accuracy", |t| t.key);
+    let list: Vec<String> = terms
+        .iter()
+        .map(|t| format!("{} = {} (default {})", t.key, t.value, t.default))
+        .collect();
+    Err(FieldError::new(
+        worst,
+        format!(
+            "the scene's work estimate {formula} = {estimate:.3e} is above the {} budget {limit:.0e}, which keeps one machine to seconds; lower one of: {}",
+            family.as_str(),
+            list.join(", ")
+        ),
+    ))
 }
 
 #[cfg(test)]

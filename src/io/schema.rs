@@ -6,14 +6,16 @@
 //! quantity is a `string` whose pattern is a number and one of the units of its dimension,
 //! built from [`crate::units::UNITS`] (units are never guessed: no bare number); a pure
 //! number (λ, k1) is a `number`. Every integer setting has the `minimum` and `maximum` of
-//! [`super::limits`]. The schema checks shape and spelling; other value ranges (λ < 1,
+//! [`super::limits`], and the input sizes have `maxLength`/`maxItems` (quantity strings,
+//! `description`, `[[paper]]`, the slider-crank's arrays). The schema checks shape and spelling; other value ranges (λ < 1,
 //! min ≤ max, …) stay with the resolvers, whose errors name the field.
 //!
 //! Keep it in step with the structs: `tests/schema.rs` validates every shipped problem file
 //! against it and shows that unknown keys fail.
 
 use super::limits::counts;
-use super::problem::Family;
+use super::problem::{Family, MAX_PAPER_ENTRIES, MAX_TEXT_CHARS};
+use super::slider_crank::MAX_TABLE_POINTS;
 use crate::units::{Dim, UNITS};
 use serde_json::{json, Map, Value};
 
@@ -56,6 +58,7 @@ fn qty(dim: Dim, desc: &str) -> Value {
         _ => json!({
             "description": description,
             "type": "string",
+            "maxLength": crate::units::MAX_QUANTITY_LEN,
             "pattern": quantity_pattern(Some(dim))
         }),
     }
@@ -109,11 +112,18 @@ fn obj(props: &[(&str, Value)], required: &[&str], desc: &str) -> Value {
     })
 }
 
+/// `v` with the JSON Schema keyword `key` set to `n` (an input-size limit).
+fn limited(mut v: Value, key: &str, n: usize) -> Value {
+    v[key] = json!(n);
+    v
+}
+
 fn paper() -> Value {
-    array(
+    let text = |d| limited(string(d), "maxLength", MAX_TEXT_CHARS);
+    let entries = array(
         obj(
             &[
-                ("quantity", string("what the paper's number is")),
+                ("quantity", text("what the paper's number is")),
                 (
                     "value",
                     json!({
@@ -124,14 +134,15 @@ fn paper() -> Value {
                         ]
                     }),
                 ),
-                ("key", string("dotted result key compared with")),
-                ("note", string("how to read the comparison")),
+                ("key", text("dotted result key compared with")),
+                ("note", text("how to read the comparison")),
             ],
             &["quantity", "value", "key"],
             "a value printed in the source paper",
         ),
         "printed values of the source paper to compare with",
-    )
+    );
+    limited(entries, "maxItems", MAX_PAPER_ENTRIES)
 }
 
 /// One family's branch: the common keys plus its sections.
@@ -154,7 +165,10 @@ fn family(
                 }),
             ),
             ("family", json!({ "type": "string", "enum": [name] })),
-            ("description", string("free text")),
+            (
+                "description",
+                limited(string("free text"), "maxLength", MAX_TEXT_CHARS),
+            ),
             ("mechanism", mechanism),
             ("model", model),
             ("design", design),
@@ -181,18 +195,22 @@ fn slider_crank() -> Value {
             ("slider_mass", qty(Mass, "m4 (or from mass_items)")),
             (
                 "mass_items",
-                array(
-                    obj(
-                        &[
-                            ("name", string("label")),
-                            ("mass", qty(Mass, "mass")),
-                            ("at", one_of(&["slider", "crank-pin"], "reduced to")),
-                            ("fraction", num("fraction reduced there (default 1)")),
-                        ],
-                        &["name", "mass", "at"],
-                        "an itemised mass",
+                limited(
+                    array(
+                        obj(
+                            &[
+                                ("name", string("label")),
+                                ("mass", qty(Mass, "mass")),
+                                ("at", one_of(&["slider", "crank-pin"], "reduced to")),
+                                ("fraction", num("fraction reduced there (default 1)")),
+                            ],
+                            &["name", "mass", "at"],
+                            "an itemised mass",
+                        ),
+                        "itemised masses (replace crank_mass and slider_mass)",
                     ),
-                    "itemised masses (replace crank_mass and slider_mass)",
+                    "maxItems",
+                    super::slider_crank::MAX_MASS_ITEMS,
                 ),
             ),
             (
@@ -207,8 +225,22 @@ fn slider_crank() -> Value {
                 "process_force_table",
                 obj(
                     &[
-                        ("angle", array(qty(Angle, "crank angle"), "crank angles")),
-                        ("force", array(qty(Force, "force"), "forces")),
+                        (
+                            "angle",
+                            limited(
+                                array(qty(Angle, "crank angle"), "crank angles"),
+                                "maxItems",
+                                MAX_TABLE_POINTS,
+                            ),
+                        ),
+                        (
+                            "force",
+                            limited(
+                                array(qty(Force, "force"), "forces"),
+                                "maxItems",
+                                MAX_TABLE_POINTS,
+                            ),
+                        ),
                     ],
                     &["angle", "force"],
                     "process force against crank angle",
