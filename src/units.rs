@@ -344,13 +344,22 @@ pub enum UnitError {
         dim: Dim,
         allowed: String,
     },
-    /// The unit is not known at all.
-    #[error("unknown unit `{unit}` for a {dim}; allowed: {allowed}", dim = .dim.name())]
+    /// The unit is not known at all (`hint`: "; did you mean `mm`?" or empty).
+    #[error("unknown unit `{unit}` for a {dim}{hint}; allowed: {allowed}", dim = .dim.name())]
     UnknownUnit {
         unit: String,
         dim: Dim,
+        hint: String,
         allowed: String,
     },
+    /// The text is longer than any quantity ([`MAX_QUANTITY_LEN`] bytes).
+    #[error(
+        "a quantity of {len} bytes; allowed: at most {MAX_QUANTITY_LEN} bytes, e.g. \"35 mm\""
+    )]
+    TooLong { len: usize },
+    /// The value is beyond [`MAX_MAGNITUDE`] in SI.
+    #[error("`{text}` is {si:e} {unit} in SI, beyond any machine; allowed: a magnitude up to {MAX_MAGNITUDE:e} {unit}", unit = .dim.si())]
+    OutOfRange { text: String, si: f64, dim: Dim },
     /// The unit is known but measures something else.
     #[error("`{unit}` is a unit of {found}, but this field is a {dim}; allowed: {allowed}", found = .found.name(), dim = .dim.name())]
     WrongDimension {
@@ -359,6 +368,36 @@ pub enum UnitError {
         dim: Dim,
         allowed: String,
     },
+}
+
+/// The longest quantity string read (bytes): a longer one is a mistake, and parsing it
+/// would take time for nothing.
+pub const MAX_QUANTITY_LEN: usize = 256;
+
+/// The largest magnitude of a dimensional quantity in SI (1e9 m, kg, N, rad/s, …): far
+/// beyond any machine, and small enough that products of a few such values (m·R·ω²) stay
+/// finite, so a typo such as `1e308 mm` is an error instead of an overflow deep inside.
+pub const MAX_MAGNITUDE: f64 = 1e9;
+
+/// The candidate closest to `word` by edit distance (Damerau–Levenshtein, ignoring case),
+/// if it is close enough to be a misspelling: at most a third of the longer word's length,
+/// and at least one edit allowed. For "did you mean" in errors (unknown keys, units, values).
+/// (Misspelt key `crank_mas` against `crank_mass`: 1 edit.)
+pub fn did_you_mean<'a>(
+    word: &str,
+    candidates: impl IntoIterator<Item = &'a str>,
+) -> Option<&'a str> {
+    if word.len() > 64 {
+        return None;
+    }
+    let w = word.to_lowercase();
+    candidates
+        .into_iter()
+        .map(|c| (strsim::damerau_levenshtein(&w, &c.to_lowercase()), c))
+        .filter(|&(d, c)| d > 0 && d <= (w.chars().count().max(c.chars().count()) / 3).max(1))
+        // The fewest edits; of those, the candidate of the written length (`mn`: `mm`).
+        .min_by_key(|&(d, c)| (d, c.chars().count().abs_diff(w.chars().count())))
+        .map(|(_, c)| c)
 }
 
 /// Whether `a` and `b` are one unit once the spellings people type for a product of units
@@ -412,6 +451,22 @@ fn split_number(t: &str) -> Option<(f64, &str)> {
 /// without a unit is a pure number: accepted for [`Dim::Dimensionless`] only, else
 /// [`UnitError::NoUnit`] (see [`bare`]).
 pub fn parse(text: &str, dim: Dim) -> Result<f64, UnitError> {
+    if text.len() > MAX_QUANTITY_LEN {
+        return Err(UnitError::TooLong { len: text.len() });
+    }
+    let si = parse_unbounded(text, dim)?;
+    if dim != Dim::Dimensionless && si.abs() > MAX_MAGNITUDE {
+        return Err(UnitError::OutOfRange {
+            text: text.into(),
+            si,
+            dim,
+        });
+    }
+    Ok(si)
+}
+
+/// [`parse`] without the magnitude bound.
+fn parse_unbounded(text: &str, dim: Dim) -> Result<f64, UnitError> {
     let Some((value, unit)) = split_number(text.trim()) else {
         return Err(UnitError::NotANumber {
             text: text.into(),
@@ -437,6 +492,12 @@ pub fn parse(text: &str, dim: Dim) -> Result<f64, UnitError> {
         None => Err(UnitError::UnknownUnit {
             unit: unit.into(),
             dim,
+            hint: did_you_mean(
+                unit,
+                UNITS.iter().filter(|u| u.dim == dim).map(|u| u.symbol),
+            )
+            .map(|u| format!("; did you mean `{u}`?"))
+            .unwrap_or_default(),
             allowed: dim.allowed(),
         }),
     }

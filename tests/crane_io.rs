@@ -312,7 +312,7 @@ fn bad_input_names_file_line_and_field() {
     // Missing field: serde's, and a missing design variable.
     let e = err(&with(EXAMPLE, "reach_min = \"10 m\"     # R_min\n", ""));
     assert!(e.to_string().contains("missing field `reach_min`"), "{e}");
-    assert_eq!(e.field(), Some("mechanism"));
+    assert_eq!(e.field(), Some("mechanism.reach_min"));
     let t = with(EXAMPLE, "k2 = 0.4               # a / L_v\n", "");
     assert_names(&t, "design.k2", "[design]", "missing; allowed");
     // Negative length, NaN, wrong unit.

@@ -259,7 +259,7 @@ fn unknown_and_missing_fields() {
         e.to_string().contains("missing field `pitch_radius`"),
         "{e}"
     );
-    assert_eq!(e.field(), Some("mechanism"));
+    assert_eq!(e.field(), Some("mechanism.pitch_radius"));
     let t = with(TABLE1, "eccentricity = \"15 mm\"", "# no e");
     assert_names(&t, "design.eccentricity", "[design]", "missing; allowed");
     let t = with(TABLE1, "teeth_gear2 = 36\n", "");

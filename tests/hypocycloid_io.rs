@@ -329,7 +329,7 @@ fn unknown_and_missing_fields() {
     let t = with(V1, "speed = \"1450 rpm\"\n", "");
     let e = err(&t);
     assert!(e.to_string().contains("missing field `speed`"), "{e}");
-    assert_eq!(e.field(), Some("mechanism"));
+    assert_eq!(e.field(), Some("mechanism.speed"));
     let t = with(V1, "lambda = 0.25\n", "");
     assert_names(&t, "design.lambda", "[design]", "missing");
     let t = with(C4V1, "order = 4", "order = 4\nstep = 2");

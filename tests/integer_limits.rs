@@ -16,61 +16,13 @@ use std::sync::mpsc;
 use std::time::{Duration, Instant};
 
 mod common;
-use common::assert_finite_as;
+use common::{assert_finite_as, integer_key_base, set_key};
 
 fn problem(name: &str) -> String {
     let p = Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("problems")
         .join(name);
     std::fs::read_to_string(p).unwrap()
-}
-
-/// The shipped file a key is tried on: one where the key takes effect.
-fn base(family: &str, key: &str) -> &'static str {
-    match family {
-        "slider-crank" => "felling-head-150rpm.toml",
-        "luffing-crane" => "crane-thesis-optimise.toml",
-        "eccentric-gear" if key == "accuracy.sweep_points" => "gear-eccentricity-design.toml",
-        "eccentric-gear" => "gear-paper-table1.toml",
-        "hypocycloid"
-            if key.starts_with("objective.zero_search")
-                || ["curve_points", "theta_scan", "opt_grid", "nm_max_iters"]
-                    .iter()
-                    .any(|k| key == format!("accuracy.{k}")) =>
-        {
-            "hypocycloid-c4-variant1.toml"
-        }
-        "hypocycloid" => "hypocycloid-variant1.toml",
-        f => panic!("no base file for {f}"),
-    }
-}
-
-/// `text` with `key = value` set: the key's line replaced inside its `[table]`, else
-/// inserted after the table's header, else the table appended.
-fn set(text: &str, key: &str, value: &str) -> String {
-    let (table, name) = key.rsplit_once('.').unwrap();
-    let header = format!("[{table}]");
-    let mut lines: Vec<String> = text.lines().map(str::to_string).collect();
-    let Some(h) = lines
-        .iter()
-        .position(|l| l.split('#').next().unwrap().trim() == header)
-    else {
-        return format!("{text}\n{header}\n{name} = {value}\n");
-    };
-    let end = lines[h + 1..]
-        .iter()
-        .position(|l| l.trim_start().starts_with('['))
-        .map_or(lines.len(), |k| h + 1 + k);
-    let line = format!("{name} = {value}");
-    match (h + 1..end).find(|&k| {
-        lines[k]
-            .split_once('=')
-            .is_some_and(|(a, _)| a.trim() == name)
-    }) {
-        Some(k) => lines[k] = line,
-        None => lines.insert(h + 1, line),
-    }
-    lines.join("\n") + "\n"
 }
 
 /// Solves on a thread; the result, or an error after `limit`.
@@ -92,7 +44,7 @@ fn sweep(family: &str) {
     let mut slow = Vec::new();
     {
         for &Count { key, min, max } in by_name(family).unwrap().counts() {
-            let text = problem(base(family, key));
+            let text = problem(integer_key_base(family, key));
             let mut values = vec![0, 1, min, max, max + 1, i64::MAX as u64, u64::MAX];
             if min > 0 {
                 values.push(min - 1);
@@ -105,7 +57,7 @@ fn sweep(family: &str) {
                 } else {
                     v.to_string()
                 };
-                let t = set(&text, key, &written);
+                let t = set_key(&text, key, &written);
                 let what = format!("{family} {key} = {written}");
                 let file = Path::new("limits.toml");
                 match parse_str(&t, file) {

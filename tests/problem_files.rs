@@ -132,7 +132,7 @@ fn missing_field_is_reported() {
     let t = with(PISTON, "rod_length = \"140 mm\"\n", "");
     let e = err(&t);
     assert!(e.to_string().contains("missing field `rod_length`"), "{e}");
-    assert_eq!(e.field(), Some("mechanism"));
+    assert_eq!(e.field(), Some("mechanism.rod_length"));
 }
 
 #[test]

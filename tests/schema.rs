@@ -3,7 +3,7 @@
 //!
 //! The validator below implements exactly the subset of JSON Schema the program emits:
 //! type, properties, required, additionalProperties (false), enum, oneOf, anyOf, items,
-//! minItems/maxItems, minimum and pattern. TOML is converted to JSON with `toml` and
+//! minItems/maxItems, minimum, maxLength and pattern. TOML is converted to JSON with `toml` and
 //! `serde_json`.
 
 use cwsynth::families::problem_schema;
@@ -31,6 +31,7 @@ fn validate(s: &Value, v: &Value, path: &str, errs: &mut Vec<String>) {
                 "maxItems",
                 "minimum",
                 "maximum",
+                "maxLength",
                 "pattern"
             ]
             .contains(&key.as_str()),
@@ -50,6 +51,11 @@ fn validate(s: &Value, v: &Value, path: &str, errs: &mut Vec<String>) {
         if !ok {
             errs.push(format!("{path}: not of type {t}: {v}"));
             return;
+        }
+    }
+    if let (Some(m), Some(x)) = (s.get("maxLength").and_then(Value::as_u64), v.as_str()) {
+        if x.chars().count() as u64 > m {
+            errs.push(format!("{path}: longer than {m} characters"));
         }
     }
     if let Some(e) = s.get("enum").and_then(Value::as_array) {

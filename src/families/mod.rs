@@ -16,7 +16,7 @@ pub mod family;
 
 pub use family::{machine, relative, Effect, Family, Ladder, Machine, Rung, Scene};
 
-use crate::problem::{Ctx, FieldError, Header, Input, ProblemError};
+use crate::problem::{check_size, Ctx, FieldError, Header, Input, ProblemError};
 use crate::report::{SolveResult, Status};
 use serde::Deserialize;
 use std::path::Path;
@@ -37,15 +37,39 @@ pub fn by_name(name: &str) -> Option<&'static dyn Family> {
 
 /// Reads and resolves a problem file.
 pub fn load(path: &Path) -> Result<Scene, ProblemError> {
-    let text = std::fs::read_to_string(path).map_err(|source| ProblemError::Read {
+    let bytes = std::fs::read(path).map_err(|source| ProblemError::Read {
         file: path.into(),
         source,
     })?;
-    parse_str(&text, path)
+    parse_bytes(&bytes, path)
+}
+
+/// Resolves the bytes of a problem file (what [`load`] reads); `path` is used for messages
+/// and as the scene's source.
+///
+/// Bytes that are not UTF-8 are an error at the line of the first bad byte.
+pub fn parse_bytes(bytes: &[u8], path: &Path) -> Result<Scene, ProblemError> {
+    check_size(bytes, path)?;
+    let text = std::str::from_utf8(bytes).map_err(|e| {
+        let at = e.valid_up_to();
+        let line_start = bytes[..at].iter().rposition(|&b| b == b'\n').map_or(0, |i| i + 1);
+        ProblemError::Invalid {
+            file: path.into(),
+            line: Some(bytes[..at].iter().filter(|&&b| b == b'\n').count() + 1),
+            field: None,
+            message: format!(
+                "not UTF-8 text: byte 0x{:02x} at column {} (byte {at}); allowed: a UTF-8 text file",
+                bytes[at],
+                String::from_utf8_lossy(&bytes[line_start..at]).chars().count() + 1
+            ),
+        }
+    })?;
+    parse_str(text, path)
 }
 
 /// Resolves problem-file text; `path` is used for messages and as the scene's source.
 pub fn parse_str(text: &str, path: &Path) -> Result<Scene, ProblemError> {
+    check_size(text.as_bytes(), path)?;
     let ctx = Ctx::new(path, text);
     let header: Header = ctx.parse(text)?;
     resolve(&ctx, header, Input::Text(text))
@@ -56,7 +80,7 @@ pub fn parse_str(text: &str, path: &Path) -> Result<Scene, ProblemError> {
 /// messages and as the scene's source. Its errors have no line: a caller that needs one reads
 /// the text with [`parse_str`]. A fleet row takes this way and never prints TOML.
 pub fn parse_table(table: toml::Table, path: &Path) -> Result<Scene, ProblemError> {
-    let ctx = Ctx::new(path, "");
+    let ctx = Ctx::of_table(path);
     let header = Header::of_table(&ctx, &table)?;
     resolve(&ctx, header, Input::Table(table))
 }
@@ -79,9 +103,14 @@ fn resolve(ctx: &Ctx, header: Header, input: Input) -> Result<Scene, ProblemErro
         .ok()
         .and_then(|n| by_name(&n))
         .ok_or_else(|| {
+            let hint = value
+                .as_str()
+                .and_then(|v| crate::units::did_you_mean(v, FAMILIES.iter().map(|f| f.name())))
+                .map(|n| format!("; did you mean `{n}`?"))
+                .unwrap_or_default();
             ctx.field_error(FieldError::new(
                 "family",
-                format!("unknown family {value}; {}", allowed()),
+                format!("unknown family {value}{hint}; {}", allowed()),
             ))
         })?;
     if header.name.is_none() {

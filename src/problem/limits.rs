@@ -7,7 +7,9 @@
 //! family's resolver before anything is sized by it ([`check`], [`check_section`]), written in
 //! `docs/problem-files.md`, and given to the JSON schema as `minimum`/`maximum`. Every
 //! maximum keeps one run of an otherwise default scene within about a second
-//! (`tests/hostile_input.rs` runs each at its minimum and maximum).
+//! (`tests/integer_limits.rs` runs each at its minimum and maximum). Their products are
+//! bounded by a per-family work budget ([`check_work`], formulas in each family's
+//! `check_work` and in `docs/problem-files.md`).
 
 use crate::problem::FieldError;
 
@@ -73,6 +75,59 @@ pub fn check_section<T: serde::Serialize>(
         }
     }
     Ok(())
+}
+
+/// One factor of a work estimate: the dotted key, its value and its default (the key
+/// raised most above its default is the one an error names).
+#[derive(Debug, Clone, Copy)]
+pub struct Term<'a> {
+    /// Dotted key (or the keys that set a derived count, e.g. the arch count).
+    pub key: &'a str,
+    /// Its value in the scene.
+    pub value: f64,
+    /// Its default (or a typical value).
+    pub default: f64,
+}
+
+/// A term: `key = value` with its default.
+pub fn term(key: &str, value: impl Into<f64>, default: impl Into<f64>) -> Term<'_> {
+    Term {
+        key,
+        value: value.into(),
+        default: default.into(),
+    }
+}
+
+/// Checks a scene's work `estimate` (written as `formula`) against its family's `budget`
+/// (`WORK_BUDGET` in `families/<family>/file.rs`, see `docs/problem-files.md`, "Work
+/// budget"): integer settings can each be at their maximum, but their products multiply
+/// (samples × starts × iterations × grid points). Over the budget, an error naming the term
+/// raised most above its default, and listing every term with its value.
+pub fn check_work(
+    budget: f64,
+    family: &str,
+    estimate: f64,
+    formula: &str,
+    terms: &[Term],
+) -> Result<(), FieldError> {
+    if estimate <= budget {
+        return Ok(());
+    }
+    let worst = terms
+        .iter()
+        .max_by(|a, b| (a.value / a.default).total_cmp(&(b.value / b.default)))
+        .map_or("accuracy", |t| t.key);
+    let list: Vec<String> = terms
+        .iter()
+        .map(|t| format!("{} = {} (default {})", t.key, t.value, t.default))
+        .collect();
+    Err(FieldError::new(
+        worst,
+        format!(
+            "the scene's work estimate {formula} = {estimate:.3e} is above the {family} budget {budget:.0e}, which keeps one machine to seconds; lower one of: {}",
+            list.join(", ")
+        ),
+    ))
 }
 
 #[cfg(test)]

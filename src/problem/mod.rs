@@ -93,6 +93,8 @@ pub struct Ctx<'a> {
     /// Its key index, built on the first error only (a valid file never needs it; a fleet
     /// parses one text per machine).
     map: std::cell::OnceCell<SourceMap>,
+    /// Whether there is a text at all (a fleet row's table has none: no lines).
+    has_text: bool,
 }
 
 impl<'a> Ctx<'a> {
@@ -102,6 +104,15 @@ impl<'a> Ctx<'a> {
             file,
             text,
             map: std::cell::OnceCell::new(),
+            has_text: true,
+        }
+    }
+
+    /// A context for a table already parsed (no text, so its errors have no line).
+    pub fn of_table(file: &'a Path) -> Self {
+        Ctx {
+            has_text: false,
+            ..Ctx::new(file, "")
         }
     }
 
@@ -110,28 +121,75 @@ impl<'a> Ctx<'a> {
         self.map.get_or_init(|| SourceMap::new(self.text))
     }
 
-    /// A value error, located by its field.
+    /// Whether the context has a text (a fleet row's table has none: its errors have no
+    /// line; an empty file does have one).
+    fn has_text(&self) -> bool {
+        self.has_text
+    }
+
+    /// A value error, located by its field: the field's line, or for a missing field the
+    /// line of its nearest present table (line 1 for a top-level key).
     pub fn field_error(&self, e: FieldError) -> ProblemError {
+        let line = self.map().line_of(&e.field);
         ProblemError::Invalid {
             file: self.file.into(),
-            line: self.map().line_of(&e.field),
-            field: Some(e.field),
+            line: line.or(self.has_text().then_some(1)),
+            field: Some(shorten(&e.field, 200)),
             message: e.message,
         }
     }
 
-    /// A serde/TOML error, located by its span.
+    /// A serde/TOML error, located by its span. A missing field is named with its table
+    /// (`mechanism.rod_length`) at the table's line (a table without text has no spans: its
+    /// error keeps serde's words without a field); an unknown key, variant or field gets
+    /// "did you mean" when one of the allowed names is close; an error without a span (the
+    /// TOML reader's recursion limit) gets the line where the nesting is deepest.
     pub fn toml_error(&self, e: toml::de::Error) -> ProblemError {
         let start = e.span().map(|s| s.start);
-        let line = start.map(|o| self.map().line_of_offset(o));
-        let field = start.and_then(|o| self.map().key_at(o)).map(str::to_string);
-        let message = e.message().trim().replace('\n', " ");
+        let mut line = start.map(|o| self.map().line_of_offset(o));
+        let mut field = start.and_then(|o| self.map().key_at(o)).map(str::to_string);
+        let mut message = shorten(&e.message().trim().replace('\n', " "), 1000);
+        let missing = quoted_after(&message, "missing field `").filter(|_| self.has_text());
+        if let Some(missing) = missing {
+            // The span is the table's (or the whole text's): the field goes in that table.
+            let at = |o: usize| self.text.get(o..).unwrap_or("");
+            let table = match start {
+                Some(o) if at(o).starts_with(['[', '{']) => field.take(),
+                Some(o) if o > 0 => self.table_at(o),
+                _ => None,
+            };
+            let path = match &table {
+                Some(t) => format!("{t}.{missing}"),
+                None => missing.to_string(),
+            };
+            line = table
+                .as_deref()
+                .and_then(|t| self.map().line_of(t))
+                .or(line);
+            message = format!("missing field `{missing}`: it is required; allowed: add it");
+            field = Some(path);
+        } else if let Some(hint) = suggestion(&message) {
+            message.push_str(&hint);
+        }
+        if line.is_none() && self.has_text() {
+            line = Some(deepest_line(self.text));
+        }
         ProblemError::Invalid {
             file: self.file.into(),
             line,
-            field,
+            field: field.map(|f| shorten(&f, 200)),
             message,
         }
+    }
+
+    /// The dotted name of the `[table]` whose header comes last before `offset`.
+    fn table_at(&self, offset: usize) -> Option<String> {
+        let before = &self.text[..offset.min(self.text.len())];
+        before.lines().rev().find_map(|l| {
+            let t = l.trim();
+            let name = t.strip_prefix("[[").or_else(|| t.strip_prefix('['))?;
+            Some(name.split(']').next()?.trim().to_string())
+        })
     }
 
     /// Deserialises the whole text as `T`.
@@ -139,6 +197,68 @@ impl<'a> Ctx<'a> {
         toml::from_str(text).map_err(|e| self.toml_error(e))
     }
 }
+
+/// `s` cut to at most `max` characters (with `…`): a message never echoes a megabyte.
+fn shorten(s: &str, max: usize) -> String {
+    match s.char_indices().nth(max) {
+        Some((i, _)) => format!("{}…", &s[..i]),
+        None => s.to_string(),
+    }
+}
+
+/// The text between `prefix` and the next backtick.
+fn quoted_after<'a>(message: &'a str, prefix: &str) -> Option<&'a str> {
+    let rest = &message[message.find(prefix)? + prefix.len()..];
+    rest.split('`').next()
+}
+
+/// "; did you mean `x`?" for serde's "unknown field `y`, expected one of `x`, …" (and
+/// "unknown variant"), when one of the expected names is close to the one written.
+fn suggestion(message: &str) -> Option<String> {
+    let word = quoted_after(message, "unknown field `")
+        .or_else(|| quoted_after(message, "unknown variant `"))?;
+    let expected = &message[message.find("expected")?..];
+    let names = expected.split('`').skip(1).step_by(2);
+    units::did_you_mean(word, names).map(|n| format!("; did you mean `{n}`?"))
+}
+
+/// The 1-based line where brackets and braces nest deepest, or a `[table]` header has the
+/// most dots: where the TOML reader's recursion limit was met.
+fn deepest_line(text: &str) -> usize {
+    let mut depth = 0i64;
+    let (mut best, mut at) = (-1i64, 1);
+    for (i, line) in text.lines().enumerate() {
+        let t = line.trim_start();
+        if t.starts_with('[') && !line.contains('=') {
+            let dots = t.matches('.').count() as i64;
+            if dots > best {
+                (best, at) = (dots, i + 1);
+            }
+            continue;
+        }
+        for c in line.chars() {
+            match c {
+                '[' | '{' => depth += 1,
+                ']' | '}' => depth -= 1,
+                '#' => break,
+                _ => {}
+            }
+            if depth > best {
+                (best, at) = (depth, i + 1);
+            }
+        }
+    }
+    at
+}
+
+/// The largest problem file read (bytes): the shipped ones are a few kB.
+pub const MAX_FILE_BYTES: usize = 1 << 20;
+
+/// The longest `description` and `[[paper]]` text (characters).
+pub const MAX_TEXT_CHARS: usize = 10_000;
+
+/// Most `[[paper]]` entries.
+pub const MAX_PAPER_ENTRIES: usize = 1000;
 
 /// What a problem file is read from: its text, or a table already parsed from TOML (a
 /// fleet row: the template's table with the row's cells set, see `families::parse_table`).
@@ -222,6 +342,7 @@ where
         resolve_raw: impl FnOnce(&Self) -> Result<K, FieldError>,
     ) -> Result<Resolved<K>, ProblemError> {
         let raw: Self = input.parse(ctx)?;
+        check_texts(&raw.description, &raw.paper).map_err(|e| ctx.field_error(e))?;
         let part = resolve_raw(&raw).map_err(|e| ctx.field_error(e))?;
         let paper = resolve_paper(&raw.paper).map_err(|e| ctx.field_error(e))?;
         Ok(Resolved {
@@ -247,6 +368,38 @@ pub struct Resolved<K> {
     pub paper: Vec<PaperRef>,
     /// The family's resolved part.
     pub part: K,
+}
+
+/// The input-size limits of the common keys: `description` and every `[[paper]]` text at
+/// most [`MAX_TEXT_CHARS`] characters, at most [`MAX_PAPER_ENTRIES`] entries.
+fn check_texts(description: &str, paper: &[PaperRaw]) -> Result<(), FieldError> {
+    let long = |field: String, t: &str| {
+        let n = t.chars().count();
+        if n > MAX_TEXT_CHARS {
+            Err(FieldError::new(
+                field,
+                format!("{n} characters; allowed: at most {MAX_TEXT_CHARS}"),
+            ))
+        } else {
+            Ok(())
+        }
+    };
+    long("description".into(), description)?;
+    if paper.len() > MAX_PAPER_ENTRIES {
+        return Err(FieldError::new(
+            format!("paper[{MAX_PAPER_ENTRIES}]"),
+            format!(
+                "{} [[paper]] entries; allowed: at most {MAX_PAPER_ENTRIES}",
+                paper.len()
+            ),
+        ));
+    }
+    for (i, p) in paper.iter().enumerate() {
+        long(format!("paper[{i}].quantity"), &p.quantity)?;
+        long(format!("paper[{i}].key"), &p.key)?;
+        long(format!("paper[{i}].note"), &p.note)?;
+    }
+    Ok(())
 }
 
 /// A value printed in the source paper, compared with a key of the result.
@@ -426,6 +579,22 @@ impl<'de, D: Dimension> Deserialize<'de> for RawVar<D> {
         }
         d.deserialize_any(V(PhantomData))
     }
+}
+
+/// A file over [`MAX_FILE_BYTES`]: an error at the line where it passes the limit.
+pub fn check_size(bytes: &[u8], path: &Path) -> Result<(), ProblemError> {
+    if bytes.len() <= MAX_FILE_BYTES {
+        return Ok(());
+    }
+    Err(ProblemError::Invalid {
+        file: path.into(),
+        line: Some(bytes[..MAX_FILE_BYTES].iter().filter(|&&b| b == b'\n').count() + 1),
+        field: None,
+        message: format!(
+            "the file is {} bytes and passes the limit on this line; allowed: at most {MAX_FILE_BYTES} bytes",
+            bytes.len()
+        ),
+    })
 }
 
 /// Names a machine cannot have, compared without case: the batch's own files

@@ -6,7 +6,9 @@
 //! `additionalProperties: false` like the structs' `deny_unknown_fields`. A dimensional
 //! quantity is a `string` whose pattern is a number and one of the units of its dimension,
 //! built from [`crate::units::UNITS`] (units are never guessed: no bare number); a pure
-//! number (λ, k1) is a `number`. Every integer setting has the `minimum` and `maximum` of
+//! number (λ, k1) is a `number`. The input sizes have `maxLength`/`maxItems` (quantity
+//! strings, `description`, `[[paper]]`, the slider-crank's arrays). Every integer setting has
+//! the `minimum` and `maximum` of
 //! [`super::limits`]. The schema checks shape and spelling; other value ranges (λ < 1,
 //! min ≤ max, …) stay with the resolvers, whose errors name the field.
 //!
@@ -14,6 +16,7 @@
 //! against it and shows that unknown keys fail.
 
 use crate::problem::limits::Count;
+use crate::problem::{MAX_PAPER_ENTRIES, MAX_TEXT_CHARS};
 use crate::units::{Dim, UNITS};
 use serde_json::{json, Map, Value};
 
@@ -56,6 +59,7 @@ pub fn qty(dim: Dim, desc: &str) -> Value {
         _ => json!({
             "description": description,
             "type": "string",
+            "maxLength": crate::units::MAX_QUANTITY_LEN,
             "pattern": quantity_pattern(Some(dim))
         }),
     }
@@ -109,11 +113,18 @@ pub fn obj(props: &[(&str, Value)], required: &[&str], desc: &str) -> Value {
     })
 }
 
+/// `v` with the JSON Schema keyword `key` set to `n` (an input-size limit).
+pub fn limited(mut v: Value, key: &str, n: usize) -> Value {
+    v[key] = json!(n);
+    v
+}
+
 fn paper() -> Value {
-    array(
+    let text = |d| limited(string(d), "maxLength", MAX_TEXT_CHARS);
+    let entries = array(
         obj(
             &[
-                ("quantity", string("what the paper's number is")),
+                ("quantity", text("what the paper's number is")),
                 (
                     "value",
                     json!({
@@ -124,14 +135,15 @@ fn paper() -> Value {
                         ]
                     }),
                 ),
-                ("key", string("dotted result key compared with")),
-                ("note", string("how to read the comparison")),
+                ("key", text("dotted result key compared with")),
+                ("note", text("how to read the comparison")),
             ],
             &["quantity", "value", "key"],
             "a value printed in the source paper",
         ),
         "printed values of the source paper to compare with",
-    )
+    );
+    limited(entries, "maxItems", MAX_PAPER_ENTRIES)
 }
 
 /// One family's branch: the common keys plus its sections.
@@ -154,7 +166,10 @@ pub fn family(
                 }),
             ),
             ("family", json!({ "type": "string", "enum": [name] })),
-            ("description", string("free text")),
+            (
+                "description",
+                limited(string("free text"), "maxLength", MAX_TEXT_CHARS),
+            ),
             ("mechanism", mechanism),
             ("model", model),
             ("design", design),

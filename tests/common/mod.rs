@@ -31,6 +31,54 @@ pub fn line_of(text: &str, needle: &str) -> usize {
     text[..text.find(needle).unwrap()].matches('\n').count() + 1
 }
 
+/// `text` with `key = value` set: the key's line replaced inside its `[table]`, else
+/// inserted after the table's header, else the table appended.
+pub fn set_key(text: &str, key: &str, value: &str) -> String {
+    let (table, name) = key.rsplit_once('.').unwrap();
+    let header = format!("[{table}]");
+    let mut lines: Vec<String> = text.lines().map(str::to_string).collect();
+    let Some(h) = lines
+        .iter()
+        .position(|l| l.split('#').next().unwrap().trim() == header)
+    else {
+        return format!("{text}\n{header}\n{name} = {value}\n");
+    };
+    let end = lines[h + 1..]
+        .iter()
+        .position(|l| l.trim_start().starts_with('['))
+        .map_or(lines.len(), |k| h + 1 + k);
+    let line = format!("{name} = {value}");
+    match (h + 1..end).find(|&k| {
+        lines[k]
+            .split_once('=')
+            .is_some_and(|(a, _)| a.trim() == name)
+    }) {
+        Some(k) => lines[k] = line,
+        None => lines.insert(h + 1, line),
+    }
+    lines.join("\n") + "\n"
+}
+
+/// The shipped file a key is tried on: one where the key takes effect.
+pub fn integer_key_base(family: &str, key: &str) -> &'static str {
+    match family {
+        "slider-crank" => "felling-head-150rpm.toml",
+        "luffing-crane" => "crane-thesis-optimise.toml",
+        "eccentric-gear" if key == "accuracy.sweep_points" => "gear-eccentricity-design.toml",
+        "eccentric-gear" => "gear-paper-table1.toml",
+        "hypocycloid"
+            if key.starts_with("objective.zero_search")
+                || ["curve_points", "theta_scan", "opt_grid", "nm_max_iters"]
+                    .iter()
+                    .any(|k| key == format!("accuracy.{k}")) =>
+        {
+            "hypocycloid-c4-variant1.toml"
+        }
+        "hypocycloid" => "hypocycloid-variant1.toml",
+        f => panic!("no base file for family {f}"),
+    }
+}
+
 /// `text` is rejected naming `field` on the line of `line_needle`, saying `says`.
 #[track_caller]
 pub fn assert_names(text: &str, field: &str, line_needle: &str, says: &str) {
@@ -157,19 +205,26 @@ pub fn assert_finite(r: &cwsynth::report::SolveResult) {
 /// [`assert_finite`], naming the case `what` in the message.
 #[track_caller]
 pub fn assert_finite_as(r: &cwsynth::report::SolveResult, what: &str) {
-    for (sec, m) in [
-        ("design", &r.design),
-        ("objectives", &r.objectives),
-        ("errors", &r.errors),
-        ("derived", &r.derived),
-    ] {
-        for (k, v) in m {
-            assert!(v.is_finite(), "{what}: {sec}.{k} = {v}");
-        }
+    if let Some(bad) = non_finite(r) {
+        panic!("{what}: {bad}");
     }
-    for (b, m) in &r.baselines {
-        for (k, v) in m {
-            assert!(v.is_finite(), "{what}: baselines.{b}.{k} = {v}");
-        }
-    }
+}
+
+/// The first number of a result's maps that is not finite (`section.key = value`), if any.
+pub fn non_finite(r: &cwsynth::report::SolveResult) -> Option<String> {
+    let sections = [
+        ("design".to_string(), &r.design),
+        ("objectives".to_string(), &r.objectives),
+        ("errors".to_string(), &r.errors),
+        ("derived".to_string(), &r.derived),
+    ];
+    let baselines = r
+        .baselines
+        .iter()
+        .map(|(b, m)| (format!("baselines.{b}"), m));
+    sections.into_iter().chain(baselines).find_map(|(sec, m)| {
+        m.iter()
+            .find(|(_, v)| !v.is_finite())
+            .map(|(k, v)| format!("{sec}.{k} = {v}"))
+    })
 }

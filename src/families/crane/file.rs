@@ -11,13 +11,21 @@ use crate::units::{Angle, Dimensionless, Length, Mass, Qty};
 use serde::Deserialize;
 
 /// `[mechanism]`: the crane's requirements (thesis §3.1).
+/// The `family = "…"` value of this family's files.
+pub const FAMILY: &str = "luffing-crane";
+
+/// The work budget of one scene (see [`limits::check_work`] and `check_work` below):
+/// every single integer setting at its maximum passes on the shipped files, their products
+/// do not, so one machine runs in seconds and can neither stall a batch nor exhaust memory.
+pub const WORK_BUDGET: f64 = 2e7;
+
 /// The integer keys of this family's file and their ranges (see [`limits`]).
 pub const COUNTS: &[Count] = &[
     c("accuracy.path_samples", 8, 1024),
     c("accuracy.plot_points", 2, 10_000),
     c("accuracy.global_samples", 1, 1000),
     c("accuracy.local_starts", 1, 50),
-    c("accuracy.local_max_iters", 1, 100_000),
+    c("accuracy.local_max_iters", 1, 2000),
     c("accuracy.landscape_k1", 0, 201),
     c("accuracy.landscape_k2", 0, 201),
 ];
@@ -234,5 +242,48 @@ pub fn resolve_raw(raw: &File) -> Result<CraneProblem, FieldError> {
     let settings = raw.accuracy.clone();
     limits::check_section(COUNTS, "accuracy", &settings)?;
     settings.validate().map_err(map_error)?;
+    check_work(&scene, &settings)?;
     Ok(CraneProblem { scene, settings })
+}
+
+/// The work budget ([`limits::check_work`]): W = n_path·(1 + n·G + s·I·(n + 1) + k1·k2) +
+/// n_plot, n the free variables (each path evaluation samples n_path angles; the global stage
+/// evaluates n·G Halton points, each of s SQP searches at most I iterations of n + 1
+/// evaluations; the landscape k1·k2 grid points).
+fn check_work(scene: &cr::CraneScene, s: &cr::Settings) -> Result<(), FieldError> {
+    let d = cr::Settings::default();
+    let n = scene
+        .vars()
+        .iter()
+        .filter(|v| matches!(v, crate::synth::Var::Free { .. }))
+        .count() as f64;
+    let (path, g, starts, iters) = (
+        s.path_samples as f64,
+        s.global_samples as f64,
+        s.local_starts as f64,
+        s.local_max_iters as f64,
+    );
+    let grid = (s.landscape_k1 * s.landscape_k2) as f64;
+    let search = if n > 0.0 {
+        n * g + starts * iters * (n + 1.0)
+    } else {
+        0.0
+    };
+    let estimate = path * (1.0 + search + grid) + s.plot_points as f64;
+    let t = |k, v: f64, d: usize| limits::term(k, v, d as f64);
+    limits::check_work(
+        WORK_BUDGET,
+        FAMILY,
+        estimate,
+        "path_samples·(1 + n·global_samples + local_starts·local_max_iters·(n + 1) + landscape_k1·landscape_k2) + plot_points",
+        &[
+            t("accuracy.path_samples", path, d.path_samples),
+            t("accuracy.global_samples", g, d.global_samples),
+            t("accuracy.local_starts", starts, d.local_starts),
+            t("accuracy.local_max_iters", iters, d.local_max_iters as usize),
+            t("accuracy.landscape_k1", s.landscape_k1 as f64, d.landscape_k1),
+            t("accuracy.landscape_k2", s.landscape_k2 as f64, d.landscape_k2),
+            t("accuracy.plot_points", s.plot_points as f64, d.plot_points),
+        ],
+    )
 }

@@ -22,7 +22,7 @@ pub struct LuffingCrane;
 
 impl Family for LuffingCrane {
     fn name(&self) -> &'static str {
-        "luffing-crane"
+        file::FAMILY
     }
     fn counts(&self) -> &'static [Count] {
         file::COUNTS

@@ -14,6 +14,14 @@ use serde::Deserialize;
 use std::f64::consts::PI;
 
 /// `[mechanism]`: the pair and the stated gear data (checked, never silently used).
+/// The `family = "…"` value of this family's files.
+pub const FAMILY: &str = "eccentric-gear";
+
+/// The work budget of one scene (see [`limits::check_work`] and `check_work` below):
+/// every single integer setting at its maximum passes on the shipped files, their products
+/// do not, so one machine runs in seconds and can neither stall a batch nor exhaust memory.
+pub const WORK_BUDGET: f64 = 3e7;
+
 /// The integer keys of this family's file and their ranges (see [`limits`]).
 pub const COUNTS: &[Count] = &[
     c("mechanism.turns_gear1", 1, 100),
@@ -236,5 +244,43 @@ pub fn resolve_raw(raw: &File) -> Result<GearProblem, FieldError> {
         FieldError::new(f.key, format!("{}{allowed}", f.message))
     })?;
     let settings = resolve_accuracy(&raw.accuracy)?;
+    check_work(&gear, &settings)?;
     Ok(GearProblem { gear, settings })
+}
+
+/// The work budget ([`limits::check_work`]): one analysis A = 2·N·n1·(s_arch + s_peak) +
+/// n_curv + n_series + n_curve·(1 + n1/n2), N = R/r the arches of gear 1 (both pole functions
+/// sampled over the N·n1 arches of a cycle); a design W = (n_sweep + 64)·A (the sweep, then at
+/// most 64 Brent steps), an analysis W = A.
+fn check_work(g: &GearScene, s: &Settings) -> Result<(), FieldError> {
+    let d = Settings::default();
+    let arches = (g.pitch_radius / g.generating_radius).round();
+    let (n1, n2) = (f64::from(g.turns_gear1), f64::from(g.turns_gear2));
+    let f = |v: usize| v as f64;
+    let analysis = 2.0 * arches * n1 * f(s.samples_per_arch + s.peak_samples_per_arch)
+        + f(s.curvature_samples + s.series_points)
+        + f(s.curve_points) * (1.0 + n1 / n2);
+    let free = matches!(g.eccentricity, crate::synth::Var::Free { .. });
+    let estimate = if free {
+        (f(s.sweep_points) + 64.0) * analysis
+    } else {
+        analysis
+    };
+    let t = |k, v: f64, d: usize| limits::term(k, v, d as f64);
+    limits::check_work(
+        WORK_BUDGET,
+        FAMILY,
+        estimate,
+        "(sweep_points + 64, for a free eccentricity)·(2·(pitch_radius/generating_radius)·turns_gear1·(samples_per_arch + peak_samples_per_arch) + curvature_samples + series_points + curve_points·(1 + turns_gear1/turns_gear2))",
+        &[
+            t("mechanism.generating_radius", arches, 30),
+            t("mechanism.turns_gear1", n1, 3),
+            t("accuracy.sweep_points", if free { f(s.sweep_points) } else { 0.0 }, d.sweep_points),
+            t("accuracy.samples_per_arch", f(s.samples_per_arch), d.samples_per_arch),
+            t("accuracy.peak_samples_per_arch", f(s.peak_samples_per_arch), d.peak_samples_per_arch),
+            t("accuracy.curvature_samples", f(s.curvature_samples), d.curvature_samples),
+            t("accuracy.series_points", f(s.series_points), d.series_points),
+            t("accuracy.curve_points", f(s.curve_points), d.curve_points),
+        ],
+    )
 }

@@ -22,7 +22,7 @@ pub struct EccentricGear;
 
 impl Family for EccentricGear {
     fn name(&self) -> &'static str {
-        "eccentric-gear"
+        file::FAMILY
     }
     fn counts(&self) -> &'static [Count] {
         file::COUNTS

@@ -18,6 +18,14 @@ use serde::Deserialize;
 use std::f64::consts::TAU;
 
 /// `[mechanism]`.
+/// The `family = "…"` value of this family's files.
+pub const FAMILY: &str = "hypocycloid";
+
+/// The work budget of one scene (see [`limits::check_work`] and `check_work` below):
+/// every single integer setting at its maximum passes on the shipped files, their products
+/// do not, so one machine runs in seconds and can neither stall a batch nor exhaust memory.
+pub const WORK_BUDGET: f64 = 5e8;
+
 /// The integer keys of this family's file and their ranges (see [`limits`]).
 pub const COUNTS: &[Count] = &[
     c("mechanism.variant", 1, 2),
@@ -32,7 +40,7 @@ pub const COUNTS: &[Count] = &[
     c("accuracy.peak_samples", 16, 4096),
     c("accuracy.opt_grid", 3, 40),
     c("accuracy.opt_starts", 1, 64),
-    c("accuracy.nm_max_iters", 1, 100_000),
+    c("accuracy.nm_max_iters", 1, 5000),
     c("accuracy.plot_samples", 8, 100_000),
 ];
 
@@ -321,9 +329,56 @@ pub fn resolve_raw(raw: &File) -> Result<HypocycloidProblem, FieldError> {
     };
     scene.validate().map_err(map_synth_error)?;
     let settings = resolve_accuracy(&raw.accuracy)?;
+    check_work(&scene, &settings)?;
     Ok(HypocycloidProblem {
         variant: variant.map(|v| v as u8),
         scene,
         settings,
     })
+}
+
+/// The work budget ([`limits::check_work`]): W = E·(1 + n_grid^n + n_starts·n_iter·(n + 1) +
+/// n_curve·(n_scan + 60)) + n_plot·orders, E = n_fft·log2(n_fft) + n_peak·orders the work of
+/// one evaluation at the first FFT size (n_fft = `n_fft_min`; the adaptive doublings stop at
+/// `n_fft_max`), n the free variables (grid, then Nelder–Mead), the zero search's columns
+/// each scanned and refined (at most 60 Brent steps); the zero-search term only with a zero
+/// search.
+fn check_work(scene: &HypocycloidScene, s: &Settings) -> Result<(), FieldError> {
+    let d = Settings::default();
+    let f = |v: usize| v as f64;
+    let n = [&scene.lambda, &scene.theta]
+        .iter()
+        .filter(|v| matches!(v, crate::synth::Var::Free { .. }))
+        .count() as f64;
+    let fft = f(s.n_fft_min) * f(s.n_fft_min).log2();
+    let eval = fft + f(s.peak_samples) * f(scene.orders);
+    let search = if n > 0.0 {
+        f(s.opt_grid).powf(n) + f(s.opt_starts) * s.nm_max_iters as f64 * (n + 1.0)
+    } else {
+        0.0
+    };
+    let zeros = if scene.zero_search.is_some() {
+        f(s.curve_points) * (f(s.theta_scan) + 60.0)
+    } else {
+        0.0
+    };
+    let estimate = eval * (1.0 + search + zeros) + f(s.plot_samples) * f(scene.orders);
+    let t = |k, v: f64, d: f64| limits::term(k, v, d);
+    limits::check_work(
+        WORK_BUDGET,
+        FAMILY,
+        estimate,
+        "(n_fft_min·log2(n_fft_min) + peak_samples·orders)·(1 + opt_grid^n + opt_starts·nm_max_iters·(n + 1) + curve_points·(theta_scan + 60)) + plot_samples·orders",
+        &[
+            t("accuracy.n_fft_min", f(s.n_fft_min), f(d.n_fft_min)),
+            t("accuracy.peak_samples", f(s.peak_samples), f(d.peak_samples)),
+            t("model.orders", f(scene.orders), 8.0),
+            t("accuracy.opt_grid", f(s.opt_grid), f(d.opt_grid)),
+            t("accuracy.opt_starts", f(s.opt_starts), f(d.opt_starts)),
+            t("accuracy.nm_max_iters", s.nm_max_iters as f64, d.nm_max_iters as f64),
+            t("accuracy.curve_points", f(s.curve_points), f(d.curve_points)),
+            t("accuracy.theta_scan", f(s.theta_scan), f(d.theta_scan)),
+            t("accuracy.plot_samples", f(s.plot_samples), f(d.plot_samples)),
+        ],
+    )
 }

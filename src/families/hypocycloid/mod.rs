@@ -22,7 +22,7 @@ pub struct HypocycloidFamily;
 
 impl Family for HypocycloidFamily {
     fn name(&self) -> &'static str {
-        "hypocycloid"
+        file::FAMILY
     }
     fn counts(&self) -> &'static [Count] {
         file::COUNTS

@@ -28,6 +28,14 @@ use std::f64::consts::{PI, TAU};
 pub const MIN_RADIUS_OF_CRANK: f64 = 1e-6;
 
 /// `[mechanism]`.
+/// The `family = "…"` value of this family's files.
+pub const FAMILY: &str = "slider-crank";
+
+/// The work budget of one scene (see [`limits::check_work`] and `check_work` below):
+/// every single integer setting at its maximum passes on the shipped files, their products
+/// do not, so one machine runs in seconds and can neither stall a batch nor exhaust memory.
+pub const WORK_BUDGET: f64 = 1e7;
+
 /// The integer keys of this family's file and their ranges (see [`limits`]).
 pub const COUNTS: &[Count] = &[
     c("objective.pareto_points", 0, 200),
@@ -309,6 +317,12 @@ pub fn resolve(ctx: &Ctx, input: Input) -> Result<Resolved<SliderCrankProblem>, 
     File::resolve(ctx, input, resolve_raw)
 }
 
+/// Most points of `[mechanism.process_force_table]` (a measured cycle at 0.1° is 3600).
+pub const MAX_TABLE_POINTS: usize = 10_000;
+
+/// Most `[[mechanism.mass_items]]`.
+pub const MAX_MASS_ITEMS: usize = 1000;
+
 /// The value checks of a slider-crank file.
 pub fn resolve_raw(raw: &File) -> Result<SliderCrankProblem, FieldError> {
     check_name(&raw.name)?;
@@ -356,6 +370,15 @@ pub fn resolve_raw(raw: &File) -> Result<SliderCrankProblem, FieldError> {
             return Err(FieldError::new(
                 "mechanism.crank_centroid",
                 "itemised crank-pin masses are at the crank pin (r2 = R); remove crank_centroid",
+            ));
+        }
+        if m.mass_items.len() > MAX_MASS_ITEMS {
+            return Err(FieldError::new(
+                format!("mechanism.mass_items[{MAX_MASS_ITEMS}]"),
+                format!(
+                    "{} items; allowed: at most {MAX_MASS_ITEMS}",
+                    m.mass_items.len()
+                ),
             ));
         }
         let (mut pin, mut slider) = (0.0, 0.0);
@@ -466,6 +489,15 @@ pub fn resolve_raw(raw: &File) -> Result<SliderCrankProblem, FieldError> {
         }
         (Some(f), None) => ProcessForce::Constant(f.si()),
         (None, Some(t)) => {
+            if t.angle.len() > MAX_TABLE_POINTS {
+                return Err(FieldError::new(
+                    "mechanism.process_force_table.angle",
+                    format!(
+                        "{} points; allowed: at most {MAX_TABLE_POINTS}",
+                        t.angle.len()
+                    ),
+                ));
+            }
             let angles: Vec<f64> = t.angle.iter().map(|q| q.si()).collect();
             let forces: Vec<f64> = t.force.iter().map(|q| q.si()).collect();
             if angles.len() != forces.len() || angles.is_empty() {
@@ -688,10 +720,39 @@ pub fn resolve_raw(raw: &File) -> Result<SliderCrankProblem, FieldError> {
             })
         }
     };
+    check_work(&core, speed_sweep.as_ref())?;
     Ok(SliderCrankProblem {
         core,
         paper,
         shape,
         speed_sweep,
     })
+}
+
+/// The work budget ([`limits::check_work`]): W = (1 + P + S)·(K·(n_scan + n_init + K) +
+/// n_rms), P the Pareto points, S the sweep's speeds (each a whole re-solve), K the exchange
+/// rounds (each scans n_scan angles and solves a cone program of at most n_init + K
+/// constraints), n_rms the RMS samples.
+fn check_work(core: &sc::Scene, sweep: Option<&SpeedSweep>) -> Result<(), FieldError> {
+    let s = &core.settings;
+    let d = Settings::default();
+    let sweep = sweep.map_or(0, |w| w.points);
+    let rounds = s.max_rounds as f64;
+    let estimate = (1.0 + core.pareto_points as f64 + sweep as f64)
+        * (rounds * (s.scan_samples as f64 + s.initial_samples as f64 + rounds)
+            + s.rms_samples as f64);
+    limits::check_work(
+        WORK_BUDGET,
+        FAMILY,
+        estimate,
+        "(1 + pareto_points + speed_sweep.points)·(max_rounds·(scan_samples + initial_samples + max_rounds) + rms_samples)",
+        &[
+            limits::term("objective.pareto_points", core.pareto_points as f64, 1.0),
+            limits::term("objective.speed_sweep.points", sweep as f64, 1.0),
+            limits::term("accuracy.max_rounds", rounds, d.max_rounds as f64),
+            limits::term("accuracy.scan_samples", s.scan_samples as f64, d.scan_samples as f64),
+            limits::term("accuracy.initial_samples", s.initial_samples as f64, d.initial_samples as f64),
+            limits::term("accuracy.rms_samples", s.rms_samples as f64, d.rms_samples as f64),
+        ],
+    )
 }

@@ -22,7 +22,7 @@ pub struct SliderCrank;
 
 impl Family for SliderCrank {
     fn name(&self) -> &'static str {
-        "slider-crank"
+        file::FAMILY
     }
     fn counts(&self) -> &'static [Count] {
         file::COUNTS

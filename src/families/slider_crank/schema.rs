@@ -1,6 +1,7 @@
 //! The JSON Schema branch of the slider_crank problem file, written from its raw structs in `file`
 //! with the shared builders of [`crate::problem::schema`].
 
+use super::file::{MAX_MASS_ITEMS, MAX_TABLE_POINTS};
 use crate::problem::schema::*;
 use crate::units::Dim;
 use serde_json::Value;
@@ -20,18 +21,22 @@ pub fn schema() -> Value {
             ("slider_mass", qty(Mass, "m4 (or from mass_items)")),
             (
                 "mass_items",
-                array(
-                    obj(
-                        &[
-                            ("name", string("label")),
-                            ("mass", qty(Mass, "mass")),
-                            ("at", one_of(&["slider", "crank-pin"], "reduced to")),
-                            ("fraction", num("fraction reduced there (default 1)")),
-                        ],
-                        &["name", "mass", "at"],
-                        "an itemised mass",
+                limited(
+                    array(
+                        obj(
+                            &[
+                                ("name", string("label")),
+                                ("mass", qty(Mass, "mass")),
+                                ("at", one_of(&["slider", "crank-pin"], "reduced to")),
+                                ("fraction", num("fraction reduced there (default 1)")),
+                            ],
+                            &["name", "mass", "at"],
+                            "an itemised mass",
+                        ),
+                        "itemised masses (replace crank_mass and slider_mass)",
                     ),
-                    "itemised masses (replace crank_mass and slider_mass)",
+                    "maxItems",
+                    MAX_MASS_ITEMS,
                 ),
             ),
             (
@@ -46,8 +51,22 @@ pub fn schema() -> Value {
                 "process_force_table",
                 obj(
                     &[
-                        ("angle", array(qty(Angle, "crank angle"), "crank angles")),
-                        ("force", array(qty(Force, "force"), "forces")),
+                        (
+                            "angle",
+                            limited(
+                                array(qty(Angle, "crank angle"), "crank angles"),
+                                "maxItems",
+                                MAX_TABLE_POINTS,
+                            ),
+                        ),
+                        (
+                            "force",
+                            limited(
+                                array(qty(Force, "force"), "forces"),
+                                "maxItems",
+                                MAX_TABLE_POINTS,
+                            ),
+                        ),
                     ],
                     &["angle", "force"],
                     "process force against crank angle",
