@@ -55,7 +55,7 @@ fn thesis_example_reproduces_the_thesis() {
     let dh = o.objectives["delta_h_m"];
     // Acceptance: within ±1.5 % of the thesis's 0.543 m.
     assert!((dh / 0.543 - 1.0).abs() < 0.015, "delta h = {dh}");
-    // Independent Python reconstruction (see src/mech/crane.rs tests): 0.5488653233583 m.
+    // Independent Python reconstruction (see src/families/crane/model.rs tests): 0.5488653233583 m.
     assert!((dh - 0.5488653233583047).abs() < 1e-9);
     // The thesis's other printed outputs, to their printed digits.
     let d = &o.design;

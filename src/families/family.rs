@@ -124,3 +124,62 @@ pub fn machine<K: Machine>(r: Resolved<K>) -> Resolved<Arc<dyn Machine>> {
         part: Arc::new(r.part),
     }
 }
+
+/// Implements [`Family`] for the unit struct `$family` (declared here, with its doc) and
+/// [`Machine`] for `$problem` from the parts every family folder has: `file::{FAMILY,
+/// COUNTS, resolve}`, `schema::schema`, `report::result` and `study::{headline, ladder,
+/// effects}`. Invoked once in each family's `mod.rs`.
+macro_rules! family_folder {
+    ($(#[$doc:meta])* $family:ident, $problem:ty) => {
+        $(#[$doc])*
+        #[derive(Debug)]
+        pub struct $family;
+
+        impl $crate::families::family::Family for $family {
+            fn name(&self) -> &'static str {
+                file::FAMILY
+            }
+            fn counts(&self) -> &'static [$crate::problem::limits::Count] {
+                file::COUNTS
+            }
+            fn schema(&self) -> serde_json::Value {
+                schema::schema()
+            }
+            fn resolve(
+                &self,
+                ctx: &$crate::problem::Ctx,
+                input: $crate::problem::Input,
+            ) -> Result<
+                $crate::problem::Resolved<
+                    std::sync::Arc<dyn $crate::families::family::Machine>,
+                >,
+                $crate::problem::ProblemError,
+            > {
+                file::resolve(ctx, input).map($crate::families::family::machine)
+            }
+        }
+
+        impl $crate::families::family::Machine for $problem {
+            fn solve(&self, scene: &$crate::families::family::Scene) -> $crate::report::SolveResult {
+                report::result(scene, self)
+            }
+            fn headline(&self) -> String {
+                study::headline(self)
+            }
+            fn ladder(&self) -> $crate::families::family::Ladder {
+                study::ladder(self)
+            }
+            fn effects(
+                &self,
+                reference: &$crate::report::SolveResult,
+                headline: f64,
+            ) -> Vec<$crate::families::family::Effect> {
+                study::effects(self, reference, headline)
+            }
+            fn as_any(&self) -> &dyn std::any::Any {
+                self
+            }
+        }
+    };
+}
+pub(crate) use family_folder;

@@ -9,46 +9,8 @@ pub mod schema;
 pub mod study;
 pub mod synth;
 
-use crate::families::family::{Effect, Family, Ladder, Machine, Scene};
-use crate::problem::limits::Count;
-use crate::problem::{Ctx, Input, ProblemError, Resolved};
-use crate::report::SolveResult;
-use std::any::Any;
-use std::sync::Arc;
-
-/// Level-luffing four-bar jib crane.
-#[derive(Debug)]
-pub struct LuffingCrane;
-
-impl Family for LuffingCrane {
-    fn name(&self) -> &'static str {
-        file::FAMILY
-    }
-    fn counts(&self) -> &'static [Count] {
-        file::COUNTS
-    }
-    fn schema(&self) -> serde_json::Value {
-        schema::schema()
-    }
-    fn resolve(&self, ctx: &Ctx, input: Input) -> Result<Resolved<Arc<dyn Machine>>, ProblemError> {
-        file::resolve(ctx, input).map(crate::families::family::machine)
-    }
-}
-
-impl Machine for file::CraneProblem {
-    fn solve(&self, scene: &Scene) -> SolveResult {
-        report::result(scene, self)
-    }
-    fn headline(&self) -> String {
-        "objectives.delta_h_m".into()
-    }
-    fn ladder(&self) -> Ladder {
-        study::ladder(self)
-    }
-    fn effects(&self, reference: &SolveResult, headline: f64) -> Vec<Effect> {
-        study::effects(self, reference, headline)
-    }
-    fn as_any(&self) -> &dyn Any {
-        self
-    }
-}
+crate::families::family::family_folder!(
+    /// Level-luffing four-bar jib crane.
+    LuffingCrane,
+    file::CraneProblem
+);

@@ -8,6 +8,12 @@ use crate::problem::edit::{v_f, v_int, Edit};
 use crate::report::SolveResult;
 use toml_edit::Value;
 
+/// The headline: the dotted result key a design is judged on (see
+/// [`crate::families::Machine::headline`]).
+pub fn headline(_: &super::file::CraneProblem) -> String {
+    "objectives.delta_h_m".into()
+}
+
 /// The reference edits (tightest settings) and the ladder of settings.
 pub fn ladder(_s: &super::file::CraneProblem) -> Ladder {
     use Edit::Set;

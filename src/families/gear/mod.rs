@@ -9,52 +9,8 @@ pub mod schema;
 pub mod study;
 pub mod synth;
 
-use crate::families::family::{Effect, Family, Ladder, Machine, Scene};
-use crate::problem::limits::Count;
-use crate::problem::{Ctx, Input, ProblemError, Resolved};
-use crate::report::SolveResult;
-use std::any::Any;
-use std::sync::Arc;
-
-/// Eccentric non-circular gear pair.
-#[derive(Debug)]
-pub struct EccentricGear;
-
-impl Family for EccentricGear {
-    fn name(&self) -> &'static str {
-        file::FAMILY
-    }
-    fn counts(&self) -> &'static [Count] {
-        file::COUNTS
-    }
-    fn schema(&self) -> serde_json::Value {
-        schema::schema()
-    }
-    fn resolve(&self, ctx: &Ctx, input: Input) -> Result<Resolved<Arc<dyn Machine>>, ProblemError> {
-        file::resolve(ctx, input).map(crate::families::family::machine)
-    }
-}
-
-impl Machine for file::GearProblem {
-    fn solve(&self, scene: &Scene) -> SolveResult {
-        report::result(scene, self)
-    }
-    // A design of e holds the peak |µ| at its limit: the objective is the ratio variation.
-    fn headline(&self) -> String {
-        if matches!(self.gear.eccentricity, crate::synth::Var::Free { .. }) {
-            "objectives.ratio_variation"
-        } else {
-            "objectives.peak_sliding_coefficient"
-        }
-        .into()
-    }
-    fn ladder(&self) -> Ladder {
-        study::ladder(self)
-    }
-    fn effects(&self, reference: &SolveResult, headline: f64) -> Vec<Effect> {
-        study::effects(self, reference, headline)
-    }
-    fn as_any(&self) -> &dyn Any {
-        self
-    }
-}
+crate::families::family::family_folder!(
+    /// Eccentric non-circular gear pair.
+    EccentricGear,
+    file::GearProblem
+);

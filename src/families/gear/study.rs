@@ -9,6 +9,18 @@ use crate::report::SolveResult;
 use std::f64::consts::TAU;
 use toml_edit::Value;
 
+/// The headline: the dotted result key a design is judged on (see
+/// [`crate::families::Machine::headline`]).
+// A design of e holds the peak |µ| at its limit: the objective is the ratio variation.
+pub fn headline(p: &super::file::GearProblem) -> String {
+    if matches!(p.gear.eccentricity, crate::synth::Var::Free { .. }) {
+        "objectives.ratio_variation"
+    } else {
+        "objectives.peak_sliding_coefficient"
+    }
+    .into()
+}
+
 /// The reference edits (tightest settings) and the ladder of settings.
 pub fn ladder(_s: &super::file::GearProblem) -> Ladder {
     use Edit::Set;

@@ -11,6 +11,18 @@ use crate::units::STANDARD_GRAVITY as G;
 use std::f64::consts::TAU;
 use toml_edit::Value;
 
+/// The headline: the dotted result key a design is judged on (see
+/// [`crate::families::Machine::headline`]).
+// A scene asking the paper's C4 question is judged on C4 (a4 of S/R) itself.
+pub fn headline(p: &super::file::HypocycloidProblem) -> String {
+    if p.scene.zero_search.is_some() {
+        "objectives.c4"
+    } else {
+        "objectives.residual_force_peak_n"
+    }
+    .into()
+}
+
 /// The reference edits (tightest settings) and the ladder of settings.
 pub fn ladder(_s: &super::file::HypocycloidProblem) -> Ladder {
     use Edit::Set;

@@ -5,9 +5,24 @@
 use super::model::Kinematics;
 use crate::families::family::{relative, Effect, Ladder, Rung};
 use crate::problem::edit::{v_f, v_int, v_s, Edit};
+use crate::report::SolveResult;
 use crate::units::STANDARD_GRAVITY as G;
 use std::f64::consts::TAU;
 use toml_edit::Value;
+
+/// The headline: the dotted result key a design is judged on (see
+/// [`crate::families::Machine::headline`]).
+pub fn headline(p: &super::file::SliderCrankProblem) -> String {
+    use super::synth::Objective;
+    match p.core.objective {
+        Objective::MinRmsForce => "objectives.rms_shaking_force_n",
+        Objective::MinPeakTorque => "objectives.peak_drive_torque_nm",
+        Objective::MinMass => "design.counterweight_mass_kg",
+        Objective::MinRadius => "design.counterweight_radius_m",
+        Objective::MinPeakForce => "objectives.peak_shaking_force_n",
+    }
+    .into()
+}
 
 /// The reference edits (tightest settings) and the ladder of settings.
 pub fn ladder(s: &super::file::SliderCrankProblem) -> Ladder {
@@ -120,6 +135,7 @@ pub fn ladder(s: &super::file::SliderCrankProblem) -> Ladder {
 /// [`crate::families::Machine::effects`]).
 pub fn effects(
     s: &crate::families::slider_crank::file::SliderCrankProblem,
+    _reference: &SolveResult,
     reference: f64,
 ) -> Vec<Effect> {
     let c = &s.core;
