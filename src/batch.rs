@@ -78,12 +78,41 @@ impl Input {
 }
 
 /// Expands directories into their `*.toml` files (sorted).
+/// Expands directories into their `*.toml` files (sorted), keeps files as given. A path
+/// that does not exist, or a directory without a problem file, is a usage error (exit 2).
+pub fn expand_inputs(inputs: &[PathBuf]) -> anyhow::Result<Vec<PathBuf>> {
+    let mut out = Vec::new();
+    for p in inputs {
+        if !p.exists() {
+            bail!("{}: no such file or directory", p.display());
+        }
+        if p.is_dir() {
+            let mut v: Vec<PathBuf> = std::fs::read_dir(p)
+                .with_context(|| format!("cannot list {}", p.display()))?
+                .filter_map(|e| e.ok().map(|e| e.path()))
+                .filter(|q| q.extension().is_some_and(|x| x == "toml"))
+                .collect();
+            v.sort();
+            if v.is_empty() {
+                bail!(
+                    "{}: no problem files (*.toml) in this directory",
+                    p.display()
+                );
+            }
+            out.extend(v);
+        } else {
+            out.push(p.clone());
+        }
+    }
+    Ok(out)
+}
+
 pub fn expand(args: &[String]) -> anyhow::Result<Vec<Input>> {
     let mut out = Vec::new();
     for a in args {
         match Input::parse(a) {
             Input::File(p) if p.is_dir() => {
-                for f in crate::cli::expand_inputs(&[p])? {
+                for f in expand_inputs(&[p])? {
                     out.push(Input::File(f));
                 }
             }
@@ -669,8 +698,11 @@ fn set_dotted(
 impl Template {
     /// Reads the template and the CSV header.
     pub fn open(template: &Path, csv: &Path) -> anyhow::Result<Template> {
-        let text = std::fs::read_to_string(template)
+        let bytes = std::fs::read(template)
             .with_context(|| format!("{}: cannot read", template.display()))?;
+        let text = crate::problem::text_of(&bytes, template)
+            .map_err(|e| anyhow::anyhow!("template {e}"))?
+            .to_string();
         // The template itself must be valid (without overrides).
         parse_str(&text, template).map_err(|e| anyhow::anyhow!("template {e}"))?;
         let doc: toml_edit::DocumentMut = text
@@ -877,8 +909,13 @@ impl Work {
     fn read(self) -> Work {
         match self {
             Work::Path(path) => {
-                let text = std::fs::read_to_string(&path)
-                    .map_err(|e| format!("{}: cannot read: {e}", path.display()));
+                let text = std::fs::read(&path)
+                    .map_err(|e| format!("{}: cannot read: {e}", path.display()))
+                    .and_then(|b| {
+                        crate::problem::text_of(&b, &path)
+                            .map(str::to_string)
+                            .map_err(|e| e.to_string())
+                    });
                 Work::File { path, text }
             }
             w => w,

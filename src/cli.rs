@@ -122,35 +122,6 @@ impl Stdout {
     }
 }
 
-/// Expands directories into their `*.toml` files (sorted), keeps files as given. A path
-/// that does not exist, or a directory without a problem file, is a usage error (exit 2).
-pub fn expand_inputs(inputs: &[PathBuf]) -> anyhow::Result<Vec<PathBuf>> {
-    let mut out = Vec::new();
-    for p in inputs {
-        if !p.exists() {
-            anyhow::bail!("{}: no such file or directory", p.display());
-        }
-        if p.is_dir() {
-            let mut v: Vec<PathBuf> = std::fs::read_dir(p)
-                .with_context(|| format!("cannot list {}", p.display()))?
-                .filter_map(|e| e.ok().map(|e| e.path()))
-                .filter(|q| q.extension().is_some_and(|x| x == "toml"))
-                .collect();
-            v.sort();
-            if v.is_empty() {
-                anyhow::bail!(
-                    "{}: no problem files (*.toml) in this directory",
-                    p.display()
-                );
-            }
-            out.extend(v);
-        } else {
-            out.push(p.clone());
-        }
-    }
-    Ok(out)
-}
-
 fn summary(r: &SolveResult) -> String {
     let mut s = format!(
         "{} ({}): {}{}\n",
@@ -226,7 +197,7 @@ fn load_all(files: &[PathBuf]) -> (Vec<Scene>, Vec<String>) {
 pub fn run(cli: Cli) -> anyhow::Result<i32> {
     match cli.command {
         Command::Check { inputs } => {
-            let files = expand_inputs(&inputs)?;
+            let files = crate::batch::expand_inputs(&inputs)?;
             let (ok, bad) = load_all(&files);
             let mut stdout = Stdout::new();
             for s in &ok {
@@ -328,7 +299,7 @@ pub fn run(cli: Cli) -> anyhow::Result<i32> {
             Ok(0)
         }
         Command::Solve { inputs, json, out } => {
-            let files = expand_inputs(&inputs)?;
+            let files = crate::batch::expand_inputs(&inputs)?;
             let (scenes, bad) = load_all(&files);
             for e in &bad {
                 eprintln!("error {e}");
@@ -398,9 +369,4 @@ pub fn main() -> i32 {
             2
         }
     }
-}
-
-/// Convenience for tests: the path as a display string.
-pub fn show(p: &Path) -> String {
-    p.display().to_string()
 }

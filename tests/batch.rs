@@ -856,3 +856,34 @@ fn io_errors_name_the_path() {
     );
     assert_eq!(&rows[1][3], "optimal");
 }
+
+/// Issue 15: a problem file of a batch that is not UTF-8 is an error row naming the file and
+/// the line of the bad byte (the same reading as `cwsynth check`), and the others are solved.
+#[test]
+fn a_file_that_is_not_utf8_is_an_error_row_with_its_line() {
+    let d = tempfile::tempdir().unwrap();
+    let dir = d.path().join("in");
+    std::fs::create_dir(&dir).unwrap();
+    let good = std::fs::read(template()).unwrap();
+    std::fs::write(dir.join("a.toml"), &good).unwrap();
+    let mut bad = b"# comment\n# \xff here\n".to_vec();
+    bad.extend_from_slice(&good);
+    std::fs::write(dir.join("b.toml"), bad).unwrap();
+    let out = d.path().join("out");
+    let o = batch(dir.to_str().unwrap(), &out, &["--summary-only"]);
+    assert_eq!(o.status.code(), Some(1));
+    let text = std::fs::read_to_string(out.join("summary.csv")).unwrap();
+    let row = text
+        .lines()
+        .find(|l| l.contains("b.toml"))
+        .expect("a row for b.toml");
+    assert!(
+        row.contains("b.toml:2") && row.contains("not UTF-8"),
+        "{row}"
+    );
+    assert!(
+        text.lines()
+            .any(|l| l.contains("piston-1000rpm") && l.contains(",optimal,")),
+        "{text}"
+    );
+}

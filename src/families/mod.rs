@@ -16,7 +16,7 @@ pub mod family;
 
 pub use family::{machine, relative, Effect, Family, Ladder, Machine, Rung, Scene};
 
-use crate::problem::{check_size, Ctx, FieldError, Header, Input, ProblemError};
+use crate::problem::{check_size, text_of, Ctx, FieldError, Header, Input, ProblemError};
 use crate::report::{SolveResult, Status};
 use serde::Deserialize;
 use std::path::Path;
@@ -49,22 +49,7 @@ pub fn load(path: &Path) -> Result<Scene, ProblemError> {
 ///
 /// Bytes that are not UTF-8 are an error at the line of the first bad byte.
 pub fn parse_bytes(bytes: &[u8], path: &Path) -> Result<Scene, ProblemError> {
-    check_size(bytes, path)?;
-    let text = std::str::from_utf8(bytes).map_err(|e| {
-        let at = e.valid_up_to();
-        let line_start = bytes[..at].iter().rposition(|&b| b == b'\n').map_or(0, |i| i + 1);
-        ProblemError::Invalid {
-            file: path.into(),
-            line: Some(bytes[..at].iter().filter(|&&b| b == b'\n').count() + 1),
-            field: None,
-            message: format!(
-                "not UTF-8 text: byte 0x{:02x} at column {} (byte {at}); allowed: a UTF-8 text file",
-                bytes[at],
-                String::from_utf8_lossy(&bytes[line_start..at]).chars().count() + 1
-            ),
-        }
-    })?;
-    parse_str(text, path)
+    parse_str(text_of(bytes, path)?, path)
 }
 
 /// Resolves problem-file text; `path` is used for messages and as the scene's source.

@@ -581,6 +581,26 @@ impl<'de, D: Dimension> Deserialize<'de> for RawVar<D> {
     }
 }
 
+/// The text of a problem file's bytes: within [`MAX_FILE_BYTES`], and UTF-8 — bytes that are
+/// not are an error at the line and column of the first bad byte.
+pub fn text_of<'a>(bytes: &'a [u8], path: &Path) -> Result<&'a str, ProblemError> {
+    check_size(bytes, path)?;
+    std::str::from_utf8(bytes).map_err(|e| {
+        let at = e.valid_up_to();
+        let line_start = bytes[..at].iter().rposition(|&b| b == b'\n').map_or(0, |i| i + 1);
+        ProblemError::Invalid {
+            file: path.into(),
+            line: Some(bytes[..at].iter().filter(|&&b| b == b'\n').count() + 1),
+            field: None,
+            message: format!(
+                "not UTF-8 text: byte 0x{:02x} at column {} (byte {at}); allowed: a UTF-8 text file",
+                bytes[at],
+                String::from_utf8_lossy(&bytes[line_start..at]).chars().count() + 1
+            ),
+        }
+    })
+}
+
 /// A file over [`MAX_FILE_BYTES`]: an error at the line where it passes the limit.
 pub fn check_size(bytes: &[u8], path: &Path) -> Result<(), ProblemError> {
     if bytes.len() <= MAX_FILE_BYTES {
