@@ -876,13 +876,18 @@ impl Template {
     }
 }
 
-fn csv_reader(csv: &Path) -> anyhow::Result<csv::Reader<std::fs::File>> {
+fn csv_reader(csv: &Path) -> anyhow::Result<csv::Reader<FleetFile>> {
     let f = std::fs::File::open(csv).with_context(|| format!("{}: cannot read", csv.display()))?;
     Ok(csv::ReaderBuilder::new()
         .flexible(true)
         .comment(Some(b'#'))
-        .from_reader(f))
+        .from_reader(std::io::Read::chain(f, &b"\n"[..])))
 }
+
+/// A fleet CSV as read: the file, then one line break. The `csv` reader takes a `#` comment
+/// on a last line without a line break for a record; with the break it is a comment like any
+/// other, and no other line changes (a last line is the same line with its break).
+type FleetFile = std::io::Chain<std::fs::File, &'static [u8]>;
 
 /// What a worker gets: where the machine's text comes from.
 enum Work {
@@ -1015,7 +1020,7 @@ struct Jobs {
     inputs: std::vec::IntoIter<Input>,
     fleet: Option<(
         Arc<Template>,
-        csv::StringRecordsIntoIter<std::fs::File>,
+        csv::StringRecordsIntoIter<FleetFile>,
         u64,
         Lines,
     )>,
@@ -1029,7 +1034,7 @@ struct Jobs {
 /// A fleet that cannot be read (broken template or header): its rows are still streamed,
 /// each an error row with the reason, so rows in = rows out.
 struct DeadFleet {
-    recs: csv::StringRecordsIntoIter<std::fs::File>,
+    recs: csv::StringRecordsIntoIter<FleetFile>,
     lines: Lines,
     csv: PathBuf,
     /// The name stem of its rows (the CSV's file stem): `<stem>-<row>`.
