@@ -155,7 +155,7 @@ fn mutate(rng: &mut Rng) -> (String, Vec<u8>) {
             ls[0].push_str(",accuracy.scan_samples,accuracy.max_rounds");
             for l in ls.iter_mut().skip(1) {
                 if !l.is_empty() && !l.starts_with('#') {
-                    l.push_str(if n % 2 == 0 {
+                    l.push_str(if n.is_multiple_of(2) {
                         ",20000,1000"
                     } else {
                         ",18446744073709551615,0"
