@@ -114,15 +114,14 @@ fn resolve_accuracy(s: &Settings) -> Result<Settings, FieldError> {
     limits::check_section(COUNTS, "accuracy", &s)?;
     match s.validate() {
         Ok(()) => {}
-        Err(SolveError::Settings(m)) => {
-            let key = m.split_whitespace().next().unwrap_or("").to_string();
+        Err(SolveError::Settings { key, message }) => {
             return Err(FieldError::new(
                 format!("accuracy.{key}"),
                 format!(
-                    "{m}; got {}",
+                    "{key} {message}; got {}",
                     serde_json::to_value(&s)
                         .ok()
-                        .and_then(|v| v.get(&key).map(|x| x.to_string()))
+                        .and_then(|v| v.get(key).map(|x| x.to_string()))
                         .unwrap_or_else(|| "?".into())
                 ),
             ));

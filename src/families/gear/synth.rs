@@ -54,9 +54,14 @@ pub enum SolveError {
     /// The pair cannot be built (e.g. e ≥ R).
     #[error(transparent)]
     Gear(#[from] GearError),
-    /// A settings value is not acceptable.
-    #[error("accuracy.{0}")]
-    Settings(String),
+    /// A settings value is not acceptable: the key of `[accuracy]` and what is allowed.
+    #[error("accuracy.{key} {message}")]
+    Settings {
+        /// The settings key (`samples_per_arch`).
+        key: &'static str,
+        /// What is allowed (`must be ≥ 8`).
+        message: &'static str,
+    },
     /// A 1-D search failed on the analysed design.
     #[error("search failed: {0}")]
     Search(#[from] SearchError),
@@ -310,30 +315,33 @@ impl Default for Settings {
 impl Settings {
     /// Check the settings.
     pub fn validate(&self) -> Result<(), SolveError> {
-        let bad = |s: &str| Err(SolveError::Settings(s.into()));
+        let bad = |key, message| Err(SolveError::Settings { key, message });
         if self.samples_per_arch < 8 {
-            return bad("samples_per_arch must be ≥ 8");
+            return bad("samples_per_arch", "must be ≥ 8");
         }
         if !(self.pole_tol > 0.0 && self.pole_tol <= 1e-12) {
-            return bad("pole_tol must be in (0, 1e-12] rad");
+            return bad("pole_tol", "must be in (0, 1e-12] rad");
         }
         if !(self.peak_xtol > 0.0 && self.peak_xtol < 1e-3) {
-            return bad("peak_xtol must be in (0, 1e-3) rad");
+            return bad("peak_xtol", "must be in (0, 1e-3) rad");
         }
         if self.peak_samples_per_arch < 8 {
-            return bad("peak_samples_per_arch must be ≥ 8");
+            return bad("peak_samples_per_arch", "must be ≥ 8");
         }
         if self.curvature_samples < 64 {
-            return bad("curvature_samples must be ≥ 64");
+            return bad("curvature_samples", "must be ≥ 64");
         }
-        if self.series_points < 16 || self.curve_points < 16 {
-            return bad("series_points and curve_points must be ≥ 16");
+        if self.series_points < 16 {
+            return bad("series_points", "must be ≥ 16");
+        }
+        if self.curve_points < 16 {
+            return bad("curve_points", "must be ≥ 16");
         }
         if self.sweep_points < 3 {
-            return bad("sweep_points must be ≥ 3");
+            return bad("sweep_points", "must be ≥ 3");
         }
         if !(self.design_rtol > 0.0 && self.design_rtol < 1e-2) {
-            return bad("design_rtol must be in (0, 1e-2)");
+            return bad("design_rtol", "must be in (0, 1e-2)");
         }
         Ok(())
     }
