@@ -4,6 +4,7 @@
 //! evaluation of the same closed-form kinematics, written out here from
 //! `shared/domain/slider-crank.md`, not from the library's code path.
 
+use common::Dd as D;
 use cwsynth::families::slider_crank::model::{
     Crank, Kinematics, Loads, ProcessForce, Rod, SliderCrank,
 };
@@ -12,7 +13,6 @@ use cwsynth::families::slider_crank::synth::{
 };
 use cwsynth::geom::P2;
 use std::f64::consts::TAU;
-use twofloat::TwoFloat as D;
 
 mod common;
 
@@ -332,4 +332,35 @@ fn torque_objective_without_gravity_is_degenerate_not_optimal() {
     sc.objective = Objective::MinPeakTorque;
     sc.loads.gravity = Loads::gravity_for_axis(9.80665, TAU / 4.0);
     assert!(solve(&sc).unwrap().degenerate.is_none());
+}
+
+#[test]
+fn the_double_double_reference_keeps_its_digits() {
+    // `common::Dd`: the reference arithmetic of this file and of the crane, gear and
+    // hypocycloid tests.
+    // Residuals computed exactly enough to see 1e-30: a·(1/a) − 1 and the like.
+    let mut seed = 7u64;
+    let mut next = || {
+        seed = seed
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (seed >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let mut worst: f64 = 0.0;
+    for _ in 0..2000 {
+        let a = D::new_add(0.1 + 10.0 * next(), 1e-17 * (next() - 0.5));
+        let b = D::new_add(1e-3 + 1e3 * next(), 1e-19 * (next() - 0.5));
+        let q = a / b;
+        worst = worst.max((f64::from((q * b - a) / a)).abs());
+        let r = 1.0 / b;
+        worst = worst.max(f64::from(r * b - 1.0).abs());
+        let s = a.sqrt();
+        worst = worst.max((f64::from((s * s - a) / a)).abs());
+        let (sn, cs) = common::dd_sin_cos(a);
+        worst = worst.max(f64::from(sn * sn + cs * cs - 1.0).abs());
+    }
+    assert!(worst < 1e-30, "worst relative residual {worst:e}");
+    // The fault this type exists for: twofloat's own T / T is ~1e-17.
+    let t = twofloat::TwoFloat::from(1.0) / twofloat::TwoFloat::from(3.0);
+    assert!(f64::from(t * 3.0 - 1.0).abs() > 1e-20);
 }

@@ -6,10 +6,10 @@
 //! (`pole_window = 0`).
 
 use common::dd_sin_cos;
+use common::Dd as D;
 use cwsynth::families::gear::model::*;
 use cwsynth::families::gear::synth::*;
 use std::f64::consts::{PI, TAU};
-use twofloat::TwoFloat as D;
 
 mod common;
 
@@ -49,7 +49,7 @@ fn dd_pole_fns(p: &GearPair, alpha: f64, i: usize) -> (f64, f64) {
     let sp = -e * s / r;
     let cp = ((r - e * s) * (r + e * s)).sqrt() / r;
     let psi = dd_asin(sp);
-    let phi = (D::from(alpha) - psi) * n - twofloat::consts::TAU * i as f64;
+    let phi = (D::from(alpha) - psi) * n - D::TAU * i as f64;
     let (sh, ch) = dd_sin_cos(phi * 0.5);
     let sigma = if i.is_multiple_of(2) { 1.0 } else { -1.0 };
     let rho1 = e * c + r * cp;

@@ -5,13 +5,13 @@
 //! design is a plain slider-crank).
 
 use common::dd_sin_cos;
+use common::Dd as D;
 use cwsynth::families::hypocycloid::model::{
     max_abs_y, Hypocycloid, ALPHA0_VARIANT1, ALPHA0_VARIANT2,
 };
 use cwsynth::families::hypocycloid::synth::{
     c4_search_example, paper_example, solve, zero_search, PaperVariant, Settings, Var, ZeroSearch,
 };
-use twofloat::TwoFloat as D;
 
 mod common;
 
@@ -33,13 +33,13 @@ fn dd_a4(l: f64, t: f64, a0: f64) -> (f64, f64) {
     };
     let mut n = 256;
     let mut sum = (0..n).fold(D::from(0.0), |acc, j| {
-        acc + term(twofloat::consts::TAU * (j as f64) / (n as f64))
+        acc + term(D::TAU * (j as f64) / (n as f64))
     });
     let mut prev = sum * 2.0 / n as f64;
     loop {
         n *= 2;
         sum = (0..n / 2).fold(sum, |acc, j| {
-            acc + term(twofloat::consts::TAU * ((2 * j + 1) as f64) / (n as f64))
+            acc + term(D::TAU * ((2 * j + 1) as f64) / (n as f64))
         });
         let cur = sum * 2.0 / n as f64;
         let d = (cur - prev).abs().hi();

@@ -2,6 +2,8 @@
 //! asserting that a rejection names the file, the line and the field.
 #![allow(dead_code)]
 
+pub mod dd;
+
 use cwsynth::families::parse_str;
 use cwsynth::problem::ProblemError;
 use std::path::{Path, PathBuf};
@@ -171,28 +173,8 @@ pub fn family_files(family: &str) -> Vec<PathBuf> {
     v
 }
 
-/// sin and cos of a double-double x (|x| ≲ 100): reduction by the double-double π/2 and
-/// Taylor series to y²⁰ on |y| ≤ π/4 (term < 1e-33).
-pub fn dd_sin_cos(x: twofloat::TwoFloat) -> (twofloat::TwoFloat, twofloat::TwoFloat) {
-    let k = (x.hi() / std::f64::consts::FRAC_PI_2).round();
-    let y = x - twofloat::consts::FRAC_PI_2 * k;
-    let y2 = y * y;
-    let (mut s, mut c) = (y, twofloat::TwoFloat::from(1.0));
-    let (mut ts, mut tc) = (y, twofloat::TwoFloat::from(1.0));
-    for n in 1..=14 {
-        let nf = n as f64;
-        ts = -ts * y2 / ((2.0 * nf) * (2.0 * nf + 1.0));
-        tc = -tc * y2 / ((2.0 * nf - 1.0) * (2.0 * nf));
-        s += ts;
-        c += tc;
-    }
-    match (k as i64).rem_euclid(4) {
-        0 => (s, c),
-        1 => (c, -s),
-        2 => (-s, -c),
-        _ => (-c, s),
-    }
-}
+#[allow(unused_imports)]
+pub use dd::{dd_sin_cos, Dd};
 
 /// Every number of a result (JSON) is finite: serde_json writes NaN and ±inf as `null`, so a
 /// `null` where the result has numbers is what a NaN looks like there; the maps are checked
