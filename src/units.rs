@@ -627,6 +627,30 @@ impl<'de, D: Dimension> serde::Deserialize<'de> for Qty<D> {
     }
 }
 
+/// Serde for an `f64` setting that is an angle (a tolerance or a step in rad): read as a
+/// [`Qty<Angle>`], so `"1e-10 rad"` or `"1e-8 deg"` and never a bare number (units are never
+/// guessed, tolerances included); written back as `"<value> rad"`.
+/// Use with `#[serde(with = "crate::units::angle_setting")]`.
+pub mod angle_setting {
+    use super::{Angle, Qty};
+    use serde::{Deserialize, Deserializer, Serializer};
+
+    /// Reads the angle, SI (rad).
+    pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
+        Qty::<Angle>::deserialize(d).map(Qty::si)
+    }
+    /// Writes the angle as text with its unit, so that it reads back.
+    pub fn serialize<S: Serializer>(v: &f64, s: S) -> Result<S::Ok, S::Error> {
+        s.serialize_str(&format!("{v:e} rad"))
+    }
+}
+
+/// The text of an angle setting in rad, as a problem file writes it (`"1e-12 rad"`): for
+/// edits that set a tolerance.
+pub fn rad_text(v: f64) -> String {
+    format!("{v:e} rad")
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -350,3 +350,39 @@ fn solving_draws_nothing_and_writing_draws_each_plot() {
         }
     }
 }
+
+/// Angle tolerances are plane angles: a bare number is rejected (units are never guessed),
+/// the same value with `rad` or `deg` is read.
+#[test]
+fn angle_tolerances_need_their_unit() {
+    let cases = [
+        ("piston-1000rpm", "peak_xtol"),
+        ("crane-thesis-example", "xtol"),
+        ("crane-thesis-optimise", "moment_step"),
+        ("gear-paper-table1", "pole_tol"), // (0, 1e-12] rad
+        ("gear-paper-table1", "peak_xtol"),
+        ("hypocycloid-variant1", "peak_xtol"),
+    ];
+    for (file, key) in cases {
+        let path = format!("{}/problems/{file}.toml", env!("CARGO_MANIFEST_DIR"));
+        let text = std::fs::read_to_string(&path).unwrap();
+        let with_value = |v: &str| {
+            if text.contains("\n[accuracy]\n") {
+                text.replacen("\n[accuracy]\n", &format!("\n[accuracy]\n{key} = {v}\n"), 1)
+            } else {
+                format!("{text}\n[accuracy]\n{key} = {v}\n")
+            }
+        };
+        let bare = with_value("1e-13");
+        assert_names(
+            &bare,
+            &format!("accuracy.{key}"),
+            &format!("{key} = 1e-13"),
+            "has no unit",
+        );
+        for ok in ["\"1e-13 rad\"", "\"5e-12 deg\""] {
+            parse_str(&with_value(ok), Path::new("ok.toml"))
+                .unwrap_or_else(|e| panic!("{file} {key} = {ok}: {e}"));
+        }
+    }
+}

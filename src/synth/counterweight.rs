@@ -140,6 +140,7 @@ pub struct Settings {
     /// peak values to 16 digits at a third of the Brent evaluations, but the exchange loop
     /// then stalls a few 1e-9 short of the target on constrained or offset scenes: tried and
     /// reverted.)
+    #[serde(with = "crate::units::angle_setting")]
     pub peak_xtol: f64,
     /// Quadrature points of mean-square objectives (and of RMS values). Default 360: the
     /// trapezoid rule is spectrally accurate for these smooth periodic functions (the paper

@@ -79,7 +79,7 @@ pub fn schema() -> Value {
     let accuracy = obj(
         &[
             ("path_samples", uint("luffing-range samples")),
-            ("xtol", num("extremum refinement tolerance (rad)")),
+            ("xtol", qty(Dim::Angle, "extremum refinement tolerance")),
             (
                 "refine_peaks",
                 boolean("refine the sampled extrema of the head height (default true)"),
@@ -93,7 +93,7 @@ pub fn schema() -> Value {
             ("landscape_k2", uint("landscape grid along k2")),
             ("penalty", num("penalty weight")),
             ("constraint_tol", num("accepted constraint violation")),
-            ("moment_step", num("finite-difference step (rad)")),
+            ("moment_step", qty(Dim::Angle, "finite-difference step")),
         ],
         &[],
         "solver and sampling settings",

@@ -4,8 +4,9 @@
 
 use super::model::{head_heights, head_heights_with, Linkage};
 use crate::families::family::{relative, Effect, Ladder, Rung};
-use crate::problem::edit::{v_f, v_int, Edit};
+use crate::problem::edit::{v_int, v_s, Edit};
 use crate::report::SolveResult;
+use crate::units::rad_text;
 use toml_edit::Value;
 
 /// The headline: the dotted result key a design is judged on (see
@@ -19,7 +20,7 @@ pub fn ladder(_s: &super::file::CraneProblem) -> Ladder {
     use Edit::Set;
     let reference = vec![
         Set("accuracy.path_samples", v_int(1024)),
-        Set("accuracy.xtol", v_f(1e-12)),
+        Set("accuracy.xtol", v_s(&rad_text(1e-12))),
     ];
     let mut l = Vec::new();
     // Counts that do not divide one another, so no grid contains a coarser one.
@@ -44,7 +45,7 @@ pub fn ladder(_s: &super::file::CraneProblem) -> Ladder {
         l.push(Rung::new(
             &format!("xtol {t:e}"),
             "accuracy",
-            vec![Set("accuracy.xtol", v_f(t))],
+            vec![Set("accuracy.xtol", v_s(&rad_text(t)))],
         ));
     }
     Ladder {

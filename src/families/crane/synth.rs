@@ -310,6 +310,7 @@ pub struct Settings {
     /// extremum is refined. Default 32 (the thesis example's Δh agrees with 400 samples to 1e-14 m).
     pub path_samples: usize,
     /// Abscissa tolerance of the extremum refinement (rad). Default 1e-7 (the value error ½|y''|·xtol² is ~1e-13 m).
+    #[serde(with = "crate::units::angle_setting")]
     pub xtol: f64,
     /// Refine each sampled extremum of the head height by Brent to `xtol`. Default true;
     /// false takes the extreme samples (each low by at most |y_C''|h²/8, h the sample
@@ -334,6 +335,7 @@ pub struct Settings {
     /// Constraint violation accepted as met (m, relative to the length scale). Default 1e-7.
     pub constraint_tol: f64,
     /// Step of the finite difference for the load moment (rad). Default 1e-3.
+    #[serde(with = "crate::units::angle_setting")]
     pub moment_step: f64,
 }
 

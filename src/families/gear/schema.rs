@@ -61,8 +61,8 @@ pub fn schema() -> Value {
     let accuracy = obj(
         &[
             ("samples_per_arch", uint("pole-function samples per arch")),
-            ("pole_tol", num("pole tolerance (rad)")),
-            ("peak_xtol", num("maxima refinement tolerance (rad)")),
+            ("pole_tol", qty(Dim::Angle, "pole tolerance")),
+            ("peak_xtol", qty(Dim::Angle, "maxima refinement tolerance")),
             (
                 "peak_samples_per_arch",
                 uint("samples per arch for peak |µ|"),

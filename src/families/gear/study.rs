@@ -4,8 +4,9 @@
 
 use super::model::{GearPair, Pole, Singularities, Which};
 use crate::families::family::{relative, Effect, Ladder, Rung};
-use crate::problem::edit::{v_f, v_int, v_s, Edit};
+use crate::problem::edit::{v_int, v_s, Edit};
 use crate::report::SolveResult;
+use crate::units::rad_text;
 use std::f64::consts::TAU;
 use toml_edit::Value;
 
@@ -27,8 +28,8 @@ pub fn ladder(_s: &super::file::GearProblem) -> Ladder {
     let reference = vec![
         Set("accuracy.samples_per_arch", v_int(96)),
         Set("accuracy.peak_samples_per_arch", v_int(512)),
-        Set("accuracy.peak_xtol", v_f(1e-12)),
-        Set("accuracy.pole_tol", v_f(1e-13)),
+        Set("accuracy.peak_xtol", v_s(&rad_text(1e-12))),
+        Set("accuracy.pole_tol", v_s(&rad_text(1e-13))),
     ];
     let mut l = Vec::new();
     // Poles placed by one false-position step in their sampled bracket (no Brent).
@@ -60,12 +61,12 @@ pub fn ladder(_s: &super::file::GearProblem) -> Ladder {
     l.push(Rung::new(
         "pole_tol 1e-12",
         "accuracy",
-        vec![Set("accuracy.pole_tol", v_f(1e-12))],
+        vec![Set("accuracy.pole_tol", v_s(&rad_text(1e-12)))],
     ));
     l.push(Rung::new(
         "peak_xtol 1e-5",
         "accuracy",
-        vec![Set("accuracy.peak_xtol", v_f(1e-5))],
+        vec![Set("accuracy.peak_xtol", v_s(&rad_text(1e-5)))],
     ));
     for w in ["0.001 rad", "0.05 rad"] {
         l.push(Rung::new(

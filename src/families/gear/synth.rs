@@ -270,8 +270,10 @@ pub struct Settings {
     /// Samples of each pole function per arch before Brent (≥ 8).
     pub samples_per_arch: usize,
     /// Tolerance of every pole in α1 (rad), ≤ 1e-12.
+    #[serde(with = "crate::units::angle_setting")]
     pub pole_tol: f64,
     /// x-tolerance of Brent refinements of maxima (rad).
+    #[serde(with = "crate::units::angle_setting")]
     pub peak_xtol: f64,
     /// Samples per arch for the peak of |µ| (halved for the error estimate, ≥ 8).
     pub peak_samples_per_arch: usize,

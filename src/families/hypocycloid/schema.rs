@@ -88,11 +88,14 @@ pub fn schema() -> Value {
         &[
             ("n_fft_min", uint("smallest FFT size")),
             ("n_fft_max", uint("largest FFT size")),
-            ("root_tol", num("root tolerance in θ")),
+            ("root_tol", num("root tolerance in θ = r/R (dimensionless)")),
             ("curve_points", uint("λ columns of the zero search")),
             ("theta_scan", uint("θ samples per column")),
             ("peak_samples", uint("φ samples of the peak scans")),
-            ("peak_xtol", num("φ tolerance of the peak refinement")),
+            (
+                "peak_xtol",
+                qty(Dim::Angle, "φ tolerance of the peak refinement"),
+            ),
             (
                 "refine_peaks",
                 boolean("refine the sampled peaks by Brent (default true)"),

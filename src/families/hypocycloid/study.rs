@@ -7,6 +7,7 @@ use super::synth::CoefficientModel;
 use crate::families::family::{relative, Effect, Ladder, Rung};
 use crate::problem::edit::{v_f, v_int, v_s, Edit};
 use crate::report::SolveResult;
+use crate::units::rad_text;
 use crate::units::STANDARD_GRAVITY as G;
 use std::f64::consts::TAU;
 use toml_edit::Value;
@@ -30,7 +31,7 @@ pub fn ladder(_s: &super::file::HypocycloidProblem) -> Ladder {
         Set("accuracy.n_fft_min", v_int(8192)),
         Set("accuracy.n_fft_max", v_int(1 << 18)),
         Set("accuracy.peak_samples", v_int(4096)),
-        Set("accuracy.peak_xtol", v_f(1e-12)),
+        Set("accuracy.peak_xtol", v_s(&rad_text(1e-12))),
         Set("accuracy.root_tol", v_f(1e-14)),
     ];
     let mut l = Vec::new();

@@ -341,6 +341,7 @@ pub struct Settings {
     /// size `n_fft_min` (its error estimated from the n/2 rule) — coarser and cheaper.
     pub fft_adaptive: bool,
     /// Tolerance in φ of the peak refinement.
+    #[serde(with = "crate::units::angle_setting")]
     pub peak_xtol: f64,
     /// Samples per free variable of the optimiser's start grid.
     pub opt_grid: usize,

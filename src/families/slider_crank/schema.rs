@@ -183,7 +183,7 @@ pub fn schema() -> Value {
             ("max_rounds", uint("exchange rounds at most")),
             (
                 "peak_xtol",
-                num("angle tolerance of the peak refinement (rad)"),
+                qty(Dim::Angle, "angle tolerance of the peak refinement"),
             ),
             ("rms_samples", uint("RMS quadrature points")),
             ("keep_band", num("near-active band kept between rounds")),

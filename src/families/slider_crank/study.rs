@@ -6,6 +6,7 @@ use super::model::Kinematics;
 use crate::families::family::{relative, Effect, Ladder, Rung};
 use crate::problem::edit::{v_f, v_int, v_s, Edit};
 use crate::report::SolveResult;
+use crate::units::rad_text;
 use crate::units::STANDARD_GRAVITY as G;
 use std::f64::consts::TAU;
 use toml_edit::Value;
@@ -32,7 +33,7 @@ pub fn ladder(s: &super::file::SliderCrankProblem) -> Ladder {
         Set("accuracy.initial_samples", v_int(64)),
         Set("accuracy.scan_samples", v_int(2880)),
         Set("accuracy.max_rounds", v_int(100)),
-        Set("accuracy.peak_xtol", v_f(1e-12)),
+        Set("accuracy.peak_xtol", v_s(&rad_text(1e-12))),
         Set("accuracy.rms_samples", v_int(4096)),
     ];
     let mut l = Vec::new();
