@@ -2,7 +2,8 @@
 //! validates against it, and files with unknown keys, wrong types or bad units do not.
 //!
 //! The validator below implements exactly the subset of JSON Schema the program emits:
-//! type, properties, required, additionalProperties (false), enum, oneOf, anyOf, items,
+//! type, properties, required, additionalProperties (false), enum, const, oneOf, anyOf,
+//! allOf, if/then, items,
 //! minItems/maxItems, minimum, maxLength and pattern. TOML is converted to JSON with `toml` and
 //! `serde_json`.
 
@@ -26,6 +27,10 @@ fn validate(s: &Value, v: &Value, path: &str, errs: &mut Vec<String>) {
                 "enum",
                 "oneOf",
                 "anyOf",
+                "allOf",
+                "if",
+                "then",
+                "const",
                 "items",
                 "minItems",
                 "maxItems",
@@ -56,6 +61,11 @@ fn validate(s: &Value, v: &Value, path: &str, errs: &mut Vec<String>) {
     if let (Some(m), Some(x)) = (s.get("maxLength").and_then(Value::as_u64), v.as_str()) {
         if x.chars().count() as u64 > m {
             errs.push(format!("{path}: longer than {m} characters"));
+        }
+    }
+    if let Some(c) = s.get("const") {
+        if c != v {
+            errs.push(format!("{path}: {v} is not {c}"));
         }
     }
     if let Some(e) = s.get("enum").and_then(Value::as_array) {
@@ -127,6 +137,23 @@ fn validate(s: &Value, v: &Value, path: &str, errs: &mut Vec<String>) {
             })
             .collect()
     };
+    for b in s
+        .get("allOf")
+        .and_then(Value::as_array)
+        .into_iter()
+        .flatten()
+    {
+        validate(b, v, path, errs);
+    }
+    if let Some(cond) = s.get("if") {
+        let mut e = Vec::new();
+        validate(cond, v, path, &mut e);
+        if e.is_empty() {
+            if let Some(then) = s.get("then") {
+                validate(then, v, path, errs);
+            }
+        }
+    }
     if let Some(bs) = s.get("anyOf").and_then(Value::as_array) {
         let r = branch_errors(bs);
         if r.iter().all(|e| !e.is_empty()) {
@@ -245,5 +272,21 @@ fn cli_prints_the_schema() {
     assert!(out.status.success());
     let v: Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(v["$schema"], "https://json-schema.org/draft/2020-12/schema");
-    assert_eq!(v["oneOf"].as_array().unwrap().len(), 4);
+    let branches = v["allOf"].as_array().unwrap();
+    assert_eq!(branches.len(), cwsynth::families::FAMILIES.len());
+    for b in branches {
+        assert!(b["if"]["properties"]["family"]["const"].is_string(), "{b}");
+    }
+}
+
+/// The branches are discriminated on `family` (`if`/`then`): a typo in a file is an error at
+/// its own key, checked against its own family only — not "matches no branch" for the file.
+#[test]
+fn a_typo_is_one_error_at_its_key() {
+    let piston = include_str!("../problems/piston-1000rpm.toml");
+    let e = errors(&piston.replacen("rod_split = ", "rod_splitt = ", 1));
+    assert_eq!(e, ["$.model: unknown key `rod_splitt`"]);
+    let e = errors(&piston.replacen("\"1000 rpm\"", "1500", 1));
+    assert_eq!(e.len(), 1, "{e:?}");
+    assert!(e[0].contains(".mechanism.speed"), "{e:?}");
 }

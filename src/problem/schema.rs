@@ -2,7 +2,10 @@
 //! builders every family's branch is written with, and the assembly of the branches.
 //!
 //! Each family writes its branch by hand from its raw serde structs
-//! (`families/<family>/schema.rs`); [`assemble`] puts one branch per family under `oneOf`, selected by `family`, each closed with
+//! (`families/<family>/schema.rs`); [`assemble`] puts one branch per family under `allOf` as
+//! `if: {family: const} then: branch` — discriminated on `family`, so an editor checks a file
+//! against its own family's branch only and points at the wrong key, not at the whole file —
+//! each branch closed with
 //! `additionalProperties: false` like the structs' `deny_unknown_fields`. A dimensional
 //! quantity is a `string` whose pattern is a number and one of the units of its dimension,
 //! built from [`crate::units::UNITS`] (units are never guessed: no bare number); a pure
@@ -183,14 +186,21 @@ pub fn family(
 }
 
 /// The JSON Schema of a problem file from each family's `(name, branch, integer ranges)`:
-/// the branches under `oneOf`, each with the `minimum` and `maximum` of its integer keys.
+/// one `if: {family: const name} then: branch` per family under `allOf` (the `family` enum
+/// lists the names), each branch with the `minimum` and `maximum` of its integer keys.
 pub fn assemble(families: Vec<(&str, Value, &[Count])>) -> Value {
     let names: Vec<&str> = families.iter().map(|(n, _, _)| *n).collect();
     let branches: Vec<Value> = families
         .into_iter()
         .map(|(name, mut branch, counts)| {
             with_ranges(name, counts, &mut branch);
-            branch
+            json!({
+                "if": {
+                    "properties": { "family": { "const": name } },
+                    "required": ["family"]
+                },
+                "then": branch
+            })
         })
         .collect();
     json!({
@@ -206,7 +216,7 @@ pub fn assemble(families: Vec<(&str, Value, &[Count])>) -> Value {
                 "enum": names
             }
         },
-        "oneOf": branches
+        "allOf": branches
     })
 }
 
