@@ -1412,6 +1412,10 @@ fn process(job: Job, opts: &Options) -> (Row, bool) {
     }
     test_panic(&scene.name);
     let mut r = solve_scene(&scene);
+    if !opts.summary_only {
+        // What only the files carry (e.g. the crane's landscape grid).
+        r.complete();
+    }
     let mut batch = serde_json::json!({
         "input_hash": hash,
         "plots": r.plots.iter().map(|p| p.suffix.clone()).collect::<Vec<_>>(),

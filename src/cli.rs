@@ -327,8 +327,8 @@ pub fn run(cli: Cli) -> anyhow::Result<i32> {
                 // One scene's panic fails that scene only (reported once, on stderr).
                 let r = match crate::batch::isolate(|| {
                     crate::batch::test_panic(&sc.name);
-                    let r = solve_scene(sc);
-                    let written = out.as_ref().map(|dir| write_outputs(&r, dir));
+                    let mut r = solve_scene(sc);
+                    let written = out.as_ref().map(|dir| write_outputs(&mut r, dir));
                     (r, written)
                 }) {
                     Ok((r, written)) => {

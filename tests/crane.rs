@@ -539,15 +539,12 @@ fn bad_input_names_the_field() {
 #[test]
 fn two_variable_optimisation_beats_the_thesis_within_the_tie_pin_limit() {
     let scene = thesis_optimisation();
-    let o = solve(
-        &scene,
-        &Settings {
-            landscape_k1: 21,
-            landscape_k2: 21,
-            ..Settings::default()
-        },
-    )
-    .unwrap();
+    let settings = Settings {
+        landscape_k1: 21,
+        landscape_k2: 21,
+        ..Settings::default()
+    };
+    let o = solve(&scene, &settings).unwrap();
     // A heuristic search: best_found with its evidence (issue 14; was asserted "optimal").
     assert_eq!(o.status, Status::BestFound, "{:?}", o.warnings);
     assert!(o
@@ -560,7 +557,7 @@ fn two_variable_optimisation_beats_the_thesis_within_the_tie_pin_limit() {
     let b = P2::new(o.design["tie_pin_x_m"], o.design["tie_pin_y_m"]);
     assert!(b.norm() <= 15.0 + 1e-6 && b.x >= -1e-6);
     // Brute force: no feasible grid point of the landscape is better.
-    let l = o.landscape.as_ref().unwrap();
+    let l = landscape(&scene, &settings, &o.x).unwrap();
     let best_grid = l
         .delta_h_m
         .iter()

@@ -14,13 +14,16 @@ use std::process::Command;
 const EXAMPLE: &str = include_str!("../problems/crane-thesis-example.toml");
 const OPTIMISE: &str = include_str!("../problems/crane-thesis-optimise.toml");
 
-/// `cwsynth solve --json` of every crane file, run in parallel, by scene name.
+/// `cwsynth solve --json --out DIR` of every crane file, run in parallel, by scene name
+/// (with `--out` the JSON is the written one: it has the landscape, which only files carry).
 fn solve_all() -> BTreeMap<String, Value> {
+    let dir = tempfile::tempdir().unwrap();
     let children: Vec<_> = family_files("luffing-crane")
         .into_iter()
         .map(|p| {
             let child = Command::new(env!("CARGO_BIN_EXE_cwsynth"))
-                .args(["solve", "--json"])
+                .args(["solve", "--json", "--out"])
+                .arg(dir.path())
                 .arg(&p)
                 .stdout(std::process::Stdio::piped())
                 .stderr(std::process::Stdio::piped())
@@ -424,4 +427,26 @@ fn the_binary_reports_a_degenerate_problem_and_fails() {
             && stderr.contains("degenerate"),
         "{stderr}"
     );
+}
+
+/// The landscape is report data: a solve only defers it (a result printed, summarised or
+/// studied computes no grid); writing the files computes it, in its place among the tables.
+#[test]
+fn the_landscape_is_computed_only_when_files_are_written() {
+    let s = parse_str(EXAMPLE, Path::new("crane-thesis-example.toml")).unwrap();
+    let mut r = cwsynth::families::solve_scene(&s);
+    assert!(r.extra.get("landscape").is_none());
+    assert!(r.tables.iter().all(|t| t.suffix != "landscape"));
+    assert_eq!(r.deferred.len(), 1);
+    let dir = tempfile::tempdir().unwrap();
+    cwsynth::report::write_outputs(&mut r, dir.path()).unwrap();
+    assert!(r.deferred.is_empty());
+    assert_eq!(r.extra["landscape"]["k1_points"], 41);
+    assert_eq!(r.tables[0].suffix, "landscape");
+    assert_eq!(r.plots[0].suffix, "landscape");
+    let json: Value = serde_json::from_str(
+        &std::fs::read_to_string(dir.path().join("crane-thesis-example.json")).unwrap(),
+    )
+    .unwrap();
+    assert_eq!(json["landscape"], r.extra["landscape"]);
 }

@@ -329,11 +329,11 @@ fn solving_draws_nothing_and_writing_draws_each_plot() {
     ] {
         let s = load(&problem(&format!("{name}.toml"))).unwrap();
         let before = documents_drawn();
-        let r = cwsynth::families::solve_scene(&s);
+        let mut r = cwsynth::families::solve_scene(&s);
         assert_eq!(documents_drawn(), before, "{name}: solving drew a plot");
         assert!(!r.plots.is_empty(), "{name}: no plots");
         let dir = tempfile::tempdir().unwrap();
-        cwsynth::report::write_outputs(&r, dir.path()).unwrap();
+        cwsynth::report::write_outputs(&mut r, dir.path()).unwrap();
         assert_eq!(
             documents_drawn() - before,
             r.plots.len() as u64,

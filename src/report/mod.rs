@@ -166,6 +166,44 @@ impl PartialEq for Plot {
     }
 }
 
+/// Work on a result that only its files need (a diagnostic grid, say): run by
+/// [`SolveResult::complete`] when the result is written, never for a result that is only
+/// printed or summarised (`solve --json`, `batch --summary-only`, `study`). It may add
+/// `extra` sections, tables and plots.
+#[derive(Clone)]
+pub struct Deferred {
+    /// What it adds, for debugging and equality.
+    pub label: String,
+    fill: std::sync::Arc<dyn Fn(&mut SolveResult) + Send + Sync>,
+}
+
+impl Deferred {
+    /// Deferred work `fill`, labelled `label`.
+    pub fn new(
+        label: impl Into<String>,
+        fill: impl Fn(&mut SolveResult) + Send + Sync + 'static,
+    ) -> Deferred {
+        Deferred {
+            label: label.into(),
+            fill: std::sync::Arc::new(fill),
+        }
+    }
+}
+
+impl std::fmt::Debug for Deferred {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Deferred")
+            .field("label", &self.label)
+            .finish_non_exhaustive()
+    }
+}
+
+impl PartialEq for Deferred {
+    fn eq(&self, other: &Deferred) -> bool {
+        self.label == other.label
+    }
+}
+
 /// A data table of a result, written as `<name>-<suffix>.csv` beside the JSON (a landscape
 /// grid, a zero curve, a Pareto front).
 #[derive(Debug, Clone, PartialEq)]
@@ -230,6 +268,9 @@ pub struct SolveResult {
     /// CSV tables (not in the JSON; written beside it).
     #[serde(skip)]
     pub tables: Vec<Table>,
+    /// Work only the written files need, done by [`SolveResult::complete`].
+    #[serde(skip)]
+    pub deferred: Vec<Deferred>,
 }
 
 impl SolveResult {
@@ -263,6 +304,15 @@ impl SolveResult {
             extra: serde_json::Map::new(),
             plots: Vec::new(),
             tables: Vec::new(),
+            deferred: Vec::new(),
+        }
+    }
+
+    /// Does the [`Deferred`] work (once): what a result's files carry beyond its numbers.
+    /// Writers call it before they write; [`write_outputs`] does.
+    pub fn complete(&mut self) {
+        for d in std::mem::take(&mut self.deferred) {
+            (d.fill)(self);
         }
     }
 
@@ -614,9 +664,12 @@ pub fn json_text(r: &SolveResult) -> String {
     serde_json::to_string_pretty(&r.to_json()).expect("plain data") + "\n"
 }
 
-/// Writes `<dir>/<name>.json` and the [`report_files`] (`<name>.md`, every
-/// `<name>-<suffix>.svg` and `<name>-<suffix>.csv`), atomically.
-pub fn write_outputs(r: &SolveResult, dir: &Path) -> std::io::Result<Vec<PathBuf>> {
+/// Completes the result ([`SolveResult::complete`]) and writes `<dir>/<name>.json` and the
+/// [`report_files`] (`<name>.md`, every `<name>-<suffix>.svg` and `<name>-<suffix>.csv`),
+/// atomically.
+pub fn write_outputs(r: &mut SolveResult, dir: &Path) -> std::io::Result<Vec<PathBuf>> {
+    r.complete();
+    let r = &*r;
     let json = json_path(r, dir);
     write_atomic(&json, json_text(r).as_bytes())?;
     let mut written = vec![json];

@@ -8,7 +8,7 @@ use crate::families::crane::synth::{self as cr, Outcome, Status as CraneStatus, 
 use crate::families::family::Scene;
 use crate::geom::P2;
 use crate::report::plot::{self, Grid, Panel, Series};
-use crate::report::{PaperCheck, Plot, SolveResult, Status, Table};
+use crate::report::{Deferred, PaperCheck, Plot, SolveResult, Status, Table};
 use serde_json::json;
 use std::collections::BTreeMap;
 use std::time::Instant;
@@ -147,20 +147,36 @@ pub fn result(scene: &Scene, s: &CraneProblem) -> SolveResult {
             serde_json::to_value(&out.basins).expect("plain data"),
         );
     }
-    if let Some(l) = &out.landscape {
-        r.extra
-            .insert("landscape".into(), landscape_summary(&scene.name, l));
-        r.tables.push(Table {
-            suffix: "landscape".into(),
-            caption: "Δh over the (k1, k2) grid with the tie-pin violation".into(),
-            csv: l.to_csv(),
-        });
-        let (scene, cs, out, l) = (scene.clone(), cs.clone(), out.clone(), l.clone());
-        r.plots.push(Plot::new(
-            "landscape",
-            "Δh over (k1, k2) (angles and L_c at the reported design; grey: no linkage or branch defect), tie-pin limit boundary and the design",
-            move || landscape_plot(&scene, &cs, &out, &l),
-        ));
+    if set.landscape_k1 > 0 {
+        // The landscape is a diagnostic grid of full evaluations (~99 % of an analysis):
+        // computed only when the result's files are written, in its place among the tables
+        // and plots.
+        let (at_table, at_plot) = (r.tables.len(), r.plots.len());
+        let (scene, cs, set, out) = (scene.clone(), cs.clone(), set.clone(), out.clone());
+        r.deferred.push(Deferred::new("landscape", move |r: &mut SolveResult| {
+            let Some(l) = cr::landscape(&cs, &set, &out.x) else {
+                return;
+            };
+            r.extra
+                .insert("landscape".into(), landscape_summary(&scene.name, &l));
+            r.tables.insert(
+                at_table,
+                Table {
+                    suffix: "landscape".into(),
+                    caption: "Δh over the (k1, k2) grid with the tie-pin violation".into(),
+                    csv: l.to_csv(),
+                },
+            );
+            let (scene, cs, out) = (scene.clone(), cs.clone(), out.clone());
+            r.plots.insert(
+                at_plot,
+                Plot::new(
+                    "landscape",
+                    "Δh over (k1, k2) (angles and L_c at the reported design; grey: no linkage or branch defect), tie-pin limit boundary and the design",
+                    move || landscape_plot(&scene, &cs, &out, &l),
+                ),
+            );
+        }));
     }
     if !out.path.is_empty() {
         let mut csv = String::from("phi_rad,head_x_m,head_y_m,tail_x_m,tail_y_m\n");

@@ -558,8 +558,9 @@ pub struct Outcome {
     pub path_phi_rad: Vec<f64>,
     /// Local searches of the multistart.
     pub basins: Vec<Basin>,
-    /// Δh over (k1, k2).
-    pub landscape: Option<Landscape>,
+    /// The design vector evaluated, in the order of `VAR_NAMES` (what [`landscape`] is
+    /// computed around).
+    pub x: [f64; 6],
     /// What the multistart did (`None` when nothing is free).
     pub search: Option<crate::synth::SearchEvidence>,
 }
@@ -1461,7 +1462,7 @@ fn report(
         tail_path: Vec::new(),
         path_phi_rad: Vec::new(),
         basins: Vec::new(),
-        landscape: None,
+        x: *x,
         search: None,
     };
     for (i, name) in VAR_NAMES.iter().enumerate() {
@@ -1743,14 +1744,16 @@ fn report(
         out.status = Status::Evaluated;
         warnings.push("the given design fails at least one check (see checks)".into());
     }
-    out.landscape = landscape(scene, settings, x);
     out.paper = thesis_comparison(scene, x, &out);
     out
 }
 
 /// Δh over a (k1, k2) grid: the free bounds of k1 and k2, or [0.05, 0.95] × [0.2, 1.0] for a
-/// fixed one; the other variables at `x`.
-fn landscape(scene: &CraneScene, settings: &Settings, x: &[f64; 6]) -> Option<Landscape> {
+/// fixed one; the other variables at `x`. `None` when the settings ask for no landscape.
+/// A diagnostic of the design, not part of the solve: `landscape_k1`·`landscape_k2` full
+/// evaluations (41 × 41 by default, ~99 % of an analysis), so the report computes it only
+/// when a result's files are written.
+pub fn landscape(scene: &CraneScene, settings: &Settings, x: &[f64; 6]) -> Option<Landscape> {
     let (n1, n2) = (settings.landscape_k1, settings.landscape_k2);
     if n1 == 0 {
         return None;
