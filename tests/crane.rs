@@ -308,7 +308,7 @@ fn k1_near_zero_and_one_are_finite_and_continuous() {
             &quick(),
         )
         .unwrap_err();
-        assert_eq!(e.key, "k1");
+        assert_eq!(e.field, "design.k1");
     }
 }
 
@@ -438,7 +438,7 @@ fn optimisation_without_a_tie_pin_limit_is_refused_as_degenerate() {
         ..thesis_optimisation()
     };
     let e = solve(&scene, &quick()).unwrap_err();
-    assert_eq!(e.key, "tie_pin");
+    assert_eq!(e.field, "objective.tie_pin");
     assert!(e.message.contains("degenerate"));
     // A one-sided box is not a bound either.
     let scene = CraneScene {
@@ -448,7 +448,10 @@ fn optimisation_without_a_tie_pin_limit_is_refused_as_degenerate() {
         },
         ..thesis_optimisation()
     };
-    assert_eq!(solve(&scene, &quick()).unwrap_err().key, "tie_pin");
+    assert_eq!(
+        solve(&scene, &quick()).unwrap_err().field,
+        "objective.tie_pin"
+    );
 }
 
 #[test]
@@ -459,49 +462,49 @@ fn bad_input_names_the_field() {
                 reach_max: f64::NAN,
                 ..thesis_example()
             },
-            "reach_max",
+            "mechanism.reach_max",
         ),
         (
             CraneScene {
                 reach_min: 40.0,
                 ..thesis_example()
             },
-            "reach_max",
+            "mechanism.reach_max",
         ),
         (
             CraneScene {
                 foot_height: -1.0,
                 ..thesis_example()
             },
-            "foot_height",
+            "mechanism.foot_height",
         ),
         (
             CraneScene {
                 reach_min: 4.0,
                 ..thesis_example()
             },
-            "reach_min",
+            "mechanism.reach_min",
         ),
         (
             CraneScene {
                 gamma1: Var::Free { min: 0.3, max: 0.1 },
                 ..thesis_optimisation()
             },
-            "gamma1",
+            "design.gamma1",
         ),
         (
             CraneScene {
                 k2: Var::Fixed(-0.4),
                 ..thesis_example()
             },
-            "k2",
+            "design.k2",
         ),
         (
             CraneScene {
                 sizing: SizingRule::Given(f64::INFINITY),
                 ..thesis_example()
             },
-            "sizing.boom_length",
+            "design.boom_length",
         ),
         (
             CraneScene {
@@ -511,11 +514,11 @@ fn bad_input_names_the_field() {
                 },
                 ..thesis_example()
             },
-            "tie_pin.max_distance",
+            "objective.tie_pin.max_distance",
         ),
     ];
     for (scene, key) in cases {
-        assert_eq!(solve(&scene, &quick()).unwrap_err().key, key);
+        assert_eq!(solve(&scene, &quick()).unwrap_err().field, key);
     }
     let e = solve(
         &thesis_example(),
@@ -525,7 +528,7 @@ fn bad_input_names_the_field() {
         },
     )
     .unwrap_err();
-    assert_eq!(e.key, "settings.path_samples");
+    assert_eq!(e.field, "accuracy.path_samples");
     // Angles that give no positive jib ratio are a value, not an error.
     let scene = CraneScene {
         phi_min: Var::Fixed(deg(85.0)),
@@ -639,8 +642,8 @@ fn settings_defaults_validate_and_reject_bad_values() {
         }
         .validate()
         .unwrap_err()
-        .key,
-        "settings.xtol"
+        .field,
+        "accuracy.xtol"
     );
     assert_eq!(
         Settings {
@@ -649,7 +652,7 @@ fn settings_defaults_validate_and_reject_bad_values() {
         }
         .validate()
         .unwrap_err()
-        .key,
-        "settings.landscape_k1"
+        .field,
+        "accuracy.landscape_k1"
     );
 }

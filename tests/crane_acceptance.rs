@@ -317,7 +317,7 @@ fn k1_at_or_beyond_one_is_refused() {
     for k1 in [1.0, 1.0 + 1e-12, 1.0 + 1e-6, 0.0, -1e-15] {
         let x = [k1, 0.4, d(35.0), d(10.0), d(5.0), d(12.0)];
         let e = solve(&scene(22.8, x), &quick()).unwrap_err();
-        assert_eq!(e.key, "k1", "{e}");
+        assert_eq!(e.field, "design.k1", "{e}");
     }
 }
 

@@ -138,37 +138,6 @@ pub fn resolve(ctx: &Ctx, input: Input) -> Result<Resolved<CraneProblem>, Proble
     File::resolve(ctx, input, resolve_raw)
 }
 
-/// The problem-file key of a key of [`cr::CraneScene::validate`] / [`Settings::validate`].
-fn file_key(key: &str) -> String {
-    let (head, rest) = key.split_once('.').unwrap_or((key, ""));
-    let section = match head {
-        "reach_max" | "reach_min" | "foot_offset" | "lift_height" | "foot_height" | "load_mass" => {
-            "mechanism"
-        }
-        "k1" | "k2" | "phi_min" | "gamma1" | "gamma2" | "gamma3" => "design",
-        "sizing" => return "design.boom_length".into(),
-        "tie_pin" | "max_delta_h" => "objective",
-        "settings" => return format!("accuracy.{rest}"),
-        _ => return key.into(),
-    };
-    if rest.is_empty() {
-        format!("{section}.{head}")
-    } else {
-        format!("{section}.{head}.{rest}")
-    }
-}
-
-/// A synthesis-layer field error with its problem-file key; angle messages (in rad) get the
-/// range in degrees.
-pub(super) fn map_error(e: cr::FieldError) -> FieldError {
-    let deg = match e.key.as_str() {
-        "phi_min" | "gamma1" => "; in degrees: allowed 0 < angle < 90 deg",
-        "gamma2" | "gamma3" => "; in degrees: allowed 0 ≤ angle < 90 deg",
-        _ => "",
-    };
-    FieldError::new(file_key(&e.key), format!("{}{deg}", e.message))
-}
-
 /// A required design variable.
 fn var<D>(v: &Option<RawVar<D>>, key: &str, allowed: &str) -> Result<cr::Var, FieldError> {
     match v {
@@ -230,7 +199,7 @@ pub fn resolve_raw(raw: &File) -> Result<CraneProblem, FieldError> {
         max_delta_h: o.max_delta_h.map(|q| q.si()),
         load_mass: m.load_mass.map(|q| q.si()),
     };
-    scene.validate().map_err(map_error)?;
+    scene.validate()?;
     if let Some(t) = &o.tie_pin {
         if t.max_distance.is_none() && t.x_range.is_none() && t.y_range.is_none() {
             return Err(FieldError::new(
@@ -241,7 +210,7 @@ pub fn resolve_raw(raw: &File) -> Result<CraneProblem, FieldError> {
     }
     let settings = raw.accuracy.clone();
     limits::check_section(COUNTS, "accuracy", &settings)?;
-    settings.validate().map_err(map_error)?;
+    settings.validate()?;
     check_work(&scene, &settings)?;
     Ok(CraneProblem { scene, settings })
 }

@@ -50,7 +50,7 @@ pub fn result(scene: &Scene, s: &CraneProblem) -> SolveResult {
     let out = match cr::solve(cs, set) {
         Ok(o) => o,
         Err(e) => {
-            r.warnings.push(map_error(e).to_string());
+            r.warnings.push(e.to_string());
             return r;
         }
     };

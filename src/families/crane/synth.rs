@@ -8,16 +8,18 @@
 //! unbounded length is a straight guide and drives Δh to ~0), and [`CraneScene::validate`]
 //! refuses it.
 //!
-//! Problem-file keys used in [`FieldError`]: `reach_max`, `reach_min`, `foot_offset` (r),
-//! `lift_height` (H), `foot_height` (h), `k1`, `k2`, `phi_min`, `gamma1`, `gamma2`, `gamma3`,
-//! `sizing.boom_length`, `tie_pin.max_distance`, `tie_pin.x_range`, `tie_pin.y_range`,
-//! `max_delta_h`, `load_mass`, `settings.*`.
+//! A [`FieldError`] names the problem-file key: `mechanism.reach_max`, `mechanism.reach_min`,
+//! `mechanism.foot_offset` (r), `mechanism.lift_height` (H), `mechanism.foot_height` (h),
+//! `mechanism.load_mass`, `design.k1`, `design.k2`, `design.phi_min`, `design.gamma1..3`,
+//! `design.boom_length`, `objective.tie_pin` (and its `.max_distance`, `.x_range`,
+//! `.y_range`), `objective.max_delta_h`, `accuracy.*`.
 
 use crate::families::crane::model::{
     head_extrema, head_heights_with, load_moment, synthesize, Angles, Boom, Branch, CraneGeomError,
     Guide, HeadHeights, PathError, Synthesis,
 };
 use crate::geom::P2;
+use crate::problem::FieldError;
 use std::collections::BTreeMap;
 use std::f64::consts::FRAC_PI_2;
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -120,21 +122,10 @@ pub struct CraneScene {
     pub load_mass: Option<f64>,
 }
 
-/// A scene or settings field that is not allowed, named by its problem-file key.
-#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error, serde::Serialize)]
-#[error("{key}: {message}")]
-pub struct FieldError {
-    /// Problem-file key, e.g. `"k1"` or `"tie_pin.max_distance"`.
-    pub key: String,
-    /// What is wrong and what is allowed.
-    pub message: String,
-}
-
+/// A field error names its problem-file key (`design.k1`, `accuracy.path_samples`): one
+/// [`FieldError`] from the file layer to the solver, no key translated on the way.
 fn field(key: &str, message: String) -> FieldError {
-    FieldError {
-        key: key.into(),
-        message,
-    }
+    FieldError::new(key, message)
 }
 
 fn check_var(
@@ -156,15 +147,26 @@ fn check_var(
         if lo_open { "(" } else { "[" },
         if hi_open { ")" } else { "]" }
     );
+    // An angle's range also in degrees (the file usually gives degrees).
+    let deg = if unit == " rad" {
+        format!(
+            "; in degrees: allowed {} {} angle < {} deg",
+            (lo.to_degrees() * 1e9).round() / 1e9,
+            if lo_open { "<" } else { "≤" },
+            (hi.to_degrees() * 1e9).round() / 1e9
+        )
+    } else {
+        String::new()
+    };
     match *v {
-        Var::Fixed(x) if !inside(x) => Err(field(key, format!("must be in {range}, got {x}"))),
+        Var::Fixed(x) if !inside(x) => Err(field(key, format!("must be in {range}, got {x}{deg}"))),
         Var::Free { min, max } if !(inside(min) && inside(max)) => Err(field(
             key,
-            format!("bounds must lie in {range}, got [{min}, {max}]"),
+            format!("bounds must lie in {range}, got [{min}, {max}]{deg}"),
         )),
         Var::Free { min, max } if min >= max => Err(field(
             key,
-            format!("free bounds need min < max, got [{min}, {max}]"),
+            format!("free bounds need min < max, got [{min}, {max}]{deg}"),
         )),
         _ => Ok(()),
     }
@@ -183,51 +185,83 @@ impl CraneScene {
                 ))
             }
         };
-        pos("reach_max", self.reach_max)?;
-        pos("reach_min", self.reach_min)?;
-        pos("lift_height", self.lift_height)?;
+        pos("mechanism.reach_max", self.reach_max)?;
+        pos("mechanism.reach_min", self.reach_min)?;
+        pos("mechanism.lift_height", self.lift_height)?;
         if !(self.foot_offset.is_finite() && self.foot_offset >= 0.0) {
             return Err(field(
-                "foot_offset",
+                "mechanism.foot_offset",
                 format!("must be a finite length >= 0 m, got {}", self.foot_offset),
             ));
         }
         if !(self.foot_height.is_finite() && self.foot_height >= 0.0) {
             return Err(field(
-                "foot_height",
+                "mechanism.foot_height",
                 format!("must be a finite length >= 0 m, got {}", self.foot_height),
             ));
         }
         if self.reach_min <= self.foot_offset {
             return Err(field(
-                "reach_min",
+                "mechanism.reach_min",
                 format!("must exceed foot_offset ({} m): the jib head must reach beyond the boom foot, got {}", self.foot_offset, self.reach_min),
             ));
         }
         if self.reach_max <= self.reach_min {
             return Err(field(
-                "reach_max",
+                "mechanism.reach_max",
                 format!(
                     "must exceed reach_min ({} m), got {}",
                     self.reach_min, self.reach_max
                 ),
             ));
         }
-        check_var("k1", &self.k1, 0.0, 1.0, true, true, "")?;
-        check_var("k2", &self.k2, 0.0, 5.0, true, false, "")?;
-        check_var("phi_min", &self.phi_min, 0.0, FRAC_PI_2, true, true, " rad")?;
-        check_var("gamma1", &self.gamma1, 0.0, FRAC_PI_2, true, true, " rad")?;
-        check_var("gamma2", &self.gamma2, 0.0, FRAC_PI_2, false, true, " rad")?;
-        check_var("gamma3", &self.gamma3, 0.0, FRAC_PI_2, false, true, " rad")?;
+        check_var("design.k1", &self.k1, 0.0, 1.0, true, true, "")?;
+        check_var("design.k2", &self.k2, 0.0, 5.0, true, false, "")?;
+        check_var(
+            "design.phi_min",
+            &self.phi_min,
+            0.0,
+            FRAC_PI_2,
+            true,
+            true,
+            " rad",
+        )?;
+        check_var(
+            "design.gamma1",
+            &self.gamma1,
+            0.0,
+            FRAC_PI_2,
+            true,
+            true,
+            " rad",
+        )?;
+        check_var(
+            "design.gamma2",
+            &self.gamma2,
+            0.0,
+            FRAC_PI_2,
+            false,
+            true,
+            " rad",
+        )?;
+        check_var(
+            "design.gamma3",
+            &self.gamma3,
+            0.0,
+            FRAC_PI_2,
+            false,
+            true,
+            " rad",
+        )?;
         if let SizingRule::Given(l) = self.sizing {
-            pos("sizing.boom_length", l)?;
+            pos("design.boom_length", l)?;
         }
         if let Some(r) = self.tie_pin.max_distance {
-            pos("tie_pin.max_distance", r)?;
+            pos("objective.tie_pin.max_distance", r)?;
         }
         for (key, r) in [
-            ("tie_pin.x_range", self.tie_pin.x_range),
-            ("tie_pin.y_range", self.tie_pin.y_range),
+            ("objective.tie_pin.x_range", self.tie_pin.x_range),
+            ("objective.tie_pin.y_range", self.tie_pin.y_range),
         ] {
             if let Some([lo, hi]) = r {
                 if !(lo.is_finite() && hi.is_finite() && lo < hi) {
@@ -239,19 +273,19 @@ impl CraneScene {
             }
         }
         if let Some(d) = self.max_delta_h {
-            pos("max_delta_h", d)?;
+            pos("objective.max_delta_h", d)?;
         }
         if let Some(q) = self.load_mass {
             if !(q.is_finite() && q >= 0.0) {
                 return Err(field(
-                    "load_mass",
+                    "mechanism.load_mass",
                     format!("must be a finite mass >= 0 kg, got {q}"),
                 ));
             }
         }
         if self.vars().iter().any(is_free) && !self.tie_pin.is_bounded() {
             return Err(field(
-                "tie_pin",
+                "objective.tie_pin",
                 "an optimisation needs a tie-pin limit (max_distance, or both x_range and y_range): without one the \
                  problem is degenerate, since a tie pin sent far away makes the tie a straight-line guide and drives \
                  delta h towards zero with a tie of unbounded length"
@@ -360,7 +394,7 @@ impl Default for Settings {
 }
 
 impl Settings {
-    /// Check every field (keys `settings.<name>`).
+    /// Check every field (keys `accuracy.<name>`).
     pub fn validate(&self) -> Result<(), FieldError> {
         let min_count = |key: &str, v: usize, min: usize| {
             if v >= min {
@@ -369,13 +403,13 @@ impl Settings {
                 Err(field(key, format!("must be at least {min}, got {v}")))
             }
         };
-        min_count("settings.path_samples", self.path_samples, 8)?;
-        min_count("settings.plot_points", self.plot_points, 2)?;
-        min_count("settings.global_samples", self.global_samples, 1)?;
-        min_count("settings.local_starts", self.local_starts, 1)?;
+        min_count("accuracy.path_samples", self.path_samples, 8)?;
+        min_count("accuracy.plot_points", self.plot_points, 2)?;
+        min_count("accuracy.global_samples", self.global_samples, 1)?;
+        min_count("accuracy.local_starts", self.local_starts, 1)?;
         if self.local_max_iters == 0 {
             return Err(field(
-                "settings.local_max_iters",
+                "accuracy.local_max_iters",
                 "must be at least 1".into(),
             ));
         }
@@ -384,16 +418,16 @@ impl Settings {
             || self.landscape_k2 == 1
         {
             return Err(field(
-                "settings.landscape_k1",
+                "accuracy.landscape_k1",
                 "landscape sizes must both be 0 (off) or both >= 2".into(),
             ));
         }
         for (key, v) in [
-            ("settings.xtol", self.xtol),
-            ("settings.local_tol", self.local_tol),
-            ("settings.penalty", self.penalty),
-            ("settings.constraint_tol", self.constraint_tol),
-            ("settings.moment_step", self.moment_step),
+            ("accuracy.xtol", self.xtol),
+            ("accuracy.local_tol", self.local_tol),
+            ("accuracy.penalty", self.penalty),
+            ("accuracy.constraint_tol", self.constraint_tol),
+            ("accuracy.moment_step", self.moment_step),
         ] {
             if !(v.is_finite() && v > 0.0) {
                 return Err(field(key, format!("must be finite and positive, got {v}")));
