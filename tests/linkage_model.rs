@@ -560,6 +560,7 @@ fn berkof_lowen_balances_a_four_bar() {
         ];
         let balanced = peak_force(&l, &cw);
         assert!(balanced <= 1e-12 * bare, "{balanced} vs {bare}");
+        eprintln!("Berkof–Lowen: balanced/bare peak = {:.2e}", balanced / bare);
         // As the links' own first moments.
         let mut lb = l.clone();
         for (i, u) in [(c, fb.crank), (rk, fb.rocker)] {
@@ -727,90 +728,180 @@ fn near_toggle_values_stay_finite_and_within_their_bounds() {
             );
         }
     }
-    eprintln!("near toggle: worst error / ρ = {worst:.3e}");
+    eprintln!(
+        "near toggle: worst error / ρ = {worst:.3e}, κ up to {:.3e}",
+        l.pose(t_lim - 1e-12).unwrap().kappa()
+    );
     // Past the limit: a value, not a NaN.
     let f = l.pose(t_lim + 1e-9).unwrap_err();
     assert_eq!(f.dyad, 0);
     assert!(f.gap >= 0.0 && f.gap < 1e-9);
 }
 
+const BETA: f64 = 0.7;
+const SHIFT: P2 = P2::new(0.37, -1.21);
+
+fn rot(v: P2) -> P2 {
+    let (s, c) = BETA.sin_cos();
+    P2::new(c * v.x - s * v.y, s * v.x + c * v.y)
+}
+
+/// The same linkage turned by BETA and moved by SHIFT (its crank angle is θ + BETA).
+fn rotated(l: &Linkage) -> Linkage {
+    let mv = |pt: Point| match pt {
+        Point::Frame(x) => Point::Frame(rot(x) + SHIFT),
+        on => on,
+    };
+    let dyads = l
+        .dyads()
+        .iter()
+        .map(|d| match *d {
+            Dyad::Rrr { p, l1, q, l2, side } => Dyad::Rrr {
+                p: mv(p),
+                l1,
+                q: mv(q),
+                l2,
+                side,
+            },
+            Dyad::Rrp {
+                p,
+                l,
+                origin,
+                angle,
+                side,
+            } => Dyad::Rrp {
+                p: mv(p),
+                l,
+                origin: rot(origin) + SHIFT,
+                angle: angle + BETA,
+                side,
+            },
+            Dyad::Rpr { p, q, offset, side } => Dyad::Rpr {
+                p: mv(p),
+                q: mv(q),
+                offset,
+                side,
+            },
+        })
+        .collect();
+    Linkage::new(
+        rot(l.pivot()) + SHIFT,
+        dyads,
+        l.inertia().to_vec(),
+        l.omega(),
+        P2::zeros(),
+    )
+    .unwrap()
+}
+
+/// The fields of `l` at θ and of its rotated copy agree within the sum of their stated
+/// bounds; returns the largest |difference| / bound.
+fn agree_rotated(name: &str, l: &Linkage, lr: &Linkage, t: f64) -> f64 {
+    let params = l.params();
+    let o = P2::new(0.02, 0.05);
+    let m0 = l.balance_map(&l.pose(t).unwrap(), o);
+    let m1 = lr.balance_map(&lr.pose(t + BETA).unwrap(), rot(o) + SHIFT);
+    let (e0, e1) = (m0.error(&params, &[]), m1.error(&params, &[]));
+    let r = [
+        (rot(m0.base.force) - m1.base.force).norm() / (e0.0 + e1.0),
+        (m0.base.moment - m1.base.moment).abs() / (e0.1 + e1.1),
+        (m0.base.torque - m1.base.torque).abs() / (e0.2 + e1.2),
+    ];
+    for (q, v) in ["F", "M", "T"].iter().zip(r) {
+        assert!(
+            v <= 1.0,
+            "{name} {q} at {t} (κ {}): {v} of the bound",
+            m0.kappa
+        );
+    }
+    r.into_iter().fold(0.0, f64::max)
+}
+
 /// Away from toggles, the rotated and translated linkage gives the rotated fields, within the
 /// stated bounds (two independent roundings of the same exact value).
 #[test]
 fn rotation_and_translation_change_only_the_rounding() {
-    let beta: f64 = 0.7;
-    let shift = P2::new(0.37, -1.21);
-    let rot = |v: P2| {
-        P2::new(
-            beta.cos() * v.x - beta.sin() * v.y,
-            beta.sin() * v.x + beta.cos() * v.y,
-        )
-    };
-    let mv = |pt: Point| match pt {
-        Point::Frame(x) => Point::Frame(rot(x) + shift),
-        on => on,
-    };
     for (name, l) in fixtures() {
-        let dyads = l
-            .dyads()
-            .iter()
-            .map(|d| match *d {
-                Dyad::Rrr { p, l1, q, l2, side } => Dyad::Rrr {
-                    p: mv(p),
-                    l1,
-                    q: mv(q),
-                    l2,
-                    side,
-                },
-                Dyad::Rrp {
-                    p,
-                    l,
-                    origin,
-                    angle,
-                    side,
-                } => Dyad::Rrp {
-                    p: mv(p),
-                    l,
-                    origin: rot(origin) + shift,
-                    angle: angle + beta,
-                    side,
-                },
-                Dyad::Rpr { p, q, offset, side } => Dyad::Rpr {
-                    p: mv(p),
-                    q: mv(q),
-                    offset,
-                    side,
-                },
-            })
-            .collect();
-        let lr = Linkage::new(
-            rot(l.pivot()) + shift,
-            dyads,
-            l.inertia().to_vec(),
-            l.omega(),
-            P2::zeros(),
-        )
-        .unwrap();
-        let params = l.params();
-        let o = P2::new(0.02, 0.05);
+        let lr = rotated(&l);
         for t in angles(13, 30) {
-            let m0 = l.balance_map(&l.pose(t).unwrap(), o);
-            let m1 = lr.balance_map(&lr.pose(t + beta).unwrap(), rot(o) + shift);
-            let (e0, e1) = (m0.error(&params, &[]), m1.error(&params, &[]));
-            assert!(
-                (rot(m0.base.force) - m1.base.force).norm() <= e0.0 + e1.0,
-                "{name} F"
-            );
-            assert!(
-                (m0.base.moment - m1.base.moment).abs() <= e0.1 + e1.1,
-                "{name} M"
-            );
-            assert!(
-                (m0.base.torque - m1.base.torque).abs() <= e0.2 + e1.2,
-                "{name} T"
-            );
+            agree_rotated(name, &l, &lr, t);
         }
     }
+}
+
+/// Linkages that cannot turn fully, one per dyad kind and one whose second dyad limits it:
+/// near each end of each unreachable range the values are finite, κ is large, and the
+/// rotated copy agrees within the stated bounds.
+#[test]
+fn near_the_limits_of_every_dyad_kind() {
+    let sc = slider_crank(
+        0.035,
+        0.04,
+        0.01,
+        [
+            inertia(0.35, 0.0175, 0.0, 0.0),
+            Inertia::bar(0.3, 0.04),
+            inertia(1.0, 0.0, 0.0, 0.0),
+        ],
+    );
+    let mut rpr_dyads = shaper().dyads().to_vec();
+    if let Dyad::Rpr { offset, .. } = &mut rpr_dyads[0] {
+        *offset = 0.3;
+    }
+    let rpr = Linkage::new(
+        P2::zeros(),
+        rpr_dyads,
+        shaper().inertia().to_vec(),
+        12.0,
+        P2::zeros(),
+    )
+    .unwrap();
+    let mut six_dyads = stephenson().dyads().to_vec();
+    if let Dyad::Rrr { l1, l2, .. } = &mut six_dyads[1] {
+        (*l1, *l2) = (0.3, 0.22);
+    }
+    let six = Linkage::new(
+        P2::zeros(),
+        six_dyads,
+        stephenson().inertia().to_vec(),
+        40.0,
+        P2::zeros(),
+    )
+    .unwrap();
+    let cases = [
+        ("RRR", four_bar(0.3, 0.25, 0.15, 0.18, Side::Left), 0),
+        ("RRP", sc, 0),
+        ("RPR", rpr, 0),
+        ("six-bar", six, 1),
+    ];
+    let mut worst: f64 = 0.0;
+    for (name, l, dyad) in cases {
+        let u = l.unreachable(720, 1e-14);
+        assert!(!u.is_empty(), "{name}");
+        let lr = rotated(&l);
+        for r in &u {
+            assert_eq!(r.dyad, dyad, "{name}");
+            for k in 3..=11 {
+                let dt = 10f64.powi(-k);
+                for t in [r.from - dt, r.to + dt] {
+                    let pose = l.pose(t).unwrap();
+                    assert!(
+                        pose.kappa() > 0.01 / dt.sqrt(),
+                        "{name}: κ {} at {dt}",
+                        pose.kappa()
+                    );
+                    let f = l.fields(t, P2::zeros()).unwrap();
+                    assert!(
+                        f.force.norm().is_finite() && f.moment.is_finite() && f.torque.is_finite()
+                    );
+                    worst = worst.max(agree_rotated(name, &l, &lr, t));
+                }
+            }
+            let mid = l.pose(0.5 * (r.from + r.to)).unwrap_err();
+            assert!(mid.gap > 0.0 && mid.dyad == dyad);
+        }
+    }
+    eprintln!("near the limits: worst |rotated − original| / bound = {worst:.3e}");
 }
 
 #[test]

@@ -48,6 +48,16 @@ pub enum Point {
     },
 }
 
+impl Point {
+    /// The crank pin at radius `r` on the crank's x axis: `On { link: 0, at: (r, 0) }`.
+    pub fn crank_pin(r: f64) -> Point {
+        Point::On {
+            link: 0,
+            at: P2::new(r, 0.0),
+        }
+    }
+}
+
 /// An Assur dyad of two links and three joints, adding one new moving joint from two known
 /// points. Each dyad adds two links, a (first) and b (second), described per variant.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -335,7 +345,8 @@ impl Pose {
 /// Shaking force, shaking moment and input torque at one angle (N, N·m, N·m).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Fields {
-    /// F = −Σ m_i r̈_Gi: the inertial force of the moving links on the frame.
+    /// F = −Σ m_i r̈_Gi: the inertial force of the moving links on the frame (the weights, a
+    /// static load, are not part of it, nor of the moment).
     pub force: P2,
     /// M_O = −Σ [(r_Gi − O) × m_i r̈_Gi + J_i ψ̈_i] about the map's point O (counter-clockwise
     /// positive): the inertial moment the frame feels, the motor's reaction included. The
@@ -381,6 +392,9 @@ pub struct BalanceMap {
     /// Σ_i A_i p_i differs from the exact one by at most ρ Σ_i ‖A_i‖_F ‖p_i‖ (Frobenius
     /// and Euclidean norms), likewise the moment and torque rows. ρ = 64 ε a with a the
     /// largest round-off amplification of the pose ([`Pose::amp`]).
+    /// Measured (`tests/linkage_model.rs`): at most 0.08 ρ against a double-double reference
+    /// of a four-bar up to κ ≈ 4·10⁵, and 0.02 ρ between rotated copies near the limits of
+    /// every dyad kind.
     pub rho: f64,
 }
 
