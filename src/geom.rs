@@ -1,6 +1,7 @@
 //! Closed-form planar constructions shared by the mechanism models: circle–circle
-//! intersection (a dyad), link–slider intersection, circumcentre, and the smallest disc
-//! enclosing a point set (the geometric form of a minimax counterweight).
+//! intersection (a dyad), link–slider intersection, the 2×2 solve of a differentiated dyad,
+//! circumcentre, and the smallest disc enclosing a point set (the geometric form of a
+//! minimax counterweight).
 //!
 //! A construction that has no solution (the links cannot reach) returns `None`, never NaN:
 //! whether that is an error is for the caller to decide. Every formula is written in the
@@ -35,6 +36,30 @@ impl Side {
 /// 2-D cross product (z component) `a × b`.
 pub fn cross(a: P2, b: P2) -> f64 {
     a.x * b.y - a.y * b.x
+}
+
+/// The rotation by +90°: J v = (−v_y, v_x), so that a × b = (J a)·b.
+pub fn perp(v: P2) -> P2 {
+    P2::new(-v.y, v.x)
+}
+
+/// The complex product a·b = (a_x b_x − a_y b_y, a_x b_y + a_y b_x). With a = (cos ψ, sin ψ)
+/// it is the rotation R(ψ) b; with a general a, a rotation and a scaling.
+pub fn cmul(a: P2, b: P2) -> P2 {
+    P2::new(a.x * b.x - a.y * b.y, a.x * b.y + a.y * b.x)
+}
+
+/// The solution (x, y) of x a + y b = w by Cramer's rule: with D = a × b,
+/// x = (w × b)/D, y = (a × w)/D. `None` when D is zero or the result is not finite.
+///
+/// This is the 2×2 system of a differentiated dyad loop equation; the sine of the angle
+/// between the columns, D/(|a||b|), measures its conditioning, and the relative round-off of
+/// x, y is a few ε·|a||b|/|D| (plus the data's own error amplified by the same factor).
+pub fn solve_columns(a: P2, b: P2, w: P2) -> Option<(f64, f64)> {
+    let d = cross(a, b);
+    let x = cross(w, b) / d;
+    let y = cross(a, w) / d;
+    (d != 0.0 && x.is_finite() && y.is_finite()).then_some((x, y))
 }
 
 /// Intersection of the circle (`c0`, `r0`) with the circle (`c1`, `r1`) on `side`.
@@ -209,6 +234,18 @@ mod tests {
             circle_circle(P2::zeros(), 1.0, P2::new(2.0 + 1e-9, 0.0), 1.0, Side::Left).is_none()
         );
         assert!(circle_circle(P2::zeros(), 1.0, P2::zeros(), 1.0, Side::Left).is_none());
+    }
+
+    #[test]
+    fn perp_cmul_and_cramer() {
+        let (a, b) = (P2::new(2.0, 1.0), P2::new(-1.0, 3.0));
+        assert_eq!(cross(a, b), perp(a).dot(&b));
+        let e = P2::new(0.6, 0.8);
+        assert!((cmul(e, P2::new(1.0, 0.0)) - e).norm() < 1e-16);
+        assert!((cmul(e, P2::new(0.0, 1.0)) - perp(e)).norm() < 1e-16);
+        let (x, y) = solve_columns(a, b, 3.0 * a - 2.0 * b).unwrap();
+        assert!((x - 3.0).abs() < 1e-15 && (y + 2.0).abs() < 1e-15);
+        assert!(solve_columns(a, 2.0 * a, b).is_none());
     }
 
     #[test]

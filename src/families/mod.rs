@@ -10,6 +10,7 @@
 pub mod crane;
 pub mod gear;
 pub mod hypocycloid;
+pub mod linkage;
 pub mod slider_crank;
 
 pub mod family;

@@ -1,0 +1,1189 @@
+//! Any one-degree-of-freedom planar linkage (issue 17): a crank driven at constant speed and a
+//! chain of Assur dyads, with closed-form kinematics and the shaking force, the shaking moment,
+//! the input torque and the joint reactions as **linear maps in the links' inertial
+//! parameters** — the form the counterweight cone programs need.
+//!
+//! Notation (`shared/domain/planar-linkage.md`): θ is the crank angle, ' = d/dθ; at constant
+//! speed ω an acceleration is ω² × a second derivative. Link i is a rigid body with a
+//! reference joint P_i and an angle ψ_i; its own frame has its origin at P_i and its x axis at
+//! ψ_i (along the link's defining direction, see [`Dyad`]). R(ψ) is the rotation, J the
+//! rotation by +90° ([`perp`]), e_i = (cos ψ_i, sin ψ_i). A point fixed to link i at `at` in
+//! its frame is X = P_i + R(ψ_i)·at.
+//!
+//! Links are numbered: 0 is the crank (P_0 = the crank pivot A0, ψ_0 = θ), dyad k adds links
+//! 2k + 1 and 2k + 2 ([`Linkage::dyad_links`]).
+//!
+//! Inertial parameters of link i: p_i = (m_i, m_i c_ix, m_i c_iy, I_Pi) with c_i the centroid in
+//! the link's frame and I_Pi = J_i + m_i|c_i|² the inertia about P_i ([`Inertia::params`]). A
+//! counterweight attached to link i (mass m, centroid q in the link's frame, own centroidal
+//! inertia J) adds (m, m q, J + m|q|²) to p_i, so every field below is affine in it.
+//!
+//! Units: SI throughout (m, kg, kg·m², rad, rad/s, N, N·m); positions and θ-derivatives are
+//! pure geometry, the fields ([`Fields`]) carry ω² (and gravity, where it enters).
+//!
+//! Round-off: each dyad's 2×2 system has the conditioning κ = 1/|sin μ| with μ its
+//! transmission angle ([`DyadState::sin_mu`]). Near a toggle the dyad's position loses digits
+//! as ε·κ and its derivatives as ε·κ²; a dyad built on an earlier one inherits its error,
+//! amplified by κ² again. [`LinkState::amp`] accumulates a_k = κ_k² (1 + a_in) along the chain
+//! (a = 1 for the crank) and [`BalanceMap::rho`] turns it into a stated relative error.
+
+use crate::geom::{circle_circle, cmul, cross, link_slider, perp, solve_columns, Side, P2};
+use nalgebra::{DMatrix, DVector, Matrix2, Matrix2x4, RowVector4, Vector4};
+use std::f64::consts::TAU;
+
+/// Inertial parameters of one link, p = (m, m c_x, m c_y, I_P) (kg, kg·m, kg·m, kg·m²).
+pub type Params = Vector4<f64>;
+
+/// Where a point of the mechanism is.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Point {
+    /// Fixed to the frame, in world coordinates (m).
+    Frame(P2),
+    /// Fixed to moving link `link`, at `at` in the link's own frame (m).
+    On {
+        /// The link's index (it must be defined before the dyad that uses the point).
+        link: usize,
+        /// Coordinates in the link's frame (origin P_link, x axis at ψ_link).
+        at: P2,
+    },
+}
+
+impl Point {
+    /// The crank pin at radius `r` on the crank's x axis: `On { link: 0, at: (r, 0) }`.
+    pub fn crank_pin(r: f64) -> Point {
+        Point::On {
+            link: 0,
+            at: P2::new(r, 0.0),
+        }
+    }
+}
+
+/// An Assur dyad of two links and three joints, adding one new moving joint from two known
+/// points. Each dyad adds two links, a (first) and b (second), described per variant.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Dyad {
+    /// Revolute–revolute–revolute: link a of length `l1` pivoted at the known point `p`,
+    /// link b of length `l2` pivoted at the known point `q`, joined at the new joint B
+    /// (circle–circle, [`circle_circle`]; `side` seen from P towards Q, `Left` =
+    /// counter-clockwise). Link a: reference P, x axis P→B, so B = (l1, 0) in its frame.
+    /// Link b: reference Q, x axis Q→B, B = (l2, 0).
+    Rrr {
+        /// P, the pivot of link a.
+        p: Point,
+        /// l1 = |PB| (m).
+        l1: f64,
+        /// Q, the pivot of link b.
+        q: Point,
+        /// l2 = |QB| (m).
+        l2: f64,
+        /// Assembly branch: the side of the line P→Q on which B lies.
+        side: Side,
+    },
+    /// Revolute–revolute–prismatic: link a (the rod) of length `l` pivoted at the known point
+    /// `p`, joined at B to link b (the slider), which translates on the frame line through
+    /// `origin` at `angle` (circle–line, [`link_slider`]; `side` `Left` = B further along the
+    /// line's direction than the foot of the perpendicular from P). Link a: reference P,
+    /// x axis P→B. Link b: reference B, x axis along the line (ψ_b = `angle`, constant).
+    /// The slider's position B = origin + t·(cos angle, sin angle) is [`DyadState::var`].
+    Rrp {
+        /// P, the pivot of the rod.
+        p: Point,
+        /// l = |PB| (m).
+        l: f64,
+        /// A point of the slider's line (m, world).
+        origin: P2,
+        /// The line's direction (rad, world).
+        angle: f64,
+        /// Assembly branch along the line.
+        side: Side,
+    },
+    /// Revolute–prismatic–revolute: link a (the guide, a slotted link) pivoted at the known
+    /// point `p`, along which slides link b (the block), pivoted at the known point `q`. The
+    /// guide's slide line runs at the perpendicular distance `offset` from P (to the left of
+    /// its direction): Q = P + R(ψ)(s, offset). Link a: reference P, x axis along the slide;
+    /// link b: reference Q, the same angle ψ. `side` `Left`: s > 0 (Q ahead of P along the
+    /// slide). s is [`DyadState::var`].
+    Rpr {
+        /// P, the guide's pivot.
+        p: Point,
+        /// Q, the block's pivot.
+        q: Point,
+        /// e, offset of the slide line from P (m).
+        offset: f64,
+        /// Assembly branch: the sign of s.
+        side: Side,
+    },
+}
+
+/// A link's mass properties in its own frame.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Inertia {
+    /// m (kg, ≥ 0).
+    pub mass: f64,
+    /// c, the centroid in the link's frame (m).
+    pub centroid: P2,
+    /// J, the moment of inertia about the centroid (kg·m², ≥ 0).
+    pub j: f64,
+}
+
+impl Inertia {
+    /// A massless link.
+    pub const NONE: Inertia = Inertia {
+        mass: 0.0,
+        centroid: P2::new(0.0, 0.0),
+        j: 0.0,
+    };
+
+    /// A uniform bar of length `l` along the link's x axis from its reference joint:
+    /// c = (l/2, 0), J = m l²/12.
+    pub fn bar(mass: f64, l: f64) -> Inertia {
+        Inertia {
+            mass,
+            centroid: P2::new(0.5 * l, 0.0),
+            j: mass * l * l / 12.0,
+        }
+    }
+
+    /// p = (m, m c_x, m c_y, I_P) with I_P = J + m|c|², the inertia about the reference joint.
+    pub fn params(&self) -> Params {
+        let u = self.centroid * self.mass;
+        Params::new(
+            self.mass,
+            u.x,
+            u.y,
+            self.j + self.mass * self.centroid.norm_squared(),
+        )
+    }
+}
+
+/// Why a linkage description is not usable.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum LinkageError {
+    /// A dyad uses a point on a link that is not yet defined.
+    #[error("dyad {dyad} uses a point on link {link}, which is not defined before it (links 0..{known})")]
+    ForwardReference {
+        /// The dyad.
+        dyad: usize,
+        /// The link it names.
+        link: usize,
+        /// The number of links defined before the dyad.
+        known: usize,
+    },
+    /// A length, offset, angle or coordinate is not finite, or a length not positive.
+    #[error("dyad {dyad}: {what} = {value} is invalid")]
+    BadDyad {
+        /// The dyad.
+        dyad: usize,
+        /// The quantity.
+        what: &'static str,
+        /// Its value.
+        value: f64,
+    },
+    /// The inertial data list does not have one entry per link.
+    #[error("{got} inertia entries for {expected} links")]
+    InertiaCount {
+        /// 1 + 2 × dyads.
+        expected: usize,
+        /// Given.
+        got: usize,
+    },
+    /// A mass or inertia is negative or not finite.
+    #[error("link {link}: {what} = {value} is invalid")]
+    BadInertia {
+        /// The link.
+        link: usize,
+        /// The quantity.
+        what: &'static str,
+        /// Its value.
+        value: f64,
+    },
+    /// The speed, the pivot or the gravity vector is not finite.
+    #[error("{what} is not finite")]
+    NotFinite {
+        /// The quantity.
+        what: &'static str,
+    },
+    /// [`Linkage::berkof_lowen`] needs a four-bar: one RRR dyad joining a crank point to a
+    /// frame point.
+    #[error("not a four-bar (one RRR dyad from a crank point to a frame point)")]
+    NotFourBar,
+    /// The joint-force equations are singular at θ (a toggle: the dyads carry no load there).
+    #[error("the joint-force equations are singular at theta = {theta}")]
+    SingularReactions {
+        /// θ (rad).
+        theta: f64,
+    },
+}
+
+/// A dyad that does not assemble at θ: a value, never a NaN.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct NoAssembly {
+    /// θ (rad).
+    pub theta: f64,
+    /// The first dyad that fails.
+    pub dyad: usize,
+    /// How far the dyad is from assembling (m, ≥ 0): RRR max(|PQ| − (l1 + l2), |l1 − l2| −
+    /// |PQ|); RRP |dist(P, line)| − l; RPR |e| − |PQ|. 0 when it assembles exactly at a
+    /// toggle (determinant zero: the derivatives are infinite) or P = Q.
+    pub gap: f64,
+}
+
+/// A range of crank angles where the linkage cannot assemble.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Unreachable {
+    /// First unreachable angle (rad, in [0, 2π)).
+    pub from: f64,
+    /// Last unreachable angle (rad, in (from, from + 2π]; above 2π the range wraps past 0).
+    pub to: f64,
+    /// The dyad that fails in the middle of the range.
+    pub dyad: usize,
+}
+
+/// A one-degree-of-freedom planar linkage: crank + dyads + mass properties + speed.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Linkage {
+    pivot: P2,
+    dyads: Vec<Dyad>,
+    inertia: Vec<Inertia>,
+    omega: f64,
+    gravity: P2,
+}
+
+/// One link's state at θ: its reference joint, its angle and their θ-derivatives.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LinkState {
+    /// P, P', P'' (m, m/rad, m/rad²).
+    pub p: [P2; 3],
+    /// ψ, ψ', ψ''; ψ in (−π, π] for dyad links (θ itself for the crank).
+    pub psi: [f64; 3],
+    /// e = (cos ψ, sin ψ), computed from the construction (not from ψ).
+    pub e: P2,
+    /// Round-off amplification a of this link's state (1 for the crank, see the module doc).
+    pub amp: f64,
+}
+
+impl LinkState {
+    /// The point fixed at `at` in the link's frame, with its derivatives:
+    /// X = P + R(ψ) at, X' = P' + ψ' J R at, X'' = P'' + ψ'' J R at − ψ'² R at.
+    pub fn point(&self, at: P2) -> [P2; 3] {
+        let r = cmul(self.e, at);
+        let jr = perp(r);
+        [
+            self.p[0] + r,
+            self.p[1] + jr * self.psi[1],
+            self.p[2] + jr * self.psi[2] - r * (self.psi[1] * self.psi[1]),
+        ]
+    }
+
+    /// R(ψ) as a matrix.
+    pub fn rot(&self) -> Matrix2<f64> {
+        Matrix2::new(self.e.x, -self.e.y, self.e.y, self.e.x)
+    }
+}
+
+/// One dyad's state at θ.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DyadState {
+    /// The dyad's inner joint and its derivatives: B for RRR and RRP, Q (the block's pivot on
+    /// the guide) for RPR.
+    pub joint: [P2; 3],
+    /// The joint variable and its derivatives: RRR μ = ψ_b − ψ_a (the transmission angle,
+    /// in (−π, π]); RRP t (m, slider position along its line); RPR s (m, along the guide).
+    pub var: [f64; 3],
+    /// sin μ, the sine of the angle between the columns of the dyad's 2×2 system (its
+    /// determinant over the product of the columns' lengths): RRR sin(ψ_b − ψ_a), RRP
+    /// e_a·u (the rod against the line's normal), RPR −s/|PQ|. 0 at a toggle.
+    pub sin_mu: f64,
+}
+
+impl DyadState {
+    /// κ = 1/|sin μ|, the dyad's conditioning (1 at best, ∞ at a toggle).
+    pub fn kappa(&self) -> f64 {
+        1.0 / self.sin_mu.abs()
+    }
+}
+
+/// The whole mechanism at one crank angle.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Pose {
+    /// θ (rad).
+    pub theta: f64,
+    /// Every link, crank first ([`Linkage::dyad_links`]).
+    pub links: Vec<LinkState>,
+    /// Every dyad, in order.
+    pub dyads: Vec<DyadState>,
+}
+
+impl Pose {
+    /// The largest dyad conditioning κ at this angle (1 without dyads).
+    pub fn kappa(&self) -> f64 {
+        self.dyads.iter().map(DyadState::kappa).fold(1.0, f64::max)
+    }
+
+    /// The largest round-off amplification a over the links (see the module doc).
+    pub fn amp(&self) -> f64 {
+        self.links.iter().map(|l| l.amp).fold(1.0, f64::max)
+    }
+
+    /// A point and its θ-derivatives.
+    pub fn point(&self, pt: &Point) -> [P2; 3] {
+        match *pt {
+            Point::Frame(x) => [x, P2::zeros(), P2::zeros()],
+            Point::On { link, at } => self.links[link].point(at),
+        }
+    }
+
+    /// Round-off amplification of a point's state (0 on the frame).
+    fn amp_of(&self, pt: &Point) -> f64 {
+        match *pt {
+            Point::Frame(_) => 0.0,
+            Point::On { link, .. } => self.links[link].amp,
+        }
+    }
+}
+
+/// Shaking force, shaking moment and input torque at one angle (N, N·m, N·m).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Fields {
+    /// F = −Σ m_i r̈_Gi: the inertial force of the moving links on the frame (the weights, a
+    /// static load, are not part of it, nor of the moment).
+    pub force: P2,
+    /// M_O = −Σ [(r_Gi − O) × m_i r̈_Gi + J_i ψ̈_i] about the map's point O (counter-clockwise
+    /// positive): the inertial moment the frame feels, the motor's reaction included. The
+    /// pin forces alone give M_O + T.
+    pub moment: f64,
+    /// T = ω² Σ [m_i r'_Gi·r''_Gi + J_i ψ'_i ψ''_i] − Σ m_i g·r'_Gi: the input torque on the
+    /// crank at constant speed (inertia and weights).
+    pub torque: f64,
+}
+
+/// The linear maps of one link's parameters p_i into the fields: F += A p_i, M_O += m p_i,
+/// T += t p_i.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Blocks {
+    /// A_i = −ω² [P'' | E2 | 0] with E2 = ψ'' J R − ψ'² R (r_G'' = P'' + E2 c), 2×4.
+    pub force: Matrix2x4<f64>,
+    /// M_O row: with the inertial wrench (F_i, M_Pi) of link i about P_i,
+    /// M_O,i = M_Pi + (P_i − O) × F_i, where
+    /// M_Pi = −ω² [(R u) × P'' + I_P ψ''] (u = m c), so the row is
+    /// [−ω² (P − O) × P'', ω² (Rᵀ J P'')ᵀ + (P − O) × (−ω² E2 columns), −ω² ψ''].
+    pub moment: RowVector4<f64>,
+    /// T row, from the kinetic and potential energy: m r'_G·r''_G + J ψ'ψ'' =
+    /// m P'·P'' + (E2ᵀ P' − ψ' Rᵀ J P'')·u + ψ'ψ'' I_P (the m|c|² terms join J into I_P), so
+    /// t = [ω² P'·P'' − g·P', ω² (E2ᵀ P' − ψ' Rᵀ J P'')ᵀ + ψ' (Rᵀ J g)ᵀ, ω² ψ'ψ''].
+    pub torque: RowVector4<f64>,
+}
+
+/// The fields at one angle as an affine map of the links' parameters: everything a
+/// counterweight program needs at a sample.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BalanceMap {
+    /// θ (rad).
+    pub theta: f64,
+    /// O, the point the moment is taken about (m).
+    pub o: P2,
+    /// The bare linkage's fields, Σ_i blocks_i p_i.
+    pub base: Fields,
+    /// Per link (crank first): the blocks of its parameter vector.
+    pub blocks: Vec<Blocks>,
+    /// The largest dyad conditioning κ at θ.
+    pub kappa: f64,
+    /// ρ: a relative round-off bound for every block: for any parameters p, the computed
+    /// Σ_i A_i p_i differs from the exact one by at most ρ Σ_i ‖A_i‖_F ‖p_i‖ (Frobenius
+    /// and Euclidean norms), likewise the moment and torque rows. ρ = 64 ε a with a the
+    /// largest round-off amplification of the pose ([`Pose::amp`]).
+    /// Measured (`tests/linkage_model.rs`): at most 0.08 ρ against a double-double reference
+    /// of a four-bar up to κ ≈ 4·10⁵, and 0.02 ρ between rotated copies near the limits of
+    /// every dyad kind.
+    pub rho: f64,
+}
+
+impl BalanceMap {
+    /// F, M_O, T with `extra[j] = (link, x)` added to the parameters of `link` (e.g.
+    /// counterweights): base + Σ_j blocks_link x_j.
+    pub fn fields(&self, extra: &[(usize, Params)]) -> Fields {
+        let mut f = self.base;
+        for (i, x) in extra {
+            let b = &self.blocks[*i];
+            let fx = b.force * x;
+            f.force += P2::new(fx[0], fx[1]);
+            f.moment += b.moment.dot(&x.transpose());
+            f.torque += b.torque.dot(&x.transpose());
+        }
+        f
+    }
+
+    /// The round-off bound on [`BalanceMap::fields`] with `extra` (see [`BalanceMap::rho`]),
+    /// as (force magnitude, moment, torque).
+    pub fn error(&self, params: &[Params], extra: &[(usize, Params)]) -> (f64, f64, f64) {
+        let mut s = (0.0, 0.0, 0.0);
+        let mut add = |b: &Blocks, p: &Params| {
+            let n = p.norm();
+            s.0 += b.force.norm() * n;
+            s.1 += b.moment.norm() * n;
+            s.2 += b.torque.norm() * n;
+        };
+        for (b, p) in self.blocks.iter().zip(params) {
+            add(b, p);
+        }
+        for (i, x) in extra {
+            add(&self.blocks[*i], x);
+        }
+        (self.rho * s.0, self.rho * s.1, self.rho * s.2)
+    }
+}
+
+/// One of the two bodies a joint connects.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Body {
+    /// The frame.
+    Frame,
+    /// Moving link i.
+    Link(usize),
+}
+
+/// What a joint transmits.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum JointKind {
+    /// A pin: a force (two components).
+    Revolute,
+    /// A slide: a force normal to the slide and a couple.
+    Prismatic,
+}
+
+/// A joint between `first` and link `second`.
+///
+/// Revolute: at the point `at` of `second` (its frame); the unknowns are the force R that
+/// `first` exerts on `second` (world x, y). Prismatic: the slide runs along `second`'s x axis;
+/// the unknowns are N and C, the force N·J e_second that `first` exerts on `second` at
+/// `second`'s reference joint, and the couple C. `first` receives the opposite.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Joint {
+    /// Revolute or prismatic.
+    pub kind: JointKind,
+    /// The body that exerts the joint's unknown force on `second`.
+    pub first: Body,
+    /// The link that receives it.
+    pub second: usize,
+    /// The joint's point in `second`'s frame (revolute; the origin for prismatic).
+    pub at: P2,
+}
+
+/// Joint reactions at one angle, for given parameters.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Reactions {
+    /// θ (rad).
+    pub theta: f64,
+    /// Per joint ([`Linkage::joints`]): revolute (R_x, R_y) (N); prismatic (N (N), C (N·m)).
+    pub loads: Vec<[f64; 2]>,
+    /// The input torque on the crank (N·m), from the equilibrium of the links.
+    pub torque: f64,
+}
+
+/// The joint reactions as an affine map of the links' parameters: the unknown vector
+/// x = (joint loads as in [`Reactions::loads`], flattened, then T) is x = Σ_i B_i p_i.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ReactionMap {
+    /// θ (rad).
+    pub theta: f64,
+    /// x of the bare linkage.
+    pub base: DVector<f64>,
+    /// B_i (unknowns × 4) per link.
+    pub blocks: Vec<DMatrix<f64>>,
+}
+
+/// A four-bar's full force balance (Berkof–Lowen), as first moments in the links' frames.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ForceBalance {
+    /// The crank's total first moment u_2 = q_A ⊗ (u_3/a3 − m3) (kg·m, crank frame; q_A is
+    /// the crank pin in the crank's frame, ⊗ the complex product; for q_A = (a2, 0) it is
+    /// m3 a2 ((r3/a3) e^{iφ3} − 1)).
+    pub crank: P2,
+    /// The rocker's total first moment u_4 = −(a4/a3) u_3 (kg·m, rocker frame).
+    pub rocker: P2,
+    /// What a crank counterweight must add: u_2 − m2 c2.
+    pub crank_add: P2,
+    /// What a rocker counterweight must add: u_4 − m4 c4.
+    pub rocker_add: P2,
+    /// The crank link (0) and the rocker link.
+    pub links: (usize, usize),
+}
+
+impl Linkage {
+    /// A checked linkage: crank pivot A0, dyads, one [`Inertia`] per link (crank first), the
+    /// constant crank speed ω (rad/s) and gravity g (m/s², world; zero for none).
+    pub fn new(
+        pivot: P2,
+        dyads: Vec<Dyad>,
+        inertia: Vec<Inertia>,
+        omega: f64,
+        gravity: P2,
+    ) -> Result<Linkage, LinkageError> {
+        let finite = |v: P2| v.x.is_finite() && v.y.is_finite();
+        if !finite(pivot) {
+            return Err(LinkageError::NotFinite { what: "pivot" });
+        }
+        if !omega.is_finite() {
+            return Err(LinkageError::NotFinite { what: "omega" });
+        }
+        if !finite(gravity) {
+            return Err(LinkageError::NotFinite { what: "gravity" });
+        }
+        for (k, d) in dyads.iter().enumerate() {
+            let known = 1 + 2 * k;
+            let point = |pt: &Point, what: &'static str| match *pt {
+                Point::Frame(x) if !finite(x) => Err(LinkageError::BadDyad {
+                    dyad: k,
+                    what,
+                    value: f64::NAN,
+                }),
+                Point::On { link, .. } if link >= known => Err(LinkageError::ForwardReference {
+                    dyad: k,
+                    link,
+                    known,
+                }),
+                Point::On { at, .. } if !finite(at) => Err(LinkageError::BadDyad {
+                    dyad: k,
+                    what,
+                    value: f64::NAN,
+                }),
+                _ => Ok(()),
+            };
+            let length = |l: f64, what: &'static str| {
+                if l > 0.0 && l.is_finite() {
+                    Ok(())
+                } else {
+                    Err(LinkageError::BadDyad {
+                        dyad: k,
+                        what,
+                        value: l,
+                    })
+                }
+            };
+            match d {
+                Dyad::Rrr { p, l1, q, l2, .. } => {
+                    point(p, "p")?;
+                    point(q, "q")?;
+                    length(*l1, "l1")?;
+                    length(*l2, "l2")?;
+                }
+                Dyad::Rrp {
+                    p,
+                    l,
+                    origin,
+                    angle,
+                    ..
+                } => {
+                    point(p, "p")?;
+                    length(*l, "l")?;
+                    if !finite(*origin) {
+                        return Err(LinkageError::BadDyad {
+                            dyad: k,
+                            what: "origin",
+                            value: f64::NAN,
+                        });
+                    }
+                    if !angle.is_finite() {
+                        return Err(LinkageError::BadDyad {
+                            dyad: k,
+                            what: "angle",
+                            value: *angle,
+                        });
+                    }
+                }
+                Dyad::Rpr { p, q, offset, .. } => {
+                    point(p, "p")?;
+                    point(q, "q")?;
+                    if !offset.is_finite() {
+                        return Err(LinkageError::BadDyad {
+                            dyad: k,
+                            what: "offset",
+                            value: *offset,
+                        });
+                    }
+                }
+            }
+        }
+        let expected = 1 + 2 * dyads.len();
+        if inertia.len() != expected {
+            return Err(LinkageError::InertiaCount {
+                expected,
+                got: inertia.len(),
+            });
+        }
+        let mut l = Linkage {
+            pivot,
+            dyads,
+            inertia: Vec::new(),
+            omega,
+            gravity,
+        };
+        l.inertia = vec![Inertia::NONE; expected];
+        for (i, m) in inertia.into_iter().enumerate() {
+            l.set_inertia(i, m)?;
+        }
+        Ok(l)
+    }
+
+    /// Replaces link `link`'s mass properties (checked: m, J ≥ 0 and finite).
+    pub fn set_inertia(&mut self, link: usize, m: Inertia) -> Result<(), LinkageError> {
+        let bad = |what, value| Err(LinkageError::BadInertia { link, what, value });
+        if link >= self.inertia.len() {
+            return bad("index", link as f64);
+        }
+        if !(m.mass >= 0.0 && m.mass.is_finite()) {
+            return bad("mass", m.mass);
+        }
+        if !(m.j >= 0.0 && m.j.is_finite()) {
+            return bad("inertia", m.j);
+        }
+        if !(m.centroid.x.is_finite() && m.centroid.y.is_finite()) {
+            return bad("centroid", f64::NAN);
+        }
+        self.inertia[link] = m;
+        Ok(())
+    }
+
+    /// The crank pivot A0.
+    pub fn pivot(&self) -> P2 {
+        self.pivot
+    }
+    /// The dyads.
+    pub fn dyads(&self) -> &[Dyad] {
+        &self.dyads
+    }
+    /// The links' mass properties (crank first).
+    pub fn inertia(&self) -> &[Inertia] {
+        &self.inertia
+    }
+    /// ω (rad/s).
+    pub fn omega(&self) -> f64 {
+        self.omega
+    }
+    /// g (m/s², world).
+    pub fn gravity(&self) -> P2 {
+        self.gravity
+    }
+    /// The number of links, 1 + 2 × dyads.
+    pub fn n_links(&self) -> usize {
+        1 + 2 * self.dyads.len()
+    }
+    /// The links (a, b) that dyad `k` adds: (2k + 1, 2k + 2).
+    pub fn dyad_links(k: usize) -> (usize, usize) {
+        (2 * k + 1, 2 * k + 2)
+    }
+    /// Every link's parameter vector p_i ([`Inertia::params`]).
+    pub fn params(&self) -> Vec<Params> {
+        self.inertia.iter().map(Inertia::params).collect()
+    }
+
+    /// Positions and θ-derivatives of every link at crank angle θ, or the first dyad that
+    /// does not assemble.
+    ///
+    /// Positions from the closed-form constructions; derivatives from the differentiated loop
+    /// equations, one 2×2 system per dyad solved by [`solve_columns`] with the same matrix for
+    /// both orders:
+    /// - RRR, B = P + l1 e_a = Q + l2 e_b: [l1 J e_a, −l2 J e_b](ψ_a', ψ_b') = Q' − P', and
+    ///   (ψ_a'', ψ_b'') with the right side Q'' − P'' + l1 ψ_a'² e_a − l2 ψ_b'² e_b;
+    /// - RRP, B = P + l e_a = origin + t u: [l J e_a, −u](ψ_a', t') = −P', right side
+    ///   −P'' + l ψ_a'² e_a for (ψ_a'', t'');
+    /// - RPR, v = Q − P = R(ψ)(s, e): [J v, e_ψ](ψ', s') = Q' − P', right side
+    ///   Q'' − P'' + ψ'² v − 2 s'ψ' J e_ψ for (ψ'', s'').
+    ///
+    /// The branch of each dyad is fixed by its `side`, which a continuous motion changes only
+    /// through a toggle, so the poses at successive angles lie on one branch.
+    pub fn pose(&self, theta: f64) -> Result<Pose, NoAssembly> {
+        let (s, c) = theta.sin_cos();
+        let mut pose = Pose {
+            theta,
+            links: Vec::with_capacity(self.n_links()),
+            dyads: Vec::with_capacity(self.dyads.len()),
+        };
+        pose.links.push(LinkState {
+            p: [self.pivot, P2::zeros(), P2::zeros()],
+            psi: [theta, 1.0, 0.0],
+            e: P2::new(c, s),
+            amp: 1.0,
+        });
+        for (k, d) in self.dyads.iter().enumerate() {
+            let fail = |gap: f64| NoAssembly {
+                theta,
+                dyad: k,
+                gap: gap.max(0.0),
+            };
+            match *d {
+                Dyad::Rrr { p, l1, q, l2, side } => {
+                    let (pp, qq) = (pose.point(&p), pose.point(&q));
+                    let dist = (qq[0] - pp[0]).norm();
+                    let gap = (dist - (l1 + l2)).max((l1 - l2).abs() - dist);
+                    let b = circle_circle(pp[0], l1, qq[0], l2, side).ok_or(fail(gap))?;
+                    let (da, db) = (b - pp[0], b - qq[0]);
+                    let (ea, eb) = (da / da.norm(), db / db.norm());
+                    let (ca, cb) = (perp(ea) * l1, -perp(eb) * l2);
+                    let (wa1, wb1) = solve_columns(ca, cb, qq[1] - pp[1]).ok_or(fail(gap))?;
+                    let w2 = qq[2] - pp[2] + ea * (l1 * wa1 * wa1) - eb * (l2 * wb1 * wb1);
+                    let (wa2, wb2) = solve_columns(ca, cb, w2).ok_or(fail(gap))?;
+                    let sin_mu = cross(ea, eb);
+                    if sin_mu == 0.0 {
+                        return Err(fail(0.0));
+                    }
+                    let amp = sin_mu.powi(-2) * (1.0 + pose.amp_of(&p).max(pose.amp_of(&q)));
+                    let (psa, psb) = (ea.y.atan2(ea.x), eb.y.atan2(eb.x));
+                    pose.links.push(LinkState {
+                        p: pp,
+                        psi: [psa, wa1, wa2],
+                        e: ea,
+                        amp,
+                    });
+                    pose.links.push(LinkState {
+                        p: qq,
+                        psi: [psb, wb1, wb2],
+                        e: eb,
+                        amp,
+                    });
+                    let joint = pose.links[pose.links.len() - 2].point(P2::new(l1, 0.0));
+                    let mu = sin_mu.atan2(ea.dot(&eb));
+                    pose.dyads.push(DyadState {
+                        joint: [b, joint[1], joint[2]],
+                        var: [mu, wb1 - wa1, wb2 - wa2],
+                        sin_mu,
+                    });
+                }
+                Dyad::Rrp {
+                    p,
+                    l,
+                    origin,
+                    angle,
+                    side,
+                } => {
+                    let pp = pose.point(&p);
+                    let (su, cu) = angle.sin_cos();
+                    let u = P2::new(cu, su);
+                    let gap = cross(origin - pp[0], u).abs() - l;
+                    let b = link_slider(pp[0], l, origin, u, side).ok_or(fail(gap))?;
+                    let da = b - pp[0];
+                    let ea = da / da.norm();
+                    let (ca, cb) = (perp(ea) * l, -u);
+                    let (wa1, t1) = solve_columns(ca, cb, -pp[1]).ok_or(fail(0.0))?;
+                    let w2 = -pp[2] + ea * (l * wa1 * wa1);
+                    let (wa2, t2) = solve_columns(ca, cb, w2).ok_or(fail(0.0))?;
+                    let sin_mu = ea.dot(&u);
+                    if sin_mu == 0.0 {
+                        return Err(fail(0.0));
+                    }
+                    let amp = sin_mu.powi(-2) * (1.0 + pose.amp_of(&p));
+                    pose.links.push(LinkState {
+                        p: pp,
+                        psi: [ea.y.atan2(ea.x), wa1, wa2],
+                        e: ea,
+                        amp,
+                    });
+                    let bj = [b, u * t1, u * t2];
+                    pose.links.push(LinkState {
+                        p: bj,
+                        psi: [angle, 0.0, 0.0],
+                        e: u,
+                        amp,
+                    });
+                    pose.dyads.push(DyadState {
+                        joint: bj,
+                        var: [(b - origin).dot(&u), t1, t2],
+                        sin_mu,
+                    });
+                }
+                Dyad::Rpr { p, q, offset, side } => {
+                    let (pp, qq) = (pose.point(&p), pose.point(&q));
+                    let v = qq[0] - pp[0];
+                    let dist = v.norm();
+                    let e_abs = offset.abs();
+                    let s2 = (dist - e_abs) * (dist + e_abs);
+                    if !(s2 >= 0.0) || dist == 0.0 {
+                        return Err(fail(e_abs - dist));
+                    }
+                    let s = side.sign() * s2.sqrt();
+                    // R(ψ)(s, e) = v ⇒ (cos ψ, sin ψ) = (s v_x + e v_y, s v_y − e v_x)/|v|².
+                    let eg = P2::new(s * v.x + offset * v.y, s * v.y - offset * v.x);
+                    let eg = eg / eg.norm();
+                    let (ca, cb) = (perp(v), eg);
+                    let (w1, s1) = solve_columns(ca, cb, qq[1] - pp[1]).ok_or(fail(0.0))?;
+                    let rhs = qq[2] - pp[2] + v * (w1 * w1) - perp(eg) * (2.0 * s1 * w1);
+                    let (w2, s2d) = solve_columns(ca, cb, rhs).ok_or(fail(0.0))?;
+                    let sin_mu = -s / dist;
+                    if sin_mu == 0.0 {
+                        return Err(fail(0.0));
+                    }
+                    let amp = sin_mu.powi(-2) * (1.0 + pose.amp_of(&p).max(pose.amp_of(&q)));
+                    let psi = [eg.y.atan2(eg.x), w1, w2];
+                    pose.links.push(LinkState {
+                        p: pp,
+                        psi,
+                        e: eg,
+                        amp,
+                    });
+                    pose.links.push(LinkState {
+                        p: qq,
+                        psi,
+                        e: eg,
+                        amp,
+                    });
+                    pose.dyads.push(DyadState {
+                        joint: qq,
+                        var: [s, s1, s2d],
+                        sin_mu,
+                    });
+                }
+            }
+        }
+        Ok(pose)
+    }
+
+    /// The crank angles where the linkage cannot assemble, over one turn.
+    ///
+    /// `samples` equally spaced angles (at least 8 are used) find the failing runs; each end
+    /// is then bisected between the last assembling and the first failing angle until the
+    /// bracket is below `tol` (rad), and the range reported is the failing side of both
+    /// brackets, so each end is within `tol` of the true limit. A range narrower than the
+    /// sample spacing 2π/`samples` can be missed. Empty when the crank turns fully; one range
+    /// [0, 2π] when no angle assembles.
+    pub fn unreachable(&self, samples: usize, tol: f64) -> Vec<Unreachable> {
+        let n = samples.max(8);
+        let h = TAU / n as f64;
+        let ok: Vec<bool> = (0..n).map(|k| self.pose(k as f64 * h).is_ok()).collect();
+        let dyad_at = |t: f64| self.pose(t).err().map_or(0, |f| f.dyad);
+        let Some(first_ok) = ok.iter().position(|&b| b) else {
+            return vec![Unreachable {
+                from: 0.0,
+                to: TAU,
+                dyad: dyad_at(0.0),
+            }];
+        };
+        let tol = tol.max(1e-15);
+        // Bisects [good, bad] (either order) to the failing end.
+        let bisect = |mut good: f64, mut bad: f64| {
+            while (bad - good).abs() > tol {
+                let mid = 0.5 * (good + bad);
+                if mid == good || mid == bad {
+                    break;
+                }
+                if self.pose(mid).is_ok() {
+                    good = mid;
+                } else {
+                    bad = mid;
+                }
+            }
+            bad
+        };
+        let mut out = Vec::new();
+        let mut k = 0;
+        while k < n {
+            let i = (first_ok + k) % n;
+            if ok[i] {
+                k += 1;
+                continue;
+            }
+            // A failing run from sample index first_ok + k to first_ok + j − 1 (unwrapped).
+            let mut j = k;
+            while j < n && !ok[(first_ok + j) % n] {
+                j += 1;
+            }
+            let t_start = (first_ok + k) as f64 * h;
+            let t_end = (first_ok + j - 1) as f64 * h;
+            let from = bisect(t_start - h, t_start);
+            let to = bisect(t_end + h, t_end);
+            let shift = from.div_euclid(TAU) * TAU;
+            out.push(Unreachable {
+                from: from - shift,
+                to: to - shift,
+                dyad: dyad_at(0.5 * (from + to)),
+            });
+            k = j;
+        }
+        out
+    }
+
+    /// The fields' linear maps at a pose, with the moment about `o`: [`BalanceMap`].
+    pub fn balance_map(&self, pose: &Pose, o: P2) -> BalanceMap {
+        let w2 = self.omega * self.omega;
+        let g = self.gravity;
+        let blocks: Vec<Blocks> = pose
+            .links
+            .iter()
+            .map(|ls| {
+                let (fm, mp) = inertial_wrench(ls, w2);
+                let d = ls.p[0] - o;
+                let mut moment = mp;
+                for c in 0..4 {
+                    moment[c] += cross(d, P2::new(fm[(0, c)], fm[(1, c)]));
+                }
+                let rt = ls.rot().transpose();
+                let p1 = ls.p[1];
+                let e2 = e2_matrix(ls);
+                let tu = (e2.transpose() * p1 - rt * perp(ls.p[2]) * ls.psi[1]) * w2
+                    + rt * perp(g) * ls.psi[1];
+                let torque = RowVector4::new(
+                    w2 * p1.dot(&ls.p[2]) - g.dot(&p1),
+                    tu.x,
+                    tu.y,
+                    w2 * ls.psi[1] * ls.psi[2],
+                );
+                Blocks {
+                    force: fm,
+                    moment,
+                    torque,
+                }
+            })
+            .collect();
+        let mut map = BalanceMap {
+            theta: pose.theta,
+            o,
+            base: Fields {
+                force: P2::zeros(),
+                moment: 0.0,
+                torque: 0.0,
+            },
+            blocks,
+            kappa: pose.kappa(),
+            rho: 64.0 * f64::EPSILON * pose.amp(),
+        };
+        let own: Vec<(usize, Params)> = self.params().into_iter().enumerate().collect();
+        map.base = map.fields(&own);
+        map
+    }
+
+    /// The fields of the bare linkage at θ, moment about `o`.
+    pub fn fields(&self, theta: f64, o: P2) -> Result<Fields, NoAssembly> {
+        Ok(self.balance_map(&self.pose(theta)?, o).base)
+    }
+
+    /// The joints, in the order of the unknowns of [`Linkage::reactions`]: the crank's pivot
+    /// (frame → crank), then per dyad — RRR: P → a, a → b at B, Q → b; RRP: P → a, a → b at B,
+    /// frame → slider (prismatic); RPR: P → a, a → b (prismatic), Q → b. "P → a" means the
+    /// body that carries P (frame or a link) acts on link a.
+    pub fn joints(&self) -> Vec<Joint> {
+        let owner = |pt: &Point| match *pt {
+            Point::Frame(_) => Body::Frame,
+            Point::On { link, .. } => Body::Link(link),
+        };
+        let rev = |first, second, at| Joint {
+            kind: JointKind::Revolute,
+            first,
+            second,
+            at,
+        };
+        let pri = |first, second| Joint {
+            kind: JointKind::Prismatic,
+            first,
+            second,
+            at: P2::zeros(),
+        };
+        let o = P2::zeros();
+        let mut out = vec![rev(Body::Frame, 0, o)];
+        for (k, d) in self.dyads.iter().enumerate() {
+            let (a, b) = Self::dyad_links(k);
+            match d {
+                Dyad::Rrr { p, q, l2, .. } => {
+                    out.push(rev(owner(p), a, o));
+                    out.push(rev(Body::Link(a), b, P2::new(*l2, 0.0)));
+                    out.push(rev(owner(q), b, o));
+                }
+                Dyad::Rrp { p, .. } => {
+                    out.push(rev(owner(p), a, o));
+                    out.push(rev(Body::Link(a), b, o));
+                    out.push(pri(Body::Frame, b));
+                }
+                Dyad::Rpr { p, q, .. } => {
+                    out.push(rev(owner(p), a, o));
+                    out.push(pri(Body::Link(a), b));
+                    out.push(rev(owner(q), b, o));
+                }
+            }
+        }
+        out
+    }
+
+    /// The joint-force equations at a pose: K x + W(p) = 0 with x the unknowns (joint loads,
+    /// then T), three rows per link (force x, y; moment about P_i), W the d'Alembert and
+    /// gravity wrench of each link. Returns K and, per link, the 3×4 map of p_i into its
+    /// wrench (F = m g − ω² (m P'' + E2 u), M_P = (R u) × (g − ω² P'') − ω² I_P ψ'').
+    fn reaction_system(&self, pose: &Pose) -> (DMatrix<f64>, Vec<nalgebra::Matrix3x4<f64>>) {
+        let n = self.n_links();
+        let joints = self.joints();
+        let nu = 2 * joints.len() + 1;
+        let mut k = DMatrix::<f64>::zeros(3 * n, nu);
+        for (j, jt) in joints.iter().enumerate() {
+            let s = &pose.links[jt.second];
+            match jt.kind {
+                JointKind::Revolute => {
+                    let x = s.point(jt.at)[0];
+                    // R on second, −R on first; moment about each body's P.
+                    let mut put = |body: usize, sign: f64| {
+                        let d = x - pose.links[body].p[0];
+                        k[(3 * body, 2 * j)] += sign;
+                        k[(3 * body + 1, 2 * j + 1)] += sign;
+                        k[(3 * body + 2, 2 * j)] += -sign * d.y;
+                        k[(3 * body + 2, 2 * j + 1)] += sign * d.x;
+                    };
+                    put(jt.second, 1.0);
+                    if let Body::Link(f) = jt.first {
+                        put(f, -1.0);
+                    }
+                }
+                JointKind::Prismatic => {
+                    let nrm = perp(s.e);
+                    let x = s.p[0];
+                    let mut put = |body: usize, sign: f64| {
+                        let d = x - pose.links[body].p[0];
+                        k[(3 * body, 2 * j)] += sign * nrm.x;
+                        k[(3 * body + 1, 2 * j)] += sign * nrm.y;
+                        k[(3 * body + 2, 2 * j)] += sign * cross(d, nrm);
+                        k[(3 * body + 2, 2 * j + 1)] += sign;
+                    };
+                    put(jt.second, 1.0);
+                    if let Body::Link(f) = jt.first {
+                        put(f, -1.0);
+                    }
+                }
+            }
+        }
+        k[(2, nu - 1)] = 1.0;
+        let w2 = self.omega * self.omega;
+        let g = self.gravity;
+        let wrenches = pose
+            .links
+            .iter()
+            .map(|ls| {
+                let (fm, mp) = inertial_wrench(ls, w2);
+                let rg = ls.rot().transpose() * perp(g);
+                let mut w = nalgebra::Matrix3x4::<f64>::zeros();
+                w.fixed_view_mut::<2, 4>(0, 0).copy_from(&fm);
+                w.fixed_view_mut::<1, 4>(2, 0).copy_from(&mp);
+                w[(0, 0)] += g.x;
+                w[(1, 0)] += g.y;
+                // (R u) × g = −(Rᵀ J g)·u.
+                w[(2, 1)] -= rg.x;
+                w[(2, 2)] -= rg.y;
+                w
+            })
+            .collect();
+        (k, wrenches)
+    }
+
+    /// Newton–Euler joint reactions and input torque at a pose for the parameters `params`
+    /// (one per link): each link's joint forces balance its d'Alembert force −m r̈_G, couple
+    /// −J ψ̈ and weight m g; the motor torque T acts on the crank. Independent of the
+    /// energy form of [`Blocks::torque`]. Singular only at a toggle; near one the loads grow
+    /// like κ and their round-off like the pose's ([`BalanceMap::rho`]) times κ.
+    pub fn reactions(&self, pose: &Pose, params: &[Params]) -> Result<Reactions, LinkageError> {
+        let (k, w) = self.reaction_system(pose);
+        let mut rhs = DVector::<f64>::zeros(k.nrows());
+        for (i, (wi, p)) in w.iter().zip(params).enumerate() {
+            let v = wi * p;
+            for r in 0..3 {
+                rhs[3 * i + r] = -v[r];
+            }
+        }
+        let x = k
+            .lu()
+            .solve(&rhs)
+            .filter(|x| x.iter().all(|v| v.is_finite()))
+            .ok_or(LinkageError::SingularReactions { theta: pose.theta })?;
+        let nj = (x.len() - 1) / 2;
+        Ok(Reactions {
+            theta: pose.theta,
+            loads: (0..nj).map(|j| [x[2 * j], x[2 * j + 1]]).collect(),
+            torque: x[x.len() - 1],
+        })
+    }
+
+    /// The joint reactions as a linear map of the parameters ([`ReactionMap`]): one LU of the
+    /// joint-force matrix, solved for the 4 unit parameters of every link.
+    pub fn reaction_map(&self, pose: &Pose) -> Result<ReactionMap, LinkageError> {
+        let (k, w) = self.reaction_system(pose);
+        let rows = k.nrows();
+        let lu = k.lu();
+        let singular = LinkageError::SingularReactions { theta: pose.theta };
+        let mut blocks = Vec::with_capacity(w.len());
+        for (i, wi) in w.iter().enumerate() {
+            let mut rhs = DMatrix::<f64>::zeros(rows, 4);
+            for r in 0..3 {
+                for c in 0..4 {
+                    rhs[(3 * i + r, c)] = -wi[(r, c)];
+                }
+            }
+            let b = lu.solve(&rhs).ok_or(singular.clone())?;
+            if !b.iter().all(|v| v.is_finite()) {
+                return Err(singular);
+            }
+            blocks.push(b);
+        }
+        let mut base = DVector::<f64>::zeros(rows);
+        for (b, p) in blocks.iter().zip(self.params()) {
+            base += b * p;
+        }
+        Ok(ReactionMap {
+            theta: pose.theta,
+            base,
+            blocks,
+        })
+    }
+
+    /// Berkof–Lowen full force balance of a four-bar (a crank and one RRR dyad joining a crank
+    /// point to a frame point, in either order): the first moments the crank and the rocker
+    /// must have for the total centre of mass to stay fixed for every motion,
+    /// u_2 = q_A ⊗ (u_3/a3 − m3), u_4 = −(a4/a3) u_3, from eliminating e^{iθ3} with the loop
+    /// equation (`shared/domain/planar-linkage.md`). The coupler is the dyad link pivoted at
+    /// the crank point, a3 its length; the rocker is the other, a4 its length. The crank and
+    /// rocker masses do not enter (their pivots are fixed), nor does any inertia.
+    pub fn berkof_lowen(&self) -> Result<ForceBalance, LinkageError> {
+        let [Dyad::Rrr { p, l1, q, l2, .. }] = self.dyads.as_slice() else {
+            return Err(LinkageError::NotFourBar);
+        };
+        let (a, b) = Self::dyad_links(0);
+        // (crank point, coupler link, a3, rocker link, a4)
+        let (qa, coupler, a3, rocker, a4) = match (p, q) {
+            (Point::On { link: 0, at }, Point::Frame(_)) => (*at, a, *l1, b, *l2),
+            (Point::Frame(_), Point::On { link: 0, at }) => (*at, b, *l2, a, *l1),
+            _ => return Err(LinkageError::NotFourBar),
+        };
+        let m3 = self.inertia[coupler].mass;
+        let u3 = self.inertia[coupler].centroid * m3;
+        let crank = cmul(qa, u3 / a3 - P2::new(m3, 0.0));
+        let rocker_u = -u3 * (a4 / a3);
+        let own = |i: usize| self.inertia[i].centroid * self.inertia[i].mass;
+        Ok(ForceBalance {
+            crank,
+            rocker: rocker_u,
+            crank_add: crank - own(0),
+            rocker_add: rocker_u - own(rocker),
+            links: (0, rocker),
+        })
+    }
+}
+
+/// E2 = ψ'' J R − ψ'² R, so that d²/dθ² (R(ψ) c) = E2 c.
+fn e2_matrix(ls: &LinkState) -> Matrix2<f64> {
+    let r = ls.rot();
+    let jr = Matrix2::new(-ls.e.y, -ls.e.x, ls.e.x, -ls.e.y);
+    jr * ls.psi[2] - r * (ls.psi[1] * ls.psi[1])
+}
+
+/// The inertial (d'Alembert) wrench of a link as linear maps of p = (m, u, I_P): the force
+/// −ω² (m P'' + E2 u) (2×4) and its moment about P, −ω² [(R u) × P'' + I_P ψ''] (1×4), using
+/// (R u) × P'' = −(Rᵀ J P'')·u.
+fn inertial_wrench(ls: &LinkState, w2: f64) -> (Matrix2x4<f64>, RowVector4<f64>) {
+    let e2 = e2_matrix(ls) * (-w2);
+    let a = ls.p[2] * (-w2);
+    let force = Matrix2x4::new(
+        a.x,
+        e2[(0, 0)],
+        e2[(0, 1)],
+        0.0,
+        a.y,
+        e2[(1, 0)],
+        e2[(1, 1)],
+        0.0,
+    );
+    let rj = ls.rot().transpose() * perp(ls.p[2]) * w2;
+    let moment = RowVector4::new(0.0, rj.x, rj.y, -w2 * ls.psi[2]);
+    (force, moment)
+}
