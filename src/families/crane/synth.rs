@@ -217,42 +217,15 @@ impl CraneScene {
         }
         check_var("design.k1", &self.k1, 0.0, 1.0, true, true, "")?;
         check_var("design.k2", &self.k2, 0.0, 5.0, true, false, "")?;
-        check_var(
-            "design.phi_min",
-            &self.phi_min,
-            0.0,
-            FRAC_PI_2,
-            true,
-            true,
-            " rad",
-        )?;
-        check_var(
-            "design.gamma1",
-            &self.gamma1,
-            0.0,
-            FRAC_PI_2,
-            true,
-            true,
-            " rad",
-        )?;
-        check_var(
-            "design.gamma2",
-            &self.gamma2,
-            0.0,
-            FRAC_PI_2,
-            false,
-            true,
-            " rad",
-        )?;
-        check_var(
-            "design.gamma3",
-            &self.gamma3,
-            0.0,
-            FRAC_PI_2,
-            false,
-            true,
-            " rad",
-        )?;
+        // The angles, each in (0, 90°) (γ2 and γ3 may be 0).
+        for (key, v, lo_open) in [
+            ("design.phi_min", &self.phi_min, true),
+            ("design.gamma1", &self.gamma1, true),
+            ("design.gamma2", &self.gamma2, false),
+            ("design.gamma3", &self.gamma3, false),
+        ] {
+            check_var(key, v, 0.0, FRAC_PI_2, lo_open, true, " rad")?;
+        }
         if let SizingRule::Given(l) = self.sizing {
             pos("design.boom_length", l)?;
         }
