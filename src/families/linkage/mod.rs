@@ -3,4 +3,5 @@
 //! the links' inertial parameters. For now only its physics (`model`); the problem file, the
 //! synthesis and the registry entry come with the family.
 
+pub mod file;
 pub mod model;

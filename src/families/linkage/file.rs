@@ -1,0 +1,679 @@
+//! The linkage problem file — its raw sections and their resolution into a checked
+//! [`LinkageScene`]: the [`Linkage`] (crank, dyads, link masses), the counterweights that may be
+//! added and the objective (every field documented in `docs/problem-files.md`, family
+//! `linkage`).
+//!
+//! Links are named in the file: `crank`, then the two names each dyad gives in `links`. A point
+//! of the mechanism is written as a frame point `["100 mm", "0 mm"]`, as `"NAME.pivot"` (the
+//! link's reference joint) or `"NAME.tip"` (its other joint: the crank pin, an RRR link's
+//! joint B, an RRP rod's slider pin), or as a point fixed to a link,
+//! `{ link = "coupler", at = ["60 mm", "20 mm"] }`, in the link's own frame (origin at its
+//! reference joint, x axis along it).
+
+use crate::families::linkage::model::{Dyad, Inertia, Linkage, Point};
+use crate::geom::{Side, P2};
+use crate::problem::limits::{c, Count};
+use crate::problem::{check_name, non_negative, positive, FieldError, RawVar};
+use crate::synth::Var;
+use crate::units::{Acceleration, Angle, AngularSpeed, Force, Inertia as InertiaDim};
+use crate::units::{Length, Mass, Qty, Torque};
+use serde::Deserialize;
+use std::collections::BTreeMap;
+
+/// The `family = "…"` value of this family's files.
+pub const FAMILY: &str = "linkage";
+
+/// Dyads a file may chain (each adds two links and a closed-form construction per angle).
+pub const MAX_DYADS: usize = 32;
+
+/// Counterweights a file may ask for.
+pub const MAX_COUNTERWEIGHTS: usize = 16;
+
+/// The integer keys of this family's file and their ranges (see [`crate::problem::limits`]).
+pub const COUNTS: &[Count] = &[c("objective.pareto_points", 0, 200)];
+
+/// A pair of lengths: a point in the plane (x, y).
+pub type XyRaw = [Qty<Length>; 2];
+
+/// `[mechanism]`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MechanismRaw {
+    /// ω, the constant crank speed.
+    pub speed: Qty<AngularSpeed>,
+    /// A0, the crank's frame pivot (default the origin).
+    pub crank_pivot: Option<XyRaw>,
+    /// The crank's length |A0 A| (to its tip, the crank pin).
+    pub crank_length: Qty<Length>,
+    /// g: the weights act in −y (default: not modelled). Only the input torque feels them.
+    pub gravity: Option<Qty<Acceleration>>,
+    /// The dyads, in order: each uses points already defined.
+    #[serde(default)]
+    pub dyads: Vec<DyadRaw>,
+    /// Mass data of every link, by name (`crank` and the dyads' `links`).
+    #[serde(default)]
+    pub links: BTreeMap<String, LinkRaw>,
+}
+
+/// The kinds of dyad.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+pub enum DyadKind {
+    /// Revolute–revolute–revolute: two links from two known points meeting at a new joint.
+    #[serde(rename = "RRR")]
+    Rrr,
+    /// Revolute–revolute–prismatic: a rod from a known point to a slider on a frame line.
+    #[serde(rename = "RRP")]
+    Rrp,
+    /// Revolute–prismatic–revolute: a guide pivoted at a known point, a block sliding on it
+    /// pivoted at another known point.
+    #[serde(rename = "RPR")]
+    Rpr,
+}
+
+/// The assembly branch of a dyad.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Branch {
+    /// RRR: B to the left of P→Q; RRP: B further along the line than the foot of P; RPR: Q
+    /// ahead of P along the slide.
+    Left,
+    /// The other one.
+    Right,
+}
+
+/// `[[mechanism.dyads]]`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DyadRaw {
+    /// `RRR`, `RRP` or `RPR`.
+    pub kind: DyadKind,
+    /// The names of its two links (RRR: from p, from q; RRP: rod, slider; RPR: guide, block).
+    pub links: [String; 2],
+    /// P: the first known point.
+    pub p: toml::Value,
+    /// Q: the second known point (RRR, RPR).
+    pub q: Option<toml::Value>,
+    /// RRR: |PB|.
+    pub length1: Option<Qty<Length>>,
+    /// RRR: |QB|.
+    pub length2: Option<Qty<Length>>,
+    /// RRP: the rod's length |PB|.
+    pub length: Option<Qty<Length>>,
+    /// RRP: a point of the slider's frame line.
+    pub line_point: Option<XyRaw>,
+    /// RRP: the line's direction.
+    pub line_angle: Option<Qty<Angle>>,
+    /// RPR: the slide line's offset from P (to the left of its direction; default 0).
+    pub offset: Option<Qty<Length>>,
+    /// The assembly branch.
+    pub branch: Branch,
+}
+
+/// `[mechanism.links.NAME]`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LinkRaw {
+    /// m.
+    pub mass: Qty<Mass>,
+    /// c, the centroid in the link's frame (required unless `uniform_bar`).
+    pub centroid: Option<XyRaw>,
+    /// J, the moment of inertia about the centroid (required unless `uniform_bar`).
+    pub inertia: Option<Qty<InertiaDim>>,
+    /// A uniform bar along the link (c at half its length, J = m l²/12): links with a length
+    /// only (crank, RRR links, RRP rod).
+    #[serde(default)]
+    pub uniform_bar: bool,
+}
+
+/// `[model]`.
+#[derive(Debug, Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+pub struct ModelRaw {
+    /// O, the frame point the shaking moment is taken about (default the crank pivot).
+    pub moment_about: Option<XyRaw>,
+}
+
+/// `[[design.counterweights]]`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CounterweightRaw {
+    /// The link it is fixed to (by name).
+    pub link: String,
+    /// Its mass: fixed or a range (`{ min = "0 kg", max = "2 kg" }`).
+    pub mass: RawVar<Mass>,
+    /// The envelope: all of it within this distance of the link's reference joint (so its
+    /// centroid too: |u| ≤ m r, and I ≤ m r²).
+    pub radius: Qty<Length>,
+    /// Directions its centroid may take in the link's frame, at most 180° wide (default any).
+    pub sector: Option<RawVar<Angle>>,
+}
+
+/// `[design]`.
+#[derive(Debug, Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+pub struct DesignRaw {
+    /// The counterweights the optimiser sizes (none: the linkage is analysed).
+    #[serde(default)]
+    pub counterweights: Vec<CounterweightRaw>,
+}
+
+/// What `objective.minimize` can name.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Goal {
+    /// max_θ |F|.
+    PeakForce,
+    /// max_θ |M_O|.
+    PeakMoment,
+    /// max_θ |T|.
+    PeakTorque,
+    /// RMS of |F| over the cycle.
+    RmsForce,
+    /// RMS of M_O.
+    RmsMoment,
+    /// RMS of T.
+    RmsTorque,
+    /// The total counterweight mass (with limits on the fields).
+    CounterweightMass,
+}
+
+/// `[objective]`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ObjectiveRaw {
+    /// What the counterweights minimise.
+    pub minimize: Goal,
+    /// Limit on the peak shaking force.
+    pub max_peak_force: Option<Qty<Force>>,
+    /// Limit on the peak shaking moment about O.
+    pub max_peak_moment: Option<Qty<Torque>>,
+    /// Limit on the peak input torque.
+    pub max_peak_torque: Option<Qty<Torque>>,
+    /// `true`: the total centre of mass stationary (shaking force 0 at every angle).
+    #[serde(default)]
+    pub full_force_balance: bool,
+    /// Points of the peak-force against peak-moment front (0: none).
+    #[serde(default)]
+    pub pareto_points: u32,
+}
+
+/// A counterweight the optimiser sizes, resolved (SI, link index).
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct CounterweightSpec {
+    /// Link index (0 the crank).
+    pub link: usize,
+    /// The link's name.
+    pub link_name: String,
+    /// Mass (kg), fixed or free.
+    pub mass: Var,
+    /// Envelope radius about the link's reference joint (m).
+    pub radius: f64,
+    /// Sector of centroid directions in the link's frame (rad, width ≤ π), if limited.
+    pub sector: Option<(f64, f64)>,
+}
+
+/// The objective, resolved (SI).
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct Objective {
+    /// What is minimised.
+    pub minimize: Goal,
+    /// Limit on the peak |F| (N).
+    pub max_peak_force: Option<f64>,
+    /// Limit on the peak |M_O| (N·m).
+    pub max_peak_moment: Option<f64>,
+    /// Limit on the peak |T| (N·m).
+    pub max_peak_torque: Option<f64>,
+    /// Full force balance asked for.
+    pub full_force_balance: bool,
+    /// Pareto points (0 none).
+    pub pareto_points: usize,
+}
+
+/// A resolved linkage scene (everything in SI).
+#[derive(Debug, Clone)]
+pub struct LinkageScene {
+    /// The mechanism with its link masses.
+    pub linkage: Linkage,
+    /// Link names, index = link (crank first).
+    pub link_names: Vec<String>,
+    /// O, the moment point (m).
+    pub moment_about: P2,
+    /// The counterweights to size.
+    pub counterweights: Vec<CounterweightSpec>,
+    /// The objective.
+    pub objective: Objective,
+}
+
+/// What a link's `tip` is: its second joint in its own frame, where it has one.
+fn tip_of(dyads: &[Dyad], crank_length: f64, link: usize) -> Option<P2> {
+    if link == 0 {
+        return Some(P2::new(crank_length, 0.0));
+    }
+    let (k, second) = ((link - 1) / 2, (link - 1) % 2 == 1);
+    match (dyads.get(k)?, second) {
+        (Dyad::Rrr { l1, .. }, false) => Some(P2::new(*l1, 0.0)),
+        (Dyad::Rrr { l2, .. }, true) => Some(P2::new(*l2, 0.0)),
+        (Dyad::Rrp { l, .. }, false) => Some(P2::new(*l, 0.0)),
+        _ => None,
+    }
+}
+
+fn xy(v: &XyRaw) -> P2 {
+    P2::new(v[0].si(), v[1].si())
+}
+
+/// Reads a point reference (`[x, y]`, `"NAME.pivot"`, `"NAME.tip"`, `{ link, at }`) with the
+/// links known so far.
+fn point(
+    key: &str,
+    v: &toml::Value,
+    names: &[String],
+    dyads: &[Dyad],
+    crank_length: f64,
+) -> Result<Point, FieldError> {
+    const ALLOWED: &str = "allowed: a frame point [\"x mm\", \"y mm\"], \"NAME.pivot\", \"NAME.tip\" or { link = \"NAME\", at = [\"x mm\", \"y mm\"] } for a link defined before this dyad";
+    let link_of = |name: &str| {
+        names.iter().position(|n| n == name).ok_or_else(|| {
+            let hint = crate::units::did_you_mean(name, names.iter().map(String::as_str))
+                .map(|n| format!(" (did you mean `{n}`?)"))
+                .unwrap_or_default();
+            FieldError::new(
+                key,
+                format!(
+                    "no link `{name}` is defined before this dyad{hint}; known: {}; {ALLOWED}",
+                    names.join(", ")
+                ),
+            )
+        })
+    };
+    let pair = |v: &toml::Value| -> Result<P2, FieldError> {
+        XyRaw::deserialize(v.clone())
+            .map(|p| xy(&p))
+            .map_err(|e| FieldError::new(key, format!("{e}; {ALLOWED}")))
+    };
+    match v {
+        toml::Value::Array(_) => Ok(Point::Frame(pair(v)?)),
+        toml::Value::String(s) => {
+            let (name, what) = s
+                .rsplit_once('.')
+                .ok_or_else(|| FieldError::new(key, format!("`{s}` is not a point; {ALLOWED}")))?;
+            let link = link_of(name)?;
+            match what {
+                "pivot" => Ok(Point::On {
+                    link,
+                    at: P2::zeros(),
+                }),
+                "tip" => tip_of(dyads, crank_length, link)
+                    .map(|at| Point::On { link, at })
+                    .ok_or_else(|| {
+                        FieldError::new(
+                            key,
+                            format!("link `{name}` has no tip (only the crank, RRR links and RRP rods have one); use \"{name}.pivot\" or {{ link = \"{name}\", at = [...] }}"),
+                        )
+                    }),
+                _ => Err(FieldError::new(
+                    key,
+                    format!("`{s}`: `.{what}` is no point of a link; {ALLOWED}"),
+                )),
+            }
+        }
+        toml::Value::Table(t) => {
+            let bad = t.keys().find(|k| *k != "link" && *k != "at");
+            if let Some(k) = bad {
+                return Err(FieldError::new(
+                    key,
+                    format!("unknown key `{k}`; {ALLOWED}"),
+                ));
+            }
+            let (Some(toml::Value::String(name)), Some(at)) = (t.get("link"), t.get("at")) else {
+                return Err(FieldError::new(
+                    key,
+                    format!("needs `link` and `at`; {ALLOWED}"),
+                ));
+            };
+            Ok(Point::On {
+                link: link_of(name)?,
+                at: pair(at)?,
+            })
+        }
+        _ => Err(FieldError::new(
+            key,
+            format!("`{v}` is not a point; {ALLOWED}"),
+        )),
+    }
+}
+
+fn need<T: Copy>(key: &str, v: Option<T>, kind: &str) -> Result<T, FieldError> {
+    v.ok_or_else(|| FieldError::new(key, format!("missing: an {kind} dyad needs it")))
+}
+
+fn side(b: Branch) -> Side {
+    match b {
+        Branch::Left => Side::Left,
+        Branch::Right => Side::Right,
+    }
+}
+
+/// The dyads, resolved in order, with the link names they add.
+fn dyads(m: &MechanismRaw, crank_length: f64) -> Result<(Vec<Dyad>, Vec<String>), FieldError> {
+    if m.dyads.len() > MAX_DYADS {
+        return Err(FieldError::new(
+            "mechanism.dyads",
+            format!("{} dyads; allowed: at most {MAX_DYADS}", m.dyads.len()),
+        ));
+    }
+    let mut names = vec!["crank".to_string()];
+    let mut out: Vec<Dyad> = Vec::new();
+    for (k, d) in m.dyads.iter().enumerate() {
+        let at = |f: &str| format!("mechanism.dyads[{k}].{f}");
+        let pt = |f: &str, v: &toml::Value| point(&at(f), v, &names, &out, crank_length);
+        let p = pt("p", &d.p)?;
+        let kind = match d.kind {
+            DyadKind::Rrr => "RRR",
+            DyadKind::Rrp => "RRP",
+            DyadKind::Rpr => "RPR",
+        };
+        // Keys of another kind are mistakes, not silently ignored.
+        let used: &[&str] = match d.kind {
+            DyadKind::Rrr => &["q", "length1", "length2"],
+            DyadKind::Rrp => &["length", "line_point", "line_angle"],
+            DyadKind::Rpr => &["q", "offset"],
+        };
+        for (f, given) in [
+            ("q", d.q.is_some()),
+            ("length1", d.length1.is_some()),
+            ("length2", d.length2.is_some()),
+            ("length", d.length.is_some()),
+            ("line_point", d.line_point.is_some()),
+            ("line_angle", d.line_angle.is_some()),
+            ("offset", d.offset.is_some()),
+        ] {
+            if given && !used.contains(&f) {
+                return Err(FieldError::new(
+                    at(f),
+                    format!(
+                        "not a key of an {kind} dyad; allowed: kind, links, p, branch, {}",
+                        used.join(", ")
+                    ),
+                ));
+            }
+        }
+        let dyad = match d.kind {
+            DyadKind::Rrr => Dyad::Rrr {
+                p,
+                l1: positive(&at("length1"), need(&at("length1"), d.length1, kind)?.si())?,
+                q: pt("q", need(&at("q"), d.q.as_ref(), kind)?)?,
+                l2: positive(&at("length2"), need(&at("length2"), d.length2, kind)?.si())?,
+                side: side(d.branch),
+            },
+            DyadKind::Rrp => Dyad::Rrp {
+                p,
+                l: positive(&at("length"), need(&at("length"), d.length, kind)?.si())?,
+                origin: xy(&need(&at("line_point"), d.line_point, kind)?),
+                angle: need(&at("line_angle"), d.line_angle, kind)?.si(),
+                side: side(d.branch),
+            },
+            DyadKind::Rpr => Dyad::Rpr {
+                p,
+                q: pt("q", need(&at("q"), d.q.as_ref(), kind)?)?,
+                offset: d.offset.map_or(0.0, Qty::si),
+                side: side(d.branch),
+            },
+        };
+        for name in &d.links {
+            if names.contains(name) || !valid_link_name(name) {
+                return Err(FieldError::new(
+                    at("links"),
+                    format!("link name `{name}` is taken or invalid; allowed: two new names of letters, digits, `_` or `-` (`crank` is the input link)"),
+                ));
+            }
+            names.push(name.clone());
+        }
+        out.push(dyad);
+    }
+    Ok((out, names))
+}
+
+fn valid_link_name(s: &str) -> bool {
+    !s.is_empty()
+        && s.len() <= 64
+        && s.chars()
+            .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-')
+}
+
+/// The link masses, one per named link.
+fn inertias(
+    m: &MechanismRaw,
+    names: &[String],
+    dyads: &[Dyad],
+    crank_length: f64,
+) -> Result<Vec<Inertia>, FieldError> {
+    if let Some(extra) = m.links.keys().find(|k| !names.contains(k)) {
+        let hint = crate::units::did_you_mean(extra, names.iter().map(String::as_str))
+            .map(|n| format!(" (did you mean `{n}`?)"))
+            .unwrap_or_default();
+        return Err(FieldError::new(
+            format!("mechanism.links.{extra}"),
+            format!(
+                "no link `{extra}` in the mechanism{hint}; links: {}",
+                names.join(", ")
+            ),
+        ));
+    }
+    names
+        .iter()
+        .enumerate()
+        .map(|(i, name)| {
+            let key = format!("mechanism.links.{name}");
+            let Some(l) = m.links.get(name) else {
+                return Err(FieldError::new(
+                    "mechanism.links",
+                    format!("missing the mass data of link `{name}`: add [mechanism.links.{name}] with mass, centroid and inertia (or uniform_bar = true); a massless link says mass = \"0 kg\""),
+                ));
+            };
+            let mass = non_negative(&format!("{key}.mass"), l.mass.si())?;
+            if l.uniform_bar {
+                for (f, given) in [("centroid", l.centroid.is_some()), ("inertia", l.inertia.is_some())] {
+                    if given {
+                        return Err(FieldError::new(
+                            format!("{key}.{f}"),
+                            "given with uniform_bar = true, which sets it; allowed: one or the other",
+                        ));
+                    }
+                }
+                let Some(tip) = tip_of(dyads, crank_length, i) else {
+                    return Err(FieldError::new(
+                        format!("{key}.uniform_bar"),
+                        format!("link `{name}` has no length (a slider, guide or block); give centroid and inertia"),
+                    ));
+                };
+                return Ok(Inertia::bar(mass, tip.x));
+            }
+            let centroid = l.centroid.as_ref().map(xy).ok_or_else(|| {
+                FieldError::new(
+                    format!("{key}.centroid"),
+                    "missing; allowed: [\"x mm\", \"y mm\"] in the link's frame, or uniform_bar = true",
+                )
+            })?;
+            let j = l.inertia.map(Qty::si).ok_or_else(|| {
+                FieldError::new(
+                    format!("{key}.inertia"),
+                    "missing: the moment of inertia about the centroid; allowed: \"… kg*m^2\" ≥ 0, or uniform_bar = true",
+                )
+            })?;
+            Ok(Inertia {
+                mass,
+                centroid,
+                j: non_negative(&format!("{key}.inertia"), j)?,
+            })
+        })
+        .collect()
+}
+
+/// The counterweights, resolved.
+fn counterweights(d: &DesignRaw, names: &[String]) -> Result<Vec<CounterweightSpec>, FieldError> {
+    if d.counterweights.len() > MAX_COUNTERWEIGHTS {
+        return Err(FieldError::new(
+            "design.counterweights",
+            format!(
+                "{} counterweights; allowed: at most {MAX_COUNTERWEIGHTS}",
+                d.counterweights.len()
+            ),
+        ));
+    }
+    let mut out: Vec<CounterweightSpec> = Vec::new();
+    for (j, cw) in d.counterweights.iter().enumerate() {
+        let at = |f: &str| format!("design.counterweights[{j}].{f}");
+        let link = names.iter().position(|n| *n == cw.link).ok_or_else(|| {
+            FieldError::new(
+                at("link"),
+                format!("no link `{}`; links: {}", cw.link, names.join(", ")),
+            )
+        })?;
+        if out.iter().any(|o| o.link == link) {
+            return Err(FieldError::new(
+                at("link"),
+                format!("link `{}` already has a counterweight; allowed: one per link (one body is the sum of two)", cw.link),
+            ));
+        }
+        let mass = cw.mass.resolve(&at("mass"))?;
+        let (lo, hi) = mass.bounds();
+        non_negative(&at("mass"), lo)?;
+        positive(&at("mass"), hi)?;
+        let radius = positive(&at("radius"), cw.radius.si())?;
+        let sector = match cw.sector {
+            None => None,
+            Some(RawVar::Fixed(a)) => Some((a.si(), a.si())),
+            Some(RawVar::Free { min, max }) => {
+                let (a, b) = (min.si(), max.si());
+                if !(a <= b && b - a <= std::f64::consts::PI + 1e-12) {
+                    return Err(FieldError::new(
+                        at("sector"),
+                        format!("[{a}, {b}] rad; allowed: min ≤ max and at most 180° wide (a convex set of directions)"),
+                    ));
+                }
+                Some((a, b))
+            }
+        };
+        out.push(CounterweightSpec {
+            link,
+            link_name: cw.link.clone(),
+            mass,
+            radius,
+            sector,
+        });
+    }
+    Ok(out)
+}
+
+/// The objective, resolved and checked against the counterweights.
+fn objective(o: &ObjectiveRaw, cws: &[CounterweightSpec]) -> Result<Objective, FieldError> {
+    let lim = |k: &str, v: Option<f64>| {
+        v.map(|v| non_negative(&format!("objective.{k}"), v))
+            .transpose()
+    };
+    let obj = Objective {
+        minimize: o.minimize,
+        max_peak_force: lim("max_peak_force", o.max_peak_force.map(Qty::si))?,
+        max_peak_moment: lim("max_peak_moment", o.max_peak_moment.map(Qty::si))?,
+        max_peak_torque: lim("max_peak_torque", o.max_peak_torque.map(Qty::si))?,
+        full_force_balance: o.full_force_balance,
+        pareto_points: o.pareto_points as usize,
+    };
+    crate::problem::limits::check(COUNTS, "objective.pareto_points", o.pareto_points.into())?;
+    if obj.pareto_points == 1 {
+        return Err(FieldError::new(
+            "objective.pareto_points",
+            "1 point is no front; allowed: 0 (none) or 2..=200",
+        ));
+    }
+    if obj.pareto_points > 0 && !matches!(obj.minimize, Goal::PeakForce | Goal::PeakMoment) {
+        return Err(FieldError::new(
+            "objective.pareto_points",
+            "the front is peak force against peak moment; allowed with minimize = \"peak-force\" or \"peak-moment\"",
+        ));
+    }
+    if cws.is_empty() && (obj.pareto_points > 0 || obj.full_force_balance) {
+        return Err(FieldError::new(
+            "design.counterweights",
+            "none given, but the objective asks for a balance; allowed: at least one [[design.counterweights]]",
+        ));
+    }
+    if obj.minimize == Goal::CounterweightMass
+        && obj.max_peak_force.is_none()
+        && obj.max_peak_moment.is_none()
+        && obj.max_peak_torque.is_none()
+        && !obj.full_force_balance
+    {
+        return Err(FieldError::new(
+            "objective.minimize",
+            "the lightest counterweights with no limit are none at all (a degenerate problem); allowed: with max_peak_force, max_peak_moment, max_peak_torque or full_force_balance",
+        ));
+    }
+    Ok(obj)
+}
+
+/// Crank angles sampled to find where the linkage cannot assemble (a range narrower than
+/// 360°/`TURN_SAMPLES` = 0.25° may slip through here; the solve's own scan then meets it and
+/// fails naming the angle).
+pub const TURN_SAMPLES: usize = 1440;
+
+/// The crank must turn fully: a linkage that cannot assemble over part of the turn is an error
+/// naming the dyad and the unreachable crank angles (in degrees, ends to 1e-9°).
+fn check_full_turn(l: &Linkage) -> Result<(), FieldError> {
+    let bad = l.unreachable(TURN_SAMPLES, 1e-11);
+    let Some(first) = bad.first() else {
+        return Ok(());
+    };
+    let ranges: Vec<String> = bad
+        .iter()
+        .map(|u| {
+            format!(
+                "{:.4}° to {:.4}° (dyad {})",
+                u.from.to_degrees(),
+                u.to.to_degrees(),
+                u.dyad
+            )
+        })
+        .collect();
+    Err(FieldError::new(
+        format!("mechanism.dyads[{}]", first.dyad),
+        format!(
+            "the crank cannot turn fully: the linkage does not assemble for crank angles {}; allowed: lengths that let the crank turn (a Grashof crank-rocker or double crank, a rod longer than the crank's reach to the line)",
+            ranges.join(", ")
+        ),
+    ))
+}
+
+/// The value checks of a linkage file's mechanism, model, design and objective.
+pub fn resolve_scene(
+    name: &str,
+    m: &MechanismRaw,
+    model: &ModelRaw,
+    design: &DesignRaw,
+    o: &ObjectiveRaw,
+) -> Result<LinkageScene, FieldError> {
+    check_name(name)?;
+    let omega = positive("mechanism.speed", m.speed.si())?;
+    let crank_length = positive("mechanism.crank_length", m.crank_length.si())?;
+    let pivot = m.crank_pivot.as_ref().map_or(P2::zeros(), xy);
+    let g = m
+        .gravity
+        .map(|g| non_negative("mechanism.gravity", g.si()))
+        .transpose()?
+        .unwrap_or(0.0);
+    let (dyads, names) = dyads(m, crank_length)?;
+    let inertia = inertias(m, &names, &dyads, crank_length)?;
+    let linkage = Linkage::new(pivot, dyads, inertia, omega, P2::new(0.0, -g))
+        .map_err(|e| FieldError::new("mechanism", e.to_string()))?;
+    check_full_turn(&linkage)?;
+    let counterweights = counterweights(design, &names)?;
+    let objective = objective(o, &counterweights)?;
+    Ok(LinkageScene {
+        moment_about: model.moment_about.as_ref().map_or(pivot, xy),
+        linkage,
+        link_names: names,
+        counterweights,
+        objective,
+    })
+}
