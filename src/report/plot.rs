@@ -203,8 +203,17 @@ pub fn documents_drawn() -> u64 {
     DRAWN.with(|d| d.get())
 }
 
+/// SVG documents drawn by this process so far, on every thread (a batch draws on its worker
+/// threads); a test uses this to show that `batch --summary-only` draws no machine's plot.
+pub fn documents_drawn_in_process() -> u64 {
+    DRAWN_IN_PROCESS.load(std::sync::atomic::Ordering::Relaxed)
+}
+
+static DRAWN_IN_PROCESS: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
+
 fn count_document() {
     DRAWN.with(|d| d.set(d.get() + 1));
+    DRAWN_IN_PROCESS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
 }
 
 /// Side-by-side panels as one SVG document, each panel `w`×`h` pixels.
