@@ -19,7 +19,7 @@ const STYLE: &str = "\
 td,th{text-align:right}td.l,th.l{text-align:left}.scroll th{position:sticky;top:0}\
 .plots svg{border:1px solid #eee;margin:4px 0}.cap{font-size:12px;color:#555}\
 .scroll{max-height:640px;overflow:auto;border:1px solid #ddd}.scroll table{margin:0}\
-.scroll td{white-space:nowrap}.scroll td.design{white-space:normal;font-size:12px;min-width:320px}";
+td{white-space:nowrap}td.l{white-space:normal}td.n{white-space:nowrap}td.design{font-size:12px}";
 
 /// The page, from what [`super::overview`] read: `plots` of the first machines that have
 /// them, and `has_page` telling which machines have a report page (`<name>.html`).
@@ -52,7 +52,7 @@ pub(super) fn index(
             @for r in &o.shown {
                 tr {
                     td { (r.index) }
-                    td.l {
+                    td.l.n {
                         @if plotted.contains(r.name.as_str()) {
                             a href={ "#m-" (r.name) } { (r.name) }
                         } @else if has_page(r) {
@@ -61,8 +61,8 @@ pub(super) fn index(
                             (r.name)
                         }
                     }
-                    td.l { (r.family) }
-                    td class={ "l " (r.status) } { (r.status) }
+                    td.l.n { (r.family) }
+                    td class={ "l n " (r.status) } { (r.status) }
                     td.l { (r.objective) }
                     td { (opt(r.value)) }
                     td { (opt_err(r.error)) }
