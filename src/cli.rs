@@ -276,14 +276,13 @@ pub fn run(cli: Cli) -> anyhow::Result<i32> {
         Command::Study { file, out, repeats } => {
             let text = std::fs::read_to_string(&file)
                 .with_context(|| format!("cannot read {}", file.display()))?;
-            let st = crate::study::study(&text, &file, repeats.max(1))
-                .map_err(|e| anyhow::anyhow!("{e}"))?;
+            let st = crate::study::study(&text, &file, repeats.max(1))?;
             let md = crate::study::markdown(&st);
             Stdout::new().write(&md)?;
             if let Some(dir) = out {
                 std::fs::create_dir_all(&dir)
                     .with_context(|| format!("cannot create {}", dir.display()))?;
-                let svg = crate::study::svg(&st).map_err(|e| anyhow::anyhow!("plot: {e}"))?;
+                let svg = crate::study::svg(&st)?;
                 for (ext, body) in [("csv", crate::study::csv(&st)), ("md", md), ("svg", svg)] {
                     let p = dir.join(format!("{}-study.{ext}", st.name));
                     crate::report::write_atomic(&p, body.as_bytes())

@@ -10,11 +10,42 @@
 //! effect the model adds or leaves out (their "error" is a modelling difference).
 
 use crate::families::{parse_str, solve_scene};
-use crate::problem::edit::{apply, Edit};
+use crate::problem::edit::{apply, Edit, EditError};
+use crate::problem::ProblemError;
 use crate::report::plot::{self, Panel, Series};
 use crate::report::SolveResult;
 use std::fmt::Write as _;
 use std::path::Path;
+
+/// Why a study could not be made (a rung that fails is a row of the study, not an error).
+#[derive(Debug, thiserror::Error)]
+pub enum StudyError {
+    /// The problem text (or its reference rung) does not resolve.
+    #[error("{0}")]
+    Problem(ProblemError),
+    /// The reference rung's edits cannot be applied.
+    #[error("{0}")]
+    Edit(EditError),
+    /// The reference result has no value of the headline key.
+    #[error("the reference has no `{0}`")]
+    NoReference(String),
+    /// The plot could not be drawn.
+    #[error("plot: {0}")]
+    Plot(String),
+}
+
+// The causes are in the messages, not chained as sources: the CLI prints each once.
+impl From<ProblemError> for StudyError {
+    fn from(e: ProblemError) -> StudyError {
+        StudyError::Problem(e)
+    }
+}
+
+impl From<EditError> for StudyError {
+    fn from(e: EditError) -> StudyError {
+        StudyError::Edit(e)
+    }
+}
 
 /// The outcome of one rung.
 #[derive(Debug, Clone, serde::Serialize)]
@@ -82,8 +113,8 @@ fn timed(
     text: &str,
     path: &Path,
     repeats: usize,
-) -> Result<(SolveResult, f64, f64, usize), String> {
-    let scene = parse_str(text, path).map_err(|e| e.to_string())?;
+) -> Result<(SolveResult, f64, f64, usize), StudyError> {
+    let scene = parse_str(text, path)?;
     let mut solve = Vec::new();
     let mut total = Vec::new();
     let mut last = None;
@@ -108,8 +139,8 @@ fn status_of(r: &SolveResult) -> String {
 }
 
 /// Runs the study of a problem text.
-pub fn study(text: &str, path: &Path, repeats: usize) -> Result<Study, String> {
-    let scene = parse_str(text, path).map_err(|e| e.to_string())?;
+pub fn study(text: &str, path: &Path, repeats: usize) -> Result<Study, StudyError> {
+    let scene = parse_str(text, path)?;
     let key = scene.machine.headline();
     let ladder = scene.machine.ladder();
     let (ref_edits, rungs) = (ladder.reference, ladder.rungs);
@@ -117,10 +148,10 @@ pub fn study(text: &str, path: &Path, repeats: usize) -> Result<Study, String> {
     let (rr, rs, rt, rn) = timed(&ref_text, path, 1)?;
     let reference = rr
         .lookup(&key)
-        .ok_or_else(|| format!("the reference has no `{key}`"))?;
+        .ok_or_else(|| StudyError::NoReference(key.clone()))?;
     let mut out = Vec::new();
     let mut one = |label: &str, kind: &str, edits: &[Edit]| {
-        let t = apply(text, edits);
+        let t = apply(text, edits).map_err(StudyError::from);
         let res = t.and_then(|t| timed(&t, path, repeats));
         out.push(match res {
             Ok((r, s, tt, n)) => {
@@ -146,7 +177,7 @@ pub fn study(text: &str, path: &Path, repeats: usize) -> Result<Study, String> {
                 repeats: 0,
                 value: None,
                 rel_error: None,
-                status: format!("rejected: {}", e.replace('\n', " ")),
+                status: format!("rejected: {}", e.to_string().replace('\n', " ")),
             },
         });
     };
@@ -259,7 +290,7 @@ pub fn markdown(s: &Study) -> String {
 }
 
 /// SVG: log10 time against log10 error (errors below 1e-16 drawn at 1e-16), default marked.
-pub fn svg(s: &Study) -> Result<String, String> {
+pub fn svg(s: &Study) -> Result<String, StudyError> {
     let pt = |r: &RungResult| {
         r.rel_error
             .filter(|_| r.solve_s.is_finite() && r.solve_s > 0.0)
@@ -289,4 +320,5 @@ pub fn svg(s: &Study) -> Result<String, String> {
         800,
         520,
     )
+    .map_err(StudyError::Plot)
 }

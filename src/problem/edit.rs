@@ -26,9 +26,22 @@ pub fn v_s(x: &str) -> Value {
     Value::from(x)
 }
 
+/// Why edits could not be applied.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum EditError {
+    /// The text is not TOML (the parser's message).
+    #[error("{0}")]
+    NotToml(String),
+    /// The section of an edited key is a value, not a table.
+    #[error("`{0}` is not a table")]
+    NotATable(String),
+}
+
 /// The problem text with `edits` applied (tables created as needed).
-pub fn apply(text: &str, edits: &[Edit]) -> Result<String, String> {
-    let mut doc: DocumentMut = text.parse().map_err(|e| format!("{e}"))?;
+pub fn apply(text: &str, edits: &[Edit]) -> Result<String, EditError> {
+    let mut doc: DocumentMut = text
+        .parse()
+        .map_err(|e: toml_edit::TomlError| EditError::NotToml(e.to_string()))?;
     for e in edits {
         match e {
             Edit::Set(path, v) => {
@@ -38,7 +51,7 @@ pub fn apply(text: &str, edits: &[Edit]) -> Result<String, String> {
                 }
                 let t = doc[sec]
                     .as_table_like_mut()
-                    .ok_or_else(|| format!("`{sec}` is not a table"))?;
+                    .ok_or_else(|| EditError::NotATable(sec.into()))?;
                 t.insert(key, Item::Value(v.clone()));
             }
             Edit::Remove(path) => {

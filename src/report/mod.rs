@@ -1,9 +1,11 @@
 //! The result of one scene: the JSON object of `cwsynth solve --json` (schema in
-//! `docs/results.md`), its Markdown summary, and atomic writing of result files.
+//! `docs/results.md`), its Markdown summary and its HTML page (`page`), and atomic writing
+//! of result files.
 //!
 //! Every number is SI and its key carries the unit as a suffix (`_n`, `_nm`, `_kgm`, `_m`,
 //! `_rad`, `_kg`, `_s`, `_pct`); pure numbers have no suffix.
 
+pub mod page;
 pub mod plot;
 
 use serde::Serialize;
@@ -505,6 +507,12 @@ pub fn fmt_num(v: f64) -> String {
 
 /// The Markdown summary of a result (`<name>.md`).
 pub fn markdown(r: &SolveResult) -> String {
+    markdown_report(r, true)
+}
+
+/// The Markdown summary of a result, with or without the wall times of its solve (the only
+/// text that differs between identical runs).
+pub(crate) fn markdown_report(r: &SolveResult, timing: bool) -> String {
     let mut s = String::new();
     let mut p = |line: String| {
         s.push_str(&line);
@@ -515,12 +523,19 @@ pub fn markdown(r: &SolveResult) -> String {
         p(format!("{}\n", md_escape(&r.description)));
     }
     p(format!(
-        "Status: **{}** ({}) · source `{}` · solve {:.3} ms, total {:.3} ms\n",
+        "Status: **{}** ({}) · source `{}`{}\n",
         r.status.as_str(),
         r.status.promise(),
         md_escape(&r.source),
-        r.timing.solve_s * 1e3,
-        r.timing.total_s * 1e3
+        if timing {
+            format!(
+                " · solve {:.3} ms, total {:.3} ms",
+                r.timing.solve_s * 1e3,
+                r.timing.total_s * 1e3
+            )
+        } else {
+            String::new()
+        }
     ));
     if let Some(d) = &r.status_detail {
         p(format!("Status detail: {}\n", md_escape(d)));
@@ -639,10 +654,17 @@ pub fn markdown(r: &SolveResult) -> String {
     s
 }
 
-/// The report files of a result beside its JSON: `<dir>/<name>.md`, every
-/// `<name>-<suffix>.svg` and `<name>-<suffix>.csv`, with their contents.
+/// The report files of a result beside its JSON: `<dir>/<name>.md`, its page
+/// `<dir>/<name>.html`, every `<name>-<suffix>.svg` and `<name>-<suffix>.csv`, with their
+/// contents.
 pub fn report_files(r: &SolveResult, dir: &Path) -> Vec<(PathBuf, Vec<u8>)> {
-    let mut files = vec![(dir.join(format!("{}.md", r.name)), markdown(r).into_bytes())];
+    let mut files = vec![
+        (dir.join(format!("{}.md", r.name)), markdown(r).into_bytes()),
+        (
+            dir.join(format!("{}.html", r.name)),
+            page::result_page(r).into_bytes(),
+        ),
+    ];
     for pl in &r.plots {
         let path = dir.join(format!("{}-{}.svg", r.name, pl.suffix));
         files.push((path, pl.svg_or_note().into_bytes()));
@@ -665,8 +687,8 @@ pub fn json_text(r: &SolveResult) -> String {
 }
 
 /// Completes the result ([`SolveResult::complete`]) and writes `<dir>/<name>.json` and the
-/// [`report_files`] (`<name>.md`, every `<name>-<suffix>.svg` and `<name>-<suffix>.csv`),
-/// atomically.
+/// [`report_files`] (`<name>.md`, `<name>.html`, every `<name>-<suffix>.svg` and
+/// `<name>-<suffix>.csv`), atomically.
 pub fn write_outputs(r: &mut SolveResult, dir: &Path) -> std::io::Result<Vec<PathBuf>> {
     r.complete();
     let r = &*r;

@@ -4,10 +4,12 @@
 //! Two shapes cover every family: [`panels`] — one or more side-by-side x–y panels of
 //! lines, point sets and labelled markers (curves against crank angle, a force locus with
 //! equal axes, a Pareto front, a jib-head path) — and [`heat_map`] — a scalar field on a
-//! regular grid with overlaid curves and markers (Δh over (k1, k2), C4 over (λ, θ)).
+//! regular grid with overlaid curves and markers (Δh over (k1, k2), C4 over (λ, θ)). A
+//! batch's summary adds [`bars`], a histogram of counted bins.
 
 use plotters::coord::Shift;
 use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 /// How a series is drawn.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -201,8 +203,17 @@ pub fn documents_drawn() -> u64 {
     DRAWN.with(|d| d.get())
 }
 
+/// SVG documents drawn by this process so far, on every thread (a batch draws on its worker
+/// threads); a test uses this to show that `batch --summary-only` draws no machine's plot.
+pub fn documents_drawn_in_process() -> u64 {
+    DRAWN_IN_PROCESS.load(std::sync::atomic::Ordering::Relaxed)
+}
+
+static DRAWN_IN_PROCESS: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
+
 fn count_document() {
     DRAWN.with(|d| d.set(d.get() + 1));
+    DRAWN_IN_PROCESS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
 }
 
 /// Side-by-side panels as one SVG document, each panel `w`×`h` pixels.
@@ -217,6 +228,77 @@ pub fn panels(ps: &[Panel], w: u32, h: u32) -> Result<String, String> {
         for (a, p) in areas.iter().zip(ps) {
             draw_panel(a, p)?;
         }
+        root.present().map_err(|e| e.to_string())?;
+    }
+    Ok(buf)
+}
+
+/// A bar chart of counted bins (a histogram whose counting is done): one bar per
+/// `(label, count)`, each non-zero count written above its bar, as one SVG document `w`×`h`.
+pub fn bars(
+    bins: &[(String, u64)],
+    x_label: &str,
+    y_label: &str,
+    w: u32,
+    h: u32,
+) -> Result<String, String> {
+    count_document();
+    let mut buf = String::new();
+    {
+        let root = SVGBackend::with_string(&mut buf, (w, h)).into_drawing_area();
+        root.fill(&WHITE).map_err(|e| e.to_string())?;
+        let n = bins.len().max(1);
+        let max = bins.iter().map(|b| b.1).max().unwrap_or(0).max(1);
+        // Room above the highest bar for its count.
+        let top = max + max.div_ceil(8);
+        let mut chart = ChartBuilder::on(&root)
+            .margin(10)
+            .x_label_area_size(40)
+            .y_label_area_size(50)
+            .build_cartesian_2d((0..n).into_segmented(), 0..top)
+            .map_err(|e| e.to_string())?;
+        let label = |v: &SegmentValue<usize>| match v {
+            SegmentValue::CenterOf(i) => bins.get(*i).map(|b| b.0.clone()).unwrap_or_default(),
+            _ => String::new(),
+        };
+        chart
+            .configure_mesh()
+            .disable_x_mesh()
+            .x_labels(n)
+            .x_label_formatter(&label)
+            .y_labels(6)
+            .y_label_formatter(&|y| format!("{y}"))
+            .label_style(("sans-serif", 13))
+            .axis_desc_style(("sans-serif", 13))
+            .x_desc(x_label)
+            .y_desc(y_label)
+            .light_line_style(RGBColor(235, 235, 235))
+            .draw()
+            .map_err(|e| e.to_string())?;
+        chart
+            .draw_series(
+                Histogram::vertical(&chart)
+                    .style(PALETTE[0].filled())
+                    .margin(3)
+                    .data(bins.iter().enumerate().map(|(i, b)| (i, b.1))),
+            )
+            .map_err(|e| e.to_string())?;
+        let font = TextStyle::from(("sans-serif", 12).into_font())
+            .pos(Pos::new(HPos::Center, VPos::Bottom));
+        chart
+            .draw_series(
+                bins.iter()
+                    .enumerate()
+                    .filter(|(_, b)| b.1 > 0)
+                    .map(|(i, b)| {
+                        Text::new(
+                            b.1.to_string(),
+                            (SegmentValue::CenterOf(i), b.1),
+                            font.clone(),
+                        )
+                    }),
+            )
+            .map_err(|e| e.to_string())?;
         root.present().map_err(|e| e.to_string())?;
     }
     Ok(buf)

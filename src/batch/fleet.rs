@@ -1,0 +1,811 @@
+//! Fleets: a template problem file and a CSV whose rows are machines. Each row sets dotted
+//! keys of the template (`mechanism.speed`, `design.radius`, …). Units are never guessed: a
+//! dimensional cell carries its unit (`35 mm`), or its column header does
+//! (`mechanism.speed [rpm]`: a bare number in that column is in rpm); a bare number with
+//! neither is an error naming the file, line and column.
+//!
+//! The template is parsed once; a row sets its cells in a copy of the parsed table and
+//! resolves that with [`parse_table`] (the checks of `cwsynth solve`, no TOML printed or
+//! re-parsed). A row that fails there is redone the slow way, editing the template text with
+//! `toml_edit` and running [`parse_str`], so its message is the one `cwsynth solve` gives,
+//! reported as `fleet.csv:LINE: field `x.y`: reason`. Lines are the file's own
+//! ([`Lines`]: CRLF, comments and blank lines counted).
+
+use super::error::BatchError;
+use super::hash::Hasher;
+use crate::families::{parse_str, parse_table, Scene};
+use crate::problem::ProblemError;
+use crate::report::truncate;
+use crate::units::Unit;
+use std::path::{Path, PathBuf};
+
+/// A fleet template: its parsed table (the fast way), its document (the slow way, for a
+/// bad row's message), name, path, the CSV header, and the input hash of the template text
+/// and the header (each row's is finished by [`Template::input_hash`]).
+pub struct Template {
+    path: PathBuf,
+    /// The fleet CSV.
+    pub(super) csv: PathBuf,
+    table: toml::Table,
+    doc: toml_edit::DocumentMut,
+    /// The template's `name` (a row without a `name` cell is `<name>-<row>`).
+    pub(super) name: String,
+    /// The dotted keys of the columns (the header without its units).
+    header: Vec<String>,
+    /// The unit of each column's bare numbers (`mechanism.speed [rpm]`), if its header
+    /// gives one.
+    units: Vec<Option<&'static Unit>>,
+    hash: Hasher,
+}
+
+/// A column header: its dotted key and, if written `key [unit]`, its unit (an unknown unit
+/// is an error).
+fn column(h: &str) -> Result<(String, Option<&'static Unit>), String> {
+    let h = h.trim();
+    let Some((key, rest)) = h.split_once('[') else {
+        return Ok((h.to_string(), None));
+    };
+    let Some(symbol) = rest.trim().strip_suffix(']') else {
+        return Err(format!(
+            "column `{h}`: a unit is written `key [unit]`, e.g. `mechanism.speed [rpm]`"
+        ));
+    };
+    match crate::units::unit(symbol) {
+        Some(u) => Ok((key.trim().to_string(), Some(u))),
+        None => Err(format!(
+            "column `{h}`: unknown unit `{}`; allowed: {}",
+            symbol.trim(),
+            crate::units::UNITS
+                .iter()
+                .map(|u| u.symbol)
+                .collect::<Vec<_>>()
+                .join(", ")
+        )),
+    }
+}
+
+/// The TOML value of a CSV cell: integer, float, boolean, else a string (quantities with
+/// units stay strings, as in a problem file); a number in a column whose header has a unit
+/// is that quantity (`1500` under `mechanism.speed [rpm]` is `"1500 rpm"`).
+enum Cell<'a> {
+    Int(i64),
+    Float(f64),
+    Bool(bool),
+    Str(&'a str),
+    Qty(&'a str, &'static str),
+}
+
+impl Cell<'_> {
+    /// The value of a cell as written in the CSV, in a column of unit `unit`.
+    fn of<'a>(cell: &'a str, unit: Option<&'static Unit>) -> Cell<'a> {
+        let c = cell.trim();
+        if let Some(u) = unit {
+            if c.parse::<f64>().is_ok_and(f64::is_finite) {
+                return Cell::Qty(c, u.symbol);
+            }
+        }
+        if let Ok(i) = c.parse::<i64>() {
+            return Cell::Int(i);
+        }
+        if let Ok(x) = c.parse::<f64>() {
+            if x.is_finite() {
+                return Cell::Float(x);
+            }
+        }
+        match c {
+            "true" => Cell::Bool(true),
+            "false" => Cell::Bool(false),
+            _ => Cell::Str(c),
+        }
+    }
+
+    /// The cell as a value of `toml` or `toml_edit`.
+    fn value<V>(self) -> V
+    where
+        V: From<i64> + From<f64> + From<bool> + for<'s> From<&'s str>,
+    {
+        match self {
+            Cell::Int(i) => i.into(),
+            Cell::Float(x) => x.into(),
+            Cell::Bool(b) => b.into(),
+            Cell::Str(s) => s.into(),
+            Cell::Qty(x, unit) => format!("{x} {unit}").as_str().into(),
+        }
+    }
+}
+
+/// The parts of a dotted key (`mechanism.speed`), each trimmed and not empty.
+fn key_parts(key: &str) -> Result<Vec<&str>, String> {
+    let parts: Vec<&str> = key.split('.').map(str::trim).collect();
+    if parts.iter().any(|p| p.is_empty()) {
+        return Err("empty key part".into());
+    }
+    Ok(parts)
+}
+
+/// Sets the dotted `key` of `table` to `v`, creating tables as needed; `None` where a part
+/// of the key is a value, not a table.
+fn set_dotted_table(table: &mut toml::Table, key: &str, v: toml::Value) -> Option<()> {
+    let parts = key_parts(key).ok()?;
+    let (last, path) = parts.split_last()?;
+    let mut t = table;
+    for p in path {
+        t = t
+            .entry(*p)
+            .or_insert_with(|| toml::Value::Table(toml::Table::new()))
+            .as_table_mut()?;
+    }
+    t.insert(last.to_string(), v);
+    Some(())
+}
+
+/// Sets the dotted `key` of `doc` to `v`, creating tables as needed.
+fn set_dotted(
+    doc: &mut toml_edit::DocumentMut,
+    key: &str,
+    v: toml_edit::Value,
+) -> Result<(), String> {
+    let parts = key_parts(key)?;
+    let mut t: &mut dyn toml_edit::TableLike = doc.as_table_mut();
+    for (k, p) in parts[..parts.len() - 1].iter().enumerate() {
+        if t.get(p).is_none() {
+            t.insert(p, toml_edit::Item::Table(toml_edit::Table::new()));
+        }
+        let item = t.get_mut(p).expect("just inserted");
+        t = item.as_table_like_mut().ok_or_else(|| {
+            format!(
+                "`{}` is a value in the template, not a table",
+                parts[..=k].join(".")
+            )
+        })?;
+    }
+    let last = parts[parts.len() - 1];
+    match t.get_mut(last) {
+        Some(item) if item.is_value() => {
+            // Keep the template's comment and spacing around the value.
+            let decor = item.as_value().map(|x| x.decor().clone());
+            let mut nv = v;
+            if let Some(d) = decor {
+                *nv.decor_mut() = d;
+            }
+            *item = toml_edit::Item::Value(nv);
+        }
+        _ => {
+            t.insert(last, toml_edit::Item::Value(v));
+        }
+    }
+    Ok(())
+}
+
+impl Template {
+    /// Reads the template and the CSV header.
+    pub fn open(template: &Path, csv: &Path) -> Result<Template, BatchError> {
+        let bytes = std::fs::read(template).map_err(|cause| BatchError::Unreadable {
+            path: template.into(),
+            cause,
+        })?;
+        let text = crate::problem::text_of(&bytes, template)
+            .map_err(BatchError::Template)?
+            .to_string();
+        // The template itself must be valid (without overrides).
+        parse_str(&text, template).map_err(BatchError::Template)?;
+        let not_toml = |why: String| BatchError::NotToml {
+            path: template.into(),
+            why,
+        };
+        let doc: toml_edit::DocumentMut = text
+            .parse()
+            .map_err(|e: toml_edit::TomlError| not_toml(e.to_string()))?;
+        let table: toml::Table =
+            toml::from_str(&text).map_err(|e: toml::de::Error| not_toml(e.to_string()))?;
+        let name = doc
+            .get("name")
+            .and_then(|n| n.as_str())
+            .unwrap_or("machine")
+            .to_string();
+        let mut rdr = csv_reader(csv)?;
+        let columns: Vec<String> = rdr
+            .headers()
+            .map_err(|cause| BatchError::FleetHeaderUnreadable {
+                path: csv.into(),
+                cause,
+            })?
+            .iter()
+            .map(|h| h.trim().to_string())
+            .collect();
+        let (header, units) = columns
+            .iter()
+            .map(|h| column(h))
+            .collect::<Result<(Vec<_>, Vec<_>), String>>()
+            .map_err(|why| BatchError::FleetHeader {
+                path: csv.into(),
+                why,
+            })?;
+        // A key set by two columns: which cell wins would be a guess.
+        let mut seen: std::collections::HashMap<String, usize> = Default::default();
+        for (k, key) in header.iter().enumerate() {
+            let canonical = key_parts(key).map_or_else(|_| key.clone(), |p| p.join("."));
+            if let Some(first) = seen.insert(canonical.clone(), k) {
+                return Err(BatchError::FleetHeader {
+                    path: csv.into(),
+                    why: format!(
+                        "columns {} (`{}`) and {} (`{}`) both set `{canonical}`; keep one",
+                        first + 1,
+                        truncate(&columns[first], 200),
+                        k + 1,
+                        truncate(&columns[k], 200)
+                    ),
+                });
+            }
+        }
+        let mut hash = Hasher::new();
+        hash.bytes(b"fleet row\0");
+        hash.field(&text);
+        hash.field(&columns.len().to_string());
+        for h in &columns {
+            hash.field(h);
+        }
+        Ok(Template {
+            path: template.into(),
+            csv: csv.into(),
+            table,
+            doc,
+            name,
+            header,
+            units,
+            hash,
+        })
+    }
+
+    /// The input hash of a row named `name` with these cells: the template text, the CSV
+    /// header, the name and the cells (as they are in the CSV), and the cwsynth build.
+    pub fn input_hash(&self, name: &str, cells: &[String]) -> String {
+        let mut h = self.hash.clone();
+        h.field(name);
+        h.field(&cells.len().to_string());
+        for c in cells {
+            h.field(c);
+        }
+        h.hex()
+    }
+
+    /// The (dotted key, cell value) pairs a row overrides: every column but `name`, without
+    /// the empty cells (which keep the template's value).
+    fn overrides<'a>(&'a self, cells: &'a [String]) -> impl Iterator<Item = (&'a str, Cell<'a>)> {
+        self.header
+            .iter()
+            .zip(&self.units)
+            .zip(cells)
+            .filter(|((h, _), c)| *h != "name" && !c.trim().is_empty())
+            .map(|((h, u), c)| (h.as_str(), Cell::of(c, *u)))
+    }
+
+    /// The scene of one CSV row (its source `fleet.csv:LINE`), the fast way: the row's
+    /// cells set in a copy of the template's table, resolved by [`parse_table`]. `None` for
+    /// a row that cannot be read this way; [`Template::scene`] then takes the slow way.
+    pub fn fast_scene(&self, name: &str, line: u64, cells: &[String]) -> Option<Scene> {
+        if cells.len() != self.header.len() {
+            return None;
+        }
+        let mut table = self.table.clone();
+        table.insert("name".into(), name.into());
+        for (key, cell) in self.overrides(cells) {
+            set_dotted_table(&mut table, key, cell.value())?;
+        }
+        parse_table(table, Path::new(&self.source(line))).ok()
+    }
+
+    /// The machine of one CSV row: (name, its scene) or `fleet.csv:LINE: reason`. A good row
+    /// takes the fast way ([`Template::fast_scene`]); a bad one is read again as the
+    /// template's edited text ([`Template::machine`], [`parse_str`]) for the message of
+    /// `cwsynth solve`, with the CSV line and the template line.
+    pub fn scene(&self, row: u64, line: u64, cells: &[String]) -> (String, Result<Scene, String>) {
+        let name = self.row_name(row, cells);
+        match self.fast_scene(&name, line, cells) {
+            Some(scene) => (name, Ok(scene)),
+            None => self.slow_scene(row, line, cells),
+        }
+    }
+
+    /// The machine of one CSV row the slow way: the template's text edited
+    /// ([`Template::machine`]) and read by [`parse_str`]; an error is phrased for the row.
+    pub fn slow_scene(
+        &self,
+        row: u64,
+        line: u64,
+        cells: &[String],
+    ) -> (String, Result<Scene, String>) {
+        let (name, text) = self.machine(row, line, cells);
+        let src = self.source(line);
+        let scene =
+            text.and_then(|t| parse_str(&t, Path::new(&src)).map_err(|e| row_error(self, line, e)));
+        (name, scene)
+    }
+
+    /// Where CSV line `line` comes from, `fleet.csv:LINE`: a row's scene source and the
+    /// start of its messages.
+    pub fn source(&self, line: u64) -> String {
+        format!("{}:{line}", self.csv.display())
+    }
+
+    /// The name of the machine of CSV row `row` (1-based): its `name` cell, else
+    /// `<template name>-<row>`.
+    pub fn row_name(&self, row: u64, cells: &[String]) -> String {
+        self.header
+            .iter()
+            .position(|h| h == "name")
+            .and_then(|i| cells.get(i))
+            .map(|s| s.trim().to_string())
+            .filter(|s| !s.is_empty())
+            .unwrap_or_else(|| format!("{}-{}", self.name, row))
+    }
+
+    /// The machine of one CSV row: (name, resolved problem text) or `csv:LINE: reason`.
+    pub fn machine(
+        &self,
+        row: u64,
+        line: u64,
+        cells: &[String],
+    ) -> (String, Result<String, String>) {
+        let at = self.source(line);
+        let name = self.row_name(row, cells);
+        if cells.len() != self.header.len() {
+            return (
+                name,
+                Err(format!(
+                    "{at}: {} cells, the header has {}",
+                    cells.len(),
+                    self.header.len()
+                )),
+            );
+        }
+        let mut doc = self.doc.clone();
+        if let Err(e) = set_dotted(&mut doc, "name", name.as_str().into()) {
+            return (name, Err(format!("{at}: field `name`: {e}")));
+        }
+        for (h, c) in self.overrides(cells) {
+            if let Err(e) = set_dotted(&mut doc, h, c.value()) {
+                return (name, Err(format!("{at}: field `{h}`: {e}")));
+            }
+        }
+        (name, Ok(doc.to_string()))
+    }
+}
+
+/// A reader of the fleet CSV `csv` (flexible rows, `#` comments; see [`FleetFile`]).
+pub(super) fn csv_reader(csv: &Path) -> Result<csv::Reader<FleetFile>, BatchError> {
+    let f = std::fs::File::open(csv).map_err(|cause| BatchError::Unreadable {
+        path: csv.into(),
+        cause,
+    })?;
+    Ok(csv::ReaderBuilder::new()
+        .flexible(true)
+        .comment(Some(b'#'))
+        .from_reader(std::io::Read::chain(f, &b"\n"[..])))
+}
+
+/// A fleet CSV as read: the file, then one line break. The `csv` reader takes a `#` comment
+/// on a last line without a line break for a record; with the break it is a comment like any
+/// other, and no other line changes (a last line is the same line with its break).
+pub(super) type FleetFile = std::io::Chain<std::fs::File, &'static [u8]>;
+
+/// The real line numbers of a fleet CSV's records. The `csv` crate's own line count is off
+/// with CRLF line endings, and a record's position is where its reading started, which is
+/// before any comment or blank lines the reader skipped: so the line is counted here, from
+/// the record's byte position, in a second sequential pass over the file (streamed with the
+/// records: every byte is read once more, nothing is kept).
+pub(super) struct Lines {
+    rdr: std::io::BufReader<std::fs::File>,
+    /// Bytes consumed so far.
+    pos: u64,
+    /// The (1-based) line of byte `pos`.
+    line: u64,
+}
+
+impl Lines {
+    /// Starts counting the lines of `csv`.
+    pub(super) fn open(csv: &Path) -> Result<Lines, BatchError> {
+        let f = std::fs::File::open(csv).map_err(|cause| BatchError::Unreadable {
+            path: csv.into(),
+            cause,
+        })?;
+        Ok(Lines {
+            rdr: std::io::BufReader::new(f),
+            pos: 0,
+            line: 1,
+        })
+    }
+
+    /// The line where the record whose reading started at byte `byte` begins: the line of
+    /// that byte, past the rest of a line already ended (a CRLF's `\n`), blank lines and
+    /// comment lines (`#`), as the CSV reader skips them. Bytes must not decrease from call
+    /// to call.
+    pub(super) fn record_line(&mut self, byte: u64) -> u64 {
+        use std::io::BufRead;
+        while self.pos < byte {
+            let Ok(buf) = self.rdr.fill_buf() else { break };
+            if buf.is_empty() {
+                break;
+            }
+            let n = buf.len().min((byte - self.pos) as usize);
+            self.line += buf[..n].iter().filter(|&&b| b == b'\n').count() as u64;
+            self.rdr.consume(n);
+            self.pos += n as u64;
+        }
+        // Skip what the reader skipped: line ends, blank lines and comments.
+        let mut comment = false;
+        while let Some(&b) = self.rdr.fill_buf().ok().and_then(|buf| buf.first()) {
+            match b {
+                b'\n' => {
+                    self.line += 1;
+                    comment = false;
+                }
+                _ if comment => {}
+                b'\r' => {}
+                b'#' => comment = true,
+                _ => break,
+            }
+            self.rdr.consume(1);
+            self.pos += 1;
+        }
+        self.line
+    }
+}
+
+/// Lines of the file a CSV record spans beyond its first: a line break can only be inside a
+/// record through a quoted cell, which in a fleet is always an unterminated `"` (no cell of
+/// a fleet holds a line break). Each such line is a machine the user wrote, so each is
+/// reported (rows in = rows out); [`count_machines`] counts them the same way.
+pub(super) fn swallowed_lines(r: &csv::StringRecord) -> u64 {
+    r.iter()
+        // (An unterminated quote on the last line runs to the end of the file and takes its
+        // final line break along: that one starts no line.)
+        .map(|c| {
+            c.trim_end_matches(['\n', '\r'])
+                .bytes()
+                .filter(|&b| b == b'\n')
+                .count() as u64
+        })
+        .sum()
+}
+
+/// Re-formats a problem error of a fleet row as `fleet.csv:LINE: field …` (with the
+/// template line where the key is).
+fn row_error(tpl: &Template, line: u64, e: ProblemError) -> String {
+    match e {
+        ProblemError::Invalid {
+            line: tl,
+            field,
+            message,
+            ..
+        } => {
+            // A field set by a column: name the column (1-based, as written in the header).
+            let col = field
+                .as_ref()
+                .and_then(|f| tpl.header.iter().position(|h| h == f))
+                .map(|k| format!(" (column {})", k + 1))
+                .unwrap_or_default();
+            format!(
+                "{}: {}{message}{}",
+                tpl.source(line),
+                field
+                    .map(|f| format!("field `{f}`{col}: "))
+                    .unwrap_or_default(),
+                tl.map(|l| format!(" (template {}:{l})", tpl.path.display()))
+                    .unwrap_or_default()
+            )
+        }
+        e => format!("{}: {e}", tpl.source(line)),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn template_path() -> PathBuf {
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("problems/piston-1000rpm.toml")
+    }
+
+    /// Writes `rows` under `header` as `dir/name`, opens the fleet with `template`, and
+    /// returns it with its records as [`Jobs`] reads them: (row, CSV line, cells).
+    fn fleet(
+        dir: &Path,
+        name: &str,
+        template: &Path,
+        header: &[&str],
+        rows: &[Vec<String>],
+    ) -> (Template, Vec<(u64, u64, Vec<String>)>) {
+        let csv = dir.join(name);
+        let mut w = csv::WriterBuilder::new()
+            .flexible(true)
+            .from_path(&csv)
+            .unwrap();
+        w.write_record(header).unwrap();
+        for r in rows {
+            w.write_record(r).unwrap();
+        }
+        w.flush().unwrap();
+        let tpl = Template::open(template, &csv).unwrap();
+        let recs = csv_reader(&csv)
+            .unwrap()
+            .into_records()
+            .enumerate()
+            .map(|(k, r)| {
+                let r = r.unwrap();
+                let line = r.position().unwrap().line();
+                (k as u64 + 1, line, r.iter().map(str::to_string).collect())
+            })
+            .collect();
+        (tpl, recs)
+    }
+
+    /// Every row gives the same machine the fast way as the slow way (the template's text
+    /// edited and re-parsed): equal scenes for a good row, and for a bad row the slow way's
+    /// message from both [`Template::scene`] and the slow way. Returns (good, bad) counts.
+    fn same_both_ways(tpl: &Template, recs: &[(u64, u64, Vec<String>)]) -> (usize, usize) {
+        let (mut good, mut bad) = (0, 0);
+        for (row, line, cells) in recs {
+            let (slow_name, slow) = tpl.slow_scene(*row, *line, cells);
+            let (name, scene) = tpl.scene(*row, *line, cells);
+            assert_eq!(name, slow_name);
+            let fast = tpl.fast_scene(&name, *line, cells);
+            match slow {
+                Ok(slow) => {
+                    good += 1;
+                    let fast = fast.unwrap_or_else(|| panic!("line {line}: no fast scene"));
+                    let slow = format!("{slow:?}");
+                    assert_eq!(format!("{fast:?}"), slow, "line {line}");
+                    assert_eq!(format!("{:?}", scene.unwrap()), slow, "line {line}");
+                    assert!(slow.contains(&format!("source: \"{}:{line}\"", tpl.csv.display())));
+                }
+                Err(m) => {
+                    bad += 1;
+                    assert!(fast.is_none(), "line {line}: fast scene of a bad row: {m}");
+                    assert_eq!(scene.unwrap_err(), m, "line {line}");
+                }
+            }
+        }
+        (good, bad)
+    }
+
+    /// A unit in a column header (`mechanism.speed [rpm]`) is the unit of that column's bare
+    /// numbers; a cell's own unit still counts; a bare number in a dimensional column
+    /// without a unit in its header is an error naming the file, line and column; an
+    /// unknown header unit is an error of the header line.
+    #[test]
+    fn units_come_from_the_cell_or_the_header_never_guessed() {
+        let dir = tempfile::tempdir().unwrap();
+        let header = ["mechanism.speed [rpm]", "mechanism.crank_mass"];
+        let cell = |a: &str, b: &str| vec![a.to_string(), b.to_string()];
+        let rows = [
+            cell("1000", "0.35 kg"),
+            cell("104.71975511965977 rad/s", "350 g"),
+            cell("1000", "0.35"),
+        ];
+        let (tpl, recs) = fleet(dir.path(), "f.csv", &template_path(), &header, &rows);
+        assert_eq!(same_both_ways(&tpl, &recs), (2, 1));
+        let speed = |k: usize| {
+            let (_, s) = tpl.scene(recs[k].0, recs[k].1, &recs[k].2);
+            format!("{:?}", s.unwrap().machine)
+        };
+        let omega = 1000.0 * std::f64::consts::TAU / 60.0;
+        assert!(
+            speed(0).contains(&format!("omega: {omega:?}")),
+            "{}",
+            speed(0)
+        );
+        let (_, bad) = tpl.scene(recs[2].0, recs[2].1, &recs[2].2);
+        let bad = bad.unwrap_err();
+        assert!(
+            bad.starts_with(&format!(
+                "{}:4: field `mechanism.crank_mass` (column 2): `0.35` has no unit",
+                tpl.csv.display()
+            )),
+            "{bad}"
+        );
+        assert!(bad.contains("kg"), "{bad}");
+        let csv = dir.path().join("g.csv");
+        std::fs::write(&csv, "mechanism.speed [furlong]\n1\n").unwrap();
+        let e = Template::open(&template_path(), &csv)
+            .err()
+            .unwrap()
+            .to_string();
+        assert!(
+            e.contains("g.csv:1: column `mechanism.speed [furlong]`: unknown unit `furlong`"),
+            "{e}"
+        );
+    }
+
+    /// Many rows of the piston fleet: cells with units, plain numbers under a header with a
+    /// unit, plain numbers without one (errors), integers, empty cells, a `name` column (given, empty, not a file name), a key inside an inline table,
+    /// quoted text, and every broken row of `scripts/make_fleet.py` (negative length, rod
+    /// shorter than the crank, unknown unit, not a quantity, negative mass).
+    #[test]
+    fn fast_rows_equal_slow_rows() {
+        let dir = tempfile::tempdir().unwrap();
+        let header = [
+            "name",
+            "mechanism.crank_radius [m]",
+            "mechanism.rod_length",
+            "mechanism.crank_mass [kg]",
+            "mechanism.rod_mass",
+            "mechanism.slider_mass [ kg ]",
+            "mechanism.speed [rad/s]",
+            "model.rod_split",
+            "design.unbalance.max [kg·m]",
+            "accuracy.rel_tol",
+            "description",
+        ];
+        let mut seed = 0x2545_f491_4f6c_dd1du64;
+        let mut next = move |n: u64| {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            seed % n
+        };
+        let mut rows = Vec::new();
+        for i in 0..400u64 {
+            let r = 25.0 + next(20_000) as f64 / 1000.0;
+            let l = r * (3.0 + next(2000) as f64 / 1000.0);
+            let mut c: Vec<String> = vec![
+                match next(4) {
+                    0 => format!("m-{i}"),
+                    1 if i % 50 == 1 => "not a name!".into(),
+                    _ => String::new(),
+                },
+                match next(4) {
+                    0 => format!("{r:.3} mm"),
+                    1 => format!("{}", r / 1000.0),
+                    2 => format!("{:.4} cm", r / 10.0),
+                    _ => String::new(),
+                },
+                match next(3) {
+                    0 => format!("{:.3}", l / 1000.0),
+                    1 => String::new(),
+                    _ => format!("{l:.3} mm"),
+                },
+                match next(4) {
+                    0 => "1".into(),
+                    1 => format!("{:.4}", 0.2 + next(300) as f64 / 1000.0),
+                    2 => String::new(),
+                    _ => format!("{} g", 200 + next(300)),
+                },
+                match next(3) {
+                    0 => format!(" {:.4} kg ", 0.2 + next(250) as f64 / 1000.0),
+                    _ => String::new(),
+                },
+                match next(3) {
+                    0 => "2".into(),
+                    1 => format!("{:.4} kg", 0.6 + next(900) as f64 / 1000.0),
+                    _ => String::new(),
+                },
+                match next(4) {
+                    0 => format!("{}", 60 + next(250)),
+                    1 => format!("{:.1} rpm", 600.0 + next(24_000) as f64 / 10.0),
+                    2 => format!("{}.5", 60 + next(250)),
+                    _ => String::new(),
+                },
+                match next(4) {
+                    0 => "0.5".into(),
+                    1 => "0".into(),
+                    2 => "1".into(),
+                    _ => String::new(),
+                },
+                match next(3) {
+                    0 => "0.3 kg*m".into(),
+                    1 => "0.25".into(),
+                    _ => String::new(),
+                },
+                match next(3) {
+                    0 => "1e-8".into(),
+                    1 => "0.000001".into(),
+                    _ => String::new(),
+                },
+                match next(3) {
+                    0 => format!("row {i}: a \"quoted\", \\ back\\slash, tab\t, é"),
+                    1 if i % 40 == 3 => "true".into(),
+                    _ => String::new(),
+                },
+            ];
+            // The broken rows of scripts/make_fleet.py, about one in four.
+            match next(20) {
+                0 => c[1] = format!("-{r:.3} mm"),
+                1 => c[2] = format!("{:.3} mm", 0.5 * r),
+                2 => c[3] = "0.3 furlong".into(),
+                3 => c[6] = "fast".into(),
+                4 => c[5] = "-1 kg".into(),
+                _ => {}
+            }
+            rows.push(c);
+        }
+        let (tpl, recs) = fleet(dir.path(), "fleet.csv", &template_path(), &header, &rows);
+        let (good, bad) = same_both_ways(&tpl, &recs);
+        assert_eq!(good + bad, 400);
+        assert!(good > 200 && bad > 60, "good {good}, bad {bad}");
+    }
+
+    /// Rows broken by their shape: a wrong cell count, a key through a value or an array, an
+    /// unknown key, an empty key part, a value of the wrong type, another family.
+    #[test]
+    fn broken_shapes_fail_both_ways_with_the_slow_message() {
+        let dir = tempfile::tempdir().unwrap();
+        let cases: [(&str, &[&str]); 9] = [
+            ("mechanism.speed", &["1000 rpm", "x"]),
+            ("mechanism.speed.x", &["3"]),
+            ("paper.value", &["3 N"]),
+            ("mechanism.colour", &["red"]),
+            ("mechanism..speed", &["3"]),
+            ("model.rod_split", &["true"]),
+            ("objective.minimize", &["everything"]),
+            ("family", &["hypocycloid"]),
+            ("name", &["../x"]),
+        ];
+        for (k, (key, cells)) in cases.iter().enumerate() {
+            let rows = vec![cells.iter().map(|c| c.to_string()).collect()];
+            let csv = format!("f{k}.csv");
+            let (tpl, recs) = fleet(dir.path(), &csv, &template_path(), &[key], &rows);
+            assert_eq!(same_both_ways(&tpl, &recs), (0, 1), "{key}");
+        }
+    }
+
+    /// The input hash of a row changes with the template text, the header, the name and each
+    /// cell, and is the same for the same input read again.
+    #[test]
+    fn row_hash_follows_the_input() {
+        let dir = tempfile::tempdir().unwrap();
+        let header = ["mechanism.speed", "mechanism.crank_mass"];
+        let rows = vec![vec!["1000 rpm".to_string(), "0.3 kg".to_string()]];
+        let t = template_path();
+        let (a, _) = fleet(dir.path(), "a.csv", &t, &header, &rows);
+        let (a2, _) = fleet(dir.path(), "a2.csv", &t, &header, &rows);
+        let (b, _) = fleet(
+            dir.path(),
+            "b.csv",
+            &t,
+            &["mechanism.speed", "model.rod_split"],
+            &rows,
+        );
+        let t2 = dir.path().join("t2.toml");
+        std::fs::write(&t2, std::fs::read_to_string(&t).unwrap() + "# edited\n").unwrap();
+        let (c, _) = fleet(dir.path(), "c.csv", &t2, &header, &rows);
+        let cells = |x: &[&str]| x.iter().map(|s| s.to_string()).collect::<Vec<_>>();
+        let h = a.input_hash("m", &cells(&["1000 rpm", "0.3 kg"]));
+        assert_eq!(h.len(), 32);
+        assert_eq!(h, a.input_hash("m", &cells(&["1000 rpm", "0.3 kg"])));
+        assert_eq!(h, a2.input_hash("m", &cells(&["1000 rpm", "0.3 kg"])));
+        for other in [
+            a.input_hash("n", &cells(&["1000 rpm", "0.3 kg"])),
+            a.input_hash("m", &cells(&["1001 rpm", "0.3 kg"])),
+            a.input_hash("m", &cells(&["1000 rpm", "0.4 kg"])),
+            a.input_hash("m", &cells(&["1000 rpm0.3 kg", ""])),
+            a.input_hash("m", &cells(&["1000 rpm", "0.3 kg", ""])),
+            b.input_hash("m", &cells(&["1000 rpm", "0.3 kg"])),
+            c.input_hash("m", &cells(&["1000 rpm", "0.3 kg"])),
+        ] {
+            assert_ne!(h, other);
+        }
+    }
+
+    /// The line of each record from its byte position: past CRLF ends, blank lines and
+    /// comments.
+    #[test]
+    fn record_lines_skip_what_the_reader_skips() {
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("l.csv");
+        std::fs::write(&p, "h\r\na\r\n# c\r\n\r\nb\n\n#x\n#y\nc").unwrap();
+        let mut rdr = csv_reader(&p).unwrap();
+        let mut lines = Lines::open(&p).unwrap();
+        let got: Vec<(String, u64)> = rdr
+            .records()
+            .map(|r| {
+                let r = r.unwrap();
+                (
+                    r[0].to_string(),
+                    lines.record_line(r.position().unwrap().byte()),
+                )
+            })
+            .collect();
+        assert_eq!(got, [("a".into(), 2), ("b".into(), 5), ("c".into(), 9)]);
+    }
+}

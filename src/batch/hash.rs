@@ -1,0 +1,98 @@
+//! The two content hashes of a batch: the **input hash** of a machine (its problem text, or
+//! its fleet row with the template and header, and the cwsynth build), which says whether a
+//! previous result is still the answer, and the **file hash** of a written result file,
+//! which tells a whole file from a torn one at resume. Neither is cryptographic.
+
+/// A 128-bit content hash being computed (two FNV-1a 64 streams), started with the cwsynth
+/// version and a hash of its source (`CWSYNTH_SOURCE_HASH`, from `build.rs`), so a changed
+/// program re-solves everything instead of keeping results the old code computed.
+#[derive(Clone)]
+pub(super) struct Hasher {
+    a: u64,
+    b: u64,
+}
+
+impl Hasher {
+    /// A hash of the cwsynth build so far.
+    pub(super) fn new() -> Hasher {
+        let mut h = Hasher {
+            a: 0xcbf2_9ce4_8422_2325,
+            b: 0x6c62_272e_07bb_0142,
+        };
+        h.bytes(env!("CARGO_PKG_VERSION").as_bytes());
+        h.bytes(b"\0");
+        h.bytes(env!("CWSYNTH_SOURCE_HASH").as_bytes());
+        h.bytes(b"\0");
+        h
+    }
+
+    /// Adds raw bytes.
+    pub(super) fn bytes(&mut self, bytes: &[u8]) {
+        for &x in bytes {
+            self.a = (self.a ^ x as u64).wrapping_mul(0x0000_0100_0000_01b3);
+            self.b = (self.b ^ x as u64 ^ 0x5a).wrapping_mul(0x0000_0100_0000_01b3);
+        }
+    }
+
+    /// One string of a sequence: its length, then its bytes (so no two sequences run together).
+    pub(super) fn field(&mut self, s: &str) {
+        self.bytes(&(s.len() as u64).to_le_bytes());
+        self.bytes(s.as_bytes());
+    }
+
+    /// The hash so far, 32 hex digits.
+    pub(super) fn hex(&self) -> String {
+        format!("{:016x}{:016x}", self.a, self.b)
+    }
+}
+
+/// The content hash of a problem file's text and the cwsynth build, hex.
+pub fn content_hash(text: &str) -> String {
+    let mut h = Hasher::new();
+    h.bytes(text.as_bytes());
+    h.hex()
+}
+
+/// A content hash of a result file, 128 bits in hex, to tell a whole file from a torn one at
+/// resume: two multiply-rotate streams over 8-byte words (fast, not cryptographic), the
+/// length folded in.
+pub fn file_hash(bytes: &[u8]) -> String {
+    let (mut a, mut b) = (0x9e37_79b9_7f4a_7c15u64, 0xc2b2_ae3d_27d4_eb4fu64);
+    let mut words = bytes.chunks_exact(8);
+    for w in words.by_ref() {
+        let x = u64::from_le_bytes(w.try_into().expect("8 bytes"));
+        a = (a ^ x).wrapping_mul(0xff51_afd7_ed55_8ccd).rotate_left(29);
+        b = (b ^ x.rotate_left(32))
+            .wrapping_mul(0xc4ce_b9fe_1a85_ec53)
+            .rotate_left(31);
+    }
+    let mut tail = [0u8; 8];
+    tail[..words.remainder().len()].copy_from_slice(words.remainder());
+    let x = u64::from_le_bytes(tail) ^ ((bytes.len() as u64) << 3);
+    a = (a ^ x).wrapping_mul(0xff51_afd7_ed55_8ccd);
+    b = (b ^ x.rotate_left(32) ^ a).wrapping_mul(0xc4ce_b9fe_1a85_ec53);
+    a ^= a >> 33;
+    b ^= b >> 29;
+    format!("{a:016x}{b:016x}")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A file hash changes with any byte and the length.
+    #[test]
+    fn file_hash_sees_torn_files() {
+        let a: Vec<u8> = (0..1000u32).map(|i| (i * 7 % 251) as u8).collect();
+        let h = file_hash(&a);
+        assert_eq!(h.len(), 32);
+        assert_ne!(h, file_hash(&a[..999]));
+        assert_ne!(h, file_hash(&a[..500]));
+        assert_ne!(file_hash(&[0; 8]), file_hash(&[0; 9]));
+        for k in [0, 7, 8, 500, 999] {
+            let mut b = a.clone();
+            b[k] ^= 1;
+            assert_ne!(h, file_hash(&b), "{k}");
+        }
+    }
+}

@@ -1,0 +1,76 @@
+//! Joining shard summaries (`summary-shard-i-of-n.csv`, from `--shard i/n` runs) into one
+//! `summary.csv` in index order — a streaming k-way merge that reads each shard as input
+//! (checked row by row) — and writing the reports from it.
+
+use super::error::BatchError;
+use super::reports::write_reports;
+use super::resume::lock_out;
+use super::row::Counts;
+use super::summary::{SummaryRows, SummaryWriter};
+use std::collections::BTreeSet;
+use std::path::{Path, PathBuf};
+
+/// Joins the shard summaries found in `dirs` (`summary-shard-i-of-n.csv`) into
+/// `out/summary.csv` (in index order, a streaming k-way merge) and writes the reports.
+pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<Counts, BatchError> {
+    let mut files = Vec::new();
+    let mut ns = BTreeSet::new();
+    let mut seen = BTreeSet::new();
+    for d in dirs {
+        let listing = |e| BatchError::io("cannot list", d, e);
+        for e in std::fs::read_dir(d).map_err(listing)? {
+            let p = e.map_err(listing)?.path();
+            let n = p.file_name().and_then(|n| n.to_str()).unwrap_or("");
+            if let Some(rest) = n
+                .strip_prefix("summary-shard-")
+                .and_then(|r| r.strip_suffix(".csv"))
+            {
+                if let Some((i, n)) = rest.split_once("-of-") {
+                    if let (Ok(i), Ok(n)) = (i.parse::<u64>(), n.parse::<u64>()) {
+                        ns.insert(n);
+                        seen.insert(i);
+                        files.push(p);
+                    }
+                }
+            }
+        }
+    }
+    files.sort();
+    if files.is_empty() {
+        return Err(BatchError::NoShards);
+    }
+    if ns.len() != 1 {
+        return Err(BatchError::MixedSplits(ns));
+    }
+    let n = *ns.iter().next().expect("one split");
+    let missing: Vec<u64> = (0..n).filter(|i| !seen.contains(i)).collect();
+    if !missing.is_empty() {
+        return Err(BatchError::MissingShards { missing, n });
+    }
+    std::fs::create_dir_all(out).map_err(|e| BatchError::io("cannot create", out, e))?;
+    let _lock = lock_out(out, "summary.csv")?;
+    let mut readers: Vec<SummaryRows> = files.iter().map(|f| SummaryRows::open(f)).collect();
+    let mut w = SummaryWriter::create(&out.join("summary.csv"))?;
+    let mut counts = Counts::default();
+    loop {
+        let k = readers
+            .iter()
+            .enumerate()
+            .filter_map(|(k, r)| r.peek.as_ref().map(|p| (p.index, k)))
+            .min();
+        let Some((_, k)) = k else { break };
+        let row = readers[k].peek.take().expect("peeked");
+        readers[k].advance();
+        counts.add(&row, false);
+        w.write(&row)?;
+    }
+    // Shard summaries are input: a row that did not parse, validate or keep the index
+    // order stopped its reader, and the merge is refused.
+    if let Some(e) = readers.iter().find_map(|r| r.stopped.clone()) {
+        w.abandon();
+        return Err(BatchError::BadSummary(e));
+    }
+    w.commit()?;
+    write_reports(out)?;
+    Ok(counts)
+}
