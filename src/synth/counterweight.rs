@@ -25,10 +25,9 @@
 
 use crate::geom::P2;
 use crate::numeric::{periodic_peak, periodic_peak_sampled, PeriodicPeak, Refine, SearchError};
+use crate::synth::conic::{run_clarabel, Built, Rows};
 use clarabel::algebra::CscMatrix;
-use clarabel::solver::{
-    DefaultSettingsBuilder, DefaultSolver, IPSolver, SolverStatus, SupportedConeT,
-};
+use clarabel::solver::{SolverStatus, SupportedConeT};
 
 /// An affine map u ↦ A u + b at one angle; a scalar field uses only the first row.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -318,47 +317,16 @@ pub fn field_peaks(
         .collect()
 }
 
-struct Built {
-    p: CscMatrix<f64>,
-    q: Vec<f64>,
-    a: CscMatrix<f64>,
-    b: Vec<f64>,
-    cones: Vec<SupportedConeT<f64>>,
-}
-
-/// Triplet builder for the conic constraints A x + s = b, s ∈ K.
-#[derive(Default)]
-struct Rows {
-    i: Vec<usize>,
-    j: Vec<usize>,
-    v: Vec<f64>,
-    b: Vec<f64>,
-    cones: Vec<SupportedConeT<f64>>,
-}
-
-impl Rows {
-    fn row(&mut self, coeffs: &[(usize, f64)], rhs: f64) {
-        let r = self.b.len();
-        for &(j, v) in coeffs {
-            if v != 0.0 {
-                self.i.push(r);
-                self.j.push(j);
-                self.v.push(v);
-            }
-        }
-        self.b.push(rhs);
+/// ‖A u + b‖ ≤ (t-variable `t` or the constant `bound`) as one second-order cone.
+fn affine_cone(rows: &mut Rows, aff: &Affine, dim: usize, t: Option<usize>, bound: f64) {
+    match t {
+        Some(tj) => rows.row(&[(tj, -1.0)], 0.0),
+        None => rows.row(&[], bound),
     }
-    /// ‖A u + b‖ ≤ (t-variable `t` or the constant `bound`).
-    fn cone(&mut self, aff: &Affine, dim: usize, t: Option<usize>, bound: f64) {
-        match t {
-            Some(tj) => self.row(&[(tj, -1.0)], 0.0),
-            None => self.row(&[], bound),
-        }
-        for r in 0..dim {
-            self.row(&[(0, -aff.a[r][0]), (1, -aff.a[r][1])], aff.b[r]);
-        }
-        self.cones.push(SupportedConeT::SecondOrderConeT(dim + 1));
+    for r in 0..dim {
+        rows.row(&[(0, -aff.a[r][0]), (1, -aff.a[r][1])], aff.b[r]);
     }
+    rows.cones.push(SupportedConeT::SecondOrderConeT(dim + 1));
 }
 
 fn build(pb: &Problem, samples: &[f64], s: &Settings) -> Built {
@@ -373,7 +341,7 @@ fn build(pb: &Problem, samples: &[f64], s: &Settings) -> Built {
             q[2] = 1.0;
             let f = &pb.fields[i];
             for &phi in samples {
-                rows.cone(&(f.eval)(phi), f.dim, Some(2), 0.0);
+                affine_cone(&mut rows, &(f.eval)(phi), f.dim, Some(2), 0.0);
             }
         }
         Goal::MinNorm => {
@@ -412,7 +380,7 @@ fn build(pb: &Problem, samples: &[f64], s: &Settings) -> Built {
     for &(i, lim) in &pb.limits {
         let f = &pb.fields[i];
         for &phi in samples {
-            rows.cone(&(f.eval)(phi), f.dim, None, lim);
+            affine_cone(&mut rows, &(f.eval)(phi), f.dim, None, lim);
         }
     }
     if pb.u_max.is_finite() {
@@ -440,60 +408,7 @@ fn build(pb: &Problem, samples: &[f64], s: &Settings) -> Built {
             rows.cones.push(SupportedConeT::NonnegativeConeT(2));
         }
     }
-    let m = rows.b.len();
-    let a = CscMatrix::new_from_triplets(m, n, rows.i, rows.j, rows.v);
-    Built {
-        p,
-        q,
-        a,
-        b: rows.b,
-        cones: rows.cones,
-    }
-}
-
-struct ConicResult {
-    status: SolverStatus,
-    x: Vec<f64>,
-    obj: f64,
-    obj_dual: f64,
-    iterations: u32,
-}
-
-/// clarabel with its duality-gap tolerance two orders tighter than the target relative gap
-/// (within [1e-11, 1e-8]). Very tight tolerances sometimes end at AlmostSolved (reduced
-/// accuracy); then the solve is repeated with tolerances 10× and 100× looser, and the
-/// first full `Solved` is kept (the exchange loop's gap check still verifies the design).
-fn run_clarabel(bt: &Built, rel_tol: f64) -> Result<ConicResult, String> {
-    let mut gap_tol = (0.01 * rel_tol).clamp(1e-11, 1e-8);
-    let mut last = None;
-    for _ in 0..3 {
-        let settings = DefaultSettingsBuilder::default()
-            .verbose(false)
-            .tol_gap_abs(gap_tol)
-            .tol_gap_rel(gap_tol)
-            .tol_feas((10.0 * gap_tol).clamp(1e-10, 1e-8))
-            .tol_ktratio(1e-10)
-            .max_iter(100)
-            .build()
-            .map_err(|e| e.to_string())?;
-        let mut solver = DefaultSolver::new(&bt.p, &bt.q, &bt.a, &bt.b, &bt.cones, settings)
-            .map_err(|e| format!("clarabel setup: {e:?}"))?;
-        solver.solve();
-        let sol = &solver.solution;
-        let res = ConicResult {
-            status: sol.status,
-            x: sol.x.clone(),
-            obj: sol.obj_val,
-            obj_dual: sol.obj_val_dual,
-            iterations: sol.iterations + last.as_ref().map_or(0, |r: &ConicResult| r.iterations),
-        };
-        if res.status != SolverStatus::AlmostSolved {
-            return Ok(res);
-        }
-        last = Some(res);
-        gap_tol *= 10.0;
-    }
-    Ok(last.expect("three attempts"))
+    rows.build(n, p, q)
 }
 
 /// Equally spaced angles.
@@ -895,7 +810,7 @@ fn disc_exchange(pb: &Problem, s: &Settings, start: &[f64]) -> Option<Solution> 
 }
 
 /// Whether `phi` is not yet among the sampled angles (none within 1e-9 rad).
-fn is_new(samples: &[f64], phi: f64) -> bool {
+pub(crate) fn is_new(samples: &[f64], phi: f64) -> bool {
     samples.iter().all(|&q| angle_dist(q, phi) > 1e-9)
 }
 

@@ -3,7 +3,9 @@
 //! A design variable is either fixed or free within bounds ([`Var`]), so the same scene
 //! serves analysis (everything fixed) and synthesis.
 
+pub(crate) mod conic;
 pub mod counterweight;
+pub mod minimax;
 pub mod shape;
 
 /// The evidence behind a `best_found` status: what a heuristic global search did and how
