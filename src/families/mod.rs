@@ -24,11 +24,12 @@ use std::path::Path;
 use std::time::Instant;
 
 /// The registry: every family, one line each. Adding a family is one folder and one line.
-pub static FAMILIES: [&dyn Family; 4] = [
+pub static FAMILIES: [&dyn Family; 5] = [
     &slider_crank::SliderCrank,
     &crane::LuffingCrane,
     &hypocycloid::HypocycloidFamily,
     &gear::EccentricGear,
+    &linkage::LinkageFamily,
 ];
 
 /// The family named `name` in a file or result.

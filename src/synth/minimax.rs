@@ -394,7 +394,9 @@ pub struct Settings {
     pub scan_samples: usize,
     /// Exchange rounds at most. Default 30.
     pub max_rounds: usize,
-    /// Angle tolerance of the peak refinement (rad). Default 1e-10.
+    /// Angle tolerance of the peak refinement (rad; in a file an angle with its unit,
+    /// `"1e-10 rad"`). Default 1e-10.
+    #[serde(with = "crate::units::angle_setting")]
     pub peak_xtol: f64,
     /// Uniform angles of RMS objectives (even). Default 360.
     pub rms_samples: usize,

@@ -77,6 +77,7 @@ pub fn integer_key_base(family: &str, key: &str) -> &'static str {
             "hypocycloid-c4-variant1.toml"
         }
         "hypocycloid" => "hypocycloid-variant1.toml",
+        "linkage" => "linkage-piston-1000rpm.toml",
         f => panic!("no base file for family {f}"),
     }
 }

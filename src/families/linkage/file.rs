@@ -12,8 +12,12 @@
 
 use crate::families::linkage::model::{Dyad, Inertia, Linkage, Point};
 use crate::geom::{Side, P2};
-use crate::problem::limits::{c, Count};
-use crate::problem::{check_name, non_negative, positive, FieldError, RawVar};
+use crate::problem::limits::{self, c, Count};
+use crate::problem::{
+    check_name, non_negative, positive, Ctx, FieldError, Input, ProblemError, RawFile, RawVar,
+    Resolved,
+};
+use crate::synth::minimax::Settings;
 use crate::synth::Var;
 use crate::units::{Acceleration, Angle, AngularSpeed, Force, Inertia as InertiaDim};
 use crate::units::{Length, Mass, Qty, Torque};
@@ -30,7 +34,17 @@ pub const MAX_DYADS: usize = 32;
 pub const MAX_COUNTERWEIGHTS: usize = 16;
 
 /// The integer keys of this family's file and their ranges (see [`crate::problem::limits`]).
-pub const COUNTS: &[Count] = &[c("objective.pareto_points", 0, 200)];
+pub const COUNTS: &[Count] = &[
+    c("objective.pareto_points", 0, 200),
+    c("accuracy.initial_samples", 3, 1024),
+    c("accuracy.scan_samples", 16, 20_000),
+    c("accuracy.max_rounds", 1, 1000),
+    c("accuracy.rms_samples", 16, 100_000),
+];
+
+/// The work budget of one scene (see [`limits::check_work`]): field evaluations (one dyad
+/// chain each), so one machine runs in seconds.
+pub const WORK_BUDGET: f64 = 5e7;
 
 /// A pair of lengths: a point in the plane (x, y).
 pub type XyRaw = [Qty<Length>; 2];
@@ -197,6 +211,83 @@ pub struct ObjectiveRaw {
     pub pareto_points: u32,
 }
 
+/// `[accuracy]`: the engine's [`Settings`] read directly (every key optional, unknown keys
+/// rejected), then validated; errors name `accuracy.<key>`.
+pub type AccuracyRaw = Settings;
+
+/// The whole linkage file.
+pub type File = RawFile<MechanismRaw, ModelRaw, DesignRaw, ObjectiveRaw, AccuracyRaw>;
+
+/// A resolved linkage scene with its settings.
+#[derive(Debug, Clone)]
+pub struct LinkageProblem {
+    /// The scene.
+    pub scene: LinkageScene,
+    /// The exchange loop's settings.
+    pub settings: Settings,
+}
+
+/// Reads and resolves a linkage problem file (its text or its table).
+pub fn resolve(ctx: &Ctx, input: Input) -> Result<Resolved<LinkageProblem>, ProblemError> {
+    File::resolve(ctx, input, resolve_raw)
+}
+
+/// The value checks of a linkage file.
+pub fn resolve_raw(raw: &File) -> Result<LinkageProblem, FieldError> {
+    let scene = resolve_scene(
+        &raw.name,
+        &raw.mechanism,
+        &raw.model,
+        &raw.design,
+        &raw.objective,
+    )?;
+    let settings = raw.accuracy;
+    limits::check_section(COUNTS, "accuracy", &settings)?;
+    settings.validate().map_err(|(key, message)| {
+        FieldError::new(format!("accuracy.{key}"), format!("{key} {message}"))
+    })?;
+    check_work(&scene, &settings)?;
+    Ok(LinkageProblem { scene, settings })
+}
+
+/// The work budget ([`limits::check_work`]): each SOCP round scans the three fields
+/// (`scan_samples` evaluations of the dyad chain, 2 + 2·dyads links each); at most
+/// `max_rounds` rounds per solve, and 2 + `pareto_points` solves.
+fn check_work(sc: &LinkageScene, s: &Settings) -> Result<(), FieldError> {
+    let d = Settings::default();
+    let f = |v: usize| v as f64;
+    let links = f(sc.linkage.n_links());
+    let solves = 1.0
+        + if sc.objective.pareto_points > 0 {
+            2.0 + f(sc.objective.pareto_points)
+        } else {
+            0.0
+        };
+    let estimate =
+        3.0 * links * (f(s.scan_samples) + f(s.rms_samples)) * f(s.max_rounds.min(30)) * solves;
+    let t = |k, v: f64, d: f64| limits::term(k, v, d);
+    limits::check_work(
+        WORK_BUDGET,
+        FAMILY,
+        estimate,
+        "3·links·(scan_samples + rms_samples)·min(max_rounds, 30)·(1 + (2 + pareto_points if any))",
+        &[
+            t(
+                "accuracy.scan_samples",
+                f(s.scan_samples),
+                f(d.scan_samples),
+            ),
+            t("accuracy.rms_samples", f(s.rms_samples), f(d.rms_samples)),
+            t(
+                "objective.pareto_points",
+                f(sc.objective.pareto_points),
+                0.0,
+            ),
+            t("mechanism.dyads", f(sc.linkage.dyads().len()), 1.0),
+        ],
+    )
+}
+
 /// A counterweight the optimiser sizes, resolved (SI, link index).
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct CounterweightSpec {
@@ -234,6 +325,8 @@ pub struct Objective {
 pub struct LinkageScene {
     /// The mechanism with its link masses.
     pub linkage: Linkage,
+    /// |A0 A|, the crank's length to its pin (m).
+    pub crank_length: f64,
     /// Link names, index = link (crank first).
     pub link_names: Vec<String>,
     /// O, the moment point (m).
@@ -245,7 +338,7 @@ pub struct LinkageScene {
 }
 
 /// What a link's `tip` is: its second joint in its own frame, where it has one.
-fn tip_of(dyads: &[Dyad], crank_length: f64, link: usize) -> Option<P2> {
+pub(super) fn tip_of(dyads: &[Dyad], crank_length: f64, link: usize) -> Option<P2> {
     if link == 0 {
         return Some(P2::new(crank_length, 0.0));
     }
@@ -621,7 +714,12 @@ pub const TURN_SAMPLES: usize = 1440;
 /// The crank must turn fully: a linkage that cannot assemble over part of the turn is an error
 /// naming the dyad and the unreachable crank angles (in degrees, ends to 1e-9°).
 fn check_full_turn(l: &Linkage) -> Result<(), FieldError> {
-    let bad = l.unreachable(TURN_SAMPLES, 1e-11);
+    // A range that closes to nothing (the bisection meeting itself at the wrap) is none.
+    let bad: Vec<_> = l
+        .unreachable(TURN_SAMPLES, 1e-11)
+        .into_iter()
+        .filter(|u| u.to - u.from > 1e-9)
+        .collect();
     let Some(first) = bad.first() else {
         return Ok(());
     };
@@ -672,6 +770,7 @@ pub fn resolve_scene(
     Ok(LinkageScene {
         moment_about: model.moment_about.as_ref().map_or(pivot, xy),
         linkage,
+        crank_length,
         link_names: names,
         counterweights,
         objective,

@@ -1,7 +1,18 @@
-//! Any one-degree-of-freedom planar linkage (issue 17): a crank and a chain of Assur dyads,
-//! with the shaking force, shaking moment, input torque and joint reactions as linear maps in
-//! the links' inertial parameters. For now only its physics (`model`); the problem file, the
-//! synthesis and the registry entry come with the family.
+//! Any one-degree-of-freedom planar linkage, whole: a crank and a chain of Assur dyads with the
+//! shaking force, shaking moment, input torque and joint reactions as linear maps in the links'
+//! inertial parameters (`model`), its problem file (`file`), the certified counterweight cone
+//! programs (`synth`), its result and plots (`report`), its schema branch (`schema`) and its
+//! study ladder (`study`), behind the `Family` and `Machine` traits.
 
 pub mod file;
 pub mod model;
+pub mod report;
+pub mod schema;
+pub mod study;
+pub mod synth;
+
+crate::families::family::family_folder!(
+    /// Any one-degree-of-freedom planar linkage (crank + dyads) with counterweights.
+    LinkageFamily,
+    file::LinkageProblem
+);

@@ -1,0 +1,486 @@
+//! The linkage result: the counterweights to build, the shaking force, shaking moment and input
+//! torque with and without them (peaks and RMS with their error bounds), the Berkof–Lowen
+//! closed form beside a four-bar's numeric full force balance, the force–moment front, the
+//! curves over the cycle and a drawing of the linkage (keys in `docs/results.md`).
+
+use super::file::{tip_of, Goal, LinkageProblem};
+use super::synth::{self as ls, Outcome, FORCE, MOMENT, TORQUE};
+use crate::families::family::Scene;
+use crate::families::linkage::model::{Linkage, Point};
+use crate::geom::P2;
+use crate::report::plot::{self, Panel, Series};
+use crate::report::{Plot, SolveResult, Status, Table};
+use crate::synth::counterweight::Status as CwStatus;
+use crate::synth::minimax::{FieldPeak, Solution};
+use serde_json::json;
+use std::collections::BTreeMap;
+use std::f64::consts::TAU;
+use std::time::Instant;
+
+/// The objective keys of the three fields' peaks and RMS.
+const PEAK_KEYS: [&str; 3] = [
+    "peak_shaking_force_n",
+    "peak_shaking_moment_nm",
+    "peak_input_torque_nm",
+];
+/// See [`PEAK_KEYS`].
+const RMS_KEYS: [&str; 3] = [
+    "rms_shaking_force_n",
+    "rms_shaking_moment_nm",
+    "rms_input_torque_nm",
+];
+
+/// The key of `objectives` the scene's goal is judged on.
+pub fn objective_key(g: Goal) -> &'static str {
+    match g {
+        Goal::PeakForce => PEAK_KEYS[FORCE],
+        Goal::PeakMoment => PEAK_KEYS[MOMENT],
+        Goal::PeakTorque => PEAK_KEYS[TORQUE],
+        Goal::RmsForce => RMS_KEYS[FORCE],
+        Goal::RmsMoment => RMS_KEYS[MOMENT],
+        Goal::RmsTorque => RMS_KEYS[TORQUE],
+        Goal::CounterweightMass => "counterweight_mass_kg",
+    }
+}
+
+fn status_of(s: CwStatus) -> Status {
+    match s {
+        CwStatus::Optimal => Status::Optimal,
+        CwStatus::Inaccurate => Status::Inaccurate,
+        CwStatus::Infeasible => Status::Infeasible,
+        CwStatus::Failed => Status::Failed,
+    }
+}
+
+fn put_fields(
+    m: &mut BTreeMap<String, f64>,
+    e: Option<&mut BTreeMap<String, f64>>,
+    peaks: &[FieldPeak],
+    rms: &[(f64, f64); 3],
+) {
+    let mut errs = Vec::new();
+    // An infeasible or failed solve has no peaks (and its RMS are NaN, dropped as such).
+    for (k, pk) in peaks.iter().enumerate().take(3) {
+        m.insert(PEAK_KEYS[k].into(), pk.peak);
+        errs.push((PEAK_KEYS[k], pk.error));
+    }
+    for k in 0..3 {
+        m.insert(RMS_KEYS[k].into(), rms[k].0);
+        // The quadrature's estimate plus the field's evaluation error (an RMS is off by at
+        // most the largest pointwise error; the peak's bound stands for it).
+        let eval = peaks.get(k).map_or(0.0, |p| p.error);
+        errs.push((RMS_KEYS[k], rms[k].1 + eval));
+    }
+    if let Some(e) = e {
+        for (k, v) in errs {
+            e.insert(k.into(), v);
+        }
+    }
+}
+
+/// The result of a linkage scene.
+pub fn result(scene: &Scene, p: &LinkageProblem) -> SolveResult {
+    let mut r = scene.new_result();
+    let sc = &p.scene;
+    r.model = BTreeMap::from([
+        ("links".into(), json!(sc.link_names)),
+        (
+            "moment_about_m".into(),
+            json!([sc.moment_about.x, sc.moment_about.y]),
+        ),
+        ("speed_rad_s".into(), json!(sc.linkage.omega())),
+        (
+            "gravity".into(),
+            if sc.linkage.gravity().norm() > 0.0 {
+                json!({"acceleration_m_s2": sc.linkage.gravity().norm(), "enters": "input torque only"})
+            } else {
+                json!("not modelled")
+            },
+        ),
+    ]);
+    let t0 = Instant::now();
+    let out = match ls::solve(sc, &p.settings) {
+        Ok(o) => o,
+        Err(e) => {
+            r.warnings.push(e.to_string());
+            return r;
+        }
+    };
+    r.timing.solve_s = t0.elapsed().as_secs_f64();
+    let mut bare = BTreeMap::new();
+    put_fields(&mut bare, None, &out.bare, &out.bare_rms);
+    r.baselines.insert("unbalanced".into(), bare);
+    r.derived
+        .insert("max_dyad_conditioning".into(), out.kappa_max);
+    if out.kappa_max > 1e3 {
+        r.warnings.push(format!(
+            "the linkage passes near a toggle (dyad conditioning up to {:.3e}): its accelerations are large there and lose digits as ε·κ²; the stated errors include it",
+            out.kappa_max
+        ));
+    }
+    let key = objective_key(sc.objective.minimize);
+    r.objective = Some(key.into());
+    match (&out.design, out.balance_residual) {
+        (_, Some(resid)) => {
+            r.status = Status::Infeasible;
+            r.status_detail = Some(format!(
+                "full force balance is out of reach of these counterweights: the least-squares residual of the balance equations is {resid:.3e} of the unbalanced force (the counterweights' first moments cannot make the total centre of mass stationary; a four-bar needs them on crank and rocker)"
+            ));
+            put_fields(
+                &mut r.objectives,
+                Some(&mut r.errors),
+                &out.bare,
+                &out.bare_rms,
+            );
+            r.method = "full force balance: SVD of the force blocks at 64 angles".into();
+        }
+        (None, None) => {
+            r.status = Status::Analysed;
+            put_fields(
+                &mut r.objectives,
+                Some(&mut r.errors),
+                &out.bare,
+                &out.bare_rms,
+            );
+            r.method = "closed-form dyads; every peak refined from a scan".into();
+        }
+        (Some(sol), None) => design_keys(&mut r, p, &out, sol, key),
+    }
+    if let Some(front) = &out.pareto {
+        pareto_keys(&mut r, front);
+    }
+    berkof_lowen(&mut r, p, out.design.as_ref());
+    curves(&mut r, scene, p, &out);
+    r
+}
+
+/// Design, objectives, errors and solver facts of a solved design.
+fn design_keys(r: &mut SolveResult, p: &LinkageProblem, out: &Outcome, sol: &Solution, key: &str) {
+    let sc = &p.scene;
+    r.status = status_of(sol.status);
+    if let Some(note) = &sol.note {
+        r.warnings.push(note.clone());
+    }
+    let mut total_mass = 0.0;
+    for (j, cw) in sc.counterweights.iter().enumerate() {
+        let d = sol.counterweight(j);
+        let n = &cw.link_name;
+        total_mass += d.mass;
+        r.design
+            .insert(format!("{n}_counterweight_mass_kg"), d.mass);
+        r.design
+            .insert(format!("{n}_counterweight_radius_m"), d.radius);
+        r.design.insert(
+            format!("{n}_counterweight_angle_rad"),
+            d.angle.rem_euclid(TAU),
+        );
+        r.design.insert(
+            format!("{n}_counterweight_first_moment_x_kgm"),
+            d.first_moment[0],
+        );
+        r.design.insert(
+            format!("{n}_counterweight_first_moment_y_kgm"),
+            d.first_moment[1],
+        );
+        r.design.insert(
+            format!("{n}_counterweight_inertia_about_joint_kgm2"),
+            d.inertia,
+        );
+        r.design.insert(
+            format!("{n}_counterweight_centroidal_inertia_kgm2"),
+            d.centroidal_inertia,
+        );
+    }
+    let rms = out.design_rms.unwrap_or([(f64::NAN, f64::NAN); 3]);
+    put_fields(&mut r.objectives, Some(&mut r.errors), &sol.peaks, &rms);
+    r.objectives
+        .insert("counterweight_mass_kg".into(), total_mass);
+    // The optimised figure's bound covers its distance from the true optimum too.
+    let own = r.errors.get(key).copied().unwrap_or(0.0);
+    r.errors.insert(key.into(), own.max(sol.error.total));
+    for (k, v) in [
+        ("lower_bound", sol.lower_bound),
+        ("gap_sampling", sol.error.sampling),
+        ("error_solver", sol.error.solver),
+        ("error_evaluation", sol.error.evaluation),
+        ("error_refinement", sol.error.refinement),
+        ("design_constraint_violation", sol.design_violation),
+        ("socp_rounds", sol.rounds as f64),
+        ("sampled_angles", sol.angles as f64),
+        ("ipm_iterations", f64::from(sol.ipm_iterations)),
+        ("balance_equalities", out.balance_rows as f64),
+    ] {
+        r.derived.insert(k.into(), v);
+    }
+    for (f, pk) in sol.peaks.iter().enumerate().take(3) {
+        if pk.violation > 0.0 {
+            r.warnings.push(format!(
+                "{} peak {:.6e} exceeds its limit {:.6e} by {:.3e}",
+                PEAK_KEYS[f],
+                pk.peak,
+                pk.limit.unwrap_or(f64::NAN),
+                pk.violation
+            ));
+        }
+    }
+    if sc.objective.full_force_balance && !sol.peaks.is_empty() {
+        let bare = out.bare[FORCE].peak.max(f64::MIN_POSITIVE);
+        r.derived.insert(
+            "balanced_force_relative".into(),
+            sol.peaks[FORCE].peak / bare,
+        );
+    }
+    r.method = format!(
+        "closed-form dyads; clarabel SOCP (rotated cones I·m ≥ |u|²) + exchange loop: {} rounds, {} angles, {} IPM iterations{}",
+        sol.rounds,
+        sol.angles,
+        sol.ipm_iterations,
+        if out.balance_rows > 0 {
+            format!("; full force balance as {} equalities (SVD of the force blocks)", out.balance_rows)
+        } else {
+            String::new()
+        }
+    );
+}
+
+/// The front as JSON and CSV.
+fn pareto_keys(r: &mut SolveResult, front: &crate::synth::minimax::ParetoFront) {
+    let mut csv = String::from("eps,peak_shaking_force_n,peak_shaking_moment_nm,error_force_n,error_moment_nm,gap,status\n");
+    let mut pts = Vec::new();
+    // Infeasible or failed points have no peaks: left out of the front (counted below).
+    let ok: Vec<_> = front
+        .points
+        .iter()
+        .filter(|p| p.solution.peaks.len() == 3)
+        .collect();
+    for pt in &ok {
+        let s = &pt.solution;
+        let st = status_of(s.status).as_str();
+        csv += &format!(
+            "{:.12e},{:.12e},{:.12e},{:.3e},{:.3e},{:.3e},{st}\n",
+            pt.eps,
+            s.peaks[FORCE].peak,
+            s.peaks[MOMENT].peak,
+            s.peaks[FORCE].error,
+            s.peaks[MOMENT].error,
+            s.error.total
+        );
+        pts.push(json!({
+            "eps": pt.eps,
+            "peak_shaking_force_n": s.peaks[FORCE].peak,
+            "peak_shaking_moment_nm": s.peaks[MOMENT].peak,
+            "error_total": s.error.total,
+            "status": st,
+        }));
+    }
+    let certified = front
+        .points
+        .iter()
+        .filter(|p| p.solution.status == CwStatus::Optimal)
+        .count();
+    r.extra.insert(
+        "pareto".into(),
+        json!({"points": pts, "certified": certified, "without_design": front.points.len() - ok.len(), "csv": format!("{}-pareto.csv", r.name)}),
+    );
+    r.tables.push(Table {
+        suffix: "pareto".into(),
+        caption: "Peak shaking force against peak shaking moment: each point its own SOCP".into(),
+        csv,
+    });
+    let line: Vec<(f64, f64)> = ok
+        .iter()
+        .map(|p| (p.solution.peaks[MOMENT].peak, p.solution.peaks[FORCE].peak))
+        .collect();
+    r.plots.push(Plot::new(
+        "pareto",
+        "Peak shaking force against peak shaking moment (ε-constraint front, each point certified)",
+        move || {
+            plot::panels(
+                &[Panel {
+                    title: "Force–moment front".into(),
+                    x_label: "peak shaking moment (N·m)".into(),
+                    y_label: "peak shaking force (N)".into(),
+                    series: vec![
+                        Series::line("front", line.clone()),
+                        Series::points("points", line.clone()),
+                    ],
+                    equal_aspect: false,
+                }],
+                640,
+                420,
+            )
+        },
+    ));
+}
+
+/// For a four-bar with counterweights on crank and rocker: the Berkof–Lowen first moments
+/// beside the numeric ones.
+fn berkof_lowen(r: &mut SolveResult, p: &LinkageProblem, sol: Option<&Solution>) {
+    let sc = &p.scene;
+    let Ok(fb) = sc.linkage.berkof_lowen() else {
+        return;
+    };
+    let mut v = json!({
+        "crank_first_moment_kgm": [fb.crank.x, fb.crank.y],
+        "rocker_first_moment_kgm": [fb.rocker.x, fb.rocker.y],
+        "crank_counterweight_first_moment_kgm": [fb.crank_add.x, fb.crank_add.y],
+        "rocker_counterweight_first_moment_kgm": [fb.rocker_add.x, fb.rocker_add.y],
+    });
+    if let (Some(sol), true) = (sol, sc.objective.full_force_balance) {
+        let find = |link: usize| sc.counterweights.iter().position(|c| c.link == link);
+        if let (Some(a), Some(b)) = (find(fb.links.0), find(fb.links.1)) {
+            let (ca, cb) = (sol.counterweight(a), sol.counterweight(b));
+            let diff = (P2::from(ca.first_moment) - fb.crank_add).norm()
+                + (P2::from(cb.first_moment) - fb.rocker_add).norm();
+            let scale = fb.crank_add.norm() + fb.rocker_add.norm();
+            v["numeric_minus_closed_form_relative"] = json!(diff / scale.max(f64::MIN_POSITIVE));
+            r.derived.insert(
+                "berkof_lowen_relative_difference".into(),
+                diff / scale.max(f64::MIN_POSITIVE),
+            );
+        }
+    }
+    r.extra.insert("berkof_lowen".into(), v);
+}
+
+/// The fields over the cycle with and without the counterweights (CSV, plots) and the
+/// drawing: drawn only when written.
+fn curves(r: &mut SolveResult, scene: &Scene, p: &LinkageProblem, out: &Outcome) {
+    let sc = p.scene.clone();
+    let x = out
+        .design
+        .as_ref()
+        .map(|s| s.x.clone())
+        .filter(|x| x.iter().all(|v| v.is_finite()));
+    let n = p.settings.scan_samples.max(16);
+    let samples = move || -> Vec<[f64; 9]> {
+        let extra = x.as_ref().map(|x| ls::extras(&sc.counterweights, x));
+        (0..=n)
+            .filter_map(|k| {
+                let th = TAU * k as f64 / n as f64;
+                let pose = sc.linkage.pose(th).ok()?;
+                let map = sc.linkage.balance_map(&pose, sc.moment_about);
+                let b = map.base;
+                let d = extra.as_ref().map_or(b, |e| map.fields(e));
+                Some([
+                    th.to_degrees(),
+                    b.force.x,
+                    b.force.y,
+                    b.moment,
+                    b.torque,
+                    d.force.x,
+                    d.force.y,
+                    d.moment,
+                    d.torque,
+                ])
+            })
+            .collect()
+    };
+    let rows = samples();
+    let mut csv = String::from("theta_deg,bare_fx_n,bare_fy_n,bare_moment_nm,bare_torque_nm,fx_n,fy_n,moment_nm,torque_nm\n");
+    for row in &rows {
+        csv += &row
+            .iter()
+            .map(|v| format!("{v:.9e}"))
+            .collect::<Vec<_>>()
+            .join(",");
+        csv += "\n";
+    }
+    r.tables.push(Table {
+        suffix: "cycle".into(),
+        caption: "Shaking force, shaking moment and input torque over one crank turn, without and with the counterweights".into(),
+        csv,
+    });
+    let with_cw = out.design.is_some();
+    let rows2 = rows.clone();
+    r.plots.push(Plot::new(
+        "fields",
+        "|F|, M_O and T over one crank turn: bare linkage and with the counterweights",
+        move || {
+            let col = |i: usize, j: Option<usize>| -> Vec<(f64, f64)> {
+                rows2
+                    .iter()
+                    .map(|r| (r[0], j.map_or(r[i], |j| r[i].hypot(r[j]))))
+                    .collect()
+            };
+            let pane = |title: &str, y: &str, bare: Vec<(f64, f64)>, bal: Vec<(f64, f64)>| Panel {
+                title: title.into(),
+                x_label: "crank angle θ (deg)".into(),
+                y_label: y.into(),
+                series: if with_cw {
+                    vec![Series::line("bare", bare), Series::line("balanced", bal)]
+                } else {
+                    vec![Series::line("bare", bare)]
+                },
+                equal_aspect: false,
+            };
+            plot::panels(
+                &[
+                    pane("Shaking force |F|", "N", col(1, Some(2)), col(5, Some(6))),
+                    pane("Shaking moment M_O", "N·m", col(3, None), col(7, None)),
+                    pane("Input torque T", "N·m", col(4, None), col(8, None)),
+                ],
+                1200,
+                380,
+            )
+        },
+    ));
+    let (sc2, x2) = (p.scene.clone(), out.design.as_ref().map(|s| s.x.clone()));
+    let name = scene.name.clone();
+    r.plots.push(Plot::new(
+        "linkage",
+        "The linkage at four crank angles (0°, 90°, 180°, 270°), with its counterweights' centroids",
+        move || drawing(&name, &sc2, x2.as_deref()),
+    ));
+}
+
+/// The links as segments (reference joint to tip) at four crank angles; the counterweights'
+/// centroids as markers.
+fn drawing(
+    name: &str,
+    sc: &super::file::LinkageScene,
+    x: Option<&[f64]>,
+) -> Result<String, String> {
+    let l: &Linkage = &sc.linkage;
+    let mut series = Vec::new();
+    for q in 0..4 {
+        let th = TAU * q as f64 / 4.0;
+        let Ok(pose) = l.pose(th) else { continue };
+        let mut pts = Vec::new();
+        for (i, st) in pose.links.iter().enumerate() {
+            let a = st.p[0];
+            let b = tip_of(l.dyads(), sc.crank_length, i)
+                .map(|at| pose.point(&Point::On { link: i, at })[0])
+                .unwrap_or(a);
+            pts.push((a.x * 1e3, a.y * 1e3));
+            pts.push((b.x * 1e3, b.y * 1e3));
+            pts.push((f64::NAN, f64::NAN));
+        }
+        series.push(Series::line(format!("θ = {}°", 90 * q), pts));
+        if let Some(x) = x {
+            let cw: Vec<(f64, f64)> = ls::extras(&sc.counterweights, x)
+                .iter()
+                .filter(|(_, p)| p[0] > 0.0)
+                .map(|(link, p)| {
+                    let at = P2::new(p[1] / p[0], p[2] / p[0]);
+                    let c = pose.point(&Point::On { link: *link, at })[0];
+                    (c.x * 1e3, c.y * 1e3)
+                })
+                .collect();
+            if q == 0 && !cw.is_empty() {
+                series.push(Series::marker("counterweights (θ = 0°)", cw));
+            }
+        }
+    }
+    plot::panels(
+        &[Panel {
+            title: format!("{name}: positions"),
+            x_label: "x (mm)".into(),
+            y_label: "y (mm)".into(),
+            series,
+            equal_aspect: true,
+        }],
+        720,
+        560,
+    )
+}

@@ -1,0 +1,379 @@
+//! The linkage's counterweight synthesis: the shaking force F, the shaking moment M_O and the
+//! input torque T of the linkage as fields affine in the counterweights' (m, u, I), handed to
+//! the certified minimax engine ([`crate::synth::minimax`]).
+//!
+//! Counterweight j on link L_j adds x_j = (m_j, u_j, I_j) to that link's inertial parameters
+//! p = (m, m c_x, m c_y, I_P) (the same order), so at every θ
+//! F(θ; x) = F₀(θ) + Σ_j A_Lj(θ) x_j, M_O = M₀ + Σ_j m_Lj(θ)·x_j, T = T₀ + Σ_j t_Lj(θ)·x_j
+//! with the blocks of [`Linkage::balance_map`]. Full force balance (F ≡ 0, Berkof–Lowen) is a
+//! set of linear equalities on x: the range of the stacked force blocks at
+//! [`BALANCE_ANGLES`] angles, from their SVD (well-conditioned rows, a consistent right-hand
+//! side); when the counterweights cannot supply it, the least-squares residual says by how much.
+
+use crate::families::linkage::file::{CounterweightSpec, Goal, LinkageScene};
+use crate::families::linkage::model::{Linkage, Params};
+use crate::geom::P2;
+use crate::synth::minimax::{
+    self as mm, AffineValue, CounterweightLimits, Engine, FnField, LinearConstraint, Problem,
+    Relation, Settings, Solution,
+};
+use crate::synth::Var;
+use nalgebra::{DMatrix, DVector};
+use std::sync::Mutex;
+
+/// Field indices of the problem: shaking force (2-D), shaking moment about O, input torque.
+pub const FORCE: usize = 0;
+/// See [`FORCE`].
+pub const MOMENT: usize = 1;
+/// See [`FORCE`].
+pub const TORQUE: usize = 2;
+
+/// Uniform crank angles whose force equations define full force balance.
+pub const BALANCE_ANGLES: usize = 64;
+
+/// Relative least-squares residual of the balance equations above which full force balance is
+/// out of the counterweights' reach.
+pub const BALANCE_RESIDUAL_TOL: f64 = 1e-8;
+
+/// Why a linkage cannot be solved (beyond an engine error).
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum LinkageSolveError {
+    /// The engine refused the problem or its settings.
+    #[error(transparent)]
+    Engine(#[from] mm::MinimaxError),
+    /// The linkage did not assemble at an angle the solve needed (a narrow unreachable range
+    /// the file's check missed).
+    #[error("the linkage does not assemble at crank angle {0:.6}° (dyad {1})")]
+    NoAssembly(f64, usize),
+}
+
+/// The three fields of a scene, with the first assembly failure met while evaluating them.
+pub struct SceneFields<'s> {
+    scene: &'s LinkageScene,
+    failure: Mutex<Option<(f64, usize)>>,
+}
+
+impl<'s> SceneFields<'s> {
+    /// The fields of `scene`.
+    pub fn new(scene: &'s LinkageScene) -> Self {
+        SceneFields {
+            scene,
+            failure: Mutex::new(None),
+        }
+    }
+
+    /// Fills `out` with field `which` at θ: b the bare linkage, A the counterweights' blocks.
+    fn eval(&self, which: usize, theta: f64, out: &mut AffineValue) {
+        let l = &self.scene.linkage;
+        let pose = match l.pose(theta) {
+            Ok(p) => p,
+            Err(e) => {
+                let mut f = self.failure.lock().expect("no panic holds it");
+                f.get_or_insert((theta, e.dyad));
+                return; // zeros: the solve is reported failed
+            }
+        };
+        let map = l.balance_map(&pose, self.scene.moment_about);
+        let n = out.n();
+        match which {
+            FORCE => {
+                out.b = [map.base.force.x, map.base.force.y];
+                for (j, cw) in self.scene.counterweights.iter().enumerate() {
+                    let blk = &map.blocks[cw.link].force;
+                    for c in 0..4 {
+                        out.a[mm::var_m(j) + c] = blk[(0, c)];
+                        out.a[n + mm::var_m(j) + c] = blk[(1, c)];
+                    }
+                }
+            }
+            MOMENT | TORQUE => {
+                out.b[0] = if which == MOMENT {
+                    map.base.moment
+                } else {
+                    map.base.torque
+                };
+                for (j, cw) in self.scene.counterweights.iter().enumerate() {
+                    let b = &map.blocks[cw.link];
+                    let row = if which == MOMENT { b.moment } else { b.torque };
+                    for c in 0..4 {
+                        out.a[mm::var_m(j) + c] = row[c];
+                    }
+                }
+            }
+            _ => unreachable!("three fields"),
+        }
+    }
+
+    /// The model's round-off bound on field `which` at (θ, x): ρ·Σ‖block‖‖p‖
+    /// ([`crate::families::linkage::model::BalanceMap::error`]).
+    fn error(&self, which: usize, theta: f64, x: &[f64]) -> f64 {
+        let l = &self.scene.linkage;
+        let Ok(pose) = l.pose(theta) else {
+            return f64::INFINITY;
+        };
+        let map = l.balance_map(&pose, self.scene.moment_about);
+        let extra = extras(&self.scene.counterweights, x);
+        let (ef, em, et) = map.error(&l.params(), &extra);
+        [ef, em, et][which]
+    }
+
+    /// The first angle where the linkage failed to assemble, if any.
+    pub fn failure(&self) -> Option<(f64, usize)> {
+        *self.failure.lock().expect("no panic holds it")
+    }
+}
+
+/// The counterweights of x as parameter additions (link, p).
+pub fn extras(cws: &[CounterweightSpec], x: &[f64]) -> Vec<(usize, Params)> {
+    cws.iter()
+        .enumerate()
+        .map(|(j, cw)| {
+            let b = mm::var_m(j);
+            (cw.link, Params::new(x[b], x[b + 1], x[b + 2], x[b + 3]))
+        })
+        .collect()
+}
+
+/// The engine's limits of one counterweight: mass up to its maximum, the body within
+/// `radius` of the joint (|u| ≤ m r, I ≤ m r²), the sector.
+fn limits_of(cw: &CounterweightSpec) -> CounterweightLimits {
+    let (_, hi) = cw.mass.bounds();
+    CounterweightLimits {
+        sector: cw.sector,
+        ..CounterweightLimits::new(hi, cw.radius)
+    }
+}
+
+/// A lower or fixed mass as linear rows.
+fn mass_rows(cws: &[CounterweightSpec]) -> Vec<LinearConstraint> {
+    let mut rows = Vec::new();
+    for (j, cw) in cws.iter().enumerate() {
+        match cw.mass {
+            Var::Fixed(m) => rows.push(LinearConstraint {
+                coeffs: vec![(mm::var_m(j), 1.0)],
+                relation: Relation::Eq,
+                rhs: m,
+            }),
+            Var::Free { min, .. } if min > 0.0 => rows.push(LinearConstraint {
+                coeffs: vec![(mm::var_m(j), -1.0)],
+                relation: Relation::Le,
+                rhs: -min,
+            }),
+            Var::Free { .. } => {}
+        }
+    }
+    rows
+}
+
+/// Full force balance as linear equalities on x, or the relative residual by which the
+/// counterweights miss it. Rows: the right singular vectors of the stacked force blocks at
+/// [`BALANCE_ANGLES`] angles with σ > 1e-10·σ_max; right-hand side from the least-squares
+/// solution (so the rows are consistent).
+pub fn force_balance_rows(fields: &SceneFields, n: usize) -> Result<Vec<LinearConstraint>, f64> {
+    let k = BALANCE_ANGLES;
+    let mut a = DMatrix::<f64>::zeros(2 * k, n);
+    let mut b = DVector::<f64>::zeros(2 * k);
+    for i in 0..k {
+        let theta = std::f64::consts::TAU * i as f64 / k as f64;
+        let mut v = AffineValue::zeros(n);
+        fields.eval(FORCE, theta, &mut v);
+        for r in 0..2 {
+            b[2 * i + r] = -v.b[r];
+            for c in 0..n {
+                a[(2 * i + r, c)] = v.row(r)[c];
+            }
+        }
+    }
+    // Column scaling (m, u and I differ by the machine's length scale).
+    let scale: Vec<f64> = (0..n)
+        .map(|c| a.column(c).norm().max(f64::MIN_POSITIVE))
+        .collect();
+    let mut a_s = a.clone();
+    for (c, s) in scale.iter().enumerate() {
+        a_s.column_mut(c).scale_mut(1.0 / s);
+    }
+    let svd = a_s.clone().svd(true, true);
+    let smax = svd.singular_values.max();
+    let tol = 1e-10 * smax;
+    let y = svd
+        .solve(&b, tol)
+        .expect("the SVD was computed with U and V");
+    let resid = (&a_s * &y - &b).norm() / b.norm().max(f64::MIN_POSITIVE);
+    if b.norm() == 0.0 {
+        return Ok(Vec::new());
+    }
+    if resid > BALANCE_RESIDUAL_TOL {
+        return Err(resid);
+    }
+    let vt = svd.v_t.expect("computed");
+    let mut rows = Vec::new();
+    for (i, s) in svd.singular_values.iter().enumerate() {
+        if *s <= tol {
+            continue;
+        }
+        let row = vt.row(i);
+        // Row in scaled variables y = scale ⊙ x (A x = A_s y): row·y = d, i.e.
+        // Σ row_c s_c x_c = d.
+        let rhs = row.dot(&y.transpose());
+        rows.push(LinearConstraint {
+            coeffs: (0..n)
+                .filter(|&c| row[c] != 0.0)
+                .map(|c| (c, row[c] * scale[c]))
+                .collect(),
+            relation: Relation::Eq,
+            rhs,
+        });
+    }
+    Ok(rows)
+}
+
+type Eval<'a> = Box<dyn Fn(f64, &mut AffineValue) + Sync + 'a>;
+type Err<'a> = Box<dyn Fn(f64, &[f64]) -> f64 + Sync + 'a>;
+
+/// The three engine fields of `fields`: force (2-D), moment, torque.
+pub fn field_objects<'a>(
+    fields: &'a SceneFields<'a>,
+) -> (
+    FnField<Eval<'a>, Err<'a>>,
+    FnField<Eval<'a>, Err<'a>>,
+    FnField<Eval<'a>, Err<'a>>,
+) {
+    let make = |which: usize, name: &str, dim: usize| {
+        let e: Eval<'a> = Box::new(move |th, out| fields.eval(which, th, out));
+        let r: Err<'a> = Box::new(move |th, x| fields.error(which, th, x));
+        FnField::new(name, dim, e).with_error(r)
+    };
+    (
+        make(FORCE, "shaking_force", 2),
+        make(MOMENT, "shaking_moment", 1),
+        make(TORQUE, "input_torque", 1),
+    )
+}
+
+/// The engine goal of the file's objective.
+pub fn goal(g: Goal) -> mm::Goal {
+    match g {
+        Goal::PeakForce => mm::Goal::MinPeak(vec![(FORCE, 1.0)]),
+        Goal::PeakMoment => mm::Goal::MinPeak(vec![(MOMENT, 1.0)]),
+        Goal::PeakTorque => mm::Goal::MinPeak(vec![(TORQUE, 1.0)]),
+        Goal::RmsForce => mm::Goal::MinRms(FORCE),
+        Goal::RmsMoment => mm::Goal::MinRms(MOMENT),
+        Goal::RmsTorque => mm::Goal::MinRms(TORQUE),
+        Goal::CounterweightMass => mm::Goal::MinMass,
+    }
+}
+
+/// What a linkage solve found.
+#[derive(Debug, Clone)]
+pub struct Outcome {
+    /// The bare linkage (no counterweight): refined peaks of F, M_O, T with their errors.
+    pub bare: Vec<mm::FieldPeak>,
+    /// The bare linkage's RMS of F, M_O, T with their quadrature errors.
+    pub bare_rms: [(f64, f64); 3],
+    /// The design (None without counterweights, or when full balance is out of reach).
+    pub design: Option<Solution>,
+    /// The design's RMS of F, M_O, T with their quadrature errors.
+    pub design_rms: Option<[(f64, f64); 3]>,
+    /// With `full_force_balance`: the relative least-squares residual when the counterweights
+    /// cannot balance the force.
+    pub balance_residual: Option<f64>,
+    /// The number of balance equalities used (the rank of the force blocks).
+    pub balance_rows: usize,
+    /// The Pareto front (peak force against peak moment), if asked.
+    pub pareto: Option<mm::ParetoFront>,
+    /// Largest dyad conditioning κ over the scan.
+    pub kappa_max: f64,
+}
+
+/// Solves the scene: the bare linkage's peaks, then the counterweights (if any) for the
+/// objective under the limits, and the front if asked.
+pub fn solve(scene: &LinkageScene, settings: &Settings) -> Result<Outcome, LinkageSolveError> {
+    let fields = SceneFields::new(scene);
+    let (f, m, t) = field_objects(&fields);
+    let cws = &scene.counterweights;
+    let n_cw = mm::PER_COUNTERWEIGHT * cws.len();
+    let o = &scene.objective;
+    let mut linear = mass_rows(cws);
+    let mut balance_residual = None;
+    let mut balance_rows = 0;
+    if o.full_force_balance && !cws.is_empty() {
+        match force_balance_rows(&fields, n_cw) {
+            Ok(rows) => {
+                balance_rows = rows.len();
+                linear.extend(rows);
+            }
+            Err(resid) => balance_residual = Some(resid),
+        }
+    }
+    let limits: Vec<(usize, f64)> = [
+        (FORCE, o.max_peak_force),
+        (MOMENT, o.max_peak_moment),
+        (TORQUE, o.max_peak_torque),
+    ]
+    .into_iter()
+    .filter_map(|(k, v)| v.map(|v| (k, v)))
+    .collect();
+    let pb = Problem {
+        fields: vec![&f, &m, &t],
+        counterweights: cws.iter().map(limits_of).collect(),
+        // An analysis has no design variable: one fixed at 0 keeps the engine's problem whole.
+        extra: if cws.is_empty() {
+            vec![(0.0, 0.0)]
+        } else {
+            Vec::new()
+        },
+        linear,
+        goal: goal(o.minimize),
+        limits,
+    };
+    let engine = Engine::new(&pb, settings)?;
+    let zeros = vec![0.0; pb.n()];
+    let bare = engine.peaks(&zeros)?;
+    let bare_rms = [0, 1, 2].map(|k| engine.rms(k, &zeros));
+    let mut out = Outcome {
+        bare,
+        bare_rms,
+        design: None,
+        design_rms: None,
+        balance_residual,
+        balance_rows,
+        pareto: None,
+        kappa_max: kappa_max(&scene.linkage, settings.scan_samples),
+    };
+    if !cws.is_empty() && balance_residual.is_none() {
+        let sol = engine.solve()?;
+        if sol.x.iter().all(|v| v.is_finite()) {
+            out.design_rms = Some([0, 1, 2].map(|k| engine.rms(k, &sol.x)));
+        }
+        out.design = Some(sol);
+        if o.pareto_points >= 2 {
+            let (a, b) = match o.minimize {
+                Goal::PeakMoment => (MOMENT, FORCE),
+                _ => (FORCE, MOMENT),
+            };
+            out.pareto = Some(engine.pareto_front(a, b, o.pareto_points)?);
+        }
+    }
+    if let Some((th, d)) = fields.failure() {
+        return Err(LinkageSolveError::NoAssembly(th.to_degrees(), d));
+    }
+    Ok(out)
+}
+
+/// The largest dyad conditioning κ = 1/|sin μ| over `samples` crank angles.
+pub fn kappa_max(l: &Linkage, samples: usize) -> f64 {
+    (0..samples.max(8))
+        .filter_map(|k| {
+            l.pose(std::f64::consts::TAU * k as f64 / samples.max(8) as f64)
+                .ok()
+        })
+        .map(|p| p.kappa())
+        .fold(1.0, f64::max)
+}
+
+/// The position of a point of the mechanism at θ (for drawings): `None` where it does not
+/// assemble.
+pub fn joint_positions(l: &Linkage, theta: f64) -> Option<Vec<P2>> {
+    let pose = l.pose(theta).ok()?;
+    Some(pose.links.iter().map(|s| s.p[0]).collect())
+}
