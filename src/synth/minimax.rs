@@ -33,17 +33,30 @@
 //! each point its own certified solve.
 //!
 //! # The exchange loop and its certificate
-//! The problem on a subset of angles is a relaxation, so its optimum L (clarabel's dual
-//! objective) is a lower bound of the true optimum. At the returned design x̂ the true peak
-//! of each field is found over the whole period (the field on `scan_samples` angles, cached
-//! once per engine since it is affine in x, then every sampled local maximum refined by
+//! The problem on a subset of angles is a relaxation, so its optimum is a lower bound of the
+//! true optimum. At the returned design x̂ the true peak of each field is found over the
+//! whole period (the field on `scan_samples` angles, cached once per engine since it is
+//! affine in x, then every sampled local maximum refined by
 //! [`crate::numeric::periodic_peak_sampled`]); the objective there, V, is an upper bound.
 //! The new peak angles are added and the SOCP re-solved until V − L ≤ `rel_tol`·max(V,
 //! `abs_floor`·U₀) (U₀ the unbalanced peak, max w_f|b_f|) and every limited field's peak is
-//! within `rel_tol`·max(ε_f, `abs_floor`·|b_f|max) of ε_f. The status is `optimal` only then
-//! and with clarabel's `Solved`; otherwise `inaccurate` with the reason ([`Stop`]) and the
-//! gap, or `infeasible` when clarabel certifies the sampled problem infeasible (then the
-//! continuous one is too).
+//! within `rel_tol`·max(ε_f, `abs_floor`·|b_f|max) of ε_f.
+//!
+//! L is not clarabel's reported objective but a weak-duality bound at its dual point
+//! (`conic::dual_lower_bound`: z put into the dual cone, then qᵀx ≥ −bᵀz − Σ|r_j|B_j with r
+//! the dual residual and B_j the bound on |x̂_j| implied by the design constraints), so it
+//! holds whatever clarabel's accuracy. Each round also forms the Lagrangian bound at the
+//! refined maxima ([`Engine`]'s `dual_bound`: the round's multipliers on the cones moved to
+//! the exact maximum angles, in a norm and a linearised form, each a small SOCP over the
+//! design constraints, again bounded by weak duality); L is the best of these. Where a
+//! maximum creeps (a single active maximum against a curved constraint such as the inertia
+//! cone) the angles θ ± δ are added around it, δ = √(2·rel_tol·level/|f''|); a stall with
+//! a gap left restarts once from the refined maxima alone.
+//!
+//! The status is `optimal` only when the gap is within the tolerance and clarabel reported
+//! `Solved` on the design's SOCP (or its bound came from a Lagrangian SOCP); otherwise
+//! `inaccurate` with the reason ([`Stop`]) and the gap, or `infeasible` when clarabel
+//! certifies the sampled problem infeasible (then the continuous one is too).
 //!
 //! # Error bound (every figure, caller's units)
 //! For a field's peak P_f at x̂: E_f = e_refine + e_eval, with e_refine = ½|f''|·xtol² (the
@@ -54,14 +67,14 @@
 //! spacing 2π/`scan_samples` is assumed absent (callers choose the scan for their fields).
 //!
 //! For the objective V as an estimate of the true optimum V*:
-//! |V − V*| ≤ `total` = gap + e_solver + e_eval + e_refine (+ e_quad for RMS), where
-//! gap = max(V − L, 0) is the sampling certificate, e_solver = T·(|p − d| + (r_p + r_d)·
-//! max(1, ‖b‖ + ‖x‖ + ‖s‖ + ‖z‖ + ‖q‖)) is clarabel's primal–dual gap and relative residuals
-//! scaled back by the objective scale T (a dual point infeasible by r_d lowers the bound by
-//! about that much), e_eval is the largest evaluation error (as above) over the objective
-//! fields' sampled angles and maxima (a field wrong by e at θ_k moves the sampled optimum by
-//! at most e), e_refine the largest refinement error, and for an RMS e_quad = |rms_N −
-//! rms_{N/2}| (the trapezoid rule's error estimate, [`crate::numeric::periodic_rms_sampled`]).
+//! |V − V*| ≤ `total` = gap + e_eval + e_refine (+ e_quad for an RMS), where gap =
+//! max(V − L, 0) is the sampling certificate (it contains the solver's residual part,
+//! reported as `solver`), e_eval is the largest evaluation error over the objective fields'
+//! sampled angles and maxima (a field wrong by e at θ_k moves the sampled optimum by at most
+//! e), e_refine the largest refinement error, and for an RMS e_quad = |rms_N − rms_{N/2}|
+//! (the trapezoid rule's estimate, [`crate::numeric::periodic_rms_sampled`]). Only with an
+//! unbounded extra variable is L clarabel's own bound; `solver` is then an estimate
+//! (T·(|p − d| + r_d·max(1, ‖b‖ + ‖x‖ + ‖s‖ + ‖z‖ + ‖q‖))) and is added to `total`.
 //! The design's own objective is within e_eval + e_refine (+ e_quad) of V.
 //!
 //! # Scaling
@@ -507,7 +520,8 @@ pub struct FieldPeak {
 pub struct ErrorBound {
     /// max(V − L, 0): the sampling certificate.
     pub sampling: f64,
-    /// clarabel's gap and residuals, scaled back.
+    /// The part of `sampling` due to clarabel's dual residual (Σ|r_j|B_j, scaled back); an
+    /// estimate added to `total` only when L could not be made rigorous (module doc).
     pub solver: f64,
     /// The fields' evaluation error (callback + engine round-off).
     pub evaluation: f64,
@@ -515,7 +529,7 @@ pub struct ErrorBound {
     pub refinement: f64,
     /// The RMS quadrature's error estimate (RMS goals only).
     pub quadrature: f64,
-    /// The sum: |V − V*| ≤ total.
+    /// |V − V*| ≤ total = sampling + evaluation + refinement + quadrature (module doc).
     pub total: f64,
 }
 
