@@ -420,8 +420,8 @@ fn curves(r: &mut SolveResult, scene: &Scene, p: &LinkageProblem, out: &Outcome)
                     pane("Shaking moment M_O", "N·m", col(3, None), col(7, None)),
                     pane("Input torque T", "N·m", col(4, None), col(8, None)),
                 ],
-                1200,
-                380,
+                420,
+                340,
             )
         },
     ));
