@@ -249,13 +249,16 @@ fn assembly_limits_match_closed_forms_and_fail_cleanly() {
     let mut s = paper_example(PaperVariant::Variant2);
     s.lambda = Var::Fixed(0.7);
     let e = s.validate().unwrap_err();
-    assert_eq!(e.key, "hypocycloid.lambda");
+    assert_eq!(e.field, "design.lambda");
     s.lambda = Var::Fixed(0.25);
     s.m_b = f64::NAN;
-    assert_eq!(s.validate().unwrap_err().key, "hypocycloid.m_B");
+    assert_eq!(
+        s.validate().unwrap_err().field,
+        "mechanism.reciprocating_mass"
+    );
     s.m_b = 0.35;
     s.theta = Var::Free { min: 0.5, max: 0.2 };
-    assert_eq!(s.validate().unwrap_err().key, "hypocycloid.theta");
+    assert_eq!(s.validate().unwrap_err().field, "design.theta");
     assert!(solve(&s, &Settings::default()).is_err());
 }
 

@@ -6,7 +6,7 @@
 
 use crate::families::hypocycloid::model::{ALPHA0_VARIANT1, ALPHA0_VARIANT2};
 use crate::families::hypocycloid::synth::{
-    self as hy, CoefficientModel, HypocycloidScene, Settings, ZeroSearch,
+    CoefficientModel, HypocycloidScene, Settings, ZeroSearch,
 };
 use crate::problem::limits::{self, c, Count};
 use crate::problem::{
@@ -138,7 +138,7 @@ pub type AccuracyRaw = Settings;
 fn resolve_accuracy(s: &Settings) -> Result<Settings, FieldError> {
     let s = s.clone();
     limits::check_section(COUNTS, "accuracy", &s)?;
-    s.validate().map_err(map_synth_error)?;
+    s.validate()?;
     Ok(s)
 }
 
@@ -154,43 +154,6 @@ pub struct HypocycloidProblem {
     pub scene: HypocycloidScene,
     /// The settings (from `[accuracy]`).
     pub settings: Settings,
-}
-
-/// The problem-file key of a synthesis key (`hypocycloid.lambda` → `design.lambda`).
-pub fn file_key(synth_key: &str) -> String {
-    let k = synth_key;
-    let mapped = match k {
-        "hypocycloid.alpha0" => "mechanism.orientation",
-        "hypocycloid.R" => "mechanism.carrier_radius",
-        "hypocycloid.m_B" => "mechanism.reciprocating_mass",
-        "hypocycloid.omega" => "mechanism.speed",
-        "hypocycloid.lambda" => "design.lambda",
-        "hypocycloid.theta" => "design.theta",
-        "hypocycloid.orders" => "model.orders",
-        "hypocycloid.series_power" => "model.series_power",
-        "hypocycloid.balance_orders" => "objective.balance_orders",
-        "hypocycloid.assembly_margin" => "objective.assembly_margin",
-        "hypocycloid.min_stroke" => "objective.min_stroke",
-        "hypocycloid.min_suction_gain" => "objective.min_suction_gain",
-        "hypocycloid.zero_search.order" => "objective.zero_search.order",
-        "hypocycloid.zero_search.lambda" => "objective.zero_search.lambda",
-        "hypocycloid.zero_search.theta" => "objective.zero_search.theta",
-        _ => {
-            if let Some(rest) = k.strip_prefix("settings.") {
-                return format!("accuracy.{rest}");
-            }
-            return k.to_string();
-        }
-    };
-    mapped.to_string()
-}
-
-/// A synthesis value error as a problem-file error.
-pub(super) fn map_synth_error(e: hy::FieldError) -> FieldError {
-    FieldError::new(
-        file_key(&e.key),
-        format!("got {}; allowed: {}", e.value, e.allowed),
-    )
 }
 
 /// Reads and resolves a hypocycloid problem file (its text or its table).
@@ -327,7 +290,7 @@ pub fn resolve_raw(raw: &File) -> Result<HypocycloidProblem, FieldError> {
         min_suction_gain: o.min_suction_gain,
         zero_search,
     };
-    scene.validate().map_err(map_synth_error)?;
+    scene.validate()?;
     let settings = resolve_accuracy(&raw.accuracy)?;
     check_work(&scene, &settings)?;
     Ok(HypocycloidProblem {

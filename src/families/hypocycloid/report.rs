@@ -69,7 +69,7 @@ pub fn result(scene: &Scene, s: &HypocycloidProblem) -> SolveResult {
     let out = match hy::solve(h, &s.settings) {
         Ok(o) => o,
         Err(e) => {
-            r.warnings.push(map_synth_error(e).to_string());
+            r.warnings.push(e.to_string());
             return r;
         }
     };

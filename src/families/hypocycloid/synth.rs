@@ -22,26 +22,13 @@ use crate::families::hypocycloid::model::{
     ALPHA0_VARIANT1, ALPHA0_VARIANT2,
 };
 use crate::numeric::{brent_root, periodic_peak_with, periodic_rms};
+use crate::problem::FieldError;
 use crate::synth::SearchEvidence;
 
-/// A bad field of a scene or of the settings, named by its problem-file key.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-#[error("{key} = {value}: {allowed}")]
-pub struct FieldError {
-    /// Problem-file key, e.g. `"hypocycloid.lambda"`.
-    pub key: String,
-    /// The offending value as text.
-    pub value: String,
-    /// What is allowed.
-    pub allowed: String,
-}
-
+/// A bad field of a scene or of the settings names its problem-file key (`design.lambda`,
+/// `accuracy.root_tol`): one [`FieldError`] from the file layer to the solver.
 fn field(key: &str, value: impl std::fmt::Debug, allowed: &str) -> FieldError {
-    FieldError {
-        key: key.into(),
-        value: format!("{value:?}"),
-        allowed: allowed.into(),
-    }
+    FieldError::new(key, format!("got {value:?}; allowed: {allowed}"))
 }
 
 pub use crate::synth::Var;
@@ -197,41 +184,45 @@ impl HypocycloidScene {
     /// Check every field; the error names the problem-file key and what is allowed.
     pub fn validate(&self) -> Result<(), FieldError> {
         if !self.alpha0.is_finite() {
-            return Err(field("hypocycloid.alpha0", self.alpha0, "a finite angle"));
+            return Err(field(
+                "mechanism.orientation",
+                self.alpha0,
+                "a finite angle",
+            ));
         }
         if !(self.r_carrier.is_finite() && self.r_carrier > 0.0) {
             return Err(field(
-                "hypocycloid.R",
+                "mechanism.carrier_radius",
                 self.r_carrier,
                 "a finite length > 0",
             ));
         }
         check_var(
             &self.lambda,
-            "hypocycloid.lambda",
+            "design.lambda",
             0.0,
             true,
             "finite and > 0 (λ = R/L)",
         )?;
         check_var(
             &self.theta,
-            "hypocycloid.theta",
+            "design.theta",
             0.0,
             false,
             "finite and ≥ 0 (θ = r/R)",
         )?;
         if !(self.m_b.is_finite() && self.m_b > 0.0) {
-            return Err(field("hypocycloid.m_B", self.m_b, "a finite mass > 0"));
+            return Err(field(
+                "mechanism.reciprocating_mass",
+                self.m_b,
+                "a finite mass > 0",
+            ));
         }
         if !(self.omega.is_finite() && self.omega > 0.0) {
-            return Err(field("hypocycloid.omega", self.omega, "a finite speed > 0"));
+            return Err(field("mechanism.speed", self.omega, "a finite speed > 0"));
         }
         if !(6..=64).contains(&self.orders) {
-            return Err(field(
-                "hypocycloid.orders",
-                self.orders,
-                "an integer in 6..=64",
-            ));
+            return Err(field("model.orders", self.orders, "an integer in 6..=64"));
         }
         if let Some(&o) = self
             .balance_orders
@@ -239,39 +230,39 @@ impl HypocycloidScene {
             .find(|&&o| o == 0 || o > self.orders)
         {
             return Err(field(
-                "hypocycloid.balance_orders",
+                "objective.balance_orders",
                 o,
                 "orders in 1..=hypocycloid.orders",
             ));
         }
         if !(1..=32).contains(&self.series_power) {
             return Err(field(
-                "hypocycloid.series_power",
+                "model.series_power",
                 self.series_power,
                 "an integer in 1..=32",
             ));
         }
         if !(self.assembly_margin > 0.0 && self.assembly_margin < 0.5) {
             return Err(field(
-                "hypocycloid.assembly_margin",
+                "objective.assembly_margin",
                 self.assembly_margin,
                 "in (0, 0.5)",
             ));
         }
         if let Some(s) = self.min_stroke {
             if !(s.is_finite() && s >= 0.0) {
-                return Err(field("hypocycloid.min_stroke", s, "a finite length ≥ 0"));
+                return Err(field("objective.min_stroke", s, "a finite length ≥ 0"));
             }
         }
         if let Some(g) = self.min_suction_gain {
             if !(g.is_finite() && g > -1.0 && g < 1.0) {
-                return Err(field("hypocycloid.min_suction_gain", g, "in (−1, 1)"));
+                return Err(field("objective.min_suction_gain", g, "in (−1, 1)"));
             }
         }
         if let Some(z) = &self.zero_search {
             if !(1..=self.orders).contains(&z.order) {
                 return Err(field(
-                    "hypocycloid.zero_search.order",
+                    "objective.zero_search.order",
                     z.order,
                     "an order in 1..=hypocycloid.orders",
                 ));
@@ -279,7 +270,7 @@ impl HypocycloidScene {
             let (a, b) = z.lambda;
             if !(a.is_finite() && b.is_finite() && a > 0.0 && a < b) {
                 return Err(field(
-                    "hypocycloid.zero_search.lambda",
+                    "objective.zero_search.lambda",
                     z.lambda,
                     "0 < min < max, finite",
                 ));
@@ -287,7 +278,7 @@ impl HypocycloidScene {
             let (a, b) = z.theta;
             if !(a.is_finite() && b.is_finite() && a >= 0.0 && a < b) {
                 return Err(field(
-                    "hypocycloid.zero_search.theta",
+                    "objective.zero_search.theta",
                     z.theta,
                     "0 ≤ min < max, finite",
                 ));
@@ -296,13 +287,13 @@ impl HypocycloidScene {
         // A fixed design must assemble.
         if let (Var::Fixed(l), Var::Fixed(t)) = (self.lambda, self.theta) {
             if let Err(e) = Hypocycloid::new(l, t, self.alpha0) {
-                return Err(field("hypocycloid.lambda", l, &format!("{e}")));
+                return Err(field("design.lambda", l, &format!("{e}")));
             }
-            let ym = max_abs_y(t, self.alpha0)
-                .map_err(|e| field("hypocycloid.theta", t, &e.to_string()))?;
+            let ym =
+                max_abs_y(t, self.alpha0).map_err(|e| field("design.theta", t, &e.to_string()))?;
             if l * ym > 1.0 - self.assembly_margin {
                 return Err(field(
-                    "hypocycloid.lambda",
+                    "design.lambda",
                     l,
                     &format!(
                         "λ·max|y/R| = {} exceeds 1 − assembly_margin = {}; λ must be ≤ {}",
@@ -391,60 +382,60 @@ impl Settings {
         }
     }
 
-    /// Check every setting; the key is `settings.<name>`.
+    /// Check every setting; the key is `accuracy.<name>`.
     pub fn validate(&self) -> Result<(), FieldError> {
         if !(self.n_fft_min >= 16 && self.n_fft_min.is_power_of_two()) {
             return Err(field(
-                "settings.n_fft_min",
+                "accuracy.n_fft_min",
                 self.n_fft_min,
                 "a power of two ≥ 16",
             ));
         }
         if !(self.n_fft_max >= self.n_fft_min && self.n_fft_max <= 1 << 22) {
             return Err(field(
-                "settings.n_fft_max",
+                "accuracy.n_fft_max",
                 self.n_fft_max,
                 "n_fft_min ≤ n_fft_max ≤ 2^22",
             ));
         }
         if !(self.root_tol > 0.0 && self.root_tol < 1e-3) {
-            return Err(field("settings.root_tol", self.root_tol, "in (0, 1e-3)"));
+            return Err(field("accuracy.root_tol", self.root_tol, "in (0, 1e-3)"));
         }
         if !(2..=10_000).contains(&self.curve_points) {
             return Err(field(
-                "settings.curve_points",
+                "accuracy.curve_points",
                 self.curve_points,
                 "2..=10000",
             ));
         }
         if !(4..=10_000).contains(&self.theta_scan) {
-            return Err(field("settings.theta_scan", self.theta_scan, "4..=10000"));
+            return Err(field("accuracy.theta_scan", self.theta_scan, "4..=10000"));
         }
         if !(16..=1 << 20).contains(&self.peak_samples) {
             return Err(field(
-                "settings.peak_samples",
+                "accuracy.peak_samples",
                 self.peak_samples,
                 "16..=2^20",
             ));
         }
         if !(self.peak_xtol > 0.0 && self.peak_xtol < 1e-3) {
-            return Err(field("settings.peak_xtol", self.peak_xtol, "in (0, 1e-3)"));
+            return Err(field("accuracy.peak_xtol", self.peak_xtol, "in (0, 1e-3)"));
         }
         if !(3..=1000).contains(&self.opt_grid) {
-            return Err(field("settings.opt_grid", self.opt_grid, "3..=1000"));
+            return Err(field("accuracy.opt_grid", self.opt_grid, "3..=1000"));
         }
         if !(1..=64).contains(&self.opt_starts) {
-            return Err(field("settings.opt_starts", self.opt_starts, "1..=64"));
+            return Err(field("accuracy.opt_starts", self.opt_starts, "1..=64"));
         }
         if self.nm_max_iters == 0 {
-            return Err(field("settings.nm_max_iters", self.nm_max_iters, "≥ 1"));
+            return Err(field("accuracy.nm_max_iters", self.nm_max_iters, "≥ 1"));
         }
         if !(self.nm_sd_tol > 0.0) {
-            return Err(field("settings.nm_sd_tol", self.nm_sd_tol, "> 0"));
+            return Err(field("accuracy.nm_sd_tol", self.nm_sd_tol, "> 0"));
         }
         if !(8..=100_000).contains(&self.plot_samples) {
             return Err(field(
-                "settings.plot_samples",
+                "accuracy.plot_samples",
                 self.plot_samples,
                 "8..=100000",
             ));
@@ -1258,7 +1249,7 @@ pub fn solve(scene: &HypocycloidScene, settings: &Settings) -> Result<Outcome, F
     let (l, t) = (x[0], x[1]);
     let e = match evaluate(scene, l, t, s) {
         Ok(e) => e,
-        Err(err) => return Err(field("hypocycloid.lambda", l, &err.to_string())),
+        Err(err) => return Err(field("design.lambda", l, &err.to_string())),
     };
     evals += 1;
     let m = Hypocycloid {
@@ -1338,7 +1329,7 @@ pub fn solve(scene: &HypocycloidScene, settings: &Settings) -> Result<Outcome, F
         .collect();
     // Unbalanced peak and residual RMS.
     let unb = periodic_peak_with(|p| m.piston(p).dds.abs(), s.peak_samples, s.peak_tol())
-        .map_err(|err| field("hypocycloid.lambda", l, &err.to_string()))?;
+        .map_err(|err| field("design.lambda", l, &err.to_string()))?;
     let rms = periodic_rms(
         |p| residual_rel(&m, c, &scene.balance_orders, p),
         2 * s.peak_samples,
