@@ -441,7 +441,7 @@ fn eccentricity_near_and_beyond_r() {
             ..paper_table1()
         };
         match solve(&sc, &s) {
-            Err(SolveError::Field(f)) => assert_eq!(f.key, "design.eccentricity"),
+            Err(SolveError::Field(f)) => assert_eq!(f.field, "design.eccentricity"),
             other => panic!("e = {e}: {other:?}"),
         }
     }
@@ -479,7 +479,7 @@ fn eccentricity_near_and_beyond_r() {
 #[test]
 fn bad_fields_are_named() {
     let key = |sc: GearScene| match sc.validate() {
-        Err(f) => f.key,
+        Err(f) => f.field,
         Ok(()) => "ok".into(),
     };
     assert_eq!(

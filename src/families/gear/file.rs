@@ -240,7 +240,7 @@ pub fn resolve_raw(raw: &File) -> Result<GearProblem, FieldError> {
         } else {
             "; allowed: see docs/problem-files.md, family eccentric-gear".into()
         };
-        FieldError::new(f.key, format!("{}{allowed}", f.message))
+        FieldError::new(f.field, format!("{}{allowed}", f.message))
     })?;
     let settings = resolve_accuracy(&raw.accuracy)?;
     check_work(&gear, &settings)?;

@@ -27,22 +27,12 @@ use std::f64::consts::{PI, TAU};
 
 pub use crate::synth::Var;
 
-/// A problem-file field that is not acceptable: `key` is the problem-file key
-/// (e.g. `"design.eccentricity"`), `message` says what is allowed.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-#[error("{key}: {message}")]
-pub struct FieldError {
-    /// Problem-file key of the offending field.
-    pub key: String,
-    /// What is wrong and what is allowed.
-    pub message: String,
-}
+/// A problem-file field that is not acceptable, named by its problem-file key
+/// (e.g. `design.eccentricity`): the one [`crate::problem::FieldError`].
+pub use crate::problem::FieldError;
 
 fn field(key: &str, message: impl Into<String>) -> FieldError {
-    FieldError {
-        key: key.into(),
-        message: message.into(),
-    }
+    FieldError::new(key, message)
 }
 
 /// Why [`solve`] returned no outcome: the input is impossible, not merely infeasible.
