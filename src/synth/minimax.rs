@@ -53,6 +53,12 @@
 //! cone) the angles θ ± δ are added around it, δ = √(2·rel_tol·level/|f''|); a stall with
 //! a gap left restarts once from the refined maxima alone.
 //!
+//! Between rounds the angle sets are pruned to the cones active at the round's optimum
+//! (dual weight, or value within 1e-6 of the sampled bound) and those of the previous round
+//! (against cycling), so the SOCP stays small; a subset still gives a relaxation. V and L
+//! carry over: the gap is taken between the best design so far (smallest refined peak
+//! within the limits' tolerance, the design returned) and the largest rigorous L so far.
+//!
 //! The status is `optimal` only when the gap is within the tolerance and clarabel reported
 //! `Solved` on the design's SOCP (or its bound came from a Lagrangian SOCP); otherwise
 //! `inaccurate` with the reason ([`Stop`]) and the gap, or `infeasible` when clarabel
@@ -68,7 +74,7 @@
 //!
 //! For the objective V as an estimate of the true optimum V*:
 //! |V − V*| ≤ `total` = gap + e_eval + e_refine (+ e_quad for an RMS), where gap =
-//! max(V − L, 0) is the sampling certificate (it contains the solver's residual part,
+//! |V − L| is the sampling certificate (it contains the solver's residual part,
 //! reported as `solver`), e_eval is the largest evaluation error over the objective fields'
 //! sampled angles and maxima (a field wrong by e at θ_k moves the sampled optimum by at most
 //! e), e_refine the largest refinement error, and for an RMS e_quad = |rms_N − rms_{N/2}|
@@ -518,7 +524,8 @@ pub struct FieldPeak {
 /// The parts of an objective's error bound (caller's units); see the module doc.
 #[derive(Debug, Clone, Copy, PartialEq, Default, serde::Serialize)]
 pub struct ErrorBound {
-    /// max(V − L, 0): the sampling certificate.
+    /// |V − L|: the sampling certificate (V < L only for a design over a limit within
+    /// its tolerance).
     pub sampling: f64,
     /// The part of `sampling` due to clarabel's dual residual (Σ|r_j|B_j, scaled back); an
     /// estimate added to `total` only when L could not be made rigorous (module doc).
@@ -649,6 +656,15 @@ pub struct Engine<'p, 'a> {
     grid: Vec<Vec<AffineValue>>,
     /// Bounds on |x̂_j| implied by the design constraints (∞ for an unbounded extra).
     xbound: Vec<f64>,
+}
+
+/// The best design of the rounds so far (smallest refined peak among those within the
+/// limits' tolerance), with its peaks.
+struct BestDesign {
+    x: Vec<f64>,
+    pk: Vec<Option<PeriodicPeak>>,
+    value: f64,
+    lim_rel: f64,
 }
 
 /// The SOCP solved on one round.
@@ -857,6 +873,9 @@ impl<'p, 'a> Engine<'p, 'a> {
         };
         let mut iters = 0u32;
         let mut last: Option<Solution> = None;
+        let mut prev_active: Vec<Vec<f64>> = vec![Vec::new(); nf];
+        let mut best_l: Option<(f64, f64)> = None;
+        let mut best_x: Option<BestDesign> = None;
         let (mut polished, mut before_polish) = (false, None::<Solution>);
         // The objective's scale T for clarabel: the unbalanced peak at first, then the
         // last round's bound (so that t̂ ≈ 1 and clarabel's tolerances are relative to the
@@ -996,15 +1015,49 @@ impl<'p, 'a> Engine<'p, 'a> {
             if matches!(goal, Goal::MinPeak(_)) {
                 level = lower.max(obj_floor);
             }
+            let lim_rel = limits
+                .iter()
+                .map(|&(f, e)| (peak_of(f) - e).max(0.0) / lim_floor(f, e).max(f64::MIN_POSITIVE))
+                .fold(0.0, f64::max);
+            // The certificate carries over between rounds: every rigorous L is a lower bound
+            // of the same optimum, and every design's refined peak an upper bound, so the
+            // best of each so far is kept (the rounds' designs jitter at clarabel's accuracy).
+            let (mut value, mut gap_scale, mut lim_rel) = (value, gap_scale, lim_rel);
+            if matches!(goal, Goal::MinPeak(_)) {
+                if rigorous && bound_solved && best_l.is_none_or(|b| lower > b.0) {
+                    best_l = Some((lower, solver_err));
+                }
+                if let Some((l, e)) = best_l {
+                    if !(rigorous && bound_solved) || l > lower {
+                        (lower, solver_err, rigorous, bound_solved) = (l, e, true, true);
+                    }
+                }
+                let ok = |lr: f64| lr <= s.rel_tol;
+                let better = best_x.as_ref().is_none_or(|b: &BestDesign| {
+                    match (ok(lim_rel), ok(b.lim_rel)) {
+                        (true, false) => true,
+                        (false, true) => false,
+                        (true, true) => value < b.value,
+                        (false, false) => lim_rel < b.lim_rel,
+                    }
+                });
+                if better {
+                    best_x = Some(BestDesign {
+                        x: x.clone(),
+                        pk: pk.clone(),
+                        value,
+                        lim_rel,
+                    });
+                }
+                let b = best_x.as_ref().expect("set");
+                (value, lim_rel) = (b.value, b.lim_rel);
+                gap_scale = value.max(obj_floor);
+            }
             let obj_gap = match goal {
                 Goal::MinPeak(_) => (value - lower).max(0.0),
                 _ => 0.0,
             };
             let obj_ok = obj_gap <= s.rel_tol * gap_scale;
-            let lim_rel = limits
-                .iter()
-                .map(|&(f, e)| (peak_of(f) - e).max(0.0) / lim_floor(f, e).max(f64::MIN_POSITIVE))
-                .fold(0.0, f64::max);
             // A round solved more loosely than the target cannot certify it.
             let within = obj_ok && lim_rel <= s.rel_tol;
             let converged = within && tol_used <= s.rel_tol;
@@ -1025,6 +1078,7 @@ impl<'p, 'a> Engine<'p, 'a> {
             // Exchange: the local maxima above the bound (objective) or the limit.
             let mut added = 0;
             if !converged {
+                self.prune(&mut sets, &rd, &x, &mut prev_active);
                 if let Goal::MinPeak(list) = goal {
                     for &(f, w) in list {
                         let above: Vec<f64> = pk[f]
@@ -1107,6 +1161,10 @@ impl<'p, 'a> Engine<'p, 'a> {
             } else {
                 (Status::Inaccurate, Stop::MaxRounds, None)
             };
+            let (x, pk) = match &best_x {
+                Some(b) if matches!(goal, Goal::MinPeak(_)) => (b.x.clone(), b.pk.clone()),
+                _ => (x, pk),
+            };
             let sol = self.finish(
                 goal,
                 limits,
@@ -1144,7 +1202,7 @@ impl<'p, 'a> Engine<'p, 'a> {
     }
 
     /// Min peak of field `a` subject to peak of field `b` ≤ ε, for each ε (plus the problem's
-    /// own limits); each point warm-started from the previous one's angles.
+    /// own limits); each point warm-started from the previous one's final angles only.
     pub fn pareto(
         &self,
         a: usize,
@@ -1163,7 +1221,9 @@ impl<'p, 'a> Engine<'p, 'a> {
                 warm_sets.as_deref(),
             )?;
             if sol.status != Status::Infeasible && sol.status != Status::Failed {
-                warm_sets = Some(merge_sets(warm_sets.as_deref(), &sol.angle_sets));
+                // Only the previous point's (pruned) angles: merged sets would grow to
+                // hundreds of cones over a front.
+                warm_sets = Some(sol.angle_sets.clone());
             }
             out.push(ParetoPoint {
                 eps: e,
@@ -1409,6 +1469,49 @@ impl<'p, 'a> Engine<'p, 'a> {
             }
         });
         Ok(m.qr().r())
+    }
+
+    /// Keeps of each sampled set only the angles that matter for the next round: the cones
+    /// active at the round's optimum (dual weight z₀ above 1e-7 of the objective cones' total,
+    /// or value at x within 1e-6 of the sampled bound: t̂ for an objective cone, ε̂ for a
+    /// limit), and those active in the previous round (against cycling). Dropping inactive
+    /// angles keeps the relaxation a relaxation (any subset gives a lower bound) while the
+    /// SOCP stays small and free of stale clusters around earlier maximum positions.
+    fn prune(
+        &self,
+        sets: &mut [Vec<(f64, AffineValue)>],
+        rd: &Round,
+        x: &[f64],
+        prev_active: &mut [Vec<f64>],
+    ) {
+        let z = &rd.res.z;
+        let sum: f64 = rd
+            .tags
+            .iter()
+            .filter(|t| t.eps.is_none())
+            .map(|t| z[t.row].max(0.0))
+            .sum();
+        let t_hat = rd.res.x.get(self.n).copied().unwrap_or(0.0);
+        let mut active: Vec<Vec<f64>> = vec![Vec::new(); sets.len()];
+        for t in &rd.tags {
+            let d = self.pb.fields[t.field].dim();
+            let Some(v) = sets[t.field].iter().find(|p| p.0 == t.theta) else {
+                continue;
+            };
+            let val = t.c * v.1.magnitude(d, x);
+            let bound = t.eps.unwrap_or(t_hat);
+            let dual = sum > 0.0 && z[t.row].max(0.0) > 1e-7 * sum;
+            if dual || val >= bound * (1.0 - 1e-6) {
+                active[t.field].push(t.theta);
+            }
+        }
+        for (f, set) in sets.iter_mut().enumerate() {
+            if active[f].is_empty() && prev_active[f].is_empty() {
+                continue;
+            }
+            set.retain(|p| active[f].contains(&p.0) || prev_active[f].contains(&p.0));
+        }
+        prev_active.clone_from_slice(&active);
     }
 
     /// Builds and solves the SOCP on the sampled angles.
@@ -1877,7 +1980,9 @@ impl<'p, 'a> Engine<'p, 'a> {
                 0.0,
             ),
         };
-        let sampling = (value - lower).max(0.0);
+        // |V − L|: V < L happens when the design exceeds a limit within its tolerance (it
+        // is then optimal for a slightly wider limit), and the bound must cover that too.
+        let sampling = (value - lower).abs();
         let error = ErrorBound {
             sampling,
             solver,
