@@ -109,6 +109,19 @@ impl Scene {
     }
 }
 
+/// The claim of an exchange-loop solve (slider-crank counterweight, linkage counterweights) as
+/// a result status: the same words, one place.
+pub fn cw_status(s: crate::synth::counterweight::Status) -> crate::report::Status {
+    use crate::report::Status;
+    use crate::synth::counterweight::Status as Cw;
+    match s {
+        Cw::Optimal => Status::Optimal,
+        Cw::Inaccurate => Status::Inaccurate,
+        Cw::Infeasible => Status::Infeasible,
+        Cw::Failed => Status::Failed,
+    }
+}
+
 /// `x` relative to a headline value (a bound stated against the headline; never divides by 0).
 pub fn relative(x: f64, headline: f64) -> f64 {
     x / headline.abs().max(1e-300)

@@ -185,33 +185,13 @@ impl Default for Settings {
 impl Settings {
     /// Checks every field; the error names the field (as in `[accuracy]`) and its range.
     pub fn validate(&self) -> Result<(), (&'static str, String)> {
-        if !(self.rel_tol > 0.0 && self.rel_tol < 1.0) {
-            return Err((
-                "rel_tol",
-                format!("must be in (0, 1), got {}", self.rel_tol),
-            ));
-        }
-        if self.initial_samples < 3 {
-            return Err((
-                "initial_samples",
-                format!("must be at least 3, got {}", self.initial_samples),
-            ));
-        }
-        if self.scan_samples < 16 {
-            return Err((
-                "scan_samples",
-                format!("must be at least 16, got {}", self.scan_samples),
-            ));
-        }
-        if self.max_rounds == 0 {
-            return Err(("max_rounds", "must be at least 1".into()));
-        }
-        if !(self.peak_xtol > 0.0 && self.peak_xtol < 1e-2) {
-            return Err((
-                "peak_xtol",
-                format!("must be in (0, 0.01) rad, got {}", self.peak_xtol),
-            ));
-        }
+        check_exchange(
+            self.rel_tol,
+            self.initial_samples,
+            self.scan_samples,
+            self.max_rounds,
+            self.peak_xtol,
+        )?;
         if !(self.keep_band > 0.0 && self.keep_band <= 1.0) {
             return Err((
                 "keep_band",
@@ -226,6 +206,44 @@ impl Settings {
         }
         Ok(())
     }
+}
+
+/// The settings every exchange loop shares ([`Settings`] here, the minimax engine's
+/// `synth::minimax::Settings`), checked in one place: `rel_tol` in (0, 1), at least 3
+/// initial and 16 scan samples, at least one round, `peak_xtol` in (0, 0.01) rad. The error
+/// names the setting as in `[accuracy]`.
+pub(crate) fn check_exchange(
+    rel_tol: f64,
+    initial_samples: usize,
+    scan_samples: usize,
+    max_rounds: usize,
+    peak_xtol: f64,
+) -> Result<(), (&'static str, String)> {
+    if !(rel_tol > 0.0 && rel_tol < 1.0) {
+        return Err(("rel_tol", format!("must be in (0, 1), got {rel_tol}")));
+    }
+    if initial_samples < 3 {
+        return Err((
+            "initial_samples",
+            format!("must be at least 3, got {initial_samples}"),
+        ));
+    }
+    if scan_samples < 16 {
+        return Err((
+            "scan_samples",
+            format!("must be at least 16, got {scan_samples}"),
+        ));
+    }
+    if max_rounds == 0 {
+        return Err(("max_rounds", "must be at least 1".into()));
+    }
+    if !(peak_xtol > 0.0 && peak_xtol < 1e-2) {
+        return Err((
+            "peak_xtol",
+            format!("must be in (0, 0.01) rad, got {peak_xtol}"),
+        ));
+    }
+    Ok(())
 }
 
 /// How the solve ended.

@@ -97,7 +97,7 @@
 
 use crate::numeric::{periodic_peak_sampled, periodic_rms_sampled, Extremum, PeriodicPeak, Refine};
 use crate::synth::conic::{dual_lower_bound, run_clarabel_with, Built, ConicResult, Rows};
-use crate::synth::counterweight::{is_new, uniform_angles, Status};
+use crate::synth::counterweight::{check_exchange, is_new, uniform_angles, Status};
 use clarabel::algebra::CscMatrix;
 use clarabel::solver::{SolverStatus, SupportedConeT};
 use std::cell::RefCell;
@@ -438,37 +438,17 @@ impl Default for Settings {
 impl Settings {
     /// Checks every field; the error names the field and its range.
     pub fn validate(&self) -> Result<(), (&'static str, String)> {
-        if !(self.rel_tol > 0.0 && self.rel_tol < 1.0) {
-            return Err((
-                "rel_tol",
-                format!("must be in (0, 1), got {}", self.rel_tol),
-            ));
-        }
+        check_exchange(
+            self.rel_tol,
+            self.initial_samples,
+            self.scan_samples,
+            self.max_rounds,
+            self.peak_xtol,
+        )?;
         if !(self.abs_floor > 0.0 && self.abs_floor <= 1.0) {
             return Err((
                 "abs_floor",
                 format!("must be in (0, 1], got {}", self.abs_floor),
-            ));
-        }
-        if self.initial_samples < 3 {
-            return Err((
-                "initial_samples",
-                format!("must be at least 3, got {}", self.initial_samples),
-            ));
-        }
-        if self.scan_samples < 16 {
-            return Err((
-                "scan_samples",
-                format!("must be at least 16, got {}", self.scan_samples),
-            ));
-        }
-        if self.max_rounds == 0 {
-            return Err(("max_rounds", "must be at least 1".into()));
-        }
-        if !(self.peak_xtol > 0.0 && self.peak_xtol < 1e-2) {
-            return Err((
-                "peak_xtol",
-                format!("must be in (0, 0.01) rad, got {}", self.peak_xtol),
             ));
         }
         if self.rms_samples < 16 || !self.rms_samples.is_multiple_of(2) {

@@ -3,13 +3,13 @@
 //! closed form beside a four-bar's numeric full force balance, the force–moment front, the
 //! curves over the cycle and a drawing of the linkage (keys in `docs/results.md`).
 
-use super::file::{tip_of, Goal, LinkageProblem};
+use super::file::{tip_of, Goal, LinkageProblem, LinkageScene};
 use super::synth::{self as ls, Outcome, FORCE, MOMENT, TORQUE};
-use crate::families::family::Scene;
+use crate::families::family::{cw_status, Scene};
 use crate::families::linkage::model::{Linkage, Point};
 use crate::geom::P2;
 use crate::report::plot::{self, Panel, Series};
-use crate::report::{Plot, SolveResult, Status, Table};
+use crate::report::{Deferred, Plot, SolveResult, Status, Table};
 use crate::synth::counterweight::Status as CwStatus;
 use crate::synth::minimax::{FieldPeak, Solution};
 use serde_json::json;
@@ -40,15 +40,6 @@ pub fn objective_key(g: Goal) -> &'static str {
         Goal::RmsMoment => RMS_KEYS[MOMENT],
         Goal::RmsTorque => RMS_KEYS[TORQUE],
         Goal::CounterweightMass => "counterweight_mass_kg",
-    }
-}
-
-fn status_of(s: CwStatus) -> Status {
-    match s {
-        CwStatus::Optimal => Status::Optimal,
-        CwStatus::Inaccurate => Status::Inaccurate,
-        CwStatus::Infeasible => Status::Infeasible,
-        CwStatus::Failed => Status::Failed,
     }
 }
 
@@ -157,7 +148,7 @@ pub fn result(scene: &Scene, p: &LinkageProblem) -> SolveResult {
 /// Design, objectives, errors and solver facts of a solved design.
 fn design_keys(r: &mut SolveResult, p: &LinkageProblem, out: &Outcome, sol: &Solution, key: &str) {
     let sc = &p.scene;
-    r.status = status_of(sol.status);
+    r.status = cw_status(sol.status);
     if let Some(note) = &sol.note {
         r.warnings.push(note.clone());
     }
@@ -255,7 +246,7 @@ fn pareto_keys(r: &mut SolveResult, front: &crate::synth::minimax::ParetoFront) 
         .collect();
     for pt in &ok {
         let s = &pt.solution;
-        let st = status_of(s.status).as_str();
+        let st = cw_status(s.status).as_str();
         csv += &format!(
             "{:.12e},{:.12e},{:.12e},{:.3e},{:.3e},{:.3e},{st}\n",
             pt.eps,
@@ -343,104 +334,113 @@ fn berkof_lowen(r: &mut SolveResult, p: &LinkageProblem, sol: Option<&Solution>)
     r.extra.insert("berkof_lowen".into(), v);
 }
 
-/// The fields over the cycle with and without the counterweights (CSV, plots) and the
-/// drawing: drawn only when written.
+/// The fields over the cycle with and without the counterweights (CSV, plot) and the drawing:
+/// report data, computed only when the result's files are written (a [`Deferred`]), in their
+/// places among the tables and plots.
 fn curves(r: &mut SolveResult, scene: &Scene, p: &LinkageProblem, out: &Outcome) {
-    let sc = p.scene.clone();
     let x = out
         .design
         .as_ref()
         .map(|s| s.x.clone())
         .filter(|x| x.iter().all(|v| v.is_finite()));
+    let (at_table, at_plot) = (r.tables.len(), r.plots.len());
+    let (sc, x_cycle) = (p.scene.clone(), x.clone());
     let n = p.settings.scan_samples.max(16);
-    let samples = move || -> Vec<[f64; 9]> {
-        let extra = x.as_ref().map(|x| ls::extras(&sc.counterweights, x));
-        (0..=n)
-            .filter_map(|k| {
-                let th = TAU * k as f64 / n as f64;
-                let pose = sc.linkage.pose(th).ok()?;
-                let map = sc.linkage.balance_map(&pose, sc.moment_about);
-                let b = map.base;
-                let d = extra.as_ref().map_or(b, |e| map.fields(e));
-                Some([
-                    th.to_degrees(),
-                    b.force.x,
-                    b.force.y,
-                    b.moment,
-                    b.torque,
-                    d.force.x,
-                    d.force.y,
-                    d.moment,
-                    d.torque,
-                ])
-            })
-            .collect()
-    };
-    let rows = samples();
-    let mut csv = String::from("theta_deg,bare_fx_n,bare_fy_n,bare_moment_nm,bare_torque_nm,fx_n,fy_n,moment_nm,torque_nm\n");
-    for row in &rows {
-        csv += &row
-            .iter()
-            .map(|v| format!("{v:.9e}"))
-            .collect::<Vec<_>>()
-            .join(",");
-        csv += "\n";
-    }
-    r.tables.push(Table {
-        suffix: "cycle".into(),
-        caption: "Shaking force, shaking moment and input torque over one crank turn, without and with the counterweights".into(),
-        csv,
-    });
-    let with_cw = out.design.is_some();
-    let rows2 = rows.clone();
-    r.plots.push(Plot::new(
-        "fields",
-        "|F|, M_O and T over one crank turn: bare linkage and with the counterweights",
-        move || {
-            let col = |i: usize, j: Option<usize>| -> Vec<(f64, f64)> {
-                rows2
-                    .iter()
-                    .map(|r| (r[0], j.map_or(r[i], |j| r[i].hypot(r[j]))))
-                    .collect()
-            };
-            let pane = |title: &str, y: &str, bare: Vec<(f64, f64)>, bal: Vec<(f64, f64)>| Panel {
-                title: title.into(),
-                x_label: "crank angle θ (deg)".into(),
-                y_label: y.into(),
-                series: if with_cw {
-                    vec![Series::line("bare", bare), Series::line("balanced", bal)]
-                } else {
-                    vec![Series::line("bare", bare)]
-                },
-                equal_aspect: false,
-            };
-            plot::panels(
-                &[
-                    pane("Shaking force |F|", "N", col(1, Some(2)), col(5, Some(6))),
-                    pane("Shaking moment M_O", "N·m", col(3, None), col(7, None)),
-                    pane("Input torque T", "N·m", col(4, None), col(8, None)),
-                ],
-                420,
-                340,
-            )
-        },
-    ));
-    let (sc2, x2) = (p.scene.clone(), out.design.as_ref().map(|s| s.x.clone()));
-    let name = scene.name.clone();
+    r.deferred.push(Deferred::new("cycle", move |r: &mut SolveResult| {
+        let rows = cycle_rows(&sc, x_cycle.as_deref(), n);
+        let mut csv = String::from("theta_deg,bare_fx_n,bare_fy_n,bare_moment_nm,bare_torque_nm,fx_n,fy_n,moment_nm,torque_nm\n");
+        for row in &rows {
+            csv += &row
+                .iter()
+                .map(|v| format!("{v:.9e}"))
+                .collect::<Vec<_>>()
+                .join(",");
+            csv += "\n";
+        }
+        r.tables.insert(
+            at_table,
+            Table {
+                suffix: "cycle".into(),
+                caption: "Shaking force, shaking moment and input torque over one crank turn, without and with the counterweights".into(),
+                csv,
+            },
+        );
+        let with_cw = x_cycle.is_some();
+        r.plots.insert(
+            at_plot,
+            Plot::new(
+                "fields",
+                "|F|, M_O and T over one crank turn: bare linkage and with the counterweights",
+                move || fields_plot(&rows, with_cw),
+            ),
+        );
+    }));
+    let (sc, name) = (p.scene.clone(), scene.name.clone());
     r.plots.push(Plot::new(
         "linkage",
         "The linkage at four crank angles (0°, 90°, 180°, 270°), with its counterweights' centroids",
-        move || drawing(&name, &sc2, x2.as_deref()),
+        move || drawing(&name, &sc, x.as_deref()),
     ));
+}
+
+/// θ (deg) and the bare and balanced Fx, Fy, M_O, T at n + 1 angles over the turn (angles where
+/// the linkage does not assemble are left out).
+fn cycle_rows(sc: &LinkageScene, x: Option<&[f64]>, n: usize) -> Vec<[f64; 9]> {
+    let extra = x.map(|x| ls::extras(&sc.counterweights, x));
+    (0..=n)
+        .filter_map(|k| {
+            let th = TAU * k as f64 / n as f64;
+            let pose = sc.linkage.pose(th).ok()?;
+            let map = sc.linkage.balance_map(&pose, sc.moment_about);
+            let b = map.base;
+            let d = extra.as_ref().map_or(b, |e| map.fields(e));
+            Some([
+                th.to_degrees(),
+                b.force.x,
+                b.force.y,
+                b.moment,
+                b.torque,
+                d.force.x,
+                d.force.y,
+                d.moment,
+                d.torque,
+            ])
+        })
+        .collect()
+}
+
+/// |F|, M_O and T against θ from [`cycle_rows`], bare and (with counterweights) balanced.
+fn fields_plot(rows: &[[f64; 9]], with_cw: bool) -> Result<String, String> {
+    let col = |i: usize, j: Option<usize>| -> Vec<(f64, f64)> {
+        rows.iter()
+            .map(|r| (r[0], j.map_or(r[i], |j| r[i].hypot(r[j]))))
+            .collect()
+    };
+    let pane = |title: &str, y: &str, bare: Vec<(f64, f64)>, bal: Vec<(f64, f64)>| Panel {
+        title: title.into(),
+        x_label: "crank angle θ (deg)".into(),
+        y_label: y.into(),
+        series: if with_cw {
+            vec![Series::line("bare", bare), Series::line("balanced", bal)]
+        } else {
+            vec![Series::line("bare", bare)]
+        },
+        equal_aspect: false,
+    };
+    plot::panels(
+        &[
+            pane("Shaking force |F|", "N", col(1, Some(2)), col(5, Some(6))),
+            pane("Shaking moment M_O", "N·m", col(3, None), col(7, None)),
+            pane("Input torque T", "N·m", col(4, None), col(8, None)),
+        ],
+        420,
+        340,
+    )
 }
 
 /// The links as segments (reference joint to tip) at four crank angles; the counterweights'
 /// centroids as markers.
-fn drawing(
-    name: &str,
-    sc: &super::file::LinkageScene,
-    x: Option<&[f64]>,
-) -> Result<String, String> {
+fn drawing(name: &str, sc: &LinkageScene, x: Option<&[f64]>) -> Result<String, String> {
     let l: &Linkage = &sc.linkage;
     let mut series = Vec::new();
     for q in 0..4 {

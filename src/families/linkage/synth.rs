@@ -11,14 +11,14 @@
 //! side); when the counterweights cannot supply it, the least-squares residual says by how much.
 
 use crate::families::linkage::file::{CounterweightSpec, Goal, LinkageScene};
-use crate::families::linkage::model::{Linkage, Params};
-use crate::geom::P2;
+use crate::families::linkage::model::Params;
 use crate::synth::minimax::{
     self as mm, AffineValue, CounterweightLimits, Engine, FnField, LinearConstraint, Problem,
     Relation, Settings, Solution,
 };
 use crate::synth::Var;
 use nalgebra::{DMatrix, DVector};
+use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::Mutex;
 
 /// Field indices of the problem: shaking force (2-D), shaking moment about O, input torque.
@@ -47,10 +47,13 @@ pub enum LinkageSolveError {
     NoAssembly(f64, usize),
 }
 
-/// The three fields of a scene, with the first assembly failure met while evaluating them.
+/// The three fields of a scene, with the first assembly failure met while evaluating them and
+/// the largest dyad conditioning κ seen (over the engine's scan and every refined angle).
 pub struct SceneFields<'s> {
     scene: &'s LinkageScene,
     failure: Mutex<Option<(f64, usize)>>,
+    /// max κ ≥ 1 as f64 bits (positive floats order as their bits).
+    kappa: AtomicU64,
 }
 
 impl<'s> SceneFields<'s> {
@@ -59,6 +62,7 @@ impl<'s> SceneFields<'s> {
         SceneFields {
             scene,
             failure: Mutex::new(None),
+            kappa: AtomicU64::new(1f64.to_bits()),
         }
     }
 
@@ -74,6 +78,7 @@ impl<'s> SceneFields<'s> {
             }
         };
         let map = l.balance_map(&pose, self.scene.moment_about);
+        self.kappa.fetch_max(map.kappa.to_bits(), Ordering::Relaxed);
         let n = out.n();
         match which {
             FORCE => {
@@ -115,6 +120,11 @@ impl<'s> SceneFields<'s> {
         let extra = extras(&self.scene.counterweights, x);
         let (ef, em, et) = map.error(&l.params(), &extra);
         [ef, em, et][which]
+    }
+
+    /// The largest dyad conditioning κ met so far.
+    pub fn kappa_max(&self) -> f64 {
+        f64::from_bits(self.kappa.load(Ordering::Relaxed))
     }
 
     /// The first angle where the linkage failed to assemble, if any.
@@ -338,7 +348,7 @@ pub fn solve(scene: &LinkageScene, settings: &Settings) -> Result<Outcome, Linka
         balance_residual,
         balance_rows,
         pareto: None,
-        kappa_max: kappa_max(&scene.linkage, settings.scan_samples),
+        kappa_max: 1.0,
     };
     if !cws.is_empty() && balance_residual.is_none() {
         let sol = engine.solve()?;
@@ -357,23 +367,6 @@ pub fn solve(scene: &LinkageScene, settings: &Settings) -> Result<Outcome, Linka
     if let Some((th, d)) = fields.failure() {
         return Err(LinkageSolveError::NoAssembly(th.to_degrees(), d));
     }
+    out.kappa_max = fields.kappa_max();
     Ok(out)
-}
-
-/// The largest dyad conditioning κ = 1/|sin μ| over `samples` crank angles.
-pub fn kappa_max(l: &Linkage, samples: usize) -> f64 {
-    (0..samples.max(8))
-        .filter_map(|k| {
-            l.pose(std::f64::consts::TAU * k as f64 / samples.max(8) as f64)
-                .ok()
-        })
-        .map(|p| p.kappa())
-        .fold(1.0, f64::max)
-}
-
-/// The position of a point of the mechanism at θ (for drawings): `None` where it does not
-/// assemble.
-pub fn joint_positions(l: &Linkage, theta: f64) -> Option<Vec<P2>> {
-    let pose = l.pose(theta).ok()?;
-    Some(pose.links.iter().map(|s| s.p[0]).collect())
 }

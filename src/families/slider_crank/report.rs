@@ -3,7 +3,7 @@
 //! `docs/results.md`).
 
 use super::file::*;
-use crate::families::family::Scene;
+use crate::families::family::{cw_status, Scene};
 use crate::families::slider_crank::model::Kinematics;
 use crate::families::slider_crank::model::ProcessForce;
 use crate::families::slider_crank::synth::shaking_force;
@@ -69,10 +69,7 @@ pub fn result(scene: &Scene, sc_scene: &SliderCrankProblem) -> SolveResult {
         s.counterweight.angle.fixed().is_none() || s.counterweight.unbalance.fixed().is_none();
     r.status = match out.status {
         CwStatus::Optimal if !free => Status::Analysed,
-        CwStatus::Optimal => Status::Optimal,
-        CwStatus::Inaccurate => Status::Inaccurate,
-        CwStatus::Infeasible => Status::Infeasible,
-        CwStatus::Failed => Status::Failed,
+        s => cw_status(s),
     };
     if let Some(why) = &out.degenerate {
         if free {
@@ -292,12 +289,7 @@ fn speed_sweep(r: &mut SolveResult, scene: &Scene, s: &sc::Scene, sw: &SpeedSwee
                 optimal_objective: value(&opt),
                 design_objective: value(&des),
                 none_objective: value(&none),
-                status: match o.status {
-                    CwStatus::Optimal => Status::Optimal,
-                    CwStatus::Inaccurate => Status::Inaccurate,
-                    CwStatus::Infeasible => Status::Infeasible,
-                    CwStatus::Failed => Status::Failed,
-                },
+                status: cw_status(o.status),
             })
         });
         match point {
