@@ -275,13 +275,17 @@ pub fn bars(
             .light_line_style(RGBColor(235, 235, 235))
             .draw()
             .map_err(|e| e.to_string())?;
+        // The bars as plotters' `Histogram` draws them (3 px apart), but in bin order: the
+        // histogram series collects its data in a HashMap, so its output order (not its
+        // picture) changed from run to run, and a batch's index.html with it.
+        let xr = (0..n).into_segmented();
         chart
-            .draw_series(
-                Histogram::vertical(&chart)
-                    .style(PALETTE[0].filled())
-                    .margin(3)
-                    .data(bins.iter().enumerate().map(|(i, b)| (i, b.1))),
-            )
+            .draw_series(bins.iter().enumerate().filter_map(|(i, b)| {
+                let (x0, x1) = (xr.from_index(i)?, xr.from_index(i + 1)?);
+                let mut bar = Rectangle::new([(x0, b.1), (x1, 0)], PALETTE[0].filled());
+                bar.set_margin(0, 0, 3, 3);
+                Some(bar)
+            }))
             .map_err(|e| e.to_string())?;
         let font = TextStyle::from(("sans-serif", 12).into_font())
             .pos(Pos::new(HPos::Center, VPos::Bottom));

@@ -1,0 +1,30 @@
+//! The batch index page's histogram is the same bytes run after run: its bars are drawn in
+//! bin order (plotters' own histogram series collected them in a HashMap, so their order — not
+//! the picture — changed from run to run, and `index.html` with it). Its own test binary: the
+//! plot counter of `tests/batch_reports.rs` is process-wide.
+
+use cwsynth::batch::{expand, run, Options};
+
+#[test]
+fn the_index_histogram_is_deterministic() {
+    let dir = tempfile::tempdir().unwrap();
+    let problems = concat!(env!("CARGO_MANIFEST_DIR"), "/problems");
+    let svgs: Vec<String> = (0..3)
+        .map(|k| {
+            let out = dir.path().join(format!("out{k}"));
+            let opts = Options {
+                out: out.clone(),
+                threads: Some(2),
+                shard: None,
+                quiet: true,
+                summary_only: true,
+            };
+            run(expand(&[problems.to_string()]).unwrap(), &opts).unwrap();
+            let page = std::fs::read_to_string(out.join("index.html")).unwrap();
+            let a = page.find("<svg").expect("the histogram");
+            let b = page[a..].find("</svg>").unwrap();
+            page[a..a + b].to_string()
+        })
+        .collect();
+    assert!(svgs.iter().all(|s| *s == svgs[0]));
+}
