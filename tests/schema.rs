@@ -2,7 +2,7 @@
 //! validates against it, and files with unknown keys, wrong types or bad units do not.
 //!
 //! The validator below implements exactly the subset of JSON Schema the program emits:
-//! type, properties, required, additionalProperties (false), enum, const, oneOf, anyOf,
+//! type, properties, required, additionalProperties (false or a schema), enum, const, oneOf, anyOf,
 //! allOf, if/then, items,
 //! minItems/maxItems, minimum, maxLength and pattern. TOML is converted to JSON with `toml` and
 //! `serde_json`.
@@ -37,7 +37,10 @@ fn validate(s: &Value, v: &Value, path: &str, errs: &mut Vec<String>) {
                 "minimum",
                 "maximum",
                 "maxLength",
-                "pattern"
+                "pattern",
+                // Annotations: no effect on validity.
+                "default",
+                "format"
             ]
             .contains(&key.as_str()),
             "the schema uses `{key}`, which this validator does not implement"
@@ -104,10 +107,14 @@ fn validate(s: &Value, v: &Value, path: &str, errs: &mut Vec<String>) {
         for (k, x) in o {
             match props.and_then(|p| p.get(k)) {
                 Some(ps) => validate(ps, x, &format!("{path}.{k}"), errs),
-                None if s.get("additionalProperties") == Some(&Value::Bool(false)) => {
-                    errs.push(format!("{path}: unknown key `{k}`"))
-                }
-                None => {}
+                None => match s.get("additionalProperties") {
+                    Some(Value::Bool(false)) => errs.push(format!("{path}: unknown key `{k}`")),
+                    // A map (`[mechanism.links.NAME]`): every value against one schema.
+                    Some(extra @ Value::Object(_)) => {
+                        validate(extra, x, &format!("{path}.{k}"), errs)
+                    }
+                    _ => {}
+                },
             }
         }
     }
@@ -293,4 +300,41 @@ fn a_typo_is_one_error_at_its_key() {
     let e = errors(&piston.replacen("\"1000 rpm\"", "1500", 1));
     assert_eq!(e.len(), 1, "{e:?}");
     assert!(e[0].contains(".mechanism.speed"), "{e:?}");
+}
+
+/// Every key of every family is described (the schema's descriptions are the raw structs'
+/// doc comments, so an undocumented field shows up here).
+#[test]
+fn every_key_is_described() {
+    fn walk(n: &Value, path: &str, missing: &mut Vec<String>) {
+        match n {
+            Value::Object(o) => {
+                for (k, v) in o
+                    .get("properties")
+                    .and_then(Value::as_object)
+                    .into_iter()
+                    .flatten()
+                {
+                    if v.get("description").is_none() && k != "family" {
+                        missing.push(format!("{path}.{k}"));
+                    }
+                }
+                for (k, v) in o {
+                    walk(v, &format!("{path}/{k}"), missing);
+                }
+            }
+            Value::Array(a) => {
+                for (i, x) in a.iter().enumerate() {
+                    walk(x, &format!("{path}[{i}]"), missing);
+                }
+            }
+            _ => {}
+        }
+    }
+    let mut missing = Vec::new();
+    walk(&problem_schema(), "", &mut missing);
+    assert!(
+        missing.is_empty(),
+        "keys without a description: {missing:#?}"
+    );
 }

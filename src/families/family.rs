@@ -140,7 +140,7 @@ pub fn machine<K: Machine>(r: Resolved<K>) -> Resolved<Arc<dyn Machine>> {
 
 /// Implements [`Family`] for the unit struct `$family` (declared here, with its doc) and
 /// [`Machine`] for `$problem` from the parts every family folder has: `file::{FAMILY,
-/// COUNTS, resolve}`, `schema::schema`, `report::result` and `study::{headline, ladder,
+/// COUNTS, resolve, File}` (its schema derived from `File`), `report::result` and `study::{headline, ladder,
 /// effects}`. Invoked once in each family's `mod.rs`.
 macro_rules! family_folder {
     ($(#[$doc:meta])* $family:ident, $problem:ty) => {
@@ -156,7 +156,7 @@ macro_rules! family_folder {
                 file::COUNTS
             }
             fn schema(&self) -> serde_json::Value {
-                schema::schema()
+                $crate::problem::schema::branch::<file::File>(file::FAMILY)
             }
             fn resolve(
                 &self,

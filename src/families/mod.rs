@@ -1,8 +1,8 @@
 //! One home per mechanism family, and the seam every engine above talks through.
 //!
 //! Each folder holds one family whole: `model` (pure physics), `file` (its problem file: raw
-//! serde layer and resolution), `synth` (design vector, objectives, solves), `schema` (its
-//! branch of the JSON Schema) and `study` (its ladder of settings and the effects its model
+//! serde layer and resolution), `synth` (design vector, objectives, solves), `report` (its
+//! result, tables and plots) and `study` (its ladder of settings and the effects its model
 //! leaves out). A family is a [`Family`] (what reads its files) whose resolved scenes are
 //! [`Machine`]s (what solves and studies them); [`FAMILIES`] lists them, one line each.
 //! Nothing above this module — `batch`, `study`, `cli` — names a family.

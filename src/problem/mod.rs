@@ -300,16 +300,22 @@ impl Header {
     }
 }
 
-/// A whole problem file of one family: the common fields plus the family's sections.
-#[derive(Debug, Deserialize)]
+/// A whole problem file of one family: the common fields plus the family's sections (its
+/// JSON Schema is derived from these structs, [`schema`]).
+#[derive(Debug, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
+#[schemars(
+    bound = "M: schemars::JsonSchema, Mo: schemars::JsonSchema + Default, D: schemars::JsonSchema + Default, O: schemars::JsonSchema, A: schemars::JsonSchema + Default"
+)]
 pub struct RawFile<M, Mo, D, O, A> {
     /// Scene name (also the result file's stem): letters, digits, `-`, `_`, `.`.
+    #[schemars(regex(pattern = r"^[A-Za-z0-9_-][A-Za-z0-9._-]{0,127}$"))]
     pub name: String,
     /// Family (already matched against the registry by the header pass).
     pub family: String,
     /// Free text.
     #[serde(default)]
+    #[schemars(length(max = MAX_TEXT_CHARS))]
     pub description: String,
     /// Mechanism data.
     pub mechanism: M,
@@ -326,6 +332,7 @@ pub struct RawFile<M, Mo, D, O, A> {
     pub accuracy: A,
     /// Printed values of the source paper to compare with.
     #[serde(default)]
+    #[schemars(length(max = MAX_PAPER_ENTRIES))]
     pub paper: Vec<PaperRaw>,
 }
 
@@ -403,18 +410,21 @@ fn check_texts(description: &str, paper: &[PaperRaw]) -> Result<(), FieldError> 
 }
 
 /// A value printed in the source paper, compared with a key of the result.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct PaperRaw {
     /// What the paper's number is.
+    #[schemars(length(max = MAX_TEXT_CHARS))]
     pub quantity: String,
     /// The number with a unit (`"900 N"`), of the dimension of the key's unit suffix; a
     /// plain number only for a key without one (`_pct`, a ratio).
     pub value: PaperValue,
     /// Dotted key of the result to compare with (`baselines.none.peak_shaking_force_n`).
+    #[schemars(length(max = MAX_TEXT_CHARS))]
     pub key: String,
     /// How to read the comparison.
     #[serde(default)]
+    #[schemars(length(max = MAX_TEXT_CHARS))]
     pub note: String,
 }
 

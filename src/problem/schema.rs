@@ -1,27 +1,31 @@
-//! A JSON Schema (draft 2020-12) of the problem file, for editors (`cwsynth schema`): the
-//! builders every family's branch is written with, and the assembly of the branches.
+//! A JSON Schema (draft 2020-12) of the problem file, for editors (`cwsynth schema`),
+//! derived from the raw serde structs themselves (`schemars`), so that it cannot drift from
+//! what the reader accepts.
 //!
-//! Each family writes its branch by hand from its raw serde structs
-//! (`families/<family>/schema.rs`); [`assemble`] puts one branch per family under `allOf` as
-//! `if: {family: const} then: branch` — discriminated on `family`, so an editor checks a file
-//! against its own family's branch only and points at the wrong key, not at the whole file —
-//! each branch closed with
-//! `additionalProperties: false` like the structs' `deny_unknown_fields`. A dimensional
-//! quantity is a `string` whose pattern is a number and one of the units of its dimension,
-//! built from [`crate::units::UNITS`] (units are never guessed: no bare number); a pure
-//! number (λ, k1) is a `number`. The input sizes have `maxLength`/`maxItems` (quantity
-//! strings, `description`, `[[paper]]`, the slider-crank's arrays). Every integer setting has
-//! the `minimum` and `maximum` of
-//! [`super::limits`]. The schema checks shape and spelling; other value ranges (λ < 1,
+//! Each family's branch is the schema of its [`super::RawFile`] (`families/<family>/file.rs`
+//! and the settings structs its `[accuracy]` reads), generated with every subschema inlined;
+//! [`assemble`] puts one branch per family under `allOf` as `if: {family: const} then:
+//! branch` — discriminated on `family`, so an editor checks a file against its own family's
+//! branch only and points at the wrong key, not at the whole file. Each struct is closed
+//! (`additionalProperties: false`) by its `deny_unknown_fields`; field doc comments become
+//! descriptions. A dimensional quantity ([`Qty`]) is a `string` whose pattern is a number and
+//! one of the units of its dimension, built from [`crate::units::UNITS`] (units are never
+//! guessed: no bare number); a pure number (λ, k1) is a `number`; a design variable
+//! ([`RawVar`]) is a quantity or `{ min, max }`. Input-size limits are `maxLength`/`maxItems`
+//! attributes on the structs; every integer setting gets the `minimum` and `maximum` of
+//! [`super::limits`] here. The schema checks shape and spelling; other value ranges (λ < 1,
 //! min ≤ max, …) stay with the resolvers, whose errors name the field.
 //!
-//! Keep it in step with the structs: `tests/schema.rs` validates every shipped problem file
-//! against it and shows that unknown keys fail.
+//! `tests/schema.rs` validates every shipped problem file against it and shows that unknown
+//! keys fail.
 
 use crate::problem::limits::Count;
-use crate::problem::{MAX_PAPER_ENTRIES, MAX_TEXT_CHARS};
-use crate::units::{Dim, UNITS};
-use serde_json::{json, Map, Value};
+use crate::problem::{PaperValue, RawVar};
+use crate::units::{Dim, Dimension, Qty, UNITS};
+use schemars::generate::SchemaSettings;
+use schemars::{JsonSchema, Schema, SchemaGenerator};
+use serde_json::{json, Value};
+use std::borrow::Cow;
 
 /// A number, then optional spaces and a unit of `dim` (`None`: any known unit, or none).
 pub fn quantity_pattern(dim: Option<Dim>) -> String {
@@ -55,12 +59,13 @@ pub fn quantity_pattern(dim: Option<Dim>) -> String {
     }
 }
 
-pub fn qty(dim: Dim, desc: &str) -> Value {
-    let description = format!("{desc} — {}", dim.allowed());
+/// The schema of a quantity of dimension `dim`: a plain number for a pure number, else a
+/// string with a unit of that dimension (its `title` lists the units).
+fn quantity(dim: Dim) -> Value {
     match dim {
-        Dim::Dimensionless => json!({ "type": "number", "description": description }),
+        Dim::Dimensionless => json!({ "type": "number", "title": dim.allowed() }),
         _ => json!({
-            "description": description,
+            "title": dim.allowed(),
             "type": "string",
             "maxLength": crate::units::MAX_QUANTITY_LEN,
             "pattern": quantity_pattern(Some(dim))
@@ -68,121 +73,148 @@ pub fn qty(dim: Dim, desc: &str) -> Value {
     }
 }
 
-pub fn var(dim: Dim, desc: &str) -> Value {
-    json!({
-        "description": format!("{desc}: fixed, or free within {{ min, max }}"),
-        "anyOf": [
-            qty(dim, desc),
-            obj(&[("min", qty(dim, "lower bound")), ("max", qty(dim, "upper bound"))], &["min", "max"], "a free range")
-        ]
-    })
+fn schema(v: Value) -> Schema {
+    Schema::try_from(v).expect("a schema object")
 }
 
-pub fn num(desc: &str) -> Value {
-    json!({ "type": "number", "description": desc })
-}
-
-pub fn uint(desc: &str) -> Value {
-    json!({ "type": "integer", "minimum": 0, "description": desc })
-}
-
-pub fn boolean(desc: &str) -> Value {
-    json!({ "type": "boolean", "description": desc })
-}
-
-pub fn string(desc: &str) -> Value {
-    json!({ "type": "string", "description": desc })
-}
-
-pub fn one_of(values: &[&str], desc: &str) -> Value {
-    json!({ "type": "string", "enum": values, "description": desc })
-}
-
-pub fn array(items: Value, desc: &str) -> Value {
-    json!({ "type": "array", "items": items, "description": desc })
-}
-
-pub fn obj(props: &[(&str, Value)], required: &[&str], desc: &str) -> Value {
-    let mut p = Map::new();
-    for (k, v) in props {
-        p.insert((*k).to_string(), v.clone());
+impl<D: Dimension> JsonSchema for Qty<D> {
+    fn inline_schema() -> bool {
+        true
     }
-    json!({
-        "type": "object",
-        "description": desc,
-        "properties": p,
-        "required": required,
-        "additionalProperties": false
-    })
+    fn schema_name() -> Cow<'static, str> {
+        format!("Qty{:?}", D::DIM).into()
+    }
+    fn json_schema(_: &mut SchemaGenerator) -> Schema {
+        schema(quantity(D::DIM))
+    }
 }
 
-/// `v` with the JSON Schema keyword `key` set to `n` (an input-size limit).
-pub fn limited(mut v: Value, key: &str, n: usize) -> Value {
-    v[key] = json!(n);
+impl<D: Dimension> JsonSchema for RawVar<D> {
+    fn inline_schema() -> bool {
+        true
+    }
+    fn schema_name() -> Cow<'static, str> {
+        format!("RawVar{:?}", D::DIM).into()
+    }
+    fn json_schema(_: &mut SchemaGenerator) -> Schema {
+        let q = quantity(D::DIM);
+        let bound = |d: &str| {
+            let mut b = q.clone();
+            b["description"] = d.into();
+            b
+        };
+        schema(json!({
+            "anyOf": [
+                q,
+                {
+                    "type": "object",
+                    "title": "free within [min, max]",
+                    "properties": { "min": bound("lower bound"), "max": bound("upper bound") },
+                    "required": ["min", "max"],
+                    "additionalProperties": false
+                }
+            ]
+        }))
+    }
+}
+
+impl JsonSchema for PaperValue {
+    fn inline_schema() -> bool {
+        true
+    }
+    fn schema_name() -> Cow<'static, str> {
+        "PaperValue".into()
+    }
+    fn json_schema(_: &mut SchemaGenerator) -> Schema {
+        schema(json!({
+            "description": "the paper's value: a quantity string whose unit is of the dimension of the key's SI unit suffix (`_n`: \"900 N\"), or a plain number for a key without one (`_pct`, a ratio)",
+            "anyOf": [
+                { "type": "number" },
+                { "type": "string", "pattern": quantity_pattern(None) }
+            ]
+        }))
+    }
+}
+
+/// The schema of a 2-D frame point written in a file as a TOML value the resolver reads
+/// (linkage points): `["x mm", "y mm"]`, `"NAME.pivot"`, `"NAME.tip"` or `{ link, at }`.
+pub fn point_ref(_: &mut SchemaGenerator) -> Schema {
+    let xy = json!({
+        "type": "array", "items": quantity(Dim::Length), "minItems": 2, "maxItems": 2
+    });
+    schema(json!({
+        "description": "a frame point [\"x mm\", \"y mm\"], \"NAME.pivot\", \"NAME.tip\" or { link = \"NAME\", at = [\"x mm\", \"y mm\"] }",
+        "anyOf": [
+            xy,
+            { "type": "string", "pattern": "^[A-Za-z0-9_-]+\\.(pivot|tip)$", "maxLength": 80 },
+            {
+                "type": "object",
+                "properties": {
+                    "link": { "type": "string", "description": "the link's name" },
+                    "at": { "description": "the point in the link's frame", "allOf": [xy] }
+                },
+                "required": ["link", "at"],
+                "additionalProperties": false
+            }
+        ]
+    }))
+}
+
+/// One family's branch: the schema of its whole raw file `F` (a [`super::RawFile`]), every
+/// subschema inlined, `family` fixed to `name`. TOML has no null, so the `null` that
+/// `schemars` allows for an `Option` is taken out again.
+pub fn branch<F: JsonSchema>(name: &str) -> Value {
+    let generator = SchemaSettings::draft2020_12()
+        .with(|s| {
+            s.inline_subschemas = true;
+            s.meta_schema = None;
+        })
+        .into_generator();
+    let mut v = generator.into_root_schema_for::<F>().to_value();
+    strip_null(&mut v);
+    let o = v.as_object_mut().expect("an object schema");
+    o.remove("title");
+    o.insert("description".into(), format!("a {name} scene").into());
+    v["properties"]["family"] = json!({ "type": "string", "enum": [name] });
     v
 }
 
-fn paper() -> Value {
-    let text = |d| limited(string(d), "maxLength", MAX_TEXT_CHARS);
-    let entries = array(
-        obj(
-            &[
-                ("quantity", text("what the paper's number is")),
-                (
-                    "value",
-                    json!({
-                        "description": "the paper's value: a quantity string whose unit is of the dimension of the key's SI unit suffix (`_n`: \"900 N\"), or a plain number for a key without one (`_pct`, a ratio)",
-                        "anyOf": [
-                            { "type": "number" },
-                            { "type": "string", "pattern": quantity_pattern(None) }
-                        ]
-                    }),
-                ),
-                ("key", text("dotted result key compared with")),
-                ("note", text("how to read the comparison")),
-            ],
-            &["quantity", "value", "key"],
-            "a value printed in the source paper",
-        ),
-        "printed values of the source paper to compare with",
-    );
-    limited(entries, "maxItems", MAX_PAPER_ENTRIES)
-}
-
-/// One family's branch: the common keys plus its sections.
-pub fn family(
-    name: &str,
-    mechanism: Value,
-    model: Value,
-    design: Value,
-    objective: Value,
-    accuracy: Value,
-) -> Value {
-    obj(
-        &[
-            (
-                "name",
-                json!({
-                    "type": "string",
-                    "pattern": "^[A-Za-z0-9_-][A-Za-z0-9._-]{0,127}$",
-                    "description": "scene name (also the result file's stem)"
-                }),
-            ),
-            ("family", json!({ "type": "string", "enum": [name] })),
-            (
-                "description",
-                limited(string("free text"), "maxLength", MAX_TEXT_CHARS),
-            ),
-            ("mechanism", mechanism),
-            ("model", model),
-            ("design", design),
-            ("objective", objective),
-            ("accuracy", accuracy),
-            ("paper", paper()),
-        ],
-        &["name", "family", "mechanism", "objective"],
-        &format!("a {name} scene"),
-    )
+/// Removes `null` from `type` lists and `{type: null}` from `anyOf`/`oneOf`, recursively.
+fn strip_null(v: &mut Value) {
+    match v {
+        Value::Object(o) => {
+            if let Some(Value::Array(ts)) = o.get_mut("type") {
+                ts.retain(|t| t != "null");
+                if ts.len() == 1 {
+                    let t = ts[0].clone();
+                    o.insert("type".into(), t);
+                }
+            }
+            for k in ["anyOf", "oneOf"] {
+                if let Some(Value::Array(alts)) = o.get_mut(k) {
+                    alts.retain(|a| *a != json!({ "type": "null" }));
+                    if alts.len() == 1 {
+                        // `Option<T>` of a non-inline T: the alternative is T itself.
+                        let only = alts.pop().expect("one");
+                        o.remove(k);
+                        if let Value::Object(only) = only {
+                            for (key, val) in only {
+                                o.entry(key).or_insert(val);
+                            }
+                        }
+                    }
+                }
+            }
+            if o.get("default").is_some_and(Value::is_null) {
+                o.remove("default");
+            }
+            for x in o.values_mut() {
+                strip_null(x);
+            }
+        }
+        Value::Array(a) => a.iter_mut().for_each(strip_null),
+        _ => {}
+    }
 }
 
 /// The JSON Schema of a problem file from each family's `(name, branch, integer ranges)`:
@@ -233,10 +265,13 @@ fn with_ranges(family: &str, counts: &[Count], branch: &mut Value) {
         }
         assert!(
             node["type"] == "integer",
-            "schema: {family} {} is no integer",
+            "schema: {family} {} is no integer: {node}",
             c.key
         );
         node["minimum"] = c.min.into();
         node["maximum"] = c.max.into();
+        if let Some(o) = node.as_object_mut() {
+            o.remove("format");
+        }
     }
 }

@@ -124,7 +124,9 @@ pub struct Problem<'a> {
 }
 
 /// Accuracy settings of the exchange loop (flat, with defaults, Clarabel style).
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(
+    Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize, schemars::JsonSchema,
+)]
 #[serde(default, deny_unknown_fields)]
 pub struct Settings {
     /// Stop when (true peak − sampled bound) ≤ `rel_tol`·true peak. Default 1e-9.
@@ -140,6 +142,7 @@ pub struct Settings {
     /// then stalls a few 1e-9 short of the target on constrained or offset scenes: tried and
     /// reverted.)
     #[serde(with = "crate::units::angle_setting")]
+    #[schemars(with = "crate::units::Qty<crate::units::Angle>")]
     pub peak_xtol: f64,
     /// Quadrature points of mean-square objectives (and of RMS values). Default 360: the
     /// trapezoid rule is spectrally accurate for these smooth periodic functions (the paper

@@ -398,7 +398,9 @@ fn bad(what: impl Into<String>, message: impl Into<String>) -> MinimaxError {
 }
 
 /// Accuracy settings of the exchange loop (flat, with defaults, Clarabel style).
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(
+    Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize, schemars::JsonSchema,
+)]
 #[serde(default, deny_unknown_fields)]
 pub struct Settings {
     /// Stop when V − L ≤ `rel_tol`·max(V, `abs_floor`·U₀) and every limit holds to the same
@@ -416,6 +418,7 @@ pub struct Settings {
     /// Angle tolerance of the peak refinement (rad; in a file an angle with its unit,
     /// `"1e-10 rad"`). Default 1e-10.
     #[serde(with = "crate::units::angle_setting")]
+    #[schemars(with = "crate::units::Qty<crate::units::Angle>")]
     pub peak_xtol: f64,
     /// Uniform angles of RMS objectives (even). Default 360.
     pub rms_samples: usize,

@@ -18,7 +18,17 @@ use crate::numeric::minimize_1d;
 use std::f64::consts::PI;
 
 /// What the shape minimises.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize, Default)]
+#[derive(
+    Debug,
+    Clone,
+    Copy,
+    PartialEq,
+    Eq,
+    serde::Serialize,
+    serde::Deserialize,
+    Default,
+    schemars::JsonSchema,
+)]
 #[serde(rename_all = "kebab-case")]
 pub enum ShapeGoal {
     /// The lightest plate.

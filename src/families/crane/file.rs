@@ -30,7 +30,7 @@ pub const COUNTS: &[Count] = &[
     c("accuracy.landscape_k2", 0, 201),
 ];
 
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct MechanismRaw {
     /// R_max, largest reach from the slewing axis.
@@ -48,7 +48,7 @@ pub struct MechanismRaw {
 }
 
 /// How the boom length follows from the step-1 angles when `design.boom_length` is absent.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, schemars::JsonSchema)]
 #[serde(rename_all = "kebab-case")]
 pub enum Sizing {
     /// L_c = (R_min − r)/(sin γ1 + k sin γ2).
@@ -58,7 +58,7 @@ pub enum Sizing {
 }
 
 /// `[model]`.
-#[derive(Debug, Deserialize, Default)]
+#[derive(Debug, Deserialize, Default, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ModelRaw {
     /// Boom-length rule (default `min-reach`; not with `design.boom_length`).
@@ -66,7 +66,7 @@ pub struct ModelRaw {
 }
 
 /// `[design]`: k1, k2, the step-1 angles (each fixed or `{ min, max }`), and L_c if given.
-#[derive(Debug, Deserialize, Default)]
+#[derive(Debug, Deserialize, Default, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct DesignRaw {
     /// k1 = C1C2/C1C3.
@@ -86,7 +86,7 @@ pub struct DesignRaw {
 }
 
 /// What `objective.minimize` can name.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, schemars::JsonSchema)]
 #[serde(rename_all = "kebab-case")]
 pub enum Minimize {
     /// Δh, the height variation of the jib head over the luffing range.
@@ -94,7 +94,7 @@ pub enum Minimize {
 }
 
 /// `[objective.tie_pin]`: where the tie pin B may be (frame of A, x behind the foot).
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct TiePinRaw {
     /// |AB| ≤ max_distance.
@@ -106,7 +106,7 @@ pub struct TiePinRaw {
 }
 
 /// `[objective]`.
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ObjectiveRaw {
     /// Always `delta-h`.

@@ -310,7 +310,7 @@ const VAR_NAMES: [&str; 6] = [
 ];
 
 /// Solver and sampling settings (one flat struct; see [`Settings::validate`]).
-#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize, schemars::JsonSchema)]
 #[serde(default, deny_unknown_fields)]
 pub struct Settings {
     /// Samples of the luffing range for the head path (every one must assemble); each sampled
@@ -318,6 +318,7 @@ pub struct Settings {
     pub path_samples: usize,
     /// Abscissa tolerance of the extremum refinement (rad). Default 1e-7 (the value error ½|y''|·xtol² is ~1e-13 m).
     #[serde(with = "crate::units::angle_setting")]
+    #[schemars(with = "crate::units::Qty<crate::units::Angle>")]
     pub xtol: f64,
     /// Refine each sampled extremum of the head height by Brent to `xtol`. Default true;
     /// false takes the extreme samples (each low by at most |y_C''|h²/8, h the sample
@@ -343,6 +344,7 @@ pub struct Settings {
     pub constraint_tol: f64,
     /// Step of the finite difference for the load moment (rad). Default 1e-3.
     #[serde(with = "crate::units::angle_setting")]
+    #[schemars(with = "crate::units::Qty<crate::units::Angle>")]
     pub moment_step: f64,
 }
 

@@ -36,7 +36,7 @@ pub const COUNTS: &[Count] = &[
     c("accuracy.sweep_points", 3, 101),
 ];
 
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct MechanismRaw {
     /// R, gear 1's pitch-circle radius.
@@ -66,7 +66,7 @@ pub struct MechanismRaw {
 }
 
 /// `[model]`.
-#[derive(Debug, Deserialize, Default)]
+#[derive(Debug, Deserialize, Default, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ModelRaw {
     /// Half-width in α1 of the window left out around every pole (and 0/0 cusp).
@@ -74,7 +74,7 @@ pub struct ModelRaw {
 }
 
 /// `[design]`.
-#[derive(Debug, Deserialize, Default)]
+#[derive(Debug, Deserialize, Default, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct DesignRaw {
     /// e: fixed (analysis) or a range (design).
@@ -82,7 +82,7 @@ pub struct DesignRaw {
 }
 
 /// What `objective.maximize` can name.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, schemars::JsonSchema)]
 #[serde(rename_all = "kebab-case")]
 pub enum Maximize {
     /// i12max/i12min.
@@ -90,7 +90,7 @@ pub enum Maximize {
 }
 
 /// `[objective]`.
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ObjectiveRaw {
     /// What to maximise over a free e.

@@ -254,16 +254,18 @@ pub fn paper_table1_design() -> GearScene {
 }
 
 /// Numerical settings, one flat struct.
-#[derive(Debug, Clone, PartialEq, Serialize, serde::Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, serde::Deserialize, schemars::JsonSchema)]
 #[serde(default, deny_unknown_fields)]
 pub struct Settings {
     /// Samples of each pole function per arch before Brent (≥ 8).
     pub samples_per_arch: usize,
     /// Tolerance of every pole in α1 (rad), ≤ 1e-12.
     #[serde(with = "crate::units::angle_setting")]
+    #[schemars(with = "crate::units::Qty<crate::units::Angle>")]
     pub pole_tol: f64,
     /// x-tolerance of Brent refinements of maxima (rad).
     #[serde(with = "crate::units::angle_setting")]
+    #[schemars(with = "crate::units::Qty<crate::units::Angle>")]
     pub peak_xtol: f64,
     /// Samples per arch for the peak of |µ| (halved for the error estimate, ≥ 8).
     pub peak_samples_per_arch: usize,

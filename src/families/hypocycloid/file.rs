@@ -44,7 +44,7 @@ pub const COUNTS: &[Count] = &[
     c("accuracy.plot_samples", 8, 100_000),
 ];
 
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct MechanismRaw {
     /// The paper's variant: 1 (α0 = 0) or 2 (α0 = 270°).
@@ -60,7 +60,7 @@ pub struct MechanismRaw {
 }
 
 /// `[model]`.
-#[derive(Debug, Deserialize, Default)]
+#[derive(Debug, Deserialize, Default, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ModelRaw {
     /// Highest order in the tables (default 8).
@@ -73,7 +73,7 @@ pub struct ModelRaw {
 }
 
 /// `[design]`.
-#[derive(Debug, Deserialize, Default)]
+#[derive(Debug, Deserialize, Default, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct DesignRaw {
     /// λ = R/L.
@@ -83,7 +83,7 @@ pub struct DesignRaw {
 }
 
 /// What `objective.minimize` can name.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, schemars::JsonSchema)]
 #[serde(rename_all = "kebab-case")]
 pub enum Minimize {
     /// Peak over φ of the inertia force left after the Lanchester pairs.
@@ -91,7 +91,7 @@ pub enum Minimize {
 }
 
 /// A `{ min = …, max = … }` range of a pure number.
-#[derive(Debug, Clone, Copy, Deserialize)]
+#[derive(Debug, Clone, Copy, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct RangeRaw {
     /// Lower end.
@@ -101,7 +101,7 @@ pub struct RangeRaw {
 }
 
 /// `[objective.zero_search]`.
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ZeroSearchRaw {
     /// Order whose cosine coefficient is searched (default 4).
@@ -113,7 +113,7 @@ pub struct ZeroSearchRaw {
 }
 
 /// `[objective]`.
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ObjectiveRaw {
     /// What to minimise over the free (λ, θ).

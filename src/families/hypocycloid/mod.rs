@@ -1,11 +1,10 @@
 //! The hypocycloidal reciprocating machine (seed 004) family, whole: its physics (`model`), its problem file (`file`), its synthesis
-//! (`synth`), its result and plots (`report`), its schema branch (`schema`) and its study
+//! (`synth`), its result and plots (`report`) and its study
 //! ladder and left-out effects (`study`), behind the `Family` and `Machine` traits.
 
 pub mod file;
 pub mod model;
 pub mod report;
-pub mod schema;
 pub mod study;
 pub mod synth;
 

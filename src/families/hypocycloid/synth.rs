@@ -102,7 +102,9 @@ pub struct HypocycloidScene {
 }
 
 /// The coefficients a design is balanced and judged with.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, serde::Deserialize)]
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, serde::Deserialize, schemars::JsonSchema,
+)]
 #[serde(rename_all = "kebab-case")]
 pub enum CoefficientModel {
     /// Exact: polynomial part + converged FFT of the remainder.
@@ -309,7 +311,7 @@ impl HypocycloidScene {
 }
 
 /// Numerical settings (one flat struct; see [`Settings::validate`]).
-#[derive(Debug, Clone, PartialEq, Serialize, serde::Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, serde::Deserialize, schemars::JsonSchema)]
 #[serde(default, deny_unknown_fields)]
 pub struct Settings {
     /// Smallest FFT size for the coefficients (power of two, ≥ 16).
@@ -333,6 +335,7 @@ pub struct Settings {
     pub fft_adaptive: bool,
     /// Tolerance in φ of the peak refinement.
     #[serde(with = "crate::units::angle_setting")]
+    #[schemars(with = "crate::units::Qty<crate::units::Angle>")]
     pub peak_xtol: f64,
     /// Samples per free variable of the optimiser's start grid.
     pub opt_grid: usize,

@@ -50,7 +50,7 @@ pub const WORK_BUDGET: f64 = 5e7;
 pub type XyRaw = [Qty<Length>; 2];
 
 /// `[mechanism]`.
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct MechanismRaw {
     /// ω, the constant crank speed.
@@ -63,6 +63,7 @@ pub struct MechanismRaw {
     pub gravity: Option<Qty<Acceleration>>,
     /// The dyads, in order: each uses points already defined.
     #[serde(default)]
+    #[schemars(length(max = MAX_DYADS))]
     pub dyads: Vec<DyadRaw>,
     /// Mass data of every link, by name (`crank` and the dyads' `links`).
     #[serde(default)]
@@ -70,7 +71,7 @@ pub struct MechanismRaw {
 }
 
 /// The kinds of dyad.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, schemars::JsonSchema)]
 pub enum DyadKind {
     /// Revolute–revolute–revolute: two links from two known points meeting at a new joint.
     #[serde(rename = "RRR")]
@@ -85,7 +86,7 @@ pub enum DyadKind {
 }
 
 /// The assembly branch of a dyad.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, schemars::JsonSchema)]
 #[serde(rename_all = "kebab-case")]
 pub enum Branch {
     /// RRR: B to the left of P→Q; RRP: B further along the line than the foot of P; RPR: Q
@@ -96,7 +97,7 @@ pub enum Branch {
 }
 
 /// `[[mechanism.dyads]]`.
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct DyadRaw {
     /// `RRR`, `RRP` or `RPR`.
@@ -104,8 +105,11 @@ pub struct DyadRaw {
     /// The names of its two links (RRR: from p, from q; RRP: rod, slider; RPR: guide, block).
     pub links: [String; 2],
     /// P: the first known point.
+    #[schemars(schema_with = "crate::problem::schema::point_ref")]
     pub p: toml::Value,
     /// Q: the second known point (RRR, RPR).
+    #[serde(default)]
+    #[schemars(schema_with = "crate::problem::schema::point_ref")]
     pub q: Option<toml::Value>,
     /// RRR: |PB|.
     pub length1: Option<Qty<Length>>,
@@ -124,7 +128,7 @@ pub struct DyadRaw {
 }
 
 /// `[mechanism.links.NAME]`.
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct LinkRaw {
     /// m.
@@ -140,7 +144,7 @@ pub struct LinkRaw {
 }
 
 /// `[model]`.
-#[derive(Debug, Deserialize, Default)]
+#[derive(Debug, Deserialize, Default, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ModelRaw {
     /// O, the frame point the shaking moment is taken about (default the crank pivot).
@@ -148,7 +152,7 @@ pub struct ModelRaw {
 }
 
 /// `[[design.counterweights]]`.
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct CounterweightRaw {
     /// The link it is fixed to (by name).
@@ -163,16 +167,19 @@ pub struct CounterweightRaw {
 }
 
 /// `[design]`.
-#[derive(Debug, Deserialize, Default)]
+#[derive(Debug, Deserialize, Default, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct DesignRaw {
     /// The counterweights the optimiser sizes (none: the linkage is analysed).
     #[serde(default)]
+    #[schemars(length(max = MAX_COUNTERWEIGHTS))]
     pub counterweights: Vec<CounterweightRaw>,
 }
 
 /// What `objective.minimize` can name.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, serde::Serialize)]
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, Deserialize, serde::Serialize, schemars::JsonSchema,
+)]
 #[serde(rename_all = "kebab-case")]
 pub enum Goal {
     /// max_θ |F|.
@@ -192,7 +199,7 @@ pub enum Goal {
 }
 
 /// `[objective]`.
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ObjectiveRaw {
     /// What the counterweights minimise.

@@ -46,7 +46,7 @@ pub const COUNTS: &[Count] = &[
     c("accuracy.rms_samples", 16, 100_000),
 ];
 
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct MechanismRaw {
     /// R.
@@ -68,6 +68,7 @@ pub struct MechanismRaw {
     /// Itemised masses reduced to the crank pin or the slider (replace crank_mass and
     /// slider_mass).
     #[serde(default)]
+    #[schemars(length(max = MAX_MASS_ITEMS))]
     pub mass_items: Vec<MassItemRaw>,
     /// Angle of the slider axis (from the crank axis towards the slider) above the horizontal.
     pub slider_axis_angle: Option<Qty<Angle>>,
@@ -78,7 +79,7 @@ pub struct MechanismRaw {
 }
 
 /// Where an itemised mass is reduced to.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, schemars::JsonSchema)]
 #[serde(rename_all = "kebab-case")]
 pub enum MassAt {
     /// Moves with the slider.
@@ -88,7 +89,7 @@ pub enum MassAt {
 }
 
 /// `[[mechanism.mass_items]]`.
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct MassItemRaw {
     /// Label.
@@ -102,17 +103,19 @@ pub struct MassItemRaw {
 }
 
 /// `[mechanism.process_force_table]`.
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ForceTableRaw {
     /// Crank angles, increasing, within one turn.
+    #[schemars(length(max = MAX_TABLE_POINTS))]
     pub angle: Vec<Qty<Angle>>,
     /// Forces at those angles.
+    #[schemars(length(max = MAX_TABLE_POINTS))]
     pub force: Vec<Qty<Force>>,
 }
 
 /// How the rod's mass is modelled.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Default, schemars::JsonSchema)]
 #[serde(rename_all = "kebab-case")]
 pub enum Masses {
     /// Two point masses (rod split).
@@ -123,7 +126,7 @@ pub enum Masses {
 }
 
 /// `[model]`.
-#[derive(Debug, Deserialize, Default)]
+#[derive(Debug, Deserialize, Default, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ModelRaw {
     /// `exact` (default) or `two-harmonic`.
@@ -145,7 +148,7 @@ pub struct ModelRaw {
 }
 
 /// `[design]`: the counterweight.
-#[derive(Debug, Deserialize, Default)]
+#[derive(Debug, Deserialize, Default, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct DesignRaw {
     /// |U| = m r.
@@ -167,7 +170,7 @@ pub struct DesignRaw {
 
 /// `[design.paper]`: the paper's printed inputs and result of the classical formula (6),
 /// m_pr = (m_r + ½ m_s)·R / r_pr.
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct PaperDesignRaw {
     /// The paper's printed rotating mass m_r.
@@ -180,7 +183,7 @@ pub struct PaperDesignRaw {
 }
 
 /// `[design.shape]`: an annular-sector plate realising the counterweight's unbalance.
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ShapeRaw {
     /// Material density.
@@ -198,7 +201,7 @@ pub struct ShapeRaw {
 }
 
 /// What `objective.minimize` can name.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, schemars::JsonSchema)]
 #[serde(rename_all = "kebab-case")]
 pub enum Minimize {
     /// Peak |F|.
@@ -214,7 +217,7 @@ pub enum Minimize {
 }
 
 /// `[objective]`.
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ObjectiveRaw {
     /// What to minimise.
@@ -231,7 +234,7 @@ pub struct ObjectiveRaw {
 }
 
 /// `[objective.speed_sweep]`: the scene re-optimised at evenly spaced speeds.
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct SpeedSweepRaw {
     /// Lowest speed.

@@ -14,7 +14,9 @@
 use crate::geom::{cross, P2};
 
 /// How the slider's position is computed.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize, schemars::JsonSchema,
+)]
 #[serde(rename_all = "kebab-case")]
 pub enum Kinematics {
     /// x = R cos φ + sqrt(L² − (R sin φ − e)²), differentiated exactly.

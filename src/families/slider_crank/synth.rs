@@ -21,7 +21,9 @@ use crate::synth::Var;
 use std::collections::BTreeMap;
 
 /// What the synthesis minimises.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize, schemars::JsonSchema,
+)]
 #[serde(rename_all = "kebab-case")]
 pub enum Objective {
     /// The peak over φ of |F| (minimax, SOCP).
@@ -38,7 +40,17 @@ pub enum Objective {
 }
 
 /// How a free |U| is split into mass and radius when both are free.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize, Default)]
+#[derive(
+    Debug,
+    Clone,
+    Copy,
+    PartialEq,
+    Eq,
+    serde::Serialize,
+    serde::Deserialize,
+    Default,
+    schemars::JsonSchema,
+)]
 #[serde(rename_all = "kebab-case")]
 pub enum Prefer {
     /// The smallest radius the mass bound allows (the paper's aim: a compact machine).
