@@ -209,3 +209,159 @@ fn the_rms_optimum_of_the_piston_is_the_fifty_percent_rule() {
         assert!(((a - b) / b).abs() < tol, "{k}: {a} vs {b}");
     }
 }
+
+/// A four-bar text: crank 40 mm, coupler `coupler` mm, rocker 80 mm, the rocker's pivot
+/// 100 mm from the crank's at angle `alpha` (rad), with `extra` appended.
+fn four_bar(name: &str, coupler: f64, alpha: f64, extra: &str) -> String {
+    let (qx, qy) = (100.0 * alpha.cos(), 100.0 * alpha.sin());
+    format!(
+        r#"name = "{name}"
+family = "linkage"
+[mechanism]
+speed = "300 rpm"
+crank_length = "40 mm"
+[[mechanism.dyads]]
+kind = "RRR"
+links = ["coupler", "rocker"]
+p = "crank.tip"
+length1 = "{coupler} mm"
+q = ["{qx:.17e} mm", "{qy:.17e} mm"]
+length2 = "80 mm"
+branch = "left"
+[mechanism.links.crank]
+mass = "0.2 kg"
+uniform_bar = true
+[mechanism.links.coupler]
+mass = "0.6 kg"
+uniform_bar = true
+[mechanism.links.rocker]
+mass = "0.4 kg"
+uniform_bar = true
+{extra}"#
+    )
+}
+
+/// The peak of a 2π-periodic f: every local maximum of a 4096-point scan refined by a
+/// ternary search in its bracket (independent of the program's refinement).
+fn scan_peak(f: impl Fn(f64) -> f64) -> f64 {
+    let n = 4096;
+    let h = TAU / n as f64;
+    let v: Vec<f64> = (0..n).map(|k| f(h * k as f64)).collect();
+    let mut best = 0.0f64;
+    for k in 0..n {
+        if v[k] >= v[(k + n - 1) % n] && v[k] >= v[(k + 1) % n] {
+            let (mut a, mut b) = (h * (k as f64 - 1.0), h * (k as f64 + 1.0));
+            for _ in 0..80 {
+                let (m1, m2) = (a + (b - a) / 3.0, b - (b - a) / 3.0);
+                if f(m1) < f(m2) {
+                    a = m1;
+                } else {
+                    b = m2;
+                }
+            }
+            best = best.max(f(0.5 * (a + b))).max(v[k]);
+        }
+    }
+    best
+}
+
+/// A limit on the joint (bearing) loads is a cone constraint at every angle: the optimum
+/// meets it (certified), costs shaking force against the unlimited optimum, and each joint's
+/// reported peak is an independent scan of the Newton–Euler loads to within its error.
+#[test]
+fn a_joint_load_limit_is_met_and_the_loads_are_right() {
+    let cws = r#"[[design.counterweights]]
+link = "crank"
+mass = { min = "0 kg", max = "2 kg" }
+radius = "60 mm"
+[[design.counterweights]]
+link = "rocker"
+mass = { min = "0 kg", max = "2 kg" }
+radius = "60 mm"
+[objective]
+minimize = "peak-force"
+"#;
+    let path = Path::new("four-bar.toml");
+    let free = solve_scene(&parse_str(&four_bar("free", 120.0, 0.0, cws), path).unwrap());
+    let text = four_bar(
+        "limited",
+        120.0,
+        0.0,
+        &format!("{cws}max_joint_force = \"140 N\"\n"),
+    );
+    let scene = parse_str(&text, path).unwrap();
+    let r = solve_scene(&scene);
+    assert_eq!(
+        r.status,
+        Status::Optimal,
+        "{:?} {:?}",
+        r.status_detail,
+        r.warnings
+    );
+    // Unlimited: full force balance, with a 274 N bearing load; limited to 140 N: it costs
+    // shaking force.
+    assert!(num(&free, "objectives.peak_joint_force_n") > 200.0);
+    assert!(num(&free, "objectives.peak_shaking_force_n") < 1e-6);
+    let (jl, je) = (
+        num(&r, "objectives.peak_joint_force_n"),
+        num(&r, "errors.peak_joint_force_n"),
+    );
+    assert!(jl <= 140.0 * (1.0 + 1e-9) + je, "{jl} ± {je}");
+    assert!(num(&r, "objectives.peak_shaking_force_n") > 1.0);
+    // Every joint against an independent scan of the Newton–Euler loads at the design.
+    let p: &LinkageProblem = scene.machine().unwrap();
+    let out = ls::solve(&p.scene, &p.settings).unwrap();
+    let x = out.design.unwrap().x;
+    let peaks = ls::joint_peaks(&p.scene, &x, &p.settings).unwrap();
+    let l = &p.scene.linkage;
+    let params = ls::params_with(&p.scene, &x);
+    let joints = l.joints();
+    assert_eq!(peaks.len(), 4);
+    for (k, j) in joints.iter().enumerate() {
+        let brute = scan_peak(|th| {
+            let pose = l.pose(th).unwrap();
+            ls::joint_load(j.kind, l.reactions(&pose, &params).unwrap().loads[k])
+        });
+        let pk = peaks[k];
+        assert!(
+            (brute - pk.peak).abs() <= pk.error + 1e-12 * brute,
+            "joint {k}: {} vs scan {brute}, error {}",
+            pk.peak,
+            pk.error
+        );
+        assert!(
+            pk.error < 1e-6 * pk.peak,
+            "joint {k}: error {} of {}",
+            pk.error,
+            pk.peak
+        );
+    }
+}
+
+/// Near a change point (crank + coupler = rocker + frame, the coupler and rocker aligned
+/// twice a turn) the joint loads lose digits as the joint-force matrix's conditioning:
+/// the stated errors grow with it and still cover the difference between the machine and a
+/// rotated copy (the loads' magnitudes do not depend on the frame's orientation).
+#[test]
+fn joint_load_errors_cover_a_rotated_copy_near_a_toggle() {
+    let path = Path::new("four-bar.toml");
+    let extra = "[objective]\nminimize = \"peak-force\"\n";
+    for coupler in [120.0, 139.9, 139.999] {
+        let peaks = |alpha: f64| {
+            let s = parse_str(&four_bar("t", coupler, alpha, extra), path).unwrap();
+            let p: &LinkageProblem = s.machine().unwrap();
+            ls::joint_peaks(&p.scene, &[], &p.settings).unwrap()
+        };
+        let (a, b) = (peaks(0.0), peaks(0.7));
+        for (k, (a, b)) in a.iter().zip(&b).enumerate() {
+            assert!(
+                (a.peak - b.peak).abs() <= a.error + b.error,
+                "coupler {coupler} joint {k}: {} vs {}, errors {} {}",
+                a.peak,
+                b.peak,
+                a.error,
+                b.error
+            );
+        }
+    }
+}

@@ -210,6 +210,9 @@ pub struct ObjectiveRaw {
     pub max_peak_moment: Option<Qty<Torque>>,
     /// Limit on the peak input torque.
     pub max_peak_torque: Option<Qty<Torque>>,
+    /// Limit on every joint's peak load (a bearing's rating): |R| of a pin, the normal force
+    /// of a slide.
+    pub max_joint_force: Option<Qty<Force>>,
     /// `true`: the total centre of mass stationary (shaking force 0 at every angle).
     #[serde(default)]
     pub full_force_balance: bool,
@@ -321,6 +324,8 @@ pub struct Objective {
     pub max_peak_moment: Option<f64>,
     /// Limit on the peak |T| (N·m).
     pub max_peak_torque: Option<f64>,
+    /// Limit on every joint's peak load (N).
+    pub max_joint_force: Option<f64>,
     /// Full force balance asked for.
     pub full_force_balance: bool,
     /// Pareto points (0 none).
@@ -677,6 +682,7 @@ fn objective(o: &ObjectiveRaw, cws: &[CounterweightSpec]) -> Result<Objective, F
         max_peak_force: lim("max_peak_force", o.max_peak_force.map(Qty::si))?,
         max_peak_moment: lim("max_peak_moment", o.max_peak_moment.map(Qty::si))?,
         max_peak_torque: lim("max_peak_torque", o.max_peak_torque.map(Qty::si))?,
+        max_joint_force: lim("max_joint_force", o.max_joint_force.map(Qty::si))?,
         full_force_balance: o.full_force_balance,
         pareto_points: o.pareto_points as usize,
     };
@@ -693,6 +699,12 @@ fn objective(o: &ObjectiveRaw, cws: &[CounterweightSpec]) -> Result<Objective, F
             "the front is peak force against peak moment; allowed with minimize = \"peak-force\" or \"peak-moment\"",
         ));
     }
+    if cws.is_empty() && obj.max_joint_force.is_some() {
+        return Err(FieldError::new(
+            "objective.max_joint_force",
+            "a limit on the joint loads needs something to change them; allowed: with at least one [[design.counterweights]] (the bare linkage's joint loads are reported anyway)",
+        ));
+    }
     if cws.is_empty() && (obj.pareto_points > 0 || obj.full_force_balance) {
         return Err(FieldError::new(
             "design.counterweights",
@@ -703,11 +715,12 @@ fn objective(o: &ObjectiveRaw, cws: &[CounterweightSpec]) -> Result<Objective, F
         && obj.max_peak_force.is_none()
         && obj.max_peak_moment.is_none()
         && obj.max_peak_torque.is_none()
+        && obj.max_joint_force.is_none()
         && !obj.full_force_balance
     {
         return Err(FieldError::new(
             "objective.minimize",
-            "the lightest counterweights with no limit are none at all (a degenerate problem); allowed: with max_peak_force, max_peak_moment, max_peak_torque or full_force_balance",
+            "the lightest counterweights with no limit are none at all (a degenerate problem); allowed: with max_peak_force, max_peak_moment, max_peak_torque, max_joint_force or full_force_balance",
         ));
     }
     Ok(obj)

@@ -1095,6 +1095,42 @@ impl Linkage {
         })
     }
 
+    /// [`Linkage::reactions`] with a bound on the round-off of every load and of T: the
+    /// computed x = K⁻¹b (K the joint-force matrix, b = −Σ W_i p_i) differs from the exact one
+    /// by at most ‖δx‖ ≤ (1/σ_min(K))·(ρ Σ_i ‖W_i‖_F ‖p_i‖ + (ρ + 8 n ε) ‖K‖₂ ‖x‖), the
+    /// first-order perturbation bound of a linear system with the wrench and the lever arms
+    /// known to ρ ([`BalanceMap::rho`], which covers the pose's accelerations near a toggle)
+    /// and a backward-stable LU of size n. It grows like the conditioning of K, which is
+    /// singular only at a toggle.
+    pub fn reactions_with_error(
+        &self,
+        pose: &Pose,
+        params: &[Params],
+    ) -> Result<(Reactions, f64), LinkageError> {
+        let r = self.reactions(pose, params)?;
+        let (k, w) = self.reaction_system(pose);
+        let sv = k.singular_values();
+        let (smin, smax) = (sv.min(), sv.max());
+        if !(smin > 0.0) {
+            return Err(LinkageError::SingularReactions { theta: pose.theta });
+        }
+        let rho = 64.0 * f64::EPSILON * pose.amp();
+        let wp: f64 = w
+            .iter()
+            .zip(params)
+            .map(|(wi, p)| wi.norm() * p.norm())
+            .sum();
+        let x = r
+            .loads
+            .iter()
+            .map(|l| l[0] * l[0] + l[1] * l[1])
+            .sum::<f64>()
+            + r.torque * r.torque;
+        let n = k.ncols() as f64;
+        let bound = (rho * wp + (rho + 8.0 * n * f64::EPSILON) * smax * x.sqrt()) / smin;
+        Ok((r, bound))
+    }
+
     /// The joint reactions as a linear map of the parameters ([`ReactionMap`]): one LU of the
     /// joint-force matrix, solved for the 4 unit parameters of every link.
     pub fn reaction_map(&self, pose: &Pose) -> Result<ReactionMap, LinkageError> {

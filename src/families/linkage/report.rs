@@ -6,7 +6,7 @@
 use super::file::{tip_of, Goal, LinkageProblem, LinkageScene};
 use super::synth::{self as ls, Outcome, FORCE, MOMENT, TORQUE};
 use crate::families::family::{cw_status, Scene};
-use crate::families::linkage::model::{Linkage, Point};
+use crate::families::linkage::model::{JointKind, Linkage, Point};
 use crate::geom::P2;
 use crate::report::plot::{self, Panel, Series};
 use crate::report::{Deferred, Plot, SolveResult, Status, Table};
@@ -135,14 +135,144 @@ pub fn result(scene: &Scene, p: &LinkageProblem) -> SolveResult {
             );
             r.method = "closed-form dyads; every peak refined from a scan".into();
         }
+        (Some(sol), None) if sol.status == CwStatus::Infeasible => {
+            // No design: the limits cannot be met (a certificate on the sampled angles).
+            r.status = Status::Infeasible;
+            r.status_detail = Some(sol.note.clone().unwrap_or_else(|| {
+                "no design meets the limits within the counterweight limits".into()
+            }));
+            put_fields(
+                &mut r.objectives,
+                Some(&mut r.errors),
+                &out.bare,
+                &out.bare_rms,
+            );
+            r.method = format!(
+                "clarabel SOCP + exchange loop: infeasible on {} sampled angles, so on all angles",
+                sol.angles
+            );
+        }
         (Some(sol), None) => design_keys(&mut r, p, &out, sol, key),
     }
     if let Some(front) = &out.pareto {
         pareto_keys(&mut r, front);
     }
-    berkof_lowen(&mut r, p, out.design.as_ref());
+    berkof_lowen(
+        &mut r,
+        p,
+        out.design
+            .as_ref()
+            .filter(|s| s.x.iter().all(|v| v.is_finite())),
+    );
+    joints(&mut r, p, &out);
     curves(&mut r, scene, p, &out);
     r
+}
+
+/// The bearing loads: every joint's peak load over the cycle without and with the
+/// counterweights (`joints` in the JSON, `<name>-joints.csv`), and the largest of them as
+/// `peak_joint_force_n` in the objectives and the unbalanced baseline.
+fn joints(r: &mut SolveResult, p: &LinkageProblem, out: &Outcome) {
+    let sc = &p.scene;
+    let joints = sc.linkage.joints();
+    let zeros = vec![0.0; crate::synth::minimax::PER_COUNTERWEIGHT * sc.counterweights.len()];
+    let bare = match ls::joint_peaks(sc, &zeros, &p.settings) {
+        Ok(b) => b,
+        Err(e) => {
+            r.warnings.push(format!("joint loads not computed: {e}"));
+            return;
+        }
+    };
+    let design = match out
+        .design
+        .as_ref()
+        .filter(|s| s.x.iter().all(|v| v.is_finite()))
+    {
+        Some(sol) => match ls::joint_peaks(sc, &sol.x, &p.settings) {
+            Ok(d) => Some(d),
+            Err(e) => {
+                r.warnings
+                    .push(format!("joint loads of the design not computed: {e}"));
+                None
+            }
+        },
+        None => None,
+    };
+    // The largest of several peaks is off by at most the largest of their errors.
+    let worst = |v: &[ls::JointPeak]| {
+        (
+            v.iter().map(|j| j.peak).fold(0.0, f64::max),
+            v.iter().map(|j| j.error).fold(0.0, f64::max),
+        )
+    };
+    if let Some(b) = r.baselines.get_mut("unbalanced") {
+        b.insert("peak_joint_force_n".into(), worst(&bare).0);
+    }
+    // The figure of the result: the design's, or the bare linkage's for an analysis.
+    if !r.objectives.is_empty() {
+        let (w, e) = worst(design.as_deref().unwrap_or(&bare));
+        r.objectives.insert("peak_joint_force_n".into(), w);
+        r.errors.insert("peak_joint_force_n".into(), e);
+    }
+    let mut csv = String::from(
+        "joint,kind,unbalanced_peak_n,unbalanced_error_n,unbalanced_angle_rad,peak_n,error_n,angle_rad\n",
+    );
+    let mut rows = Vec::new();
+    for (k, j) in joints.iter().enumerate() {
+        let label = ls::joint_label(j, &sc.link_names);
+        let kind = match j.kind {
+            JointKind::Revolute => "revolute",
+            JointKind::Prismatic => "prismatic",
+        };
+        let b = bare[k];
+        let d = design.as_ref().map(|d| d[k]);
+        let cell = |v: Option<f64>, f: fn(f64) -> String| v.map_or(String::new(), f);
+        csv += &format!(
+            "{label},{kind},{:.12e},{:.3e},{:.12e},{},{},{}\n",
+            b.peak,
+            b.error,
+            b.angle,
+            cell(d.map(|d| d.peak), |v| format!("{v:.12e}")),
+            cell(d.map(|d| d.error), |v| format!("{v:.3e}")),
+            cell(d.map(|d| d.angle), |v| format!("{v:.12e}")),
+        );
+        let mut row = json!({
+            "joint": label,
+            "kind": kind,
+            "unbalanced_peak_n": b.peak,
+            "unbalanced_peak_error_n": b.error,
+            "unbalanced_angle_rad": b.angle,
+        });
+        if let Some(d) = d {
+            row["peak_n"] = json!(d.peak);
+            row["peak_error_n"] = json!(d.error);
+            row["angle_rad"] = json!(d.angle);
+            if let Some(lim) = sc.objective.max_joint_force {
+                if d.peak > lim * (1.0 + p.settings.rel_tol) + d.error {
+                    r.warnings.push(format!(
+                        "joint {label} peak load {:.6e} N exceeds its limit {lim:.6e} N",
+                        d.peak
+                    ));
+                }
+            }
+        }
+        rows.push(row);
+    }
+    r.extra.insert(
+        "joints".into(),
+        json!({
+            "load": "peak over the cycle of |R| (a pin) or of the force normal to the slide (a slide), Newton–Euler",
+            "limit_n": sc.objective.max_joint_force,
+            "joints": rows,
+            "csv": format!("{}-joints.csv", r.name),
+        }),
+    );
+    r.tables.push(Table {
+        suffix: "joints".into(),
+        caption: "Joint (bearing) loads: peak over the cycle without and with the counterweights"
+            .into(),
+        csv,
+    });
 }
 
 /// Design, objectives, errors and solver facts of a solved design.

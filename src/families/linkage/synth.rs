@@ -11,14 +11,17 @@
 //! side); when the counterweights cannot supply it, the least-squares residual says by how much.
 
 use crate::families::linkage::file::{CounterweightSpec, Goal, LinkageScene};
-use crate::families::linkage::model::Params;
+use crate::families::linkage::model::{Body, Joint, JointKind, Params, ReactionMap};
+use crate::numeric::{periodic_peak_sampled, Refine};
 use crate::synth::minimax::{
     self as mm, AffineValue, CounterweightLimits, Engine, FnField, LinearConstraint, Problem,
     Relation, Settings, Solution,
 };
 use crate::synth::Var;
 use nalgebra::{DMatrix, DVector};
+use std::collections::HashMap;
 use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::Arc;
 use std::sync::Mutex;
 
 /// Field indices of the problem: shaking force (2-D), shaking moment about O, input torque.
@@ -27,6 +30,8 @@ pub const FORCE: usize = 0;
 pub const MOMENT: usize = 1;
 /// See [`FORCE`].
 pub const TORQUE: usize = 2;
+/// The first joint's field, with `objective.max_joint_force` (joint k is `JOINT0 + k`).
+pub const JOINT0: usize = 3;
 
 /// Uniform crank angles whose force equations define full force balance.
 pub const BALANCE_ANGLES: usize = 64;
@@ -45,6 +50,9 @@ pub enum LinkageSolveError {
     /// the file's check missed).
     #[error("the linkage does not assemble at crank angle {0:.6}° (dyad {1})")]
     NoAssembly(f64, usize),
+    /// The joint-force equations are singular at this crank angle (°): a toggle.
+    #[error("the joint-force equations are singular at crank angle {0:.6}° (a toggle: the joint loads are unbounded there)")]
+    SingularReactions(f64),
 }
 
 /// The three fields of a scene, with the first assembly failure met while evaluating them and
@@ -54,6 +62,10 @@ pub struct SceneFields<'s> {
     failure: Mutex<Option<(f64, usize)>>,
     /// max κ ≥ 1 as f64 bits (positive floats order as their bits).
     kappa: AtomicU64,
+    /// The joints ([`crate::families::linkage::model::Linkage::joints`]).
+    joints: Vec<Joint>,
+    /// Reaction maps by θ's bits: every joint field at an angle shares one.
+    reaction_maps: Mutex<HashMap<u64, Arc<ReactionMap>>>,
 }
 
 impl<'s> SceneFields<'s> {
@@ -63,11 +75,75 @@ impl<'s> SceneFields<'s> {
             scene,
             failure: Mutex::new(None),
             kappa: AtomicU64::new(1f64.to_bits()),
+            joints: scene.linkage.joints(),
+            reaction_maps: Mutex::new(HashMap::new()),
+        }
+    }
+
+    /// The reaction map at θ (computed once per angle), or `None` where the linkage does
+    /// not assemble or the joint-force equations are singular (recorded as a failure).
+    fn reaction_map(&self, theta: f64) -> Option<Arc<ReactionMap>> {
+        if let Some(m) = self
+            .reaction_maps
+            .lock()
+            .expect("no panic holds it")
+            .get(&theta.to_bits())
+        {
+            return Some(m.clone());
+        }
+        let l = &self.scene.linkage;
+        let map = match l.pose(theta) {
+            Ok(pose) => l.reaction_map(&pose).ok(),
+            Err(e) => {
+                self.failure
+                    .lock()
+                    .expect("no panic holds it")
+                    .get_or_insert((theta, e.dyad));
+                None
+            }
+        };
+        let Some(map) = map else {
+            self.failure
+                .lock()
+                .expect("no panic holds it")
+                .get_or_insert((theta, usize::MAX));
+            return None;
+        };
+        let map = Arc::new(map);
+        self.reaction_maps
+            .lock()
+            .expect("no panic holds it")
+            .insert(theta.to_bits(), map.clone());
+        Some(map)
+    }
+
+    /// Fills `out` with joint k's load at θ: (R_x, R_y) of a revolute joint, (N, 0) of a
+    /// prismatic one, affine in the counterweights through the reaction map's blocks.
+    fn eval_joint(&self, k: usize, theta: f64, out: &mut AffineValue) {
+        let Some(map) = self.reaction_map(theta) else {
+            return; // zeros: the solve is reported failed
+        };
+        let rows: &[usize] = match self.joints[k].kind {
+            JointKind::Revolute => &[2 * k, 2 * k + 1],
+            JointKind::Prismatic => &[2 * k],
+        };
+        let n = out.n();
+        for (r, &row) in rows.iter().enumerate() {
+            out.b[r] = map.base[row];
+            for (j, cw) in self.scene.counterweights.iter().enumerate() {
+                let blk = &map.blocks[cw.link];
+                for c in 0..4 {
+                    out.a[r * n + mm::var_m(j) + c] = blk[(row, c)];
+                }
+            }
         }
     }
 
     /// Fills `out` with field `which` at θ: b the bare linkage, A the counterweights' blocks.
     fn eval(&self, which: usize, theta: f64, out: &mut AffineValue) {
+        if which >= JOINT0 {
+            return self.eval_joint(which - JOINT0, theta, out);
+        }
         let l = &self.scene.linkage;
         let pose = match l.pose(theta) {
             Ok(p) => p,
@@ -116,6 +192,11 @@ impl<'s> SceneFields<'s> {
         let Ok(pose) = l.pose(theta) else {
             return f64::INFINITY;
         };
+        if which >= JOINT0 {
+            return l
+                .reactions_with_error(&pose, &params_with(self.scene, x))
+                .map_or(f64::INFINITY, |(_, e)| e);
+        }
         let map = l.balance_map(&pose, self.scene.moment_about);
         let extra = extras(&self.scene.counterweights, x);
         let (ef, em, et) = map.error(&l.params(), &extra);
@@ -142,6 +223,107 @@ pub fn extras(cws: &[CounterweightSpec], x: &[f64]) -> Vec<(usize, Params)> {
             (cw.link, Params::new(x[b], x[b + 1], x[b + 2], x[b + 3]))
         })
         .collect()
+}
+
+/// A joint's name: the two bodies it joins (`frame–crank`, `crank–coupler`).
+pub fn joint_label(j: &Joint, names: &[String]) -> String {
+    let first = match j.first {
+        Body::Frame => "frame",
+        Body::Link(i) => names[i].as_str(),
+    };
+    format!("{first}–{}", names[j.second])
+}
+
+/// The links' parameters with the counterweights of x added.
+pub fn params_with(scene: &LinkageScene, x: &[f64]) -> Vec<Params> {
+    let mut p = scene.linkage.params();
+    if x.len() >= mm::PER_COUNTERWEIGHT * scene.counterweights.len() {
+        for (link, q) in extras(&scene.counterweights, x) {
+            p[link] += q;
+        }
+    }
+    p
+}
+
+/// A joint's load magnitude: |R| of a revolute joint, |N| (the force normal to the slide)
+/// of a prismatic one (N).
+pub fn joint_load(kind: JointKind, load: [f64; 2]) -> f64 {
+    match kind {
+        JointKind::Revolute => load[0].hypot(load[1]),
+        JointKind::Prismatic => load[0].abs(),
+    }
+}
+
+/// One joint's peak load over the cycle: a bearing's design load.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct JointPeak {
+    /// The peak load (N).
+    pub peak: f64,
+    /// The crank angle of the peak (rad).
+    pub angle: f64,
+    /// Bound on |true peak − `peak`| (N): the refinement's bound plus the largest
+    /// Newton–Euler round-off bound at the refined maxima
+    /// ([`crate::families::linkage::model::Linkage::reactions_with_error`]).
+    pub error: f64,
+}
+
+/// The peak load of every joint ([`crate::families::linkage::model::Linkage::joints`]) at
+/// design x (all zeros: the bare linkage): the Newton–Euler loads on `scan_samples` angles,
+/// every local maximum that can be the peak refined to `peak_xtol`.
+pub fn joint_peaks(
+    scene: &LinkageScene,
+    x: &[f64],
+    s: &Settings,
+) -> Result<Vec<JointPeak>, LinkageSolveError> {
+    let l = &scene.linkage;
+    let joints = l.joints();
+    let p = params_with(scene, x);
+    let loads = |theta: f64| -> Result<Vec<f64>, LinkageSolveError> {
+        let pose = l
+            .pose(theta)
+            .map_err(|e| LinkageSolveError::NoAssembly(theta.to_degrees(), e.dyad))?;
+        let r = l
+            .reactions(&pose, &p)
+            .map_err(|_| LinkageSolveError::SingularReactions(theta.to_degrees()))?;
+        Ok(joints
+            .iter()
+            .zip(&r.loads)
+            .map(|(j, ld)| joint_load(j.kind, *ld))
+            .collect())
+    };
+    let n = s.scan_samples;
+    let h = std::f64::consts::TAU / n as f64;
+    let mut ys = vec![Vec::with_capacity(n); joints.len()];
+    for theta in (0..n).map(|k| k as f64 * h) {
+        for (y, v) in ys.iter_mut().zip(loads(theta)?) {
+            y.push(v);
+        }
+    }
+    let mut out = Vec::with_capacity(joints.len());
+    for (k, y) in ys.iter().enumerate() {
+        let f = |theta: f64| loads(theta).map_or(f64::NAN, |v| v[k]);
+        let pk = periodic_peak_sampled(y, f, Some(s.peak_xtol), Refine::PeakOnly)
+            .map_err(|_| LinkageSolveError::SingularReactions(f64::NAN))?;
+        let mut roundoff: f64 = 0.0;
+        for m in &pk.maxima {
+            let pose = l
+                .pose(m.x)
+                .map_err(|e| LinkageSolveError::NoAssembly(m.x.to_degrees(), e.dyad))?;
+            let (_, e) = l
+                .reactions_with_error(&pose, &p)
+                .map_err(|_| LinkageSolveError::SingularReactions(m.x.to_degrees()))?;
+            roundoff = roundoff.max(e);
+        }
+        if !pk.peak.fx.is_finite() {
+            return Err(LinkageSolveError::SingularReactions(pk.peak.x.to_degrees()));
+        }
+        out.push(JointPeak {
+            peak: pk.peak.fx,
+            angle: pk.peak.x,
+            error: pk.error + roundoff,
+        });
+    }
+    Ok(out)
 }
 
 /// The engine's limits of one counterweight: mass up to its maximum, the body within
@@ -260,6 +442,23 @@ pub fn field_objects<'a>(
     )
 }
 
+/// The engine fields of the joint loads (field `JOINT0 + k` is joint k; dimension 2, a
+/// prismatic joint's second row 0).
+pub fn joint_field_objects<'a>(fields: &'a SceneFields<'a>) -> Vec<FnField<Eval<'a>, Err<'a>>> {
+    (0..fields.joints.len())
+        .map(|k| {
+            let which = JOINT0 + k;
+            let e: Eval<'a> = Box::new(move |th, out| fields.eval(which, th, out));
+            let r: Err<'a> = Box::new(move |th, x| fields.error(which, th, x));
+            let name = format!(
+                "load of joint {}",
+                joint_label(&fields.joints[k], &fields.scene.link_names)
+            );
+            FnField::new(name, 2, e).with_error(r)
+        })
+        .collect()
+}
+
 /// The engine goal of the file's objective.
 pub fn goal(g: Goal) -> mm::Goal {
     match g {
@@ -300,6 +499,12 @@ pub struct Outcome {
 pub fn solve(scene: &LinkageScene, settings: &Settings) -> Result<Outcome, LinkageSolveError> {
     let fields = SceneFields::new(scene);
     let (f, m, t) = field_objects(&fields);
+    // The joint loads enter the engine only as a limit (each a field scanned over the cycle).
+    let joint_fields = if scene.objective.max_joint_force.is_some() {
+        joint_field_objects(&fields)
+    } else {
+        Vec::new()
+    };
     let cws = &scene.counterweights;
     let n_cw = mm::PER_COUNTERWEIGHT * cws.len();
     let o = &scene.objective;
@@ -321,10 +526,13 @@ pub fn solve(scene: &LinkageScene, settings: &Settings) -> Result<Outcome, Linka
         (TORQUE, o.max_peak_torque),
     ]
     .into_iter()
+    .chain((0..joint_fields.len()).map(|k| (JOINT0 + k, o.max_joint_force)))
     .filter_map(|(k, v)| v.map(|v| (k, v)))
     .collect();
+    let mut field_refs: Vec<&dyn mm::AffineField> = vec![&f, &m, &t];
+    field_refs.extend(joint_fields.iter().map(|j| j as &dyn mm::AffineField));
     let pb = Problem {
-        fields: vec![&f, &m, &t],
+        fields: field_refs,
         counterweights: cws.iter().map(limits_of).collect(),
         // An analysis has no design variable: one fixed at 0 keeps the engine's problem whole.
         extra: if cws.is_empty() {
