@@ -106,25 +106,7 @@ fn the_socp_optimum_is_not_beaten_by_a_brute_force_grid() {
                 .force
                 .norm()
         };
-        let n = 4096;
-        let h = TAU / n as f64;
-        let v: Vec<f64> = (0..n).map(|k| f(h * k as f64)).collect();
-        let mut best = 0.0f64;
-        for k in 0..n {
-            if v[k] >= v[(k + n - 1) % n] && v[k] >= v[(k + 1) % n] {
-                let (mut a, mut b) = (h * (k as f64 - 1.0), h * (k as f64 + 1.0));
-                for _ in 0..80 {
-                    let (m1, m2) = (a + (b - a) / 3.0, b - (b - a) / 3.0);
-                    if f(m1) < f(m2) {
-                        a = m1;
-                    } else {
-                        b = m2;
-                    }
-                }
-                best = best.max(f(0.5 * (a + b))).max(v[k]);
-            }
-        }
-        best
+        scan_peak(f)
     };
     let mut best = f64::INFINITY;
     let h = 2e-4;
