@@ -6,7 +6,15 @@
 //! equal axes, a Pareto front, a jib-head path) — and [`heat_map`] — a scalar field on a
 //! regular grid with overlaid curves and markers (Δh over (k1, k2), C4 over (λ, θ)). A
 //! batch's summary adds [`bars`], a histogram of counted bins.
+//!
+//! Every document is drawn at [`S`] times its nominal size and given its nominal `width` and
+//! `height` with the drawing's `viewBox`: plotters writes whole-number coordinates, so this
+//! gives curves 1/S-pixel resolution instead of whole-pixel steps. Tick labels are the
+//! shortest decimal of the value (`600`, not `600.0`; never `-0`); a legend goes to the
+//! corner with the fewest data points under it; an equal-aspect panel has the same length per
+//! pixel on both axes (a circle is round); a heat map has a colour bar.
 
+use plotters::coord::types::RangedCoordf64;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
@@ -75,6 +83,124 @@ pub struct Panel {
     pub equal_aspect: bool,
 }
 
+/// The drawing scale (see the module doc).
+pub const S: u32 = 4;
+
+/// `v` nominal pixels at the drawing scale.
+fn px(v: u32) -> u32 {
+    v * S
+}
+
+/// `v` nominal pixels at the drawing scale, signed.
+fn pxi(v: i32) -> i32 {
+    v * S as i32
+}
+
+/// A font of `size` nominal pixels.
+fn font(size: u32) -> (&'static str, u32) {
+    ("sans-serif", px(size))
+}
+
+/// The document drawn at S× as one of nominal size `w`×`h` (its `viewBox` unchanged).
+fn finish(buf: String, w: u32, h: u32) -> String {
+    let from = format!("<svg width=\"{}\" height=\"{}\"", px(w), px(h));
+    buf.replacen(&from, &format!("<svg width=\"{w}\" height=\"{h}\""), 1)
+}
+
+/// [`tick`] on an axis spanning `span`: a value within 1e-9·span of 0 is 0 (a tick computed
+/// as 0.1 + 0.2 − 0.3 is not written 5.55e-17).
+fn tick_on(v: f64, span: f64) -> String {
+    tick(&if v.abs() <= 1e-9 * span.abs() { 0.0 } else { v })
+}
+
+/// A tick label: the value with at most 6 significant digits, trailing zeros dropped
+/// (`600`, `0.25`, `1.5e-7`), and no `-0`.
+pub fn tick(v: &f64) -> String {
+    let v = *v;
+    if v == 0.0 || !v.is_finite() {
+        return if v.is_finite() {
+            "0".into()
+        } else {
+            v.to_string()
+        };
+    }
+    let a = v.abs();
+    let s = if (1e-4..1e6).contains(&a) {
+        // Six significant digits in fixed notation, then trimmed.
+        let decimals = (5 - a.log10().floor() as i32).clamp(0, 10) as usize;
+        let t = format!("{v:.decimals$}");
+        let t = if t.contains('.') {
+            t.trim_end_matches('0').trim_end_matches('.').to_string()
+        } else {
+            t
+        };
+        t
+    } else {
+        let t = format!("{v:.5e}");
+        let (m, e) = t.split_once('e').unwrap_or((&t, "0"));
+        let m = if m.contains('.') {
+            m.trim_end_matches('0').trim_end_matches('.')
+        } else {
+            m
+        };
+        format!("{m}e{e}")
+    };
+    if s == "-0" {
+        "0".into()
+    } else {
+        s
+    }
+}
+
+/// The corner for a legend of `n` entries over data in `x`×`y` (plot area `w`×`h` pixels):
+/// the one whose legend box covers the fewest points (upper right on a tie).
+fn legend_corner(
+    series: &[Series],
+    x: (f64, f64),
+    y: (f64, f64),
+    w: u32,
+    h: u32,
+) -> SeriesLabelPosition {
+    let longest = series
+        .iter()
+        .map(|s| s.name.chars().count())
+        .max()
+        .unwrap_or(0) as f64;
+    // The box: 40 px + 7 px per character wide, 18 px per entry + 10 tall (nominal).
+    let bw = ((40.0 + 7.0 * longest) * S as f64 / w.max(1) as f64).min(1.0);
+    let bh = ((10.0 + 18.0 * series.len() as f64) * S as f64 / h.max(1) as f64).min(1.0);
+    let corners = [
+        (
+            SeriesLabelPosition::UpperRight,
+            (1.0 - bw, 1.0),
+            (1.0 - bh, 1.0),
+        ),
+        (SeriesLabelPosition::UpperLeft, (0.0, bw), (1.0 - bh, 1.0)),
+        (SeriesLabelPosition::LowerRight, (1.0 - bw, 1.0), (0.0, bh)),
+        (SeriesLabelPosition::LowerLeft, (0.0, bw), (0.0, bh)),
+    ];
+    let count = |(fx, fy): ((f64, f64), (f64, f64))| {
+        series
+            .iter()
+            .flat_map(|s| s.points.iter())
+            .filter(|p| p.0.is_finite() && p.1.is_finite())
+            .filter(|p| {
+                let u = (p.0 - x.0) / (x.1 - x.0);
+                let v = (p.1 - y.0) / (y.1 - y.0);
+                u >= fx.0 && u <= fx.1 && v >= fy.0 && v <= fy.1
+            })
+            .count()
+    };
+    let mut best = (usize::MAX, SeriesLabelPosition::UpperRight);
+    for (pos, fx, fy) in corners {
+        let c = count((fx, fy));
+        if c < best.0 {
+            best = (c, pos);
+        }
+    }
+    best.1
+}
+
 const PALETTE: [RGBColor; 8] = [
     RGBColor(31, 119, 180),
     RGBColor(214, 39, 40),
@@ -120,20 +246,63 @@ fn bounds(series: &[Series], equal: bool) -> ((f64, f64), (f64, f64)) {
     (xr, yr)
 }
 
+/// The chart of a panel on `area` with data ranges `x`×`y`.
+fn chart_on<'a, 'b>(
+    area: &'a DrawingArea<SVGBackend<'b>, Shift>,
+    p: &Panel,
+    x: (f64, f64),
+    y: (f64, f64),
+) -> Result<ChartContext<'a, SVGBackend<'b>, Cartesian2d<RangedCoordf64, RangedCoordf64>>, String> {
+    ChartBuilder::on(area)
+        .caption(&p.title, font(20))
+        .margin(px(12))
+        .x_label_area_size(px(44))
+        .y_label_area_size(px(74))
+        .build_cartesian_2d(x.0..x.1, y.0..y.1)
+        .map_err(|e| e.to_string())
+}
+
+/// Widens the shorter-scaled range so that both axes have the same length per pixel on a
+/// plotting area of `w`×`h` pixels (a circle drawn round).
+fn equal_scale(x: (f64, f64), y: (f64, f64), w: u32, h: u32) -> ((f64, f64), (f64, f64)) {
+    let (w, h) = (w.max(1) as f64, h.max(1) as f64);
+    let (sx, sy) = ((x.1 - x.0) / w, (y.1 - y.0) / h);
+    let s = sx.max(sy);
+    let widen = |r: (f64, f64), n: f64| {
+        let c = 0.5 * (r.0 + r.1);
+        (c - 0.5 * s * n, c + 0.5 * s * n)
+    };
+    (widen(x, w), widen(y, h))
+}
+
 fn draw_panel(area: &DrawingArea<SVGBackend, Shift>, p: &Panel) -> Result<(), String> {
-    let ((x0, x1), (y0, y1)) = bounds(&p.series, p.equal_aspect);
-    let mut chart = ChartBuilder::on(area)
-        .caption(&p.title, ("sans-serif", 18))
-        .margin(12)
-        .x_label_area_size(40)
-        .y_label_area_size(70)
-        .build_cartesian_2d(x0..x1, y0..y1)
-        .map_err(|e| e.to_string())?;
+    let ((mut x0, mut x1), (mut y0, mut y1)) = bounds(&p.series, p.equal_aspect);
+    // The plotting area's size in pixels, from a chart on a scratch document of the same size.
+    let (pw, ph) = {
+        let (w, h) = area.dim_in_pixel();
+        let mut scratch = String::new();
+        let root = SVGBackend::with_string(&mut scratch, (w, h)).into_drawing_area();
+        let c = chart_on(&root, p, (x0, x1), (y0, y1))?;
+        c.plotting_area().dim_in_pixel()
+    };
+    if p.equal_aspect {
+        ((x0, x1), (y0, y1)) = equal_scale((x0, x1), (y0, y1), pw, ph);
+    }
+    let mut chart = chart_on(area, p, (x0, x1), (y0, y1))?;
+    let xt = |v: &f64| tick_on(*v, x1 - x0);
+    let yt = |v: &f64| tick_on(*v, y1 - y0);
     chart
         .configure_mesh()
         .x_desc(&p.x_label)
         .y_desc(&p.y_label)
-        .light_line_style(RGBColor(235, 235, 235))
+        .x_label_formatter(&xt)
+        .y_label_formatter(&yt)
+        .label_style(font(13))
+        .axis_desc_style(font(14))
+        .bold_line_style(RGBColor(215, 215, 215).stroke_width(S / 2))
+        .light_line_style(RGBColor(240, 240, 240).stroke_width(S / 4))
+        .axis_style(RGBColor(90, 90, 90).stroke_width(S / 2))
+        .set_all_tick_mark_size(px(4))
         .draw()
         .map_err(|e| e.to_string())?;
     for (i, s) in p.series.iter().enumerate() {
@@ -147,11 +316,11 @@ fn draw_panel(area: &DrawingArea<SVGBackend, Shift>, p: &Panel) -> Result<(), St
                         continue;
                     }
                     let a = chart
-                        .draw_series(LineSeries::new(seg.iter().copied(), c.stroke_width(2)))
+                        .draw_series(LineSeries::new(seg.iter().copied(), c.stroke_width(px(2))))
                         .map_err(|e| e.to_string())?;
                     if first {
                         a.label(s.name.clone()).legend(move |(x, y)| {
-                            PathElement::new(vec![(x, y), (x + 18, y)], c.stroke_width(2))
+                            PathElement::new(vec![(x, y), (x + pxi(18), y)], c.stroke_width(px(2)))
                         });
                         first = false;
                     }
@@ -163,11 +332,11 @@ fn draw_panel(area: &DrawingArea<SVGBackend, Shift>, p: &Panel) -> Result<(), St
                         s.points
                             .iter()
                             .filter(|q| q.0.is_finite() && q.1.is_finite())
-                            .map(|&q| Circle::new(q, 2, c.filled())),
+                            .map(|&q| Circle::new(q, px(2), c.filled())),
                     )
                     .map_err(|e| e.to_string())?
                     .label(s.name.clone())
-                    .legend(move |(x, y)| Circle::new((x + 9, y), 3, c.filled()));
+                    .legend(move |(x, y)| Circle::new((x + pxi(9), y), px(3), c.filled()));
             }
             Style::Marker => {
                 chart
@@ -175,19 +344,25 @@ fn draw_panel(area: &DrawingArea<SVGBackend, Shift>, p: &Panel) -> Result<(), St
                         s.points
                             .iter()
                             .filter(|q| q.0.is_finite() && q.1.is_finite())
-                            .map(|&q| Cross::new(q, 7, c.stroke_width(3))),
+                            .map(|&q| Cross::new(q, pxi(7), c.stroke_width(px(3)))),
                     )
                     .map_err(|e| e.to_string())?
                     .label(s.name.clone())
-                    .legend(move |(x, y)| Cross::new((x + 9, y), 5, c.stroke_width(2)));
+                    .legend(move |(x, y)| {
+                        Cross::new((x + pxi(9), y), pxi(5), c.stroke_width(px(2)))
+                    });
             }
         }
     }
+    let corner = legend_corner(&p.series, (x0, x1), (y0, y1), pw, ph);
     chart
         .configure_series_labels()
         .background_style(WHITE.mix(0.85))
         .border_style(RGBColor(180, 180, 180))
-        .position(SeriesLabelPosition::UpperRight)
+        .label_font(font(13))
+        .margin(px(6))
+        .legend_area_size(px(26))
+        .position(corner)
         .draw()
         .map_err(|e| e.to_string())?;
     Ok(())
@@ -222,7 +397,7 @@ pub fn panels(ps: &[Panel], w: u32, h: u32) -> Result<String, String> {
     let mut buf = String::new();
     {
         let n = ps.len().max(1) as u32;
-        let root = SVGBackend::with_string(&mut buf, (w * n, h)).into_drawing_area();
+        let root = SVGBackend::with_string(&mut buf, (px(w * n), px(h))).into_drawing_area();
         root.fill(&WHITE).map_err(|e| e.to_string())?;
         let areas = root.split_evenly((1, n as usize));
         for (a, p) in areas.iter().zip(ps) {
@@ -230,7 +405,7 @@ pub fn panels(ps: &[Panel], w: u32, h: u32) -> Result<String, String> {
         }
         root.present().map_err(|e| e.to_string())?;
     }
-    Ok(buf)
+    Ok(finish(buf, w * ps.len().max(1) as u32, h))
 }
 
 /// A bar chart of counted bins (a histogram whose counting is done): one bar per
@@ -245,16 +420,16 @@ pub fn bars(
     count_document();
     let mut buf = String::new();
     {
-        let root = SVGBackend::with_string(&mut buf, (w, h)).into_drawing_area();
+        let root = SVGBackend::with_string(&mut buf, (px(w), px(h))).into_drawing_area();
         root.fill(&WHITE).map_err(|e| e.to_string())?;
         let n = bins.len().max(1);
         let max = bins.iter().map(|b| b.1).max().unwrap_or(0).max(1);
         // Room above the highest bar for its count.
         let top = max + max.div_ceil(8);
         let mut chart = ChartBuilder::on(&root)
-            .margin(10)
-            .x_label_area_size(40)
-            .y_label_area_size(50)
+            .margin(px(10))
+            .x_label_area_size(px(40))
+            .y_label_area_size(px(50))
             .build_cartesian_2d((0..n).into_segmented(), 0..top)
             .map_err(|e| e.to_string())?;
         let label = |v: &SegmentValue<usize>| match v {
@@ -268,8 +443,8 @@ pub fn bars(
             .x_label_formatter(&label)
             .y_labels(6)
             .y_label_formatter(&|y| format!("{y}"))
-            .label_style(("sans-serif", 13))
-            .axis_desc_style(("sans-serif", 13))
+            .label_style(font(13))
+            .axis_desc_style(font(13))
             .x_desc(x_label)
             .y_desc(y_label)
             .light_line_style(RGBColor(235, 235, 235))
@@ -283,12 +458,11 @@ pub fn bars(
             .draw_series(bins.iter().enumerate().filter_map(|(i, b)| {
                 let (x0, x1) = (xr.from_index(i)?, xr.from_index(i + 1)?);
                 let mut bar = Rectangle::new([(x0, b.1), (x1, 0)], PALETTE[0].filled());
-                bar.set_margin(0, 0, 3, 3);
+                bar.set_margin(0, 0, px(3), px(3));
                 Some(bar)
             }))
             .map_err(|e| e.to_string())?;
-        let font = TextStyle::from(("sans-serif", 12).into_font())
-            .pos(Pos::new(HPos::Center, VPos::Bottom));
+        let font = TextStyle::from(font(12).into_font()).pos(Pos::new(HPos::Center, VPos::Bottom));
         chart
             .draw_series(
                 bins.iter()
@@ -305,7 +479,7 @@ pub fn bars(
             .map_err(|e| e.to_string())?;
         root.present().map_err(|e| e.to_string())?;
     }
-    Ok(buf)
+    Ok(finish(buf, w, h))
 }
 
 /// A scalar field on a regular grid.
@@ -361,27 +535,37 @@ pub fn heat_map(
     let lo = vals.iter().copied().fold(f64::INFINITY, f64::min);
     let hi = vals.iter().copied().fold(f64::NEG_INFINITY, f64::max);
     let span = if hi > lo { hi - lo } else { 1.0 };
+    let (nx, ny) = (grid.x.len(), grid.y.len());
+    if nx < 2 || ny < 2 {
+        return Err("heat map needs at least a 2×2 grid".into());
+    }
     let mut buf = String::new();
     {
-        let root = SVGBackend::with_string(&mut buf, (w, h)).into_drawing_area();
+        let root = SVGBackend::with_string(&mut buf, (px(w), px(h))).into_drawing_area();
         root.fill(&WHITE).map_err(|e| e.to_string())?;
-        let (nx, ny) = (grid.x.len(), grid.y.len());
-        if nx < 2 || ny < 2 {
-            return Err("heat map needs at least a 2×2 grid".into());
-        }
+        // The map, and on its right the colour bar.
+        let (map_area, bar_area) = root.split_horizontally(px(w.saturating_sub(110)));
         let (x0, x1) = (grid.x[0], grid.x[nx - 1]);
         let (y0, y1) = (grid.y[0], grid.y[ny - 1]);
-        let mut chart = ChartBuilder::on(&root)
-            .caption(&panel.title, ("sans-serif", 18))
-            .margin(12)
-            .x_label_area_size(40)
-            .y_label_area_size(60)
+        let mut chart = ChartBuilder::on(&map_area)
+            .caption(&panel.title, font(17))
+            .margin(px(12))
+            .x_label_area_size(px(44))
+            .y_label_area_size(px(74))
             .build_cartesian_2d(x0..x1, y0..y1)
             .map_err(|e| e.to_string())?;
+        let xt = |v: &f64| tick_on(*v, x1 - x0);
+        let yt = |v: &f64| tick_on(*v, y1 - y0);
         chart
             .configure_mesh()
             .x_desc(&panel.x_label)
             .y_desc(&panel.y_label)
+            .x_label_formatter(&xt)
+            .y_label_formatter(&yt)
+            .label_style(font(13))
+            .axis_desc_style(font(14))
+            .axis_style(RGBColor(90, 90, 90).stroke_width(S / 2))
+            .set_all_tick_mark_size(px(4))
             .disable_mesh()
             .draw()
             .map_err(|e| e.to_string())?;
@@ -398,6 +582,13 @@ pub fn heat_map(
             };
             (a, b)
         };
+        // Each cell reaches one nominal pixel into the next one (drawn after it, in row
+        // order), so no seam of the background shows between cells.
+        let (pw, ph) = chart.plotting_area().dim_in_pixel();
+        let (ex, ey) = (
+            f64::from(S) * (x1 - x0) / pw.max(1) as f64,
+            f64::from(S) * (y1 - y0) / ph.max(1) as f64,
+        );
         chart
             .draw_series(
                 (0..ny)
@@ -405,6 +596,7 @@ pub fn heat_map(
                     .map(|(r, c)| {
                         let (xa, xb) = half(&grid.x, c);
                         let (ya, yb) = half(&grid.y, r);
+                        let (xb, yb) = ((xb + ex).min(x1), (yb + ey).min(y1));
                         let v = grid.values[r][c];
                         let col = if v.is_finite() {
                             colour((tf(v) - lo) / span)
@@ -415,6 +607,12 @@ pub fn heat_map(
                     }),
             )
             .map_err(|e| e.to_string())?;
+        let longest = panel
+            .series
+            .iter()
+            .map(|s| s.name.chars().count() + 9)
+            .max()
+            .unwrap_or(0) as i32;
         for (i, s) in panel.series.iter().enumerate() {
             let c = [RED, WHITE, BLACK, MAGENTA][i % 4];
             match s.style {
@@ -424,12 +622,16 @@ pub fn heat_map(
                             chart
                                 .draw_series(LineSeries::new(
                                     seg.iter().copied(),
-                                    c.stroke_width(2),
+                                    c.stroke_width(px(2)),
                                 ))
                                 .map_err(|e| e.to_string())?;
                         } else if seg.len() == 1 {
                             chart
-                                .draw_series(std::iter::once(Circle::new(seg[0], 2, c.filled())))
+                                .draw_series(std::iter::once(Circle::new(
+                                    seg[0],
+                                    px(2),
+                                    c.filled(),
+                                )))
                                 .map_err(|e| e.to_string())?;
                         }
                     }
@@ -439,46 +641,93 @@ pub fn heat_map(
                         .draw_series(
                             s.points
                                 .iter()
-                                .map(|&q| Cross::new(q, 8, c.stroke_width(3))),
+                                .map(|&q| Cross::new(q, pxi(8), c.stroke_width(px(3)))),
                         )
                         .map_err(|e| e.to_string())?;
                 }
             }
-            // Legend entry as text in the corner.
+            // Legend entry as text in the corner, on a light band so it reads on any colour.
+            let text = format!(
+                "{}: {}",
+                ["red", "white", "black", "magenta"][i % 4],
+                s.name
+            );
+            let (tx, ty) = (pxi(92), pxi(44 + 17 * i as i32));
+            root.draw(&Rectangle::new(
+                [
+                    (tx - pxi(3), ty - pxi(2)),
+                    (tx + pxi(6 * longest + 6), ty + pxi(15)),
+                ],
+                WHITE.mix(0.75).filled(),
+            ))
+            .map_err(|e| e.to_string())?;
             root.draw(&Text::new(
-                format!(
-                    "{}: {}",
-                    ["red", "white", "black", "magenta"][i % 4],
-                    s.name
-                ),
-                (80, 40 + 16 * i as i32),
-                ("sans-serif", 13).into_font().color(&BLACK),
+                text,
+                (tx, ty),
+                font(13).into_font().color(&BLACK),
             ))
             .map_err(|e| e.to_string())?;
         }
-        root.draw(&Text::new(
-            format!(
-                "colour: {} from {:.4} (dark) to {:.4} (yellow)",
-                if symmetric_log.is_some() {
-                    "sign·log10(1+|v|/s)"
-                } else {
-                    "value"
-                },
-                lo,
-                hi
-            ),
-            (80, h as i32 - 12),
-            ("sans-serif", 12).into_font().color(&BLACK),
-        ))
+        // The colour bar: the ramp over [lo, hi] with its own ticks.
+        let mut bar = ChartBuilder::on(&bar_area)
+            .margin_top(px(44))
+            .margin_bottom(px(56))
+            .margin_right(px(8))
+            .y_label_area_size(px(70))
+            .build_cartesian_2d(0.0..1.0, lo..(lo + span))
+            .map_err(|e| e.to_string())?;
+        let bt = |v: &f64| tick_on(*v, span);
+        bar.configure_mesh()
+            .disable_mesh()
+            .disable_x_axis()
+            .y_label_formatter(&bt)
+            .y_desc(if symmetric_log.is_some() {
+                "colour: sign·log10(1 + |v|/s)"
+            } else {
+                "colour: the value in the title"
+            })
+            .label_style(font(12))
+            .axis_desc_style(font(13))
+            .set_all_tick_mark_size(px(4))
+            .draw()
+            .map_err(|e| e.to_string())?;
+        let steps = 128;
+        bar.draw_series((0..steps).map(|k| {
+            let (a, b) = (k as f64 / steps as f64, (k + 1) as f64 / steps as f64);
+            // Half a stripe into the next one (no seams).
+            let b = (b + 0.5 / steps as f64).min(1.0);
+            Rectangle::new(
+                [(0.0, lo + a * span), (1.0, lo + b * span)],
+                colour(0.5 * (a + b)).filled(),
+            )
+        }))
         .map_err(|e| e.to_string())?;
         root.present().map_err(|e| e.to_string())?;
     }
-    Ok(buf)
+    Ok(finish(buf, w, h))
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn ticks_are_the_shortest_decimal() {
+        for (v, want) in [
+            (600.0, "600"),
+            (-0.0, "0"),
+            (0.25, "0.25"),
+            (-2.5, "-2.5"),
+            (1.5e-7, "1.5e-7"),
+            (123456789.0, "1.23457e8"),
+            (0.1 + 0.2, "0.3"),
+            (1e-5, "1e-5"),
+            (2e-4, "0.0002"),
+        ] {
+            assert_eq!(tick(&v), want, "{v}");
+        }
+        assert_eq!(tick_on(5.551115123125783e-17, 1.0), "0");
+    }
 
     #[test]
     fn writes_an_svg_with_every_series_name() {
