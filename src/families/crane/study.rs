@@ -12,7 +12,7 @@ use toml_edit::Value;
 /// The headline: the dotted result key a design is judged on (see
 /// [`crate::families::Machine::headline`]).
 pub fn headline(_: &super::file::CraneProblem) -> String {
-    "objectives.delta_h_m".into()
+    format!("objectives.{}", super::synth::Objectives::KEY)
 }
 
 /// The reference edits (tightest settings) and the ladder of settings.
@@ -174,3 +174,14 @@ pub fn effects(
 // ---------------------------------------------------------------------------------------
 // Eccentric gear
 // ---------------------------------------------------------------------------------------
+
+#[cfg(test)]
+mod tests {
+    use super::super::synth::Objectives;
+    use crate::report::numbers::declared_keys;
+
+    #[test]
+    fn the_key_objective_is_a_field_of_the_objectives() {
+        assert!(declared_keys(&Objectives::default()).contains(&Objectives::KEY.to_string()));
+    }
+}
