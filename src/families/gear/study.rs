@@ -12,14 +12,11 @@ use toml_edit::Value;
 
 /// The headline: the dotted result key a design is judged on (see
 /// [`crate::families::Machine::headline`]).
-// A design of e holds the peak |µ| at its limit: the objective is the ratio variation.
 pub fn headline(p: &super::file::GearProblem) -> String {
-    if matches!(p.gear.eccentricity, crate::synth::Var::Free { .. }) {
-        "objectives.ratio_variation"
-    } else {
-        "objectives.peak_sliding_coefficient"
-    }
-    .into()
+    format!(
+        "objectives.{}",
+        super::synth::Objectives::key(&p.gear.eccentricity)
+    )
 }
 
 /// The reference edits (tightest settings) and the ladder of settings.
@@ -224,4 +221,30 @@ pub fn effects(
         "left out, no bound: µ is kinematic (rigid teeth, exact cycloidal profiles, no backlash); the scene gives no load, stiffness or tolerance data, so their effect on µ cannot be computed from it".into(),
     ));
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::synth::{Objectives, Var};
+    use crate::report::numbers::declared_keys;
+
+    #[test]
+    fn the_key_objectives_are_fields_of_the_objectives() {
+        let o = Objectives {
+            peak_sliding_coefficient: 0.0,
+            ratio_variation: 0.0,
+            max_pitch_pressure_angle_rad: 0.0,
+            min_gear2_curvature_per_m: 0.0,
+        };
+        let keys = declared_keys(&o);
+        for v in [
+            Var::Fixed(0.01),
+            Var::Free {
+                min: 0.0,
+                max: 0.01,
+            },
+        ] {
+            assert!(keys.contains(&Objectives::key(&v).to_string()));
+        }
+    }
 }
