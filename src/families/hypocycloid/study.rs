@@ -14,14 +14,11 @@ use toml_edit::Value;
 
 /// The headline: the dotted result key a design is judged on (see
 /// [`crate::families::Machine::headline`]).
-// A scene asking the paper's C4 question is judged on C4 (a4 of S/R) itself.
 pub fn headline(p: &super::file::HypocycloidProblem) -> String {
-    if p.scene.zero_search.is_some() {
-        "objectives.c4"
-    } else {
-        "objectives.residual_force_peak_n"
-    }
-    .into()
+    format!(
+        "objectives.{}",
+        super::synth::Objectives::key(p.scene.zero_search.is_some())
+    )
 }
 
 /// The reference edits (tightest settings) and the ladder of settings.
@@ -212,3 +209,24 @@ pub fn effects(
 // ---------------------------------------------------------------------------------------
 // Luffing crane
 // ---------------------------------------------------------------------------------------
+
+#[cfg(test)]
+mod tests {
+    use super::super::synth::Objectives;
+    use crate::report::numbers::declared_keys;
+
+    #[test]
+    fn the_key_objectives_are_fields_of_the_objectives() {
+        let o = Objectives {
+            c4: 0.0,
+            residual_force_peak_n: 0.0,
+            residual_force_rms_n: 0.0,
+            unbalanced_force_peak_n: 0.0,
+            stroke_m: 0.0,
+            suction_gain: 0.0,
+        };
+        for zero_search in [false, true] {
+            assert!(declared_keys(&o).contains(&Objectives::key(zero_search).to_string()));
+        }
+    }
+}
