@@ -45,6 +45,26 @@ pub fn declared_keys<T: Serialize + ?Sized>(v: &T) -> Vec<String> {
     keys
 }
 
+/// The result key of field `$field` of the typed result struct `$t`, checked by the compiler
+/// (a misspelt or removed field does not compile): `key!(Derived, k)` is `"k"`,
+/// `key!("derived", Derived, k)` is `"derived.k"`. For naming a key outside its struct (the
+/// key objective, a headline, a paper check, a study's lookup) without writing it twice.
+macro_rules! key {
+    ($t:ty, $field:ident) => {{
+        let _ = |v: &$t| {
+            let _ = &v.$field;
+        };
+        stringify!($field)
+    }};
+    ($section:literal, $t:ty, $field:ident) => {{
+        let _ = |v: &$t| {
+            let _ = &v.$field;
+        };
+        concat!($section, ".", stringify!($field))
+    }};
+}
+pub(crate) use key;
+
 /// The top level: a struct or a map, whose entries go into the map.
 struct Fields<'a>(&'a mut BTreeMap<String, f64>);
 
@@ -484,6 +504,8 @@ mod tests {
         assert!(m["a_n"].is_infinite() && m["c_m"].is_nan());
         assert_eq!(m["b"], 3.0);
         assert_eq!(declared_keys(&v), ["a_n", "b", "d", "c_m"]);
+        assert_eq!(key!("derived", Inner, c_m), "derived.c_m");
+        assert_eq!(key!(Outer, a_n), "a_n");
     }
 
     #[test]

@@ -4,9 +4,12 @@
 
 use super::file::*;
 use crate::families::crane::model::{synthesize, Angles, Boom, Guide};
-use crate::families::crane::synth::{self as cr, Outcome, Status as CraneStatus, TiePinLimit};
+use crate::families::crane::synth::{
+    self as cr, Derived, Design, Objectives, Outcome, Status as CraneStatus, TiePinLimit,
+};
 use crate::families::family::Scene;
 use crate::geom::P2;
+use crate::report::numbers::key;
 use crate::report::plot::{self, Grid, Panel, Series};
 use crate::report::{number_map, Deferred, PaperCheck, Plot, SolveResult, Status, Table};
 use serde_json::json;
@@ -16,14 +19,14 @@ use std::time::Instant;
 /// The result key a thesis comparison of the synthesis layer is read against.
 fn paper_key(quantity: &str) -> &'static str {
     match quantity {
-        "k = L_v/L_c" => "derived.k",
-        "boom_length_m" => "design.boom_length_m",
-        "jib_length_m" => "design.jib_length_m",
-        "head_height_m (above A)" => "derived.head_height_m",
-        "reach_max_m - r (from A)" => "derived.reach_max_m",
-        "reach_min_m - r (from A)" => "derived.reach_min_m",
-        "phi_max_deg" => "design.phi_max_rad",
-        "delta_h_m" => "objectives.delta_h_m",
+        "k = L_v/L_c" => key!("derived", Derived, k),
+        "boom_length_m" => key!("design", Design, boom_length_m),
+        "jib_length_m" => key!("design", Design, jib_length_m),
+        "head_height_m (above A)" => key!("derived", Derived, head_height_m),
+        "reach_max_m - r (from A)" => key!("derived", Derived, reach_max_m),
+        "reach_min_m - r (from A)" => key!("derived", Derived, reach_min_m),
+        "phi_max_deg" => key!("design", Design, phi_max_rad),
+        "delta_h_m" => key!("objectives", Objectives, delta_h_m),
         _ => "",
     }
 }

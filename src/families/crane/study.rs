@@ -3,8 +3,10 @@
 //! from the scene as resolved.
 
 use super::model::{head_heights, head_heights_with, Linkage};
+use super::synth::{Derived, Vars};
 use crate::families::family::{relative, Effect, Ladder, Rung};
 use crate::problem::edit::{v_int, v_s, Edit};
+use crate::report::numbers::key;
 use crate::report::SolveResult;
 use crate::units::rad_text;
 use toml_edit::Value;
@@ -93,12 +95,12 @@ pub fn crane_design(
     result: &SolveResult,
 ) -> Option<crate::families::crane::synth::Evaluation> {
     let keys = [
-        "design.k1",
-        "design.k2",
-        "design.phi_min_rad",
-        "design.gamma1_rad",
-        "design.gamma2_rad",
-        "design.gamma3_rad",
+        key!("design", Vars, k1),
+        key!("design", Vars, k2),
+        key!("design", Vars, phi_min_rad),
+        key!("design", Vars, gamma1_rad),
+        key!("design", Vars, gamma2_rad),
+        key!("design", Vars, gamma3_rad),
     ];
     let x: Vec<f64> = keys
         .iter()
@@ -156,7 +158,10 @@ pub fn effects(
             "the reference design could not be rebuilt: no bound".into(),
         )),
     }
-    if let (Some(q), Some(mm)) = (sc.load_mass, reference.lookup("derived.max_load_moment_nm")) {
+    if let (Some(q), Some(mm)) = (
+        sc.load_mass,
+        reference.lookup(key!("derived", Derived, max_load_moment_nm)),
+    ) {
         out.push((
             "load".into(),
             format!(

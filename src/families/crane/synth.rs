@@ -20,6 +20,7 @@ use crate::families::crane::model::{
 };
 use crate::geom::P2;
 use crate::problem::FieldError;
+use crate::report::numbers::key;
 use serde::Serialize;
 use std::collections::BTreeMap;
 use std::f64::consts::FRAC_PI_2;
@@ -386,7 +387,7 @@ pub struct Objectives {
 
 impl Objectives {
     /// The key objective of every crane scene: Δh.
-    pub const KEY: &'static str = "delta_h_m";
+    pub const KEY: &'static str = key!(Objectives, delta_h_m);
 }
 
 /// Other figures of a crane result (keys of `derived`, SI); absent where the design has no

@@ -3,8 +3,10 @@
 //! from the scene as resolved.
 
 use super::model::{GearPair, Pole, Singularities, Which};
+use super::synth::{Derived, Design};
 use crate::families::family::{relative, Effect, Ladder, Rung};
 use crate::problem::edit::{v_int, v_s, Edit};
+use crate::report::numbers::key;
 use crate::report::SolveResult;
 use crate::units::rad_text;
 use std::f64::consts::TAU;
@@ -128,7 +130,7 @@ pub fn effects(
     let sc = &g.gear;
     let s = &g.settings;
     let mut out = Vec::new();
-    let Some(e) = reference.lookup("design.eccentricity_m") else {
+    let Some(e) = reference.lookup(key!("design", Design, eccentricity_m)) else {
         return vec![(
             "pole windows".into(),
             "the reference has no eccentricity: no bound".into(),
@@ -175,7 +177,7 @@ pub fn effects(
     ));
     // The windows follow the poles: their location error moves the edges.
     let dmax = reference
-        .lookup("derived.max_pole_error_rad")
+        .lookup(key!("derived", Derived, max_pole_error_rad))
         .unwrap_or(f64::NAN);
     let slope = if set_by { edge / w } else { 0.0 };
     out.push((

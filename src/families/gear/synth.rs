@@ -20,6 +20,7 @@ use crate::families::gear::model::{
 };
 use crate::geom::P2;
 use crate::numeric::{brent_max, brent_root, SearchError};
+use crate::report::numbers::key;
 use crate::synth::SearchEvidence;
 use serde::Serialize;
 use std::f64::consts::{PI, TAU};
@@ -457,9 +458,9 @@ impl Objectives {
     /// then held at its limit), else the peak sliding coefficient.
     pub fn key(eccentricity: &Var) -> &'static str {
         if matches!(eccentricity, Var::Free { .. }) {
-            "ratio_variation"
+            key!(Objectives, ratio_variation)
         } else {
-            "peak_sliding_coefficient"
+            key!(Objectives, peak_sliding_coefficient)
         }
     }
 }
@@ -1042,7 +1043,7 @@ pub fn report(
             ));
             paper.push(PaperCheck {
                 quantity: "teeth of gear 1, z1".into(),
-                key: "derived.teeth_gear1".into(),
+                key: key!("derived", Derived, teeth_gear1).into(),
                 paper: tz1 as f64,
                 computed: z1 as f64,
                 note: format!(
@@ -1052,7 +1053,7 @@ pub fn report(
             });
             paper.push(PaperCheck {
                 quantity: "arch span of eq. (2), π/z1 (rad of the pitch circle)".into(),
-                key: "derived.arch_span_rad".into(),
+                key: key!("derived", Derived, arch_span_rad).into(),
                 paper: PI / tz1 as f64,
                 computed: TAU * rg / r,
                 note: "eq. (2) spans each arch over π/z1 of the pitch circle, but one turn of the r = 1.25 mm generating circle covers 2πr/R; with z1 = 12 the arches would not end in cusps".into(),
@@ -1064,7 +1065,7 @@ pub fn report(
             ));
             paper.push(PaperCheck {
                 quantity: "teeth of gear 2, z2".into(),
-                key: "derived.teeth_gear2".into(),
+                key: key!("derived", Derived, teeth_gear2).into(),
                 paper: tz2 as f64,
                 computed: z2,
                 note: "z2 = (n1/n2)·z1 with z1 from the pitch circle; the stated 36 = 3 × 12 keeps the ratio but inherits the wrong z1".into(),
@@ -1074,7 +1075,7 @@ pub fn report(
             let stated_perim2 = tz2 as f64 * p;
             paper.push(PaperCheck {
                 quantity: "perimeter of gear 2's pitch curve (z2 × pitch)".into(),
-                key: "derived.gear2_perimeter_m".into(),
+                key: key!("derived", Derived, gear2_perimeter_m).into(),
                 paper: stated_perim2,
                 computed: perim2,
                 note: format!("paper value = z2 × pitch; computed from gear 2's polar curve ∫sqrt(ρ2² + ρ2'²)dα2; must equal (n1/n2)·2πR = {:.4} mm", ratio * perim1 * 1e3),
@@ -1091,7 +1092,7 @@ pub fn report(
         }
         paper.push(PaperCheck {
             quantity: "pitch on the pitch curve".into(),
-            key: "derived.pitch_m".into(),
+            key: key!("derived", Derived, pitch_m).into(),
             paper: p,
             computed: pitch,
             note: "4πr (= πm for m = 4r); agrees to the printed rounding. The pitch 2πR/z1 with the stated z1 would be different".into(),
@@ -1112,7 +1113,7 @@ pub fn report(
             }
             paper.push(PaperCheck {
                 quantity: format!("{} on the pitch curve", if k.ends_with("thickness") { "tooth thickness" } else { "space width" }),
-                key: "derived.arch_length_m".into(),
+                key: key!("derived", Derived, arch_length_m).into(),
                 paper: t,
                 computed: arch,
                 note: "one cycloid arch = one turn of the generating circle, 2πr; agrees to the printed rounding".into(),
@@ -1127,7 +1128,7 @@ pub fn report(
             derived.ratio_at_stated_center_distance = Some(ratio_st);
             paper.push(PaperCheck {
                 quantity: "centre distance a12".into(),
-                key: "derived.center_distance_m".into(),
+                key: key!("derived", Derived, center_distance_m).into(),
                 paper: a_st,
                 computed: pair.a,
                 note: format!(
@@ -1149,7 +1150,7 @@ pub fn report(
     }
     paper.push(PaperCheck {
         quantity: "max |µ1 + µ2| on the working window (paper: µ2 = −µ1, symmetric)".into(),
-        key: "derived.max_mu_asymmetry".into(),
+        key: key!("derived", Derived, max_mu_asymmetry).into(),
         paper: 0.0,
         computed: an.peak.max_asymmetry,
         note: "by definition µ2 = −µ1/(1 − µ1) exactly, which is −µ1 only to first order; the curves are mirror images only where |µ| ≪ 1".into(),
@@ -1157,7 +1158,7 @@ pub fn report(
     if min_sep.is_finite() {
         paper.push(PaperCheck {
             quantity: "separation of µ1 and µ2 poles in α1 (paper: both at points 2, 4)".into(),
-            key: "derived.min_mu1_mu2_pole_separation_rad".into(),
+            key: key!("derived", Derived, min_mu1_mu2_pole_separation_rad).into(),
             paper: 0.0,
             computed: min_sep,
             note: "µ1 is infinite where the common tangent passes through O1, µ2 where it passes through O2: distinct points (the paper's eq. 11 itself keeps cos β2 ≠ 0)".into(),
@@ -1165,7 +1166,7 @@ pub fn report(
     }
     paper.push(PaperCheck {
         quantity: "angle between the common tangent and O1O2 at K = P".into(),
-        key: "derived.max_obliquity_at_pitch_point_contact_rad".into(),
+        key: key!("derived", Derived, max_obliquity_at_pitch_point_contact_rad).into(),
         paper: PI / 2.0,
         computed: psi_at_zeros,
         note: "at K = P the contact is at a cusp, whose tangent is the pitch-curve normal: it deviates from O1O2 by the obliquity |ψ| (max shown), it is not perpendicular to it".into(),

@@ -4,7 +4,8 @@
 
 use super::file::*;
 use crate::families::family::Scene;
-use crate::families::hypocycloid::synth::{self as hy, OptStatus, Outcome, ZeroStatus};
+use crate::families::hypocycloid::synth::{self as hy, Derived, OptStatus, Outcome, ZeroStatus};
+use crate::report::numbers::key;
 use crate::report::plot::{self, Grid, Panel, Series};
 use crate::report::{number_map, PaperCheck, Plot, SolveResult, Status, Table};
 use serde_json::json;
@@ -199,9 +200,9 @@ fn paper_checks(out: &Outcome) -> Vec<PaperCheck> {
             } else if q.starts_with("C2^II") {
                 "coefficients.b.2".into()
             } else if q.starts_with("b1..b6") {
-                "derived.max_abs_b1_b6".into()
+                key!("derived", Derived, max_abs_b1_b6).into()
             } else if q.starts_with("|Φ3|/|Φ1|") {
-                "derived.force_ratio_order3_to_order1".into()
+                key!("derived", Derived, force_ratio_order3_to_order1).into()
             } else {
                 String::new()
             };

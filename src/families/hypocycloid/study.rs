@@ -3,9 +3,10 @@
 //! from the scene as resolved.
 
 use super::model::{max_abs_y, Hypocycloid};
-use super::synth::CoefficientModel;
+use super::synth::{CoefficientModel, Design, Objectives};
 use crate::families::family::{relative, Effect, Ladder, Rung};
 use crate::problem::edit::{v_f, v_int, v_s, Edit};
+use crate::report::numbers::key;
 use crate::report::SolveResult;
 use crate::units::rad_text;
 use crate::units::STANDARD_GRAVITY as G;
@@ -120,8 +121,8 @@ pub fn effects(
 ) -> Vec<Effect> {
     let sc = &h.scene;
     let (Some(lambda), Some(theta)) = (
-        reference.lookup("design.lambda"),
-        reference.lookup("design.theta"),
+        reference.lookup(key!("design", Design, lambda)),
+        reference.lookup(key!("design", Design, theta)),
     ) else {
         return vec![(
             "model limits".into(),
@@ -138,7 +139,7 @@ pub fn effects(
     let sum_i2: f64 = sc.balance_orders.iter().map(|&i| (i * i) as f64).sum();
     let c4_headline = sc.zero_search.is_some();
     let residual = reference
-        .lookup("objectives.residual_force_peak_n")
+        .lookup(key!("objectives", Objectives, residual_force_peak_n))
         .unwrap_or(f64::NAN);
     let mut out = Vec::new();
     // Series truncation.

@@ -12,6 +12,7 @@
 
 use std::f64::consts::PI;
 
+use crate::report::numbers::key;
 use argmin::core::{CostFunction, Error as ArgminError, Executor, State};
 use argmin::solver::neldermead::NelderMead;
 use serde::Serialize;
@@ -1049,9 +1050,9 @@ impl Objectives {
     /// search), else the residual force peak.
     pub fn key(zero_search: bool) -> &'static str {
         if zero_search {
-            "c4"
+            key!(Objectives, c4)
         } else {
-            "residual_force_peak_n"
+            key!(Objectives, residual_force_peak_n)
         }
     }
 }
