@@ -282,7 +282,7 @@ fn stated_delta_h_error_covers_the_double_double_truth() {
     let (mut checked, mut outside, mut worst) = (0, Vec::new(), 0.0f64);
     for (l_c, x) in &cases {
         let o = solve(&scene(*l_c, *x), &quick()).unwrap();
-        let Some(&dh) = o.objectives.get("delta_h_m") else {
+        let Some(dh) = o.objectives.delta_h_m else {
             continue;
         };
         let Some(truth) = reference_delta_h(*l_c, *x) else {
@@ -292,7 +292,7 @@ fn stated_delta_h_error_covers_the_double_double_truth() {
             continue;
         }
         checked += 1;
-        let err = o.errors["delta_h_m"];
+        let err = o.errors.delta_h_m.unwrap();
         worst = worst.max((dh - truth).abs() / err);
         if (dh - truth).abs() > err {
             outside.push(format!(
@@ -334,9 +334,9 @@ fn k1_near_one_converges() {
     for e in [1e-6, 1e-8, 1e-10, 1e-12, 1e-14] {
         let x = [1.0 - e, 0.4, d(35.0), d(10.0), d(5.0), d(12.0)];
         let o = solve(&scene(22.8, x), &quick()).unwrap();
-        let (dh, err) = (o.objectives["delta_h_m"], o.errors["delta_h_m"]);
+        let (dh, err) = (o.objectives.delta_h_m.unwrap(), o.errors.delta_h_m.unwrap());
         assert!(
-            o.design.contains_key("tie_pin_x_m"),
+            o.design.tie_pin_x_m.is_some(),
             "tie pin dropped at 1 - {e:e}"
         );
         if let Some((pd, pe, pk)) = prev {
@@ -377,7 +377,7 @@ fn best_found_reaches_the_reference_optima() {
         let o = solve(&s, &quick()).unwrap();
         assert_eq!(o.status, Status::BestFound);
         assert!(o.checks.iter().all(|c| c.pass), "{:?}", o.checks);
-        let dh = o.objectives["delta_h_m"];
+        let dh = o.objectives.delta_h_m.unwrap();
         assert!(dh <= best * (1.0 + 1e-4), "{dh} vs reference {best}");
         let ev = o.search.unwrap();
         assert!(ev.starts_at_best >= 1 && ev.best_values[0] <= dh * (1.0 + 1e-9));
@@ -679,7 +679,7 @@ fn compare_random_crane(
     let mut rng = Rng(1400 + i as u64);
     let s = random_crane(&mut rng, i);
     let o = solve(&s, &quick()).unwrap();
-    let cw = o.objectives.get("delta_h_m").copied();
+    let cw = o.objectives.delta_h_m;
     let feasible = o
         .checks
         .iter()
@@ -715,12 +715,12 @@ fn compare_random_crane(
     // cwsynth's own answer polished by the reference's local search (the local check).
     if let (Some(_), true) = (cw, feasible) {
         let x: [f64; 6] = [
-            o.design["k1"],
-            o.design["k2"],
-            o.design["phi_min_rad"],
-            o.design["gamma1_rad"],
-            o.design["gamma2_rad"],
-            o.design["gamma3_rad"],
+            o.design.vars.k1,
+            o.design.vars.k2,
+            o.design.vars.phi_min_rad,
+            o.design.vars.gamma1_rad,
+            o.design.vars.gamma2_rad,
+            o.design.vars.gamma3_rad,
         ];
         let v = s.vars();
         let u: [f64; 6] = std::array::from_fn(|k| {

@@ -168,7 +168,7 @@ fn pitch_curves_lie_on_their_circle_and_gear2_closes() {
         let (a, b) = (g2[k], g2[(k + 1) % g2.len()]);
         per += (b[0] - a[0]).hypot(b[1] - a[1]);
     }
-    let d = out.derived["gear2_perimeter_m"];
+    let d = out.derived.gear2_perimeter_m;
     assert!((d - 3.0 * TAU * R).abs() < 1e-12, "{d}");
     assert!((per - d).abs() < 2e-5 * d, "polygon {per} vs {d}");
     // The curves touch at P = (ρ1(0), 0) = (R + e, 0) at α1 = 0.
@@ -337,14 +337,14 @@ fn convexity_is_lost_at_a_critical_eccentricity() {
 fn paper_table1_outcome() {
     let out = solve(&paper_table1(), &Settings::default()).unwrap();
     assert_eq!(out.status, Status::Analysed);
-    assert_eq!(out.design["eccentricity_m"], 15e-3);
+    assert_eq!(out.design.eccentricity_m, 15e-3);
     // Closed-form ratio range with the closing a.
-    let a = out.derived["center_distance_m"];
-    assert!((out.derived["ratio_min"] - (a - 52.5e-3) / 52.5e-3).abs() < 1e-14);
-    assert!((out.derived["ratio_max"] - (a - 22.5e-3) / 22.5e-3).abs() < 1e-13);
+    let a = out.derived.center_distance_m;
+    assert!((out.derived.ratio_min - (a - 52.5e-3) / 52.5e-3).abs() < 1e-14);
+    assert!((out.derived.ratio_max - (a - 22.5e-3) / 22.5e-3).abs() < 1e-13);
     // Table inconsistencies are reported: 15 teeth, not 12; 45 on gear 2, not 36.
-    assert_eq!(out.derived["teeth_gear1"], 15.0);
-    assert_eq!(out.derived["teeth_gear2"], 45.0);
+    assert_eq!(out.derived.teeth_gear1, 15.0);
+    assert_eq!(out.derived.teeth_gear2, 45.0);
     assert!(out
         .warnings
         .iter()
@@ -370,7 +370,7 @@ fn paper_table1_outcome() {
     for pole in &out.poles {
         for (k, x) in out.series.alpha1_rad.iter().enumerate() {
             let d = (x - pole.alpha1_rad).rem_euclid(TAU);
-            if d.min(TAU - d) < out.derived["pole_window_rad"] {
+            if d.min(TAU - d) < out.derived.pole_window_rad {
                 let v = if pole.which == Which::Mu1 {
                     out.series.mu1[k]
                 } else {
@@ -381,7 +381,7 @@ fn paper_table1_outcome() {
         }
     }
     // The peak is ≥ every plotted |µ| (plotted points are a subset of the working window).
-    let peak = out.objectives["peak_sliding_coefficient"];
+    let peak = out.objectives.peak_sliding_coefficient;
     let plotted = out
         .series
         .mu1
@@ -390,10 +390,10 @@ fn paper_table1_outcome() {
         .flatten()
         .fold(0.0f64, |m, v| m.max(v.abs()));
     assert!(
-        peak + out.errors["peak_sliding_coefficient"] >= plotted,
+        peak + out.errors.peak_sliding_coefficient >= plotted,
         "{peak} < {plotted}"
     );
-    assert!(out.errors["peak_sliding_coefficient"] < 1e-6);
+    assert!(out.errors.peak_sliding_coefficient < 1e-6);
 }
 
 #[test]
@@ -462,15 +462,13 @@ fn eccentricity_near_and_beyond_r() {
     let out = solve(&sc, &s).unwrap();
     assert!(out.warnings.iter().any(|w| w.contains("close to 1")));
     assert!(out.warnings.iter().any(|w| w.contains("≤ 2r")));
-    let a = out.derived["center_distance_m"];
+    let a = out.derived.center_distance_m;
     assert!(
-        (out.derived["ratio_max"] - (a - 0.01 * R) / (0.01 * R)).abs()
-            < 1e-9 * out.derived["ratio_max"]
+        (out.derived.ratio_max - (a - 0.01 * R) / (0.01 * R)).abs() < 1e-9 * out.derived.ratio_max
     );
-    assert!(out
-        .objectives
+    assert!(cwsynth::report::number_map(&out.objectives)
         .values()
-        .chain(out.derived.values())
+        .chain(cwsynth::report::number_map(&out.derived).values())
         .all(|x| x.is_finite()));
     let j = closure_simpson(R, 0.99 * R, a, 200_000);
     assert!((j - TAU / 3.0).abs() < 1e-8, "{j}");
@@ -555,7 +553,7 @@ fn eccentricity_design_matches_brute_force_sweep() {
         ..Settings::default()
     };
     let out = solve(&sc, &st).unwrap();
-    let e_star = out.design["eccentricity_m"];
+    let e_star = out.design.eccentricity_m;
     // Brute force: the largest feasible e on a fine grid (ratio variation grows with e).
     let fine = 121;
     let mut best: f64 = 0.0;

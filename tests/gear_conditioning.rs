@@ -188,7 +188,7 @@ fn item5_pole_window_zero_is_allowed_and_says_the_peak_is_unbounded() {
         ..paper_table1()
     };
     let out = solve(&sc, &st).expect("pole_window = 0 is allowed");
-    assert!(out.objectives["peak_sliding_coefficient"].is_infinite());
+    assert!(out.objectives.peak_sliding_coefficient.is_infinite());
     assert!(out.warnings.iter().any(|w| w.contains("unbounded")));
     // e = 0 has no poles: with no window the peak is the closed form max over the arch types,
     // µ1 = 2ra/(ρ2(σρ1 + 2r)), µ2 = −µ1/(1 − µ1).
@@ -206,8 +206,8 @@ fn item5_pole_window_zero_is_allowed_and_says_the_peak_is_unbounded() {
             [m1.abs(), (m1 / (1.0 - m1)).abs()]
         })
         .fold(0.0, f64::max);
-    let v = out.objectives["peak_sliding_coefficient"];
-    let err = out.errors["peak_sliding_coefficient"];
+    let v = out.objectives.peak_sliding_coefficient;
+    let err = out.errors.peak_sliding_coefficient;
     assert!((v - exact).abs() <= err, "{v} vs {exact} ± {err}");
 }
 
@@ -298,11 +298,11 @@ fn designed_eccentricity_is_best_found_with_evidence_and_not_beaten_on_the_sweep
         .as_ref()
         .expect("a designed e carries its search evidence");
     assert!(ev.evaluations >= 13 && ev.distinct_basins >= 1);
-    assert_eq!(ev.best_values[0], out.objectives["ratio_variation"]);
+    assert_eq!(ev.best_values[0], out.objectives.ratio_variation);
     // No feasible sweep sample beats the reported design.
     for row in &out.sweep {
         if row.feasible {
-            assert!(row.ratio_variation <= out.objectives["ratio_variation"] + 1e-12);
+            assert!(row.ratio_variation <= out.objectives.ratio_variation + 1e-12);
         }
     }
 }

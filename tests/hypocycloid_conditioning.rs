@@ -152,7 +152,7 @@ fn c4_errors_hold_on_random_and_near_degenerate_designs() {
             ..paper_example(v)
         };
         let out = solve(&sc, &s).unwrap();
-        let (c4, err) = (out.objectives["c4"], out.errors["c4"]);
+        let (c4, err) = (out.objectives.c4, out.errors.c4);
         let (truth, terr) = dd_a4(l, t, a0);
         assert!(
             (c4 - truth).abs() <= err + terr,

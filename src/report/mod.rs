@@ -5,8 +5,11 @@
 //! Every number is SI and its key carries the unit as a suffix (`_n`, `_nm`, `_kgm`, `_m`,
 //! `_rad`, `_kg`, `_s`, `_pct`); pure numbers have no suffix.
 
+pub mod numbers;
 pub mod page;
 pub mod plot;
+
+pub use numbers::number_map;
 
 use serde::Serialize;
 use std::collections::BTreeMap;

@@ -4,11 +4,14 @@
 
 use super::file::*;
 use crate::families::crane::model::{synthesize, Angles, Boom, Guide};
-use crate::families::crane::synth::{self as cr, Outcome, Status as CraneStatus, TiePinLimit};
+use crate::families::crane::synth::{
+    self as cr, Derived, Design, Objectives, Outcome, Status as CraneStatus, TiePinLimit,
+};
 use crate::families::family::Scene;
 use crate::geom::P2;
+use crate::report::numbers::key;
 use crate::report::plot::{self, Grid, Panel, Series};
-use crate::report::{Deferred, PaperCheck, Plot, SolveResult, Status, Table};
+use crate::report::{number_map, Deferred, PaperCheck, Plot, SolveResult, Status, Table};
 use serde_json::json;
 use std::collections::BTreeMap;
 use std::time::Instant;
@@ -16,14 +19,14 @@ use std::time::Instant;
 /// The result key a thesis comparison of the synthesis layer is read against.
 fn paper_key(quantity: &str) -> &'static str {
     match quantity {
-        "k = L_v/L_c" => "derived.k",
-        "boom_length_m" => "design.boom_length_m",
-        "jib_length_m" => "design.jib_length_m",
-        "head_height_m (above A)" => "derived.head_height_m",
-        "reach_max_m - r (from A)" => "derived.reach_max_m",
-        "reach_min_m - r (from A)" => "derived.reach_min_m",
-        "phi_max_deg" => "design.phi_max_rad",
-        "delta_h_m" => "objectives.delta_h_m",
+        "k = L_v/L_c" => key!("derived", Derived, k),
+        "boom_length_m" => key!("design", Design, boom_length_m),
+        "jib_length_m" => key!("design", Design, jib_length_m),
+        "head_height_m (above A)" => key!("derived", Derived, head_height_m),
+        "reach_max_m - r (from A)" => key!("derived", Derived, reach_max_m),
+        "reach_min_m - r (from A)" => key!("derived", Derived, reach_min_m),
+        "phi_max_deg" => key!("design", Design, phi_max_rad),
+        "delta_h_m" => key!("objectives", Objectives, delta_h_m),
         _ => "",
     }
 }
@@ -94,10 +97,10 @@ pub fn result(scene: &Scene, s: &CraneProblem) -> SolveResult {
     r.method = out.method.clone();
     r.search = out.search.clone();
     r.warnings = out.warnings.clone();
-    r.design = out.design.clone();
-    r.objectives = out.objectives.clone();
-    r.errors = out.errors.clone();
-    r.derived = out.derived.clone();
+    r.design = number_map(&out.design);
+    r.objectives = number_map(&out.objectives);
+    r.errors = number_map(&out.errors);
+    r.derived = number_map(&out.derived);
     // The family's thesis comparisons, except those the file's [[paper]] makes itself.
     let file_keys: Vec<&str> = scene.paper.iter().map(|p| p.key.as_str()).collect();
     for p in &out.paper {
@@ -295,14 +298,15 @@ fn landscape_plot(
     if bounded {
         // The tie pin B of every grid point (cheap: step 2 only, no path), at the reported
         // angles and boom length, for the signed margin whose zero contour is the boundary.
-        let g = |k: &str| out.design.get(k).copied().unwrap_or(f64::NAN);
+        let v = &out.design.vars;
         let angles = Angles {
-            phi_min: g("phi_min_rad"),
-            gamma1: g("gamma1_rad"),
-            gamma2: g("gamma2_rad"),
-            gamma3: g("gamma3_rad"),
+            phi_min: v.phi_min_rad,
+            gamma1: v.gamma1_rad,
+            gamma2: v.gamma2_rad,
+            gamma3: v.gamma3_rad,
         };
-        let boom = Boom::new(g("boom_length_m"), angles).map_err(|e| e.to_string())?;
+        let boom = Boom::new(out.design.boom_length_m.unwrap_or(f64::NAN), angles)
+            .map_err(|e| e.to_string())?;
         let margin: Vec<Vec<f64>> =
             l.k2.iter()
                 .map(|&k2| {
@@ -411,13 +415,13 @@ fn path_plot(scene: &Scene, out: &Outcome) -> Result<String, String> {
         .zip(&out.path)
         .map(|(phi, c)| (phi.to_degrees(), c[1]))
         .collect();
-    let g = |k: &str| out.derived.get(k).copied();
+    let d = &out.derived;
     let mut hs = vec![Series::line("head height y_C", height)];
     if let (Some(a), Some(ya), Some(b), Some(yb)) = (
-        g("phi_at_head_max_rad"),
-        g("head_y_max_m"),
-        g("phi_at_head_min_rad"),
-        g("head_y_min_m"),
+        d.phi_at_head_max_rad,
+        d.head_y_max_m,
+        d.phi_at_head_min_rad,
+        d.head_y_min_m,
     ) {
         hs.push(Series::marker(
             "refined max and min",
@@ -434,7 +438,7 @@ fn path_plot(scene: &Scene, out: &Outcome) -> Result<String, String> {
     }
     let dh = out
         .objectives
-        .get("delta_h_m")
+        .delta_h_m
         .map_or("Δh not available".to_string(), |d| {
             format!("Δh = {d:.4} m")
         });

@@ -3,8 +3,10 @@
 //! from the scene as resolved.
 
 use super::model::{head_heights, head_heights_with, Linkage};
+use super::synth::{Derived, Vars};
 use crate::families::family::{relative, Effect, Ladder, Rung};
 use crate::problem::edit::{v_int, v_s, Edit};
+use crate::report::numbers::key;
 use crate::report::SolveResult;
 use crate::units::rad_text;
 use toml_edit::Value;
@@ -12,7 +14,7 @@ use toml_edit::Value;
 /// The headline: the dotted result key a design is judged on (see
 /// [`crate::families::Machine::headline`]).
 pub fn headline(_: &super::file::CraneProblem) -> String {
-    "objectives.delta_h_m".into()
+    format!("objectives.{}", super::synth::Objectives::KEY)
 }
 
 /// The reference edits (tightest settings) and the ladder of settings.
@@ -93,12 +95,12 @@ pub fn crane_design(
     result: &SolveResult,
 ) -> Option<crate::families::crane::synth::Evaluation> {
     let keys = [
-        "design.k1",
-        "design.k2",
-        "design.phi_min_rad",
-        "design.gamma1_rad",
-        "design.gamma2_rad",
-        "design.gamma3_rad",
+        key!("design", Vars, k1),
+        key!("design", Vars, k2),
+        key!("design", Vars, phi_min_rad),
+        key!("design", Vars, gamma1_rad),
+        key!("design", Vars, gamma2_rad),
+        key!("design", Vars, gamma3_rad),
     ];
     let x: Vec<f64> = keys
         .iter()
@@ -156,7 +158,10 @@ pub fn effects(
             "the reference design could not be rebuilt: no bound".into(),
         )),
     }
-    if let (Some(q), Some(mm)) = (sc.load_mass, reference.lookup("derived.max_load_moment_nm")) {
+    if let (Some(q), Some(mm)) = (
+        sc.load_mass,
+        reference.lookup(key!("derived", Derived, max_load_moment_nm)),
+    ) {
         out.push((
             "load".into(),
             format!(
@@ -174,3 +179,14 @@ pub fn effects(
 // ---------------------------------------------------------------------------------------
 // Eccentric gear
 // ---------------------------------------------------------------------------------------
+
+#[cfg(test)]
+mod tests {
+    use super::super::synth::Objectives;
+    use crate::report::numbers::declared_keys;
+
+    #[test]
+    fn the_key_objective_is_a_field_of_the_objectives() {
+        assert!(declared_keys(&Objectives::default()).contains(&Objectives::KEY.to_string()));
+    }
+}

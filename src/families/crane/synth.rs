@@ -20,6 +20,8 @@ use crate::families::crane::model::{
 };
 use crate::geom::P2;
 use crate::problem::FieldError;
+use crate::report::numbers::key;
+use serde::Serialize;
 use std::collections::BTreeMap;
 use std::f64::consts::FRAC_PI_2;
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -300,14 +302,168 @@ impl CraneScene {
     }
 }
 
-const VAR_NAMES: [&str; 6] = [
-    "k1",
-    "k2",
-    "phi_min_rad",
-    "gamma1_rad",
-    "gamma2_rad",
-    "gamma3_rad",
-];
+/// The six design variables, in the order of the design vector `x` (keys of `design`).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Vars {
+    /// k1 = C1C2/C1C3: where the middle design position C2 lies between C1 and C3.
+    pub k1: f64,
+    /// k2 = a/L_v: the jib tail |DE| over the jib head length.
+    pub k2: f64,
+    /// φ_min (rad): boom elevation at maximum reach.
+    pub phi_min_rad: f64,
+    /// γ1 (rad): the boom from vertical at minimum reach.
+    pub gamma1_rad: f64,
+    /// γ2 (rad): the jib from vertical at minimum reach.
+    pub gamma2_rad: f64,
+    /// γ3 (rad): the jib below horizontal at maximum reach.
+    pub gamma3_rad: f64,
+}
+
+impl Vars {
+    /// The variables of the design vector `x`.
+    pub fn of(x: &[f64; 6]) -> Vars {
+        Vars {
+            k1: x[0],
+            k2: x[1],
+            phi_min_rad: x[2],
+            gamma1_rad: x[3],
+            gamma2_rad: x[4],
+            gamma3_rad: x[5],
+        }
+    }
+
+    /// The variables `free` (indices into `x`) by their keys.
+    fn named(&self, free: &[usize]) -> BTreeMap<String, f64> {
+        let all = crate::report::number_map(self);
+        crate::report::numbers::declared_keys(self)
+            .into_iter()
+            .enumerate()
+            .filter(|(i, _)| free.contains(i))
+            .map(|(_, k)| {
+                let v = all[&k];
+                (k, v)
+            })
+            .collect()
+    }
+}
+
+/// The design of a crane result (keys of `design`, SI).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Design {
+    /// The design variables.
+    #[serde(flatten)]
+    pub vars: Vars,
+    /// φ_max = π/2 − γ1 (rad): boom elevation at minimum reach.
+    pub phi_max_rad: f64,
+    /// L_c = |AD| (m): the boom (absent without a crane geometry).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub boom_length_m: Option<f64>,
+    /// L_v = |DC| = k·L_c (m): the jib head length.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub jib_length_m: Option<f64>,
+    /// a = k2·L_v = |DE| (m): the jib tail.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub jib_tail_m: Option<f64>,
+    /// x of the tie pin B, the circumcentre of E1 E2 E3 (m; absent in the straight-guide limit).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub tie_pin_x_m: Option<f64>,
+    /// y of the tie pin B (m; absent in the straight-guide limit).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub tie_pin_y_m: Option<f64>,
+    /// b = |BE| (m): the tie (absent in the straight-guide limit).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub tie_length_m: Option<f64>,
+}
+
+/// The objectives of a crane result (keys of `objectives`); the same type holds their
+/// absolute errors (keys of `errors`).
+#[derive(Debug, Clone, Default, PartialEq, Serialize)]
+pub struct Objectives {
+    /// Δh = max − min of the jib-head height y_C over [φ_min, φ_max] on the followed branch
+    /// (m); absent on a branch defect or when the linkage cannot assemble.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub delta_h_m: Option<f64>,
+}
+
+impl Objectives {
+    /// The key objective of every crane scene: Δh.
+    pub const KEY: &'static str = key!(Objectives, delta_h_m);
+}
+
+/// Other figures of a crane result (keys of `derived`, SI); absent where the design has no
+/// geometry or the figure does not apply.
+#[derive(Debug, Clone, Default, PartialEq, Serialize)]
+pub struct Derived {
+    /// k = L_v/L_c.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub k: Option<f64>,
+    /// L_c by the min-reach rule (m).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub boom_length_min_reach_rule_m: Option<f64>,
+    /// L_c by the max-reach rule (m).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub boom_length_max_reach_rule_m: Option<f64>,
+    /// H1: the head above A at both extremes (m).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub head_height_m: Option<f64>,
+    /// y_C3: the head above A at minimum reach (m).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub head_height_min_reach_m: Option<f64>,
+    /// H1 + h: the head above the rail (m).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub head_height_above_rail_m: Option<f64>,
+    /// Reach from the slewing axis at φ_min (m).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub reach_max_m: Option<f64>,
+    /// Reach from the slewing axis at φ_max (m).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub reach_min_m: Option<f64>,
+    /// Boom angle of the middle design position (rad).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub phi2_rad: Option<f64>,
+    /// [Δh]: the allowed Δh (m).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub allowed_delta_h_m: Option<f64>,
+    /// |AB| (m).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub tie_pin_distance_m: Option<f64>,
+    /// Error bound of the tie pin B (m).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub tie_pin_error_m: Option<f64>,
+    /// Direction of the straight guide (rad; straight-guide limit only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub guide_angle_rad: Option<f64>,
+    /// Violation of the tie-pin limit (m, 0 inside; `f64::MAX` when B is at infinity).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub tie_pin_violation_m: Option<f64>,
+    /// Refined maximum of the head height y_C (m).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub head_y_max_m: Option<f64>,
+    /// Refined minimum of the head height y_C (m).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub head_y_min_m: Option<f64>,
+    /// φ at the maximum head height (rad).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub phi_at_head_max_rad: Option<f64>,
+    /// φ at the minimum head height (rad).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub phi_at_head_min_rad: Option<f64>,
+    /// Smallest angle between tie and jib tail over the samples (rad).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub min_transmission_angle_rad: Option<f64>,
+    /// φ at the smallest transmission angle (rad).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub phi_at_min_transmission_rad: Option<f64>,
+    /// Largest |M_A| = Q g |dy_C/dφ| (N·m; with `mechanism.load_mass`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub max_load_moment_nm: Option<f64>,
+    /// Error of `max_load_moment_nm` (N·m).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub max_load_moment_error_nm: Option<f64>,
+    /// φ at the largest load moment (rad).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub phi_at_max_load_moment_rad: Option<f64>,
+}
 
 /// Solver and sampling settings (one flat struct; see [`Settings::validate`]).
 #[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize, schemars::JsonSchema)]
@@ -538,15 +694,14 @@ pub struct Outcome {
     pub status: Status,
     /// The boom-length rule, as a formula.
     pub sizing_rule: String,
-    /// k1, k2, boom_length_m, jib_length_m, tie_pin_x_m, tie_pin_y_m, tie_length_m, jib_tail_m,
-    /// phi_min_rad, phi_max_rad, gamma1_rad, gamma2_rad, gamma3_rad.
-    pub design: BTreeMap<String, f64>,
-    /// delta_h_m.
-    pub objectives: BTreeMap<String, f64>,
-    /// Estimated absolute error of each objective (same keys).
-    pub errors: BTreeMap<String, f64>,
-    /// Derived quantities (see the keys).
-    pub derived: BTreeMap<String, f64>,
+    /// The design.
+    pub design: Design,
+    /// The objectives.
+    pub objectives: Objectives,
+    /// Estimated absolute error of each objective.
+    pub errors: Objectives,
+    /// Derived quantities.
+    pub derived: Derived,
     /// The thesis's checks, pass/fail.
     pub checks: Vec<Check>,
     /// Anything the reader must know.
@@ -567,7 +722,7 @@ pub struct Outcome {
     pub path_phi_rad: Vec<f64>,
     /// Local searches of the multistart.
     pub basins: Vec<Basin>,
-    /// The design vector evaluated, in the order of `VAR_NAMES` (what [`landscape`] is
+    /// The design vector evaluated, in the order of [`Vars`] (what [`landscape`] is
     /// computed around).
     pub x: [f64; 6],
     /// What the multistart did (`None` when nothing is free).
@@ -1361,9 +1516,7 @@ pub fn solve(scene: &CraneScene, settings: &Settings) -> Result<Outcome, FieldEr
         }
         let name = |u: &[f64]| {
             let (x, _) = obj.point(u);
-            free.iter()
-                .map(|&i| (VAR_NAMES[i].to_string(), x[i]))
-                .collect::<BTreeMap<_, _>>()
+            Vars::of(&x).named(&free)
         };
         let tol = settings.constraint_tol;
         let l = scene.length_scale();
@@ -1457,10 +1610,19 @@ fn report(
     let mut out = Outcome {
         status: Status::Evaluated,
         sizing_rule: scene.sizing.describe(),
-        design: BTreeMap::new(),
-        objectives: BTreeMap::new(),
-        errors: BTreeMap::new(),
-        derived: BTreeMap::new(),
+        design: Design {
+            vars: Vars::of(x),
+            phi_max_rad: FRAC_PI_2 - x[3],
+            boom_length_m: None,
+            jib_length_m: None,
+            jib_tail_m: None,
+            tie_pin_x_m: None,
+            tie_pin_y_m: None,
+            tie_length_m: None,
+        },
+        objectives: Objectives::default(),
+        errors: Objectives::default(),
+        derived: Derived::default(),
         checks: Vec::new(),
         warnings: Vec::new(),
         paper: Vec::new(),
@@ -1474,10 +1636,6 @@ fn report(
         x: *x,
         search: None,
     };
-    for (i, name) in VAR_NAMES.iter().enumerate() {
-        out.design.insert(name.to_string(), x[i]);
-    }
-    out.design.insert("phi_max_rad".into(), FRAC_PI_2 - x[3]);
     let ev = match evaluate(scene, x, settings) {
         Ok(ev) => ev,
         Err(e) => {
@@ -1489,35 +1647,30 @@ fn report(
     let (boom, syn) = (ev.boom, ev.synthesis);
     let angles = boom.angles;
     let l = &syn.linkage;
-    out.design.insert("boom_length_m".into(), boom.l_c);
-    out.design.insert("jib_length_m".into(), boom.l_v());
-    out.design.insert("jib_tail_m".into(), l.a);
+    out.design.boom_length_m = Some(boom.l_c);
+    out.design.jib_length_m = Some(boom.l_v());
+    out.design.jib_tail_m = Some(l.a);
     let rule_lc = SizingRule::MinReach;
     let lc_min_reach = CraneScene {
         sizing: rule_lc,
         ..scene.clone()
     }
     .boom_length(&angles, boom.k);
-    out.derived.insert("k".into(), boom.k);
-    out.derived
-        .insert("boom_length_min_reach_rule_m".into(), lc_min_reach);
-    out.derived.insert(
-        "boom_length_max_reach_rule_m".into(),
-        (scene.reach_max - scene.foot_offset) / angles.unit_reach_max(boom.k),
-    );
+    out.derived.k = Some(boom.k);
+    out.derived.boom_length_min_reach_rule_m = Some(lc_min_reach);
+    out.derived.boom_length_max_reach_rule_m =
+        Some((scene.reach_max - scene.foot_offset) / angles.unit_reach_max(boom.k));
     let h1 = boom.head_height();
     let c3 = boom.c3();
     let r_max = scene.foot_offset + boom.l_c * angles.unit_reach_max(boom.k);
     let r_min = scene.foot_offset + boom.l_c * angles.unit_reach_min(boom.k);
-    out.derived.insert("head_height_m".into(), h1);
-    out.derived.insert("head_height_min_reach_m".into(), c3.y);
-    out.derived
-        .insert("head_height_above_rail_m".into(), h1 + scene.foot_height);
-    out.derived.insert("reach_max_m".into(), r_max);
-    out.derived.insert("reach_min_m".into(), r_min);
-    out.derived.insert("phi2_rad".into(), syn.positions.phi[1]);
-    out.derived
-        .insert("allowed_delta_h_m".into(), scene.allowed_delta_h());
+    out.derived.head_height_m = Some(h1);
+    out.derived.head_height_min_reach_m = Some(c3.y);
+    out.derived.head_height_above_rail_m = Some(h1 + scene.foot_height);
+    out.derived.reach_max_m = Some(r_max);
+    out.derived.reach_min_m = Some(r_min);
+    out.derived.phi2_rad = Some(syn.positions.phi[1]);
+    out.derived.allowed_delta_h_m = Some(scene.allowed_delta_h());
     let p2 = |p: P2| [p.x, p.y];
     out.positions = Some(Positions {
         phi_rad: syn.positions.phi,
@@ -1531,13 +1684,11 @@ fn report(
     });
     match syn.guide {
         Guide::Circle { centre, radius } => {
-            out.design.insert("tie_pin_x_m".into(), centre.x);
-            out.design.insert("tie_pin_y_m".into(), centre.y);
-            out.design.insert("tie_length_m".into(), radius);
-            out.derived
-                .insert("tie_pin_distance_m".into(), centre.norm());
-            out.derived
-                .insert("tie_pin_error_m".into(), syn.guide_error);
+            out.design.tie_pin_x_m = Some(centre.x);
+            out.design.tie_pin_y_m = Some(centre.y);
+            out.design.tie_length_m = Some(radius);
+            out.derived.tie_pin_distance_m = Some(centre.norm());
+            out.derived.tie_pin_error_m = Some(syn.guide_error);
         }
         Guide::Line { dir, .. } => {
             warnings.push(
@@ -1545,18 +1696,14 @@ fn report(
                  (tie_pin_* and tie_length_m omitted)"
                     .into(),
             );
-            out.derived
-                .insert("guide_angle_rad".into(), dir.y.atan2(dir.x));
+            out.derived.guide_angle_rad = Some(dir.y.atan2(dir.x));
         }
     }
-    out.derived.insert(
-        "tie_pin_violation_m".into(),
-        if ev.tie_pin_violation.is_finite() {
-            ev.tie_pin_violation
-        } else {
-            f64::MAX
-        },
-    );
+    out.derived.tie_pin_violation_m = Some(if ev.tie_pin_violation.is_finite() {
+        ev.tie_pin_violation
+    } else {
+        f64::MAX
+    });
     let tol = settings.constraint_tol * scene.length_scale();
     let mut check = |name: &str, value: f64, limit: f64, pass: bool, note: &str| {
         out.checks.push(Check {
@@ -1660,8 +1807,8 @@ fn report(
         Ok(hh) => {
             out.evaluations = 1;
             if out.status != Status::BranchDefect {
-                out.objectives.insert("delta_h_m".into(), hh.delta_h);
-                out.errors.insert("delta_h_m".into(), hh.error);
+                out.objectives.delta_h_m = Some(hh.delta_h);
+                out.errors.delta_h_m = Some(hh.error);
                 let rel = hh.error / hh.delta_h.abs();
                 if rel >= 1.0 {
                     out.status = Status::Degenerate;
@@ -1688,18 +1835,12 @@ fn report(
                     "delta h <= [delta h] (0.1 H unless given) (m)",
                 );
             }
-            out.derived.insert("head_y_max_m".into(), hh.y_max);
-            out.derived.insert("head_y_min_m".into(), hh.y_min);
-            out.derived
-                .insert("phi_at_head_max_rad".into(), hh.phi_at_max);
-            out.derived
-                .insert("phi_at_head_min_rad".into(), hh.phi_at_min);
-            out.derived
-                .insert("min_transmission_angle_rad".into(), hh.min_transmission);
-            out.derived.insert(
-                "phi_at_min_transmission_rad".into(),
-                hh.phi_at_min_transmission,
-            );
+            out.derived.head_y_max_m = Some(hh.y_max);
+            out.derived.head_y_min_m = Some(hh.y_min);
+            out.derived.phi_at_head_max_rad = Some(hh.phi_at_max);
+            out.derived.phi_at_head_min_rad = Some(hh.phi_at_min);
+            out.derived.min_transmission_angle_rad = Some(hh.min_transmission);
+            out.derived.phi_at_min_transmission_rad = Some(hh.phi_at_min_transmission);
             if hh.min_transmission < 10f64.to_radians() {
                 warnings.push(format!(
                     "the tie and the jib tail come within {:.2} deg of alignment (at phi = {:.2} deg): the linkage is \
@@ -1731,9 +1872,9 @@ fn report(
                     MOMENT_PEAK_XTOL,
                 ) {
                     let err = load_moment(l, w, e.x, h).map_or(worst.1, |(_, er)| er);
-                    out.derived.insert("max_load_moment_nm".into(), e.fx);
-                    out.derived.insert("max_load_moment_error_nm".into(), err);
-                    out.derived.insert("phi_at_max_load_moment_rad".into(), e.x);
+                    out.derived.max_load_moment_nm = Some(e.fx);
+                    out.derived.max_load_moment_error_nm = Some(err);
+                    out.derived.phi_at_max_load_moment_rad = Some(e.x);
                 }
             }
         }
@@ -1821,8 +1962,8 @@ fn thesis_comparison(scene: &CraneScene, x: &[f64; 6], out: &Outcome) -> Vec<Pap
     let d = f64::to_radians;
     let thesis_x = [0.2, 0.4, d(35.0), d(10.0), d(5.0), d(12.0)];
     let same = x.iter().zip(thesis_x).all(|(a, b)| (a - b).abs() <= 1e-12);
-    let get = |m: &BTreeMap<String, f64>, k: &str| m.get(k).copied().unwrap_or(f64::NAN);
-    let lc = get(&out.design, "boom_length_m");
+    let get = |v: Option<f64>| v.unwrap_or(f64::NAN);
+    let lc = get(out.design.boom_length_m);
     let mut v = Vec::new();
     let mut push = |q: &str, paper: f64, computed: f64, note: String| {
         if computed.is_finite() {
@@ -1843,7 +1984,7 @@ fn thesis_comparison(scene: &CraneScene, x: &[f64; 6], out: &Outcome) -> Vec<Pap
     push(
         "k = L_v/L_c",
         0.52168,
-        get(&out.derived, "k"),
+        get(out.derived.k),
         format!("{design_note}; printed to 5 digits"),
     );
     push(
@@ -1852,41 +1993,41 @@ fn thesis_comparison(scene: &CraneScene, x: &[f64; 6], out: &Outcome) -> Vec<Pap
         lc,
         format!(
             "{design_note}; the thesis's 22.8 is the min-reach rule ({:.4} m) rounded down; sizing used: {}",
-            get(&out.derived, "boom_length_min_reach_rule_m"),
+            get(out.derived.boom_length_min_reach_rule_m),
             out.sizing_rule
         ),
     );
     push(
         "jib_length_m",
         11.894,
-        get(&out.design, "jib_length_m"),
+        get(out.design.jib_length_m),
         format!("{design_note}; L_v = k L_c"),
     );
     push(
         "head_height_m (above A)",
         10.605,
-        get(&out.derived, "head_height_m"),
+        get(out.derived.head_height_m),
         design_note.clone(),
     );
     push(
         "reach_max_m - r (from A)",
         30.31,
-        get(&out.derived, "reach_max_m") - scene.foot_offset,
+        get(out.derived.reach_max_m) - scene.foot_offset,
         design_note.clone(),
     );
     push(
         "reach_min_m - r (from A)",
         4.996,
-        get(&out.derived, "reach_min_m") - scene.foot_offset,
+        get(out.derived.reach_min_m) - scene.foot_offset,
         design_note.clone(),
     );
     push(
         "phi_max_deg",
         80.0,
-        get(&out.design, "phi_max_rad").to_degrees(),
+        out.design.phi_max_rad.to_degrees(),
         "phi_max = 90 deg - gamma1".into(),
     );
-    let dh = get(&out.objectives, "delta_h_m");
+    let dh = get(out.objectives.delta_h_m);
     push(
         "delta_h_m",
         0.543,
@@ -1897,7 +2038,7 @@ fn thesis_comparison(scene: &CraneScene, x: &[f64; 6], out: &Outcome) -> Vec<Pap
                  R_max ({:.4} m) gives 0.5432 m, so the thesis's graphical value matches the max-reach sizing; the \
                  thesis's own graphical check admits up to 3 % drafting error",
                 100.0 * (dh / 0.543 - 1.0),
-                get(&out.derived, "boom_length_max_reach_rule_m")
+                get(out.derived.boom_length_max_reach_rule_m)
             )
         } else {
             format!(

@@ -7,7 +7,7 @@ use crate::families::family::Scene;
 use crate::families::gear::model::{EccentricCircle, GearPair, Which, ZeroKind};
 use crate::families::gear::synth::{self as sg, GearScene, Outcome};
 use crate::report::plot::{self, Panel, Series};
-use crate::report::{PaperCheck, Plot, SolveResult, Status, Table};
+use crate::report::{number_map, PaperCheck, Plot, SolveResult, Status, Table};
 use serde_json::json;
 use std::collections::BTreeMap;
 use std::f64::consts::TAU;
@@ -62,10 +62,10 @@ pub fn result(scene: &Scene, p: &GearProblem) -> SolveResult {
     r.status_detail = Some(status_detail(out.status).into());
     r.search = out.search.clone();
     r.method = out.method.clone();
-    r.design = out.design.clone();
-    r.objectives = out.objectives.clone();
-    r.errors = out.errors.clone();
-    r.derived = out.derived.clone();
+    r.design = number_map(&out.design);
+    r.objectives = number_map(&out.objectives);
+    r.errors = number_map(&out.errors);
+    r.derived = number_map(&out.derived);
     r.warnings.extend(out.warnings.iter().cloned());
     r.paper = out
         .paper
@@ -87,23 +87,6 @@ pub fn result(scene: &Scene, p: &GearProblem) -> SolveResult {
         "zeros".into(),
         serde_json::to_value(&out.zeros).expect("plain data"),
     );
-    if let Some(best) = out
-        .sweep
-        .iter()
-        .filter(|s| s.feasible)
-        .max_by(|a, b| a.ratio_variation.total_cmp(&b.ratio_variation))
-    {
-        r.derived.insert(
-            "sweep_best_feasible_eccentricity_m".into(),
-            best.eccentricity_m,
-        );
-    }
-    if !out.sweep.is_empty() {
-        r.derived.insert(
-            "sweep_feasible_points".into(),
-            out.sweep.iter().filter(|s| s.feasible).count() as f64,
-        );
-    }
     r.tables = tables(&out);
     let shared = std::sync::Arc::new((scene.clone(), g.clone(), out));
     let d = shared.clone();
@@ -165,7 +148,7 @@ fn ratio_and_curves_plot(scene: &Scene, out: &Outcome) -> Result<String, String>
         .zip(&s.i12)
         .map(|(&a, &i)| (a.to_degrees(), i))
         .collect();
-    let (lo, hi) = (out.derived["ratio_min"], out.derived["ratio_max"]);
+    let (lo, hi) = (out.derived.ratio_min, out.derived.ratio_max);
     let ratio = Panel {
         title: format!("i12 = ω1/ω2: min {lo:.4}, max {hi:.4}"),
         x_label: "α1, angle of gear 1 (deg)".into(),
@@ -191,11 +174,11 @@ fn verticals(xs: &[f64], y0: f64, y1: f64) -> Vec<(f64, f64)> {
 /// edges (so that the plotted curve reaches the reported peak).
 fn sliding_plot(scene: &Scene, g: &GearScene, out: &Outcome) -> Result<String, String> {
     let s = &out.series;
-    let n_arch = out.derived["arches_gear1"].max(1.0);
+    let n_arch = out.derived.arches_gear1.max(1.0);
     let arch = TAU / n_arch;
-    let w = out.derived["pole_window_rad"];
-    let peak_at = out.derived["peak_sliding_alpha1_rad"];
-    let peak = out.objectives["peak_sliding_coefficient"];
+    let w = out.derived.pole_window_rad;
+    let peak_at = out.derived.peak_sliding_alpha1_rad;
+    let peak = out.objectives.peak_sliding_coefficient;
     // Zoom: two arches starting half an arch before the arch holding the peak.
     let z0 = (peak_at / arch).floor() * arch - 0.5 * arch;
     let z1 = z0 + 2.0 * arch;
@@ -217,12 +200,12 @@ fn sliding_plot(scene: &Scene, g: &GearScene, out: &Outcome) -> Result<String, S
                 .iter()
                 .any(|z| z.kind == ZeroKind::Indeterminate && near(z.alpha1_rad, w))
     };
-    let pair = EccentricCircle::new(g.pitch_radius, out.design["eccentricity_m"])
+    let pair = EccentricCircle::new(g.pitch_radius, out.design.eccentricity_m)
         .and_then(|c| {
             GearPair::new(
                 c,
                 g.generating_radius,
-                out.derived["center_distance_m"],
+                out.derived.center_distance_m,
                 g.omega1,
             )
         })
@@ -360,7 +343,7 @@ fn sliding_plot(scene: &Scene, g: &GearScene, out: &Outcome) -> Result<String, S
 /// The eccentricity sweep: ratio variation, peak |µ|, gear 2's curvature.
 fn sweep_plot(scene: &Scene, g: &GearScene, out: &Outcome) -> Result<String, String> {
     let mm = 1e3;
-    let e_star = out.design["eccentricity_m"] * mm;
+    let e_star = out.design.eccentricity_m * mm;
     let xs = |f: &dyn Fn(&sg::SweepRow) -> f64, feasible: Option<bool>| -> Vec<(f64, f64)> {
         out.sweep
             .iter()
@@ -373,7 +356,7 @@ fn sweep_plot(scene: &Scene, g: &GearScene, out: &Outcome) -> Result<String, Str
         Series::points("feasible", xs(&|s| s.ratio_variation, Some(true))),
         Series::marker(
             format!("design e = {e_star:.3} mm"),
-            vec![(e_star, out.objectives["ratio_variation"])],
+            vec![(e_star, out.objectives.ratio_variation)],
         ),
     ];
     var.retain(|s| !s.points.is_empty());
@@ -385,7 +368,7 @@ fn sweep_plot(scene: &Scene, g: &GearScene, out: &Outcome) -> Result<String, Str
         ),
         Series::marker(
             "design",
-            vec![(e_star, out.objectives["peak_sliding_coefficient"])],
+            vec![(e_star, out.objectives.peak_sliding_coefficient)],
         ),
     ];
     if let Some(lim) = g.max_sliding_coefficient {
@@ -404,7 +387,7 @@ fn sweep_plot(scene: &Scene, g: &GearScene, out: &Outcome) -> Result<String, Str
             "design",
             vec![(
                 e_star,
-                out.objectives["min_gear2_curvature_per_m"] * g.pitch_radius,
+                out.objectives.min_gear2_curvature_per_m * g.pitch_radius,
             )],
         ),
     ];
@@ -417,7 +400,7 @@ fn sweep_plot(scene: &Scene, g: &GearScene, out: &Outcome) -> Result<String, Str
             "design",
             vec![(
                 e_star,
-                out.objectives["max_pitch_pressure_angle_rad"].to_degrees(),
+                out.objectives.max_pitch_pressure_angle_rad.to_degrees(),
             )],
         ),
     ];

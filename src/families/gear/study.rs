@@ -3,8 +3,10 @@
 //! from the scene as resolved.
 
 use super::model::{GearPair, Pole, Singularities, Which};
+use super::synth::{Derived, Design};
 use crate::families::family::{relative, Effect, Ladder, Rung};
 use crate::problem::edit::{v_int, v_s, Edit};
+use crate::report::numbers::key;
 use crate::report::SolveResult;
 use crate::units::rad_text;
 use std::f64::consts::TAU;
@@ -12,14 +14,11 @@ use toml_edit::Value;
 
 /// The headline: the dotted result key a design is judged on (see
 /// [`crate::families::Machine::headline`]).
-// A design of e holds the peak |µ| at its limit: the objective is the ratio variation.
 pub fn headline(p: &super::file::GearProblem) -> String {
-    if matches!(p.gear.eccentricity, crate::synth::Var::Free { .. }) {
-        "objectives.ratio_variation"
-    } else {
-        "objectives.peak_sliding_coefficient"
-    }
-    .into()
+    format!(
+        "objectives.{}",
+        super::synth::Objectives::key(&p.gear.eccentricity)
+    )
 }
 
 /// The reference edits (tightest settings) and the ladder of settings.
@@ -131,7 +130,7 @@ pub fn effects(
     let sc = &g.gear;
     let s = &g.settings;
     let mut out = Vec::new();
-    let Some(e) = reference.lookup("design.eccentricity_m") else {
+    let Some(e) = reference.lookup(key!("design", Design, eccentricity_m)) else {
         return vec![(
             "pole windows".into(),
             "the reference has no eccentricity: no bound".into(),
@@ -178,7 +177,7 @@ pub fn effects(
     ));
     // The windows follow the poles: their location error moves the edges.
     let dmax = reference
-        .lookup("derived.max_pole_error_rad")
+        .lookup(key!("derived", Derived, max_pole_error_rad))
         .unwrap_or(f64::NAN);
     let slope = if set_by { edge / w } else { 0.0 };
     out.push((
@@ -224,4 +223,30 @@ pub fn effects(
         "left out, no bound: µ is kinematic (rigid teeth, exact cycloidal profiles, no backlash); the scene gives no load, stiffness or tolerance data, so their effect on µ cannot be computed from it".into(),
     ));
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::synth::{Objectives, Var};
+    use crate::report::numbers::declared_keys;
+
+    #[test]
+    fn the_key_objectives_are_fields_of_the_objectives() {
+        let o = Objectives {
+            peak_sliding_coefficient: 0.0,
+            ratio_variation: 0.0,
+            max_pitch_pressure_angle_rad: 0.0,
+            min_gear2_curvature_per_m: 0.0,
+        };
+        let keys = declared_keys(&o);
+        for v in [
+            Var::Fixed(0.01),
+            Var::Free {
+                min: 0.0,
+                max: 0.01,
+            },
+        ] {
+            assert!(keys.contains(&Objectives::key(&v).to_string()));
+        }
+    }
 }

@@ -20,9 +20,9 @@ use crate::families::gear::model::{
 };
 use crate::geom::P2;
 use crate::numeric::{brent_max, brent_root, SearchError};
+use crate::report::numbers::key;
 use crate::synth::SearchEvidence;
 use serde::Serialize;
-use std::collections::BTreeMap;
 use std::f64::consts::{PI, TAU};
 
 pub use crate::synth::Var;
@@ -429,19 +429,130 @@ pub struct ZeroOut {
     pub kind: ZeroKind,
 }
 
+/// The design of a gear result (keys of `design`, SI).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Design {
+    /// e (m): the eccentricity of gear 1's pitch circle.
+    pub eccentricity_m: f64,
+    /// R (m): gear 1's pitch radius.
+    pub pitch_radius_m: f64,
+    /// r (m): the generating circle of the cycloidal teeth.
+    pub generating_radius_m: f64,
+}
+
+/// The objectives of a gear result (keys of `objectives`); the same type holds their
+/// absolute errors (keys of `errors`).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Objectives {
+    /// Peak |µ| of the sliding coefficients µ1, µ2 on the working window (pole windows left
+    /// out); inf when the window is 0.
+    pub peak_sliding_coefficient: f64,
+    /// i12max/i12min: the speed-ratio variation.
+    pub ratio_variation: f64,
+    /// asin(e/R) (rad): the largest pitch pressure angle.
+    pub max_pitch_pressure_angle_rad: f64,
+    /// κ min (1/m) of gear 2's pitch curve (≤ 0: not convex).
+    pub min_gear2_curvature_per_m: f64,
+}
+
+impl Objectives {
+    /// The key objective of a scene: the ratio variation when e is designed (the peak |µ| is
+    /// then held at its limit), else the peak sliding coefficient.
+    pub fn key(eccentricity: &Var) -> &'static str {
+        if matches!(eccentricity, Var::Free { .. }) {
+            key!(Objectives, ratio_variation)
+        } else {
+            key!(Objectives, peak_sliding_coefficient)
+        }
+    }
+}
+
+/// Other figures of a gear result (keys of `derived`, SI); `None` where they do not apply.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Derived {
+    /// a (m): the closing centre distance for n1/n2.
+    pub center_distance_m: f64,
+    /// Error bound of a (m).
+    pub center_distance_error_m: f64,
+    /// i12 min = (a − (R + e))/(R + e).
+    pub ratio_min: f64,
+    /// i12 max = (a − (R − e))/(R − e).
+    pub ratio_max: f64,
+    /// Error bound of `ratio_min`.
+    pub ratio_min_error: f64,
+    /// Error bound of `ratio_max`.
+    pub ratio_max_error: f64,
+    /// Turn of gear 2 per turn of gear 1 (rad).
+    pub gear2_turn_per_gear1_turn_rad: f64,
+    /// Error bound of `gear2_turn_per_gear1_turn_rad` (rad).
+    pub gear2_turn_per_gear1_turn_error_rad: f64,
+    /// 2πR (m).
+    pub gear1_perimeter_m: f64,
+    /// Perimeter of gear 2's pitch curve, ∫ sqrt(ρ2² + ρ2'²) dα2 (m).
+    pub gear2_perimeter_m: f64,
+    /// Error bound of `gear2_perimeter_m` (m).
+    pub gear2_perimeter_error_m: f64,
+    /// Arches (tooth flanks) on gear 1.
+    pub arches_gear1: f64,
+    /// z1 = arches/2.
+    pub teeth_gear1: f64,
+    /// z2 = (n1/n2)·z1.
+    pub teeth_gear2: f64,
+    /// 4πr (m): the pitch on the pitch curve.
+    pub pitch_m: f64,
+    /// 2πr (m): one arch.
+    pub arch_length_m: f64,
+    /// 2πr/R (rad of the pitch circle): one arch's span.
+    pub arch_span_rad: f64,
+    /// Poles of µ1 over one turn of gear 1.
+    pub poles_mu1_per_turn: f64,
+    /// Poles of µ2 over one turn of gear 1.
+    pub poles_mu2_per_turn: f64,
+    /// Half-width of the window left out around each pole (rad).
+    pub pole_window_rad: f64,
+    /// α1 of the peak |µ| (rad).
+    pub peak_sliding_alpha1_rad: f64,
+    /// max |µ1 + µ2| on the working window.
+    pub max_mu_asymmetry: f64,
+    /// α1 of gear 2's smallest curvature (rad).
+    pub min_gear2_curvature_alpha1_rad: f64,
+    /// R − e (m).
+    pub rho1_min_m: f64,
+    /// R + e (m).
+    pub rho1_max_m: f64,
+    /// Largest error bound of a pole (rad).
+    pub max_pole_error_rad: f64,
+    /// Smallest distance between a µ1 and a µ2 pole (rad; absent without both).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub min_mu1_mu2_pole_separation_rad: Option<f64>,
+    /// n1/n2 at the file's stated centre distance (when stated and above R + e).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub ratio_at_stated_center_distance: Option<f64>,
+    /// Largest obliquity |ψ| at a contact in the pitch point (rad).
+    pub max_obliquity_at_pitch_point_contact_rad: f64,
+    /// Error bound of a designed e (m; absent when e is fixed or exact).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub eccentricity_error_m: Option<f64>,
+    /// The best feasible e of the sweep (m; with a designed e).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub sweep_best_feasible_eccentricity_m: Option<f64>,
+    /// Feasible points of the sweep (with a designed e).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub sweep_feasible_points: Option<f64>,
+}
+
 /// Everything a report needs.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Outcome {
     pub status: Status,
-    /// Design in SI with unit suffix: `eccentricity_m`, `pitch_radius_m`, `generating_radius_m`.
-    pub design: BTreeMap<String, f64>,
-    /// `peak_sliding_coefficient`, `ratio_variation`, `max_pitch_pressure_angle_rad`,
-    /// `min_gear2_curvature_per_m`.
-    pub objectives: BTreeMap<String, f64>,
-    /// Estimated absolute error of each objective (same keys).
-    pub errors: BTreeMap<String, f64>,
-    /// `center_distance_m`, `ratio_min`, `ratio_max` and further derived values.
-    pub derived: BTreeMap<String, f64>,
+    /// The design.
+    pub design: Design,
+    /// The objectives.
+    pub objectives: Objectives,
+    /// Estimated absolute error of each objective.
+    pub errors: Objectives,
+    /// Derived figures.
+    pub derived: Derived,
     pub warnings: Vec<String>,
     pub paper: Vec<PaperCheck>,
     /// Solver and evaluation counts.
@@ -712,7 +823,7 @@ pub fn solve(scene: &GearScene, settings: &Settings) -> Result<Outcome, SolveErr
     out.sweep = sweep;
     if let Some(ev) = search.as_mut() {
         // The refined design heads the list (it is at least the best sample).
-        let v = out.objectives["ratio_variation"];
+        let v = out.objectives.ratio_variation;
         if status != Status::Infeasible && ev.best_values.first().is_none_or(|&b| v >= b) {
             ev.best_values.insert(0, v);
             ev.best_values.truncate(5);
@@ -724,8 +835,17 @@ pub fn solve(scene: &GearScene, settings: &Settings) -> Result<Outcome, SolveErr
         an.closure.evals, settings.samples_per_arch, settings.pole_tol, settings.peak_samples_per_arch, settings.peak_xtol, an.evals
     );
     if design_error > 0.0 {
-        out.derived
-            .insert("eccentricity_error_m".into(), design_error);
+        out.derived.eccentricity_error_m = Some(design_error);
+    }
+    out.derived.sweep_best_feasible_eccentricity_m = out
+        .sweep
+        .iter()
+        .filter(|s| s.feasible)
+        .max_by(|a, b| a.ratio_variation.total_cmp(&b.ratio_variation))
+        .map(|best| best.eccentricity_m);
+    if !out.sweep.is_empty() {
+        out.derived.sweep_feasible_points =
+            Some(out.sweep.iter().filter(|s| s.feasible).count() as f64);
     }
     Ok(out)
 }
@@ -749,25 +869,24 @@ pub fn report(
     let var = imax / imin;
     let var_err = var * (di_min / imin + di_max / imax) + 4.0 * f64::EPSILON * var;
 
-    let mut design = BTreeMap::new();
-    design.insert("eccentricity_m".into(), e);
-    design.insert("pitch_radius_m".into(), r);
-    design.insert("generating_radius_m".into(), rg);
-
-    let mut objectives = BTreeMap::new();
-    let mut errors = BTreeMap::new();
-    objectives.insert("peak_sliding_coefficient".to_string(), an.peak.value);
-    errors.insert("peak_sliding_coefficient".to_string(), an.peak.error);
-    objectives.insert("ratio_variation".to_string(), var);
-    errors.insert("ratio_variation".to_string(), var_err);
+    let design = Design {
+        eccentricity_m: e,
+        pitch_radius_m: r,
+        generating_radius_m: rg,
+    };
     let psi_max = (e / r).asin();
-    objectives.insert("max_pitch_pressure_angle_rad".to_string(), psi_max);
-    errors.insert(
-        "max_pitch_pressure_angle_rad".to_string(),
-        4.0 * f64::EPSILON * psi_max.max(f64::MIN_POSITIVE),
-    );
-    objectives.insert("min_gear2_curvature_per_m".to_string(), an.curvature.0);
-    errors.insert("min_gear2_curvature_per_m".to_string(), an.curvature.2);
+    let objectives = Objectives {
+        peak_sliding_coefficient: an.peak.value,
+        ratio_variation: var,
+        max_pitch_pressure_angle_rad: psi_max,
+        min_gear2_curvature_per_m: an.curvature.0,
+    };
+    let errors = Objectives {
+        peak_sliding_coefficient: an.peak.error,
+        ratio_variation: var_err,
+        max_pitch_pressure_angle_rad: 4.0 * f64::EPSILON * psi_max.max(f64::MIN_POSITIVE),
+        min_gear2_curvature_per_m: an.curvature.2,
+    };
 
     let n_arch = pair.n_arches;
     let z1 = n_arch / 2;
@@ -787,27 +906,6 @@ pub fn report(
     );
     let perim2 = perim2_turn.value * ratio;
 
-    let mut derived = BTreeMap::new();
-    derived.insert("center_distance_m".into(), pair.a);
-    derived.insert("center_distance_error_m".into(), an.closure.a_error);
-    derived.insert("ratio_min".into(), imin);
-    derived.insert("ratio_max".into(), imax);
-    derived.insert("ratio_min_error".into(), di_min);
-    derived.insert("ratio_max_error".into(), di_max);
-    derived.insert("gear2_turn_per_gear1_turn_rad".into(), a2map.per_turn());
-    derived.insert("gear2_turn_per_gear1_turn_error_rad".into(), a2map.error);
-    derived.insert("gear1_perimeter_m".into(), perim1);
-    derived.insert("gear2_perimeter_m".into(), perim2);
-    derived.insert(
-        "gear2_perimeter_error_m".into(),
-        perim2_turn.error * ratio + an.closure.a_error * TAU,
-    );
-    derived.insert("arches_gear1".into(), n_arch as f64);
-    derived.insert("teeth_gear1".into(), z1 as f64);
-    derived.insert("teeth_gear2".into(), z2);
-    derived.insert("pitch_m".into(), 4.0 * PI * rg);
-    derived.insert("arch_length_m".into(), TAU * rg);
-    derived.insert("arch_span_rad".into(), TAU * rg / r);
     let n_mu1 = an
         .sing
         .poles
@@ -815,21 +913,12 @@ pub fn report(
         .filter(|p| p.which == Which::Mu1)
         .count();
     let n_mu2 = an.sing.poles.len() - n_mu1;
-    derived.insert("poles_mu1_per_turn".into(), n_mu1 as f64);
-    derived.insert("poles_mu2_per_turn".into(), n_mu2 as f64);
-    derived.insert("pole_window_rad".into(), scene.pole_window);
-    derived.insert("peak_sliding_alpha1_rad".into(), an.peak.alpha1);
-    derived.insert("max_mu_asymmetry".into(), an.peak.max_asymmetry);
-    derived.insert("min_gear2_curvature_alpha1_rad".into(), an.curvature.1);
-    derived.insert("rho1_min_m".into(), r - e);
-    derived.insert("rho1_max_m".into(), r + e);
     let max_pole_err = an
         .sing
         .poles
         .iter()
         .map(|p| p.error_rad)
         .fold(0.0, f64::max);
-    derived.insert("max_pole_error_rad".into(), max_pole_err);
     // Smallest distance between a µ1 pole and a µ2 pole.
     let mut min_sep = f64::INFINITY;
     for p in an.sing.poles.iter().filter(|p| p.which == Which::Mu1) {
@@ -838,9 +927,46 @@ pub fn report(
             min_sep = min_sep.min(d.min(TAU - d));
         }
     }
-    if min_sep.is_finite() {
-        derived.insert("min_mu1_mu2_pole_separation_rad".into(), min_sep);
-    }
+    let psi_at_zeros = an
+        .sing
+        .zeros
+        .iter()
+        .map(|z| pair.c.psi_sin_cos(z.alpha1_rad).0.abs().asin())
+        .fold(0.0, f64::max);
+    let mut derived = Derived {
+        center_distance_m: pair.a,
+        center_distance_error_m: an.closure.a_error,
+        ratio_min: imin,
+        ratio_max: imax,
+        ratio_min_error: di_min,
+        ratio_max_error: di_max,
+        gear2_turn_per_gear1_turn_rad: a2map.per_turn(),
+        gear2_turn_per_gear1_turn_error_rad: a2map.error,
+        gear1_perimeter_m: perim1,
+        gear2_perimeter_m: perim2,
+        gear2_perimeter_error_m: perim2_turn.error * ratio + an.closure.a_error * TAU,
+        arches_gear1: n_arch as f64,
+        teeth_gear1: z1 as f64,
+        teeth_gear2: z2,
+        pitch_m: 4.0 * PI * rg,
+        arch_length_m: TAU * rg,
+        arch_span_rad: TAU * rg / r,
+        poles_mu1_per_turn: n_mu1 as f64,
+        poles_mu2_per_turn: n_mu2 as f64,
+        pole_window_rad: scene.pole_window,
+        peak_sliding_alpha1_rad: an.peak.alpha1,
+        max_mu_asymmetry: an.peak.max_asymmetry,
+        min_gear2_curvature_alpha1_rad: an.curvature.1,
+        rho1_min_m: r - e,
+        rho1_max_m: r + e,
+        max_pole_error_rad: max_pole_err,
+        min_mu1_mu2_pole_separation_rad: min_sep.is_finite().then_some(min_sep),
+        ratio_at_stated_center_distance: None,
+        max_obliquity_at_pitch_point_contact_rad: psi_at_zeros,
+        eccentricity_error_m: None,
+        sweep_best_feasible_eccentricity_m: None,
+        sweep_feasible_points: None,
+    };
 
     // --- warnings ---------------------------------------------------------------------
     if e / r > 0.9 {
@@ -919,7 +1045,7 @@ pub fn report(
             ));
             paper.push(PaperCheck {
                 quantity: "teeth of gear 1, z1".into(),
-                key: "derived.teeth_gear1".into(),
+                key: key!("derived", Derived, teeth_gear1).into(),
                 paper: tz1 as f64,
                 computed: z1 as f64,
                 note: format!(
@@ -929,7 +1055,7 @@ pub fn report(
             });
             paper.push(PaperCheck {
                 quantity: "arch span of eq. (2), π/z1 (rad of the pitch circle)".into(),
-                key: "derived.arch_span_rad".into(),
+                key: key!("derived", Derived, arch_span_rad).into(),
                 paper: PI / tz1 as f64,
                 computed: TAU * rg / r,
                 note: "eq. (2) spans each arch over π/z1 of the pitch circle, but one turn of the r = 1.25 mm generating circle covers 2πr/R; with z1 = 12 the arches would not end in cusps".into(),
@@ -941,7 +1067,7 @@ pub fn report(
             ));
             paper.push(PaperCheck {
                 quantity: "teeth of gear 2, z2".into(),
-                key: "derived.teeth_gear2".into(),
+                key: key!("derived", Derived, teeth_gear2).into(),
                 paper: tz2 as f64,
                 computed: z2,
                 note: "z2 = (n1/n2)·z1 with z1 from the pitch circle; the stated 36 = 3 × 12 keeps the ratio but inherits the wrong z1".into(),
@@ -951,7 +1077,7 @@ pub fn report(
             let stated_perim2 = tz2 as f64 * p;
             paper.push(PaperCheck {
                 quantity: "perimeter of gear 2's pitch curve (z2 × pitch)".into(),
-                key: "derived.gear2_perimeter_m".into(),
+                key: key!("derived", Derived, gear2_perimeter_m).into(),
                 paper: stated_perim2,
                 computed: perim2,
                 note: format!("paper value = z2 × pitch; computed from gear 2's polar curve ∫sqrt(ρ2² + ρ2'²)dα2; must equal (n1/n2)·2πR = {:.4} mm", ratio * perim1 * 1e3),
@@ -968,7 +1094,7 @@ pub fn report(
         }
         paper.push(PaperCheck {
             quantity: "pitch on the pitch curve".into(),
-            key: "derived.pitch_m".into(),
+            key: key!("derived", Derived, pitch_m).into(),
             paper: p,
             computed: pitch,
             note: "4πr (= πm for m = 4r); agrees to the printed rounding. The pitch 2πR/z1 with the stated z1 would be different".into(),
@@ -989,7 +1115,7 @@ pub fn report(
             }
             paper.push(PaperCheck {
                 quantity: format!("{} on the pitch curve", if k.ends_with("thickness") { "tooth thickness" } else { "space width" }),
-                key: "derived.arch_length_m".into(),
+                key: key!("derived", Derived, arch_length_m).into(),
                 paper: t,
                 computed: arch,
                 note: "one cycloid arch = one turn of the generating circle, 2πr; agrees to the printed rounding".into(),
@@ -1001,10 +1127,10 @@ pub fn report(
         if a_st > r + e && j.value.is_finite() {
             let ratio_st = TAU / j.value;
             let miss = (n1 as f64 * j.value - TAU * n2 as f64).to_degrees();
-            derived.insert("ratio_at_stated_center_distance".into(), ratio_st);
+            derived.ratio_at_stated_center_distance = Some(ratio_st);
             paper.push(PaperCheck {
                 quantity: "centre distance a12".into(),
-                key: "derived.center_distance_m".into(),
+                key: key!("derived", Derived, center_distance_m).into(),
                 paper: a_st,
                 computed: pair.a,
                 note: format!(
@@ -1026,7 +1152,7 @@ pub fn report(
     }
     paper.push(PaperCheck {
         quantity: "max |µ1 + µ2| on the working window (paper: µ2 = −µ1, symmetric)".into(),
-        key: "derived.max_mu_asymmetry".into(),
+        key: key!("derived", Derived, max_mu_asymmetry).into(),
         paper: 0.0,
         computed: an.peak.max_asymmetry,
         note: "by definition µ2 = −µ1/(1 − µ1) exactly, which is −µ1 only to first order; the curves are mirror images only where |µ| ≪ 1".into(),
@@ -1034,25 +1160,15 @@ pub fn report(
     if min_sep.is_finite() {
         paper.push(PaperCheck {
             quantity: "separation of µ1 and µ2 poles in α1 (paper: both at points 2, 4)".into(),
-            key: "derived.min_mu1_mu2_pole_separation_rad".into(),
+            key: key!("derived", Derived, min_mu1_mu2_pole_separation_rad).into(),
             paper: 0.0,
             computed: min_sep,
             note: "µ1 is infinite where the common tangent passes through O1, µ2 where it passes through O2: distinct points (the paper's eq. 11 itself keeps cos β2 ≠ 0)".into(),
         });
     }
-    let psi_at_zeros = an
-        .sing
-        .zeros
-        .iter()
-        .map(|z| pair.c.psi_sin_cos(z.alpha1_rad).0.abs().asin())
-        .fold(0.0, f64::max);
-    derived.insert(
-        "max_obliquity_at_pitch_point_contact_rad".into(),
-        psi_at_zeros,
-    );
     paper.push(PaperCheck {
         quantity: "angle between the common tangent and O1O2 at K = P".into(),
-        key: "derived.max_obliquity_at_pitch_point_contact_rad".into(),
+        key: key!("derived", Derived, max_obliquity_at_pitch_point_contact_rad).into(),
         paper: PI / 2.0,
         computed: psi_at_zeros,
         note: "at K = P the contact is at a cusp, whose tangent is the pitch-curve normal: it deviates from O1O2 by the obliquity |ψ| (max shown), it is not perpendicular to it".into(),

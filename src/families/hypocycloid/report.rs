@@ -4,27 +4,15 @@
 
 use super::file::*;
 use crate::families::family::Scene;
-use crate::families::hypocycloid::synth::{self as hy, OptStatus, Outcome, ZeroStatus};
+use crate::families::hypocycloid::synth::{self as hy, Derived, OptStatus, Outcome, ZeroStatus};
+use crate::report::numbers::key;
 use crate::report::plot::{self, Grid, Panel, Series};
-use crate::report::{PaperCheck, Plot, SolveResult, Status, Table};
+use crate::report::{number_map, PaperCheck, Plot, SolveResult, Status, Table};
 use serde_json::json;
 use std::collections::BTreeMap;
 use std::f64::consts::PI;
 use std::fmt::Write as _;
 use std::time::Instant;
-
-/// `residual_force_peak_N` → `residual_force_peak_n` (the results' unit suffixes).
-fn key(k: &str) -> String {
-    match k {
-        "R_m" => "carrier_radius_m".into(),
-        "r_m" => "crank_arm_m".into(),
-        "L_m" => "rod_length_m".into(),
-        _ => match k.strip_suffix("_N") {
-            Some(s) => format!("{s}_n"),
-            None => k.to_string(),
-        },
-    }
-}
 
 fn kebab<T: serde::Serialize>(v: T) -> String {
     serde_json::to_value(v)
@@ -105,28 +93,11 @@ pub fn result(scene: &Scene, s: &HypocycloidProblem) -> SolveResult {
             .join("; ")
     };
     r.warnings.extend(out.warnings.iter().cloned());
-    for (k, v) in &out.design {
-        r.design.insert(key(k), *v);
-    }
-    for (k, v) in &out.objectives {
-        r.objectives.insert(key(k), *v);
-    }
-    for (k, v) in &out.errors {
-        r.errors.insert(key(k), *v);
-    }
-    for (k, v) in &out.derived {
-        r.derived.insert(key(k), *v);
-    }
-    r.derived.insert("omega_rad_s".into(), h.omega);
+    r.design = number_map(&out.design);
+    r.objectives = number_map(&out.objectives);
+    r.errors = number_map(&out.errors);
+    r.derived = number_map(&out.derived);
     let c = &out.coefficients;
-    let max_b = c.b[1..=6.min(h.orders)]
-        .iter()
-        .fold(0.0f64, |m, b| m.max(b.abs()));
-    r.derived.insert("max_abs_b1_b6".into(), max_b);
-    let f1 = c.a[1].hypot(c.b[1]);
-    let f3 = 9.0 * c.a[3].hypot(c.b[3]);
-    r.derived
-        .insert("force_ratio_order3_to_order1".into(), f3 / f1);
 
     // Family sections.
     let amp: Vec<f64> = std::iter::once(0.0)
@@ -229,9 +200,9 @@ fn paper_checks(out: &Outcome) -> Vec<PaperCheck> {
             } else if q.starts_with("C2^II") {
                 "coefficients.b.2".into()
             } else if q.starts_with("b1..b6") {
-                "derived.max_abs_b1_b6".into()
+                key!("derived", Derived, max_abs_b1_b6).into()
             } else if q.starts_with("|Φ3|/|Φ1|") {
-                "derived.force_ratio_order3_to_order1".into()
+                key!("derived", Derived, force_ratio_order3_to_order1).into()
             } else {
                 String::new()
             };
@@ -413,8 +384,7 @@ fn map_plot(scene: &Scene, out: &Outcome) -> Result<String, String> {
             pts(&out.zero_curve_series),
         ),
     ];
-    let l = out.design.get("lambda").copied().unwrap_or(f64::NAN);
-    let t = out.design.get("theta").copied().unwrap_or(f64::NAN);
+    let (l, t) = (out.design.lambda, out.design.theta);
     series.push(Series::marker(
         format!("design of least residual force (λ = {l:.3}, θ = {t:.3})"),
         vec![(l, t)],

@@ -3,9 +3,10 @@
 //! from the scene as resolved.
 
 use super::model::{max_abs_y, Hypocycloid};
-use super::synth::CoefficientModel;
+use super::synth::{CoefficientModel, Design, Objectives};
 use crate::families::family::{relative, Effect, Ladder, Rung};
 use crate::problem::edit::{v_f, v_int, v_s, Edit};
+use crate::report::numbers::key;
 use crate::report::SolveResult;
 use crate::units::rad_text;
 use crate::units::STANDARD_GRAVITY as G;
@@ -14,14 +15,11 @@ use toml_edit::Value;
 
 /// The headline: the dotted result key a design is judged on (see
 /// [`crate::families::Machine::headline`]).
-// A scene asking the paper's C4 question is judged on C4 (a4 of S/R) itself.
 pub fn headline(p: &super::file::HypocycloidProblem) -> String {
-    if p.scene.zero_search.is_some() {
-        "objectives.c4"
-    } else {
-        "objectives.residual_force_peak_n"
-    }
-    .into()
+    format!(
+        "objectives.{}",
+        super::synth::Objectives::key(p.scene.zero_search.is_some())
+    )
 }
 
 /// The reference edits (tightest settings) and the ladder of settings.
@@ -123,8 +121,8 @@ pub fn effects(
 ) -> Vec<Effect> {
     let sc = &h.scene;
     let (Some(lambda), Some(theta)) = (
-        reference.lookup("design.lambda"),
-        reference.lookup("design.theta"),
+        reference.lookup(key!("design", Design, lambda)),
+        reference.lookup(key!("design", Design, theta)),
     ) else {
         return vec![(
             "model limits".into(),
@@ -141,7 +139,7 @@ pub fn effects(
     let sum_i2: f64 = sc.balance_orders.iter().map(|&i| (i * i) as f64).sum();
     let c4_headline = sc.zero_search.is_some();
     let residual = reference
-        .lookup("objectives.residual_force_peak_n")
+        .lookup(key!("objectives", Objectives, residual_force_peak_n))
         .unwrap_or(f64::NAN);
     let mut out = Vec::new();
     // Series truncation.
@@ -212,3 +210,24 @@ pub fn effects(
 // ---------------------------------------------------------------------------------------
 // Luffing crane
 // ---------------------------------------------------------------------------------------
+
+#[cfg(test)]
+mod tests {
+    use super::super::synth::Objectives;
+    use crate::report::numbers::declared_keys;
+
+    #[test]
+    fn the_key_objectives_are_fields_of_the_objectives() {
+        let o = Objectives {
+            c4: 0.0,
+            residual_force_peak_n: 0.0,
+            residual_force_rms_n: 0.0,
+            unbalanced_force_peak_n: 0.0,
+            stroke_m: 0.0,
+            suction_gain: 0.0,
+        };
+        for zero_search in [false, true] {
+            assert!(declared_keys(&o).contains(&Objectives::key(zero_search).to_string()));
+        }
+    }
+}

@@ -10,9 +10,9 @@
 // `!(x > 0.0)` is deliberate: a NaN must fail every range check.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
-use std::collections::BTreeMap;
 use std::f64::consts::PI;
 
+use crate::report::numbers::key;
 use argmin::core::{CostFunction, Error as ArgminError, Executor, State};
 use argmin::solver::neldermead::NelderMead;
 use serde::Serialize;
@@ -1015,18 +1015,105 @@ pub struct ForceCurves {
     pub position: Vec<f64>,
 }
 
+/// The design of a hypocycloid result (keys of `design`).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Design {
+    /// λ = R/L: the carrier radius over the rod length.
+    pub lambda: f64,
+    /// θ = r/R: the crank arm over the carrier radius.
+    pub theta: f64,
+    /// R (m): the carrier radius.
+    pub carrier_radius_m: f64,
+    /// r = θR (m): the crank arm.
+    pub crank_arm_m: f64,
+    /// L = R/λ (m): the rod.
+    pub rod_length_m: f64,
+}
+
+/// The objectives of a hypocycloid result (keys of `objectives`); the same type holds their
+/// absolute errors (keys of `errors`).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Objectives {
+    /// C4 = a_4 of S/R: the fourth-order cosine coefficient of the piston path.
+    pub c4: f64,
+    /// Peak of the inertia force of m_B left after the Lanchester pairs (N).
+    pub residual_force_peak_n: f64,
+    /// RMS of that residual force over a turn (N).
+    pub residual_force_rms_n: f64,
+    /// Peak inertia force of m_B without balancing (N).
+    pub unbalanced_force_peak_n: f64,
+    /// Piston stroke (m).
+    pub stroke_m: f64,
+    /// Suction gain: the suction stroke's share of a turn beyond one half, over π.
+    pub suction_gain: f64,
+}
+
+impl Objectives {
+    /// The key objective of a scene: C4 when it asks the paper's C4 question (a zero
+    /// search), else the residual force peak.
+    pub fn key(zero_search: bool) -> &'static str {
+        if zero_search {
+            key!(Objectives, c4)
+        } else {
+            key!(Objectives, residual_force_peak_n)
+        }
+    }
+}
+
+/// Other figures of a hypocycloid result (keys of `derived`); `None` without a zero search.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Derived {
+    /// b_4 of S/R.
+    pub b4: f64,
+    /// a_4 by the paper's truncated series.
+    pub c4_series: f64,
+    /// Series a_4 minus the exact a_4.
+    pub c4_series_minus_exact: f64,
+    /// λ·max|y|.
+    pub lambda_ymax: f64,
+    /// 1 − λ·max|y|: how far from failing to assemble.
+    pub assembly_margin: f64,
+    /// FFT size of the coefficients.
+    pub n_fft: f64,
+    /// m_B R ω² (N): the force scale.
+    pub force_scale_n: f64,
+    /// Amplitude of the order-4 inertia force, 16·m_B R ω²·hypot(a_4, b_4) (N).
+    pub force_order4_amplitude_n: f64,
+    /// (suction gain + 1)·π (rad): the suction stroke's crank angle.
+    pub suction_angle_rad: f64,
+    /// Model evaluations of the search and analysis (before the zero search).
+    pub evaluations: f64,
+    /// Largest |θ_series − θ_exact| on the zero curve.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub zero_curve_series_max_dtheta: Option<f64>,
+    /// λ of that largest difference.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub zero_curve_series_worst_lambda: Option<f64>,
+    /// Roots the zero search found.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub zero_roots: Option<f64>,
+    /// Largest |a_k| at a root of the zero search.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub zero_max_abs_at_root: Option<f64>,
+    /// ω (rad/s): the crank speed.
+    pub omega_rad_s: f64,
+    /// max |b_1..b_6|: the sine coefficients (0 for a symmetric path).
+    pub max_abs_b1_b6: f64,
+    /// |Φ3|/|Φ1| = 9·hypot(a_3, b_3)/hypot(a_1, b_1): order-3 against order-1 force.
+    pub force_ratio_order3_to_order1: f64,
+}
+
 /// Everything a report needs.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Outcome {
-    /// `lambda`, `theta`, `R_m`, `r_m`, `L_m`.
-    pub design: BTreeMap<String, f64>,
-    /// `c4` (a_4 of S/R), `residual_force_peak_N`, `residual_force_rms_N`,
-    /// `unbalanced_force_peak_N`, `stroke_m`, `suction_gain`.
-    pub objectives: BTreeMap<String, f64>,
-    /// Estimated absolute error of each objective (same keys).
-    pub errors: BTreeMap<String, f64>,
-    /// Secondary numbers (`b4`, `lambda_ymax`, `n_fft`, `c4_series`, …).
-    pub derived: BTreeMap<String, f64>,
+    /// The design.
+    pub design: Design,
+    /// The objectives.
+    pub objectives: Objectives,
+    /// Estimated absolute error of each objective.
+    pub errors: Objectives,
+    /// Secondary numbers.
+    pub derived: Derived,
     /// Things the user should know.
     pub warnings: Vec<String>,
     /// Comparison with the paper.
@@ -1343,54 +1430,51 @@ pub fn solve(scene: &HypocycloidScene, settings: &Settings) -> Result<Outcome, F
         .map(|&i| (i * i) as f64 * c.err[i])
         .sum();
 
-    let mut design = BTreeMap::new();
-    design.insert("lambda".into(), l);
-    design.insert("theta".into(), t);
-    design.insert("R_m".into(), r);
-    design.insert("r_m".into(), t * r);
-    design.insert("L_m".into(), r / l);
-    let mut objectives = BTreeMap::new();
-    let mut errors = BTreeMap::new();
-    let mut put = |k: &str, v: f64, er: f64| {
-        objectives.insert(k.to_string(), v);
-        errors.insert(k.to_string(), er);
+    let design = Design {
+        lambda: l,
+        theta: t,
+        carrier_radius_m: r,
+        crank_arm_m: t * r,
+        rod_length_m: r / l,
     };
-    put("c4", c.a[4], c.err[4]);
-    put(
-        "residual_force_peak_N",
-        fscale * e.residual_peak,
-        fscale * e.residual_peak_err,
-    );
-    put(
-        "residual_force_rms_N",
-        fscale * rms.rms,
-        fscale * (rms.error + cerr),
-    );
-    put(
-        "unbalanced_force_peak_N",
-        fscale * unb.peak.fx,
-        fscale * unb.error,
-    );
-    put(
-        "stroke_m",
-        r * e.stroke,
-        r * e.stroke_err.max(f64::EPSILON * e.stroke),
-    );
-    put("suction_gain", e.suction_gain, 1e-9 / PI);
-    let mut derived = BTreeMap::new();
-    derived.insert("b4".into(), c.b[4]);
-    derived.insert("c4_series".into(), sa[4]);
-    derived.insert("c4_series_minus_exact".into(), sa[4] - c.a[4]);
-    derived.insert("lambda_ymax".into(), e.ratio_ymax);
-    derived.insert("assembly_margin".into(), 1.0 - e.ratio_ymax);
-    derived.insert("n_fft".into(), c.n_fft as f64);
-    derived.insert("force_scale_N".into(), fscale);
-    derived.insert(
-        "force_order4_amplitude_N".into(),
-        fscale * 16.0 * c.amplitude(4),
-    );
-    derived.insert("suction_angle_rad".into(), (e.suction_gain + 1.0) * PI);
-    derived.insert("evaluations".into(), evals as f64);
+    let objectives = Objectives {
+        c4: c.a[4],
+        residual_force_peak_n: fscale * e.residual_peak,
+        residual_force_rms_n: fscale * rms.rms,
+        unbalanced_force_peak_n: fscale * unb.peak.fx,
+        stroke_m: r * e.stroke,
+        suction_gain: e.suction_gain,
+    };
+    let errors = Objectives {
+        c4: c.err[4],
+        residual_force_peak_n: fscale * e.residual_peak_err,
+        residual_force_rms_n: fscale * (rms.error + cerr),
+        unbalanced_force_peak_n: fscale * unb.error,
+        stroke_m: r * e.stroke_err.max(f64::EPSILON * e.stroke),
+        suction_gain: 1e-9 / PI,
+    };
+    let max_abs_b1_b6 = c.b[1..=6.min(n_ord)]
+        .iter()
+        .fold(0.0f64, |m, b| m.max(b.abs()));
+    let mut derived = Derived {
+        b4: c.b[4],
+        c4_series: sa[4],
+        c4_series_minus_exact: sa[4] - c.a[4],
+        lambda_ymax: e.ratio_ymax,
+        assembly_margin: 1.0 - e.ratio_ymax,
+        n_fft: c.n_fft as f64,
+        force_scale_n: fscale,
+        force_order4_amplitude_n: fscale * 16.0 * c.amplitude(4),
+        suction_angle_rad: (e.suction_gain + 1.0) * PI,
+        evaluations: evals as f64,
+        zero_curve_series_max_dtheta: None,
+        zero_curve_series_worst_lambda: None,
+        zero_roots: None,
+        zero_max_abs_at_root: None,
+        omega_rad_s: scene.omega,
+        max_abs_b1_b6,
+        force_ratio_order3_to_order1: 9.0 * c.a[3].hypot(c.b[3]) / c.a[1].hypot(c.b[1]),
+    };
 
     // Zero search.
     let (zsr, zero_curve, zero_curve_series) = match &scene.zero_search {
@@ -1433,8 +1517,8 @@ pub fn solve(scene: &HypocycloidScene, settings: &Settings) -> Result<Outcome, F
                     _ => acc,
                 })
             {
-                derived.insert("zero_curve_series_max_dtheta".into(), zb.0);
-                derived.insert("zero_curve_series_worst_lambda".into(), zb.1.lambda);
+                derived.zero_curve_series_max_dtheta = Some(zb.0);
+                derived.zero_curve_series_worst_lambda = Some(zb.1.lambda);
             }
             let missing = z.roots.iter().filter(|r| r.series_theta.is_none()).count();
             if missing > 0 {
@@ -1445,8 +1529,8 @@ pub fn solve(scene: &HypocycloidScene, settings: &Settings) -> Result<Outcome, F
                     z.roots.len()
                 ));
             }
-            derived.insert("zero_roots".into(), z.roots.len() as f64);
-            derived.insert("zero_max_abs_at_root".into(), z.max_abs_at_root);
+            derived.zero_roots = Some(z.roots.len() as f64);
+            derived.zero_max_abs_at_root = Some(z.max_abs_at_root);
             (Some(z), zc, zcs)
         }
         None => (None, Vec::new(), Vec::new()),

@@ -10,7 +10,7 @@ use crate::families::slider_crank::synth::shaking_force;
 use crate::families::slider_crank::synth::{self as sc, Objective};
 use crate::geom::P2;
 use crate::report::plot::{self, Panel, Series};
-use crate::report::{Plot, SolveResult, Status, Table};
+use crate::report::{number_map, Plot, SolveResult, Status, Table};
 use crate::synth::counterweight::Status as CwStatus;
 use crate::synth::shape::{self, ShapeOutcome};
 use serde_json::json;
@@ -81,113 +81,84 @@ pub fn result(scene: &Scene, sc_scene: &SliderCrankProblem) -> SolveResult {
     r.warnings.extend(out.warnings.iter().cloned());
     let d = &out.design;
     let u = P2::new(d.unbalance[0], d.unbalance[1]);
-    r.design
-        .insert("counterweight_unbalance_kgm".into(), u.norm());
-    r.design.insert(
-        "counterweight_angle_rad".into(),
-        if u.norm() > 0.0 {
-            u.y.atan2(u.x).rem_euclid(TAU)
-        } else {
-            0.0
-        },
-    );
-    r.design.insert("counterweight_unbalance_x_kgm".into(), u.x);
-    r.design.insert("counterweight_unbalance_y_kgm".into(), u.y);
-    if let Some(mass) = out.mass {
-        r.design.insert("counterweight_mass_kg".into(), mass);
-    }
-    if let Some(rad) = out.radius {
-        r.design.insert("counterweight_radius_m".into(), rad);
-    }
+    let (unbalance, angle) = d.unbalance_polar();
+    let design = sc::Design {
+        counterweight_unbalance_kgm: unbalance,
+        counterweight_angle_rad: angle,
+        counterweight_unbalance_x_kgm: u.x,
+        counterweight_unbalance_y_kgm: u.y,
+        counterweight_mass_kg: out.mass,
+        counterweight_radius_m: out.radius,
+    };
     let torque_objective = s.objective == Objective::MinPeakTorque;
-    r.objective = Some(
-        match s.objective {
-            Objective::MinPeakTorque => "peak_drive_torque_nm",
-            Objective::MinRmsForce => "rms_shaking_force_n",
-            _ => "peak_shaking_force_n",
-        }
-        .into(),
-    );
-    r.objectives.insert("peak_shaking_force_n".into(), d.peak);
-    r.objectives.insert("rms_shaking_force_n".into(), d.rms);
-    r.objectives
-        .insert("peak_drive_torque_nm".into(), d.peak_torque);
-    r.objectives
-        .insert("peak_shaking_moment_nm".into(), out.peak_shaking_moment);
+    r.objective = Some(sc::Objectives::key(s.objective).into());
+    let objectives = sc::Objectives {
+        peak_shaking_force_n: d.peak,
+        rms_shaking_force_n: d.rms,
+        peak_drive_torque_nm: d.peak_torque,
+        peak_shaking_moment_nm: out.peak_shaking_moment,
+    };
     // A degenerate torque objective was solved as the minimax force: its gap is in N.
     let (gap_f, gap_t) = if torque_objective && out.degenerate.is_none() {
         (0.0, out.gap)
     } else {
         (out.gap, 0.0)
     };
-    r.errors
-        .insert("peak_shaking_force_n".into(), gap_f + d.peak_error);
-    r.errors.insert("rms_shaking_force_n".into(), d.rms_error);
-    r.errors
-        .insert("peak_drive_torque_nm".into(), gap_t + d.peak_torque_error);
-    r.errors.insert(
-        "peak_shaking_moment_nm".into(),
-        out.peak_shaking_moment_error,
-    );
+    let errors = sc::Errors {
+        objectives: sc::Objectives {
+            peak_shaking_force_n: gap_f + d.peak_error,
+            rms_shaking_force_n: d.rms_error,
+            peak_drive_torque_nm: gap_t + d.peak_torque_error,
+            peak_shaking_moment_nm: out.peak_shaking_moment_error,
+        },
+        model_two_harmonic_n: out.exact_peak.map(|ex| (ex - d.peak).abs()),
+    };
     let (mt, mc) = (m.m_rot(), m.m_rec());
-    r.derived = BTreeMap::from([
-        ("lambda".into(), m.lambda()),
-        ("omega_rad_s".into(), s.omega),
-        ("rotating_mass_kg".into(), mt),
-        ("reciprocating_mass_kg".into(), mc),
-        (
-            "reciprocating_fraction_balanced".into(),
-            if mc > 0.0 {
-                (-u.x / m.r - mt) / mc
-            } else {
-                0.0
-            },
-        ),
-        ("peak_angle_rad".into(), d.peak_angle),
-        ("peak_torque_angle_rad".into(), d.peak_torque_angle),
-        ("peak_to_peak_x_n".into(), d.ptp_x),
-        ("peak_to_peak_y_n".into(), d.ptp_y),
-        ("optimality_gap".into(), out.gap),
-        ("gravity_ratio".into(), 9.80665 / (m.r * s.omega * s.omega)),
-    ]);
-    if out.static_weight > 0.0 {
-        r.derived
-            .insert("static_weight_n".into(), out.static_weight);
-    }
-    if let Some(ex) = out.exact_peak {
-        r.derived
-            .insert("peak_shaking_force_exact_kinematics_n".into(), ex);
-        r.errors
-            .insert("model_two_harmonic_n".into(), (ex - d.peak).abs());
-    }
+    let mut derived = sc::Derived {
+        lambda: m.lambda(),
+        omega_rad_s: s.omega,
+        rotating_mass_kg: mt,
+        reciprocating_mass_kg: mc,
+        reciprocating_fraction_balanced: if mc > 0.0 {
+            (-u.x / m.r - mt) / mc
+        } else {
+            0.0
+        },
+        peak_angle_rad: d.peak_angle,
+        peak_torque_angle_rad: d.peak_torque_angle,
+        peak_to_peak_x_n: d.ptp_x,
+        peak_to_peak_y_n: d.ptp_y,
+        optimality_gap: out.gap,
+        gravity_ratio: 9.80665 / (m.r * s.omega * s.omega),
+        static_weight_n: (out.static_weight > 0.0).then_some(out.static_weight),
+        peak_shaking_force_exact_kinematics_n: out.exact_peak,
+        formula6_counterweight_mass_kg: None,
+        formula6_counterweight_mass_printed_inputs_kg: None,
+        paper_counterweight_torque_reduction_pct: None,
+        pareto_force_span_n: None,
+        pareto_torque_span_nm: None,
+        shape_mass_kg: None,
+        shape_centroid_radius_m: None,
+    };
     let mut baselines = out.baselines.clone();
     // The classical formula (6) at the lever radius is the 50 % rule: m = (m_r + ½m_s)R/r_pr.
     if let Some(rad) = s.counterweight.radius.and_then(|v| v.fixed()) {
-        r.derived.insert(
-            "formula6_counterweight_mass_kg".into(),
-            (mt + 0.5 * mc) * m.r / rad,
-        );
+        derived.formula6_counterweight_mass_kg = Some((mt + 0.5 * mc) * m.r / rad);
         if let Some(pd) = &sc_scene.paper {
-            paper_design_checks(&mut r, &mut baselines, s, pd, rad);
+            paper_design_checks(&mut r, &mut derived, &mut baselines, s, pd, rad);
         }
     }
     for (name, b) in &baselines {
-        let mut map = b.to_map();
-        let base = if torque_objective {
-            b.peak_torque
+        let (base, ours) = if torque_objective {
+            (b.peak_torque, d.peak_torque)
         } else {
-            b.peak
+            (b.peak, d.peak)
         };
-        let ours = if torque_objective {
-            d.peak_torque
-        } else {
-            d.peak
+        let figures = sc::Baseline {
+            improvement_pct: Some(100.0 * (base - ours) / base.max(1e-300)),
+            ..b.baseline()
         };
-        map.insert(
-            "improvement_pct".into(),
-            100.0 * (base - ours) / base.max(1e-300),
-        );
-        r.baselines.insert(name.clone(), map);
+        r.baselines.insert(name.clone(), number_map(&figures));
     }
     if !out.pareto.is_empty() {
         r.extra.insert(
@@ -199,8 +170,8 @@ pub fn result(scene: &Scene, sc_scene: &SliderCrankProblem) -> SolveResult {
                 b.peak_shaking_force_n - a.peak_shaking_force_n,
                 a.peak_drive_torque_nm - b.peak_drive_torque_nm,
             );
-            r.derived.insert("pareto_force_span_n".into(), df);
-            r.derived.insert("pareto_torque_span_nm".into(), dt);
+            derived.pareto_force_span_n = Some(df);
+            derived.pareto_torque_span_nm = Some(dt);
             if df < 0.01 * a.peak_shaking_force_n && dt < 0.01 * b.peak_drive_torque_nm {
                 r.warnings.push(format!(
                     "the force optimum and the torque optimum nearly coincide (the front spans {df:.3} N and {dt:.4} N·m): one counterweight serves both"
@@ -240,9 +211,8 @@ pub fn result(scene: &Scene, sc_scene: &SliderCrankProblem) -> SolveResult {
             ShapeOutcome::Found { sector, method } => {
                 r.extra
                     .insert("shape".into(), json!({"sector": sector, "method": method}));
-                r.derived.insert("shape_mass_kg".into(), sector.mass_kg);
-                r.derived
-                    .insert("shape_centroid_radius_m".into(), sector.centroid_radius_m);
+                derived.shape_mass_kg = Some(sector.mass_kg);
+                derived.shape_centroid_radius_m = Some(sector.centroid_radius_m);
             }
             ShapeOutcome::Infeasible { reason } => {
                 r.warnings.push(format!("counterweight plate: {reason}"));
@@ -253,6 +223,10 @@ pub fn result(scene: &Scene, sc_scene: &SliderCrankProblem) -> SolveResult {
             }
         }
     }
+    r.design = number_map(&design);
+    r.objectives = number_map(&objectives);
+    r.errors = number_map(&errors);
+    r.derived = number_map(&derived);
     if let Some(sw) = &sc_scene.speed_sweep {
         speed_sweep(&mut r, scene, s, sw, u);
     }
@@ -377,6 +351,7 @@ fn speed_sweep(r: &mut SolveResult, scene: &Scene, s: &sc::Scene, sw: &SpeedSwee
 /// the paper's counterweight evaluated as a baseline (`paper_counterweight`).
 fn paper_design_checks(
     r: &mut SolveResult,
+    derived: &mut sc::Derived,
     baselines: &mut BTreeMap<String, sc::Metrics>,
     s: &sc::Scene,
     pd: &PaperDesign,
@@ -403,8 +378,7 @@ fn paper_design_checks(
     }
     if let (Some(pr), Some(ps)) = (pd.rotating_mass, pd.reciprocating_mass) {
         let f6 = (pr + 0.5 * ps) * m.r / rad;
-        r.derived
-            .insert("formula6_counterweight_mass_printed_inputs_kg".into(), f6);
+        derived.formula6_counterweight_mass_printed_inputs_kg = Some(f6);
         if let Some(pm) = pd.counterweight_mass {
             if (pm - f6).abs() > 1e-4 * f6 {
                 r.warnings.push(format!(
@@ -419,10 +393,8 @@ fn paper_design_checks(
         match sc::metrics(s, u_paper) {
             Ok(met) => {
                 if let Some(none) = baselines.get("none") {
-                    r.derived.insert(
-                        "paper_counterweight_torque_reduction_pct".into(),
-                        100.0 * (none.peak_torque - met.peak_torque) / none.peak_torque,
-                    );
+                    derived.paper_counterweight_torque_reduction_pct =
+                        Some(100.0 * (none.peak_torque - met.peak_torque) / none.peak_torque);
                 }
                 baselines.insert("paper_counterweight".into(), met);
             }

@@ -14,15 +14,7 @@ use toml_edit::Value;
 /// The headline: the dotted result key a design is judged on (see
 /// [`crate::families::Machine::headline`]).
 pub fn headline(p: &super::file::SliderCrankProblem) -> String {
-    use super::synth::Objective;
-    match p.core.objective {
-        Objective::MinRmsForce => "objectives.rms_shaking_force_n",
-        Objective::MinPeakTorque => "objectives.peak_drive_torque_nm",
-        Objective::MinMass => "design.counterweight_mass_kg",
-        Objective::MinRadius => "design.counterweight_radius_m",
-        Objective::MinPeakForce => "objectives.peak_shaking_force_n",
-    }
-    .into()
+    super::synth::headline(p.core.objective)
 }
 
 /// The reference edits (tightest settings) and the ladder of settings.
@@ -240,3 +232,39 @@ pub fn effects(
 // ---------------------------------------------------------------------------------------
 // Hypocycloid
 // ---------------------------------------------------------------------------------------
+
+#[cfg(test)]
+mod tests {
+    use super::super::synth::{headline, Design, Objective, Objectives};
+    use crate::report::numbers::declared_keys;
+
+    #[test]
+    fn every_headline_is_a_field_of_the_design_or_the_objectives() {
+        let o = Objectives {
+            peak_shaking_force_n: 0.0,
+            rms_shaking_force_n: 0.0,
+            peak_drive_torque_nm: 0.0,
+            peak_shaking_moment_nm: 0.0,
+        };
+        let d = Design {
+            counterweight_unbalance_kgm: 0.0,
+            counterweight_angle_rad: 0.0,
+            counterweight_unbalance_x_kgm: 0.0,
+            counterweight_unbalance_y_kgm: 0.0,
+            counterweight_mass_kg: None,
+            counterweight_radius_m: None,
+        };
+        use Objective::*;
+        for obj in [MinPeakForce, MinRmsForce, MinMass, MinRadius, MinPeakTorque] {
+            let h = headline(obj);
+            let (section, key) = h.split_once('.').unwrap();
+            let keys = if section == "design" {
+                declared_keys(&d)
+            } else {
+                declared_keys(&o)
+            };
+            assert!(keys.contains(&key.to_string()), "{h}");
+            assert!(declared_keys(&o).contains(&Objectives::key(obj).to_string()));
+        }
+    }
+}

@@ -16,8 +16,10 @@ use crate::numeric::{
     brent_max, newton_polish, newton_root, periodic_peak, periodic_rms, periodic_rms_sampled,
     Extremum, PeriodicPeak, Refine, Shape,
 };
+use crate::report::numbers::key;
 use crate::synth::counterweight::{self as cw, Affine, Direction, Field, Goal, Problem, Status};
 use crate::synth::Var;
+use serde::Serialize;
 use std::collections::BTreeMap;
 
 /// What the synthesis minimises.
@@ -130,28 +132,182 @@ pub struct Metrics {
 }
 
 impl Metrics {
-    /// As result keys (SI, unit suffix).
-    pub fn to_map(&self) -> BTreeMap<String, f64> {
+    /// |U| (kg·m) and its angle from the crank direction in [0, 2π) (rad; 0 for U = 0).
+    pub fn unbalance_polar(&self) -> (f64, f64) {
         let u = P2::new(self.unbalance[0], self.unbalance[1]);
-        BTreeMap::from([
-            ("unbalance_kgm".into(), u.norm()),
-            (
-                "unbalance_angle_rad".into(),
-                if u.norm() > 0.0 {
-                    u.y.atan2(u.x).rem_euclid(std::f64::consts::TAU)
-                } else {
-                    0.0
-                },
-            ),
-            ("peak_shaking_force_n".into(), self.peak),
-            ("rms_shaking_force_n".into(), self.rms),
-            ("peak_to_peak_x_n".into(), self.ptp_x),
-            ("peak_to_peak_y_n".into(), self.ptp_y),
-            ("peak_x_n".into(), self.peak_x),
-            ("peak_y_n".into(), self.peak_y),
-            ("peak_drive_torque_nm".into(), self.peak_torque),
-        ])
+        let angle = if u.norm() > 0.0 {
+            u.y.atan2(u.x).rem_euclid(std::f64::consts::TAU)
+        } else {
+            0.0
+        };
+        (u.norm(), angle)
     }
+
+    /// The figures of a baseline (its `improvement_pct` left for the report).
+    pub fn baseline(&self) -> Baseline {
+        let (unbalance_kgm, unbalance_angle_rad) = self.unbalance_polar();
+        Baseline {
+            unbalance_kgm,
+            unbalance_angle_rad,
+            peak_shaking_force_n: self.peak,
+            rms_shaking_force_n: self.rms,
+            peak_to_peak_x_n: self.ptp_x,
+            peak_to_peak_y_n: self.ptp_y,
+            peak_x_n: self.peak_x,
+            peak_y_n: self.peak_y,
+            peak_drive_torque_nm: self.peak_torque,
+            improvement_pct: None,
+        }
+    }
+}
+
+/// The design of a slider-crank result (keys of `design`, SI).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Design {
+    /// |U| = m_cw·r_cw (kg·m): the counterweight's unbalance.
+    pub counterweight_unbalance_kgm: f64,
+    /// Angle of U from the crank direction, in [0, 2π) (rad).
+    pub counterweight_angle_rad: f64,
+    /// U along the crank (kg·m).
+    pub counterweight_unbalance_x_kgm: f64,
+    /// U across the crank (kg·m).
+    pub counterweight_unbalance_y_kgm: f64,
+    /// m_cw (kg), where the scene sizes it.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub counterweight_mass_kg: Option<f64>,
+    /// r_cw (m), where the scene sizes it.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub counterweight_radius_m: Option<f64>,
+}
+
+/// The objectives of a slider-crank result (keys of `objectives`, SI).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Objectives {
+    /// max over φ of |F|, the shaking force on the frame (N).
+    pub peak_shaking_force_n: f64,
+    /// RMS over φ of |F| (N).
+    pub rms_shaking_force_n: f64,
+    /// max over φ of |T|, the drive torque (N·m).
+    pub peak_drive_torque_nm: f64,
+    /// max over φ of the shaking moment about the crank axis (N·m).
+    pub peak_shaking_moment_nm: f64,
+}
+
+impl Objectives {
+    /// The key objective of a scene: the one minimised (`peak_shaking_force_n` for the mass
+    /// and radius objectives, whose peak force is their constraint).
+    pub fn key(objective: Objective) -> &'static str {
+        match objective {
+            Objective::MinPeakTorque => key!(Objectives, peak_drive_torque_nm),
+            Objective::MinRmsForce => key!(Objectives, rms_shaking_force_n),
+            Objective::MinPeakForce | Objective::MinMass | Objective::MinRadius => {
+                key!(Objectives, peak_shaking_force_n)
+            }
+        }
+    }
+}
+
+/// The headline of a scene, the dotted result key its design is judged on: the key objective,
+/// or for the mass and radius objectives the design figure minimised.
+pub fn headline(objective: Objective) -> String {
+    match objective {
+        Objective::MinMass => key!("design", Design, counterweight_mass_kg).into(),
+        Objective::MinRadius => key!("design", Design, counterweight_radius_m).into(),
+        o => format!("objectives.{}", Objectives::key(o)),
+    }
+}
+
+/// The absolute errors of a slider-crank result (keys of `errors`, SI): one per objective,
+/// and the model error of two-harmonic kinematics.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Errors {
+    /// The error of each objective (same keys).
+    #[serde(flatten)]
+    pub objectives: Objectives,
+    /// |peak with exact kinematics − peak with two harmonics| (N; two-harmonic kinematics only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub model_two_harmonic_n: Option<f64>,
+}
+
+/// Other figures of a slider-crank result (keys of `derived`, SI); `None` where they do not
+/// apply.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Derived {
+    /// λ = r/l: crank over rod.
+    pub lambda: f64,
+    /// ω (rad/s).
+    pub omega_rad_s: f64,
+    /// m_r: the rotating mass reduced to the crank pin (kg).
+    pub rotating_mass_kg: f64,
+    /// m_s: the reciprocating mass (kg).
+    pub reciprocating_mass_kg: f64,
+    /// (−U_x/r − m_r)/m_s: the share of the reciprocating mass the counterweight balances.
+    pub reciprocating_fraction_balanced: f64,
+    /// Crank angle of the peak shaking force (rad).
+    pub peak_angle_rad: f64,
+    /// Crank angle of the peak drive torque (rad).
+    pub peak_torque_angle_rad: f64,
+    /// max F_x − min F_x (N).
+    pub peak_to_peak_x_n: f64,
+    /// max F_y − min F_y (N).
+    pub peak_to_peak_y_n: f64,
+    /// The objective's optimality gap in its unit (N, or N·m for the torque).
+    pub optimality_gap: f64,
+    /// g/(r ω²): gravity against the crank pin's acceleration.
+    pub gravity_ratio: f64,
+    /// Static weight of the links and the counterweight (N; with gravity).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub static_weight_n: Option<f64>,
+    /// The design's peak force with exact kinematics (N; two-harmonic kinematics only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub peak_shaking_force_exact_kinematics_n: Option<f64>,
+    /// Formula (6), (m_r + ½m_s)·r/r_cw, at the fixed lever radius (kg).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub formula6_counterweight_mass_kg: Option<f64>,
+    /// Formula (6) on the paper's printed masses (kg).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub formula6_counterweight_mass_printed_inputs_kg: Option<f64>,
+    /// Peak-torque reduction of the paper's counterweight against none (%).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub paper_counterweight_torque_reduction_pct: Option<f64>,
+    /// Force span of the Pareto front (N).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub pareto_force_span_n: Option<f64>,
+    /// Torque span of the Pareto front (N·m).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub pareto_torque_span_nm: Option<f64>,
+    /// Mass of the counterweight plate (kg).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub shape_mass_kg: Option<f64>,
+    /// Centroid radius of the counterweight plate (m).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub shape_centroid_radius_m: Option<f64>,
+}
+
+/// The figures of a classical design evaluated like the result (keys of `baselines.NAME`, SI).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Baseline {
+    /// |U| (kg·m).
+    pub unbalance_kgm: f64,
+    /// Angle of U from the crank direction (rad).
+    pub unbalance_angle_rad: f64,
+    /// max |F| (N).
+    pub peak_shaking_force_n: f64,
+    /// RMS |F| (N).
+    pub rms_shaking_force_n: f64,
+    /// max F_x − min F_x (N).
+    pub peak_to_peak_x_n: f64,
+    /// max F_y − min F_y (N).
+    pub peak_to_peak_y_n: f64,
+    /// max |F_x| (N).
+    pub peak_x_n: f64,
+    /// max |F_y| (N).
+    pub peak_y_n: f64,
+    /// max |T| (N·m).
+    pub peak_drive_torque_nm: f64,
+    /// (baseline − result)/baseline of the key objective (%).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub improvement_pct: Option<f64>,
 }
 
 /// Everything the solve found.
