@@ -181,6 +181,10 @@ pub fn schema() -> Value {
                 qty(Angle, "angle tolerance of the peak refinement"),
             ),
             ("rms_samples", uint("uniform angles of RMS values (even)")),
+            (
+                "exact_disc",
+                boolean("solve a turning counterweight's peak force as a smallest enclosing disc"),
+            ),
         ],
         &[],
         "solver and sampling settings",
