@@ -5,6 +5,8 @@
 //!   (`problems/linkage-fourbar-crank-counterweight.toml`), the minimax |F| alone: the engine
 //!   built on the force field (its scan grid: 360 evaluations of the dyad chain) and solved
 //!   with its certificate (rel_tol 1e-9).
+//! * `minimax_force_fourbar_1cw/engine_clarabel`: the same with `exact_disc = false`
+//!   (clarabel's SOCP exchange loop instead of the exact disc).
 //! * `minimax_force_fourbar_1cw/solve_from_engine`: the same solve from an engine already
 //!   built (the field tabulated once).
 //! * `solve/<scene>`: the family's whole solve of a shipped scene (bare peaks, the minimax
@@ -17,7 +19,7 @@ use cwsynth::families::linkage::file::LinkageProblem;
 use cwsynth::families::linkage::synth::{
     field_objects, limits_of, solve, SceneFields, FORCE, MOMENT,
 };
-use cwsynth::synth::minimax::{Engine, Goal, Problem};
+use cwsynth::synth::minimax::{Engine, Goal, Problem, Settings};
 use std::hint::black_box;
 
 fn scene(name: &str) -> cwsynth::families::Scene {
@@ -50,6 +52,18 @@ fn bench(c: &mut Criterion) {
             let s = e.solve().unwrap();
             assert_eq!(s.status, cwsynth::synth::counterweight::Status::Optimal);
             s
+        })
+    });
+    let clarabel = Settings {
+        exact_disc: false,
+        ..p.settings
+    };
+    c.bench_function("linkage/minimax_force_fourbar_1cw/engine_clarabel", |b| {
+        b.iter(|| {
+            Engine::new(black_box(&pb), &clarabel)
+                .unwrap()
+                .solve()
+                .unwrap()
         })
     });
     let e = Engine::new(&pb, &p.settings).unwrap();

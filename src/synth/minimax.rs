@@ -1522,8 +1522,9 @@ impl<'p, 'a> Engine<'p, 'a> {
     /// angle A(θ) has zero m and I columns and a u block c·Q(θ) (Q orthogonal, one constant
     /// c > 0: a counterweight on a frame pivot turning with the crank, F = b + c·Rot(θ)·u).
     /// Then |g| = c|u − p(θ)| with p = −Qᵀb/c, and the minimax over sampled angles is the
-    /// smallest disc enclosing the points p(θ_k) (Welzl; the angles start from
-    /// [`crate::synth::counterweight::enclosing_presolve`], the slider-crank's presolve).
+    /// smallest disc enclosing the points p(θ_k) (Welzl, [`crate::geom::enclosing_disc`],
+    /// first on the scan grid), its support angles polished on the continuous curve by
+    /// Newton (`polish_support`).
     ///
     /// The certificate is the engine's own: V is the refined peak at the design (the scan of
     /// [`Engine::scan`]), L the Lagrangian bound of [`Engine::disc_bound`] at the disc's
@@ -1590,35 +1591,28 @@ impl<'p, 'a> Engine<'p, 'a> {
             direction: cw::Direction::Free,
             warm_angles: Vec::new(),
         };
-        let cs = cw::Settings {
-            rel_tol: self.s.rel_tol,
-            scan_samples: self.s.scan_samples,
-            peak_xtol: self.s.peak_xtol,
-            ..cw::Settings::default()
-        };
         let Some(form) = cw::DiscForm::of(&cpb) else {
             return Ok(None);
         };
-        if !grid.iter().all(|a| form.point_of(a).is_some()) {
-            return Ok(None);
+        // The sampled points: the scan grid's (already evaluated), then the angles added.
+        let mut pts: Vec<(f64, crate::geom::P2)> = Vec::with_capacity(grid.len() + 8);
+        for (t, a) in uniform_angles(grid.len()).into_iter().zip(&grid) {
+            match form.point_of(a) {
+                Some(p) => pts.push((t, p)),
+                None => return Ok(None),
+            }
         }
-        let Some(mut samples) = cw::enclosing_presolve(&cpb, &cs) else {
-            return Ok(None);
-        };
         let c = &pb.counterweights[0];
         let reach = (c.m_max * c.r_max.min(c.envelope)).min((c.inertia_max * c.m_max).sqrt());
         let floor = self.s.abs_floor * w * self.g0[f];
         let h = std::f64::consts::TAU / self.s.scan_samples as f64;
         const ROUNDS: usize = 6;
         for round in 1..=ROUNDS {
-            let Some(disc) = form.disc(&samples) else {
+            let just: Vec<crate::geom::P2> = pts.iter().map(|p| p.1).collect();
+            let Some(disc) = crate::geom::enclosing_disc(&just) else {
                 return Ok(None);
             };
             let point = |t: f64| form.point_of(&eval(t));
-            let pts: Vec<(f64, crate::geom::P2)> = samples
-                .iter()
-                .filter_map(|&t| point(t).map(|p| (t, p)))
-                .collect();
             let mut weights = support_weights(&pts, &disc);
             let mut u = disc.centre;
             // The disc's support angles polished to the continuous curve's (Newton), so the
@@ -1698,18 +1692,24 @@ impl<'p, 'a> Engine<'p, 'a> {
                     )
                     .map(Some);
             }
-            let before = samples.len();
-            for &(t, _) in &weights {
-                if is_new(&samples, t) {
-                    samples.push(t);
+            let before = pts.len();
+            let add = |t: f64, pts: &mut Vec<(f64, crate::geom::P2)>| {
+                let angles: Vec<f64> = pts.iter().map(|p| p.0).collect();
+                if is_new(&angles, t) {
+                    if let Some(p) = point(t) {
+                        pts.push((t, p));
+                    }
                 }
+            };
+            for &(t, _) in &weights {
+                add(t, &mut pts);
             }
             for e in &pk.maxima {
-                if w * e.fx > lower + 0.5 * self.s.rel_tol * gap_scale && is_new(&samples, e.x) {
-                    samples.push(e.x);
+                if w * e.fx > lower + 0.5 * self.s.rel_tol * gap_scale {
+                    add(e.x, &mut pts);
                 }
             }
-            if samples.len() == before {
+            if pts.len() == before {
                 return Ok(None);
             }
         }
@@ -2384,10 +2384,6 @@ fn polish_support(
     h: f64,
 ) -> Option<(Vec<f64>, crate::geom::P2)> {
     use crate::geom::P2;
-    let k = weights.len();
-    if !(k == 2 || k == 3) {
-        return None;
-    }
     let centre = |ps: &[P2]| -> Option<P2> {
         if ps.len() == 2 {
             Some(0.5 * (ps[0] + ps[1]))
@@ -2399,16 +2395,33 @@ fn polish_support(
     let resid = |th: &[f64]| -> Option<(Vec<f64>, P2)> {
         let ps: Vec<P2> = th.iter().map(|&t| point(t)).collect::<Option<_>>()?;
         let v = centre(&ps)?;
-        let mut f = Vec::with_capacity(k);
+        let mut f = Vec::with_capacity(th.len());
         for (i, &t) in th.iter().enumerate() {
             let d = (point(t + eta)? - point(t - eta)?) / (2.0 * eta);
             f.push((ps[i] - v).dot(&d));
         }
         Some((f, v))
     };
-    let mut th: Vec<f64> = weights.iter().map(|w| w.0).collect();
+    // Support points around one maximum of the curve (neighbouring samples) are one.
+    let mut merged: Vec<(f64, f64)> = Vec::new();
+    for &(t, l) in weights {
+        match merged
+            .iter_mut()
+            .find(|m| crate::synth::counterweight::angle_dist(m.0, t) <= 2.0 * h)
+        {
+            Some(m) if l > m.1 => *m = (t, m.1 + l),
+            Some(m) => m.1 += l,
+            None => merged.push((t, l)),
+        }
+    }
+    let k = merged.len();
+    if !(k == 2 || k == 3) {
+        return None;
+    }
+    let mut th: Vec<f64> = merged.iter().map(|w| w.0).collect();
     let start = th.clone();
     let eta2 = 1e-6;
+    let mut last_step = f64::INFINITY;
     for _ in 0..10 {
         let (f, _) = resid(&th)?;
         let mut jac = nalgebra::DMatrix::<f64>::zeros(k, k);
@@ -2433,9 +2446,12 @@ fn polish_support(
         {
             return None;
         }
-        if big <= 1e-13 {
+        // Quadratic convergence: the next step would be below 1e-16; a step that does not
+        // shrink is the differences' noise.
+        if big <= 1e-9 || big >= last_step {
             break;
         }
+        last_step = big;
     }
     let (_, v) = resid(&th)?;
     Some((
