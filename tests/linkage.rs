@@ -347,3 +347,51 @@ fn joint_load_errors_cover_a_rotated_copy_near_a_toggle() {
         }
     }
 }
+
+#[test]
+fn the_exact_disc_of_a_crank_counterweight_agrees_with_clarabel() {
+    // One crank counterweight, peak force: the engine's disc path (no clarabel) and its SOCP
+    // exchange loop reach the same certified optimum, each within the other's error bound.
+    for name in [
+        "linkage-fourbar-crank-counterweight.toml",
+        "linkage-double-crank.toml",
+    ] {
+        let sc = load(&problem(name)).unwrap();
+        let p: &LinkageProblem = sc.machine().unwrap();
+        let disc = ls::solve(&p.scene, &p.settings).unwrap().design.unwrap();
+        let mut s = p.settings;
+        s.exact_disc = false;
+        let socp = ls::solve(&p.scene, &s).unwrap().design.unwrap();
+        assert_eq!(
+            disc.solver_status,
+            cwsynth::synth::minimax::DISC_SOLVER,
+            "{name}"
+        );
+        assert_eq!(disc.ipm_iterations, 0);
+        for sol in [&disc, &socp] {
+            assert_eq!(
+                sol.status,
+                cwsynth::synth::counterweight::Status::Optimal,
+                "{name}: {sol:?}"
+            );
+            assert!(sol.lower_bound <= sol.objective + sol.error.evaluation);
+        }
+        let (a, b) = (disc.objective, socp.objective);
+        assert!(
+            (a - b).abs() <= disc.error.total + socp.error.total,
+            "{name}: {a} vs {b}"
+        );
+        // Each design's peak is above the other's lower bound (both bounds are rigorous).
+        assert!(disc.lower_bound <= b + socp.error.evaluation, "{name}");
+        assert!(socp.lower_bound <= a + disc.error.evaluation, "{name}");
+        assert!(disc.error.sampling <= 1e-9 * a, "{name}: {:?}", disc.error);
+        // The lightest counterweight with that unbalance: at the radius limit, a point mass.
+        let cw = disc.counterweight(0);
+        assert!(
+            (cw.radius - p.scene.counterweights[0].radius).abs() <= 1e-12,
+            "{cw:?}"
+        );
+        assert!(cw.centroidal_inertia <= 1e-12 * cw.inertia, "{cw:?}");
+        let _ = FORCE;
+    }
+}

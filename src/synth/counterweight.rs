@@ -695,7 +695,7 @@ pub fn enclosing_presolve(pb: &Problem, s: &Settings) -> Option<Vec<f64>> {
 /// A minimax force `max_φ ‖A(φ)u + b(φ)‖` whose every A(φ) is c·Q(φ), Q orthogonal, one
 /// constant c > 0 (a counterweight turning with the crank): ‖A u + b‖ = c‖u − p(φ)‖ with
 /// p(φ) = −Aᵀb/c², the unbalance that would cancel the force at φ.
-struct DiscForm<'p, 'a> {
+pub(crate) struct DiscForm<'p, 'a> {
     /// The objective field and its index in the problem.
     f: &'p Field<'a>,
     i: usize,
@@ -706,7 +706,7 @@ struct DiscForm<'p, 'a> {
 impl<'p, 'a> DiscForm<'p, 'a> {
     /// The form of the objective field of `pb`, when the goal is its peak and it has it
     /// (c from φ = 0).
-    fn of(pb: &'p Problem<'a>) -> Option<Self> {
+    pub(crate) fn of(pb: &'p Problem<'a>) -> Option<Self> {
         let Goal::MinPeak(i) = pb.goal else {
             return None;
         };
@@ -720,7 +720,7 @@ impl<'p, 'a> DiscForm<'p, 'a> {
     }
 
     /// p of one affine value (`None` when its A is not c·orthogonal).
-    fn point_of(&self, aff: &Affine) -> Option<P2> {
+    pub(crate) fn point_of(&self, aff: &Affine) -> Option<P2> {
         let tol = 1e-12 * self.c2;
         let [[a00, a01], [a10, a11]] = aff.a;
         let (n0, n1) = (a00 * a00 + a10 * a10, a01 * a01 + a11 * a11);
@@ -739,7 +739,7 @@ impl<'p, 'a> DiscForm<'p, 'a> {
 
     /// The smallest disc enclosing p at `angles`: its centre is the minimax u over those
     /// angles and c times its radius the minimax value.
-    fn disc(&self, angles: &[f64]) -> Option<crate::geom::Disc> {
+    pub(crate) fn disc(&self, angles: &[f64]) -> Option<crate::geom::Disc> {
         let pts: Vec<P2> = angles
             .iter()
             .map(|&a| self.point(a))

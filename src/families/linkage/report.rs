@@ -352,12 +352,20 @@ fn design_keys(r: &mut SolveResult, p: &LinkageProblem, out: &Outcome, sol: &Sol
         );
     }
     r.method = format!(
-        "closed-form dyads; clarabel SOCP (rotated cones I·m ≥ |u|²) + exchange loop: {} rounds, {} angles, {} IPM iterations{}",
+        "closed-form dyads; {} + exchange loop: {} rounds, {} angles, {} IPM iterations{}",
+        if sol.solver_status == crate::synth::minimax::DISC_SOLVER {
+            "smallest enclosing disc (Welzl, support angles by Newton)"
+        } else {
+            "clarabel SOCP (rotated cones I·m ≥ |u|²)"
+        },
         sol.rounds,
         sol.angles,
         sol.ipm_iterations,
         if out.balance_rows > 0 {
-            format!("; full force balance as {} equalities (SVD of the force blocks)", out.balance_rows)
+            format!(
+                "; full force balance as {} equalities (SVD of the force blocks)",
+                out.balance_rows
+            )
         } else {
             String::new()
         }

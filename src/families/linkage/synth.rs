@@ -328,7 +328,7 @@ pub fn joint_peaks(
 
 /// The engine's limits of one counterweight: mass up to its maximum, the body within
 /// `radius` of the joint (|u| ≤ m r, I ≤ m r²), the sector.
-fn limits_of(cw: &CounterweightSpec) -> CounterweightLimits {
+pub fn limits_of(cw: &CounterweightSpec) -> CounterweightLimits {
     let (_, hi) = cw.mass.bounds();
     CounterweightLimits {
         sector: cw.sector,
