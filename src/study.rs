@@ -31,7 +31,7 @@ pub enum StudyError {
     NoReference(String),
     /// The plot could not be drawn.
     #[error("plot: {0}")]
-    Plot(String),
+    Plot(crate::report::plot::PlotError),
 }
 
 // The causes are in the messages, not chained as sources: the CLI prints each once.

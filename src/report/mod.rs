@@ -121,7 +121,7 @@ pub struct Plot {
     /// Caption for reports.
     pub caption: String,
     /// Samples the plot's data and draws the SVG document.
-    draw: std::sync::Arc<dyn Fn() -> Result<String, String> + Send + Sync>,
+    draw: std::sync::Arc<dyn Fn() -> Result<String, plot::PlotError> + Send + Sync>,
 }
 
 impl Plot {
@@ -129,7 +129,7 @@ impl Plot {
     pub fn new(
         suffix: impl Into<String>,
         caption: impl Into<String>,
-        draw: impl Fn() -> Result<String, String> + Send + Sync + 'static,
+        draw: impl Fn() -> Result<String, plot::PlotError> + Send + Sync + 'static,
     ) -> Plot {
         Plot {
             suffix: suffix.into(),
@@ -139,7 +139,7 @@ impl Plot {
     }
 
     /// The SVG document, drawn now.
-    pub fn svg(&self) -> Result<String, String> {
+    pub fn svg(&self) -> Result<String, plot::PlotError> {
         (self.draw)()
     }
 
@@ -149,7 +149,7 @@ impl Plot {
         self.svg().unwrap_or_else(|e| {
             format!(
                 "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"640\" height=\"40\"><text x=\"8\" y=\"24\">plot not drawn: {}</text></svg>\n",
-                html_escape(&e)
+                html_escape(&e.to_string())
             )
         })
     }

@@ -14,6 +14,29 @@
 //! corner with the fewest data points under it; an equal-aspect panel has the same length per
 //! pixel on both axes (a circle is round); a heat map has a colour bar.
 
+/// Why a plot could not be drawn (a report shows the reason in place of the picture).
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum PlotError {
+    /// plotters failed to draw (its message).
+    #[error("drawing failed: {0}")]
+    Draw(String),
+    /// The data cannot make this plot (a grid too small, a geometry that does not exist).
+    #[error("{0}")]
+    Data(String),
+}
+
+impl PlotError {
+    /// A plotters error as a [`PlotError::Draw`].
+    fn draw(e: impl std::fmt::Display) -> PlotError {
+        PlotError::Draw(e.to_string())
+    }
+
+    /// Any error of the data behind a plot as a [`PlotError::Data`].
+    pub fn data(e: impl std::fmt::Display) -> PlotError {
+        PlotError::Data(e.to_string())
+    }
+}
+
 use plotters::coord::types::RangedCoordf64;
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -252,14 +275,15 @@ fn chart_on<'a, 'b>(
     p: &Panel,
     x: (f64, f64),
     y: (f64, f64),
-) -> Result<ChartContext<'a, SVGBackend<'b>, Cartesian2d<RangedCoordf64, RangedCoordf64>>, String> {
+) -> Result<ChartContext<'a, SVGBackend<'b>, Cartesian2d<RangedCoordf64, RangedCoordf64>>, PlotError>
+{
     ChartBuilder::on(area)
         .caption(&p.title, font(20))
         .margin(px(12))
         .x_label_area_size(px(44))
         .y_label_area_size(px(74))
         .build_cartesian_2d(x.0..x.1, y.0..y.1)
-        .map_err(|e| e.to_string())
+        .map_err(PlotError::draw)
 }
 
 /// Widens the shorter-scaled range so that both axes have the same length per pixel on a
@@ -275,7 +299,7 @@ fn equal_scale(x: (f64, f64), y: (f64, f64), w: u32, h: u32) -> ((f64, f64), (f6
     (widen(x, w), widen(y, h))
 }
 
-fn draw_panel(area: &DrawingArea<SVGBackend, Shift>, p: &Panel) -> Result<(), String> {
+fn draw_panel(area: &DrawingArea<SVGBackend, Shift>, p: &Panel) -> Result<(), PlotError> {
     let ((mut x0, mut x1), (mut y0, mut y1)) = bounds(&p.series, p.equal_aspect);
     // The plotting area's size in pixels, from a chart on a scratch document of the same size.
     let (pw, ph) = {
@@ -304,7 +328,7 @@ fn draw_panel(area: &DrawingArea<SVGBackend, Shift>, p: &Panel) -> Result<(), St
         .axis_style(RGBColor(90, 90, 90).stroke_width(S / 2))
         .set_all_tick_mark_size(px(4))
         .draw()
-        .map_err(|e| e.to_string())?;
+        .map_err(PlotError::draw)?;
     for (i, s) in p.series.iter().enumerate() {
         let c = PALETTE[i % PALETTE.len()];
         match s.style {
@@ -317,7 +341,7 @@ fn draw_panel(area: &DrawingArea<SVGBackend, Shift>, p: &Panel) -> Result<(), St
                     }
                     let a = chart
                         .draw_series(LineSeries::new(seg.iter().copied(), c.stroke_width(px(2))))
-                        .map_err(|e| e.to_string())?;
+                        .map_err(PlotError::draw)?;
                     if first {
                         a.label(s.name.clone()).legend(move |(x, y)| {
                             PathElement::new(vec![(x, y), (x + pxi(18), y)], c.stroke_width(px(2)))
@@ -334,7 +358,7 @@ fn draw_panel(area: &DrawingArea<SVGBackend, Shift>, p: &Panel) -> Result<(), St
                             .filter(|q| q.0.is_finite() && q.1.is_finite())
                             .map(|&q| Circle::new(q, px(2), c.filled())),
                     )
-                    .map_err(|e| e.to_string())?
+                    .map_err(PlotError::draw)?
                     .label(s.name.clone())
                     .legend(move |(x, y)| Circle::new((x + pxi(9), y), px(3), c.filled()));
             }
@@ -346,7 +370,7 @@ fn draw_panel(area: &DrawingArea<SVGBackend, Shift>, p: &Panel) -> Result<(), St
                             .filter(|q| q.0.is_finite() && q.1.is_finite())
                             .map(|&q| Cross::new(q, pxi(7), c.stroke_width(px(3)))),
                     )
-                    .map_err(|e| e.to_string())?
+                    .map_err(PlotError::draw)?
                     .label(s.name.clone())
                     .legend(move |(x, y)| {
                         Cross::new((x + pxi(9), y), pxi(5), c.stroke_width(px(2)))
@@ -364,7 +388,7 @@ fn draw_panel(area: &DrawingArea<SVGBackend, Shift>, p: &Panel) -> Result<(), St
         .legend_area_size(px(26))
         .position(corner)
         .draw()
-        .map_err(|e| e.to_string())?;
+        .map_err(PlotError::draw)?;
     Ok(())
 }
 
@@ -392,18 +416,18 @@ fn count_document() {
 }
 
 /// Side-by-side panels as one SVG document, each panel `w`×`h` pixels.
-pub fn panels(ps: &[Panel], w: u32, h: u32) -> Result<String, String> {
+pub fn panels(ps: &[Panel], w: u32, h: u32) -> Result<String, PlotError> {
     count_document();
     let mut buf = String::new();
     {
         let n = ps.len().max(1) as u32;
         let root = SVGBackend::with_string(&mut buf, (px(w * n), px(h))).into_drawing_area();
-        root.fill(&WHITE).map_err(|e| e.to_string())?;
+        root.fill(&WHITE).map_err(PlotError::draw)?;
         let areas = root.split_evenly((1, n as usize));
         for (a, p) in areas.iter().zip(ps) {
             draw_panel(a, p)?;
         }
-        root.present().map_err(|e| e.to_string())?;
+        root.present().map_err(PlotError::draw)?;
     }
     Ok(finish(buf, w * ps.len().max(1) as u32, h))
 }
@@ -416,12 +440,12 @@ pub fn bars(
     y_label: &str,
     w: u32,
     h: u32,
-) -> Result<String, String> {
+) -> Result<String, PlotError> {
     count_document();
     let mut buf = String::new();
     {
         let root = SVGBackend::with_string(&mut buf, (px(w), px(h))).into_drawing_area();
-        root.fill(&WHITE).map_err(|e| e.to_string())?;
+        root.fill(&WHITE).map_err(PlotError::draw)?;
         let n = bins.len().max(1);
         let max = bins.iter().map(|b| b.1).max().unwrap_or(0).max(1);
         // Room above the highest bar for its count.
@@ -431,7 +455,7 @@ pub fn bars(
             .x_label_area_size(px(40))
             .y_label_area_size(px(50))
             .build_cartesian_2d((0..n).into_segmented(), 0..top)
-            .map_err(|e| e.to_string())?;
+            .map_err(PlotError::draw)?;
         let label = |v: &SegmentValue<usize>| match v {
             SegmentValue::CenterOf(i) => bins.get(*i).map(|b| b.0.clone()).unwrap_or_default(),
             _ => String::new(),
@@ -449,7 +473,7 @@ pub fn bars(
             .y_desc(y_label)
             .light_line_style(RGBColor(235, 235, 235))
             .draw()
-            .map_err(|e| e.to_string())?;
+            .map_err(PlotError::draw)?;
         // The bars as plotters' `Histogram` draws them (3 px apart), but in bin order: the
         // histogram series collects its data in a HashMap, so its output order (not its
         // picture) changed from run to run, and a batch's index.html with it.
@@ -461,7 +485,7 @@ pub fn bars(
                 bar.set_margin(0, 0, px(3), px(3));
                 Some(bar)
             }))
-            .map_err(|e| e.to_string())?;
+            .map_err(PlotError::draw)?;
         let font = TextStyle::from(font(12).into_font()).pos(Pos::new(HPos::Center, VPos::Bottom));
         chart
             .draw_series(
@@ -476,8 +500,8 @@ pub fn bars(
                         )
                     }),
             )
-            .map_err(|e| e.to_string())?;
-        root.present().map_err(|e| e.to_string())?;
+            .map_err(PlotError::draw)?;
+        root.present().map_err(PlotError::draw)?;
     }
     Ok(finish(buf, w, h))
 }
@@ -518,7 +542,7 @@ pub fn heat_map(
     symmetric_log: Option<f64>,
     w: u32,
     h: u32,
-) -> Result<String, String> {
+) -> Result<String, PlotError> {
     count_document();
     let tf = |v: f64| match symmetric_log {
         Some(s) => v.signum() * (1.0 + v.abs() / s).log10(),
@@ -537,12 +561,12 @@ pub fn heat_map(
     let span = if hi > lo { hi - lo } else { 1.0 };
     let (nx, ny) = (grid.x.len(), grid.y.len());
     if nx < 2 || ny < 2 {
-        return Err("heat map needs at least a 2×2 grid".into());
+        return Err(PlotError::Data("heat map needs at least a 2×2 grid".into()));
     }
     let mut buf = String::new();
     {
         let root = SVGBackend::with_string(&mut buf, (px(w), px(h))).into_drawing_area();
-        root.fill(&WHITE).map_err(|e| e.to_string())?;
+        root.fill(&WHITE).map_err(PlotError::draw)?;
         // The map, and on its right the colour bar.
         let (map_area, bar_area) = root.split_horizontally(px(w.saturating_sub(110)));
         let (x0, x1) = (grid.x[0], grid.x[nx - 1]);
@@ -553,7 +577,7 @@ pub fn heat_map(
             .x_label_area_size(px(44))
             .y_label_area_size(px(74))
             .build_cartesian_2d(x0..x1, y0..y1)
-            .map_err(|e| e.to_string())?;
+            .map_err(PlotError::draw)?;
         let xt = |v: &f64| tick_on(*v, x1 - x0);
         let yt = |v: &f64| tick_on(*v, y1 - y0);
         chart
@@ -568,7 +592,7 @@ pub fn heat_map(
             .set_all_tick_mark_size(px(4))
             .disable_mesh()
             .draw()
-            .map_err(|e| e.to_string())?;
+            .map_err(PlotError::draw)?;
         let half = |v: &[f64], i: usize| {
             let a = if i == 0 {
                 v[0]
@@ -606,7 +630,7 @@ pub fn heat_map(
                         Rectangle::new([(xa, ya), (xb, yb)], col.filled())
                     }),
             )
-            .map_err(|e| e.to_string())?;
+            .map_err(PlotError::draw)?;
         let longest = panel
             .series
             .iter()
@@ -624,7 +648,7 @@ pub fn heat_map(
                                     seg.iter().copied(),
                                     c.stroke_width(px(2)),
                                 ))
-                                .map_err(|e| e.to_string())?;
+                                .map_err(PlotError::draw)?;
                         } else if seg.len() == 1 {
                             chart
                                 .draw_series(std::iter::once(Circle::new(
@@ -632,7 +656,7 @@ pub fn heat_map(
                                     px(2),
                                     c.filled(),
                                 )))
-                                .map_err(|e| e.to_string())?;
+                                .map_err(PlotError::draw)?;
                         }
                     }
                 }
@@ -643,7 +667,7 @@ pub fn heat_map(
                                 .iter()
                                 .map(|&q| Cross::new(q, pxi(8), c.stroke_width(px(3)))),
                         )
-                        .map_err(|e| e.to_string())?;
+                        .map_err(PlotError::draw)?;
                 }
             }
             // Legend entry as text in the corner, on a light band so it reads on any colour.
@@ -660,13 +684,13 @@ pub fn heat_map(
                 ],
                 WHITE.mix(0.75).filled(),
             ))
-            .map_err(|e| e.to_string())?;
+            .map_err(PlotError::draw)?;
             root.draw(&Text::new(
                 text,
                 (tx, ty),
                 font(13).into_font().color(&BLACK),
             ))
-            .map_err(|e| e.to_string())?;
+            .map_err(PlotError::draw)?;
         }
         // The colour bar: the ramp over [lo, hi] with its own ticks.
         let mut bar = ChartBuilder::on(&bar_area)
@@ -675,7 +699,7 @@ pub fn heat_map(
             .margin_right(px(8))
             .y_label_area_size(px(70))
             .build_cartesian_2d(0.0..1.0, lo..(lo + span))
-            .map_err(|e| e.to_string())?;
+            .map_err(PlotError::draw)?;
         let bt = |v: &f64| tick_on(*v, span);
         bar.configure_mesh()
             .disable_mesh()
@@ -690,7 +714,7 @@ pub fn heat_map(
             .axis_desc_style(font(13))
             .set_all_tick_mark_size(px(4))
             .draw()
-            .map_err(|e| e.to_string())?;
+            .map_err(PlotError::draw)?;
         let steps = 128;
         bar.draw_series((0..steps).map(|k| {
             let (a, b) = (k as f64 / steps as f64, (k + 1) as f64 / steps as f64);
@@ -701,8 +725,8 @@ pub fn heat_map(
                 colour(0.5 * (a + b)).filled(),
             )
         }))
-        .map_err(|e| e.to_string())?;
-        root.present().map_err(|e| e.to_string())?;
+        .map_err(PlotError::draw)?;
+        root.present().map_err(PlotError::draw)?;
     }
     Ok(finish(buf, w, h))
 }

@@ -10,7 +10,7 @@ use crate::families::crane::synth::{
 use crate::families::family::Scene;
 use crate::geom::P2;
 use crate::report::numbers::key;
-use crate::report::plot::{self, Grid, Panel, Series};
+use crate::report::plot::{self, Grid, Panel, PlotError, Series};
 use crate::report::{number_map, Deferred, PaperCheck, Plot, SolveResult, Status, Table};
 use serde_json::json;
 use std::collections::BTreeMap;
@@ -283,7 +283,7 @@ fn landscape_plot(
     cs: &cr::CraneScene,
     out: &Outcome,
     l: &cr::Landscape,
-) -> Result<String, String> {
+) -> Result<String, PlotError> {
     let values: Vec<Vec<f64>> = l
         .delta_h_m
         .iter()
@@ -306,7 +306,7 @@ fn landscape_plot(
             gamma3: v.gamma3_rad,
         };
         let boom = Boom::new(out.design.boom_length_m.unwrap_or(f64::NAN), angles)
-            .map_err(|e| e.to_string())?;
+            .map_err(PlotError::data)?;
         let margin: Vec<Vec<f64>> =
             l.k2.iter()
                 .map(|&k2| {
@@ -381,7 +381,7 @@ fn landscape_plot(
     Ok(svg)
 }
 
-fn path_plot(scene: &Scene, out: &Outcome) -> Result<String, String> {
+fn path_plot(scene: &Scene, out: &Outcome) -> Result<String, PlotError> {
     let nan = (f64::NAN, f64::NAN);
     let head: Vec<(f64, f64)> = out.path.iter().map(|p| (p[0], p[1])).collect();
     let tail: Vec<(f64, f64)> = out.tail_path.iter().map(|p| (p[0], p[1])).collect();

@@ -6,7 +6,7 @@ use super::file::*;
 use crate::families::family::Scene;
 use crate::families::gear::model::{EccentricCircle, GearPair, Which, ZeroKind};
 use crate::families::gear::synth::{self as sg, GearScene, Outcome};
-use crate::report::plot::{self, Panel, Series};
+use crate::report::plot::{self, Panel, PlotError, Series};
 use crate::report::{number_map, PaperCheck, Plot, SolveResult, Status, Table};
 use serde_json::json;
 use std::collections::BTreeMap;
@@ -121,7 +121,7 @@ fn closed(pts: &[[f64; 2]], scale: f64) -> Vec<(f64, f64)> {
 }
 
 /// Pitch curves (equal axes, mm) and i12(α1).
-fn ratio_and_curves_plot(scene: &Scene, out: &Outcome) -> Result<String, String> {
+fn ratio_and_curves_plot(scene: &Scene, out: &Outcome) -> Result<String, PlotError> {
     let pc = &out.pitch_curves;
     let mm = 1e3;
     let curves = Panel {
@@ -172,7 +172,7 @@ fn verticals(xs: &[f64], y0: f64, y1: f64) -> Vec<(f64, f64)> {
 /// µ1 and µ2 against α1: a full turn of gear 1 (the outcome's series) and a zoom on the
 /// arches around the peak, evaluated afresh on a fine grid that includes the exact window
 /// edges (so that the plotted curve reaches the reported peak).
-fn sliding_plot(scene: &Scene, g: &GearScene, out: &Outcome) -> Result<String, String> {
+fn sliding_plot(scene: &Scene, g: &GearScene, out: &Outcome) -> Result<String, PlotError> {
     let s = &out.series;
     let n_arch = out.derived.arches_gear1.max(1.0);
     let arch = TAU / n_arch;
@@ -209,7 +209,7 @@ fn sliding_plot(scene: &Scene, g: &GearScene, out: &Outcome) -> Result<String, S
                 g.omega1,
             )
         })
-        .map_err(|e| e.to_string())?;
+        .map_err(PlotError::data)?;
     // Fine grid plus both edges of every window in the zoom range (nudged inside the
     // working region by 1e-9 rad).
     let mut xs: Vec<f64> = (0..=1200)
@@ -341,7 +341,7 @@ fn sliding_plot(scene: &Scene, g: &GearScene, out: &Outcome) -> Result<String, S
 }
 
 /// The eccentricity sweep: ratio variation, peak |µ|, gear 2's curvature.
-fn sweep_plot(scene: &Scene, g: &GearScene, out: &Outcome) -> Result<String, String> {
+fn sweep_plot(scene: &Scene, g: &GearScene, out: &Outcome) -> Result<String, PlotError> {
     let mm = 1e3;
     let e_star = out.design.eccentricity_m * mm;
     let xs = |f: &dyn Fn(&sg::SweepRow) -> f64, feasible: Option<bool>| -> Vec<(f64, f64)> {

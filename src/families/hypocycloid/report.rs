@@ -6,7 +6,7 @@ use super::file::*;
 use crate::families::family::Scene;
 use crate::families::hypocycloid::synth::{self as hy, Derived, OptStatus, Outcome, ZeroStatus};
 use crate::report::numbers::key;
-use crate::report::plot::{self, Grid, Panel, Series};
+use crate::report::plot::{self, Grid, Panel, PlotError, Series};
 use crate::report::{number_map, PaperCheck, Plot, SolveResult, Status, Table};
 use serde_json::json;
 use std::collections::BTreeMap;
@@ -326,8 +326,11 @@ fn tables(out: &Outcome) -> Vec<Table> {
     t
 }
 
-fn map_plot(scene: &Scene, out: &Outcome) -> Result<String, String> {
-    let z = out.zero_search.as_ref().ok_or("no zero search")?;
+fn map_plot(scene: &Scene, out: &Outcome) -> Result<String, PlotError> {
+    let z = out
+        .zero_search
+        .as_ref()
+        .ok_or(PlotError::Data("no zero search".into()))?;
     let m = &z.map;
     let grid = Grid {
         x: m.lambda.clone(),
@@ -442,7 +445,7 @@ fn headroom(series: &[Series]) -> Series {
     Series::line("", vec![(x, top)])
 }
 
-fn coefficient_plot(scene: &Scene, out: &Outcome) -> Result<String, String> {
+fn coefficient_plot(scene: &Scene, out: &Outcome) -> Result<String, PlotError> {
     let c = &out.coefficients;
     // Values below the coefficient's own error estimate are zero to working accuracy (e.g.
     // the b_i of variant 1, the odd a_i of variant 2): not drawn.
@@ -514,7 +517,7 @@ fn coefficient_plot(scene: &Scene, out: &Outcome) -> Result<String, String> {
     Ok(svg)
 }
 
-fn force_plot(scene: &Scene, out: &Outcome) -> Result<String, String> {
+fn force_plot(scene: &Scene, out: &Outcome) -> Result<String, PlotError> {
     let fc = &out.force_curves;
     let deg: Vec<f64> = fc.phi.iter().map(|p| p * 180.0 / PI).collect();
     let zip =

@@ -8,7 +8,7 @@ use super::synth::{self as ls, Outcome, FORCE, MOMENT, TORQUE};
 use crate::families::family::{cw_status, Scene};
 use crate::families::linkage::model::{JointKind, Linkage, Point};
 use crate::geom::P2;
-use crate::report::plot::{self, Panel, Series};
+use crate::report::plot::{self, Panel, PlotError, Series};
 use crate::report::{Deferred, Plot, SolveResult, Status, Table};
 use crate::synth::counterweight::Status as CwStatus;
 use crate::synth::minimax::{FieldPeak, Solution};
@@ -548,7 +548,7 @@ fn cycle_rows(sc: &LinkageScene, x: Option<&[f64]>, n: usize) -> Vec<[f64; 9]> {
 }
 
 /// |F|, M_O and T against θ from [`cycle_rows`], bare and (with counterweights) balanced.
-fn fields_plot(rows: &[[f64; 9]], with_cw: bool) -> Result<String, String> {
+fn fields_plot(rows: &[[f64; 9]], with_cw: bool) -> Result<String, PlotError> {
     let col = |i: usize, j: Option<usize>| -> Vec<(f64, f64)> {
         rows.iter()
             .map(|r| (r[0], j.map_or(r[i], |j| r[i].hypot(r[j]))))
@@ -578,7 +578,7 @@ fn fields_plot(rows: &[[f64; 9]], with_cw: bool) -> Result<String, String> {
 
 /// The links as segments (reference joint to tip) at four crank angles; the counterweights'
 /// centroids as markers.
-fn drawing(name: &str, sc: &LinkageScene, x: Option<&[f64]>) -> Result<String, String> {
+fn drawing(name: &str, sc: &LinkageScene, x: Option<&[f64]>) -> Result<String, PlotError> {
     let l: &Linkage = &sc.linkage;
     let mut series = Vec::new();
     for q in 0..4 {

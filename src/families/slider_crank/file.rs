@@ -11,7 +11,6 @@ use crate::problem::{
     check_name, non_negative, positive, Ctx, FieldError, Input, ProblemError, RawFile, RawVar,
     Resolved,
 };
-use crate::report::Status;
 use crate::synth::counterweight::Settings;
 use crate::synth::shape::{ShapeGoal, ShapeSpec};
 use crate::synth::Var;
@@ -245,35 +244,7 @@ pub struct SpeedSweepRaw {
     pub points: usize,
 }
 
-/// A resolved speed sweep (rad/s).
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
-pub struct SpeedSweep {
-    /// Lowest ω.
-    pub min: f64,
-    /// Highest ω.
-    pub max: f64,
-    /// Number of speeds.
-    pub points: usize,
-}
-
-/// One speed of a sweep: the optimum there, and the scene's design evaluated there.
-#[derive(Debug, Clone, PartialEq, serde::Serialize)]
-pub struct SweepPoint {
-    /// Speed (rad/s).
-    pub omega_rad_s: f64,
-    /// Speed (rpm), for reading.
-    pub speed_rpm: f64,
-    /// |U| of the optimum at this speed (kg·m).
-    pub optimal_unbalance_kgm: f64,
-    /// Objective value of that optimum (N or N·m).
-    pub optimal_objective: f64,
-    /// The same objective for the design found at the scene's own speed.
-    pub design_objective: f64,
-    /// The same objective without counterweight.
-    pub none_objective: f64,
-    /// Solver status at this speed.
-    pub status: Status,
-}
+pub use super::synth::{SpeedSweep, SweepPoint};
 
 /// `[accuracy]`: the family's solver [`Settings`] read directly (every key optional, unknown
 /// keys rejected), then validated; errors name `accuracy.<key>`.

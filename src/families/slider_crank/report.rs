@@ -9,7 +9,7 @@ use crate::families::slider_crank::model::ProcessForce;
 use crate::families::slider_crank::synth::shaking_force;
 use crate::families::slider_crank::synth::{self as sc, Objective};
 use crate::geom::P2;
-use crate::report::plot::{self, Panel, Series};
+use crate::report::plot::{self, Panel, PlotError, Series};
 use crate::report::{number_map, Plot, SolveResult, Status, Table};
 use crate::synth::counterweight::Status as CwStatus;
 use crate::synth::shape::{self, ShapeOutcome};
@@ -239,40 +239,12 @@ pub fn result(scene: &Scene, sc_scene: &SliderCrankProblem) -> SolveResult {
     r
 }
 
-/// Re-optimises the scene at each speed of the sweep and evaluates the scene's own design
-/// and no counterweight there (section `speed_sweep`, `<name>-speed-sweep.csv` and `.svg`).
+/// The speed sweep ([`sc::speed_sweep`]: the optimum at each speed, the scene's own design
+/// and no counterweight there) as section `speed_sweep`, `<name>-speed-sweep.csv` and `.svg`.
 fn speed_sweep(r: &mut SolveResult, scene: &Scene, s: &sc::Scene, sw: &SpeedSweep, u: P2) {
     let torque = s.objective == Objective::MinPeakTorque;
-    let value = |m: &sc::Metrics| match s.objective {
-        Objective::MinPeakTorque => m.peak_torque,
-        Objective::MinRmsForce => m.rms,
-        _ => m.peak,
-    };
-    let mut pts = Vec::with_capacity(sw.points);
-    for k in 0..sw.points {
-        let omega = sw.min + (sw.max - sw.min) * k as f64 / (sw.points - 1) as f64;
-        let at = sc::Scene { omega, ..s.clone() };
-        let point = sc::optimise(&at).and_then(|o| {
-            let opt = sc::metrics(&at, o.u)?;
-            let des = sc::metrics(&at, u)?;
-            let none = sc::metrics(&at, P2::zeros())?;
-            Ok(SweepPoint {
-                omega_rad_s: omega,
-                speed_rpm: omega * 60.0 / TAU,
-                optimal_unbalance_kgm: o.u.norm(),
-                optimal_objective: value(&opt),
-                design_objective: value(&des),
-                none_objective: value(&none),
-                status: cw_status(o.status),
-            })
-        });
-        match point {
-            Ok(p) => pts.push(p),
-            Err(e) => r
-                .warnings
-                .push(format!("speed sweep at {omega:.3} rad/s: {e}")),
-        }
-    }
+    let (pts, warnings) = sc::speed_sweep(s, sw, u);
+    r.warnings.extend(warnings);
     let unit = if torque { "N·m" } else { "N" };
     let mut csv = String::from("speed_rpm,omega_rad_s,optimal_unbalance_kgm,optimal_objective,design_objective,none_objective,status\n");
     for p in &pts {
@@ -297,7 +269,14 @@ fn speed_sweep(r: &mut SolveResult, scene: &Scene, s: &sc::Scene, sw: &SpeedSwee
     });
     let (name, y_label, pts_plot) = (
         scene.name.clone(),
-        format!("{} ({unit})", r.objective.clone().unwrap_or_default()),
+        {
+            // The key in words: `peak_drive_torque_nm` → "peak drive torque (N·m)".
+            let key = r.objective.clone().unwrap_or_default();
+            let words = key
+                .strip_suffix(if torque { "_nm" } else { "_n" })
+                .unwrap_or(&key);
+            format!("{} ({unit})", words.replace('_', " "))
+        },
         pts.clone(),
     );
     r.plots.push(Plot::new(
@@ -409,7 +388,7 @@ fn pareto_plot(
     scene: &Scene,
     out: &sc::Outcome,
     baselines: &BTreeMap<String, sc::Metrics>,
-) -> Result<String, String> {
+) -> Result<String, PlotError> {
     let front: Vec<(f64, f64)> = out
         .pareto
         .iter()
@@ -484,7 +463,7 @@ fn pareto_plot(
     Ok(svg)
 }
 
-fn slider_crank_plot(scene: &Scene, s: &sc::Scene, out: &sc::Outcome) -> Result<String, String> {
+fn slider_crank_plot(scene: &Scene, s: &sc::Scene, out: &sc::Outcome) -> Result<String, PlotError> {
     let n = 361;
     let curves: Vec<(String, P2)> = [
         ("no counterweight".to_string(), P2::zeros()),

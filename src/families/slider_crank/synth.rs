@@ -1334,3 +1334,69 @@ pub fn paper_piston(rpm: f64) -> Scene {
         settings: cw::Settings::default(),
     }
 }
+
+/// A resolved speed sweep (rad/s).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct SpeedSweep {
+    /// Lowest ω.
+    pub min: f64,
+    /// Highest ω.
+    pub max: f64,
+    /// Number of speeds.
+    pub points: usize,
+}
+
+/// One speed of a sweep: the optimum there, and the scene's design evaluated there.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct SweepPoint {
+    /// Speed (rad/s).
+    pub omega_rad_s: f64,
+    /// Speed (rpm), for reading.
+    pub speed_rpm: f64,
+    /// |U| of the optimum at this speed (kg·m).
+    pub optimal_unbalance_kgm: f64,
+    /// Objective value of that optimum (N or N·m).
+    pub optimal_objective: f64,
+    /// The same objective for the design found at the scene's own speed.
+    pub design_objective: f64,
+    /// The same objective without counterweight.
+    pub none_objective: f64,
+    /// Solver status at this speed.
+    pub status: crate::report::Status,
+}
+
+/// Re-optimises the scene at each speed of the sweep and evaluates the design `u` (found at
+/// the scene's own speed) and no counterweight there, in the scene's objective; a speed whose
+/// solve fails is left out with a warning.
+pub fn speed_sweep(s: &Scene, sw: &SpeedSweep, u: P2) -> (Vec<SweepPoint>, Vec<String>) {
+    let value = |m: &Metrics| match s.objective {
+        Objective::MinPeakTorque => m.peak_torque,
+        Objective::MinRmsForce => m.rms,
+        _ => m.peak,
+    };
+    let mut pts = Vec::with_capacity(sw.points);
+    let mut warnings = Vec::new();
+    for k in 0..sw.points {
+        let omega = sw.min + (sw.max - sw.min) * k as f64 / (sw.points - 1) as f64;
+        let at = Scene { omega, ..s.clone() };
+        let point = optimise(&at).and_then(|o| {
+            let opt = metrics(&at, o.u)?;
+            let des = metrics(&at, u)?;
+            let none = metrics(&at, P2::zeros())?;
+            Ok(SweepPoint {
+                omega_rad_s: omega,
+                speed_rpm: omega * 60.0 / std::f64::consts::TAU,
+                optimal_unbalance_kgm: o.u.norm(),
+                optimal_objective: value(&opt),
+                design_objective: value(&des),
+                none_objective: value(&none),
+                status: crate::families::family::cw_status(o.status),
+            })
+        });
+        match point {
+            Ok(p) => pts.push(p),
+            Err(e) => warnings.push(format!("speed sweep at {omega:.3} rad/s: {e}")),
+        }
+    }
+    (pts, warnings)
+}
