@@ -102,6 +102,27 @@ pub struct PaperCheck {
     pub note: String,
 }
 
+impl PaperCheck {
+    /// A paper's printed value `paper` against the program's `computed` (key `key`), with
+    /// the relative difference (none against a printed 0).
+    pub fn new(
+        quantity: impl Into<String>,
+        key: impl Into<String>,
+        paper: f64,
+        computed: f64,
+        note: impl Into<String>,
+    ) -> PaperCheck {
+        PaperCheck {
+            quantity: quantity.into(),
+            key: key.into(),
+            paper,
+            computed: Some(computed),
+            diff_pct: (paper != 0.0).then(|| 100.0 * (computed - paper) / paper.abs()),
+            note: note.into(),
+        }
+    }
+}
+
 /// Wall-clock times (s): the only fields that differ between identical runs.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Default)]
 pub struct Timing {

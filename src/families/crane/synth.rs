@@ -605,19 +605,6 @@ pub struct Check {
     pub note: String,
 }
 
-/// A comparison with a number printed in the thesis.
-#[derive(Debug, Clone, PartialEq, serde::Serialize)]
-pub struct PaperCheck {
-    /// Quantity and unit.
-    pub quantity: String,
-    /// The thesis's value.
-    pub paper: f64,
-    /// Ours.
-    pub computed: f64,
-    /// Why they differ (or agree).
-    pub note: String,
-}
-
 /// The design positions for drawing (m).
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct Positions {
@@ -706,8 +693,6 @@ pub struct Outcome {
     pub checks: Vec<Check>,
     /// Anything the reader must know.
     pub warnings: Vec<String>,
-    /// Comparison with the thesis's printed numbers.
-    pub paper: Vec<PaperCheck>,
     /// Solver and evaluation count.
     pub method: String,
     /// Objective evaluations (Δh over the whole range) spent.
@@ -1625,7 +1610,6 @@ fn report(
         derived: Derived::default(),
         checks: Vec::new(),
         warnings: Vec::new(),
-        paper: Vec::new(),
         method: String::new(),
         evaluations: 1,
         positions: None,
@@ -1894,7 +1878,6 @@ fn report(
         out.status = Status::Evaluated;
         warnings.push("the given design fails at least one check (see checks)".into());
     }
-    out.paper = thesis_comparison(scene, x, &out);
     out
 }
 
@@ -1942,112 +1925,6 @@ pub fn landscape(scene: &CraneScene, settings: &Settings, x: &[f64; 6]) -> Optio
         tie_pin_violation_m: viol,
         optimum: [x[0], x[1]],
     })
-}
-
-/// The thesis's worked example (§3.4.2) inputs.
-const THESIS: [f64; 5] = [35.0, 10.0, 5.0, 22.0, 12.0];
-
-/// Comparison with the thesis's printed numbers when the scene has its requirements.
-fn thesis_comparison(scene: &CraneScene, x: &[f64; 6], out: &Outcome) -> Vec<PaperCheck> {
-    let req = [
-        scene.reach_max,
-        scene.reach_min,
-        scene.foot_offset,
-        scene.lift_height,
-        scene.foot_height,
-    ];
-    if req.iter().zip(THESIS).any(|(a, b)| (a - b).abs() > 1e-9) {
-        return Vec::new();
-    }
-    let d = f64::to_radians;
-    let thesis_x = [0.2, 0.4, d(35.0), d(10.0), d(5.0), d(12.0)];
-    let same = x.iter().zip(thesis_x).all(|(a, b)| (a - b).abs() <= 1e-12);
-    let get = |v: Option<f64>| v.unwrap_or(f64::NAN);
-    let lc = get(out.design.boom_length_m);
-    let mut v = Vec::new();
-    let mut push = |q: &str, paper: f64, computed: f64, note: String| {
-        if computed.is_finite() {
-            v.push(PaperCheck {
-                quantity: q.into(),
-                paper,
-                computed,
-                note,
-            });
-        }
-    };
-    let design_note = if same {
-        "same design as the thesis".to_string()
-    } else {
-        "different design (searched/optimised here): the thesis's value is for phi_min 35, g1 10, g2 5, g3 12 deg, k1 0.2, k2 0.4"
-            .to_string()
-    };
-    push(
-        "k = L_v/L_c",
-        0.52168,
-        get(out.derived.k),
-        format!("{design_note}; printed to 5 digits"),
-    );
-    push(
-        "boom_length_m",
-        22.8,
-        lc,
-        format!(
-            "{design_note}; the thesis's 22.8 is the min-reach rule ({:.4} m) rounded down; sizing used: {}",
-            get(out.derived.boom_length_min_reach_rule_m),
-            out.sizing_rule
-        ),
-    );
-    push(
-        "jib_length_m",
-        11.894,
-        get(out.design.jib_length_m),
-        format!("{design_note}; L_v = k L_c"),
-    );
-    push(
-        "head_height_m (above A)",
-        10.605,
-        get(out.derived.head_height_m),
-        design_note.clone(),
-    );
-    push(
-        "reach_max_m - r (from A)",
-        30.31,
-        get(out.derived.reach_max_m) - scene.foot_offset,
-        design_note.clone(),
-    );
-    push(
-        "reach_min_m - r (from A)",
-        4.996,
-        get(out.derived.reach_min_m) - scene.foot_offset,
-        design_note.clone(),
-    );
-    push(
-        "phi_max_deg",
-        80.0,
-        out.design.phi_max_rad.to_degrees(),
-        "phi_max = 90 deg - gamma1".into(),
-    );
-    let dh = get(out.objectives.delta_h_m);
-    push(
-        "delta_h_m",
-        0.543,
-        dh,
-        if same {
-            format!(
-                "delta h scales with L_c at fixed angles: with L_c = {lc:.4} m it is {:+.2} % from 0.543; L_c sized from \
-                 R_max ({:.4} m) gives 0.5432 m, so the thesis's graphical value matches the max-reach sizing; the \
-                 thesis's own graphical check admits up to 3 % drafting error",
-                100.0 * (dh / 0.543 - 1.0),
-                get(out.derived.boom_length_max_reach_rule_m)
-            )
-        } else {
-            format!(
-                "{design_note}; improvement over the thesis's design: {:.1} %",
-                100.0 * (1.0 - dh / 0.543)
-            )
-        },
-    );
-    v
 }
 
 /// The thesis's worked example (§3.4.2): R_max 35 m, R_min 10 m, r 5 m, H 22 m, h 12 m,

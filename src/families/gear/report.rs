@@ -7,7 +7,7 @@ use crate::families::family::Scene;
 use crate::families::gear::model::{EccentricCircle, GearPair, Which, ZeroKind};
 use crate::families::gear::synth::{self as sg, GearScene, Outcome};
 use crate::report::plot::{self, Panel, PlotError, Series};
-use crate::report::{number_map, PaperCheck, Plot, SolveResult, Status, Table};
+use crate::report::{number_map, Plot, SolveResult, Status, Table};
 use serde_json::json;
 use std::collections::BTreeMap;
 use std::f64::consts::TAU;
@@ -67,18 +67,7 @@ pub fn result(scene: &Scene, p: &GearProblem) -> SolveResult {
     r.errors = number_map(&out.errors);
     r.derived = number_map(&out.derived);
     r.warnings.extend(out.warnings.iter().cloned());
-    r.paper = out
-        .paper
-        .iter()
-        .map(|c| PaperCheck {
-            quantity: c.quantity.clone(),
-            key: c.key.clone(),
-            paper: c.paper,
-            computed: Some(c.computed),
-            diff_pct: (c.paper != 0.0).then(|| 100.0 * (c.computed - c.paper) / c.paper.abs()),
-            note: c.note.clone(),
-        })
-        .collect();
+    r.paper = out.paper.clone();
     r.extra.insert(
         "poles".into(),
         serde_json::to_value(&out.poles).expect("plain data"),

@@ -359,20 +359,7 @@ pub enum Status {
     Infeasible,
 }
 
-/// A comparison with a number printed in the paper.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct PaperCheck {
-    /// What is compared.
-    pub quantity: String,
-    /// The dotted result key holding the computed value (e.g. `derived.center_distance_m`).
-    pub key: String,
-    /// The paper's value (SI, like the key).
-    pub paper: f64,
-    /// This program's value (SI).
-    pub computed: f64,
-    /// Why they differ (or that they agree).
-    pub note: String,
-}
+pub use crate::report::PaperCheck;
 
 /// Plot series over one turn of gear 1 (the pattern repeats n1/n2 times per turn of gear 2).
 #[derive(Debug, Clone, PartialEq, Serialize, Default)]
@@ -1043,45 +1030,45 @@ pub fn report(
                 2.0 * tz1 as f64 * rg * 1e3,
                 r / (2.0 * tz1 as f64) * 1e3
             ));
-            paper.push(PaperCheck {
-                quantity: "teeth of gear 1, z1".into(),
-                key: key!("derived", Derived, teeth_gear1).into(),
-                paper: tz1 as f64,
-                computed: z1 as f64,
-                note: format!(
+            paper.push(PaperCheck::new(
+                "teeth of gear 1, z1",
+                key!("derived", Derived, teeth_gear1),
+                tz1 as f64,
+                z1 as f64,
+                format!(
                     "2πR/(4πr) = R/(2r); with the stated module, 2πR/(πm) = {:.4}",
                     scene.module.map_or(f64::NAN, |m| 2.0 * r / m)
                 ),
-            });
-            paper.push(PaperCheck {
-                quantity: "arch span of eq. (2), π/z1 (rad of the pitch circle)".into(),
-                key: key!("derived", Derived, arch_span_rad).into(),
-                paper: PI / tz1 as f64,
-                computed: TAU * rg / r,
-                note: "eq. (2) spans each arch over π/z1 of the pitch circle, but one turn of the r = 1.25 mm generating circle covers 2πr/R; with z1 = 12 the arches would not end in cusps".into(),
-            });
+            ));
+            paper.push(PaperCheck::new(
+                "arch span of eq. (2), π/z1 (rad of the pitch circle)",
+                key!("derived", Derived, arch_span_rad),
+                PI / tz1 as f64,
+                TAU * rg / r,
+                "eq. (2) spans each arch over π/z1 of the pitch circle, but one turn of the r = 1.25 mm generating circle covers 2πr/R; with z1 = 12 the arches would not end in cusps",
+            ));
         }
         if tz2 as f64 != z2 {
             warnings.push(format!(
                 "mechanism.teeth_gear2: stated z2 = {tz2}, closure gives (n1/n2)·z1 = {z2}"
             ));
-            paper.push(PaperCheck {
-                quantity: "teeth of gear 2, z2".into(),
-                key: key!("derived", Derived, teeth_gear2).into(),
-                paper: tz2 as f64,
-                computed: z2,
-                note: "z2 = (n1/n2)·z1 with z1 from the pitch circle; the stated 36 = 3 × 12 keeps the ratio but inherits the wrong z1".into(),
-            });
+            paper.push(PaperCheck::new(
+                "teeth of gear 2, z2",
+                key!("derived", Derived, teeth_gear2),
+                tz2 as f64,
+                z2,
+                "z2 = (n1/n2)·z1 with z1 from the pitch circle; the stated 36 = 3 × 12 keeps the ratio but inherits the wrong z1",
+            ));
         }
         if let Some(p) = scene.tooth_pitch {
             let stated_perim2 = tz2 as f64 * p;
-            paper.push(PaperCheck {
-                quantity: "perimeter of gear 2's pitch curve (z2 × pitch)".into(),
-                key: key!("derived", Derived, gear2_perimeter_m).into(),
-                paper: stated_perim2,
-                computed: perim2,
-                note: format!("paper value = z2 × pitch; computed from gear 2's polar curve ∫sqrt(ρ2² + ρ2'²)dα2; must equal (n1/n2)·2πR = {:.4} mm", ratio * perim1 * 1e3),
-            });
+            paper.push(PaperCheck::new(
+                "perimeter of gear 2's pitch curve (z2 × pitch)",
+                key!("derived", Derived, gear2_perimeter_m),
+                stated_perim2,
+                perim2,
+                format!("paper value = z2 × pitch; computed from gear 2's polar curve ∫sqrt(ρ2² + ρ2'²)dα2; must equal (n1/n2)·2πR = {:.4} mm", ratio * perim1 * 1e3),
+            ));
         }
     }
     if let Some(p) = scene.tooth_pitch {
@@ -1092,13 +1079,13 @@ pub fn report(
                 pitch * 1e3
             ));
         }
-        paper.push(PaperCheck {
-            quantity: "pitch on the pitch curve".into(),
-            key: key!("derived", Derived, pitch_m).into(),
-            paper: p,
-            computed: pitch,
-            note: "4πr (= πm for m = 4r); agrees to the printed rounding. The pitch 2πR/z1 with the stated z1 would be different".into(),
-        });
+        paper.push(PaperCheck::new(
+                "pitch on the pitch curve",
+                key!("derived", Derived, pitch_m),
+                p,
+                pitch,
+                "4πr (= πm for m = 4r); agrees to the printed rounding. The pitch 2πR/z1 with the stated z1 would be different",
+            ));
     }
     for (k, v) in [
         ("mechanism.tooth_thickness", scene.tooth_thickness),
@@ -1113,13 +1100,13 @@ pub fn report(
                     arch * 1e3
                 ));
             }
-            paper.push(PaperCheck {
-                quantity: format!("{} on the pitch curve", if k.ends_with("thickness") { "tooth thickness" } else { "space width" }),
-                key: key!("derived", Derived, arch_length_m).into(),
-                paper: t,
-                computed: arch,
-                note: "one cycloid arch = one turn of the generating circle, 2πr; agrees to the printed rounding".into(),
-            });
+            paper.push(PaperCheck::new(
+                format!("{} on the pitch curve", if k.ends_with("thickness") { "tooth thickness" } else { "space width" }),
+                key!("derived", Derived, arch_length_m),
+                t,
+                arch,
+                "one cycloid arch = one turn of the generating circle, 2πr; agrees to the printed rounding",
+            ));
         }
     }
     if let Some(a_st) = scene.center_distance {
@@ -1128,17 +1115,17 @@ pub fn report(
             let ratio_st = TAU / j.value;
             let miss = (n1 as f64 * j.value - TAU * n2 as f64).to_degrees();
             derived.ratio_at_stated_center_distance = Some(ratio_st);
-            paper.push(PaperCheck {
-                quantity: "centre distance a12".into(),
-                key: key!("derived", Derived, center_distance_m).into(),
-                paper: a_st,
-                computed: pair.a,
-                note: format!(
+            paper.push(PaperCheck::new(
+                "centre distance a12",
+                key!("derived", Derived, center_distance_m),
+                a_st,
+                pair.a,
+                format!(
                     "closing centre distance for n1/n2 = {n1}/{n2} (±{:.1e} mm); the stated value gives n1/n2 = {ratio_st:.6}, gear 2 missing closure by {miss:.4}° per cycle{}",
                     an.closure.a_error * 1e3,
                     if (a_st - pair.a).abs() <= 0.05e-3 { " — the stated value is the closing one rounded to 0.1 mm" } else { " — the stated value belongs to a different design" }
                 ),
-            });
+            ));
             if (a_st - pair.a).abs() > 1e-9 * pair.a {
                 warnings.push(format!(
                     "mechanism.center_distance: stated {:.4} mm, closure gives {:.6} mm; the stated value would give n1/n2 = {ratio_st:.6}",
@@ -1150,29 +1137,29 @@ pub fn report(
             warnings.push(format!("mechanism.center_distance: stated {:.4} mm is not above R + e: the pair cannot mesh there", a_st * 1e3));
         }
     }
-    paper.push(PaperCheck {
-        quantity: "max |µ1 + µ2| on the working window (paper: µ2 = −µ1, symmetric)".into(),
-        key: key!("derived", Derived, max_mu_asymmetry).into(),
-        paper: 0.0,
-        computed: an.peak.max_asymmetry,
-        note: "by definition µ2 = −µ1/(1 − µ1) exactly, which is −µ1 only to first order; the curves are mirror images only where |µ| ≪ 1".into(),
-    });
+    paper.push(PaperCheck::new(
+                "max |µ1 + µ2| on the working window (paper: µ2 = −µ1, symmetric)",
+                key!("derived", Derived, max_mu_asymmetry),
+                0.0,
+                an.peak.max_asymmetry,
+                "by definition µ2 = −µ1/(1 − µ1) exactly, which is −µ1 only to first order; the curves are mirror images only where |µ| ≪ 1",
+            ));
     if min_sep.is_finite() {
-        paper.push(PaperCheck {
-            quantity: "separation of µ1 and µ2 poles in α1 (paper: both at points 2, 4)".into(),
-            key: key!("derived", Derived, min_mu1_mu2_pole_separation_rad).into(),
-            paper: 0.0,
-            computed: min_sep,
-            note: "µ1 is infinite where the common tangent passes through O1, µ2 where it passes through O2: distinct points (the paper's eq. 11 itself keeps cos β2 ≠ 0)".into(),
-        });
+        paper.push(PaperCheck::new(
+                "separation of µ1 and µ2 poles in α1 (paper: both at points 2, 4)",
+                key!("derived", Derived, min_mu1_mu2_pole_separation_rad),
+                0.0,
+                min_sep,
+                "µ1 is infinite where the common tangent passes through O1, µ2 where it passes through O2: distinct points (the paper's eq. 11 itself keeps cos β2 ≠ 0)",
+            ));
     }
-    paper.push(PaperCheck {
-        quantity: "angle between the common tangent and O1O2 at K = P".into(),
-        key: key!("derived", Derived, max_obliquity_at_pitch_point_contact_rad).into(),
-        paper: PI / 2.0,
-        computed: psi_at_zeros,
-        note: "at K = P the contact is at a cusp, whose tangent is the pitch-curve normal: it deviates from O1O2 by the obliquity |ψ| (max shown), it is not perpendicular to it".into(),
-    });
+    paper.push(PaperCheck::new(
+                "angle between the common tangent and O1O2 at K = P",
+                key!("derived", Derived, max_obliquity_at_pitch_point_contact_rad),
+                PI / 2.0,
+                psi_at_zeros,
+                "at K = P the contact is at a cusp, whose tangent is the pitch-curve normal: it deviates from O1O2 by the obliquity |ψ| (max shown), it is not perpendicular to it",
+            ));
 
     // --- series -------------------------------------------------------------------------
     let mut series = Series::default();

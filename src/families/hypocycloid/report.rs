@@ -4,10 +4,9 @@
 
 use super::file::*;
 use crate::families::family::Scene;
-use crate::families::hypocycloid::synth::{self as hy, Derived, OptStatus, Outcome, ZeroStatus};
-use crate::report::numbers::key;
+use crate::families::hypocycloid::synth::{self as hy, OptStatus, Outcome, ZeroStatus};
 use crate::report::plot::{self, Grid, Panel, PlotError, Series};
-use crate::report::{number_map, PaperCheck, Plot, SolveResult, Status, Table};
+use crate::report::{number_map, Plot, SolveResult, Status, Table};
 use serde_json::json;
 use std::collections::BTreeMap;
 use std::f64::consts::PI;
@@ -148,7 +147,7 @@ pub fn result(scene: &Scene, s: &HypocycloidProblem) -> SolveResult {
             }),
         );
     }
-    r.paper = paper_checks(&out);
+    r.paper = out.paper.clone();
 
     // Tables and plots.
     r.tables = tables(&out);
@@ -175,47 +174,6 @@ pub fn result(scene: &Scene, s: &HypocycloidProblem) -> SolveResult {
         move || force_plot(&d.0, &d.1),
     ));
     r
-}
-
-/// The family's paper checks with result keys (the paper prints no numbers: each check is
-/// the paper's method or claim against the exact computation).
-fn paper_checks(out: &Outcome) -> Vec<PaperCheck> {
-    out.paper
-        .iter()
-        .map(|p| {
-            let q = p.quantity.as_str();
-            let key = if q.contains("conjecture") {
-                match out.zero_search.as_ref().map(|z| z.status) {
-                    Some(ZeroStatus::Found) => "zero_search.max_abs_at_root".into(),
-                    _ => "zero_search.min_abs".into(),
-                }
-            } else if let Some(i) = q
-                .strip_prefix('a')
-                .and_then(|t| t.chars().next())
-                .and_then(|ch| ch.to_digit(10))
-            {
-                format!("coefficients.a.{i}")
-            } else if q.starts_with("C1^I ") {
-                "coefficients.a.1".into()
-            } else if q.starts_with("C2^II") {
-                "coefficients.b.2".into()
-            } else if q.starts_with("b1..b6") {
-                key!("derived", Derived, max_abs_b1_b6).into()
-            } else if q.starts_with("|Φ3|/|Φ1|") {
-                key!("derived", Derived, force_ratio_order3_to_order1).into()
-            } else {
-                String::new()
-            };
-            PaperCheck {
-                quantity: q.to_string(),
-                key,
-                paper: p.paper,
-                computed: Some(p.computed),
-                diff_pct: (p.paper != 0.0).then(|| 100.0 * (p.computed - p.paper) / p.paper.abs()),
-                note: p.note.clone(),
-            }
-        })
-        .collect()
 }
 
 fn csv_num(v: f64) -> String {

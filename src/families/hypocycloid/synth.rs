@@ -989,18 +989,7 @@ pub struct CoefficientTable {
     pub rows: Vec<OrderRow>,
 }
 
-/// A comparison with the paper.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct PaperCheck {
-    /// What is compared.
-    pub quantity: String,
-    /// The paper's value (or the value of the paper's method).
-    pub paper: f64,
-    /// cwsynth's value.
-    pub computed: f64,
-    /// Why they differ, or that they agree.
-    pub note: String,
-}
+pub use crate::report::PaperCheck;
 
 /// Force over one turn for the plots (N).
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -1602,56 +1591,61 @@ fn paper_checks(
     let v2 = (scene.alpha0 - ALPHA0_VARIANT2).rem_euclid(2.0 * PI) < 1e-12;
     let v1 = scene.alpha0.rem_euclid(2.0 * PI) < 1e-12;
     for i in 1..=6 {
-        v.push(PaperCheck {
-            quantity: format!("a{i} (C{i}{})", if v2 { "^I" } else { "" }),
-            paper: sa[i],
-            computed: c.a[i],
-            note: format!(
+        v.push(PaperCheck::new(
+            format!("a{i} (C{i}{})", if v2 { "^I" } else { "" }),
+            format!("coefficients.a.{i}"),
+            sa[i],
+            c.a[i],
+            format!(
                 "paper's method = binomial series to z^{p} (y^{}); difference {:.3e} (series truncation error; the \
                  exact value's error is {:.1e})",
                 2 * p,
                 sa[i] - c.a[i],
                 c.err[i]
             ),
-        });
+        ));
     }
     if v2 {
-        v.push(PaperCheck {
-            quantity: "C1^I (from m'_I r'_I = ½ m_B R)".into(),
-            paper: 1.0,
-            computed: c.a[1],
-            note: "the root contributes no cos φ term in variant 2 (its cosine part has only even orders)".into(),
-        });
-        v.push(PaperCheck {
-            quantity: "C2^II (sine part of order 2)".into(),
-            paper: sb[2],
-            computed: c.b[2],
-            note: "−θ exactly: only the crank term −θ sin 2φ contributes; the root's sine part has odd orders only"
-                .into(),
-        });
-        v.push(PaperCheck {
-            quantity: "a3 (paper: the cosine part S^I has no 3rd order)".into(),
-            paper: 0.0,
-            computed: c.a[3],
-            note: "zero by the symmetry y(π − φ) = y(φ)".into(),
-        });
+        v.push(PaperCheck::new(
+            "C1^I (from m'_I r'_I = ½ m_B R)",
+            "coefficients.a.1",
+            1.0,
+            c.a[1],
+            "the root contributes no cos φ term in variant 2 (its cosine part has only even orders)",
+        ));
+        v.push(PaperCheck::new(
+            "C2^II (sine part of order 2)",
+            "coefficients.b.2",
+            sb[2],
+            c.b[2],
+            "−θ exactly: only the crank term −θ sin 2φ contributes; the root's sine part has odd orders only",
+        ));
+        v.push(PaperCheck::new(
+            "a3 (paper: the cosine part S^I has no 3rd order)",
+            "coefficients.a.3",
+            0.0,
+            c.a[3],
+            "zero by the symmetry y(π − φ) = y(φ)",
+        ));
     }
     if v1 {
-        v.push(PaperCheck {
-            quantity: "b1..b6 (paper: only cosines in variant 1)".into(),
-            paper: 0.0,
-            computed: c.b[1..=6].iter().fold(0.0f64, |a, &b| a.max(b.abs())),
-            note: "S is even in φ because y is odd: max |b_i| shown".into(),
-        });
+        v.push(PaperCheck::new(
+            "b1..b6 (paper: only cosines in variant 1)",
+            key!("derived", Derived, max_abs_b1_b6),
+            0.0,
+            c.b[1..=6].iter().fold(0.0f64, |a, &b| a.max(b.abs())),
+            "S is even in φ because y is odd: max |b_i| shown",
+        ));
     }
     // The paper calls the 3rd-order force negligible ("C3, C1^II, C3^II ~ λθ").
     let f1 = c.amplitude(1);
     let f3 = 9.0 * c.amplitude(3);
-    v.push(PaperCheck {
-        quantity: "|Φ3|/|Φ1| (paper: 3rd order negligible, ∝ λθ)".into(),
-        paper: 0.0,
-        computed: f3 / f1,
-        note: format!(
+    v.push(PaperCheck::new(
+        "|Φ3|/|Φ1| (paper: 3rd order negligible, ∝ λθ)",
+        key!("derived", Derived, force_ratio_order3_to_order1),
+        0.0,
+        f3 / f1,
+        format!(
             "the coefficient is O(λθ) = {:.3} but the force carries i² = 9: at λ = {}, θ = {} the 3rd-order force is \
              {:.0}% of the 1st",
             m.lambda * m.theta,
@@ -1659,20 +1653,24 @@ fn paper_checks(
             m.theta,
             100.0 * f3 / f1
         ),
-    });
+    ));
     if let Some(z) = z {
         let computed = match z.status {
             ZeroStatus::Found => z.max_abs_at_root,
             _ => z.grid_min_abs.map(|g| g.value.abs()).unwrap_or(f64::NAN),
         };
-        v.push(PaperCheck {
-            quantity: format!(
+        v.push(PaperCheck::new(
+            format!(
                 "a{} = 0 for some (λ, θ) (paper's conjecture, variant 2)",
                 z.order
             ),
-            paper: 0.0,
-            computed: if computed.is_finite() { computed } else { -1.0 },
-            note: match z.status {
+            match z.status {
+                ZeroStatus::Found => "zero_search.max_abs_at_root",
+                _ => "zero_search.min_abs",
+            },
+            0.0,
+            if computed.is_finite() { computed } else { -1.0 },
+            match z.status {
                 ZeroStatus::Found => format!(
                     "{} roots found; computed = max |a| at a root. {}",
                     z.roots.len(),
@@ -1683,7 +1681,7 @@ fn paper_checks(
                 }
                 ZeroStatus::Infeasible => z.reason.clone(),
             },
-        });
+        ));
     }
     v
 }
