@@ -155,7 +155,7 @@ pub fn result(scene: &Scene, p: &LinkageProblem) -> SolveResult {
         (Some(sol), None) => design_keys(&mut r, p, &out, sol, key),
     }
     if let Some(front) = &out.pareto {
-        pareto_keys(&mut r, front);
+        pareto_keys(&mut r, front, sc.objective.minimize);
     }
     berkof_lowen(
         &mut r,
@@ -373,8 +373,8 @@ fn design_keys(r: &mut SolveResult, p: &LinkageProblem, out: &Outcome, sol: &Sol
 }
 
 /// The front as JSON and CSV.
-fn pareto_keys(r: &mut SolveResult, front: &crate::synth::minimax::ParetoFront) {
-    let mut csv = String::from("eps,peak_shaking_force_n,peak_shaking_moment_nm,error_force_n,error_moment_nm,gap,status\n");
+fn pareto_keys(r: &mut SolveResult, front: &crate::synth::minimax::ParetoFront, goal: Goal) {
+    let mut csv = String::from("eps,peak_shaking_force_n,peak_shaking_moment_nm,error_force_n,error_moment_nm,gap,status,dominated\n");
     let mut pts = Vec::new();
     // Infeasible or failed points have no peaks: left out of the front (counted below).
     let ok: Vec<_> = front
@@ -382,18 +382,45 @@ fn pareto_keys(r: &mut SolveResult, front: &crate::synth::minimax::ParetoFront) 
         .iter()
         .filter(|p| p.solution.peaks.len() == 3)
         .collect();
-    for pt in &ok {
+    // A point trades off only if, against every point of smaller limited field, its
+    // optimised field is lower by more than both errors; past the knee (the limit slack) the
+    // points repeat the unlimited optimum with a larger other field: dominated, left out of
+    // the front (kept in the CSV, marked).
+    let (opt, lim) = match goal {
+        Goal::PeakMoment => (MOMENT, FORCE),
+        _ => (FORCE, MOMENT),
+    };
+    let mut order: Vec<usize> = (0..ok.len()).collect();
+    order.sort_by(|&i, &j| {
+        ok[i].solution.peaks[lim]
+            .peak
+            .total_cmp(&ok[j].solution.peaks[lim].peak)
+    });
+    let mut dominated = vec![false; ok.len()];
+    let mut best: Option<(f64, f64)> = None;
+    for &i in &order {
+        let pk = &ok[i].solution.peaks[opt];
+        match best {
+            Some((v, e)) if pk.peak >= v - (e + pk.error) => dominated[i] = true,
+            _ => best = Some((pk.peak, pk.error)),
+        }
+    }
+    for (i, pt) in ok.iter().enumerate() {
         let s = &pt.solution;
         let st = cw_status(s.status).as_str();
         csv += &format!(
-            "{:.12e},{:.12e},{:.12e},{:.3e},{:.3e},{:.3e},{st}\n",
+            "{:.12e},{:.12e},{:.12e},{:.3e},{:.3e},{:.3e},{st},{}\n",
             pt.eps,
             s.peaks[FORCE].peak,
             s.peaks[MOMENT].peak,
             s.peaks[FORCE].error,
             s.peaks[MOMENT].error,
-            s.error.total
+            s.error.total,
+            dominated[i]
         );
+        if dominated[i] {
+            continue;
+        }
         pts.push(json!({
             "eps": pt.eps,
             "peak_shaking_force_n": s.peaks[FORCE].peak,
@@ -409,16 +436,20 @@ fn pareto_keys(r: &mut SolveResult, front: &crate::synth::minimax::ParetoFront) 
         .count();
     r.extra.insert(
         "pareto".into(),
-        json!({"points": pts, "certified": certified, "without_design": front.points.len() - ok.len(), "csv": format!("{}-pareto.csv", r.name)}),
+        json!({"points": pts, "certified": certified, "without_design": front.points.len() - ok.len(), "dominated": dominated.iter().filter(|d| **d).count(), "csv": format!("{}-pareto.csv", r.name)}),
     );
     r.tables.push(Table {
         suffix: "pareto".into(),
         caption: "Peak shaking force against peak shaking moment: each point its own SOCP".into(),
         csv,
     });
-    let line: Vec<(f64, f64)> = ok
+    let line: Vec<(f64, f64)> = order
         .iter()
-        .map(|p| (p.solution.peaks[MOMENT].peak, p.solution.peaks[FORCE].peak))
+        .filter(|&&i| !dominated[i])
+        .map(|&i| {
+            let p = &ok[i].solution.peaks;
+            (p[MOMENT].peak, p[FORCE].peak)
+        })
         .collect();
     r.plots.push(Plot::new(
         "pareto",
