@@ -11,7 +11,7 @@
 //! side); when the counterweights cannot supply it, the least-squares residual says by how much.
 
 use crate::families::linkage::file::{CounterweightSpec, Goal, LinkageScene};
-use crate::families::linkage::model::{Body, Joint, JointKind, Params, ReactionMap};
+use crate::families::linkage::model::{BalanceMap, Body, Joint, JointKind, Params, ReactionMap};
 use crate::numeric::{periodic_peak_sampled, Refine};
 use crate::synth::minimax::{
     self as mm, AffineValue, CounterweightLimits, Engine, FnField, LinearConstraint, Problem,
@@ -66,6 +66,8 @@ pub struct SceneFields<'s> {
     joints: Vec<Joint>,
     /// Reaction maps by θ's bits: every joint field at an angle shares one.
     reaction_maps: Mutex<HashMap<u64, Arc<ReactionMap>>>,
+    /// Balance maps by θ's bits: the three fields at an angle share one.
+    balance_maps: Mutex<HashMap<u64, Arc<BalanceMap>>>,
 }
 
 impl<'s> SceneFields<'s> {
@@ -77,6 +79,7 @@ impl<'s> SceneFields<'s> {
             kappa: AtomicU64::new(1f64.to_bits()),
             joints: scene.linkage.joints(),
             reaction_maps: Mutex::new(HashMap::new()),
+            balance_maps: Mutex::new(HashMap::new()),
         }
     }
 
@@ -117,6 +120,36 @@ impl<'s> SceneFields<'s> {
         Some(map)
     }
 
+    /// The balance map at θ, computed once per angle for the three fields (the engine
+    /// tabulates and refines field by field), or `None` where the linkage does not assemble
+    /// (recorded as a failure).
+    fn balance_map(&self, theta: f64) -> Option<Arc<BalanceMap>> {
+        if let Some(m) = self
+            .balance_maps
+            .lock()
+            .expect("no panic holds it")
+            .get(&theta.to_bits())
+        {
+            return Some(m.clone());
+        }
+        let l = &self.scene.linkage;
+        let pose = match l.pose(theta) {
+            Ok(p) => p,
+            Err(e) => {
+                let mut f = self.failure.lock().expect("no panic holds it");
+                f.get_or_insert((theta, e.dyad));
+                return None;
+            }
+        };
+        let map = Arc::new(l.balance_map(&pose, self.scene.moment_about));
+        self.kappa.fetch_max(map.kappa.to_bits(), Ordering::Relaxed);
+        self.balance_maps
+            .lock()
+            .expect("no panic holds it")
+            .insert(theta.to_bits(), map.clone());
+        Some(map)
+    }
+
     /// Fills `out` with joint k's load at θ: (R_x, R_y) of a revolute joint, (N, 0) of a
     /// prismatic one, affine in the counterweights through the reaction map's blocks.
     fn eval_joint(&self, k: usize, theta: f64, out: &mut AffineValue) {
@@ -144,17 +177,9 @@ impl<'s> SceneFields<'s> {
         if which >= JOINT0 {
             return self.eval_joint(which - JOINT0, theta, out);
         }
-        let l = &self.scene.linkage;
-        let pose = match l.pose(theta) {
-            Ok(p) => p,
-            Err(e) => {
-                let mut f = self.failure.lock().expect("no panic holds it");
-                f.get_or_insert((theta, e.dyad));
-                return; // zeros: the solve is reported failed
-            }
+        let Some(map) = self.balance_map(theta) else {
+            return; // zeros: the solve is reported failed
         };
-        let map = l.balance_map(&pose, self.scene.moment_about);
-        self.kappa.fetch_max(map.kappa.to_bits(), Ordering::Relaxed);
         let n = out.n();
         match which {
             FORCE => {
