@@ -73,7 +73,7 @@ fn report_pages_are_written_linked_and_escaped_and_summary_only_draws_no_plot() 
         let page = read(&out.join(format!("{name}.html")));
         assert!(page.starts_with("<!DOCTYPE html>"), "{name}");
         assert!(
-            page.contains("<table>") && page.contains("<th>key</th>"),
+            page.contains("<table>") && page.contains("<th>quantity</th>"),
             "{name}"
         );
         assert!(

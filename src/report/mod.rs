@@ -529,6 +529,44 @@ pub fn fmt_num(v: f64) -> String {
     }
 }
 
+/// How a result key reads in a workshop: its words, the unit shown and the factor from SI
+/// (`crank_counterweight_radius_m` = 0.08 → "crank counterweight radius", mm, 1000; `_rad` in
+/// degrees, `_rad_s` in rpm, a force of 10 kN or more in kN). A key without a unit suffix is a
+/// pure number.
+pub fn workshop_unit(key: &str, v: f64) -> (String, &'static str, f64) {
+    use std::f64::consts::PI;
+    let table: [(&str, &str, f64); 15] = [
+        ("_rad_s", "rpm", 30.0 / PI),
+        ("_m_s2", "m/s²", 1.0),
+        ("_m_per_s", "m/s", 1.0),
+        ("_kg_m3", "kg/m³", 1.0),
+        ("_kgm2", "kg·m²", 1.0),
+        ("_kgm", "kg·m", 1.0),
+        ("_nm", "N·m", 1.0),
+        ("_n", "N", 1.0),
+        ("_kg", "kg", 1.0),
+        ("_rad", "°", 180.0 / PI),
+        ("_pct", "%", 1.0),
+        ("_rpm", "rpm", 1.0),
+        ("_mm", "mm", 1.0),
+        ("_m", "m", 1.0),
+        ("_s", "s", 1.0),
+    ];
+    for (suffix, unit, f) in table {
+        if let Some(stem) = key.strip_suffix(suffix) {
+            let words = stem.replace('_', " ");
+            return match unit {
+                // Machine parts in mm, a crane's boom in m.
+                "m" if v.abs() < 2.0 => (words, "mm", 1e3),
+                "N" if v.abs() >= 1e4 => (words, "kN", 1e-3),
+                "N·m" if v.abs() >= 1e4 => (words, "kN·m", 1e-3),
+                _ => (words, unit, f),
+            };
+        }
+    }
+    (key.replace('_', " "), "–", 1.0)
+}
+
 /// The Markdown summary of a result (`<name>.md`).
 pub fn markdown(r: &SolveResult) -> String {
     markdown_report(r, true)
@@ -598,21 +636,27 @@ pub(crate) fn markdown_report(r: &SolveResult, timing: bool) -> String {
                 return String::new();
             }
             let mut t = format!(
-                "## {title}\n\n| key | value |{}\n|---|---|{}\n",
+                "## {title}\n\n| quantity | value | unit |{} key (SI) |\n|---|---:|---|{}---|\n",
                 if errs.is_some() { " ± error |" } else { "" },
-                if errs.is_some() { "---|" } else { "" }
+                if errs.is_some() { "---:|" } else { "" }
             );
             for (k, v) in m {
-                match errs {
-                    Some(e) => {
-                        t += &format!(
-                            "| {k} | {} | {} |\n",
-                            fmt_num(*v),
-                            e.get(k).map(|x| format!("{x:.2e}")).unwrap_or("–".into())
-                        )
-                    }
-                    None => t += &format!("| {k} | {} |\n", fmt_num(*v)),
-                }
+                let (words, unit, f) = workshop_unit(k, *v);
+                let err = errs.map(|e| {
+                    e.get(k)
+                        .map(|x| format!("{:.2e}", x * f))
+                        .unwrap_or("–".into())
+                });
+                let shown = v * f;
+                let value = if shown.fract() == 0.0 && shown.abs() < 1e9 {
+                    format!("{}", shown as i64)
+                } else {
+                    fmt_num(shown)
+                };
+                t += &format!(
+                    "| {words} | {value} | {unit} |{} `{k}` |\n",
+                    err.map(|e| format!(" {e} |")).unwrap_or_default()
+                );
             }
             t
         };
