@@ -567,6 +567,57 @@ pub fn workshop_unit(key: &str, v: f64) -> (String, &'static str, f64) {
     (key.replace('_', " "), "–", 1.0)
 }
 
+/// [`fmt_num`], but a whole number as an integer (`32`, not `32.0000`).
+fn fmt_value(x: f64) -> String {
+    if x.fract() == 0.0 && x.abs() < 1e9 {
+        format!("{}", x as i64)
+    } else {
+        fmt_num(x)
+    }
+}
+
+/// A model setting as a workshop reads it: a number in its workshop unit (from its key's
+/// suffix), an object as `name value unit` pairs, a list joined by commas, text as is.
+fn model_value(key: &str, v: &serde_json::Value) -> String {
+    use serde_json::Value;
+    let number = |k: &str, x: f64| {
+        let (_, unit, f) = workshop_unit(k, x);
+        let shown = fmt_value(x * f);
+        if unit == "–" {
+            shown
+        } else {
+            format!("{shown} {unit}")
+        }
+    };
+    match v {
+        Value::Number(n) => n.as_f64().map_or(n.to_string(), |x| number(key, x)),
+        Value::String(t) => t.clone(),
+        Value::Array(a) if a.iter().all(Value::is_number) => {
+            // A point or a list of one quantity: every entry in the key's unit.
+            let xs: Vec<String> = a
+                .iter()
+                .filter_map(Value::as_f64)
+                .map(|x| number(key, x))
+                .collect();
+            format!("({})", xs.join(", "))
+        }
+        Value::Array(a) => a
+            .iter()
+            .map(|x| x.as_str().map_or(x.to_string(), str::to_string))
+            .collect::<Vec<_>>()
+            .join(", "),
+        Value::Object(o) => o
+            .iter()
+            .map(|(k, x)| {
+                let (words, _, _) = workshop_unit(k, 0.0);
+                format!("{words} {}", model_value(k, x))
+            })
+            .collect::<Vec<_>>()
+            .join("; "),
+        other => other.to_string(),
+    }
+}
+
 /// The Markdown summary of a result (`<name>.md`).
 pub fn markdown(r: &SolveResult) -> String {
     markdown_report(r, true)
@@ -621,11 +672,12 @@ pub(crate) fn markdown_report(r: &SolveResult, timing: bool) -> String {
     }
     if !r.model.is_empty() {
         p("## Model\n".into());
-        p("| setting | value |\n|---|---|".into());
+        p("| setting | value | key (SI) |\n|---|---|---|".into());
         for (k, v) in &r.model {
             p(format!(
-                "| {k} | {} |",
-                md_escape(v.to_string().trim_matches('"'))
+                "| {} | {} | `{k}` |",
+                workshop_unit(k, 0.0).0,
+                md_escape(&model_value(k, v))
             ));
         }
         p(String::new());
@@ -647,12 +699,7 @@ pub(crate) fn markdown_report(r: &SolveResult, timing: bool) -> String {
                         .map(|x| format!("{:.2e}", x * f))
                         .unwrap_or("–".into())
                 });
-                let shown = v * f;
-                let value = if shown.fract() == 0.0 && shown.abs() < 1e9 {
-                    format!("{}", shown as i64)
-                } else {
-                    fmt_num(shown)
-                };
+                let value = fmt_value(v * f);
                 t += &format!(
                     "| {words} | {value} | {unit} |{} `{k}` |\n",
                     err.map(|e| format!(" {e} |")).unwrap_or_default()
