@@ -11,7 +11,9 @@
 //! side); when the counterweights cannot supply it, the least-squares residual says by how much.
 
 use crate::families::linkage::file::{CounterweightSpec, Goal, LinkageScene};
-use crate::families::linkage::model::{BalanceMap, Body, Joint, JointKind, Params, ReactionMap};
+use crate::families::linkage::model::{
+    BalanceMap, Body, Joint, JointKind, Params, Pose, ReactionMap,
+};
 use crate::numeric::{periodic_peak_sampled, Refine};
 use crate::synth::minimax::{
     self as mm, AffineValue, CounterweightLimits, Engine, FnField, LinearConstraint, Problem,
@@ -59,7 +61,9 @@ pub enum LinkageSolveError {
 /// the largest dyad conditioning κ seen (over the engine's scan and every refined angle).
 pub struct SceneFields<'s> {
     scene: &'s LinkageScene,
-    failure: Mutex<Option<(f64, usize)>>,
+    /// The first failure met: an angle where the linkage does not assemble or its
+    /// joint-force equations are singular.
+    failure: Mutex<Option<LinkageSolveError>>,
     /// max κ ≥ 1 as f64 bits (positive floats order as their bits).
     kappa: AtomicU64,
     /// The joints ([`crate::families::linkage::model::Linkage::joints`]).
@@ -83,71 +87,69 @@ impl<'s> SceneFields<'s> {
         }
     }
 
-    /// The reaction map at θ (computed once per angle), or `None` where the linkage does
-    /// not assemble or the joint-force equations are singular (recorded as a failure).
-    fn reaction_map(&self, theta: f64) -> Option<Arc<ReactionMap>> {
-        if let Some(m) = self
-            .reaction_maps
+    /// Records the first failure of a solve (later ones are consequences).
+    fn fail(&self, e: LinkageSolveError) {
+        self.failure
             .lock()
             .expect("no panic holds it")
-            .get(&theta.to_bits())
-        {
-            return Some(m.clone());
-        }
-        let l = &self.scene.linkage;
-        let map = match l.pose(theta) {
-            Ok(pose) => l.reaction_map(&pose).ok(),
-            Err(e) => {
-                self.failure
-                    .lock()
-                    .expect("no panic holds it")
-                    .get_or_insert((theta, e.dyad));
-                None
-            }
-        };
-        let Some(map) = map else {
-            self.failure
-                .lock()
-                .expect("no panic holds it")
-                .get_or_insert((theta, usize::MAX));
-            return None;
-        };
-        let map = Arc::new(map);
-        self.reaction_maps
-            .lock()
-            .expect("no panic holds it")
-            .insert(theta.to_bits(), map.clone());
-        Some(map)
+            .get_or_insert(e);
     }
 
-    /// The balance map at θ, computed once per angle for the three fields (the engine
-    /// tabulates and refines field by field), or `None` where the linkage does not assemble
-    /// (recorded as a failure).
-    fn balance_map(&self, theta: f64) -> Option<Arc<BalanceMap>> {
-        if let Some(m) = self
-            .balance_maps
+    /// The pose at θ, or `None` where the linkage does not assemble (recorded).
+    fn pose(&self, theta: f64) -> Option<Pose> {
+        self.scene
+            .linkage
+            .pose(theta)
+            .map_err(|e| self.fail(LinkageSolveError::NoAssembly(theta.to_degrees(), e.dyad)))
+            .ok()
+    }
+
+    /// The value `cache` holds for θ, made by `make` the first time (the engine tabulates
+    /// and refines field by field, so every field at an angle shares one).
+    fn cached<T>(
+        cache: &Mutex<HashMap<u64, Arc<T>>>,
+        theta: f64,
+        make: impl FnOnce() -> Option<T>,
+    ) -> Option<Arc<T>> {
+        if let Some(m) = cache
             .lock()
             .expect("no panic holds it")
             .get(&theta.to_bits())
         {
             return Some(m.clone());
         }
-        let l = &self.scene.linkage;
-        let pose = match l.pose(theta) {
-            Ok(p) => p,
-            Err(e) => {
-                let mut f = self.failure.lock().expect("no panic holds it");
-                f.get_or_insert((theta, e.dyad));
-                return None;
-            }
-        };
-        let map = Arc::new(l.balance_map(&pose, self.scene.moment_about));
-        self.kappa.fetch_max(map.kappa.to_bits(), Ordering::Relaxed);
-        self.balance_maps
+        let m = Arc::new(make()?);
+        cache
             .lock()
             .expect("no panic holds it")
-            .insert(theta.to_bits(), map.clone());
-        Some(map)
+            .insert(theta.to_bits(), m.clone());
+        Some(m)
+    }
+
+    /// The reaction map at θ, or `None` where the linkage does not assemble or the
+    /// joint-force equations are singular (recorded as a failure).
+    fn reaction_map(&self, theta: f64) -> Option<Arc<ReactionMap>> {
+        Self::cached(&self.reaction_maps, theta, || {
+            let pose = self.pose(theta)?;
+            self.scene
+                .linkage
+                .reaction_map(&pose)
+                .map_err(|_| self.fail(LinkageSolveError::SingularReactions(theta.to_degrees())))
+                .ok()
+        })
+    }
+
+    /// The balance map at θ, or `None` where the linkage does not assemble (recorded).
+    fn balance_map(&self, theta: f64) -> Option<Arc<BalanceMap>> {
+        Self::cached(&self.balance_maps, theta, || {
+            let pose = self.pose(theta)?;
+            let map = self
+                .scene
+                .linkage
+                .balance_map(&pose, self.scene.moment_about);
+            self.kappa.fetch_max(map.kappa.to_bits(), Ordering::Relaxed);
+            Some(map)
+        })
     }
 
     /// Fills `out` with joint k's load at θ: (R_x, R_y) of a revolute joint, (N, 0) of a
@@ -214,15 +216,17 @@ impl<'s> SceneFields<'s> {
     /// ([`crate::families::linkage::model::BalanceMap::error`]).
     fn error(&self, which: usize, theta: f64, x: &[f64]) -> f64 {
         let l = &self.scene.linkage;
-        let Ok(pose) = l.pose(theta) else {
-            return f64::INFINITY;
-        };
         if which >= JOINT0 {
+            let Ok(pose) = l.pose(theta) else {
+                return f64::INFINITY;
+            };
             return l
                 .reactions_with_error(&pose, &params_with(self.scene, x))
                 .map_or(f64::INFINITY, |(_, e)| e);
         }
-        let map = l.balance_map(&pose, self.scene.moment_about);
+        let Some(map) = self.balance_map(theta) else {
+            return f64::INFINITY;
+        };
         let extra = extras(&self.scene.counterweights, x);
         let (ef, em, et) = map.error(&l.params(), &extra);
         [ef, em, et][which]
@@ -233,9 +237,9 @@ impl<'s> SceneFields<'s> {
         f64::from_bits(self.kappa.load(Ordering::Relaxed))
     }
 
-    /// The first angle where the linkage failed to assemble, if any.
-    pub fn failure(&self) -> Option<(f64, usize)> {
-        *self.failure.lock().expect("no panic holds it")
+    /// The first failure met, if any.
+    pub fn failure(&self) -> Option<LinkageSolveError> {
+        self.failure.lock().expect("no panic holds it").clone()
     }
 }
 
@@ -597,8 +601,8 @@ pub fn solve(scene: &LinkageScene, settings: &Settings) -> Result<Outcome, Linka
             out.pareto = Some(engine.pareto_front(a, b, o.pareto_points)?);
         }
     }
-    if let Some((th, d)) = fields.failure() {
-        return Err(LinkageSolveError::NoAssembly(th.to_degrees(), d));
+    if let Some(e) = fields.failure() {
+        return Err(e);
     }
     out.kappa_max = fields.kappa_max();
     Ok(out)
