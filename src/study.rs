@@ -312,8 +312,8 @@ pub fn svg(s: &Study) -> Result<String, StudyError> {
     plot::panels(
         &[Panel {
             title: format!("{}: time against error of {}", s.name, s.key),
-            x_label: "log10 solve time / s".into(),
-            y_label: "log10 relative error (floor 1e-16)".into(),
+            x_label: "log10 solve time (log10 s)".into(),
+            y_label: "log10 relative error (–, floor 1e-16)".into(),
             series,
             equal_aspect: false,
         }],

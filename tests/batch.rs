@@ -887,3 +887,75 @@ fn a_file_that_is_not_utf8_is_an_error_row_with_its_line() {
         "{text}"
     );
 }
+
+#[test]
+fn fleet_rows_are_named_by_the_template_and_tabled_with_their_inputs() {
+    let dir = tempfile::tempdir().unwrap();
+    let tpl = dir.path().join("pump.toml");
+    let text = std::fs::read_to_string(template()).unwrap();
+    let text = text.replacen(
+        "name = \"piston-1000rpm\"",
+        "name = \"pump-{speed}-r{crank_radius}\"",
+        1,
+    );
+    assert!(text.contains("pump-{speed}"));
+    std::fs::write(&tpl, text).unwrap();
+    let csv = dir.path().join("pumps.csv");
+    std::fs::write(
+        &csv,
+        "mechanism.crank_radius [mm],mechanism.speed [rpm]\n35,1000\n30,1500\n,2500\n",
+    )
+    .unwrap();
+    let out = dir.path().join("out");
+    let o = batch(&format!("{}:{}", tpl.display(), csv.display()), &out, &[]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    for name in [
+        "pump-1000rpm-r35mm",
+        "pump-1500rpm-r30mm",
+        "pump-2500rpm-r35mm",
+    ] {
+        assert!(out.join(format!("{name}.json")).is_file(), "{name}");
+    }
+    // The fleet's table: its inputs (an empty cell shows the template's value) and every
+    // design value and objective in a column of its own.
+    let t = std::fs::read_to_string(out.join("fleet-pumps.csv")).unwrap();
+    let mut lines = t.lines();
+    let head: Vec<&str> = lines.next().unwrap().split(',').collect();
+    for col in [
+        "mechanism.crank_radius [mm]",
+        "mechanism.speed [rpm]",
+        "design.counterweight_unbalance_kgm",
+        "objectives.peak_shaking_force_n",
+    ] {
+        assert!(head.contains(&col), "{col} in {head:?}");
+    }
+    let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+    assert_eq!(rows.len(), 3);
+    let at = |r: usize, c: &str| rows[r][head.iter().position(|h| *h == c).unwrap()];
+    assert_eq!(at(1, "mechanism.speed [rpm]"), "1500");
+    assert_eq!(at(2, "mechanism.crank_radius [mm]"), "35 mm");
+    let f: f64 = at(0, "objectives.peak_shaking_force_n").parse().unwrap();
+    assert!((f - 298.9472538).abs() < 1e-6, "{f}");
+
+    // A placeholder that names no column is an error of the fleet, not a guess.
+    let bad = dir.path().join("bad.toml");
+    std::fs::write(
+        &bad,
+        std::fs::read_to_string(&tpl)
+            .unwrap()
+            .replacen("{speed}", "{model}", 1),
+    )
+    .unwrap();
+    let o = batch(
+        &format!("{}:{}", bad.display(), csv.display()),
+        &dir.path().join("o2"),
+        &[],
+    );
+    assert!(!o.status.success());
+    let all = format!(
+        "{}{}",
+        String::from_utf8_lossy(&o.stderr),
+        std::fs::read_to_string(dir.path().join("o2/summary.csv")).unwrap_or_default()
+    );
+    assert!(all.contains("{model}"), "{all}");
+}

@@ -171,8 +171,18 @@ fn c4_searches_are_best_found_or_degenerate_never_optimal() {
         plot_samples: 16,
         ..Settings::default()
     };
+    // Without the machine limits (a rod ≤ 125 mm, a crank arm ≥ 5 mm) the search shrinks
+    // the variant-1 machine into a plain slider-crank, and says so.
     let mut v1 = c4_search_example(PaperVariant::Variant1);
     v1.zero_search = None;
+    let limited = v1.clone();
+    v1.lambda = Var::Free {
+        min: 0.02,
+        max: 0.5,
+    };
+    v1.theta = Var::Free { min: 0.0, max: 0.9 };
+    v1.min_crank_arm = None;
+    v1.max_rod_length = None;
     let o1 = solve(&v1, &s).unwrap();
     assert!(
         o1.degenerate
@@ -187,5 +197,17 @@ fn c4_searches_are_best_found_or_degenerate_never_optimal() {
     assert!(o2.degenerate.is_none());
     let ev = o2.search.as_ref().unwrap();
     assert!(ev.starts >= 2 && ev.distinct_basins >= 1 && ev.starts_at_best >= 1);
-    assert!(o2.warnings.iter().any(|w| w.contains("at a bound")));
+    assert!(!o2.bounds.is_empty(), "{:?}", o2.bounds);
+    // With them, the machine stays hypocycloidal and the limits that decide it are named.
+    // (At the default accuracy: the coarse settings above mis-time variant 1's dwell.)
+    let o3 = solve(&limited, &Settings::default()).unwrap();
+    assert!(o3.degenerate.is_none(), "{:?}", o3.degenerate);
+    assert!(o3.objectives.suction_gain > 0.0);
+    let set_by: Vec<&str> = o3.bounds.iter().map(|b| b.set_by.as_str()).collect();
+    assert!(
+        set_by.contains(&"objective.min_crank_arm") && set_by.contains(&"objective.max_rod_length"),
+        "{:?}",
+        o3.bounds
+    );
+    assert!(o3.design.crank_arm_m >= 0.005 * (1.0 - 1e-12));
 }

@@ -254,8 +254,8 @@ fn lightest_counterweight_under_a_force_limit_sits_on_the_limit() {
     assert!((got - root.x).abs() < 1e-7 * root.x, "{got} vs {}", root.x);
     assert!((out.design.peak - limit).abs() < 1e-6 * limit);
     // Lightest: the largest radius allowed.
-    assert_eq!(out.radius, Some(0.06));
-    assert!((out.mass.unwrap() - got / 0.06).abs() < 1e-15);
+    assert_eq!(out.counterweight.radius, Some(0.06));
+    assert!((out.counterweight.mass.unwrap() - got / 0.06).abs() < 1e-15);
 }
 
 #[test]

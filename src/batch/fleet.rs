@@ -187,8 +187,6 @@ impl Template {
         let text = crate::problem::text_of(&bytes, template)
             .map_err(BatchError::Template)?
             .to_string();
-        // The template itself must be valid (without overrides).
-        parse_str(&text, template).map_err(BatchError::Template)?;
         let not_toml = |why: String| BatchError::NotToml {
             path: template.into(),
             why,
@@ -196,6 +194,16 @@ impl Template {
         let doc: toml_edit::DocumentMut = text
             .parse()
             .map_err(|e: toml_edit::TomlError| not_toml(e.to_string()))?;
+        // The template itself must be valid (without overrides); a name template
+        // (`name = "pump-{speed}"`) is checked with a plain name in its place.
+        let named = doc.get("name").and_then(|n| n.as_str()).unwrap_or("");
+        if named.contains('{') {
+            let mut plain = doc.clone();
+            plain["name"] = toml_edit::value("fleet-template");
+            parse_str(&plain.to_string(), template).map_err(BatchError::Template)?;
+        } else {
+            parse_str(&text, template).map_err(BatchError::Template)?;
+        }
         let table: toml::Table =
             toml::from_str(&text).map_err(|e: toml::de::Error| not_toml(e.to_string()))?;
         let name = doc
@@ -236,6 +244,20 @@ impl Template {
                         truncate(&columns[k], 200)
                     ),
                 });
+            }
+        }
+        // A name template's placeholders must each name a column.
+        if name.contains('{') {
+            for ph in placeholders(&name) {
+                if ph != "row" && column_of(&header, ph).is_none() {
+                    return Err(BatchError::FleetHeader {
+                        path: csv.into(),
+                        why: format!(
+                            "the template's name `{}` uses `{{{ph}}}`, which is no column of this fleet; allowed: `{{row}}`, a column's key (`{{mechanism.speed}}`) or its last part (`{{speed}}`)",
+                            truncate(&name, 200)
+                        ),
+                    });
+                }
             }
         }
         let mut hash = Hasher::new();
@@ -328,7 +350,8 @@ impl Template {
         format!("{}:{line}", self.csv.display())
     }
 
-    /// The name of the machine of CSV row `row` (1-based): its `name` cell, else
+    /// The name of the machine of CSV row `row` (1-based): its `name` cell, else the
+    /// template's name with its placeholders filled ([`Template::fill_name`]), else
     /// `<template name>-<row>`.
     pub fn row_name(&self, row: u64, cells: &[String]) -> String {
         self.header
@@ -337,7 +360,73 @@ impl Template {
             .and_then(|i| cells.get(i))
             .map(|s| s.trim().to_string())
             .filter(|s| !s.is_empty())
-            .unwrap_or_else(|| format!("{}-{}", self.name, row))
+            .unwrap_or_else(|| {
+                if self.name.contains('{') {
+                    self.fill_name(row, cells)
+                } else {
+                    format!("{}-{}", self.name, row)
+                }
+            })
+    }
+
+    /// Column `k` of a row as the machine got it: the cell, or the template's value where
+    /// the cell is empty.
+    pub(super) fn effective_cell(&self, k: usize, cells: &[String]) -> String {
+        let cell = cells.get(k).map(|c| c.trim()).unwrap_or("");
+        if cell.is_empty() {
+            dotted_text(&self.table, &self.header[k]).unwrap_or_default()
+        } else {
+            cell.to_string()
+        }
+    }
+
+    /// The template's name with each `{column}` replaced by the row's cell (its header unit
+    /// appended to a bare number: `{speed}` of `1500` under `mechanism.speed [rpm]` is
+    /// `1500rpm`) and `{row}` by the row number; spaces are dropped and any other character
+    /// a file name cannot hold becomes `_`. An empty cell gives the template's value's text.
+    fn fill_name(&self, row: u64, cells: &[String]) -> String {
+        let mut out = String::new();
+        let mut rest = self.name.as_str();
+        while let Some(open) = rest.find('{') {
+            out.push_str(&rest[..open]);
+            let Some(close) = rest[open..].find('}') else {
+                break;
+            };
+            let ph = &rest[open + 1..open + close];
+            let text = if ph == "row" {
+                row.to_string()
+            } else {
+                match column_of(&self.header, ph) {
+                    Some(k) => {
+                        let cell = cells.get(k).map(|c| c.trim()).unwrap_or("");
+                        if cell.is_empty() {
+                            dotted_text(&self.table, &self.header[k]).unwrap_or_default()
+                        } else {
+                            match self.units[k] {
+                                Some(u) if cell.parse::<f64>().is_ok() => {
+                                    format!("{cell}{}", u.symbol)
+                                }
+                                _ => cell.to_string(),
+                            }
+                        }
+                    }
+                    None => String::new(),
+                }
+            };
+            out.push_str(&text);
+            rest = &rest[open + close + 1..];
+        }
+        out.push_str(rest);
+        out.chars()
+            .filter(|c| !c.is_whitespace())
+            .map(|c| {
+                if c.is_ascii_alphanumeric() || "-_.".contains(c) {
+                    c
+                } else {
+                    '_'
+                }
+            })
+            .collect()
     }
 
     /// The machine of one CSV row: (name, resolved problem text) or `csv:LINE: reason`.
@@ -370,6 +459,46 @@ impl Template {
         }
         (name, Ok(doc.to_string()))
     }
+}
+
+/// The `{…}` placeholders of a name template.
+fn placeholders(name: &str) -> Vec<&str> {
+    let mut out = Vec::new();
+    let mut rest = name;
+    while let Some(open) = rest.find('{') {
+        let Some(close) = rest[open..].find('}') else {
+            break;
+        };
+        out.push(&rest[open + 1..open + close]);
+        rest = &rest[open + close + 1..];
+    }
+    out
+}
+
+/// The column a placeholder names: its dotted key, or the key's last part when only one
+/// column ends so.
+fn column_of(header: &[String], ph: &str) -> Option<usize> {
+    let ph = ph.trim();
+    if let Some(k) = header.iter().position(|h| h == ph) {
+        return Some(k);
+    }
+    let ends: Vec<usize> = (0..header.len())
+        .filter(|&k| header[k].rsplit('.').next() == Some(ph))
+        .collect();
+    (ends.len() == 1).then(|| ends[0])
+}
+
+/// The template's value at a dotted key as text (a string without its quotes).
+fn dotted_text(table: &toml::Table, key: &str) -> Option<String> {
+    let mut parts = key.split('.').map(str::trim);
+    let mut v = table.get(parts.next()?)?;
+    for p in parts {
+        v = v.as_table()?.get(p)?;
+    }
+    Some(match v {
+        toml::Value::String(s) => s.clone(),
+        other => other.to_string(),
+    })
 }
 
 /// A reader of the fleet CSV `csv` (flexible rows, `#` comments; see [`FleetFile`]).

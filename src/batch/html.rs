@@ -155,7 +155,7 @@ fn histogram(bins: &[u64; IMPROVEMENT_BINS]) -> Markup {
     let svg = plot::bars(
         &labelled,
         "improvement of the optimum over the best classical baseline (%, 1 % bins)",
-        "machines",
+        "machines (count)",
         760,
         260,
     );

@@ -27,6 +27,7 @@
 
 mod error;
 mod fleet;
+mod fleet_table;
 mod hash;
 mod html;
 mod inputs;
@@ -41,6 +42,7 @@ mod summary;
 
 pub use error::BatchError;
 pub use fleet::Template;
+pub use fleet_table::{fleet_table_path, write_fleet_tables};
 pub use hash::{content_hash, file_hash};
 pub use inputs::{expand, expand_inputs, parse_shard, Input};
 pub use isolate::{isolate, test_panic};
@@ -284,6 +286,11 @@ pub fn run(inputs: Vec<Input>, opts: &Options) -> Result<Counts, BatchError> {
     let mut progress = Progress::new(mine, opts.quiet);
     let done = AtomicU64::new(0);
 
+    let fleets: Vec<Input> = inputs
+        .iter()
+        .filter(|i| matches!(i, Input::Fleet { .. }))
+        .cloned()
+        .collect();
     let mut jobs = Jobs::new(inputs).filter(|(i, _)| i % sn == si);
     // Two machines with one name would write the same result files: the first (in input
     // order) keeps the name, every later one is reported and not solved. Decided here, in
@@ -339,6 +346,7 @@ pub fn run(inputs: Vec<Input>, opts: &Options) -> Result<Counts, BatchError> {
     previous.finish();
     if opts.shard.is_none() {
         write_reports(&opts.out)?;
+        write_fleet_tables(&opts.out, &fleets)?;
     }
     Ok(counts)
 }

@@ -83,7 +83,7 @@ impl std::fmt::Display for Status {
 }
 
 /// The evidence of a `best_found` result (defined with the searches that produce it).
-pub use crate::synth::SearchEvidence;
+pub use crate::synth::{ActiveBound, BoundSide, SearchEvidence};
 
 /// A paper's printed value against the program's.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -266,6 +266,10 @@ pub struct SolveResult {
     pub model: BTreeMap<String, serde_json::Value>,
     /// Design variables (SI, unit suffix).
     pub design: BTreeMap<String, f64>,
+    /// Design variables the optimum left on a bound, with the problem-file key that sets it
+    /// and what that means for the machine (absent when none).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub bounds: Vec<ActiveBound>,
     /// The key of `objectives` that the scene optimised, where it is one of them.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub objective: Option<String>,
@@ -318,6 +322,7 @@ impl SolveResult {
             source: source.display().to_string(),
             model: BTreeMap::new(),
             design: BTreeMap::new(),
+            bounds: Vec::new(),
             objective: None,
             objectives: BTreeMap::new(),
             errors: BTreeMap::new(),
@@ -654,6 +659,54 @@ pub(crate) fn markdown_report(r: &SolveResult, timing: bool) -> String {
         p(format!("Status detail: {}\n", md_escape(d)));
     }
     p(format!("Method: {}\n", md_escape(&r.method)));
+    let table =
+        |title: &str, m: &BTreeMap<String, f64>, errs: Option<&BTreeMap<String, f64>>| -> String {
+            if m.is_empty() {
+                return String::new();
+            }
+            let mut t = format!(
+                "## {title}\n\n| quantity | value | unit |{} key (SI) |\n|---|---:|---|{}---|\n",
+                if errs.is_some() { " ± error |" } else { "" },
+                if errs.is_some() { "---:|" } else { "" }
+            );
+            for (k, v) in m {
+                let (words, unit, f) = workshop_unit(k, *v);
+                let err = errs.map(|e| {
+                    e.get(k)
+                        .map(|x| format!("{:.2e}", x * f))
+                        .unwrap_or("–".into())
+                });
+                let value = fmt_value(v * f);
+                t += &format!(
+                    "| {words} | {value} | {unit} |{} `{k}` |\n",
+                    err.map(|e| format!(" {e} |")).unwrap_or_default()
+                );
+            }
+            t
+        };
+    // What to build first, then the evidence.
+    p(table("Design: what to build", &r.design, None));
+    if !r.bounds.is_empty() {
+        p("On a bound (the bound, not an interior optimum, decides these):\n".into());
+        for b in &r.bounds {
+            let key = b.key.rsplit('.').next().unwrap_or(&b.key);
+            let (words, unit, f) = workshop_unit(key, b.value);
+            let unit = if unit == "–" { "" } else { unit };
+            p(format!(
+                "- **{words}** = {}{}{unit}, on its {} bound, set by `{}`: {}",
+                fmt_value(b.value * f),
+                if unit.is_empty() { "" } else { " " },
+                match b.side {
+                    BoundSide::Lower => "lower",
+                    BoundSide::Upper => "upper",
+                },
+                b.set_by,
+                md_escape(&b.meaning)
+            ));
+        }
+        p(String::new());
+    }
+    p(table("Objectives", &r.objectives, Some(&r.errors)));
     if let Some(e) = &r.search {
         p("## Search evidence (status `best_found`: not proven optimal)\n".into());
         p(format!("- method: {}", md_escape(&e.method)));
@@ -682,33 +735,6 @@ pub(crate) fn markdown_report(r: &SolveResult, timing: bool) -> String {
         }
         p(String::new());
     }
-    let table =
-        |title: &str, m: &BTreeMap<String, f64>, errs: Option<&BTreeMap<String, f64>>| -> String {
-            if m.is_empty() {
-                return String::new();
-            }
-            let mut t = format!(
-                "## {title}\n\n| quantity | value | unit |{} key (SI) |\n|---|---:|---|{}---|\n",
-                if errs.is_some() { " ± error |" } else { "" },
-                if errs.is_some() { "---:|" } else { "" }
-            );
-            for (k, v) in m {
-                let (words, unit, f) = workshop_unit(k, *v);
-                let err = errs.map(|e| {
-                    e.get(k)
-                        .map(|x| format!("{:.2e}", x * f))
-                        .unwrap_or("–".into())
-                });
-                let value = fmt_value(v * f);
-                t += &format!(
-                    "| {words} | {value} | {unit} |{} `{k}` |\n",
-                    err.map(|e| format!(" {e} |")).unwrap_or_default()
-                );
-            }
-            t
-        };
-    p(table("Design", &r.design, None));
-    p(table("Objectives", &r.objectives, Some(&r.errors)));
     p(table("Derived", &r.derived, None));
     if !r.baselines.is_empty() {
         let keys: Vec<&String> = {

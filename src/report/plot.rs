@@ -51,6 +51,9 @@ pub enum Style {
     Points,
     /// Large crosses with the series name in the legend (optima, the paper's design).
     Marker,
+    /// A marked point labelled in the plot with the series name beside it (a peak with its
+    /// value), not in the legend.
+    Peak,
 }
 
 /// One data series.
@@ -81,6 +84,14 @@ impl Series {
             style: Style::Marker,
         }
     }
+    /// A labelled peak: a ring at each point with `label` written beside it.
+    pub fn peak(label: impl Into<String>, points: Vec<(f64, f64)>) -> Self {
+        Series {
+            name: label.into(),
+            points,
+            style: Style::Peak,
+        }
+    }
     /// A point series.
     pub fn points(name: impl Into<String>, points: Vec<(f64, f64)>) -> Self {
         Series {
@@ -104,6 +115,20 @@ pub struct Panel {
     pub series: Vec<Series>,
     /// Same scale on both axes (a locus, a path).
     pub equal_aspect: bool,
+}
+
+/// Every axis label names its unit in parentheses (`"|F| (N)"`, `"λ = R/L (–)"` for a pure
+/// number): an axis without one is an error of the plot, not a guess left to the reader.
+pub fn has_unit(label: &str) -> Result<(), PlotError> {
+    let inside = label
+        .find('(')
+        .and_then(|a| label[a + 1..].find(')').map(|b| &label[a + 1..a + 1 + b]));
+    match inside {
+        Some(u) if !u.trim().is_empty() => Ok(()),
+        _ => Err(PlotError::Data(format!(
+            "the axis label `{label}` names no unit; write it as `quantity (unit)`, `(–)` for a pure number"
+        ))),
+    }
 }
 
 /// The drawing scale (see the module doc).
@@ -362,6 +387,40 @@ fn draw_panel(area: &DrawingArea<SVGBackend, Shift>, p: &Panel) -> Result<(), Pl
                     .label(s.name.clone())
                     .legend(move |(x, y)| Circle::new((x + pxi(9), y), px(3), c.filled()));
             }
+            Style::Peak => {
+                let c = RGBColor(20, 20, 20);
+                for &q in s
+                    .points
+                    .iter()
+                    .filter(|q| q.0.is_finite() && q.1.is_finite())
+                {
+                    chart
+                        .draw_series(std::iter::once(Circle::new(
+                            q,
+                            px(6),
+                            c.stroke_width(px(1)),
+                        )))
+                        .map_err(PlotError::draw)?;
+                    // The label beside the ring, on the side with room (left of a point in
+                    // the right third).
+                    let right = q.0 > x0 + 0.66 * (x1 - x0);
+                    let h = if right { HPos::Right } else { HPos::Left };
+                    let dx = if right { -pxi(9) } else { pxi(9) };
+                    chart
+                        .draw_series(std::iter::once(
+                            EmptyElement::at(q)
+                                + Text::new(
+                                    s.name.clone(),
+                                    (dx, -pxi(9)),
+                                    font(12)
+                                        .into_font()
+                                        .color(&c)
+                                        .pos(Pos::new(h, VPos::Bottom)),
+                                ),
+                        ))
+                        .map_err(PlotError::draw)?;
+                }
+            }
             Style::Marker => {
                 chart
                     .draw_series(
@@ -417,6 +476,10 @@ fn count_document() {
 
 /// Side-by-side panels as one SVG document, each panel `w`×`h` pixels.
 pub fn panels(ps: &[Panel], w: u32, h: u32) -> Result<String, PlotError> {
+    for p in ps {
+        has_unit(&p.x_label)?;
+        has_unit(&p.y_label)?;
+    }
     count_document();
     let mut buf = String::new();
     {
@@ -441,6 +504,8 @@ pub fn bars(
     w: u32,
     h: u32,
 ) -> Result<String, PlotError> {
+    has_unit(x_label)?;
+    has_unit(y_label)?;
     count_document();
     let mut buf = String::new();
     {
@@ -543,6 +608,8 @@ pub fn heat_map(
     w: u32,
     h: u32,
 ) -> Result<String, PlotError> {
+    has_unit(&panel.x_label)?;
+    has_unit(&panel.y_label)?;
     count_document();
     let tf = |v: f64| match symmetric_log {
         Some(s) => v.signum() * (1.0 + v.abs() / s).log10(),
@@ -660,7 +727,7 @@ pub fn heat_map(
                         }
                     }
                 }
-                Style::Marker => {
+                Style::Marker | Style::Peak => {
                     chart
                         .draw_series(
                             s.points

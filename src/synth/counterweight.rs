@@ -350,7 +350,11 @@ fn affine_cone(rows: &mut Rows, aff: &Affine, dim: usize, t: Option<usize>, boun
     rows.cones.push(SupportedConeT::SecondOrderConeT(dim + 1));
 }
 
-fn build(pb: &Problem, samples: &[f64], s: &Settings) -> Built {
+/// The cone program of the sampled problem; each limit `pb.limits[i]` is imposed as
+/// `lim·(1 − margin[i])` (a margin that keeps the continuous peak under the limit). Returns
+/// also, per limit, the rows holding its cones' bound (their duals z₀ are the limit's
+/// multiplier: ∂(dual objective)/∂lim = −Σ z₀).
+fn build(pb: &Problem, samples: &[f64], s: &Settings, margin: &[f64]) -> (Built, Vec<Vec<usize>>) {
     // Variables: u (0, 1), then t or s (2) when the goal needs it.
     let extra = !matches!(pb.goal, Goal::MinMeanSquare(_));
     let n = if extra { 3 } else { 2 };
@@ -398,11 +402,16 @@ fn build(pb: &Problem, samples: &[f64], s: &Settings) -> Built {
             q = vec![2.0 * g[0], 2.0 * g[1]];
         }
     }
-    for &(i, lim) in &pb.limits {
+    let mut limit_rows = Vec::with_capacity(pb.limits.len());
+    for (k, &(i, lim)) in pb.limits.iter().enumerate() {
         let f = &pb.fields[i];
+        let lim = lim * (1.0 - margin.get(k).copied().unwrap_or(0.0));
+        let mut at = Vec::with_capacity(samples.len());
         for &phi in samples {
+            at.push(rows.b.len());
             affine_cone(&mut rows, &(f.eval)(phi), f.dim, None, lim);
         }
+        limit_rows.push(at);
     }
     if pb.u_max.is_finite() {
         rows.row(&[], pb.u_max);
@@ -429,7 +438,7 @@ fn build(pb: &Problem, samples: &[f64], s: &Settings) -> Built {
             rows.cones.push(SupportedConeT::NonnegativeConeT(2));
         }
     }
-    rows.build(n, p, q)
+    (rows.build(n, p, q), limit_rows)
 }
 
 /// Equally spaced angles.
@@ -469,8 +478,12 @@ pub fn solve(pb: &Problem, s: &Settings) -> Solution {
         1e-6_f64.max(s.rel_tol)
     };
     let mut last = Solution::failed();
+    // Relative tightening of each limit in the cone program: a limit is met only when the
+    // design's continuous (refined) peak is at or under it, so a design over it by v·lim
+    // tightens the next round's limit by 1.5·v (and the bound pays for it, below).
+    let mut margin = vec![0.0; pb.limits.len()];
     for round in 1..=s.max_rounds {
-        let bt = build(pb, &samples, s);
+        let (bt, limit_rows) = build(pb, &samples, s, &margin);
         let res = match run_clarabel(&bt, round_tol) {
             Ok(r) => r,
             Err(e) => {
@@ -518,7 +531,19 @@ pub fn solve(pb: &Problem, s: &Settings) -> Solution {
                 return last;
             }
         };
-        let lower = res.obj.min(res.obj_dual);
+        // The sampled bound at the tightened limits lim′ = lim(1 − margin), moved to the true
+        // limits by weak duality: the dual objective is affine in each limit with slope
+        // −Σz₀, so at lim it is the bound at lim′ minus Σz₀·(lim − lim′).
+        let shift: f64 = pb
+            .limits
+            .iter()
+            .zip(&limit_rows)
+            .zip(&margin)
+            .map(|((&(_, lim), rows), &mg)| {
+                rows.iter().map(|&r| res.z[r].max(0.0)).sum::<f64>() * lim * mg
+            })
+            .sum();
+        let lower = res.obj.min(res.obj_dual) - shift;
         // Gap of the objective and worst relative violation of the limits.
         let (obj_gap, scale) = match pb.goal {
             Goal::MinPeak(i) => ((peaks[i].peak.fx - lower).max(0.0), peaks[i].peak.fx),
@@ -529,7 +554,16 @@ pub fn solve(pb: &Problem, s: &Settings) -> Solution {
             .iter()
             .map(|&(i, lim)| (peaks[i].peak.fx - lim).max(0.0) / lim.abs().max(1e-300))
             .fold(0.0, f64::max);
-        let converged = obj_gap <= s.rel_tol * scale.max(1e-300) && violation <= s.rel_tol;
+        // A limit is met when the refined peak is at or under it: not "within rel_tol".
+        let converged = obj_gap <= s.rel_tol * scale.max(1e-300) && violation == 0.0;
+        let mut tightened = false;
+        for (k, &(i, lim)) in pb.limits.iter().enumerate() {
+            let v = (peaks[i].peak.fx - lim) / lim.abs().max(1e-300);
+            if v > 0.0 && v <= s.rel_tol.max(1e-6) {
+                margin[k] += 1.05 * v + 4.0 * f64::EPSILON;
+                tightened = true;
+            }
+        }
         let rel_gap = (obj_gap / scale.abs().max(1e-300)).max(violation);
         // Between the target and 1e-6; a target looser than 1e-6 (allowed: rel_tol < 1) is
         // its own next tolerance (`clamp(rel_tol, 1e-6)` would panic there: min > max).
@@ -612,7 +646,7 @@ pub fn solve(pb: &Problem, s: &Settings) -> Solution {
                 }
             }
         }
-        if added == 0 {
+        if added == 0 && !tightened {
             last.note = Some(format!(
                 "exchange stalled after {round} rounds: every local maximum is already sampled; the remaining gap is clarabel's accuracy"
             ));

@@ -114,12 +114,25 @@ pub enum ShapeOutcome {
     },
 }
 
+impl ShapeSpec {
+    /// The largest unbalance the envelope holds, U_max = (2/3) ρ t sin(θ*/2)(rₒ,max³ − rᵢ,min³)
+    /// with θ* = min(θ_max, π) (kg·m): the whole annular sector of half-angle θ*/2.
+    pub fn max_unbalance(&self) -> f64 {
+        let theta_star = self.max_angle.min(PI);
+        2.0 / 3.0
+            * self.density
+            * self.thickness
+            * (0.5 * theta_star).sin()
+            * (self.outer_radius_max.powi(3) - self.inner_radius_min.powi(3))
+    }
+}
+
 /// Finds the plate realising the unbalance `u` (kg·m).
 pub fn design(spec: &ShapeSpec, u: f64) -> ShapeOutcome {
     let rt = spec.density * spec.thickness;
     let (ri0, ro_max) = (spec.inner_radius_min, spec.outer_radius_max);
     let theta_star = spec.max_angle.min(PI);
-    let u_max = 2.0 / 3.0 * rt * (0.5 * theta_star).sin() * (ro_max.powi(3) - ri0.powi(3));
+    let u_max = spec.max_unbalance();
     if !(u <= u_max) {
         return ShapeOutcome::Infeasible {
             reason: format!(

@@ -126,6 +126,12 @@ pub struct ObjectiveRaw {
     pub min_stroke: Option<Qty<Length>>,
     /// Minimum suction-phase gain (suction angle/π − 1).
     pub min_suction_gain: Option<f64>,
+    /// Shortest crank arm r = θR the machine may have: raises the lower bound of a free θ to
+    /// r_min/R (a design below it is no longer a hypocycloidal machine).
+    pub min_crank_arm: Option<Qty<Length>>,
+    /// Longest rod L = R/λ the machine may have: raises the lower bound of a free λ to
+    /// R/L_max.
+    pub max_rod_length: Option<Qty<Length>>,
     /// The zero search, if wanted.
     pub zero_search: Option<ZeroSearchRaw>,
 }
@@ -173,6 +179,31 @@ fn ratio_var(v: &Option<RawVar<Dimensionless>>, f: &str) -> Result<Var, FieldErr
         Var::Free { min, max } if min == max => Var::Fixed(min),
         other => other,
     })
+}
+
+/// A ratio raised to at least `lo` (from the machine limit `why`): a free range's lower bound
+/// moves up; a fixed value or a range wholly below `lo` is an error naming both keys.
+fn at_least(v: Var, lo: Option<f64>, f: &str, why: &str) -> Result<Var, FieldError> {
+    let Some(lo) = lo else { return Ok(v) };
+    match v {
+        Var::Fixed(x) if x < lo => Err(FieldError::new(
+            f,
+            format!("{x} is below {lo:.6}, the least value {why} allows"),
+        )),
+        Var::Free { max, .. } if max < lo => Err(FieldError::new(
+            f,
+            format!("its range ends at {max}, below {lo:.6}, the least value {why} allows"),
+        )),
+        Var::Free { min, max } => Ok(if lo >= max {
+            Var::Fixed(max)
+        } else {
+            Var::Free {
+                min: min.max(lo),
+                max,
+            }
+        }),
+        fixed => Ok(fixed),
+    }
 }
 
 fn range(r: &RangeRaw, f: &str, lo_open: bool) -> Result<(f64, f64), FieldError> {
@@ -233,10 +264,29 @@ pub fn resolve_raw(raw: &File) -> Result<HypocycloidProblem, FieldError> {
     let r = positive("mechanism.carrier_radius", m.carrier_radius.si())?;
     let m_b = positive("mechanism.reciprocating_mass", m.reciprocating_mass.si())?;
     let omega = positive("mechanism.speed", m.speed.si())?;
-    let lambda = ratio_var(&raw.design.lambda, "design.lambda")?;
-    let theta = ratio_var(&raw.design.theta, "design.theta")?;
-    let md = &raw.model;
     let o = &raw.objective;
+    let min_crank_arm = o
+        .min_crank_arm
+        .map(|q| positive("objective.min_crank_arm", q.si()))
+        .transpose()?;
+    let max_rod_length = o
+        .max_rod_length
+        .map(|q| positive("objective.max_rod_length", q.si()))
+        .transpose()?;
+    // The machine's limits as lower bounds of the ratios: θ ≥ r_min/R, λ ≥ R/L_max.
+    let lambda = at_least(
+        ratio_var(&raw.design.lambda, "design.lambda")?,
+        max_rod_length.map(|l| r / l),
+        "design.lambda",
+        "objective.max_rod_length",
+    )?;
+    let theta = at_least(
+        ratio_var(&raw.design.theta, "design.theta")?,
+        min_crank_arm.map(|a| a / r),
+        "design.theta",
+        "objective.min_crank_arm",
+    )?;
+    let md = &raw.model;
     let zero_search = o
         .zero_search
         .as_ref()
@@ -288,6 +338,8 @@ pub fn resolve_raw(raw: &File) -> Result<HypocycloidProblem, FieldError> {
         assembly_margin: o.assembly_margin.unwrap_or(1e-3),
         min_stroke,
         min_suction_gain: o.min_suction_gain,
+        min_crank_arm,
+        max_rod_length,
         zero_search,
     };
     scene.validate()?;

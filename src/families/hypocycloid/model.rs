@@ -405,7 +405,17 @@ impl Hypocycloid {
     pub fn stroke(&self) -> Result<Stroke, MechError> {
         let hi = periodic_peak(|p| self.piston(p).s_rel, 360, 1e-9)?;
         let lo = periodic_peak(|p| -self.piston(p).s_rel, 360, 1e-9)?;
-        let suction = (lo.peak.x - hi.peak.x).rem_euclid(TAU);
+        // Where the dwell splits the bottom dead centre into two equal minima (variant 1: S
+        // is even in φ), the suction runs to the later one; which of the two the refinement
+        // calls the peak is round-off, so the angle is taken as the largest over the minima
+        // equal to the peak within the refinement's error.
+        let tol = 1e-9 * (hi.peak.fx + lo.peak.fx).abs().max(1e-300) + lo.error;
+        let suction = lo
+            .maxima
+            .iter()
+            .filter(|m| m.fx >= lo.peak.fx - tol)
+            .map(|m| (m.x - hi.peak.x).rem_euclid(TAU))
+            .fold((lo.peak.x - hi.peak.x).rem_euclid(TAU), f64::max);
         Ok(Stroke {
             stroke: hi.peak.fx + lo.peak.fx,
             phi_top: hi.peak.x,

@@ -92,6 +92,7 @@ pub fn result(scene: &Scene, s: &HypocycloidProblem) -> SolveResult {
             .join("; ")
     };
     r.warnings.extend(out.warnings.iter().cloned());
+    r.bounds = out.bounds.clone();
     r.design = number_map(&out.design);
     r.objectives = number_map(&out.objectives);
     r.errors = number_map(&out.errors);

@@ -23,7 +23,7 @@ use crate::families::hypocycloid::model::{
 };
 use crate::numeric::{brent_root, periodic_peak_with, periodic_rms};
 use crate::problem::FieldError;
-use crate::synth::SearchEvidence;
+use crate::synth::{ActiveBound, SearchEvidence};
 
 /// A bad field of a scene or of the settings names its problem-file key (`design.lambda`,
 /// `accuracy.root_tol`): one [`FieldError`] from the file layer to the solver.
@@ -97,6 +97,12 @@ pub struct HypocycloidScene {
     pub min_stroke: Option<f64>,
     /// Minimum suction-phase gain (suction angle/π − 1) (`hypocycloid.min_suction_gain`).
     pub min_suction_gain: Option<f64>,
+    /// Shortest crank arm r = θR (m), already folded into `theta`'s lower bound
+    /// (`objective.min_crank_arm`); kept to name the bound.
+    pub min_crank_arm: Option<f64>,
+    /// Longest rod L = R/λ (m), already folded into `lambda`'s lower bound
+    /// (`objective.max_rod_length`); kept to name the bound.
+    pub max_rod_length: Option<f64>,
     /// The zero search, if asked for (`hypocycloid.zero_search.*`).
     pub zero_search: Option<ZeroSearch>,
 }
@@ -151,22 +157,24 @@ pub fn paper_example(v: PaperVariant) -> HypocycloidScene {
         assembly_margin: 1e-3,
         min_stroke: None,
         min_suction_gain: None,
+        min_crank_arm: None,
+        max_rod_length: None,
         zero_search: None,
     }
 }
 
-/// The C4-search scene: the paper example with λ ∈ [0.02, 0.5], θ ∈ [0, 0.9] free (minimum
-/// stroke 45 mm = 1.8 R; in variant 2 also a suction-phase gain ≥ 0.1, i.e. a suction stroke
-/// of at least 198° — in variant 1 S is even in φ, the gain jumps between 0 and 1/3 when the
-/// dwell splits the bottom dead centre, so it is not constrained) and the zero search of a_4
-/// over the same box.
+/// The C4-search scene: the paper example with λ ∈ [0.02, 0.5], θ ∈ [0, 0.9] free, limited
+/// to a buildable machine — a rod of at most 125 mm (λ ≥ 0.2) and a crank arm of at least
+/// 5 mm (θ ≥ 0.2) — a minimum stroke 45 mm = 1.8 R; in variant 2 also a suction-phase gain
+/// ≥ 0.1, i.e. a suction stroke of at least 198° (in variant 1 S is even in φ, the gain jumps
+/// between 0 and 1/3 when the dwell splits the bottom dead centre, so it is not
+/// constrained), and the zero search of a_4 over the whole box.
 pub fn c4_search_example(v: PaperVariant) -> HypocycloidScene {
     HypocycloidScene {
-        lambda: Var::Free {
-            min: 0.02,
-            max: 0.5,
-        },
-        theta: Var::Free { min: 0.0, max: 0.9 },
+        lambda: Var::Free { min: 0.2, max: 0.5 },
+        theta: Var::Free { min: 0.2, max: 0.9 },
+        min_crank_arm: Some(0.005),
+        max_rod_length: Some(0.125),
         min_stroke: Some(0.045),
         min_suction_gain: if v == PaperVariant::Variant2 {
             Some(0.1)
@@ -1105,6 +1113,8 @@ pub struct Outcome {
     pub derived: Derived,
     /// Things the user should know.
     pub warnings: Vec<String>,
+    /// The design variables the search left on a bound, and who set it.
+    pub bounds: Vec<ActiveBound>,
     /// Comparison with the paper.
     pub paper: Vec<PaperCheck>,
     /// Solver and evaluation count.
@@ -1341,20 +1351,49 @@ pub fn solve(scene: &HypocycloidScene, settings: &Settings) -> Result<Outcome, F
     // A design that the search pushed onto a bound, and one that lost what makes the machine
     // hypocycloidal (the suction lengthening of paper 004), are said so.
     let mut degenerate = None;
+    let mut bounds = Vec::new();
     if free {
-        for (name, v, b) in [("λ", l, lb), ("θ", t, tb)] {
-            let span = b.1 - b.0;
-            if span > 0.0 && ((v - b.0).abs() <= 1e-6 * span || (b.1 - v).abs() <= 1e-6 * span) {
-                warnings.push(format!(
-                    "{name} = {v:.6} is at a bound of its range [{}, {}]: the bound, not an interior optimum, \
-                     decides the design{}",
-                    b.0,
-                    b.1,
-                    if name == "λ" && (v - b.0).abs() <= 1e-6 * span {
-                        format!(" (the residual force falls as λ → 0, i.e. as the rod L = R/λ = {:.4} m grows)", r / l)
-                    } else {
-                        String::new()
-                    }
+        // The bound each variable sits on, and who set it: a machine limit
+        // (θ ≥ r_min/R, λ ≥ R/L_max) or the design range.
+        let set_by = |name: &str, lo: f64| -> (String, String) {
+            let close = |a: f64, b: f64| (a - b).abs() <= 1e-12 * b.abs().max(1e-300);
+            match name {
+                "lambda" => match scene.max_rod_length.filter(|&lm| close(lo, r / lm)) {
+                    Some(lm) => ("objective.max_rod_length".into(), format!(
+                        "the residual force falls as the rod L = R/λ grows: the rod limit ({:.4} mm) sets L = {:.4} mm",
+                        lm * 1e3, r / l * 1e3
+                    )),
+                    None => ("design.lambda".into(), format!(
+                        "the residual force falls as λ → 0, i.e. as the rod L = R/λ = {:.4} m grows: the range, not an interior optimum, sets the rod (give objective.max_rod_length)",
+                        r / l
+                    )),
+                },
+                _ => match scene.min_crank_arm.filter(|&am| close(lo, am / r)) {
+                    Some(am) => ("objective.min_crank_arm".into(), format!(
+                        "the crank arm r = θR would shrink further: the arm limit ({:.4} mm) sets r",
+                        am * 1e3
+                    )),
+                    None => ("design.theta".into(), format!(
+                        "the range, not an interior optimum, sets the crank arm r = θR = {:.4} mm (give objective.min_crank_arm)",
+                        t * r * 1e3
+                    )),
+                },
+            }
+        };
+        for (name, v, b) in [("lambda", l, lb), ("theta", t, tb)] {
+            let lower = set_by(name, b.0);
+            let upper = (
+                format!("design.{name}"),
+                "the range's upper end, not an interior optimum, decides the design".to_string(),
+            );
+            if b.1 > b.0 {
+                bounds.extend(ActiveBound::check(
+                    &format!("design.{name}"),
+                    v,
+                    b,
+                    1e-6,
+                    (&lower.0, &lower.1),
+                    (&upper.0, &upper.1),
                 ));
             }
         }
@@ -1556,6 +1595,7 @@ pub fn solve(scene: &HypocycloidScene, settings: &Settings) -> Result<Outcome, F
         status,
         search,
         degenerate,
+        bounds,
         coefficients: CoefficientTable {
             a: c.a[..=n_ord].to_vec(),
             b: c.b[..=n_ord].to_vec(),

@@ -9,7 +9,7 @@ use crate::families::family::{cw_status, Scene};
 use crate::families::linkage::model::{JointKind, Linkage, Point};
 use crate::geom::P2;
 use crate::report::plot::{self, Panel, PlotError, Series};
-use crate::report::{Deferred, Plot, SolveResult, Status, Table};
+use crate::report::{ActiveBound, Deferred, Plot, SolveResult, Status, Table};
 use crate::synth::counterweight::Status as CwStatus;
 use crate::synth::minimax::{FieldPeak, Solution};
 use serde_json::json;
@@ -311,6 +311,35 @@ fn design_keys(r: &mut SolveResult, p: &LinkageProblem, out: &Outcome, sol: &Sol
             format!("{n}_counterweight_centroidal_inertia_kgm2"),
             d.centroidal_inertia,
         );
+        // A counterweight at its largest mass or radius: the limit, not the balance, sizes it.
+        if d.mass > 0.0 {
+            let (m_lo, m_hi) = cw.mass.bounds();
+            let field = format!("design.counterweights[{j}]");
+            if m_hi > m_lo {
+                r.bounds.extend(ActiveBound::check(
+                    &format!("design.{n}_counterweight_mass_kg"),
+                    d.mass,
+                    (m_lo, m_hi),
+                    1e-7,
+                    (&format!("{field}.mass"), "the least mass allowed"),
+                    (
+                        &format!("{field}.mass"),
+                        "the largest mass allowed: the limit, not the balance, sizes this counterweight",
+                    ),
+                ));
+            }
+            r.bounds.extend(ActiveBound::check(
+                &format!("design.{n}_counterweight_radius_m"),
+                d.radius,
+                (0.0, cw.radius),
+                1e-7,
+                (&format!("{field}.radius"), "at the joint"),
+                (
+                    &format!("{field}.radius"),
+                    "the centroid at the envelope radius: as far out as allowed, the least mass for its first moment",
+                ),
+            ));
+        }
     }
     let rms = out.design_rms.unwrap_or([(f64::NAN, f64::NAN); 3]);
     put_fields(&mut r.objectives, Some(&mut r.errors), &sol.peaks, &rms);
@@ -585,22 +614,54 @@ fn fields_plot(rows: &[[f64; 9]], with_cw: bool) -> Result<String, PlotError> {
             .map(|r| (r[0], j.map_or(r[i], |j| r[i].hypot(r[j]))))
             .collect()
     };
-    let pane = |title: &str, y: &str, bare: Vec<(f64, f64)>, bal: Vec<(f64, f64)>| Panel {
-        title: title.into(),
-        x_label: "crank angle θ (deg)".into(),
-        y_label: y.into(),
-        series: if with_cw {
-            vec![Series::line("bare", bare), Series::line("balanced", bal)]
-        } else {
-            vec![Series::line("bare", bare)]
-        },
-        equal_aspect: false,
+    // The largest |value| of a curve, marked and labelled.
+    let peak = |pts: &[(f64, f64)], unit: &str, what: &str| -> Option<Series> {
+        let &(x, y) = pts
+            .iter()
+            .filter(|q| q.1.is_finite())
+            .max_by(|a, b| a.1.abs().total_cmp(&b.1.abs()))?;
+        Some(Series::peak(
+            format!(
+                "{what} {} {unit} at {}°",
+                plot::tick(&((y.abs() * 1e4).round() / 1e4)),
+                plot::tick(&((x * 10.0).round() / 10.0))
+            ),
+            vec![(x, y)],
+        ))
+    };
+    let pane = |title: &str, y: &str, unit: &str, bare: Vec<(f64, f64)>, bal: Vec<(f64, f64)>| {
+        let mut series = vec![];
+        series.extend(peak(&bare, unit, "bare peak"));
+        if with_cw {
+            series.extend(peak(&bal, unit, "balanced peak"));
+            series.insert(0, Series::line("balanced", bal));
+        }
+        series.insert(0, Series::line("bare", bare));
+        Panel {
+            title: title.into(),
+            x_label: "crank angle θ (deg)".into(),
+            y_label: format!("{y} ({unit})"),
+            series,
+            equal_aspect: false,
+        }
     };
     plot::panels(
         &[
-            pane("Shaking force |F|", "N", col(1, Some(2)), col(5, Some(6))),
-            pane("Shaking moment M_O", "N·m", col(3, None), col(7, None)),
-            pane("Input torque T", "N·m", col(4, None), col(8, None)),
+            pane(
+                "Shaking force |F|",
+                "|F|",
+                "N",
+                col(1, Some(2)),
+                col(5, Some(6)),
+            ),
+            pane(
+                "Shaking moment M_O",
+                "M_O",
+                "N·m",
+                col(3, None),
+                col(7, None),
+            ),
+            pane("Input torque T", "T", "N·m", col(4, None), col(8, None)),
         ],
         420,
         340,

@@ -176,12 +176,17 @@ pub struct PaperDesignRaw {
     pub rotating_mass: Option<Qty<Mass>>,
     /// The paper's printed reciprocating mass m_s.
     pub reciprocating_mass: Option<Qty<Mass>>,
-    /// The paper's printed counterweight mass m_pr (at the lever radius `design.radius`,
+    /// The paper's printed counterweight mass m_pr (at the lever radius `lever_radius`,
     /// opposite the crank pin).
     pub counterweight_mass: Option<Qty<Mass>>,
+    /// The paper's lever radius r_pr, where its counterweight mass sits (default:
+    /// `design.radius` when that is fixed; needed with `[design.shape]`, whose plate sets the
+    /// design's own radius).
+    pub lever_radius: Option<Qty<Length>>,
 }
 
-/// `[design.shape]`: an annular-sector plate realising the counterweight's unbalance.
+/// `[design.shape]`: the counterweight is an annular-sector plate; its mass and centroid
+/// radius follow from the plate, and |U| is kept within what the envelope holds.
 #[derive(Debug, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ShapeRaw {
@@ -266,8 +271,6 @@ pub struct SliderCrankProblem {
     pub core: sc::Scene,
     /// The paper's printed classical design (formula (6)), if given.
     pub paper: Option<PaperDesign>,
-    /// The plate that should realise the counterweight, if asked for.
-    pub shape: Option<ShapeSpec>,
     /// Speeds to re-optimise at, if asked for.
     pub speed_sweep: Option<SpeedSweep>,
 }
@@ -281,6 +284,8 @@ pub struct PaperDesign {
     pub reciprocating_mass: Option<f64>,
     /// Printed m_pr (kg).
     pub counterweight_mass: Option<f64>,
+    /// The lever radius r_pr (m) of formula (6): `lever_radius` or the fixed `design.radius`.
+    pub lever_radius: Option<f64>,
 }
 
 /// The whole slider-crank file.
@@ -589,7 +594,20 @@ pub fn resolve_raw(raw: &File) -> Result<SliderCrankProblem, FieldError> {
                 "missing: minimize = \"mass\" or \"radius\" needs a peak-force limit (e.g. \"400 N\")",
             ));
         }
-        if mass.is_none() || radius.is_none() {
+        if let Some(want) = d.shape.as_ref().and_then(|sh| sh.minimize) {
+            let asked = if objective == Objective::MinMass {
+                ShapeGoal::Mass
+            } else {
+                ShapeGoal::OuterRadius
+            };
+            if want != asked {
+                return Err(FieldError::new(
+                    "design.shape.minimize",
+                    "contradicts objective.minimize: the objective chooses the plate (\"mass\": the lightest, \"radius\": the smallest outer radius); remove design.shape.minimize",
+                ));
+            }
+        }
+        if d.shape.is_none() && (mass.is_none() || radius.is_none()) {
             return Err(FieldError::new(
                 "objective.minimize",
                 "minimizing the counterweight's mass or radius needs design.mass and design.radius (fixed or ranges)",
@@ -612,15 +630,20 @@ pub fn resolve_raw(raw: &File) -> Result<SliderCrankProblem, FieldError> {
         None => None,
         Some(p) => {
             let pos = |q: Option<Qty<Mass>>, f: &str| q.map(|q| positive(f, q.si())).transpose();
+            let lever_radius = match p.lever_radius {
+                Some(q) => Some(positive("design.paper.lever_radius", q.si())?),
+                None => radius.and_then(|r| r.fixed()),
+            };
             let pd = PaperDesign {
                 rotating_mass: pos(p.rotating_mass, "design.paper.rotating_mass")?,
                 reciprocating_mass: pos(p.reciprocating_mass, "design.paper.reciprocating_mass")?,
                 counterweight_mass: pos(p.counterweight_mass, "design.paper.counterweight_mass")?,
+                lever_radius,
             };
-            if pd.counterweight_mass.is_some() && radius.and_then(|r| r.fixed()).is_none() {
+            if pd.counterweight_mass.is_some() && lever_radius.is_none() {
                 return Err(FieldError::new(
                     "design.paper.counterweight_mass",
-                    "the paper's counterweight needs its lever radius: give design.radius as a fixed value",
+                    "the paper's counterweight needs its lever radius: give design.paper.lever_radius (or design.radius as a fixed value)",
                 ));
             }
             Some(pd)
@@ -655,6 +678,28 @@ pub fn resolve_raw(raw: &File) -> Result<SliderCrankProblem, FieldError> {
                     "allowed: 0 < max_angle ≤ 360°",
                 ));
             }
+            // One object: the plate sets the mass and the radius.
+            for (given, f) in [
+                (d.mass.is_some(), "design.mass"),
+                (d.radius.is_some(), "design.radius"),
+            ] {
+                if given {
+                    return Err(FieldError::new(
+                        f,
+                        "not allowed with [design.shape]: the plate is the counterweight, its mass and centroid radius follow from the plate (a lever radius for the paper's formula goes in design.paper.lever_radius)",
+                    ));
+                }
+            }
+            let u_max = spec.max_unbalance();
+            let u_min = unbalance.bounds().0;
+            if u_min > u_max {
+                return Err(FieldError::new(
+                    "design.shape",
+                    format!(
+                        "the envelope holds at most |U| = {u_max:.6} kg·m, below design.unbalance's minimum {u_min:.6} kg·m: enlarge outer_radius_max, thickness or max_angle"
+                    ),
+                ));
+            }
             Some(spec)
         }
     };
@@ -667,6 +712,7 @@ pub fn resolve_raw(raw: &File) -> Result<SliderCrankProblem, FieldError> {
             mass,
             radius,
             prefer: d.prefer,
+            shape,
         },
         objective,
         max_peak_force,
@@ -698,7 +744,6 @@ pub fn resolve_raw(raw: &File) -> Result<SliderCrankProblem, FieldError> {
     Ok(SliderCrankProblem {
         core,
         paper,
-        shape,
         speed_sweep,
     })
 }

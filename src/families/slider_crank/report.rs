@@ -12,7 +12,6 @@ use crate::geom::P2;
 use crate::report::plot::{self, Panel, PlotError, Series};
 use crate::report::{number_map, Plot, SolveResult, Status, Table};
 use crate::synth::counterweight::Status as CwStatus;
-use crate::synth::shape::{self, ShapeOutcome};
 use serde_json::json;
 use std::collections::BTreeMap;
 use std::f64::consts::TAU;
@@ -81,15 +80,38 @@ pub fn result(scene: &Scene, sc_scene: &SliderCrankProblem) -> SolveResult {
     r.warnings.extend(out.warnings.iter().cloned());
     let d = &out.design;
     let u = P2::new(d.unbalance[0], d.unbalance[1]);
-    let (unbalance, angle) = d.unbalance_polar();
-    let design = sc::Design {
-        counterweight_unbalance_kgm: unbalance,
-        counterweight_angle_rad: angle,
-        counterweight_unbalance_x_kgm: u.x,
-        counterweight_unbalance_y_kgm: u.y,
-        counterweight_mass_kg: out.mass,
-        counterweight_radius_m: out.radius,
-    };
+    let shape_spec = s.counterweight.shape.as_ref();
+    let design = sc::Design::new(d.unbalance, &out.counterweight, shape_spec);
+    if free && s.counterweight.unbalance.fixed().is_none() {
+        // |U| on its upper bound: the envelope, the unbalance range or m_max·r_max decides
+        // the counterweight, not the balance.
+        let (lo, hi) = sc::unbalance_bounds(&s.counterweight);
+        let upper = match shape_spec {
+            Some(sh) if hi >= sh.max_unbalance() => (
+                "design.shape",
+                "the plate fills its envelope: a larger counterweight would balance better; enlarge outer_radius_max, thickness or max_angle",
+            ),
+            _ if s.counterweight.mass.is_some() && hi < s.counterweight.unbalance.bounds().1 => (
+                "design.mass",
+                "the largest mass at the largest radius: a larger counterweight would balance better",
+            ),
+            _ => (
+                "design.unbalance",
+                "the unbalance range's upper end: a larger counterweight would balance better",
+            ),
+        };
+        r.bounds.extend(crate::report::ActiveBound::check(
+            "design.counterweight_unbalance_kgm",
+            design.counterweight_unbalance_kgm,
+            (lo, hi),
+            1e-7,
+            (
+                "design.unbalance",
+                "the unbalance range's lower end: a smaller counterweight would balance better",
+            ),
+            upper,
+        ));
+    }
     let torque_objective = s.objective == Objective::MinPeakTorque;
     r.objective = Some(sc::Objectives::key(s.objective).into());
     let objectives = sc::Objectives {
@@ -137,12 +159,16 @@ pub fn result(scene: &Scene, sc_scene: &SliderCrankProblem) -> SolveResult {
         paper_counterweight_torque_reduction_pct: None,
         pareto_force_span_n: None,
         pareto_torque_span_nm: None,
-        shape_mass_kg: None,
-        shape_centroid_radius_m: None,
+        plate_max_unbalance_kgm: shape_spec.map(|sh| sh.max_unbalance()),
     };
     let mut baselines = out.baselines.clone();
     // The classical formula (6) at the lever radius is the 50 % rule: m = (m_r + ½m_s)R/r_pr.
-    if let Some(rad) = s.counterweight.radius.and_then(|v| v.fixed()) {
+    let lever = sc_scene
+        .paper
+        .as_ref()
+        .and_then(|p| p.lever_radius)
+        .or_else(|| s.counterweight.radius.and_then(|v| v.fixed()));
+    if let Some(rad) = lever {
         derived.formula6_counterweight_mass_kg = Some((mt + 0.5 * mc) * m.r / rad);
         if let Some(pd) = &sc_scene.paper {
             paper_design_checks(&mut r, &mut derived, &mut baselines, s, pd, rad);
@@ -206,19 +232,19 @@ pub fn result(scene: &Scene, sc_scene: &SliderCrankProblem) -> SolveResult {
             move || pareto_plot(&scene, &out, &baselines),
         ));
     }
-    if let Some(spec) = &sc_scene.shape {
-        match shape::design(spec, u.norm()) {
-            ShapeOutcome::Found { sector, method } => {
+    if shape_spec.is_some() {
+        let cw = &out.counterweight;
+        let note = cw.plate_note.clone().unwrap_or_default();
+        match &cw.plate {
+            Some(sector) => {
                 r.extra
-                    .insert("shape".into(), json!({"sector": sector, "method": method}));
-                derived.shape_mass_kg = Some(sector.mass_kg);
-                derived.shape_centroid_radius_m = Some(sector.centroid_radius_m);
+                    .insert("shape".into(), json!({"sector": sector, "method": note}));
             }
-            ShapeOutcome::Infeasible { reason } => {
-                r.warnings.push(format!("counterweight plate: {reason}"));
+            None => {
+                r.warnings.push(format!("counterweight plate: {note}"));
                 r.extra.insert(
                     "shape".into(),
-                    json!({"status": "infeasible", "reason": reason}),
+                    json!({"status": "infeasible", "reason": note}),
                 );
             }
         }
@@ -513,9 +539,25 @@ fn slider_crank_plot(scene: &Scene, s: &sc::Scene, out: &sc::Outcome) -> Result<
     )
     .unwrap_or(P2::zeros());
     locus.push(Series::marker("peak of optimum", vec![(f_opt.x, f_opt.y)]));
-    mag.push(Series::marker(
-        "peak of optimum",
+    mag.push(Series::peak(
+        format!(
+            "peak {} N at {}°",
+            plot::tick(&out.design.peak),
+            plot::tick(&((out.design.peak_angle.to_degrees() * 10.0).round() / 10.0))
+        ),
         vec![(out.design.peak_angle.to_degrees(), out.design.peak)],
+    ));
+    let ta = out.design.peak_torque_angle;
+    torque.push(Series::peak(
+        format!(
+            "peak |T| {} N·m at {}°",
+            plot::tick(&out.design.peak_torque),
+            plot::tick(&((ta.to_degrees() * 10.0).round() / 10.0))
+        ),
+        vec![(
+            ta.to_degrees(),
+            sc::drive_torque(s, P2::from(out.design.unbalance), ta),
+        )],
     ));
     let mut panels = vec![
         Panel {

@@ -246,14 +246,16 @@ mod tests {
             peak_drive_torque_nm: 0.0,
             peak_shaking_moment_nm: 0.0,
         };
-        let d = Design {
-            counterweight_unbalance_kgm: 0.0,
-            counterweight_angle_rad: 0.0,
-            counterweight_unbalance_x_kgm: 0.0,
-            counterweight_unbalance_y_kgm: 0.0,
-            counterweight_mass_kg: None,
-            counterweight_radius_m: None,
-        };
+        let d = Design::new(
+            [0.0, 0.0],
+            &crate::families::slider_crank::synth::Realised {
+                mass: None,
+                radius: None,
+                plate: None,
+                plate_note: None,
+            },
+            None,
+        );
         use Objective::*;
         for obj in [MinPeakForce, MinRmsForce, MinMass, MinRadius, MinPeakTorque] {
             let h = headline(obj);

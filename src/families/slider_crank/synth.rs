@@ -18,6 +18,7 @@ use crate::numeric::{
 };
 use crate::report::numbers::key;
 use crate::synth::counterweight::{self as cw, Affine, Direction, Field, Goal, Problem, Status};
+use crate::synth::shape::{self, Sector, ShapeGoal, ShapeOutcome, ShapeSpec};
 use crate::synth::Var;
 use serde::Serialize;
 use std::collections::BTreeMap;
@@ -75,6 +76,10 @@ pub struct CounterweightSpec {
     pub radius: Option<Var>,
     /// Split preference when mass and radius are both free.
     pub prefer: Prefer,
+    /// The plate that is the counterweight (`[design.shape]`): its mass and centroid radius
+    /// follow from |U| and the plate, and |U| is bounded by what the envelope holds,
+    /// |U| ≤ U_max ([`ShapeSpec::max_unbalance`], a convex disc).
+    pub shape: Option<ShapeSpec>,
 }
 
 /// A resolved, checked slider-crank scene.
@@ -172,12 +177,54 @@ pub struct Design {
     pub counterweight_unbalance_x_kgm: f64,
     /// U across the crank (kg·m).
     pub counterweight_unbalance_y_kgm: f64,
-    /// m_cw (kg), where the scene sizes it.
+    /// m_cw (kg), where the scene sizes it (the plate's mass with `[design.shape]`).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub counterweight_mass_kg: Option<f64>,
-    /// r_cw (m), where the scene sizes it.
+    /// r_cw (m), where the scene sizes it (the plate's centroid radius with `[design.shape]`).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub counterweight_radius_m: Option<f64>,
+    /// The plate's inner radius rᵢ (m; with `[design.shape]`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub plate_inner_radius_m: Option<f64>,
+    /// The plate's outer radius rₒ (m; with `[design.shape]`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub plate_outer_radius_m: Option<f64>,
+    /// The plate's sector angle θ, symmetric about U (rad; with `[design.shape]`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub plate_angle_rad: Option<f64>,
+    /// The plate's thickness t (m; with `[design.shape]`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub plate_thickness_m: Option<f64>,
+    /// The plate's moment of inertia about the crank axis, ρt(θ/4)(rₒ⁴ − rᵢ⁴) (kg·m²; with
+    /// `[design.shape]`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub plate_inertia_kgm2: Option<f64>,
+}
+
+impl Design {
+    /// The design of unbalance `u` (crank frame), realised as `cw` (mass, radius, plate).
+    pub fn new(u: [f64; 2], cw: &Realised, shape: Option<&ShapeSpec>) -> Design {
+        let p = P2::new(u[0], u[1]);
+        let angle = if p.norm() > 0.0 {
+            p.y.atan2(p.x).rem_euclid(std::f64::consts::TAU)
+        } else {
+            0.0
+        };
+        let plate = cw.plate.as_ref();
+        Design {
+            counterweight_unbalance_kgm: p.norm(),
+            counterweight_angle_rad: angle,
+            counterweight_unbalance_x_kgm: p.x,
+            counterweight_unbalance_y_kgm: p.y,
+            counterweight_mass_kg: cw.mass,
+            counterweight_radius_m: cw.radius,
+            plate_inner_radius_m: plate.map(|s| s.inner_radius_m),
+            plate_outer_radius_m: plate.map(|s| s.outer_radius_m),
+            plate_angle_rad: plate.map(|s| s.angle_rad),
+            plate_thickness_m: plate.and(shape).map(|s| s.thickness),
+            plate_inertia_kgm2: plate.map(|s| s.inertia_kgm2),
+        }
+    }
 }
 
 /// The objectives of a slider-crank result (keys of `objectives`, SI).
@@ -276,12 +323,10 @@ pub struct Derived {
     /// Torque span of the Pareto front (N·m).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub pareto_torque_span_nm: Option<f64>,
-    /// Mass of the counterweight plate (kg).
+    /// The largest |U| the plate envelope holds (kg·m; with `[design.shape]`): the bound the
+    /// optimisation keeps.
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub shape_mass_kg: Option<f64>,
-    /// Centroid radius of the counterweight plate (m).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub shape_centroid_radius_m: Option<f64>,
+    pub plate_max_unbalance_kgm: Option<f64>,
 }
 
 /// The figures of a classical design evaluated like the result (keys of `baselines.NAME`, SI).
@@ -317,10 +362,8 @@ pub struct Outcome {
     pub status: Status,
     /// The counterweight found.
     pub design: Metrics,
-    /// Its mass (kg) and radius (m), where the scene sizes them.
-    pub mass: Option<f64>,
-    /// See `mass`.
-    pub radius: Option<f64>,
+    /// Its mass, radius and plate, where the scene sizes them.
+    pub counterweight: Realised,
     /// Optimality gap of the objective in its SI unit (N, or N·m for the torque): true
     /// value of the design minus the sampled lower bound; 0 for RMS (exact QP) and analyses.
     pub gap: f64,
@@ -783,8 +826,9 @@ fn baselines_sampled(
     Ok(out)
 }
 
-/// Resolved bounds on |U| and the direction constraint.
-fn unbalance_bounds(cw: &CounterweightSpec) -> (f64, f64) {
+/// Resolved bounds on |U|: the unbalance range, m_min r_min ≤ |U| ≤ m_max r_max, and the
+/// plate envelope's U_max.
+pub fn unbalance_bounds(cw: &CounterweightSpec) -> (f64, f64) {
     let (mut lo, mut hi) = cw.unbalance.bounds();
     if let (Some(m), Some(r)) = (cw.mass, cw.radius) {
         let (m0, m1) = m.bounds();
@@ -792,7 +836,63 @@ fn unbalance_bounds(cw: &CounterweightSpec) -> (f64, f64) {
         lo = lo.max(m0 * r0);
         hi = hi.min(m1 * r1);
     }
+    if let Some(sh) = &cw.shape {
+        hi = hi.min(sh.max_unbalance());
+    }
     (lo.max(0.0), hi)
+}
+
+/// The counterweight that realises |U|: its mass and centroid radius, and the plate when the
+/// scene gives one (then mass and radius are the plate's, so they cannot disagree).
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct Realised {
+    /// m_cw (kg).
+    pub mass: Option<f64>,
+    /// r_cw (m): the centroid radius.
+    pub radius: Option<f64>,
+    /// The plate (with `[design.shape]`).
+    pub plate: Option<Sector>,
+    /// How the plate was found, or why the envelope cannot hold it.
+    pub plate_note: Option<String>,
+}
+
+/// The counterweight realising |U| = `u` under `objective`: with a plate, the plate the
+/// objective asks for (the lightest for `MinMass`, the smallest outer radius for
+/// `MinRadius`, else `[design.shape] minimize`); otherwise |U| split into mass and radius.
+pub fn realise(u: f64, cw: &CounterweightSpec, objective: Objective) -> Realised {
+    if let Some(sh) = &cw.shape {
+        let goal = match objective {
+            Objective::MinMass => ShapeGoal::Mass,
+            Objective::MinRadius => ShapeGoal::OuterRadius,
+            _ => sh.goal,
+        };
+        return match shape::design(&ShapeSpec { goal, ..*sh }, u) {
+            ShapeOutcome::Found { sector, method } => Realised {
+                mass: Some(sector.mass_kg),
+                radius: Some(sector.centroid_radius_m),
+                plate: Some(sector),
+                plate_note: Some(method),
+            },
+            ShapeOutcome::Infeasible { reason } => Realised {
+                mass: None,
+                radius: None,
+                plate: None,
+                plate_note: Some(reason),
+            },
+        };
+    }
+    let prefer = match objective {
+        Objective::MinMass => Prefer::Lightest,
+        Objective::MinRadius => Prefer::SmallestRadius,
+        _ => cw.prefer,
+    };
+    let (mass, radius) = split_unbalance(u, &CounterweightSpec { prefer, ..*cw });
+    Realised {
+        mass,
+        radius,
+        plate: None,
+        plate_note: None,
+    }
 }
 
 /// Splits |U| into (mass, radius) by the scene's variables and preference.
@@ -1131,14 +1231,10 @@ pub fn solve(scene: &Scene) -> Result<Outcome, SolveError> {
     let cwspec = &scene.counterweight;
 
     let design = metrics_sampled(scene, u, &tab)?;
-    let prefer = match scene.objective {
-        Objective::MinMass => Prefer::Lightest,
-        Objective::MinRadius => Prefer::SmallestRadius,
-        _ => cwspec.prefer,
-    };
-    let (mass, radius) = split_unbalance(
+    let counterweight = realise(
         P2::new(design.unbalance[0], design.unbalance[1]).norm(),
-        &CounterweightSpec { prefer, ..*cwspec },
+        cwspec,
+        scene.objective,
     );
     // The moment is zero for an in-line slider with a lumped rod: its scale is the force's
     // moment arm, the peak force times (R + L).
@@ -1199,7 +1295,7 @@ pub fn solve(scene: &Scene) -> Result<Outcome, SolveError> {
     } else {
         Vec::new()
     };
-    let static_weight = mech.link_weight(&scene.loads) + g * mass.unwrap_or(0.0);
+    let static_weight = mech.link_weight(&scene.loads) + g * counterweight.mass.unwrap_or(0.0);
     // Conditioning: say how many digits are left when round-off eats into them (near toggle).
     let round_off = round_off_bounds(scene, u);
     let rel = round_off[0] / design.peak.max(f64::MIN_POSITIVE);
@@ -1226,8 +1322,7 @@ pub fn solve(scene: &Scene) -> Result<Outcome, SolveError> {
     Ok(Outcome {
         status,
         design,
-        mass,
-        radius,
+        counterweight,
         gap,
         peak_shaking_moment: mm.peak.fx,
         peak_shaking_moment_error: mm.error + round_off[2],
@@ -1325,6 +1420,7 @@ pub fn paper_piston(rpm: f64) -> Scene {
             mass: None,
             radius: None,
             prefer: Prefer::SmallestRadius,
+            shape: None,
         },
         objective: Objective::MinPeakForce,
         max_peak_force: None,

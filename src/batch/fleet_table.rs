@@ -1,0 +1,131 @@
+//! A fleet's own table, `DIR/fleet-<csv stem>.csv`: one row per machine of the fleet with
+//! the inputs that vary per row (the fleet's columns, as written; an empty cell shows the
+//! template's value) and every design value
+//! and objective in its own column, so the table stands alone in a spreadsheet. The
+//! summary's `design` and `objectives` cells (`k=v;…`, every family in one file) are split
+//! here, after the run, from `summary.csv`.
+
+use super::error::BatchError;
+use super::fleet::{csv_reader, Lines, Template};
+use super::inputs::Input;
+use super::row::Row;
+use crate::report::write_atomic;
+use std::collections::{BTreeSet, HashMap};
+use std::path::{Path, PathBuf};
+
+/// The table's path for the fleet CSV `csv` in `dir`.
+pub fn fleet_table_path(dir: &Path, csv: &Path) -> PathBuf {
+    let stem = csv.file_stem().and_then(|s| s.to_str()).unwrap_or("fleet");
+    dir.join(format!("fleet-{stem}.csv"))
+}
+
+/// Writes the table of every fleet among `inputs` from `DIR/summary.csv`.
+pub fn write_fleet_tables(dir: &Path, inputs: &[Input]) -> Result<(), BatchError> {
+    let fleets: Vec<(&PathBuf, &PathBuf)> = inputs
+        .iter()
+        .filter_map(|i| match i {
+            Input::Fleet { template, csv } => Some((template, csv)),
+            Input::File(_) => None,
+        })
+        .collect();
+    if fleets.is_empty() {
+        return Ok(());
+    }
+    let summary = dir.join("summary.csv");
+    for (template, csv) in fleets {
+        // A fleet that could not be opened has only error rows: no table.
+        let Ok(tpl) = Template::open(template, csv) else {
+            continue;
+        };
+        // The summary's rows of this fleet, by CSV line (`fleet.csv:LINE`).
+        let prefix = format!("{}:", csv.display());
+        let mut by_line: HashMap<u64, Row> = HashMap::new();
+        let mut rdr = csv::Reader::from_path(&summary)
+            .map_err(|e| BatchError::io("cannot read", &summary, std::io::Error::other(e)))?;
+        for row in rdr.deserialize::<Row>().flatten() {
+            let row = row.csv_unescaped();
+            if let Some(line) = row
+                .source
+                .strip_prefix(&prefix)
+                .and_then(|l| l.parse::<u64>().ok())
+            {
+                by_line.insert(line, row);
+            }
+        }
+        // The fleet's own rows, with their real line numbers.
+        let Ok(mut fr) = csv_reader(csv) else {
+            continue;
+        };
+        let Ok(mut lines) = Lines::open(csv) else {
+            continue;
+        };
+        let header: Vec<String> = match fr.headers() {
+            Ok(h) => h.iter().map(|c| c.trim().to_string()).collect(),
+            Err(_) => continue,
+        };
+        let mut rows: Vec<(Vec<String>, Row)> = Vec::new();
+        for rec in fr.records().flatten() {
+            let Some(line) = rec.position().map(|p| lines.record_line(p.byte())) else {
+                continue;
+            };
+            if let Some(row) = by_line.remove(&line) {
+                rows.push((rec.iter().map(str::to_string).collect(), row));
+            }
+        }
+        let split = |cell: &str| -> Vec<(String, String)> {
+            cell.split(';')
+                .filter_map(|kv| kv.split_once('='))
+                .map(|(k, v)| (k.to_string(), v.to_string()))
+                .collect()
+        };
+        let mut design_keys = BTreeSet::new();
+        let mut objective_keys = BTreeSet::new();
+        for (_, r) in &rows {
+            design_keys.extend(split(&r.design).into_iter().map(|(k, _)| k));
+            objective_keys.extend(split(&r.objectives).into_iter().map(|(k, _)| k));
+        }
+        let inputs: Vec<usize> = (0..header.len()).filter(|&k| header[k] != "name").collect();
+        let mut w = csv::Writer::from_writer(Vec::new());
+        let mut head: Vec<String> = vec!["index".into(), "name".into(), "status".into()];
+        head.extend(inputs.iter().map(|&k| header[k].clone()));
+        head.extend(design_keys.iter().map(|k| format!("design.{k}")));
+        head.extend(objective_keys.iter().map(|k| format!("objectives.{k}")));
+        head.extend(["objective".into(), "error".into(), "message".into()]);
+        let write_err = |e: csv::Error| BatchError::Written(std::io::Error::other(e));
+        w.write_record(&head).map_err(write_err)?;
+        for (cells, r) in &rows {
+            let r = r.csv_escaped();
+            let d: HashMap<String, String> = split(&r.design).into_iter().collect();
+            let o: HashMap<String, String> = split(&r.objectives).into_iter().collect();
+            let mut rec: Vec<String> = vec![r.index.to_string(), r.name.clone(), r.status.clone()];
+            rec.extend(inputs.iter().map(|&k| {
+                let c = tpl.effective_cell(k, cells);
+                // The fleet's cells are text from outside: escaped like the summary's.
+                if c.starts_with(['=', '+', '@', '\t', '\r', '\'']) {
+                    format!("'{c}")
+                } else {
+                    c
+                }
+            }));
+            rec.extend(
+                design_keys
+                    .iter()
+                    .map(|k| d.get(k).cloned().unwrap_or_default()),
+            );
+            rec.extend(
+                objective_keys
+                    .iter()
+                    .map(|k| o.get(k).cloned().unwrap_or_default()),
+            );
+            rec.push(r.objective.clone());
+            rec.push(r.error.map(|e| e.to_string()).unwrap_or_default());
+            rec.push(r.message.clone());
+            w.write_record(&rec).map_err(write_err)?;
+        }
+        let bytes = w
+            .into_inner()
+            .map_err(|e| BatchError::Written(std::io::Error::other(e.to_string())))?;
+        write_atomic(&fleet_table_path(dir, csv), &bytes).map_err(BatchError::Written)?;
+    }
+    Ok(())
+}
