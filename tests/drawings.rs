@@ -200,6 +200,7 @@ fn every_drawing_scene_writes_dimensioned_dxf_and_equal_aspect_svg() {
     let results = solve(&shipped(), dir.path());
     assert_eq!(results.len(), shipped().len());
     let mut drawn = BTreeMap::<String, usize>::new();
+    let pair = regex::Regex::new(r"[ML](-?[0-9.]+),(-?[0-9.]+)").unwrap();
     for (name, v) in &results {
         let (dxf_path, svg_path) = (
             dir.path().join(format!("{name}-drawing.dxf")),
@@ -232,7 +233,6 @@ fn every_drawing_scene_writes_dimensioned_dxf_and_equal_aspect_svg() {
             (sx / sy - 1.0).abs() < 1e-12,
             "{name}: scales {sx} and {sy}"
         );
-        let pair = regex::Regex::new(r"[ML](-?[0-9.]+),(-?[0-9.]+)").unwrap();
         for c in pair.captures_iter(&svg) {
             let (x, y): (f64, f64) = (c[1].parse().unwrap(), c[2].parse().unwrap());
             assert!(
