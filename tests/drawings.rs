@@ -1,6 +1,6 @@
 //! Drawings end to end (`report::drawing`): every shipped scene whose family draws writes
 //! `<name>-drawing.dxf` and `<name>-drawing.svg`, linked from its report; each DXF, read back
-//! with the `dxf` crate, is R2000 in millimetres (`$INSUNITS` = 4) and its geometry and
+//! with the `dxf` crate, is R2010 in millimetres (`$INSUNITS` = 4) and its geometry and
 //! dimensions match the design to 1e-9 m (the plate's rᵢ, rₒ, θ and r_c, the gears' centre
 //! distance and pitch radius, the crane's link lengths, the linkage's counterweight radii);
 //! every SVG has one scale in x and y, and everything it draws lies inside its viewBox; the
@@ -70,7 +70,7 @@ struct Dxf {
 impl Dxf {
     fn load(path: &Path) -> Dxf {
         let d = dxf::Drawing::load_file(path).unwrap();
-        assert_eq!(d.header.version, dxf::enums::AcadVersion::R2000);
+        assert_eq!(d.header.version, dxf::enums::AcadVersion::R2010);
         assert_eq!(
             d.header.default_drawing_units,
             dxf::enums::Units::Millimeters,

@@ -2,8 +2,9 @@
 //! [`Drawing`] of shapes in metres on named layers, written as DXF (with the `dxf` crate) and
 //! as an SVG with equal aspect.
 //!
-//! * **DXF**: AutoCAD R2000 (`AC1015`), coordinates in **millimetres** with `$INSUNITS` = 4
-//!   (mm) and `$MEASUREMENT` = 1 (metric), so a CAD program opens the part at its true size.
+//! * **DXF**: AutoCAD R2010 (`AC1024`: text in UTF-8, so θ, rᵢ, ° read as written),
+//!   coordinates in **millimetres** with `$INSUNITS` = 4 (mm) and `$MEASUREMENT` = 1
+//!   (metric), so a CAD program opens the part at its true size.
 //!   Values are written with 12 decimals (of a mm). Dimensions are drawn as plain lines, filled
 //!   arrowheads (`SOLID`) and `TEXT` on layer `DIM` (no `DIMENSION` entities: those need a
 //!   block of their own graphics that not every reader makes, while lines and text look the
@@ -710,7 +711,7 @@ impl Drawing {
         e
     }
 
-    /// The DXF document (R2000, mm, `$INSUNITS` = 4; see the module doc).
+    /// The DXF document (R2010, mm, `$INSUNITS` = 4; see the module doc).
     pub fn dxf(&self) -> Result<Vec<u8>, DrawingError> {
         use chrono::TimeZone;
         use dxf::entities::{self as de, EntityType};
@@ -723,7 +724,7 @@ impl Drawing {
         let pt = |p: P2| dxf::Point::new(p.x * 1e3, p.y * 1e3, 0.0);
         let mut d = dxf::Drawing::new();
         let hd = &mut d.header;
-        hd.version = AcadVersion::R2000;
+        hd.version = AcadVersion::R2010;
         hd.default_drawing_units = Units::Millimeters;
         hd.drawing_units = DrawingUnits::Metric;
         hd.minimum_drawing_extents = pt(ext.min);
@@ -801,6 +802,8 @@ impl Drawing {
             };
             let mut e = de::Entity::new(specific);
             e.common.layer = layer.name().into();
+            // Opaque (0x020000FF; the crate's default 0 is no valid transparency).
+            e.common.transparency = 0x0200_00FF;
             d.add_entity(e);
         }
         let mut buf = Vec::new();
