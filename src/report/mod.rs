@@ -5,6 +5,7 @@
 //! Every number is SI and its key carries the unit as a suffix (`_n`, `_nm`, `_kgm`, `_m`,
 //! `_rad`, `_kg`, `_s`, `_pct`); pure numbers have no suffix.
 
+pub mod drawing;
 pub mod numbers;
 pub mod page;
 pub mod plot;
@@ -298,6 +299,10 @@ pub struct SolveResult {
     /// CSV tables (not in the JSON; written beside it).
     #[serde(skip)]
     pub tables: Vec<Table>,
+    /// Dimensioned drawings of the design (not in the JSON; written beside it as
+    /// `<name>-<suffix>.dxf` and `.svg`, linked from the report's design section).
+    #[serde(skip)]
+    pub drawings: Vec<drawing::Sheet>,
     /// Work only the written files need, done by [`SolveResult::complete`].
     #[serde(skip)]
     pub deferred: Vec<Deferred>,
@@ -335,6 +340,7 @@ impl SolveResult {
             extra: serde_json::Map::new(),
             plots: Vec::new(),
             tables: Vec::new(),
+            drawings: Vec::new(),
             deferred: Vec::new(),
         }
     }
@@ -686,6 +692,14 @@ pub(crate) fn markdown_report(r: &SolveResult, timing: bool) -> String {
         };
     // What to build first, then the evidence.
     p(table("Design: what to build", &r.design, None));
+    for d in &r.drawings {
+        p(format!(
+            "Drawing, {}: [SVG]({n}-{s}.svg) · [DXF]({n}-{s}.dxf) (mm)\n",
+            d.caption,
+            n = r.name,
+            s = d.suffix
+        ));
+    }
     if !r.bounds.is_empty() {
         p("On a bound (the bound, not an interior optimum, decides these):\n".into());
         for b in &r.bounds {
@@ -796,8 +810,8 @@ pub(crate) fn markdown_report(r: &SolveResult, timing: bool) -> String {
 }
 
 /// The report files of a result beside its JSON: `<dir>/<name>.md`, its page
-/// `<dir>/<name>.html`, every `<name>-<suffix>.svg` and `<name>-<suffix>.csv`, with their
-/// contents.
+/// `<dir>/<name>.html`, every `<name>-<suffix>.svg` and `<name>-<suffix>.csv`, and each
+/// drawing's `<name>-<suffix>.dxf` and `.svg`, with their contents.
 pub fn report_files(r: &SolveResult, dir: &Path) -> Vec<(PathBuf, Vec<u8>)> {
     let mut files = vec![
         (dir.join(format!("{}.md", r.name)), markdown(r).into_bytes()),
@@ -814,6 +828,11 @@ pub fn report_files(r: &SolveResult, dir: &Path) -> Vec<(PathBuf, Vec<u8>)> {
         let path = dir.join(format!("{}-{}.csv", r.name, t.suffix));
         files.push((path, t.csv.as_bytes().to_vec()));
     }
+    for d in &r.drawings {
+        let (dxf, svg) = d.files();
+        files.push((dir.join(format!("{}-{}.dxf", r.name, d.suffix)), dxf));
+        files.push((dir.join(format!("{}-{}.svg", r.name, d.suffix)), svg));
+    }
     files
 }
 
@@ -829,7 +848,7 @@ pub fn json_text(r: &SolveResult) -> String {
 
 /// Completes the result ([`SolveResult::complete`]) and writes `<dir>/<name>.json` and the
 /// [`report_files`] (`<name>.md`, `<name>.html`, every `<name>-<suffix>.svg` and
-/// `<name>-<suffix>.csv`), atomically.
+/// `<name>-<suffix>.csv`, the drawings' `.dxf` and `.svg`), atomically.
 pub fn write_outputs(r: &mut SolveResult, dir: &Path) -> std::io::Result<Vec<PathBuf>> {
     r.complete();
     let r = &*r;

@@ -9,6 +9,7 @@ use crate::families::crane::synth::{
 };
 use crate::families::family::Scene;
 use crate::geom::P2;
+use crate::report::drawing::{Drawing, Layer, Sheet};
 use crate::report::numbers::key;
 use crate::report::plot::{self, Grid, Panel, PlotError, Series};
 use crate::report::{number_map, Deferred, PaperCheck, Plot, SolveResult, Status, Table};
@@ -161,6 +162,7 @@ pub fn result(scene: &Scene, s: &CraneProblem) -> SolveResult {
             move || path_plot(&scene, &out),
         ));
     }
+    crane_drawing(&mut r, &scene.name, &out);
     r
 }
 
@@ -549,4 +551,62 @@ fn thesis_checks(r: &mut SolveResult, scene: &Scene, c: &cr::CraneScene, out: &c
             )
         },
     );
+}
+
+/// The linkage's drawing (`<name>-drawing.dxf`/`.svg`), where the design has a geometry: the
+/// four-bar at maximum and minimum reach (boom A–D, jib E–D–C, tie B–E; A at the origin), the
+/// jib-head and jib-tail paths over the luffing range, with the boom L_c = |AD|, the jib head
+/// L_v = |DC|, the jib tail a = |DE| and the tie b = |BE| dimensioned at maximum reach.
+fn crane_drawing(r: &mut SolveResult, name: &str, out: &Outcome) {
+    let Some(pos) = out.positions.clone() else {
+        return;
+    };
+    let p2 = |p: &[f64; 2]| P2::new(p[0], p[1]);
+    let head: Vec<P2> = out.path.iter().map(p2).collect();
+    let tail: Vec<P2> = out.tail_path.iter().map(p2).collect();
+    let name = name.to_string();
+    r.drawings.push(Sheet::new(
+        "drawing",
+        "linkage at maximum and minimum reach",
+        move || {
+            let a = P2::zeros();
+            let b = pos.tie_pin.as_ref().map(p2);
+            let boom = (p2(&pos.d[0]) - a).norm();
+            let pin = 0.012 * boom;
+            let mut d = Drawing::new(format!(
+                "{name}: luffing linkage at maximum and minimum reach"
+            ));
+            d.polyline(Layer::Path, head.clone(), false);
+            d.polyline(Layer::Path, tail.clone(), false);
+            d.mark(a);
+            if let Some(b) = b {
+                d.mark(b).label(b + P2::new(0.0, 2.0 * pin), "B");
+            }
+            d.label(a - P2::new(0.0, 2.5 * pin), "A");
+            for (i, words) in [(0, "max reach"), (2, "min reach")] {
+                let (dd, e, c) = (p2(&pos.d[i]), p2(&pos.e[i]), p2(&pos.c[i]));
+                d.line(Layer::Outline, a, dd);
+                d.polyline(Layer::Outline, vec![e, dd, c], false);
+                if let Some(b) = b {
+                    d.line(Layer::Outline, b, e);
+                }
+                for j in [dd, e, c] {
+                    d.circle(Layer::Outline, j, pin);
+                }
+                d.label(c - P2::new(0.0, 3.0 * pin), format!("C ({words})"));
+            }
+            let (dd, e, c) = (p2(&pos.d[0]), p2(&pos.e[0]), p2(&pos.c[0]));
+            d.linear(a, dd, 0.06 * boom, "L_c");
+            d.linear(dd, c, 0.06 * boom, "L_v");
+            d.linear(dd, e, 0.06 * boom, "a");
+            if let Some(b) = b {
+                d.linear(b, e, -0.06 * boom, "b");
+            }
+            d.note("A: boom foot (origin); B: tie pin; D: boom head; C: jib head; E: jib tail");
+            d.note(
+                "blue: the jib-head and jib-tail paths over the luffing range; dimensions in mm",
+            );
+            Ok(d)
+        },
+    ));
 }

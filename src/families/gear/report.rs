@@ -6,6 +6,8 @@ use super::file::*;
 use crate::families::family::Scene;
 use crate::families::gear::model::{EccentricCircle, GearPair, Which, ZeroKind};
 use crate::families::gear::synth::{self as sg, GearScene, Outcome};
+use crate::geom::P2;
+use crate::report::drawing::{Drawing, Layer, Sheet};
 use crate::report::plot::{self, Panel, PlotError, Series};
 use crate::report::{number_map, Plot, SolveResult, Status, Table};
 use serde_json::json;
@@ -90,6 +92,7 @@ pub fn result(scene: &Scene, p: &GearProblem) -> SolveResult {
         "Sliding coefficients µ1, µ2 against α1, poles marked, pole windows left empty",
         move || sliding_plot(&d.0, &d.1, &d.2),
     ));
+    pitch_drawing(&mut r, &shared.0.name, &shared.2);
     if !shared.2.sweep.is_empty() {
         let d = shared.clone();
         r.plots.push(Plot::new(
@@ -512,4 +515,40 @@ fn tables(out: &Outcome) -> Vec<Table> {
         });
     }
     t
+}
+
+/// The pitch curves' drawing (`<name>-drawing.dxf`/`.svg`) at α1 = 0: gear 1's pitch circle
+/// (radius R, centre C at e from its pivot O1), gear 2's pitch curve about O2, with the centre
+/// distance a = |O1O2|, R and e dimensioned (the tooth outlines are not computed as curves).
+fn pitch_drawing(r: &mut SolveResult, name: &str, out: &Outcome) {
+    let pc = &out.pitch_curves;
+    if pc.gear2_m.is_empty() {
+        return;
+    }
+    let p2 = |p: [f64; 2]| P2::new(p[0], p[1]);
+    let (o1, o2) = (p2(pc.center1_m), p2(pc.center2_m));
+    let (big_r, e) = (out.design.pitch_radius_m, out.design.eccentricity_m);
+    let gear2: Vec<P2> = pc.gear2_m.iter().map(|p| p2(*p)).collect();
+    let name = name.to_string();
+    r.drawings
+        .push(Sheet::new("drawing", "pitch curves", move || {
+            let c = o1 + P2::new(e, 0.0);
+            let mut d = Drawing::new(format!("{name}: pitch curves at α1 = 0"));
+            d.mark(o1).mark(o2).mark(c).line(Layer::Centre, o1, o2);
+            d.circle(Layer::Outline, c, big_r);
+            d.polyline(Layer::Outline, gear2.clone(), true);
+            d.linear(o1, o2, -1.3 * big_r, "a");
+            d.radius(c, big_r, 0.4 * std::f64::consts::PI, "R");
+            if e > 0.0 {
+                d.linear(o1, c, -0.25 * big_r, "e");
+            }
+            d.label(o1 + P2::new(0.0, 0.12 * big_r), "O1");
+            d.label(o2 + P2::new(0.0, 0.12 * big_r), "O2");
+            d.note("gear 1: pitch circle of radius R about C, pivot O1 at the eccentricity e");
+            d.note(format!(
+                "gear 2: pitch curve ({} points) about its pivot O2; dimensions in mm",
+                gear2.len()
+            ));
+            Ok(d)
+        }));
 }

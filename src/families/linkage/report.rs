@@ -6,8 +6,9 @@
 use super::file::{tip_of, Goal, LinkageProblem, LinkageScene};
 use super::synth::{self as ls, Outcome, FORCE, MOMENT, TORQUE};
 use crate::families::family::{cw_status, Scene};
-use crate::families::linkage::model::{JointKind, Linkage, Point};
+use crate::families::linkage::model::{Dyad, JointKind, Linkage, Point};
 use crate::geom::P2;
+use crate::report::drawing::{Drawing, DrawingError, Layer, Sheet};
 use crate::report::plot::{self, Panel, PlotError, Series};
 use crate::report::{ActiveBound, Deferred, Plot, SolveResult, Status, Table};
 use crate::synth::counterweight::Status as CwStatus;
@@ -166,6 +167,7 @@ pub fn result(scene: &Scene, p: &LinkageProblem) -> SolveResult {
     );
     joints(&mut r, p, &out);
     curves(&mut r, scene, p, &out);
+    linkage_drawing(&mut r, scene, p, &out);
     r
 }
 
@@ -713,4 +715,118 @@ fn drawing(name: &str, sc: &LinkageScene, x: Option<&[f64]>) -> Result<String, P
         720,
         560,
     )
+}
+
+/// The linkage's drawing (`<name>-drawing.dxf`/`.svg`, [`linkage_sheet`]).
+fn linkage_drawing(r: &mut SolveResult, scene: &Scene, p: &LinkageProblem, out: &Outcome) {
+    let x = out
+        .design
+        .as_ref()
+        .map(|s| s.x.clone())
+        .filter(|x| x.iter().all(|v| v.is_finite()));
+    let (sc, name) = (p.scene.clone(), scene.name.clone());
+    let caption = "linkage at θ = 0 and its counterweights";
+    r.drawings.push(Sheet::new("drawing", caption, move || {
+        linkage_sheet(&name, &sc, x.as_deref())
+    }));
+}
+
+/// The links (reference joint to tip) at the design position θ = 0 with their joints, and at
+/// 90°, 180°, 270° (layer `PATH`); the ground pivots marked, a slider's line as a centre line;
+/// each counterweight of the design `x` as a disc at its centroid (a symbolic size), its
+/// radius from the link's reference joint dimensioned, its mass and angle in a note.
+fn linkage_sheet(
+    name: &str,
+    sc: &LinkageScene,
+    x: Option<&[f64]>,
+) -> Result<Drawing, DrawingError> {
+    let l: &Linkage = &sc.linkage;
+    let pin = 0.04 * sc.crank_length;
+    let mut d = Drawing::new(format!("{name}: linkage at θ = 0 (blue: 90°, 180°, 270°)"));
+    let frame = |pt: &Point| match pt {
+        Point::Frame(f) => Some(*f),
+        Point::On { .. } => None,
+    };
+    let mut ground = vec![l.pivot()];
+    for dy in l.dyads() {
+        match dy {
+            Dyad::Rrr { p, q, .. } | Dyad::Rpr { p, q, .. } => {
+                ground.extend(frame(p).into_iter().chain(frame(q)));
+            }
+            Dyad::Rrp { p, .. } => ground.extend(frame(p)),
+        }
+    }
+    for g in &ground {
+        d.mark(*g).circle(Layer::Centre, *g, 1.5 * pin);
+    }
+    let poses: Vec<_> = (0..4)
+        .filter_map(|q| l.pose(TAU * q as f64 / 4.0).ok())
+        .collect();
+    // A slider's line, over the positions drawn.
+    for (k, dy) in l.dyads().iter().enumerate() {
+        if let Dyad::Rrp { origin, angle, .. } = *dy {
+            let u = P2::new(angle.cos(), angle.sin());
+            let t = poses.iter().map(|p| (p.dyads[k].joint[0] - origin).dot(&u));
+            let (t0, t1) = t.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), t| {
+                (a.min(t), b.max(t))
+            });
+            if t0 <= t1 {
+                d.line(
+                    Layer::Centre,
+                    origin + (t0 - 4.0 * pin) * u,
+                    origin + (t1 + 4.0 * pin) * u,
+                );
+            }
+        }
+    }
+    for pose in poses.iter().rev() {
+        let design = pose.theta == 0.0;
+        let layer = if design { Layer::Outline } else { Layer::Path };
+        for (i, st) in pose.links.iter().enumerate() {
+            let a = st.p[0];
+            if let Some(at) = tip_of(l.dyads(), sc.crank_length, i) {
+                let b = pose.point(&Point::On { link: i, at })[0];
+                d.line(layer, a, b);
+                if design {
+                    d.circle(layer, a, pin).circle(layer, b, pin);
+                }
+            } else {
+                // A slider or a block: a square about its reference joint, along the link.
+                let (u, v) = (st.e * (2.0 * pin), crate::geom::perp(st.e) * (2.0 * pin));
+                d.polyline(
+                    layer,
+                    vec![a + u + v, a - u + v, a - u - v, a + u - v],
+                    true,
+                );
+            }
+        }
+    }
+    if let (Some(pose), Some(x)) = (poses.first().filter(|p| p.theta == 0.0), x) {
+        for (j, (link, m)) in ls::extras(&sc.counterweights, x).iter().enumerate() {
+            if m[0] <= 0.0 {
+                continue;
+            }
+            let at = P2::new(m[1] / m[0], m[2] / m[0]);
+            let (p0, c) = (
+                pose.links[*link].p[0],
+                pose.point(&Point::On { link: *link, at })[0],
+            );
+            let on = &sc.counterweights[j].link_name;
+            d.circle(Layer::Outline, c, 3.0 * pin).mark(c);
+            d.linear(p0, c, 6.0 * pin, &format!("r ({on})"));
+            d.note(format!(
+                "counterweight on {on}: {:.4} kg, centroid at {:.2} mm, {:.2}° from the link's axis",
+                m[0],
+                at.norm() * 1e3,
+                at.y.atan2(at.x).rem_euclid(TAU).to_degrees()
+            ));
+        }
+    }
+    if poses.is_empty() {
+        let why = "the linkage does not assemble at θ = 0, 90°, 180°, 270°";
+        return Err(DrawingError::Data(why.into()));
+    }
+    d.note("a link's axis: from its reference joint towards its tip; dimensions in mm");
+    d.note("crosses in circles: ground pivots; discs: counterweights (symbolic size)");
+    Ok(d)
 }

@@ -9,6 +9,7 @@ use crate::families::slider_crank::model::ProcessForce;
 use crate::families::slider_crank::synth::shaking_force;
 use crate::families::slider_crank::synth::{self as sc, Objective};
 use crate::geom::P2;
+use crate::report::drawing::{Drawing, Layer, Sheet};
 use crate::report::plot::{self, Panel, PlotError, Series};
 use crate::report::{number_map, Plot, SolveResult, Status, Table};
 use crate::synth::counterweight::Status as CwStatus;
@@ -256,6 +257,7 @@ pub fn result(scene: &Scene, sc_scene: &SliderCrankProblem) -> SolveResult {
     if let Some(sw) = &sc_scene.speed_sweep {
         speed_sweep(&mut r, scene, s, sw, u);
     }
+    plate_drawing(&mut r, scene, sc_scene, design.counterweight_angle_rad);
     let (scene, s, out) = (scene.clone(), s.clone(), out.clone());
     r.plots.push(Plot::new(
         "shaking-force",
@@ -589,4 +591,63 @@ fn slider_crank_plot(scene: &Scene, s: &sc::Scene, out: &sc::Outcome) -> Result<
     }
     let svg = plot::panels(&panels, 560, 480)?;
     Ok(svg)
+}
+
+/// The counterweight plate's drawing (`<name>-drawing.dxf`/`.svg`), where the scene shapes
+/// one: the annular sector of the result's `shape.sector` about the crank axis O, its axis at
+/// `angle` (rad) from the crank (the crank pin on +x), with rᵢ, rₒ, θ and the centroid radius
+/// r_c dimensioned and the thickness in a note.
+fn plate_drawing(r: &mut SolveResult, scene: &Scene, p: &SliderCrankProblem, angle: f64) {
+    let sector = r.extra.get("shape").and_then(|v| v.get("sector"));
+    let get = |k: &str| {
+        sector
+            .and_then(|v| v.get(k))
+            .and_then(serde_json::Value::as_f64)
+    };
+    let (Some(spec), Some(ri), Some(ro), Some(th), Some(rc), Some(m)) = (
+        p.core.counterweight.shape,
+        get("inner_radius_m"),
+        get("outer_radius_m"),
+        get("angle_rad"),
+        get("centroid_radius_m"),
+        get("mass_kg"),
+    ) else {
+        return;
+    };
+    let (name, pin) = (scene.name.clone(), P2::new(p.core.mech.r, 0.0));
+    r.drawings
+        .push(Sheet::new("drawing", "counterweight plate", move || {
+            let (o, u) = (P2::zeros(), P2::new(angle.cos(), angle.sin()));
+            let (a0, a1) = (angle - 0.5 * th, angle + 0.5 * th);
+            let mut d = Drawing::new(format!("{name}: counterweight plate (annular sector)"));
+            d.mark(o).mark(pin).mark(rc * u);
+            d.line(Layer::Centre, o, pin)
+                .line(Layer::Centre, o, 1.1 * ro * u);
+            d.arc(Layer::Outline, o, ro, a0, a1);
+            if ri > 0.0 {
+                d.arc(Layer::Outline, o, ri, a0, a1);
+            }
+            if th < TAU - 1e-9 {
+                for a in [a0, a1] {
+                    let v = P2::new(a.cos(), a.sin());
+                    d.line(Layer::Outline, ri * v, ro * v);
+                }
+                d.angle(o, 1.03 * ro, 1.2 * ro, (a0, a1), "θ");
+            }
+            d.radius(o, ri, angle + 0.12 * th, "rᵢ");
+            d.radius(o, ro, angle + 0.33 * th, "rₒ");
+            d.linear(o, rc * u, -0.15 * ro, "r_c");
+            d.label(pin - P2::new(0.0, 0.08 * ro), "crank pin");
+            d.note(format!(
+                "thickness t = {:.2} mm, density {} kg/m³, mass {:.3} kg; dimensions in mm",
+                spec.thickness * 1e3,
+                spec.density,
+                m
+            ));
+            d.note(format!(
+                "O: crank axis, crank pin on +x; the plate's axis at {:.2}° from the crank",
+                angle.to_degrees()
+            ));
+            Ok(d)
+        }));
 }

@@ -1,0 +1,392 @@
+//! Drawings end to end (`report::drawing`): every shipped scene whose family draws writes
+//! `<name>-drawing.dxf` and `<name>-drawing.svg`, linked from its report; each DXF, read back
+//! with the `dxf` crate, is R2010 in millimetres (`$INSUNITS` = 4) and its geometry and
+//! dimensions match the design to 1e-9 m (the plate's rᵢ, rₒ, θ and r_c, the gears' centre
+//! distance and pitch radius, the crane's link lengths, the linkage's counterweight radii);
+//! every SVG has one scale in x and y, and everything it draws lies inside its viewBox; the
+//! files are the same bytes on a second run; a batch lists them in its manifest.
+
+mod common;
+use common::*;
+use dxf::entities::EntityType;
+use serde_json::Value;
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+/// Tolerance on a length read back from a DXF (m).
+const TOL: f64 = 1e-9;
+
+/// Every shipped problem file.
+fn shipped() -> Vec<PathBuf> {
+    let mut v: Vec<PathBuf> = std::fs::read_dir(problem(""))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
+        .collect();
+    v.sort();
+    v
+}
+
+/// `cwsynth solve --json --out DIR FILES…`: the result JSONs by scene name.
+fn solve(files: &[PathBuf], dir: &Path) -> BTreeMap<String, Value> {
+    let out = Command::new(env!("CARGO_BIN_EXE_cwsynth"))
+        .args(["solve", "--json", "--out"])
+        .arg(dir)
+        .args(files)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8(out.stdout)
+        .unwrap()
+        .lines()
+        .map(|l| {
+            let v: Value = serde_json::from_str(l).unwrap();
+            (v["name"].as_str().unwrap().to_string(), v)
+        })
+        .collect()
+}
+
+/// Whether a result should come with a drawing: a slider-crank with a plate, every gear and
+/// linkage, a crane with a geometry; no hypocycloid.
+fn has_drawing(v: &Value) -> bool {
+    match v["family"].as_str().unwrap() {
+        "slider-crank" => v["shape"]["sector"].is_object(),
+        "eccentric-gear" | "linkage" => true,
+        "luffing-crane" => v["positions"].is_object(),
+        _ => false,
+    }
+}
+
+/// A DXF read back, with its entities by layer in metres.
+struct Dxf {
+    d: dxf::Drawing,
+}
+
+impl Dxf {
+    fn load(path: &Path) -> Dxf {
+        let d = dxf::Drawing::load_file(path).unwrap();
+        assert_eq!(d.header.version, dxf::enums::AcadVersion::R2010);
+        assert_eq!(
+            d.header.default_drawing_units,
+            dxf::enums::Units::Millimeters,
+            "{}",
+            path.display()
+        );
+        assert_eq!(d.header.drawing_units, dxf::enums::DrawingUnits::Metric);
+        let layers: Vec<&str> = d.layers().map(|l| l.name.as_str()).collect();
+        for l in ["OUTLINE", "CENTRE", "DIM", "PATH", "NOTE"] {
+            assert!(layers.contains(&l), "{}: layer {l} missing", path.display());
+        }
+        Dxf { d }
+    }
+
+    fn on<'a>(&'a self, layer: &'a str) -> impl Iterator<Item = &'a EntityType> + 'a {
+        self.d
+            .entities()
+            .filter(move |e| e.common.layer == layer)
+            .map(|e| &e.specific)
+    }
+
+    /// The LINEs of a layer as ((x, y), (x, y)) in m.
+    fn lines(&self, layer: &str) -> Vec<([f64; 2], [f64; 2])> {
+        self.on(layer)
+            .filter_map(|e| match e {
+                EntityType::Line(l) => Some((
+                    [l.p1.x * 1e-3, l.p1.y * 1e-3],
+                    [l.p2.x * 1e-3, l.p2.y * 1e-3],
+                )),
+                _ => None,
+            })
+            .collect()
+    }
+
+    /// The lengths of a layer's LINEs (m).
+    fn lengths(&self, layer: &str) -> Vec<f64> {
+        self.lines(layer)
+            .iter()
+            .map(|(a, b)| (b[0] - a[0]).hypot(b[1] - a[1]))
+            .collect()
+    }
+
+    /// The ARCs of a layer: (radius m, sweep rad).
+    fn arcs(&self, layer: &str) -> Vec<(f64, f64)> {
+        self.on(layer)
+            .filter_map(|e| match e {
+                EntityType::Arc(a) => Some((
+                    a.radius * 1e-3,
+                    (a.end_angle - a.start_angle).rem_euclid(360.0).to_radians(),
+                )),
+                _ => None,
+            })
+            .collect()
+    }
+
+    /// The CIRCLEs of a layer: (centre m, radius m).
+    fn circles(&self, layer: &str) -> Vec<([f64; 2], f64)> {
+        self.on(layer)
+            .filter_map(|e| match e {
+                EntityType::Circle(c) => {
+                    Some(([c.center.x * 1e-3, c.center.y * 1e-3], c.radius * 1e-3))
+                }
+                _ => None,
+            })
+            .collect()
+    }
+
+    /// The TEXTs of a layer.
+    fn texts(&self, layer: &str) -> Vec<String> {
+        self.on(layer)
+            .filter_map(|e| match e {
+                EntityType::Text(t) => Some(t.value.clone()),
+                _ => None,
+            })
+            .collect()
+    }
+}
+
+/// `xs` has a value within `tol` of `want`.
+#[track_caller]
+fn has(xs: &[f64], want: f64, tol: f64, what: &str) {
+    let best = xs
+        .iter()
+        .map(|x| (x - want).abs())
+        .fold(f64::INFINITY, f64::min);
+    assert!(
+        best <= tol,
+        "{what}: nothing within {tol:e} of {want} (closest off by {best:e}) in {xs:?}"
+    );
+}
+
+/// The DIM text `label = value` (mm or degrees, 2 decimals) is there.
+#[track_caller]
+fn has_text(d: &Dxf, label: &str, value: f64, unit: &str) {
+    let want = format!("{label} = {value:.2}{unit}");
+    let texts = d.texts("DIM");
+    assert!(texts.contains(&want), "no `{want}` in {texts:?}");
+}
+
+fn design(v: &Value, key: &str) -> f64 {
+    v["design"][key]
+        .as_f64()
+        .unwrap_or_else(|| panic!("no design.{key}"))
+}
+
+/// The viewBox, width and height of an SVG, and every coordinate pair it draws.
+fn svg_frame(svg: &str) -> ([f64; 4], f64, f64) {
+    let attr = |name: &str| -> String {
+        let key = format!(" {name}=\"");
+        let i = svg.find(&key).unwrap() + key.len();
+        svg[i..i + svg[i..].find('"').unwrap()].to_string()
+    };
+    let vb: Vec<f64> = attr("viewBox")
+        .split(' ')
+        .map(|v| v.parse().unwrap())
+        .collect();
+    (
+        [vb[0], vb[1], vb[2], vb[3]],
+        attr("width").parse().unwrap(),
+        attr("height").parse().unwrap(),
+    )
+}
+
+#[test]
+fn every_drawing_scene_writes_dimensioned_dxf_and_equal_aspect_svg() {
+    let dir = tempfile::tempdir().unwrap();
+    let results = solve(&shipped(), dir.path());
+    assert_eq!(results.len(), shipped().len());
+    let mut drawn = BTreeMap::<String, usize>::new();
+    let pair = regex::Regex::new(r"[ML](-?[0-9.]+),(-?[0-9.]+)").unwrap();
+    for (name, v) in &results {
+        let (dxf_path, svg_path) = (
+            dir.path().join(format!("{name}-drawing.dxf")),
+            dir.path().join(format!("{name}-drawing.svg")),
+        );
+        let md = std::fs::read_to_string(dir.path().join(format!("{name}.md"))).unwrap();
+        if !has_drawing(v) {
+            assert!(!dxf_path.exists() && !svg_path.exists(), "{name}");
+            assert!(!md.contains("-drawing.dxf"), "{name}");
+            continue;
+        }
+        *drawn
+            .entry(v["family"].as_str().unwrap().to_string())
+            .or_default() += 1;
+        assert!(
+            md.contains(&format!(
+                "[SVG]({name}-drawing.svg) · [DXF]({name}-drawing.dxf)"
+            )),
+            "{name}: the report links the drawing"
+        );
+        // The link sits in the design section, before the objectives.
+        assert!(md.find("-drawing.svg").unwrap() < md.find("## Objectives").unwrap());
+
+        // SVG: one scale in x and y; everything drawn inside the viewBox.
+        let svg = std::fs::read_to_string(&svg_path).unwrap();
+        assert!(!svg.contains("not made"), "{name}: {svg}");
+        let ([x0, y0, w, h], pw, ph) = svg_frame(&svg);
+        let (sx, sy) = (pw / w, ph / h);
+        assert!(
+            (sx / sy - 1.0).abs() < 1e-12,
+            "{name}: scales {sx} and {sy}"
+        );
+        for c in pair.captures_iter(&svg) {
+            let (x, y): (f64, f64) = (c[1].parse().unwrap(), c[2].parse().unwrap());
+            assert!(
+                (x0..=x0 + w).contains(&x) && (y0..=y0 + h).contains(&y),
+                "{name}: ({x}, {y}) outside the viewBox {x0} {y0} {w} {h}"
+            );
+        }
+
+        let d = Dxf::load(&dxf_path);
+        assert!(!d.texts("NOTE").is_empty(), "{name}: a title");
+        match v["family"].as_str().unwrap() {
+            "slider-crank" => {
+                let s = &v["shape"]["sector"];
+                let f = |k: &str| s[k].as_f64().unwrap();
+                let (ri, ro, th, rc) = (
+                    f("inner_radius_m"),
+                    f("outer_radius_m"),
+                    f("angle_rad"),
+                    f("centroid_radius_m"),
+                );
+                let arcs = d.arcs("OUTLINE");
+                assert_eq!(arcs.len(), 2, "{name}: the plate's two arcs");
+                let radii: Vec<f64> = arcs.iter().map(|a| a.0).collect();
+                has(&radii, ri, TOL, "rᵢ");
+                has(&radii, ro, TOL, "rₒ");
+                for a in &arcs {
+                    assert!((a.1 - th).abs() < 1e-9, "{name}: sweep {} ≠ θ {th}", a.1);
+                }
+                // The two radial edges run from rᵢ to rₒ.
+                has(&d.lengths("OUTLINE"), ro - ri, TOL, "radial edge");
+                // Dimension lines as long as what they measure, texts to 0.01 mm.
+                let dims = d.lengths("DIM");
+                for (want, what) in [(ri, "rᵢ"), (ro, "rₒ"), (rc, "r_c")] {
+                    has(&dims, want, TOL, what);
+                }
+                has_text(&d, "rᵢ", ri * 1e3, "");
+                has_text(&d, "rₒ", ro * 1e3, "");
+                has_text(&d, "r_c", rc * 1e3, "");
+                has_text(&d, "θ", th.to_degrees(), "°");
+                let dim_arcs = d.arcs("DIM");
+                assert!((dim_arcs[0].1 - th).abs() < 1e-9, "{name}: θ's arc");
+            }
+            "eccentric-gear" => {
+                let a = v["derived"]["center_distance_m"].as_f64().unwrap();
+                let big_r = design(v, "pitch_radius_m");
+                // O1–O2 on the centre line, and the dimension line, are a long.
+                has(&d.lengths("CENTRE"), a, TOL, "centre line O1O2");
+                has(&d.lengths("DIM"), a, TOL, "centre distance dimension");
+                has_text(&d, "a", a * 1e3, "");
+                // Gear 1's pitch circle, R about C at e from O1.
+                let c = d.circles("OUTLINE");
+                assert_eq!(c.len(), 1, "{name}");
+                assert!((c[0].1 - big_r).abs() < TOL);
+                let e = design(v, "eccentricity_m");
+                assert!((c[0].0[0].hypot(c[0].0[1]) - e).abs() < TOL);
+                let polys = d
+                    .on("OUTLINE")
+                    .filter(|e| matches!(e, EntityType::LwPolyline(_)));
+                assert_eq!(polys.count(), 1, "{name}: gear 2's pitch curve");
+            }
+            "luffing-crane" => {
+                let outline = d.lengths("OUTLINE");
+                let dims = d.lengths("DIM");
+                for key in [
+                    "boom_length_m",
+                    "jib_length_m",
+                    "jib_tail_m",
+                    "tie_length_m",
+                ] {
+                    let Some(want) = v["design"][key].as_f64() else {
+                        continue;
+                    };
+                    has(&dims, want, TOL, key);
+                }
+                // The boom A–D from the origin at both reaches.
+                let boom = design(v, "boom_length_m");
+                let from_a: Vec<f64> = d
+                    .lines("OUTLINE")
+                    .iter()
+                    .filter(|(a, _)| a[0] == 0.0 && a[1] == 0.0)
+                    .map(|(_, b)| b[0].hypot(b[1]))
+                    .collect();
+                assert_eq!(from_a.len(), 2, "{name}: the boom at two reaches");
+                for l in from_a {
+                    assert!((l - boom).abs() < TOL, "{name}: boom {l} ≠ {boom}");
+                }
+                has_text(&d, "L_c", boom * 1e3, "");
+                assert!(!outline.is_empty());
+                let paths = d
+                    .on("PATH")
+                    .filter(|e| matches!(e, EntityType::LwPolyline(_)));
+                assert_eq!(paths.count(), 2, "{name}: jib-head and jib-tail paths");
+            }
+            "linkage" => {
+                let dims = d.lengths("DIM");
+                let mut n = 0;
+                for (k, r) in v["design"].as_object().unwrap() {
+                    let Some(link) = k.strip_suffix("_counterweight_radius_m") else {
+                        continue;
+                    };
+                    let m = design(v, &format!("{link}_counterweight_mass_kg"));
+                    if m <= 0.0 {
+                        continue;
+                    }
+                    let r = r.as_f64().unwrap();
+                    has(&dims, r, TOL, k);
+                    has_text(&d, &format!("r ({link})"), r * 1e3, "");
+                    n += 1;
+                }
+                // One disc per counterweight.
+                assert!(d.circles("OUTLINE").len() >= n, "{name}");
+            }
+            f => panic!("{name}: family {f} has no drawing check"),
+        }
+    }
+    // Every family that draws drew (slider-crank: the felling head's plate).
+    assert_eq!(drawn.get("slider-crank"), Some(&1), "{drawn:?}");
+    for f in ["eccentric-gear", "luffing-crane", "linkage"] {
+        assert!(drawn.get(f).is_some_and(|n| *n >= 2), "{f}: {drawn:?}");
+    }
+}
+
+#[test]
+fn drawings_are_the_same_bytes_every_run_and_listed_in_a_batch_manifest() {
+    let file = problem("felling-head-150rpm.toml");
+    let (a, b) = (tempfile::tempdir().unwrap(), tempfile::tempdir().unwrap());
+    solve(std::slice::from_ref(&file), a.path());
+    // A second process, a second later: the DXF header carries no clock or random GUID.
+    std::thread::sleep(std::time::Duration::from_millis(1100));
+    let out = Command::new(env!("CARGO_BIN_EXE_cwsynth"))
+        .args(["batch", "--quiet", "--threads", "1", "--out"])
+        .arg(b.path())
+        .arg(&file)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    for ext in ["dxf", "svg"] {
+        let f = format!("felling-head-150rpm-drawing.{ext}");
+        let (x, y) = (
+            std::fs::read(a.path().join(&f)).unwrap(),
+            std::fs::read(b.path().join(&f)).unwrap(),
+        );
+        assert!(x == y, "{f} differs between runs");
+    }
+    let v: Value =
+        serde_json::from_slice(&std::fs::read(b.path().join("felling-head-150rpm.json")).unwrap())
+            .unwrap();
+    let files = v["batch"]["files"].as_object().unwrap();
+    for ext in ["dxf", "svg"] {
+        let f = format!("felling-head-150rpm-drawing.{ext}");
+        assert!(files.contains_key(&f), "{f} not in the manifest: {files:?}");
+    }
+}
