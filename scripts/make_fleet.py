@@ -4,7 +4,8 @@
     scripts/make_fleet.py N [--seed S] [--broken FRACTION] > fleet.csv
     cwsynth batch problems/piston-1000rpm.toml:fleet.csv --out out/
 
-Columns are dotted keys of the template, each header with its unit (`mechanism.speed [rpm]`):
+The first column names each machine by its speed and row (`piston-1834rpm-00017`), the others
+are dotted keys of the template, each header with its unit (`mechanism.speed [rpm]`):
 cells are bare numbers in that unit (units are never guessed: a dimensional column needs a
 unit in its header or in each cell). Values vary deterministically
 (a seeded PRNG) around the paper's piston: crank radius 25–45 mm, rod/crank ratio 3–5,
@@ -27,7 +28,7 @@ def main():
     a = ap.parse_args()
     rng = random.Random(a.seed)
     out = open(a.output, "w", newline="") if a.output else sys.stdout
-    out.write("mechanism.crank_radius [mm],mechanism.rod_length [mm],mechanism.crank_mass [kg],"
+    out.write("name,mechanism.crank_radius [mm],mechanism.rod_length [mm],mechanism.crank_mass [kg],"
               "mechanism.rod_mass [kg],mechanism.slider_mass [kg],mechanism.speed [rpm]\n")
     for i in range(a.n):
         r = rng.uniform(25.0, 45.0)
@@ -35,6 +36,7 @@ def main():
         cells = [f"{r:.3f}", f"{l:.3f}", f"{rng.uniform(0.2, 0.5):.4f}",
                  f"{rng.uniform(0.2, 0.45):.4f}", f"{rng.uniform(0.6, 1.5):.4f}",
                  f"{rng.uniform(600, 3000):.1f}"]
+        name = f"piston-{float(cells[5]):.0f}rpm-{i + 1:05d}"
         if a.broken > 0 and rng.random() < a.broken:
             kind = rng.randrange(5)
             if kind == 0:
@@ -47,7 +49,7 @@ def main():
                 cells[5] = "fast"                  # not a quantity
             else:
                 cells[4] = "-1"                    # negative mass
-        out.write(",".join(cells) + "\n")
+        out.write(",".join([name] + cells) + "\n")
 
 
 if __name__ == "__main__":

@@ -629,6 +629,111 @@ fn model_value(key: &str, v: &serde_json::Value) -> String {
     }
 }
 
+/// Most rows of a family section's table in the report (the JSON and the CSV files have all).
+const EXTRA_ROWS: usize = 40;
+
+/// A family section of the JSON (`extra`: `checks`, `balancing`, `joints`, `pareto`, …) as
+/// the report reads it, so that every figure of the JSON is readable in the report too: a
+/// list of objects as a table (one column per key, numbers in their workshop units), an
+/// object as name–value rows (its lists of objects as tables of their own), a scalar as one
+/// line. Lists of plain numbers are summarised (their length; the values are in the JSON).
+fn extra_section(key: &str, v: &serde_json::Value) -> String {
+    use serde_json::Value;
+    let title = key.replace('_', " ");
+    let cell = |k: &str, x: &Value| -> String {
+        match x {
+            Value::Number(_) | Value::Object(_) => md_escape(&model_value(k, x)),
+            Value::Array(a) if a.iter().all(Value::is_number) && a.len() <= 4 => {
+                md_escape(&model_value(k, x))
+            }
+            Value::Array(a) => format!("{} values (JSON)", a.len()),
+            Value::Bool(b) => if *b { "yes" } else { "no" }.into(),
+            Value::String(t) => md_escape(t),
+            Value::Null => "–".into(),
+        }
+    };
+    let table = |rows: &[Value]| -> String {
+        let mut cols: Vec<String> = Vec::new();
+        for r in rows.iter().take(EXTRA_ROWS) {
+            if let Some(o) = r.as_object() {
+                for k in o.keys() {
+                    if !cols.contains(k) {
+                        cols.push(k.clone());
+                    }
+                }
+            }
+        }
+        let mut t = format!(
+            "| {} |\n|{}\n",
+            cols.iter()
+                .map(|c| {
+                    let (w, unit, _) = workshop_unit(c, 0.0);
+                    if unit == "–" {
+                        w
+                    } else {
+                        format!("{w} ({unit})")
+                    }
+                })
+                .collect::<Vec<_>>()
+                .join(" | "),
+            "---|".repeat(cols.len())
+        );
+        for r in rows.iter().take(EXTRA_ROWS) {
+            let cells: Vec<String> = cols
+                .iter()
+                .map(|c| {
+                    r.get(c).map_or("–".into(), |x| match x {
+                        // In the column's unit, without repeating it in every cell.
+                        Value::Number(n) => n
+                            .as_f64()
+                            .map_or(n.to_string(), |f| fmt_value(f * workshop_unit(c, 0.0).2)),
+                        other => cell(c, other),
+                    })
+                })
+                .collect();
+            t += &format!("| {} |\n", cells.join(" | "));
+        }
+        if rows.len() > EXTRA_ROWS {
+            t += &format!(
+                "\n(first {EXTRA_ROWS} of {} rows; all in the JSON key `{key}`)\n",
+                rows.len()
+            );
+        }
+        t
+    };
+    let is_rows = |a: &[Value]| !a.is_empty() && a.iter().all(Value::is_object);
+    match v {
+        Value::Array(a) if is_rows(a) => format!("## {title}\n\n{}\n", table(a)),
+        Value::Array(a) if a.is_empty() => String::new(),
+        Value::Array(a) => format!(
+            "## {title}\n\n{} values (in the JSON key `{key}`)\n\n",
+            a.len()
+        ),
+        Value::Object(o) => {
+            let mut out = format!("## {title}\n\n");
+            let mut kv = String::new();
+            let mut subs = String::new();
+            for (k, x) in o {
+                match x {
+                    Value::Array(a) if is_rows(a) => {
+                        subs += &format!("{}:\n\n{}\n", k.replace('_', " "), table(a));
+                    }
+                    _ => {
+                        let (w, _, _) = workshop_unit(k, 0.0);
+                        kv += &format!("| {w} | {} | `{k}` |\n", cell(k, x));
+                    }
+                }
+            }
+            if !kv.is_empty() {
+                out += &format!("| item | value | key |\n|---|---|---|\n{kv}\n");
+            }
+            out + &subs
+        }
+        Value::Bool(b) => format!("{title}: {}\n\n", if *b { "yes" } else { "no" }),
+        other => format!("{title}: {}\n\n", cell(key, other)),
+    }
+}
+
 /// The Markdown summary of a result (`<name>.md`).
 pub fn markdown(r: &SolveResult) -> String {
     markdown_report(r, true)
@@ -792,6 +897,13 @@ pub(crate) fn markdown_report(r: &SolveResult, timing: bool) -> String {
             ));
         }
         p(String::new());
+    }
+    // The family's own sections, readable here as in the JSON.
+    for (k, v) in &r.extra {
+        let sec = extra_section(k, v);
+        if !sec.is_empty() {
+            p(sec);
+        }
     }
     if !r.warnings.is_empty() {
         p("## Warnings\n".into());

@@ -84,6 +84,68 @@ pub fn result(scene: &Scene, s: &CraneProblem) -> SolveResult {
     r.search = out.search.clone();
     r.warnings = out.warnings.clone();
     r.design = number_map(&out.design);
+    // Free variables the search left on a bound of their range: the range decides them.
+    if r.status == Status::BestFound {
+        let v = &out.design.vars;
+        let free = [
+            (
+                "k1",
+                "design.k1",
+                &cs.k1,
+                v.k1,
+                "the middle design position C2 between C1 and C3",
+            ),
+            (
+                "k2",
+                "design.k2",
+                &cs.k2,
+                v.k2,
+                "the jib tail over the jib head length",
+            ),
+            (
+                "phi_min_rad",
+                "design.phi_min",
+                &cs.phi_min,
+                v.phi_min_rad,
+                "the boom elevation at maximum reach",
+            ),
+            (
+                "gamma1_rad",
+                "design.gamma1",
+                &cs.gamma1,
+                v.gamma1_rad,
+                "the boom from vertical at minimum reach",
+            ),
+            (
+                "gamma2_rad",
+                "design.gamma2",
+                &cs.gamma2,
+                v.gamma2_rad,
+                "the jib from vertical at minimum reach",
+            ),
+            (
+                "gamma3_rad",
+                "design.gamma3",
+                &cs.gamma3,
+                v.gamma3_rad,
+                "the jib below horizontal at maximum reach",
+            ),
+        ];
+        for (key, field, var, value, what) in free {
+            if var.fixed().is_none() {
+                let lo = format!("{what} at the least the range allows: the range, not an interior optimum, decides it");
+                let hi = format!("{what} at the most the range allows: the range, not an interior optimum, decides it");
+                r.bounds.extend(crate::report::ActiveBound::check(
+                    &format!("design.{key}"),
+                    value,
+                    var.bounds(),
+                    1e-6,
+                    (field, &lo),
+                    (field, &hi),
+                ));
+            }
+        }
+    }
     r.objectives = number_map(&out.objectives);
     r.errors = number_map(&out.errors);
     r.derived = number_map(&out.derived);
