@@ -75,6 +75,18 @@ pub enum Command {
     },
     /// Print the JSON Schema (draft 2020-12) of the problem file, every family.
     Schema,
+    /// Fit the unknown data a problem file names in its `[calibrate]` section to the values
+    /// it must reproduce, then solve the design with the fitted values.
+    Calibrate {
+        /// The problem file (with a `[calibrate]` section).
+        file: PathBuf,
+        /// Write the calibrated result (`<name>-calibrated.json`, `.md`, plots) here.
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Print the calibrated result's JSON instead of the summary.
+        #[arg(long)]
+        json: bool,
+    },
     /// Solve one scene along a ladder of accuracy and fidelity settings: time against error.
     Study {
         /// The problem file.
@@ -272,6 +284,62 @@ pub fn run(cli: Cli) -> anyhow::Result<i32> {
                 out.join("summary.csv").display()
             );
             Ok(if c.failed > 0 { 1 } else { 0 })
+        }
+        Command::Calibrate { file, out, json } => {
+            let text = std::fs::read_to_string(&file)
+                .with_context(|| format!("cannot read {}", file.display()))?;
+            let mut c = crate::calibrate::calibrate(&text, &file)?;
+            let mut o = Stdout::new();
+            if json {
+                o.write(&(serde_json::to_string_pretty(&c.result.to_json())? + "\n"))?;
+            } else {
+                let f = &c.fit;
+                let mut t = format!(
+                    "{}: calibration ({}; {} solves), χ² = {:.3e}\n",
+                    file.display(),
+                    f.method,
+                    f.evaluations,
+                    f.chi2
+                );
+                for p in &f.parameters {
+                    t += &format!(
+                        "  {} = {} {}{}\n",
+                        p.key,
+                        fmt_num(p.value),
+                        p.unit,
+                        match p.uncertainty {
+                            Some(u) => format!(" ± {} {} (1σ)", fmt_num(u), p.unit),
+                            None => " (not identifiable)".into(),
+                        }
+                    );
+                }
+                for m in &f.matches {
+                    t += &format!(
+                        "  {}: {} against {} (residual {:.3e}, σ {:.3e})\n",
+                        m.key,
+                        fmt_num(m.fitted),
+                        fmt_num(m.target),
+                        m.residual,
+                        m.sigma
+                    );
+                }
+                for n in &f.notes {
+                    t += &format!("  note: {n}\n");
+                }
+                o.write(&t)?;
+                o.write(&summary(&c.result))?;
+            }
+            if let Some(dir) = out {
+                std::fs::create_dir_all(&dir)
+                    .with_context(|| format!("cannot create {}", dir.display()))?;
+                write_outputs(&mut c.result, &dir)
+                    .with_context(|| format!("writing into {}", dir.display()))?;
+            }
+            Ok(if c.result.status == Status::Failed {
+                1
+            } else {
+                0
+            })
         }
         Command::Study { file, out, repeats } => {
             let text = std::fs::read_to_string(&file)

@@ -17,6 +17,7 @@
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 pub mod batch;
+pub mod calibrate;
 pub mod cli;
 pub mod families;
 pub mod geom;

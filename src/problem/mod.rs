@@ -9,6 +9,7 @@
 //! [`SourceMap`]. A table already parsed from TOML (a fleet row) goes through the same
 //! passes and checks without its text (`families::parse_table`); its errors have no line.
 
+pub mod calibrate;
 pub mod edit;
 pub mod limits;
 pub mod schema;
@@ -334,6 +335,10 @@ pub struct RawFile<M, Mo, D, O, A> {
     #[serde(default)]
     #[schemars(length(max = MAX_PAPER_ENTRIES))]
     pub paper: Vec<PaperRaw>,
+    /// Unknown data to fit to measured or printed values (`cwsynth calibrate`; `solve` and
+    /// `batch` use the file's own values).
+    #[serde(default)]
+    pub calibrate: Option<calibrate::CalibrateRaw>,
 }
 
 impl<M, Mo, D, O, A> RawFile<M, Mo, D, O, A>
@@ -352,6 +357,9 @@ where
         check_texts(&raw.description, &raw.paper).map_err(|e| ctx.field_error(e))?;
         let part = resolve_raw(&raw).map_err(|e| ctx.field_error(e))?;
         let paper = resolve_paper(&raw.paper).map_err(|e| ctx.field_error(e))?;
+        if let Some(c) = &raw.calibrate {
+            calibrate::resolve_calibration(c).map_err(|e| ctx.field_error(e))?;
+        }
         Ok(Resolved {
             name: raw.name,
             description: raw.description,
