@@ -753,7 +753,7 @@ fn mechanism_drawing(r: &mut SolveResult, scene: &Scene, mech: &SliderCrank, d: 
             }
         }
         if u > 0.0 && beta.rem_euclid(TAU) > 1e-6 && beta.rem_euclid(TAU) < TAU - 1e-6 {
-            dr.angle(o, 0.3 * big_r, 0.6 * big_r, (0.0, beta), "β");
+            dr.angle(o, 1.05 * big_r, 1.2 * big_r, (0.0, beta), "β");
         }
         if e != 0.0 {
             dr.note(format!("slider offset e = {:.2} mm", e * 1e3));
