@@ -1,8 +1,9 @@
-//! Drawings end to end (`report::drawing`): every shipped scene whose family draws writes
+//! Drawings end to end (`report::drawing`): every shipped scene writes
 //! `<name>-drawing.dxf` and `<name>-drawing.svg`, linked from its report; each DXF, read back
 //! with the `dxf` crate, is R2010 in millimetres (`$INSUNITS` = 4) and its geometry and
 //! dimensions match the design to 1e-9 m (the plate's rᵢ, rₒ, θ and r_c, the gears' centre
-//! distance and pitch radius, the crane's link lengths, the linkage's counterweight radii);
+//! distance and pitch radius, the crane's link lengths, the linkage's counterweight radii,
+//! the slider-crank mechanism's R, L and counterweight radius r, the hypocycloid's R, r, L);
 //! every SVG has one scale in x and y, and everything it draws lies inside its viewBox; the
 //! files are the same bytes on a second run; a batch lists them in its manifest.
 
@@ -51,15 +52,12 @@ fn solve(files: &[PathBuf], dir: &Path) -> BTreeMap<String, Value> {
         .collect()
 }
 
-/// Whether a result should come with a drawing: a slider-crank with a plate, every gear and
-/// linkage, a crane with a geometry; no hypocycloid.
-fn has_drawing(v: &Value) -> bool {
-    match v["family"].as_str().unwrap() {
-        "slider-crank" => v["shape"]["sector"].is_object(),
-        "eccentric-gear" | "linkage" => true,
-        "luffing-crane" => v["positions"].is_object(),
-        _ => false,
-    }
+/// A length of a shipped problem's `[mechanism]` (`crank_radius`, …) in m, through the
+/// program's own unit parser.
+fn mechanism_length(file: &Path, key: &str) -> Option<f64> {
+    let t: toml::Table = std::fs::read_to_string(file).unwrap().parse().unwrap();
+    let text = t.get("mechanism")?.get(key)?.as_str()?.to_string();
+    Some(cwsynth::units::parse_any(&text).unwrap().0)
 }
 
 /// A DXF read back, with its entities by layer in metres.
@@ -207,11 +205,6 @@ fn every_drawing_scene_writes_dimensioned_dxf_and_equal_aspect_svg() {
             dir.path().join(format!("{name}-drawing.svg")),
         );
         let md = std::fs::read_to_string(dir.path().join(format!("{name}.md"))).unwrap();
-        if !has_drawing(v) {
-            assert!(!dxf_path.exists() && !svg_path.exists(), "{name}");
-            assert!(!md.contains("-drawing.dxf"), "{name}");
-            continue;
-        }
         *drawn
             .entry(v["family"].as_str().unwrap().to_string())
             .or_default() += 1;
@@ -244,6 +237,10 @@ fn every_drawing_scene_writes_dimensioned_dxf_and_equal_aspect_svg() {
         let d = Dxf::load(&dxf_path);
         assert!(!d.texts("NOTE").is_empty(), "{name}: a title");
         match v["family"].as_str().unwrap() {
+            "slider-crank" if !v["shape"]["sector"].is_object() => {
+                mechanism_checks(&d, v, &problem(&format!("{name}.toml")));
+            }
+            "hypocycloid" => hypocycloid_checks(&d, v),
             "slider-crank" => {
                 let s = &v["shape"]["sector"];
                 let f = |k: &str| s[k].as_f64().unwrap();
@@ -348,11 +345,136 @@ fn every_drawing_scene_writes_dimensioned_dxf_and_equal_aspect_svg() {
             f => panic!("{name}: family {f} has no drawing check"),
         }
     }
-    // Every family that draws drew (slider-crank: the felling head's plate).
-    assert_eq!(drawn.get("slider-crank"), Some(&1), "{drawn:?}");
-    for f in ["eccentric-gear", "luffing-crane", "linkage"] {
+    // Every shipped scene draws: the felling head its plate, the pistons their mechanism.
+    assert_eq!(drawn.values().sum::<usize>(), shipped().len(), "{drawn:?}");
+    assert_eq!(drawn.get("slider-crank"), Some(&3), "{drawn:?}");
+    for f in ["eccentric-gear", "luffing-crane", "linkage", "hypocycloid"] {
         assert!(drawn.get(f).is_some_and(|n| *n >= 2), "{f}: {drawn:?}");
     }
+}
+
+/// The LINEs of `layer` from `a` (to 1e-9 m): their other ends.
+fn lines_from(d: &Dxf, layer: &str, a: [f64; 2]) -> Vec<[f64; 2]> {
+    d.lines(layer)
+        .iter()
+        .filter(|(p, _)| (p[0] - a[0]).hypot(p[1] - a[1]) < TOL)
+        .map(|(_, q)| *q)
+        .collect()
+}
+
+/// A slider-crank without a plate: the crank OA = R from O and the rod AB = L at φ = 0 with
+/// B on the slider line y = e, R and L dimensioned; the counterweight disc at r, β from the
+/// crank with r dimensioned (or, unsized, the note |U| = m·r).
+#[track_caller]
+fn mechanism_checks(d: &Dxf, v: &Value, file: &Path) {
+    let big_r = mechanism_length(file, "crank_radius").unwrap();
+    let big_l = mechanism_length(file, "rod_length").unwrap();
+    let e = v["model"]["offset_m"].as_f64().unwrap();
+    let dims = d.lengths("DIM");
+    has(&dims, big_r, TOL, "R");
+    has(&dims, big_l, TOL, "L");
+    has_text(d, "R", big_r * 1e3, "");
+    has_text(d, "L", big_l * 1e3, "");
+    // The crank at φ = 0 ends at A = (R, 0); the rod from A reaches B on y = e at L.
+    let a = [big_r, 0.0];
+    assert!(lines_from(d, "OUTLINE", [0.0, 0.0])
+        .iter()
+        .any(|p| (p[0] - a[0]).hypot(p[1] - a[1]) < TOL));
+    let rods: Vec<[f64; 2]> = lines_from(d, "OUTLINE", a)
+        .into_iter()
+        .filter(|b| (b[1] - e).abs() < TOL)
+        .collect();
+    assert_eq!(rods.len(), 1, "the rod A–B at φ = 0");
+    let b = rods[0];
+    assert!(((b[0] - a[0]).hypot(b[1] - a[1]) - big_l).abs() < TOL);
+    let beta = design(v, "counterweight_angle_rad");
+    match v["design"]["counterweight_radius_m"].as_f64() {
+        Some(rc) => {
+            has(&dims, rc, TOL, "r");
+            has_text(d, "r", rc * 1e3, "");
+            let c = [rc * beta.cos(), rc * beta.sin()];
+            assert!(
+                d.circles("OUTLINE")
+                    .iter()
+                    .any(|(p, _)| (p[0] - c[0]).hypot(p[1] - c[1]) < TOL),
+                "the counterweight disc at r, β"
+            );
+        }
+        None => assert!(
+            d.texts("NOTE").iter().any(|t| t.contains("size by m·r")),
+            "{:?}",
+            d.texts("NOTE")
+        ),
+    }
+}
+
+/// The hypocycloid mechanism at φ = 0: R, r, L dimensioned; the ring (3R/2 about O) and
+/// the planet (R/2 about O₁ = (R, 0)); the rod A–B of length L with B on the x axis; the
+/// path of A, closed, through A at φ = 0 and within R(1 + θ) of O.
+#[track_caller]
+fn hypocycloid_checks(d: &Dxf, v: &Value) {
+    let (big_r, r, big_l) = (
+        design(v, "carrier_radius_m"),
+        design(v, "crank_arm_m"),
+        design(v, "rod_length_m"),
+    );
+    let dims = d.lengths("DIM");
+    for (want, label) in [(big_r, "R"), (r, "r"), (big_l, "L")] {
+        has(&dims, want, TOL, label);
+        has_text(d, label, want * 1e3, "");
+    }
+    let circles = d.circles("OUTLINE");
+    for (c, rad) in [([0.0, 0.0], 1.5 * big_r), ([big_r, 0.0], 0.5 * big_r)] {
+        assert!(
+            circles
+                .iter()
+                .any(|(p, q)| (p[0] - c[0]).hypot(p[1] - c[1]) < TOL && (q - rad).abs() < TOL),
+            "a circle of radius {rad} about {c:?} in {circles:?}"
+        );
+    }
+    let alpha0 = v["model"]["orientation_rad"].as_f64().unwrap();
+    let a = [big_r + r * alpha0.cos(), r * alpha0.sin()];
+    let ends = lines_from(d, "OUTLINE", [big_r, 0.0]);
+    assert!(
+        ends.iter().any(|p| (p[0] - a[0]).hypot(p[1] - a[1]) < TOL),
+        "the crank arm O₁A"
+    );
+    let rods: Vec<[f64; 2]> = lines_from(d, "OUTLINE", a)
+        .into_iter()
+        .filter(|b| b[1].abs() < TOL)
+        .collect();
+    assert_eq!(rods.len(), 1, "the rod A–B");
+    assert!(((rods[0][0] - a[0]).hypot(rods[0][1] - a[1]) - big_l).abs() < TOL);
+    let paths: Vec<_> = d
+        .on("PATH")
+        .filter_map(|e| match e {
+            EntityType::LwPolyline(p) => Some(p),
+            _ => None,
+        })
+        .collect();
+    assert_eq!(paths.len(), 1, "the path of A");
+    let p = paths[0];
+    assert!(p.is_closed());
+    let v0 = &p.vertices[0];
+    assert!((v0.x * 1e-3 - a[0]).abs() < TOL && (v0.y * 1e-3 - a[1]).abs() < TOL);
+    for q in &p.vertices {
+        assert!((q.x * 1e-3).hypot(q.y * 1e-3) <= big_r + r + TOL);
+    }
+}
+
+#[test]
+fn a_slider_crank_whose_counterweight_is_not_sized_draws_the_unbalance_direction() {
+    let text = std::fs::read_to_string(problem("piston-1000rpm.toml")).unwrap();
+    let text = with(&text, "radius = \"50 mm\"", "");
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("piston-1000rpm.toml");
+    std::fs::write(&file, text).unwrap();
+    let v = &solve(std::slice::from_ref(&file), dir.path())["piston-1000rpm"];
+    assert!(v["design"]["counterweight_radius_m"].is_null());
+    let d = Dxf::load(&dir.path().join("piston-1000rpm-drawing.dxf"));
+    mechanism_checks(&d, v, &problem("piston-1000rpm.toml"));
+    let svg = std::fs::read_to_string(dir.path().join("piston-1000rpm-drawing.svg")).unwrap();
+    assert!(svg.contains("size by m·r"));
 }
 
 #[test]

@@ -5,11 +5,13 @@
 use super::file::*;
 use crate::families::family::Scene;
 use crate::families::hypocycloid::synth::{self as hy, OptStatus, Outcome, ZeroStatus};
+use crate::geom::P2;
+use crate::report::drawing::{Drawing, DrawingError, Layer, Sheet};
 use crate::report::plot::{self, Grid, Panel, PlotError, Series};
 use crate::report::{number_map, Plot, SolveResult, Status, Table};
 use serde_json::json;
 use std::collections::BTreeMap;
-use std::f64::consts::PI;
+use std::f64::consts::{PI, TAU};
 use std::fmt::Write as _;
 use std::time::Instant;
 
@@ -94,6 +96,7 @@ pub fn result(scene: &Scene, s: &HypocycloidProblem) -> SolveResult {
     r.warnings.extend(out.warnings.iter().cloned());
     r.bounds = out.bounds.clone();
     r.design = number_map(&out.design);
+    mechanism_drawing(&mut r, &scene.name, &out.design, h.alpha0);
     r.objectives = number_map(&out.objectives);
     r.errors = number_map(&out.errors);
     r.derived = number_map(&out.derived);
@@ -518,4 +521,84 @@ fn force_plot(scene: &Scene, out: &Outcome) -> Result<String, PlotError> {
         460,
     )?;
     Ok(svg)
+}
+
+/// The mechanism's drawing (`<name>-drawing.dxf`/`.svg`) at φ = 0: the fixed ring gear
+/// (pitch radius 3R/2) about O, the carrier OO₁ = R, the planet (pitch radius R/2) about O₁,
+/// the crank arm O₁A = r = θR at α0 − 2φ, the rod AB = L = R/λ to the piston B on the x axis
+/// (B = (x_A + √(L² − y_A²), 0), the model's S), with R, r, L dimensioned; the path of A over
+/// a turn, A/R = (cos φ + θ cos(α0 − 2φ), sin φ + θ sin(α0 − 2φ)), on `PATH`.
+fn mechanism_drawing(r: &mut SolveResult, name: &str, d: &hy::Design, alpha0: f64) {
+    let (name, d) = (name.to_string(), d.clone());
+    let caption = "planetary mechanism at φ = 0 and the path of the crank pin A";
+    r.drawings.push(Sheet::new("drawing", caption, move || {
+        let model = crate::families::hypocycloid::model::Hypocycloid::new(d.lambda, d.theta, alpha0)
+            .map_err(|e| DrawingError::Data(e.to_string()))?;
+        let big_r = d.carrier_radius_m;
+        let at = |phi: f64| {
+            let (x, y) = model.point_a(phi);
+            big_r * P2::new(x, y)
+        };
+        let piston = |phi: f64| big_r * (model.piston(phi).s_rel + 1.0 / d.lambda);
+        let (o, o1, a) = (P2::zeros(), P2::new(big_r, 0.0), at(0.0));
+        let b = P2::new(piston(0.0), 0.0);
+        let pin = 0.05 * big_r;
+        let mut dr = Drawing::new(format!(
+            "{name}: planetary (3:1) mechanism at φ = 0, path of A in blue"
+        ));
+        let n = 720;
+        let path: Vec<P2> = (0..n).map(|k| at(TAU * k as f64 / n as f64)).collect();
+        let (s_min, s_max) = (0..n)
+            .map(|k| piston(TAU * k as f64 / n as f64))
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), s| {
+                (lo.min(s), hi.max(s))
+            });
+        dr.polyline(Layer::Path, path, true);
+        dr.line(
+            Layer::Centre,
+            P2::new(s_min - 4.0 * pin, 0.0),
+            P2::new(s_max + 4.0 * pin, 0.0),
+        );
+        dr.mark(o).mark(o1).mark(a).mark(b);
+        dr.circle(Layer::Outline, o, 1.5 * big_r)
+            .circle(Layer::Outline, o1, 0.5 * big_r);
+        dr.line(Layer::Outline, o, o1)
+            .line(Layer::Outline, o1, a)
+            .line(Layer::Outline, a, b);
+        for p in [o1, a, b] {
+            dr.circle(Layer::Outline, p, pin);
+        }
+        let (w, h) = (3.0 * pin, 2.0 * pin);
+        dr.polyline(
+            Layer::Outline,
+            vec![
+                b + P2::new(-w, -h),
+                b + P2::new(w, -h),
+                b + P2::new(w, h),
+                b + P2::new(-w, h),
+            ],
+            true,
+        );
+        let off = 0.25 * big_r;
+        dr.linear(o, o1, -off, "R");
+        // r on the side away from O (below when O, O₁, A are in line).
+        let away = (0.5 * (o1 + a) + off * crate::geom::perp((a - o1) / (a - o1).norm())).norm()
+            > (0.5 * (o1 + a)).norm() + 0.5 * off;
+        dr.linear(o1, a, if away { off } else { -off }, "r");
+        dr.linear(a, b, -off, "L");
+        dr.label(P2::new(0.0, 1.5 * big_r + 2.0 * pin), "ring gear (fixed)");
+        dr.note(format!(
+            "λ = R/L = {:.4}, θ = r/R = {:.4}, orientation α0 = {:.2}°",
+            d.lambda,
+            d.theta,
+            alpha0.to_degrees()
+        ));
+        dr.note(format!(
+            "ring gear pitch radius 3R/2 = {:.2} mm (fixed), planet pitch radius R/2 = {:.2} mm, turning at −2φ",
+            1.5 * big_r * 1e3,
+            0.5 * big_r * 1e3
+        ));
+        dr.note("O: carrier axis; O₁: planet axis; A: crank pin on the planet; B: piston on the x axis; dimensions in mm");
+        Ok(dr)
+    }));
 }

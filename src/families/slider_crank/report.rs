@@ -6,10 +6,11 @@ use super::file::*;
 use crate::families::family::{cw_status, Scene};
 use crate::families::slider_crank::model::Kinematics;
 use crate::families::slider_crank::model::ProcessForce;
+use crate::families::slider_crank::model::SliderCrank;
 use crate::families::slider_crank::synth::shaking_force;
 use crate::families::slider_crank::synth::{self as sc, Objective};
 use crate::geom::P2;
-use crate::report::drawing::{Drawing, Layer, Sheet};
+use crate::report::drawing::{Drawing, DrawingError, Layer, Sheet};
 use crate::report::plot::{self, Panel, PlotError, Series};
 use crate::report::{number_map, Plot, SolveResult, Status, Table};
 use crate::synth::counterweight::Status as CwStatus;
@@ -258,6 +259,7 @@ pub fn result(scene: &Scene, sc_scene: &SliderCrankProblem) -> SolveResult {
         speed_sweep(&mut r, scene, s, sw, u);
     }
     plate_drawing(&mut r, scene, sc_scene, design.counterweight_angle_rad);
+    mechanism_drawing(&mut r, scene, m, &design);
     let (scene, s, out) = (scene.clone(), s.clone(), out.clone());
     r.plots.push(Plot::new(
         "shaking-force",
@@ -650,4 +652,113 @@ fn plate_drawing(r: &mut SolveResult, scene: &Scene, p: &SliderCrankProblem, ang
             ));
             Ok(d)
         }));
+}
+
+/// The mechanism's drawing where no plate is drawn (`<name>-drawing.dxf`/`.svg`): crank axis
+/// O, crank OA = R, rod AB = L to the slider B on its line y = e, at φ = 0 (`OUTLINE`) and
+/// φ = 90° (`PATH`, with the crank circle), exact kinematics (B = A + (√(L² − (R sin φ −
+/// e)²), e − R sin φ)). The counterweight C at its centroid radius r and angle β from the
+/// crank (C = r(cos(φ + β), sin(φ + β))) as a disc of symbolic size, R, L and r dimensioned,
+/// β as an angle; where the scene does not size m and r, the direction of U alone with a note
+/// |U| = m·r.
+fn mechanism_drawing(r: &mut SolveResult, scene: &Scene, mech: &SliderCrank, d: &sc::Design) {
+    if r.extra.get("shape").and_then(|v| v.get("sector")).is_some() {
+        return;
+    }
+    let mech = SliderCrank {
+        kinematics: Kinematics::Exact,
+        ..*mech
+    };
+    let (name, beta, u) = (
+        scene.name.clone(),
+        d.counterweight_angle_rad,
+        d.counterweight_unbalance_kgm,
+    );
+    let sized = d.counterweight_mass_kg.zip(d.counterweight_radius_m);
+    let caption = "mechanism at φ = 0 and 90° with its counterweight";
+    r.drawings.push(Sheet::new("drawing", caption, move || {
+        let (big_r, big_l, e) = (mech.r, mech.l, mech.e);
+        let pin = 0.06 * big_r;
+        let o = P2::zeros();
+        let dir = |a: f64| P2::new(a.cos(), a.sin());
+        let pose = |phi: f64| -> Result<(P2, P2), DrawingError> {
+            let st = mech.state(phi).ok_or_else(|| {
+                DrawingError::Data(format!(
+                    "the rod does not reach the slider line at φ = {:.0}°",
+                    phi.to_degrees()
+                ))
+            })?;
+            Ok((st.a[0], P2::new(st.x[0], e)))
+        };
+        let mut dr = Drawing::new(format!(
+            "{name}: slider-crank at φ = 0 (blue: φ = 90°) and its counterweight"
+        ));
+        // The slider's line over the stroke, the crank circle.
+        let (x_min, x_max) = ((big_l - big_r).max(0.0), big_l + big_r);
+        let (x_min, x_max) = (
+            (x_min * x_min - e * e).max(0.0).sqrt(),
+            (x_max * x_max - e * e).max(0.0).sqrt(),
+        );
+        dr.line(
+            Layer::Centre,
+            P2::new(x_min - 4.0 * pin, e),
+            P2::new(x_max + 4.0 * pin, e),
+        );
+        dr.circle(Layer::Path, o, big_r).mark(o);
+        let block = |b: P2| {
+            let (w, h) = (3.0 * pin, 2.0 * pin);
+            vec![
+                b + P2::new(-w, -h),
+                b + P2::new(w, -h),
+                b + P2::new(w, h),
+                b + P2::new(-w, h),
+            ]
+        };
+        for (phi, layer) in [(0.5 * std::f64::consts::PI, Layer::Path), (0.0, Layer::Outline)] {
+            let (a, b) = pose(phi)?;
+            dr.line(layer, o, a).line(layer, a, b);
+            dr.polyline(layer, block(b), true);
+            dr.circle(layer, a, pin).circle(layer, b, pin);
+            if let Some((m, rc)) = sized.filter(|(m, _)| *m > 0.0) {
+                let c = rc * dir(phi + beta);
+                dr.line(layer, o, c).circle(layer, c, 4.0 * pin);
+                if phi == 0.0 {
+                    dr.mark(c);
+                    dr.linear(o, c, 8.0 * pin, "r");
+                    dr.note(format!(
+                        "counterweight: m = {m:.4} kg at r = {:.2} mm, β = {:.2}° from the crank (|U| = m·r = {u:.6} kg·m); disc of symbolic size",
+                        rc * 1e3,
+                        beta.to_degrees()
+                    ));
+                }
+            }
+            if phi == 0.0 {
+                dr.mark(a).mark(b);
+                dr.linear(o, a, -8.0 * pin, "R");
+                dr.linear(a, b, -8.0 * pin, "L");
+            }
+        }
+        match sized {
+            Some((m, _)) if m > 0.0 => {}
+            _ if u > 0.0 => {
+                dr.line(Layer::Centre, o, 1.3 * big_r * dir(beta));
+                dr.label(1.45 * big_r * dir(beta), "U");
+                dr.note(format!(
+                    "counterweight unbalance |U| = {u:.6} kg·m at β = {:.2}° from the crank: size by m·r = |U|",
+                    beta.to_degrees()
+                ));
+            }
+            _ => {
+                dr.note("no counterweight (U = 0)");
+            }
+        }
+        if u > 0.0 && beta.rem_euclid(TAU) > 1e-6 && beta.rem_euclid(TAU) < TAU - 1e-6 {
+            dr.angle(o, 1.05 * big_r, 1.2 * big_r, (0.0, beta), "β");
+        }
+        if e != 0.0 {
+            dr.note(format!("slider offset e = {:.2} mm", e * 1e3));
+        }
+        dr.note("O: crank axis; the slider runs on +x; dimensions in mm");
+        Ok(dr)
+    }));
 }
