@@ -698,7 +698,11 @@ struct ConeTag {
 /// Newton polishes at most per solve.
 const MAX_POLISH: usize = 3;
 
-/// `Solution::solver_status` of a solve by Newton alone from a neighbouring solve.
+/// What `Solution::solver_status` contains when the design and its certificate come from
+/// the Newton polish of the optimality conditions.
+pub const POLISHED: &str = "optimality conditions polished by Newton";
+
+/// `Solution::solver_status` of a solve by Newton alone from a neighbouring solve (no SOCP).
 pub const NEWTON_ONLY: &str =
     "not run: optimality conditions polished by Newton from the neighbouring solve";
 
@@ -1124,9 +1128,7 @@ impl<'p, 'a> Engine<'p, 'a> {
                                     po,
                                     round,
                                     iters,
-                                    format!(
-                                        "{status_txt}; optimality conditions polished by Newton"
-                                    ),
+                                    format!("{status_txt}; {POLISHED}"),
                                 )
                                 .map(|(sol, st)| (sol, Some(st)));
                         }
@@ -2427,10 +2429,21 @@ impl<'p, 'a> Engine<'p, 'a> {
         let mut rows = Rows::default();
         self.design_rows(&mut rows);
         let lin = rows.build(self.n, CscMatrix::zeros((self.n, self.n)), ql);
+        let cons = self.design_constraints();
+        // The rows of `design_rows` are those of `design_constraints`, in order: a linear
+        // constraint one row, the radius cone three, the body cone four.
+        let rows_of = |d: &Design| match d {
+            Design::Linear { .. } => 1,
+            Design::Radius { .. } => 3,
+            Design::Body { .. } => 4,
+        };
+        if cons.iter().map(rows_of).sum::<usize>() != lin.b.len() {
+            return Ok(None);
+        }
         let mut z = vec![0.0; lin.b.len()];
         let xh = &p.x_hat;
         let mut at = 0;
-        for (i, d) in self.design_constraints().iter().enumerate() {
+        for (i, d) in cons.iter().enumerate() {
             let nu = design.iter().find(|e| e.0 == i).map_or(0.0, |e| e.1);
             match d {
                 Design::Linear { .. } => {
@@ -2456,7 +2469,6 @@ impl<'p, 'a> Engine<'p, 'a> {
                 }
             }
         }
-        debug_assert_eq!(at, z.len());
         let (lb, pen) = dual_lower_bound(&lin, &z, &self.xbound);
         Ok(lb
             .is_finite()
