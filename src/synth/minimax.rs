@@ -598,7 +598,8 @@ pub struct Solution {
     /// Largest relative violation of the design constraints at x (bounds, cones, sector,
     /// linear rows; each relative to its scale): clarabel's feasibility accuracy.
     pub design_violation: f64,
-    /// SOCP solves.
+    /// SOCP solves (0 when Newton alone certified the point from a neighbouring solve's
+    /// polished optimality conditions: `solver_status` is then [`NEWTON_ONLY`]).
     pub rounds: usize,
     /// Angles in the final SOCP, all fields.
     pub angles: usize,
@@ -1339,7 +1340,9 @@ impl<'p, 'a> Engine<'p, 'a> {
     }
 
     /// Min peak of field `a` subject to peak of field `b` ≤ ε, for each ε (plus the problem's
-    /// own limits); each point warm-started from the previous one's final angles only.
+    /// own limits); each point first tries Newton from the last polished point's optimality
+    /// conditions (a continuation in ε, no SOCP), else runs the exchange loop warm-started
+    /// from the previous point's final angles only.
     pub fn pareto(
         &self,
         a: usize,
