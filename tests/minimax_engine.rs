@@ -498,11 +498,10 @@ fn malformed_problems_name_the_part() {
     assert!(e.contains("rms_samples"), "{e}");
 }
 
-/// The stricter expectation, not met yet: on these random problems the exchange loop can
-/// stall a few 1e-9 (relative) short of `rel_tol` = 1e-9, clarabel's accuracy on clustered
-/// angles (the status is then `inaccurate` with the gap stated; see the test above).
+/// The stricter expectation: on these random problems the exchange loop alone can stall a
+/// few 1e-9 (relative) short of `rel_tol` = 1e-9, clarabel's accuracy on clustered angles;
+/// the Newton polish of the optimality conditions certifies them.
 #[test]
-#[ignore = "known: the exchange can stall at ~1e-8 relative on clustered angles"]
 fn random_problems_reach_optimal() {
     let mut r = lcg(17);
     for case in 0..4 {

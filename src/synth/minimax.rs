@@ -59,8 +59,23 @@
 //! carry over: the gap is taken between the best design so far (smallest refined peak
 //! within the limits' tolerance, the design returned) and the largest rigorous L so far.
 //!
+//! # The Newton polish
+//! clarabel's design is only as accurate as its cones allow (about 1e-8 relative where the
+//! sampled angles cluster around maxima that move with the design), so the loop alone stalls
+//! short of 1e-9. Once a round's refined maxima are within 1e-3 of its bound, the engine
+//! solves the continuous problem's optimality conditions by Newton (`polish`: the design,
+//! the peak, the active maxima's angles, their multipliers and those of the active design
+//! constraints; negative multipliers drop their constraint, violated maxima and design
+//! constraints join). The polished design, if it meets the design constraints to 1e-12, is
+//! certified as any other: V its refined true peak, L the Lagrangian bound at the polished
+//! angles and multipliers, first with the design cones' dual point formed from Newton's
+//! multipliers (`kkt_bound`, rigorous by weak duality at any dual point, and tight where
+//! large limit multipliers make a clarabel solve of the bound lose digits), else by the
+//! SOCPs of `dual_bound`. A Pareto front starts each point's Newton from its neighbour's
+//! polished conditions before any SOCP. Where Newton fails the loop goes on unchanged.
+//!
 //! The status is `optimal` only when the gap is within the tolerance and clarabel reported
-//! `Solved` on the design's SOCP (or its bound came from a Lagrangian SOCP); otherwise
+//! `Solved` on the design's SOCP (or its bound came from a Lagrangian bound); otherwise
 //! `inaccurate` with the reason ([`Stop`]) and the gap, or `infeasible` when clarabel
 //! certifies the sampled problem infeasible (then the continuous one is too).
 //!
@@ -111,7 +126,10 @@ use crate::synth::conic::{dual_lower_bound, run_clarabel_with, Built, ConicResul
 use crate::synth::counterweight::{check_exchange, is_new, uniform_angles, Status};
 use clarabel::algebra::CscMatrix;
 use clarabel::solver::{SolverStatus, SupportedConeT};
+use polish::{Design, Term};
 use std::cell::RefCell;
+
+mod polish;
 
 /// `Solution::solver_status` of a solve by the exact disc path (no clarabel).
 pub const DISC_SOLVER: &str = "exact: smallest enclosing disc";
@@ -580,7 +598,8 @@ pub struct Solution {
     /// Largest relative violation of the design constraints at x (bounds, cones, sector,
     /// linear rows; each relative to its scale): clarabel's feasibility accuracy.
     pub design_violation: f64,
-    /// SOCP solves.
+    /// SOCP solves (0 when Newton alone certified the point from a neighbouring solve's
+    /// polished optimality conditions: `solver_status` is then [`NEWTON_ONLY`]).
     pub rounds: usize,
     /// Angles in the final SOCP, all fields.
     pub angles: usize,
@@ -690,6 +709,43 @@ struct ConeTag {
     c: f64,
     /// ε̂ for a limit, `None` for an objective cone.
     eps: Option<f64>,
+}
+
+/// Newton polishes at most per solve.
+const MAX_POLISH: usize = 3;
+
+/// What `Solution::solver_status` contains when the design and its certificate come from
+/// the Newton polish of the optimality conditions.
+pub const POLISHED: &str = "optimality conditions polished by Newton";
+
+/// `Solution::solver_status` of a solve by Newton alone from a neighbouring solve (no SOCP).
+pub const NEWTON_ONLY: &str =
+    "not run: optimality conditions polished by Newton from the neighbouring solve";
+
+/// A solve's polished optimality conditions, the start of a neighbouring solve's Newton:
+/// the scaled design x̂, t̂ and the active maxima with their multipliers.
+struct KktStart {
+    x_hat: Vec<f64>,
+    t_hat: f64,
+    terms: Vec<Term>,
+}
+
+/// A polished design with its certificate parts (caller's units).
+struct PolishOutcome {
+    x: Vec<f64>,
+    pk: Vec<Option<PeriodicPeak>>,
+    /// V: the refined objective peak at x.
+    value: f64,
+    /// The limits' relative violation at x.
+    lim_rel: f64,
+    /// L, rigorous, and its residual part.
+    lower: f64,
+    lower_err: f64,
+    /// The polished x̂ and t̂ (before the projection) and active maxima: the start of a
+    /// neighbouring solve's Newton.
+    x_hat: Vec<f64>,
+    t_hat: f64,
+    terms: Vec<Term>,
 }
 
 impl<'p, 'a> Engine<'p, 'a> {
@@ -819,9 +875,22 @@ impl<'p, 'a> Engine<'p, 'a> {
         limits: &[(usize, f64)],
         warm: Option<&[Vec<f64>]>,
     ) -> Result<Solution, MinimaxError> {
+        Ok(self.solve_goal_from(goal, limits, warm, None)?.0)
+    }
+
+    /// [`Engine::solve_goal`], first trying Newton from a neighbouring solve's polished
+    /// optimality conditions (`start`; the limits' ε̂ updated to `limits`) before any SOCP;
+    /// also returns this solve's polished conditions when it has them.
+    fn solve_goal_from(
+        &self,
+        goal: &Goal,
+        limits: &[(usize, f64)],
+        warm: Option<&[Vec<f64>]>,
+        start: Option<&KktStart>,
+    ) -> Result<(Solution, Option<KktStart>), MinimaxError> {
         validate_goal(self.pb, goal, limits)?;
         if let Some(sol) = self.disc_path(goal, limits)? {
-            return Ok(sol);
+            return Ok((sol, None));
         }
         let nf = self.pb.fields.len();
         let s = &self.s;
@@ -871,6 +940,34 @@ impl<'p, 'a> Engine<'p, 'a> {
         let lim_floor = |f: usize, eps: f64| eps.max(s.abs_floor * self.g0[f]);
         let has_t = !matches!(goal, Goal::MinMass);
 
+        if let (Goal::MinPeak(list), Some(st)) = (goal, start) {
+            // The neighbouring solve's active maxima, their limits moved to these ε.
+            let terms: Vec<Term> = st
+                .terms
+                .iter()
+                .filter_map(|t| match t.eps {
+                    None => list.iter().any(|l| l.0 == t.field).then(|| t.clone()),
+                    Some(_) => limits.iter().find(|l| l.0 == t.field).map(|&(f, e)| Term {
+                        eps: Some(e / self.g_ref[f]),
+                        ..t.clone()
+                    }),
+                })
+                .collect();
+            let t_scale = self.peak_scale(list);
+            // |V − L| both ways: the polished design meets its limits to round-off, so an L
+            // above V would be a flaw, never a claim.
+            if let Some(po) =
+                self.polish_certify(list, limits, terms, &st.x_hat, st.t_hat, t_scale)?
+            {
+                if (po.value - po.lower).abs() <= s.rel_tol * po.value.max(obj_floor)
+                    && po.lim_rel <= s.rel_tol
+                {
+                    return self
+                        .polished_solution(goal, limits, sets, po, 0, 0, NEWTON_ONLY.into())
+                        .map(|(sol, st)| (sol, Some(st)));
+                }
+            }
+        }
         let mut round_tol = if warm_given || !sampled.iter().any(|&b| b) {
             s.rel_tol
         } else {
@@ -882,6 +979,7 @@ impl<'p, 'a> Engine<'p, 'a> {
         let mut best_l: Option<(f64, f64)> = None;
         let mut best_x: Option<BestDesign> = None;
         let (mut polished, mut before_polish) = (false, None::<Solution>);
+        let mut polish_tries = 0;
         // The objective's scale T for clarabel: the unbalanced peak at first, then the
         // last round's bound (so that t̂ ≈ 1 and clarabel's tolerances are relative to the
         // optimum, not to the design box), never below the absolute floor.
@@ -914,14 +1012,17 @@ impl<'p, 'a> Engine<'p, 'a> {
                                 .join(", ")
                         )
                     };
-                    return Ok(self.empty(
-                        Status::Infeasible,
-                        Stop::Infeasible,
-                        round,
-                        &sets,
-                        iters,
-                        status_txt,
-                        format!("infeasible: {what} within the counterweight limits"),
+                    return Ok((
+                        self.empty(
+                            Status::Infeasible,
+                            Stop::Infeasible,
+                            round,
+                            &sets,
+                            iters,
+                            status_txt,
+                            format!("infeasible: {what} within the counterweight limits"),
+                        ),
+                        None,
                     ));
                 }
                 _ if finite && last.is_some() => {
@@ -933,18 +1034,21 @@ impl<'p, 'a> Engine<'p, 'a> {
                     l.note = Some(format!(
                         "clarabel stopped with {status_txt} in round {round}; the previous round's design is kept"
                     ));
-                    return Ok(l);
+                    return Ok((l, None));
                 }
                 _ if finite => {}
                 _ => {
-                    return Ok(self.empty(
-                        Status::Failed,
-                        Stop::SolverFailed,
-                        round,
-                        &sets,
-                        iters,
-                        status_txt,
-                        "clarabel returned no finite iterate".into(),
+                    return Ok((
+                        self.empty(
+                            Status::Failed,
+                            Stop::SolverFailed,
+                            round,
+                            &sets,
+                            iters,
+                            status_txt,
+                            "clarabel returned no finite iterate".into(),
+                        ),
+                        None,
                     ));
                 }
             }
@@ -1024,6 +1128,32 @@ impl<'p, 'a> Engine<'p, 'a> {
                 .iter()
                 .map(|&(f, e)| (peak_of(f) - e).max(0.0) / lim_floor(f, e).max(f64::MIN_POSITIVE))
                 .fold(0.0, f64::max);
+            // The Newton polish of the round's active set (`polish`): when its design and
+            // multipliers certify the tolerance, the solve ends here; otherwise the loop goes
+            // on as if it had not run.
+            if let Goal::MinPeak(list) = goal {
+                let near = (value - lower).max(0.0) <= 1e-3 * gap_scale && lim_rel <= 1e-3;
+                if near && polish_tries < MAX_POLISH {
+                    polish_tries += 1;
+                    if let Some(po) = self.try_polish(list, limits, &rd, &x, &pk)? {
+                        let gs = po.value.max(obj_floor);
+                        if (po.value - po.lower).abs() <= s.rel_tol * gs && po.lim_rel <= s.rel_tol
+                        {
+                            return self
+                                .polished_solution(
+                                    goal,
+                                    limits,
+                                    sets,
+                                    po,
+                                    round,
+                                    iters,
+                                    format!("{status_txt}; {POLISHED}"),
+                                )
+                                .map(|(sol, st)| (sol, Some(st)));
+                        }
+                    }
+                }
+            }
             // The certificate carries over between rounds: every rigorous L is a lower bound
             // of the same optimum, and every design's refined peak an upper bound, so the
             // best of each so far is kept (the rounds' designs jitter at clarabel's accuracy).
@@ -1187,10 +1317,13 @@ impl<'p, 'a> Engine<'p, 'a> {
             )?;
             if converged || (added == 0 && tol_used <= s.rel_tol) || round == s.max_rounds {
                 // After a polish, the better certified of the two.
-                return Ok(match before_polish {
-                    Some(b) if b.error.total < sol.error.total && !converged => b,
-                    _ => sol,
-                });
+                return Ok((
+                    match before_polish {
+                        Some(b) if b.error.total < sol.error.total && !converged => b,
+                        _ => sol,
+                    },
+                    None,
+                ));
             }
             if polishing {
                 before_polish = Some(Solution {
@@ -1207,7 +1340,9 @@ impl<'p, 'a> Engine<'p, 'a> {
     }
 
     /// Min peak of field `a` subject to peak of field `b` ≤ ε, for each ε (plus the problem's
-    /// own limits); each point warm-started from the previous one's final angles only.
+    /// own limits); each point first tries Newton from the last polished point's optimality
+    /// conditions (a continuation in ε, no SOCP), else runs the exchange loop warm-started
+    /// from the previous point's final angles only.
     pub fn pareto(
         &self,
         a: usize,
@@ -1217,14 +1352,21 @@ impl<'p, 'a> Engine<'p, 'a> {
     ) -> Result<Vec<ParetoPoint>, MinimaxError> {
         let mut out: Vec<ParetoPoint> = Vec::with_capacity(eps.len());
         let mut warm_sets: Option<Vec<Vec<f64>>> = warm.map(|w| w.to_vec());
+        let mut start: Option<KktStart> = None;
         for &e in eps {
             let mut limits = self.pb.limits.clone();
             limits.push((b, e));
-            let sol = self.solve_goal(
+            // Newton first from the previous point's polished optimality conditions (a
+            // continuation in ε), then the exchange loop from its angles.
+            let (sol, st) = self.solve_goal_from(
                 &Goal::MinPeak(vec![(a, 1.0)]),
                 &limits,
                 warm_sets.as_deref(),
+                start.as_ref(),
             )?;
+            if st.is_some() {
+                start = st;
+            }
             if sol.status != Status::Infeasible && sol.status != Status::Failed {
                 // Only the previous point's (pruned) angles: merged sets would grow to
                 // hundreds of cones over a front.
@@ -1820,10 +1962,7 @@ impl<'p, 'a> Engine<'p, 'a> {
         let t_scale = match goal {
             Goal::MinPeak(list) => {
                 let _ = level;
-                let t = list
-                    .iter()
-                    .map(|&(f, w)| w * self.g_ref[f])
-                    .fold(0.0, f64::max);
+                let t = self.peak_scale(list);
                 q[n] = 1.0;
                 for &(f, w) in list {
                     let d = self.pb.fields[f].dim();
@@ -1890,6 +2029,211 @@ impl<'p, 'a> Engine<'p, 'a> {
         })
     }
 
+    /// T, the objective scale of a peak goal: max w·G_f over its fields.
+    fn peak_scale(&self, list: &[(usize, f64)]) -> f64 {
+        list.iter()
+            .map(|&(f, w)| w * self.g_ref[f])
+            .fold(0.0, f64::max)
+    }
+
+    /// The certified solution of a polish (`optimal`), its active maxima the sampled
+    /// angles (the other fields keep theirs), and the conditions for a neighbour's start.
+    #[allow(clippy::too_many_arguments)]
+    fn polished_solution(
+        &self,
+        goal: &Goal,
+        limits: &[(usize, f64)],
+        mut sets: Vec<Vec<(f64, AffineValue)>>,
+        po: PolishOutcome,
+        round: usize,
+        iters: u32,
+        solver_status: String,
+    ) -> Result<(Solution, KktStart), MinimaxError> {
+        for (f, set) in sets.iter_mut().enumerate() {
+            if po.terms.iter().any(|t| t.field == f) {
+                set.clear();
+            }
+        }
+        for t in &po.terms {
+            self.insert(&mut sets[t.field], t.field, t.theta)?;
+        }
+        let sol = self.finish(
+            goal,
+            limits,
+            &sets,
+            &po.x,
+            po.pk,
+            po.value,
+            (po.lower, po.lower_err, true),
+            Status::Optimal,
+            Stop::Converged,
+            None,
+            round,
+            iters,
+            solver_status,
+        )?;
+        Ok((
+            sol,
+            KktStart {
+                x_hat: po.x_hat,
+                t_hat: po.t_hat,
+                terms: po.terms,
+            },
+        ))
+    }
+
+    /// A round's active set polished by Newton ([`polish`]) into a candidate certificate
+    /// ([`Engine::polish_certify`]): the round's cones with multiplier ≥ 1e-6 whose refined
+    /// maxima are within 1e-5 (relative) of their bound at x start it. `None` when Newton fails (the
+    /// caller's loop goes on).
+    fn try_polish(
+        &self,
+        list: &[(usize, f64)],
+        limits: &[(usize, f64)],
+        rd: &Round,
+        x: &[f64],
+        pk: &[Option<PeriodicPeak>],
+    ) -> Result<Option<PolishOutcome>, MinimaxError> {
+        let n = self.n;
+        let Some(all) = self.round_terms(rd, pk) else {
+            return Ok(None);
+        };
+        let t_hat = rd.res.x[n];
+        let level = |t: &Term, th: f64| t.eps.unwrap_or(th);
+        let value_at = |t: &Term, x: &[f64]| -> Result<f64, MinimaxError> {
+            let d = self.pb.fields[t.field].dim();
+            Ok(t.c * self.eval(t.field, t.theta)?.magnitude(d, x))
+        };
+        let mut terms = Vec::new();
+        for t in all {
+            if t.weight >= 1e-6 && value_at(&t, x)? >= (1.0 - 1e-5) * level(&t, t_hat) {
+                terms.push(t);
+            }
+        }
+        let x_hat: Vec<f64> = x.iter().zip(&self.scale).map(|(v, s)| v / s).collect();
+        self.polish_certify(list, limits, terms, &x_hat, t_hat, rd.t_scale)
+    }
+
+    /// Newton from the given active maxima, design x̂ and objective t̂ ([`polish`]); the
+    /// polished design (projected) is scanned for its true peaks, a maximum found above the
+    /// polished level joins the set and Newton reruns (at most twice), and the lower bound
+    /// is the rigorous Lagrangian bound ([`Engine::lagrangian_bound`]) at the polished
+    /// angles and multipliers. `None` when Newton fails.
+    fn polish_certify(
+        &self,
+        list: &[(usize, f64)],
+        limits: &[(usize, f64)],
+        mut terms: Vec<Term>,
+        x_hat: &[f64],
+        t_hat: f64,
+        t_scale: f64,
+    ) -> Result<Option<PolishOutcome>, MinimaxError> {
+        if !terms.iter().any(|t| t.eps.is_none()) {
+            return Ok(None);
+        }
+        let mut x_hat = x_hat.to_vec();
+        let mut t_hat = t_hat;
+        let nf = self.pb.fields.len();
+        let h = std::f64::consts::TAU / self.s.scan_samples as f64;
+        for pass in 0..3 {
+            let Some(p) = self.polish(&terms, &x_hat, t_hat)? else {
+                return Ok(None);
+            };
+            let xp = self.project(
+                &p.x_hat
+                    .iter()
+                    .zip(&self.scale)
+                    .map(|(v, s)| v * s)
+                    .collect::<Vec<_>>(),
+            );
+            // The upper bound is a design's peak only if it is a design.
+            if self.design_violation(&xp) > polish::FEASIBLE {
+                return Ok(None);
+            }
+            let mut pkp: Vec<Option<PeriodicPeak>> = vec![None; nf];
+            for &(f, _) in list.iter().chain(limits) {
+                if pkp[f].is_none() {
+                    pkp[f] = Some(self.scan(f, &xp)?);
+                }
+            }
+            let peak_of = |f: usize| pkp[f].as_ref().expect("scanned").peak.fx;
+            let value = list
+                .iter()
+                .map(|&(f, w)| w * peak_of(f))
+                .fold(0.0, f64::max);
+            let lim_rel = limits
+                .iter()
+                .map(|&(f, e)| (peak_of(f) - e).max(0.0) / e.max(self.s.abs_floor * self.g0[f]))
+                .fold(0.0, f64::max);
+            // Maxima above the polished level that the set lacks join it (weight 0).
+            let mut missing = Vec::new();
+            let known = |f: usize, th: f64| {
+                p.terms.iter().any(|t| {
+                    t.field == f && crate::synth::counterweight::angle_dist(t.theta, th) <= h
+                })
+            };
+            let t_level = p.t_hat * t_scale;
+            for &(f, w) in list {
+                for m in &pkp[f].as_ref().expect("scanned").maxima {
+                    if w * m.fx > t_level * (1.0 + 0.1 * self.s.rel_tol) && !known(f, m.x) {
+                        missing.push(Term {
+                            field: f,
+                            theta: m.x,
+                            c: w / t_scale,
+                            eps: None,
+                            weight: 0.0,
+                        });
+                    }
+                }
+            }
+            for &(f, e) in limits {
+                for m in &pkp[f].as_ref().expect("scanned").maxima {
+                    if m.fx > e * (1.0 + 0.1 * self.s.rel_tol) && !known(f, m.x) {
+                        let g = self.g_ref[f];
+                        missing.push(Term {
+                            field: f,
+                            theta: m.x,
+                            c: 1.0 / g,
+                            eps: Some(e / g),
+                            weight: 0.0,
+                        });
+                    }
+                }
+            }
+            if !missing.is_empty() && pass < 2 {
+                terms = p.terms.clone();
+                terms.extend(missing);
+                x_hat = p.x_hat.clone();
+                t_hat = p.t_hat;
+                continue;
+            }
+            // Newton's own dual point first; clarabel's Lagrangian SOCPs where it falls short.
+            let mut bound = self.kkt_bound(&p, &xp, t_scale)?;
+            if bound.is_none_or(|b| value - b.0 > self.s.rel_tol * value) {
+                if let Some(b) = self.lagrangian_bound(&p.terms, &xp, t_scale)? {
+                    if bound.is_none_or(|a| b.0 > a.0) {
+                        bound = Some(b);
+                    }
+                }
+            }
+            let Some((lower, lower_err)) = bound else {
+                return Ok(None);
+            };
+            return Ok(Some(PolishOutcome {
+                x: xp,
+                pk: pkp,
+                value,
+                lim_rel,
+                lower,
+                lower_err,
+                x_hat: p.x_hat,
+                t_hat: p.t_hat,
+                terms: p.terms,
+            }));
+        }
+        Ok(None)
+    }
+
     /// A Lagrangian lower bound of a peak goal from a round's dual, with the sampled angles
     /// moved to the refined maxima at x. For weights λ_k ≥ 0 with Σλ = 1 (objective cones)
     /// and μ_l ≥ 0 (limit cones), every design y meeting the limits at all angles has
@@ -1910,7 +2254,16 @@ impl<'p, 'a> Engine<'p, 'a> {
         x: &[f64],
         pk: &[Option<PeriodicPeak>],
     ) -> Result<Option<(f64, f64)>, MinimaxError> {
-        let n = self.n;
+        match self.round_terms(rd, pk) {
+            Some(terms) => self.lagrangian_bound(&terms, x, rd.t_scale),
+            None => Ok(None),
+        }
+    }
+
+    /// A round's cones with their multipliers (z₀ of each, normalised by Σ z₀ over the
+    /// objective cones), moved to the refined maximum of their field within two scan steps
+    /// and merged there; weights ≤ 1e-9 dropped. `None` without objective weight.
+    fn round_terms(&self, rd: &Round, pk: &[Option<PeriodicPeak>]) -> Option<Vec<Term>> {
         let z = &rd.res.z;
         let sum: f64 = rd
             .tags
@@ -1919,11 +2272,11 @@ impl<'p, 'a> Engine<'p, 'a> {
             .map(|t| z[t.row].max(0.0))
             .sum();
         if !(sum > 0.0) {
-            return Ok(None);
+            return None;
         }
         let h = std::f64::consts::TAU / self.s.scan_samples as f64;
         // (field, angle, c, ε̂) → weight, merged over the tags that move to one maximum.
-        let mut terms: Vec<(usize, f64, f64, Option<f64>, f64)> = Vec::new();
+        let mut terms: Vec<Term> = Vec::new();
         for t in &rd.tags {
             let lam = z[t.row].max(0.0) / sum;
             // Weights of inactive cones (interior-point noise) are dropped: any subset of
@@ -1945,26 +2298,41 @@ impl<'p, 'a> Engine<'p, 'a> {
                 .map_or(t.theta, |m| m.1);
             match terms
                 .iter_mut()
-                .find(|e| e.0 == f && e.1 == theta && e.2 == t.c && e.3 == t.eps)
+                .find(|e| e.field == f && e.theta == theta && e.c == t.c && e.eps == t.eps)
             {
-                Some(e) => e.4 += lam,
-                None => terms.push((f, theta, t.c, t.eps, lam)),
+                Some(e) => e.weight += lam,
+                None => terms.push(Term {
+                    field: f,
+                    theta,
+                    c: t.c,
+                    eps: t.eps,
+                    weight: lam,
+                }),
             }
         }
-        // The kept objective weights renormalised to Σλ = 1 (another admissible choice; the
-        // dropped mass would otherwise lower the bound by itself times V).
-        let kept: f64 = terms.iter().filter(|t| t.3.is_none()).map(|t| t.4).sum();
-        if !(kept > 0.0) {
+        Some(terms)
+    }
+
+    /// The Lagrangian lower bound (see [`Engine::dual_bound`]) of the given terms (their
+    /// negative weights taken as 0), caller's units with the objective scale T.
+    fn lagrangian_bound(
+        &self,
+        terms: &[Term],
+        x: &[f64],
+        t_scale: f64,
+    ) -> Result<Option<(f64, f64)>, MinimaxError> {
+        let n = self.n;
+        let Some(terms) = Self::bound_terms(terms) else {
             return Ok(None);
-        }
-        terms.iter_mut().for_each(|t| t.4 /= kept);
+        };
         let k = terms.len();
         let nv = n + k;
         let mut rows = Rows::default();
         let mut q = vec![0.0; nv];
         let mut xb = self.xbound.clone();
         let mut cst = 0.0;
-        for (i, &(f, theta, c, eps, lam)) in terms.iter().enumerate() {
+        for (i, t) in terms.iter().enumerate() {
+            let (f, theta, c, eps, lam) = (t.field, t.theta, t.c, t.eps, t.weight);
             let d = self.pb.fields[f].dim();
             let v = self.eval(f, theta)?;
             q[n + i] = lam;
@@ -1989,26 +2357,7 @@ impl<'p, 'a> Engine<'p, 'a> {
         // The linearised form: ‖ĝ‖ ≥ ⟨ν, ĝ⟩ with ν the field's direction at x — a linear
         // objective over the design constraints, tight where one maximum meets a curved
         // constraint (the norm form lets the design slide along it there).
-        let (mut ql, mut cl) = (vec![0.0; n], 0.0);
-        for &(f, theta, c, eps, lam) in &terms {
-            let d = self.pb.fields[f].dim();
-            let v = self.eval(f, theta)?;
-            let g = v.at(d, x);
-            let norm = g[..d].iter().map(|a| a * a).sum::<f64>().sqrt();
-            if let Some(e) = eps {
-                cl -= lam * e;
-            }
-            if !(norm > 0.0) {
-                continue;
-            }
-            for (r, gr) in g.iter().enumerate().take(d) {
-                let kk = lam * c * gr / norm;
-                cl += kk * v.b[r];
-                for (j, a) in v.row(r).iter().enumerate() {
-                    ql[j] += kk * a * self.scale[j];
-                }
-            }
-        }
+        let (ql, cl) = self.linearised(&terms, x)?;
         let mut lrows = Rows::default();
         self.design_rows(&mut lrows);
         let lin = lrows.build(n, CscMatrix::zeros((n, n)), ql);
@@ -2030,7 +2379,121 @@ impl<'p, 'a> Engine<'p, 'a> {
             }
         }
         let _ = k;
-        Ok(best.map(|(lb, pen)| (rd.t_scale * lb, rd.t_scale * pen)))
+        Ok(best.map(|(lb, pen)| (t_scale * lb, t_scale * pen)))
+    }
+
+    /// The terms with positive weight, the objective's
+    /// renormalised to Σλ = 1 (another admissible choice; the dropped mass would otherwise
+    /// lower the bound by itself times V); `None` without objective weight.
+    fn bound_terms(terms: &[Term]) -> Option<Vec<Term>> {
+        let mut terms: Vec<Term> = terms.iter().filter(|t| t.weight > 0.0).cloned().collect();
+        let kept: f64 = terms
+            .iter()
+            .filter(|t| t.eps.is_none())
+            .map(|t| t.weight)
+            .sum();
+        if !(kept > 0.0) {
+            return None;
+        }
+        terms.iter_mut().for_each(|t| t.weight /= kept);
+        Some(terms)
+    }
+
+    /// The linearised Lagrangian of the terms at x: Σ_k λ_k ⟨ν_k, ĝ_k(x̂')⟩ − Σ_l μ_l ε̂_l
+    /// = qᵀx̂' + c (ν_k the field's direction at x, |ν_k| = 1), a lower bound of the
+    /// Lagrangian at every design x̂'. Returns (q, c).
+    fn linearised(&self, terms: &[Term], x: &[f64]) -> Result<(Vec<f64>, f64), MinimaxError> {
+        let (mut ql, mut cl) = (vec![0.0; self.n], 0.0);
+        for t in terms {
+            let (f, theta, c, eps, lam) = (t.field, t.theta, t.c, t.eps, t.weight);
+            let d = self.pb.fields[f].dim();
+            let v = self.eval(f, theta)?;
+            let g = v.at(d, x);
+            let norm = g[..d].iter().map(|a| a * a).sum::<f64>().sqrt();
+            if let Some(e) = eps {
+                cl -= lam * e;
+            }
+            if !(norm > 0.0) {
+                continue;
+            }
+            for (r, gr) in g.iter().enumerate().take(d) {
+                let kk = lam * c * gr / norm;
+                cl += kk * v.b[r];
+                for (j, a) in v.row(r).iter().enumerate() {
+                    ql[j] += kk * a * self.scale[j];
+                }
+            }
+        }
+        Ok((ql, cl))
+    }
+
+    /// The linearised Lagrangian bound of a polish with the dual point of the design cones
+    /// formed from Newton's multipliers ν_i instead of a clarabel solve: min qᵀx̂ + c over
+    /// the design constraints is bounded by weak duality ([`dual_lower_bound`], rigorous at
+    /// any dual point) at z_i = ν_i (a linear row), ν(1, −û/|û|) (the radius cone
+    /// s = (k m̂, û)), ν/2·(s₀, −s_t) (the body cone s = (Î + m̂, 2û, Î − m̂)). With
+    /// multipliers accurate to round-off this is tight where a clarabel solve is not: the
+    /// limits' multipliers can be large near the front's end, and the bound is then a small
+    /// difference of large terms. Caller's units; `None` when the polish has no design
+    /// multipliers.
+    fn kkt_bound(
+        &self,
+        p: &polish::Polished,
+        x: &[f64],
+        t_scale: f64,
+    ) -> Result<Option<(f64, f64)>, MinimaxError> {
+        let (Some(terms), Some(design)) = (Self::bound_terms(&p.terms), p.design_nu.as_ref())
+        else {
+            return Ok(None);
+        };
+        let (ql, cl) = self.linearised(&terms, x)?;
+        let mut rows = Rows::default();
+        self.design_rows(&mut rows);
+        let lin = rows.build(self.n, CscMatrix::zeros((self.n, self.n)), ql);
+        let cons = self.design_constraints();
+        // The rows of `design_rows` are those of `design_constraints`, in order: a linear
+        // constraint one row, the radius cone three, the body cone four.
+        let rows_of = |d: &Design| match d {
+            Design::Linear { .. } => 1,
+            Design::Radius { .. } => 3,
+            Design::Body { .. } => 4,
+        };
+        if cons.iter().map(rows_of).sum::<usize>() != lin.b.len() {
+            return Ok(None);
+        }
+        let mut z = vec![0.0; lin.b.len()];
+        let xh = &p.x_hat;
+        let mut at = 0;
+        for (i, d) in cons.iter().enumerate() {
+            let nu = design.iter().find(|e| e.0 == i).map_or(0.0, |e| e.1);
+            match d {
+                Design::Linear { .. } => {
+                    z[at] = nu;
+                    at += 1;
+                }
+                Design::Radius { u, .. } => {
+                    let r = xh[*u].hypot(xh[u + 1]);
+                    if nu != 0.0 && r > 0.0 {
+                        z[at] = nu;
+                        z[at + 1] = -nu * xh[*u] / r;
+                        z[at + 2] = -nu * xh[u + 1] / r;
+                    }
+                    at += 3;
+                }
+                Design::Body { m, u, i } => {
+                    let h = 0.5 * nu;
+                    z[at] = h * (xh[*i] + xh[*m]);
+                    z[at + 1] = -h * 2.0 * xh[*u];
+                    z[at + 2] = -h * 2.0 * xh[u + 1];
+                    z[at + 3] = -h * (xh[*i] - xh[*m]);
+                    at += 4;
+                }
+            }
+        }
+        let (lb, pen) = dual_lower_bound(&lin, &z, &self.xbound);
+        Ok(lb
+            .is_finite()
+            .then_some((t_scale * (lb + cl), t_scale * pen)))
     }
 
     /// The design constraints in scaled variables.
@@ -2132,42 +2595,50 @@ impl<'p, 'a> Engine<'p, 'a> {
         x
     }
 
-    /// Largest relative violation of the design constraints at x.
-    fn design_violation(&self, x: &[f64]) -> f64 {
+    /// The design constraints in scaled variables as smooth functions d(x̂) ≤ 0 (or = 0),
+    /// each relative to its scale (the same constraints as [`Engine::design_rows`]'s cones).
+    fn design_constraints(&self) -> Vec<Design> {
         let sc = &self.scale;
-        let mut v: f64 = 0.0;
+        let lin = |a: Vec<(usize, f64)>, r: f64| Design::Linear { a, r, eq: false };
+        let mut out = Vec::new();
         for (j, c) in self.pb.counterweights.iter().enumerate() {
-            let (m, ux, i) = (var_m(j), var_u(j), var_i(j));
-            let (mm, u, ii) = (x[m], [x[ux], x[ux + 1]], x[i]);
-            let un = u[0].hypot(u[1]);
-            v = v
-                .max(-mm / sc[m])
-                .max((mm - c.m_max) / sc[m])
-                .max(-ii / sc[i]);
+            let (m, u, i) = (var_m(j), var_u(j), var_i(j));
+            let l = c.length();
+            out.push(lin(vec![(m, -1.0)], 0.0));
+            out.push(lin(vec![(m, 1.0)], 1.0));
+            out.push(lin(vec![(i, -1.0)], 0.0));
             if c.inertia_max.is_finite() {
-                v = v.max((ii - c.inertia_max) / sc[i]);
+                out.push(lin(vec![(i, 1.0)], c.inertia_max / sc[i]));
             }
             if c.envelope.is_finite() {
-                v = v.max((ii - c.envelope * c.envelope * mm) / sc[i]);
+                out.push(lin(vec![(i, 1.0), (m, -(c.envelope / l).powi(2))], 0.0));
             }
             if c.r_max.is_finite() {
-                v = v.max((un - c.r_max * mm) / sc[ux]);
+                out.push(Design::Radius {
+                    m,
+                    u,
+                    k: c.r_max / l,
+                });
             }
-            v = v.max((un * un - ii * mm) / (sc[i] * sc[m]));
+            out.push(Design::Body { m, u, i });
             if let Some((lo, hi)) = c.sector {
                 let (sl, cl) = lo.sin_cos();
                 let (sh, ch) = hi.sin_cos();
                 let (sm, cm) = (0.5 * (lo + hi)).sin_cos();
-                v = v
-                    .max(-(cl * u[1] - sl * u[0]) / sc[ux])
-                    .max(-(sh * u[0] - ch * u[1]) / sc[ux])
-                    .max(-(cm * u[0] + sm * u[1]) / sc[ux]);
+                out.push(lin(vec![(u, sl), (u + 1, -cl)], 0.0));
+                out.push(lin(vec![(u, -sh), (u + 1, ch)], 0.0));
+                out.push(lin(vec![(u, -cm), (u + 1, -sm)], 0.0));
             }
         }
         let n_cw = PER_COUNTERWEIGHT * self.pb.counterweights.len();
         for (e, &(lo, hi)) in self.pb.extra.iter().enumerate() {
             let j = n_cw + e;
-            v = v.max((lo - x[j]) / sc[j]).max((x[j] - hi) / sc[j]);
+            if lo.is_finite() {
+                out.push(lin(vec![(j, -1.0)], -lo / sc[j]));
+            }
+            if hi.is_finite() {
+                out.push(lin(vec![(j, 1.0)], hi / sc[j]));
+            }
         }
         for lc in &self.pb.linear {
             let big = lc
@@ -2175,13 +2646,33 @@ impl<'p, 'a> Engine<'p, 'a> {
                 .iter()
                 .map(|&(j, c)| (c * sc[j]).abs())
                 .fold(0.0, f64::max);
-            let r = (lc.coeffs.iter().map(|&(j, c)| c * x[j]).sum::<f64>() - lc.rhs) / big;
-            v = v.max(match lc.relation {
-                Relation::Eq => r.abs(),
-                Relation::Le => r,
+            out.push(Design::Linear {
+                a: lc
+                    .coeffs
+                    .iter()
+                    .map(|&(j, c)| (j, c * sc[j] / big))
+                    .collect(),
+                r: lc.rhs / big,
+                eq: lc.relation == Relation::Eq,
             });
         }
-        v.max(0.0)
+        out
+    }
+
+    /// Largest relative violation of the design constraints at x.
+    fn design_violation(&self, x: &[f64]) -> f64 {
+        let xh: Vec<f64> = x.iter().zip(&self.scale).map(|(v, s)| v / s).collect();
+        self.design_constraints()
+            .iter()
+            .map(|d| {
+                let v = d.value(&xh);
+                if d.is_eq() {
+                    v.abs()
+                } else {
+                    v
+                }
+            })
+            .fold(0.0, f64::max)
     }
 
     /// The solution of one round with its figures and error bounds.

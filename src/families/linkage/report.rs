@@ -383,7 +383,7 @@ fn design_keys(r: &mut SolveResult, p: &LinkageProblem, out: &Outcome, sol: &Sol
         );
     }
     r.method = format!(
-        "closed-form dyads; {} + exchange loop: {} rounds, {} angles, {} IPM iterations{}",
+        "closed-form dyads; {} + exchange loop: {} rounds, {} angles, {} IPM iterations{}{}",
         if sol.solver_status == crate::synth::minimax::DISC_SOLVER {
             "smallest enclosing disc (Welzl, support angles by Newton)"
         } else {
@@ -392,6 +392,11 @@ fn design_keys(r: &mut SolveResult, p: &LinkageProblem, out: &Outcome, sol: &Sol
         sol.rounds,
         sol.angles,
         sol.ipm_iterations,
+        if sol.solver_status.contains(crate::synth::minimax::POLISHED) {
+            "; optimality conditions (active maxima, angles, multipliers) polished by Newton"
+        } else {
+            ""
+        },
         if out.balance_rows > 0 {
             format!(
                 "; full force balance as {} equalities (SVD of the force blocks)",
@@ -471,7 +476,9 @@ fn pareto_keys(r: &mut SolveResult, front: &crate::synth::minimax::ParetoFront, 
     );
     r.tables.push(Table {
         suffix: "pareto".into(),
-        caption: "Peak shaking force against peak shaking moment: each point its own SOCP".into(),
+        caption:
+            "Peak shaking force against peak shaking moment: each point its own certified solve"
+                .into(),
         csv,
     });
     let line: Vec<(f64, f64)> = order

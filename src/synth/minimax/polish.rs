@@ -1,0 +1,530 @@
+//! Newton polish of the minimax's optimality conditions (issue 17): the exchange loop's
+//! SOCP on sampled angles yields a design only as accurate as clarabel (about 1e-8
+//! relative where the cones cluster around moving maxima), which is not enough to certify
+//! 1e-9. Once a round has located the active maxima, the semi-infinite problem's KKT system
+//! is solved by Newton to machine precision instead, with the maxima's angles among the
+//! unknowns; the design it gives and its multipliers then feed the engine's usual
+//! certificate (refined true peak against the rigorous Lagrangian bound), so nothing here
+//! has to be trusted.
+//!
+//! In the engine's scaled variables x̂ (x = S x̂) and objective t̂ = t/T, an active maximum p
+//! of field f is the constraint φ_p = c_p·|g_f(θ_p; S x̂)| ≤ t̂ (objective, c_p = w/T) or
+//! ≤ ε̂_p (limit, c_p = 1/G_f), with multiplier w_p; an active design constraint i is
+//! d_i(x̂) ≤ 0 (or = 0) with multiplier ν_i ([`Design`]). The unknowns (x̂, t̂, θ, w, ν)
+//! solve
+//!
+//! * Σ_p w_p ∇φ_p + Σ_i ν_i ∇d_i = 0 (stationarity in x̂), 1 − Σ_obj w_p = 0 (in t̂);
+//! * ∂φ_p/∂θ = 0 (each θ_p a maximum of its field);
+//! * φ_p = t̂ or ε̂_p, d_i = 0 (the active set).
+//!
+//! The field's θ-derivatives come from a five-point stencil (step 2·10⁻⁴ rad: truncation
+//! and round-off both near 1e-12 relative for the first derivative); an error there moves
+//! the angles, whose effect on the values is of second order. The Newton step is the
+//! least-squares solution of minimum norm (SVD), so variables no active constraint
+//! involves (a counterweight's mass or inertia the fields do not see) stay where clarabel
+//! put them. Multipliers that come out negative drop their constraint and Newton reruns;
+//! a maximum the refined scan finds above the polished level joins the set (the caller).
+
+use super::{AffineValue, Engine, MinimaxError};
+use nalgebra::{DMatrix, DVector};
+
+/// A sampled cone moved to a refined maximum, with its multiplier: the constraint
+/// c·|g_f(θ; S x̂)| ≤ t̂ (objective, `eps` = None) or ≤ ε̂ (limit).
+#[derive(Debug, Clone, PartialEq)]
+pub(super) struct Term {
+    /// The field f.
+    pub field: usize,
+    /// θ (rad).
+    pub theta: f64,
+    /// c: the factor of the field (w/T for the objective, 1/G_f for a limit).
+    pub c: f64,
+    /// ε̂ = ε/G_f for a limit.
+    pub eps: Option<f64>,
+    /// The multiplier (λ of an objective cone, normalised Σλ = 1; μ̂ of a limit).
+    pub weight: f64,
+}
+
+/// One design constraint in the scaled variables as a smooth function: d(x̂) ≤ 0, or = 0.
+#[derive(Debug, Clone, PartialEq)]
+pub(super) enum Design {
+    /// Σ a_j x̂_j − r (≤ 0, or = 0 when `eq`).
+    Linear {
+        /// (j, a_j).
+        a: Vec<(usize, f64)>,
+        /// r.
+        r: f64,
+        /// An equality.
+        eq: bool,
+    },
+    /// |û| − k·m̂ ≤ 0: the centroid within r_max (k = r_max/ℓ).
+    Radius {
+        /// Index of m̂.
+        m: usize,
+        /// Index of û_x (û_y follows).
+        u: usize,
+        /// k.
+        k: f64,
+    },
+    /// |û|² − Î·m̂ ≤ 0: a real body (J ≥ 0).
+    Body {
+        /// Index of m̂.
+        m: usize,
+        /// Index of û_x.
+        u: usize,
+        /// Index of Î.
+        i: usize,
+    },
+}
+
+impl Design {
+    /// d(x̂).
+    pub fn value(&self, x: &[f64]) -> f64 {
+        match self {
+            Design::Linear { a, r, .. } => a.iter().map(|&(j, c)| c * x[j]).sum::<f64>() - r,
+            Design::Radius { m, u, k } => x[*u].hypot(x[u + 1]) - k * x[*m],
+            Design::Body { m, u, i } => x[*u] * x[*u] + x[u + 1] * x[u + 1] - x[*i] * x[*m],
+        }
+    }
+    /// An equality.
+    pub fn is_eq(&self) -> bool {
+        matches!(self, Design::Linear { eq: true, .. })
+    }
+    /// ∇d at x̂, written into `g` (length n, zeroed here).
+    fn grad(&self, x: &[f64], g: &mut [f64]) {
+        g.iter_mut().for_each(|v| *v = 0.0);
+        match self {
+            Design::Linear { a, .. } => a.iter().for_each(|&(j, c)| g[j] += c),
+            Design::Radius { m, u, k } => {
+                let r = x[*u].hypot(x[u + 1]);
+                g[*m] = -k;
+                if r > 0.0 {
+                    g[*u] = x[*u] / r;
+                    g[u + 1] = x[u + 1] / r;
+                }
+            }
+            Design::Body { m, u, i } => {
+                g[*u] = 2.0 * x[*u];
+                g[u + 1] = 2.0 * x[u + 1];
+                g[*i] = -x[*m];
+                g[*m] = -x[*i];
+            }
+        }
+    }
+    /// Adds w·∇²d at x̂ to the block of `h` at (0, 0).
+    fn add_hessian(&self, x: &[f64], w: f64, h: &mut DMatrix<f64>) {
+        match self {
+            Design::Linear { .. } => {}
+            Design::Radius { u, .. } => {
+                let r = x[*u].hypot(x[u + 1]);
+                if r > 0.0 {
+                    let e = [x[*u] / r, x[u + 1] / r];
+                    for a in 0..2 {
+                        for b in 0..2 {
+                            let id = if a == b { 1.0 } else { 0.0 };
+                            h[(u + a, u + b)] += w * (id - e[a] * e[b]) / r;
+                        }
+                    }
+                }
+            }
+            Design::Body { m, u, i } => {
+                h[(*u, *u)] += 2.0 * w;
+                h[(u + 1, u + 1)] += 2.0 * w;
+                h[(*m, *i)] -= w;
+                h[(*i, *m)] -= w;
+            }
+        }
+    }
+}
+
+/// A polished point: the scaled design and objective, the active maxima at their exact
+/// angles with their multipliers, and the active design constraints with theirs.
+#[derive(Debug, Clone)]
+pub(super) struct Polished {
+    /// x̂.
+    pub x_hat: Vec<f64>,
+    /// t̂.
+    pub t_hat: f64,
+    /// The active maxima.
+    pub terms: Vec<Term>,
+    /// The active design constraints (indices into `cons`, the polish's list) and their
+    /// multipliers, as Newton works with them.
+    pub design: Vec<(usize, f64)>,
+    /// The same as indices into [`Engine::design_constraints`]; `None` when the polish
+    /// added constraints of its own (a counterweight at the apex of its cones).
+    pub design_nu: Option<Vec<(usize, f64)>>,
+}
+
+/// φ = c|g_f(θ; S x̂)| and its derivatives at (θ, x̂).
+struct Local {
+    phi: f64,
+    /// ∂φ/∂θ.
+    d1: f64,
+    /// ∂²φ/∂θ².
+    d2: f64,
+    /// ∇_x̂ φ.
+    grad: Vec<f64>,
+    /// ∂/∂θ ∇_x̂ φ.
+    dgrad: Vec<f64>,
+    /// ∇²_x̂ φ (2-D fields only; 0 for a scalar).
+    hess: Option<DMatrix<f64>>,
+}
+
+/// The stencil step (rad).
+const STEP: f64 = 2e-4;
+/// Newton iterations at most per active set.
+const MAX_NEWTON: usize = 40;
+/// Active-set passes at most (drops of negative multipliers, additions of violated
+/// design constraints).
+const MAX_PASSES: usize = 6;
+/// A polished design must meet every design constraint to this (scaled) value: its peak is
+/// the certificate's upper bound only if it is a design at all.
+pub(super) const FEASIBLE: f64 = 1e-12;
+/// A design constraint is taken as active at the start when d(x̂) ≥ −this.
+const ACTIVE_SLACK: f64 = 1e-5;
+
+impl Engine<'_, '_> {
+    /// The local expansion of a term's φ.
+    fn local(&self, t: &Term, x_hat: &[f64]) -> Result<Local, MinimaxError> {
+        let n = self.n;
+        let d = self.pb.fields[t.field].dim();
+        let xs: Vec<f64> = x_hat.iter().zip(&self.scale).map(|(a, s)| a * s).collect();
+        let vals: Vec<AffineValue> = (-2..=2)
+            .map(|k| self.eval(t.field, t.theta + k as f64 * STEP))
+            .collect::<Result<_, _>>()?;
+        let d1 = |f: &dyn Fn(&AffineValue) -> f64| {
+            (f(&vals[0]) - 8.0 * f(&vals[1]) + 8.0 * f(&vals[3]) - f(&vals[4])) / (12.0 * STEP)
+        };
+        let d2 = |f: &dyn Fn(&AffineValue) -> f64| {
+            (-f(&vals[0]) + 16.0 * f(&vals[1]) - 30.0 * f(&vals[2]) + 16.0 * f(&vals[3])
+                - f(&vals[4]))
+                / (12.0 * STEP * STEP)
+        };
+        let c = t.c;
+        let (mut g, mut g1, mut g2) = ([0.0; 2], [0.0; 2], [0.0; 2]);
+        let mut jx = vec![[0.0; 2]; n];
+        let mut j1 = vec![[0.0; 2]; n];
+        for r in 0..d {
+            let gr = |v: &AffineValue| c * v.at(d, &xs)[r];
+            g[r] = c * vals[2].at(d, &xs)[r];
+            g1[r] = d1(&gr);
+            g2[r] = d2(&gr);
+            for j in 0..n {
+                let a = |v: &AffineValue| c * v.row(r)[j] * self.scale[j];
+                jx[j][r] = c * vals[2].row(r)[j] * self.scale[j];
+                j1[j][r] = d1(&a);
+            }
+        }
+        if d == 1 {
+            let s = if g[0] < 0.0 { -1.0 } else { 1.0 };
+            return Ok(Local {
+                phi: s * g[0],
+                d1: s * g1[0],
+                d2: s * g2[0],
+                grad: jx.iter().map(|a| s * a[0]).collect(),
+                dgrad: j1.iter().map(|a| s * a[0]).collect(),
+                hess: None,
+            });
+        }
+        let phi = g[0].hypot(g[1]);
+        let e = [g[0] / phi, g[1] / phi];
+        let dot = |a: [f64; 2], b: [f64; 2]| a[0] * b[0] + a[1] * b[1];
+        let gg1 = dot(g, g1);
+        // P g' / φ with P = I − ê êᵀ.
+        let pg1 = [
+            (g1[0] - e[0] * dot(e, g1)) / phi,
+            (g1[1] - e[1] * dot(e, g1)) / phi,
+        ];
+        let mut hess = DMatrix::zeros(n, n);
+        for a in 0..n {
+            for b in 0..n {
+                hess[(a, b)] = (dot(jx[a], jx[b]) - dot(e, jx[a]) * dot(e, jx[b])) / phi;
+            }
+        }
+        Ok(Local {
+            phi,
+            d1: gg1 / phi,
+            d2: (dot(g1, g1) + dot(g, g2)) / phi - gg1 * gg1 / phi.powi(3),
+            grad: jx.iter().map(|a| dot(e, *a)).collect(),
+            dgrad: (0..n).map(|j| dot(e, j1[j]) + dot(pg1, jx[j])).collect(),
+            hess: Some(hess),
+        })
+    }
+
+    /// Newton on the KKT system for the given active maxima (their angles and multipliers
+    /// the start) from the scaled design x̂ and objective t̂; the active design constraints
+    /// are those within [`ACTIVE_SLACK`] of their bound at x̂ (equalities always). Returns
+    /// `None` when no active set gives a converged system with multipliers ≥ 0.
+    pub(super) fn polish(
+        &self,
+        terms: &[Term],
+        x_hat: &[f64],
+        t_hat: f64,
+    ) -> Result<Option<Polished>, MinimaxError> {
+        let cons = self.design_constraints();
+        let active: Vec<usize> = (0..cons.len())
+            .filter(|&i| cons[i].is_eq() || cons[i].value(x_hat) >= -ACTIVE_SLACK)
+            .collect();
+        // A counterweight at m̂ = 0 sits at the apex of its cones: there its û is 0 and the
+        // two cones (not smooth there) leave the set; the bounds hold m̂ and û at 0.
+        let mut extra: Vec<Design> = Vec::new();
+        let mut active = active;
+        active.retain(|&i| match &cons[i] {
+            Design::Radius { m, u, .. } | Design::Body { m, u, .. } => {
+                let apex = x_hat[*m] < ACTIVE_SLACK && x_hat[*u].hypot(x_hat[u + 1]) < ACTIVE_SLACK;
+                if apex
+                    && !extra
+                        .iter()
+                        .any(|e| matches!(e, Design::Linear { a, .. } if a[0].0 == *u))
+                {
+                    for k in 0..2 {
+                        extra.push(Design::Linear {
+                            a: vec![(u + k, 1.0)],
+                            r: 0.0,
+                            eq: true,
+                        });
+                    }
+                }
+                !apex
+            }
+            _ => true,
+        });
+        let base = cons.len();
+        let cons: Vec<Design> = cons.into_iter().chain(extra).collect();
+        active.extend(base..cons.len());
+        // Dependent active constraints (a point mass at the radius limit with the envelope
+        // of the same radius: I = ρ²m and |u| = ρm imply I·m = |u|²) leave no unique
+        // multipliers; each pass keeps only those whose gradients are independent.
+        let mut candidates = active;
+        let mut terms = terms.to_vec();
+        for _ in 0..MAX_PASSES {
+            let active = independent(&cons, candidates.clone(), x_hat);
+            let Some(p) = self.newton(&terms, &cons, &active, x_hat, t_hat)? else {
+                return Ok(None);
+            };
+            // The most negative multiplier (relative to the objective's, Σλ = 1) leaves.
+            let worst_term = p
+                .terms
+                .iter()
+                .enumerate()
+                .map(|(k, t)| (k, t.weight))
+                .min_by(|a, b| a.1.total_cmp(&b.1));
+            let worst_design = p
+                .design
+                .iter()
+                .enumerate()
+                .filter(|(_, (i, _))| !cons[*i].is_eq())
+                .map(|(k, &(_, v))| (k, v))
+                .min_by(|a, b| a.1.total_cmp(&b.1));
+            const NEG: f64 = -1e-10;
+            match (worst_term, worst_design) {
+                (Some((k, w)), d) if w < NEG && d.is_none_or(|d| w <= d.1) => {
+                    terms.remove(k);
+                }
+                (_, Some((k, v))) if v < NEG => {
+                    // It leaves; a constraint it made dependent may come back.
+                    candidates.retain(|&i| i != active[k]);
+                }
+                _ => {
+                    // A design constraint the polished design violates joins the set.
+                    let worst = (0..cons.len())
+                        .filter(|i| !candidates.contains(i))
+                        .map(|i| (i, cons[i].value(&p.x_hat)))
+                        .max_by(|a, b| a.1.total_cmp(&b.1));
+                    if let Some((i, v)) = worst {
+                        if v > FEASIBLE {
+                            candidates.push(i);
+                            continue;
+                        }
+                    }
+                    // The apex's equalities are not the design cones': no multipliers then.
+                    let design = (cons.len() == base).then(|| p.design.clone());
+                    return Ok(Some(Polished {
+                        design_nu: design,
+                        ..p
+                    }));
+                }
+            }
+            if terms.iter().all(|t| t.eps.is_some()) {
+                return Ok(None);
+            }
+        }
+        Ok(None)
+    }
+
+    /// Newton on one active set; `None` if it diverges or an angle leaves its maximum's
+    /// neighbourhood.
+    fn newton(
+        &self,
+        terms: &[Term],
+        cons: &[Design],
+        active: &[usize],
+        x_hat: &[f64],
+        t_hat: f64,
+    ) -> Result<Option<Polished>, MinimaxError> {
+        let n = self.n;
+        let np = terms.len();
+        let ni = active.len();
+        let (it, ith, iw, inu) = (n, n + 1, n + 1 + np, n + 1 + 2 * np);
+        let size = inu + ni;
+        let mut x = x_hat.to_vec();
+        let mut t = t_hat;
+        let mut terms = terms.to_vec();
+        let start: Vec<f64> = terms.iter().map(|p| p.theta).collect();
+        let mut nu = vec![0.0; ni];
+        let mut grad_d = vec![0.0; n];
+        let mut last = f64::INFINITY;
+        let mut stalls = 0;
+        for _ in 0..MAX_NEWTON {
+            let mut r = DVector::<f64>::zeros(size);
+            let mut jac = DMatrix::<f64>::zeros(size, size);
+            let mut hxx = DMatrix::<f64>::zeros(n, n);
+            r[it] = 1.0;
+            for (p, term) in terms.iter().enumerate() {
+                let l = self.local(term, &x)?;
+                let w = term.weight;
+                for j in 0..n {
+                    r[j] += w * l.grad[j];
+                    jac[(j, ith + p)] = w * l.dgrad[j];
+                    jac[(j, iw + p)] = l.grad[j];
+                    jac[(ith + p, j)] = l.dgrad[j];
+                    jac[(iw + p, j)] = l.grad[j];
+                }
+                if let Some(h) = &l.hess {
+                    hxx += w * h;
+                }
+                r[ith + p] = l.d1;
+                jac[(ith + p, ith + p)] = l.d2;
+                jac[(iw + p, ith + p)] = l.d1;
+                match term.eps {
+                    None => {
+                        r[it] -= w;
+                        jac[(it, iw + p)] = -1.0;
+                        r[iw + p] = l.phi - t;
+                        jac[(iw + p, it)] = -1.0;
+                    }
+                    Some(e) => r[iw + p] = l.phi - e,
+                }
+            }
+            for (k, &i) in active.iter().enumerate() {
+                cons[i].grad(&x, &mut grad_d);
+                cons[i].add_hessian(&x, nu[k], &mut hxx);
+                for j in 0..n {
+                    r[j] += nu[k] * grad_d[j];
+                    jac[(j, inu + k)] = grad_d[j];
+                    jac[(inu + k, j)] = grad_d[j];
+                }
+                r[inu + k] = cons[i].value(&x);
+            }
+            jac.view_mut((0, 0), (n, n)).copy_from(&hxx);
+            let res = r.amax();
+            if !res.is_finite() {
+                return Ok(None);
+            }
+            if res <= 1e-14 {
+                last = res;
+                break;
+            }
+            if res >= 0.99 * last {
+                stalls += 1;
+                if stalls >= 3 {
+                    last = last.min(res);
+                    break;
+                }
+            }
+            last = res;
+            let Some(step) = kkt_step(&jac, &r) else {
+                return Ok(None);
+            };
+            for j in 0..n {
+                x[j] += step[j];
+            }
+            t += step[it];
+            for (p, term) in terms.iter_mut().enumerate() {
+                term.theta += step[ith + p];
+                term.weight += step[iw + p];
+            }
+            for (k, v) in nu.iter_mut().enumerate() {
+                *v += step[inu + k];
+            }
+            let h = std::f64::consts::TAU / self.s.scan_samples as f64;
+            if terms
+                .iter()
+                .zip(&start)
+                .any(|(p, s)| crate::synth::counterweight::angle_dist(p.theta, *s) > 2.0 * h)
+                || !x.iter().all(|v| v.is_finite())
+            {
+                return Ok(None);
+            }
+        }
+        if !(last <= 1e-6) {
+            return Ok(None);
+        }
+        for term in &mut terms {
+            term.theta = term.theta.rem_euclid(std::f64::consts::TAU);
+        }
+        Ok(Some(Polished {
+            x_hat: x,
+            t_hat: t,
+            terms,
+            design: active.iter().copied().zip(nu).collect(),
+            design_nu: None,
+        }))
+    }
+}
+
+/// The Newton step J Δ = −r. Unknowns whose column of J is zero (to 1e-14 of the largest
+/// entry: a variable no active constraint involves) stay fixed; the rest is solved by LU
+/// with full pivoting, or, where that fails (dependent active constraints), in least
+/// squares by SVD (singular values below 1e-13 of the largest cut).
+fn kkt_step(jac: &DMatrix<f64>, r: &DVector<f64>) -> Option<DVector<f64>> {
+    let size = r.len();
+    let big = jac.amax();
+    let live: Vec<usize> = (0..size)
+        .filter(|&j| jac.column(j).amax() > 1e-14 * big)
+        .collect();
+    let k = live.len();
+    let sub = DMatrix::from_fn(k, k, |a, b| jac[(live[a], live[b])]);
+    let rhs = DVector::from_fn(k, |a, _| -r[live[a]]);
+    let solved = sub
+        .clone()
+        .full_piv_lu()
+        .solve(&rhs)
+        .filter(|s| s.iter().all(|v| v.is_finite()) && s.amax() < 1e8)
+        .or_else(|| {
+            let svd = sub.svd(true, true);
+            let cut = 1e-13 * svd.singular_values.max();
+            svd.solve(&rhs, cut).ok()
+        })?;
+    let mut step = DVector::zeros(size);
+    for (a, &j) in live.iter().enumerate() {
+        step[j] = solved[a];
+    }
+    Some(step)
+}
+
+/// The active constraints whose gradients at x̂ are independent, kept in order (equalities
+/// first): each one's gradient, less its projection on the span of those kept, must keep
+/// 1e-8 of its norm (Gram–Schmidt).
+fn independent(cons: &[Design], active: Vec<usize>, x_hat: &[f64]) -> Vec<usize> {
+    let n = x_hat.len();
+    let mut order = active;
+    order.sort_by_key(|&i| !cons[i].is_eq());
+    let mut basis: Vec<Vec<f64>> = Vec::new();
+    let mut kept = Vec::new();
+    let mut g = vec![0.0; n];
+    for i in order {
+        cons[i].grad(x_hat, &mut g);
+        let norm = g.iter().map(|v| v * v).sum::<f64>().sqrt();
+        for b in &basis {
+            let p: f64 = g.iter().zip(b).map(|(a, b)| a * b).sum();
+            g.iter_mut().zip(b).for_each(|(a, b)| *a -= p * b);
+        }
+        let rest = g.iter().map(|v| v * v).sum::<f64>().sqrt();
+        if norm > 0.0 && rest > 1e-8 * norm {
+            basis.push(g.iter().map(|v| v / rest).collect());
+            kept.push(i);
+        }
+    }
+    kept.sort_unstable();
+    kept
+}
