@@ -799,7 +799,8 @@ pub(crate) fn markdown_report(r: &SolveResult, timing: bool) -> String {
     p(table("Design: what to build", &r.design, None));
     for d in &r.drawings {
         p(format!(
-            "Drawing, {}: [SVG]({n}-{s}.svg) · [DXF]({n}-{s}.dxf) (mm)\n",
+            "Drawing, {}: [SVG]({n}-{s}.svg) · [DXF]({n}-{s}.dxf) (mm)\n\n![{}]({n}-{s}.svg)\n",
+            d.caption,
             d.caption,
             n = r.name,
             s = d.suffix
@@ -863,21 +864,42 @@ pub(crate) fn markdown_report(r: &SolveResult, timing: bool) -> String {
             k
         };
         p("## Baselines\n".into());
-        p(format!(
-            "| baseline | {} |",
-            keys.iter()
-                .map(|k| k.as_str())
-                .collect::<Vec<_>>()
-                .join(" | ")
-        ));
-        p(format!("|---|{}", "---|".repeat(keys.len())));
+        // In workshop units: each column in the unit of its key (the SI key below the table).
+        let head: Vec<String> = keys
+            .iter()
+            .map(|k| {
+                let (w, unit, _) = workshop_unit(k, 0.0);
+                if unit == "–" {
+                    w
+                } else {
+                    format!("{w} ({unit})")
+                }
+            })
+            .collect();
+        p(format!("| baseline | {} |", head.join(" | ")));
+        p(format!("|---|{}", "---:|".repeat(keys.len())));
         for (name, m) in &r.baselines {
             let cells: Vec<String> = keys
                 .iter()
-                .map(|k| m.get(*k).map(|v| fmt_num(*v)).unwrap_or("–".into()))
+                .map(|k| {
+                    m.get(*k)
+                        .map(|v| fmt_value(v * workshop_unit(k, 0.0).2))
+                        .unwrap_or("–".into())
+                })
                 .collect();
-            p(format!("| {name} | {} |", cells.join(" | ")));
+            p(format!(
+                "| {} | {} |",
+                name.replace('_', " "),
+                cells.join(" | ")
+            ));
         }
+        p(format!(
+            "\nKeys (SI, in the JSON `baselines.<name>.<key>`): {}",
+            keys.iter()
+                .map(|k| format!("`{k}`"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        ));
         p(String::new());
     }
     if !r.paper.is_empty() {

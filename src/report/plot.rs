@@ -406,16 +406,19 @@ fn draw_panel(area: &DrawingArea<SVGBackend, Shift>, p: &Panel) -> Result<(), Pl
                     let right = q.0 > x0 + 0.66 * (x1 - x0);
                     let h = if right { HPos::Right } else { HPos::Left };
                     let dx = if right { -pxi(9) } else { pxi(9) };
+                    // Below a point near the top (the caption is above the plot).
+                    let (v, dy) = if q.1 > y0 + 0.85 * (y1 - y0) {
+                        (VPos::Top, pxi(9))
+                    } else {
+                        (VPos::Bottom, -pxi(9))
+                    };
                     chart
                         .draw_series(std::iter::once(
                             EmptyElement::at(q)
                                 + Text::new(
                                     s.name.clone(),
-                                    (dx, -pxi(9)),
-                                    font(12)
-                                        .into_font()
-                                        .color(&c)
-                                        .pos(Pos::new(h, VPos::Bottom)),
+                                    (dx, dy),
+                                    font(12).into_font().color(&c).pos(Pos::new(h, v)),
                                 ),
                         ))
                         .map_err(PlotError::draw)?;
