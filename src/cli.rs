@@ -32,6 +32,10 @@ pub enum Command {
         /// Write `<name>.json`, `<name>.md` and SVG plots into this directory.
         #[arg(long)]
         out: Option<PathBuf>,
+        /// Units of the written reports (Markdown, HTML): `workshop` (mm, °, rpm, kN) or `si`
+        /// (as the JSON, which is always SI).
+        #[arg(long, value_enum, default_value_t = UnitsArg::Workshop)]
+        units: UnitsArg,
     },
     /// Solve many machines: problem files, directories, fleets `TEMPLATE.toml:FLEET.csv`
     /// (docs/batch.md). Writes per-machine results, summary.csv, summary.md, index.html.
@@ -57,6 +61,10 @@ pub enum Command {
         /// Join the shard summaries in --out (after all shards ran) instead of solving.
         #[arg(long)]
         merge: bool,
+        /// Units of the written reports (Markdown, HTML): `workshop` (mm, °, rpm, kN) or `si`
+        /// (as the JSON, which is always SI).
+        #[arg(long, value_enum, default_value_t = UnitsArg::Workshop)]
+        units: UnitsArg,
     },
     /// Join shard summaries (`summary-shard-i-of-n.csv` in the given directories).
     Merge {
@@ -86,6 +94,10 @@ pub enum Command {
         /// Print the calibrated result's JSON instead of the summary.
         #[arg(long)]
         json: bool,
+        /// Units of the written reports (Markdown, HTML): `workshop` (mm, °, rpm, kN) or `si`
+        /// (as the JSON, which is always SI).
+        #[arg(long, value_enum, default_value_t = UnitsArg::Workshop)]
+        units: UnitsArg,
     },
     /// Solve one scene along a ladder of accuracy and fidelity settings: time against error.
     Study {
@@ -98,6 +110,24 @@ pub enum Command {
         #[arg(long, default_value_t = 5)]
         repeats: usize,
     },
+}
+
+/// `--units`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum UnitsArg {
+    /// mm, °, rpm, kN.
+    Workshop,
+    /// m, rad, rad/s, N (as the JSON).
+    Si,
+}
+
+impl From<UnitsArg> for crate::report::Units {
+    fn from(u: UnitsArg) -> Self {
+        match u {
+            UnitsArg::Workshop => crate::report::Units::Workshop,
+            UnitsArg::Si => crate::report::Units::Si,
+        }
+    }
 }
 
 /// Standard output that ends quietly when its reader goes away (`cwsynth solve --json |
@@ -233,6 +263,7 @@ pub fn run(cli: Cli) -> anyhow::Result<i32> {
             quiet,
             summary_only,
             merge,
+            units,
         } => {
             if merge {
                 if !inputs.is_empty() {
@@ -261,6 +292,7 @@ pub fn run(cli: Cli) -> anyhow::Result<i32> {
                     .transpose()?,
                 quiet,
                 summary_only,
+                units: units.into(),
             };
             let c = crate::batch::run(crate::batch::expand(&inputs)?, &opts)?;
             if !quiet {
@@ -285,7 +317,12 @@ pub fn run(cli: Cli) -> anyhow::Result<i32> {
             );
             Ok(if c.failed > 0 { 1 } else { 0 })
         }
-        Command::Calibrate { file, out, json } => {
+        Command::Calibrate {
+            file,
+            out,
+            json,
+            units,
+        } => {
             let text = std::fs::read_to_string(&file)
                 .with_context(|| format!("cannot read {}", file.display()))?;
             let mut c = crate::calibrate::calibrate(&text, &file)?;
@@ -332,6 +369,7 @@ pub fn run(cli: Cli) -> anyhow::Result<i32> {
             if let Some(dir) = out {
                 std::fs::create_dir_all(&dir)
                     .with_context(|| format!("cannot create {}", dir.display()))?;
+                c.result.units = units.into();
                 write_outputs(&mut c.result, &dir)
                     .with_context(|| format!("writing into {}", dir.display()))?;
             }
@@ -365,7 +403,12 @@ pub fn run(cli: Cli) -> anyhow::Result<i32> {
             )?;
             Ok(0)
         }
-        Command::Solve { inputs, json, out } => {
+        Command::Solve {
+            inputs,
+            json,
+            out,
+            units,
+        } => {
             let files = crate::batch::expand_inputs(&inputs)?;
             let (scenes, bad) = load_all(&files);
             for e in &bad {
@@ -395,6 +438,7 @@ pub fn run(cli: Cli) -> anyhow::Result<i32> {
                 let r = match crate::batch::isolate(|| {
                     crate::batch::test_panic(&sc.name);
                     let mut r = solve_scene(sc);
+                    r.units = units.into();
                     let written = out.as_ref().map(|dir| write_outputs(&mut r, dir));
                     (r, written)
                 }) {

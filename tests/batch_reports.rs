@@ -29,6 +29,7 @@ fn batch(fleet: &Path, out: &Path, summary_only: bool) -> cwsynth::batch::Counts
         shard: None,
         quiet: true,
         summary_only,
+        units: Default::default(),
     };
     run(expand(&[input]).unwrap(), &opts).unwrap()
 }

@@ -274,3 +274,37 @@ fn solve_survives_a_panicking_file() {
     assert!(dir.path().join("piston-2000rpm.json").exists());
     assert!(!dir.path().join("piston-1000rpm.json").exists());
 }
+
+#[test]
+fn reports_are_in_workshop_units_unless_asked_for_si() {
+    let d = tempfile::tempdir().unwrap();
+    for (units, dir) in [("workshop", "w"), ("si", "s")] {
+        let o = bin()
+            .args(["solve", "--units", units, "--out"])
+            .arg(d.path().join(dir))
+            .arg(problem("piston-1000rpm.toml"))
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    }
+    let md =
+        |dir: &str| std::fs::read_to_string(d.path().join(dir).join("piston-1000rpm.md")).unwrap();
+    let (w, s) = (md("w"), md("s"));
+    assert!(w.contains("| counterweight radius | 50 | mm |"), "{w}");
+    assert!(
+        s.contains("| counterweight radius | 0.0500000 | m |"),
+        "{s}"
+    );
+    assert!(w.contains("| counterweight angle | 180 | ° |"));
+    assert!(s.contains("| counterweight angle | 3.14159 | rad |"));
+    // The JSON is SI either way.
+    let j = |dir: &str| {
+        std::fs::read_to_string(d.path().join(dir).join("piston-1000rpm.json")).unwrap()
+    };
+    let strip = |t: String| -> serde_json::Value {
+        let mut v: serde_json::Value = serde_json::from_str(&t).unwrap();
+        v.as_object_mut().unwrap().remove("timing");
+        v
+    };
+    assert_eq!(strip(j("w")), strip(j("s")));
+}

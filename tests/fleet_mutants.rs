@@ -224,6 +224,7 @@ fn fleet_mutants_never_panic_and_keep_every_row() {
             shard: None,
             quiet: true,
             summary_only: true,
+            units: Default::default(),
         };
         let arg = format!("{TEMPLATE}:{}", csv.display());
         let res = std::panic::catch_unwind(|| run(expand(&[arg]).unwrap(), &opts));

@@ -18,6 +18,7 @@ fn the_index_histogram_is_deterministic() {
                 shard: None,
                 quiet: true,
                 summary_only: true,
+                units: Default::default(),
             };
             run(expand(&[problems.to_string()]).unwrap(), &opts).unwrap();
             let page = std::fs::read_to_string(out.join("index.html")).unwrap();

@@ -81,6 +81,8 @@ pub struct Options {
     pub quiet: bool,
     /// Write only the summary (no per-machine JSON, Markdown, plots).
     pub summary_only: bool,
+    /// Units of the machines' reports (their JSON is SI).
+    pub units: crate::report::Units,
 }
 
 /// Names already taken in this run, keyed by a 64-bit hash (SipHash with fixed keys, so the
@@ -234,6 +236,7 @@ fn process(job: Job, opts: &Options) -> (Row, bool) {
     }
     test_panic(&scene.name);
     let mut r = solve_scene(&scene);
+    r.units = opts.units;
     if !opts.summary_only {
         // What only the files carry (e.g. the crane's landscape grid).
         r.complete();

@@ -306,6 +306,9 @@ pub struct SolveResult {
     /// Work only the written files need, done by [`SolveResult::complete`].
     #[serde(skip)]
     pub deferred: Vec<Deferred>,
+    /// The units of the report (`--units`; not in the JSON, which is SI).
+    #[serde(skip)]
+    pub units: Units,
 }
 
 impl SolveResult {
@@ -342,6 +345,7 @@ impl SolveResult {
             tables: Vec::new(),
             drawings: Vec::new(),
             deferred: Vec::new(),
+            units: Units::default(),
         }
     }
 
@@ -578,6 +582,40 @@ pub fn workshop_unit(key: &str, v: f64) -> (String, &'static str, f64) {
     (key.replace('_', " "), "–", 1.0)
 }
 
+/// The units a report is written in (`--units`): the workshop's (mm, °, rpm, kN; the
+/// default) or SI as in the JSON. The JSON is always SI.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Units {
+    /// mm for machine lengths (m from 2 m), ° for angles, rpm for speeds, kN from 10 kN.
+    #[default]
+    Workshop,
+    /// The JSON's SI units (m, rad, rad/s, N).
+    Si,
+}
+
+/// How a result key reads in a report in `units`: its words, the unit shown and the factor
+/// from SI ([`workshop_unit`], or the key's SI unit with factor 1).
+pub fn display_unit(units: Units, key: &str, v: f64) -> (String, &'static str, f64) {
+    let (words, unit, f) = workshop_unit(key, v);
+    match units {
+        Units::Workshop => (words, unit, f),
+        // A key already in a non-SI unit (`_mm`, `_rpm`) reads as it is.
+        Units::Si if key.ends_with("_mm") || key.ends_with("_rpm") => (words, unit, f),
+        Units::Si => {
+            let si = match unit {
+                "mm" | "m" => "m",
+                "°" => "rad",
+                "rpm" if key.ends_with("_rad_s") => "rad/s",
+                "kN" => "N",
+                "kN·m" => "N·m",
+                other => other,
+            };
+            (words, si, 1.0)
+        }
+    }
+}
+
 /// [`fmt_num`], but a whole number as an integer (`32`, not `32.0000`).
 fn fmt_value(x: f64) -> String {
     if x.fract() == 0.0 && x.abs() < 1e9 {
@@ -589,10 +627,10 @@ fn fmt_value(x: f64) -> String {
 
 /// A model setting as a workshop reads it: a number in its workshop unit (from its key's
 /// suffix), an object as `name value unit` pairs, a list joined by commas, text as is.
-fn model_value(key: &str, v: &serde_json::Value) -> String {
+fn model_value(u: Units, key: &str, v: &serde_json::Value) -> String {
     use serde_json::Value;
     let number = |k: &str, x: f64| {
-        let (_, unit, f) = workshop_unit(k, x);
+        let (_, unit, f) = display_unit(u, k, x);
         let shown = fmt_value(x * f);
         if unit == "–" {
             shown
@@ -621,7 +659,7 @@ fn model_value(key: &str, v: &serde_json::Value) -> String {
             .iter()
             .map(|(k, x)| {
                 let (words, _, _) = workshop_unit(k, 0.0);
-                format!("{words} {}", model_value(k, x))
+                format!("{words} {}", model_value(u, k, x))
             })
             .collect::<Vec<_>>()
             .join("; "),
@@ -637,14 +675,14 @@ const EXTRA_ROWS: usize = 40;
 /// list of objects as a table (one column per key, numbers in their workshop units), an
 /// object as name–value rows (its lists of objects as tables of their own), a scalar as one
 /// line. Lists of plain numbers are summarised (their length; the values are in the JSON).
-fn extra_section(key: &str, v: &serde_json::Value) -> String {
+fn extra_section(u: Units, key: &str, v: &serde_json::Value) -> String {
     use serde_json::Value;
     let title = key.replace('_', " ");
     let cell = |k: &str, x: &Value| -> String {
         match x {
-            Value::Number(_) | Value::Object(_) => md_escape(&model_value(k, x)),
+            Value::Number(_) | Value::Object(_) => md_escape(&model_value(u, k, x)),
             Value::Array(a) if a.iter().all(Value::is_number) && a.len() <= 4 => {
-                md_escape(&model_value(k, x))
+                md_escape(&model_value(u, k, x))
             }
             Value::Array(a) => format!("{} values (JSON)", a.len()),
             Value::Bool(b) => if *b { "yes" } else { "no" }.into(),
@@ -667,7 +705,7 @@ fn extra_section(key: &str, v: &serde_json::Value) -> String {
             "| {} |\n|{}\n",
             cols.iter()
                 .map(|c| {
-                    let (w, unit, _) = workshop_unit(c, 0.0);
+                    let (w, unit, _) = display_unit(u, c, 0.0);
                     if unit == "–" {
                         w
                     } else {
@@ -686,7 +724,7 @@ fn extra_section(key: &str, v: &serde_json::Value) -> String {
                         // In the column's unit, without repeating it in every cell.
                         Value::Number(n) => n
                             .as_f64()
-                            .map_or(n.to_string(), |f| fmt_value(f * workshop_unit(c, 0.0).2)),
+                            .map_or(n.to_string(), |f| fmt_value(f * display_unit(u, c, 0.0).2)),
                         other => cell(c, other),
                     })
                 })
@@ -781,7 +819,7 @@ pub(crate) fn markdown_report(r: &SolveResult, timing: bool) -> String {
                 if errs.is_some() { "---:|" } else { "" }
             );
             for (k, v) in m {
-                let (words, unit, f) = workshop_unit(k, *v);
+                let (words, unit, f) = display_unit(r.units, k, *v);
                 let err = errs.map(|e| {
                     e.get(k)
                         .map(|x| format!("{:.2e}", x * f))
@@ -810,7 +848,7 @@ pub(crate) fn markdown_report(r: &SolveResult, timing: bool) -> String {
         p("On a bound (the bound, not an interior optimum, decides these):\n".into());
         for b in &r.bounds {
             let key = b.key.rsplit('.').next().unwrap_or(&b.key);
-            let (words, unit, f) = workshop_unit(key, b.value);
+            let (words, unit, f) = display_unit(r.units, key, b.value);
             let unit = if unit == "–" { "" } else { unit };
             p(format!(
                 "- **{words}** = {}{}{unit}, on its {} bound, set by `{}`: {}",
@@ -850,7 +888,7 @@ pub(crate) fn markdown_report(r: &SolveResult, timing: bool) -> String {
             p(format!(
                 "| {} | {} | `{k}` |",
                 workshop_unit(k, 0.0).0,
-                md_escape(&model_value(k, v))
+                md_escape(&model_value(r.units, k, v))
             ));
         }
         p(String::new());
@@ -868,7 +906,7 @@ pub(crate) fn markdown_report(r: &SolveResult, timing: bool) -> String {
         let head: Vec<String> = keys
             .iter()
             .map(|k| {
-                let (w, unit, _) = workshop_unit(k, 0.0);
+                let (w, unit, _) = display_unit(r.units, k, 0.0);
                 if unit == "–" {
                     w
                 } else {
@@ -883,7 +921,7 @@ pub(crate) fn markdown_report(r: &SolveResult, timing: bool) -> String {
                 .iter()
                 .map(|k| {
                     m.get(*k)
-                        .map(|v| fmt_value(v * workshop_unit(k, 0.0).2))
+                        .map(|v| fmt_value(v * display_unit(r.units, k, 0.0).2))
                         .unwrap_or("–".into())
                 })
                 .collect();
@@ -922,7 +960,7 @@ pub(crate) fn markdown_report(r: &SolveResult, timing: bool) -> String {
     }
     // The family's own sections, readable here as in the JSON.
     for (k, v) in &r.extra {
-        let sec = extra_section(k, v);
+        let sec = extra_section(r.units, k, v);
         if !sec.is_empty() {
             p(sec);
         }

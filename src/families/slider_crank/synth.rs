@@ -1291,7 +1291,23 @@ pub fn solve(scene: &Scene) -> Result<Outcome, SolveError> {
         );
         Vec::new()
     } else if scene.pareto_points > 0 {
-        pareto_sampled(scene, scene.pareto_points, &tab)?
+        let front = pareto_sampled(scene, scene.pareto_points, &tab)?;
+        // A front only where the two objectives trade off by more than their errors: ends
+        // whose torques differ by no more than their gaps are one design, not a front.
+        match (front.first(), front.last()) {
+            (Some(a), Some(b))
+                if a.peak_drive_torque_nm - b.peak_drive_torque_nm
+                    <= a.gap_nm + b.gap_nm + 1e-12 * a.peak_drive_torque_nm.abs() =>
+            {
+                warnings.push(format!(
+                    "no torque–force Pareto front: the torque optimum and the force optimum differ by {:.3e} N·m in peak torque, within their errors ({:.3e} N·m): the objectives do not trade off",
+                    a.peak_drive_torque_nm - b.peak_drive_torque_nm,
+                    a.gap_nm + b.gap_nm
+                ));
+                Vec::new()
+            }
+            _ => front,
+        }
     } else {
         Vec::new()
     };
