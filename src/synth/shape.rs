@@ -14,7 +14,7 @@
 //! *Least mass*: for a given θ, material as far out as allowed (rₒ = rₒ,max) and rᵢ from
 //! U = U_req; the mass is then a 1-D function of θ, minimised by argmin's Brent search.
 
-use crate::numeric::minimize_1d;
+use crate::numeric::{brent_root, minimize_1d};
 use std::f64::consts::PI;
 
 /// What the shape minimises.
@@ -182,5 +182,81 @@ pub fn design(spec: &ShapeSpec, u: f64) -> ShapeOutcome {
                 ),
             }
         }
+    }
+}
+
+/// The annular sector (rᵢ, rₒ, θ) about an axis that is one body of mass `m` with centroid
+/// radius `rc` and moment of inertia `i_axis` about the axis, all of it within `r_max`:
+/// I = (m/2)(rᵢ² + rₒ²) and r_c = 4 sin(θ/2)(rₒ³ − rᵢ³)/(3θ(rₒ² − rᵢ²)). The sector is as
+/// far out as the envelope allows (rₒ = r_max, rᵢ = √(2I/m − r_max²)) when I ≥ m r_max²/2,
+/// else a full-radius sector rᵢ = 0, rₒ = √(2I/m); θ then follows from r_c (r_c falls
+/// monotonically from (2/3)(rₒ³ − rᵢ³)/(rₒ² − rᵢ²) at θ → 0 to 0 at 2π; Brent). `None` when
+/// no sector realises the three figures (I > m r_max², or r_c beyond the θ → 0 limit).
+pub fn sector_realising(m: f64, rc: f64, i_axis: f64, r_max: f64) -> Option<(f64, f64, f64)> {
+    if !(m > 0.0 && i_axis >= 0.0 && rc >= 0.0) {
+        return None;
+    }
+    let s2 = 2.0 * i_axis / m; // rᵢ² + rₒ²
+    let (ri, ro) = if s2 >= r_max * r_max {
+        let ri2 = s2 - r_max * r_max;
+        if ri2 > r_max * r_max * (1.0 + 1e-12) {
+            return None;
+        }
+        (ri2.max(0.0).sqrt().min(r_max), r_max)
+    } else {
+        (0.0, s2.sqrt())
+    };
+    if ro <= 0.0 {
+        return (rc == 0.0).then_some((0.0, 0.0, 0.0));
+    }
+    let k = if ro - ri <= 1e-15 * ro {
+        ro // a thin arc: (2/3)(ro³−ri³)/(ro²−ri²) → ro
+    } else {
+        2.0 / 3.0 * (ro.powi(3) - ri.powi(3)) / (ro * ro - ri * ri)
+    };
+    let centroid = |th: f64| k * (0.5 * th).sin() / (0.5 * th);
+    if rc > k * (1.0 + 1e-12) {
+        return None;
+    }
+    if rc <= 0.0 {
+        return Some((ri, ro, 2.0 * PI));
+    }
+    let th = brent_root(|th| centroid(th) - rc, 1e-12, 2.0 * PI, 1e-14)
+        .map(|r| r.x)
+        .unwrap_or(1e-12);
+    Some((ri, ro, th))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_sector_realises_mass_centroid_and_inertia() {
+        // Figures of a known sector come back.
+        let spec = ShapeSpec {
+            density: 7850.0,
+            thickness: 0.02,
+            inner_radius_min: 0.0,
+            outer_radius_max: 0.1,
+            max_angle: PI,
+            goal: ShapeGoal::Mass,
+        };
+        for (ri, ro, th) in [(0.03, 0.1, 1.2), (0.0, 0.07, 2.5), (0.0995, 0.1, 0.4)] {
+            let s = Sector::new(&spec, ri, ro, th);
+            let (ri2, ro2, th2) =
+                sector_realising(s.mass_kg, s.centroid_radius_m, s.inertia_kgm2, 0.1).unwrap();
+            let back = Sector::new(&spec, ri2, ro2, th2);
+            let rel = |a: f64, b: f64| (a - b).abs() / b.abs().max(1e-300);
+            // The same inertia and centroid (the mass is the caller's: any thickness).
+            assert!(rel(back.inertia_kgm2 / back.mass_kg, s.inertia_kgm2 / s.mass_kg) < 1e-9);
+            assert!(
+                rel(back.centroid_radius_m, s.centroid_radius_m) < 1e-9,
+                "{ri} {ro} {th}"
+            );
+            assert!(ro2 <= 0.1);
+        }
+        // More inertia than the envelope allows: no sector.
+        assert!(sector_realising(1.0, 0.05, 1.01 * 0.01, 0.1).is_none());
     }
 }

@@ -13,6 +13,7 @@ use crate::report::plot::{self, Panel, PlotError, Series};
 use crate::report::{ActiveBound, Deferred, Plot, SolveResult, Status, Table};
 use crate::synth::counterweight::Status as CwStatus;
 use crate::synth::minimax::{FieldPeak, Solution};
+use crate::synth::shape::sector_realising;
 use serde_json::json;
 use std::collections::BTreeMap;
 use std::f64::consts::TAU;
@@ -313,6 +314,25 @@ fn design_keys(r: &mut SolveResult, p: &LinkageProblem, out: &Outcome, sol: &Sol
             format!("{n}_counterweight_centroidal_inertia_kgm2"),
             d.centroidal_inertia,
         );
+        // One body with this mass, centroid and inertia about the joint, within the
+        // envelope: an annular sector about the joint, symmetric about u (any thickness of
+        // areal density m/area).
+        if d.mass > 0.0 {
+            match sector_realising(d.mass, d.radius, d.inertia, cw.radius) {
+                Some((ri, ro, th)) => {
+                    for (k, v) in [("inner_radius_m", ri), ("outer_radius_m", ro), ("angle_rad", th)] {
+                        r.design.insert(format!("{n}_counterweight_sector_{k}"), v);
+                    }
+                }
+                None => r.warnings.push(format!(
+                    "the {n} counterweight (m {:.4} kg, centroid {:.2} mm, I {:.4e} kg·m² about its joint) is no annular sector within the envelope {:.2} mm",
+                    d.mass,
+                    d.radius * 1e3,
+                    d.inertia,
+                    cw.radius * 1e3
+                )),
+            }
+        }
         // A counterweight at its largest mass or radius: the limit, not the balance, sizes it.
         if d.mass > 0.0 {
             let (m_lo, m_hi) = cw.mass.bounds();
@@ -819,7 +839,28 @@ fn linkage_sheet(
                 pose.point(&Point::On { link: *link, at })[0],
             );
             let on = &sc.counterweights[j].link_name;
-            d.circle(Layer::Outline, c, 3.0 * pin).mark(c);
+            // The annular sector that is this counterweight, about its joint (none: a ring).
+            let (env, p) = (sc.counterweights[j].radius, at.norm());
+            match sector_realising(m[0], p, m[3], env) {
+                Some((ri, ro, th)) if ro > 0.0 && th > 0.0 => {
+                    let mid = (c - p0).y.atan2((c - p0).x);
+                    let (a0, a1) = (mid - 0.5 * th, mid + 0.5 * th);
+                    d.arc(Layer::Outline, p0, ro, a0, a1);
+                    if ri > 0.0 {
+                        d.arc(Layer::Outline, p0, ri, a0, a1);
+                    }
+                    if th < TAU - 1e-9 {
+                        for a in [a0, a1] {
+                            let v = P2::new(a.cos(), a.sin());
+                            d.line(Layer::Outline, p0 + ri * v, p0 + ro * v);
+                        }
+                    }
+                    d.mark(c);
+                }
+                _ => {
+                    d.circle(Layer::Outline, c, 1.5 * pin).mark(c);
+                }
+            }
             d.linear(p0, c, 6.0 * pin, &format!("r ({on})"));
             d.note(format!(
                 "counterweight on {on}: {:.4} kg, centroid at {:.2} mm, {:.2}° from the link's axis",
@@ -834,6 +875,6 @@ fn linkage_sheet(
         return Err(DrawingError::Data(why.into()));
     }
     d.note("a link's axis: from its reference joint towards its tip; dimensions in mm");
-    d.note("crosses in circles: ground pivots; discs: counterweights (symbolic size)");
+    d.note("crosses in circles: ground pivots; annular sectors about their joints: the counterweights (the sector with their mass, centroid and inertia within the envelope; a small ring where none is)");
     Ok(d)
 }
