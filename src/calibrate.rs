@@ -170,17 +170,11 @@ fn evaluate(
             let y = r
                 .lookup(&m.key)
                 .ok_or_else(|| CalibrateError::NoValue(m.key.clone()))?;
-            let leaf = m.key.rsplit('.').next().unwrap_or(&m.key);
+            // An objective's stated error (other keys state none).
             let err = m
                 .key
                 .strip_prefix("objectives.")
                 .and_then(|k| r.errors.get(k).copied())
-                .or_else(|| {
-                    r.errors
-                        .get(leaf)
-                        .copied()
-                        .filter(|_| m.key.starts_with("objectives."))
-                })
                 .unwrap_or(0.0);
             Ok((y, err))
         })
@@ -272,7 +266,7 @@ pub fn calibrate(text: &str, path: &Path) -> Result<Calibrated, CalibrateError> 
                         roots.iter().map(|r| format!("{r:.6e}")).collect::<Vec<_>>().join(", ")
                     ));
                 }
-                let own = own_value(text, &cal.parameters[0].key, cal.parameters[0].dim)
+                let own = own_value(&table, &cal.parameters[0].key, cal.parameters[0].dim)
                     .unwrap_or(0.5 * (lo[0] + hi[0]));
                 let best = roots
                     .iter()
@@ -290,7 +284,7 @@ pub fn calibrate(text: &str, path: &Path) -> Result<Calibrated, CalibrateError> 
         let p0: Vec<f64> = cal
             .parameters
             .iter()
-            .map(|p| own_value(text, &p.key, p.dim).unwrap_or(0.5 * (p.min + p.max)))
+            .map(|p| own_value(&table, &p.key, p.dim).unwrap_or(0.5 * (p.min + p.max)))
             .collect();
         (
             nelder_mead(&chi2_at, &p0, &lo, &hi),
@@ -407,16 +401,11 @@ pub fn calibrate(text: &str, path: &Path) -> Result<Calibrated, CalibrateError> 
 }
 
 /// The file's own value of a parameter (its starting point), in SI.
-fn own_value(text: &str, key: &str, dim: Dim) -> Option<f64> {
-    let table: toml::Table = toml::from_str(text).ok()?;
-    let mut v = toml::Value::Table(table);
-    for part in key.split('.') {
-        v = v.as_table()?.get(part.trim())?.clone();
-    }
-    match v {
-        toml::Value::String(s) => crate::units::parse(&s, dim).ok(),
-        toml::Value::Float(f) => Some(f),
-        toml::Value::Integer(i) => Some(i as f64),
+fn own_value(table: &toml::Table, key: &str, dim: Dim) -> Option<f64> {
+    match crate::problem::edit::dotted_get(table, key)? {
+        toml::Value::String(s) => crate::units::parse(s, dim).ok(),
+        toml::Value::Float(f) => Some(*f),
+        toml::Value::Integer(i) => Some(*i as f64),
         _ => None,
     }
 }

@@ -385,39 +385,24 @@ impl Template {
     /// `1500rpm`) and `{row}` by the row number; spaces are dropped and any other character
     /// a file name cannot hold becomes `_`. An empty cell gives the template's value's text.
     fn fill_name(&self, row: u64, cells: &[String]) -> String {
-        let mut out = String::new();
-        let mut rest = self.name.as_str();
-        while let Some(open) = rest.find('{') {
-            out.push_str(&rest[..open]);
-            let Some(close) = rest[open..].find('}') else {
-                break;
-            };
-            let ph = &rest[open + 1..open + close];
-            let text = if ph == "row" {
-                row.to_string()
-            } else {
-                match column_of(&self.header, ph) {
-                    Some(k) => {
-                        let cell = cells.get(k).map(|c| c.trim()).unwrap_or("");
-                        if cell.is_empty() {
-                            dotted_text(&self.table, &self.header[k]).unwrap_or_default()
-                        } else {
-                            match self.units[k] {
-                                Some(u) if cell.parse::<f64>().is_ok() => {
-                                    format!("{cell}{}", u.symbol)
-                                }
-                                _ => cell.to_string(),
-                            }
+        let text: String = template_pieces(&self.name)
+            .into_iter()
+            .map(|piece| match piece {
+                Piece::Text(t) => t.to_string(),
+                Piece::Place("row") => row.to_string(),
+                Piece::Place(ph) => column_of(&self.header, ph).map_or(String::new(), |k| {
+                    let cell = self.effective_cell(k, cells);
+                    let own = !cells.get(k).is_none_or(|c| c.trim().is_empty());
+                    match self.units[k] {
+                        Some(u) if own && cell.parse::<f64>().is_ok() => {
+                            format!("{cell}{}", u.symbol)
                         }
+                        _ => cell,
                     }
-                    None => String::new(),
-                }
-            };
-            out.push_str(&text);
-            rest = &rest[open + close + 1..];
-        }
-        out.push_str(rest);
-        out.chars()
+                }),
+            })
+            .collect();
+        text.chars()
             .filter(|c| !c.is_whitespace())
             .map(|c| {
                 if c.is_ascii_alphanumeric() || "-_.".contains(c) {
@@ -461,18 +446,37 @@ impl Template {
     }
 }
 
-/// The `{…}` placeholders of a name template.
-fn placeholders(name: &str) -> Vec<&str> {
+/// A piece of a name template: text as written, or a `{…}` placeholder.
+enum Piece<'a> {
+    Text(&'a str),
+    Place(&'a str),
+}
+
+/// A name template in pieces (an unclosed `{` ends the template).
+fn template_pieces(name: &str) -> Vec<Piece<'_>> {
     let mut out = Vec::new();
     let mut rest = name;
     while let Some(open) = rest.find('{') {
+        out.push(Piece::Text(&rest[..open]));
         let Some(close) = rest[open..].find('}') else {
-            break;
+            return out;
         };
-        out.push(&rest[open + 1..open + close]);
+        out.push(Piece::Place(&rest[open + 1..open + close]));
         rest = &rest[open + close + 1..];
     }
+    out.push(Piece::Text(rest));
     out
+}
+
+/// The `{…}` placeholders of a name template.
+fn placeholders(name: &str) -> Vec<&str> {
+    template_pieces(name)
+        .into_iter()
+        .filter_map(|p| match p {
+            Piece::Place(ph) => Some(ph),
+            Piece::Text(_) => None,
+        })
+        .collect()
 }
 
 /// The column a placeholder names: its dotted key, or the key's last part when only one
@@ -490,12 +494,7 @@ fn column_of(header: &[String], ph: &str) -> Option<usize> {
 
 /// The template's value at a dotted key as text (a string without its quotes).
 fn dotted_text(table: &toml::Table, key: &str) -> Option<String> {
-    let mut parts = key.split('.').map(str::trim);
-    let mut v = table.get(parts.next()?)?;
-    for p in parts {
-        v = v.as_table()?.get(p)?;
-    }
-    Some(match v {
+    Some(match crate::problem::edit::dotted_get(table, key)? {
         toml::Value::String(s) => s.clone(),
         other => other.to_string(),
     })

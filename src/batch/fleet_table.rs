@@ -8,7 +8,7 @@
 use super::error::BatchError;
 use super::fleet::{csv_reader, Lines, Template};
 use super::inputs::Input;
-use super::row::Row;
+use super::row::{escape_formula, Row};
 use crate::report::write_atomic;
 use std::collections::{BTreeSet, HashMap};
 use std::path::{Path, PathBuf};
@@ -99,13 +99,13 @@ pub fn write_fleet_tables(dir: &Path, inputs: &[Input]) -> Result<(), BatchError
             let o: HashMap<String, String> = split(&r.objectives).into_iter().collect();
             let mut rec: Vec<String> = vec![r.index.to_string(), r.name.clone(), r.status.clone()];
             rec.extend(inputs.iter().map(|&k| {
-                let c = tpl.effective_cell(k, cells);
-                // The fleet's cells are text from outside: escaped like the summary's.
-                if c.starts_with(['=', '+', '@', '\t', '\r', '\'']) {
-                    format!("'{c}")
-                } else {
-                    c
+                let mut c = tpl.effective_cell(k, cells);
+                // The fleet's cells are text from outside: escaped like the summary's text
+                // columns (a number, `-3.5`, stays a number).
+                if c.parse::<f64>().is_err() {
+                    escape_formula(&mut c);
                 }
+                c
             }));
             rec.extend(
                 design_keys

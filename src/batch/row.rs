@@ -60,6 +60,14 @@ pub const ROW_STATUSES: [&str; 8] = [
 /// a leading `'`.
 const FORMULA_START: [char; 7] = ['=', '+', '-', '@', '\t', '\r', '\''];
 
+/// A text cell starting with one of [`FORMULA_START`] gets a leading `'`, so that no
+/// spreadsheet runs it as a formula.
+pub(super) fn escape_formula(t: &mut String) {
+    if t.starts_with(FORMULA_START) {
+        t.insert(0, '\'');
+    }
+}
+
 /// Whether a row of status `status` is a failure: bad input (`error`), `infeasible` or
 /// `failed` (the run then exits with status 1).
 pub fn is_failure(status: &str) -> bool {
@@ -96,9 +104,7 @@ impl Row {
     pub fn csv_escaped(&self) -> Row {
         let mut r = self.clone();
         for t in r.texts() {
-            if t.starts_with(FORMULA_START) {
-                t.insert(0, '\'');
-            }
+            escape_formula(t);
         }
         r
     }

@@ -26,6 +26,16 @@ pub fn v_s(x: &str) -> Value {
     Value::from(x)
 }
 
+/// The value at a dotted key of a parsed problem file (`mechanism.rod_length`), if any.
+pub fn dotted_get<'a>(table: &'a toml::Table, key: &str) -> Option<&'a toml::Value> {
+    let mut parts = key.split('.').map(str::trim);
+    let mut v = table.get(parts.next()?)?;
+    for p in parts {
+        v = v.as_table()?.get(p)?;
+    }
+    Some(v)
+}
+
 /// Why edits could not be applied.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum EditError {

@@ -616,6 +616,28 @@ pub fn display_unit(units: Units, key: &str, v: f64) -> (String, &'static str, f
     }
 }
 
+/// A value of a key with its unit as a report writes it (`50 mm`; a pure number bare).
+fn value_with_unit(u: Units, key: &str, x: f64) -> String {
+    let (_, unit, f) = display_unit(u, key, x);
+    let shown = fmt_value(x * f);
+    if unit == "–" {
+        shown
+    } else {
+        format!("{shown} {unit}")
+    }
+}
+
+/// A table column's head for a key: its words and, in parentheses, its unit (none for a
+/// pure number). The column's values are in that unit: converted at the value 0.
+fn column_head(u: Units, key: &str) -> String {
+    let (w, unit, _) = display_unit(u, key, 0.0);
+    if unit == "–" {
+        w
+    } else {
+        format!("{w} ({unit})")
+    }
+}
+
 /// [`fmt_num`], but a whole number as an integer (`32`, not `32.0000`).
 fn fmt_value(x: f64) -> String {
     if x.fract() == 0.0 && x.abs() < 1e9 {
@@ -629,15 +651,7 @@ fn fmt_value(x: f64) -> String {
 /// suffix), an object as `name value unit` pairs, a list joined by commas, text as is.
 fn model_value(u: Units, key: &str, v: &serde_json::Value) -> String {
     use serde_json::Value;
-    let number = |k: &str, x: f64| {
-        let (_, unit, f) = display_unit(u, k, x);
-        let shown = fmt_value(x * f);
-        if unit == "–" {
-            shown
-        } else {
-            format!("{shown} {unit}")
-        }
-    };
+    let number = |k: &str, x: f64| value_with_unit(u, k, x);
     match v {
         Value::Number(n) => n.as_f64().map_or(n.to_string(), |x| number(key, x)),
         Value::String(t) => t.clone(),
@@ -704,14 +718,7 @@ fn extra_section(u: Units, key: &str, v: &serde_json::Value) -> String {
         let mut t = format!(
             "| {} |\n|{}\n",
             cols.iter()
-                .map(|c| {
-                    let (w, unit, _) = display_unit(u, c, 0.0);
-                    if unit == "–" {
-                        w
-                    } else {
-                        format!("{w} ({unit})")
-                    }
-                })
+                .map(|c| column_head(u, c))
                 .collect::<Vec<_>>()
                 .join(" | "),
             "---|".repeat(cols.len())
@@ -848,12 +855,10 @@ pub(crate) fn markdown_report(r: &SolveResult, timing: bool) -> String {
         p("On a bound (the bound, not an interior optimum, decides these):\n".into());
         for b in &r.bounds {
             let key = b.key.rsplit('.').next().unwrap_or(&b.key);
-            let (words, unit, f) = display_unit(r.units, key, b.value);
-            let unit = if unit == "–" { "" } else { unit };
             p(format!(
-                "- **{words}** = {}{}{unit}, on its {} bound, set by `{}`: {}",
-                fmt_value(b.value * f),
-                if unit.is_empty() { "" } else { " " },
+                "- **{}** = {}, on its {} bound, set by `{}`: {}",
+                workshop_unit(key, 0.0).0,
+                value_with_unit(r.units, key, b.value),
                 match b.side {
                     BoundSide::Lower => "lower",
                     BoundSide::Upper => "upper",
@@ -903,17 +908,7 @@ pub(crate) fn markdown_report(r: &SolveResult, timing: bool) -> String {
         };
         p("## Baselines\n".into());
         // In workshop units: each column in the unit of its key (the SI key below the table).
-        let head: Vec<String> = keys
-            .iter()
-            .map(|k| {
-                let (w, unit, _) = display_unit(r.units, k, 0.0);
-                if unit == "–" {
-                    w
-                } else {
-                    format!("{w} ({unit})")
-                }
-            })
-            .collect();
+        let head: Vec<String> = keys.iter().map(|k| column_head(r.units, k)).collect();
         p(format!("| baseline | {} |", head.join(" | ")));
         p(format!("|---|{}", "---:|".repeat(keys.len())));
         for (name, m) in &r.baselines {

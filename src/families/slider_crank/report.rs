@@ -14,6 +14,7 @@ use crate::report::drawing::{Drawing, DrawingError, Layer, Sheet};
 use crate::report::plot::{self, Panel, PlotError, Series};
 use crate::report::{number_map, Plot, SolveResult, Status, Table};
 use crate::synth::counterweight::Status as CwStatus;
+use crate::synth::shape::Sector;
 use serde_json::json;
 use std::collections::BTreeMap;
 use std::f64::consts::TAU;
@@ -258,7 +259,13 @@ pub fn result(scene: &Scene, sc_scene: &SliderCrankProblem) -> SolveResult {
     if let Some(sw) = &sc_scene.speed_sweep {
         speed_sweep(&mut r, scene, s, sw, u);
     }
-    plate_drawing(&mut r, scene, sc_scene, design.counterweight_angle_rad);
+    plate_drawing(
+        &mut r,
+        scene,
+        sc_scene,
+        out.counterweight.plate,
+        design.counterweight_angle_rad,
+    );
     mechanism_drawing(&mut r, scene, m, &design);
     let (scene, s, out) = (scene.clone(), s.clone(), out.clone());
     r.plots.push(Plot::new(
@@ -596,26 +603,26 @@ fn slider_crank_plot(scene: &Scene, s: &sc::Scene, out: &sc::Outcome) -> Result<
 }
 
 /// The counterweight plate's drawing (`<name>-drawing.dxf`/`.svg`), where the scene shapes
-/// one: the annular sector of the result's `shape.sector` about the crank axis O, its axis at
+/// one: the design's plate (the result's `shape.sector`) about the crank axis O, its axis at
 /// `angle` (rad) from the crank (the crank pin on +x), with rᵢ, rₒ, θ and the centroid radius
 /// r_c dimensioned and the thickness in a note.
-fn plate_drawing(r: &mut SolveResult, scene: &Scene, p: &SliderCrankProblem, angle: f64) {
-    let sector = r.extra.get("shape").and_then(|v| v.get("sector"));
-    let get = |k: &str| {
-        sector
-            .and_then(|v| v.get(k))
-            .and_then(serde_json::Value::as_f64)
-    };
-    let (Some(spec), Some(ri), Some(ro), Some(th), Some(rc), Some(m)) = (
-        p.core.counterweight.shape,
-        get("inner_radius_m"),
-        get("outer_radius_m"),
-        get("angle_rad"),
-        get("centroid_radius_m"),
-        get("mass_kg"),
-    ) else {
+fn plate_drawing(
+    r: &mut SolveResult,
+    scene: &Scene,
+    p: &SliderCrankProblem,
+    plate: Option<Sector>,
+    angle: f64,
+) {
+    let (Some(spec), Some(sector)) = (p.core.counterweight.shape, plate) else {
         return;
     };
+    let (ri, ro, th, rc, m) = (
+        sector.inner_radius_m,
+        sector.outer_radius_m,
+        sector.angle_rad,
+        sector.centroid_radius_m,
+        sector.mass_kg,
+    );
     let (name, pin) = (scene.name.clone(), P2::new(p.core.mech.r, 0.0));
     r.drawings
         .push(Sheet::new("drawing", "counterweight plate", move || {

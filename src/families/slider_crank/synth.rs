@@ -139,13 +139,7 @@ pub struct Metrics {
 impl Metrics {
     /// |U| (kg·m) and its angle from the crank direction in [0, 2π) (rad; 0 for U = 0).
     pub fn unbalance_polar(&self) -> (f64, f64) {
-        let u = P2::new(self.unbalance[0], self.unbalance[1]);
-        let angle = if u.norm() > 0.0 {
-            u.y.atan2(u.x).rem_euclid(std::f64::consts::TAU)
-        } else {
-            0.0
-        };
-        (u.norm(), angle)
+        polar(self.unbalance)
     }
 
     /// The figures of a baseline (its `improvement_pct` left for the report).
@@ -164,6 +158,17 @@ impl Metrics {
             improvement_pct: None,
         }
     }
+}
+
+/// |U| (kg·m) and its angle from the crank direction in [0, 2π) (rad; 0 for U = 0).
+fn polar(u: [f64; 2]) -> (f64, f64) {
+    let u = P2::new(u[0], u[1]);
+    let angle = if u.norm() > 0.0 {
+        u.y.atan2(u.x).rem_euclid(std::f64::consts::TAU)
+    } else {
+        0.0
+    };
+    (u.norm(), angle)
 }
 
 /// The design of a slider-crank result (keys of `design`, SI).
@@ -204,15 +209,10 @@ pub struct Design {
 impl Design {
     /// The design of unbalance `u` (crank frame), realised as `cw` (mass, radius, plate).
     pub fn new(u: [f64; 2], cw: &Realised, shape: Option<&ShapeSpec>) -> Design {
-        let p = P2::new(u[0], u[1]);
-        let angle = if p.norm() > 0.0 {
-            p.y.atan2(p.x).rem_euclid(std::f64::consts::TAU)
-        } else {
-            0.0
-        };
+        let (p, (norm, angle)) = (P2::new(u[0], u[1]), polar(u));
         let plate = cw.plate.as_ref();
         Design {
-            counterweight_unbalance_kgm: p.norm(),
+            counterweight_unbalance_kgm: norm,
             counterweight_angle_rad: angle,
             counterweight_unbalance_x_kgm: p.x,
             counterweight_unbalance_y_kgm: p.y,
