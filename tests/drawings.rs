@@ -312,9 +312,23 @@ fn every_drawing_scene_writes_dimensioned_dxf_and_equal_aspect_svg() {
                     .filter(|(a, _)| a[0] == 0.0 && a[1] == 0.0)
                     .map(|(_, b)| b[0].hypot(b[1]))
                     .collect();
-                assert_eq!(from_a.len(), 2, "{name}: the boom at two reaches");
-                for l in from_a {
-                    assert!((l - boom).abs() < TOL, "{name}: boom {l} ≠ {boom}");
+                // With a boom counterweight, its lever from A at both reaches too.
+                let lever = v["design"]["counterweight_lever_m"].as_f64();
+                let (booms, levers): (Vec<f64>, Vec<f64>) =
+                    from_a.iter().partition(|&&l| (l - boom).abs() < TOL);
+                assert_eq!(booms.len(), 2, "{name}: the boom at two reaches");
+                match lever {
+                    Some(lv) => {
+                        assert_eq!(
+                            levers.len(),
+                            2,
+                            "{name}: the counterweight's lever at two reaches"
+                        );
+                        for l in levers {
+                            assert!((l - lv).abs() < TOL, "{name}: lever {l} ≠ {lv}");
+                        }
+                    }
+                    None => assert!(levers.is_empty(), "{name}: lines from A {levers:?}"),
                 }
                 has_text(&d, "L_c", boom * 1e3, "");
                 assert!(!outline.is_empty());

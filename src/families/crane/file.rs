@@ -4,6 +4,8 @@
 //! `docs/results.md`): design, Δh and its error, the thesis's checks, the jib-head path and
 //! the Δh landscape over (k1, k2) as SVG and CSV.
 
+use crate::families::crane::balance::{BalanceScene, CounterweightSpec};
+use crate::families::crane::statics::SelfWeight;
 use crate::families::crane::synth::{self as cr, Settings, SizingRule, TiePinLimit};
 use crate::problem::limits::{self, c, Count};
 use crate::problem::{check_name, Ctx, FieldError, Input, ProblemError, RawFile, RawVar, Resolved};
@@ -43,8 +45,45 @@ pub struct MechanismRaw {
     pub lift_height: Qty<Length>,
     /// h, rail to the boom-foot pin.
     pub foot_height: Qty<Length>,
-    /// Q, rated load (optional): the unbalanced load moment about A is reported.
+    /// Q, rated load (optional): the unbalanced load moment about A is reported, and with
+    /// `self_weight` the loaded case of the drive torque and the forces.
     pub load_mass: Option<Qty<Mass>>,
+    /// The boom system's masses: with them the luffing drive torque, the tie force and the pin
+    /// loads are computed over the luffing range (empty, and loaded with `load_mass`).
+    pub self_weight: Option<SelfWeightRaw>,
+}
+
+/// `[mechanism.self_weight]`: masses and centroids of boom, jib and tie.
+#[derive(Debug, Deserialize, schemars::JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct SelfWeightRaw {
+    /// m_b, the boom's mass.
+    pub boom_mass: Qty<Mass>,
+    /// The boom's centroid as a fraction of AD from the foot A (default 0.5, a uniform boom).
+    pub boom_centroid: Option<f64>,
+    /// m_j, the jib's mass.
+    pub jib_mass: Qty<Mass>,
+    /// The jib's centroid at D + f·(C − D), f a fraction of the jib head length DC (negative:
+    /// behind D, towards the tail E). Default (1 − k2)/2: the middle of the straight jib E–C.
+    pub jib_centroid: Option<f64>,
+    /// m_t, the tie's mass (its centroid at the middle of EB).
+    pub tie_mass: Qty<Mass>,
+}
+
+/// `[design.counterweight]`: the boom counterweight to design (its static moment minimises
+/// the peak luffing drive torque over the range, empty and loaded).
+#[derive(Debug, Deserialize, schemars::JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct CounterweightRaw {
+    /// The heaviest counterweight allowed.
+    pub max_mass: Qty<Mass>,
+    /// ℓ, the farthest its centroid (or, hung, its suspension point) may be from the foot A:
+    /// the lightest counterweight sits there.
+    pub lever: Qty<Length>,
+    /// Allowed directions of its centroid from A in the boom frame, `[from, to]` at most
+    /// 180° apart (0° along the boom towards its head, 90° the boom turned a quarter turn
+    /// anticlockwise, 180° the boom's extension behind A). Default: any direction.
+    pub directions: Option<[Qty<Angle>; 2]>,
 }
 
 /// How the boom length follows from the step-1 angles when `design.boom_length` is absent.
@@ -83,6 +122,8 @@ pub struct DesignRaw {
     pub gamma3: Option<RawVar<Angle>>,
     /// L_c given (fixed); otherwise `model.sizing` computes it.
     pub boom_length: Option<Qty<Length>>,
+    /// The boom counterweight to design (needs `mechanism.self_weight`).
+    pub counterweight: Option<CounterweightRaw>,
 }
 
 /// What `objective.minimize` can name.
@@ -198,6 +239,7 @@ pub fn resolve_raw(raw: &File) -> Result<CraneProblem, FieldError> {
         tie_pin,
         max_delta_h: o.max_delta_h.map(|q| q.si()),
         load_mass: m.load_mass.map(|q| q.si()),
+        balance: balance_scene(raw)?,
     };
     scene.validate()?;
     if let Some(t) = &o.tie_pin {
@@ -213,6 +255,112 @@ pub fn resolve_raw(raw: &File) -> Result<CraneProblem, FieldError> {
     settings.validate()?;
     check_work(&scene, &settings)?;
     Ok(CraneProblem { scene, settings })
+}
+
+/// The balance section of the scene: `mechanism.self_weight` and `design.counterweight`.
+fn balance_scene(raw: &File) -> Result<Option<BalanceScene>, FieldError> {
+    let m = &raw.mechanism;
+    let Some(sw) = &m.self_weight else {
+        return match raw.design.counterweight {
+            Some(_) => Err(FieldError::new(
+                "design.counterweight",
+                "needs the masses it balances; allowed: add [mechanism.self_weight] with boom_mass, jib_mass and tie_mass",
+            )),
+            None => Ok(None),
+        };
+    };
+    let mass = |key: &str, q: Qty<Mass>| {
+        let v = q.si();
+        if v.is_finite() && v >= 0.0 {
+            Ok(v)
+        } else {
+            Err(FieldError::new(
+                key,
+                format!("must be a finite mass >= 0 kg, got {v}"),
+            ))
+        }
+    };
+    let fraction = |key: &str, v: Option<f64>, lo: f64, hi: f64| match v {
+        Some(f) if !(f.is_finite() && (lo..=hi).contains(&f)) => Err(FieldError::new(
+            key,
+            format!("must be a fraction in [{lo}, {hi}], got {f}"),
+        )),
+        _ => Ok(v),
+    };
+    let k2_max = match raw.design.k2.as_ref().map(|v| v.resolve("design.k2")) {
+        Some(Ok(v)) => v.bounds().1,
+        _ => 1.0,
+    };
+    let self_weight = SelfWeight {
+        boom_mass: mass("mechanism.self_weight.boom_mass", sw.boom_mass)?,
+        boom_centroid: fraction(
+            "mechanism.self_weight.boom_centroid",
+            sw.boom_centroid,
+            0.0,
+            1.0,
+        )?
+        .unwrap_or(0.5),
+        jib_mass: mass("mechanism.self_weight.jib_mass", sw.jib_mass)?,
+        // Resolved against the design's k2 (`BalanceScene::self_weight_at`).
+        jib_centroid: 0.0,
+        tie_mass: mass("mechanism.self_weight.tie_mass", sw.tie_mass)?,
+    };
+    let counterweight = match &raw.design.counterweight {
+        None => None,
+        Some(c) => {
+            let max_mass = c.max_mass.si();
+            if !(max_mass.is_finite() && max_mass > 0.0) {
+                return Err(FieldError::new(
+                    "design.counterweight.max_mass",
+                    format!("must be a finite positive mass, got {max_mass} kg"),
+                ));
+            }
+            let lever = c.lever.si();
+            if !(lever.is_finite() && lever > 0.0) {
+                return Err(FieldError::new(
+                    "design.counterweight.lever",
+                    format!("must be a finite positive length, got {lever} m"),
+                ));
+            }
+            let directions = match c.directions {
+                None => None,
+                Some([a, b]) => {
+                    let (lo, hi) = (a.si(), b.si());
+                    if !(lo.is_finite()
+                        && hi.is_finite()
+                        && lo <= hi
+                        && hi - lo <= std::f64::consts::PI)
+                    {
+                        return Err(FieldError::new(
+                            "design.counterweight.directions",
+                            format!(
+                                "must be [from, to] with from <= to and at most 180 deg apart, got [{:.6} deg, {:.6} deg]",
+                                lo.to_degrees(),
+                                hi.to_degrees()
+                            ),
+                        ));
+                    }
+                    Some((lo, hi))
+                }
+            };
+            Some(CounterweightSpec {
+                max_mass,
+                lever,
+                directions,
+            })
+        }
+    };
+    Ok(Some(BalanceScene {
+        self_weight,
+        jib_centroid: fraction(
+            "mechanism.self_weight.jib_centroid",
+            sw.jib_centroid,
+            -k2_max,
+            1.0,
+        )?,
+        counterweight,
+        load_mass: m.load_mass.map(|q| q.si()),
+    }))
 }
 
 /// The work budget ([`limits::check_work`]): W = n_path·(1 + n·G + s·I·(n + 1) + k1·k2) +

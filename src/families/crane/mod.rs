@@ -2,9 +2,11 @@
 //! (`synth`), its result and plots (`report`) and its study
 //! ladder and left-out effects (`study`), behind the `Family` and `Machine` traits.
 
+pub mod balance;
 pub mod file;
 pub mod model;
 pub mod report;
+pub mod statics;
 pub mod study;
 pub mod synth;
 

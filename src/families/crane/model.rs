@@ -659,8 +659,9 @@ pub fn head_extrema(link: &Linkage, n: usize, xtol: f64) -> Result<Vec<LocalExtr
 /// M_A(φ) = W·dy_C/dφ. dy_C/dφ by the fourth-order central difference
 /// (8(y(φ+h) − y(φ−h)) − (y(φ+2h) − y(φ−2h)))/(12h); within 2h of an end of the range the
 /// stencil centre is moved inside. Returns (M, error), the error being the change from the
-/// second-order difference plus the shift of the centre times |y''| and rounding. `None` if a
-/// pose fails.
+/// second-order difference, plus, for a moved centre c, twice the Taylor estimate of
+/// |M(φ) − M(c)| ≤ W(|c − φ|·|y''| + ½(c − φ)²|y'''|) (the differences of y at c), and
+/// rounding. `None` if a pose fails.
 pub fn load_moment(link: &Linkage, weight: f64, phi: f64, h: f64) -> Option<(f64, f64)> {
     let [p0, p1] = link.phi_range;
     let h = h.min((p1 - p0) / 8.0);
@@ -676,8 +677,15 @@ pub fn load_moment(link: &Linkage, weight: f64, phi: f64, h: f64) -> Option<(f64
     let d2nd = (yp1 - ym1) / (2.0 * h);
     let d4th = (8.0 * (yp1 - ym1) - (yp2 - ym2)) / (12.0 * h);
     let curv = (yp1 - 2.0 * y0 + ym1) / (h * h);
-    let rounding = 64.0 * f64::EPSILON * link.length_scale() / (link.k2 * h);
-    let err = (d4th - d2nd).abs() + (c - phi).abs() * curv.abs() + rounding;
+    let third = (yp2 - 2.0 * yp1 + 2.0 * ym1 - ym2) / (2.0 * h * h * h);
+    let rounding = 64.0 * f64::EPSILON * link.length_scale() / (link.k2 * h * h * h);
+    let shift = (c - phi).abs();
+    let moved = if shift > 0.0 {
+        2.0 * (shift * curv.abs() + 0.5 * shift * shift * (third.abs() + rounding))
+    } else {
+        0.0
+    };
+    let err = (d4th - d2nd).abs() + moved + rounding * h * h;
     Some((weight * d4th, weight.abs() * err))
 }
 

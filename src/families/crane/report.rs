@@ -3,7 +3,9 @@
 //! `docs/results.md`).
 
 use super::file::*;
+use crate::families::crane::balance;
 use crate::families::crane::model::{synthesize, Angles, Boom, Guide};
+use crate::families::crane::statics::boom_frame;
 use crate::families::crane::synth::{
     self as cr, Derived, Design, Objectives, Outcome, Status as CraneStatus, TiePinLimit,
 };
@@ -224,8 +226,202 @@ pub fn result(scene: &Scene, s: &CraneProblem) -> SolveResult {
             move || path_plot(&scene, &out),
         ));
     }
-    crane_drawing(&mut r, &scene.name, &out);
+    let cw = balance_section(&mut r, scene, cs, &out);
+    crane_drawing(&mut r, &scene.name, &out, cw);
     r
+}
+
+/// Series points of the balance's table and plots.
+const BALANCE_SAMPLES: usize = 120;
+
+/// The boom system's statics and counterweight (`mechanism.self_weight`,
+/// `design.counterweight`): solved at the reported design, written as `extra.balance`, the
+/// counterweight's keys in `design`, a table and a plot. Returns the counterweight's first
+/// moment (boom frame) and mass for the drawing.
+fn balance_section(
+    r: &mut SolveResult,
+    scene: &Scene,
+    cs: &cr::CraneScene,
+    out: &Outcome,
+) -> Option<([f64; 2], f64)> {
+    let bs = cs.balance.as_ref()?;
+    out.positions.as_ref()?;
+    let link = match cr::build(cs, &out.x) {
+        Ok((_, syn)) => syn.linkage,
+        Err(e) => {
+            r.warnings.push(format!("balance not computed: {e}"));
+            return None;
+        }
+    };
+    let t0 = Instant::now();
+    let bal = match balance::solve(
+        &link,
+        bs,
+        cs.foot_offset,
+        &crate::synth::minimax::Settings::default(),
+        BALANCE_SAMPLES,
+    ) {
+        Ok(b) => b,
+        Err(e) => {
+            r.warnings.push(format!("balance not computed: {e}"));
+            return None;
+        }
+    };
+    r.timing.solve_s += t0.elapsed().as_secs_f64();
+    r.model.insert(
+        "gravity".into(),
+        json!("boom, jib, tie and load weights (g = 9.80665 m/s²), quasi-static luffing; the hoist rope's pull on the jib is not modelled (the load hangs at the jib head)"),
+    );
+    let mut cw_out = None;
+    if let Some(c) = &bal.counterweight {
+        r.design.insert("counterweight_mass_kg".into(), c.mass_kg);
+        r.design.insert("counterweight_lever_m".into(), c.lever_m);
+        r.design
+            .insert("counterweight_direction_rad".into(), c.direction_rad);
+        r.design.insert(
+            "counterweight_static_moment_kgm".into(),
+            c.static_moment_magnitude_kgm,
+        );
+        if c.status != crate::synth::counterweight::Status::Optimal {
+            r.warnings.push(format!(
+                "the boom counterweight is {:?}, not certified optimal: {}",
+                c.status,
+                c.note
+                    .as_deref()
+                    .unwrap_or("see extra.balance.counterweight")
+            ));
+        }
+        let spec = bs.counterweight.expect("designed only when asked for");
+        r.bounds.extend(crate::report::ActiveBound::check(
+            "design.counterweight_mass_kg",
+            c.mass_kg,
+            (0.0, spec.max_mass),
+            1e-6,
+            ("design.counterweight.max_mass", "no counterweight helps"),
+            (
+                "design.counterweight.max_mass",
+                "the heaviest counterweight allowed: a heavier one (or a longer lever) would lower the peak drive torque",
+            ),
+        ));
+        cw_out = Some((c.static_moment_kgm, c.mass_kg));
+    }
+    if !bal.virtual_work_check.pass {
+        r.warnings.push(format!(
+            "the drive torque by statics differs from virtual work by {:.3e} N·m, more than its stated error {:.3e} N·m",
+            bal.virtual_work_check.max_difference_nm, bal.virtual_work_check.max_stated_error_nm
+        ));
+    }
+    let mut csv = String::from("phi_rad,reach_m,drive_torque_empty_unbalanced_nm,drive_torque_loaded_unbalanced_nm,drive_torque_empty_nm,drive_torque_loaded_nm,tie_tension_n,boom_compression_n,boom_shear_n,pin_a_n,pin_b_n,pin_d_n,pin_e_n,head_force_n,head_force_angle_rad\n");
+    for p in &bal.series {
+        let s = &p.loaded;
+        csv += &format!(
+            "{:.12e},{:.12e},{:.12e},{:.12e},{:.12e},{:.12e},{:.12e},{:.12e},{:.12e},{:.12e},{:.12e},{:.12e},{:.12e},{:.12e},{:.12e}\n",
+            p.phi,
+            p.reach,
+            p.bare[0],
+            p.bare[1],
+            p.balanced[0],
+            p.balanced[1],
+            s.tie_tension,
+            s.boom_compression,
+            s.boom_shear,
+            s.pin_a.norm(),
+            s.pin_b.norm(),
+            s.pin_d.norm(),
+            s.pin_e.norm(),
+            s.head_force,
+            s.head_force_angle
+        );
+    }
+    r.tables.push(Table {
+        suffix: "balance".into(),
+        caption: "Luffing drive torque (empty and loaded, without and with the counterweight) and the loaded case's member forces over the luffing range".into(),
+        csv,
+    });
+    let (name, series, loaded) = (
+        scene.name.clone(),
+        bal.series.clone(),
+        bs.load_mass.is_some(),
+    );
+    let designed = bal.counterweight.is_some();
+    r.plots.push(Plot::new(
+        "balance",
+        "Luffing drive torque and member forces against the reach",
+        move || balance_plot(&name, &series, loaded, designed),
+    ));
+    r.extra.insert(
+        "balance".into(),
+        serde_json::to_value(&bal).expect("plain data"),
+    );
+    cw_out
+}
+
+/// Drive torque (kN·m) and forces (kN) against the reach (m).
+fn balance_plot(
+    name: &str,
+    series: &[balance::Sample],
+    loaded: bool,
+    designed: bool,
+) -> Result<String, PlotError> {
+    let pts = |f: &dyn Fn(&balance::Sample) -> f64| -> Vec<(f64, f64)> {
+        series.iter().map(|p| (p.reach, f(p) / 1e3)).collect()
+    };
+    let mut torque = vec![Series::line("empty, no counterweight", pts(&|p| p.bare[0]))];
+    if loaded {
+        torque.push(Series::line(
+            "loaded, no counterweight",
+            pts(&|p| p.bare[1]),
+        ));
+    }
+    if designed {
+        torque.push(Series::line(
+            "empty, with the counterweight",
+            pts(&|p| p.balanced[0]),
+        ));
+        if loaded {
+            torque.push(Series::line(
+                "loaded, with the counterweight",
+                pts(&|p| p.balanced[1]),
+            ));
+        }
+    }
+    let case = if loaded { "loaded" } else { "empty" };
+    let forces = vec![
+        Series::line("tie tension K", pts(&|p| p.loaded.tie_tension)),
+        Series::line("boom compression at D", pts(&|p| p.loaded.boom_compression)),
+        Series::line("boom-foot pin load |F_A|", pts(&|p| p.loaded.pin_a.norm())),
+        Series::line(
+            "jib's force on the boom head N",
+            pts(&|p| p.loaded.head_force),
+        ),
+    ];
+    plot::panels(
+        &[
+            Panel {
+                title: format!("{name}: luffing drive torque"),
+                x_label: "reach from the slewing axis (m)".into(),
+                y_label: "drive torque about A (kN·m, + raises the boom)".into(),
+                series: torque,
+                equal_aspect: false,
+            },
+            Panel {
+                title: format!(
+                    "Member forces ({case}{})",
+                    if designed {
+                        ", with the counterweight"
+                    } else {
+                        ""
+                    }
+                ),
+                x_label: "reach from the slewing axis (m)".into(),
+                y_label: "force (kN)".into(),
+                series: forces,
+                equal_aspect: false,
+            },
+        ],
+        640,
+        420,
+    )
 }
 
 /// Compact facts of the landscape (the grid itself is in the CSV).
@@ -619,7 +815,7 @@ fn thesis_checks(r: &mut SolveResult, scene: &Scene, c: &cr::CraneScene, out: &c
 /// four-bar at maximum and minimum reach (boom A–D, jib E–D–C, tie B–E; A at the origin), the
 /// jib-head and jib-tail paths over the luffing range, with the boom L_c = |AD|, the jib head
 /// L_v = |DC|, the jib tail a = |DE| and the tie b = |BE| dimensioned at maximum reach.
-fn crane_drawing(r: &mut SolveResult, name: &str, out: &Outcome) {
+fn crane_drawing(r: &mut SolveResult, name: &str, out: &Outcome, cw: Option<([f64; 2], f64)>) {
     let Some(pos) = out.positions.clone() else {
         return;
     };
@@ -656,6 +852,21 @@ fn crane_drawing(r: &mut SolveResult, name: &str, out: &Outcome) {
                     d.circle(Layer::Outline, j, pin);
                 }
                 d.label(c - P2::new(0.0, 3.0 * pin), format!("C ({words})"));
+            }
+            // The boom counterweight's centroid at both reaches, on its lever from A.
+            if let Some((u, m)) = cw.filter(|&(_, m)| m > 0.0) {
+                for i in [0, 2] {
+                    let (eb, en) = boom_frame(pos.phi_rad[i]);
+                    let p = (eb * u[0] + en * u[1]) / m;
+                    d.line(Layer::Outline, a, p);
+                    d.circle(Layer::Outline, p, 3.0 * pin);
+                }
+                let (eb, en) = boom_frame(pos.phi_rad[0]);
+                let p = (eb * u[0] + en * u[1]) / m;
+                d.label(
+                    p - P2::new(0.0, 5.0 * pin),
+                    format!("counterweight {:.1} t", m / 1e3),
+                );
             }
             let (dd, e, c) = (p2(&pos.d[0]), p2(&pos.e[0]), p2(&pos.c[0]));
             d.linear(a, dd, 0.06 * boom, "L_c");

@@ -122,6 +122,9 @@ pub struct CraneScene {
     pub max_delta_h: Option<f64>,
     /// Rated load Q (kg) for the unbalanced load moment; optional. Key `load_mass`.
     pub load_mass: Option<f64>,
+    /// Masses of the boom system and the boom counterweight to design (keys
+    /// `mechanism.self_weight`, `design.counterweight`); `None`: no statics.
+    pub balance: Option<crate::families::crane::balance::BalanceScene>,
 }
 
 /// A field error names its problem-file key (`design.k1`, `accuracy.path_samples`): one
@@ -913,8 +916,38 @@ fn signed_constraints(scene: &CraneScene, boom: &Boom, syn: &Synthesis) -> Optio
     Some(c)
 }
 
+/// The load's unbalanced moment about A at φ, M_A = W dy_C/dφ, and its error (N·m): from
+/// the statics of a weightless boom system with the load W at the jib head (thesis §2.2,
+/// M_Ah = N L_c sin α; exact up to the rounding and conditioning it states) when the tie is a
+/// circle, by the finite difference [`load_moment`] for the straight-guide limit.
+fn load_moment_at(
+    link: &crate::families::crane::model::Linkage,
+    w: f64,
+    phi: f64,
+    h: f64,
+) -> Option<(f64, f64)> {
+    use crate::families::crane::statics::{statics, Loads, SelfWeight};
+    if let Guide::Circle { .. } = link.guide {
+        let pose = link.pose(phi)?;
+        let none = SelfWeight {
+            boom_mass: 0.0,
+            boom_centroid: 0.5,
+            jib_mass: 0.0,
+            jib_centroid: 0.5,
+            tie_mass: 0.0,
+        };
+        let loads = Loads {
+            load_mass: w / crate::units::STANDARD_GRAVITY,
+            ..Loads::default()
+        };
+        let s = statics(link, phi, &pose, &none, &loads)?;
+        return Some((s.drive_torque, s.drive_torque_error));
+    }
+    load_moment(link, w, phi, h)
+}
+
 /// Boom and synthesis of the design x (steps 1 and 2).
-fn build(scene: &CraneScene, x: &[f64; 6]) -> Result<(Boom, Synthesis), CraneGeomError> {
+pub(crate) fn build(scene: &CraneScene, x: &[f64; 6]) -> Result<(Boom, Synthesis), CraneGeomError> {
     let angles = Angles {
         phi_min: x[2],
         gamma1: x[3],
@@ -1836,6 +1869,12 @@ fn report(
             if let Some(q) = scene.load_mass {
                 let w = q * 9.80665;
                 let h = settings.moment_step;
+                // With a tie, the moment from the statics (closed form, its rounding and
+                // conditioning bounded); a straight guide by the finite difference.
+                let load_moment =
+                    |l: &crate::families::crane::model::Linkage, w: f64, phi: f64, h: f64| {
+                        load_moment_at(l, w, phi, h)
+                    };
                 let mut worst = (0.0f64, 0.0f64, p0);
                 let n = settings.path_samples;
                 for i in 0..=n {
@@ -1948,6 +1987,7 @@ pub fn thesis_example() -> CraneScene {
         tie_pin: TiePinLimit::default(),
         max_delta_h: None,
         load_mass: None,
+        balance: None,
     }
 }
 
@@ -2051,6 +2091,7 @@ pub fn tukan_40t() -> CraneScene {
         },
         max_delta_h: None,
         load_mass: Some(40_000.0),
+        balance: None,
     }
 }
 

@@ -1,0 +1,438 @@
+//! The boom counterweight of the luffing crane (thesis `003`, ch. 1, Fig 1.5: the boom's
+//! self-weight balanced by a counterweight on the boom, hung from it, or stacked): its static
+//! moment chosen to minimise the peak luffing drive torque over the luffing range, empty and
+//! loaded, and the forces of the boom system over the range.
+//!
+//! The drive torque is affine in the counterweight's first moment u about A in the boom
+//! frame (see [`super::statics`]): T(φ) = T₀(φ) + g (u_s cos φ + u_n sin φ). So
+//!
+//! min over u of max over φ ∈ [φ_min, φ_max] and over the load cases of |T(φ; u)|
+//!
+//! is convex, the same problem as the torque-optimal crank counterweight: it is solved by
+//! the shared certified minimax engine ([`crate::synth::minimax`]), a clarabel SOCP with an
+//! exchange loop, whose status is `optimal` only with its certificate (the refined true
+//! peak within `rel_tol` of a rigorous lower bound). The engine works over a periodic
+//! parameter θ; the luffing range is mapped onto it by φ(θ) = φ_mid − ½Δφ cos θ, which
+//! visits every φ of the range twice and keeps each field smooth and periodic (the ends of
+//! the range become smooth extrema in θ, where the refinement finds them).
+//!
+//! The counterweight's limits: mass m ≤ m_max, its centroid (or, hung, its suspension
+//! point) within the lever ℓ of A, |u| ≤ ℓ m, and optionally a sector of directions in the
+//! boom frame (180° is the boom's extension behind A). A hung counterweight acts as a point
+//! mass at its suspension point for the quasi-static drive torque, so the same u describes
+//! it. Only u enters the torque: the lightest counterweight with it sits at the full lever,
+//! m = |u|/ℓ, which is what is reported.
+
+use super::model::Linkage;
+use super::statics::{counterweight_torque_row, statics, virtual_work_torque, Loads, SelfWeight};
+use crate::numeric::interval_peak;
+use crate::synth::counterweight::Status;
+use crate::synth::minimax::{
+    self as mm, AffineValue, CounterweightLimits, Engine, FieldPeak, FnField, Goal, Problem,
+};
+
+/// What the problem file asks of the counterweight (SI).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct CounterweightSpec {
+    /// m_max (kg).
+    pub max_mass: f64,
+    /// ℓ, the largest distance of its centroid (or suspension point) from A (m).
+    pub lever: f64,
+    /// Allowed directions of u in the boom frame (rad, hi − lo ≤ π), if restricted.
+    pub directions: Option<(f64, f64)>,
+}
+
+/// The boom system's masses and the counterweight to design (`None`: forces only).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct BalanceScene {
+    /// Masses and centroids; the jib's centroid is `jib_centroid`.
+    pub self_weight: SelfWeight,
+    /// The jib's centroid fraction f_j if given; `None`: the middle of the jib E–C,
+    /// (1 − k2)/2, which depends on the design's k2 (see [`BalanceScene::self_weight_at`]).
+    pub jib_centroid: Option<f64>,
+    /// The counterweight asked for.
+    pub counterweight: Option<CounterweightSpec>,
+    /// Q, the rated load (kg): a second, loaded case.
+    pub load_mass: Option<f64>,
+}
+
+impl BalanceScene {
+    /// The masses with the jib's centroid resolved for a jib tail ratio k2.
+    pub fn self_weight_at(&self, k2: f64) -> SelfWeight {
+        SelfWeight {
+            jib_centroid: self.jib_centroid.unwrap_or(0.5 * (1.0 - k2)),
+            ..self.self_weight
+        }
+    }
+}
+
+/// The peak drive torque of one load case.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct CasePeak {
+    /// `empty` or `loaded`.
+    pub case: String,
+    /// max over the range of |T| (N·m).
+    pub peak_nm: f64,
+    /// Its boom angle φ (rad).
+    pub phi_rad: f64,
+    /// Bound on |peak − true peak| (N·m): refinement and evaluation.
+    pub error_nm: f64,
+}
+
+/// The designed counterweight.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct Counterweight {
+    /// `optimal` (certified), `inaccurate` (gap stated), `infeasible` or `failed`.
+    pub status: Status,
+    /// Why not optimal, if not.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub note: Option<String>,
+    /// u = (u_s, u_n), its first moment about A in the boom frame (kg·m).
+    pub static_moment_kgm: [f64; 2],
+    /// |u| (kg·m).
+    pub static_moment_magnitude_kgm: f64,
+    /// Direction of u in the boom frame (rad; 180° = on the boom's extension behind A), in
+    /// [0, 2π) or, with `directions`, from its first angle on.
+    pub direction_rad: f64,
+    /// The lightest counterweight with this u: at the full lever, m = |u|/ℓ (kg).
+    pub mass_kg: f64,
+    /// ℓ, its centroid's distance from A (m).
+    pub lever_m: f64,
+    /// V: the peak |T| over the range and both cases with it (N·m), an upper bound of the
+    /// optimum.
+    pub peak_drive_torque_nm: f64,
+    /// L: the certified lower bound of the optimum (N·m).
+    pub lower_bound_nm: f64,
+    /// Bound on |V − optimum| (N·m): sampling certificate + evaluation + refinement.
+    pub error_nm: f64,
+    /// Exchange rounds (SOCP solves).
+    pub rounds: usize,
+}
+
+/// The refined largest value of one member force over the range, in one load case (with
+/// the counterweight, if designed).
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct ForcePeak {
+    /// `empty` or `loaded`.
+    pub case: String,
+    /// Which force: `tie tension max`, `tie tension min` (negative: compression),
+    /// `boom compression max`, `boom shear max` (across the boom at D), `pin A max`,
+    /// `pin B max`, `pin D max`, `pin E max` (pin load magnitudes), `head force N max`
+    /// (thesis §2.2: the jib's force on the boom head).
+    pub force: String,
+    /// The value (N).
+    pub value_n: f64,
+    /// Its boom angle φ (rad).
+    pub phi_rad: f64,
+    /// Bound on |value − true extreme value| (N): refinement and evaluation.
+    pub error_n: f64,
+    /// For `head force N max`: α, the angle between N and the boom axis there (rad).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub alpha_rad: Option<f64>,
+}
+
+/// The independent check of the drive torque: statics against virtual work.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct VirtualWorkCheck {
+    /// Boom angles checked (equally spaced over the range, both ends included).
+    pub positions: usize,
+    /// max |T_statics − dV/dφ| over them and both cases (N·m).
+    pub max_difference_nm: f64,
+    /// The largest stated error there (statics bound + difference estimate) (N·m).
+    pub max_stated_error_nm: f64,
+    /// Whether every difference is within its stated error.
+    pub pass: bool,
+}
+
+/// One sample of the series over the range.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Sample {
+    /// φ (rad).
+    pub phi: f64,
+    /// Reach of the jib head from the slewing axis (m).
+    pub reach: f64,
+    /// T without counterweight: empty, loaded (N·m; loaded = empty without a load).
+    pub bare: [f64; 2],
+    /// T with the counterweight: empty, loaded (N·m).
+    pub balanced: [f64; 2],
+    /// Statics of the loaded (or only) case with the counterweight.
+    pub loaded: super::statics::Statics,
+}
+
+/// The balance of the boom system.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct Balance {
+    /// How it was computed.
+    pub method: String,
+    /// The masses used.
+    pub self_weight: SelfWeight,
+    /// Q (kg), if a loaded case is included.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub load_mass_kg: Option<f64>,
+    /// Peak drive torque without counterweight, per case.
+    pub unbalanced: Vec<CasePeak>,
+    /// The designed counterweight (with `design.counterweight`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub counterweight: Option<Counterweight>,
+    /// Peak drive torque with it, per case.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub balanced: Vec<CasePeak>,
+    /// Member forces over the range (with the counterweight if designed).
+    pub forces: Vec<ForcePeak>,
+    /// Statics against virtual work.
+    pub virtual_work_check: VirtualWorkCheck,
+    /// Series over the range (CSV and plot; not in the JSON).
+    #[serde(skip)]
+    pub series: Vec<Sample>,
+}
+
+/// Why the balance cannot be computed.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum BalanceError {
+    /// The tie is a straight guide (B at infinity): no pin B to carry a force.
+    #[error("the tie is a straight guide (tie pin at infinity): member forces need a finite tie")]
+    StraightGuide,
+    /// The linkage does not assemble, or is singular, at a boom angle of the range.
+    #[error("no statics at phi = {phi} rad (the linkage does not assemble or the tie and jib tail align)")]
+    NoPose {
+        /// The boom angle.
+        phi: f64,
+    },
+    /// The engine refused the problem.
+    #[error("counterweight solve: {0}")]
+    Engine(#[from] mm::MinimaxError),
+}
+
+/// φ(θ) = φ_mid − ½Δφ cos θ, the luffing range as a periodic parameter.
+fn phi_of(link: &Linkage, theta: f64) -> f64 {
+    let [p0, p1] = link.phi_range;
+    0.5 * (p0 + p1) - 0.5 * (p1 - p0) * theta.cos()
+}
+
+/// Step of the virtual-work check (rad): its truncation h⁴|V⁽⁵⁾| and rounding ε|V|/h are
+/// both ~1e-12 of the torque.
+const VW_STEP: f64 = 1e-3;
+
+/// Angle tolerance of the force peaks' refinement (rad): ½|f''|·xtol² is ~1e-18 of a force.
+const PEAK_XTOL: f64 = 1e-9;
+
+/// Boom angles of the virtual-work check.
+pub const VW_POSITIONS: usize = 10;
+
+/// The balance of the linkage `link` for `scene`: the drive torque without counterweight, the
+/// optimal counterweight when asked for, the forces over the range, the check by virtual
+/// work. `foot_offset` r places the reach; `samples` is the number of series points.
+pub fn solve(
+    link: &Linkage,
+    scene: &BalanceScene,
+    foot_offset: f64,
+    settings: &mm::Settings,
+    samples: usize,
+) -> Result<Balance, BalanceError> {
+    if !matches!(link.guide, super::model::Guide::Circle { .. }) {
+        return Err(BalanceError::StraightGuide);
+    }
+    let w = scene.self_weight_at(link.k2);
+    let cases: Vec<(&str, f64)> = match scene.load_mass {
+        Some(q) => vec![("empty", 0.0), ("loaded", q)],
+        None => vec![("empty", 0.0)],
+    };
+    let at = |phi: f64, q: f64, m: f64, u: [f64; 2]| {
+        let pose = link.pose(phi).ok_or(BalanceError::NoPose { phi })?;
+        let loads = Loads {
+            load_mass: q,
+            counterweight_mass: m,
+            counterweight_moment: u,
+        };
+        statics(link, phi, &pose, &w, &loads).ok_or(BalanceError::NoPose { phi })
+    };
+    // Every field must evaluate over the range; a failing pose is an error, not a NaN.
+    let [p0, p1] = link.phi_range;
+    for k in 0..=64 {
+        let phi = p0 + (p1 - p0) * k as f64 / 64.0;
+        for &(_, q) in &cases {
+            at(phi, q, 0.0, [0.0; 2])?;
+        }
+    }
+    let fields: Vec<_> = cases
+        .iter()
+        .map(|&(name, q)| {
+            let at = &at;
+            FnField::new(
+                format!("drive torque, {name}"),
+                1,
+                move |theta: f64, out: &mut AffineValue| {
+                    let phi = phi_of(link, theta);
+                    let s = at(phi, q, 0.0, [0.0; 2]);
+                    out.b[0] = s.map_or(f64::NAN, |s| s.drive_torque);
+                    let row = counterweight_torque_row(phi);
+                    let r = out.row_mut(0);
+                    r[mm::var_u(0)] = row[0];
+                    r[mm::var_u(0) + 1] = row[1];
+                },
+            )
+            .with_error(move |theta: f64, _x: &[f64]| {
+                at(phi_of(link, theta), q, 0.0, [0.0; 2])
+                    .map_or(f64::INFINITY, |s| s.drive_torque_error)
+            })
+        })
+        .collect();
+    let field_refs: Vec<&dyn mm::AffineField> =
+        fields.iter().map(|f| f as &dyn mm::AffineField).collect();
+    // Without a counterweight to design the engine still computes the peaks (at u = 0): a
+    // counterweight of zero mass.
+    let spec = scene.counterweight.unwrap_or(CounterweightSpec {
+        max_mass: 1.0,
+        lever: 1.0,
+        directions: None,
+    });
+    let mut limits = CounterweightLimits::new(spec.max_mass, spec.lever);
+    limits.sector = spec.directions;
+    let pb = Problem {
+        fields: field_refs,
+        counterweights: vec![limits],
+        extra: vec![],
+        linear: vec![],
+        goal: Goal::MinPeak((0..cases.len()).map(|f| (f, 1.0)).collect()),
+        limits: vec![],
+    };
+    let engine = Engine::new(&pb, settings)?;
+    let case_peaks = |peaks: &[FieldPeak]| -> Vec<CasePeak> {
+        peaks
+            .iter()
+            .zip(&cases)
+            .map(|(p, &(name, _))| CasePeak {
+                case: name.into(),
+                peak_nm: p.peak,
+                phi_rad: phi_of(link, p.angle),
+                error_nm: p.error,
+            })
+            .collect()
+    };
+    let x0 = vec![0.0; pb.n()];
+    let unbalanced = case_peaks(&engine.peaks(&x0)?);
+    let (counterweight, balanced, m, u) = match scene.counterweight {
+        None => (None, Vec::new(), 0.0, [0.0; 2]),
+        Some(spec) => {
+            let sol = engine.solve()?;
+            let cw = sol.counterweight(0);
+            let u = cw.first_moment;
+            let un = u[0].hypot(u[1]);
+            let m = un / spec.lever;
+            let c = Counterweight {
+                status: sol.status,
+                note: sol.note.clone(),
+                static_moment_kgm: u,
+                static_moment_magnitude_kgm: un,
+                // In [0, 2π), or within the allowed sector when one is given.
+                direction_rad: if un > 0.0 {
+                    let a = u[1].atan2(u[0]).rem_euclid(std::f64::consts::TAU);
+                    match spec.directions {
+                        Some((lo, _)) => lo + (a - lo).rem_euclid(std::f64::consts::TAU),
+                        None => a,
+                    }
+                } else {
+                    0.0
+                },
+                mass_kg: m,
+                lever_m: spec.lever,
+                peak_drive_torque_nm: sol.objective,
+                lower_bound_nm: sol.lower_bound,
+                error_nm: sol.error.total,
+                rounds: sol.rounds,
+            };
+            (Some(c), case_peaks(&sol.peaks), m, u)
+        }
+    };
+    // Force peaks with the counterweight (if any), each refined over the range.
+    let scan = 64;
+    let mut forces = Vec::new();
+    type Get = fn(&super::statics::Statics) -> f64;
+    let which: [(&str, f64, Get); 9] = [
+        ("tie tension max", 1.0, |s| s.tie_tension),
+        ("tie tension min", -1.0, |s| -s.tie_tension),
+        ("boom compression max", 1.0, |s| s.boom_compression),
+        ("boom shear max", 1.0, |s| s.boom_shear.abs()),
+        ("pin A max", 1.0, |s| s.pin_a.norm()),
+        ("pin B max", 1.0, |s| s.pin_b.norm()),
+        ("pin D max", 1.0, |s| s.pin_d.norm()),
+        ("pin E max", 1.0, |s| s.pin_e.norm()),
+        ("head force N max", 1.0, |s| s.head_force),
+    ];
+    for &(name, q) in &cases {
+        for &(force, sign, g) in &which {
+            let f = |phi: f64| at(phi, q, m, u).map_or(f64::NAN, |s| g(&s));
+            let p = interval_peak(f, p0, p1, scan, PEAK_XTOL)
+                .map_err(|_| BalanceError::NoPose { phi: p0 })?;
+            let s = at(p.peak.x, q, m, u)?;
+            forces.push(ForcePeak {
+                case: name.into(),
+                force: force.into(),
+                value_n: sign * p.peak.fx,
+                phi_rad: p.peak.x,
+                error_n: p.error + s.force_error,
+                alpha_rad: (force == "head force N max").then_some(s.head_force_angle),
+            });
+        }
+    }
+    // Series over the range for the table and the plots.
+    let n = samples.max(2);
+    let mut series = Vec::with_capacity(n + 1);
+    for i in 0..=n {
+        let phi = p0 + (p1 - p0) * i as f64 / n as f64;
+        let mut bare = [0.0; 2];
+        let mut bal = [0.0; 2];
+        let mut last = None;
+        for (k, &(_, q)) in cases.iter().enumerate() {
+            bare[k] = at(phi, q, 0.0, [0.0; 2])?.drive_torque;
+            let s = at(phi, q, m, u)?;
+            bal[k] = s.drive_torque;
+            last = Some(s);
+        }
+        if cases.len() == 1 {
+            bare[1] = bare[0];
+            bal[1] = bal[0];
+        }
+        let c = link.pose(phi).ok_or(BalanceError::NoPose { phi })?.c;
+        series.push(Sample {
+            phi,
+            reach: foot_offset - c.x,
+            bare,
+            balanced: bal,
+            loaded: last.expect("at least one case"),
+        });
+    }
+    // The check: statics against virtual work at equally spaced angles, ends included.
+    let mut vw = VirtualWorkCheck {
+        positions: VW_POSITIONS,
+        max_difference_nm: 0.0,
+        max_stated_error_nm: 0.0,
+        pass: true,
+    };
+    for i in 0..VW_POSITIONS {
+        let phi = p0 + (p1 - p0) * i as f64 / (VW_POSITIONS - 1) as f64;
+        // Inside the range by the stencil's reach, so every pose assembles.
+        let phi = phi.clamp(p0 + VW_STEP, p1 - VW_STEP);
+        for &(_, q) in &cases {
+            let s = at(phi, q, 0.0, [0.0; 2])?;
+            let (t_vw, e_vw) = virtual_work_torque(link, phi, VW_STEP, &w, q)
+                .ok_or(BalanceError::NoPose { phi })?;
+            let diff = (s.drive_torque - t_vw).abs();
+            let stated = s.drive_torque_error + e_vw + 1e-12 * t_vw.abs();
+            vw.max_difference_nm = vw.max_difference_nm.max(diff);
+            vw.max_stated_error_nm = vw.max_stated_error_nm.max(stated);
+            vw.pass &= diff <= stated;
+        }
+    }
+    Ok(Balance {
+        method: "quasi-static equilibrium of boom, jib and tie (2×2 tie–jib system per pose); counterweight: certified minimax of |T| over the luffing range and both load cases (clarabel SOCP + exchange loop, synth::minimax)".into(),
+        self_weight: w,
+        load_mass_kg: scene.load_mass,
+        unbalanced,
+        counterweight,
+        balanced,
+        forces,
+        virtual_work_check: vw,
+        series,
+    })
+}
