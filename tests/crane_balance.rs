@@ -8,8 +8,9 @@ mod common;
 
 use cwsynth::families::crane::balance::{self, BalanceScene, CounterweightSpec};
 use cwsynth::families::crane::model::{load_moment, synthesize, Angles, Boom, Guide, Linkage};
-use cwsynth::families::crane::statics::{statics, Loads, SelfWeight};
+use cwsynth::families::crane::statics::{statics, HoistRope, Loads, SelfWeight};
 use cwsynth::families::{parse_str, solve_scene};
+use cwsynth::geom::P2;
 use cwsynth::report::Status;
 use cwsynth::synth::counterweight::Status as CwStatus;
 use cwsynth::synth::minimax::Settings;
@@ -57,6 +58,7 @@ fn potential_c(
     q: f64,
     u: [f64; 2],
     sign: f64,
+    rope: Option<HoistRope>,
 ) -> Complex<f64> {
     let Guide::Circle { centre: b, radius } = link.guide else {
         panic!("a tie")
@@ -70,21 +72,38 @@ fn potential_c(
     let foot = (d * d + a * a - radius * radius) / (d * 2.0);
     let h = (foot * (-foot) + a * a).sqrt();
     let (ux, uy) = (vx / d, vy / d);
+    let ex = dx + ux * foot - uy * h * sign;
     let ey = dy + uy * foot + ux * h * sign;
     let cy = dy + (dy - ey) / link.k2;
+    let cx = dx + (dx - ex) / link.k2;
+    // The load hangs |S − C|/n lower than it would with a rope of constant length to C.
+    let yl = match rope {
+        Some(r) => {
+            let (sx, sy) = (r.sheave.x - cx, r.sheave.y - cy);
+            cy + (sx * sx + sy * sy).sqrt() / r.parts
+        }
+        None => cy,
+    };
     let yj = dy + (cy - dy) * w.jib_centroid;
     let ycw = phi.sin() * u[0] - phi.cos() * u[1];
     (dy * (w.boom_mass * w.boom_centroid)
         + yj * w.jib_mass
         + (ey + by) * (0.5 * w.tie_mass)
-        + cy * q
+        + yl * q
         + ycw)
         * G
 }
 
 /// dV/dφ by the complex step, Im V(φ + ih)/h: no subtraction, exact to rounding. The branch
 /// sign is the one whose real pose matches the linkage's.
-fn virtual_work(link: &Linkage, phi: f64, w: &SelfWeight, q: f64, u: [f64; 2]) -> f64 {
+fn virtual_work(
+    link: &Linkage,
+    phi: f64,
+    w: &SelfWeight,
+    q: f64,
+    u: [f64; 2],
+    rope: Option<HoistRope>,
+) -> f64 {
     let e = link.pose(phi).unwrap().e;
     let sign = [1.0, -1.0]
         .into_iter()
@@ -109,7 +128,7 @@ fn virtual_work(link: &Linkage, phi: f64, w: &SelfWeight, q: f64, u: [f64; 2]) -
         })
         .unwrap();
     let h = 1e-30;
-    potential_c(link, Complex::new(phi, h), w, q, u, sign).im / h
+    potential_c(link, Complex::new(phi, h), w, q, u, sign, rope).im / h
 }
 
 fn masses(boom: f64, sb: f64, jib: f64, fj: f64, tie: f64) -> SelfWeight {
@@ -156,6 +175,11 @@ fn drive_torque_with_the_optimal_counterweight_is_virtual_work_at_ten_positions(
             rng.in_range(0.5e3, 5e3),
         );
         let q = rng.in_range(0.0, 40e3);
+        // The last three with an inclined hoist rope from a sheave behind the foot.
+        let rope = (i >= 3).then(|| HoistRope {
+            sheave: P2::new(rng.in_range(1.0, 6.0), rng.in_range(4.0, 14.0)),
+            parts: (1 + i % 3) as f64,
+        });
         let scene = BalanceScene {
             self_weight: w,
             jib_centroid: Some(w.jib_centroid),
@@ -165,6 +189,8 @@ fn drive_torque_with_the_optimal_counterweight_is_virtual_work_at_ten_positions(
                 directions: (i % 2 == 0).then_some((150f64.to_radians(), 210f64.to_radians())),
             }),
             load_mass: Some(q),
+            rope,
+            masses: true,
         };
         let bal = balance::solve(link, &scene, 5.0, &Settings::default(), 16).unwrap();
         let cw = bal.counterweight.as_ref().unwrap();
@@ -179,9 +205,10 @@ fn drive_torque_with_the_optimal_counterweight_is_virtual_work_at_ten_positions(
                     load_mass: load,
                     counterweight_mass: m,
                     counterweight_moment: u,
+                    rope,
                 };
                 let s = statics(link, phi, &pose, &w, &loads).unwrap();
-                let t_vw = virtual_work(link, phi, &w, load, u);
+                let t_vw = virtual_work(link, phi, &w, load, u, rope);
                 let diff = (s.drive_torque - t_vw).abs();
                 // The complex step's own rounding: a few ε of the terms' sizes.
                 let cs_round =
@@ -219,6 +246,8 @@ fn a_boom_alone_is_balanced_exactly_by_the_closed_form_counterweight() {
             directions: None,
         }),
         load_mass: None,
+        rope: None,
+        masses: true,
     };
     let bal = balance::solve(&link, &scene, 5.0, &Settings::default(), 16).unwrap();
     let want = -12e3 * 0.45 * link.l_c;
@@ -259,6 +288,8 @@ fn the_counterweight_is_the_brute_force_minimax() {
             directions: None,
         }),
         load_mass: Some(q),
+        rope: None,
+        masses: true,
     };
     let bal = balance::solve(&link, &scene, 2.5, &Settings::default(), 16).unwrap();
     let cw = bal.counterweight.unwrap();
@@ -413,4 +444,37 @@ fn a_counterweight_needs_masses_and_a_sector_at_most_half_a_turn() {
     let bare = common::with(&text, "lever = \"6 m\"", "lever = 6");
     let e = common::err(&bare).to_string();
     assert!(e.contains("lever"), "{e}");
+}
+
+/// Thesis §2.2 (Fig 2.3): with an inclined hoist rope a level head does not give a level
+/// load. The load's Δh against a dense brute force of y_C + |S − C|/n.
+#[test]
+fn an_inclined_rope_moves_the_load_as_a_brute_force_says() {
+    let link = thesis();
+    for (sheave, parts) in [
+        (P2::new(3.0, 10.0), 1.0),
+        (P2::new(8.0, 2.0), 2.0),
+        (P2::new(-1.0, 20.0), 4.0),
+    ] {
+        let rope = HoistRope { sheave, parts };
+        let lp = balance::load_path(&link, &rope, 32, 1e-9).unwrap();
+        let [p0, p1] = link.phi_range;
+        let ys: Vec<f64> = (0..=20_000)
+            .map(|k| {
+                let phi = p0 + (p1 - p0) * k as f64 / 20_000.0;
+                let c = link.pose(phi).unwrap().c;
+                c.y + ((sheave - c).norm()) / parts
+            })
+            .collect();
+        let hi = ys.iter().cloned().fold(f64::MIN, f64::max);
+        let lo = ys.iter().cloned().fold(f64::MAX, f64::min);
+        let brute = hi - lo;
+        // The brute force is a lower bound, within its spacing's |y''|h²/8 (~1e-9 m here).
+        assert!(
+            brute <= lp.load_delta_h_m + lp.load_delta_h_error_m,
+            "{brute} vs {lp:?}"
+        );
+        assert!(lp.load_delta_h_m - brute <= 1e-8, "{brute} vs {lp:?}");
+        assert!((lp.h3_m - (ys[0] - ys[20_000])).abs() < 1e-12);
+    }
 }

@@ -65,6 +65,9 @@ pub fn set_key(text: &str, key: &str, value: &str) -> String {
 pub fn integer_key_base(family: &str, key: &str) -> &'static str {
     match family {
         "slider-crank" => "felling-head-150rpm.toml",
+        "luffing-crane" if key.starts_with("mechanism.hoist_rope") => {
+            "crane-thesis-inclined-rope.toml"
+        }
         "luffing-crane" => "crane-thesis-optimise.toml",
         "eccentric-gear" if key == "accuracy.sweep_points" => "gear-eccentricity-design.toml",
         "eccentric-gear" => "gear-paper-table1.toml",

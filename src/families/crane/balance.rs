@@ -24,7 +24,9 @@
 //! m = |u|/ℓ, which is what is reported.
 
 use super::model::Linkage;
-use super::statics::{counterweight_torque_row, statics, virtual_work_torque, Loads, SelfWeight};
+use super::statics::{
+    counterweight_torque_row, statics, virtual_work_torque, HoistRope, Loads, SelfWeight,
+};
 use crate::numeric::interval_peak;
 use crate::synth::counterweight::Status;
 use crate::synth::minimax::{
@@ -54,6 +56,11 @@ pub struct BalanceScene {
     pub counterweight: Option<CounterweightSpec>,
     /// Q, the rated load (kg): a second, loaded case.
     pub load_mass: Option<f64>,
+    /// The hoist rope, if inclined (`mechanism.hoist_rope`).
+    pub rope: Option<HoistRope>,
+    /// Whether masses were given (`mechanism.self_weight`): without them only the load's
+    /// path with the rope is analysed.
+    pub masses: bool,
 }
 
 impl BalanceScene {
@@ -243,6 +250,7 @@ pub fn solve(
             load_mass: q,
             counterweight_mass: m,
             counterweight_moment: u,
+            rope: scene.rope,
         };
         statics(link, phi, &pose, &w, &loads).ok_or(BalanceError::NoPose { phi })
     };
@@ -415,7 +423,7 @@ pub fn solve(
         let phi = phi.clamp(p0 + VW_STEP, p1 - VW_STEP);
         for &(_, q) in &cases {
             let s = at(phi, q, 0.0, [0.0; 2])?;
-            let (t_vw, e_vw) = virtual_work_torque(link, phi, VW_STEP, &w, q)
+            let (t_vw, e_vw) = virtual_work_torque(link, phi, VW_STEP, &w, q, scene.rope.as_ref())
                 .ok_or(BalanceError::NoPose { phi })?;
             let diff = (s.drive_torque - t_vw).abs();
             let stated = s.drive_torque_error + e_vw + 1e-12 * t_vw.abs();
@@ -434,5 +442,46 @@ pub fn solve(
         forces,
         virtual_work_check: vw,
         series,
+    })
+}
+
+/// The load's path with an inclined hoist rope (thesis §2.2, Fig 2.3): the load hangs at
+/// y_L = y_C + |S − C|/n (up to a constant), so a level head does not give a level load.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct LoadPath {
+    /// S (m, frame of A).
+    pub sheave_m: [f64; 2],
+    /// n, the falls.
+    pub parts: f64,
+    /// Δh_L = max − min of the load's height over the luffing range (m).
+    pub load_delta_h_m: f64,
+    /// Bound on its error (m): refinement of both extrema plus the pose's rounding.
+    pub load_delta_h_error_m: f64,
+    /// φ of the highest and of the lowest load position (rad).
+    pub phi_at_max_rad: f64,
+    /// See `phi_at_max_rad`.
+    pub phi_at_min_rad: f64,
+    /// The thesis's h3 = y_L1 − y_L3: how much higher the load hangs at maximum reach than at
+    /// minimum reach for a level head, which the linkage would have to make up (m).
+    pub h3_m: f64,
+}
+
+/// The load's path over the luffing range of `link` with the rope `rope`: every sampled
+/// extremum of y_L refined by Brent to `xtol` ([`interval_peak`], `n` samples).
+pub fn load_path(link: &Linkage, rope: &HoistRope, n: usize, xtol: f64) -> Option<LoadPath> {
+    let [p0, p1] = link.phi_range;
+    let y = |phi: f64| link.pose(phi).map_or(f64::NAN, |p| rope.load_height(p.c));
+    let hi = interval_peak(y, p0, p1, n, xtol).ok()?;
+    let lo = interval_peak(|phi| -y(phi), p0, p1, n, xtol).ok()?;
+    // The head's rounding (64ε·scale/k2, as for Δh) and the rope length's.
+    let rounding = 64.0 * f64::EPSILON * link.length_scale() * (1.0 + 1.0 / link.k2);
+    Some(LoadPath {
+        sheave_m: [rope.sheave.x, rope.sheave.y],
+        parts: rope.parts,
+        load_delta_h_m: hi.peak.fx + lo.peak.fx,
+        load_delta_h_error_m: hi.error + lo.error + rounding,
+        phi_at_max_rad: hi.peak.x,
+        phi_at_min_rad: lo.peak.x,
+        h3_m: y(p0) - y(p1),
     })
 }

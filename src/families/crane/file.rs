@@ -5,7 +5,7 @@
 //! the Δh landscape over (k1, k2) as SVG and CSV.
 
 use crate::families::crane::balance::{BalanceScene, CounterweightSpec};
-use crate::families::crane::statics::SelfWeight;
+use crate::families::crane::statics::{HoistRope, SelfWeight};
 use crate::families::crane::synth::{self as cr, Settings, SizingRule, TiePinLimit};
 use crate::problem::limits::{self, c, Count};
 use crate::problem::{check_name, Ctx, FieldError, Input, ProblemError, RawFile, RawVar, Resolved};
@@ -30,6 +30,7 @@ pub const COUNTS: &[Count] = &[
     c("accuracy.local_max_iters", 1, 2000),
     c("accuracy.landscape_k1", 0, 201),
     c("accuracy.landscape_k2", 0, 201),
+    c("mechanism.hoist_rope.parts", 1, 64),
 ];
 
 #[derive(Debug, Deserialize, schemars::JsonSchema)]
@@ -51,6 +52,21 @@ pub struct MechanismRaw {
     /// The boom system's masses: with them the luffing drive torque, the tie force and the pin
     /// loads are computed over the luffing range (empty, and loaded with `load_mass`).
     pub self_weight: Option<SelfWeightRaw>,
+    /// An inclined hoist rope (thesis §2.2): the load's path and, with `self_weight`, the
+    /// rope's pull on the jib head. Absent: the rope runs parallel to the boom or the tie and
+    /// the load hangs at the jib head (thesis §2.1).
+    pub hoist_rope: Option<HoistRopeRaw>,
+}
+
+/// `[mechanism.hoist_rope]`: the rope from a fixed sheave over the jib head to the load.
+#[derive(Debug, Deserialize, schemars::JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct HoistRopeRaw {
+    /// S = [x, y], the fixed sheave the rope comes from, in the frame of A (x behind the foot,
+    /// y up), e.g. `["3 m", "12 m"]`.
+    pub sheave: [Qty<Length>; 2],
+    /// n, the falls between the jib head and the load (default 1).
+    pub parts: Option<u32>,
 }
 
 /// `[mechanism.self_weight]`: masses and centroids of boom, jib and tie.
@@ -260,13 +276,49 @@ pub fn resolve_raw(raw: &File) -> Result<CraneProblem, FieldError> {
 /// The balance section of the scene: `mechanism.self_weight` and `design.counterweight`.
 fn balance_scene(raw: &File) -> Result<Option<BalanceScene>, FieldError> {
     let m = &raw.mechanism;
+    let rope = match &m.hoist_rope {
+        None => None,
+        Some(r) => {
+            let [x, y] = r.sheave.map(|q| q.si());
+            if !(x.is_finite() && y.is_finite()) {
+                return Err(FieldError::new(
+                    "mechanism.hoist_rope.sheave",
+                    "must be two finite lengths [x, y]",
+                ));
+            }
+            let parts = r.parts.unwrap_or(1);
+            if parts == 0 || parts > 64 {
+                return Err(FieldError::new(
+                    "mechanism.hoist_rope.parts",
+                    format!("must be 1 to 64 falls, got {parts}"),
+                ));
+            }
+            Some(HoistRope {
+                sheave: crate::geom::P2::new(x, y),
+                parts: parts as f64,
+            })
+        }
+    };
     let Some(sw) = &m.self_weight else {
         return match raw.design.counterweight {
             Some(_) => Err(FieldError::new(
                 "design.counterweight",
                 "needs the masses it balances; allowed: add [mechanism.self_weight] with boom_mass, jib_mass and tie_mass",
             )),
-            None => Ok(None),
+            None => Ok(rope.map(|rope| BalanceScene {
+                self_weight: SelfWeight {
+                    boom_mass: 0.0,
+                    boom_centroid: 0.5,
+                    jib_mass: 0.0,
+                    jib_centroid: 0.0,
+                    tie_mass: 0.0,
+                },
+                jib_centroid: None,
+                counterweight: None,
+                load_mass: m.load_mass.map(|q| q.si()),
+                rope: Some(rope),
+                masses: false,
+            })),
         };
     };
     let mass = |key: &str, q: Qty<Mass>| {
@@ -360,6 +412,8 @@ fn balance_scene(raw: &File) -> Result<Option<BalanceScene>, FieldError> {
         )?,
         counterweight,
         load_mass: m.load_mass.map(|q| q.si()),
+        rope,
+        masses: true,
     }))
 }
 

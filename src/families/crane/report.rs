@@ -253,6 +253,31 @@ fn balance_section(
             return None;
         }
     };
+    if let Some(rope) = &bs.rope {
+        match balance::load_path(&link, rope, cs_path_samples(cs), 1e-9) {
+            Some(lp) => {
+                if lp.load_delta_h_m > cs.allowed_delta_h() {
+                    r.warnings.push(format!(
+                        "with the inclined hoist rope the load's height varies by {:.3} m over the luffing range (the jib head's by {:.3} m): \
+                         a level-luffing design for this rope must make the head compensate the rope's run-out (thesis §2.2); \
+                         cwsynth designs the linkage for a level head only",
+                        lp.load_delta_h_m,
+                        out.objectives.delta_h_m.unwrap_or(f64::NAN)
+                    ));
+                }
+                r.extra.insert(
+                    "hoist_rope".into(),
+                    serde_json::to_value(&lp).expect("plain data"),
+                );
+            }
+            None => r
+                .warnings
+                .push("the load's path with the inclined rope could not be evaluated".into()),
+        }
+    }
+    if !bs.masses {
+        return None;
+    }
     let t0 = Instant::now();
     let bal = match balance::solve(
         &link,
@@ -354,6 +379,11 @@ fn balance_section(
         serde_json::to_value(&bal).expect("plain data"),
     );
     cw_out
+}
+
+/// Samples of the load path's scan: the head path's default.
+fn cs_path_samples(_cs: &cr::CraneScene) -> usize {
+    cr::Settings::default().path_samples
 }
 
 /// Drive torque (kN·m) and forces (kN) against the reach (m).

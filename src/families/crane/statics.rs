@@ -107,6 +107,28 @@ pub struct Loads {
     pub counterweight_mass: f64,
     /// Its first moment u about A in the boom frame (kg·m).
     pub counterweight_moment: [f64; 2],
+    /// The hoist rope, if inclined (see [`HoistRope`]); `None`: the load hangs at the jib
+    /// head and the rope runs parallel to the boom or the tie (thesis §2.1), pulling nothing.
+    pub rope: Option<HoistRope>,
+}
+
+/// An inclined hoist rope (thesis §2.2, Fig 2.3): from a fixed sheave S on the frame over
+/// the jib-head sheave C down to the load in `parts` falls. The rope's length is constant,
+/// so the load hangs at y_L = y_C − (L_r − |S − C|)/n below the head, and the jib head
+/// carries the load's weight W downwards plus the lead rope's pull W/n towards S.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct HoistRope {
+    /// S, the fixed sheave the rope comes from (m, frame of A).
+    pub sheave: P2,
+    /// n, the falls between the jib head and the load (≥ 1).
+    pub parts: f64,
+}
+
+impl HoistRope {
+    /// The load's height up to a constant: y_C + |S − C|/n (m).
+    pub fn load_height(&self, c: P2) -> f64 {
+        c.y + (self.sheave - c).norm() / self.parts
+    }
 }
 
 /// The statics at `pose` (boom angle φ) of the linkage `link` (module doc). `None` where the
@@ -137,6 +159,16 @@ pub fn statics(
     // (E − B) × F = r1, (E − D) × F = r2.
     let (a1, a2) = (e - b, e - d);
     let t_r1 = [cross(g_t - b, w_t)];
+    // The jib head carries the load and, with an inclined rope, the lead rope's pull W/n
+    // towards the sheave S.
+    let head = match l.rope {
+        Some(r) => {
+            let to_s = r.sheave - c;
+            q + to_s * (q.norm() / (r.parts * to_s.norm()))
+        }
+        None => q,
+    };
+    let q = head;
     let t_r2 = [cross(c - d, q), cross(g_j - d, w_j)];
     let r1 = -t_r1[0];
     let r2 = t_r2[0] + t_r2[1];
@@ -197,8 +229,15 @@ pub fn statics(
 }
 
 /// The potential energy V(φ) = g Σ m_i y_i of the boom, jib, tie and load (not the
-/// counterweight) at a pose (J, A at height 0).
-pub fn potential(pose: &Pose, link: &Linkage, w: &SelfWeight, load_mass: f64) -> Option<f64> {
+/// counterweight) at a pose (J, A at height 0; with an inclined rope the load's height up
+/// to a constant, [`HoistRope::load_height`]).
+pub fn potential(
+    pose: &Pose,
+    link: &Linkage,
+    w: &SelfWeight,
+    load_mass: f64,
+    rope: Option<&HoistRope>,
+) -> Option<f64> {
     let b = match link.guide {
         super::model::Guide::Circle { centre, .. } => centre,
         super::model::Guide::Line { .. } => return None,
@@ -210,7 +249,7 @@ pub fn potential(pose: &Pose, link: &Linkage, w: &SelfWeight, load_mass: f64) ->
         G * (w.boom_mass * w.boom_centroid * d.y
             + w.jib_mass * y_j
             + w.tie_mass * y_t
-            + load_mass * c.y),
+            + load_mass * rope.map_or(c.y, |r| r.load_height(c))),
     )
 }
 
@@ -225,8 +264,12 @@ pub fn virtual_work_torque(
     h: f64,
     w: &SelfWeight,
     load_mass: f64,
+    rope: Option<&HoistRope>,
 ) -> Option<(f64, f64)> {
-    let v = |p: f64| link.pose(p).and_then(|q| potential(&q, link, w, load_mass));
+    let v = |p: f64| {
+        link.pose(p)
+            .and_then(|q| potential(&q, link, w, load_mass, rope))
+    };
     let mut vmax: f64 = 0.0;
     let mut dh = |h: f64| {
         let (a, b) = (v(phi + h)?, v(phi - h)?);
