@@ -10,6 +10,8 @@ use cwsynth::families::gear::teeth::*;
 use cwsynth::geom::P2;
 use std::f64::consts::{PI, TAU};
 
+mod common;
+
 const R: f64 = 37.5e-3;
 const RG: f64 = 1.25e-3;
 
@@ -446,4 +448,56 @@ fn no_generating_radius_removes_the_poles_of_an_eccentric_pair() {
             }
         }
     }
+}
+
+#[test]
+fn tooth_options_are_checked_and_off_by_default() {
+    let base = std::fs::read_to_string(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("problems/gear-tooth-profiles.toml"),
+    )
+    .unwrap();
+    // The options need tooth_profiles = true.
+    let off = base.replace("tooth_profiles = true", "tooth_profiles = false");
+    common::assert_names(
+        &off,
+        "model.profile_points_per_arch",
+        "profile_points_per_arch",
+        "only with model.tooth_profiles = true",
+    );
+    let bad = base.replace("\"20 deg\"", "\"50 deg\"");
+    common::assert_names(
+        &bad,
+        "model.involute_pressure_angle",
+        "involute_pressure_angle",
+        "(0, 45°)",
+    );
+    // Off: the result has none of the tooth-level keys, tables or plots.
+    let plain: String = base
+        .lines()
+        .filter(|l| {
+            ![
+                "tooth_profiles",
+                "profile_points_per_arch",
+                "involute_pressure_angle",
+            ]
+            .iter()
+            .any(|k| l.starts_with(k))
+        })
+        .collect::<Vec<_>>()
+        .join("\n");
+    let r = cwsynth::families::solve_scene(
+        &cwsynth::families::parse_str(&plain, std::path::Path::new("plain.toml")).unwrap(),
+    );
+    assert!(!r.derived.contains_key("sliding_distance_max_gear1_m"));
+    assert!(!r.extra.contains_key("flank_wear"));
+    assert!(r.tables.iter().all(|t| t.suffix != "tooth-profiles"));
+    let on = cwsynth::families::solve_scene(
+        &cwsynth::families::parse_str(&base, std::path::Path::new("on.toml")).unwrap(),
+    );
+    assert!(on.derived.contains_key("sliding_distance_max_gear1_m"));
+    // Everything else is the same numbers.
+    for (k, v) in &r.derived {
+        assert_eq!(on.derived.get(k), Some(v), "derived.{k}");
+    }
+    assert_eq!(r.objectives, on.objectives);
 }

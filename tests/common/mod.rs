@@ -67,6 +67,7 @@ pub fn integer_key_base(family: &str, key: &str) -> &'static str {
         "slider-crank" => "felling-head-150rpm.toml",
         "luffing-crane" => "crane-thesis-optimise.toml",
         "eccentric-gear" if key == "accuracy.sweep_points" => "gear-eccentricity-design.toml",
+        "eccentric-gear" if key == "model.profile_points_per_arch" => "gear-tooth-profiles.toml",
         "eccentric-gear" => "gear-paper-table1.toml",
         "hypocycloid"
             if key.starts_with("objective.zero_search")

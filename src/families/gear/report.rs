@@ -723,21 +723,21 @@ fn sliding_comparison_rows(out: &Outcome, t: &TeethOutcome) -> serde_json::Value
     let (i2, i2h) = span(inv.mu2_start, inv.mu2_end);
     json!([
         {
-            "pair": format!("eccentric cycloidal (this pair, e = {:.4} mm)", out.design.eccentricity_m * 1e3),
+            "compared": format!("eccentric cycloidal (this pair, e = {:.4} mm)", out.design.eccentricity_m * 1e3),
             "mu1": "poles on every arch with ψ ≠ 0 at its cusps",
             "mu2": "poles on every arch with ψ ≠ 0 at its cusps",
             "max_abs_mu": format!("{} on the working window (±{:.4} rad around poles)", f(out.objectives.peak_sliding_coefficient), d.pole_window_rad),
             "poles_per_turn": d.poles_mu1_per_turn + d.poles_mu2_per_turn,
         },
         {
-            "pair": format!("circular cycloidal (e = 0, z1 = {}, z2 = {})", inv.z1, inv.z2),
+            "compared": format!("circular cycloidal (e = 0, z1 = {}, z2 = {})", inv.z1, inv.z2),
             "mu1": format!("{} (addendum), {} (dedendum)", f(m1a), f(m1d)),
             "mu2": format!("{} (addendum), {} (dedendum)", f(m2a), f(m2d)),
             "max_abs_mu": f(circ_max),
             "poles_per_turn": 0,
         },
         {
-            "pair": format!("involute (m = {:.4} mm, α = {:.2}°, standard addendum, contact ratio {:.4})", inv.module_m * 1e3, inv.pressure_angle_rad.to_degrees(), inv.contact_ratio),
+            "compared": format!("involute (m = {:.4} mm, α = {:.2}°, standard addendum, contact ratio {:.4})", inv.module_m * 1e3, inv.pressure_angle_rad.to_degrees(), inv.contact_ratio),
             "mu1": format!("{} … {} (root A … tip E of gear 1)", f(i1), f(i1h)),
             "mu2": format!("{} … {}", f(i2), f(i2h)),
             "max_abs_mu": f(inv_max),

@@ -581,6 +581,11 @@ pub struct Derived {
     /// Smallest |cos β1|, |cos β2| over the sampled contact series (0 at a pole).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub min_abs_cos_beta_sampled: Option<f64>,
+    /// Largest rolling-angle distance min(ϕ, 2π − ϕ) of a pole from its arch's nearest cusp
+    /// (rad): every pole lies within this band of a cusp, the band a relieved profile would
+    /// have to leave out.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub pole_band_from_cusp_rad: Option<f64>,
     /// Error bound of a designed e (m; absent when e is fixed or exact).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub eccentricity_error_m: Option<f64>,
@@ -1046,6 +1051,7 @@ pub fn report(
         circular_cycloidal_sliding_coefficient: None,
         arches_with_certified_pole: None,
         min_abs_cos_beta_sampled: None,
+        pole_band_from_cusp_rad: None,
         eccentricity_error_m: None,
         sweep_best_feasible_eccentricity_m: None,
         sweep_feasible_points: None,
@@ -1328,6 +1334,13 @@ pub fn report(
                 .fold(0.0, |a: f64, b| a.max(b.0.abs()).max(b.1.abs())),
         );
         derived.arches_with_certified_pole = Some(out.certified_pole_arches.len() as f64);
+        derived.pole_band_from_cusp_rad = Some(
+            an.sing
+                .poles
+                .iter()
+                .map(|p| p.phi_rad.min(TAU - p.phi_rad))
+                .fold(0.0, f64::max),
+        );
         derived.min_abs_cos_beta_sampled = Some(out.contact.iter().fold(f64::INFINITY, |a, c| {
             a.min(c.cos_beta1.abs()).min(c.cos_beta2.abs())
         }));
