@@ -752,8 +752,21 @@ fn contact_plot(scene: &Scene, out: &Outcome) -> Result<String, PlotError> {
     let Some(t) = &out.teeth else {
         return Err(PlotError::data("no tooth-level outputs"));
     };
-    let n_arch = out.derived.arches_gear1.max(1.0);
-    let (z0, z1) = (4.0 * TAU / n_arch, 6.0 * TAU / n_arch);
+    // Zoom on the addendum arch k and the dedendum arch k + 1, k = N/4 made even, between
+    // their cusps (the zeros of µ).
+    let n_arch = out.derived.arches_gear1.max(2.0) as usize;
+    let k = (n_arch / 4) & !1;
+    let cusp = |i: usize| {
+        if i >= n_arch {
+            TAU
+        } else {
+            // The zeros are the cusps in α1 order: zero i starts arch i.
+            out.zeros
+                .get(i)
+                .map_or(TAU * i as f64 / n_arch as f64, |z| z.alpha1_rad)
+        }
+    };
+    let (z0, z1) = (cusp(k), cusp(k + 2));
     let pts = |f: &dyn Fn(&crate::families::gear::teeth::ContactKinematics) -> f64, zoom: bool| {
         t.contact
             .iter()
@@ -774,7 +787,10 @@ fn contact_plot(scene: &Scene, out: &Outcome) -> Result<String, PlotError> {
     };
     let vel = |zoom: bool| Panel {
         title: if zoom {
-            "zoom: arches 4 and 5 of gear 1".into()
+            format!(
+                "zoom: arches {k} (addendum) and {} (dedendum) of gear 1",
+                k + 1
+            )
         } else {
             "contact-point velocities".into()
         },
