@@ -285,10 +285,32 @@ fn every_drawing_scene_writes_dimensioned_dxf_and_equal_aspect_svg() {
                 assert!((c[0].1 - big_r).abs() < TOL);
                 let e = design(v, "eccentricity_m");
                 assert!((c[0].0[0].hypot(c[0].0[1]) - e).abs() < TOL);
-                let polys = d
+                let polys: Vec<_> = d
                     .on("OUTLINE")
-                    .filter(|e| matches!(e, EntityType::LwPolyline(_)));
-                assert_eq!(polys.count(), 1, "{name}: gear 2's pitch curve");
+                    .filter_map(|e| match e {
+                        EntityType::LwPolyline(p) => Some(p),
+                        _ => None,
+                    })
+                    .collect();
+                if v["derived"].get("tooth_profile_closure_gap_m").is_none() {
+                    assert_eq!(polys.len(), 1, "{name}: gear 2's pitch curve");
+                } else {
+                    // With model.tooth_profiles: gear 1's tooth outline lies between the
+                    // circles R − 2r and R + 2r about C and reaches both (the tips and roots
+                    // of its cycloid arches).
+                    assert_eq!(polys.len(), 3, "{name}: pitch curve and two tooth outlines");
+                    let rg = design(v, "generating_radius_m");
+                    let dist: Vec<f64> = polys[1]
+                        .vertices
+                        .iter()
+                        .map(|q| (q.x * 1e-3 - e).hypot(q.y * 1e-3))
+                        .collect();
+                    let lo = dist.iter().copied().fold(f64::INFINITY, f64::min);
+                    let hi = dist.iter().copied().fold(0.0, f64::max);
+                    assert!((lo - (big_r - 2.0 * rg)).abs() < TOL, "{name}: roots {lo}");
+                    assert!((hi - (big_r + 2.0 * rg)).abs() < TOL, "{name}: tips {hi}");
+                    assert!(polys[1].is_closed() && polys[2].is_closed());
+                }
             }
             "luffing-crane" => {
                 let outline = d.lengths("OUTLINE");

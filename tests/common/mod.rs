@@ -70,6 +70,7 @@ pub fn integer_key_base(family: &str, key: &str) -> &'static str {
         }
         "luffing-crane" => "crane-thesis-optimise.toml",
         "eccentric-gear" if key == "accuracy.sweep_points" => "gear-eccentricity-design.toml",
+        "eccentric-gear" if key == "model.profile_points_per_arch" => "gear-tooth-profiles.toml",
         "eccentric-gear" => "gear-paper-table1.toml",
         "hypocycloid"
             if key.starts_with("objective.zero_search")

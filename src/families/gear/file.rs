@@ -3,7 +3,7 @@
 //! `docs/problem-files.md`) — and the shaping of its outcome into a result (keys in
 //! `docs/results.md`): pitch curves, i12(α1), µ1 and µ2 with their poles, the design sweep.
 
-use crate::families::gear::synth::{GearScene, Settings, SolveError};
+use crate::families::gear::synth::{GearScene, Settings, SolveError, TeethOptions};
 use crate::problem::limits::{self, c, Count};
 use crate::problem::{
     check_name, non_negative, positive, Ctx, FieldError, Input, ProblemError, RawFile, RawVar,
@@ -34,6 +34,7 @@ pub const COUNTS: &[Count] = &[
     c("accuracy.series_points", 16, 20_000),
     c("accuracy.curve_points", 16, 10_000),
     c("accuracy.sweep_points", 3, 101),
+    c("model.profile_points_per_arch", 4, 2000),
 ];
 
 #[derive(Debug, Deserialize, schemars::JsonSchema)]
@@ -71,6 +72,19 @@ pub struct MechanismRaw {
 pub struct ModelRaw {
     /// Half-width in α1 of the window left out around every pole (and 0/0 cusp).
     pub pole_window: Option<Qty<Angle>>,
+    /// Tooth-level outputs (default false): the tooth outlines of both gears (drawn and
+    /// written as `<name>-tooth-profiles.csv`), the contact-point radii ρ_K and velocities
+    /// V_K, v_t, v_s over a turn (`<name>-contact.csv`, plot `contact`), the sliding distance
+    /// ∫|v_t1 − v_t2| dt per tooth flank over a cycle (table `flank_wear`), the sliding
+    /// coefficients of the circular cycloidal and involute equivalents (table
+    /// `sliding_comparison`) and the pole certificate. Off: the result is that of a file
+    /// without the key.
+    pub tooth_profiles: Option<bool>,
+    /// Points per arch of the tooth outlines (default 48; only with `tooth_profiles = true`).
+    pub profile_points_per_arch: Option<u32>,
+    /// Pressure angle of the standard involute pair compared with (default "20 deg"; only
+    /// with `tooth_profiles = true`), in (0, 45°).
+    pub involute_pressure_angle: Option<Qty<Angle>>,
 }
 
 /// `[design]`.
@@ -214,6 +228,7 @@ pub fn resolve_raw(raw: &File) -> Result<GearProblem, FieldError> {
         Some(q) => non_negative("model.pole_window", q.si())?,
         None => default_pole_window(n_arches),
     };
+    let tooth_outputs = resolve_teeth(&raw.model)?;
     let o = &raw.objective;
     let Maximize::RatioVariation = o.maximize;
     let gear = GearScene {
@@ -233,6 +248,7 @@ pub fn resolve_raw(raw: &File) -> Result<GearProblem, FieldError> {
         max_sliding_coefficient: o.max_sliding_coefficient,
         require_gear2_convex: o.require_gear2_convex.unwrap_or(true),
         max_pressure_angle: o.max_pressure_angle.map(|q| q.si()),
+        tooth_outputs,
     };
     gear.validate().map_err(|f| {
         let allowed = if f.message.contains("allowed") {
@@ -245,6 +261,47 @@ pub fn resolve_raw(raw: &File) -> Result<GearProblem, FieldError> {
     let settings = resolve_accuracy(&raw.accuracy)?;
     check_work(&gear, &settings)?;
     Ok(GearProblem { gear, settings })
+}
+
+/// The `model.tooth_profiles` options: `None` when off; the point count and the involute
+/// pressure angle only with it.
+fn resolve_teeth(m: &ModelRaw) -> Result<Option<TeethOptions>, FieldError> {
+    if m.tooth_profiles != Some(true) {
+        for (key, given) in [
+            (
+                "model.profile_points_per_arch",
+                m.profile_points_per_arch.is_some(),
+            ),
+            (
+                "model.involute_pressure_angle",
+                m.involute_pressure_angle.is_some(),
+            ),
+        ] {
+            if given {
+                return Err(FieldError::new(
+                    key,
+                    "applies only with model.tooth_profiles = true; allowed: set tooth_profiles = true or remove the key",
+                ));
+            }
+        }
+        return Ok(None);
+    }
+    let mut t = TeethOptions::default();
+    if let Some(n) = m.profile_points_per_arch {
+        limits::check(COUNTS, "model.profile_points_per_arch", n.into())?;
+        t.points_per_arch = n as usize;
+    }
+    if let Some(q) = m.involute_pressure_angle {
+        let a = q.si();
+        if !(a.is_finite() && a > 0.0 && a < PI / 4.0) {
+            return Err(FieldError::new(
+                "model.involute_pressure_angle",
+                format!("must be in (0, 45°), got {a} rad"),
+            ));
+        }
+        t.involute_pressure_angle = a;
+    }
+    Ok(Some(t))
 }
 
 /// The work budget ([`limits::check_work`]): one analysis A = 2·N·n1·(s_arch + s_peak) +

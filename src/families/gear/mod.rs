@@ -7,6 +7,7 @@ pub mod model;
 pub mod report;
 pub mod study;
 pub mod synth;
+pub mod teeth;
 
 crate::families::family::family_folder!(
     /// Eccentric non-circular gear pair.

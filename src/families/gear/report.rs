@@ -5,7 +5,8 @@
 use super::file::*;
 use crate::families::family::Scene;
 use crate::families::gear::model::{EccentricCircle, GearPair, Which, ZeroKind};
-use crate::families::gear::synth::{self as sg, GearScene, Outcome};
+use crate::families::gear::synth::{self as sg, GearScene, Outcome, TeethOutcome};
+use crate::families::gear::teeth::Arch;
 use crate::geom::P2;
 use crate::report::drawing::{Drawing, Layer, Sheet};
 use crate::report::plot::{self, Panel, PlotError, Series};
@@ -79,6 +80,21 @@ pub fn result(scene: &Scene, p: &GearProblem) -> SolveResult {
         serde_json::to_value(&out.zeros).expect("plain data"),
     );
     r.tables = tables(&out);
+    if let Some(t) = &out.teeth {
+        r.tables.extend(teeth_tables(t));
+        r.extra.insert("flank_wear".into(), flank_wear_rows(t));
+        r.extra.insert(
+            "sliding_comparison".into(),
+            sliding_comparison_rows(&out, t),
+        );
+        if !t.certified_pole_arches.is_empty() {
+            r.warnings.push(format!(
+                "pole correction (the paper's proposal after its eq. 12): not possible by the design parameters. On {} of the {} arches of gear 1 the pole function (K − O_j)·d of µ1 and of µ2 tends to ∓ρ_j sin ψ at one cusp and ±ρ_j sin ψ at the other with ψ of one sign, so it changes sign inside the arch for every generating radius r, pitch radius R and centre distance a (derived.arches_with_certified_pole); only e = 0 (ψ ≡ 0) is free of poles. Removing them needs a profile that is not a full cusp-to-cusp cycloid (e.g. relieved cusps with overlapping contact)",
+                t.certified_pole_arches.len(),
+                out.derived.arches_gear1
+            ));
+        }
+    }
     let shared = std::sync::Arc::new((scene.clone(), g.clone(), out));
     let d = shared.clone();
     r.plots.push(Plot::new(
@@ -92,6 +108,14 @@ pub fn result(scene: &Scene, p: &GearProblem) -> SolveResult {
         "Sliding coefficients µ1, µ2 against α1, poles marked, pole windows left empty",
         move || sliding_plot(&d.0, &d.1, &d.2),
     ));
+    if shared.2.teeth.is_some() {
+        let d = shared.clone();
+        r.plots.push(Plot::new(
+            "contact",
+            "Contact point: radii ρ_K1, ρ_K2 and velocities V_K1, V_K2, v_t1, v_t2, v_s against α1",
+            move || contact_plot(&d.0, &d.2),
+        ));
+    }
     pitch_drawing(&mut r, &shared.0.name, &shared.2);
     if !shared.2.sweep.is_empty() {
         let d = shared.clone();
@@ -519,7 +543,8 @@ fn tables(out: &Outcome) -> Vec<Table> {
 
 /// The pitch curves' drawing (`<name>-drawing.dxf`/`.svg`) at α1 = 0: gear 1's pitch circle
 /// (radius R, centre C at e from its pivot O1), gear 2's pitch curve about O2, with the centre
-/// distance a = |O1O2|, R and e dimensioned (the tooth outlines are not computed as curves).
+/// distance a = |O1O2|, R and e dimensioned, and with `model.tooth_profiles` the tooth
+/// outlines of both gears.
 fn pitch_drawing(r: &mut SolveResult, name: &str, out: &Outcome) {
     let pc = &out.pitch_curves;
     if pc.gear2_m.is_empty() {
@@ -529,6 +554,29 @@ fn pitch_drawing(r: &mut SolveResult, name: &str, out: &Outcome) {
     let (o1, o2) = (p2(pc.center1_m), p2(pc.center2_m));
     let (big_r, e) = (out.design.pitch_radius_m, out.design.eccentricity_m);
     let gear2: Vec<P2> = pc.gear2_m.iter().map(|p| p2(*p)).collect();
+    // Tooth outlines (with `model.tooth_profiles`), gear 2's moved to O2: one closed
+    // polyline per gear, each arch's first point dropped after the first arch (it repeats
+    // the previous arch's last).
+    let outline = |arches: &[Arch], at: P2| -> Vec<P2> {
+        arches
+            .iter()
+            .enumerate()
+            .flat_map(|(k, a)| {
+                a.points
+                    .iter()
+                    .skip(usize::from(k > 0))
+                    .map(move |p| at + p)
+            })
+            .collect()
+    };
+    let teeth: Option<(Vec<P2>, Vec<P2>)> = out.teeth.as_ref().map(|t| {
+        let mut g1 = outline(&t.profiles.gear1, o1);
+        let mut g2 = outline(&t.profiles.gear2, o2);
+        // The last point closes onto the first.
+        g1.pop();
+        g2.pop();
+        (g1, g2)
+    });
     let name = name.to_string();
     r.drawings
         .push(Sheet::new("drawing", "pitch curves", move || {
@@ -537,6 +585,15 @@ fn pitch_drawing(r: &mut SolveResult, name: &str, out: &Outcome) {
             d.mark(o1).mark(o2).mark(c).line(Layer::Centre, o1, o2);
             d.circle(Layer::Outline, c, big_r);
             d.polyline(Layer::Outline, gear2.clone(), true);
+            if let Some((g1, g2)) = &teeth {
+                d.polyline(Layer::Outline, g1.clone(), true);
+                d.polyline(Layer::Outline, g2.clone(), true);
+                d.note(format!(
+                    "tooth outlines: cycloidal arches ({} + {} points), epicycloid addenda and hypocycloid dedenda",
+                    g1.len(),
+                    g2.len()
+                ));
+            }
             d.linear(o1, o2, -1.3 * big_r, "a");
             d.radius(c, big_r, 0.4 * std::f64::consts::PI, "R");
             if e > 0.0 {
@@ -551,4 +608,206 @@ fn pitch_drawing(r: &mut SolveResult, name: &str, out: &Outcome) {
             ));
             Ok(d)
         }));
+}
+
+/// The tooth-level CSVs: both outlines (each in its own frame) and the contact series.
+fn teeth_tables(t: &TeethOutcome) -> Vec<Table> {
+    let mut csv = String::from("gear,arch,flank,phi_rad,x_m,y_m\n");
+    for (gear, arches) in [(1, &t.profiles.gear1), (2, &t.profiles.gear2)] {
+        for a in arches.iter() {
+            let flank = if a.epicycloid {
+                "addendum_epicycloid"
+            } else {
+                "dedendum_hypocycloid"
+            };
+            for (ph, p) in a.phi.iter().zip(&a.points) {
+                let _ = writeln!(
+                    csv,
+                    "{gear},{},{flank},{},{},{}",
+                    a.index,
+                    num(*ph),
+                    num(p.x),
+                    num(p.y)
+                );
+            }
+        }
+    }
+    let mut out = vec![Table {
+        suffix: "tooth-profiles".into(),
+        caption: "Tooth outlines, arch by arch: gear 1 in its frame (origin O1, x towards the pitch circle's centre), gear 2 in its frame (origin O2, axes of the fixed frame at α1 = 0)".into(),
+        csv,
+    }];
+    let mut csv = String::from("alpha1_rad,rho_k1_m,rho_k2_m,v_k1_m_per_s,v_k2_m_per_s,v_t1_m_per_s,v_t2_m_per_s,v_slide_m_per_s,cos_beta1,cos_beta2\n");
+    for c in &t.contact {
+        let _ = writeln!(
+            csv,
+            "{},{},{},{},{},{},{},{},{},{}",
+            num(c.alpha1),
+            num(c.rho_k1),
+            num(c.rho_k2),
+            num(c.v_k1),
+            num(c.v_k2),
+            num(c.v_t1),
+            num(c.v_t2),
+            num(c.v_slide),
+            num(c.cos_beta1),
+            num(c.cos_beta2)
+        );
+    }
+    out.push(Table {
+        suffix: "contact".into(),
+        caption: "Contact point over one turn of gear 1: radii ρ_K = |O_jK|, speeds V_K = ω_j ρ_K, tangential components v_t, sliding velocity v_s = v_t1 − v_t2, cos β_j = v_tj/V_Kj".into(),
+        csv,
+    });
+    let mut csv = String::from(
+        "gear,arch,flank,engagements_per_cycle,sliding_distance_per_cycle_m,error_m\n",
+    );
+    for (gear, rows, eng, own_epi) in [
+        (1, &t.wear.gear1, t.wear.engagements.0, true),
+        (2, &t.wear.gear2, t.wear.engagements.1, false),
+    ] {
+        for (i, (v, e)) in rows.iter().enumerate() {
+            let epi = i.is_multiple_of(2) == own_epi;
+            let _ = writeln!(
+                csv,
+                "{gear},{i},{},{eng},{},{}",
+                if epi { "addendum" } else { "dedendum" },
+                num(*v),
+                num(*e)
+            );
+        }
+    }
+    out.push(Table {
+        suffix: "flank-wear".into(),
+        caption: "Sliding distance ∫|v_t1 − v_t2| dt per tooth flank (arch) over one cycle".into(),
+        csv,
+    });
+    out
+}
+
+/// The `flank_wear` section: the sliding distance per arch of gear 1 (one row per arch; gear
+/// 2's arches in `<name>-flank-wear.csv`).
+fn flank_wear_rows(t: &TeethOutcome) -> serde_json::Value {
+    let rows: Vec<serde_json::Value> = t
+        .wear
+        .gear1
+        .iter()
+        .enumerate()
+        .map(|(i, (v, e))| {
+            json!({
+                "arch": i,
+                "tooth": i / 2,
+                "flank": if i.is_multiple_of(2) { "addendum" } else { "dedendum" },
+                "sliding_distance_per_engagement_m": t.wear.per_engagement[i].value,
+                "sliding_distance_per_cycle_m": v,
+                "error_m": e,
+            })
+        })
+        .collect();
+    serde_json::Value::Array(rows)
+}
+
+/// The `sliding_comparison` section: the eccentric pair, its circular cycloidal equivalent
+/// and the involute equivalent, side by side.
+fn sliding_comparison_rows(out: &Outcome, t: &TeethOutcome) -> serde_json::Value {
+    let d = &out.derived;
+    let f = |x: f64| format!("{x:.6}");
+    let [(m1a, m2a), (m1d, m2d)] = t.circular;
+    let inv = &t.involute;
+    let circ_max = [m1a, m2a, m1d, m2d]
+        .iter()
+        .fold(0.0, |a: f64, b| a.max(b.abs()));
+    let inv_max = d.involute_peak_sliding_coefficient.unwrap_or(f64::NAN);
+    let span = |a: f64, b: f64| (a.min(b), a.max(b));
+    let (i1, i1h) = span(inv.mu1_start, inv.mu1_end);
+    let (i2, i2h) = span(inv.mu2_start, inv.mu2_end);
+    json!([
+        {
+            "compared": format!("eccentric cycloidal (this pair, e = {:.4} mm)", out.design.eccentricity_m * 1e3),
+            "mu1": "poles on every arch with ψ ≠ 0 at its cusps",
+            "mu2": "poles on every arch with ψ ≠ 0 at its cusps",
+            "max_abs_mu": format!("{} on the working window (±{:.4} rad around poles)", f(out.objectives.peak_sliding_coefficient), d.pole_window_rad),
+            "poles_per_turn": d.poles_mu1_per_turn + d.poles_mu2_per_turn,
+        },
+        {
+            "compared": format!("circular cycloidal (e = 0, z1 = {}, z2 = {})", inv.z1, inv.z2),
+            "mu1": format!("{} (addendum), {} (dedendum)", f(m1a), f(m1d)),
+            "mu2": format!("{} (addendum), {} (dedendum)", f(m2a), f(m2d)),
+            "max_abs_mu": f(circ_max),
+            "poles_per_turn": 0,
+        },
+        {
+            "compared": format!("involute (m = {:.4} mm, α = {:.2}°, standard addendum, contact ratio {:.4})", inv.module_m * 1e3, inv.pressure_angle_rad.to_degrees(), inv.contact_ratio),
+            "mu1": format!("{} … {} (root A … tip E of gear 1)", f(i1), f(i1h)),
+            "mu2": format!("{} … {}", f(i2), f(i2h)),
+            "max_abs_mu": f(inv_max),
+            "poles_per_turn": if inv.interference { "on the path (interference)" } else { "0 (N1, N2 off the path)" },
+        },
+    ])
+}
+
+/// ρ_K1, ρ_K2 (mm) and V_K1, V_K2, v_t1, v_t2, v_s (m/s) against α1, over one turn and on
+/// two arches (the paper's Fig. 5 and 6).
+fn contact_plot(scene: &Scene, out: &Outcome) -> Result<String, PlotError> {
+    let Some(t) = &out.teeth else {
+        return Err(PlotError::data("no tooth-level outputs"));
+    };
+    // Zoom on the addendum arch k and the dedendum arch k + 1, k = N/4 made even, between
+    // their cusps (the zeros of µ).
+    let n_arch = out.derived.arches_gear1.max(2.0) as usize;
+    let k = (n_arch / 4) & !1;
+    let cusp = |i: usize| {
+        if i >= n_arch {
+            TAU
+        } else {
+            // The zeros are the cusps in α1 order: zero i starts arch i.
+            out.zeros
+                .get(i)
+                .map_or(TAU * i as f64 / n_arch as f64, |z| z.alpha1_rad)
+        }
+    };
+    let (z0, z1) = (cusp(k), cusp(k + 2));
+    let pts = |f: &dyn Fn(&crate::families::gear::teeth::ContactKinematics) -> f64, zoom: bool| {
+        t.contact
+            .iter()
+            .filter(|c| !zoom || (z0..=z1).contains(&c.alpha1))
+            .map(|c| (c.alpha1.to_degrees(), f(c)))
+            .collect::<Vec<_>>()
+    };
+    let x_label = "α1, angle of gear 1 (deg)".to_string();
+    let radii = Panel {
+        title: format!("{}: contact-point radii", scene.name),
+        x_label: x_label.clone(),
+        y_label: "ρ_K (mm)".into(),
+        series: vec![
+            Series::line("ρ_K1 = |O1K|", pts(&|c| c.rho_k1 * 1e3, false)),
+            Series::line("ρ_K2 = |O2K|", pts(&|c| c.rho_k2 * 1e3, false)),
+        ],
+        equal_aspect: false,
+    };
+    let vel = |zoom: bool| Panel {
+        title: if zoom {
+            format!(
+                "zoom: arches {k} (addendum) and {} (dedendum) of gear 1",
+                k + 1
+            )
+        } else {
+            "contact-point velocities".into()
+        },
+        x_label: x_label.clone(),
+        y_label: "velocity (m/s)".into(),
+        series: vec![
+            Series::line("V_K1", pts(&|c| c.v_k1, zoom)),
+            Series::line("V_K2", pts(&|c| c.v_k2, zoom)),
+            Series::line("v_t1", pts(&|c| c.v_t1, zoom)),
+            Series::line("v_t2", pts(&|c| c.v_t2, zoom)),
+            Series::line("v_s = v_t1 − v_t2", pts(&|c| c.v_slide, zoom)),
+        ],
+        equal_aspect: false,
+    };
+    for p in [&radii, &vel(false)] {
+        plot::has_unit(&p.x_label)?;
+        plot::has_unit(&p.y_label)?;
+    }
+    plot::panels(&[radii, vel(false), vel(true)], 640, 420)
 }

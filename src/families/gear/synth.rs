@@ -18,6 +18,10 @@ use crate::families::gear::model::{
     periodic_integral, singularities_with, Alpha2Map, Closure, EccentricCircle, GearError,
     GearPair, MuPeak, Pole, Singularities, Which, Zero, ZeroKind,
 };
+use crate::families::gear::teeth::{
+    certified_pole_arches, circular_cycloidal_mu, contact_kinematics, flank_wear, involute,
+    profiles, ContactKinematics, FlankWear, Involute, Profiles,
+};
 use crate::geom::P2;
 use crate::numeric::{brent_max, brent_root, SearchError};
 use crate::report::numbers::key;
@@ -96,6 +100,29 @@ pub struct GearScene {
     /// Upper limit of the pressure angle at pitch-point contact, max |ψ| = asin(e/R) (rad)
     /// (`objective.max_pressure_angle`).
     pub max_pressure_angle: Option<f64>,
+    /// The tooth-level outputs of issue 19 (`model.tooth_profiles`): tooth outlines, contact
+    /// series, sliding distance per flank, involute comparison; `None`: off.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub tooth_outputs: Option<TeethOptions>,
+}
+
+/// What `model.tooth_profiles = true` computes, and how finely.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct TeethOptions {
+    /// Points per arch of the tooth outlines, ϕ = 2πk/m (`model.profile_points_per_arch`).
+    pub points_per_arch: usize,
+    /// Pressure angle of the involute pair compared with (rad)
+    /// (`model.involute_pressure_angle`).
+    pub involute_pressure_angle: f64,
+}
+
+impl Default for TeethOptions {
+    fn default() -> Self {
+        Self {
+            points_per_arch: 48,
+            involute_pressure_angle: 20f64.to_radians(),
+        }
+    }
 }
 
 impl GearScene {
@@ -236,6 +263,7 @@ pub fn paper_table1() -> GearScene {
         max_sliding_coefficient: None,
         require_gear2_convex: true,
         max_pressure_angle: None,
+        tooth_outputs: None,
     }
 }
 
@@ -517,6 +545,47 @@ pub struct Derived {
     pub ratio_at_stated_center_distance: Option<f64>,
     /// Largest obliquity |ψ| at a contact in the pitch point (rad).
     pub max_obliquity_at_pitch_point_contact_rad: f64,
+    /// With `model.tooth_profiles`: how far gear 2's tooth outline misses closing after its
+    /// full turn (m).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub tooth_profile_closure_gap_m: Option<f64>,
+    /// With `model.tooth_profiles`: largest sliding distance ∫|v_t1 − v_t2| dt of one arch
+    /// (tooth flank) of gear 1 over a cycle (m).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub sliding_distance_max_gear1_m: Option<f64>,
+    /// Smallest per-arch sliding distance of gear 1 over a cycle (m).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub sliding_distance_min_gear1_m: Option<f64>,
+    /// Largest per-arch sliding distance of gear 2 over a cycle (m).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub sliding_distance_max_gear2_m: Option<f64>,
+    /// Smallest per-arch sliding distance of gear 2 over a cycle (m).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub sliding_distance_min_gear2_m: Option<f64>,
+    /// Error bound of every per-arch sliding distance (m).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub sliding_distance_error_m: Option<f64>,
+    /// Largest |µ| of the involute equivalent on its path of contact (closed form).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub involute_peak_sliding_coefficient: Option<f64>,
+    /// Contact ratio of the involute equivalent.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub involute_contact_ratio: Option<f64>,
+    /// |µ| of the circular cycloidal equivalent (e = 0), largest of its constant values.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub circular_cycloidal_sliding_coefficient: Option<f64>,
+    /// Arches of gear 1 (per turn) on which µ1 and µ2 must have a pole for every generating
+    /// radius r (sign-change certificate, see `teeth::certified_pole_arches`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub arches_with_certified_pole: Option<f64>,
+    /// Smallest |cos β1|, |cos β2| over the sampled contact series (0 at a pole).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub min_abs_cos_beta_sampled: Option<f64>,
+    /// Largest rolling-angle distance min(ϕ, 2π − ϕ) of a pole from its arch's nearest cusp
+    /// (rad): every pole lies within this band of a cusp, the band a relieved profile would
+    /// have to leave out.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub pole_band_from_cusp_rad: Option<f64>,
     /// Error bound of a designed e (m; absent when e is fixed or exact).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub eccentricity_error_m: Option<f64>,
@@ -555,6 +624,27 @@ pub struct Outcome {
     /// What the design search did (absent when e is fixed): a sampled sweep is not a proof
     /// of optimality, so a designed e is reported as `best_found` with this evidence.
     pub search: Option<SearchEvidence>,
+    /// The tooth-level outputs (with `model.tooth_profiles`); written as tables, plots and
+    /// drawing outlines by the report, not as JSON.
+    #[serde(skip)]
+    pub teeth: Option<TeethOutcome>,
+}
+
+/// The tooth-level outputs of issue 19 (see [`crate::families::gear::teeth`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct TeethOutcome {
+    /// Tooth outlines of both gears, each in its own frame.
+    pub profiles: Profiles,
+    /// ρ_K, V_K, v_t, v_s and cos β over one turn of gear 1 (the period of the contact).
+    pub contact: Vec<ContactKinematics>,
+    /// Sliding distance per arch of both gears over a cycle.
+    pub wear: FlankWear,
+    /// The involute pair with the same module and mean ratio.
+    pub involute: Involute,
+    /// (µ1, µ2) of the circular cycloidal equivalent on the addendum and the dedendum arch.
+    pub circular: [(f64, f64); 2],
+    /// Arches of gear 1 with a certified pole of µ1 and µ2 (for every r).
+    pub certified_pole_arches: Vec<usize>,
 }
 
 /// Full-cycle analysis of one design.
@@ -950,6 +1040,18 @@ pub fn report(
         min_mu1_mu2_pole_separation_rad: min_sep.is_finite().then_some(min_sep),
         ratio_at_stated_center_distance: None,
         max_obliquity_at_pitch_point_contact_rad: psi_at_zeros,
+        tooth_profile_closure_gap_m: None,
+        sliding_distance_max_gear1_m: None,
+        sliding_distance_min_gear1_m: None,
+        sliding_distance_max_gear2_m: None,
+        sliding_distance_min_gear2_m: None,
+        sliding_distance_error_m: None,
+        involute_peak_sliding_coefficient: None,
+        involute_contact_ratio: None,
+        circular_cycloidal_sliding_coefficient: None,
+        arches_with_certified_pole: None,
+        min_abs_cos_beta_sampled: None,
+        pole_band_from_cusp_rad: None,
         eccentricity_error_m: None,
         sweep_best_feasible_eccentricity_m: None,
         sweep_feasible_points: None,
@@ -1193,6 +1295,57 @@ pub fn report(
         series.contact_point_m.push([ct.k.x, ct.k.y]);
     }
     let pitch_curves = pitch_curves(pair, &a2map, ratio, settings.curve_points);
+    let teeth = scene.tooth_outputs.map(|t| {
+        let out = teeth_outcome(pair, &a2map, n1, n2, &t, ns);
+        let wear_ext = |v: &[(f64, f64)], max: bool| {
+            v.iter()
+                .map(|x| x.0)
+                .fold(if max { 0.0 } else { f64::INFINITY }, |a, b| {
+                    if max {
+                        a.max(b)
+                    } else {
+                        a.min(b)
+                    }
+                })
+        };
+        derived.tooth_profile_closure_gap_m = Some(out.profiles.gear2_closure_gap_m);
+        derived.sliding_distance_max_gear1_m = Some(wear_ext(&out.wear.gear1, true));
+        derived.sliding_distance_min_gear1_m = Some(wear_ext(&out.wear.gear1, false));
+        derived.sliding_distance_max_gear2_m = Some(wear_ext(&out.wear.gear2, true));
+        derived.sliding_distance_min_gear2_m = Some(wear_ext(&out.wear.gear2, false));
+        derived.sliding_distance_error_m = Some(
+            out.wear
+                .gear1
+                .iter()
+                .chain(&out.wear.gear2)
+                .map(|x| x.1)
+                .fold(0.0, f64::max),
+        );
+        let inv = &out.involute;
+        derived.involute_peak_sliding_coefficient = Some(
+            [inv.mu1_start, inv.mu1_end, inv.mu2_start, inv.mu2_end]
+                .iter()
+                .fold(0.0, |a: f64, b| a.max(b.abs())),
+        );
+        derived.involute_contact_ratio = Some(inv.contact_ratio);
+        derived.circular_cycloidal_sliding_coefficient = Some(
+            out.circular
+                .iter()
+                .fold(0.0, |a: f64, b| a.max(b.0.abs()).max(b.1.abs())),
+        );
+        derived.arches_with_certified_pole = Some(out.certified_pole_arches.len() as f64);
+        derived.pole_band_from_cusp_rad = Some(
+            an.sing
+                .poles
+                .iter()
+                .map(|p| p.phi_rad.min(TAU - p.phi_rad))
+                .fold(0.0, f64::max),
+        );
+        derived.min_abs_cos_beta_sampled = Some(out.contact.iter().fold(f64::INFINITY, |a, c| {
+            a.min(c.cos_beta1.abs()).min(c.cos_beta2.abs())
+        }));
+        out
+    });
     let poles = an.sing.poles.clone();
     let zeros = an
         .sing
@@ -1218,7 +1371,40 @@ pub fn report(
         pitch_curves,
         sweep: Vec::new(),
         search: None,
+        teeth,
     })
+}
+
+/// The tooth-level outputs of one analysed pair: outlines (`t.points_per_arch` per arch),
+/// the contact series at `ns` points of one turn of gear 1, the sliding distance per flank
+/// (Simpson to 1e-12 relative), the circular cycloidal and the involute equivalents (module
+/// 4r, z1 = N/2, z2 = z1·n1/n2, standard addendum 1·m) and the pole certificate.
+pub fn teeth_outcome(
+    pair: &GearPair,
+    a2map: &Alpha2Map,
+    n1: u32,
+    n2: u32,
+    t: &TeethOptions,
+    ns: usize,
+) -> TeethOutcome {
+    let ratio = n1 as f64 / n2 as f64;
+    let z1 = (pair.n_arches / 2) as f64;
+    TeethOutcome {
+        profiles: profiles(pair, a2map, n1, n2, t.points_per_arch),
+        contact: (0..ns)
+            .map(|k| contact_kinematics(pair, TAU * k as f64 / ns as f64))
+            .collect(),
+        wear: flank_wear(pair, n1, n2, 1e-12),
+        involute: involute(
+            4.0 * pair.r_gen,
+            z1,
+            z1 * ratio,
+            t.involute_pressure_angle,
+            1.0,
+        ),
+        circular: circular_cycloidal_mu(pair.c.r_pitch, pair.r_gen, ratio),
+        certified_pole_arches: certified_pole_arches(pair),
+    }
 }
 
 /// Both pitch curves in the fixed frame at α1 = 0: gear 1's points ρ1(α)(cos α, sin α);
