@@ -480,7 +480,20 @@ pub fn solve(spec: &DynamicsSpec, at: &At) -> Result<DynamicsOutcome, DynamicsEr
                 );
             }
         }
-        let (peak, peak_angle, peak_error) = peak_of(|p| total(p).abs());
+        let (peak, peak_angle, mut peak_error) = peak_of(|p| total(p).abs());
+        if cycle.is_some() {
+            // T has kinks at the valve events, where the curvature estimate of the peak's
+            // error does not hold: add the slope bound max|T'|·xtol (1e-10 rad), the slope
+            // from a 1440-point scan (doubled for the scan's own error).
+            let n = 1440;
+            let h = TAU / n as f64;
+            let ts: Vec<f64> = (0..=n).map(|k| total(k as f64 * h)).collect();
+            let slope = ts
+                .windows(2)
+                .map(|w| (w[1] - w[0]).abs() / h)
+                .fold(0.0, f64::max);
+            peak_error += 2.0 * slope * 1e-10;
+        }
         let np = at.plot_samples;
         let phi: Vec<f64> = (0..np).map(|j| TAU * j as f64 / (np - 1) as f64).collect();
         Some(TorqueOutcome {

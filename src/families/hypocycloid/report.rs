@@ -51,7 +51,11 @@ pub fn result(scene: &Scene, s: &HypocycloidProblem) -> SolveResult {
         ("assembly_margin".into(), json!(h.assembly_margin)),
         (
             "masses".into(),
-            json!("reciprocating mass m_B only (rotating masses assumed balanced)"),
+            json!(if s.dynamics.masses.is_some() {
+                "reciprocating mass m_B (piston + the rod's share at B), and the rotating carrier, planet and the rod's share at A ([mechanism.carrier/planet/rod])"
+            } else {
+                "reciprocating mass m_B only (rotating masses assumed balanced)"
+            }),
         ),
     ]);
     let t0 = Instant::now();
