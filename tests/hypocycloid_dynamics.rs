@@ -453,3 +453,85 @@ fn lanchester_couple_amplitude_equals_the_direct_sum_of_moments() {
         }
     }
 }
+
+const COMPRESSOR: &str = include_str!("../problems/hypocycloid-compressor.toml");
+
+#[test]
+fn the_shipped_compressor_solves_with_every_part() {
+    let s = cwsynth::families::parse_str(COMPRESSOR, std::path::Path::new("c.toml")).unwrap();
+    let r = cwsynth::families::solve_scene(&s);
+    assert_eq!(
+        r.status,
+        cwsynth::report::Status::Analysed,
+        "{:?}",
+        r.warnings
+    );
+    for k in [
+        "carrier_counterweight_first_moment_kgm",
+        "planet_counterweight_mass_kg",
+        "minimax_shaking_force_peak_n",
+        "drive_torque_peak_nm",
+        "indicated_work_nm",
+        "lanchester_couple_peak_nm",
+    ] {
+        assert!(r.derived.contains_key(k), "{k}");
+    }
+    // The closed form leaves only round-off of the rotating force, and the minimax is never
+    // above the closed form's whole shaking force.
+    assert!(
+        r.derived["rotating_force_residual_peak_n"] <= 1e-12 * r.derived["rotating_force_peak_n"]
+    );
+    assert!(r.derived["minimax_shaking_force_peak_n"] <= r.derived["shaking_force_peak_n"] + 1e-9);
+    for t in [
+        "closed-form",
+        "rotating-counterweights",
+        "torque",
+        "lanchester-couples",
+    ] {
+        assert!(r.tables.iter().any(|x| x.suffix == t), "{t}");
+    }
+}
+
+#[test]
+fn bad_dynamics_input_names_the_field() {
+    let cases = [
+        (
+            "discharge_pressure = \"8 bar\"",
+            "discharge_pressure = 8",
+            "mechanism.gas.discharge_pressure",
+        ),
+        (
+            "discharge_pressure = \"8 bar\"",
+            "discharge_pressure = \"0.5 bar\"",
+            "mechanism.gas.discharge_pressure",
+        ),
+        (
+            "polytropic_exponent = 1.3",
+            "polytropic_exponent = 0.8",
+            "mechanism.gas.polytropic_exponent",
+        ),
+        (
+            "planet_radius = \"8 mm\"",
+            "planet_radius = \"0 mm\"",
+            "design.rotating.planet_radius",
+        ),
+    ];
+    for (from, to, field) in cases {
+        assert!(COMPRESSOR.contains(from));
+        let text = COMPRESSOR.replace(from, to);
+        let e = cwsynth::families::parse_str(&text, std::path::Path::new("c.toml")).unwrap_err();
+        assert!(e.to_string().contains(field), "{to}: {e}");
+    }
+    // The rod's share at B above m_B is reported at solve time, naming the key.
+    let text = COMPRESSOR.replace("mass = \"0.12 kg\"", "mass = \"2 kg\"");
+    let s = cwsynth::families::parse_str(&text, std::path::Path::new("c.toml")).unwrap();
+    let r = cwsynth::families::solve_scene(&s);
+    assert_eq!(r.status, cwsynth::report::Status::Failed);
+    assert!(
+        r.warnings
+            .iter()
+            .any(|w| w.contains("mechanism.reciprocating_mass")),
+        "{:?}",
+        r.warnings
+    );
+}
