@@ -42,6 +42,8 @@ pub enum Dim {
     Acceleration,
     /// s.
     Time,
+    /// Pa (a gas pressure, absolute unless a key says otherwise).
+    Pressure,
 }
 
 impl Dim {
@@ -60,6 +62,7 @@ impl Dim {
             Dim::Density => "density",
             Dim::Acceleration => "linear acceleration",
             Dim::Time => "time",
+            Dim::Pressure => "pressure",
         }
     }
 
@@ -322,6 +325,26 @@ pub const UNITS: &[Unit] = &[
         dim: Dim::Time,
         factor: 1e-3,
     },
+    Unit {
+        symbol: "Pa",
+        dim: Dim::Pressure,
+        factor: 1.0,
+    },
+    Unit {
+        symbol: "kPa",
+        dim: Dim::Pressure,
+        factor: 1e3,
+    },
+    Unit {
+        symbol: "MPa",
+        dim: Dim::Pressure,
+        factor: 1e6,
+    },
+    Unit {
+        symbol: "bar",
+        dim: Dim::Pressure,
+        factor: 1e5,
+    },
 ];
 
 /// Why a quantity string was rejected.
@@ -561,7 +584,8 @@ dims!(
     Inertia,
     Density,
     Acceleration,
-    Time
+    Time,
+    Pressure
 );
 
 /// A quantity read from a problem file: a string with a unit (a plain number only for
@@ -750,6 +774,7 @@ mod tests {
             Dim::Density,
             Dim::Acceleration,
             Dim::Time,
+            Dim::Pressure,
         ];
         for dim in dims {
             for text in ["1500", " 0 ", "-2.5e3"] {
@@ -804,6 +829,8 @@ mod tests {
             ("1e mm", Dim::Length, f64::NAN),
             ("1e3", Dim::Dimensionless, 1e3),
             ("3 ms", Dim::Time, 3e-3),
+            ("7 bar", Dim::Pressure, 7e5),
+            ("0.1 MPa", Dim::Pressure, 1e5),
             (".5 kg", Dim::Mass, 0.5),
             ("5. kg", Dim::Mass, 5.0),
             ("7  \t kN", Dim::Force, 7e3),

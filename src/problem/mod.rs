@@ -457,6 +457,7 @@ pub fn key_dim(key: &str) -> Dim {
         ("_m", Dim::Length),
         ("_rad", Dim::Angle),
         ("_s", Dim::Time),
+        ("_pa", Dim::Pressure),
     ]
     .into_iter()
     .find(|(suffix, _)| last.ends_with(suffix))

@@ -4,6 +4,9 @@
 //! (keys in `docs/results.md`): the order coefficients of S/R, the Lanchester balancing, the
 //! (λ, θ) optimisation and the zero search of the fourth-order coefficient.
 
+use crate::families::hypocycloid::balance::{DynamicsSpec, RotatingDesign, RotatingGoal};
+use crate::families::hypocycloid::dynamics::{RotatingMasses, ShaftLayout};
+use crate::families::hypocycloid::gas::GasCycle;
 use crate::families::hypocycloid::model::{ALPHA0_VARIANT1, ALPHA0_VARIANT2};
 use crate::families::hypocycloid::synth::{
     CoefficientModel, HypocycloidScene, Settings, ZeroSearch,
@@ -13,7 +16,7 @@ use crate::problem::{
     check_name, positive, Ctx, FieldError, Input, ProblemError, RawFile, RawVar, Resolved,
 };
 use crate::synth::Var;
-use crate::units::{Angle, AngularSpeed, Dimensionless, Length, Mass, Qty};
+use crate::units::{Angle, AngularSpeed, Dimensionless, Inertia, Length, Mass, Pressure, Qty};
 use serde::Deserialize;
 use std::f64::consts::TAU;
 
@@ -57,6 +60,84 @@ pub struct MechanismRaw {
     pub reciprocating_mass: Qty<Mass>,
     /// n or ω of the carrier.
     pub speed: Qty<AngularSpeed>,
+    /// The planet carrier OO1 as a body (for the rotating-mass counterweights).
+    pub carrier: Option<BodyRaw>,
+    /// The planet gear with its crank arm O1A as a body.
+    pub planet: Option<BodyRaw>,
+    /// The rod AB as a body.
+    pub rod: Option<RodRaw>,
+    /// The compressor cycle acting on the piston (gas force and drive torque).
+    pub gas: Option<GasRaw>,
+    /// Where the Lanchester shafts sit (their couples).
+    pub lanchester: Option<ShaftsRaw>,
+}
+
+/// `[mechanism.carrier]` / `[mechanism.planet]`: a body turning with its frame.
+#[derive(Debug, Deserialize, schemars::JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct BodyRaw {
+    /// Its mass (≥ 0).
+    pub mass: Qty<Mass>,
+    /// Its centroid in the body's frame, [x, y]: the carrier's from O with x along OO1, the
+    /// planet's from O1 with x along the crank arm O1A.
+    pub centroid: [Qty<Length>; 2],
+}
+
+/// `[mechanism.rod]`: the rod AB. Its share at B, mass·centroid/L, is part of
+/// `reciprocating_mass` (which must be at least that); the rest, at A, turns with the planet.
+#[derive(Debug, Deserialize, schemars::JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct RodRaw {
+    /// Its mass (≥ 0).
+    pub mass: Qty<Mass>,
+    /// AG, the distance of its centroid from the crank pin A along AB (0 ≤ AG ≤ L).
+    pub centroid: Qty<Length>,
+    /// I_G, its inertia about its centroid (> 0); absent: the two-point rod, I_G = m·AG·GB.
+    pub inertia: Option<Qty<Inertia>>,
+}
+
+/// `[mechanism.gas]`: an ideal single-acting compressor cycle, head at +x (top dead centre
+/// at the largest S).
+#[derive(Debug, Deserialize, schemars::JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct GasRaw {
+    /// Bore D of the cylinder.
+    pub bore: Qty<Length>,
+    /// Clearance volume over the swept volume, ε = V_c/V_s (> 0).
+    pub clearance_ratio: f64,
+    /// Suction pressure p_s (absolute, > 0).
+    pub suction_pressure: Qty<Pressure>,
+    /// Discharge pressure p_d (absolute, > p_s).
+    pub discharge_pressure: Qty<Pressure>,
+    /// Polytropic exponent n of compression and re-expansion, 1 ≤ n ≤ 2.
+    pub polytropic_exponent: f64,
+    /// Pressure behind the piston (absolute); default the suction pressure.
+    pub back_pressure: Option<Qty<Pressure>>,
+}
+
+/// `[mechanism.lanchester]`: the position of every Lanchester pair's two shafts.
+#[derive(Debug, Deserialize, schemars::JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct ShaftsRaw {
+    /// e, the offset of the shafts from the piston line (signed, +y).
+    pub offset: Qty<Length>,
+    /// d, the distance between a pair's two shafts along the piston line (≥ 0; default 0).
+    /// Shafts one above the other, symmetric about the offset line, are d = 0.
+    pub spacing: Option<Qty<Length>>,
+}
+
+/// `[design.rotating]`: the counterweights of the rotating masses.
+#[derive(Debug, Deserialize, schemars::JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct RotatingRaw {
+    /// ρ1, the centroid radius of the carrier counterweight from O (> 0).
+    pub carrier_radius: Qty<Length>,
+    /// ρ2, the centroid radius of the planet counterweight from O1 (> 0).
+    pub planet_radius: Qty<Length>,
+    /// "rotating-force" (default: cancel the rotating parts' force exactly, closed form) or
+    /// "peak-shaking-force" (also minimise the peak of the whole shaking force with the
+    /// reciprocating force left after the Lanchester pairs: certified minimax).
+    pub minimize: Option<RotatingGoal>,
 }
 
 /// `[model]`.
@@ -80,6 +161,9 @@ pub struct DesignRaw {
     pub lambda: Option<RawVar<Dimensionless>>,
     /// θ = r/R.
     pub theta: Option<RawVar<Dimensionless>>,
+    /// The counterweights of the rotating masses (needs `[mechanism.carrier]`,
+    /// `[mechanism.planet]` or `[mechanism.rod]`).
+    pub rotating: Option<RotatingRaw>,
 }
 
 /// What `objective.minimize` can name.
@@ -160,6 +244,8 @@ pub struct HypocycloidProblem {
     pub scene: HypocycloidScene,
     /// The settings (from `[accuracy]`).
     pub settings: Settings,
+    /// The rotating masses, counterweights, gas cycle and shafts, if the file gives them.
+    pub dynamics: DynamicsSpec,
 }
 
 /// Reads and resolves a hypocycloid problem file (its text or its table).
@@ -345,10 +431,12 @@ pub fn resolve_raw(raw: &File) -> Result<HypocycloidProblem, FieldError> {
     scene.validate()?;
     let settings = resolve_accuracy(&raw.accuracy)?;
     check_work(&scene, &settings)?;
+    let dynamics = resolve_dynamics(raw)?;
     Ok(HypocycloidProblem {
         variant: variant.map(|v| v as u8),
         scene,
         settings,
+        dynamics,
     })
 }
 
@@ -396,4 +484,125 @@ fn check_work(scene: &HypocycloidScene, s: &Settings) -> Result<(), FieldError> 
             t("accuracy.plot_samples", f(s.plot_samples), f(d.plot_samples)),
         ],
     )
+}
+
+/// A value ≥ 0.
+fn non_negative(key: &str, v: f64) -> Result<f64, FieldError> {
+    if v.is_finite() && v >= 0.0 {
+        Ok(v)
+    } else {
+        Err(FieldError::new(key, format!("got {v}; allowed: ≥ 0")))
+    }
+}
+
+/// The optional sections of the rotating masses, counterweights, gas cycle and shafts.
+fn resolve_dynamics(raw: &File) -> Result<DynamicsSpec, FieldError> {
+    let m = &raw.mechanism;
+    let body = |b: &Option<BodyRaw>, key: &str| -> Result<(f64, [f64; 2]), FieldError> {
+        match b {
+            None => Ok((0.0, [0.0; 2])),
+            Some(b) => Ok((
+                non_negative(&format!("{key}.mass"), b.mass.si())?,
+                [b.centroid[0].si(), b.centroid[1].si()],
+            )),
+        }
+    };
+    let (mc, cc) = body(&m.carrier, "mechanism.carrier")?;
+    let (mp, cp) = body(&m.planet, "mechanism.planet")?;
+    let masses = if m.carrier.is_some() || m.planet.is_some() || m.rod.is_some() {
+        let (mr, ag, ig) = match &m.rod {
+            None => (0.0, 0.0, None),
+            Some(r) => (
+                non_negative("mechanism.rod.mass", r.mass.si())?,
+                non_negative("mechanism.rod.centroid", r.centroid.si())?,
+                r.inertia
+                    .map(|i| positive("mechanism.rod.inertia", i.si()))
+                    .transpose()?,
+            ),
+        };
+        Some(RotatingMasses {
+            carrier_mass: mc,
+            carrier_centroid: cc,
+            planet_mass: mp,
+            planet_centroid: cp,
+            rod_mass: mr,
+            rod_centroid: ag,
+            rod_inertia: ig,
+        })
+    } else {
+        None
+    };
+    let design = match &raw.design.rotating {
+        None => None,
+        Some(d) => {
+            if masses.is_none() {
+                return Err(FieldError::new(
+                    "design.rotating",
+                    "needs the rotating masses: give [mechanism.carrier], [mechanism.planet] or [mechanism.rod]",
+                ));
+            }
+            Some(RotatingDesign {
+                carrier_radius: positive("design.rotating.carrier_radius", d.carrier_radius.si())?,
+                planet_radius: positive("design.rotating.planet_radius", d.planet_radius.si())?,
+                minimize: d.minimize.unwrap_or_default(),
+            })
+        }
+    };
+    let gas = match &m.gas {
+        None => None,
+        Some(g) => {
+            let ps = positive("mechanism.gas.suction_pressure", g.suction_pressure.si())?;
+            let pd = g.discharge_pressure.si();
+            if !(pd > ps && pd.is_finite()) {
+                return Err(FieldError::new(
+                    "mechanism.gas.discharge_pressure",
+                    format!("got {pd} Pa; allowed: above the suction pressure {ps} Pa"),
+                ));
+            }
+            let n = g.polytropic_exponent;
+            if !(1.0..=2.0).contains(&n) {
+                return Err(FieldError::new(
+                    "mechanism.gas.polytropic_exponent",
+                    format!("got {n}; allowed: 1 ≤ n ≤ 2"),
+                ));
+            }
+            let eps = g.clearance_ratio;
+            if !(eps > 0.0 && eps <= 1.0) {
+                return Err(FieldError::new(
+                    "mechanism.gas.clearance_ratio",
+                    format!("got {eps}; allowed: 0 < ε ≤ 1 (V_c over the swept volume)"),
+                ));
+            }
+            Some(GasCycle {
+                bore: positive("mechanism.gas.bore", g.bore.si())?,
+                clearance_ratio: eps,
+                suction: ps,
+                discharge: pd,
+                exponent: n,
+                back: match g.back_pressure {
+                    Some(b) => non_negative("mechanism.gas.back_pressure", b.si())?,
+                    None => ps,
+                },
+            })
+        }
+    };
+    let shafts = match &m.lanchester {
+        None => None,
+        Some(l) => {
+            let e = l.offset.si();
+            Some(ShaftLayout {
+                offset: e,
+                spacing: match l.spacing {
+                    Some(d) => non_negative("mechanism.lanchester.spacing", d.si())?,
+                    None => 0.0,
+                },
+            })
+        }
+    };
+    Ok(DynamicsSpec {
+        masses,
+        design,
+        gas,
+        shafts,
+    })
 }

@@ -2,7 +2,11 @@
 //! (`synth`), its result and plots (`report`) and its study
 //! ladder and left-out effects (`study`), behind the `Family` and `Machine` traits.
 
+pub mod balance;
+pub mod closed_form;
+pub mod dynamics;
 pub mod file;
+pub mod gas;
 pub mod model;
 pub mod report;
 pub mod study;

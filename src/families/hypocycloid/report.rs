@@ -51,7 +51,11 @@ pub fn result(scene: &Scene, s: &HypocycloidProblem) -> SolveResult {
         ("assembly_margin".into(), json!(h.assembly_margin)),
         (
             "masses".into(),
-            json!("reciprocating mass m_B only (rotating masses assumed balanced)"),
+            json!(if s.dynamics.masses.is_some() {
+                "reciprocating mass m_B (piston + the rod's share at B), and the rotating carrier, planet and the rod's share at A ([mechanism.carrier/planet/rod])"
+            } else {
+                "reciprocating mass m_B only (rotating masses assumed balanced)"
+            }),
         ),
     ]);
     let t0 = Instant::now();
@@ -155,6 +159,8 @@ pub fn result(scene: &Scene, s: &HypocycloidProblem) -> SolveResult {
 
     // Tables and plots.
     r.tables = tables(&out);
+    closed_form_section(&mut r, s, &out);
+    dynamics_section(&mut r, &scene.name, s, &out);
     let order = out.zero_search.as_ref().map(|z| z.order);
     let shared = std::sync::Arc::new((scene.clone(), out));
     if let Some(order) = order {
@@ -601,4 +607,367 @@ fn mechanism_drawing(r: &mut SolveResult, name: &str, d: &hy::Design, alpha0: f6
         dr.note("O: carrier axis; O₁: planet axis; A: crank pin on the planet; B: piston on the x axis; dimensions in mm");
         Ok(dr)
     }));
+}
+
+/// The figures of the rotating counterweights, the drive torque and the Lanchester couples
+/// (keys of `derived`; absent when the file does not ask for them).
+#[derive(Debug, Clone, Default, serde::Serialize)]
+pub struct DynamicsDerived {
+    /// |U1|: first moment of the parts turning with the carrier (kg·m).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub rotating_unbalance_carrier_kgm: Option<f64>,
+    /// |U2|: first moment of the parts turning with the planet, about O1 (kg·m).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub rotating_unbalance_planet_kgm: Option<f64>,
+    /// Peak of the rotating parts' inertia force without counterweights (N).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub rotating_force_peak_n: Option<f64>,
+    /// Peak of the whole shaking force (rotating + reciprocating after the pairs) without
+    /// rotating counterweights (N).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub shaking_force_bare_peak_n: Option<f64>,
+    /// Error bound of the shaking-force peaks (N).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub shaking_force_peak_error_n: Option<f64>,
+    /// Closed form: m1ρ1 of the carrier counterweight (kg·m).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub carrier_counterweight_first_moment_kgm: Option<f64>,
+    /// Closed form: its angle in the carrier frame (rad).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub carrier_counterweight_angle_rad: Option<f64>,
+    /// Closed form: its mass at `design.rotating.carrier_radius` (kg).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub carrier_counterweight_mass_kg: Option<f64>,
+    /// Closed form: m2ρ2 of the planet counterweight (kg·m).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub planet_counterweight_first_moment_kgm: Option<f64>,
+    /// Closed form: its angle in the planet frame (x along O1A) (rad).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub planet_counterweight_angle_rad: Option<f64>,
+    /// Closed form: its mass at `design.rotating.planet_radius` (kg).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub planet_counterweight_mass_kg: Option<f64>,
+    /// Peak of the rotating force left with the closed-form counterweights (N): round-off.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub rotating_force_residual_peak_n: Option<f64>,
+    /// Peak of the whole shaking force with the closed-form counterweights (N).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub shaking_force_peak_n: Option<f64>,
+    /// Minimax: the peak of the whole shaking force with its counterweights (N).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub minimax_shaking_force_peak_n: Option<f64>,
+    /// Minimax: the certified lower bound of the optimum (N).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub minimax_lower_bound_n: Option<f64>,
+    /// Minimax: |peak − optimum| ≤ this (N).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub minimax_error_n: Option<f64>,
+    /// Peak |T| of the drive torque (gas + inertia) (N·m).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub drive_torque_peak_nm: Option<f64>,
+    /// Its error bound (N·m).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub drive_torque_peak_error_nm: Option<f64>,
+    /// Mean drive torque over a turn (N·m).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub drive_torque_mean_nm: Option<f64>,
+    /// Error bound of the means (N·m).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub drive_torque_mean_error_nm: Option<f64>,
+    /// Mean of the gas torque (N·m).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub gas_torque_mean_nm: Option<f64>,
+    /// Mean of the inertia torque (N·m): 0 up to the quadrature error.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub inertia_torque_mean_nm: Option<f64>,
+    /// Indicated work per turn, −∮p dV = 2π × the mean gas torque (J = N·m).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub indicated_work_nm: Option<f64>,
+    /// Peak gas force on the piston (N).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub gas_force_peak_n: Option<f64>,
+    /// Peak over φ of the sum of the Lanchester pairs' couples (N·m).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub lanchester_couple_peak_nm: Option<f64>,
+    /// Its error bound (N·m).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub lanchester_couple_peak_error_nm: Option<f64>,
+}
+
+/// The paper's closed-form C_i beside the exact ones: the `closed_form` section and its
+/// table (variants 1 and 2 only: the paper gives no other).
+fn closed_form_section(r: &mut SolveResult, s: &HypocycloidProblem, out: &Outcome) {
+    use crate::families::hypocycloid::closed_form::{paper_coefficients, verdict};
+    let Some(pc) = paper_coefficients(s.variant, out.design.lambda, out.design.theta) else {
+        return;
+    };
+    let c = &out.coefficients;
+    let name = |i: usize, sine: bool| match (pc.variant, sine) {
+        (1, _) => format!("C{i}"),
+        (_, false) => format!("C{i}^I"),
+        (_, true) => format!("C{i}^II"),
+    };
+    let mut csv = String::from(
+        "order,coefficient,closed_form,exact,closed_minus_exact,exact_error,verdict\n",
+    );
+    let mut rows = Vec::new();
+    for i in 0..=6usize.min(c.a.len() - 1) {
+        // a_0 of the exact table includes 1/λ; the closed form's C0 does not.
+        let ea = if i == 0 {
+            c.a[0] - 1.0 / out.design.lambda
+        } else {
+            c.a[i]
+        };
+        let mut parts = vec![(name(i, false), pc.a[i], ea)];
+        if pc.variant == 2 && i > 0 {
+            parts.push((name(i, true), pc.b[i], c.b[i]));
+        }
+        for (label, cf, ex) in parts {
+            let v = verdict(cf, ex, c.error[i]);
+            let _ = writeln!(
+                csv,
+                "{i},{label},{},{},{},{},{}",
+                csv_num(cf),
+                csv_num(ex),
+                csv_num(cf - ex),
+                csv_num(c.error[i]),
+                kebab(v)
+            );
+            rows.push(json!({
+                "order": i, "coefficient": label, "closed_form": cf, "exact": ex,
+                "difference": cf - ex, "exact_error": c.error[i], "verdict": v,
+            }));
+        }
+    }
+    r.extra.insert(
+        "closed_form".into(),
+        json!({
+            "variant": pc.variant,
+            "a": pc.a, "b": pc.b,
+            "rows": rows,
+        }),
+    );
+    r.tables.push(Table {
+        suffix: "closed-form".into(),
+        caption: format!(
+            "The paper's closed-form coefficients (root expanded to y⁶, harmonics collected to the 6th; C0 without 1/λ) against the exact FFT ones, variant {}",
+            pc.variant
+        ),
+        csv,
+    });
+}
+
+/// The rotating counterweights, drive torque and couples: keys, sections, tables, plot.
+fn dynamics_section(r: &mut SolveResult, name: &str, s: &HypocycloidProblem, out: &Outcome) {
+    use crate::families::hypocycloid::balance::{solve as solve_dynamics, At};
+    use crate::families::hypocycloid::model::{Coefficients, Hypocycloid};
+    let spec = &s.dynamics;
+    if !spec.any() {
+        return;
+    }
+    let h = &s.scene;
+    let m = Hypocycloid {
+        lambda: out.design.lambda,
+        theta: out.design.theta,
+        alpha0: h.alpha0,
+    };
+    let c = &out.coefficients;
+    let coef = Coefficients {
+        a: c.a.clone(),
+        b: c.b.clone(),
+        err: c.error.clone(),
+        n_fft: c.n_fft,
+        converged: c.converged,
+    };
+    let at = At {
+        model: &m,
+        coef: &coef,
+        orders: &h.balance_orders,
+        pairs: &out.balancing,
+        r_carrier: h.r_carrier,
+        m_b: h.m_b,
+        omega: h.omega,
+        plot_samples: s.settings.plot_samples,
+    };
+    let d = match solve_dynamics(spec, &at) {
+        Ok(d) => d,
+        Err(e) => {
+            r.warnings.push(e.to_string());
+            r.status = Status::Failed;
+            return;
+        }
+    };
+    r.warnings.extend(d.warnings.iter().cloned());
+    let mut k = DynamicsDerived::default();
+    if let Some(rot) = &d.rotating {
+        k.rotating_unbalance_carrier_kgm = Some(rot.u1[0].hypot(rot.u1[1]));
+        k.rotating_unbalance_planet_kgm = Some(rot.u2[0].hypot(rot.u2[1]));
+        k.rotating_force_peak_n = Some(rot.rotating_peak);
+        k.shaking_force_bare_peak_n = Some(rot.bare_total_peak);
+        k.shaking_force_peak_error_n = Some(rot.peak_error);
+        if let Some((c1, c2)) = &rot.closed {
+            k.carrier_counterweight_first_moment_kgm = Some(c1.first_moment);
+            k.carrier_counterweight_angle_rad = Some(c1.angle);
+            k.carrier_counterweight_mass_kg = Some(c1.mass);
+            k.planet_counterweight_first_moment_kgm = Some(c2.first_moment);
+            k.planet_counterweight_angle_rad = Some(c2.angle);
+            k.planet_counterweight_mass_kg = Some(c2.mass);
+            k.rotating_force_residual_peak_n = rot.closed_rotating_residual;
+            k.shaking_force_peak_n = rot.closed_total_peak;
+        }
+        if let Some(mm) = &rot.minimax {
+            k.minimax_shaking_force_peak_n = Some(mm.peak);
+            k.minimax_lower_bound_n = Some(mm.lower_bound);
+            k.minimax_error_n = Some(mm.error);
+        }
+        let mut csv = String::from(
+            "solution,counterweight,body_frame,first_moment_kgm,angle_deg,radius_m,mass_kg,shaking_force_peak_n,status\n",
+        );
+        let mut row = |sol: &str,
+                       c: &crate::families::hypocycloid::dynamics::Counterweight,
+                       body: &str,
+                       which: &str,
+                       peak: f64,
+                       st: &str| {
+            let _ = writeln!(
+                csv,
+                "{sol},{which},{body},{},{},{},{},{},{st}",
+                csv_num(c.first_moment),
+                csv_num(c.angle.to_degrees()),
+                csv_num(c.radius),
+                csv_num(c.mass),
+                csv_num(peak)
+            );
+        };
+        if let Some((c1, c2)) = &rot.closed {
+            let p = rot.closed_total_peak.unwrap_or(f64::NAN);
+            row(
+                "cancel rotating (closed form)",
+                c1,
+                "carrier (x along OO1)",
+                "carrier",
+                p,
+                "exact",
+            );
+            row(
+                "cancel rotating (closed form)",
+                c2,
+                "planet (x along O1A)",
+                "planet",
+                p,
+                "exact",
+            );
+        }
+        if let Some(mm) = &rot.minimax {
+            let st = kebab(mm.status);
+            row(
+                "minimax of the whole shaking force",
+                &mm.carrier,
+                "carrier (x along OO1)",
+                "carrier",
+                mm.peak,
+                &st,
+            );
+            row(
+                "minimax of the whole shaking force",
+                &mm.planet,
+                "planet (x along O1A)",
+                "planet",
+                mm.peak,
+                &st,
+            );
+        }
+        r.tables.push(Table {
+            suffix: "rotating-counterweights".into(),
+            caption: format!(
+                "Rotating-mass counterweights: U1 = ({:.4e}, {:.4e}) kg·m (carrier), U2 = ({:.4e}, {:.4e}) kg·m (planet); rotating force {:.4} N without them; whole shaking force {:.4} N without them",
+                rot.u1[0], rot.u1[1], rot.u2[0], rot.u2[1], rot.rotating_peak, rot.bare_total_peak
+            ),
+            csv,
+        });
+    }
+    if let Some(t) = &d.torque {
+        k.drive_torque_peak_nm = Some(t.peak);
+        k.drive_torque_peak_error_nm = Some(t.peak_error);
+        k.drive_torque_mean_nm = Some(t.mean);
+        k.drive_torque_mean_error_nm = Some(t.mean_error);
+        k.gas_torque_mean_nm = Some(t.gas_mean);
+        k.inertia_torque_mean_nm = Some(t.inertia_mean);
+        k.indicated_work_nm = t.indicated_work;
+        k.gas_force_peak_n = t.gas_force_peak;
+        let mut csv =
+            String::from("phi_rad,gas_torque_nm,inertia_torque_nm,drive_torque_nm,pressure_pa\n");
+        for j in 0..t.phi.len() {
+            let _ = writeln!(
+                csv,
+                "{},{},{},{},{}",
+                csv_num(t.phi[j]),
+                csv_num(t.gas[j]),
+                csv_num(t.inertia[j]),
+                csv_num(t.total[j]),
+                t.pressure.get(j).map(|p| csv_num(*p)).unwrap_or_default()
+            );
+        }
+        r.tables.push(Table {
+            suffix: "torque".into(),
+            caption: format!(
+                "Drive torque over a turn: peak {:.4} N·m, mean {:.4} N·m (gas {:.4}, inertia {:.2e})",
+                t.peak, t.mean, t.gas_mean, t.inertia_mean
+            ),
+            csv,
+        });
+        let curves = t.clone();
+        let title = name.to_string();
+        r.plots.push(Plot::new(
+            "torque",
+            "Drive torque over a turn: gas, inertia and their sum",
+            move || torque_plot(&title, &curves),
+        ));
+    }
+    if let Some(cp) = &d.couples {
+        k.lanchester_couple_peak_nm = Some(cp.peak);
+        k.lanchester_couple_peak_error_nm = Some(cp.peak_error);
+        let mut csv = String::from("order,couple_amplitude_nm\n");
+        for row in &cp.rows {
+            let _ = writeln!(csv, "{},{}", row.order, csv_num(row.amplitude));
+        }
+        r.tables.push(Table {
+            suffix: "lanchester-couples".into(),
+            caption: format!(
+                "Couples of the Lanchester pairs with shafts offset e = {} mm from the piston line and spaced d = {} mm along it: F_i·sqrt(e² + d²/4) per order; peak of their sum {:.4} N·m",
+                cp.layout.offset * 1e3,
+                cp.layout.spacing * 1e3,
+                cp.peak
+            ),
+            csv,
+        });
+    }
+    r.derived.extend(number_map(&k));
+    r.extra.insert("dynamics".into(), json!(d));
+}
+
+fn torque_plot(
+    name: &str,
+    t: &crate::families::hypocycloid::balance::TorqueOutcome,
+) -> Result<String, PlotError> {
+    let deg: Vec<f64> = t.phi.iter().map(|p| p * 180.0 / PI).collect();
+    let zip =
+        |v: &[f64]| -> Vec<(f64, f64)> { deg.iter().copied().zip(v.iter().copied()).collect() };
+    let mut series = vec![
+        Series::line("gas torque", zip(&t.gas)),
+        Series::line("inertia torque", zip(&t.inertia)),
+        Series::line("drive torque", zip(&t.total)),
+    ];
+    series.push(headroom(&series));
+    plot::panels(
+        &[Panel {
+            title: format!("{name}: drive torque at constant speed"),
+            x_label: "carrier angle φ (deg)".into(),
+            y_label: "torque (N·m)".into(),
+            series,
+            equal_aspect: false,
+        }],
+        560,
+        460,
+    )
 }

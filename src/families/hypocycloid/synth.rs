@@ -864,7 +864,9 @@ fn residual_peak(
     Ok((pk.peak.fx, pk.error + cerr))
 }
 
-fn residual_rel(m: &Hypocycloid, c: &Coefficients, orders: &[usize], p: f64) -> f64 {
+/// The residual inertia force of m_B after the Lanchester pairs of `orders`, over m_B R ω²:
+/// −(S/R)'' − Σ_{i∈K} i² (a_i cos iφ + b_i sin iφ).
+pub fn residual_rel(m: &Hypocycloid, c: &Coefficients, orders: &[usize], p: f64) -> f64 {
     let mut f = -m.piston(p).dds;
     for &i in orders {
         let k = i as f64;

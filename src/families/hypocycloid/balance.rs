@@ -1,0 +1,555 @@
+//! The machine beyond the reciprocating orders of paper 004: the counterweights of its
+//! rotating masses (closed form, and the certified minimax of the whole shaking force with
+//! the shared engine `synth::minimax`), the drive torque of a compressor cycle with the
+//! inertia torque of the mechanism, and the couples of offset Lanchester shafts. Physics in
+//! `dynamics.rs` and `gas.rs`; this module turns a resolved design into figures with error
+//! bounds for the report.
+
+use crate::families::hypocycloid::dynamics::{
+    cancelling_counterweights, carrier_from_effective, harmonic_force, kinematics, Counterweight,
+    Geometry, MovingMasses, RotatingMasses, ShaftLayout,
+};
+use crate::families::hypocycloid::gas::{Cycle, GasCycle};
+use crate::families::hypocycloid::model::{Coefficients, Hypocycloid, LanchesterPair};
+use crate::families::hypocycloid::synth::residual_rel;
+use crate::geom::P2;
+use crate::numeric::periodic_peak;
+use crate::synth::counterweight::Status as EngineStatus;
+use crate::synth::minimax::{self as mm, AffineValue, FnField, Problem};
+use serde::Serialize;
+use std::f64::consts::TAU;
+
+/// What the rotating counterweights minimise.
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, serde::Deserialize, schemars::JsonSchema,
+)]
+#[serde(rename_all = "kebab-case")]
+pub enum RotatingGoal {
+    /// Cancel the rotating parts' force exactly (closed form); the reciprocating force is
+    /// left to the Lanchester pairs.
+    #[default]
+    RotatingForce,
+    /// Also minimise the peak of the whole shaking force (rotating + the reciprocating force
+    /// left after the Lanchester pairs) over the two counterweights: a convex minimax,
+    /// solved and certified by the shared engine.
+    PeakShakingForce,
+}
+
+/// The counterweight design asked for (`[design.rotating]`).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct RotatingDesign {
+    /// ρ1, the centroid radius of the carrier counterweight from O (m).
+    pub carrier_radius: f64,
+    /// ρ2, the centroid radius of the planet counterweight from O1 (m).
+    pub planet_radius: f64,
+    /// The goal.
+    pub minimize: RotatingGoal,
+}
+
+/// Everything beyond the paper's reciprocating orders a file may ask for.
+#[derive(Debug, Clone, PartialEq, Serialize, Default)]
+pub struct DynamicsSpec {
+    /// The rotating masses (`[mechanism.carrier]`, `[mechanism.planet]`, `[mechanism.rod]`).
+    pub masses: Option<RotatingMasses>,
+    /// The counterweights (`[design.rotating]`, needs the masses).
+    pub design: Option<RotatingDesign>,
+    /// The compressor cycle (`[mechanism.gas]`).
+    pub gas: Option<GasCycle>,
+    /// The Lanchester shafts' position (`[mechanism.lanchester]`).
+    pub shafts: Option<ShaftLayout>,
+}
+
+impl DynamicsSpec {
+    /// Whether anything is asked.
+    pub fn any(&self) -> bool {
+        self.masses.is_some() || self.gas.is_some() || self.shafts.is_some()
+    }
+}
+
+/// The certified minimax of the whole shaking force.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct MinimaxCounterweights {
+    /// The carrier counterweight.
+    pub carrier: Counterweight,
+    /// The planet counterweight.
+    pub planet: Counterweight,
+    /// V: the peak of the whole shaking force with them (N).
+    pub peak: f64,
+    /// L: the certified lower bound of the optimum (N).
+    pub lower_bound: f64,
+    /// |V − optimum| ≤ this (N).
+    pub error: f64,
+    /// `optimal` only with the engine's certificate.
+    pub status: EngineStatus,
+    /// Exchange rounds.
+    pub rounds: usize,
+    /// Why not optimal, if not.
+    pub note: Option<String>,
+}
+
+/// The rotating masses and their counterweights.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct RotatingOutcome {
+    /// U1 (kg·m), carrier frame.
+    pub u1: [f64; 2],
+    /// U2 (kg·m), planet frame.
+    pub u2: [f64; 2],
+    /// Peak of the rotating parts' force without counterweights (N).
+    pub rotating_peak: f64,
+    /// The closed-form cancelling counterweights.
+    pub closed: Option<(Counterweight, Counterweight)>,
+    /// Peak of the rotating force left with them (N): round-off only.
+    pub closed_rotating_residual: Option<f64>,
+    /// Peak of the whole shaking force with them (rotating + reciprocating residual) (N).
+    pub closed_total_peak: Option<f64>,
+    /// Peak of the whole shaking force without any rotating counterweight (N).
+    pub bare_total_peak: f64,
+    /// Error bound of the force peaks (N): refinement + the coefficients' error.
+    pub peak_error: f64,
+    /// The minimax, with `minimize = "peak-shaking-force"`.
+    pub minimax: Option<MinimaxCounterweights>,
+}
+
+/// The drive torque over a turn.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct TorqueOutcome {
+    /// Peak |T| (N·m).
+    pub peak: f64,
+    /// Its angle (rad).
+    pub peak_angle: f64,
+    /// Error bound of the peak (N·m).
+    pub peak_error: f64,
+    /// Mean T over a turn (N·m).
+    pub mean: f64,
+    /// Mean of the gas torque (N·m), 0 without a gas cycle.
+    pub gas_mean: f64,
+    /// Error bound of the means (quadrature change) (N·m).
+    pub mean_error: f64,
+    /// Mean of the inertia torque (N·m): 0 in exact arithmetic (E is periodic).
+    pub inertia_mean: f64,
+    /// Indicated work −∮p dV per turn (J), with a gas cycle.
+    pub indicated_work: Option<f64>,
+    /// Peak gas force on the piston (N), with a gas cycle.
+    pub gas_force_peak: Option<f64>,
+    /// Whether the cycle delivers (the compression reaches p_d).
+    pub delivers: Option<bool>,
+    /// Curves for the plot and the CSV: φ, T_gas, T_inertia, T (N·m), p (Pa).
+    pub phi: Vec<f64>,
+    /// T_gas(φ).
+    pub gas: Vec<f64>,
+    /// T_in(φ).
+    pub inertia: Vec<f64>,
+    /// T(φ).
+    pub total: Vec<f64>,
+    /// p(φ) (Pa), empty without a gas cycle.
+    pub pressure: Vec<f64>,
+}
+
+/// One order's Lanchester couple.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct CoupleRow {
+    /// Order i.
+    pub order: usize,
+    /// Amplitude F_i sqrt(e² + d²/4) (N·m).
+    pub amplitude: f64,
+}
+
+/// The couples of offset Lanchester shafts.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct CoupleOutcome {
+    /// The layout.
+    pub layout: ShaftLayout,
+    /// Per balanced order.
+    pub rows: Vec<CoupleRow>,
+    /// Peak over φ of the sum of all pairs' couples (N·m).
+    pub peak: f64,
+    /// Its error bound (N·m).
+    pub peak_error: f64,
+}
+
+/// Everything of this module for one design.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct DynamicsOutcome {
+    /// The rotating masses and counterweights.
+    pub rotating: Option<RotatingOutcome>,
+    /// The drive torque.
+    pub torque: Option<TorqueOutcome>,
+    /// The couples.
+    pub couples: Option<CoupleOutcome>,
+    /// Things the user should know.
+    pub warnings: Vec<String>,
+}
+
+/// The design the dynamics are computed for.
+pub struct At<'a> {
+    /// The dimensionless model.
+    pub model: &'a Hypocycloid,
+    /// Its coefficients.
+    pub coef: &'a Coefficients,
+    /// The balanced orders.
+    pub orders: &'a [usize],
+    /// The Lanchester pairs.
+    pub pairs: &'a [LanchesterPair],
+    /// R (m).
+    pub r_carrier: f64,
+    /// m_B (kg).
+    pub m_b: f64,
+    /// ω (rad/s).
+    pub omega: f64,
+    /// φ samples of the curves.
+    pub plot_samples: usize,
+}
+
+impl At<'_> {
+    fn geometry(&self) -> Geometry {
+        Geometry {
+            r_carrier: self.r_carrier,
+            r_crank: self.model.theta * self.r_carrier,
+            l_rod: self.r_carrier / self.model.lambda,
+            alpha0: self.model.alpha0,
+            omega: self.omega,
+        }
+    }
+    fn fscale(&self) -> f64 {
+        self.m_b * self.r_carrier * self.omega * self.omega
+    }
+    /// The reciprocating force left after the pairs (N, along x).
+    fn recip(&self, phi: f64) -> f64 {
+        self.fscale() * residual_rel(self.model, self.coef, self.orders, phi)
+    }
+    /// Its error from the coefficients of the cancelled orders (N).
+    fn recip_error(&self) -> f64 {
+        self.fscale()
+            * self
+                .orders
+                .iter()
+                .map(|&i| (i * i) as f64 * self.coef.err[i])
+                .sum::<f64>()
+    }
+}
+
+/// Why the dynamics cannot be computed (the key named is the problem-file key).
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("{key}: {message}")]
+pub struct DynamicsError {
+    /// The problem-file key.
+    pub key: String,
+    /// What is wrong.
+    pub message: String,
+}
+
+fn derr(key: &str, message: impl Into<String>) -> DynamicsError {
+    DynamicsError {
+        key: key.into(),
+        message: message.into(),
+    }
+}
+
+/// The peak of |f| over a turn with its error (scan of 720, Brent to 1e-10).
+fn peak_of(f: impl Fn(f64) -> f64) -> (f64, f64, f64) {
+    match periodic_peak(f, 720, 1e-10) {
+        Ok(p) => (p.peak.fx, p.peak.x, p.error),
+        Err(_) => (f64::NAN, f64::NAN, f64::NAN),
+    }
+}
+
+/// The certified minimax of |F_rot(φ; U + x) + F_rec(φ) e_x| over the effective variables
+/// x = (W1 + m2 R e_x, W2) (the force is affine in them; each harmonic's
+/// variable is bounded by |U| + 2P0/(k²ω²), P0 the peak without counterweights, a bound no
+/// optimum reaches: the k-th harmonic's amplitude is at most the peak). `recip(φ)` is the
+/// reciprocating force along x (N) and `recip_err` its error bound.
+pub fn minimax_counterweights(
+    geo: &Geometry,
+    u1: P2,
+    u2: P2,
+    recip: &(dyn Fn(f64) -> f64 + Sync),
+    recip_err: f64,
+    design: &RotatingDesign,
+) -> Result<MinimaxCounterweights, DynamicsError> {
+    let w2 = geo.omega * geo.omega;
+    let b_of = |phi: f64| harmonic_force(geo, u1, u2, phi) + P2::new(recip(phi), 0.0);
+    let (p0, _, _) = peak_of(|p| b_of(p).norm());
+    let b1 = u1.norm() + 2.0 * p0 / w2 + f64::MIN_POSITIVE;
+    let b2 = u2.norm() + 2.0 * p0 / (4.0 * w2) + f64::MIN_POSITIVE;
+    let eval = |phi: f64, out: &mut AffineValue| {
+        let b = b_of(phi);
+        out.b = [b.x, b.y];
+        let e1 = harmonic_force(geo, P2::new(1.0, 0.0), P2::zeros(), phi);
+        let f1 = harmonic_force(geo, P2::new(0.0, 1.0), P2::zeros(), phi);
+        let e2 = harmonic_force(geo, P2::zeros(), P2::new(1.0, 0.0), phi);
+        let f2 = harmonic_force(geo, P2::zeros(), P2::new(0.0, 1.0), phi);
+        out.row_mut(0).copy_from_slice(&[e1.x, f1.x, e2.x, f2.x]);
+        out.row_mut(1).copy_from_slice(&[e1.y, f1.y, e2.y, f2.y]);
+    };
+    let field = FnField::new("shaking force", 2, eval).with_error(move |_, _| recip_err);
+    let pb = Problem {
+        fields: vec![&field],
+        counterweights: Vec::new(),
+        extra: vec![
+            (-2.0 * b1, 2.0 * b1),
+            (-2.0 * b1, 2.0 * b1),
+            (-2.0 * b2, 2.0 * b2),
+            (-2.0 * b2, 2.0 * b2),
+        ],
+        linear: Vec::new(),
+        goal: mm::Goal::MinPeak(vec![(0, 1.0)]),
+        limits: Vec::new(),
+    };
+    let sol = mm::solve(&pb, &mm::Settings::default())
+        .map_err(|e| derr("design.rotating", e.to_string()))?;
+    if !sol.x.iter().all(|v| v.is_finite()) {
+        return Err(derr(
+            "design.rotating",
+            format!("the minimax failed: {}", sol.note.unwrap_or_default()),
+        ));
+    }
+    // x = (W1 + m2 R e_x, W2): the planet counterweight first, then the carrier's own W1.
+    let w_2 = P2::new(sol.x[2], sol.x[3]);
+    let m2 = w_2.norm() / design.planet_radius;
+    let w_1 = carrier_from_effective(P2::new(sol.x[0], sol.x[1]), m2, geo.r_carrier);
+    Ok(MinimaxCounterweights {
+        carrier: Counterweight::new(w_1, design.carrier_radius),
+        planet: Counterweight::new(w_2, design.planet_radius),
+        peak: sol.objective,
+        lower_bound: sol.lower_bound,
+        error: sol.error.total,
+        status: sol.status,
+        rounds: sol.rounds,
+        note: sol.note.clone(),
+    })
+}
+
+/// The whole shaking force (N) at φ of the rotating parts with the counterweights `cw`
+/// (carrier, planet) and the reciprocating force `recip` (N, along x).
+pub fn total_force(
+    geo: &Geometry,
+    u1: P2,
+    u2: P2,
+    cw: (&Counterweight, &Counterweight),
+    recip: f64,
+    phi: f64,
+) -> P2 {
+    let w1 = P2::from(cw.0.w);
+    let w2 = P2::from(cw.1.w);
+    let v1 = u1 + w1 + P2::new(cw.1.mass * geo.r_carrier, 0.0);
+    let v2 = u2 + w2;
+    harmonic_force(geo, v1, v2, phi) + P2::new(recip, 0.0)
+}
+
+/// Computes what `spec` asks at the design `at`.
+pub fn solve(spec: &DynamicsSpec, at: &At) -> Result<DynamicsOutcome, DynamicsError> {
+    let geo = at.geometry();
+    let mut warnings = Vec::new();
+    let rerr = at.recip_error();
+    let rotating = match &spec.masses {
+        None => None,
+        Some(ms) => {
+            if ms.rod_centroid > geo.l_rod {
+                return Err(derr(
+                    "mechanism.rod.centroid",
+                    format!(
+                        "AG = {} m is longer than the rod L = R/λ = {} m",
+                        ms.rod_centroid, geo.l_rod
+                    ),
+                ));
+            }
+            if ms.rod_at_b(&geo) > at.m_b * (1.0 + 1e-12) {
+                return Err(derr(
+                    "mechanism.reciprocating_mass",
+                    format!(
+                        "m_B = {} kg is less than the rod's share at B, m_r·AG/L = {} kg; m_B is the piston group plus that share",
+                        at.m_b,
+                        ms.rod_at_b(&geo)
+                    ),
+                ));
+            }
+            let (u1, u2) = ms.unbalances(&geo);
+            let (rot_peak, _, rot_err) = peak_of(|p| harmonic_force(&geo, u1, u2, p).norm());
+            let (bare, _, bare_err) =
+                peak_of(|p| (harmonic_force(&geo, u1, u2, p) + P2::new(at.recip(p), 0.0)).norm());
+            let mut out = RotatingOutcome {
+                u1: [u1.x, u1.y],
+                u2: [u2.x, u2.y],
+                rotating_peak: rot_peak,
+                closed: None,
+                closed_rotating_residual: None,
+                closed_total_peak: None,
+                bare_total_peak: bare,
+                peak_error: rot_err.max(bare_err) + rerr,
+                minimax: None,
+            };
+            if let Some(d) = &spec.design {
+                let (c1, c2) = cancelling_counterweights(
+                    u1,
+                    u2,
+                    geo.r_carrier,
+                    d.carrier_radius,
+                    d.planet_radius,
+                );
+                let (res, _, _) = peak_of(|p| total_force(&geo, u1, u2, (&c1, &c2), 0.0, p).norm());
+                let (tot, _, tot_err) =
+                    peak_of(|p| total_force(&geo, u1, u2, (&c1, &c2), at.recip(p), p).norm());
+                out.closed = Some((c1, c2));
+                out.closed_rotating_residual = Some(res);
+                out.closed_total_peak = Some(tot);
+                out.peak_error = out.peak_error.max(tot_err + rerr);
+                if d.minimize == RotatingGoal::PeakShakingForce {
+                    let recip = |p: f64| at.recip(p);
+                    let mm = minimax_counterweights(&geo, u1, u2, &recip, rerr, d)?;
+                    if mm.status != EngineStatus::Optimal {
+                        warnings.push(format!(
+                            "the rotating counterweights' minimax is {:?}: {}",
+                            mm.status,
+                            mm.note.clone().unwrap_or_default()
+                        ));
+                    }
+                    out.minimax = Some(mm);
+                }
+            }
+            Some(out)
+        }
+    };
+    // The drive torque: with a gas cycle or masses.
+    let torque = if spec.gas.is_some() || spec.masses.is_some() {
+        let zero = RotatingMasses {
+            carrier_mass: 0.0,
+            carrier_centroid: [0.0; 2],
+            planet_mass: 0.0,
+            planet_centroid: [0.0; 2],
+            rod_mass: 0.0,
+            rod_centroid: 0.0,
+            rod_inertia: None,
+        };
+        let planet_cw = rotating
+            .as_ref()
+            .and_then(|r| {
+                r.minimax
+                    .as_ref()
+                    .map(|m| m.planet)
+                    .or(r.closed.map(|c| c.1))
+            })
+            .map_or((0.0, P2::zeros()), |c| (c.mass, P2::from(c.w)));
+        let moving = MovingMasses {
+            rotating: spec.masses.unwrap_or(zero),
+            m_b: at.m_b,
+            planet_cw,
+        };
+        let w2 = at.omega * at.omega;
+        let t_in = |p: f64| {
+            w2 * moving
+                .energy_and_torque(&kinematics(at.model, &geo, p), &geo)
+                .1
+        };
+        let cycle = match &spec.gas {
+            Some(g) => Some(
+                Cycle::new(at.model, at.r_carrier, *g)
+                    .map_err(|e| derr("mechanism.gas", e.to_string()))?,
+            ),
+            None => None,
+        };
+        let t_gas = |p: f64| {
+            cycle
+                .as_ref()
+                .map_or(0.0, |c| c.torque(at.model, at.r_carrier, p))
+        };
+        let total = |p: f64| t_gas(p) + t_in(p);
+        let (gas_mean, in_mean, mean, mean_err) = match &cycle {
+            Some(c) => {
+                let (g, ge) = c.mean_over_pieces(&t_gas, 8);
+                let (i, ie) = c.mean_over_pieces(&t_in, 8);
+                (g, i, g + i, ge + ie)
+            }
+            None => {
+                // The trapezoid rule on a turn (spectrally accurate: T_in is smooth and
+                // periodic), its change from half the points as the error.
+                let n = 1440;
+                let m1: f64 =
+                    (0..n).map(|k| t_in(TAU * k as f64 / n as f64)).sum::<f64>() / n as f64;
+                let m2: f64 = (0..n / 2)
+                    .map(|k| t_in(TAU * k as f64 / (n / 2) as f64))
+                    .sum::<f64>()
+                    / (n / 2) as f64;
+                (0.0, m1, m1, (m1 - m2).abs())
+            }
+        };
+        if let Some(c) = &cycle {
+            if !c.delivers {
+                warnings.push(
+                    "the compression never reaches the discharge pressure (clearance too large for the pressure ratio): nothing is delivered"
+                        .into(),
+                );
+            }
+        }
+        let (peak, peak_angle, mut peak_error) = peak_of(|p| total(p).abs());
+        if cycle.is_some() {
+            // T has kinks at the valve events, where the curvature estimate of the peak's
+            // error does not hold: add the slope bound max|T'|·xtol (1e-10 rad), the slope
+            // from a 1440-point scan (doubled for the scan's own error).
+            let n = 1440;
+            let h = TAU / n as f64;
+            let ts: Vec<f64> = (0..=n).map(|k| total(k as f64 * h)).collect();
+            let slope = ts
+                .windows(2)
+                .map(|w| (w[1] - w[0]).abs() / h)
+                .fold(0.0, f64::max);
+            peak_error += 2.0 * slope * 1e-10;
+        }
+        let np = at.plot_samples;
+        let phi: Vec<f64> = (0..np).map(|j| TAU * j as f64 / (np - 1) as f64).collect();
+        Some(TorqueOutcome {
+            peak,
+            peak_angle,
+            peak_error: peak_error + mean_err,
+            mean,
+            gas_mean,
+            mean_error: mean_err,
+            inertia_mean: in_mean,
+            indicated_work: cycle.as_ref().map(|_| gas_mean * TAU),
+            gas_force_peak: cycle.as_ref().map(|c| c.peak_force(at.model, at.r_carrier)),
+            delivers: cycle.as_ref().map(|c| c.delivers),
+            gas: phi.iter().map(|&p| t_gas(p)).collect(),
+            inertia: phi.iter().map(|&p| t_in(p)).collect(),
+            total: phi.iter().map(|&p| total(p)).collect(),
+            pressure: cycle
+                .as_ref()
+                .map(|c| {
+                    phi.iter()
+                        .map(|&p| c.pressure(at.model, at.r_carrier, p))
+                        .collect()
+                })
+                .unwrap_or_default(),
+            phi,
+        })
+    } else {
+        None
+    };
+    let couples = spec.shafts.map(|layout| {
+        let rows: Vec<CoupleRow> = at
+            .pairs
+            .iter()
+            .map(|p| CoupleRow {
+                order: p.order,
+                amplitude: layout.couple_amplitude(p),
+            })
+            .collect();
+        let (peak, _, err) = peak_of(|phi| {
+            at.pairs
+                .iter()
+                .map(|p| layout.couple_direct(p, phi))
+                .sum::<f64>()
+                .abs()
+        });
+        CoupleOutcome {
+            layout,
+            rows,
+            peak,
+            peak_error: err,
+        }
+    });
+    Ok(DynamicsOutcome {
+        rotating,
+        torque,
+        couples,
+        warnings,
+    })
+}
