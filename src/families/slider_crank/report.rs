@@ -295,6 +295,7 @@ fn balancer_table(r: &mut SolveResult, out: &sc::Outcome) {
         return;
     }
     let w2 = s.omega * s.omega;
+    let mut rows = Vec::new();
     let mut csv = String::from(
         "order,unbalance_kgm,phase_deg,shaft_unbalance_kgm,offset_m,peak_force_n,peak_couple_nm\n",
     );
@@ -318,7 +319,17 @@ fn balancer_table(r: &mut SolveResult, out: &sc::Outcome) {
             force,
             force * b.pair.offset.abs()
         );
+        rows.push(json!({
+            "order": b.pair.order,
+            "unbalance_kgm": mag,
+            "phase_rad": phase,
+            "shaft_unbalance_kgm": 0.5 * mag,
+            "offset_m": b.pair.offset,
+            "peak_force_n": force,
+            "peak_couple_nm": force * b.pair.offset.abs(),
+        }));
     }
+    r.extra.insert("lanchester_balancers".into(), json!(rows));
     r.tables.push(Table {
         suffix: "balancers".into(),
         caption: "Lanchester balancers (pairs of counter-rotating shafts at n·ω; the couple is offset × force about the crank axis, 0 for a pair on the line through it)".into(),
@@ -332,6 +343,7 @@ fn joint_load_table(r: &mut SolveResult, s: &sc::Scene, out: &sc::Outcome) {
     let Some(jl) = &out.joint_loads else { return };
     let ll = &s.load_limits;
     let mut csv = String::from("joint,peak_load_n,angle_deg,error_n,limit_n\n");
+    let mut rows = Vec::new();
     for (name, p, lim) in [
         ("main bearing O", jl.main_bearing, ll.main_bearing),
         ("crank pin A", jl.crank_pin, ll.crank_pin),
@@ -345,7 +357,15 @@ fn joint_load_table(r: &mut SolveResult, s: &sc::Scene, out: &sc::Outcome) {
             p.error,
             lim.map_or(String::new(), |l| l.to_string())
         );
+        rows.push(json!({
+            "joint": name,
+            "peak_load_n": p.peak,
+            "angle_rad": p.angle,
+            "error_n": p.error,
+            "limit_n": lim,
+        }));
     }
+    r.extra.insert("joint_loads".into(), json!(rows));
     r.tables.push(Table {
         suffix: "joint-loads".into(),
         caption: "Joint loads (Newton–Euler of the rigid links at constant speed)".into(),
