@@ -2013,8 +2013,10 @@ fn check_load_limits(
 /// force z = F_x + iF_y bound them at any design whose peak (or RMS) force is at most K:
 /// z = z₀ + U e^{iφ} + Σ n²(B_n e^{inφ} + B̄_n e^{−inφ})/2, and |c_k(z)| ≤ max|z| (≤ RMS for
 /// the RMS), so n²|B_n|/2 ≤ K + P₀ and |U| ≤ 2(K + P₀), P₀ the peak of z₀ (taken as 1.5 ×
-/// its sampled maximum). K is the force limit, or P₀ for a force objective (the design 0
-/// reaches it). These bounds do not change the optimum.
+/// its sampled maximum). K is the force limit, or P₀ for a force objective (reached by the
+/// design 0). Where the other limits exclude the design 0 the optimum's force may exceed P₀,
+/// so a design on an automatic bound is reported `inaccurate`; one inside them all is the
+/// unbounded problem's optimum too (a convex problem: a local optimum is global).
 fn optimise_joint(
     scene: &Scene,
     objective: Objective,
