@@ -261,6 +261,14 @@ pub fn result(scene: &Scene, sc_scene: &SliderCrankProblem) -> SolveResult {
     }
     balancer_table(&mut r, &out);
     joint_load_table(&mut r, s, &out);
+    if out.joint_loads.is_some() {
+        let (name, out) = (scene.name.clone(), out.clone());
+        r.plots.push(Plot::new(
+            "joint-loads",
+            "Joint loads over the cycle",
+            move || joint_load_plot(&name, &out),
+        ));
+    }
     r.design = number_map(&design);
     r.objectives = number_map(&objectives);
     r.errors = number_map(&errors);
@@ -371,6 +379,56 @@ fn joint_load_table(r: &mut SolveResult, s: &sc::Scene, out: &sc::Outcome) {
         caption: "Joint loads (Newton–Euler of the rigid links at constant speed)".into(),
         csv,
     });
+}
+
+/// The magnitudes of the joint loads of the design against the crank angle, with the peaks
+/// marked (`<name>-joint-loads.svg`).
+fn joint_load_plot(name: &str, out: &sc::Outcome) -> Result<String, PlotError> {
+    let s = &out.designed;
+    let u = P2::from(out.design.unbalance);
+    let mcw = out.counterweight.mass.unwrap_or(0.0);
+    let n = 721;
+    let loads: Vec<(f64, crate::families::slider_crank::model::JointLoads)> = (0..n)
+        .filter_map(|k| {
+            let phi = k as f64 * TAU / (n - 1) as f64;
+            let st = s.mech.state(phi)?;
+            Some((
+                phi.to_degrees(),
+                s.mech.joint_loads(&st, s.omega, &s.loads, u, mcw),
+            ))
+        })
+        .collect();
+    type Pick = fn(&crate::families::slider_crank::model::JointLoads) -> f64;
+    let curves: [(&str, Pick); 4] = [
+        ("main bearing O", |j| j.main.norm()),
+        ("crank pin A", |j| j.crank_pin.norm()),
+        ("wrist pin B", |j| j.wrist_pin.norm()),
+        ("guide |N|", |j| j.guide.abs()),
+    ];
+    let mut series: Vec<Series> = curves
+        .iter()
+        .map(|(label, f)| Series::line(*label, loads.iter().map(|(a, j)| (*a, f(j))).collect()))
+        .collect();
+    if let Some(jl) = &out.joint_loads {
+        series.push(Series::marker(
+            "peaks",
+            [jl.main_bearing, jl.crank_pin, jl.wrist_pin, jl.guide]
+                .iter()
+                .map(|p| (p.angle.to_degrees(), p.peak))
+                .collect(),
+        ));
+    }
+    plot::panels(
+        &[Panel {
+            title: format!("{name}: joint loads"),
+            x_label: "crank angle φ (deg)".into(),
+            y_label: "load (N)".into(),
+            series,
+            equal_aspect: false,
+        }],
+        600,
+        420,
+    )
 }
 
 /// The speed sweep ([`sc::speed_sweep`]: the optimum at each speed, the scene's own design
