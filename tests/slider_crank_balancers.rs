@@ -581,3 +581,39 @@ fn joint_design_refusals() {
     );
     assert!(e.is_err());
 }
+
+/// One pair's coefficients against its two eccentric masses placed explicitly (shaft 1 at
+/// +(nφ + arg B), shaft 2 at −(nφ + arg B), each |B|/2): force = −d²S/dφ² per ω², couple =
+/// −h·F_x, weight torque = −g·dS/dφ (S the pair's first moment), by finite differences.
+#[test]
+fn balancer_pair_coefficients_from_its_masses() {
+    use cwsynth::families::slider_crank::model::BalancerPair;
+    let g = Loads::gravity_for_axis(9.81, 0.7);
+    for order in 1..=4 {
+        let pair = BalancerPair {
+            order,
+            offset: 0.03,
+        };
+        let b: [f64; 2] = [0.013, -0.021];
+        let first = |phi: f64| {
+            let (half, ph) = (0.5 * b[0].hypot(b[1]), b[1].atan2(b[0]));
+            let t = order as f64 * phi + ph;
+            P2::new(half * t.cos(), half * t.sin()) + P2::new(half * t.cos(), -half * t.sin())
+        };
+        let h = 1e-4;
+        for k in 0..20 {
+            let phi = 0.1 + 0.31 * k as f64;
+            let d1 = (first(phi + h) - first(phi - h)) / (2.0 * h);
+            let d2 = (first(phi + h) - first(phi) * 2.0 + first(phi - h)) / (h * h);
+            let dot = |c: [f64; 2]| c[0] * b[0] + c[1] * b[1];
+            let f = dot(pair.force_coeffs(phi));
+            assert!(
+                (f + d2.x).abs() < 1e-6 && d2.y.abs() < 1e-6,
+                "force n={order}"
+            );
+            assert!((dot(pair.moment_coeffs(phi)) + 0.03 * f).abs() < 1e-15);
+            let t = dot(pair.weight_torque_coeffs(phi, g));
+            assert!((t + g.dot(&d1)).abs() < 1e-6, "torque n={order}: {t}");
+        }
+    }
+}
