@@ -144,6 +144,11 @@ pub struct ModelRaw {
     pub gravity: bool,
     /// g (default 9.80665 m/s²).
     pub gravity_acceleration: Option<Qty<Acceleration>>,
+    /// Report the joint loads over the cycle — main bearing O, crank pin A, wrist pin B and
+    /// the guide's normal force — from Newton–Euler of the rigid links (default false; on
+    /// whenever a joint-load limit is given).
+    #[serde(default)]
+    pub bearing_loads: bool,
 }
 
 /// `[design]`: the counterweight.
@@ -165,6 +170,29 @@ pub struct DesignRaw {
     pub paper: Option<PaperDesignRaw>,
     /// A plate shape to realise the counterweight.
     pub shape: Option<ShapeRaw>,
+    /// Lanchester balancers designed jointly with the counterweight.
+    pub balancers: Option<BalancersRaw>,
+}
+
+/// `[design.balancers]`: Lanchester balancers, one pair of counter-rotating shafts per order
+/// n turning at n·ω, each pair's unbalance B_n designed jointly with the crank counterweight
+/// (its force ω²n²|B_n| cos(nφ + arg B_n) acts along the slider axis only).
+#[derive(Debug, Deserialize, schemars::JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct BalancersRaw {
+    /// The orders n of the pairs (each 1 to 4, distinct): 1 balances the primary, 2 the
+    /// secondary reciprocating force.
+    #[schemars(length(min = 1, max = 4))]
+    pub orders: Vec<u32>,
+    /// Largest unbalance |B_n| of each pair, the two shafts together (one per order, in the
+    /// order of `orders`; default none).
+    #[schemars(length(max = 4))]
+    pub max_unbalance: Option<Vec<Qty<Unbalance>>>,
+    /// The y coordinate of each pair's mid-line across the slider axis, from the crank axis
+    /// (one per order; default 0: the pair symmetric about the line through the crank axis,
+    /// which adds no shaking moment). A pair at offset h adds the couple −h·F_n,x.
+    #[schemars(length(max = 4))]
+    pub offset: Option<Vec<Qty<Length>>>,
 }
 
 /// `[design.paper]`: the paper's printed inputs and result of the classical formula (6),
@@ -218,6 +246,8 @@ pub enum Minimize {
     Radius,
     /// Peak drive torque.
     PeakTorque,
+    /// Peak shaking moment about the crank axis, under `max_peak_force`.
+    PeakMoment,
 }
 
 /// `[objective]`.
@@ -230,6 +260,17 @@ pub struct ObjectiveRaw {
     pub max_peak_force: Option<Qty<Force>>,
     /// Peak drive-torque limit.
     pub max_peak_torque: Option<Qty<Torque>>,
+    /// Peak shaking-moment limit (about the crank axis).
+    pub max_shaking_moment: Option<Qty<Torque>>,
+    /// Peak main-bearing load limit (a cone constraint on the counterweight; not with
+    /// gravity, whose counterweight weight depends on how |U| splits into mass and radius).
+    pub max_main_bearing_load: Option<Qty<Force>>,
+    /// Peak crank-pin load limit (checked: the load does not depend on the design).
+    pub max_crank_pin_load: Option<Qty<Force>>,
+    /// Peak wrist-pin load limit (checked: the load does not depend on the design).
+    pub max_wrist_pin_load: Option<Qty<Force>>,
+    /// Peak guide normal-force limit (checked: the force does not depend on the design).
+    pub max_guide_load: Option<Qty<Force>>,
     /// Points of the torque–force Pareto front (0 or absent: none).
     #[serde(default)]
     pub pareto_points: usize,
@@ -582,6 +623,7 @@ pub fn resolve_raw(raw: &File) -> Result<SliderCrankProblem, FieldError> {
         Minimize::Mass => Objective::MinMass,
         Minimize::Radius => Objective::MinRadius,
         Minimize::PeakTorque => Objective::MinPeakTorque,
+        Minimize::PeakMoment => Objective::MinPeakMoment,
     };
     let max_peak_force = o
         .max_peak_force
@@ -703,6 +745,21 @@ pub fn resolve_raw(raw: &File) -> Result<SliderCrankProblem, FieldError> {
             Some(spec)
         }
     };
+    let balancers = match &d.balancers {
+        None => Vec::new(),
+        Some(b) => resolve_balancers(b)?,
+    };
+    let force_limit = |q: Option<Qty<Force>>, f: &str| q.map(|q| positive(f, q.si())).transpose();
+    let load_limits = sc::LoadLimits {
+        main_bearing: force_limit(o.max_main_bearing_load, "objective.max_main_bearing_load")?,
+        crank_pin: force_limit(o.max_crank_pin_load, "objective.max_crank_pin_load")?,
+        wrist_pin: force_limit(o.max_wrist_pin_load, "objective.max_wrist_pin_load")?,
+        guide: force_limit(o.max_guide_load, "objective.max_guide_load")?,
+    };
+    let max_shaking_moment = o
+        .max_shaking_moment
+        .map(|q| positive("objective.max_shaking_moment", q.si()))
+        .transpose()?;
     let core = sc::Scene {
         mech,
         omega,
@@ -720,7 +777,14 @@ pub fn resolve_raw(raw: &File) -> Result<SliderCrankProblem, FieldError> {
         loads: Loads { gravity, process },
         pareto_points: o.pareto_points,
         settings,
+        balancers,
+        max_shaking_moment,
+        load_limits,
+        bearing_loads: md.bearing_loads,
     };
+    if core.joint() {
+        check_joint(&core, o.speed_sweep.is_some(), md.gravity)?;
+    }
     let speed_sweep = match &o.speed_sweep {
         None => None,
         Some(sw) => {
@@ -746,6 +810,118 @@ pub fn resolve_raw(raw: &File) -> Result<SliderCrankProblem, FieldError> {
         paper,
         speed_sweep,
     })
+}
+
+/// `[design.balancers]` into the scene's pairs (their unbalance 0: the design variable).
+fn resolve_balancers(b: &BalancersRaw) -> Result<Vec<sc::BalancerSpec>, FieldError> {
+    let f = "design.balancers";
+    if b.orders.is_empty() || b.orders.len() > 4 {
+        return Err(FieldError::new(
+            format!("{f}.orders"),
+            format!(
+                "{} orders; allowed: 1 to 4 distinct orders from 1 to 4",
+                b.orders.len()
+            ),
+        ));
+    }
+    let mut seen = [false; 5];
+    for (i, &n) in b.orders.iter().enumerate() {
+        if !(1..=4).contains(&n) || seen[n as usize] {
+            return Err(FieldError::new(
+                format!("{f}.orders[{i}]"),
+                format!("got {n}; allowed: distinct orders from 1 to 4"),
+            ));
+        }
+        seen[n as usize] = true;
+    }
+    let per_order = |len: Option<usize>, key: &str| match len {
+        Some(l) if l != b.orders.len() => Err(FieldError::new(
+            format!("{f}.{key}"),
+            format!(
+                "{l} values for {} orders; allowed: one per order",
+                b.orders.len()
+            ),
+        )),
+        _ => Ok(()),
+    };
+    per_order(b.max_unbalance.as_ref().map(Vec::len), "max_unbalance")?;
+    per_order(b.offset.as_ref().map(Vec::len), "offset")?;
+    b.orders
+        .iter()
+        .enumerate()
+        .map(|(i, &order)| {
+            let max_unbalance = match &b.max_unbalance {
+                Some(v) => positive(&format!("{f}.max_unbalance[{i}]"), v[i].si())?,
+                None => f64::INFINITY,
+            };
+            let offset = b.offset.as_ref().map_or(0.0, |v| v[i].si());
+            if !offset.is_finite() {
+                return Err(FieldError::new(
+                    format!("{f}.offset[{i}]"),
+                    "allowed: a finite length",
+                ));
+            }
+            Ok(sc::BalancerSpec {
+                pair: crate::families::slider_crank::model::BalancerPair { order, offset },
+                max_unbalance,
+                unbalance: [0.0; 2],
+            })
+        })
+        .collect()
+}
+
+/// What a joint design (balancers, a moment objective or limit, a main-bearing limit) cannot
+/// be combined with, each refused with the key to change.
+fn check_joint(core: &sc::Scene, sweep: bool, gravity: bool) -> Result<(), FieldError> {
+    let why = "with design.balancers, minimize = \"peak-moment\", max_shaking_moment or max_main_bearing_load (the joint design)";
+    if matches!(core.objective, Objective::MinMass | Objective::MinRadius) {
+        return Err(FieldError::new(
+            "objective.minimize",
+            format!("\"mass\" and \"radius\" are not available {why}; allowed: \"peak-force\", \"rms-force\", \"peak-torque\", \"peak-moment\""),
+        ));
+    }
+    if matches!(
+        core.objective,
+        Objective::MinPeakMoment | Objective::MinPeakTorque
+    ) && core.max_peak_force.is_none()
+    {
+        return Err(FieldError::new(
+            "objective.max_peak_force",
+            format!("missing: minimising the moment or the torque {why} leaves the counterweight free (it adds no moment and, without gravity, no torque); give a peak-force limit"),
+        ));
+    }
+    if core.pareto_points > 0 {
+        return Err(FieldError::new(
+            "objective.pareto_points",
+            format!("the torque–force Pareto front is not available {why}"),
+        ));
+    }
+    if sweep {
+        return Err(FieldError::new(
+            "objective.speed_sweep",
+            format!("the speed sweep is not available {why}"),
+        ));
+    }
+    let u = core.counterweight.unbalance;
+    if u.bounds().0 > 0.0 {
+        return Err(FieldError::new(
+            "design.unbalance",
+            format!("a lower bound on |U| (or a fixed |U|) is not convex and not available {why}; allowed: a range from 0"),
+        ));
+    }
+    if !(sc::unbalance_bounds(&core.counterweight).1 > 0.0) {
+        return Err(FieldError::new(
+            "design.unbalance",
+            format!("|U| bounded to 0 is not available {why}; allowed: an upper bound > 0"),
+        ));
+    }
+    if core.load_limits.main_bearing.is_some() && gravity {
+        return Err(FieldError::new(
+            "objective.max_main_bearing_load",
+            "not available with model.gravity: the main bearing carries the counterweight's weight, which depends on how |U| splits into mass and radius (not affine in U); remove the limit (the load is still reported with model.bearing_loads)",
+        ));
+    }
+    Ok(())
 }
 
 /// The work budget ([`limits::check_work`]): W = (1 + P + S)·(K·(n_scan + n_init + K) +

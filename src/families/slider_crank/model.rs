@@ -477,6 +477,108 @@ pub fn rot_cs(cs: [f64; 2], u: P2) -> P2 {
     P2::new(c * u.x - s * u.y, s * u.x + c * u.y)
 }
 
+/// A Lanchester balancer: a pair of shafts turning at n·ω in opposite senses, each carrying
+/// half of the pair's unbalance B_n (kg·m). With the two eccentric masses symmetric about a
+/// line parallel to the slider axis their forces across the axis cancel and the pair exerts on
+/// the frame, per ω²,
+///
+/// F_n/ω² = n²·Re(B_n e^{inφ}) e_x = n²(B_c cos nφ − B_s sin nφ) e_x = n²|B_n| cos(nφ + arg B_n) e_x,
+///
+/// with B_n = B_c + i·B_s the design (the phase of the pair at φ = 0). The force acts on the
+/// line y = `offset` (the pair's mid-line, in the mechanism frame: the crank axis at the
+/// origin, x along the slider axis), so its moment about O is M_n = −offset·F_n,x: a pair on
+/// the line through O (offset 0) adds no shaking moment. Turning uniformly, the shafts need no
+/// drive torque except, with gravity, that of their weights: the pair's first moment is
+/// Re(B_n e^{inφ}) e_x, so T_n = −g·d/dφ(Re(B_n e^{inφ}) e_x) = g_x·n·(B_c sin nφ + B_s cos nφ).
+/// Every figure is linear in (B_c, B_s); the functions return the two coefficients.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct BalancerPair {
+    /// n, the order: the shafts turn at n·ω.
+    pub order: u32,
+    /// The y coordinate of the pair's mid-line (m).
+    pub offset: f64,
+}
+
+impl BalancerPair {
+    /// F_n,x/ω² = c·(B_c, B_s) (kg·m per kg·m): c = n²(cos nφ, −sin nφ).
+    pub fn force_coeffs(&self, phi: f64) -> [f64; 2] {
+        let n = self.order as f64;
+        let (s, c) = (n * phi).sin_cos();
+        [n * n * c, -n * n * s]
+    }
+    /// M_n/ω² about O = −offset·F_n,x/ω² (m per …).
+    pub fn moment_coeffs(&self, phi: f64) -> [f64; 2] {
+        let [a, b] = self.force_coeffs(phi);
+        [-self.offset * a, -self.offset * b]
+    }
+    /// T_n (N·m per kg·m) of the weights for gravity `g` (mechanism frame): g_x·n·(sin nφ, cos nφ).
+    pub fn weight_torque_coeffs(&self, phi: f64, g: P2) -> [f64; 2] {
+        let n = self.order as f64;
+        let (s, c) = (n * phi).sin_cos();
+        [g.x * n * s, g.x * n * c]
+    }
+}
+
+/// The forces in the joints of the slider-crank at one crank angle (N), from Newton–Euler of
+/// the three moving bodies at constant crank speed: F_ij is the force body i exerts on body j
+/// (1 the frame, 2 the crank with its counterweight, 3 the rod, 4 the slider).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct JointLoads {
+    /// F_12: the main bearing O on the crank.
+    pub main: P2,
+    /// F_23: the crank on the rod at the crank pin A.
+    pub crank_pin: P2,
+    /// F_43: the slider on the rod at the wrist pin B.
+    pub wrist_pin: P2,
+    /// N: the guide on the slider, across the slider axis (friction left out).
+    pub guide: f64,
+}
+
+impl SliderCrank {
+    /// [`JointLoads`] at the state `st`, speed ω, with the counterweight U (crank frame, kg·m)
+    /// of mass `cw_mass` (its weight; 0 when unknown or without gravity). With
+    /// a_B = ω²x'' e_x, a_G3 = ω²G3'', ψ̈ = ω²ψ'', the weights m·g and the process force F_p
+    /// on the slider along +x:
+    ///
+    /// * slider, x: F_34,x = m4 a_B − F_p − m4 g_x, so F_43,x = −F_34,x;
+    /// * rod, moment about G3: I3 ψ̈ = (A − G3) × F_23 + (B − G3) × F_43 with
+    ///   F_23 = m3(a_G3 − g) − F_43, so, with B − A = (L cos ψ, −σ):
+    ///   F_43,y = [I3 ψ̈ − (A − G3) × m3(a_G3 − g) + (B − A)_y F_43,x] / (B − A)_x;
+    /// * slider, y: N = F_43,y − m4 g_y;
+    /// * crank: F_12 = ω²(m2 (r2/R) A'' − Rot(φ)U) + F_23 − (m2 + m_cw) g.
+    ///
+    /// The main bearing load is affine in U; the pin loads and N do not depend on it.
+    /// Two-harmonic kinematics uses its series accelerations on the exact geometry.
+    pub fn joint_loads(
+        &self,
+        st: &State,
+        omega: f64,
+        loads: &Loads,
+        u: P2,
+        cw_mass: f64,
+    ) -> JointLoads {
+        let w2 = omega * omega;
+        let g = loads.gravity;
+        let (m2, m3, m4) = (self.crank.mass, self.rod.mass, self.slider_mass);
+        let f34x = m4 * w2 * st.x[2] - loads.process.at(st.phi) - m4 * g.x;
+        let f43x = -f34x;
+        let a = st.a[0];
+        let g3 = st.g3[0];
+        let inert3 = (st.g3[2] * w2 - g) * m3;
+        let [sigma, k] = st.sigma_k;
+        let f43y = (self.rod.inertia * w2 * st.dpsi[1] - cross(a - g3, inert3) - sigma * f43x) / k;
+        let f43 = P2::new(f43x, f43y);
+        let f23 = inert3 - f43;
+        let crank = (st.a[2] * (m2 * self.crank.centroid / self.r) - rot_cs(st.cs, u)) * w2;
+        JointLoads {
+            main: crank + f23 - g * (m2 + cw_mass),
+            crank_pin: f23,
+            wrist_pin: f43,
+            guide: f43y - m4 * g.y,
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -7,7 +7,6 @@ use crate::families::family::{cw_status, Scene};
 use crate::families::slider_crank::model::Kinematics;
 use crate::families::slider_crank::model::ProcessForce;
 use crate::families::slider_crank::model::SliderCrank;
-use crate::families::slider_crank::synth::shaking_force;
 use crate::families::slider_crank::synth::{self as sc, Objective};
 use crate::geom::P2;
 use crate::report::drawing::{Drawing, DrawingError, Layer, Sheet};
@@ -84,7 +83,8 @@ pub fn result(scene: &Scene, sc_scene: &SliderCrankProblem) -> SolveResult {
     let d = &out.design;
     let u = P2::new(d.unbalance[0], d.unbalance[1]);
     let shape_spec = s.counterweight.shape.as_ref();
-    let design = sc::Design::new(d.unbalance, &out.counterweight, shape_spec);
+    let design = sc::Design::new(d.unbalance, &out.counterweight, shape_spec)
+        .with_balancers(&out.designed.balancers);
     if free && s.counterweight.unbalance.fixed().is_none() {
         // |U| on its upper bound: the envelope, the unbalance range or m_max·r_max decides
         // the counterweight, not the balance.
@@ -123,20 +123,25 @@ pub fn result(scene: &Scene, sc_scene: &SliderCrankProblem) -> SolveResult {
         peak_drive_torque_nm: d.peak_torque,
         peak_shaking_moment_nm: out.peak_shaking_moment,
     };
-    // A degenerate torque objective was solved as the minimax force: its gap is in N.
-    let (gap_f, gap_t) = if torque_objective && out.degenerate.is_none() {
-        (0.0, out.gap)
+    // A degenerate torque or moment objective was solved as the minimax force: its gap is
+    // in N.
+    let moment_objective = s.objective == Objective::MinPeakMoment && out.degenerate.is_none();
+    let (gap_f, gap_t, gap_m) = if torque_objective && out.degenerate.is_none() {
+        (0.0, out.gap, 0.0)
+    } else if moment_objective {
+        (0.0, 0.0, out.gap)
     } else {
-        (out.gap, 0.0)
+        (out.gap, 0.0, 0.0)
     };
     let errors = sc::Errors {
         objectives: sc::Objectives {
             peak_shaking_force_n: gap_f + d.peak_error,
             rms_shaking_force_n: d.rms_error,
             peak_drive_torque_nm: gap_t + d.peak_torque_error,
-            peak_shaking_moment_nm: out.peak_shaking_moment_error,
+            peak_shaking_moment_nm: gap_m + out.peak_shaking_moment_error,
         },
         model_two_harmonic_n: out.exact_peak.map(|ex| (ex - d.peak).abs()),
+        joint_loads: sc::JointLoadFigures::of(out.joint_loads.as_ref(), true),
     };
     let (mt, mc) = (m.m_rot(), m.m_rec());
     let mut derived = sc::Derived {
@@ -163,6 +168,8 @@ pub fn result(scene: &Scene, sc_scene: &SliderCrankProblem) -> SolveResult {
         pareto_force_span_n: None,
         pareto_torque_span_nm: None,
         plate_max_unbalance_kgm: shape_spec.map(|sh| sh.max_unbalance()),
+        joint_loads: sc::JointLoadFigures::of(out.joint_loads.as_ref(), false),
+        joint_load_angles: sc::JointLoadAngles::of(out.joint_loads.as_ref()),
     };
     let mut baselines = out.baselines.clone();
     // The classical formula (6) at the lever radius is the 50 % rule: m = (m_r + ½m_s)R/r_pr.
@@ -252,6 +259,16 @@ pub fn result(scene: &Scene, sc_scene: &SliderCrankProblem) -> SolveResult {
             }
         }
     }
+    balancer_table(&mut r, &out);
+    joint_load_table(&mut r, s, &out);
+    if out.joint_loads.is_some() {
+        let (name, out) = (scene.name.clone(), out.clone());
+        r.plots.push(Plot::new(
+            "joint-loads",
+            "Joint loads over the cycle",
+            move || joint_load_plot(&name, &out),
+        ));
+    }
     r.design = number_map(&design);
     r.objectives = number_map(&objectives);
     r.errors = number_map(&errors);
@@ -274,6 +291,144 @@ pub fn result(scene: &Scene, sc_scene: &SliderCrankProblem) -> SolveResult {
         move || slider_crank_plot(&scene, &s, &out),
     ));
     r
+}
+
+/// The "Lanchester balancers" table (`<name>-balancers.csv`): per pair its order, unbalance
+/// |B_n|, phase, the mass × radius on each shaft, its mid-line offset, the peak of its force
+/// ω²n²|B_n| and of its couple about the crank axis, offset × that force (zero for a pair on
+/// the line through the crank axis: an in-plane pair symmetric about that line adds no moment).
+fn balancer_table(r: &mut SolveResult, out: &sc::Outcome) {
+    let s = &out.designed;
+    if s.balancers.is_empty() {
+        return;
+    }
+    let w2 = s.omega * s.omega;
+    let mut rows = Vec::new();
+    let mut csv = String::from(
+        "order,unbalance_kgm,phase_deg,shaft_unbalance_kgm,offset_m,peak_force_n,peak_couple_nm\n",
+    );
+    for b in &s.balancers {
+        let (bx, by) = (b.unbalance[0], b.unbalance[1]);
+        let mag = bx.hypot(by);
+        let phase = if mag > 0.0 {
+            by.atan2(bx).rem_euclid(TAU)
+        } else {
+            0.0
+        };
+        let n = b.pair.order as f64;
+        let force = w2 * n * n * mag;
+        csv += &format!(
+            "{},{},{},{},{},{},{}\n",
+            b.pair.order,
+            mag,
+            phase.to_degrees(),
+            0.5 * mag,
+            b.pair.offset,
+            force,
+            force * b.pair.offset.abs()
+        );
+        rows.push(json!({
+            "order": b.pair.order,
+            "unbalance_kgm": mag,
+            "phase_rad": phase,
+            "shaft_unbalance_kgm": 0.5 * mag,
+            "offset_m": b.pair.offset,
+            "peak_force_n": force,
+            "peak_couple_nm": force * b.pair.offset.abs(),
+        }));
+    }
+    r.extra.insert("lanchester_balancers".into(), json!(rows));
+    r.tables.push(Table {
+        suffix: "balancers".into(),
+        caption: "Lanchester balancers (pairs of counter-rotating shafts at n·ω; the couple is offset × force about the crank axis, 0 for a pair on the line through it)".into(),
+        csv,
+    });
+}
+
+/// The "Joint loads" table (`<name>-joint-loads.csv`): the peak of each joint load over the
+/// cycle, its crank angle, error and limit.
+fn joint_load_table(r: &mut SolveResult, s: &sc::Scene, out: &sc::Outcome) {
+    let Some(jl) = &out.joint_loads else { return };
+    let ll = &s.load_limits;
+    let mut csv = String::from("joint,peak_load_n,angle_deg,error_n,limit_n\n");
+    let mut rows = Vec::new();
+    for (name, p, lim) in [
+        ("main bearing O", jl.main_bearing, ll.main_bearing),
+        ("crank pin A", jl.crank_pin, ll.crank_pin),
+        ("wrist pin B", jl.wrist_pin, ll.wrist_pin),
+        ("guide (normal force)", jl.guide, ll.guide),
+    ] {
+        csv += &format!(
+            "{name},{},{},{},{}\n",
+            p.peak,
+            p.angle.to_degrees(),
+            p.error,
+            lim.map_or(String::new(), |l| l.to_string())
+        );
+        rows.push(json!({
+            "joint": name,
+            "peak_load_n": p.peak,
+            "angle_rad": p.angle,
+            "error_n": p.error,
+            "limit_n": lim,
+        }));
+    }
+    r.extra.insert("joint_loads".into(), json!(rows));
+    r.tables.push(Table {
+        suffix: "joint-loads".into(),
+        caption: "Joint loads (Newton–Euler of the rigid links at constant speed)".into(),
+        csv,
+    });
+}
+
+/// The magnitudes of the joint loads of the design against the crank angle, with the peaks
+/// marked (`<name>-joint-loads.svg`).
+fn joint_load_plot(name: &str, out: &sc::Outcome) -> Result<String, PlotError> {
+    let s = &out.designed;
+    let u = P2::from(out.design.unbalance);
+    let mcw = out.counterweight.mass.unwrap_or(0.0);
+    let n = 721;
+    let loads: Vec<(f64, crate::families::slider_crank::model::JointLoads)> = (0..n)
+        .filter_map(|k| {
+            let phi = k as f64 * TAU / (n - 1) as f64;
+            let st = s.mech.state(phi)?;
+            Some((
+                phi.to_degrees(),
+                s.mech.joint_loads(&st, s.omega, &s.loads, u, mcw),
+            ))
+        })
+        .collect();
+    type Pick = fn(&crate::families::slider_crank::model::JointLoads) -> f64;
+    let curves: [(&str, Pick); 4] = [
+        ("main bearing O", |j| j.main.norm()),
+        ("crank pin A", |j| j.crank_pin.norm()),
+        ("wrist pin B", |j| j.wrist_pin.norm()),
+        ("guide |N|", |j| j.guide.abs()),
+    ];
+    let mut series: Vec<Series> = curves
+        .iter()
+        .map(|(label, f)| Series::line(*label, loads.iter().map(|(a, j)| (*a, f(j))).collect()))
+        .collect();
+    if let Some(jl) = &out.joint_loads {
+        series.push(Series::marker(
+            "peaks",
+            [jl.main_bearing, jl.crank_pin, jl.wrist_pin, jl.guide]
+                .iter()
+                .map(|p| (p.angle.to_degrees(), p.peak))
+                .collect(),
+        ));
+    }
+    plot::panels(
+        &[Panel {
+            title: format!("{name}: joint loads"),
+            x_label: "crank angle φ (deg)".into(),
+            y_label: "load (N)".into(),
+            series,
+            equal_aspect: false,
+        }],
+        600,
+        420,
+    )
 }
 
 /// The speed sweep ([`sc::speed_sweep`]: the optimum at each speed, the scene's own design
@@ -502,6 +657,9 @@ fn pareto_plot(
 
 fn slider_crank_plot(scene: &Scene, s: &sc::Scene, out: &sc::Outcome) -> Result<String, PlotError> {
     let n = 361;
+    // The optimum with its balancers (if any), the others on the scene as read.
+    let opt = |name: &str| name == "optimum";
+    let at = |name: &str| if opt(name) { &out.designed } else { s };
     let curves: Vec<(String, P2)> = [
         ("no counterweight".to_string(), P2::zeros()),
         ("optimum".to_string(), P2::from(out.design.unbalance)),
@@ -520,9 +678,7 @@ fn slider_crank_plot(scene: &Scene, s: &sc::Scene, out: &sc::Outcome) -> Result<
         let angles = (0..n).map(|k| k as f64 * TAU / (n - 1) as f64);
         let pts: Vec<P2> = angles
             .clone()
-            .map(|phi| {
-                shaking_force(&s.mech, s.omega, *u, phi).unwrap_or(P2::new(f64::NAN, f64::NAN))
-            })
+            .map(|phi| sc::scene_force(at(name), *u, phi))
             .collect();
         locus.push(Series::line(
             name.clone(),
@@ -538,17 +694,15 @@ fn slider_crank_plot(scene: &Scene, s: &sc::Scene, out: &sc::Outcome) -> Result<
         torque.push(Series::line(
             name.clone(),
             angles
-                .map(|phi| (phi.to_degrees(), sc::drive_torque(s, *u, phi)))
+                .map(|phi| (phi.to_degrees(), sc::drive_torque(at(name), *u, phi)))
                 .collect(),
         ));
     }
-    let f_opt = shaking_force(
-        &s.mech,
-        s.omega,
+    let f_opt = sc::scene_force(
+        &out.designed,
         P2::from(out.design.unbalance),
         out.design.peak_angle,
-    )
-    .unwrap_or(P2::zeros());
+    );
     locus.push(Series::marker("peak of optimum", vec![(f_opt.x, f_opt.y)]));
     mag.push(Series::peak(
         format!(
@@ -567,7 +721,7 @@ fn slider_crank_plot(scene: &Scene, s: &sc::Scene, out: &sc::Outcome) -> Result<
         ),
         vec![(
             ta.to_degrees(),
-            sc::drive_torque(s, P2::from(out.design.unbalance), ta),
+            sc::drive_torque(&out.designed, P2::from(out.design.unbalance), ta),
         )],
     ));
     let mut panels = vec![

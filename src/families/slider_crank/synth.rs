@@ -9,7 +9,7 @@
 //! y ranges) with the same refined peaks.
 
 use crate::families::slider_crank::model::{
-    rot, rot_cs, weight_torque_cs, Kinematics, Loads, SliderCrank, State,
+    rot, rot_cs, weight_torque_cs, BalancerPair, Kinematics, Loads, SliderCrank, State,
 };
 use crate::geom::P2;
 use crate::numeric::{
@@ -40,6 +40,10 @@ pub enum Objective {
     /// The peak over φ of the drive torque |T| (with gravity, the counterweight's weight
     /// makes T affine in U: an LP, solved as 2-D cones by clarabel).
     MinPeakTorque,
+    /// The peak over φ of the shaking moment about the crank axis |M| under
+    /// `max_peak_force` (the crank counterweight adds no moment at constant speed; offset
+    /// balancer pairs do: [`BalancerPair`]). Solved jointly by [`crate::synth::minimax`].
+    MinPeakMoment,
 }
 
 /// How a free |U| is split into mass and radius when both are free.
@@ -103,6 +107,120 @@ pub struct Scene {
     pub pareto_points: usize,
     /// Accuracy.
     pub settings: cw::Settings,
+    /// Lanchester balancer pairs designed with the counterweight (`[design.balancers]`).
+    pub balancers: Vec<BalancerSpec>,
+    /// Peak shaking-moment limit (N·m), a constraint.
+    pub max_shaking_moment: Option<f64>,
+    /// Limits on the joint loads (N).
+    pub load_limits: LoadLimits,
+    /// Report the joint (bearing) loads over the cycle.
+    pub bearing_loads: bool,
+}
+
+/// One Lanchester balancer pair of a scene: its geometry, its bound and the unbalance at
+/// which the scene is evaluated.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct BalancerSpec {
+    /// Order and mid-line offset.
+    pub pair: BalancerPair,
+    /// Largest |B_n| of the pair (kg·m; infinite: none).
+    pub max_unbalance: f64,
+    /// B_n = (B_c, B_s) (kg·m): zero in the scene as read (the design variable), the
+    /// design's value in the scene [`Outcome::designed`] evaluates.
+    pub unbalance: [f64; 2],
+}
+
+/// Peak limits on the joint loads (N); `None`: no limit.
+#[derive(Debug, Clone, Copy, PartialEq, Default, serde::Serialize)]
+pub struct LoadLimits {
+    /// Main bearing O (affine in U: a cone constraint of the design).
+    pub main_bearing: Option<f64>,
+    /// Crank pin A (independent of the design: checked).
+    pub crank_pin: Option<f64>,
+    /// Wrist pin B (independent of the design: checked).
+    pub wrist_pin: Option<f64>,
+    /// Guide normal force (independent of the design: checked).
+    pub guide: Option<f64>,
+}
+
+impl Scene {
+    /// Whether the scene needs the joint design of [`crate::synth::minimax`]: balancers, a
+    /// shaking-moment objective or limit, or a main-bearing limit.
+    pub fn joint(&self) -> bool {
+        !self.balancers.is_empty()
+            || self.objective == Objective::MinPeakMoment
+            || self.max_shaking_moment.is_some()
+            || self.load_limits.main_bearing.is_some()
+    }
+
+    /// Σ_n F_n,x/ω² of the balancers at their `unbalance` (kg·m).
+    fn balancer_force0(&self, phi: f64) -> f64 {
+        self.balancers
+            .iter()
+            .map(|b| {
+                let c = b.pair.force_coeffs(phi);
+                c[0] * b.unbalance[0] + c[1] * b.unbalance[1]
+            })
+            .sum()
+    }
+
+    /// Σ_n M_n/ω² of the balancers (kg·m²).
+    fn balancer_moment0(&self, phi: f64) -> f64 {
+        self.balancers
+            .iter()
+            .map(|b| {
+                let c = b.pair.moment_coeffs(phi);
+                c[0] * b.unbalance[0] + c[1] * b.unbalance[1]
+            })
+            .sum()
+    }
+
+    /// Σ_n T_n of the balancers' weights (N·m).
+    fn balancer_torque(&self, phi: f64) -> f64 {
+        let g = self.loads.gravity;
+        self.balancers
+            .iter()
+            .map(|b| {
+                let c = b.pair.weight_torque_coeffs(phi, g);
+                c[0] * b.unbalance[0] + c[1] * b.unbalance[1]
+            })
+            .sum()
+    }
+
+    /// The scene with the balancers at `b` (kg·m, in order).
+    pub fn with_balancers(&self, b: &[[f64; 2]]) -> Scene {
+        let mut s = self.clone();
+        for (spec, &u) in s.balancers.iter_mut().zip(b) {
+            spec.unbalance = u;
+        }
+        s
+    }
+}
+
+/// The shaking force per ω² without counterweight (kg·m): the links' f₀ and the balancers.
+pub fn force0(scene: &Scene, st: &State) -> P2 {
+    let f = scene.mech.shaking_force0(st);
+    if scene.balancers.is_empty() {
+        f
+    } else {
+        f + P2::new(scene.balancer_force0(st.phi), 0.0)
+    }
+}
+
+/// The shaking moment about O per ω² (kg·m²): the links' M₀ and the balancers' couples.
+pub fn moment0(scene: &Scene, st: &State) -> f64 {
+    let m = scene.mech.shaking_moment0(st);
+    if scene.balancers.is_empty() {
+        m
+    } else {
+        m + scene.balancer_moment0(st.phi)
+    }
+}
+
+/// Shaking force (N) of the scene (links and balancers) at φ for the unbalance `u`.
+pub fn scene_force(scene: &Scene, u: P2, phi: f64) -> P2 {
+    let st = scene.mech.state(phi).expect("assembly checked");
+    (force0(scene, &st) + rot_cs(st.cs, u)) * (scene.omega * scene.omega)
 }
 
 /// Force and torque figures of one counterweight, in SI.
@@ -204,6 +322,50 @@ pub struct Design {
     /// `[design.shape]`).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub plate_inertia_kgm2: Option<f64>,
+    /// |B_1| (kg·m): the unbalance of the order-1 Lanchester balancer pair (shafts at 1ω;
+    /// with `[design.balancers]`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub balancer1_unbalance_kgm: Option<f64>,
+    /// arg B_1 in [0, 2π) (rad): the pair's force is ω²·1·|B_1|·cos(1φ + arg B_1) along
+    /// the slider axis.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub balancer1_phase_rad: Option<f64>,
+    /// |B_1|/2 (kg·m): mass × radius on each of the pair's two shafts.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub balancer1_shaft_unbalance_kgm: Option<f64>,
+    /// |B_2| (kg·m): the unbalance of the order-2 Lanchester balancer pair (shafts at 2ω;
+    /// with `[design.balancers]`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub balancer2_unbalance_kgm: Option<f64>,
+    /// arg B_2 in [0, 2π) (rad): the pair's force is ω²·4·|B_2|·cos(2φ + arg B_2) along
+    /// the slider axis.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub balancer2_phase_rad: Option<f64>,
+    /// |B_2|/2 (kg·m): mass × radius on each of the pair's two shafts.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub balancer2_shaft_unbalance_kgm: Option<f64>,
+    /// |B_3| (kg·m): the unbalance of the order-3 Lanchester balancer pair (shafts at 3ω;
+    /// with `[design.balancers]`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub balancer3_unbalance_kgm: Option<f64>,
+    /// arg B_3 in [0, 2π) (rad): the pair's force is ω²·9·|B_3|·cos(3φ + arg B_3) along
+    /// the slider axis.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub balancer3_phase_rad: Option<f64>,
+    /// |B_3|/2 (kg·m): mass × radius on each of the pair's two shafts.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub balancer3_shaft_unbalance_kgm: Option<f64>,
+    /// |B_4| (kg·m): the unbalance of the order-4 Lanchester balancer pair (shafts at 4ω;
+    /// with `[design.balancers]`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub balancer4_unbalance_kgm: Option<f64>,
+    /// arg B_4 in [0, 2π) (rad): the pair's force is ω²·16·|B_4|·cos(4φ + arg B_4) along
+    /// the slider axis.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub balancer4_phase_rad: Option<f64>,
+    /// |B_4|/2 (kg·m): mass × radius on each of the pair's two shafts.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub balancer4_shaft_unbalance_kgm: Option<f64>,
 }
 
 impl Design {
@@ -223,7 +385,50 @@ impl Design {
             plate_angle_rad: plate.map(|s| s.angle_rad),
             plate_thickness_m: plate.and(shape).map(|s| s.thickness),
             plate_inertia_kgm2: plate.map(|s| s.inertia_kgm2),
+            balancer1_unbalance_kgm: None,
+            balancer1_phase_rad: None,
+            balancer1_shaft_unbalance_kgm: None,
+            balancer2_unbalance_kgm: None,
+            balancer2_phase_rad: None,
+            balancer2_shaft_unbalance_kgm: None,
+            balancer3_unbalance_kgm: None,
+            balancer3_phase_rad: None,
+            balancer3_shaft_unbalance_kgm: None,
+            balancer4_unbalance_kgm: None,
+            balancer4_phase_rad: None,
+            balancer4_shaft_unbalance_kgm: None,
         }
+    }
+
+    /// The design with the balancers' unbalances (`BalancerSpec::unbalance`) filled in.
+    pub fn with_balancers(mut self, balancers: &[BalancerSpec]) -> Design {
+        for b in balancers {
+            let (norm, phase) = polar(b.unbalance);
+            let (m, p, h) = match b.pair.order {
+                1 => (
+                    &mut self.balancer1_unbalance_kgm,
+                    &mut self.balancer1_phase_rad,
+                    &mut self.balancer1_shaft_unbalance_kgm,
+                ),
+                2 => (
+                    &mut self.balancer2_unbalance_kgm,
+                    &mut self.balancer2_phase_rad,
+                    &mut self.balancer2_shaft_unbalance_kgm,
+                ),
+                3 => (
+                    &mut self.balancer3_unbalance_kgm,
+                    &mut self.balancer3_phase_rad,
+                    &mut self.balancer3_shaft_unbalance_kgm,
+                ),
+                _ => (
+                    &mut self.balancer4_unbalance_kgm,
+                    &mut self.balancer4_phase_rad,
+                    &mut self.balancer4_shaft_unbalance_kgm,
+                ),
+            };
+            (*m, *p, *h) = (Some(norm), Some(phase), Some(0.5 * norm));
+        }
+        self
     }
 }
 
@@ -246,6 +451,7 @@ impl Objectives {
     pub fn key(objective: Objective) -> &'static str {
         match objective {
             Objective::MinPeakTorque => key!(Objectives, peak_drive_torque_nm),
+            Objective::MinPeakMoment => key!(Objectives, peak_shaking_moment_nm),
             Objective::MinRmsForce => key!(Objectives, rms_shaking_force_n),
             Objective::MinPeakForce | Objective::MinMass | Objective::MinRadius => {
                 key!(Objectives, peak_shaking_force_n)
@@ -274,6 +480,68 @@ pub struct Errors {
     /// |peak with exact kinematics − peak with two harmonics| (N; two-harmonic kinematics only).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub model_two_harmonic_n: Option<f64>,
+    /// The joint loads' errors (same keys as in `derived`).
+    #[serde(flatten)]
+    pub joint_loads: JointLoadFigures,
+}
+
+/// The peak joint loads (keys of `derived` and, for their errors, of `errors`; N).
+#[derive(Debug, Clone, PartialEq, Default, Serialize)]
+pub struct JointLoadFigures {
+    /// max over φ of the load on the main bearing O (N; with `model.bearing_loads` or a load limit).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub peak_main_bearing_load_n: Option<f64>,
+    /// max over φ of the load on the crank pin A (N; with `model.bearing_loads` or a load limit).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub peak_crank_pin_load_n: Option<f64>,
+    /// max over φ of the load on the wrist pin B (N; with `model.bearing_loads` or a load limit).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub peak_wrist_pin_load_n: Option<f64>,
+    /// max over φ of the load on the guide (normal force on the slider) (N; with `model.bearing_loads` or a load limit).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub peak_guide_load_n: Option<f64>,
+}
+
+impl JointLoadFigures {
+    /// The peaks (`error` false) or their errors (true).
+    pub fn of(jl: Option<&JointLoadPeaks>, error: bool) -> JointLoadFigures {
+        let v = |p: &LoadPeak| if error { p.error } else { p.peak };
+        JointLoadFigures {
+            peak_main_bearing_load_n: jl.map(|j| v(&j.main_bearing)),
+            peak_crank_pin_load_n: jl.map(|j| v(&j.crank_pin)),
+            peak_wrist_pin_load_n: jl.map(|j| v(&j.wrist_pin)),
+            peak_guide_load_n: jl.map(|j| v(&j.guide)),
+        }
+    }
+}
+
+/// The crank angles of the peak joint loads (keys of `derived`, rad).
+#[derive(Debug, Clone, PartialEq, Default, Serialize)]
+pub struct JointLoadAngles {
+    /// Crank angle of the peak main bearing load (rad).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub main_bearing_load_angle_rad: Option<f64>,
+    /// Crank angle of the peak crank pin load (rad).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub crank_pin_load_angle_rad: Option<f64>,
+    /// Crank angle of the peak wrist pin load (rad).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub wrist_pin_load_angle_rad: Option<f64>,
+    /// Crank angle of the peak guide load (rad).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub guide_load_angle_rad: Option<f64>,
+}
+
+impl JointLoadAngles {
+    /// The angles of `jl`.
+    pub fn of(jl: Option<&JointLoadPeaks>) -> JointLoadAngles {
+        JointLoadAngles {
+            main_bearing_load_angle_rad: jl.map(|j| j.main_bearing.angle),
+            crank_pin_load_angle_rad: jl.map(|j| j.crank_pin.angle),
+            wrist_pin_load_angle_rad: jl.map(|j| j.wrist_pin.angle),
+            guide_load_angle_rad: jl.map(|j| j.guide.angle),
+        }
+    }
 }
 
 /// Other figures of a slider-crank result (keys of `derived`, SI); `None` where they do not
@@ -327,6 +595,12 @@ pub struct Derived {
     /// optimisation keeps.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub plate_max_unbalance_kgm: Option<f64>,
+    /// The peak joint loads.
+    #[serde(flatten)]
+    pub joint_loads: JointLoadFigures,
+    /// Their crank angles.
+    #[serde(flatten)]
+    pub joint_load_angles: JointLoadAngles,
 }
 
 /// The figures of a classical design evaluated like the result (keys of `baselines.NAME`, SI).
@@ -386,6 +660,34 @@ pub struct Outcome {
     /// Why the problem is degenerate as posed (the objective does not depend on the free
     /// counterweight), if it is: the result's status is then `degenerate`.
     pub degenerate: Option<String>,
+    /// The scene with the balancers at their design (equal to the scene without balancers).
+    pub designed: Scene,
+    /// The peak joint loads (with `bearing_loads` or a load limit).
+    pub joint_loads: Option<JointLoadPeaks>,
+}
+
+/// The peak of one joint load over the cycle.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct LoadPeak {
+    /// max over φ of |F| (N).
+    pub peak: f64,
+    /// Its crank angle (rad).
+    pub angle: f64,
+    /// Bound on its error (N): refinement and round-off.
+    pub error: f64,
+}
+
+/// The peak joint loads of a design ([`SliderCrank::joint_loads`]).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct JointLoadPeaks {
+    /// Main bearing O.
+    pub main_bearing: LoadPeak,
+    /// Crank pin A.
+    pub crank_pin: LoadPeak,
+    /// Wrist pin B.
+    pub wrist_pin: LoadPeak,
+    /// Guide normal force |N|.
+    pub guide: LoadPeak,
 }
 
 /// One point of the torque–force Pareto front: the least peak torque with the peak
@@ -447,7 +749,7 @@ impl<'a> Normalised<'a> {
     }
     fn force(&self, phi: f64) -> Affine {
         let st = self.state(phi);
-        self.force_of(st.cs, self.scene.mech.shaking_force0(&st))
+        self.force_of(st.cs, force0(self.scene, &st))
     }
     /// f̂ from (cos φ, sin φ) and f₀(φ).
     fn force_of(&self, [c, s]: [f64; 2], f0: P2) -> Affine {
@@ -491,7 +793,12 @@ pub fn drive_torque(scene: &Scene, u: P2, phi: f64) -> f64 {
 /// weights, process force).
 fn torque0(scene: &Scene, st: &State) -> f64 {
     let m = &scene.mech;
-    scene.omega * scene.omega * m.drive_torque0(st) + m.load_torque0(st, &scene.loads)
+    let t = scene.omega * scene.omega * m.drive_torque0(st) + m.load_torque0(st, &scene.loads);
+    if scene.balancers.is_empty() {
+        t
+    } else {
+        t + scene.balancer_torque(st.phi)
+    }
 }
 
 /// The counterweight-independent parts of the shaking force (f₀, before the ω² factor) and
@@ -532,9 +839,9 @@ impl Grid {
         for k in 0..n {
             let st = m.state(k as f64 * h).expect("assembly checked");
             g.cs.push(st.cs);
-            g.f0.push(m.shaking_force0(&st));
+            g.f0.push(force0(scene, &st));
             g.t0.push(torque0(scene, &st));
-            g.m0.push(m.shaking_moment0(&st));
+            g.m0.push(moment0(scene, &st));
         }
         g
     }
@@ -661,14 +968,52 @@ pub fn round_off_bounds(scene: &Scene, u: P2) -> [f64; 3] {
         + i_eff * (dp2 + 2.0 * eps * p2)
         + m4 * (b0 * dx2 + x2 * dx0 + 4.0 * eps * b0 * x2)
         + 6.0 * eps * (m3 * b0 * g2 + i_eff * p2 + m4 * b0 * x2);
-    [force, torque, w2 * m_err * (1.0 + 4.0 * eps)]
+    // The balancers: a few roundings of n²|B_n| (cos nφ, sin nφ) each.
+    let (mut bf, mut bm, mut bt) = (0.0, 0.0, 0.0);
+    for b in &scene.balancers {
+        let n = b.pair.order as f64;
+        let mag = b.unbalance[0].abs() + b.unbalance[1].abs();
+        bf += 8.0 * eps * n * n * mag;
+        bm += 8.0 * eps * n * n * mag * b.pair.offset.abs();
+        bt += 8.0 * eps * n * mag * g;
+    }
+    [
+        force + w2 * bf,
+        torque + bt,
+        w2 * (m_err + bm) * (1.0 + 4.0 * eps),
+    ]
+}
+
+/// A bound on the round-off of one evaluation of the joint loads (N) of
+/// [`SliderCrank::joint_loads`] for the counterweight `u` of mass `cw_mass`: the kinematic
+/// round-off of [`SliderCrank::round_off`] through the accelerations (each divided once by
+/// k = L cos ψ ≥ k_min in F_43,y), and 64ε plus twice the relative round-off of k on the
+/// size of every term.
+pub fn joint_load_round_off(scene: &Scene, u: P2, cw_mass: f64) -> f64 {
+    let eps = f64::EPSILON;
+    let m = &scene.mech;
+    let ro = m.round_off();
+    let w2 = scene.omega * scene.omega;
+    let a = m.r + m.e.abs();
+    let kmin = ((m.l - a) * (m.l + a)).sqrt();
+    let lever = 1.0 + (m.l + a) / kmin;
+    let (m2, m3, m4) = (m.crank.mass, m.rod.mass, m.slider_mass);
+    let i3 = m.rod.inertia.abs();
+    let g = scene.loads.gravity.norm();
+    let acc_err = w2 * ((m3 + m4) * ro.dx[2] * lever + i3 * ro.dpsi[1] / kmin);
+    let size = (w2 * (m2 * m.crank.centroid.abs() + u.norm() + (m3 + m4) * (m.r + ro.x[2]))
+        + w2 * i3 * ro.psi[1] / kmin
+        + g * (m2 + m3 + m4 + cw_mass)
+        + scene.loads.process.max_abs())
+        * lever;
+    acc_err + (64.0 * eps + 2.0 * ro.rho_k) * size
 }
 
 fn metrics_sampled(scene: &Scene, u: P2, tab: &Sampled) -> Result<Metrics, SolveError> {
-    let (mech, omega, s) = (&scene.mech, scene.omega, &scene.settings);
+    let (omega, s) = (scene.omega, &scene.settings);
     let w2 = omega * omega;
     let g = scene.loads.gravity;
-    let f = |phi: f64| shaking_force(mech, omega, u, phi).expect("assembly checked");
+    let f = |phi: f64| scene_force(scene, u, phi);
     // The sampled figures in one pass: F_x, F_y, |F| and |T| on the scan grid.
     let n = tab.scan.len();
     let mut cols = vec![0.0; 4 * n];
@@ -727,7 +1072,7 @@ fn x_range_sampled(
     tab: &Sampled,
     refined: bool,
 ) -> Result<(f64, f64, f64), SolveError> {
-    let (mech, omega, s) = (&scene.mech, scene.omega, &scene.settings);
+    let (omega, s) = (scene.omega, &scene.settings);
     let w2 = omega * omega;
     let g = &tab.scan;
     if !refined {
@@ -749,11 +1094,7 @@ fn x_range_sampled(
         return Ok((hi.0 - lo.0, g.cs[hi.1][0], g.cs[lo.1][0]));
     }
     let u = P2::new(-kappa, 0.0);
-    let f = |phi: f64| {
-        shaking_force(mech, omega, u, phi)
-            .expect("assembly checked")
-            .x
-    };
+    let f = |phi: f64| scene_force(scene, u, phi).x;
     let xs: Vec<f64> = (0..g.len()).map(|k| g.force(k, u, w2).x).collect();
     let scale = xs.iter().fold(0.0, |a: f64, &b| a.max(b.abs()));
     let (xmax, xmin) = grid_extremes(&xs, f, scale, true, s)?;
@@ -928,6 +1269,8 @@ pub struct Optimum {
     pub rounds: usize,
     /// Warnings.
     pub warnings: Vec<String>,
+    /// The balancers' unbalances B_n = (B_c, B_s) (kg·m), in the scene's order.
+    pub balancers: Vec<[f64; 2]>,
 }
 
 /// Finds the counterweight: the convex solve and its exchange refinement (the part the
@@ -963,6 +1306,9 @@ fn optimise_with(
     max_torque: Option<f64>,
     grid: &Grid,
 ) -> Result<Optimum, SolveError> {
+    if scene.joint() {
+        return optimise_joint(scene, objective, max_force, max_torque);
+    }
     // The caller has run `check` (the grid needed it).
     let s = &scene.settings;
     let nf = Normalised::new(scene);
@@ -997,6 +1343,8 @@ fn optimise_with(
         Objective::MinRmsForce => (Goal::MinMeanSquare(0), f_ref),
         Objective::MinMass | Objective::MinRadius => (Goal::MinNorm, f_ref),
         Objective::MinPeakTorque => (Goal::MinPeak(1), nf.t_ref),
+        // Never here: a moment objective is a joint scene (`optimise_joint`).
+        Objective::MinPeakMoment => (Goal::MinPeak(0), f_ref),
     };
 
     let mut method;
@@ -1118,6 +1466,7 @@ fn optimise_with(
         method,
         rounds,
         warnings,
+        balancers: Vec::new(),
     })
 }
 
@@ -1198,24 +1547,36 @@ pub fn solve(scene: &Scene) -> Result<Outcome, SolveError> {
     check(scene)?;
     let tab = Sampled::new(scene);
     let torque_fixed = torque_independent_of_counterweight(scene);
-    let degenerate = (torque_fixed && scene.objective == Objective::MinPeakTorque).then(|| {
+    let mut degenerate = (torque_fixed && scene.objective == Objective::MinPeakTorque).then(|| {
         "the objective, the peak drive torque, does not depend on the counterweight: without \
          gravity a counterweight turning at constant speed adds no torque, so every \
          counterweight is equally 'optimal'; the design shown minimises the peak shaking force \
          instead (set model.gravity for a vertical machine, or minimise the shaking force)"
             .to_string()
     });
+    if scene.objective == Objective::MinPeakMoment
+        && scene.balancers.iter().all(|b| b.pair.offset == 0.0)
+    {
+        degenerate = Some(
+            "the objective, the peak shaking moment, does not depend on the design: a crank \
+             counterweight turning at constant speed adds no moment about the crank axis, and \
+             balancer pairs on the line through it (offset 0) add none either; the design shown \
+             minimises the peak shaking force instead (give the balancers their offsets)"
+                .to_string(),
+        );
+    }
     let objective = if degenerate.is_some() {
         Objective::MinPeakForce
     } else {
         scene.objective
     };
     let Optimum {
-        status,
+        mut status,
         u,
         gap,
         method,
         mut warnings,
+        balancers,
         ..
     } = optimise_with(
         scene,
@@ -1224,13 +1585,19 @@ pub fn solve(scene: &Scene) -> Result<Outcome, SolveError> {
         scene.max_peak_torque,
         &tab.scan,
     )?;
+    // The design's figures on the scene with its balancers (the scene itself without any);
+    // the baselines on the scene as read (no balancers).
+    let designed = scene.with_balancers(&balancers);
+    let designed_tab = (!scene.balancers.is_empty()).then(|| Sampled::new(&designed));
+    let (baseline_scene, scene) = (scene, &designed);
+    let (baseline_tab, tab) = (&tab, designed_tab.as_ref().unwrap_or(&tab));
     let mech = &scene.mech;
     let s = &scene.settings;
     let w2 = scene.omega * scene.omega;
     let nf = Normalised::new(scene);
     let cwspec = &scene.counterweight;
 
-    let design = metrics_sampled(scene, u, &tab)?;
+    let design = metrics_sampled(scene, u, tab)?;
     let counterweight = realise(
         P2::new(design.unbalance[0], design.unbalance[1]).norm(),
         cwspec,
@@ -1244,7 +1611,7 @@ pub fn solve(scene: &Scene) -> Result<Outcome, SolveError> {
             .iter()
             .map(|m| (m * w2).abs())
             .collect::<Vec<f64>>(),
-        |p| mech.shaking_moment0(&nf.state(p)).abs() * w2,
+        |p| moment0(scene, &nf.state(p)).abs() * w2,
         design.peak * (mech.r + mech.l),
         false,
         s,
@@ -1291,7 +1658,7 @@ pub fn solve(scene: &Scene) -> Result<Outcome, SolveError> {
         );
         Vec::new()
     } else if scene.pareto_points > 0 {
-        let front = pareto_sampled(scene, scene.pareto_points, &tab)?;
+        let front = pareto_sampled(scene, scene.pareto_points, tab)?;
         // A front only where the two objectives trade off by more than their errors: ends
         // whose torques differ by no more than their gaps are one design, not a front.
         match (front.first(), front.last()) {
@@ -1335,6 +1702,21 @@ pub fn solve(scene: &Scene) -> Result<Outcome, SolveError> {
     } else {
         gap
     };
+    let joint_loads = if scene.bearing_loads || scene.load_limits != LoadLimits::default() {
+        let cw_mass = counterweight.mass.unwrap_or(0.0);
+        if g > 0.0 && counterweight.mass.is_none() && u.norm() > 0.0 {
+            warnings.push(
+                "the main bearing load leaves out the counterweight's weight: the scene does \
+                 not size its mass (give design.radius or design.mass)"
+                    .into(),
+            );
+        }
+        let jl = joint_load_peaks(scene, u, cw_mass, tab)?;
+        check_load_limits(scene, &jl, &mut status, &mut warnings);
+        Some(jl)
+    } else {
+        None
+    };
     Ok(Outcome {
         status,
         design,
@@ -1344,11 +1726,13 @@ pub fn solve(scene: &Scene) -> Result<Outcome, SolveError> {
         peak_shaking_moment_error: mm.error + round_off[2],
         pareto,
         static_weight,
-        baselines: baselines_sampled(scene, &tab)?,
+        baselines: baselines_sampled(baseline_scene, baseline_tab)?,
         exact_peak,
         method,
         warnings,
         degenerate,
+        designed: scene.clone(),
+        joint_loads,
     })
 }
 
@@ -1444,6 +1828,10 @@ pub fn paper_piston(rpm: f64) -> Scene {
         loads: Loads::default(),
         pareto_points: 0,
         settings: cw::Settings::default(),
+        balancers: Vec::new(),
+        max_shaking_moment: None,
+        load_limits: LoadLimits::default(),
+        bearing_loads: false,
     }
 }
 
@@ -1511,4 +1899,351 @@ pub fn speed_sweep(s: &Scene, sw: &SpeedSweep, u: P2) -> (Vec<SweepPoint>, Vec<S
         }
     }
     (pts, warnings)
+}
+
+/// The peak joint loads of the design `u` (kg·m) of mass `cw_mass` over the cycle: sampled on
+/// the scan grid, every local maximum refined as the peak force is.
+fn joint_load_peaks(
+    scene: &Scene,
+    u: P2,
+    cw_mass: f64,
+    tab: &Sampled,
+) -> Result<JointLoadPeaks, SolveError> {
+    let (mech, omega, s) = (&scene.mech, scene.omega, &scene.settings);
+    let at = |phi: f64| {
+        let st = mech.state(phi).expect("assembly checked");
+        mech.joint_loads(&st, omega, &scene.loads, u, cw_mass)
+    };
+    let n = tab.scan.len();
+    let h = std::f64::consts::TAU / n as f64;
+    let samples: Vec<_> = (0..n).map(|k| at(k as f64 * h)).collect();
+    let ro = joint_load_round_off(scene, u, cw_mass);
+    let peak = |pick: &dyn Fn(&crate::families::slider_crank::model::JointLoads) -> f64| {
+        let ys: Vec<f64> = samples.iter().map(pick).collect();
+        let scale = ys.iter().fold(0.0, |a: f64, &b| a.max(b));
+        grid_extremes(&ys, |p| pick(&at(p)), scale, false, s).map(|(pk, _)| LoadPeak {
+            peak: pk.peak.fx,
+            angle: pk.peak.x,
+            error: pk.error + ro,
+        })
+    };
+    Ok(JointLoadPeaks {
+        main_bearing: peak(&|j| j.main.norm())?,
+        crank_pin: peak(&|j| j.crank_pin.norm())?,
+        wrist_pin: peak(&|j| j.wrist_pin.norm())?,
+        guide: peak(&|j| j.guide.abs())?,
+    })
+}
+
+/// The joint-load limits against the design's peaks: a peak above its limit by more than its
+/// error makes the result `infeasible` (the pin and guide loads do not depend on the design,
+/// so no design meets such a limit); one within its error of the limit, `inaccurate`.
+fn check_load_limits(
+    scene: &Scene,
+    jl: &JointLoadPeaks,
+    status: &mut Status,
+    warnings: &mut Vec<String>,
+) {
+    let ll = &scene.load_limits;
+    for (name, key, lim, p) in [
+        (
+            "main bearing",
+            "max_main_bearing_load",
+            ll.main_bearing,
+            jl.main_bearing,
+        ),
+        (
+            "crank pin",
+            "max_crank_pin_load",
+            ll.crank_pin,
+            jl.crank_pin,
+        ),
+        (
+            "wrist pin",
+            "max_wrist_pin_load",
+            ll.wrist_pin,
+            jl.wrist_pin,
+        ),
+        ("guide", "max_guide_load", ll.guide, jl.guide),
+    ] {
+        let Some(lim) = lim else { continue };
+        // The main bearing's limit is a constraint of the design, met (to the engine's
+        // tolerance) or declared infeasible by the engine; the others are only checked.
+        let designed = name == "main bearing";
+        let tol = if designed {
+            scene.settings.rel_tol * lim
+        } else {
+            0.0
+        };
+        if p.peak - p.error > lim + tol {
+            *status = Status::Infeasible;
+            warnings.push(format!(
+                "infeasible: objective.{key} = {lim} N cannot be met: the {name} load peaks at {:.6} N (± {:.1e} N) at φ = {:.3}°{}",
+                p.peak,
+                p.error,
+                p.angle.to_degrees(),
+                if name == "main bearing" {
+                    ""
+                } else {
+                    " and does not depend on the counterweight or the balancers"
+                }
+            ));
+        } else if !designed && p.peak + p.error > lim && *status == Status::Optimal {
+            *status = Status::Inaccurate;
+            warnings.push(format!(
+                "objective.{key} = {lim} N: the {name} load peaks at {:.9} N ± {:.1e} N, within its error of the limit",
+                p.peak, p.error
+            ));
+        }
+    }
+}
+
+/// The joint design of the crank counterweight U and the balancers' unbalances B_n by the
+/// certified affine minimax of [`crate::synth::minimax`]: every figure is affine in
+/// x = (U; B_1; …), so the columns of the balancers are added to those of U and the same
+/// cone program and exchange loop certify the joint optimum.
+///
+/// Variables: each unbalance is a 2-vector held as the first moment of one of the engine's
+/// counterweights (m, u, I) with m_max = 1 and r_max = ρ = its bound, so |u| ≤ bound is the
+/// engine's own cone (m and I enter no field). Fields (SI): 0 the shaking force (N),
+/// 1 the shaking moment about O (N·m), 2 the drive torque (N·m), 3 the main bearing load
+/// without the counterweight's weight (N).
+///
+/// Bounds: where the scene leaves |U| or |B_n| unbounded, the Fourier coefficients of the
+/// force z = F_x + iF_y bound them at any design whose peak (or RMS) force is at most K:
+/// z = z₀ + U e^{iφ} + Σ n²(B_n e^{inφ} + B̄_n e^{−inφ})/2, and |c_k(z)| ≤ max|z| (≤ RMS for
+/// the RMS), so n²|B_n|/2 ≤ K + P₀ and |U| ≤ 2(K + P₀), P₀ the peak of z₀ (taken as 1.5 ×
+/// its sampled maximum). K is the force limit, or P₀ for a force objective (reached by the
+/// design 0). Where the other limits exclude the design 0 the optimum's force may exceed P₀,
+/// so a design on an automatic bound is reported `inaccurate`; one inside them all is the
+/// unbounded problem's optimum too (a convex problem: a local optimum is global).
+fn optimise_joint(
+    scene: &Scene,
+    objective: Objective,
+    max_force: Option<f64>,
+    max_torque: Option<f64>,
+) -> Result<Optimum, SolveError> {
+    use crate::synth::minimax::{self as mm, AffineValue, CounterweightLimits, FnField};
+    let mech = &scene.mech;
+    let w2 = scene.omega * scene.omega;
+    let g = scene.loads.gravity;
+    let nb = scene.balancers.len();
+    let st = |phi: f64| mech.state(phi).expect("assembly checked");
+    let zero = scene.with_balancers(&vec![[0.0; 2]; nb]);
+    let zero = &zero;
+    // P₀, the peak of the force without design (sampled, with margin).
+    let p0 = 1.5
+        * (0..720)
+            .map(|k| {
+                let phi = k as f64 * std::f64::consts::TAU / 720.0;
+                force0(zero, &st(phi)).norm() * w2
+            })
+            .fold(0.0, f64::max);
+    let k_force = match (objective, max_force) {
+        (Objective::MinPeakForce | Objective::MinRmsForce, Some(f)) => f.min(p0),
+        (Objective::MinPeakForce | Objective::MinRmsForce, None) => p0,
+        (_, Some(f)) => f,
+        (_, None) => {
+            return Err(SolveError::Numeric(
+                "a joint design (balancers, moment or main-bearing limits) minimising the torque or the moment needs objective.max_peak_force: the counterweight is otherwise unbounded".into(),
+            ))
+        }
+    };
+    let auto = |n: f64| 2.0 * (k_force + p0) / (w2 * n * n);
+    let (u_lo, u_hi) = unbalance_bounds(&scene.counterweight);
+    let u_auto = 2.0 * auto(1.0);
+    let u_max = u_hi.min(u_auto);
+    let sector = match scene.counterweight.angle {
+        Var::Fixed(b) => Some((b, b)),
+        Var::Free { min, max } if max - min < std::f64::consts::TAU - 1e-9 => Some((min, max)),
+        _ => None,
+    };
+    let limits_of = |bound: f64| CounterweightLimits {
+        sector: None,
+        ..CounterweightLimits::new(1.0, bound)
+    };
+    let mut cws = vec![CounterweightLimits {
+        sector,
+        ..limits_of(u_max)
+    }];
+    let b_max: Vec<f64> = scene
+        .balancers
+        .iter()
+        .map(|b| b.max_unbalance.min(auto(b.pair.order as f64)))
+        .collect();
+    cws.extend(b_max.iter().map(|&b| limits_of(b)));
+    let ub = |j: usize| mm::var_u(j);
+    let fill_balancers = |out: &mut AffineValue, phi: f64, which: u8| {
+        for (j, b) in scene.balancers.iter().enumerate() {
+            let (c, scale) = match which {
+                0 => (b.pair.force_coeffs(phi), w2),
+                1 => (b.pair.moment_coeffs(phi), w2),
+                _ => (b.pair.weight_torque_coeffs(phi, g), 1.0),
+            };
+            let row = out.row_mut(0);
+            row[ub(j + 1)] = c[0] * scale;
+            row[ub(j + 1) + 1] = c[1] * scale;
+        }
+    };
+    let x_parts = |x: &[f64]| -> (P2, Vec<[f64; 2]>) {
+        (
+            P2::new(x[ub(0)], x[ub(0) + 1]),
+            (0..nb).map(|j| [x[ub(j + 1)], x[ub(j + 1) + 1]]).collect(),
+        )
+    };
+    let ro = |x: &[f64]| {
+        let (u, b) = x_parts(x);
+        round_off_bounds(&zero.with_balancers(&b), u)
+    };
+    let force = FnField::new("shaking force", 2, |phi: f64, out: &mut AffineValue| {
+        let s = st(phi);
+        let f0 = force0(zero, &s) * w2;
+        let [c, sn] = s.cs;
+        out.b = [f0.x, f0.y];
+        out.row_mut(0)[ub(0)] = w2 * c;
+        out.row_mut(0)[ub(0) + 1] = -w2 * sn;
+        out.row_mut(1)[ub(0)] = w2 * sn;
+        out.row_mut(1)[ub(0) + 1] = w2 * c;
+        fill_balancers(out, phi, 0);
+    })
+    .with_error(|_, x: &[f64]| ro(x)[0]);
+    let moment = FnField::new("shaking moment", 1, |phi: f64, out: &mut AffineValue| {
+        out.b = [moment0(zero, &st(phi)) * w2, 0.0];
+        fill_balancers(out, phi, 1);
+    })
+    .with_error(|_, x: &[f64]| ro(x)[2]);
+    let torque = FnField::new("drive torque", 1, |phi: f64, out: &mut AffineValue| {
+        let s = st(phi);
+        out.b = [torque0(zero, &s), 0.0];
+        out.row_mut(0)[ub(0)] = weight_torque_cs(s.cs, g, P2::new(1.0, 0.0));
+        out.row_mut(0)[ub(0) + 1] = weight_torque_cs(s.cs, g, P2::new(0.0, 1.0));
+        fill_balancers(out, phi, 2);
+    })
+    .with_error(|_, x: &[f64]| ro(x)[1]);
+    let bearing = FnField::new("main bearing load", 2, |phi: f64, out: &mut AffineValue| {
+        let s = st(phi);
+        let f = mech
+            .joint_loads(&s, scene.omega, &scene.loads, P2::zeros(), 0.0)
+            .main;
+        let [c, sn] = s.cs;
+        out.b = [f.x, f.y];
+        out.row_mut(0)[ub(0)] = -w2 * c;
+        out.row_mut(0)[ub(0) + 1] = w2 * sn;
+        out.row_mut(1)[ub(0)] = -w2 * sn;
+        out.row_mut(1)[ub(0) + 1] = -w2 * c;
+    })
+    .with_error(|_, x: &[f64]| joint_load_round_off(scene, x_parts(x).0, 0.0));
+    const FORCE: usize = 0;
+    const MOMENT: usize = 1;
+    const TORQUE: usize = 2;
+    const BEARING: usize = 3;
+    let goal = match objective {
+        Objective::MinPeakForce => mm::Goal::MinPeak(vec![(FORCE, 1.0)]),
+        Objective::MinRmsForce => mm::Goal::MinRms(FORCE),
+        Objective::MinPeakTorque => mm::Goal::MinPeak(vec![(TORQUE, 1.0)]),
+        Objective::MinPeakMoment => mm::Goal::MinPeak(vec![(MOMENT, 1.0)]),
+        Objective::MinMass | Objective::MinRadius => {
+            return Err(SolveError::Numeric(
+                "minimising the counterweight's mass or radius is not available with balancers, moment or main-bearing limits".into(),
+            ))
+        }
+    };
+    let mut limits = Vec::new();
+    for (f, lim) in [
+        (FORCE, max_force),
+        (TORQUE, max_torque),
+        (MOMENT, scene.max_shaking_moment),
+        (BEARING, scene.load_limits.main_bearing),
+    ] {
+        if let Some(l) = lim {
+            limits.push((f, l));
+        }
+    }
+    let pb = mm::Problem {
+        fields: vec![&force, &moment, &torque, &bearing],
+        counterweights: cws,
+        extra: Vec::new(),
+        linear: Vec::new(),
+        goal,
+        limits,
+    };
+    let cs = &scene.settings;
+    let settings = mm::Settings {
+        rel_tol: cs.rel_tol,
+        initial_samples: cs.initial_samples,
+        scan_samples: cs.scan_samples,
+        max_rounds: cs.max_rounds,
+        peak_xtol: cs.peak_xtol,
+        rms_samples: (cs.rms_samples + 1) & !1,
+        exact_disc: cs.exact_disc,
+        ..mm::Settings::default()
+    };
+    let num = |e: mm::MinimaxError| SolveError::Numeric(e.to_string());
+    let engine = mm::Engine::new(&pb, &settings).map_err(num)?;
+    let sol = engine.solve().map_err(num)?;
+    let mut warnings = Vec::new();
+    if let Some(n) = &sol.note {
+        warnings.push(n.clone());
+    }
+    let feasible = sol.x.iter().all(|v| v.is_finite());
+    let (u, b) = if feasible {
+        x_parts(&sol.x)
+    } else {
+        (P2::zeros(), vec![[0.0; 2]; nb])
+    };
+    if sol.status == Status::Infeasible {
+        warnings.push(format!(
+            "infeasible: no counterweight and balancers within the bounds meet the limits (peak force ≤ {max_force:?} N, peak torque ≤ {max_torque:?} N·m, shaking moment ≤ {:?} N·m, main bearing ≤ {:?} N); the figures shown are those of no counterweight and no balancers",
+            scene.max_shaking_moment, scene.load_limits.main_bearing
+        ));
+    }
+    // A design on a bound the scene did not set would be the bounds' optimum, not the
+    // scene's: the Fourier bounds above exclude it, so say so if it happens.
+    let on = |v: f64, auto: f64, given: f64| auto < given && v >= auto * (1.0 - 1e-6);
+    let mut status = sol.status;
+    if feasible
+        && (on(u.norm(), u_auto, u_hi)
+            || b.iter().zip(&scene.balancers).any(|(bb, spec)| {
+                on(
+                    bb[0].hypot(bb[1]),
+                    auto(spec.pair.order as f64),
+                    spec.max_unbalance,
+                )
+            }))
+    {
+        status = Status::Inaccurate;
+        warnings.push(
+            "the joint design reached an automatic bound on |U| or |B_n| (see the method); the optimum may lie beyond it".into(),
+        );
+    }
+    if u_lo > 0.0 && u.norm() < u_lo * (1.0 - 1e-9) {
+        return Err(SolveError::Numeric(format!(
+            "|U| ≥ {u_lo} kg·m is not convex and not available with balancers, moment or main-bearing limits"
+        )));
+    }
+    let gap = if feasible {
+        sol.error.sampling + sol.error.solver
+    } else {
+        0.0
+    };
+    Ok(Optimum {
+        status,
+        u,
+        gap,
+        method: format!(
+            "joint design of the crank counterweight and {nb} balancer pair(s) (synth::minimax, bounds |U| ≤ {u_max:.6e} kg·m{}): clarabel SOCP + exchange loop: {} rounds, {} angles, {} interior-point iterations, last status {}",
+            b_max
+                .iter()
+                .zip(&scene.balancers)
+                .map(|(m, s)| format!(", |B_{}| ≤ {m:.6e} kg·m", s.pair.order))
+                .collect::<String>(),
+            sol.rounds,
+            sol.angles,
+            sol.ipm_iterations,
+            sol.solver_status
+        ),
+        rounds: sol.rounds,
+        warnings,
+        balancers: b,
+    })
 }
