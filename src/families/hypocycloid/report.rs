@@ -820,6 +820,25 @@ fn dynamics_section(r: &mut SolveResult, name: &str, s: &HypocycloidProblem, out
             k.minimax_lower_bound_n = Some(mm.lower_bound);
             k.minimax_error_n = Some(mm.error);
         }
+        // What to build: the minimax pair when it was asked for and certified, else the
+        // closed-form pair that cancels the rotating force.
+        let built = match (&rot.minimax, &rot.closed) {
+            (Some(mm), _) if mm.status == crate::synth::counterweight::Status::Optimal => {
+                Some((&mm.carrier, &mm.planet))
+            }
+            (_, Some((c1, c2))) => Some((c1, c2)),
+            _ => None,
+        };
+        if let Some((c1, c2)) = built {
+            for (body, c) in [("carrier", c1), ("planet", c2)] {
+                r.design
+                    .insert(format!("{body}_counterweight_mass_kg"), c.mass);
+                r.design
+                    .insert(format!("{body}_counterweight_radius_m"), c.radius);
+                r.design
+                    .insert(format!("{body}_counterweight_angle_rad"), c.angle);
+            }
+        }
         let mut csv = String::from(
             "solution,counterweight,body_frame,first_moment_kgm,angle_deg,radius_m,mass_kg,shaking_force_peak_n,status\n",
         );
