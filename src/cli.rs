@@ -5,7 +5,7 @@ use crate::families::solve_scene;
 use crate::families::{self, Scene};
 use crate::report::{fmt_num, write_outputs, SolveResult, Status};
 use anyhow::Context;
-use clap::{Parser, Subcommand};
+use clap::{CommandFactory, Parser, Subcommand};
 use std::path::{Path, PathBuf};
 
 /// Optimisation-driven counterweight and mechanism synthesis.
@@ -83,6 +83,21 @@ pub enum Command {
     },
     /// Print the JSON Schema (draft 2020-12) of the problem file, every family.
     Schema,
+    /// Print a commented problem file of a family to start from
+    /// (`cwsynth new slider-crank > my.toml && cwsynth solve my.toml`).
+    New {
+        /// The family.
+        #[arg(value_parser = clap::builder::PossibleValuesParser::new(family_names()))]
+        family: String,
+    },
+    /// Print a shell completion script (e.g. `cwsynth completions bash >
+    /// ~/.local/share/bash-completion/completions/cwsynth`).
+    Completions {
+        /// The shell.
+        shell: clap_complete::Shell,
+    },
+    /// Print the manual page (roff; `cwsynth man > cwsynth.1 && man ./cwsynth.1`).
+    Man,
     /// Fit the unknown data a problem file names in its `[calibrate]` section to the values
     /// it must reproduce, then solve the design with the fitted values.
     Calibrate {
@@ -110,6 +125,11 @@ pub enum Command {
         #[arg(long, default_value_t = 5)]
         repeats: usize,
     },
+}
+
+/// The family names, for `cwsynth new` (clap lists them and suggests the nearest).
+fn family_names() -> Vec<&'static str> {
+    crate::families::FAMILIES.iter().map(|f| f.name()).collect()
 }
 
 /// `--units`.
@@ -395,6 +415,24 @@ pub fn run(cli: Cli) -> anyhow::Result<i32> {
                         .with_context(|| format!("writing {}", p.display()))?;
                 }
             }
+            Ok(0)
+        }
+        Command::New { family } => {
+            let text = crate::families::new_problem(&family)
+                .with_context(|| format!("unknown family `{family}`"))?;
+            Stdout::new().write(&text)?;
+            Ok(0)
+        }
+        Command::Completions { shell } => {
+            let mut buf = Vec::new();
+            clap_complete::generate(shell, &mut Cli::command(), "cwsynth", &mut buf);
+            Stdout::new().write(&String::from_utf8(buf)?)?;
+            Ok(0)
+        }
+        Command::Man => {
+            let mut buf = Vec::new();
+            clap_mangen::Man::new(Cli::command()).render(&mut buf)?;
+            Stdout::new().write(&String::from_utf8(buf)?)?;
             Ok(0)
         }
         Command::Schema => {

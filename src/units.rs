@@ -107,6 +107,16 @@ pub struct Unit {
 
 const DEG: f64 = std::f64::consts::PI / 180.0;
 const RPM: f64 = std::f64::consts::TAU / 60.0;
+/// One inch (m), exact.
+const IN: f64 = 0.0254;
+/// One foot (m), exact.
+const FT: f64 = 12.0 * IN;
+/// One pound (kg), exact.
+const LB: f64 = 0.453_592_37;
+/// One ounce (kg), exact.
+const OZ: f64 = LB / 16.0;
+/// One pound-force (N), exact: 1 lb × standard gravity.
+const LBF: f64 = LB * STANDARD_GRAVITY;
 
 /// Every unit accepted. The first entry of each dimension with factor 1 is its SI unit.
 pub const UNITS: &[Unit] = &[
@@ -345,6 +355,138 @@ pub const UNITS: &[Unit] = &[
         dim: Dim::Pressure,
         factor: 1e5,
     },
+    // US customary units (exact by definition: 1 in = 25.4 mm, 1 lb = 0.45359237 kg,
+    // 1 lbf = 1 lb × standard gravity); rotational frequency 1 Hz = 1 rev/s.
+    Unit {
+        symbol: "in",
+        dim: Dim::Length,
+        factor: IN,
+    },
+    Unit {
+        symbol: "ft",
+        dim: Dim::Length,
+        factor: FT,
+    },
+    Unit {
+        symbol: "lb",
+        dim: Dim::Mass,
+        factor: LB,
+    },
+    Unit {
+        symbol: "oz",
+        dim: Dim::Mass,
+        factor: OZ,
+    },
+    Unit {
+        symbol: "RPM",
+        dim: Dim::AngularSpeed,
+        factor: RPM,
+    },
+    Unit {
+        symbol: "rev/min",
+        dim: Dim::AngularSpeed,
+        factor: RPM,
+    },
+    Unit {
+        symbol: "rev/s",
+        dim: Dim::AngularSpeed,
+        factor: std::f64::consts::TAU,
+    },
+    Unit {
+        symbol: "Hz",
+        dim: Dim::AngularSpeed,
+        factor: std::f64::consts::TAU,
+    },
+    Unit {
+        symbol: "lbf",
+        dim: Dim::Force,
+        factor: LBF,
+    },
+    Unit {
+        symbol: "lbf·ft",
+        dim: Dim::Torque,
+        factor: LBF * FT,
+    },
+    Unit {
+        symbol: "lbf*ft",
+        dim: Dim::Torque,
+        factor: LBF * FT,
+    },
+    Unit {
+        symbol: "lbf·in",
+        dim: Dim::Torque,
+        factor: LBF * IN,
+    },
+    Unit {
+        symbol: "lbf*in",
+        dim: Dim::Torque,
+        factor: LBF * IN,
+    },
+    Unit {
+        symbol: "lb·in",
+        dim: Dim::Unbalance,
+        factor: LB * IN,
+    },
+    Unit {
+        symbol: "lb*in",
+        dim: Dim::Unbalance,
+        factor: LB * IN,
+    },
+    Unit {
+        symbol: "oz·in",
+        dim: Dim::Unbalance,
+        factor: OZ * IN,
+    },
+    Unit {
+        symbol: "oz*in",
+        dim: Dim::Unbalance,
+        factor: OZ * IN,
+    },
+    Unit {
+        symbol: "lb·in²",
+        dim: Dim::Inertia,
+        factor: LB * IN * IN,
+    },
+    Unit {
+        symbol: "lb*in^2",
+        dim: Dim::Inertia,
+        factor: LB * IN * IN,
+    },
+    Unit {
+        symbol: "lb·ft²",
+        dim: Dim::Inertia,
+        factor: LB * FT * FT,
+    },
+    Unit {
+        symbol: "lb*ft^2",
+        dim: Dim::Inertia,
+        factor: LB * FT * FT,
+    },
+    Unit {
+        symbol: "lb/in³",
+        dim: Dim::Density,
+        factor: LB / (IN * IN * IN),
+    },
+    Unit {
+        symbol: "lb/in^3",
+        dim: Dim::Density,
+        factor: LB / (IN * IN * IN),
+    },
+    Unit {
+        symbol: "ft/s²",
+        dim: Dim::Acceleration,
+        factor: FT,
+    },
+    Unit {
+        symbol: "ft/s^2",
+        dim: Dim::Acceleration,
+        factor: FT,
+    },
+    Unit {
+        symbol: "psi",
+        dim: Dim::Pressure,
+        factor: LBF / (IN * IN),
+    },
 ];
 
 /// Why a quantity string was rejected.
@@ -375,6 +517,9 @@ pub enum UnitError {
         hint: String,
         allowed: String,
     },
+    /// A decimal comma (`1,5 mm`): numbers are written with a decimal point.
+    #[error("`{text}` has a decimal comma; write numbers with a decimal point: \"{with_point}\"")]
+    DecimalComma { text: String, with_point: String },
     /// The text is longer than any quantity ([`MAX_QUANTITY_LEN`] bytes).
     #[error(
         "a quantity of {len} bytes; allowed: at most {MAX_QUANTITY_LEN} bytes, e.g. \"35 mm\""
@@ -503,6 +648,16 @@ fn parse_unbounded(text: &str, dim: Dim) -> Result<f64, UnitError> {
     }
     if unit.is_empty() {
         return bare(value, dim);
+    }
+    // `1,5 mm`: a decimal comma leaves `,5 mm` as the unit.
+    if let Some(rest) = unit.strip_prefix(',') {
+        if rest.starts_with(|c: char| c.is_ascii_digit()) {
+            let t = text.trim();
+            return Err(UnitError::DecimalComma {
+                text: text.into(),
+                with_point: t.replacen(',', ".", 1),
+            });
+        }
     }
     match find_unit(unit) {
         Some(u) if u.dim == dim => Ok(value * u.factor),
@@ -855,5 +1010,51 @@ mod tests {
             assert!(!u.symbol.contains(['.', '⋅', '-', ' ']), "{}", u.symbol);
             assert!(UNITS[..k].iter().all(|v| !same_unit(u.symbol, v.symbol)));
         }
+    }
+
+    #[test]
+    fn us_customary_units_match_nist_conversion_factors() {
+        // NIST SP 811 (2008), appendix B.8/B.9, the factors to SI.
+        let cases = [
+            ("1 in", Dim::Length, 2.54e-2),
+            ("1 ft", Dim::Length, 3.048e-1),
+            ("1 lb", Dim::Mass, 4.5359237e-1),
+            ("1 oz", Dim::Mass, 2.834952e-2),
+            ("1 lbf", Dim::Force, 4.448222),
+            ("1 lbf*ft", Dim::Torque, 1.355818),
+            ("1 lbf·in", Dim::Torque, 1.129848e-1),
+            ("1 lb·in²", Dim::Inertia, 2.926397e-4),
+            ("1 lb*ft^2", Dim::Inertia, 4.214011e-2),
+            ("1 lb/in^3", Dim::Density, 2.767990e4),
+            ("1 psi", Dim::Pressure, 6.894757e3),
+            ("1 ft/s^2", Dim::Acceleration, 3.048e-1),
+            ("1 oz*in", Dim::Unbalance, 2.834952e-2 * 2.54e-2),
+            ("60 RPM", Dim::AngularSpeed, std::f64::consts::TAU),
+            ("60 rev/min", Dim::AngularSpeed, std::f64::consts::TAU),
+            ("1 Hz", Dim::AngularSpeed, std::f64::consts::TAU),
+            ("1 rev/s", Dim::AngularSpeed, std::f64::consts::TAU),
+        ];
+        for (text, dim, si) in cases {
+            let v = parse(text, dim).unwrap();
+            // NIST prints 7 significant digits where the factor is not exact.
+            assert!((v - si).abs() <= 1e-6 * si, "{text}: {v} vs {si}");
+        }
+        // A pound is a mass, a pound-force a force: never one for the other.
+        assert!(matches!(
+            parse("3 lb", Dim::Force),
+            Err(UnitError::WrongDimension { .. })
+        ));
+    }
+
+    #[test]
+    fn a_decimal_comma_is_named_with_the_fix() {
+        let e = parse("1,5 mm", Dim::Length).unwrap_err();
+        assert!(matches!(e, UnitError::DecimalComma { .. }), "{e}");
+        assert!(e.to_string().contains("\"1.5 mm\""), "{e}");
+        // A comma that is no decimal comma stays an unknown unit.
+        assert!(matches!(
+            parse("1, mm", Dim::Length),
+            Err(UnitError::UnknownUnit { .. })
+        ));
     }
 }

@@ -308,3 +308,66 @@ fn reports_are_in_workshop_units_unless_asked_for_si() {
     };
     assert_eq!(strip(j("w")), strip(j("s")));
 }
+
+/// Issue 20: `cwsynth new <family> > my.toml && cwsynth solve my.toml` works for every
+/// family; an unknown family names the nearest one.
+#[test]
+fn new_writes_a_commented_file_that_solves_for_every_family() {
+    let dir = std::env::temp_dir().join(format!("cwsynth-new-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    for f in cwsynth::families::FAMILIES.iter() {
+        let name = f.name();
+        let out = bin().args(["new", name]).output().unwrap();
+        assert!(
+            out.status.success(),
+            "{name}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let text = String::from_utf8(out.stdout).unwrap();
+        assert!(text.starts_with("# A cwsynth problem file"), "{name}");
+        assert!(text.contains(&format!("name = \"my-{name}\"")), "{name}");
+        let file = dir.join(format!("my-{name}.toml"));
+        std::fs::write(&file, &text).unwrap();
+        let solved = bin()
+            .arg("solve")
+            .arg(&file)
+            .arg("--json")
+            .output()
+            .unwrap();
+        assert!(
+            solved.status.success(),
+            "{name}: {}",
+            String::from_utf8_lossy(&solved.stderr)
+        );
+        let v: serde_json::Value = serde_json::from_slice(&solved.stdout).unwrap();
+        assert_eq!(v["name"], format!("my-{name}"));
+        assert_eq!(v["family"], name);
+        assert_ne!(v["status"], "failed", "{name}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+    let bad = bin().args(["new", "slidercrank"]).output().unwrap();
+    assert!(!bad.status.success());
+    let err = String::from_utf8_lossy(&bad.stderr);
+    assert!(err.contains("slider-crank"), "{err}");
+}
+
+/// Shell completions and the manual page are generated from the CLI's own definition.
+#[test]
+fn completions_and_man_page_are_written() {
+    for shell in ["bash", "zsh", "fish"] {
+        let out = bin().args(["completions", shell]).output().unwrap();
+        assert!(out.status.success(), "{shell}");
+        let text = String::from_utf8(out.stdout).unwrap();
+        assert!(
+            text.contains("calibrate") && text.contains("new"),
+            "{shell}"
+        );
+    }
+    let man = bin().arg("man").output().unwrap();
+    assert!(man.status.success());
+    let text = String::from_utf8(man.stdout).unwrap();
+    assert!(
+        text.contains(".TH cwsynth 1") && text.contains("batch"),
+        "{text}"
+    );
+}

@@ -386,3 +386,45 @@ fn angle_tolerances_need_their_unit() {
         }
     }
 }
+
+/// Issue 20: the units designers use are read exactly (the same machine in inches, pounds
+/// and RPM solves to the same numbers as in mm, kg and rpm), and a decimal comma is an error
+/// naming the file, the line and the field, with the value as it should be written.
+#[test]
+fn us_units_are_read_and_a_decimal_comma_is_named() {
+    let base = std::fs::read_to_string(problem("piston-1000rpm.toml")).unwrap();
+    let us = with(
+        &with(
+            &base,
+            "crank_radius = \"35 mm\"",
+            "crank_radius = \"1.3779527559055118 in\"",
+        ),
+        "speed = \"1000 rpm\"",
+        "speed = \"1000 RPM\"",
+    );
+    let us = with(
+        &us,
+        "slider_mass = \"1.03 kg\"",
+        "slider_mass = \"2.270761300504239 lb\"",
+    );
+    let a = cwsynth::families::solve_scene(&parse_str(&base, Path::new("a.toml")).unwrap());
+    let b = cwsynth::families::solve_scene(&parse_str(&us, Path::new("b.toml")).unwrap());
+    let (fa, fb) = (
+        a.lookup("objectives.peak_shaking_force_n").unwrap(),
+        b.lookup("objectives.peak_shaking_force_n").unwrap(),
+    );
+    assert!((fa - fb).abs() <= 1e-9 * fa, "{fa} vs {fb}");
+    let comma = with(
+        &base,
+        "rod_length = \"140 mm\"",
+        "rod_length = \"140,5 mm\"",
+    );
+    assert_names(
+        &comma,
+        "mechanism.rod_length",
+        "rod_length",
+        "decimal comma",
+    );
+    let e = err(&comma).to_string();
+    assert!(e.contains("\"140.5 mm\""), "{e}");
+}

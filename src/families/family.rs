@@ -22,6 +22,9 @@ pub trait Family: Sync + fmt::Debug {
     fn schema(&self) -> serde_json::Value;
     /// Reads and checks a file of this family.
     fn resolve(&self, ctx: &Ctx, input: Input) -> Result<Resolved<Arc<dyn Machine>>, ProblemError>;
+    /// A commented problem file to start from (`cwsynth new <family>`): one of the shipped
+    /// scenes, which the tests solve.
+    fn template(&self) -> &'static str;
 }
 
 /// A resolved scene's own part: what solves and studies it.
@@ -140,7 +143,7 @@ pub fn machine<K: Machine>(r: Resolved<K>) -> Resolved<Arc<dyn Machine>> {
 
 /// Implements [`Family`] for the unit struct `$family` (declared here, with its doc) and
 /// [`Machine`] for `$problem` from the parts every family folder has: `file::{FAMILY,
-/// COUNTS, resolve, File}` (its schema derived from `File`), `report::result` and `study::{headline, ladder,
+/// COUNTS, resolve, File, TEMPLATE}` (its schema derived from `File`), `report::result` and `study::{headline, ladder,
 /// effects}`. Invoked once in each family's `mod.rs`.
 macro_rules! family_folder {
     ($(#[$doc:meta])* $family:ident, $problem:ty) => {
@@ -169,6 +172,9 @@ macro_rules! family_folder {
                 $crate::problem::ProblemError,
             > {
                 file::resolve(ctx, input).map($crate::families::family::machine)
+            }
+            fn template(&self) -> &'static str {
+                file::TEMPLATE
             }
         }
 

@@ -17,6 +17,9 @@ use std::f64::consts::PI;
 /// The `family = "…"` value of this family's files.
 pub const FAMILY: &str = "eccentric-gear";
 
+/// The problem file `cwsynth new` starts from: the shipped `problems/gear-paper-table1.toml`.
+pub const TEMPLATE: &str = include_str!("../../../problems/gear-paper-table1.toml");
+
 /// The work budget of one scene (see [`limits::check_work`] and `check_work` below):
 /// every single integer setting at its maximum passes on the shipped files, their products
 /// do not, so one machine runs in seconds and can neither stall a batch nor exhaust memory.

@@ -30,6 +30,9 @@ pub const MIN_RADIUS_OF_CRANK: f64 = 1e-6;
 /// The `family = "…"` value of this family's files.
 pub const FAMILY: &str = "slider-crank";
 
+/// The problem file `cwsynth new` starts from: the shipped `problems/piston-1000rpm.toml`.
+pub const TEMPLATE: &str = include_str!("../../../problems/piston-1000rpm.toml");
+
 /// The work budget of one scene (see [`limits::check_work`] and `check_work` below):
 /// every single integer setting at its maximum passes on the shipped files, their products
 /// do not, so one machine runs in seconds and can neither stall a batch nor exhaust memory.
