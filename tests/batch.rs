@@ -959,3 +959,51 @@ fn fleet_rows_are_named_by_the_template_and_tabled_with_their_inputs() {
     );
     assert!(all.contains("{model}"), "{all}");
 }
+
+/// Issue 20: bad rows are counted, not flooded onto the terminal — the first few are shown
+/// with file, line and field, one line says the rest are counted, and every one is in the
+/// summary.
+#[test]
+fn many_bad_rows_show_the_first_few_and_count_the_rest() {
+    let dir = std::env::temp_dir().join(format!("cwsynth-badrows-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut csv = String::from("mechanism.speed\n");
+    for i in 0..40 {
+        csv += &if i % 4 == 0 {
+            format!("{} rpm\n", 900 + i)
+        } else {
+            format!("bad{i}\n")
+        };
+    }
+    let fleet = dir.join("fleet.csv");
+    std::fs::write(&fleet, csv).unwrap();
+    let template = Path::new(env!("CARGO_MANIFEST_DIR")).join("problems/piston-1000rpm.toml");
+    let out = bin()
+        .arg("batch")
+        .arg(format!("{}:{}", template.display(), fleet.display()))
+        .arg("--out")
+        .arg(dir.join("out"))
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&out.stderr);
+    let errors: Vec<&str> = err.lines().filter(|l| l.starts_with("error ")).collect();
+    assert_eq!(errors.len(), 6, "{err}");
+    assert!(
+        errors[0].contains("fleet.csv:3") && errors[0].contains("mechanism.speed"),
+        "{err}"
+    );
+    assert!(errors[5].contains("counted, not shown"), "{err}");
+    assert!(err.contains("30 failed"), "{err}");
+    let summary = std::fs::read_to_string(dir.join("out/summary.csv")).unwrap();
+    assert_eq!(
+        summary
+            .lines()
+            .skip(1)
+            .filter(|l| l.contains(",error,"))
+            .count(),
+        30
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -312,6 +312,7 @@ pub fn run(inputs: Vec<Input>, opts: &Options) -> Result<Counts, BatchError> {
         if chunk.is_empty() {
             break;
         }
+        let tick = progress.ticker();
         let rows: Vec<(Row, bool)> = pool.install(|| {
             chunk
                 .into_par_iter()
@@ -321,6 +322,9 @@ pub fn run(inputs: Vec<Input>, opts: &Options) -> Result<Counts, BatchError> {
                     let r = isolate(|| process(j, opts))
                         .unwrap_or_else(|m| (panic_row(index, &name, &source, &m), false));
                     done.fetch_add(1, Ordering::Relaxed);
+                    if let Some(pb) = &tick {
+                        pb.inc(1);
+                    }
                     r
                 })
                 .collect()

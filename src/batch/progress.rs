@@ -1,19 +1,32 @@
-//! Progress of a run on stderr: a bar with rate and ETA on a terminal, a plain line every
-//! ~2 s otherwise, nothing with `--quiet`; failed machines are reported as they are found.
+//! Progress of a run on stderr: a bar with rate and ETA on a terminal (moved by every
+//! machine as it finishes), a plain line every ~2 s otherwise, nothing with `--quiet`; the
+//! first [`SHOWN_ERRORS`] failed machines are reported as they are found, the rest counted
+//! (every one is in the summary's `status` and `message` columns).
 
 use super::row::Counts;
 use std::io::IsTerminal;
 use std::time::Instant;
 
+/// Failed machines printed as they are found; the others are counted, so a fleet with many
+/// bad rows does not flood the terminal.
+pub const SHOWN_ERRORS: u64 = 5;
+
 /// Progress output: a bar on a terminal, plain lines otherwise, nothing with `--quiet`.
 pub(super) enum Progress {
-    Bar(indicatif::ProgressBar),
+    Bar(indicatif::ProgressBar, Errors),
     Lines {
         total: u64,
         last: Instant,
         t0: Instant,
+        errors: Errors,
     },
     Quiet,
+}
+
+/// Failed machines reported so far.
+#[derive(Default)]
+pub(super) struct Errors {
+    seen: u64,
 }
 
 impl Progress {
@@ -28,31 +41,54 @@ impl Progress {
                 )
                 .expect("valid template"),
             );
-            Progress::Bar(pb)
+            Progress::Bar(pb, Errors::default())
         } else {
             Progress::Lines {
                 total,
                 last: Instant::now(),
                 t0: Instant::now(),
+                errors: Errors::default(),
             }
         }
     }
-    /// Reports a failed machine.
-    pub(super) fn error(&self, m: &str) {
+    /// Reports a failed machine: the first [`SHOWN_ERRORS`] in full, then one line saying
+    /// that the rest are counted.
+    pub(super) fn error(&mut self, m: &str) {
+        let (pb, errors) = match self {
+            Progress::Bar(pb, e) => (Some(&*pb), e),
+            Progress::Lines { errors, .. } => (None, errors),
+            Progress::Quiet => return,
+        };
+        errors.seen += 1;
+        let line = match errors.seen {
+            n if n <= SHOWN_ERRORS => format!("error {m}"),
+            n if n == SHOWN_ERRORS + 1 => format!(
+                "error … further failed machines are counted, not shown: every one is in the summary (status, message)"
+            ),
+            _ => return,
+        };
+        match pb {
+            Some(pb) => pb.println(line),
+            None => eprintln!("{line}"),
+        }
+    }
+    /// A handle that moves the bar by one machine from any thread (`None` without a bar).
+    pub(super) fn ticker(&self) -> Option<indicatif::ProgressBar> {
         match self {
-            Progress::Bar(pb) => pb.println(format!("error {m}")),
-            Progress::Lines { .. } => eprintln!("error {m}"),
-            Progress::Quiet => {}
+            Progress::Bar(pb, _) => Some(pb.clone()),
+            _ => None,
         }
     }
     /// Shows `done` machines and the counts (plain lines: every ~2 s, or now if `force`).
     pub(super) fn update(&mut self, done: u64, c: &Counts, force: bool) {
         match self {
-            Progress::Bar(pb) => {
+            Progress::Bar(pb, _) => {
                 pb.set_position(done);
                 pb.set_message(format!("{} failed, {} skipped", c.failed, c.skipped));
             }
-            Progress::Lines { total, last, t0 } => {
+            Progress::Lines {
+                total, last, t0, ..
+            } => {
                 if force || last.elapsed().as_secs_f64() >= 2.0 {
                     *last = Instant::now();
                     let t = t0.elapsed().as_secs_f64();
@@ -70,7 +106,7 @@ impl Progress {
     }
     /// Ends the bar.
     pub(super) fn finish(&self) {
-        if let Progress::Bar(pb) = self {
+        if let Progress::Bar(pb, _) = self {
             pb.finish();
         }
     }
