@@ -62,9 +62,7 @@ impl Progress {
         errors.seen += 1;
         let line = match errors.seen {
             n if n <= SHOWN_ERRORS => format!("error {m}"),
-            n if n == SHOWN_ERRORS + 1 => format!(
-                "error … further failed machines are counted, not shown: every one is in the summary (status, message)"
-            ),
+            n if n == SHOWN_ERRORS + 1 => "error … further failed machines are counted, not shown: every one is in the summary (status, message)".to_string(),
             _ => return,
         };
         match pb {
