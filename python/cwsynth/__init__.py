@@ -31,6 +31,7 @@ __all__ = [
     "ProblemError",
     "BatchError",
     "parse_table",
+    "to_toml",
 ]
 __version__ = _cwsynth.__version__
 
@@ -50,7 +51,7 @@ def _is_toml_text(s: str) -> bool:
 def _source_kwargs(problem: Problem, source: Optional[str]) -> Dict[str, Any]:
     """The keyword arguments of the extension's solve/check for `problem`."""
     if isinstance(problem, Mapping):
-        text = _cwsynth.dict_to_toml(dict(problem))
+        text = to_toml(problem)
         return {"text": text, "source": source or "<dict>"}
     if isinstance(problem, os.PathLike):
         return {"path": os.fspath(problem)}
@@ -61,6 +62,12 @@ def _source_kwargs(problem: Problem, source: Optional[str]) -> Dict[str, Any]:
     raise TypeError(
         f"problem: a TOML string, a path or a dict, not {type(problem).__name__}"
     )
+
+
+def to_toml(problem: Mapping[str, Any]) -> str:
+    """The TOML text a dict problem is solved as (written by the Rust toml crate; ``None``
+    values left out). A dict's :class:`ProblemError` has its ``line`` in this text."""
+    return _cwsynth.dict_to_toml(dict(problem))
 
 
 def parse_table(text: str) -> Dict[str, np.ndarray]:
