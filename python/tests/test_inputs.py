@@ -9,7 +9,7 @@ from pathlib import Path
 import pytest
 
 import cwsynth
-from conftest import REPO, without
+from conftest import PROBLEMS, REPO, without
 
 try:
     import tomllib
@@ -68,3 +68,12 @@ def test_batch_errors(tmp_path):
     assert cwsynth.batch(["no-such.toml"], tmp_path / "a")["failed"] == 1
     with pytest.raises(cwsynth.BatchError, match="need 0 ≤ i < n"):
         cwsynth.batch(["no-such.toml"], tmp_path / "b", shard="3/2")
+
+
+@pytest.mark.skipif(tomllib is None, reason="tomllib needs Python ≥ 3.11")
+@pytest.mark.parametrize("path", PROBLEMS, ids=[p.stem for p in PROBLEMS])
+def test_dict_of_every_problem(in_repo, path):
+    """Every shipped file read by tomllib and given as a dict (written back as TOML by the
+    Rust toml crate) solves to the file's result, bit for bit."""
+    rel = path.relative_to(REPO).as_posix()
+    assert comparable(cwsynth.solve(tomllib.loads(path.read_text()))) == comparable(cwsynth.solve(rel))
