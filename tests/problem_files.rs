@@ -428,3 +428,17 @@ fn us_units_are_read_and_a_decimal_comma_is_named() {
     let e = err(&comma).to_string();
     assert!(e.contains("\"140.5 mm\""), "{e}");
 }
+
+/// A linkage counterweight's envelope far below the machine's size is refused (it would
+/// scale the cone program by 1e-308: the mutation suite found the solve stalling on it).
+#[test]
+fn a_linkage_counterweight_radius_below_the_machines_scale_is_refused() {
+    let base = std::fs::read_to_string(problem("linkage-fourbar-pareto.toml")).unwrap();
+    let tiny = with(&base, "radius = \"60 mm\"", "radius = \"1e-308 mm\"");
+    assert_names(
+        &tiny,
+        "design.counterweights[0].radius",
+        "1e-308",
+        "crank length",
+    );
+}

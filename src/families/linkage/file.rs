@@ -618,8 +618,16 @@ fn inertias(
         .collect()
 }
 
+/// The smallest counterweight envelope radius, relative to the crank length (as the
+/// slider-crank's `design.radius` ≥ 1e-6 × `crank_radius`).
+pub const MIN_RADIUS_RATIO: f64 = 1e-6;
+
 /// The counterweights, resolved.
-fn counterweights(d: &DesignRaw, names: &[String]) -> Result<Vec<CounterweightSpec>, FieldError> {
+fn counterweights(
+    d: &DesignRaw,
+    names: &[String],
+    crank_length: f64,
+) -> Result<Vec<CounterweightSpec>, FieldError> {
     if d.counterweights.len() > MAX_COUNTERWEIGHTS {
         return Err(FieldError::new(
             "design.counterweights",
@@ -649,6 +657,17 @@ fn counterweights(d: &DesignRaw, names: &[String]) -> Result<Vec<CounterweightSp
         non_negative(&at("mass"), lo)?;
         positive(&at("mass"), hi)?;
         let radius = positive(&at("radius"), cw.radius.si())?;
+        // A radius far below the machine's size is a typo, and it would scale the cone
+        // program's variables by it (1e-308 mm stalled the solver for minutes).
+        if radius < MIN_RADIUS_RATIO * crank_length {
+            return Err(FieldError::new(
+                at("radius"),
+                format!(
+                    "{radius:e} m is below {MIN_RADIUS_RATIO:e} × the crank length ({crank_length} m); allowed: at least {:e} m",
+                    MIN_RADIUS_RATIO * crank_length
+                ),
+            ));
+        }
         let sector = match cw.sector {
             None => None,
             Some(RawVar::Fixed(a)) => Some((a.si(), a.si())),
@@ -788,7 +807,7 @@ pub fn resolve_scene(
     let linkage = Linkage::new(pivot, dyads, inertia, omega, P2::new(0.0, -g))
         .map_err(|e| FieldError::new("mechanism", e.to_string()))?;
     check_full_turn(&linkage)?;
-    let counterweights = counterweights(design, &names)?;
+    let counterweights = counterweights(design, &names, crank_length)?;
     let objective = objective(o, &counterweights)?;
     Ok(LinkageScene {
         moment_about: model.moment_about.as_ref().map_or(pivot, xy),
