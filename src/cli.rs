@@ -48,8 +48,9 @@ pub enum Command {
         /// Worker threads (default: all cores).
         #[arg(long)]
         threads: Option<usize>,
-        /// Only machines with index % n == i, e.g. `--shard 0/4`; writes
-        /// `summary-shard-i-of-n.csv` (join them with `--merge` or `cwsynth merge`).
+        /// Only machines with index % n == i, e.g. `--shard 0/4`, or `--shard auto` (the
+        /// array index of a Slurm job array or a Kubernetes Indexed Job, docs/batch.md);
+        /// writes `summary-shard-i-of-n.csv` (join them with `--merge` or `cwsynth merge`).
         #[arg(long)]
         shard: Option<String>,
         /// No progress output.

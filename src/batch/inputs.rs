@@ -82,8 +82,12 @@ pub fn expand(args: &[String]) -> Result<Vec<Input>, BatchError> {
     Ok(out)
 }
 
-/// Parses `--shard i/n` (0 ≤ i < n).
+/// Parses `--shard i/n` (0 ≤ i < n), or `--shard auto`: the array index of the job
+/// scheduler that started this process ([`shard_from_env`]).
 pub fn parse_shard(s: &str) -> Result<(u64, u64), BatchError> {
+    if s.trim() == "auto" {
+        return shard_from_env(|k| std::env::var(k).ok());
+    }
     let (a, b) = s
         .split_once('/')
         .ok_or_else(|| BatchError::ShardSyntax("expected i/n, e.g. 0/4".into()))?;
@@ -97,6 +101,68 @@ pub fn parse_shard(s: &str) -> Result<(u64, u64), BatchError> {
         return Err(BatchError::ShardRange(s.into()));
     }
     Ok((i, n))
+}
+
+/// `--shard auto`: (i, n) from a job array's environment, read through `var`:
+/// * Slurm job arrays (`sbatch --array=0-15`): i = `SLURM_ARRAY_TASK_ID` −
+///   `SLURM_ARRAY_TASK_MIN`, n = `SLURM_ARRAY_TASK_COUNT` (the array must be contiguous with
+///   step 1: max − min + 1 = count);
+/// * Kubernetes Indexed Jobs (`completionMode: Indexed`): i = `JOB_COMPLETION_INDEX`, n =
+///   `CWSYNTH_SHARDS` (set it to the job's `completions`; Kubernetes does not pass that);
+/// * anything else: `CWSYNTH_SHARD_INDEX` and `CWSYNTH_SHARDS`.
+///
+/// An error says which variables were looked for.
+pub fn shard_from_env(var: impl Fn(&str) -> Option<String>) -> Result<(u64, u64), BatchError> {
+    let num = |k: &str| -> Result<Option<u64>, BatchError> {
+        match var(k) {
+            None => Ok(None),
+            Some(v) => v.trim().parse::<u64>().map(Some).map_err(|e| {
+                BatchError::ShardSyntax(format!("auto: {k} = `{v}` is not a number: {e}"))
+            }),
+        }
+    };
+    let checked = |i: u64, n: u64, from: &str| {
+        if n == 0 || i >= n {
+            Err(BatchError::ShardRange(format!("{i}/{n} (from {from})")))
+        } else {
+            Ok((i, n))
+        }
+    };
+    if let Some(id) = num("SLURM_ARRAY_TASK_ID")? {
+        let min = num("SLURM_ARRAY_TASK_MIN")?.unwrap_or(0);
+        let count = num("SLURM_ARRAY_TASK_COUNT")?.ok_or_else(|| {
+            BatchError::ShardSyntax(
+                "auto: SLURM_ARRAY_TASK_ID is set but SLURM_ARRAY_TASK_COUNT is not".into(),
+            )
+        })?;
+        if let Some(max) = num("SLURM_ARRAY_TASK_MAX")? {
+            if max < min || max - min + 1 != count {
+                return Err(BatchError::ShardSyntax(format!(
+                    "auto: the Slurm array {min}-{max} has {count} tasks: it must be contiguous with step 1 (e.g. --array=0-{})",
+                    count.saturating_sub(1)
+                )));
+            }
+        }
+        let i = id.checked_sub(min).ok_or_else(|| {
+            BatchError::ShardSyntax(format!(
+                "auto: SLURM_ARRAY_TASK_ID {id} is below SLURM_ARRAY_TASK_MIN {min}"
+            ))
+        })?;
+        return checked(i, count, "SLURM_ARRAY_TASK_ID");
+    }
+    let index = match num("JOB_COMPLETION_INDEX")? {
+        Some(i) => Some((i, "JOB_COMPLETION_INDEX")),
+        None => num("CWSYNTH_SHARD_INDEX")?.map(|i| (i, "CWSYNTH_SHARD_INDEX")),
+    };
+    match (index, num("CWSYNTH_SHARDS")?) {
+        (Some((i, from)), Some(n)) => checked(i, n, from),
+        (Some((_, from)), None) => Err(BatchError::ShardSyntax(format!(
+            "auto: {from} is set but CWSYNTH_SHARDS (the number of shards) is not; set it to the job's completions"
+        ))),
+        (None, _) => Err(BatchError::ShardSyntax(
+            "auto: no job-array index in the environment (looked for SLURM_ARRAY_TASK_ID, JOB_COMPLETION_INDEX, CWSYNTH_SHARD_INDEX)".into(),
+        )),
+    }
 }
 
 /// What a worker gets: where the machine's text comes from.
@@ -392,4 +458,55 @@ pub(super) fn count_machines(inputs: &[Input]) -> u64 {
                 .unwrap_or(1),
         })
         .sum()
+}
+
+#[cfg(test)]
+mod shard_tests {
+    use super::shard_from_env;
+
+    fn env<'a>(vars: &'a [(&'a str, &'a str)]) -> impl Fn(&str) -> Option<String> + 'a {
+        move |k| {
+            vars.iter()
+                .find(|(n, _)| *n == k)
+                .map(|(_, v)| v.to_string())
+        }
+    }
+
+    #[test]
+    fn the_array_index_of_slurm_kubernetes_or_our_own_variables() {
+        let slurm = [
+            ("SLURM_ARRAY_TASK_ID", "5"),
+            ("SLURM_ARRAY_TASK_MIN", "1"),
+            ("SLURM_ARRAY_TASK_MAX", "8"),
+            ("SLURM_ARRAY_TASK_COUNT", "8"),
+        ];
+        assert_eq!(shard_from_env(env(&slurm)).unwrap(), (4, 8));
+        let k8s = [("JOB_COMPLETION_INDEX", "3"), ("CWSYNTH_SHARDS", "10")];
+        assert_eq!(shard_from_env(env(&k8s)).unwrap(), (3, 10));
+        let own = [("CWSYNTH_SHARD_INDEX", "0"), ("CWSYNTH_SHARDS", "1")];
+        assert_eq!(shard_from_env(env(&own)).unwrap(), (0, 1));
+        // A stepped Slurm array, a missing count, an index past the count, nothing set.
+        let stepped = [
+            ("SLURM_ARRAY_TASK_ID", "4"),
+            ("SLURM_ARRAY_TASK_MIN", "0"),
+            ("SLURM_ARRAY_TASK_MAX", "8"),
+            ("SLURM_ARRAY_TASK_COUNT", "5"),
+        ];
+        assert!(shard_from_env(env(&stepped))
+            .unwrap_err()
+            .to_string()
+            .contains("contiguous"));
+        let no_count = [("JOB_COMPLETION_INDEX", "3")];
+        assert!(shard_from_env(env(&no_count))
+            .unwrap_err()
+            .to_string()
+            .contains("CWSYNTH_SHARDS"));
+        let past = [("JOB_COMPLETION_INDEX", "3"), ("CWSYNTH_SHARDS", "3")];
+        assert!(shard_from_env(env(&past)).is_err());
+        let none: [(&str, &str); 0] = [];
+        assert!(shard_from_env(env(&none))
+            .unwrap_err()
+            .to_string()
+            .contains("SLURM_ARRAY_TASK_ID"));
+    }
 }
