@@ -9,7 +9,7 @@ use super::error::BatchError;
 use super::fleet::{csv_reader, Lines, Template};
 use super::inputs::Input;
 use super::row::{escape_formula, Row};
-use crate::report::write_atomic;
+use crate::report::write_atomic_with;
 use std::collections::{BTreeSet, HashMap};
 use std::path::{Path, PathBuf};
 
@@ -32,25 +32,44 @@ pub fn write_fleet_tables(dir: &Path, inputs: &[Input]) -> Result<(), BatchError
         return Ok(());
     }
     let summary = dir.join("summary.csv");
+    let read_summary = || {
+        csv::Reader::from_path(&summary)
+            .map_err(|e| BatchError::io("cannot read", &summary, std::io::Error::other(e)))
+    };
+    let split = |cell: &str| -> Vec<(String, String)> {
+        cell.split(';')
+            .filter_map(|kv| kv.split_once('='))
+            .map(|(k, v)| (k.to_string(), v.to_string()))
+            .collect()
+    };
     for (template, csv) in fleets {
         // A fleet that could not be opened has only error rows: no table.
         let Ok(tpl) = Template::open(template, csv) else {
             continue;
         };
-        // The summary's rows of this fleet, by CSV line (`fleet.csv:LINE`).
+        // The summary's rows of this fleet and their CSV lines (`fleet.csv:LINE`), in the
+        // summary's (index) order, which is the fleet's row order. Streamed twice — once for
+        // the columns (the union of the design and objective keys), once for the rows — so
+        // the memory stays flat however long the fleet.
         let prefix = format!("{}:", csv.display());
-        let mut by_line: HashMap<u64, Row> = HashMap::new();
-        let mut rdr = csv::Reader::from_path(&summary)
-            .map_err(|e| BatchError::io("cannot read", &summary, std::io::Error::other(e)))?;
-        for row in rdr.deserialize::<Row>().flatten() {
-            let row = row.csv_unescaped();
-            if let Some(line) = row
-                .source
-                .strip_prefix(&prefix)
-                .and_then(|l| l.parse::<u64>().ok())
-            {
-                by_line.insert(line, row);
-            }
+        let fleet_rows = |rdr: csv::Reader<std::fs::File>| {
+            let prefix = prefix.clone();
+            rdr.into_deserialize::<Row>()
+                .flatten()
+                .filter_map(move |row| {
+                    let row = row.csv_unescaped();
+                    let line = row
+                        .source
+                        .strip_prefix(&prefix)
+                        .and_then(|l| l.parse::<u64>().ok())?;
+                    Some((line, row))
+                })
+        };
+        let mut design_keys = BTreeSet::new();
+        let mut objective_keys = BTreeSet::new();
+        for (_, r) in fleet_rows(read_summary()?) {
+            design_keys.extend(split(&r.design).into_iter().map(|(k, _)| k));
+            objective_keys.extend(split(&r.objectives).into_iter().map(|(k, _)| k));
         }
         // The fleet's own rows, with their real line numbers.
         let Ok(mut fr) = csv_reader(csv) else {
@@ -63,69 +82,66 @@ pub fn write_fleet_tables(dir: &Path, inputs: &[Input]) -> Result<(), BatchError
             Ok(h) => h.iter().map(|c| c.trim().to_string()).collect(),
             Err(_) => continue,
         };
-        let mut rows: Vec<(Vec<String>, Row)> = Vec::new();
-        for rec in fr.records().flatten() {
-            let Some(line) = rec.position().map(|p| lines.record_line(p.byte())) else {
-                continue;
-            };
-            if let Some(row) = by_line.remove(&line) {
-                rows.push((rec.iter().map(str::to_string).collect(), row));
-            }
-        }
-        let split = |cell: &str| -> Vec<(String, String)> {
-            cell.split(';')
-                .filter_map(|kv| kv.split_once('='))
-                .map(|(k, v)| (k.to_string(), v.to_string()))
-                .collect()
-        };
-        let mut design_keys = BTreeSet::new();
-        let mut objective_keys = BTreeSet::new();
-        for (_, r) in &rows {
-            design_keys.extend(split(&r.design).into_iter().map(|(k, _)| k));
-            objective_keys.extend(split(&r.objectives).into_iter().map(|(k, _)| k));
-        }
         let inputs: Vec<usize> = (0..header.len()).filter(|&k| header[k] != "name").collect();
-        let mut w = csv::Writer::from_writer(Vec::new());
         let mut head: Vec<String> = vec!["index".into(), "name".into(), "status".into()];
         head.extend(inputs.iter().map(|&k| header[k].clone()));
         head.extend(design_keys.iter().map(|k| format!("design.{k}")));
         head.extend(objective_keys.iter().map(|k| format!("objectives.{k}")));
         head.extend(["objective".into(), "error".into(), "message".into()]);
-        let write_err = |e: csv::Error| BatchError::Written(std::io::Error::other(e));
-        w.write_record(&head).map_err(write_err)?;
-        for (cells, r) in &rows {
-            let r = r.csv_escaped();
-            let d: HashMap<String, String> = split(&r.design).into_iter().collect();
-            let o: HashMap<String, String> = split(&r.objectives).into_iter().collect();
-            let mut rec: Vec<String> = vec![r.index.to_string(), r.name.clone(), r.status.clone()];
-            rec.extend(inputs.iter().map(|&k| {
-                let mut c = tpl.effective_cell(k, cells);
-                // The fleet's cells are text from outside: escaped like the summary's text
-                // columns (a number, `-3.5`, stays a number).
-                if c.parse::<f64>().is_err() {
-                    escape_formula(&mut c);
+        let rows = fleet_rows(read_summary()?);
+        let to_io = std::io::Error::other;
+        write_atomic_with(&fleet_table_path(dir, csv), |out| {
+            let mut w = csv::Writer::from_writer(out);
+            w.write_record(&head).map_err(to_io)?;
+            // A merge join on the CSV line: both sides ascend.
+            let mut records = fr.records().flatten().filter_map(|rec| {
+                let line = rec.position().map(|p| lines.record_line(p.byte()))?;
+                Some((line, rec))
+            });
+            let mut next = records.next();
+            for (line, r) in rows {
+                while next.as_ref().is_some_and(|(l, _)| *l < line) {
+                    next = records.next();
                 }
-                c
-            }));
-            rec.extend(
-                design_keys
-                    .iter()
-                    .map(|k| d.get(k).cloned().unwrap_or_default()),
-            );
-            rec.extend(
-                objective_keys
-                    .iter()
-                    .map(|k| o.get(k).cloned().unwrap_or_default()),
-            );
-            rec.push(r.objective.clone());
-            rec.push(r.error.map(|e| e.to_string()).unwrap_or_default());
-            rec.push(r.message.clone());
-            w.write_record(&rec).map_err(write_err)?;
-        }
-        let bytes = w
-            .into_inner()
-            .map_err(|e| BatchError::Written(std::io::Error::other(e.to_string())))?;
-        write_atomic(&fleet_table_path(dir, csv), &bytes).map_err(BatchError::Written)?;
+                let Some((l, rec)) = next.as_ref() else {
+                    break;
+                };
+                if *l != line {
+                    continue;
+                }
+                let cells: Vec<String> = rec.iter().map(str::to_string).collect();
+                let r = r.csv_escaped();
+                let d: HashMap<String, String> = split(&r.design).into_iter().collect();
+                let o: HashMap<String, String> = split(&r.objectives).into_iter().collect();
+                let mut out: Vec<String> =
+                    vec![r.index.to_string(), r.name.clone(), r.status.clone()];
+                out.extend(inputs.iter().map(|&k| {
+                    let mut c = tpl.effective_cell(k, &cells);
+                    // The fleet's cells are text from outside: escaped like the summary's
+                    // text columns (a number, `-3.5`, stays a number).
+                    if c.parse::<f64>().is_err() {
+                        escape_formula(&mut c);
+                    }
+                    c
+                }));
+                out.extend(
+                    design_keys
+                        .iter()
+                        .map(|k| d.get(k).cloned().unwrap_or_default()),
+                );
+                out.extend(
+                    objective_keys
+                        .iter()
+                        .map(|k| o.get(k).cloned().unwrap_or_default()),
+                );
+                out.push(r.objective.clone());
+                out.push(r.error.map(|e| e.to_string()).unwrap_or_default());
+                out.push(r.message.clone());
+                w.write_record(&out).map_err(to_io)?;
+            }
+            w.flush()
+        })
+        .map_err(BatchError::Written)?;
     }
     Ok(())
 }

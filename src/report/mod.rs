@@ -466,6 +466,28 @@ pub fn tmp_path(path: &Path) -> PathBuf {
 }
 
 fn write_via_tmp(path: &Path, bytes: &[u8], sync: bool) -> std::io::Result<()> {
+    write_stream_via_tmp(path, sync, |f| f.write_all(bytes))
+}
+
+/// [`write_atomic`] for a file written piece by piece (a table of a million rows is not held
+/// in memory): `write` fills a buffered temporary file, which is synced and renamed over
+/// `path` only when `write` succeeded.
+pub fn write_atomic_with(
+    path: &Path,
+    write: impl FnOnce(&mut dyn Write) -> std::io::Result<()>,
+) -> std::io::Result<()> {
+    write_stream_via_tmp(path, true, |f| {
+        let mut b = std::io::BufWriter::new(f);
+        write(&mut b)?;
+        b.flush()
+    })
+}
+
+fn write_stream_via_tmp(
+    path: &Path,
+    sync: bool,
+    write: impl FnOnce(&mut std::fs::File) -> std::io::Result<()>,
+) -> std::io::Result<()> {
     let at = |e: std::io::Error, p: &Path| {
         std::io::Error::new(e.kind(), format!("{}: {e}", p.display()))
     };
@@ -475,7 +497,7 @@ fn write_via_tmp(path: &Path, bytes: &[u8], sync: bool) -> std::io::Result<()> {
     }
     let res = (|| {
         let mut f = std::fs::File::create(&tmp).map_err(|e| at(e, &tmp))?;
-        f.write_all(bytes).map_err(|e| at(e, &tmp))?;
+        write(&mut f).map_err(|e| at(e, &tmp))?;
         if sync {
             f.sync_all().map_err(|e| at(e, &tmp))?;
         }
