@@ -33,6 +33,16 @@ impl Side {
     }
 }
 
+/// The unit vector at angle ψ: (cos ψ, sin ψ).
+pub fn dir(psi: f64) -> P2 {
+    let (s, c) = psi.sin_cos();
+    P2::new(c, s)
+}
+
+/// `v` turned anticlockwise by ψ: Rot(ψ)·v = (cos ψ v_x − sin ψ v_y, sin ψ v_x + cos ψ v_y).
+pub fn rot(psi: f64, v: P2) -> P2 {
+    cmul(dir(psi), v)
+}
 /// 2-D cross product (z component) `a × b`.
 pub fn cross(a: P2, b: P2) -> f64 {
     a.x * b.y - a.y * b.x

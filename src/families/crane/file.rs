@@ -309,13 +309,7 @@ fn balance_scene(raw: &File) -> Result<Option<BalanceScene>, FieldError> {
                 "needs the masses it balances; allowed: add [mechanism.self_weight] with boom_mass, jib_mass and tie_mass",
             )),
             None => Ok(rope.map(|rope| BalanceScene {
-                self_weight: SelfWeight {
-                    boom_mass: 0.0,
-                    boom_centroid: 0.5,
-                    jib_mass: 0.0,
-                    jib_centroid: 0.0,
-                    tie_mass: 0.0,
-                },
+                self_weight: SelfWeight::NONE,
                 jib_centroid: None,
                 counterweight: None,
                 load_mass: m.load_mass.map(|q| q.si()),

@@ -226,7 +226,7 @@ pub fn result(scene: &Scene, s: &CraneProblem) -> SolveResult {
             move || path_plot(&scene, &out),
         ));
     }
-    let cw = balance_section(&mut r, scene, cs, &out);
+    let cw = balance_section(&mut r, scene, cs, set.path_samples, &out);
     crane_drawing(&mut r, &scene.name, &out, cw);
     r
 }
@@ -242,6 +242,7 @@ fn balance_section(
     r: &mut SolveResult,
     scene: &Scene,
     cs: &cr::CraneScene,
+    path_samples: usize,
     out: &Outcome,
 ) -> Option<([f64; 2], f64)> {
     let bs = cs.balance.as_ref()?;
@@ -254,7 +255,7 @@ fn balance_section(
         }
     };
     if let Some(rope) = &bs.rope {
-        match balance::load_path(&link, rope, cs_path_samples(cs), 1e-9) {
+        match balance::load_path(&link, rope, path_samples, 1e-9) {
             Some(lp) => {
                 if lp.load_delta_h_m > cs.allowed_delta_h() {
                     r.warnings.push(format!(
@@ -379,11 +380,6 @@ fn balance_section(
         serde_json::to_value(&bal).expect("plain data"),
     );
     cw_out
-}
-
-/// Samples of the load path's scan: the head path's default.
-fn cs_path_samples(_cs: &cr::CraneScene) -> usize {
-    cr::Settings::default().path_samples
 }
 
 /// Drive torque (kN·m) and forces (kN) against the reach (m).

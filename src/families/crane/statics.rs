@@ -48,6 +48,18 @@ pub struct SelfWeight {
     pub tie_mass: f64,
 }
 
+impl SelfWeight {
+    /// A weightless boom system: the load alone (thesis §2.2's load moment; an inclined
+    /// rope's load path without masses).
+    pub const NONE: SelfWeight = SelfWeight {
+        boom_mass: 0.0,
+        boom_centroid: 0.5,
+        jib_mass: 0.0,
+        jib_centroid: 0.5,
+        tie_mass: 0.0,
+    };
+}
+
 /// The boom frame at boom angle φ: e_b = (D − A)/L_c = (−cos φ, sin φ) (angle 0, towards the
 /// boom head) and e_n = e_b turned +90° = (−sin φ, −cos φ). A counterweight's first moment
 /// u = (u_s, u_n) is u_s e_b + u_n e_n in the world; on the boom's extension behind A it
@@ -131,6 +143,15 @@ impl HoistRope {
     }
 }
 
+/// The tie pin B; `None` for the straight-guide limit, which pushes E along its normal
+/// only (its "pin" is at infinity).
+fn tie_pin(link: &Linkage) -> Option<P2> {
+    match link.guide {
+        super::model::Guide::Circle { centre, .. } => Some(centre),
+        super::model::Guide::Line { .. } => None,
+    }
+}
+
 /// The statics at `pose` (boom angle φ) of the linkage `link` (module doc). `None` where the
 /// tie and the jib tail are aligned (no finite solution).
 pub fn statics(
@@ -141,11 +162,7 @@ pub fn statics(
     l: &Loads,
 ) -> Option<Statics> {
     let Pose { d, e, c } = *pose;
-    let b = match link.guide {
-        super::model::Guide::Circle { centre, .. } => centre,
-        // A straight guide pushes E along its normal only: the tie's "pin" is at infinity.
-        super::model::Guide::Line { .. } => return None,
-    };
+    let b = tie_pin(link)?;
     let down = |m: f64| P2::new(0.0, -m * G);
     let (w_t, w_j, w_b, q) = (
         down(w.tie_mass),
@@ -238,10 +255,7 @@ pub fn potential(
     load_mass: f64,
     rope: Option<&HoistRope>,
 ) -> Option<f64> {
-    let b = match link.guide {
-        super::model::Guide::Circle { centre, .. } => centre,
-        super::model::Guide::Line { .. } => return None,
-    };
+    let b = tie_pin(link)?;
     let Pose { d, e, c } = *pose;
     let y_t = 0.5 * (e.y + b.y);
     let y_j = d.y + (c.y - d.y) * w.jib_centroid;

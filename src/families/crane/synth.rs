@@ -929,18 +929,12 @@ fn load_moment_at(
     use crate::families::crane::statics::{statics, Loads, SelfWeight};
     if let Guide::Circle { .. } = link.guide {
         let pose = link.pose(phi)?;
-        let none = SelfWeight {
-            boom_mass: 0.0,
-            boom_centroid: 0.5,
-            jib_mass: 0.0,
-            jib_centroid: 0.5,
-            tie_mass: 0.0,
-        };
+
         let loads = Loads {
             load_mass: w / crate::units::STANDARD_GRAVITY,
             ..Loads::default()
         };
-        let s = statics(link, phi, &pose, &none, &loads)?;
+        let s = statics(link, phi, &pose, &SelfWeight::NONE, &loads)?;
         return Some((s.drive_torque, s.drive_torque_error));
     }
     load_moment(link, w, phi, h)

@@ -14,14 +14,8 @@
 //! α1 = 0; gear 2 turns counter-clockwise by α2(α1), so K₂ = Rot(−α2)·(K − O2).
 
 use crate::families::gear::model::{Alpha2Map, GearPair};
-use crate::geom::{cmul, P2};
+use crate::geom::{rot, P2};
 use std::f64::consts::TAU;
-
-/// v rotated counter-clockwise by `ang`.
-fn rot(v: P2, ang: f64) -> P2 {
-    let (s, c) = ang.sin_cos();
-    cmul(v, P2::new(c, s))
-}
 
 /// α1 (within the turn, in [α_i, α_{i+1}]) at which the generating circle has rolled the
 /// angle ϕ ∈ [0, 2π] along gear 1's arch i: θ = (2πi + ϕ)/N, α1 = θ − atan2(e sin θ,
@@ -81,7 +75,7 @@ pub fn profiles(pair: &GearPair, a2: &Alpha2Map, turns1: u32, turns2: u32, m: us
                 .iter()
                 .map(|&ph| {
                     let x = alpha_at(pair, i, ph);
-                    rot(pair.contact_on(x, i).k, x)
+                    rot(x, pair.contact_on(x, i).k)
                 })
                 .collect(),
         })
@@ -91,7 +85,7 @@ pub fn profiles(pair: &GearPair, a2: &Alpha2Map, turns1: u32, turns2: u32, m: us
         let i = g % n;
         let x = alpha_at(pair, i, ph);
         let xg = TAU * (g / n) as f64 + x;
-        rot(pair.contact_on(x, i).k - o2, -a2.alpha2(xg))
+        rot(-a2.alpha2(xg), pair.contact_on(x, i).k - o2)
     };
     let gear2 = (0..arches2)
         .map(|g| Arch {

@@ -26,19 +26,8 @@
 //! W2 = −U2 and W1 = −(U1 + m2 R e_x): with the planet counterweight at radius ρ2,
 //! m2 = |U2|/ρ2 (closed form, [`cancelling_counterweights`]).
 
-use crate::geom::P2;
+use crate::geom::{dir, rot, P2};
 use std::f64::consts::TAU;
-
-/// (cos ψ, sin ψ).
-fn dir(psi: f64) -> P2 {
-    let (s, c) = psi.sin_cos();
-    P2::new(c, s)
-}
-
-/// Rotation of `v` by ψ.
-fn rot(psi: f64, v: P2) -> P2 {
-    crate::geom::cmul(dir(psi), v)
-}
 
 /// The rotating masses (SI).
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]

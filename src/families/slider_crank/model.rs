@@ -466,10 +466,7 @@ pub fn weight_torque_cs(cs: [f64; 2], gravity: P2, u: P2) -> f64 {
 }
 
 /// Rotation of the crank-fixed vector `u` to crank angle φ: Rot(φ)·u.
-pub fn rot(phi: f64, u: P2) -> P2 {
-    let (s, c) = phi.sin_cos();
-    rot_cs([c, s], u)
-}
+pub use crate::geom::rot;
 
 /// [`rot`] from `cs` = (cos φ, sin φ) already computed (e.g. [`State::cs`]).
 pub fn rot_cs(cs: [f64; 2], u: P2) -> P2 {
