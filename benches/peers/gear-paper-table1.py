@@ -49,7 +49,7 @@ def closing_a():
     target = TAU * n2 / n1
     g = lambda a: integrate.quad(lambda al: rho1(al) / (a - rho1(al)), 0, TAU,  # noqa: E731
                                  epsabs=1e-13, epsrel=1e-13, limit=200)[0] - target
-    return optimize.brentq(g, R + e + 1e-9, 100 * (R + e), xtol=1e-16, rtol=4 * np.finfo(float).eps)
+    return optimize.brentq(g, (R + e) * (1 + 1e-6), 100 * (R + e), xtol=1e-16, rtol=4 * np.finfo(float).eps)
 
 
 def theta(al):
