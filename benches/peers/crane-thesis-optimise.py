@@ -23,7 +23,8 @@ A = c.args("problems/crane-thesis-optimise.toml", lambda p: (
     p.add_argument("--method", default="slsqp", choices=["slsqp", "de"]),
     p.add_argument("--path-samples", type=int, default=201),
     p.add_argument("--grid", type=int, default=12),
-    p.add_argument("--starts", type=int, default=4)))
+    p.add_argument("--starts", type=int, default=4),
+    p.add_argument("--evaluate", metavar="K1,K2", help="only the refined Δh of this design")))
 
 import numpy as np  # noqa: E402
 from scipy import optimize  # noqa: E402
@@ -155,6 +156,16 @@ def solve_de():
         seed=1, tol=1e-10, polish=True)
     return r.x
 
+
+if A.evaluate:
+    x = np.array([float(v) for v in A.evaluate.split(",")])
+    B = pin(x)
+    c.emit(scene=P["name"], value=delta_h(x, refine=True), unit="m", key="objectives.delta_h_m",
+           solve_s=0.0, import_s=import_s, method="refined Δh of the given design",
+           settings={"path_samples": N, "extremum_xatol_rad": 1e-10},
+           extra={"k1": x[0], "k2": x[1], "tie_pin": [B[0], B[1]], "tie_pin_distance_m": np.hypot(*B),
+                  "tie_pin_ok": bool(cons(x).min() >= -1e-9)})
+    raise SystemExit
 
 solver = {"slsqp": solve_slsqp, "de": solve_de}[A.method]
 (x, value), solve_s, ts = c.timed(lambda: (lambda x: (x, delta_h(x, refine=True)))(solver()), A.repeats)

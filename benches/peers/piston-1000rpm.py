@@ -16,7 +16,8 @@ import _common as c
 
 A = c.args("problems/piston-1000rpm.toml", lambda p: (
     p.add_argument("--method", default="cvxpy", choices=["cvxpy", "slsqp", "nelder-mead"]),
-    p.add_argument("--samples", type=int, default=360)))
+    p.add_argument("--samples", type=int, default=360),
+    p.add_argument("--evaluate", metavar="UX,UY", help="only the refined peak of this U (kg·m)")))
 
 import numpy as np  # noqa: E402
 from scipy import optimize  # noqa: E402
@@ -114,6 +115,13 @@ def solve_nm():
                           options={"xatol": 1e-12, "fatol": 1e-12, "maxiter": 4000})
     return r.x
 
+
+if A.evaluate:
+    u = np.array([float(v) for v in A.evaluate.split(",")])
+    c.emit(scene=P["name"], value=peak(u), unit="N", key="objectives.peak_shaking_force_n",
+           solve_s=0.0, import_s=import_s, method="refined peak of the given U",
+           settings={"scan": 10 * N, "peak_xatol_rad": 1e-12}, extra={"unbalance_kgm": list(u)})
+    raise SystemExit
 
 solver = {"cvxpy": solve_cvxpy, "slsqp": solve_slsqp, "nelder-mead": solve_nm}[A.method]
 (u, value), solve_s, ts = c.timed(lambda: (lambda u: (u, peak(u)))(solver()), A.repeats)
