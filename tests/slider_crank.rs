@@ -511,3 +511,64 @@ fn sampled_minimax_is_the_smallest_disc_around_the_cancelling_unbalances() {
     );
     assert!((sol.u - disc.centre).norm() <= 1e-7 * disc.radius);
 }
+
+/// `accuracy.scan_samples = "auto"` (the default) sizes the scan from the mechanism's
+/// bandwidth (64 angles for ordinary pistons, more towards the toggle). On machines from an
+/// ordinary piston to within 1e-3 of the toggle, with offsets, the design's peak shaking
+/// force and every baseline's peak must match a brute force computed another way (1024
+/// angles and golden-section refinement) within the stated error, and the auto count must
+/// grow towards the toggle.
+#[test]
+fn auto_scan_matches_brute_force_from_ordinary_to_near_toggle_machines() {
+    let mut last_n = 0;
+    for (case, &(lam, off)) in [
+        (0.15, 0.0),
+        (0.25, 0.0),
+        (0.3, 0.1),
+        (0.5, -0.2),
+        (0.7, 0.05),
+        (0.9, 0.0),
+        (0.97, 0.01),
+        (0.999, 0.0),
+    ]
+    .iter()
+    .enumerate()
+    {
+        let mut sc = paper_piston(1500.0);
+        // e = off·R; L chosen so that (R + |e|)/L = λ.
+        sc.mech.e = off * sc.mech.r;
+        sc.mech.l = (sc.mech.r + sc.mech.e.abs()) / lam;
+        sc.mech.rod = Rod::lumped(0.30, 0.5, sc.mech.l);
+        let n = sc.resolved_settings().scan_samples;
+        assert!(
+            (64..=360).contains(&n) && n.is_multiple_of(8),
+            "case {case}: n = {n}"
+        );
+        assert!(
+            n >= last_n,
+            "case {case}: the count must not fall towards the toggle"
+        );
+        last_n = n;
+        let out = solve(&sc).unwrap();
+        let u = P2::new(out.design.unbalance[0], out.design.unbalance[1]);
+        let truth = brute_peak(&sc.mech, sc.omega, u);
+        let slack = 1e-12 * truth;
+        assert!(
+            (out.design.peak - truth).abs() <= out.design.peak_error + slack,
+            "case {case} (n = {n}): peak {} vs brute force {truth}, stated error {:e}",
+            out.design.peak,
+            out.design.peak_error
+        );
+        for (name, m) in &out.baselines {
+            let ub = P2::new(m.unbalance[0], m.unbalance[1]);
+            let t = brute_peak(&sc.mech, sc.omega, ub);
+            assert!(
+                (m.peak - t).abs() <= m.peak_error + 1e-12 * t,
+                "case {case} (n = {n}) baseline {name}: {} vs brute force {t}, stated {:e}",
+                m.peak,
+                m.peak_error
+            );
+        }
+    }
+    assert_eq!(last_n, 360, "near the toggle the scan keeps the former 360");
+}

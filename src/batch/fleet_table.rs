@@ -10,7 +10,7 @@ use super::fleet::{csv_reader, Lines, Template};
 use super::inputs::Input;
 use super::row::{escape_formula, Row};
 use crate::report::write_atomic_with;
-use std::collections::{BTreeSet, HashMap};
+use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 
 /// The table's path for the fleet CSV `csv` in `dir`.
@@ -36,11 +36,17 @@ pub fn write_fleet_tables(dir: &Path, inputs: &[Input]) -> Result<(), BatchError
         csv::Reader::from_path(&summary)
             .map_err(|e| BatchError::io("cannot read", &summary, std::io::Error::other(e)))
     };
-    let split = |cell: &str| -> Vec<(String, String)> {
+    // The `k=v;…` pairs of a design or objectives cell, borrowed.
+    fn split(cell: &str) -> Vec<(&str, &str)> {
         cell.split(';')
             .filter_map(|kv| kv.split_once('='))
-            .map(|(k, v)| (k.to_string(), v.to_string()))
             .collect()
+    }
+    let get = |pairs: &[(&str, &str)], k: &str| -> String {
+        pairs
+            .iter()
+            .find(|(a, _)| *a == k)
+            .map_or_else(String::new, |(_, v)| (*v).to_string())
     };
     for (template, csv) in fleets {
         // A fleet that could not be opened has only error rows: no table.
@@ -65,11 +71,37 @@ pub fn write_fleet_tables(dir: &Path, inputs: &[Input]) -> Result<(), BatchError
                     Some((line, row))
                 })
         };
-        let mut design_keys = BTreeSet::new();
-        let mut objective_keys = BTreeSet::new();
-        for (_, r) in fleet_rows(read_summary()?) {
-            design_keys.extend(split(&r.design).into_iter().map(|(k, _)| k));
-            objective_keys.extend(split(&r.objectives).into_iter().map(|(k, _)| k));
+        // The first pass reads only the three cells it needs, as raw records (the keys are
+        // plain words: no text escaping applies to them).
+        let mut design_keys: BTreeSet<String> = BTreeSet::new();
+        let mut objective_keys: BTreeSet<String> = BTreeSet::new();
+        {
+            let mut rdr = read_summary()?;
+            let head = rdr
+                .headers()
+                .map_err(|e| BatchError::io("cannot read", &summary, std::io::Error::other(e)))?;
+            let col = |name: &str| head.iter().position(|h| h == name);
+            if let (Some(cs), Some(cd), Some(co)) =
+                (col("source"), col("design"), col("objectives"))
+            {
+                let mut rec = csv::StringRecord::new();
+                while rdr.read_record(&mut rec).unwrap_or(false) {
+                    let in_fleet = rec
+                        .get(cs)
+                        .and_then(|c| c.strip_prefix(&prefix))
+                        .is_some_and(|l| l.parse::<u64>().is_ok());
+                    if !in_fleet {
+                        continue;
+                    }
+                    for (set, c) in [(&mut design_keys, cd), (&mut objective_keys, co)] {
+                        for (k, _) in split(rec.get(c).unwrap_or("")) {
+                            if !set.contains(k) {
+                                set.insert(k.to_string());
+                            }
+                        }
+                    }
+                }
+            }
         }
         // The fleet's own rows, with their real line numbers.
         let Ok(mut fr) = csv_reader(csv) else {
@@ -111,8 +143,7 @@ pub fn write_fleet_tables(dir: &Path, inputs: &[Input]) -> Result<(), BatchError
                 }
                 let cells: Vec<String> = rec.iter().map(str::to_string).collect();
                 let r = r.csv_escaped();
-                let d: HashMap<String, String> = split(&r.design).into_iter().collect();
-                let o: HashMap<String, String> = split(&r.objectives).into_iter().collect();
+                let (d, o) = (split(&r.design), split(&r.objectives));
                 let mut out: Vec<String> =
                     vec![r.index.to_string(), r.name.clone(), r.status.clone()];
                 out.extend(inputs.iter().map(|&k| {
@@ -124,16 +155,8 @@ pub fn write_fleet_tables(dir: &Path, inputs: &[Input]) -> Result<(), BatchError
                     }
                     c
                 }));
-                out.extend(
-                    design_keys
-                        .iter()
-                        .map(|k| d.get(k).cloned().unwrap_or_default()),
-                );
-                out.extend(
-                    objective_keys
-                        .iter()
-                        .map(|k| o.get(k).cloned().unwrap_or_default()),
-                );
+                out.extend(design_keys.iter().map(|k| get(&d, k)));
+                out.extend(objective_keys.iter().map(|k| get(&o, k)));
                 out.push(r.objective.clone());
                 out.push(r.error.map(|e| e.to_string()).unwrap_or_default());
                 out.push(r.message.clone());

@@ -263,6 +263,14 @@ fn with_ranges(family: &str, counts: &[Count], branch: &mut Value) {
         if node.get("items").is_some() {
             node = &mut node["items"];
         }
+        // A count that may also be `"auto"`: the range is on its integer member.
+        if let Some(i) = node
+            .get("anyOf")
+            .and_then(Value::as_array)
+            .and_then(|a| a.iter().position(|m| m["type"] == "integer"))
+        {
+            node = &mut node["anyOf"][i];
+        }
         assert!(
             node["type"] == "integer",
             "schema: {family} {} is no integer: {node}",

@@ -80,7 +80,7 @@ impl Field<'_> {
 
     /// The grid, if it is the scan grid of `s`.
     fn scan_grid(&self, s: &Settings) -> Option<&[Affine]> {
-        self.grid.filter(|g| g.len() == s.scan_samples)
+        self.grid.filter(|g| g.len() == s.scan_n())
     }
 }
 
@@ -133,7 +133,11 @@ pub struct Settings {
     pub rel_tol: f64,
     /// Equally spaced angles in the first SOCP. Default 8.
     pub initial_samples: usize,
-    /// Angles of the scan that brackets the local maxima of a design. Default 360.
+    /// Angles of the scan that brackets the local maxima of a design, or `"auto"` (the
+    /// default, stored as [`AUTO`]): the family chooses the count from the scene's bandwidth
+    /// (the slider-crank: `Scene::samples`); an engine given `AUTO` uses [`FALLBACK_SAMPLES`].
+    #[serde(with = "samples_setting")]
+    #[schemars(with = "samples_setting::Schema")]
     pub scan_samples: usize,
     /// Exchange rounds at most. Default 30.
     pub max_rounds: usize,
@@ -144,10 +148,13 @@ pub struct Settings {
     #[serde(with = "crate::units::angle_setting")]
     #[schemars(with = "crate::units::Qty<crate::units::Angle>")]
     pub peak_xtol: f64,
-    /// Quadrature points of mean-square objectives (and of RMS values). Default 360: the
-    /// trapezoid rule is spectrally accurate for these smooth periodic functions (the paper
-    /// piston's RMS agrees to 4e-16 relative at 180, 360 and 720 points), and with the scan's
-    /// 360 the slider-crank solve samples the kinematics once for both.
+    /// Quadrature points of mean-square objectives (and of RMS values), or `"auto"` (the
+    /// default, [`AUTO`]: as many as the scan, so that the slider-crank solve samples the
+    /// kinematics once for both). The trapezoid rule is spectrally accurate for these smooth
+    /// periodic functions (the paper piston's RMS agrees to 4e-16 relative at 180, 360 and
+    /// 720 points).
+    #[serde(with = "samples_setting")]
+    #[schemars(with = "samples_setting::Schema")]
     pub rms_samples: usize,
     /// Between exchange rounds, keep only the sampled angles whose value is within this
     /// fraction of the current level (the near-active set). Default 0.05; 1 keeps all.
@@ -173,10 +180,10 @@ impl Default for Settings {
         Settings {
             rel_tol: 1e-9,
             initial_samples: 8,
-            scan_samples: 360,
+            scan_samples: AUTO,
             max_rounds: 30,
             peak_xtol: 1e-10,
-            rms_samples: 360,
+            rms_samples: AUTO,
             keep_band: 0.05,
             warm_start: false,
             presolve: true,
@@ -185,13 +192,38 @@ impl Default for Settings {
     }
 }
 
+/// A sample count of [`Settings`] left to the family (`"auto"` in a problem file).
+pub const AUTO: usize = 0;
+
+/// The count an engine uses for an [`AUTO`] count it was given unresolved (the fixed default
+/// before counts could be chosen per scene).
+pub const FALLBACK_SAMPLES: usize = 360;
+
 impl Settings {
+    /// The scan's sample count ([`FALLBACK_SAMPLES`] for [`AUTO`]).
+    pub fn scan_n(&self) -> usize {
+        if self.scan_samples == AUTO {
+            FALLBACK_SAMPLES
+        } else {
+            self.scan_samples
+        }
+    }
+
+    /// The RMS quadrature's point count ([`Settings::scan_n`] for [`AUTO`]).
+    pub fn rms_n(&self) -> usize {
+        if self.rms_samples == AUTO {
+            self.scan_n()
+        } else {
+            self.rms_samples
+        }
+    }
+
     /// Checks every field; the error names the field (as in `[accuracy]`) and its range.
     pub fn validate(&self) -> Result<(), (&'static str, String)> {
         check_exchange(
             self.rel_tol,
             self.initial_samples,
-            self.scan_samples,
+            self.scan_n(),
             self.max_rounds,
             self.peak_xtol,
         )?;
@@ -201,13 +233,87 @@ impl Settings {
                 format!("must be in (0, 1], got {}", self.keep_band),
             ));
         }
-        if self.rms_samples < 16 {
+        if self.rms_samples != AUTO && self.rms_samples < 16 {
             return Err((
                 "rms_samples",
-                format!("must be at least 16, got {}", self.rms_samples),
+                format!("must be at least 16 or \"auto\", got {}", self.rms_samples),
             ));
         }
         Ok(())
+    }
+}
+
+/// A sample count that may be `"auto"` ([`AUTO`]): reads an integer ≥ 1 or the word `auto`,
+/// writes `"auto"` or the integer. Use with `#[serde(with = "samples_setting")]`.
+pub mod samples_setting {
+    use super::AUTO;
+    use serde::de::{self, Visitor};
+    use serde::{Deserializer, Serializer};
+
+    /// The schema: an integer or the string `"auto"`.
+    #[derive(schemars::JsonSchema)]
+    #[serde(untagged)]
+    #[allow(dead_code)]
+    pub enum Schema {
+        /// A fixed count.
+        Count(u64),
+        /// Chosen from the scene.
+        Auto(Word),
+    }
+
+    /// The word `auto`.
+    #[derive(schemars::JsonSchema)]
+    #[allow(dead_code)]
+    pub enum Word {
+        /// `"auto"`.
+        #[serde(rename = "auto")]
+        Auto,
+    }
+
+    struct V;
+    impl Visitor<'_> for V {
+        type Value = usize;
+        fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+            f.write_str("an integer sample count or \"auto\"")
+        }
+        fn visit_u64<E: de::Error>(self, v: u64) -> Result<usize, E> {
+            match usize::try_from(v) {
+                Ok(0) | Err(_) => Err(E::custom(format!(
+                    "{v} is out of range; allowed: a sample count (see the key's range) or \"auto\""
+                ))),
+                Ok(n) => Ok(n),
+            }
+        }
+        fn visit_i64<E: de::Error>(self, v: i64) -> Result<usize, E> {
+            match u64::try_from(v) {
+                Ok(u) => self.visit_u64(u),
+                Err(_) => Err(E::custom(format!(
+                    "{v} is out of range; allowed: a sample count (see the key's range) or \"auto\""
+                ))),
+            }
+        }
+        fn visit_str<E: de::Error>(self, v: &str) -> Result<usize, E> {
+            if v == "auto" {
+                Ok(AUTO)
+            } else {
+                Err(E::custom(format!(
+                    "\"{v}\" is no sample count; allowed: an integer or \"auto\""
+                )))
+            }
+        }
+    }
+
+    /// Reads an integer ≥ 1 or `"auto"`.
+    pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<usize, D::Error> {
+        d.deserialize_any(V)
+    }
+    /// Writes `"auto"` or the integer.
+    pub fn serialize<S: Serializer>(v: &usize, s: S) -> Result<S::Ok, S::Error> {
+        if *v == AUTO {
+            s.serialize_str("auto")
+        } else {
+            s.serialize_u64(*v as u64)
+        }
     }
 }
 
@@ -333,7 +439,7 @@ pub fn field_peaks(
                     Refine::All,
                 )
             }
-            None => periodic_peak(|phi| f.magnitude(phi, u), s.scan_samples, s.peak_xtol),
+            None => periodic_peak(|phi| f.magnitude(phi, u), s.scan_n(), s.peak_xtol),
         })
         .collect()
 }
@@ -379,7 +485,7 @@ fn build(pb: &Problem, samples: &[f64], s: &Settings, margin: &[f64]) -> (Built,
         Goal::MinMeanSquare(i) => {
             // mean |A u + b|² = uᵀ H u + 2 gᵀ u + c, with clarabel's ½ xᵀ P x + qᵀ x: P = 2H, q = 2g.
             let f = &pb.fields[i];
-            let m = s.rms_samples;
+            let m = s.rms_n();
             let (mut h, mut g) = ([[0.0; 2]; 2], [0.0; 2]);
             for k in 0..m {
                 let aff = (f.eval)(k as f64 * std::f64::consts::TAU / m as f64);
@@ -679,7 +785,7 @@ pub fn solve(pb: &Problem, s: &Settings) -> Solution {
 pub fn enclosing_presolve(pb: &Problem, s: &Settings) -> Option<Vec<f64>> {
     let form = DiscForm::of(pb)?;
     let point = |phi: f64| form.point(phi);
-    let n = s.scan_samples;
+    let n = s.scan_n();
     let h = std::f64::consts::TAU / n as f64;
     let pts: Vec<P2> = match form.f.scan_grid(s) {
         Some(g) => g.iter().map(|a| form.point_of(a)).collect::<Option<_>>()?,

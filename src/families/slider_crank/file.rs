@@ -302,7 +302,10 @@ pub type AccuracyRaw = Settings;
 /// Validates the `[accuracy]` section.
 fn resolve_accuracy(s: &Settings) -> Result<Settings, FieldError> {
     let s = *s;
-    limits::check_section(COUNTS, "accuracy", &s)?;
+    // The defaults are in range (tested); a fleet's rows mostly keep them.
+    if s != Settings::default() {
+        limits::check_section(COUNTS, "accuracy", &s)?;
+    }
     s.validate()
         .map_err(|(f, m)| FieldError::new(format!("accuracy.{f}"), m))?;
     Ok(s)
@@ -937,8 +940,7 @@ fn check_work(core: &sc::Scene, sweep: Option<&SpeedSweep>) -> Result<(), FieldE
     let sweep = sweep.map_or(0, |w| w.points);
     let rounds = s.max_rounds as f64;
     let estimate = (1.0 + core.pareto_points as f64 + sweep as f64)
-        * (rounds * (s.scan_samples as f64 + s.initial_samples as f64 + rounds)
-            + s.rms_samples as f64);
+        * (rounds * (s.scan_n() as f64 + s.initial_samples as f64 + rounds) + s.rms_n() as f64);
     limits::check_work(
         WORK_BUDGET,
         FAMILY,
@@ -948,9 +950,9 @@ fn check_work(core: &sc::Scene, sweep: Option<&SpeedSweep>) -> Result<(), FieldE
             limits::term("objective.pareto_points", core.pareto_points as f64, 1.0),
             limits::term("objective.speed_sweep.points", sweep as f64, 1.0),
             limits::term("accuracy.max_rounds", rounds, d.max_rounds as f64),
-            limits::term("accuracy.scan_samples", s.scan_samples as f64, d.scan_samples as f64),
+            limits::term("accuracy.scan_samples", s.scan_n() as f64, d.scan_n() as f64),
             limits::term("accuracy.initial_samples", s.initial_samples as f64, d.initial_samples as f64),
-            limits::term("accuracy.rms_samples", s.rms_samples as f64, d.rms_samples as f64),
+            limits::term("accuracy.rms_samples", s.rms_n() as f64, d.rms_n() as f64),
         ],
     )
 }

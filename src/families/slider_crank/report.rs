@@ -160,6 +160,7 @@ pub fn result(scene: &Scene, sc_scene: &SliderCrankProblem) -> SolveResult {
         peak_to_peak_y_n: d.ptp_y,
         optimality_gap: out.gap,
         gravity_ratio: 9.80665 / (m.r * s.omega * s.omega),
+        scan_samples: s.resolved_settings().scan_samples,
         static_weight_n: (out.static_weight > 0.0).then_some(out.static_weight),
         peak_shaking_force_exact_kinematics_n: out.exact_peak,
         formula6_counterweight_mass_kg: None,

@@ -9,7 +9,8 @@
 //! y ranges) with the same refined peaks.
 
 use crate::families::slider_crank::model::{
-    rot, rot_cs, weight_torque_cs, BalancerPair, Kinematics, Loads, SliderCrank, State,
+    rot, rot_cs, weight_torque_cs, BalancerPair, Kinematics, Loads, ProcessForce, SliderCrank,
+    State,
 };
 use crate::geom::P2;
 use crate::numeric::{
@@ -192,6 +193,50 @@ impl Scene {
         let mut s = self.clone();
         for (spec, &u) in s.balancers.iter_mut().zip(b) {
             spec.unbalance = u;
+        }
+        s
+    }
+
+    /// The scan's sample count when `accuracy.scan_samples = "auto"` (the default): enough
+    /// angles for this scene's bandwidth, at least 64 and at most 360 (the former fixed
+    /// default).
+    ///
+    /// Every figure is a smooth periodic function of φ built from the kinematics, which are
+    /// analytic in the strip |Im φ| < ρ, ρ = arcosh((L − |e|)/R) (the branch points of
+    /// ψ = asin((R sin φ + e)/L), where (R sin φ + e)/L = ±1: a ≈ λ/2 decay per harmonic,
+    /// e^{−ρ} = 0.126 at the paper's λ = 1/4), so harmonic k is of relative size ≲ k e^{−kρ}.
+    /// The scan takes 4 samples per period of harmonic K = ⌈ln(10¹²)/ρ⌉ (relative size
+    /// ≤ 1e-12 · K), i.e. ≥ 16 per period of every harmonic above 1e-3, and 8 per period of
+    /// the highest balancer order. A tabulated process force (piecewise linear, kinks at
+    /// its points) and a mechanism near its toggle (ρ small) get the fixed 360, as before.
+    /// The choice is tested against dense brute force on random and near-toggle machines
+    /// (`tests/slider_crank.rs`).
+    pub fn auto_samples(&self) -> usize {
+        let m = &self.mech;
+        let s = (m.l - m.e.abs()) / m.r;
+        if matches!(self.loads.process, ProcessForce::Table { .. }) || !(s > 1.0) {
+            return cw::FALLBACK_SAMPLES;
+        }
+        let rho = s.acosh();
+        let k = (1e12f64.ln() / rho).ceil();
+        let orders = self.balancers.iter().map(|b| 8.0 * b.pair.order as f64);
+        let n = orders.fold((4.0 * k).max(64.0), f64::max);
+        if n >= cw::FALLBACK_SAMPLES as f64 {
+            cw::FALLBACK_SAMPLES
+        } else {
+            (n as usize).div_ceil(8) * 8
+        }
+    }
+
+    /// The accuracy settings with every `"auto"` count chosen for this scene
+    /// ([`Scene::auto_samples`]; the RMS quadrature then uses the scan's angles).
+    pub fn resolved_settings(&self) -> cw::Settings {
+        let mut s = self.settings;
+        if s.scan_samples == cw::AUTO {
+            s.scan_samples = self.auto_samples();
+        }
+        if s.rms_samples == cw::AUTO {
+            s.rms_samples = s.scan_samples;
         }
         s
     }
@@ -570,6 +615,10 @@ pub struct Derived {
     pub optimality_gap: f64,
     /// g/(r ω²): gravity against the crank pin's acceleration.
     pub gravity_ratio: f64,
+    /// The crank angles of the scan (and of the RMS quadrature, when it is `"auto"` too)
+    /// the figures were computed on: `accuracy.scan_samples`, or the count chosen for
+    /// `"auto"` ([`Scene::auto_samples`]).
+    pub scan_samples: usize,
     /// Static weight of the links and the counterweight (N; with gravity).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub static_weight_n: Option<f64>,
@@ -813,6 +862,8 @@ struct Sampled {
     scan: Grid,
     /// The RMS grid when it differs from the scan grid.
     rms: Option<Grid>,
+    /// Work space of [`metrics_sampled`] (4 columns of the scan grid).
+    scratch: std::cell::RefCell<Vec<f64>>,
 }
 
 struct Grid {
@@ -864,13 +915,14 @@ impl Sampled {
     }
 
     fn new(scene: &Scene) -> Sampled {
-        let s = &scene.settings;
+        let s = &scene.resolved_settings();
         Sampled {
             // The grids of periodic_peak (n ≥ 8) and periodic_rms (even n ≥ 8).
             scan: Grid::new(scene, s.scan_samples.max(8)),
             rms: Some((s.rms_samples.max(8) + 1) & !1)
                 .filter(|&n| n != s.scan_samples.max(8))
                 .map(|n| Grid::new(scene, n)),
+            scratch: std::cell::RefCell::new(Vec::new()),
         }
     }
 }
@@ -1010,13 +1062,16 @@ pub fn joint_load_round_off(scene: &Scene, u: P2, cw_mass: f64) -> f64 {
 }
 
 fn metrics_sampled(scene: &Scene, u: P2, tab: &Sampled) -> Result<Metrics, SolveError> {
-    let (omega, s) = (scene.omega, &scene.settings);
+    let (omega, s) = (scene.omega, &scene.resolved_settings());
     let w2 = omega * omega;
     let g = scene.loads.gravity;
     let f = |phi: f64| scene_force(scene, u, phi);
     // The sampled figures in one pass: F_x, F_y, |F| and |T| on the scan grid.
     let n = tab.scan.len();
-    let mut cols = vec![0.0; 4 * n];
+    // The four columns in one buffer kept by the table (no allocation per counterweight);
+    // every element is written before it is read.
+    let mut cols = tab.scratch.borrow_mut();
+    cols.resize(4 * n, 0.0);
     let (fx, rest) = cols.split_at_mut(n);
     let (fy, rest) = rest.split_at_mut(n);
     let (norms, ts) = rest.split_at_mut(n);
@@ -1072,7 +1127,7 @@ fn x_range_sampled(
     tab: &Sampled,
     refined: bool,
 ) -> Result<(f64, f64, f64), SolveError> {
-    let (omega, s) = (scene.omega, &scene.settings);
+    let (omega, s) = (scene.omega, &scene.resolved_settings());
     let w2 = omega * omega;
     let g = &tab.scan;
     if !refined {
@@ -1282,7 +1337,7 @@ pub fn optimise(scene: &Scene) -> Result<Optimum, SolveError> {
         scene.objective,
         scene.max_peak_force,
         scene.max_peak_torque,
-        &Grid::new(scene, scene.settings.scan_samples),
+        &Grid::new(scene, scene.resolved_settings().scan_samples),
     )
 }
 
@@ -1310,7 +1365,7 @@ fn optimise_with(
         return optimise_joint(scene, objective, max_force, max_torque);
     }
     // The caller has run `check` (the grid needed it).
-    let s = &scene.settings;
+    let s = &scene.resolved_settings();
     let nf = Normalised::new(scene);
     // The fields on the scan grid (the scans of the exchange loop and the presolve).
     let force_grid: Vec<Affine> = (0..grid.len())
@@ -1592,7 +1647,7 @@ pub fn solve(scene: &Scene) -> Result<Outcome, SolveError> {
     let (baseline_scene, scene) = (scene, &designed);
     let (baseline_tab, tab) = (&tab, designed_tab.as_ref().unwrap_or(&tab));
     let mech = &scene.mech;
-    let s = &scene.settings;
+    let s = &scene.resolved_settings();
     let w2 = scene.omega * scene.omega;
     let nf = Normalised::new(scene);
     let cwspec = &scene.counterweight;
@@ -1750,7 +1805,7 @@ fn search_on_circle(
     len: f64,
 ) -> Result<(Status, P2, String), SolveError> {
     let scene = nf.scene;
-    let s = &scene.settings;
+    let s = &scene.resolved_settings();
     let obj = |beta: f64| -> f64 {
         let u = P2::new(beta.cos(), beta.sin()) * len;
         let mag = |p: f64| nf.force(p).at(u).norm();
@@ -1909,7 +1964,7 @@ fn joint_load_peaks(
     cw_mass: f64,
     tab: &Sampled,
 ) -> Result<JointLoadPeaks, SolveError> {
-    let (mech, omega, s) = (&scene.mech, scene.omega, &scene.settings);
+    let (mech, omega, s) = (&scene.mech, scene.omega, &scene.resolved_settings());
     let at = |phi: f64| {
         let st = mech.state(phi).expect("assembly checked");
         mech.joint_loads(&st, omega, &scene.loads, u, cw_mass)
@@ -2167,7 +2222,7 @@ fn optimise_joint(
         goal,
         limits,
     };
-    let cs = &scene.settings;
+    let cs = &scene.resolved_settings();
     let settings = mm::Settings {
         rel_tol: cs.rel_tol,
         initial_samples: cs.initial_samples,
