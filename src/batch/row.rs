@@ -2,7 +2,7 @@
 //! or from why the machine was not solved; escaped against spreadsheet formulas when
 //! written and checked when read back, since a summary on disk is input like any other.
 
-use crate::report::truncate;
+use crate::report::{truncate, SolveResult};
 use serde::{Deserialize, Serialize};
 
 /// One line of `summary.csv` (columns documented in `docs/batch.md`).
@@ -158,89 +158,168 @@ impl Row {
     }
 }
 
-/// The numbers of a JSON object as `key=value;…` (shortest round-trip format).
-fn kv(m: Option<&serde_json::Value>) -> String {
-    m.and_then(|v| v.as_object())
-        .map(|o| {
-            o.iter()
-                .filter_map(|(k, v)| v.as_f64().map(|x| format!("{k}={x:?}")))
-                .collect::<Vec<_>>()
-                .join(";")
-        })
+/// The numbers of a result map as `key=value;…` (shortest round-trip format; a value JSON
+/// cannot hold — NaN, ±∞ — is left out, as it is null in the JSON).
+fn kv(m: &[(&str, Option<f64>)]) -> String {
+    let mut out = String::new();
+    for (k, x) in m {
+        if let Some(x) = x {
+            if !out.is_empty() {
+                out.push(';');
+            }
+            out.push_str(k);
+            out.push('=');
+            out.push_str(&format!("{x:?}"));
+        }
+    }
+    out
+}
+
+/// A result map's numbers in key order (`None`: null in the JSON).
+type Numbers<'a> = Vec<(&'a str, Option<f64>)>;
+
+/// What a summary row reads from a result, borrowed, maps in key order, a number `None`
+/// where the JSON has null: from a result JSON read back ([`row_from_json`]) or from a fresh
+/// [`SolveResult`] ([`row_from_result`], without building its JSON). [`row_of`] makes the
+/// row from it, so both give the same row.
+struct RowInput<'a> {
+    name: &'a str,
+    family: &'a str,
+    status: &'a str,
+    status_detail: &'a str,
+    objective: Option<&'a str>,
+    design: Numbers<'a>,
+    objectives: Numbers<'a>,
+    errors: Numbers<'a>,
+    baselines: Vec<(&'a str, Numbers<'a>)>,
+    warnings: Vec<&'a str>,
+    total_s: f64,
+}
+
+/// The numbers of a JSON object (empty when absent or not an object).
+fn json_numbers(v: Option<&serde_json::Value>) -> Vec<(&str, Option<f64>)> {
+    v.and_then(|v| v.as_object())
+        .map(|o| o.iter().map(|(k, x)| (k.as_str(), x.as_f64())).collect())
         .unwrap_or_default()
+}
+
+/// A result map's numbers as the JSON reads them back (non-finite: null).
+fn map_numbers(m: &std::collections::BTreeMap<String, f64>) -> Vec<(&str, Option<f64>)> {
+    m.iter()
+        .map(|(k, x)| (k.as_str(), Some(*x).filter(|x| x.is_finite())))
+        .collect()
+}
+
+/// The value of `key` in a row input's map.
+fn lookup(m: &[(&str, Option<f64>)], key: &str) -> Option<f64> {
+    m.iter().find(|(k, _)| *k == key).and_then(|(_, x)| *x)
 }
 
 /// The summary row of a result JSON (fresh or read back from `<name>.json`).
 pub fn row_from_json(index: u64, source: &str, hash: &str, v: &serde_json::Value) -> Row {
-    let s = |k: &str| v.get(k).and_then(|x| x.as_str()).unwrap_or("").to_string();
-    let empty = serde_json::Map::new();
-    let objs = v
-        .get("objectives")
-        .and_then(|o| o.as_object())
-        .unwrap_or(&empty);
-    let family = s("family");
+    let s = |k: &str| v.get(k).and_then(|x| x.as_str()).unwrap_or("");
+    let input = RowInput {
+        name: s("name"),
+        family: s("family"),
+        status: s("status"),
+        status_detail: s("status_detail"),
+        objective: v.get("objective").and_then(|x| x.as_str()),
+        design: json_numbers(v.get("design")),
+        objectives: json_numbers(v.get("objectives")),
+        errors: json_numbers(v.get("errors")),
+        baselines: v
+            .get("baselines")
+            .and_then(|b| b.as_object())
+            .map(|b| {
+                b.iter()
+                    .map(|(name, m)| (name.as_str(), json_numbers(Some(m))))
+                    .collect()
+            })
+            .unwrap_or_default(),
+        warnings: v
+            .get("warnings")
+            .and_then(|w| w.as_array())
+            .map(|w| w.iter().filter_map(|x| x.as_str()).collect())
+            .unwrap_or_default(),
+        total_s: v
+            .get("timing")
+            .and_then(|t| t.get("total_s"))
+            .and_then(|x| x.as_f64())
+            .unwrap_or(0.0),
+    };
+    row_of(index, source, hash, input)
+}
+
+/// The summary row of a fresh result: the same row as [`row_from_json`] of its JSON
+/// (`tests/batch.rs` holds them equal), without building the JSON.
+pub fn row_from_result(index: u64, source: &str, hash: &str, r: &SolveResult) -> Row {
+    let input = RowInput {
+        name: &r.name,
+        family: &r.family,
+        status: r.status.as_str(),
+        status_detail: r.status_detail.as_deref().unwrap_or(""),
+        objective: r.objective.as_deref(),
+        design: map_numbers(&r.design),
+        objectives: map_numbers(&r.objectives),
+        errors: map_numbers(&r.errors),
+        baselines: r
+            .baselines
+            .iter()
+            .map(|(name, m)| (name.as_str(), map_numbers(m)))
+            .collect(),
+        warnings: r.warnings.iter().map(String::as_str).collect(),
+        total_s: if r.timing.total_s.is_finite() {
+            r.timing.total_s
+        } else {
+            0.0
+        },
+    };
+    row_of(index, source, hash, input)
+}
+
+/// The summary row of a result's fields.
+fn row_of(index: u64, source: &str, hash: &str, v: RowInput) -> Row {
     let objective = v
-        .get("objective")
-        .and_then(|x| x.as_str())
-        .filter(|k| objs.contains_key(*k))
-        .map(str::to_string)
+        .objective
+        .filter(|k| v.objectives.iter().any(|(o, _)| o == k))
         // Every result names its key objective (its family's headline); a result without
         // one is judged on its first objective.
-        .unwrap_or_else(|| objs.keys().next().cloned().unwrap_or_default());
-    let value = objs.get(&objective).and_then(|x| x.as_f64());
-    let error = v
-        .get("errors")
-        .and_then(|e| e.get(&objective))
-        .and_then(|x| x.as_f64());
+        .or_else(|| v.objectives.first().map(|(k, _)| *k))
+        .unwrap_or("")
+        .to_string();
+    let value = lookup(&v.objectives, &objective);
+    let error = lookup(&v.errors, &objective);
     // Best classical baseline: the smallest improvement (the hardest one to beat).
-    let mut best: Option<(String, Option<f64>, f64)> = None;
-    if let Some(b) = v.get("baselines").and_then(|b| b.as_object()) {
-        for (name, m) in b {
-            if let Some(imp) = m.get("improvement_pct").and_then(|x| x.as_f64()) {
-                if best.as_ref().is_none_or(|(_, _, i)| imp < *i) {
-                    best = Some((
-                        name.clone(),
-                        m.get(&objective).and_then(|x| x.as_f64()),
-                        imp,
-                    ));
-                }
+    let mut best: Option<(&str, Option<f64>, f64)> = None;
+    for (name, m) in &v.baselines {
+        if let Some(imp) = lookup(m, "improvement_pct") {
+            if best.as_ref().is_none_or(|(_, _, i)| imp < *i) {
+                best = Some((name, lookup(m, &objective), imp));
             }
         }
     }
-    let status = s("status");
+    let status = v.status.to_string();
     let message = if status == "degenerate" {
-        s("status_detail")
+        v.status_detail.to_string()
     } else if matches!(status.as_str(), "failed" | "infeasible" | "inaccurate") {
-        v.get("warnings")
-            .and_then(|w| w.as_array())
-            .map(|w| {
-                w.iter()
-                    .filter_map(|x| x.as_str())
-                    .collect::<Vec<_>>()
-                    .join(" | ")
-            })
-            .unwrap_or_default()
+        v.warnings.join(" | ")
     } else {
         String::new()
     };
     Row {
         index,
-        name: s("name"),
-        family,
+        name: v.name.to_string(),
+        family: v.family.to_string(),
         status,
         objective,
         value,
         error,
-        baseline: best.as_ref().map(|b| b.0.clone()).unwrap_or_default(),
-        baseline_value: best.as_ref().and_then(|b| b.1),
-        improvement_pct: best.as_ref().map(|b| b.2),
-        design: kv(v.get("design")),
-        objectives: kv(v.get("objectives")),
-        time_s: v
-            .get("timing")
-            .and_then(|t| t.get("total_s"))
-            .and_then(|x| x.as_f64())
-            .unwrap_or(0.0),
+        baseline: best.map(|b| b.0.to_string()).unwrap_or_default(),
+        baseline_value: best.and_then(|b| b.1),
+        improvement_pct: best.map(|b| b.2),
+        design: kv(&v.design),
+        objectives: kv(&v.objectives),
+        time_s: v.total_s,
         input_hash: hash.into(),
         source: source.into(),
         message,

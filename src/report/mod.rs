@@ -382,26 +382,6 @@ impl SolveResult {
         }
     }
 
-    /// The JSON value of the fields a batch summary row reads (`crate::batch::row_from_json`):
-    /// name, family, status, objective, design, objectives, errors, baselines, warnings and
-    /// timing — the row is the same as from [`SolveResult::to_json`], without serialising
-    /// the rest.
-    pub fn summary_json(&self) -> serde_json::Value {
-        serde_json::json!({
-            "name": self.name,
-            "family": self.family,
-            "status": self.status,
-            "status_detail": self.status_detail,
-            "objective": self.objective,
-            "design": self.design,
-            "objectives": self.objectives,
-            "errors": self.errors,
-            "baselines": self.baselines,
-            "warnings": self.warnings,
-            "timing": self.timing,
-        })
-    }
-
     /// Appends to `paper` the scene file's `[[paper]]` references, looked up in this result
     /// (a family may already have put its own checks there).
     pub fn compare_with_paper(&mut self, refs: &[crate::problem::PaperRef]) {

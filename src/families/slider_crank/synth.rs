@@ -864,6 +864,9 @@ struct Sampled {
     rms: Option<Grid>,
     /// Work space of [`metrics_sampled`] (4 columns of the scan grid).
     scratch: std::cell::RefCell<Vec<f64>>,
+    /// The refined peak drive torque (value, angle, error) when it does not depend on the
+    /// counterweight (no gravity), once computed.
+    torque_peak: std::cell::OnceCell<(f64, f64, f64)>,
 }
 
 struct Grid {
@@ -923,6 +926,7 @@ impl Sampled {
                 .filter(|&n| n != s.scan_samples.max(8))
                 .map(|n| Grid::new(scene, n)),
             scratch: std::cell::RefCell::new(Vec::new()),
+            torque_peak: std::cell::OnceCell::new(),
         }
     }
 }
@@ -1086,8 +1090,24 @@ fn metrics_sampled(scene: &Scene, u: P2, tab: &Sampled) -> Result<Metrics, Solve
     let (xmax, xmin) = grid_extremes(fx, |p| f(p).x, scale, true, s)?;
     let (ymax, ymin) = grid_extremes(fy, |p| f(p).y, scale, true, s)?;
     let (xmin, ymin) = (xmin.expect("asked"), ymin.expect("asked"));
-    let tscale = ts.iter().fold(0.0, |a: f64, &b| a.max(b));
-    let (tq, _) = grid_extremes(ts, |p| drive_torque(scene, u, p).abs(), tscale, false, s)?;
+    // Without gravity the drive torque does not depend on the counterweight (its weight is
+    // its only path into the torque): every counterweight of the table has the same peak,
+    // computed once (the same numbers bit for bit: the weight term adds ±0).
+    let torque_peak = || -> Result<(f64, f64, f64), SolveError> {
+        let tscale = ts.iter().fold(0.0, |a: f64, &b| a.max(b));
+        let (tq, _) = grid_extremes(ts, |p| drive_torque(scene, u, p).abs(), tscale, false, s)?;
+        Ok((tq.peak.fx, tq.peak.x, tq.error))
+    };
+    let (tq_peak, tq_angle, tq_error) = match tab.torque_peak.get() {
+        Some(t) if torque_independent_of_counterweight(scene) => *t,
+        _ => {
+            let t = torque_peak()?;
+            if torque_independent_of_counterweight(scene) {
+                let _ = tab.torque_peak.set(t);
+            }
+            t
+        }
+    };
     let rms = if tab.rms.is_none() {
         periodic_rms_sampled(norms)
     } else {
@@ -1110,9 +1130,9 @@ fn metrics_sampled(scene: &Scene, u: P2, tab: &Sampled) -> Result<Metrics, Solve
         ptp_y: ymax.peak.fx + ymin.peak.fx,
         peak_x: xmax.peak.fx.max(xmin.peak.fx),
         peak_y: ymax.peak.fx.max(ymin.peak.fx),
-        peak_torque: tq.peak.fx,
-        peak_torque_angle: tq.peak.x,
-        peak_torque_error: tq.error + ro_t,
+        peak_torque: tq_peak,
+        peak_torque_angle: tq_angle,
+        peak_torque_error: tq_error + ro_t,
     })
 }
 
@@ -1749,7 +1769,7 @@ pub fn solve(scene: &Scene) -> Result<Outcome, SolveError> {
     }
     // The gap is the refined peak minus the solver's sampled lower bound: the bound was
     // computed in floating point too, so it carries the same round-off as one evaluation.
-    let gap = if gap > 0.0 {
+    let gap = if gap >= 0.0 {
         gap + match objective {
             Objective::MinPeakTorque => round_off[1],
             _ => round_off[0],
