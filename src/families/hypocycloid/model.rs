@@ -366,13 +366,32 @@ impl Hypocycloid {
     pub fn series_coefficients(&self, power: usize, order: usize) -> (Vec<f64>, Vec<f64>) {
         let y = self.y_poly();
         let y2 = conv(&y, &y);
-        let mut acc = vec![Complex64::new(0.0, 0.0); 1];
-        let mut pw = vec![Complex64::new(1.0, 0.0); 1]; // y^{2(k−1)}
+        // Three buffers for the whole series (this runs inside root searches): y^{2k} (orders
+        // −4k..4k) and the sum, centred, at their final length 8·power + 1. The sum's
+        // entries outside the previous power's reach are assigned, inside it added to
+        // (acc + s·p): the same numbers, to the sign of a zero, as building each partial sum
+        // afresh.
+        let z = Complex64::new(0.0, 0.0);
+        let full = 8 * power + 1;
+        let mut acc = vec![z; full.max(1)];
+        let mut pw = Vec::with_capacity(full); // y^{2(k−1)}
+        pw.push(Complex64::new(1.0, 0.0));
+        let mut next = Vec::with_capacity(full);
         let mut ck = 0.5;
         let mut lk = self.lambda; // λ^{2k−1}
+        let centre = full / 2;
         for k in 1..=power {
-            pw = conv(&pw, &y2);
-            acc = add_centered(&acc, &pw, -ck * lk);
+            conv_into(&pw, &y2, &mut next);
+            std::mem::swap(&mut pw, &mut next);
+            let (s, half, reach) = (-ck * lk, pw.len() / 2, 4 * (k - 1));
+            for (i, c) in pw.iter().enumerate() {
+                let j = centre + i - half;
+                acc[j] = if j.abs_diff(centre) <= reach {
+                    acc[j] + c * s
+                } else {
+                    c * s
+                };
+            }
             ck *= (2.0 * k as f64 - 1.0) / (2.0 * k as f64 + 2.0);
             lk *= self.lambda * self.lambda;
         }
@@ -576,28 +595,20 @@ impl LanchesterPair {
 
 /// Convolution of two centred coefficient arrays (lengths 2m+1, 2n+1 → 2(m+n)+1).
 fn conv(p: &[Complex64], q: &[Complex64]) -> Vec<Complex64> {
-    let mut r = vec![Complex64::new(0.0, 0.0); p.len() + q.len() - 1];
+    let mut r = Vec::new();
+    conv_into(p, q, &mut r);
+    r
+}
+
+/// [`conv`] into `r` (its old contents replaced; no allocation once it is large enough).
+fn conv_into(p: &[Complex64], q: &[Complex64], r: &mut Vec<Complex64>) {
+    r.clear();
+    r.resize(p.len() + q.len() - 1, Complex64::new(0.0, 0.0));
     for (i, &x) in p.iter().enumerate() {
         for (j, &y) in q.iter().enumerate() {
             r[i + j] += x * y;
         }
     }
-    r
-}
-
-/// acc + s·p for centred arrays of possibly different lengths.
-fn add_centered(acc: &[Complex64], p: &[Complex64], s: f64) -> Vec<Complex64> {
-    let (big, small, sb, ss) = if acc.len() >= p.len() {
-        (acc, p, 1.0, s)
-    } else {
-        (p, acc, s, 1.0)
-    };
-    let off = (big.len() - small.len()) / 2;
-    let mut r: Vec<Complex64> = big.iter().map(|c| c * sb).collect();
-    for (i, c) in small.iter().enumerate() {
-        r[off + i] += c * ss;
-    }
-    r
 }
 
 #[cfg(test)]
