@@ -2,7 +2,7 @@
 //! half–half) to 1e-9 relative: presolve + exact disc rounds (the default) or clarabel's SOCP
 //! (`exact_disc = false`) + exchange loop + verified refined peak.
 use criterion::{criterion_group, criterion_main, Criterion};
-use cwsynth::families::slider_crank::synth::{optimise, solve, Scene};
+use cwsynth::families::slider_crank::synth::{optimise, shaking_force, solve, Scene};
 
 fn scene() -> Scene {
     cwsynth::families::slider_crank::synth::paper_piston(1000.0)
@@ -24,6 +24,16 @@ fn bench(c: &mut Criterion) {
     });
     c.bench_function("slider_crank/full_solve_with_baselines", |b| {
         b.iter(|| solve(std::hint::black_box(&sc)).unwrap())
+    });
+    // The unit of the arithmetic floor (docs/performance.md): one kinematic state and the
+    // shaking force from it, at a crank angle that changes every call.
+    let u = cwsynth::geom::P2::new(-0.0357, 0.0);
+    let mut phi = 0.0f64;
+    c.bench_function("slider_crank/one_force_evaluation", |b| {
+        b.iter(|| {
+            phi += 0.618_033_988_75;
+            shaking_force(&sc.mech, sc.omega, std::hint::black_box(u), phi % std::f64::consts::TAU)
+        })
     });
 }
 
