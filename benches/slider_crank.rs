@@ -32,7 +32,12 @@ fn bench(c: &mut Criterion) {
     c.bench_function("slider_crank/one_force_evaluation", |b| {
         b.iter(|| {
             phi += 0.618_033_988_75;
-            shaking_force(&sc.mech, sc.omega, std::hint::black_box(u), phi % std::f64::consts::TAU)
+            shaking_force(
+                &sc.mech,
+                sc.omega,
+                std::hint::black_box(u),
+                phi % std::f64::consts::TAU,
+            )
         })
     });
 }

@@ -418,6 +418,61 @@ impl Hypocycloid {
         (a, b)
     }
 
+    /// The cosine coefficient a_k of [`Hypocycloid::series_coefficients`]`(power, k)` alone,
+    /// the same number bit for bit, for root searches in θ (the zero search evaluates it
+    /// thousands of times): the powers y^{2j} are built in full up to power − 1, the last
+    /// only at order k, and the sum only at order k, each entry summed in the same order.
+    pub fn series_a(&self, power: usize, k: usize) -> f64 {
+        let y = self.y_poly();
+        let y2 = conv(&y, &y);
+        let m = 4 * power;
+        let mut c = Complex64::new(0.0, 0.0); // the sum at order k
+        if power > 0 && k <= m {
+            let mut pw = Vec::with_capacity(8 * power + 1); // y^{2(j−1)}, orders −4(j−1)..
+            pw.push(Complex64::new(1.0, 0.0));
+            let mut next = Vec::with_capacity(8 * power + 1);
+            let (mut ck, mut lk) = (0.5, self.lambda);
+            for j in 1..=power {
+                let s = -ck * lk;
+                let p = if j < power {
+                    conv_into(&pw, &y2, &mut next);
+                    std::mem::swap(&mut pw, &mut next);
+                    (k <= 4 * j).then(|| pw[4 * j + k])
+                } else {
+                    // Only entry 4j + k of conv(pw, y2), summed in conv's order.
+                    let t = 4 * j + k;
+                    let mut r = Complex64::new(0.0, 0.0);
+                    for (i, &x) in pw.iter().enumerate() {
+                        if let Some(&q) = t.checked_sub(i).and_then(|d| y2.get(d)) {
+                            r += x * q;
+                        }
+                    }
+                    Some(r)
+                };
+                if let Some(p) = p {
+                    c = if k <= 4 * (j - 1) { c + p * s } else { p * s };
+                }
+                ck *= (2.0 * j as f64 - 1.0) / (2.0 * j as f64 + 2.0);
+                lk *= self.lambda * self.lambda;
+            }
+        }
+        let mut a = match k {
+            0 => c.re,
+            _ if k <= m => 2.0 * c.re,
+            _ => 0.0,
+        };
+        if k == 1 {
+            a += 1.0;
+        }
+        if k == 2 {
+            a += self.theta * self.alpha0.cos();
+        }
+        if k == 0 {
+            a += 1.0 / self.lambda;
+        }
+        a
+    }
+
     /// Stroke (S_max − S_min)/R and the suction angle: the rotation from the φ of S_max
     /// (the dead centre nearest the head, the head being at +x) forward to the φ of S_min.
     /// Both extrema are refined by Brent; the angle error is that of the refinement.
@@ -613,6 +668,32 @@ fn conv_into(p: &[Complex64], q: &[Complex64], r: &mut Vec<Complex64>) {
 
 #[cfg(test)]
 mod tests {
+    #[test]
+    fn series_a_is_series_coefficients_bit_for_bit() {
+        for &lambda in &[0.02, 0.1, 0.25, 0.5] {
+            for &theta in &[0.0, 0.13, 0.5, 0.9] {
+                for &alpha0 in &[0.0, 0.3, ALPHA0_VARIANT2] {
+                    let m = Hypocycloid {
+                        lambda,
+                        theta,
+                        alpha0,
+                    };
+                    for power in 0..=6 {
+                        for k in 0..=30 {
+                            let full = m.series_coefficients(power, k).0[k];
+                            let one = m.series_a(power, k);
+                            assert_eq!(
+                                one.to_bits(),
+                                full.to_bits(),
+                                "λ {lambda} θ {theta} α0 {alpha0} power {power} k {k}: {one} vs {full}"
+                            );
+                        }
+                    }
+                }
+            }
+        }
+    }
+
     use super::*;
 
     #[test]

@@ -645,8 +645,7 @@ pub fn zero_search(
                 theta: t,
                 alpha0,
             }
-            .series_coefficients(series_power, k)
-            .0[k]
+            .series_a(series_power, k)
         };
         let ss: Vec<f64> = ts.iter().map(|&(_, t)| ser(t)).collect();
         let series_roots: Vec<f64> = (0..ss.len().saturating_sub(1))
