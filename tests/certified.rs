@@ -14,7 +14,7 @@ use cwsynth::families::slider_crank::synth::{
 use cwsynth::geom::P2;
 use std::f64::consts::TAU;
 
-mod common;
+use crate::common;
 
 /// A small deterministic generator (tests must not depend on a seed source).
 struct Lcg(u64);

@@ -5,7 +5,7 @@
 //! tail points, tiny and huge scale); (2) the multistart's `best_found` is not beaten by an
 //! independent search (precomputed reference optima and an in-test compass search).
 
-mod common;
+use crate::common;
 
 use common::Dd as T;
 use cwsynth::families::crane::synth::*;

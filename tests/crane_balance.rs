@@ -4,7 +4,7 @@
 //! certified counterweight against closed forms and a brute-force grid, the thesis's
 //! M_Ah = N L_c sin α against the load moment, and the shipped scene.
 
-mod common;
+use crate::common;
 
 use cwsynth::families::crane::balance::{self, BalanceScene, CounterweightSpec};
 use cwsynth::families::crane::model::{load_moment, synthesize, Angles, Boom, Guide, Linkage};

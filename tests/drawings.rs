@@ -7,7 +7,7 @@
 //! every SVG has one scale in x and y, and everything it draws lies inside its viewBox; the
 //! files are the same bytes on a second run; a batch lists them in its manifest.
 
-mod common;
+use crate::common;
 use common::*;
 use dxf::entities::EntityType;
 use serde_json::Value;

@@ -13,7 +13,7 @@ use cwsynth::synth::shape::{self, ShapeGoal, ShapeOutcome, ShapeSpec};
 use std::f64::consts::{FRAC_PI_2, TAU};
 use std::path::Path;
 
-mod common;
+use crate::common;
 
 const FELLING: &str = include_str!("../problems/felling-head-150rpm.toml");
 

@@ -11,7 +11,7 @@ use cwsynth::families::gear::model::*;
 use cwsynth::families::gear::synth::*;
 use std::f64::consts::{PI, TAU};
 
-mod common;
+use crate::common;
 
 const R: f64 = 37.5e-3;
 const RG: f64 = 1.25e-3;

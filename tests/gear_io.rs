@@ -3,7 +3,7 @@
 //! independent closure quadrature and the library's example scenes), `--out` writes every
 //! file, and bad input names the file, the line and the dotted field.
 
-mod common;
+use crate::common;
 use common::*;
 use cwsynth::families::gear::synth::{paper_table1, paper_table1_design, solve, Settings};
 use cwsynth::families::parse_str;

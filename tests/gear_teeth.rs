@@ -10,7 +10,7 @@ use cwsynth::families::gear::teeth::*;
 use cwsynth::geom::P2;
 use std::f64::consts::{PI, TAU};
 
-mod common;
+use crate::common;
 
 const R: f64 = 37.5e-3;
 const RG: f64 = 1.25e-3;

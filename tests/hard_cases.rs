@@ -15,7 +15,7 @@ use cwsynth::report::SolveResult;
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 use std::path::Path;
 
-mod common;
+use crate::common;
 
 const PISTON: &str = include_str!("../problems/piston-1000rpm.toml");
 const HYPO: &str = include_str!("../problems/hypocycloid-variant1.toml");

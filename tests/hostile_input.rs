@@ -7,10 +7,10 @@
 //! random units, NaN/inf, huge and negative numbers, arrays, tables), insert random bytes,
 //! truncate, or throw the file away for random text.
 //!
-//! `cargo test --test hostile_input` runs 2000 inputs (about 10–30 s). A longer campaign:
+//! `cargo test --test integration hostile_input::` runs 2000 inputs (about 10–30 s). A longer campaign:
 //!
 //! ```text
-//! FUZZ_CASES=200000 FUZZ_SOLVE_BUDGET_S=600 cargo test --release --test hostile_input -- --nocapture
+//! FUZZ_CASES=200000 FUZZ_SOLVE_BUDGET_S=600 cargo test --release --test integration hostile_input:: -- --nocapture
 //! ```
 //!
 //! (`FUZZ_CASES`: inputs tried; `FUZZ_SOLVE_BUDGET_S`: total seconds spent solving the inputs

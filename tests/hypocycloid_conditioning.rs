@@ -13,7 +13,7 @@ use cwsynth::families::hypocycloid::synth::{
     c4_search_example, paper_example, solve, zero_search, PaperVariant, Settings, Var, ZeroSearch,
 };
 
-mod common;
+use crate::common;
 
 /// a_4 of S/R − 1/λ = x + (sqrt(1 − λ²y²) − 1)/λ by the trapezoid rule in double-double,
 /// doubling n (reusing the previous points) until two rules agree to 1e-22; returns (value,

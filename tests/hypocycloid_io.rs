@@ -4,7 +4,7 @@
 //! leading-order closed forms), `--out` writes every file, and bad input is rejected with
 //! the file, the line and the dotted field.
 
-mod common;
+use crate::common;
 use common::*;
 use cwsynth::families::parse_str;
 use serde_json::Value;

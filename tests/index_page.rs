@@ -1,7 +1,6 @@
 //! The batch index page's histogram is the same bytes run after run: its bars are drawn in
 //! bin order (plotters' own histogram series collected them in a HashMap, so their order — not
-//! the picture — changed from run to run, and `index.html` with it). Its own test binary: the
-//! plot counter of `tests/batch_reports.rs` is process-wide.
+//! the picture — changed from run to run, and `index.html` with it).
 
 use cwsynth::batch::{expand, run, Options};
 

@@ -15,7 +15,7 @@ use std::path::Path;
 use std::sync::mpsc;
 use std::time::{Duration, Instant};
 
-mod common;
+use crate::common;
 use common::{assert_finite_as, integer_key_base, set_key};
 
 fn problem(name: &str) -> String {

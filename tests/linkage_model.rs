@@ -4,7 +4,7 @@
 //! Berkof–Lowen closed form, the analytic assembly limits of a four-bar and a double-double
 //! reference near a toggle.
 
-mod common;
+use crate::common;
 
 use common::dd::{dd_sin_cos, Dd};
 use cwsynth::families::linkage::model::{

@@ -23,9 +23,9 @@
 //!   UTF-8, too deep) or too large may lack one; a duplicated key names the key.
 //!
 //! The tallies of every kind of failure are printed before the assertion, so a run on an
-//! older build is the table (`cargo test --test mutants -- --nocapture`).
+//! older build is the table (`cargo test --test integration mutants:: -- --nocapture`).
 
-mod common;
+use crate::common;
 
 use common::{non_finite, set_key};
 use cwsynth::families::solve_scene;

@@ -1,7 +1,7 @@
 //! Problem files: every shipped file loads, and every kind of bad input is rejected with
 //! the file, the line and the field named, and what is allowed said.
 
-mod common;
+use crate::common;
 use common::*;
 use cwsynth::families::{load, parse_str};
 use std::path::Path;
