@@ -303,6 +303,27 @@ pub fn brent_max<F: Fn(f64) -> f64>(
     Ok(best)
 }
 
+/// A maximum of a 2π-periodic f refined from its sampled maximum at c with `ys` = f at
+/// c − h, c, c + h, as [`refine_sampled_max`] does, the angle wrapped into [0, 2π) and the
+/// value never below the sample's: how [`Shape::peak`] refines each candidate (and a caller
+/// that refines one known sample the same way gets the same numbers).
+pub fn refine_periodic_sample<F: Fn(f64) -> f64>(
+    f: F,
+    c: f64,
+    h: f64,
+    ys: [f64; 3],
+    xtol: f64,
+) -> Result<(Extremum, usize), SearchError> {
+    let (e, used) = refine_sampled_max(f, c, h, ys, xtol)?;
+    Ok((
+        Extremum {
+            x: e.x.rem_euclid(std::f64::consts::TAU),
+            fx: e.fx.max(ys[1]),
+        },
+        used,
+    ))
+}
+
 /// Refines a sampled local maximum: `c` is a sample not below its neighbours, `ys` =
 /// [f(c − h), f(c), f(c + h)] their known values, f unimodal on [c − h, c + h]. Returns the
 /// maximum to `xtol` in x (plus 1e-14 relative), or to the round-off limit δ =
@@ -711,12 +732,9 @@ impl Shape {
                 continue;
             };
             let around = [y((k + n - 1) % n), y(k), y((k + 1) % n)];
-            let (e, used) = refine_sampled_max(|x| sign * f(x), c, h, around, xtol)?;
+            let (e, used) = refine_periodic_sample(|x| sign * f(x), c, h, around, xtol)?;
             evals += used;
-            maxima.push(Extremum {
-                x: e.x.rem_euclid(std::f64::consts::TAU),
-                fx: e.fx.max(y(k)),
-            });
+            maxima.push(e);
         }
         if maxima.is_empty() {
             // A constant function: every point is the peak.

@@ -161,16 +161,11 @@ impl Row {
 /// The numbers of a result map as `key=value;…` (shortest round-trip format; a value JSON
 /// cannot hold — NaN, ±∞ — is left out, as it is null in the JSON).
 fn kv(m: &[(&str, Option<f64>)]) -> String {
+    use std::fmt::Write;
     let mut out = String::new();
-    for (k, x) in m {
-        if let Some(x) = x {
-            if !out.is_empty() {
-                out.push(';');
-            }
-            out.push_str(k);
-            out.push('=');
-            out.push_str(&format!("{x:?}"));
-        }
+    for (k, x) in m.iter().filter_map(|(k, x)| Some((k, (*x)?))) {
+        let sep = if out.is_empty() { "" } else { ";" };
+        let _ = write!(out, "{sep}{k}={x:?}");
     }
     out
 }

@@ -377,13 +377,11 @@ impl Hypocycloid {
         let mut pw = Vec::with_capacity(full); // y^{2(k−1)}
         pw.push(Complex64::new(1.0, 0.0));
         let mut next = Vec::with_capacity(full);
-        let mut ck = 0.5;
-        let mut lk = self.lambda; // λ^{2k−1}
         let centre = full / 2;
-        for k in 1..=power {
+        for (k, s) in (1..=power).zip(self.series_weights()) {
             conv_into(&pw, &y2, &mut next);
             std::mem::swap(&mut pw, &mut next);
-            let (s, half, reach) = (-ck * lk, pw.len() / 2, 4 * (k - 1));
+            let (half, reach) = (pw.len() / 2, 4 * (k - 1));
             for (i, c) in pw.iter().enumerate() {
                 let j = centre + i - half;
                 acc[j] = if j.abs_diff(centre) <= reach {
@@ -392,8 +390,6 @@ impl Hypocycloid {
                     c * s
                 };
             }
-            ck *= (2.0 * k as f64 - 1.0) / (2.0 * k as f64 + 2.0);
-            lk *= self.lambda * self.lambda;
         }
         let m = acc.len() / 2;
         let mut a = vec![0.0; order + 1];
@@ -418,6 +414,17 @@ impl Hypocycloid {
         (a, b)
     }
 
+    /// The weights of the truncated series, −c_k λ^{2k−1} for k = 1, 2, …: c_k = −binom(½, k)
+    /// = ½, ⅛, 1/16, 5/128, … by c_{k+1} = c_k (2k − 1)/(2k + 2).
+    fn series_weights(&self) -> impl Iterator<Item = f64> + '_ {
+        (1..).scan((0.5, self.lambda), move |(ck, lk), k: usize| {
+            let s = -*ck * *lk;
+            *ck *= (2.0 * k as f64 - 1.0) / (2.0 * k as f64 + 2.0);
+            *lk *= self.lambda * self.lambda;
+            Some(s)
+        })
+    }
+
     /// The cosine coefficient a_k of [`Hypocycloid::series_coefficients`]`(power, k)` alone,
     /// the same number bit for bit, for root searches in θ (the zero search evaluates it
     /// thousands of times): the powers y^{2j} are built in full up to power − 1, the last
@@ -431,9 +438,7 @@ impl Hypocycloid {
             let mut pw = Vec::with_capacity(8 * power + 1); // y^{2(j−1)}, orders −4(j−1)..
             pw.push(Complex64::new(1.0, 0.0));
             let mut next = Vec::with_capacity(8 * power + 1);
-            let (mut ck, mut lk) = (0.5, self.lambda);
-            for j in 1..=power {
-                let s = -ck * lk;
+            for (j, s) in (1..=power).zip(self.series_weights()) {
                 let p = if j < power {
                     conv_into(&pw, &y2, &mut next);
                     std::mem::swap(&mut pw, &mut next);
@@ -452,8 +457,6 @@ impl Hypocycloid {
                 if let Some(p) = p {
                     c = if k <= 4 * (j - 1) { c + p * s } else { p * s };
                 }
-                ck *= (2.0 * j as f64 - 1.0) / (2.0 * j as f64 + 2.0);
-                lk *= self.lambda * self.lambda;
             }
         }
         let mut a = match k {

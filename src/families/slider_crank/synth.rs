@@ -15,7 +15,7 @@ use crate::families::slider_crank::model::{
 use crate::geom::P2;
 use crate::numeric::{
     brent_max, newton_polish, newton_root, periodic_peak, periodic_rms, periodic_rms_sampled,
-    Extremum, PeriodicPeak, Refine, Shape,
+    refine_periodic_sample, Extremum, PeriodicPeak, Refine, Shape,
 };
 use crate::report::numbers::key;
 use crate::synth::counterweight::{self as cw, Affine, Direction, Field, Goal, Problem, Status};
@@ -968,13 +968,32 @@ fn grid_extremes(
                 evals: 0,
             });
         }
-        // A value needs its maximum located only to √ε (≈ 1e-8 rad): closer, the values
-        // differ by round-off (½|f''|δ² < ε|f|).
-        shape
-            .peak(ys, sign, &f, Some(s.peak_xtol.max(1e-8)))
-            .map_err(num)
+        shape.peak(ys, sign, &f, Some(value_xtol(s))).map_err(num)
     };
     Ok((peak(1.0)?, if minima { Some(peak(-1.0)?) } else { None }))
+}
+
+/// The angle tolerance of a refined figure: `peak_xtol`, but not below 1e-8 rad. A value
+/// needs its maximum located only to √ε (≈ 1e-8 rad): closer, the values differ by
+/// round-off (½|f''|δ² < ε|f|).
+fn value_xtol(s: &cw::Settings) -> f64 {
+    s.peak_xtol.max(1e-8)
+}
+
+/// The largest and smallest F_x(φₖ) = ω²(f₀ₓ(φₖ) − κ cos φₖ) of U = −κ e_x on the grid
+/// `g`, each with its index, in one tight pass.
+fn grid_x_extremes(g: &Grid, kappa: f64, w2: f64) -> ((f64, usize), (f64, usize)) {
+    let (mut hi, mut lo) = ((f64::NEG_INFINITY, 0), (f64::INFINITY, 0));
+    for (k, (f0, [c, _])) in g.f0.iter().zip(&g.cs).enumerate() {
+        let x = w2 * (f0.x - kappa * c);
+        if x > hi.0 {
+            hi = (x, k);
+        }
+        if x < lo.0 {
+            lo = (x, k);
+        }
+    }
+    (hi, lo)
 }
 
 /// Bounds on the round-off of one evaluation of the shaking force (N), the drive torque
@@ -1066,7 +1085,7 @@ pub fn joint_load_round_off(scene: &Scene, u: P2, cw_mass: f64) -> f64 {
 }
 
 fn metrics_sampled(scene: &Scene, u: P2, tab: &Sampled) -> Result<Metrics, SolveError> {
-    let (omega, s) = (scene.omega, &scene.resolved_settings());
+    let (omega, s) = (scene.omega, &scene.settings);
     let w2 = omega * omega;
     let g = scene.loads.gravity;
     let f = |phi: f64| scene_force(scene, u, phi);
@@ -1098,11 +1117,12 @@ fn metrics_sampled(scene: &Scene, u: P2, tab: &Sampled) -> Result<Metrics, Solve
         let (tq, _) = grid_extremes(ts, |p| drive_torque(scene, u, p).abs(), tscale, false, s)?;
         Ok((tq.peak.fx, tq.peak.x, tq.error))
     };
-    let (tq_peak, tq_angle, tq_error) = match tab.torque_peak.get() {
-        Some(t) if torque_independent_of_counterweight(scene) => *t,
-        _ => {
+    let fixed = torque_independent_of_counterweight(scene);
+    let (tq_peak, tq_angle, tq_error) = match tab.torque_peak.get().filter(|_| fixed) {
+        Some(t) => *t,
+        None => {
             let t = torque_peak()?;
-            if torque_independent_of_counterweight(scene) {
+            if fixed {
                 let _ = tab.torque_peak.set(t);
             }
             t
@@ -1147,20 +1167,11 @@ fn x_range_sampled(
     tab: &Sampled,
     refined: bool,
 ) -> Result<(f64, f64, f64), SolveError> {
-    let (omega, s) = (scene.omega, &scene.resolved_settings());
+    let (omega, s) = (scene.omega, &scene.settings);
     let w2 = omega * omega;
     let g = &tab.scan;
     if !refined {
-        let (mut hi, mut lo) = ((f64::NEG_INFINITY, 0), (f64::INFINITY, 0));
-        for (k, (f0, [c, _])) in g.f0.iter().zip(&g.cs).enumerate() {
-            let x = w2 * (f0.x - kappa * c);
-            if x > hi.0 {
-                hi = (x, k);
-            }
-            if x < lo.0 {
-                lo = (x, k);
-            }
-        }
+        let (hi, lo) = grid_x_extremes(g, kappa, w2);
         if !(hi.0 - lo.0).is_finite() {
             return Err(SolveError::Numeric(
                 "F_x is not finite on the scan grid".into(),
@@ -1246,7 +1257,8 @@ fn baselines_sampled(
             .map_or_else(|| newton_root(diff(true), lo, hi, tol), Ok)
     };
     let root = newton_root(diff(false), lo, hi, 1e-6 * hi).and_then(|sampled| {
-        let k = grid_x_extremes(scene, sampled.x, tab);
+        let ((_, k_hi), (_, k_lo)) = grid_x_extremes(&tab.scan, sampled.x, w2);
+        let k = (k_hi, k_lo);
         match newton_polish(near(k), sampled.x, lo, hi, tol, 6) {
             Some(r) => Ok((r, Some(k))),
             None => full(sampled.x).map(|r| (r, None)),
@@ -1268,24 +1280,6 @@ fn baselines_sampled(
     Ok(out)
 }
 
-/// The grid indices of max F_x and min F_x of U = −κ e_x on the scan grid.
-fn grid_x_extremes(scene: &Scene, kappa: f64, tab: &Sampled) -> (usize, usize) {
-    let w2 = scene.omega * scene.omega;
-    let u = P2::new(-kappa, 0.0);
-    let g = &tab.scan;
-    let (mut hi, mut lo) = ((f64::NEG_INFINITY, 0), (f64::INFINITY, 0));
-    for k in 0..g.len() {
-        let x = g.force(k, u, w2).x;
-        if x > hi.0 {
-            hi = (x, k);
-        }
-        if x < lo.0 {
-            lo = (x, k);
-        }
-    }
-    (hi.1, lo.1)
-}
-
 /// max F_x − min F_x (N) of U = −κ e_x, with cos φ at the maximum and at the minimum (as
 /// [`x_range_sampled`]), refined only from the scan grid's samples `k` = (index of the
 /// maximum, index of the minimum) as [`grid_extremes`] refines a candidate (the same
@@ -1302,20 +1296,14 @@ fn x_range_near(
     let g = &tab.scan;
     let n = g.len();
     let h = std::f64::consts::TAU / n as f64;
-    let xtol = scene.settings.peak_xtol.max(1e-8);
+    let xtol = value_xtol(&scene.settings);
     let f = |phi: f64| scene_force(scene, u, phi).x;
-    let around =
-        |k: usize, sign: f64| [(k + n - 1) % n, k, (k + 1) % n].map(|j| sign * g.force(j, u, w2).x);
-    let (hi, _) =
-        crate::numeric::refine_sampled_max(f, k_hi as f64 * h, h, around(k_hi, 1.0), xtol).ok()?;
-    let (lo, _) =
-        crate::numeric::refine_sampled_max(|p| -f(p), k_lo as f64 * h, h, around(k_lo, -1.0), xtol)
-            .ok()?;
-    let (hi_fx, lo_fx) = (
-        hi.fx.max(around(k_hi, 1.0)[1]),
-        lo.fx.max(around(k_lo, -1.0)[1]),
-    );
-    Some((hi_fx + lo_fx, hi.x.cos(), lo.x.cos()))
+    let refine = |k: usize, sign: f64| {
+        let around = [(k + n - 1) % n, k, (k + 1) % n].map(|j| sign * g.force(j, u, w2).x);
+        refine_periodic_sample(|p| sign * f(p), k as f64 * h, h, around, xtol).ok()
+    };
+    let ((hi, _), (lo, _)) = (refine(k_hi, 1.0)?, refine(k_lo, -1.0)?);
+    Some((hi.fx + lo.fx, hi.x.cos(), lo.x.cos()))
 }
 
 /// Resolved bounds on |U|: the unbalance range, m_min r_min ≤ |U| ≤ m_max r_max, and the
@@ -1743,7 +1731,7 @@ pub fn solve(scene: &Scene) -> Result<Outcome, SolveError> {
     let (baseline_scene, scene) = (scene, &designed);
     let (baseline_tab, tab) = (&tab, designed_tab.as_ref().unwrap_or(&tab));
     let mech = &scene.mech;
-    let s = &scene.resolved_settings();
+    let s = &scene.settings;
     let w2 = scene.omega * scene.omega;
     let nf = Normalised::new(scene);
     let cwspec = &scene.counterweight;
@@ -2060,7 +2048,7 @@ fn joint_load_peaks(
     cw_mass: f64,
     tab: &Sampled,
 ) -> Result<JointLoadPeaks, SolveError> {
-    let (mech, omega, s) = (&scene.mech, scene.omega, &scene.resolved_settings());
+    let (mech, omega, s) = (&scene.mech, scene.omega, &scene.settings);
     let at = |phi: f64| {
         let st = mech.state(phi).expect("assembly checked");
         mech.joint_loads(&st, omega, &scene.loads, u, cw_mass)
