@@ -567,7 +567,10 @@ pub fn solve(pb: &Problem, s: &Settings) -> Solution {
             return sol;
         }
     }
-    let mut samples = presolved.unwrap_or_else(|| uniform_angles(s.initial_samples));
+    let mut samples = presolved.map_or_else(
+        || uniform_angles(s.initial_samples),
+        |at| at.iter().map(|&(a, _)| a).collect(),
+    );
     for &phi in &pb.warm_angles {
         if is_new(&samples, phi) {
             samples.push(phi);
@@ -775,21 +778,42 @@ pub fn solve(pb: &Problem, s: &Settings) -> Solution {
 ///
 /// On `scan_samples` angles this locates the optimum to the sampling error only, so the
 /// angles of the disc's near-active points (local maxima of ‖u − p‖ within `keep_band` of
-/// the radius) are refined on the continuous curve (Brent on the neighbouring intervals)
-/// and the disc of the refined points recomputed, until the angles move less than
-/// √(0.01·`rel_tol`) (the bound changes with the square of an angle error). Those angles
-/// start the exchange loop: solved exactly as discs when `disc_exchange` applies, else by
-/// clarabel at the target tolerance under all the problem's constraints. The presolve only
-/// chooses where to look; the exchange loop still verifies (and corrects) the result.
-/// `None` when the goal is not a peak force of that form.
-pub fn enclosing_presolve(pb: &Problem, s: &Settings) -> Option<Vec<f64>> {
+/// the radius) are refined on the continuous curve (from their three samples, Brent on the
+/// neighbouring intervals as a fallback) and the disc of the refined points recomputed,
+/// until the angles move less than x_tol = √(0.01·`rel_tol`) (the bound changes with the
+/// square of an angle error), or are predicted to: the rounds are a fixed-point iteration
+/// that contracts, and when the last move m_k times the last contraction m_k/m_{k−1} is
+/// below x_tol, the confirming round is left to the exchange loop, whose first check
+/// refines the same maxima at the same centre. Those angles, with their points p, start the
+/// exchange loop: solved exactly as discs when `disc_exchange` applies, else by clarabel at
+/// the target tolerance under all the problem's constraints. The presolve only chooses
+/// where to look; the exchange loop still verifies (and corrects) the result. `None` when
+/// the goal is not a peak force of that form.
+pub fn enclosing_presolve(pb: &Problem, s: &Settings) -> Option<Vec<(f64, P2)>> {
     let form = DiscForm::of(pb)?;
-    let point = |phi: f64| form.point(phi);
+    // p(φ) is independent of u, and each round's refinement ends on an angle it evaluated:
+    // the disc of the refined angles and the next round's middle sample are remembered
+    // values (the same numbers, not recomputed).
+    let memo = std::cell::RefCell::new(Vec::<(f64, P2)>::with_capacity(32));
+    let point = |phi: f64| -> Option<P2> {
+        if let Some(&(_, p)) = memo
+            .borrow()
+            .iter()
+            .find(|(a, _)| a.to_bits() == phi.to_bits())
+        {
+            return Some(p);
+        }
+        let p = form.point(phi)?;
+        memo.borrow_mut().push((phi, p));
+        Some(p)
+    };
     let n = s.scan_n();
     let h = std::f64::consts::TAU / n as f64;
     let pts: Vec<P2> = match form.f.scan_grid(s) {
         Some(g) => g.iter().map(|a| form.point_of(a)).collect::<Option<_>>()?,
-        None => (0..n).map(|k| point(k as f64 * h)).collect::<Option<_>>()?,
+        None => (0..n)
+            .map(|k| form.point(k as f64 * h))
+            .collect::<Option<_>>()?,
     };
     let disc = crate::geom::enclosing_disc(&pts)?;
     let dist = |p: P2, u: P2| (p - u).norm();
@@ -808,6 +832,8 @@ pub fn enclosing_presolve(pb: &Problem, s: &Settings) -> Option<Vec<f64>> {
     // enough (3e-6 rad for 1e-9), and the loose tolerance saves Brent's end game.
     let xtol = (0.01 * s.rel_tol).sqrt().max(s.peak_xtol);
     let mut u = disc.centre;
+    let mut last_move = f64::INFINITY;
+    let mut at: Vec<(f64, P2)> = Vec::new();
     for round in 0..8 {
         let mut moved: f64 = 0.0;
         let mut refined = Vec::with_capacity(angles.len());
@@ -833,12 +859,19 @@ pub fn enclosing_presolve(pb: &Problem, s: &Settings) -> Option<Vec<f64>> {
         }
         refined.dedup_by(|a, b| angle_dist(*a, *b) <= 1e-9);
         angles = refined;
-        u = form.disc(&angles)?.centre;
-        if moved <= xtol {
+        at = angles
+            .iter()
+            .map(|&a| point(a).map(|p| (a, p)))
+            .collect::<Option<_>>()?;
+        let ps: Vec<P2> = at.iter().map(|&(_, p)| p).collect();
+        u = crate::geom::enclosing_disc(&ps)?.centre;
+        let contracting = round > 0 && moved < 0.5 * last_move;
+        if moved <= xtol || (contracting && moved * (moved / last_move) <= xtol) {
             break;
         }
+        last_move = moved;
     }
-    Some(angles)
+    Some(at)
 }
 
 /// A minimax force `max_φ ‖A(φ)u + b(φ)‖` whose every A(φ) is c·Q(φ), Q orthogonal, one
@@ -885,16 +918,6 @@ impl<'p, 'a> DiscForm<'p, 'a> {
     fn point(&self, phi: f64) -> Option<P2> {
         self.point_of(&(self.f.eval)(phi))
     }
-
-    /// The smallest disc enclosing p at `angles`: its centre is the minimax u over those
-    /// angles and c times its radius the minimax value.
-    pub(crate) fn disc(&self, angles: &[f64]) -> Option<crate::geom::Disc> {
-        let pts: Vec<P2> = angles
-            .iter()
-            .map(|&a| self.point(a))
-            .collect::<Option<_>>()?;
-        crate::geom::enclosing_disc(&pts)
-    }
 }
 
 /// The exchange loop with the sampled minimax solved exactly, as the smallest disc enclosing
@@ -905,16 +928,17 @@ impl<'p, 'a> DiscForm<'p, 'a> {
 /// presolve's angles; each round checks the refined true peak at the centre, as the SOCP
 /// loop does, and adds the maxima above the disc's bound. `None` when the problem is not of
 /// that kind (the caller then runs clarabel).
-fn disc_exchange(pb: &Problem, s: &Settings, start: &[f64]) -> Option<Solution> {
+fn disc_exchange(pb: &Problem, s: &Settings, start: &[(f64, P2)]) -> Option<Solution> {
     if !(pb.limits.is_empty() && pb.direction == Direction::Free) {
         return None;
     }
     let form = DiscForm::of(pb)?;
     let (i, c) = (form.i, form.c2.sqrt());
-    let mut samples = start.to_vec();
+    // The sampled angles and their points p(φ) (the presolve's are known).
+    let (mut samples, mut points): (Vec<f64>, Vec<P2>) = start.iter().copied().unzip();
     let mut last = None;
     for round in 1..=s.max_rounds {
-        let disc = form.disc(&samples)?;
+        let disc = crate::geom::enclosing_disc(&points)?;
         if !(disc.centre.norm() <= pb.u_max) {
             return None;
         }
@@ -967,7 +991,10 @@ fn disc_exchange(pb: &Problem, s: &Settings, start: &[f64]) -> Option<Solution> 
                 ..sol
             });
         }
-        samples.extend(added);
+        for phi in added {
+            points.push(form.point(phi)?);
+            samples.push(phi);
+        }
         last = Some(sol);
     }
     last.map(|l| Solution {

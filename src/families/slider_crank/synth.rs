@@ -862,7 +862,7 @@ struct Sampled {
     scan: Grid,
     /// The RMS grid when it differs from the scan grid.
     rms: Option<Grid>,
-    /// Work space of [`metrics_sampled`] (4 columns of the scan grid).
+    /// Work space of [`metrics_sampled`] (3 columns of the scan grid).
     scratch: std::cell::RefCell<Vec<f64>>,
     /// The refined peak drive torque (value, angle, error) when it does not depend on the
     /// counterweight (no gravity), once computed.
@@ -874,28 +874,41 @@ struct Grid {
     cs: Vec<[f64; 2]>,
     /// f₀(φₖ) (kg·m).
     f0: Vec<P2>,
-    /// ω²·T_drive0(φₖ) + T_load0(φₖ) (N·m).
+    /// ω²·T_drive0(φₖ) + T_load0(φₖ) (N·m); empty in a force-only grid.
     t0: Vec<f64>,
-    /// Shaking moment per ω², M₀(φₖ) (kg·m²).
+    /// Shaking moment per ω², M₀(φₖ) (kg·m²); empty in a force-only grid.
     m0: Vec<f64>,
 }
 
+/// What a [`Grid`] remembers besides the force.
+#[derive(Clone, Copy, PartialEq)]
+enum Columns {
+    /// Only f₀ (the minimax of the force needs nothing else).
+    Force,
+    /// f₀, the torque and the moment (the figures of a design).
+    All,
+}
+
 impl Grid {
-    fn new(scene: &Scene, n: usize) -> Grid {
+    fn new(scene: &Scene, n: usize, columns: Columns) -> Grid {
         let m = &scene.mech;
         let h = std::f64::consts::TAU / n as f64;
+        let all = columns == Columns::All;
+        let cap = if all { n } else { 0 };
         let mut g = Grid {
             cs: Vec::with_capacity(n),
             f0: Vec::with_capacity(n),
-            t0: Vec::with_capacity(n),
-            m0: Vec::with_capacity(n),
+            t0: Vec::with_capacity(cap),
+            m0: Vec::with_capacity(cap),
         };
         for k in 0..n {
             let st = m.state(k as f64 * h).expect("assembly checked");
             g.cs.push(st.cs);
             g.f0.push(force0(scene, &st));
-            g.t0.push(torque0(scene, &st));
-            g.m0.push(moment0(scene, &st));
+            if all {
+                g.t0.push(torque0(scene, &st));
+                g.m0.push(moment0(scene, &st));
+            }
         }
         g
     }
@@ -921,10 +934,11 @@ impl Sampled {
         let s = &scene.resolved_settings();
         Sampled {
             // The grids of periodic_peak (n ≥ 8) and periodic_rms (even n ≥ 8).
-            scan: Grid::new(scene, s.scan_samples.max(8)),
+            scan: Grid::new(scene, s.scan_samples.max(8), Columns::All),
+            // Only the force's RMS is taken on it.
             rms: Some((s.rms_samples.max(8) + 1) & !1)
                 .filter(|&n| n != s.scan_samples.max(8))
-                .map(|n| Grid::new(scene, n)),
+                .map(|n| Grid::new(scene, n, Columns::Force)),
             scratch: std::cell::RefCell::new(Vec::new()),
             torque_peak: std::cell::OnceCell::new(),
         }
@@ -1089,26 +1103,26 @@ fn metrics_sampled(scene: &Scene, u: P2, tab: &Sampled) -> Result<Metrics, Solve
     let w2 = omega * omega;
     let g = scene.loads.gravity;
     let f = |phi: f64| scene_force(scene, u, phi);
-    // The sampled figures in one pass: F_x, F_y, |F| and |T| on the scan grid.
+    // The sampled figures in one pass: F_x, |F| and |T| on the scan grid.
     let n = tab.scan.len();
-    // The four columns in one buffer kept by the table (no allocation per counterweight);
+    // The three columns in one buffer kept by the table (no allocation per counterweight);
     // every element is written before it is read.
     let mut cols = tab.scratch.borrow_mut();
-    cols.resize(4 * n, 0.0);
+    cols.resize(3 * n, 0.0);
     let (fx, rest) = cols.split_at_mut(n);
-    let (fy, rest) = rest.split_at_mut(n);
     let (norms, ts) = rest.split_at_mut(n);
     for k in 0..n {
         let v = tab.scan.force(k, u, w2);
-        (fx[k], fy[k]) = (v.x, v.y);
+        fx[k] = v.x;
         norms[k] = (v.x * v.x + v.y * v.y).sqrt();
         ts[k] = tab.scan.torque(k, g, u).abs();
     }
     let scale = norms.iter().fold(0.0, |a: f64, &b| a.max(b));
     let (pk, _) = grid_extremes(norms, |p| f(p).norm(), scale, false, s)?;
     let (xmax, xmin) = grid_extremes(fx, |p| f(p).x, scale, true, s)?;
-    let (ymax, ymin) = grid_extremes(fy, |p| f(p).y, scale, true, s)?;
-    let (xmin, ymin) = (xmin.expect("asked"), ymin.expect("asked"));
+    let xmin = xmin.expect("asked");
+    // F_y is one harmonic: max F_y = −min F_y in closed form, exact (no sampling error).
+    let y_amp = w2 * scene.mech.force_y_amplitude(u);
     // Without gravity the drive torque does not depend on the counterweight (its weight is
     // its only path into the torque): every counterweight of the table has the same peak,
     // computed once (the same numbers bit for bit: the weight term adds ±0).
@@ -1147,9 +1161,9 @@ fn metrics_sampled(scene: &Scene, u: P2, tab: &Sampled) -> Result<Metrics, Solve
         rms: rms.rms,
         rms_error: rms.error + ro_f,
         ptp_x: xmax.peak.fx + xmin.peak.fx,
-        ptp_y: ymax.peak.fx + ymin.peak.fx,
+        ptp_y: 2.0 * y_amp,
         peak_x: xmax.peak.fx.max(xmin.peak.fx),
-        peak_y: ymax.peak.fx.max(ymin.peak.fx),
+        peak_y: y_amp,
         peak_torque: tq_peak,
         peak_torque_angle: tq_angle,
         peak_torque_error: tq_error + ro_t,
@@ -1421,7 +1435,15 @@ pub fn optimise(scene: &Scene) -> Result<Optimum, SolveError> {
         scene.objective,
         scene.max_peak_force,
         scene.max_peak_torque,
-        &Grid::new(scene, scene.resolved_settings().scan_samples),
+        &Grid::new(
+            scene,
+            scene.resolved_settings().scan_samples,
+            if needs_torque(scene.objective, scene.max_peak_torque) {
+                Columns::All
+            } else {
+                Columns::Force
+            },
+        ),
     )
 }
 
@@ -1434,6 +1456,12 @@ fn check(scene: &Scene) -> Result<(), SolveError> {
         return Err(SolveError::NoMass);
     }
     Ok(())
+}
+
+/// Whether the minimax of `objective` under these limits has the drive torque as a field
+/// (its objective or a limit), so needs the torque on the scan grid.
+fn needs_torque(objective: Objective, max_torque: Option<f64>) -> bool {
+    objective == Objective::MinPeakTorque || max_torque.is_some()
 }
 
 /// [`optimise`] with the objective and limits given explicitly (the Pareto front solves the
@@ -1455,9 +1483,14 @@ fn optimise_with(
     let force_grid: Vec<Affine> = (0..grid.len())
         .map(|k| nf.force_of(grid.cs[k], grid.f0[k]))
         .collect();
-    let torque_grid: Vec<Affine> = (0..grid.len())
-        .map(|k| nf.torque_of(grid.cs[k], grid.t0[k]))
-        .collect();
+    // The torque on the grid only where a field needs it (a force-only grid has none).
+    let torque_grid: Vec<Affine> = if needs_torque(objective, max_torque) {
+        (0..grid.len())
+            .map(|k| nf.torque_of(grid.cs[k], grid.t0[k]))
+            .collect()
+    } else {
+        Vec::new()
+    };
     let u_ref = nf.u_ref;
     let f_ref = scene.omega * scene.omega * u_ref; // N per normalised unit
     let force = |phi: f64| nf.force(phi);
@@ -1522,7 +1555,7 @@ fn optimise_with(
             eval: &force,
             grid: Some(&force_grid),
         }];
-        if matches!(goal, Goal::MinPeak(1)) || max_torque.is_some() {
+        if needs_torque(objective, max_torque) {
             fields.push(Field {
                 name: "drive torque",
                 dim: 1,
