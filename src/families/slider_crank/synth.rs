@@ -264,8 +264,19 @@ pub fn moment0(scene: &Scene, st: &State) -> f64 {
 
 /// Shaking force (N) of the scene (links and balancers) at φ for the unbalance `u`.
 pub fn scene_force(scene: &Scene, u: P2, phi: f64) -> P2 {
-    let st = scene.mech.state(phi).expect("assembly checked");
-    (force0(scene, &st) + rot_cs(st.cs, u)) * (scene.omega * scene.omega)
+    let (cs, f0) = force0_at(scene, phi);
+    (f0 + rot_cs(cs, u)) * (scene.omega * scene.omega)
+}
+
+/// (cos φ, sin φ) and [`force0`] at φ from the force-only evaluation
+/// ([`SliderCrank::shaking_force0_at`]): the same numbers as from the whole state.
+fn force0_at(scene: &Scene, phi: f64) -> ([f64; 2], P2) {
+    let (cs, f) = scene.mech.shaking_force0_at(phi).expect("assembly checked");
+    if scene.balancers.is_empty() {
+        (cs, f)
+    } else {
+        (cs, f + P2::new(scene.balancer_force0(phi), 0.0))
+    }
 }
 
 /// Force and torque figures of one counterweight, in SI.
@@ -797,8 +808,8 @@ impl<'a> Normalised<'a> {
         self.scene.mech.state(phi).expect("assembly checked")
     }
     fn force(&self, phi: f64) -> Affine {
-        let st = self.state(phi);
-        self.force_of(st.cs, force0(self.scene, &st))
+        let (cs, f0) = force0_at(self.scene, phi);
+        self.force_of(cs, f0)
     }
     /// f̂ from (cos φ, sin φ) and f₀(φ).
     fn force_of(&self, [c, s]: [f64; 2], f0: P2) -> Affine {
@@ -827,8 +838,8 @@ impl<'a> Normalised<'a> {
 
 /// Shaking force (N) at φ for the unbalance `u` (kg·m, crank frame).
 pub fn shaking_force(mech: &SliderCrank, omega: f64, u: P2, phi: f64) -> Option<P2> {
-    mech.state(phi)
-        .map(|st| (mech.shaking_force0(&st) + rot_cs(st.cs, u)) * (omega * omega))
+    mech.shaking_force0_at(phi)
+        .map(|(cs, f0)| (f0 + rot_cs(cs, u)) * (omega * omega))
 }
 
 /// Drive torque (N·m) at φ for the unbalance `u` at constant speed:
