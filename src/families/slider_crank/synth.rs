@@ -913,12 +913,17 @@ impl Grid {
             m0: Vec::with_capacity(cap),
         };
         for k in 0..n {
-            let st = m.state(k as f64 * h).expect("assembly checked");
-            g.cs.push(st.cs);
-            g.f0.push(force0(scene, &st));
+            let phi = k as f64 * h;
             if all {
+                let st = m.state(phi).expect("assembly checked");
+                g.cs.push(st.cs);
+                g.f0.push(force0(scene, &st));
                 g.t0.push(torque0(scene, &st));
                 g.m0.push(moment0(scene, &st));
+            } else {
+                let (cs, f0) = force0_at(scene, phi);
+                g.cs.push(cs);
+                g.f0.push(f0);
             }
         }
         g
