@@ -24,9 +24,10 @@ fn bench(c: &mut Criterion) {
     c.bench_function("gear/solve_with_report_paper", |b| {
         b.iter(|| solve(black_box(&scene), &settings).unwrap())
     });
-    // The units of the arithmetic floor (docs/performance.md): one evaluation of the contact
-    // model (the poles' and the peak's searches evaluate µ through it) and one of gear 2's
-    // pitch-curve curvature, at an angle that changes every call.
+    // The units of the arithmetic floor (docs/performance.md): one evaluation of the whole
+    // contact state, one of µ alone (what the peak search samples; the pole functions cost
+    // about the same) and one of gear 2's pitch-curve curvature, at an angle that changes
+    // every call.
     let ec = EccentricCircle::new(37.5e-3, 15e-3).unwrap();
     let a = closing_center_distance(&ec, 3, 1).unwrap().a;
     let pair = GearPair::new(ec, 1.25e-3, a, 15.0).unwrap();
@@ -35,6 +36,12 @@ fn bench(c: &mut Criterion) {
         b.iter(|| {
             alpha = (alpha + 0.618_033_988_75) % std::f64::consts::TAU;
             black_box(&pair).contact_on(black_box(alpha), 0)
+        })
+    });
+    c.bench_function("gear/one_mu_evaluation", |b| {
+        b.iter(|| {
+            alpha = (alpha + 0.618_033_988_75) % std::f64::consts::TAU;
+            black_box(&pair).mu_on(black_box(alpha), 0)
         })
     });
     c.bench_function("gear/one_curvature_evaluation", |b| {

@@ -362,6 +362,27 @@ pub struct Contact {
     pub pressure_angle: f64,
 }
 
+/// The generating circle rolled to one α1 ([`GearPair::rolling`]).
+#[derive(Debug, Clone, Copy)]
+struct Rolling {
+    sigma: f64,
+    phi: f64,
+    r1: f64,
+    r2: f64,
+    d: P2,
+    two_r_s: f64,
+}
+
+/// Tangential and sliding velocities and µ of a rolled state ([`GearPair::sliding`]).
+#[derive(Debug, Clone, Copy)]
+struct Sliding {
+    vt1: f64,
+    vt2: f64,
+    v_slide: f64,
+    mu1: Option<f64>,
+    mu2: Option<f64>,
+}
+
 /// The assembled pair: gear 1, its generating circle and the centre distance.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct GearPair {
@@ -535,39 +556,30 @@ impl GearPair {
     /// Contact state at α1 with the rolling angle measured on arch i (so that ϕ may be
     /// evaluated at both cusps of the arch, 0 and 2π).
     pub fn contact_on(&self, alpha1: f64, arch: usize) -> Contact {
-        let c = &self.c;
-        let sigma = if arch.is_multiple_of(2) { 1.0 } else { -1.0 };
-        let phi = self.n_arches as f64
-            * (c.theta_of_alpha(alpha1) - TAU * arch as f64 / self.n_arches as f64);
-        let (sh, ch) = (0.5 * phi).sin_cos();
-        let r1 = c.rho1(alpha1);
-        let r2 = self.a - r1;
-        let (sp, cp) = c.psi_sin_cos(alpha1);
-        let t = P2::new(sp, cp);
-        let n = P2::new(cp, -sp);
-        let d = n * (sigma * sh) - t * ch;
+        let rl = self.rolling(alpha1, arch);
+        let Rolling {
+            sigma,
+            phi,
+            r1,
+            r2,
+            d,
+            ..
+        } = rl;
         let p = P2::new(r1, 0.0);
-        let k = p + d * (2.0 * self.r_gen * sh);
+        let k = Self::contact_point(&rl);
         let om1 = -self.omega1;
         let om2 = self.omega1 * r1 / r2;
         let w1 = k;
         let w2 = k - P2::new(self.a, 0.0);
         let v1 = P2::new(-w1.y, w1.x) * om1;
         let v2 = P2::new(-w2.y, w2.x) * om2;
-        let two_r_s = 2.0 * self.r_gen * sh;
-        let vt1 = om1 * (r1 * d.x + two_r_s);
-        let vt2 = om2 * (-r2 * d.x + two_r_s);
-        let v_slide = (om1 - om2) * two_r_s;
-        let mu1 = if vt1 != 0.0 {
-            Some(v_slide / vt1)
-        } else {
-            None
-        };
-        let mu2 = if vt2 != 0.0 {
-            Some(-v_slide / vt2)
-        } else {
-            None
-        };
+        let Sliding {
+            vt1,
+            vt2,
+            v_slide,
+            mu1,
+            mu2,
+        } = self.sliding(&rl);
         let pressure_angle = w2.dot(&d).abs().atan2(cross(w2, d).abs());
         Contact {
             arch,
@@ -587,16 +599,69 @@ impl GearPair {
         }
     }
 
+    /// (µ1, µ2) at α1 on arch i, as [`Self::contact_on`] computes them (the same
+    /// expressions, so the same bits) without the contact point's velocities and the
+    /// pressure angle: what the peak search samples.
+    pub fn mu_on(&self, alpha1: f64, arch: usize) -> (Option<f64>, Option<f64>) {
+        let sl = self.sliding(&self.rolling(alpha1, arch));
+        (sl.mu1, sl.mu2)
+    }
+
+    /// The generating circle rolled to α1 on arch i: σ, ϕ, ρ1, ρ2 = a − ρ1, the unit normal
+    /// d = σ sin(ϕ/2)·n − cos(ϕ/2)·t (t, n the pitch tangent and normal) and 2r sin(ϕ/2).
+    fn rolling(&self, alpha1: f64, arch: usize) -> Rolling {
+        let c = &self.c;
+        let sigma = if arch.is_multiple_of(2) { 1.0 } else { -1.0 };
+        let phi = self.n_arches as f64
+            * (c.theta_of_alpha(alpha1) - TAU * arch as f64 / self.n_arches as f64);
+        let (sh, ch) = (0.5 * phi).sin_cos();
+        let r1 = c.rho1(alpha1);
+        let (sp, cp) = c.psi_sin_cos(alpha1);
+        let t = P2::new(sp, cp);
+        let n = P2::new(cp, -sp);
+        Rolling {
+            sigma,
+            phi,
+            r1,
+            r2: self.a - r1,
+            d: n * (sigma * sh) - t * ch,
+            two_r_s: 2.0 * self.r_gen * sh,
+        }
+    }
+
+    /// The contact point K = P + 2r sin(ϕ/2)·d of a rolled state, P = (ρ1, 0).
+    fn contact_point(rl: &Rolling) -> P2 {
+        P2::new(rl.r1, 0.0) + rl.d * rl.two_r_s
+    }
+
+    /// The tangential velocities and the sliding coefficients of a rolled state:
+    /// v_t1 = Ω1' (ρ1 d_x + 2r sin(ϕ/2)), v_t2 = Ω2 (−ρ2 d_x + 2r sin(ϕ/2)) with Ω1' = −Ω1,
+    /// Ω2 = Ω1 ρ1/ρ2, v_slide = (Ω1' − Ω2)·2r sin(ϕ/2), µ1 = v_slide/v_t1, µ2 = −v_slide/v_t2.
+    fn sliding(&self, rl: &Rolling) -> Sliding {
+        let om1 = -self.omega1;
+        let om2 = self.omega1 * rl.r1 / rl.r2;
+        let vt1 = om1 * (rl.r1 * rl.d.x + rl.two_r_s);
+        let vt2 = om2 * (-rl.r2 * rl.d.x + rl.two_r_s);
+        let v_slide = (om1 - om2) * rl.two_r_s;
+        Sliding {
+            vt1,
+            vt2,
+            v_slide,
+            mu1: (vt1 != 0.0).then(|| v_slide / vt1),
+            mu2: (vt2 != 0.0).then(|| -v_slide / vt2),
+        }
+    }
+
     /// v_t1/Ω1 = (K − O1)·d (m): zero exactly at the poles of µ1.
     pub fn pole_fn_mu1(&self, alpha1: f64, arch: usize) -> f64 {
-        let ct = self.contact_on(alpha1, arch);
-        ct.k.dot(&ct.d)
+        let rl = self.rolling(alpha1, arch);
+        Self::contact_point(&rl).dot(&rl.d)
     }
 
     /// v_t2/Ω2 = (K − O2)·d (m): zero exactly at the poles of µ2.
     pub fn pole_fn_mu2(&self, alpha1: f64, arch: usize) -> f64 {
-        let ct = self.contact_on(alpha1, arch);
-        (ct.k - P2::new(self.a, 0.0)).dot(&ct.d)
+        let rl = self.rolling(alpha1, arch);
+        (Self::contact_point(&rl) - P2::new(self.a, 0.0)).dot(&rl.d)
     }
 }
 
@@ -900,13 +965,11 @@ fn peak_mu_once(
             if start < a1 {
                 pieces.push((start, a1));
             }
-            let mu_at = |x: f64| {
-                let ct = pair.contact_on(x, i);
-                match which {
-                    Which::Mu1 => ct.mu1,
-                    Which::Mu2 => ct.mu2,
-                }
+            let pick = |(mu1, mu2): (Option<f64>, Option<f64>)| match which {
+                Which::Mu1 => mu1,
+                Which::Mu2 => mu2,
             };
+            let mu_at = |x: f64| pick(pair.mu_on(x, i));
             // Exactly at a 0/0 cusp (reachable only with a zero window) µ has no value; its
             // one-sided limit from inside the arch is taken, 1e-9 of the arch away.
             let nudge = 1e-9 * (a1 - a0);
@@ -918,8 +981,9 @@ fn peak_mu_once(
                 .map(|p| p.error_rad)
                 .fold(if window == 0.0 { nudge } else { 0.0 }, f64::max)
                 + pair.eval_shift(a1);
-            let mu = |x: f64| {
-                mu_at(x)
+            // |µ| at x from its value there (`first`, None at a 0/0 cusp).
+            let mu_from = |x: f64, first: Option<f64>| {
+                first
                     .or_else(|| {
                         mu_at(if x - a0 < a1 - x {
                             x + nudge
@@ -929,6 +993,7 @@ fn peak_mu_once(
                     })
                     .map_or(f64::INFINITY, f64::abs)
             };
+            let mu = |x: f64| mu_from(x, mu_at(x));
             for (u, v) in pieces {
                 if v <= u {
                     continue;
@@ -937,13 +1002,19 @@ fn peak_mu_once(
                 let xs: Vec<f64> = (0..=m)
                     .map(|k| if k == m { v } else { u + k as f64 * h })
                     .collect();
-                let ys: Vec<f64> = xs.iter().map(|&x| mu(x)).collect();
+                // One evaluation per sample gives |µ| and, on the µ1 pass, the asymmetry.
+                let mus: Vec<(Option<f64>, Option<f64>)> =
+                    xs.iter().map(|&x| pair.mu_on(x, i)).collect();
+                let ys: Vec<f64> = xs
+                    .iter()
+                    .zip(&mus)
+                    .map(|(&x, &m12)| mu_from(x, pick(m12)))
+                    .collect();
                 evals += m + 1;
                 // Asymmetry µ1 + µ2 at the samples (only once, on the µ1 pass).
                 if which == Which::Mu1 {
-                    for &x in &xs {
-                        let ct = pair.contact_on(x, i);
-                        if let (Some(m1), Some(m2)) = (ct.mu1, ct.mu2) {
+                    for (&x, &m12) in xs.iter().zip(&mus) {
+                        if let (Some(m1), Some(m2)) = m12 {
                             if sing.poles.iter().all(|p| near(x, p.alpha1_rad) > window) {
                                 best.max_asymmetry = best.max_asymmetry.max((m1 + m2).abs());
                             }
@@ -1020,6 +1091,25 @@ pub fn min_gear2_curvature(pair: &GearPair, n: usize) -> Result<(f64, f64, f64),
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn mu_only_and_pole_functions_are_bit_identical_to_the_contact_state() {
+        let ec = EccentricCircle::new(37.5e-3, 15e-3).unwrap();
+        let a = closing_center_distance(&ec, 3, 1).unwrap().a;
+        let pair = GearPair::new(ec, 1.25e-3, a, 15.0).unwrap();
+        for k in 0..5_003 {
+            let al = k as f64 * TAU / 5_003.0;
+            for arch in [pair.arch_of(al), 0, 1] {
+                let ct = pair.contact_on(al, arch);
+                assert_eq!(pair.mu_on(al, arch), (ct.mu1, ct.mu2), "α {al} arch {arch}");
+                assert_eq!(pair.pole_fn_mu1(al, arch), ct.k.dot(&ct.d));
+                assert_eq!(
+                    pair.pole_fn_mu2(al, arch),
+                    (ct.k - P2::new(pair.a, 0.0)).dot(&ct.d)
+                );
+            }
+        }
+    }
 
     #[test]
     fn rho1_stable_form_agrees_with_law_of_cosines() {
