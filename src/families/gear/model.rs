@@ -927,8 +927,14 @@ fn peak_mu_once(
     let mut evals = 0usize;
     let mut err: f64 = 0.0;
     let singular_cusps = sing.singular_cusps();
+    // Distance on the circle between two angles of [0, 2π] (samples of the arches and
+    // poles): |x − c| folded once, without the `rem_euclid` (a software `fmod`) that made
+    // this test, run for every sample against every pole, a third of the peak search.
     let near = |x: f64, c: f64| {
-        let d = (x - c).rem_euclid(TAU);
+        let mut d = (x - c).abs();
+        while d > TAU {
+            d -= TAU;
+        }
         d.min(TAU - d)
     };
     for i in 0..pair.n_arches {
