@@ -940,6 +940,19 @@ fn peak_mu_once(
     for i in 0..pair.n_arches {
         let a0 = pair.arch_start(i);
         let a1 = pair.arch_start(i + 1);
+        // The poles (of either µ) that can be within the window of a sample of this arch:
+        // the asymmetry's test below needs only these (the others are farther than the
+        // window from every point of [a0, a1]; a margin of 1e-9 rad keeps the borderline).
+        let nearby: Vec<f64> = sing
+            .poles
+            .iter()
+            .map(|p| p.alpha1_rad)
+            .filter(|&c| {
+                [-TAU, 0.0, TAU]
+                    .iter()
+                    .any(|s| c + s >= a0 - window - 1e-9 && c + s <= a1 + window + 1e-9)
+            })
+            .collect();
         for which in [Which::Mu1, Which::Mu2] {
             // Excluded intervals inside this arch.
             let mut cuts: Vec<(f64, f64)> = Vec::new();
@@ -1021,7 +1034,7 @@ fn peak_mu_once(
                 if which == Which::Mu1 {
                     for (&x, &m12) in xs.iter().zip(&mus) {
                         if let (Some(m1), Some(m2)) = m12 {
-                            if sing.poles.iter().all(|p| near(x, p.alpha1_rad) > window) {
+                            if nearby.iter().all(|&c| near(x, c) > window) {
                                 best.max_asymmetry = best.max_asymmetry.max((m1 + m2).abs());
                             }
                         }
