@@ -135,7 +135,7 @@ pub struct Settings {
     pub initial_samples: usize,
     /// Angles of the scan that brackets the local maxima of a design, or `"auto"` (the
     /// default, stored as [`AUTO`]): the family chooses the count from the scene's bandwidth
-    /// (the slider-crank: `Scene::samples`); an engine given `AUTO` uses [`FALLBACK_SAMPLES`].
+    /// (the slider-crank: `Scene::auto_samples`); an engine given `AUTO` uses [`FALLBACK_SAMPLES`].
     #[serde(with = "samples_setting")]
     #[schemars(with = "samples_setting::Schema")]
     pub scan_samples: usize,

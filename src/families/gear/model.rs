@@ -376,6 +376,9 @@ struct Rolling {
 /// Tangential and sliding velocities and µ of a rolled state ([`GearPair::sliding`]).
 #[derive(Debug, Clone, Copy)]
 struct Sliding {
+    /// −Ω1 and Ω2 = Ω1 ρ1/ρ2.
+    om1: f64,
+    om2: f64,
     vt1: f64,
     vt2: f64,
     v_slide: f64,
@@ -558,28 +561,23 @@ impl GearPair {
     pub fn contact_on(&self, alpha1: f64, arch: usize) -> Contact {
         let rl = self.rolling(alpha1, arch);
         let Rolling {
-            sigma,
-            phi,
-            r1,
-            r2,
-            d,
-            ..
+            sigma, phi, r1, d, ..
         } = rl;
         let p = P2::new(r1, 0.0);
         let k = Self::contact_point(&rl);
-        let om1 = -self.omega1;
-        let om2 = self.omega1 * r1 / r2;
-        let w1 = k;
-        let w2 = k - P2::new(self.a, 0.0);
-        let v1 = P2::new(-w1.y, w1.x) * om1;
-        let v2 = P2::new(-w2.y, w2.x) * om2;
         let Sliding {
+            om1,
+            om2,
             vt1,
             vt2,
             v_slide,
             mu1,
             mu2,
         } = self.sliding(&rl);
+        let w1 = k;
+        let w2 = k - P2::new(self.a, 0.0);
+        let v1 = P2::new(-w1.y, w1.x) * om1;
+        let v2 = P2::new(-w2.y, w2.x) * om2;
         let pressure_angle = w2.dot(&d).abs().atan2(cross(w2, d).abs());
         Contact {
             arch,
@@ -644,6 +642,8 @@ impl GearPair {
         let vt2 = om2 * (-rl.r2 * rl.d.x + rl.two_r_s);
         let v_slide = (om1 - om2) * rl.two_r_s;
         Sliding {
+            om1,
+            om2,
             vt1,
             vt2,
             v_slide,

@@ -154,7 +154,8 @@ impl SliderCrank {
     /// x'' = −R cos φ − (R² cos²φ − σ R sin φ)/k − σ² R² cos²φ / k³,
     /// ψ = atan2(−σ, k), ψ' = −R cos φ / k, ψ'' = R sin φ / k − σ R² cos²φ / k³.
     pub fn state(&self, phi: f64) -> Option<State> {
-        let Loop { s, c, sigma, k, k2 } = self.close(phi)?;
+        let lp = self.close(phi)?;
+        let Loop { s, c, sigma, k, k2 } = lp;
         let r = self.r;
         let rc = r * c;
         let dpsi = match self.kinematics {
@@ -164,7 +165,7 @@ impl SliderCrank {
                 [-lam * c, lam * s]
             }
         };
-        let x2 = self.slider_acc(phi, &Loop { s, c, sigma, k, k2 });
+        let x2 = self.slider_acc(phi, &lp);
         let x = match self.kinematics {
             Kinematics::Exact => [rc + k, -r * s - sigma * rc / k, x2],
             Kinematics::TwoHarmonic => {

@@ -1499,17 +1499,15 @@ fn optimise_with(
     let force_grid: Vec<Affine> = (0..grid.len())
         .map(|k| nf.force_of(grid.cs[k], grid.f0[k]))
         .collect();
-    // The torque on the grid only where a field needs it; from the grid's column when it
-    // has one, else evaluated at the same angles (the same numbers).
-    let torque_grid: Vec<Affine> = if !needs_torque(objective, max_torque) {
-        Vec::new()
-    } else if grid.t0.len() == grid.len() {
+    // The torque on the grid only where a field needs it (the callers pass a grid with the
+    // torque column then: `Columns::All`).
+    let torque_grid: Vec<Affine> = if needs_torque(objective, max_torque) {
+        debug_assert_eq!(grid.t0.len(), grid.len(), "the torque needs Columns::All");
         (0..grid.len())
             .map(|k| nf.torque_of(grid.cs[k], grid.t0[k]))
             .collect()
     } else {
-        let h = std::f64::consts::TAU / grid.len() as f64;
-        (0..grid.len()).map(|k| nf.torque(k as f64 * h)).collect()
+        Vec::new()
     };
     let u_ref = nf.u_ref;
     let f_ref = scene.omega * scene.omega * u_ref; // N per normalised unit
