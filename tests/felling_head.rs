@@ -228,6 +228,8 @@ fn felling_head_result_reports_formula_6_and_the_papers_inconsistencies() {
     let opt = r.objectives["peak_drive_torque_nm"];
     assert!(opt < paper && paper < none);
     assert!(r.extra.contains_key("pareto"));
+    let mut r = r;
+    r.complete();
     assert!(
         r.plots.iter().any(|p| p.suffix == "pareto")
             && r.tables.iter().any(|t| t.suffix == "pareto")
@@ -381,6 +383,8 @@ fn speed_sweep_moves_the_torque_optimum_only_with_gravity() {
             / sweep[0]["omega_rad_s"].as_f64().unwrap().powi(2);
         assert!((ratio - r0).abs() < 1e-8 * r0);
     }
+    let mut r = r;
+    r.complete();
     assert!(r.plots.iter().any(|p| p.suffix == "speed-sweep"));
 }
 

@@ -490,6 +490,9 @@ fn tooth_options_are_checked_and_off_by_default() {
     );
     assert!(!r.derived.contains_key("sliding_distance_max_gear1_m"));
     assert!(!r.extra.contains_key("flank_wear"));
+    let mut r = r;
+    r.complete();
+    assert!(!r.tables.is_empty());
     assert!(r.tables.iter().all(|t| t.suffix != "tooth-profiles"));
     let on = cwsynth::families::solve_scene(
         &cwsynth::families::parse_str(&base, std::path::Path::new("on.toml")).unwrap(),

@@ -7,6 +7,7 @@
 
 mod common;
 
+mod architecture;
 mod batch;
 mod calibrate;
 mod certified;
@@ -37,6 +38,7 @@ mod mutants;
 mod problem_files;
 mod properties;
 mod schema;
+mod scotch_yoke;
 mod slider_crank;
 mod slider_crank_balancers;
 mod study;

@@ -184,6 +184,8 @@ fn two_harmonic_full_balance_is_the_closed_form() {
     assert!((res.design["balancer1_unbalance_kgm"] - mc * r).abs() < tol);
     assert!((res.design["balancer1_phase_rad"] - PI).abs() < 1e-6);
     assert!((res.design["balancer2_shaft_unbalance_kgm"] - mc * r * lam / 8.0).abs() < tol);
+    let mut res = res;
+    res.complete();
     assert!(res.tables.iter().any(|t| t.suffix == "balancers"));
 }
 
@@ -443,7 +445,8 @@ fn joint_loads_satisfy_newton_euler_by_finite_differences() {
 #[test]
 fn joint_loads_match_the_linkage_family() {
     let lk = load(Path::new("problems/linkage-piston-1000rpm.toml")).unwrap();
-    let lr = solve_scene(&lk);
+    let mut lr = solve_scene(&lk);
+    lr.complete();
     let ux = lr.design["crank_counterweight_first_moment_x_kgm"];
     let uy = lr.design["crank_counterweight_first_moment_y_kgm"];
     let table = lr

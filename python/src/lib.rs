@@ -109,8 +109,12 @@ fn solve(
         Ok(batch::isolate(|| {
             let mut r = families::solve_scene(&scene);
             let json = serde_json::to_string(&r.to_json()).expect("plain data");
+            // The tables are the report's, made now: all of them with `complete`, else
+            // those of the solution without the analyses only written files carry.
             if complete {
                 r.complete();
+            } else {
+                r.draw();
             }
             let tables = r
                 .tables

@@ -141,12 +141,67 @@ pub fn machine<K: Machine>(r: Resolved<K>) -> Resolved<Arc<dyn Machine>> {
     }
 }
 
-/// Implements [`Family`] for the unit struct `$family` (declared here, with its doc) and
-/// [`Machine`] for `$problem` from the parts every family folder has: `file::{FAMILY,
-/// COUNTS, resolve, File, TEMPLATE}` (its schema derived from `File`), `report::result` and `study::{headline, ladder,
-/// effects}`. Invoked once in each family's `mod.rs`.
+/// Implements [`Family`] for the unit struct `$family` (declared here, with its doc),
+/// [`Machine`] for `$problem` through the one driver ([`super::driver::drive`]), and the
+/// driver's [`super::driver::Solve`] from the parts every family folder has:
+/// `file::{FAMILY, COUNTS, resolve, File, TEMPLATE}` (its schema derived from `File`),
+/// `solve::{solve, Solution, analyse, Analyses}` (every number), `report::{model, numbers,
+/// documents, analysis_documents}` (the result drawn from the solution) and `study::{headline, ladder, effects}`.
+/// Invoked once in each family's `mod.rs` (`cwsynth::family_folder!(Family, Problem)`); a
+/// family defined outside this crate invokes it the same way beside the same four modules and
+/// adds itself with [`super::register`].
+#[macro_export]
 macro_rules! family_folder {
     ($(#[$doc:meta])* $family:ident, $problem:ty) => {
+        $crate::family_folder!(@family $(#[$doc])* $family);
+
+        impl $crate::families::driver::Solve for $problem {
+            type Solution = solve::Solution;
+            type Analyses = solve::Analyses;
+            fn model(
+                &self,
+                sol: Option<&solve::Solution>,
+            ) -> std::collections::BTreeMap<String, serde_json::Value> {
+                report::model(self, sol)
+            }
+            fn solve(&self) -> Result<solve::Solution, String> {
+                solve::solve(self)
+            }
+            fn numbers(
+                &self,
+                scene: &$crate::families::family::Scene,
+                sol: &solve::Solution,
+                r: &mut $crate::report::SolveResult,
+            ) {
+                report::numbers(scene, self, sol, r)
+            }
+            fn documents(
+                &self,
+                scene: &$crate::families::family::Scene,
+                sol: &solve::Solution,
+                r: &mut $crate::report::SolveResult,
+            ) {
+                report::documents(scene, self, sol, r)
+            }
+            fn analyse(&self, sol: &solve::Solution) -> solve::Analyses {
+                solve::analyse(self, sol)
+            }
+            fn analysis_documents(
+                &self,
+                scene: &$crate::families::family::Scene,
+                sol: &solve::Solution,
+                analyses: &solve::Analyses,
+                r: &mut $crate::report::SolveResult,
+            ) {
+                report::analysis_documents(scene, self, sol, analyses, r)
+            }
+        }
+
+        $crate::family_folder!(@machine $problem, |scene, p| {
+            $crate::families::driver::drive(scene, p)
+        });
+    };
+    (@family $(#[$doc:meta])* $family:ident) => {
         $(#[$doc])*
         #[derive(Debug)]
         pub struct $family;
@@ -177,10 +232,12 @@ macro_rules! family_folder {
                 file::TEMPLATE
             }
         }
-
+    };
+    (@machine $problem:ty, |$scene:ident, $p:ident| $solve:expr) => {
         impl $crate::families::family::Machine for $problem {
-            fn solve(&self, scene: &$crate::families::family::Scene) -> $crate::report::SolveResult {
-                report::result(scene, self)
+            fn solve(&self, $scene: &$crate::families::family::Scene) -> $crate::report::SolveResult {
+                let $p = self;
+                $solve
             }
             fn headline(&self) -> String {
                 study::headline(self)
@@ -201,4 +258,3 @@ macro_rules! family_folder {
         }
     };
 }
-pub(crate) use family_folder;

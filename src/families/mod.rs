@@ -13,7 +13,10 @@ pub mod hypocycloid;
 pub mod linkage;
 pub mod slider_crank;
 
+pub mod driver;
 pub mod family;
+
+pub use driver::{drive, Solve};
 
 pub use family::{machine, relative, Effect, Family, Ladder, Machine, Rung, Scene};
 
@@ -32,9 +35,45 @@ pub static FAMILIES: [&dyn Family; 5] = [
     &linkage::LinkageFamily,
 ];
 
+/// Families added at run time by a program or test that links cwsynth as a library
+/// ([`register`]), after the shipped [`FAMILIES`].
+static REGISTERED: std::sync::RwLock<Vec<&'static dyn Family>> = std::sync::RwLock::new(Vec::new());
+
+/// Adds a family defined outside this crate to the registry: its files then load, solve,
+/// batch and study as the shipped families' do (the JSON Schema and the CLI's lists stay the
+/// shipped families'). Registering the same family again is a no-op; another family under a
+/// name already taken is refused.
+pub fn register(family: &'static dyn Family) -> Result<(), String> {
+    let mut reg = REGISTERED.write().unwrap_or_else(|e| e.into_inner());
+    match all_in(&reg).into_iter().find(|f| f.name() == family.name()) {
+        Some(f) if std::ptr::addr_eq(f, family) => Ok(()),
+        Some(_) => Err(format!(
+            "a family named `{}` is already registered",
+            family.name()
+        )),
+        None => {
+            reg.push(family);
+            Ok(())
+        }
+    }
+}
+
+/// Every family: the shipped ones, then the registered ones.
+pub fn all() -> Vec<&'static dyn Family> {
+    all_in(&REGISTERED.read().unwrap_or_else(|e| e.into_inner()))
+}
+
+fn all_in(registered: &[&'static dyn Family]) -> Vec<&'static dyn Family> {
+    FAMILIES.iter().chain(registered).copied().collect()
+}
+
 /// The family named `name` in a file or result.
 pub fn by_name(name: &str) -> Option<&'static dyn Family> {
-    FAMILIES.iter().copied().find(|f| f.name() == name)
+    FAMILIES
+        .iter()
+        .copied()
+        .find(|f| f.name() == name)
+        .or_else(|| all().into_iter().find(|f| f.name() == name))
 }
 
 /// A commented problem file of `family` to start from (`cwsynth new <family>`): the
@@ -100,10 +139,7 @@ pub fn parse_table(table: toml::Table, path: &Path) -> Result<Scene, ProblemErro
 
 /// The allowed `family` values, for messages.
 fn allowed() -> String {
-    let names: Vec<String> = FAMILIES
-        .iter()
-        .map(|f| format!("\"{}\"", f.name()))
-        .collect();
+    let names: Vec<String> = all().iter().map(|f| format!("\"{}\"", f.name())).collect();
     format!("allowed: {}", names.join(", "))
 }
 
@@ -118,7 +154,7 @@ fn resolve(ctx: &Ctx, header: Header, input: Input) -> Result<Scene, ProblemErro
         .ok_or_else(|| {
             let hint = value
                 .as_str()
-                .and_then(|v| crate::units::did_you_mean(v, FAMILIES.iter().map(|f| f.name())))
+                .and_then(|v| crate::units::did_you_mean(v, all().iter().map(|f| f.name())))
                 .map(|n| format!("; did you mean `{n}`?"))
                 .unwrap_or_default();
             ctx.field_error(FieldError::new(

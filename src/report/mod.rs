@@ -193,7 +193,13 @@ impl PartialEq for Plot {
     }
 }
 
-/// Work on a result that only its files need (a diagnostic grid, say): run by
+/// The label of the [`Deferred`] work that makes a result's tables, plots and drawings.
+pub const DOCUMENTS: &str = "documents";
+/// The label of the [`Deferred`] work that runs the analyses only a result's files carry (a
+/// diagnostic grid) and adds their sections, tables and plots.
+pub const ANALYSES: &str = "analyses";
+
+/// Work on a result that only its files need (its documents, a diagnostic grid): run by
 /// [`SolveResult::complete`] when the result is written, never for a result that is only
 /// printed or summarised (`solve --json`, `batch --summary-only`, `study`). It may add
 /// `extra` sections, tables and plots.
@@ -349,10 +355,23 @@ impl SolveResult {
         }
     }
 
-    /// Does the [`Deferred`] work (once): what a result's files carry beyond its numbers.
-    /// Writers call it before they write; [`write_outputs`] does.
+    /// Does the [`Deferred`] work (once), in order: what a result's files carry beyond its
+    /// numbers — its tables, plots and drawings ([`DOCUMENTS`]) and the analyses only the
+    /// files need ([`ANALYSES`]). Writers call it before they write; [`write_outputs`] does.
     pub fn complete(&mut self) {
         for d in std::mem::take(&mut self.deferred) {
+            (d.fill)(self);
+        }
+    }
+
+    /// Makes the result's tables, plots and drawings ([`DOCUMENTS`]) without the analyses
+    /// only written files carry (those stay deferred for [`SolveResult::complete`]).
+    pub fn draw(&mut self) {
+        let (now, later): (Vec<Deferred>, Vec<Deferred>) = std::mem::take(&mut self.deferred)
+            .into_iter()
+            .partition(|d| d.label == DOCUMENTS);
+        self.deferred = later;
+        for d in now {
             (d.fill)(self);
         }
     }

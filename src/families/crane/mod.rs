@@ -6,11 +6,12 @@ pub mod balance;
 pub mod file;
 pub mod model;
 pub mod report;
+pub mod solve;
 pub mod statics;
 pub mod study;
 pub mod synth;
 
-crate::families::family::family_folder!(
+crate::family_folder!(
     /// Level-luffing four-bar jib crane.
     LuffingCrane,
     file::CraneProblem

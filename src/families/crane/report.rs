@@ -3,6 +3,7 @@
 //! `docs/results.md`).
 
 use super::file::*;
+use super::solve::{Analyses, Solution, Statics};
 use crate::families::crane::balance;
 use crate::families::crane::model::{synthesize, Angles, Boom, Guide};
 use crate::families::crane::statics::boom_frame;
@@ -14,10 +15,9 @@ use crate::geom::P2;
 use crate::report::drawing::{Drawing, Layer, Sheet};
 use crate::report::numbers::key;
 use crate::report::plot::{self, Grid, Panel, PlotError, Series};
-use crate::report::{number_map, Deferred, PaperCheck, Plot, SolveResult, Status, Table};
+use crate::report::{number_map, PaperCheck, Plot, SolveResult, Status, Table};
 use serde_json::json;
 use std::collections::BTreeMap;
-use std::time::Instant;
 
 fn status_detail(s: CraneStatus) -> &'static str {
     match s {
@@ -33,20 +33,14 @@ fn status_detail(s: CraneStatus) -> &'static str {
     }
 }
 
-/// The result of a luffing-crane scene: solve, then shape keys, checks, paper, plots, CSV.
-pub fn result(scene: &Scene, s: &CraneProblem) -> SolveResult {
-    let mut r = scene.new_result();
-    let (cs, set) = (&s.scene, &s.settings);
-    let t0 = Instant::now();
-    let out = match cr::solve(cs, set) {
-        Ok(o) => o,
-        Err(e) => {
-            r.warnings.push(e.to_string());
-            return r;
-        }
+/// The result's `model` section: the sizing rule the solve used, the path, the tie-pin limit,
+/// the allowed Δh and what gravity enters (none before a solution).
+pub fn model(s: &CraneProblem, sol: Option<&Solution>) -> BTreeMap<String, serde_json::Value> {
+    let Some(sol) = sol else {
+        return BTreeMap::new();
     };
-    r.timing.solve_s = t0.elapsed().as_secs_f64();
-    r.model = BTreeMap::from([
+    let (cs, set, out) = (&s.scene, &s.settings, &sol.out);
+    let mut m = BTreeMap::from([
         ("boom_length_sizing".into(), json!(out.sizing_rule)),
         (
             "path".into(),
@@ -72,6 +66,19 @@ pub fn result(scene: &Scene, s: &CraneProblem) -> SolveResult {
             }),
         ),
     ]);
+    if sol.balance().is_some() {
+        m.insert(
+            "gravity".into(),
+            json!("boom, jib, tie and load weights (g = 9.80665 m/s²), quasi-static luffing; the hoist rope's pull on the jib is not modelled (the load hangs at the jib head)"),
+        );
+    }
+    m
+}
+
+/// The result's numbers from the solution: status, design, objectives, errors, derived
+/// figures, the thesis's checks, the sections and the statics.
+pub fn numbers(scene: &Scene, s: &CraneProblem, sol: &Solution, r: &mut SolveResult) {
+    let (cs, out) = (&s.scene, &sol.out);
     r.status = match out.status {
         CraneStatus::Evaluated => Status::Analysed,
         CraneStatus::BestFound => Status::BestFound,
@@ -86,72 +93,84 @@ pub fn result(scene: &Scene, s: &CraneProblem) -> SolveResult {
     r.search = out.search.clone();
     r.warnings = out.warnings.clone();
     r.design = number_map(&out.design);
-    // Free variables the search left on a bound of their range: the range decides them.
     if r.status == Status::BestFound {
-        let v = &out.design.vars;
-        let free = [
-            (
-                "k1",
-                "design.k1",
-                &cs.k1,
-                v.k1,
-                "the middle design position C2 between C1 and C3",
-            ),
-            (
-                "k2",
-                "design.k2",
-                &cs.k2,
-                v.k2,
-                "the jib tail over the jib head length",
-            ),
-            (
-                "phi_min_rad",
-                "design.phi_min",
-                &cs.phi_min,
-                v.phi_min_rad,
-                "the boom elevation at maximum reach",
-            ),
-            (
-                "gamma1_rad",
-                "design.gamma1",
-                &cs.gamma1,
-                v.gamma1_rad,
-                "the boom from vertical at minimum reach",
-            ),
-            (
-                "gamma2_rad",
-                "design.gamma2",
-                &cs.gamma2,
-                v.gamma2_rad,
-                "the jib from vertical at minimum reach",
-            ),
-            (
-                "gamma3_rad",
-                "design.gamma3",
-                &cs.gamma3,
-                v.gamma3_rad,
-                "the jib below horizontal at maximum reach",
-            ),
-        ];
-        for (key, field, var, value, what) in free {
-            if var.fixed().is_none() {
-                let lo = format!("{what} at the least the range allows: the range, not an interior optimum, decides it");
-                let hi = format!("{what} at the most the range allows: the range, not an interior optimum, decides it");
-                r.bounds.extend(crate::report::ActiveBound::check(
-                    &format!("design.{key}"),
-                    value,
-                    var.bounds(),
-                    1e-6,
-                    (field, &lo),
-                    (field, &hi),
-                ));
-            }
-        }
+        range_bounds(r, cs, out);
     }
     r.objectives = number_map(&out.objectives);
     r.errors = number_map(&out.errors);
     r.derived = number_map(&out.derived);
-    thesis_checks(&mut r, scene, cs, &out);
+    thesis_checks(r, scene, cs, out);
+    sections(r, out);
+    if let Some(st) = &sol.statics {
+        statics_numbers(r, s, out, st);
+    }
+}
+
+/// Free variables the search left on a bound of their range: the range decides them.
+fn range_bounds(r: &mut SolveResult, cs: &cr::CraneScene, out: &Outcome) {
+    let v = &out.design.vars;
+    let free = [
+        (
+            "k1",
+            "design.k1",
+            &cs.k1,
+            v.k1,
+            "the middle design position C2 between C1 and C3",
+        ),
+        (
+            "k2",
+            "design.k2",
+            &cs.k2,
+            v.k2,
+            "the jib tail over the jib head length",
+        ),
+        (
+            "phi_min_rad",
+            "design.phi_min",
+            &cs.phi_min,
+            v.phi_min_rad,
+            "the boom elevation at maximum reach",
+        ),
+        (
+            "gamma1_rad",
+            "design.gamma1",
+            &cs.gamma1,
+            v.gamma1_rad,
+            "the boom from vertical at minimum reach",
+        ),
+        (
+            "gamma2_rad",
+            "design.gamma2",
+            &cs.gamma2,
+            v.gamma2_rad,
+            "the jib from vertical at minimum reach",
+        ),
+        (
+            "gamma3_rad",
+            "design.gamma3",
+            &cs.gamma3,
+            v.gamma3_rad,
+            "the jib below horizontal at maximum reach",
+        ),
+    ];
+    for (key, field, var, value, what) in free {
+        if var.fixed().is_none() {
+            let lo = format!("{what} at the least the range allows: the range, not an interior optimum, decides it");
+            let hi = format!("{what} at the most the range allows: the range, not an interior optimum, decides it");
+            r.bounds.extend(crate::report::ActiveBound::check(
+                &format!("design.{key}"),
+                value,
+                var.bounds(),
+                1e-6,
+                (field, &lo),
+                (field, &hi),
+            ));
+        }
+    }
+}
+
+/// The sections of the synthesis: the checks, evaluations, positions and basins.
+fn sections(r: &mut SolveResult, out: &Outcome) {
     let checks: Vec<serde_json::Value> = out
         .checks
         .iter()
@@ -175,87 +194,27 @@ pub fn result(scene: &Scene, s: &CraneProblem) -> SolveResult {
             serde_json::to_value(&out.basins).expect("plain data"),
         );
     }
-    if set.landscape_k1 > 0 {
-        // The landscape is a diagnostic grid of full evaluations (~99 % of an analysis):
-        // computed only when the result's files are written, in its place among the tables
-        // and plots.
-        let (at_table, at_plot) = (r.tables.len(), r.plots.len());
-        let (scene, cs, set, out) = (scene.clone(), cs.clone(), set.clone(), out.clone());
-        r.deferred.push(Deferred::new("landscape", move |r: &mut SolveResult| {
-            let Some(l) = cr::landscape(&cs, &set, &out.x) else {
-                return;
-            };
-            r.extra
-                .insert("landscape".into(), landscape_summary(&scene.name, &l));
-            r.tables.insert(
-                at_table,
-                Table {
-                    suffix: "landscape".into(),
-                    caption: "Δh over the (k1, k2) grid with the tie-pin violation".into(),
-                    csv: l.to_csv(),
-                },
-            );
-            let (scene, cs, out) = (scene.clone(), cs.clone(), out.clone());
-            r.plots.insert(
-                at_plot,
-                Plot::new(
-                    "landscape",
-                    "Δh over (k1, k2) (angles and L_c at the reported design; grey: no linkage or branch defect), tie-pin limit boundary and the design",
-                    move || landscape_plot(&scene, &cs, &out, &l),
-                ),
-            );
-        }));
-    }
-    if !out.path.is_empty() {
-        let mut csv = String::from("phi_rad,head_x_m,head_y_m,tail_x_m,tail_y_m\n");
-        for ((phi, c), e) in out.path_phi_rad.iter().zip(&out.path).zip(&out.tail_path) {
-            csv += &format!(
-                "{phi:.12e},{:.12e},{:.12e},{:.12e},{:.12e}\n",
-                c[0], c[1], e[0], e[1]
-            );
-        }
-        r.tables.push(Table {
-            suffix: "path".into(),
-            caption: "Jib-head and jib-tail paths over the luffing range".into(),
-            csv,
-        });
-        let (scene, out) = (scene.clone(), out.clone());
-        r.plots.push(Plot::new(
-            "path",
-            "Jib-head path over the luffing range and its height against the boom angle",
-            move || path_plot(&scene, &out),
-        ));
-    }
-    let cw = balance_section(&mut r, scene, cs, set.path_samples, &out);
-    crane_drawing(&mut r, &scene.name, &out, cw);
-    r
 }
 
-/// Series points of the balance's table and plots.
-const BALANCE_SAMPLES: usize = 120;
-
-/// The boom system's statics and counterweight (`mechanism.self_weight`,
-/// `design.counterweight`): solved at the reported design, written as `extra.balance`, the
-/// counterweight's keys in `design`, a table and a plot. Returns the counterweight's first
-/// moment (boom frame) and mass for the drawing.
-fn balance_section(
+/// The boom system's statics (`mechanism.self_weight`, `design.counterweight`,
+/// `mechanism.hoist_rope`) at the reported design: the load's path as `extra.hoist_rope`, the
+/// counterweight's keys in `design`, its bounds and warnings, and `extra.balance`.
+fn statics_numbers(
     r: &mut SolveResult,
-    scene: &Scene,
-    cs: &cr::CraneScene,
-    path_samples: usize,
+    s: &CraneProblem,
     out: &Outcome,
-) -> Option<([f64; 2], f64)> {
-    let bs = cs.balance.as_ref()?;
-    out.positions.as_ref()?;
-    let link = match cr::build(cs, &out.x) {
-        Ok((_, syn)) => syn.linkage,
+    st: &Result<Statics, String>,
+) {
+    let cs = &s.scene;
+    let st = match st {
+        Ok(st) => st,
         Err(e) => {
             r.warnings.push(format!("balance not computed: {e}"));
-            return None;
+            return;
         }
     };
-    if let Some(rope) = &bs.rope {
-        match balance::load_path(&link, rope, path_samples, 1e-9) {
+    if let Some(lp) = &st.rope {
+        match lp {
             Some(lp) => {
                 if lp.load_delta_h_m > cs.allowed_delta_h() {
                     r.warnings.push(format!(
@@ -268,7 +227,7 @@ fn balance_section(
                 }
                 r.extra.insert(
                     "hoist_rope".into(),
-                    serde_json::to_value(&lp).expect("plain data"),
+                    serde_json::to_value(lp).expect("plain data"),
                 );
             }
             None => r
@@ -276,29 +235,18 @@ fn balance_section(
                 .push("the load's path with the inclined rope could not be evaluated".into()),
         }
     }
-    if !bs.masses {
-        return None;
-    }
-    let t0 = Instant::now();
-    let bal = match balance::solve(
-        &link,
-        bs,
-        cs.foot_offset,
-        &crate::synth::minimax::Settings::default(),
-        BALANCE_SAMPLES,
-    ) {
-        Ok(b) => b,
-        Err(e) => {
+    let bal = match &st.masses {
+        None => return,
+        Some(Err(e)) => {
             r.warnings.push(format!("balance not computed: {e}"));
-            return None;
+            return;
         }
+        Some(Ok(b)) => b,
     };
-    r.timing.solve_s += t0.elapsed().as_secs_f64();
-    r.model.insert(
-        "gravity".into(),
-        json!("boom, jib, tie and load weights (g = 9.80665 m/s²), quasi-static luffing; the hoist rope's pull on the jib is not modelled (the load hangs at the jib head)"),
-    );
-    let mut cw_out = None;
+    let bs = cs
+        .balance
+        .as_ref()
+        .expect("statics only for a scene with a balance");
     if let Some(c) = &bal.counterweight {
         r.design.insert("counterweight_mass_kg".into(), c.mass_kg);
         r.design.insert("counterweight_lever_m".into(), c.lever_m);
@@ -329,7 +277,6 @@ fn balance_section(
                 "the heaviest counterweight allowed: a heavier one (or a longer lever) would lower the peak drive torque",
             ),
         ));
-        cw_out = Some((c.static_moment_kgm, c.mass_kg));
     }
     if !bal.virtual_work_check.pass {
         r.warnings.push(format!(
@@ -337,6 +284,81 @@ fn balance_section(
             bal.virtual_work_check.max_difference_nm, bal.virtual_work_check.max_stated_error_nm
         ));
     }
+    r.extra.insert(
+        "balance".into(),
+        serde_json::to_value(bal).expect("plain data"),
+    );
+}
+
+/// The tables, plots and drawings of a solved scene, in the order the report lists them: the
+/// path, the balance, the drawing (the landscape goes before them: [`analysis_documents`]).
+pub fn documents(scene: &Scene, s: &CraneProblem, sol: &Solution, r: &mut SolveResult) {
+    let out = &sol.out;
+    if !out.path.is_empty() {
+        let mut csv = String::from("phi_rad,head_x_m,head_y_m,tail_x_m,tail_y_m\n");
+        for ((phi, c), e) in out.path_phi_rad.iter().zip(&out.path).zip(&out.tail_path) {
+            csv += &format!(
+                "{phi:.12e},{:.12e},{:.12e},{:.12e},{:.12e}\n",
+                c[0], c[1], e[0], e[1]
+            );
+        }
+        r.tables.push(Table {
+            suffix: "path".into(),
+            caption: "Jib-head and jib-tail paths over the luffing range".into(),
+            csv,
+        });
+        let (scene, out) = (scene.clone(), out.clone());
+        r.plots.push(Plot::new(
+            "path",
+            "Jib-head path over the luffing range and its height against the boom angle",
+            move || path_plot(&scene, &out),
+        ));
+    }
+    if let Some(bal) = sol.balance() {
+        balance_documents(r, scene, s, bal);
+    }
+    let cw = sol
+        .balance()
+        .and_then(|b| b.counterweight.as_ref())
+        .map(|c| (c.static_moment_kgm, c.mass_kg));
+    crane_drawing(r, &scene.name, out, cw);
+}
+
+/// The Δh landscape (an analysis only the files carry): its section `extra.landscape`, its
+/// table and plot, first among the tables and plots.
+pub fn analysis_documents(
+    scene: &Scene,
+    s: &CraneProblem,
+    sol: &Solution,
+    landscape: &Analyses,
+    r: &mut SolveResult,
+) {
+    let Some(l) = landscape.clone() else { return };
+    r.extra
+        .insert("landscape".into(), landscape_summary(&scene.name, &l));
+    r.tables.insert(
+        0,
+        Table {
+            suffix: "landscape".into(),
+            caption: "Δh over the (k1, k2) grid with the tie-pin violation".into(),
+            csv: l.to_csv(),
+        },
+    );
+    let (scene, cs, out) = (scene.clone(), s.scene.clone(), sol.out.clone());
+    r.plots.insert(0, Plot::new(
+        "landscape",
+        "Δh over (k1, k2) (angles and L_c at the reported design; grey: no linkage or branch defect), tie-pin limit boundary and the design",
+        move || landscape_plot(&scene, &cs, &out, &l),
+    ));
+}
+
+/// The balance's table (`<name>-balance.csv`) and plot.
+fn balance_documents(r: &mut SolveResult, scene: &Scene, s: &CraneProblem, bal: &balance::Balance) {
+    let bs = s
+        .scene
+        .balance
+        .as_ref()
+        .expect("a balance only for a scene with one");
     let mut csv = String::from("phi_rad,reach_m,drive_torque_empty_unbalanced_nm,drive_torque_loaded_unbalanced_nm,drive_torque_empty_nm,drive_torque_loaded_nm,tie_tension_n,boom_compression_n,boom_shear_n,pin_a_n,pin_b_n,pin_d_n,pin_e_n,head_force_n,head_force_angle_rad\n");
     for p in &bal.series {
         let s = &p.loaded;
@@ -375,11 +397,6 @@ fn balance_section(
         "Luffing drive torque and member forces against the reach",
         move || balance_plot(&name, &series, loaded, designed),
     ));
-    r.extra.insert(
-        "balance".into(),
-        serde_json::to_value(&bal).expect("plain data"),
-    );
-    cw_out
 }
 
 /// Drive torque (kN·m) and forces (kN) against the reach (m).

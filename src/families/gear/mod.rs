@@ -5,11 +5,12 @@
 pub mod file;
 pub mod model;
 pub mod report;
+pub mod solve;
 pub mod study;
 pub mod synth;
 pub mod teeth;
 
-crate::families::family::family_folder!(
+crate::family_folder!(
     /// Eccentric non-circular gear pair.
     EccentricGear,
     file::GearProblem

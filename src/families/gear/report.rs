@@ -3,6 +3,7 @@
 //! `docs/results.md`).
 
 use super::file::*;
+use super::solve::{Analyses, Solution};
 use crate::families::family::Scene;
 use crate::families::gear::model::{EccentricCircle, GearPair, Which, ZeroKind};
 use crate::families::gear::synth::{self as sg, GearScene, Outcome, TeethOutcome};
@@ -15,7 +16,6 @@ use serde_json::json;
 use std::collections::BTreeMap;
 use std::f64::consts::TAU;
 use std::fmt::Write as _;
-use std::time::Instant;
 
 fn status_detail(s: sg::Status) -> &'static str {
     match s {
@@ -27,11 +27,11 @@ fn status_detail(s: sg::Status) -> &'static str {
     }
 }
 
-/// The result of an eccentric-gear scene: solve, then shape keys, checks, plots and tables.
-pub fn result(scene: &Scene, p: &GearProblem) -> SolveResult {
-    let mut r = scene.new_result();
+/// The result's `model` section: the teeth, the centre distance, the pole window, the turns
+/// and the speed.
+pub fn model(p: &GearProblem, _: Option<&Solution>) -> BTreeMap<String, serde_json::Value> {
     let g = &p.gear;
-    r.model = BTreeMap::from([
+    BTreeMap::from([
         (
             "teeth".into(),
             json!("cycloidal: epicycloid and hypocycloid arches of the generating circle, alternating"),
@@ -44,16 +44,13 @@ pub fn result(scene: &Scene, p: &GearProblem) -> SolveResult {
         ("turns_gear1".into(), json!(g.turns_gear1)),
         ("turns_gear2".into(), json!(g.turns_gear2)),
         ("omega1_rad_s".into(), json!(g.omega1)),
-    ]);
-    let t0 = Instant::now();
-    let out = match sg::solve(g, &p.settings) {
-        Ok(o) => o,
-        Err(e) => {
-            r.warnings.push(e.to_string());
-            return r;
-        }
-    };
-    r.timing.solve_s = t0.elapsed().as_secs_f64();
+    ])
+}
+
+/// The result's numbers from the solution: status, design, objectives, errors, derived
+/// figures, the paper's checks, the poles and zeros, the flank wear.
+pub fn numbers(_: &Scene, _: &GearProblem, sol: &Solution, r: &mut SolveResult) {
+    let out = &sol.out;
     r.status = match out.status {
         sg::Status::Analysed => Status::Analysed,
         // A sampled sweep + Brent is a heuristic search, not a certificate.
@@ -79,14 +76,10 @@ pub fn result(scene: &Scene, p: &GearProblem) -> SolveResult {
         "zeros".into(),
         serde_json::to_value(&out.zeros).expect("plain data"),
     );
-    r.tables = tables(&out);
     if let Some(t) = &out.teeth {
-        r.tables.extend(teeth_tables(t));
         r.extra.insert("flank_wear".into(), flank_wear_rows(t));
-        r.extra.insert(
-            "sliding_comparison".into(),
-            sliding_comparison_rows(&out, t),
-        );
+        r.extra
+            .insert("sliding_comparison".into(), sliding_comparison_rows(out, t));
         if !t.certified_pole_arches.is_empty() {
             r.warnings.push(format!(
                 "pole correction (the paper's proposal after its eq. 12): not possible by the design parameters. On {} of the {} arches of gear 1 the pole function (K − O_j)·d of µ1 and of µ2 tends to ∓ρ_j sin ψ at one cusp and ±ρ_j sin ψ at the other with ψ of one sign, so it changes sign inside the arch for every generating radius r, pitch radius R and centre distance a (derived.arches_with_certified_pole); only e = 0 (ψ ≡ 0) is free of poles. Removing them needs a profile that is not a full cusp-to-cusp cycloid (e.g. relieved cusps with overlapping contact)",
@@ -95,7 +88,26 @@ pub fn result(scene: &Scene, p: &GearProblem) -> SolveResult {
             ));
         }
     }
-    let shared = std::sync::Arc::new((scene.clone(), g.clone(), out));
+}
+
+/// No analyses beyond the solution's own documents.
+pub fn analysis_documents(
+    _: &Scene,
+    _: &GearProblem,
+    _: &Solution,
+    _: &Analyses,
+    _: &mut SolveResult,
+) {
+}
+
+/// The tables, plots and drawing of a solved scene, in the order the report lists them.
+pub fn documents(scene: &Scene, p: &GearProblem, sol: &Solution, r: &mut SolveResult) {
+    let out = &sol.out;
+    r.tables = tables(out);
+    if let Some(t) = &out.teeth {
+        r.tables.extend(teeth_tables(t));
+    }
+    let shared = std::sync::Arc::new((scene.clone(), p.gear.clone(), out.clone()));
     let d = shared.clone();
     r.plots.push(Plot::new(
         "pitch-curves",
@@ -116,7 +128,7 @@ pub fn result(scene: &Scene, p: &GearProblem) -> SolveResult {
             move || contact_plot(&d.0, &d.2),
         ));
     }
-    pitch_drawing(&mut r, &shared.0.name, &shared.2);
+    pitch_drawing(r, &shared.0.name, &shared.2);
     if !shared.2.sweep.is_empty() {
         let d = shared.clone();
         r.plots.push(Plot::new(
@@ -125,7 +137,6 @@ pub fn result(scene: &Scene, p: &GearProblem) -> SolveResult {
             move || sweep_plot(&d.0, &d.1, &d.2),
         ));
     }
-    r
 }
 
 fn closed(pts: &[[f64; 2]], scale: f64) -> Vec<(f64, f64)> {
@@ -189,151 +200,216 @@ fn verticals(xs: &[f64], y0: f64, y1: f64) -> Vec<(f64, f64)> {
 /// arches around the peak, evaluated afresh on a fine grid that includes the exact window
 /// edges (so that the plotted curve reaches the reported peak).
 fn sliding_plot(scene: &Scene, g: &GearScene, out: &Outcome) -> Result<String, PlotError> {
-    let s = &out.series;
-    let n_arch = out.derived.arches_gear1.max(1.0);
-    let arch = TAU / n_arch;
-    let w = out.derived.pole_window_rad;
-    let peak_at = out.derived.peak_sliding_alpha1_rad;
-    let peak = out.objectives.peak_sliding_coefficient;
-    // Zoom: two arches starting half an arch before the arch holding the peak.
-    let z0 = (peak_at / arch).floor() * arch - 0.5 * arch;
-    let z1 = z0 + 2.0 * arch;
-    let wrap = |x: f64| {
+    let v = Sliding::new(g, out)?;
+    plot::panels(
+        &[v.panel(&scene.name, false), v.panel(&scene.name, true)],
+        640,
+        480,
+    )
+}
+
+/// What the sliding plot draws: µ1 and µ2 over the turn and zoomed on two arches around the
+/// peak, the pole windows left empty, poles, zeros and the peak marked.
+struct Sliding<'a> {
+    out: &'a Outcome,
+    pair: GearPair,
+    /// The zoom range: two arches from half an arch before the arch holding the peak.
+    zoom: (f64, f64),
+    /// The pole window's half-width (rad).
+    window: f64,
+    /// The peak |µ| and where it is (α1).
+    peak: (f64, f64),
+    /// The peak, signed as the coefficient that attains it.
+    peak_signed: f64,
+    /// The zoom's angles: a fine grid plus both edges of every window (nudged inside the
+    /// working region by 1e-9 rad).
+    xs: Vec<f64>,
+}
+
+impl<'a> Sliding<'a> {
+    fn new(g: &GearScene, out: &'a Outcome) -> Result<Sliding<'a>, PlotError> {
+        let arch = TAU / out.derived.arches_gear1.max(1.0);
+        let window = out.derived.pole_window_rad;
+        let peak = (
+            out.objectives.peak_sliding_coefficient,
+            out.derived.peak_sliding_alpha1_rad,
+        );
+        let z0 = (peak.1 / arch).floor() * arch - 0.5 * arch;
+        let pair = EccentricCircle::new(g.pitch_radius, out.design.eccentricity_m)
+            .and_then(|c| {
+                GearPair::new(
+                    c,
+                    g.generating_radius,
+                    out.derived.center_distance_m,
+                    g.omega1,
+                )
+            })
+            .map_err(PlotError::data)?;
+        let ct = pair.contact(peak.1);
+        let peak_signed = [ct.mu1, ct.mu2]
+            .into_iter()
+            .flatten()
+            .min_by(|a, b| {
+                (a.abs() - peak.0)
+                    .abs()
+                    .total_cmp(&(b.abs() - peak.0).abs())
+            })
+            .unwrap_or(peak.0);
+        let mut v = Sliding {
+            out,
+            pair,
+            zoom: (z0, z0 + 2.0 * arch),
+            window,
+            peak,
+            peak_signed,
+            xs: Vec::new(),
+        };
+        v.xs = v.zoom_grid();
+        Ok(v)
+    }
+
+    /// The fine grid of the zoom and the windows' edges in it, sorted.
+    fn zoom_grid(&self) -> Vec<f64> {
+        let (z0, z1) = self.zoom;
+        let w = self.window;
+        let mut xs: Vec<f64> = (0..=1200)
+            .map(|k| z0 + (z1 - z0) * k as f64 / 1200.0)
+            .collect();
+        for p in &self.out.poles {
+            for x in [
+                p.alpha1_rad - w - p.error_rad - 1e-9,
+                p.alpha1_rad + w + p.error_rad + 1e-9,
+            ] {
+                if let Some(x) = self.wrap(x) {
+                    xs.push(x);
+                }
+            }
+        }
+        xs.sort_by(f64::total_cmp);
+        xs
+    }
+
+    /// x moved by a turn into the zoom range, if it falls there.
+    fn wrap(&self, x: f64) -> Option<f64> {
+        let (z0, z1) = self.zoom;
         [x - TAU, x, x + TAU]
             .into_iter()
             .find(|y| (z0..=z1).contains(y))
-    };
-    let excluded = |x: f64, which: Which| {
+    }
+
+    /// Is x inside a window left out of `which` (a pole's, or a 0/0 cusp's)?
+    fn excluded(&self, x: f64, which: Which) -> bool {
         let near = |c: f64, tol: f64| {
             let d = (x - c).rem_euclid(TAU);
             d.min(TAU - d) < tol
         };
-        out.poles
+        let w = self.window;
+        self.out
+            .poles
             .iter()
             .any(|p| p.which == which && near(p.alpha1_rad, w + p.error_rad))
-            || out
+            || self
+                .out
                 .zeros
                 .iter()
                 .any(|z| z.kind == ZeroKind::Indeterminate && near(z.alpha1_rad, w))
-    };
-    let pair = EccentricCircle::new(g.pitch_radius, out.design.eccentricity_m)
-        .and_then(|c| {
-            GearPair::new(
-                c,
-                g.generating_radius,
-                out.derived.center_distance_m,
-                g.omega1,
-            )
-        })
-        .map_err(PlotError::data)?;
-    // Fine grid plus both edges of every window in the zoom range (nudged inside the
-    // working region by 1e-9 rad).
-    let mut xs: Vec<f64> = (0..=1200)
-        .map(|k| z0 + (z1 - z0) * k as f64 / 1200.0)
-        .collect();
-    for p in &out.poles {
-        for x in [
-            p.alpha1_rad - w - p.error_rad - 1e-9,
-            p.alpha1_rad + w + p.error_rad + 1e-9,
-        ] {
-            if let Some(x) = wrap(x) {
-                xs.push(x);
-            }
-        }
     }
-    xs.sort_by(f64::total_cmp);
-    let zoom_mu = |which: Which| -> Vec<(f64, f64)> {
-        xs.iter()
+
+    /// µ of `which` on the zoom's angles (deg), NaN in the windows.
+    fn zoom_mu(&self, which: Which) -> Vec<(f64, f64)> {
+        self.xs
+            .iter()
             .map(|&x| {
-                let ct = pair.contact(x.rem_euclid(TAU));
+                let ct = self.pair.contact(x.rem_euclid(TAU));
                 let m = match which {
                     Which::Mu1 => ct.mu1,
                     Which::Mu2 => ct.mu2,
                 };
-                let m = if excluded(x, which) { None } else { m };
+                let m = if self.excluded(x, which) { None } else { m };
                 (x.to_degrees(), m.unwrap_or(f64::NAN))
             })
             .collect()
-    };
-    let full_mu = |v: &[Option<f64>]| -> Vec<(f64, f64)> {
+    }
+
+    /// µ of `which` over the turn, from the analysis's series.
+    fn full_mu(&self, which: Which) -> Vec<(f64, f64)> {
+        let s = &self.out.series;
+        let v = match which {
+            Which::Mu1 => &s.mu1,
+            Which::Mu2 => &s.mu2,
+        };
         s.alpha1_rad
             .iter()
             .zip(v)
             .map(|(&a, m)| (a.to_degrees(), m.unwrap_or(f64::NAN)))
             .collect()
-    };
-    let ylim = peak * 1.05;
-    let pole_x = |which: Which, zoom: bool| -> Vec<f64> {
-        out.poles
+    }
+
+    /// The angles (deg) of `which`'s poles, in the zoom or over the turn.
+    fn pole_x(&self, which: Which, zoom: bool) -> Vec<f64> {
+        self.out
+            .poles
             .iter()
             .filter(|p| p.which == which)
-            .filter_map(|p| {
-                if zoom {
-                    wrap(p.alpha1_rad)
-                } else {
-                    Some(p.alpha1_rad)
-                }
-            })
+            .filter_map(|p| self.place(p.alpha1_rad, zoom))
             .map(f64::to_degrees)
             .collect()
-    };
-    let zeros = |kind: ZeroKind, zoom: bool| -> Vec<(f64, f64)> {
-        out.zeros
+    }
+
+    /// The zeros of `kind` at (deg, 0), in the zoom or over the turn.
+    fn zeros(&self, kind: ZeroKind, zoom: bool) -> Vec<(f64, f64)> {
+        self.out
+            .zeros
             .iter()
             .filter(|z| z.kind == kind)
-            .filter_map(|z| {
-                if zoom {
-                    wrap(z.alpha1_rad)
-                } else {
-                    Some(z.alpha1_rad)
-                }
-            })
+            .filter_map(|z| self.place(z.alpha1_rad, zoom))
             .map(|x| (x.to_degrees(), 0.0))
             .collect()
-    };
-    // The peak, signed as the coefficient that attains it.
-    let ct = pair.contact(peak_at);
-    let peak_pt = [ct.mu1, ct.mu2]
-        .into_iter()
-        .flatten()
-        .min_by(|a, b| (a.abs() - peak).abs().total_cmp(&(b.abs() - peak).abs()))
-        .unwrap_or(peak);
-    let panel = |zoom: bool| {
+    }
+
+    /// x in the zoom (if it falls there), or as it is.
+    fn place(&self, x: f64, zoom: bool) -> Option<f64> {
+        if zoom {
+            self.wrap(x)
+        } else {
+            Some(x)
+        }
+    }
+
+    /// The panel over the turn, or the zoom.
+    fn panel(&self, name: &str, zoom: bool) -> Panel {
+        let (peak, peak_at) = self.peak;
+        let ylim = peak * 1.05;
+        let mu = |which| {
+            if zoom {
+                self.zoom_mu(which)
+            } else {
+                self.full_mu(which)
+            }
+        };
         let mut series = vec![
-            Series::line(
-                "µ1",
-                if zoom {
-                    zoom_mu(Which::Mu1)
-                } else {
-                    full_mu(&s.mu1)
-                },
-            ),
-            Series::line(
-                "µ2",
-                if zoom {
-                    zoom_mu(Which::Mu2)
-                } else {
-                    full_mu(&s.mu2)
-                },
-            ),
+            Series::line("µ1", mu(Which::Mu1)),
+            Series::line("µ2", mu(Which::Mu2)),
             Series::line(
                 "poles of µ1",
-                verticals(&pole_x(Which::Mu1, zoom), -ylim, ylim),
+                verticals(&self.pole_x(Which::Mu1, zoom), -ylim, ylim),
             ),
             Series::line(
                 "poles of µ2",
-                verticals(&pole_x(Which::Mu2, zoom), -ylim, ylim),
+                verticals(&self.pole_x(Which::Mu2, zoom), -ylim, ylim),
             ),
-            Series::points("µ = 0 (K = P)", zeros(ZeroKind::PitchPoint, zoom)),
+            Series::points("µ = 0 (K = P)", self.zeros(ZeroKind::PitchPoint, zoom)),
             Series::marker(
                 format!("peak |µ| = {peak:.4}"),
-                [peak_at]
+                self.place(peak_at, zoom)
+                    .map(|x| (x.to_degrees(), self.peak_signed))
                     .into_iter()
-                    .filter_map(|x| if zoom { wrap(x) } else { Some(x) })
-                    .map(|x| (x.to_degrees(), peak_pt))
                     .collect(),
             ),
-            Series::points("0/0 cusp, left out", zeros(ZeroKind::Indeterminate, zoom)),
+            Series::points(
+                "0/0 cusp, left out",
+                self.zeros(ZeroKind::Indeterminate, zoom),
+            ),
         ];
         series.retain(|s| s.points.iter().any(|p| p.0.is_finite() && p.1.is_finite()));
         Panel {
@@ -341,9 +417,8 @@ fn sliding_plot(scene: &Scene, g: &GearScene, out: &Outcome) -> Result<String, P
                 "zoom: two arches around the peak".into()
             } else {
                 format!(
-                    "{}: µ1, µ2 (pole windows ±{:.3}° left out)",
-                    scene.name,
-                    w.to_degrees()
+                    "{name}: µ1, µ2 (pole windows ±{:.3}° left out)",
+                    self.window.to_degrees()
                 )
             },
             x_label: "α1, angle of gear 1 (deg)".into(),
@@ -351,9 +426,7 @@ fn sliding_plot(scene: &Scene, g: &GearScene, out: &Outcome) -> Result<String, P
             series,
             equal_aspect: false,
         }
-    };
-    let svg = plot::panels(&[panel(false), panel(true)], 640, 480)?;
-    Ok(svg)
+    }
 }
 
 /// The eccentricity sweep: ratio variation, peak |µ|, gear 2's curvature.

@@ -9,10 +9,11 @@ pub mod file;
 pub mod gas;
 pub mod model;
 pub mod report;
+pub mod solve;
 pub mod study;
 pub mod synth;
 
-crate::families::family::family_folder!(
+crate::family_folder!(
     /// Hypocycloidal (3:1 planetary) reciprocating machine.
     HypocycloidFamily,
     file::HypocycloidProblem

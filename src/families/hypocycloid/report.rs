@@ -2,7 +2,9 @@
 //! objectives with their errors, baselines, paper checks, tables and plots (keys in
 //! `docs/results.md`).
 
+use super::balance::{DynamicsOutcome, RotatingOutcome};
 use super::file::*;
+use super::solve::{Analyses, Solution};
 use crate::families::family::Scene;
 use crate::families::hypocycloid::synth::{self as hy, OptStatus, Outcome, ZeroStatus};
 use crate::geom::P2;
@@ -13,7 +15,6 @@ use serde_json::json;
 use std::collections::BTreeMap;
 use std::f64::consts::{PI, TAU};
 use std::fmt::Write as _;
-use std::time::Instant;
 
 fn kebab<T: serde::Serialize>(v: T) -> String {
     serde_json::to_value(v)
@@ -22,11 +23,11 @@ fn kebab<T: serde::Serialize>(v: T) -> String {
         .unwrap_or_default()
 }
 
-/// The result of a hypocycloid scene: solve, then shape keys, errors, sections, plots.
-pub fn result(scene: &Scene, s: &HypocycloidProblem) -> SolveResult {
-    let mut r = scene.new_result();
+/// The result's `model` section: the kinematics, the coefficient model, the variant and the
+/// masses the solve uses.
+pub fn model(s: &HypocycloidProblem, _: Option<&Solution>) -> BTreeMap<String, serde_json::Value> {
     let h = &s.scene;
-    r.model = BTreeMap::from([
+    BTreeMap::from([
         (
             "kinematics".into(),
             json!("exact (closed form, stable for λ → 0)"),
@@ -57,16 +58,13 @@ pub fn result(scene: &Scene, s: &HypocycloidProblem) -> SolveResult {
                 "reciprocating mass m_B only (rotating masses assumed balanced)"
             }),
         ),
-    ]);
-    let t0 = Instant::now();
-    let out = match hy::solve(h, &s.settings) {
-        Ok(o) => o,
-        Err(e) => {
-            r.warnings.push(e.to_string());
-            return r;
-        }
-    };
-    r.timing.solve_s = t0.elapsed().as_secs_f64();
+    ])
+}
+
+/// The result's numbers from the solution: status, design, objectives, errors, derived
+/// figures, the coefficients, balancing, zero-curve, closed-form and dynamics sections.
+pub fn numbers(_: &Scene, s: &HypocycloidProblem, sol: &Solution, r: &mut SolveResult) {
+    let out = &sol.out;
     // Nelder–Mead from a few starts is a heuristic search: `best_found` with its evidence.
     r.status = match out.status {
         OptStatus::Analysis => Status::Analysed,
@@ -100,13 +98,21 @@ pub fn result(scene: &Scene, s: &HypocycloidProblem) -> SolveResult {
     r.warnings.extend(out.warnings.iter().cloned());
     r.bounds = out.bounds.clone();
     r.design = number_map(&out.design);
-    mechanism_drawing(&mut r, &scene.name, &out.design, h.alpha0);
     r.objectives = number_map(&out.objectives);
     r.errors = number_map(&out.errors);
     r.derived = number_map(&out.derived);
-    let c = &out.coefficients;
+    sections(r, out);
+    r.paper = out.paper.clone();
+    closed_form_numbers(r, s, out);
+    if let Some(d) = &sol.dynamics {
+        dynamics_numbers(r, d);
+    }
+}
 
-    // Family sections.
+/// The family's sections: the coefficients, the balancing pairs, the zero curves and the
+/// zero search.
+fn sections(r: &mut SolveResult, out: &Outcome) {
+    let c = &out.coefficients;
     let amp: Vec<f64> = std::iter::once(0.0)
         .chain(c.rows.iter().map(|row| row.force_amplitude))
         .collect();
@@ -155,14 +161,29 @@ pub fn result(scene: &Scene, s: &HypocycloidProblem) -> SolveResult {
             }),
         );
     }
-    r.paper = out.paper.clone();
+}
 
-    // Tables and plots.
-    r.tables = tables(&out);
-    closed_form_section(&mut r, s, &out);
-    dynamics_section(&mut r, &scene.name, s, &out);
+/// No analyses beyond the solution's own documents.
+pub fn analysis_documents(
+    _: &Scene,
+    _: &HypocycloidProblem,
+    _: &Solution,
+    _: &Analyses,
+    _: &mut SolveResult,
+) {
+}
+
+/// The tables, plots and drawing of a solved scene, in the order the report lists them.
+pub fn documents(scene: &Scene, s: &HypocycloidProblem, sol: &Solution, r: &mut SolveResult) {
+    let out = &sol.out;
+    mechanism_drawing(r, &scene.name, &out.design, s.scene.alpha0);
+    r.tables = tables(out);
+    closed_form_table(r, s, out);
+    if let Some(Ok(d)) = &sol.dynamics {
+        dynamics_documents(r, &scene.name, d);
+    }
     let order = out.zero_search.as_ref().map(|z| z.order);
-    let shared = std::sync::Arc::new((scene.clone(), out));
+    let shared = std::sync::Arc::new((scene.clone(), out.clone()));
     if let Some(order) = order {
         let d = shared.clone();
         r.plots.push(Plot::new(
@@ -183,7 +204,6 @@ pub fn result(scene: &Scene, s: &HypocycloidProblem) -> SolveResult {
         "Inertia force of the reciprocating mass over one turn, and the piston path",
         move || force_plot(&d.0, &d.1),
     ));
-    r
 }
 
 fn csv_num(v: f64) -> String {
@@ -694,22 +714,34 @@ pub struct DynamicsDerived {
     pub lanchester_couple_peak_error_nm: Option<f64>,
 }
 
-/// The paper's closed-form C_i beside the exact ones: the `closed_form` section and its
-/// table (variants 1 and 2 only: the paper gives no other).
-fn closed_form_section(r: &mut SolveResult, s: &HypocycloidProblem, out: &Outcome) {
+/// One row of the closed-form comparison: order, coefficient, closed form, exact, the exact
+/// one's error and the verdict.
+struct ClosedFormRow {
+    order: usize,
+    label: String,
+    closed: f64,
+    exact: f64,
+    error: f64,
+    verdict: crate::families::hypocycloid::closed_form::Verdict,
+}
+
+/// The paper's closed-form C_i against the exact ones (variants 1 and 2 only: the paper gives
+/// no other).
+fn closed_form_rows(
+    s: &HypocycloidProblem,
+    out: &Outcome,
+) -> Option<(
+    crate::families::hypocycloid::closed_form::PaperCoefficients,
+    Vec<ClosedFormRow>,
+)> {
     use crate::families::hypocycloid::closed_form::{paper_coefficients, verdict};
-    let Some(pc) = paper_coefficients(s.variant, out.design.lambda, out.design.theta) else {
-        return;
-    };
+    let pc = paper_coefficients(s.variant, out.design.lambda, out.design.theta)?;
     let c = &out.coefficients;
     let name = |i: usize, sine: bool| match (pc.variant, sine) {
         (1, _) => format!("C{i}"),
         (_, false) => format!("C{i}^I"),
         (_, true) => format!("C{i}^II"),
     };
-    let mut csv = String::from(
-        "order,coefficient,closed_form,exact,closed_minus_exact,exact_error,verdict\n",
-    );
     let mut rows = Vec::new();
     for i in 0..=6usize.min(c.a.len() - 1) {
         // a_0 of the exact table includes 1/λ; the closed form's C0 does not.
@@ -723,22 +755,33 @@ fn closed_form_section(r: &mut SolveResult, s: &HypocycloidProblem, out: &Outcom
             parts.push((name(i, true), pc.b[i], c.b[i]));
         }
         for (label, cf, ex) in parts {
-            let v = verdict(cf, ex, c.error[i]);
-            let _ = writeln!(
-                csv,
-                "{i},{label},{},{},{},{},{}",
-                csv_num(cf),
-                csv_num(ex),
-                csv_num(cf - ex),
-                csv_num(c.error[i]),
-                kebab(v)
-            );
-            rows.push(json!({
-                "order": i, "coefficient": label, "closed_form": cf, "exact": ex,
-                "difference": cf - ex, "exact_error": c.error[i], "verdict": v,
-            }));
+            rows.push(ClosedFormRow {
+                order: i,
+                label,
+                closed: cf,
+                exact: ex,
+                error: c.error[i],
+                verdict: verdict(cf, ex, c.error[i]),
+            });
         }
     }
+    Some((pc, rows))
+}
+
+/// The paper's closed-form C_i beside the exact ones: the `closed_form` section.
+fn closed_form_numbers(r: &mut SolveResult, s: &HypocycloidProblem, out: &Outcome) {
+    let Some((pc, rows)) = closed_form_rows(s, out) else {
+        return;
+    };
+    let rows: Vec<serde_json::Value> = rows
+        .iter()
+        .map(|w| {
+            json!({
+                "order": w.order, "coefficient": w.label, "closed_form": w.closed, "exact": w.exact,
+                "difference": w.closed - w.exact, "exact_error": w.error, "verdict": w.verdict,
+            })
+        })
+        .collect();
     r.extra.insert(
         "closed_form".into(),
         json!({
@@ -747,6 +790,29 @@ fn closed_form_section(r: &mut SolveResult, s: &HypocycloidProblem, out: &Outcom
             "rows": rows,
         }),
     );
+}
+
+/// The closed-form comparison's table `<name>-closed-form.csv`.
+fn closed_form_table(r: &mut SolveResult, s: &HypocycloidProblem, out: &Outcome) {
+    let Some((pc, rows)) = closed_form_rows(s, out) else {
+        return;
+    };
+    let mut csv = String::from(
+        "order,coefficient,closed_form,exact,closed_minus_exact,exact_error,verdict\n",
+    );
+    for w in &rows {
+        let _ = writeln!(
+            csv,
+            "{},{},{},{},{},{},{}",
+            w.order,
+            w.label,
+            csv_num(w.closed),
+            csv_num(w.exact),
+            csv_num(w.closed - w.exact),
+            csv_num(w.error),
+            kebab(w.verdict)
+        );
+    }
     r.tables.push(Table {
         suffix: "closed-form".into(),
         caption: format!(
@@ -757,42 +823,13 @@ fn closed_form_section(r: &mut SolveResult, s: &HypocycloidProblem, out: &Outcom
     });
 }
 
-/// The rotating counterweights, drive torque and couples: keys, sections, tables, plot.
-fn dynamics_section(r: &mut SolveResult, name: &str, s: &HypocycloidProblem, out: &Outcome) {
-    use crate::families::hypocycloid::balance::{solve as solve_dynamics, At};
-    use crate::families::hypocycloid::model::{Coefficients, Hypocycloid};
-    let spec = &s.dynamics;
-    if !spec.any() {
-        return;
-    }
-    let h = &s.scene;
-    let m = Hypocycloid {
-        lambda: out.design.lambda,
-        theta: out.design.theta,
-        alpha0: h.alpha0,
-    };
-    let c = &out.coefficients;
-    let coef = Coefficients {
-        a: c.a.clone(),
-        b: c.b.clone(),
-        err: c.error.clone(),
-        n_fft: c.n_fft,
-        converged: c.converged,
-    };
-    let at = At {
-        model: &m,
-        coef: &coef,
-        orders: &h.balance_orders,
-        pairs: &out.balancing,
-        r_carrier: h.r_carrier,
-        m_b: h.m_b,
-        omega: h.omega,
-        plot_samples: s.settings.plot_samples,
-    };
-    let d = match solve_dynamics(spec, &at) {
+/// The dynamics' numbers: the counterweights to build in `design`, the rotating force, drive
+/// torque and couple figures in `derived`, the `dynamics` section; a failure fails the result.
+fn dynamics_numbers(r: &mut SolveResult, d: &Result<DynamicsOutcome, String>) {
+    let d = match d {
         Ok(d) => d,
         Err(e) => {
-            r.warnings.push(e.to_string());
+            r.warnings.push(e.clone());
             r.status = Status::Failed;
             return;
         }
@@ -800,45 +837,72 @@ fn dynamics_section(r: &mut SolveResult, name: &str, s: &HypocycloidProblem, out
     r.warnings.extend(d.warnings.iter().cloned());
     let mut k = DynamicsDerived::default();
     if let Some(rot) = &d.rotating {
-        k.rotating_unbalance_carrier_kgm = Some(rot.u1[0].hypot(rot.u1[1]));
-        k.rotating_unbalance_planet_kgm = Some(rot.u2[0].hypot(rot.u2[1]));
-        k.rotating_force_peak_n = Some(rot.rotating_peak);
-        k.shaking_force_bare_peak_n = Some(rot.bare_total_peak);
-        k.shaking_force_peak_error_n = Some(rot.peak_error);
-        if let Some((c1, c2)) = &rot.closed {
-            k.carrier_counterweight_first_moment_kgm = Some(c1.first_moment);
-            k.carrier_counterweight_angle_rad = Some(c1.angle);
-            k.carrier_counterweight_mass_kg = Some(c1.mass);
-            k.planet_counterweight_first_moment_kgm = Some(c2.first_moment);
-            k.planet_counterweight_angle_rad = Some(c2.angle);
-            k.planet_counterweight_mass_kg = Some(c2.mass);
-            k.rotating_force_residual_peak_n = rot.closed_rotating_residual;
-            k.shaking_force_peak_n = rot.closed_total_peak;
+        rotating_numbers(r, &mut k, rot);
+    }
+    if let Some(t) = &d.torque {
+        k.drive_torque_peak_nm = Some(t.peak);
+        k.drive_torque_peak_error_nm = Some(t.peak_error);
+        k.drive_torque_mean_nm = Some(t.mean);
+        k.drive_torque_mean_error_nm = Some(t.mean_error);
+        k.gas_torque_mean_nm = Some(t.gas_mean);
+        k.inertia_torque_mean_nm = Some(t.inertia_mean);
+        k.indicated_work_nm = t.indicated_work;
+        k.gas_force_peak_n = t.gas_force_peak;
+    }
+    if let Some(cp) = &d.couples {
+        k.lanchester_couple_peak_nm = Some(cp.peak);
+        k.lanchester_couple_peak_error_nm = Some(cp.peak_error);
+    }
+    r.derived.extend(number_map(&k));
+    r.extra.insert("dynamics".into(), json!(d));
+}
+
+/// The rotating counterweights' figures, and the pair to build in `design`: the minimax pair
+/// when it was asked for and certified, else the closed-form pair that cancels the rotating
+/// force.
+fn rotating_numbers(r: &mut SolveResult, k: &mut DynamicsDerived, rot: &RotatingOutcome) {
+    k.rotating_unbalance_carrier_kgm = Some(rot.u1[0].hypot(rot.u1[1]));
+    k.rotating_unbalance_planet_kgm = Some(rot.u2[0].hypot(rot.u2[1]));
+    k.rotating_force_peak_n = Some(rot.rotating_peak);
+    k.shaking_force_bare_peak_n = Some(rot.bare_total_peak);
+    k.shaking_force_peak_error_n = Some(rot.peak_error);
+    if let Some((c1, c2)) = &rot.closed {
+        k.carrier_counterweight_first_moment_kgm = Some(c1.first_moment);
+        k.carrier_counterweight_angle_rad = Some(c1.angle);
+        k.carrier_counterweight_mass_kg = Some(c1.mass);
+        k.planet_counterweight_first_moment_kgm = Some(c2.first_moment);
+        k.planet_counterweight_angle_rad = Some(c2.angle);
+        k.planet_counterweight_mass_kg = Some(c2.mass);
+        k.rotating_force_residual_peak_n = rot.closed_rotating_residual;
+        k.shaking_force_peak_n = rot.closed_total_peak;
+    }
+    if let Some(mm) = &rot.minimax {
+        k.minimax_shaking_force_peak_n = Some(mm.peak);
+        k.minimax_lower_bound_n = Some(mm.lower_bound);
+        k.minimax_error_n = Some(mm.error);
+    }
+    let built = match (&rot.minimax, &rot.closed) {
+        (Some(mm), _) if mm.status == crate::synth::counterweight::Status::Optimal => {
+            Some((&mm.carrier, &mm.planet))
         }
-        if let Some(mm) = &rot.minimax {
-            k.minimax_shaking_force_peak_n = Some(mm.peak);
-            k.minimax_lower_bound_n = Some(mm.lower_bound);
-            k.minimax_error_n = Some(mm.error);
+        (_, Some((c1, c2))) => Some((c1, c2)),
+        _ => None,
+    };
+    if let Some((c1, c2)) = built {
+        for (body, c) in [("carrier", c1), ("planet", c2)] {
+            r.design
+                .insert(format!("{body}_counterweight_mass_kg"), c.mass);
+            r.design
+                .insert(format!("{body}_counterweight_radius_m"), c.radius);
+            r.design
+                .insert(format!("{body}_counterweight_angle_rad"), c.angle);
         }
-        // What to build: the minimax pair when it was asked for and certified, else the
-        // closed-form pair that cancels the rotating force.
-        let built = match (&rot.minimax, &rot.closed) {
-            (Some(mm), _) if mm.status == crate::synth::counterweight::Status::Optimal => {
-                Some((&mm.carrier, &mm.planet))
-            }
-            (_, Some((c1, c2))) => Some((c1, c2)),
-            _ => None,
-        };
-        if let Some((c1, c2)) = built {
-            for (body, c) in [("carrier", c1), ("planet", c2)] {
-                r.design
-                    .insert(format!("{body}_counterweight_mass_kg"), c.mass);
-                r.design
-                    .insert(format!("{body}_counterweight_radius_m"), c.radius);
-                r.design
-                    .insert(format!("{body}_counterweight_angle_rad"), c.angle);
-            }
-        }
+    }
+}
+
+/// The dynamics' tables (rotating counterweights, drive torque, couples) and the torque plot.
+fn dynamics_documents(r: &mut SolveResult, name: &str, d: &DynamicsOutcome) {
+    if let Some(rot) = &d.rotating {
         let mut csv = String::from(
             "solution,counterweight,body_frame,first_moment_kgm,angle_deg,radius_m,mass_kg,shaking_force_peak_n,status\n",
         );
@@ -906,14 +970,6 @@ fn dynamics_section(r: &mut SolveResult, name: &str, s: &HypocycloidProblem, out
         });
     }
     if let Some(t) = &d.torque {
-        k.drive_torque_peak_nm = Some(t.peak);
-        k.drive_torque_peak_error_nm = Some(t.peak_error);
-        k.drive_torque_mean_nm = Some(t.mean);
-        k.drive_torque_mean_error_nm = Some(t.mean_error);
-        k.gas_torque_mean_nm = Some(t.gas_mean);
-        k.inertia_torque_mean_nm = Some(t.inertia_mean);
-        k.indicated_work_nm = t.indicated_work;
-        k.gas_force_peak_n = t.gas_force_peak;
         let mut csv =
             String::from("phi_rad,gas_torque_nm,inertia_torque_nm,drive_torque_nm,pressure_pa\n");
         for j in 0..t.phi.len() {
@@ -944,8 +1000,6 @@ fn dynamics_section(r: &mut SolveResult, name: &str, s: &HypocycloidProblem, out
         ));
     }
     if let Some(cp) = &d.couples {
-        k.lanchester_couple_peak_nm = Some(cp.peak);
-        k.lanchester_couple_peak_error_nm = Some(cp.peak_error);
         let mut csv = String::from("order,couple_amplitude_nm\n");
         for row in &cp.rows {
             let _ = writeln!(csv, "{},{}", row.order, csv_num(row.amplitude));
@@ -961,8 +1015,6 @@ fn dynamics_section(r: &mut SolveResult, name: &str, s: &HypocycloidProblem, out
             csv,
         });
     }
-    r.derived.extend(number_map(&k));
-    r.extra.insert("dynamics".into(), json!(d));
 }
 
 fn torque_plot(

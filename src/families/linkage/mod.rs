@@ -7,10 +7,11 @@
 pub mod file;
 pub mod model;
 pub mod report;
+pub mod solve;
 pub mod study;
 pub mod synth;
 
-crate::families::family::family_folder!(
+crate::family_folder!(
     /// Any one-degree-of-freedom planar linkage (crank + dyads) with counterweights.
     LinkageFamily,
     file::LinkageProblem

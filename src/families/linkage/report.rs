@@ -4,20 +4,19 @@
 //! curves over the cycle and a drawing of the linkage (keys in `docs/results.md`).
 
 use super::file::{tip_of, Goal, LinkageProblem, LinkageScene};
-use super::synth::{self as ls, Outcome, FORCE, MOMENT, TORQUE};
+use super::solve::{Analyses, JointLoads, Solution as Solved};
+use super::synth::{self as ls, FORCE, MOMENT, TORQUE};
 use crate::families::family::{cw_status, Scene};
 use crate::families::linkage::model::{Dyad, JointKind, Linkage, Point};
 use crate::geom::P2;
 use crate::report::drawing::{Drawing, DrawingError, Layer, Sheet};
 use crate::report::plot::{self, Panel, PlotError, Series};
-use crate::report::{ActiveBound, Deferred, Plot, SolveResult, Status, Table};
+use crate::report::{ActiveBound, Plot, SolveResult, Status, Table};
 use crate::synth::counterweight::Status as CwStatus;
 use crate::synth::minimax::{FieldPeak, Solution};
-use crate::synth::shape::sector_realising;
 use serde_json::json;
 use std::collections::BTreeMap;
 use std::f64::consts::TAU;
-use std::time::Instant;
 
 /// The objective keys of the three fields' peaks and RMS.
 const PEAK_KEYS: [&str; 3] = [
@@ -71,11 +70,11 @@ fn put_fields(
     }
 }
 
-/// The result of a linkage scene.
-pub fn result(scene: &Scene, p: &LinkageProblem) -> SolveResult {
-    let mut r = scene.new_result();
+/// The result's `model` section: the links, the moment's reference point, the speed and
+/// what gravity enters.
+pub fn model(p: &LinkageProblem, _: Option<&Solved>) -> BTreeMap<String, serde_json::Value> {
     let sc = &p.scene;
-    r.model = BTreeMap::from([
+    BTreeMap::from([
         ("links".into(), json!(sc.link_names)),
         (
             "moment_about_m".into(),
@@ -90,16 +89,13 @@ pub fn result(scene: &Scene, p: &LinkageProblem) -> SolveResult {
                 json!("not modelled")
             },
         ),
-    ]);
-    let t0 = Instant::now();
-    let out = match ls::solve(sc, &p.settings) {
-        Ok(o) => o,
-        Err(e) => {
-            r.warnings.push(e.to_string());
-            return r;
-        }
-    };
-    r.timing.solve_s = t0.elapsed().as_secs_f64();
+    ])
+}
+
+/// The result's numbers from the solution: the unbalanced baseline, status, design,
+/// objectives with their errors, the front, Berkof–Lowen and the joint loads.
+pub fn numbers(_: &Scene, p: &LinkageProblem, sol: &Solved, r: &mut SolveResult) {
+    let (sc, out) = (&p.scene, &sol.out);
     let mut bare = BTreeMap::new();
     put_fields(&mut bare, None, &out.bare, &out.bare_rms);
     r.baselines.insert("unbalanced".into(), bare);
@@ -137,10 +133,10 @@ pub fn result(scene: &Scene, p: &LinkageProblem) -> SolveResult {
             );
             r.method = "closed-form dyads; every peak refined from a scan".into();
         }
-        (Some(sol), None) if sol.status == CwStatus::Infeasible => {
+        (Some(d), None) if d.status == CwStatus::Infeasible => {
             // No design: the limits cannot be met (a certificate on the sampled angles).
             r.status = Status::Infeasible;
-            r.status_detail = Some(sol.note.clone().unwrap_or_else(|| {
+            r.status_detail = Some(d.note.clone().unwrap_or_else(|| {
                 "no design meets the limits within the counterweight limits".into()
             }));
             put_fields(
@@ -151,217 +147,57 @@ pub fn result(scene: &Scene, p: &LinkageProblem) -> SolveResult {
             );
             r.method = format!(
                 "clarabel SOCP + exchange loop: infeasible on {} sampled angles, so on all angles",
-                sol.angles
+                d.angles
             );
         }
-        (Some(sol), None) => design_keys(&mut r, p, &out, sol, key),
+        (Some(d), None) => design_keys(r, p, sol, d, key),
     }
     if let Some(front) = &out.pareto {
-        pareto_keys(&mut r, front, sc.objective.minimize);
+        r.extra.insert(
+            "pareto".into(),
+            Front::of(front, sc.objective.minimize).json(&r.name),
+        );
     }
-    berkof_lowen(
-        &mut r,
-        p,
-        out.design
-            .as_ref()
-            .filter(|s| s.x.iter().all(|v| v.is_finite())),
-    );
-    joints(&mut r, p, &out);
-    curves(&mut r, scene, p, &out);
-    linkage_drawing(&mut r, scene, p, &out);
-    r
+    berkof_lowen(r, p, sol);
+    joint_numbers(r, p, sol);
 }
 
-/// The bearing loads: every joint's peak load over the cycle without and with the
-/// counterweights (`joints` in the JSON, `<name>-joints.csv`), and the largest of them as
-/// `peak_joint_force_n` in the objectives and the unbalanced baseline.
-fn joints(r: &mut SolveResult, p: &LinkageProblem, out: &Outcome) {
-    let sc = &p.scene;
-    let joints = sc.linkage.joints();
-    let zeros = vec![0.0; crate::synth::minimax::PER_COUNTERWEIGHT * sc.counterweights.len()];
-    let bare = match ls::joint_peaks(sc, &zeros, &p.settings) {
-        Ok(b) => b,
-        Err(e) => {
-            r.warnings.push(format!("joint loads not computed: {e}"));
-            return;
-        }
-    };
-    let design = match out
-        .design
-        .as_ref()
-        .filter(|s| s.x.iter().all(|v| v.is_finite()))
-    {
-        Some(sol) => match ls::joint_peaks(sc, &sol.x, &p.settings) {
-            Ok(d) => Some(d),
-            Err(e) => {
-                r.warnings
-                    .push(format!("joint loads of the design not computed: {e}"));
-                None
-            }
-        },
-        None => None,
-    };
-    // The largest of several peaks is off by at most the largest of their errors.
-    let worst = |v: &[ls::JointPeak]| {
-        (
-            v.iter().map(|j| j.peak).fold(0.0, f64::max),
-            v.iter().map(|j| j.error).fold(0.0, f64::max),
-        )
-    };
-    if let Some(b) = r.baselines.get_mut("unbalanced") {
-        b.insert("peak_joint_force_n".into(), worst(&bare).0);
+/// No analyses beyond the solution's own documents.
+pub fn analysis_documents(
+    _: &Scene,
+    _: &LinkageProblem,
+    _: &Solved,
+    _: &Analyses,
+    _: &mut SolveResult,
+) {
+}
+
+/// The tables, plots and drawing of a solved scene, in the order the report lists them.
+pub fn documents(scene: &Scene, p: &LinkageProblem, sol: &Solved, r: &mut SolveResult) {
+    if let Some(front) = &sol.out.pareto {
+        pareto_documents(r, &Front::of(front, p.scene.objective.minimize));
     }
-    // The figure of the result: the design's, or the bare linkage's for an analysis.
-    if !r.objectives.is_empty() {
-        let (w, e) = worst(design.as_deref().unwrap_or(&bare));
-        r.objectives.insert("peak_joint_force_n".into(), w);
-        r.errors.insert("peak_joint_force_n".into(), e);
-    }
-    let mut csv = String::from(
-        "joint,kind,unbalanced_peak_n,unbalanced_error_n,unbalanced_angle_rad,peak_n,error_n,angle_rad\n",
-    );
-    let mut rows = Vec::new();
-    for (k, j) in joints.iter().enumerate() {
-        let label = ls::joint_label(j, &sc.link_names);
-        let kind = match j.kind {
-            JointKind::Revolute => "revolute",
-            JointKind::Prismatic => "prismatic",
-        };
-        let b = bare[k];
-        let d = design.as_ref().map(|d| d[k]);
-        let cell = |v: Option<f64>, f: fn(f64) -> String| v.map_or(String::new(), f);
-        csv += &format!(
-            "{label},{kind},{:.12e},{:.3e},{:.12e},{},{},{}\n",
-            b.peak,
-            b.error,
-            b.angle,
-            cell(d.map(|d| d.peak), |v| format!("{v:.12e}")),
-            cell(d.map(|d| d.error), |v| format!("{v:.3e}")),
-            cell(d.map(|d| d.angle), |v| format!("{v:.12e}")),
-        );
-        let mut row = json!({
-            "joint": label,
-            "kind": kind,
-            "unbalanced_peak_n": b.peak,
-            "unbalanced_peak_error_n": b.error,
-            "unbalanced_angle_rad": b.angle,
-        });
-        if let Some(d) = d {
-            row["peak_n"] = json!(d.peak);
-            row["peak_error_n"] = json!(d.error);
-            row["angle_rad"] = json!(d.angle);
-            if let Some(lim) = sc.objective.max_joint_force {
-                if d.peak > lim * (1.0 + p.settings.rel_tol) + d.error {
-                    r.warnings.push(format!(
-                        "joint {label} peak load {:.6e} N exceeds its limit {lim:.6e} N",
-                        d.peak
-                    ));
-                }
-            }
-        }
-        rows.push(row);
-    }
-    r.extra.insert(
-        "joints".into(),
-        json!({
-            "load": "peak over the cycle of |R| (a pin) or of the force normal to the slide (a slide), Newton–Euler",
-            "limit_n": sc.objective.max_joint_force,
-            "joints": rows,
-            "csv": format!("{}-joints.csv", r.name),
-        }),
-    );
-    r.tables.push(Table {
-        suffix: "joints".into(),
-        caption: "Joint (bearing) loads: peak over the cycle without and with the counterweights"
-            .into(),
-        csv,
-    });
+    joint_table(r, p, sol);
+    curves(r, scene, p, sol);
+    linkage_drawing(r, scene, p, sol);
 }
 
 /// Design, objectives, errors and solver facts of a solved design.
-fn design_keys(r: &mut SolveResult, p: &LinkageProblem, out: &Outcome, sol: &Solution, key: &str) {
-    let sc = &p.scene;
+fn design_keys(
+    r: &mut SolveResult,
+    p: &LinkageProblem,
+    solution: &Solved,
+    sol: &Solution,
+    key: &str,
+) {
+    let (sc, out) = (&p.scene, &solution.out);
     r.status = cw_status(sol.status);
     if let Some(note) = &sol.note {
         r.warnings.push(note.clone());
     }
     let mut total_mass = 0.0;
-    for (j, cw) in sc.counterweights.iter().enumerate() {
-        let d = sol.counterweight(j);
-        let n = &cw.link_name;
-        total_mass += d.mass;
-        r.design
-            .insert(format!("{n}_counterweight_mass_kg"), d.mass);
-        r.design
-            .insert(format!("{n}_counterweight_radius_m"), d.radius);
-        r.design.insert(
-            format!("{n}_counterweight_angle_rad"),
-            d.angle.rem_euclid(TAU),
-        );
-        r.design.insert(
-            format!("{n}_counterweight_first_moment_x_kgm"),
-            d.first_moment[0],
-        );
-        r.design.insert(
-            format!("{n}_counterweight_first_moment_y_kgm"),
-            d.first_moment[1],
-        );
-        r.design.insert(
-            format!("{n}_counterweight_inertia_about_joint_kgm2"),
-            d.inertia,
-        );
-        r.design.insert(
-            format!("{n}_counterweight_centroidal_inertia_kgm2"),
-            d.centroidal_inertia,
-        );
-        // One body with this mass, centroid and inertia about the joint, within the
-        // envelope: an annular sector about the joint, symmetric about u (any thickness of
-        // areal density m/area).
-        if d.mass > 0.0 {
-            match sector_realising(d.mass, d.radius, d.inertia, cw.radius) {
-                Some((ri, ro, th)) => {
-                    for (k, v) in [("inner_radius_m", ri), ("outer_radius_m", ro), ("angle_rad", th)] {
-                        r.design.insert(format!("{n}_counterweight_sector_{k}"), v);
-                    }
-                }
-                None => r.warnings.push(format!(
-                    "the {n} counterweight (m {:.4} kg, centroid {:.2} mm, I {:.4e} kg·m² about its joint) is no annular sector within the envelope {:.2} mm",
-                    d.mass,
-                    d.radius * 1e3,
-                    d.inertia,
-                    cw.radius * 1e3
-                )),
-            }
-        }
-        // A counterweight at its largest mass or radius: the limit, not the balance, sizes it.
-        if d.mass > 0.0 {
-            let (m_lo, m_hi) = cw.mass.bounds();
-            let field = format!("design.counterweights[{j}]");
-            if m_hi > m_lo {
-                r.bounds.extend(ActiveBound::check(
-                    &format!("design.{n}_counterweight_mass_kg"),
-                    d.mass,
-                    (m_lo, m_hi),
-                    1e-7,
-                    (&format!("{field}.mass"), "the least mass allowed"),
-                    (
-                        &format!("{field}.mass"),
-                        "the largest mass allowed: the limit, not the balance, sizes this counterweight",
-                    ),
-                ));
-            }
-            r.bounds.extend(ActiveBound::check(
-                &format!("design.{n}_counterweight_radius_m"),
-                d.radius,
-                (0.0, cw.radius),
-                1e-7,
-                (&format!("{field}.radius"), "at the joint"),
-                (
-                    &format!("{field}.radius"),
-                    "the centroid at the envelope radius: as far out as allowed, the least mass for its first moment",
-                ),
-            ));
-        }
+    for j in 0..sc.counterweights.len() {
+        total_mass += counterweight_keys(r, p, solution, sol, j);
     }
     let rms = out.design_rms.unwrap_or([(f64::NAN, f64::NAN); 3]);
     put_fields(&mut r.objectives, Some(&mut r.errors), &sol.peaks, &rms);
@@ -370,6 +206,99 @@ fn design_keys(r: &mut SolveResult, p: &LinkageProblem, out: &Outcome, sol: &Sol
     // The optimised figure's bound covers its distance from the true optimum too.
     let own = r.errors.get(key).copied().unwrap_or(0.0);
     r.errors.insert(key.into(), own.max(sol.error.total));
+    solver_facts(r, p, out, sol);
+}
+
+/// Counterweight j's keys: its mass, centroid, angle, first moment and inertias, the annular
+/// sector that realises it, and the bounds it sits on; returns its mass.
+fn counterweight_keys(
+    r: &mut SolveResult,
+    p: &LinkageProblem,
+    solution: &Solved,
+    sol: &Solution,
+    j: usize,
+) -> f64 {
+    let cw = &p.scene.counterweights[j];
+    let d = sol.counterweight(j);
+    let n = &cw.link_name;
+    r.design
+        .insert(format!("{n}_counterweight_mass_kg"), d.mass);
+    r.design
+        .insert(format!("{n}_counterweight_radius_m"), d.radius);
+    r.design.insert(
+        format!("{n}_counterweight_angle_rad"),
+        d.angle.rem_euclid(TAU),
+    );
+    r.design.insert(
+        format!("{n}_counterweight_first_moment_x_kgm"),
+        d.first_moment[0],
+    );
+    r.design.insert(
+        format!("{n}_counterweight_first_moment_y_kgm"),
+        d.first_moment[1],
+    );
+    r.design.insert(
+        format!("{n}_counterweight_inertia_about_joint_kgm2"),
+        d.inertia,
+    );
+    r.design.insert(
+        format!("{n}_counterweight_centroidal_inertia_kgm2"),
+        d.centroidal_inertia,
+    );
+    // One body with this mass, centroid and inertia about the joint, within the
+    // envelope: an annular sector about the joint, symmetric about u (any thickness of
+    // areal density m/area).
+    if d.mass > 0.0 {
+        match solution.sectors[j] {
+            Some((ri, ro, th)) => {
+                for (k, v) in [("inner_radius_m", ri), ("outer_radius_m", ro), ("angle_rad", th)] {
+                    r.design.insert(format!("{n}_counterweight_sector_{k}"), v);
+                }
+            }
+            None => r.warnings.push(format!(
+                "the {n} counterweight (m {:.4} kg, centroid {:.2} mm, I {:.4e} kg·m² about its joint) is no annular sector within the envelope {:.2} mm",
+                d.mass,
+                d.radius * 1e3,
+                d.inertia,
+                cw.radius * 1e3
+            )),
+        }
+    }
+    // A counterweight at its largest mass or radius: the limit, not the balance, sizes it.
+    if d.mass > 0.0 {
+        let (m_lo, m_hi) = cw.mass.bounds();
+        let field = format!("design.counterweights[{j}]");
+        if m_hi > m_lo {
+            r.bounds.extend(ActiveBound::check(
+                &format!("design.{n}_counterweight_mass_kg"),
+                d.mass,
+                (m_lo, m_hi),
+                1e-7,
+                (&format!("{field}.mass"), "the least mass allowed"),
+                (
+                    &format!("{field}.mass"),
+                    "the largest mass allowed: the limit, not the balance, sizes this counterweight",
+                ),
+            ));
+        }
+        r.bounds.extend(ActiveBound::check(
+            &format!("design.{n}_counterweight_radius_m"),
+            d.radius,
+            (0.0, cw.radius),
+            1e-7,
+            (&format!("{field}.radius"), "at the joint"),
+            (
+                &format!("{field}.radius"),
+                "the centroid at the envelope radius: as far out as allowed, the least mass for its first moment",
+            ),
+        ));
+    }
+    d.mass
+}
+
+/// The solver's figures (bound, gaps, rounds, angles), the limit violations and the method.
+fn solver_facts(r: &mut SolveResult, p: &LinkageProblem, out: &ls::Outcome, sol: &Solution) {
+    let sc = &p.scene;
     for (k, v) in [
         ("lower_bound", sol.lower_bound),
         ("gap_sampling", sol.error.sampling),
@@ -428,87 +357,244 @@ fn design_keys(r: &mut SolveResult, p: &LinkageProblem, out: &Outcome, sol: &Sol
     );
 }
 
-/// The front as JSON and CSV.
-fn pareto_keys(r: &mut SolveResult, front: &crate::synth::minimax::ParetoFront, goal: Goal) {
-    let mut csv = String::from("eps,peak_shaking_force_n,peak_shaking_moment_nm,error_force_n,error_moment_nm,gap,status,dominated\n");
-    let mut pts = Vec::new();
-    // Infeasible or failed points have no peaks: left out of the front (counted below).
-    let ok: Vec<_> = front
-        .points
-        .iter()
-        .filter(|p| p.solution.peaks.len() == 3)
-        .collect();
-    // A point trades off only if, against every point of smaller limited field, its
-    // optimised field is lower by more than both errors; past the knee (the limit slack) the
-    // points repeat the unlimited optimum with a larger other field: dominated, left out of
-    // the front (kept in the CSV, marked).
-    let (opt, lim) = match goal {
-        Goal::PeakMoment => (MOMENT, FORCE),
-        _ => (FORCE, MOMENT),
+/// One row per joint: (label, kind, the bare linkage's peak, the design's peak).
+fn joint_rows<'a>(
+    p: &'a LinkageProblem,
+    loads: &'a JointLoads,
+) -> impl Iterator<Item = (String, &'static str, ls::JointPeak, Option<ls::JointPeak>)> + 'a {
+    let sc = &p.scene;
+    let design = loads.design.as_ref().and_then(|d| d.as_ref().ok());
+    sc.linkage
+        .joints()
+        .into_iter()
+        .enumerate()
+        .map(move |(k, j)| {
+            let kind = match j.kind {
+                JointKind::Revolute => "revolute",
+                JointKind::Prismatic => "prismatic",
+            };
+            (
+                ls::joint_label(&j, &sc.link_names),
+                kind,
+                loads.bare[k],
+                design.map(|d| d[k]),
+            )
+        })
+}
+
+/// The bearing loads: every joint's peak load over the cycle without and with the
+/// counterweights (`joints`), the largest of them as `peak_joint_force_n` in the objectives
+/// and the unbalanced baseline, a warning for each limit exceeded.
+fn joint_numbers(r: &mut SolveResult, p: &LinkageProblem, solved: &Solved) {
+    let sc = &p.scene;
+    let loads = match &solved.joints {
+        Ok(l) => l,
+        Err(e) => {
+            r.warnings.push(format!("joint loads not computed: {e}"));
+            return;
+        }
     };
-    let mut order: Vec<usize> = (0..ok.len()).collect();
-    order.sort_by(|&i, &j| {
-        ok[i].solution.peaks[lim]
-            .peak
-            .total_cmp(&ok[j].solution.peaks[lim].peak)
-    });
-    let mut dominated = vec![false; ok.len()];
-    let mut best: Option<(f64, f64)> = None;
-    for &i in &order {
-        let pk = &ok[i].solution.peaks[opt];
-        match best {
-            Some((v, e)) if pk.peak >= v - (e + pk.error) => dominated[i] = true,
-            _ => best = Some((pk.peak, pk.error)),
-        }
+    if let Some(Err(e)) = &loads.design {
+        r.warnings
+            .push(format!("joint loads of the design not computed: {e}"));
     }
-    for (i, pt) in ok.iter().enumerate() {
-        let s = &pt.solution;
-        let st = cw_status(s.status).as_str();
-        csv += &format!(
-            "{:.12e},{:.12e},{:.12e},{:.3e},{:.3e},{:.3e},{st},{}\n",
-            pt.eps,
-            s.peaks[FORCE].peak,
-            s.peaks[MOMENT].peak,
-            s.peaks[FORCE].error,
-            s.peaks[MOMENT].error,
-            s.error.total,
-            dominated[i]
-        );
-        if dominated[i] {
-            continue;
-        }
-        pts.push(json!({
-            "eps": pt.eps,
-            "peak_shaking_force_n": s.peaks[FORCE].peak,
-            "peak_shaking_moment_nm": s.peaks[MOMENT].peak,
-            "error_total": s.error.total,
-            "status": st,
-        }));
+    let design = loads.design.as_ref().and_then(|d| d.as_ref().ok());
+    // The largest of several peaks is off by at most the largest of their errors.
+    let worst = |v: &[ls::JointPeak]| {
+        (
+            v.iter().map(|j| j.peak).fold(0.0, f64::max),
+            v.iter().map(|j| j.error).fold(0.0, f64::max),
+        )
+    };
+    if let Some(b) = r.baselines.get_mut("unbalanced") {
+        b.insert("peak_joint_force_n".into(), worst(&loads.bare).0);
     }
-    let certified = front
-        .points
-        .iter()
-        .filter(|p| p.solution.status == CwStatus::Optimal)
-        .count();
+    // The figure of the result: the design's, or the bare linkage's for an analysis.
+    if !r.objectives.is_empty() {
+        let (w, e) = worst(design.map_or(&loads.bare, |d| d.as_slice()));
+        r.objectives.insert("peak_joint_force_n".into(), w);
+        r.errors.insert("peak_joint_force_n".into(), e);
+    }
+    let mut rows = Vec::new();
+    for (label, kind, b, d) in joint_rows(p, loads) {
+        let mut row = json!({
+            "joint": label,
+            "kind": kind,
+            "unbalanced_peak_n": b.peak,
+            "unbalanced_peak_error_n": b.error,
+            "unbalanced_angle_rad": b.angle,
+        });
+        if let Some(d) = d {
+            row["peak_n"] = json!(d.peak);
+            row["peak_error_n"] = json!(d.error);
+            row["angle_rad"] = json!(d.angle);
+            if let Some(lim) = sc.objective.max_joint_force {
+                if d.peak > lim * (1.0 + p.settings.rel_tol) + d.error {
+                    r.warnings.push(format!(
+                        "joint {label} peak load {:.6e} N exceeds its limit {lim:.6e} N",
+                        d.peak
+                    ));
+                }
+            }
+        }
+        rows.push(row);
+    }
     r.extra.insert(
-        "pareto".into(),
-        json!({"points": pts, "certified": certified, "without_design": front.points.len() - ok.len(), "dominated": dominated.iter().filter(|d| **d).count(), "csv": format!("{}-pareto.csv", r.name)}),
+        "joints".into(),
+        json!({
+            "load": "peak over the cycle of |R| (a pin) or of the force normal to the slide (a slide), Newton–Euler",
+            "limit_n": sc.objective.max_joint_force,
+            "joints": rows,
+            "csv": format!("{}-joints.csv", r.name),
+        }),
     );
+}
+
+/// The bearing loads' table `<name>-joints.csv`.
+fn joint_table(r: &mut SolveResult, p: &LinkageProblem, solved: &Solved) {
+    let Ok(loads) = &solved.joints else { return };
+    let mut csv = String::from(
+        "joint,kind,unbalanced_peak_n,unbalanced_error_n,unbalanced_angle_rad,peak_n,error_n,angle_rad\n",
+    );
+    for (label, kind, b, d) in joint_rows(p, loads) {
+        let cell = |v: Option<f64>, f: fn(f64) -> String| v.map_or(String::new(), f);
+        csv += &format!(
+            "{label},{kind},{:.12e},{:.3e},{:.12e},{},{},{}\n",
+            b.peak,
+            b.error,
+            b.angle,
+            cell(d.map(|d| d.peak), |v| format!("{v:.12e}")),
+            cell(d.map(|d| d.error), |v| format!("{v:.3e}")),
+            cell(d.map(|d| d.angle), |v| format!("{v:.12e}")),
+        );
+    }
+    r.tables.push(Table {
+        suffix: "joints".into(),
+        caption: "Joint (bearing) loads: peak over the cycle without and with the counterweights"
+            .into(),
+        csv,
+    });
+}
+
+/// A force–moment front as the result shows it: the points with a design, ordered by their
+/// limited field, each marked dominated or not.
+struct Front<'a> {
+    front: &'a crate::synth::minimax::ParetoFront,
+    /// The points with a design (infeasible or failed points have no peaks: left out).
+    ok: Vec<&'a crate::synth::minimax::ParetoPoint>,
+    /// Indices into `ok` by increasing limited field.
+    order: Vec<usize>,
+    /// Does a point fail to trade off?
+    dominated: Vec<bool>,
+}
+
+impl<'a> Front<'a> {
+    /// A point trades off only if, against every point of smaller limited field, its
+    /// optimised field is lower by more than both errors; past the knee (the limit slack) the
+    /// points repeat the unlimited optimum with a larger other field: dominated, left out of
+    /// the front (kept in the CSV, marked).
+    fn of(front: &'a crate::synth::minimax::ParetoFront, goal: Goal) -> Front<'a> {
+        let ok: Vec<_> = front
+            .points
+            .iter()
+            .filter(|p| p.solution.peaks.len() == 3)
+            .collect();
+        let (opt, lim) = match goal {
+            Goal::PeakMoment => (MOMENT, FORCE),
+            _ => (FORCE, MOMENT),
+        };
+        let mut order: Vec<usize> = (0..ok.len()).collect();
+        order.sort_by(|&i, &j| {
+            ok[i].solution.peaks[lim]
+                .peak
+                .total_cmp(&ok[j].solution.peaks[lim].peak)
+        });
+        let mut dominated = vec![false; ok.len()];
+        let mut best: Option<(f64, f64)> = None;
+        for &i in &order {
+            let pk = &ok[i].solution.peaks[opt];
+            match best {
+                Some((v, e)) if pk.peak >= v - (e + pk.error) => dominated[i] = true,
+                _ => best = Some((pk.peak, pk.error)),
+            }
+        }
+        Front {
+            front,
+            ok,
+            order,
+            dominated,
+        }
+    }
+
+    /// The `pareto` section of the result `name`.
+    fn json(&self, name: &str) -> serde_json::Value {
+        let pts: Vec<serde_json::Value> = self
+            .ok
+            .iter()
+            .zip(&self.dominated)
+            .filter(|(_, d)| !**d)
+            .map(|(pt, _)| {
+                let s = &pt.solution;
+                json!({
+                    "eps": pt.eps,
+                    "peak_shaking_force_n": s.peaks[FORCE].peak,
+                    "peak_shaking_moment_nm": s.peaks[MOMENT].peak,
+                    "error_total": s.error.total,
+                    "status": cw_status(s.status).as_str(),
+                })
+            })
+            .collect();
+        let certified = self
+            .front
+            .points
+            .iter()
+            .filter(|p| p.solution.status == CwStatus::Optimal)
+            .count();
+        json!({"points": pts, "certified": certified, "without_design": self.front.points.len() - self.ok.len(), "dominated": self.dominated.iter().filter(|d| **d).count(), "csv": format!("{name}-pareto.csv")})
+    }
+
+    /// The front's CSV: every point with a design, dominated ones marked.
+    fn csv(&self) -> String {
+        let mut csv = String::from("eps,peak_shaking_force_n,peak_shaking_moment_nm,error_force_n,error_moment_nm,gap,status,dominated\n");
+        for (pt, dominated) in self.ok.iter().zip(&self.dominated) {
+            let s = &pt.solution;
+            csv += &format!(
+                "{:.12e},{:.12e},{:.12e},{:.3e},{:.3e},{:.3e},{},{dominated}\n",
+                pt.eps,
+                s.peaks[FORCE].peak,
+                s.peaks[MOMENT].peak,
+                s.peaks[FORCE].error,
+                s.peaks[MOMENT].error,
+                s.error.total,
+                cw_status(s.status).as_str(),
+            );
+        }
+        csv
+    }
+
+    /// (peak moment, peak force) of the front's points, by increasing limited field.
+    fn line(&self) -> Vec<(f64, f64)> {
+        self.order
+            .iter()
+            .filter(|&&i| !self.dominated[i])
+            .map(|&i| {
+                let p = &self.ok[i].solution.peaks;
+                (p[MOMENT].peak, p[FORCE].peak)
+            })
+            .collect()
+    }
+}
+
+/// The front's table `<name>-pareto.csv` and its plot.
+fn pareto_documents(r: &mut SolveResult, front: &Front) {
     r.tables.push(Table {
         suffix: "pareto".into(),
         caption:
             "Peak shaking force against peak shaking moment: each point its own certified solve"
                 .into(),
-        csv,
+        csv: front.csv(),
     });
-    let line: Vec<(f64, f64)> = order
-        .iter()
-        .filter(|&&i| !dominated[i])
-        .map(|&i| {
-            let p = &ok[i].solution.peaks;
-            (p[MOMENT].peak, p[FORCE].peak)
-        })
-        .collect();
+    let line = front.line();
     r.plots.push(Plot::new(
         "pareto",
         "Peak shaking force against peak shaking moment (ε-constraint front, each point certified)",
@@ -533,11 +619,16 @@ fn pareto_keys(r: &mut SolveResult, front: &crate::synth::minimax::ParetoFront, 
 
 /// For a four-bar with counterweights on crank and rocker: the Berkof–Lowen first moments
 /// beside the numeric ones.
-fn berkof_lowen(r: &mut SolveResult, p: &LinkageProblem, sol: Option<&Solution>) {
+fn berkof_lowen(r: &mut SolveResult, p: &LinkageProblem, solved: &Solved) {
     let sc = &p.scene;
-    let Ok(fb) = sc.linkage.berkof_lowen() else {
+    let Some(fb) = solved.berkof_lowen else {
         return;
     };
+    let sol = solved
+        .out
+        .design
+        .as_ref()
+        .filter(|s| s.x.iter().all(|v| v.is_finite()));
     let mut v = json!({
         "crank_first_moment_kgm": [fb.crank.x, fb.crank.y],
         "rocker_first_moment_kgm": [fb.rocker.x, fb.rocker.y],
@@ -561,47 +652,31 @@ fn berkof_lowen(r: &mut SolveResult, p: &LinkageProblem, sol: Option<&Solution>)
     r.extra.insert("berkof_lowen".into(), v);
 }
 
-/// The fields over the cycle with and without the counterweights (CSV, plot) and the drawing:
-/// report data, computed only when the result's files are written (a [`Deferred`]), in their
-/// places among the tables and plots.
-fn curves(r: &mut SolveResult, scene: &Scene, p: &LinkageProblem, out: &Outcome) {
-    let x = out
-        .design
-        .as_ref()
-        .map(|s| s.x.clone())
-        .filter(|x| x.iter().all(|v| v.is_finite()));
-    let (at_table, at_plot) = (r.tables.len(), r.plots.len());
-    let (sc, x_cycle) = (p.scene.clone(), x.clone());
-    let n = p.settings.scan_samples.max(16);
-    r.deferred.push(Deferred::new("cycle", move |r: &mut SolveResult| {
-        let rows = cycle_rows(&sc, x_cycle.as_deref(), n);
-        let mut csv = String::from("theta_deg,bare_fx_n,bare_fy_n,bare_moment_nm,bare_torque_nm,fx_n,fy_n,moment_nm,torque_nm\n");
-        for row in &rows {
-            csv += &row
-                .iter()
-                .map(|v| format!("{v:.9e}"))
-                .collect::<Vec<_>>()
-                .join(",");
-            csv += "\n";
-        }
-        r.tables.insert(
-            at_table,
-            Table {
-                suffix: "cycle".into(),
-                caption: "Shaking force, shaking moment and input torque over one crank turn, without and with the counterweights".into(),
-                csv,
-            },
-        );
-        let with_cw = x_cycle.is_some();
-        r.plots.insert(
-            at_plot,
-            Plot::new(
-                "fields",
-                "|F|, M_O and T over one crank turn: bare linkage and with the counterweights",
-                move || fields_plot(&rows, with_cw),
-            ),
-        );
-    }));
+/// The fields over the cycle with and without the counterweights (`<name>-cycle.csv`, the
+/// `fields` plot) and the linkage at four crank angles: the model evaluated for drawing.
+fn curves(r: &mut SolveResult, scene: &Scene, p: &LinkageProblem, solved: &Solved) {
+    let x = solved.design_x().map(<[f64]>::to_vec);
+    let rows = cycle_rows(&p.scene, x.as_deref(), p.settings.scan_samples.max(16));
+    let mut csv = String::from("theta_deg,bare_fx_n,bare_fy_n,bare_moment_nm,bare_torque_nm,fx_n,fy_n,moment_nm,torque_nm\n");
+    for row in &rows {
+        csv += &row
+            .iter()
+            .map(|v| format!("{v:.9e}"))
+            .collect::<Vec<_>>()
+            .join(",");
+        csv += "\n";
+    }
+    r.tables.push(Table {
+        suffix: "cycle".into(),
+        caption: "Shaking force, shaking moment and input torque over one crank turn, without and with the counterweights".into(),
+        csv,
+    });
+    let with_cw = x.is_some();
+    r.plots.push(Plot::new(
+        "fields",
+        "|F|, M_O and T over one crank turn: bare linkage and with the counterweights",
+        move || fields_plot(&rows, with_cw),
+    ));
     let (sc, name) = (p.scene.clone(), scene.name.clone());
     r.plots.push(Plot::new(
         "linkage",
@@ -745,27 +820,25 @@ fn drawing(name: &str, sc: &LinkageScene, x: Option<&[f64]>) -> Result<String, P
 }
 
 /// The linkage's drawing (`<name>-drawing.dxf`/`.svg`, [`linkage_sheet`]).
-fn linkage_drawing(r: &mut SolveResult, scene: &Scene, p: &LinkageProblem, out: &Outcome) {
-    let x = out
-        .design
-        .as_ref()
-        .map(|s| s.x.clone())
-        .filter(|x| x.iter().all(|v| v.is_finite()));
-    let (sc, name) = (p.scene.clone(), scene.name.clone());
+fn linkage_drawing(r: &mut SolveResult, scene: &Scene, p: &LinkageProblem, sol: &Solved) {
+    let x = sol.design_x().map(<[f64]>::to_vec);
+    let (sc, name, sectors) = (p.scene.clone(), scene.name.clone(), sol.sectors.clone());
     let caption = "linkage at θ = 0 and its counterweights";
     r.drawings.push(Sheet::new("drawing", caption, move || {
-        linkage_sheet(&name, &sc, x.as_deref())
+        linkage_sheet(&name, &sc, x.as_deref(), &sectors)
     }));
 }
 
 /// The links (reference joint to tip) at the design position θ = 0 with their joints, and at
 /// 90°, 180°, 270° (layer `PATH`); the ground pivots marked, a slider's line as a centre line;
 /// each counterweight of the design `x` as a disc at its centroid (a symbolic size), its
-/// radius from the link's reference joint dimensioned, its mass and angle in a note.
+/// radius from the link's reference joint dimensioned, its mass and angle in a note; its
+/// annular sector (`sectors`, from the solve) where there is one.
 fn linkage_sheet(
     name: &str,
     sc: &LinkageScene,
     x: Option<&[f64]>,
+    sectors: &[Option<(f64, f64, f64)>],
 ) -> Result<Drawing, DrawingError> {
     let l: &Linkage = &sc.linkage;
     let pin = 0.04 * sc.crank_length;
@@ -840,8 +913,7 @@ fn linkage_sheet(
             );
             let on = &sc.counterweights[j].link_name;
             // The annular sector that is this counterweight, about its joint (none: a ring).
-            let (env, p) = (sc.counterweights[j].radius, at.norm());
-            match sector_realising(m[0], p, m[3], env) {
+            match sectors.get(j).copied().flatten() {
                 Some((ri, ro, th)) if ro > 0.0 && th > 0.0 => {
                     let mid = (c - p0).y.atan2((c - p0).x);
                     let (a0, a1) = (mid - 0.5 * th, mid + 0.5 * th);

@@ -5,10 +5,11 @@
 pub mod file;
 pub mod model;
 pub mod report;
+pub mod solve;
 pub mod study;
 pub mod synth;
 
-crate::families::family::family_folder!(
+crate::family_folder!(
     /// Slider-crank with a crank counterweight (piston machines, the felling-head vibrator).
     SliderCrank,
     file::SliderCrankProblem

@@ -3,11 +3,12 @@
 //! `docs/results.md`).
 
 use super::file::*;
+use super::solve::{Analyses, Solution};
 use crate::families::family::{cw_status, Scene};
 use crate::families::slider_crank::model::Kinematics;
 use crate::families::slider_crank::model::ProcessForce;
 use crate::families::slider_crank::model::SliderCrank;
-use crate::families::slider_crank::synth::{self as sc, Objective};
+use crate::families::slider_crank::synth::{self as sc, Objective, SweepPoint};
 use crate::geom::P2;
 use crate::report::drawing::{Drawing, DrawingError, Layer, Sheet};
 use crate::report::plot::{self, Panel, PlotError, Series};
@@ -17,16 +18,14 @@ use crate::synth::shape::Sector;
 use serde_json::json;
 use std::collections::BTreeMap;
 use std::f64::consts::TAU;
-use std::time::Instant;
 
-/// The result of a slider-crank scene: solve, then shape keys, errors, baselines, the
-/// Pareto front, the paper's classical design, the plate shape and the plots.
-pub fn result(scene: &Scene, sc_scene: &SliderCrankProblem) -> SolveResult {
-    let s = &sc_scene.core;
-    let mut r = scene.new_result();
+/// The result's `model` section: the kinematics, the rod, the offset, gravity and the process
+/// force the solve uses.
+pub fn model(p: &SliderCrankProblem, _: Option<&Solution>) -> BTreeMap<String, serde_json::Value> {
+    let s = &p.core;
     let m = &s.mech;
     let g = s.loads.gravity;
-    r.model = BTreeMap::from([
+    BTreeMap::from([
         (
             "kinematics".into(),
             json!(match m.kinematics {
@@ -56,18 +55,58 @@ pub fn result(scene: &Scene, sc_scene: &SliderCrankProblem) -> SolveResult {
                 ProcessForce::Table { angles, .. } => format!("table of {} points", angles.len()),
             }),
         ),
-    ]);
-    let t0 = Instant::now();
-    let out = match sc::solve(s) {
-        Ok(o) => o,
-        Err(e) => {
-            r.warnings.push(e.to_string());
-            return r;
-        }
-    };
-    r.timing.solve_s = t0.elapsed().as_secs_f64();
-    let free =
-        s.counterweight.angle.fixed().is_none() || s.counterweight.unbalance.fixed().is_none();
+    ])
+}
+
+/// Is any part of the counterweight free (else the scene is an analysis)?
+fn is_free(s: &sc::Scene) -> bool {
+    s.counterweight.angle.fixed().is_none() || s.counterweight.unbalance.fixed().is_none()
+}
+
+/// The design's keys: U, the realised counterweight and the balancers.
+fn design(p: &SliderCrankProblem, out: &sc::Outcome) -> sc::Design {
+    sc::Design::new(
+        out.design.unbalance,
+        &out.counterweight,
+        p.core.counterweight.shape.as_ref(),
+    )
+    .with_balancers(&out.designed.balancers)
+}
+
+/// The result's numbers from the solution: status, design, objectives with their errors,
+/// derived figures, baselines, the sections and the warnings (what `--json` prints).
+pub fn numbers(_: &Scene, p: &SliderCrankProblem, sol: &Solution, r: &mut SolveResult) {
+    let (s, out) = (&p.core, &sol.out);
+    status(r, s, out);
+    r.method = out.method.clone();
+    r.warnings.extend(out.warnings.iter().cloned());
+    let design = design(p, out);
+    unbalance_bound(r, s, &design);
+    r.objective = Some(sc::Objectives::key(s.objective).into());
+    let mut derived = derived(s, out);
+    paper_design_checks(r, &mut derived, p, sol);
+    baselines(r, s, sol);
+    pareto_numbers(r, &mut derived, out);
+    shape_numbers(r, s, out);
+    balancer_numbers(r, sol);
+    joint_load_numbers(r, s, out);
+    r.design = number_map(&design);
+    r.objectives = number_map(&objectives(out));
+    r.errors = number_map(&errors(s, out));
+    r.derived = number_map(&derived);
+    if let Some((pts, warnings)) = &sol.sweep {
+        r.warnings.extend(warnings.iter().cloned());
+        r.extra.insert(
+            "speed_sweep".into(),
+            serde_json::to_value(pts).expect("plain data"),
+        );
+    }
+}
+
+/// The status: the exchange loop's claim, `analysed` for a given counterweight, `degenerate`
+/// with the reason where the free counterweight cannot move the objective.
+fn status(r: &mut SolveResult, s: &sc::Scene, out: &sc::Outcome) {
+    let free = is_free(s);
     r.status = match out.status {
         CwStatus::Optimal if !free => Status::Analysed,
         s => cw_status(s),
@@ -78,62 +117,68 @@ pub fn result(scene: &Scene, sc_scene: &SliderCrankProblem) -> SolveResult {
             r.status_detail = Some(why.clone());
         }
     }
-    r.method = out.method.clone();
-    r.warnings.extend(out.warnings.iter().cloned());
-    let d = &out.design;
-    let u = P2::new(d.unbalance[0], d.unbalance[1]);
-    let shape_spec = s.counterweight.shape.as_ref();
-    let design = sc::Design::new(d.unbalance, &out.counterweight, shape_spec)
-        .with_balancers(&out.designed.balancers);
-    if free && s.counterweight.unbalance.fixed().is_none() {
-        // |U| on its upper bound: the envelope, the unbalance range or m_max·r_max decides
-        // the counterweight, not the balance.
-        let (lo, hi) = sc::unbalance_bounds(&s.counterweight);
-        let upper = match shape_spec {
-            Some(sh) if hi >= sh.max_unbalance() => (
-                "design.shape",
-                "the plate fills its envelope: a larger counterweight would balance better; enlarge outer_radius_max, thickness or max_angle",
-            ),
-            _ if s.counterweight.mass.is_some() && hi < s.counterweight.unbalance.bounds().1 => (
-                "design.mass",
-                "the largest mass at the largest radius: a larger counterweight would balance better",
-            ),
-            _ => (
-                "design.unbalance",
-                "the unbalance range's upper end: a larger counterweight would balance better",
-            ),
-        };
-        r.bounds.extend(crate::report::ActiveBound::check(
-            "design.counterweight_unbalance_kgm",
-            design.counterweight_unbalance_kgm,
-            (lo, hi),
-            1e-7,
-            (
-                "design.unbalance",
-                "the unbalance range's lower end: a smaller counterweight would balance better",
-            ),
-            upper,
-        ));
+}
+
+/// |U| on a bound of its range: the envelope, the unbalance range or m_max·r_max decides the
+/// counterweight, not the balance.
+fn unbalance_bound(r: &mut SolveResult, s: &sc::Scene, design: &sc::Design) {
+    if !is_free(s) || s.counterweight.unbalance.fixed().is_some() {
+        return;
     }
-    let torque_objective = s.objective == Objective::MinPeakTorque;
-    r.objective = Some(sc::Objectives::key(s.objective).into());
-    let objectives = sc::Objectives {
+    let (lo, hi) = sc::unbalance_bounds(&s.counterweight);
+    let upper = match s.counterweight.shape.as_ref() {
+        Some(sh) if hi >= sh.max_unbalance() => (
+            "design.shape",
+            "the plate fills its envelope: a larger counterweight would balance better; enlarge outer_radius_max, thickness or max_angle",
+        ),
+        _ if s.counterweight.mass.is_some() && hi < s.counterweight.unbalance.bounds().1 => (
+            "design.mass",
+            "the largest mass at the largest radius: a larger counterweight would balance better",
+        ),
+        _ => (
+            "design.unbalance",
+            "the unbalance range's upper end: a larger counterweight would balance better",
+        ),
+    };
+    r.bounds.extend(crate::report::ActiveBound::check(
+        "design.counterweight_unbalance_kgm",
+        design.counterweight_unbalance_kgm,
+        (lo, hi),
+        1e-7,
+        (
+            "design.unbalance",
+            "the unbalance range's lower end: a smaller counterweight would balance better",
+        ),
+        upper,
+    ));
+}
+
+/// The design's objective values.
+fn objectives(out: &sc::Outcome) -> sc::Objectives {
+    let d = &out.design;
+    sc::Objectives {
         peak_shaking_force_n: d.peak,
         rms_shaking_force_n: d.rms,
         peak_drive_torque_nm: d.peak_torque,
         peak_shaking_moment_nm: out.peak_shaking_moment,
-    };
-    // A degenerate torque or moment objective was solved as the minimax force: its gap is
-    // in N.
+    }
+}
+
+/// The objectives' errors: each figure's evaluation error, plus the optimality gap on the
+/// objective the scene optimised (a degenerate torque or moment objective was solved as the
+/// minimax force: its gap is in N).
+fn errors(s: &sc::Scene, out: &sc::Outcome) -> sc::Errors {
+    let d = &out.design;
+    let torque_objective = s.objective == Objective::MinPeakTorque && out.degenerate.is_none();
     let moment_objective = s.objective == Objective::MinPeakMoment && out.degenerate.is_none();
-    let (gap_f, gap_t, gap_m) = if torque_objective && out.degenerate.is_none() {
+    let (gap_f, gap_t, gap_m) = if torque_objective {
         (0.0, out.gap, 0.0)
     } else if moment_objective {
         (0.0, 0.0, out.gap)
     } else {
         (out.gap, 0.0, 0.0)
     };
-    let errors = sc::Errors {
+    sc::Errors {
         objectives: sc::Objectives {
             peak_shaking_force_n: gap_f + d.peak_error,
             rms_shaking_force_n: d.rms_error,
@@ -142,9 +187,15 @@ pub fn result(scene: &Scene, sc_scene: &SliderCrankProblem) -> SolveResult {
         },
         model_two_harmonic_n: out.exact_peak.map(|ex| (ex - d.peak).abs()),
         joint_loads: sc::JointLoadFigures::of(out.joint_loads.as_ref(), true),
-    };
+    }
+}
+
+/// The derived figures (the paper's and the front's are filled in later).
+fn derived(s: &sc::Scene, out: &sc::Outcome) -> sc::Derived {
+    let (m, d) = (&s.mech, &out.design);
+    let u = P2::from(d.unbalance);
     let (mt, mc) = (m.m_rot(), m.m_rec());
-    let mut derived = sc::Derived {
+    sc::Derived {
         lambda: m.lambda(),
         omega_rad_s: s.omega,
         rotating_mass_kg: mt,
@@ -168,24 +219,18 @@ pub fn result(scene: &Scene, sc_scene: &SliderCrankProblem) -> SolveResult {
         paper_counterweight_torque_reduction_pct: None,
         pareto_force_span_n: None,
         pareto_torque_span_nm: None,
-        plate_max_unbalance_kgm: shape_spec.map(|sh| sh.max_unbalance()),
+        plate_max_unbalance_kgm: s.counterweight.shape.as_ref().map(|sh| sh.max_unbalance()),
         joint_loads: sc::JointLoadFigures::of(out.joint_loads.as_ref(), false),
         joint_load_angles: sc::JointLoadAngles::of(out.joint_loads.as_ref()),
-    };
-    let mut baselines = out.baselines.clone();
-    // The classical formula (6) at the lever radius is the 50 % rule: m = (m_r + ½m_s)R/r_pr.
-    let lever = sc_scene
-        .paper
-        .as_ref()
-        .and_then(|p| p.lever_radius)
-        .or_else(|| s.counterweight.radius.and_then(|v| v.fixed()));
-    if let Some(rad) = lever {
-        derived.formula6_counterweight_mass_kg = Some((mt + 0.5 * mc) * m.r / rad);
-        if let Some(pd) = &sc_scene.paper {
-            paper_design_checks(&mut r, &mut derived, &mut baselines, s, pd, rad);
-        }
     }
-    for (name, b) in &baselines {
+}
+
+/// Every baseline with its improvement over it, in the scene's objective (peak torque or peak
+/// force).
+fn baselines(r: &mut SolveResult, s: &sc::Scene, sol: &Solution) {
+    let d = &sol.out.design;
+    let torque_objective = s.objective == Objective::MinPeakTorque;
+    for (name, b) in &sol.baselines {
         let (base, ours) = if torque_objective {
             (b.peak_torque, d.peak_torque)
         } else {
@@ -197,71 +242,73 @@ pub fn result(scene: &Scene, sc_scene: &SliderCrankProblem) -> SolveResult {
         };
         r.baselines.insert(name.clone(), number_map(&figures));
     }
-    if !out.pareto.is_empty() {
-        r.extra.insert(
-            "pareto".into(),
-            serde_json::to_value(&out.pareto).expect("plain data"),
+}
+
+/// The torque–force front (`pareto`), its spans, and a warning where it is too narrow to
+/// choose along.
+fn pareto_numbers(r: &mut SolveResult, derived: &mut sc::Derived, out: &sc::Outcome) {
+    if out.pareto.is_empty() {
+        return;
+    }
+    r.extra.insert(
+        "pareto".into(),
+        serde_json::to_value(&out.pareto).expect("plain data"),
+    );
+    if let (Some(a), Some(b)) = (out.pareto.first(), out.pareto.last()) {
+        let (df, dt) = (
+            b.peak_shaking_force_n - a.peak_shaking_force_n,
+            a.peak_drive_torque_nm - b.peak_drive_torque_nm,
         );
-        if let (Some(a), Some(b)) = (out.pareto.first(), out.pareto.last()) {
-            let (df, dt) = (
-                b.peak_shaking_force_n - a.peak_shaking_force_n,
-                a.peak_drive_torque_nm - b.peak_drive_torque_nm,
-            );
-            derived.pareto_force_span_n = Some(df);
-            derived.pareto_torque_span_nm = Some(dt);
-            if df < 0.01 * a.peak_shaking_force_n && dt < 0.01 * b.peak_drive_torque_nm {
-                r.warnings.push(format!(
-                    "the force optimum and the torque optimum nearly coincide (the front spans {df:.3} N and {dt:.4} N·m): one counterweight serves both"
-                ));
-            }
-        }
-        let mut csv = String::from("force_limit_n,peak_shaking_force_n,peak_drive_torque_nm,gap_nm,unbalance_x_kgm,unbalance_y_kgm,status\n");
-        for p in &out.pareto {
-            csv += &format!(
-                "{},{},{},{},{},{},{}\n",
-                p.force_limit_n,
-                p.peak_shaking_force_n,
-                p.peak_drive_torque_nm,
-                p.gap_nm,
-                p.unbalance_x_kgm,
-                p.unbalance_y_kgm,
-                serde_json::to_value(p.status)
-                    .unwrap()
-                    .as_str()
-                    .unwrap_or("")
-            );
-        }
-        r.tables.push(Table {
-            suffix: "pareto".into(),
-            caption: "Torque–force Pareto front".into(),
-            csv,
-        });
-        let (scene, out, baselines) = (scene.clone(), out.clone(), baselines.clone());
-        r.plots.push(Plot::new(
-            "pareto",
-            "Torque–force Pareto front",
-            move || pareto_plot(&scene, &out, &baselines),
-        ));
-    }
-    if shape_spec.is_some() {
-        let cw = &out.counterweight;
-        let note = cw.plate_note.clone().unwrap_or_default();
-        match &cw.plate {
-            Some(sector) => {
-                r.extra
-                    .insert("shape".into(), json!({"sector": sector, "method": note}));
-            }
-            None => {
-                r.warnings.push(format!("counterweight plate: {note}"));
-                r.extra.insert(
-                    "shape".into(),
-                    json!({"status": "infeasible", "reason": note}),
-                );
-            }
+        derived.pareto_force_span_n = Some(df);
+        derived.pareto_torque_span_nm = Some(dt);
+        if df < 0.01 * a.peak_shaking_force_n && dt < 0.01 * b.peak_drive_torque_nm {
+            r.warnings.push(format!(
+                "the force optimum and the torque optimum nearly coincide (the front spans {df:.3} N and {dt:.4} N·m): one counterweight serves both"
+            ));
         }
     }
-    balancer_table(&mut r, &out);
-    joint_load_table(&mut r, s, &out);
+}
+
+/// The counterweight plate (`shape`), where the scene shapes one.
+fn shape_numbers(r: &mut SolveResult, s: &sc::Scene, out: &sc::Outcome) {
+    if s.counterweight.shape.is_none() {
+        return;
+    }
+    let cw = &out.counterweight;
+    let note = cw.plate_note.clone().unwrap_or_default();
+    match &cw.plate {
+        Some(sector) => {
+            r.extra
+                .insert("shape".into(), json!({"sector": sector, "method": note}));
+        }
+        None => {
+            r.warnings.push(format!("counterweight plate: {note}"));
+            r.extra.insert(
+                "shape".into(),
+                json!({"status": "infeasible", "reason": note}),
+            );
+        }
+    }
+}
+
+/// No analyses beyond the solution's own documents.
+pub fn analysis_documents(
+    _: &Scene,
+    _: &SliderCrankProblem,
+    _: &Solution,
+    _: &Analyses,
+    _: &mut SolveResult,
+) {
+}
+
+/// The tables, plots and drawings of a solved scene, in the order the report lists them.
+pub fn documents(scene: &Scene, p: &SliderCrankProblem, sol: &Solution, r: &mut SolveResult) {
+    let out = &sol.out;
+    if !out.pareto.is_empty() {
+        pareto_documents(r, scene, sol);
+    }
+    balancer_table(r, sol);
+    joint_load_table(r, &p.core, out);
     if out.joint_loads.is_some() {
         let (name, out) = (scene.name.clone(), out.clone());
         r.plots.push(Plot::new(
@@ -270,75 +317,91 @@ pub fn result(scene: &Scene, sc_scene: &SliderCrankProblem) -> SolveResult {
             move || joint_load_plot(&name, &out),
         ));
     }
-    r.design = number_map(&design);
-    r.objectives = number_map(&objectives);
-    r.errors = number_map(&errors);
-    r.derived = number_map(&derived);
-    if let Some(sw) = &sc_scene.speed_sweep {
-        speed_sweep(&mut r, scene, s, sw, u);
+    if let Some((pts, _)) = &sol.sweep {
+        speed_sweep_documents(r, scene, &p.core, pts);
     }
+    let design = design(p, out);
     plate_drawing(
-        &mut r,
+        r,
         scene,
-        sc_scene,
+        p,
         out.counterweight.plate,
         design.counterweight_angle_rad,
     );
-    mechanism_drawing(&mut r, scene, m, &design);
-    let (scene, s, out) = (scene.clone(), s.clone(), out.clone());
+    mechanism_drawing(r, scene, &p.core.mech, &design);
+    let (scene, s, out) = (scene.clone(), p.core.clone(), out.clone());
     r.plots.push(Plot::new(
         "shaking-force",
         "Shaking force (and drive torque) with and without counterweight",
         move || slider_crank_plot(&scene, &s, &out),
     ));
-    r
+}
+
+/// The torque–force front as `<name>-pareto.csv` and its plot.
+fn pareto_documents(r: &mut SolveResult, scene: &Scene, sol: &Solution) {
+    let out = &sol.out;
+    let mut csv = String::from("force_limit_n,peak_shaking_force_n,peak_drive_torque_nm,gap_nm,unbalance_x_kgm,unbalance_y_kgm,status\n");
+    for p in &out.pareto {
+        csv += &format!(
+            "{},{},{},{},{},{},{}\n",
+            p.force_limit_n,
+            p.peak_shaking_force_n,
+            p.peak_drive_torque_nm,
+            p.gap_nm,
+            p.unbalance_x_kgm,
+            p.unbalance_y_kgm,
+            serde_json::to_value(p.status)
+                .unwrap()
+                .as_str()
+                .unwrap_or("")
+        );
+    }
+    r.tables.push(Table {
+        suffix: "pareto".into(),
+        caption: "Torque–force Pareto front".into(),
+        csv,
+    });
+    let (scene, out, baselines) = (scene.clone(), out.clone(), sol.baselines.clone());
+    r.plots.push(Plot::new(
+        "pareto",
+        "Torque–force Pareto front",
+        move || pareto_plot(&scene, &out, &baselines),
+    ));
+}
+
+/// The Lanchester balancers' section (`lanchester_balancers`).
+fn balancer_numbers(r: &mut SolveResult, sol: &Solution) {
+    if sol.balancers.is_empty() {
+        return;
+    }
+    r.extra.insert(
+        "lanchester_balancers".into(),
+        serde_json::to_value(&sol.balancers).expect("plain data"),
+    );
 }
 
 /// The "Lanchester balancers" table (`<name>-balancers.csv`): per pair its order, unbalance
 /// |B_n|, phase, the mass × radius on each shaft, its mid-line offset, the peak of its force
-/// ω²n²|B_n| and of its couple about the crank axis, offset × that force (zero for a pair on
-/// the line through the crank axis: an in-plane pair symmetric about that line adds no moment).
-fn balancer_table(r: &mut SolveResult, out: &sc::Outcome) {
-    let s = &out.designed;
-    if s.balancers.is_empty() {
+/// and of its couple ([`super::solve::BalancerFigures`]).
+fn balancer_table(r: &mut SolveResult, sol: &Solution) {
+    if sol.balancers.is_empty() {
         return;
     }
-    let w2 = s.omega * s.omega;
-    let mut rows = Vec::new();
     let mut csv = String::from(
         "order,unbalance_kgm,phase_deg,shaft_unbalance_kgm,offset_m,peak_force_n,peak_couple_nm\n",
     );
-    for b in &s.balancers {
-        let (bx, by) = (b.unbalance[0], b.unbalance[1]);
-        let mag = bx.hypot(by);
-        let phase = if mag > 0.0 {
-            by.atan2(bx).rem_euclid(TAU)
-        } else {
-            0.0
-        };
-        let n = b.pair.order as f64;
-        let force = w2 * n * n * mag;
+    for b in &sol.balancers {
         csv += &format!(
             "{},{},{},{},{},{},{}\n",
-            b.pair.order,
-            mag,
-            phase.to_degrees(),
-            0.5 * mag,
-            b.pair.offset,
-            force,
-            force * b.pair.offset.abs()
+            b.order,
+            b.unbalance_kgm,
+            b.phase_rad.to_degrees(),
+            b.shaft_unbalance_kgm,
+            b.offset_m,
+            b.peak_force_n,
+            b.peak_couple_nm
         );
-        rows.push(json!({
-            "order": b.pair.order,
-            "unbalance_kgm": mag,
-            "phase_rad": phase,
-            "shaft_unbalance_kgm": 0.5 * mag,
-            "offset_m": b.pair.offset,
-            "peak_force_n": force,
-            "peak_couple_nm": force * b.pair.offset.abs(),
-        }));
     }
-    r.extra.insert("lanchester_balancers".into(), json!(rows));
     r.tables.push(Table {
         suffix: "balancers".into(),
         caption: "Lanchester balancers (pairs of counter-rotating shafts at n·ω; the couple is offset × force about the crank axis, 0 for a pair on the line through it)".into(),
@@ -346,19 +409,45 @@ fn balancer_table(r: &mut SolveResult, out: &sc::Outcome) {
     });
 }
 
+/// The peak of each joint load over the cycle, its crank angle, error and limit: (joint,
+/// peak, limit) in the order the result lists them.
+fn joint_rows<'a>(
+    s: &sc::Scene,
+    jl: &'a sc::JointLoadPeaks,
+) -> [(&'static str, &'a sc::LoadPeak, Option<f64>); 4] {
+    let ll = &s.load_limits;
+    [
+        ("main bearing O", &jl.main_bearing, ll.main_bearing),
+        ("crank pin A", &jl.crank_pin, ll.crank_pin),
+        ("wrist pin B", &jl.wrist_pin, ll.wrist_pin),
+        ("guide (normal force)", &jl.guide, ll.guide),
+    ]
+}
+
+/// The joint loads' section (`joint_loads`).
+fn joint_load_numbers(r: &mut SolveResult, s: &sc::Scene, out: &sc::Outcome) {
+    let Some(jl) = &out.joint_loads else { return };
+    let rows: Vec<serde_json::Value> = joint_rows(s, jl)
+        .iter()
+        .map(|(name, p, lim)| {
+            json!({
+                "joint": name,
+                "peak_load_n": p.peak,
+                "angle_rad": p.angle,
+                "error_n": p.error,
+                "limit_n": lim,
+            })
+        })
+        .collect();
+    r.extra.insert("joint_loads".into(), json!(rows));
+}
+
 /// The "Joint loads" table (`<name>-joint-loads.csv`): the peak of each joint load over the
 /// cycle, its crank angle, error and limit.
 fn joint_load_table(r: &mut SolveResult, s: &sc::Scene, out: &sc::Outcome) {
     let Some(jl) = &out.joint_loads else { return };
-    let ll = &s.load_limits;
     let mut csv = String::from("joint,peak_load_n,angle_deg,error_n,limit_n\n");
-    let mut rows = Vec::new();
-    for (name, p, lim) in [
-        ("main bearing O", jl.main_bearing, ll.main_bearing),
-        ("crank pin A", jl.crank_pin, ll.crank_pin),
-        ("wrist pin B", jl.wrist_pin, ll.wrist_pin),
-        ("guide (normal force)", jl.guide, ll.guide),
-    ] {
+    for (name, p, lim) in joint_rows(s, jl) {
         csv += &format!(
             "{name},{},{},{},{}\n",
             p.peak,
@@ -366,15 +455,7 @@ fn joint_load_table(r: &mut SolveResult, s: &sc::Scene, out: &sc::Outcome) {
             p.error,
             lim.map_or(String::new(), |l| l.to_string())
         );
-        rows.push(json!({
-            "joint": name,
-            "peak_load_n": p.peak,
-            "angle_rad": p.angle,
-            "error_n": p.error,
-            "limit_n": lim,
-        }));
     }
-    r.extra.insert("joint_loads".into(), json!(rows));
     r.tables.push(Table {
         suffix: "joint-loads".into(),
         caption: "Joint loads (Newton–Euler of the rigid links at constant speed)".into(),
@@ -432,15 +513,13 @@ fn joint_load_plot(name: &str, out: &sc::Outcome) -> Result<String, PlotError> {
     )
 }
 
-/// The speed sweep ([`sc::speed_sweep`]: the optimum at each speed, the scene's own design
-/// and no counterweight there) as section `speed_sweep`, `<name>-speed-sweep.csv` and `.svg`.
-fn speed_sweep(r: &mut SolveResult, scene: &Scene, s: &sc::Scene, sw: &SpeedSweep, u: P2) {
+/// The speed sweep's table `<name>-speed-sweep.csv` and plot (the optimum at each speed, the
+/// scene's own design and no counterweight there; its numbers are the section `speed_sweep`).
+fn speed_sweep_documents(r: &mut SolveResult, scene: &Scene, s: &sc::Scene, pts: &[SweepPoint]) {
     let torque = s.objective == Objective::MinPeakTorque;
-    let (pts, warnings) = sc::speed_sweep(s, sw, u);
-    r.warnings.extend(warnings);
     let unit = if torque { "N·m" } else { "N" };
     let mut csv = String::from("speed_rpm,omega_rad_s,optimal_unbalance_kgm,optimal_objective,design_objective,none_objective,status\n");
-    for p in &pts {
+    for p in pts {
         csv += &format!(
             "{},{},{},{},{},{},{}\n",
             p.speed_rpm,
@@ -470,7 +549,7 @@ fn speed_sweep(r: &mut SolveResult, scene: &Scene, s: &sc::Scene, sw: &SpeedSwee
                 .unwrap_or(&key);
             format!("{} ({unit})", words.replace('_', " "))
         },
-        pts.clone(),
+        pts.to_vec(),
     );
     r.plots.push(Plot::new(
         "speed-sweep",
@@ -512,25 +591,24 @@ fn speed_sweep(r: &mut SolveResult, scene: &Scene, s: &sc::Scene, sw: &SpeedSwee
             )
         },
     ));
-    r.extra.insert(
-        "speed_sweep".into(),
-        serde_json::to_value(&pts).expect("plain data"),
-    );
 }
 
-/// The paper's classical design against its own inputs: the printed masses against the
-/// itemised sums, the printed counterweight against formula (6) on the printed inputs, and
-/// the paper's counterweight evaluated as a baseline (`paper_counterweight`).
+/// Formula (6) at the lever radius, and the paper's classical design against its own inputs:
+/// the printed masses against the itemised sums, the printed counterweight against formula
+/// (6) on the printed inputs, and the paper's counterweight as a baseline
+/// (`paper_counterweight`, evaluated in the solve).
 fn paper_design_checks(
     r: &mut SolveResult,
     derived: &mut sc::Derived,
-    baselines: &mut BTreeMap<String, sc::Metrics>,
-    s: &sc::Scene,
-    pd: &PaperDesign,
-    rad: f64,
+    p: &SliderCrankProblem,
+    sol: &Solution,
 ) {
-    let m = &s.mech;
+    let Some(rad) = sol.lever else { return };
+    let m = &p.core.mech;
     let (mt, mc) = (m.m_rot(), m.m_rec());
+    // The classical formula (6) at the lever radius is the 50 % rule: m = (m_r + ½m_s)R/r_pr.
+    derived.formula6_counterweight_mass_kg = Some((mt + 0.5 * mc) * m.r / rad);
+    let Some(pd) = &p.paper else { return };
     let pct = |a: f64, b: f64| 100.0 * (a - b) / b;
     if let Some(pr) = pd.rotating_mass {
         if (pr - mt).abs() > 1e-3 * mt {
@@ -560,19 +638,21 @@ fn paper_design_checks(
             }
         }
     }
-    if let Some(pm) = pd.counterweight_mass {
-        let u_paper = P2::new(-pm * rad, 0.0);
-        match sc::metrics(s, u_paper) {
-            Ok(met) => {
-                if let Some(none) = baselines.get("none") {
+    if pd.counterweight_mass.is_some() {
+        match (
+            &sol.paper_counterweight_error,
+            sol.baselines.get("paper_counterweight"),
+        ) {
+            (Some(e), _) => r.warnings.push(format!(
+                "the paper's counterweight could not be evaluated: {e}"
+            )),
+            (None, Some(met)) => {
+                if let Some(none) = sol.baselines.get("none") {
                     derived.paper_counterweight_torque_reduction_pct =
                         Some(100.0 * (none.peak_torque - met.peak_torque) / none.peak_torque);
                 }
-                baselines.insert("paper_counterweight".into(), met);
             }
-            Err(e) => r.warnings.push(format!(
-                "the paper's counterweight could not be evaluated: {e}"
-            )),
+            (None, None) => {}
         }
     }
 }

@@ -1,0 +1,130 @@
+//! The slider-crank's whole solve: the counterweight synthesis ([`sc::solve`]), the paper's
+//! printed counterweight evaluated as a baseline, and the speed sweep that re-optimises the
+//! scene at every speed — every number the result reports, computed here and nowhere in
+//! `report.rs`.
+
+use super::file::SliderCrankProblem;
+use super::synth::{self as sc, Metrics, SweepPoint};
+use crate::geom::P2;
+use std::collections::BTreeMap;
+
+/// Every number of a solved slider-crank scene.
+#[derive(Debug, Clone)]
+pub struct Solution {
+    /// The synthesis: design, objectives, the exchange loop's certificate, the Pareto front,
+    /// the joint loads and the classical baselines.
+    pub out: sc::Outcome,
+    /// The baselines of the result: the classical designs of `out.baselines`, and
+    /// `paper_counterweight` (the paper's printed counterweight) where the file gives one and
+    /// it could be evaluated.
+    pub baselines: BTreeMap<String, Metrics>,
+    /// The lever radius of the classical formula (6) (`[paper].lever_radius`, else the
+    /// counterweight's fixed radius), where there is one.
+    pub lever: Option<f64>,
+    /// Why the paper's counterweight could not be evaluated, where it could not.
+    pub paper_counterweight_error: Option<String>,
+    /// The design's Lanchester balancer pairs, as the result lists them.
+    pub balancers: Vec<BalancerFigures>,
+    /// The speed sweep (`objective.speed_sweep`): one point per speed whose solve succeeded,
+    /// and a warning per speed that failed.
+    pub sweep: Option<(Vec<SweepPoint>, Vec<String>)>,
+}
+
+impl Solution {
+    /// The design's unbalance vector U (kg·m).
+    pub fn unbalance(&self) -> P2 {
+        P2::from(self.out.design.unbalance)
+    }
+}
+
+/// Solves the scene: the synthesis, the paper's counterweight as a baseline, the speed sweep.
+pub fn solve(p: &SliderCrankProblem) -> Result<Solution, String> {
+    let s = &p.core;
+    let out = sc::solve(s).map_err(|e| e.to_string())?;
+    let mut sol = Solution {
+        baselines: out.baselines.clone(),
+        balancers: balancer_figures(&out),
+        out,
+        lever: lever_radius(p),
+        paper_counterweight_error: None,
+        sweep: None,
+    };
+    // The paper's counterweight m at the lever radius r: U = (−m r, 0).
+    let printed = p.paper.as_ref().and_then(|pd| pd.counterweight_mass);
+    if let (Some(rad), Some(pm)) = (sol.lever, printed) {
+        match sc::metrics(s, P2::new(-pm * rad, 0.0)) {
+            Ok(met) => {
+                sol.baselines.insert("paper_counterweight".into(), met);
+            }
+            Err(e) => sol.paper_counterweight_error = Some(e.to_string()),
+        }
+    }
+    if let Some(sw) = &p.speed_sweep {
+        sol.sweep = Some(sc::speed_sweep(s, sw, sol.unbalance()));
+    }
+    Ok(sol)
+}
+
+/// The lever radius of formula (6): the paper's, else the counterweight's fixed radius.
+fn lever_radius(p: &SliderCrankProblem) -> Option<f64> {
+    p.paper
+        .as_ref()
+        .and_then(|pd| pd.lever_radius)
+        .or_else(|| p.core.counterweight.radius.and_then(|v| v.fixed()))
+}
+
+/// One Lanchester balancer pair of the design, as the result lists it.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct BalancerFigures {
+    /// Order n: the shafts turn at ±n·ω.
+    pub order: u32,
+    /// |B_n| (kg·m), the pair's unbalance.
+    pub unbalance_kgm: f64,
+    /// The phase of B_n, atan2(B_y, B_x) in [0, 2π) (0 for no unbalance).
+    pub phase_rad: f64,
+    /// |B_n|/2 on each shaft (kg·m).
+    pub shaft_unbalance_kgm: f64,
+    /// The pair's offset from the line through the crank axis (m).
+    pub offset_m: f64,
+    /// The peak of its force, ω² n² |B_n| (N).
+    pub peak_force_n: f64,
+    /// The peak of its couple about the crank axis, |offset| × force (N·m): zero for a pair
+    /// on the line through the crank axis (an in-plane pair symmetric about that line adds no
+    /// moment).
+    pub peak_couple_nm: f64,
+}
+
+/// The design's balancer pairs ([`BalancerFigures`]), in the order they were designed.
+fn balancer_figures(out: &sc::Outcome) -> Vec<BalancerFigures> {
+    let s = &out.designed;
+    let w2 = s.omega * s.omega;
+    s.balancers
+        .iter()
+        .map(|b| {
+            let (bx, by) = (b.unbalance[0], b.unbalance[1]);
+            let mag = bx.hypot(by);
+            let phase = if mag > 0.0 {
+                by.atan2(bx).rem_euclid(std::f64::consts::TAU)
+            } else {
+                0.0
+            };
+            let n = b.pair.order as f64;
+            let force = w2 * n * n * mag;
+            BalancerFigures {
+                order: b.pair.order,
+                unbalance_kgm: mag,
+                phase_rad: phase,
+                shaft_unbalance_kgm: 0.5 * mag,
+                offset_m: b.pair.offset,
+                peak_force_n: force,
+                peak_couple_nm: force * b.pair.offset.abs(),
+            }
+        })
+        .collect()
+}
+
+/// The file-only analyses: none for the slider-crank.
+pub type Analyses = ();
+
+/// See [`Analyses`].
+pub fn analyse(_: &SliderCrankProblem, _: &Solution) -> Analyses {}
