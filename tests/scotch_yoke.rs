@@ -240,6 +240,35 @@ mod yoke {
     );
 }
 
+/// A family that claims a shipped family's name.
+#[derive(Debug)]
+struct Impostor;
+
+impl cwsynth::families::Family for Impostor {
+    fn name(&self) -> &'static str {
+        "slider-crank"
+    }
+    fn counts(&self) -> &'static [cwsynth::problem::limits::Count] {
+        &[]
+    }
+    fn schema(&self) -> serde_json::Value {
+        serde_json::Value::Null
+    }
+    fn resolve(
+        &self,
+        ctx: &cwsynth::problem::Ctx,
+        input: cwsynth::problem::Input,
+    ) -> Result<
+        cwsynth::problem::Resolved<std::sync::Arc<dyn cwsynth::families::Machine>>,
+        cwsynth::problem::ProblemError,
+    > {
+        cwsynth::families::Family::resolve(&yoke::ScotchYoke, ctx, input)
+    }
+    fn template(&self) -> &'static str {
+        ""
+    }
+}
+
 fn registered() {
     register(&yoke::ScotchYoke).unwrap();
 }
@@ -255,9 +284,10 @@ fn a_family_from_outside_solves_against_its_closed_form() {
     assert!((r.objectives["peak_shaking_force_n"] - best).abs() <= 1e-9 * best);
     assert!((r.design["unbalance_kgm"] - (0.5 + 1.0) * rr).abs() < 1e-15);
     assert_eq!(r.objective.as_deref(), Some("peak_shaking_force_n"));
-    // A name already taken by another family is refused; the same family again is a no-op.
+    // The same family again is a no-op; another family under a name taken is refused.
     registered();
-    assert!(register(&cwsynth::families::slider_crank::SliderCrank).is_err());
+    assert!(register(&cwsynth::families::slider_crank::SliderCrank).is_ok());
+    assert!(register(&Impostor).is_err());
     // A bad file names its field.
     let bad = yoke::file::TEMPLATE.replace("\"2 kg\"", "2");
     let e = parse_str(&bad, Path::new("bad.toml"))

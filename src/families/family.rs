@@ -13,7 +13,7 @@ use std::path::PathBuf;
 use std::sync::Arc;
 
 /// A mechanism family: what reads its problem files.
-pub trait Family: Sync + fmt::Debug {
+pub trait Family: Sync + fmt::Debug + Any {
     /// The `family = "…"` value of its files and results (`slider-crank`).
     fn name(&self) -> &'static str;
     /// The integer keys of its files and their ranges.

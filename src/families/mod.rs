@@ -46,7 +46,7 @@ static REGISTERED: std::sync::RwLock<Vec<&'static dyn Family>> = std::sync::RwLo
 pub fn register(family: &'static dyn Family) -> Result<(), String> {
     let mut reg = REGISTERED.write().unwrap_or_else(|e| e.into_inner());
     match all_in(&reg).into_iter().find(|f| f.name() == family.name()) {
-        Some(f) if std::ptr::addr_eq(f, family) => Ok(()),
+        Some(f) if same_type(f, family) => Ok(()),
         Some(_) => Err(format!(
             "a family named `{}` is already registered",
             family.name()
@@ -56,6 +56,12 @@ pub fn register(family: &'static dyn Family) -> Result<(), String> {
             Ok(())
         }
     }
+}
+
+/// Are `a` and `b` the same family type (a unit struct has no address of its own to compare)?
+fn same_type(a: &'static dyn Family, b: &'static dyn Family) -> bool {
+    let (a, b): (&dyn std::any::Any, &dyn std::any::Any) = (a, b);
+    a.type_id() == b.type_id()
 }
 
 /// Every family: the shipped ones, then the registered ones.
