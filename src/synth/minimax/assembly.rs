@@ -6,8 +6,8 @@
 use super::polish::Design;
 use super::validate::{bad, check_finite, validate_structure};
 use super::{
-    var_i, var_m, var_u, AffineValue, Engine, Goal, MinimaxError, Problem, Relation, Settings,
-    PER_COUNTERWEIGHT,
+    var_i, var_m, var_u, AffineValue, Engine, Goal, LinearConstraint, MinimaxError, Problem,
+    Relation, Settings, PER_COUNTERWEIGHT,
 };
 use crate::synth::conic::{run_clarabel_with, Built, ConicResult, Rows};
 use crate::synth::exchange::uniform_angles;
@@ -37,34 +37,29 @@ pub(super) struct ConeTag {
     pub(super) eps: Option<f64>,
 }
 
+impl Round {
+    /// Σ z₀ over the objective cones: the objective's total dual weight, by which the
+    /// cones' multipliers are normalised.
+    pub(super) fn objective_weight(&self) -> f64 {
+        let z = &self.res.z;
+        self.tags
+            .iter()
+            .filter(|t| t.eps.is_none())
+            .map(|t| z[t.row].max(0.0))
+            .sum()
+    }
+}
+
 impl<'p, 'a> Engine<'p, 'a> {
-    /// Validates `pb` and `s`, evaluates the fields on the scan grid and fixes the scales.
+    /// Validates `pb` and `s`, evaluates the fields on the scan grid and fixes the scales
+    /// (module doc of [`super`]: "Scaling").
     pub fn new(pb: &'p Problem<'a>, s: &Settings) -> Result<Self, MinimaxError> {
         s.validate()
             .map_err(|(field, message)| MinimaxError::Settings { field, message })?;
         validate_structure(pb)?;
         let n = pb.n();
-        let mut scale = vec![1.0; n];
-        for (j, c) in pb.counterweights.iter().enumerate() {
-            let (sm, l) = (c.m_max, c.length());
-            scale[var_m(j)] = sm;
-            scale[var_u(j)] = sm * l;
-            scale[var_u(j) + 1] = sm * l;
-            scale[var_i(j)] = sm * l * l;
-        }
-        let nf = pb.fields.len();
-        let mut grid = Vec::with_capacity(nf);
-        for f in &pb.fields {
-            let mut g = Vec::with_capacity(s.scan_samples);
-            for theta in uniform_angles(s.scan_samples) {
-                let mut v = AffineValue::zeros(n);
-                f.eval(theta, &mut v);
-                check_finite(*f, theta, &v)?;
-                g.push(v);
-            }
-            grid.push(g);
-        }
-        let g0: Vec<f64> = (0..nf)
+        let grid = scan_grid(pb, s, n)?;
+        let g0: Vec<f64> = (0..pb.fields.len())
             .map(|f| {
                 let d = pb.fields[f].dim();
                 grid[f]
@@ -73,71 +68,9 @@ impl<'p, 'a> Engine<'p, 'a> {
                     .fold(0.0, f64::max)
             })
             .collect();
-        // Extra variables: their largest finite bound, else field size / sensitivity.
-        let n_cw = PER_COUNTERWEIGHT * pb.counterweights.len();
-        for (e, &(lo, hi)) in pb.extra.iter().enumerate() {
-            let j = n_cw + e;
-            let bound = [lo, hi]
-                .into_iter()
-                .filter(|v| v.is_finite())
-                .fold(0.0, |a: f64, v| a.max(v.abs()));
-            scale[j] = if bound > 0.0 {
-                bound
-            } else {
-                let mut best: f64 = 0.0;
-                for f in 0..nf {
-                    let d = pb.fields[f].dim();
-                    let sens = grid[f]
-                        .iter()
-                        .map(|v| (0..d).map(|r| v.row(r)[j].powi(2)).sum::<f64>().sqrt())
-                        .fold(0.0, f64::max);
-                    if sens > 0.0 && g0[f] > 0.0 {
-                        best = best.max(g0[f] / sens);
-                    }
-                }
-                if best > 0.0 {
-                    best
-                } else {
-                    1.0
-                }
-            };
-        }
-        let g_ref: Vec<f64> = (0..nf)
-            .map(|f| {
-                let d = pb.fields[f].dim();
-                let g = grid[f]
-                    .iter()
-                    .map(|v| {
-                        let b = v.b[..d].iter().map(|b| b * b).sum::<f64>().sqrt();
-                        b + (0..n)
-                            .map(|j| {
-                                (0..d).map(|r| v.row(r)[j].powi(2)).sum::<f64>().sqrt() * scale[j]
-                            })
-                            .sum::<f64>()
-                    })
-                    .fold(0.0, f64::max);
-                if g > 0.0 {
-                    g
-                } else {
-                    1.0
-                }
-            })
-            .collect();
-        // |x̂| bounds: m̂ ≤ 1; Î ≤ min(I_max/s_I, (ρ/ℓ)²); |û|² ≤ Î m̂ and |û| ≤ r_max/ℓ.
-        let mut xbound = vec![f64::INFINITY; n];
-        for (j, c) in pb.counterweights.iter().enumerate() {
-            let l = c.length();
-            let i_hat = (c.inertia_max / scale[var_i(j)]).min((c.envelope / l).powi(2));
-            let u_hat = i_hat.sqrt().min(c.r_max / l);
-            xbound[var_m(j)] = 1.0;
-            xbound[var_u(j)] = u_hat;
-            xbound[var_u(j) + 1] = u_hat;
-            xbound[var_i(j)] = i_hat;
-        }
-        for (e, &(lo, hi)) in pb.extra.iter().enumerate() {
-            let j = n_cw + e;
-            xbound[j] = lo.abs().max(hi.abs()) / scale[j];
-        }
+        let scale = variable_scales(pb, &grid, &g0);
+        let g_ref = field_sizes(pb, &grid, &scale);
+        let xbound = design_bounds(pb, &scale);
         Ok(Engine {
             pb,
             s: *s,
@@ -168,23 +101,6 @@ impl<'p, 'a> Engine<'p, 'a> {
         let sc = &self.scale;
         // ‖(c/…)(b + A S x̂)‖ ≤ t̂ (t = Some) or ≤ bound.
         let mut tags = Vec::new();
-        let cone =
-            |rows: &mut Rows, v: &AffineValue, d: usize, c: f64, t: Option<usize>, bound: f64| {
-                match t {
-                    Some(tj) => rows.row(&[(tj, -1.0)], 0.0),
-                    None => rows.row(&[], bound),
-                }
-                for r in 0..d {
-                    let coeffs: Vec<(usize, f64)> = v
-                        .row(r)
-                        .iter()
-                        .enumerate()
-                        .map(|(j, a)| (j, -c * a * sc[j]))
-                        .collect();
-                    rows.row(&coeffs, c * v.b[r]);
-                }
-                rows.cones.push(SupportedConeT::SecondOrderConeT(d + 1));
-            };
         let t_scale = match goal {
             Goal::MinPeak(list) => {
                 let _ = level;
@@ -200,7 +116,7 @@ impl<'p, 'a> Engine<'p, 'a> {
                             c: w / t,
                             eps: None,
                         });
-                        cone(&mut rows, v, d, w / t, Some(n), 0.0);
+                        self.field_cone(&mut rows, v, d, w / t, Some(n), 0.0);
                     }
                 }
                 t
@@ -236,7 +152,7 @@ impl<'p, 'a> Engine<'p, 'a> {
                     c: 1.0 / g,
                     eps: Some(e / g),
                 });
-                cone(&mut rows, v, d, 1.0 / g, None, e / g);
+                self.field_cone(&mut rows, v, d, 1.0 / g, None, e / g);
             }
         }
         self.design_rows(&mut rows);
@@ -253,6 +169,42 @@ impl<'p, 'a> Engine<'p, 'a> {
             tags,
             built,
         })
+    }
+
+    /// One sampled cone ‖c·(b + A S x̂)‖ ≤ x̂_t (the variable `t`, `Some`) or ≤ `bound`, of
+    /// a field's value v (dimension d) scaled by c.
+    pub(super) fn field_cone(
+        &self,
+        rows: &mut Rows,
+        v: &AffineValue,
+        d: usize,
+        c: f64,
+        t: Option<usize>,
+        bound: f64,
+    ) {
+        let sc = &self.scale;
+        match t {
+            Some(tj) => rows.row(&[(tj, -1.0)], 0.0),
+            None => rows.row(&[], bound),
+        }
+        for r in 0..d {
+            let coeffs: Vec<(usize, f64)> = v
+                .row(r)
+                .iter()
+                .enumerate()
+                .map(|(j, a)| (j, -c * a * sc[j]))
+                .collect();
+            rows.row(&coeffs, c * v.b[r]);
+        }
+        rows.cones.push(SupportedConeT::SecondOrderConeT(d + 1));
+    }
+
+    /// A linear constraint's scale: its largest coefficient in the scaled variables.
+    fn linear_scale(&self, lc: &LinearConstraint) -> f64 {
+        lc.coeffs
+            .iter()
+            .map(|&(j, c)| (c * self.scale[j]).abs())
+            .fold(0.0, f64::max)
     }
 
     /// T, the objective scale of a peak goal: max w·G_f over its fields.
@@ -299,12 +251,9 @@ impl<'p, 'a> Engine<'p, 'a> {
             rows.row(&[(i, -1.0), (m, 1.0)], 0.0);
             rows.cones.push(SupportedConeT::SecondOrderConeT(4));
             if let Some((lo, hi)) = c.sector {
-                let (sl, cl) = lo.sin_cos();
-                let (sh, ch) = hi.sin_cos();
-                let (sm, cm) = (0.5 * (lo + hi)).sin_cos();
-                rows.row(&[(ux, sl), (uy, -cl)], 0.0); // cos lo·u_y − sin lo·u_x ≥ 0
-                rows.row(&[(ux, -sh), (uy, ch)], 0.0); // sin hi·u_x − cos hi·u_y ≥ 0
-                rows.row(&[(ux, -cm), (uy, -sm)], 0.0); // u·bisector ≥ 0
+                for (ax, ay) in sector_rows(lo, hi) {
+                    rows.row(&[(ux, ax), (uy, ay)], 0.0);
+                }
                 nonneg(rows, 3);
             }
         }
@@ -321,11 +270,7 @@ impl<'p, 'a> Engine<'p, 'a> {
             }
         }
         for lc in &self.pb.linear {
-            let big = lc
-                .coeffs
-                .iter()
-                .map(|&(j, c)| (c * sc[j]).abs())
-                .fold(0.0, f64::max);
+            let big = self.linear_scale(lc);
             let coeffs: Vec<(usize, f64)> = lc
                 .coeffs
                 .iter()
@@ -388,12 +333,9 @@ impl<'p, 'a> Engine<'p, 'a> {
             }
             out.push(Design::Body { m, u, i });
             if let Some((lo, hi)) = c.sector {
-                let (sl, cl) = lo.sin_cos();
-                let (sh, ch) = hi.sin_cos();
-                let (sm, cm) = (0.5 * (lo + hi)).sin_cos();
-                out.push(lin(vec![(u, sl), (u + 1, -cl)], 0.0));
-                out.push(lin(vec![(u, -sh), (u + 1, ch)], 0.0));
-                out.push(lin(vec![(u, -cm), (u + 1, -sm)], 0.0));
+                for (ax, ay) in sector_rows(lo, hi) {
+                    out.push(lin(vec![(u, ax), (u + 1, ay)], 0.0));
+                }
             }
         }
         let n_cw = PER_COUNTERWEIGHT * self.pb.counterweights.len();
@@ -407,11 +349,7 @@ impl<'p, 'a> Engine<'p, 'a> {
             }
         }
         for lc in &self.pb.linear {
-            let big = lc
-                .coeffs
-                .iter()
-                .map(|&(j, c)| (c * sc[j]).abs())
-                .fold(0.0, f64::max);
+            let big = self.linear_scale(lc);
             out.push(Design::Linear {
                 a: lc
                     .coeffs
@@ -440,4 +378,121 @@ impl<'p, 'a> Engine<'p, 'a> {
             })
             .fold(0.0, f64::max)
     }
+}
+
+/// Each field on the scan grid θ_k = 2πk/`scan_samples`, checked finite.
+fn scan_grid(pb: &Problem, s: &Settings, n: usize) -> Result<Vec<Vec<AffineValue>>, MinimaxError> {
+    let nf = pb.fields.len();
+    let mut grid = Vec::with_capacity(nf);
+    for f in &pb.fields {
+        let mut g = Vec::with_capacity(s.scan_samples);
+        for theta in uniform_angles(s.scan_samples) {
+            let mut v = AffineValue::zeros(n);
+            f.eval(theta, &mut v);
+            check_finite(*f, theta, &v)?;
+            g.push(v);
+        }
+        grid.push(g);
+    }
+    Ok(grid)
+}
+
+/// The column scales s_j (x = s ⊙ x̂): a counterweight's s_m = m_max, s_u = s_m ℓ,
+/// s_I = s_m ℓ²; an extra variable's largest finite bound, else the largest field size over
+/// its sensitivity (G_f⁰ = `g0`, the unbalanced peak), else 1.
+fn variable_scales(pb: &Problem, grid: &[Vec<AffineValue>], g0: &[f64]) -> Vec<f64> {
+    let nf = pb.fields.len();
+    let mut scale = vec![1.0; pb.n()];
+    for (j, c) in pb.counterweights.iter().enumerate() {
+        let (sm, l) = (c.m_max, c.length());
+        scale[var_m(j)] = sm;
+        scale[var_u(j)] = sm * l;
+        scale[var_u(j) + 1] = sm * l;
+        scale[var_i(j)] = sm * l * l;
+    }
+    // Extra variables: their largest finite bound, else field size / sensitivity.
+    let n_cw = PER_COUNTERWEIGHT * pb.counterweights.len();
+    for (e, &(lo, hi)) in pb.extra.iter().enumerate() {
+        let j = n_cw + e;
+        let bound = [lo, hi]
+            .into_iter()
+            .filter(|v| v.is_finite())
+            .fold(0.0, |a: f64, v| a.max(v.abs()));
+        scale[j] = if bound > 0.0 {
+            bound
+        } else {
+            let mut best: f64 = 0.0;
+            for f in 0..nf {
+                let d = pb.fields[f].dim();
+                let sens = grid[f]
+                    .iter()
+                    .map(|v| (0..d).map(|r| v.row(r)[j].powi(2)).sum::<f64>().sqrt())
+                    .fold(0.0, f64::max);
+                if sens > 0.0 && g0[f] > 0.0 {
+                    best = best.max(g0[f] / sens);
+                }
+            }
+            if best > 0.0 {
+                best
+            } else {
+                1.0
+            }
+        };
+    }
+    scale
+}
+
+/// G_f, each field's size over the design box: max over the grid of
+/// ‖b_f‖ + Σ_j ‖A_f,j‖ s_j (1 for a field that is zero).
+fn field_sizes(pb: &Problem, grid: &[Vec<AffineValue>], scale: &[f64]) -> Vec<f64> {
+    let n = scale.len();
+    (0..pb.fields.len())
+        .map(|f| {
+            let d = pb.fields[f].dim();
+            let g = grid[f]
+                .iter()
+                .map(|v| {
+                    let b = v.b[..d].iter().map(|b| b * b).sum::<f64>().sqrt();
+                    b + (0..n)
+                        .map(|j| (0..d).map(|r| v.row(r)[j].powi(2)).sum::<f64>().sqrt() * scale[j])
+                        .sum::<f64>()
+                })
+                .fold(0.0, f64::max);
+            if g > 0.0 {
+                g
+            } else {
+                1.0
+            }
+        })
+        .collect()
+}
+
+/// Bounds on |x̂_j| implied by the design constraints (∞ for an unbounded extra): m̂ ≤ 1;
+/// Î ≤ min(I_max/s_I, (ρ/ℓ)²); |û|² ≤ Î m̂ and |û| ≤ r_max/ℓ.
+fn design_bounds(pb: &Problem, scale: &[f64]) -> Vec<f64> {
+    let mut xbound = vec![f64::INFINITY; scale.len()];
+    for (j, c) in pb.counterweights.iter().enumerate() {
+        let l = c.length();
+        let i_hat = (c.inertia_max / scale[var_i(j)]).min((c.envelope / l).powi(2));
+        let u_hat = i_hat.sqrt().min(c.r_max / l);
+        xbound[var_m(j)] = 1.0;
+        xbound[var_u(j)] = u_hat;
+        xbound[var_u(j) + 1] = u_hat;
+        xbound[var_i(j)] = i_hat;
+    }
+    let n_cw = PER_COUNTERWEIGHT * pb.counterweights.len();
+    for (e, &(lo, hi)) in pb.extra.iter().enumerate() {
+        let j = n_cw + e;
+        xbound[j] = lo.abs().max(hi.abs()) / scale[j];
+    }
+    xbound
+}
+
+/// The sector lo ≤ direction of u ≤ hi (hi − lo ≤ π) as three rows a·u ≤ 0, each (a_x, a_y):
+/// cos lo·u_y − sin lo·u_x ≥ 0, sin hi·u_x − cos hi·u_y ≥ 0 and u·bisector ≥ 0.
+fn sector_rows(lo: f64, hi: f64) -> [(f64, f64); 3] {
+    let (sl, cl) = lo.sin_cos();
+    let (sh, ch) = hi.sin_cos();
+    let (sm, cm) = (0.5 * (lo + hi)).sin_cos();
+    [(sl, -cl), (-sh, ch), (-cm, -sm)]
 }

@@ -10,7 +10,7 @@ use crate::numeric::PeriodicPeak;
 use crate::synth::conic::{dual_lower_bound, run_clarabel_with, Rows};
 use crate::synth::exchange::{angle_dist, Status};
 use clarabel::algebra::CscMatrix;
-use clarabel::solver::{SolverStatus, SupportedConeT};
+use clarabel::solver::SolverStatus;
 
 impl<'p, 'a> Engine<'p, 'a> {
     /// A Lagrangian lower bound of a peak goal from a round's dual, with the sampled angles
@@ -44,12 +44,7 @@ impl<'p, 'a> Engine<'p, 'a> {
     /// and merged there; weights ≤ 1e-9 dropped. `None` without objective weight.
     pub(super) fn round_terms(&self, rd: &Round, pk: &[Option<PeriodicPeak>]) -> Option<Vec<Term>> {
         let z = &rd.res.z;
-        let sum: f64 = rd
-            .tags
-            .iter()
-            .filter(|t| t.eps.is_none())
-            .map(|t| z[t.row].max(0.0))
-            .sum();
+        let sum = rd.objective_weight();
         if !(sum > 0.0) {
             return None;
         }
@@ -119,17 +114,7 @@ impl<'p, 'a> Engine<'p, 'a> {
                 cst -= lam * e;
             }
             xb.push(c * self.g_ref[f]);
-            rows.row(&[(n + i, -1.0)], 0.0);
-            for r in 0..d {
-                let coeffs: Vec<(usize, f64)> = v
-                    .row(r)
-                    .iter()
-                    .enumerate()
-                    .map(|(j, a)| (j, -c * a * self.scale[j]))
-                    .collect();
-                rows.row(&coeffs, c * v.b[r]);
-            }
-            rows.cones.push(SupportedConeT::SecondOrderConeT(d + 1));
+            self.field_cone(&mut rows, &v, d, c, Some(n + i), 0.0);
         }
         self.design_rows(&mut rows);
         let built = rows.build(nv, CscMatrix::zeros((nv, nv)), q);
@@ -370,10 +355,7 @@ impl<'p, 'a> Engine<'p, 'a> {
             design_violation: self.design_violation(x),
             rounds: round,
             angles: sets.iter().map(|s| s.len()).sum(),
-            angle_sets: sets
-                .iter()
-                .map(|s| s.iter().map(|p| p.0).collect())
-                .collect(),
+            angle_sets: angle_sets(sets),
             ipm_iterations: iters,
             solver_status,
             note,
@@ -406,13 +388,17 @@ impl<'p, 'a> Engine<'p, 'a> {
             design_violation: f64::NAN,
             rounds: round,
             angles: sets.iter().map(|s| s.len()).sum(),
-            angle_sets: sets
-                .iter()
-                .map(|s| s.iter().map(|p| p.0).collect())
-                .collect(),
+            angle_sets: angle_sets(sets),
             ipm_iterations: iters,
             solver_status,
             note: Some(note),
         }
     }
+}
+
+/// The sampled angles per field, without the field values.
+fn angle_sets(sets: &[Vec<(f64, AffineValue)>]) -> Vec<Vec<f64>> {
+    sets.iter()
+        .map(|s| s.iter().map(|p| p.0).collect())
+        .collect()
 }

@@ -75,6 +75,18 @@ struct Rounds {
     level: f64,
 }
 
+/// How a round ended, for its solution.
+struct RoundEnd {
+    round: usize,
+    converged: bool,
+    /// Every local maximum above the bound already sampled, at the target tolerance.
+    stalled: bool,
+    /// The round restarted the sets from its refined maxima.
+    restarting: bool,
+    /// clarabel's status, as text.
+    status_txt: String,
+}
+
 /// A round's lower bound L of the optimum.
 struct Lower {
     /// L (caller's units).
@@ -324,26 +336,7 @@ impl<'p, 'a> Engine<'p, 'a> {
         }
         let (value, gap_scale, lim_rel) =
             self.carry_over(run, rs, &mut lb, &x, &pk, (value, gap_scale, lim_rel));
-        let obj_gap = match goal {
-            Goal::MinPeak(_) => (value - lb.lower).max(0.0),
-            _ => 0.0,
-        };
-        let obj_ok = obj_gap <= s.rel_tol * gap_scale;
-        // A round solved more loosely than the target cannot certify it.
-        let within = obj_ok && lim_rel <= s.rel_tol;
-        let converged = within && tol_used <= s.rel_tol;
-        let rel_gap = if gap_scale > 0.0 {
-            obj_gap / gap_scale
-        } else {
-            0.0
-        }
-        .max(lim_rel);
-        // The next round's clarabel tolerance: two orders below the gap, down to the target.
-        rs.round_tol = if within {
-            s.rel_tol
-        } else {
-            next_round_tol(rs.round_tol, rel_gap, s.rel_tol)
-        };
+        let converged = self.verdict(run, rs, lb.lower, (value, gap_scale, lim_rel), tol_used);
         let mut added = 0;
         if !converged {
             added = self.exchange(run, rs, &rd, &x, &pk, lb.lower, gap_scale)?;
@@ -357,16 +350,77 @@ impl<'p, 'a> Engine<'p, 'a> {
             self.restart(run, &mut rs.sets, &pk)?;
             added = 1;
         }
-        let stalled = added == 0 && tol_used <= s.rel_tol;
+        let end = RoundEnd {
+            round,
+            converged,
+            stalled: added == 0 && tol_used <= s.rel_tol,
+            restarting,
+            status_txt,
+        };
+        self.end_round(run, rs, (x, pk, value), &lb, end)
+    }
+
+    /// Whether the round converged: the objective's gap V − L within `rel_tol` of its
+    /// scale, the limits within `rel_tol`, and the round solved at the target tolerance (a
+    /// round solved more loosely cannot certify it). Sets the next round's clarabel
+    /// tolerance: two orders below the gap, down to the target.
+    fn verdict(
+        &self,
+        run: &GoalRun,
+        rs: &mut Rounds,
+        lower: f64,
+        (value, gap_scale, lim_rel): (f64, f64, f64),
+        tol_used: f64,
+    ) -> bool {
+        let s = &self.s;
+        let obj_gap = match run.goal {
+            Goal::MinPeak(_) => (value - lower).max(0.0),
+            _ => 0.0,
+        };
+        let obj_ok = obj_gap <= s.rel_tol * gap_scale;
+        let within = obj_ok && lim_rel <= s.rel_tol;
+        let rel_gap = if gap_scale > 0.0 {
+            obj_gap / gap_scale
+        } else {
+            0.0
+        }
+        .max(lim_rel);
+        rs.round_tol = if within {
+            s.rel_tol
+        } else {
+            next_round_tol(rs.round_tol, rel_gap, s.rel_tol)
+        };
+        within && tol_used <= s.rel_tol
+    }
+
+    /// The solution of a round (of the best design so far for a peak goal) with its claim
+    /// ([`Engine::round_status`]); `Some` when the solve ends with it (converged, stalled or
+    /// the last round: after a restart the better certified of the two), else it becomes
+    /// `last` (and, on a restart, the stalled solution to compare with).
+    fn end_round(
+        &self,
+        run: &GoalRun,
+        rs: &mut Rounds,
+        (x, pk, value): (Vec<f64>, Vec<Option<PeriodicPeak>>, f64),
+        lb: &Lower,
+        end: RoundEnd,
+    ) -> Result<Option<Done>, MinimaxError> {
+        let RoundEnd {
+            round,
+            converged,
+            stalled,
+            restarting,
+            status_txt,
+        } = end;
         let (status, stop, note) =
             self.round_status(converged, !lb.bound_solved, stalled, round, &status_txt);
         let (x, pk) = match &rs.best_x {
-            Some(b) if matches!(goal, Goal::MinPeak(_)) => (b.x.clone(), b.pk.clone()),
+            Some(b) if matches!(run.goal, Goal::MinPeak(_)) => (b.x.clone(), b.pk.clone()),
             _ => (x, pk),
         };
         let sol = self.finish(
-            goal,
-            limits,
+            run.goal,
+            run.limits,
             &rs.sets,
             &x,
             pk,
@@ -379,8 +433,7 @@ impl<'p, 'a> Engine<'p, 'a> {
             rs.iters,
             status_txt,
         )?;
-        if converged || stalled || round == s.max_rounds {
-            // After a restart, the better certified of the two.
+        if converged || stalled || round == self.s.max_rounds {
             return Ok(Some((
                 match rs.before_restart.take() {
                     Some(b) if b.error.total < sol.error.total && !converged => b,
@@ -412,19 +465,12 @@ impl<'p, 'a> Engine<'p, 'a> {
         status_txt: &str,
     ) -> Option<Solution> {
         let finite = rd.res.x.iter().all(|v| v.is_finite());
-        match rd.res.status {
-            SolverStatus::Solved | SolverStatus::AlmostSolved => None,
+        let (status, stop, note) = match rd.res.status {
+            SolverStatus::Solved | SolverStatus::AlmostSolved => return None,
             SolverStatus::PrimalInfeasible | SolverStatus::AlmostPrimalInfeasible => {
                 let what = self.infeasible_what(run.limits);
-                Some(self.empty(
-                    Status::Infeasible,
-                    Stop::Infeasible,
-                    round,
-                    &rs.sets,
-                    rs.iters,
-                    status_txt.to_string(),
-                    format!("infeasible: {what} within the counterweight limits"),
-                ))
+                let note = format!("infeasible: {what} within the counterweight limits");
+                (Status::Infeasible, Stop::Infeasible, note)
             }
             _ if finite && rs.last.is_some() => {
                 let mut l = rs.last.take().expect("checked");
@@ -435,19 +481,17 @@ impl<'p, 'a> Engine<'p, 'a> {
                 l.note = Some(format!(
                     "clarabel stopped with {status_txt} in round {round}; the previous round's design is kept"
                 ));
-                Some(l)
+                return Some(l);
             }
-            _ if finite => None,
-            _ => Some(self.empty(
+            _ if finite => return None,
+            _ => (
                 Status::Failed,
                 Stop::SolverFailed,
-                round,
-                &rs.sets,
-                rs.iters,
-                status_txt.to_string(),
                 "clarabel returned no finite iterate".into(),
-            )),
-        }
+            ),
+        };
+        let txt = status_txt.to_string();
+        Some(self.empty(status, stop, round, &rs.sets, rs.iters, txt, note))
     }
 
     /// What cannot be met, in words, when the sampled problem is infeasible.
@@ -542,7 +586,7 @@ impl<'p, 'a> Engine<'p, 'a> {
 
     /// ε_f or, below `abs_floor` times the field's unbalanced peak, that: the scale a
     /// limit's tolerance is relative to.
-    fn lim_floor(&self, f: usize, eps: f64) -> f64 {
+    pub(super) fn lim_floor(&self, f: usize, eps: f64) -> f64 {
         eps.max(self.s.abs_floor * self.g0[f])
     }
 
@@ -823,12 +867,7 @@ impl<'p, 'a> Engine<'p, 'a> {
         prev_active: &mut [Vec<f64>],
     ) {
         let z = &rd.res.z;
-        let sum: f64 = rd
-            .tags
-            .iter()
-            .filter(|t| t.eps.is_none())
-            .map(|t| z[t.row].max(0.0))
-            .sum();
+        let sum = rd.objective_weight();
         let t_hat = rd.res.x.get(self.n).copied().unwrap_or(0.0);
         let mut active: Vec<Vec<f64>> = vec![Vec::new(); sets.len()];
         for t in &rd.tags {

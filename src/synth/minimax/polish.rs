@@ -368,57 +368,15 @@ impl Engine<'_, '_> {
         let np = terms.len();
         let ni = active.len();
         let (it, ith, iw, inu) = (n, n + 1, n + 1 + np, n + 1 + 2 * np);
-        let size = inu + ni;
         let mut x = x_hat.to_vec();
         let mut t = t_hat;
         let mut terms = terms.to_vec();
         let start: Vec<f64> = terms.iter().map(|p| p.theta).collect();
         let mut nu = vec![0.0; ni];
-        let mut grad_d = vec![0.0; n];
         let mut last = f64::INFINITY;
         let mut stalls = 0;
         for _ in 0..MAX_NEWTON {
-            let mut r = DVector::<f64>::zeros(size);
-            let mut jac = DMatrix::<f64>::zeros(size, size);
-            let mut hxx = DMatrix::<f64>::zeros(n, n);
-            r[it] = 1.0;
-            for (p, term) in terms.iter().enumerate() {
-                let l = self.local(term, &x)?;
-                let w = term.weight;
-                for j in 0..n {
-                    r[j] += w * l.grad[j];
-                    jac[(j, ith + p)] = w * l.dgrad[j];
-                    jac[(j, iw + p)] = l.grad[j];
-                    jac[(ith + p, j)] = l.dgrad[j];
-                    jac[(iw + p, j)] = l.grad[j];
-                }
-                if let Some(h) = &l.hess {
-                    hxx += w * h;
-                }
-                r[ith + p] = l.d1;
-                jac[(ith + p, ith + p)] = l.d2;
-                jac[(iw + p, ith + p)] = l.d1;
-                match term.eps {
-                    None => {
-                        r[it] -= w;
-                        jac[(it, iw + p)] = -1.0;
-                        r[iw + p] = l.phi - t;
-                        jac[(iw + p, it)] = -1.0;
-                    }
-                    Some(e) => r[iw + p] = l.phi - e,
-                }
-            }
-            for (k, &i) in active.iter().enumerate() {
-                cons[i].grad(&x, &mut grad_d);
-                cons[i].add_hessian(&x, nu[k], &mut hxx);
-                for j in 0..n {
-                    r[j] += nu[k] * grad_d[j];
-                    jac[(j, inu + k)] = grad_d[j];
-                    jac[(inu + k, j)] = grad_d[j];
-                }
-                r[inu + k] = cons[i].value(&x);
-            }
-            jac.view_mut((0, 0), (n, n)).copy_from(&hxx);
+            let (r, jac) = self.kkt_system(&terms, cons, active, &x, t, &nu)?;
             let res = r.amax();
             if !res.is_finite() {
                 return Ok(None);
@@ -472,6 +430,66 @@ impl Engine<'_, '_> {
             design: active.iter().copied().zip(nu).collect(),
             design_nu: None,
         }))
+    }
+
+    /// The Newton system at (x̂, t̂, θ, w, ν) (module doc): the residual r of the
+    /// optimality conditions and its Jacobian, the unknowns in the order x̂, t̂, θ, w, ν.
+    fn kkt_system(
+        &self,
+        terms: &[Term],
+        cons: &[Design],
+        active: &[usize],
+        x: &[f64],
+        t: f64,
+        nu: &[f64],
+    ) -> Result<(DVector<f64>, DMatrix<f64>), MinimaxError> {
+        let n = self.n;
+        let np = terms.len();
+        let (it, ith, iw, inu) = (n, n + 1, n + 1 + np, n + 1 + 2 * np);
+        let size = inu + active.len();
+        let mut grad_d = vec![0.0; n];
+        let mut r = DVector::<f64>::zeros(size);
+        let mut jac = DMatrix::<f64>::zeros(size, size);
+        let mut hxx = DMatrix::<f64>::zeros(n, n);
+        r[it] = 1.0;
+        for (p, term) in terms.iter().enumerate() {
+            let l = self.local(term, x)?;
+            let w = term.weight;
+            for j in 0..n {
+                r[j] += w * l.grad[j];
+                jac[(j, ith + p)] = w * l.dgrad[j];
+                jac[(j, iw + p)] = l.grad[j];
+                jac[(ith + p, j)] = l.dgrad[j];
+                jac[(iw + p, j)] = l.grad[j];
+            }
+            if let Some(h) = &l.hess {
+                hxx += w * h;
+            }
+            r[ith + p] = l.d1;
+            jac[(ith + p, ith + p)] = l.d2;
+            jac[(iw + p, ith + p)] = l.d1;
+            match term.eps {
+                None => {
+                    r[it] -= w;
+                    jac[(it, iw + p)] = -1.0;
+                    r[iw + p] = l.phi - t;
+                    jac[(iw + p, it)] = -1.0;
+                }
+                Some(e) => r[iw + p] = l.phi - e,
+            }
+        }
+        for (k, &i) in active.iter().enumerate() {
+            cons[i].grad(x, &mut grad_d);
+            cons[i].add_hessian(x, nu[k], &mut hxx);
+            for j in 0..n {
+                r[j] += nu[k] * grad_d[j];
+                jac[(j, inu + k)] = grad_d[j];
+                jac[(inu + k, j)] = grad_d[j];
+            }
+            r[inu + k] = cons[i].value(x);
+        }
+        jac.view_mut((0, 0), (n, n)).copy_from(&hxx);
+        Ok((r, jac))
     }
 }
 
@@ -603,7 +621,6 @@ impl<'p, 'a> Engine<'p, 'a> {
         let mut x_hat = x_hat.to_vec();
         let mut t_hat = t_hat;
         let nf = self.pb.fields.len();
-        let h = std::f64::consts::TAU / self.s.scan_samples as f64;
         for pass in 0..3 {
             let Some(p) = self.polish(&terms, &x_hat, t_hat)? else {
                 return Ok(None);
@@ -632,43 +649,9 @@ impl<'p, 'a> Engine<'p, 'a> {
                 .fold(0.0, f64::max);
             let lim_rel = limits
                 .iter()
-                .map(|&(f, e)| (peak_of(f) - e).max(0.0) / e.max(self.s.abs_floor * self.g0[f]))
+                .map(|&(f, e)| (peak_of(f) - e).max(0.0) / self.lim_floor(f, e))
                 .fold(0.0, f64::max);
-            // Maxima above the polished level that the set lacks join it (weight 0).
-            let mut missing = Vec::new();
-            let known = |f: usize, th: f64| {
-                p.terms
-                    .iter()
-                    .any(|t| t.field == f && angle_dist(t.theta, th) <= h)
-            };
-            let t_level = p.t_hat * t_scale;
-            for &(f, w) in list {
-                for m in &pkp[f].as_ref().expect("scanned").maxima {
-                    if w * m.fx > t_level * (1.0 + 0.1 * self.s.rel_tol) && !known(f, m.x) {
-                        missing.push(Term {
-                            field: f,
-                            theta: m.x,
-                            c: w / t_scale,
-                            eps: None,
-                            weight: 0.0,
-                        });
-                    }
-                }
-            }
-            for &(f, e) in limits {
-                for m in &pkp[f].as_ref().expect("scanned").maxima {
-                    if m.fx > e * (1.0 + 0.1 * self.s.rel_tol) && !known(f, m.x) {
-                        let g = self.g_ref[f];
-                        missing.push(Term {
-                            field: f,
-                            theta: m.x,
-                            c: 1.0 / g,
-                            eps: Some(e / g),
-                            weight: 0.0,
-                        });
-                    }
-                }
-            }
+            let missing = self.missing_maxima(list, limits, &p, &pkp, t_scale);
             if !missing.is_empty() && pass < 2 {
                 terms = p.terms.clone();
                 terms.extend(missing);
@@ -701,6 +684,55 @@ impl<'p, 'a> Engine<'p, 'a> {
             }));
         }
         Ok(None)
+    }
+
+    /// The refined maxima of the polished design above the polished level t̂·T (objective)
+    /// or above their limit, by more than 0.1 `rel_tol`, that the polished set lacks (none of
+    /// its angles of the field within a scan step): they join it with weight 0.
+    fn missing_maxima(
+        &self,
+        list: &[(usize, f64)],
+        limits: &[(usize, f64)],
+        p: &Polished,
+        pkp: &[Option<PeriodicPeak>],
+        t_scale: f64,
+    ) -> Vec<Term> {
+        let h = std::f64::consts::TAU / self.s.scan_samples as f64;
+        let mut missing = Vec::new();
+        let known = |f: usize, th: f64| {
+            p.terms
+                .iter()
+                .any(|t| t.field == f && angle_dist(t.theta, th) <= h)
+        };
+        let t_level = p.t_hat * t_scale;
+        for &(f, w) in list {
+            for m in &pkp[f].as_ref().expect("scanned").maxima {
+                if w * m.fx > t_level * (1.0 + 0.1 * self.s.rel_tol) && !known(f, m.x) {
+                    missing.push(Term {
+                        field: f,
+                        theta: m.x,
+                        c: w / t_scale,
+                        eps: None,
+                        weight: 0.0,
+                    });
+                }
+            }
+        }
+        for &(f, e) in limits {
+            for m in &pkp[f].as_ref().expect("scanned").maxima {
+                if m.fx > e * (1.0 + 0.1 * self.s.rel_tol) && !known(f, m.x) {
+                    let g = self.g_ref[f];
+                    missing.push(Term {
+                        field: f,
+                        theta: m.x,
+                        c: 1.0 / g,
+                        eps: Some(e / g),
+                        weight: 0.0,
+                    });
+                }
+            }
+        }
+        missing
     }
 }
 
