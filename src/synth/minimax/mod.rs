@@ -120,6 +120,15 @@
 //! # Determinism
 //! Everything is sequential; angle sets are kept sorted and a new angle is one not within
 //! 1e-9 rad of a sampled one, so the result does not depend on the thread count.
+//!
+//! # Layout
+//! One concern a file, all of them `impl Engine` blocks over the one [`Engine`]: this file
+//! the public types and [`solve`]; `assembly` the scales, the scan grid and the cone
+//! programs; `exchange_loop` the rounds; `peaks` the true peaks and RMS at a design;
+//! `certificate` the lower bounds and the error bounds of a solution; `presolve` the exact
+//! disc path; `polish` the Newton polish; `pareto` the fronts; `validate` the checks. The
+//! exchange vocabulary shared with [`crate::synth::counterweight`] is in
+//! [`crate::synth::exchange`].
 
 use crate::numeric::Extremum;
 use crate::synth::exchange::check_exchange;
