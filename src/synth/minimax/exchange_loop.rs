@@ -21,6 +21,9 @@ use clarabel::solver::SolverStatus;
 /// them (the start of a neighbouring solve's Newton).
 pub(super) type Done = (Solution, Option<KktStart>);
 
+/// The sampled angles per field, each with the field's value there.
+type Sets = Vec<Vec<(f64, AffineValue)>>;
+
 /// The best design of the rounds so far (smallest refined peak among those within the
 /// limits' tolerance), with its peaks.
 struct BestDesign {
@@ -155,7 +158,7 @@ impl<'p, 'a> Engine<'p, 'a> {
         goal: &'g Goal,
         limits: &'g [(usize, f64)],
         warm: Option<&[Vec<f64>]>,
-    ) -> Result<(GoalRun<'g>, Vec<Vec<(f64, AffineValue)>>), MinimaxError> {
+    ) -> Result<(GoalRun<'g>, Sets), MinimaxError> {
         let nf = self.pb.fields.len();
         let s = &self.s;
         // Sampled fields: the objective's (peak goals) and the limited ones.

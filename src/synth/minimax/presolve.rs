@@ -23,6 +23,9 @@ type DiscEnd<'m> = (
     usize,
 );
 
+/// A disc round's design x and the weights (angle, λ) on its disc's support.
+type DiscDesign = (Vec<f64>, Vec<(f64, f64)>);
+
 /// The u block of counterweight 0 in a field's value: the 2×2 map u ↦ A_u u + b.
 fn u_block(v: &AffineValue) -> Affine {
     let ux = var_u(0);
@@ -103,11 +106,11 @@ impl<'p, 'a> Engine<'p, 'a> {
             }
             let before = pts.len();
             for &(t, _) in &weights {
-                pts.add_new(t, &point);
+                pts.add_new(t, point);
             }
             for e in &pk.maxima {
                 if w * e.fx > lower + 0.5 * self.s.rel_tol * gap_scale {
-                    pts.add_new(e.x, &point);
+                    pts.add_new(e.x, point);
                 }
             }
             if pts.len() == before {
@@ -159,7 +162,7 @@ impl<'p, 'a> Engine<'p, 'a> {
         pts: &DiscSamples,
         disc: &Disc,
         point: &dyn Fn(f64) -> Option<P2>,
-    ) -> Option<(Vec<f64>, Vec<(f64, f64)>)> {
+    ) -> Option<DiscDesign> {
         let h = std::f64::consts::TAU / self.s.scan_samples as f64;
         let mut weights = support_weights(pts, disc);
         let mut u = disc.centre;
