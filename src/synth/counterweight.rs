@@ -25,28 +25,16 @@
 
 use crate::geom::P2;
 use crate::numeric::{periodic_peak, periodic_peak_sampled, PeriodicPeak, Refine, SearchError};
-use crate::synth::conic::{run_clarabel, Built, Rows};
+use crate::synth::conic::{run_clarabel, Built, ConicResult, Rows};
+use crate::synth::exchange::{
+    check_exchange, first_round_tol, is_new, max_rounds_note, next_round_tol, stalled_note,
+    DiscForm, DiscSamples,
+};
 use clarabel::algebra::CscMatrix;
 use clarabel::solver::{SolverStatus, SupportedConeT};
 
-/// An affine map u ↦ A u + b at one angle; a scalar field uses only the first row.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Affine {
-    /// Rows of A (2×2).
-    pub a: [[f64; 2]; 2],
-    /// b.
-    pub b: [f64; 2],
-}
-
-impl Affine {
-    /// Value at u.
-    pub fn at(&self, u: P2) -> P2 {
-        P2::new(
-            self.a[0][0] * u.x + self.a[0][1] * u.y + self.b[0],
-            self.a[1][0] * u.x + self.a[1][1] * u.y + self.b[1],
-        )
-    }
-}
+/// The exchange vocabulary this engine shares with `synth::minimax`, at its old paths.
+pub use crate::synth::exchange::{angle_dist, uniform_angles, Affine, Status};
 
 /// A field over the crank angle, affine in the unbalance.
 pub struct Field<'a> {
@@ -317,59 +305,6 @@ pub mod samples_setting {
     }
 }
 
-/// The settings every exchange loop shares ([`Settings`] here, the minimax engine's
-/// `synth::minimax::Settings`), checked in one place: `rel_tol` in (0, 1), at least 3
-/// initial and 16 scan samples, at least one round, `peak_xtol` in (0, 0.01) rad. The error
-/// names the setting as in `[accuracy]`.
-pub(crate) fn check_exchange(
-    rel_tol: f64,
-    initial_samples: usize,
-    scan_samples: usize,
-    max_rounds: usize,
-    peak_xtol: f64,
-) -> Result<(), (&'static str, String)> {
-    if !(rel_tol > 0.0 && rel_tol < 1.0) {
-        return Err(("rel_tol", format!("must be in (0, 1), got {rel_tol}")));
-    }
-    if initial_samples < 3 {
-        return Err((
-            "initial_samples",
-            format!("must be at least 3, got {initial_samples}"),
-        ));
-    }
-    if scan_samples < 16 {
-        return Err((
-            "scan_samples",
-            format!("must be at least 16, got {scan_samples}"),
-        ));
-    }
-    if max_rounds == 0 {
-        return Err(("max_rounds", "must be at least 1".into()));
-    }
-    if !(peak_xtol > 0.0 && peak_xtol < 1e-2) {
-        return Err((
-            "peak_xtol",
-            format!("must be in (0, 0.01) rad, got {peak_xtol}"),
-        ));
-    }
-    Ok(())
-}
-
-/// How the solve ended.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum Status {
-    /// Converged to the tolerance.
-    Optimal,
-    /// Stopped with a larger gap than asked (rounds exhausted, stalled, or clarabel only
-    /// reached reduced accuracy); the gap is reported.
-    Inaccurate,
-    /// The constraints cannot be met (e.g. a force limit below the minimax optimum).
-    Infeasible,
-    /// clarabel failed (numerical error) before any usable iterate.
-    Failed,
-}
-
 /// The outcome of [`solve`].
 #[derive(Debug, Clone, PartialEq)]
 pub struct Solution {
@@ -547,145 +482,112 @@ fn build(pb: &Problem, samples: &[f64], s: &Settings, margin: &[f64]) -> (Built,
     (rows.build(n, p, q), limit_rows)
 }
 
-/// Equally spaced angles.
-pub fn uniform_angles(n: usize) -> Vec<f64> {
-    (0..n)
-        .map(|k| k as f64 * std::f64::consts::TAU / n as f64)
-        .collect()
-}
-
-/// Solves the problem by the exchange loop (see the module doc).
+/// Solves the problem by the exchange loop (see the module doc): the geometric presolve
+/// and the exact disc rounds where they apply, else clarabel's rounds ([`Rounds::round`]).
 pub fn solve(pb: &Problem, s: &Settings) -> Solution {
     let presolved = if s.presolve {
         enclosing_presolve(pb, s)
     } else {
         None
     };
-    let was_presolved = presolved.is_some();
     if let (Some(start), true) = (&presolved, s.exact_disc) {
         if let Some(sol) = disc_exchange(pb, s, start) {
             return sol;
         }
     }
-    let mut samples = presolved.map_or_else(
-        || uniform_angles(s.initial_samples),
-        |at| at.iter().map(|&(a, _)| a).collect(),
-    );
-    for &phi in &pb.warm_angles {
-        if is_new(&samples, phi) {
-            samples.push(phi);
+    let mut rounds = Rounds::start(pb, s, presolved);
+    for round in 1..=s.max_rounds {
+        if rounds.round(pb, s, round) {
+            return rounds.last;
         }
     }
-    let mut iters = 0;
-    // clarabel's accuracy per round: a round far from convergence only needs to locate the
-    // next angles, so its tolerance follows the last round's relative gap (two orders
-    // tighter), down to the target in the final rounds.
-    // The presolve's angles are already the active ones: the first round is the last.
-    let mut round_tol = if was_presolved {
-        s.rel_tol
-    } else {
-        1e-6_f64.max(s.rel_tol)
-    };
-    let mut last = Solution::failed();
-    // Relative tightening of each limit in the cone program: a limit is met only when the
-    // design's continuous (refined) peak is at or under it, so a design over it by v·lim
-    // tightens the next round's limit by 1.5·v (and the bound pays for it, below).
-    let mut margin = vec![0.0; pb.limits.len()];
-    for round in 1..=s.max_rounds {
-        let (bt, limit_rows) = build(pb, &samples, s, &margin);
-        let res = match run_clarabel(&bt, round_tol) {
+    rounds.last.note = Some(max_rounds_note(s.max_rounds));
+    rounds.last
+}
+
+/// What clarabel's exchange rounds carry from one round to the next.
+struct Rounds {
+    /// The sampled angles.
+    samples: Vec<f64>,
+    /// clarabel interior-point iterations so far.
+    iters: u32,
+    /// clarabel's accuracy for the next round: a round far from convergence only needs to
+    /// locate the next angles, so its tolerance follows the last round's relative gap (two
+    /// orders tighter), down to the target in the final rounds.
+    round_tol: f64,
+    /// The last round's solution (a failed one before the first).
+    last: Solution,
+    /// Relative tightening of each limit in the cone program: a limit is met only when the
+    /// design's continuous (refined) peak is at or under it, so a design over it by v·lim
+    /// tightens the next round's limit by about v (and the bound pays for it, in
+    /// [`Rounds::limit_shift`]).
+    margin: Vec<f64>,
+    /// Whether the geometric presolve chose the first angles.
+    presolved: bool,
+}
+
+impl Rounds {
+    /// The first round's angles: the presolve's (already the active ones: the first round
+    /// is the last, at the target tolerance), else `initial_samples` uniform ones; then the
+    /// problem's warm angles.
+    fn start(pb: &Problem, s: &Settings, presolved: Option<Vec<(f64, P2)>>) -> Rounds {
+        let was_presolved = presolved.is_some();
+        let mut samples = presolved.map_or_else(
+            || uniform_angles(s.initial_samples),
+            |at| at.iter().map(|&(a, _)| a).collect(),
+        );
+        for &phi in &pb.warm_angles {
+            if is_new(&samples, phi) {
+                samples.push(phi);
+            }
+        }
+        Rounds {
+            samples,
+            iters: 0,
+            round_tol: if was_presolved {
+                s.rel_tol
+            } else {
+                first_round_tol(s.rel_tol)
+            },
+            last: Solution::failed(),
+            margin: vec![0.0; pb.limits.len()],
+            presolved: was_presolved,
+        }
+    }
+
+    /// One round: the SOCP on the sampled angles, the refined peaks at its design, the
+    /// verdict and the exchange of angles. True when the solve ends (`last` is the result).
+    fn round(&mut self, pb: &Problem, s: &Settings, round: usize) -> bool {
+        let (bt, limit_rows) = build(pb, &self.samples, s, &self.margin);
+        let res = match run_clarabel(&bt, self.round_tol) {
             Ok(r) => r,
             Err(e) => {
-                last.note = Some(e);
-                return last;
+                self.last.note = Some(e);
+                return true;
             }
         };
-        iters += res.iterations;
+        self.iters += res.iterations;
         let status_txt = format!("{:?}", res.status);
-        match res.status {
-            SolverStatus::Solved | SolverStatus::AlmostSolved => {}
-            SolverStatus::PrimalInfeasible | SolverStatus::AlmostPrimalInfeasible => {
-                last.status = Status::Infeasible;
-                last.solver_status = status_txt;
-                last.rounds = round;
-                last.samples = samples.len();
-                last.ipm_iterations = iters;
-                last.note = Some("the constraints cannot all be met on the sampled angles (so not on all angles either)".into());
-                return last;
-            }
-            // InsufficientProgress, MaxIterations, NumericalError …: keep the iterate if it
-            // is finite and say so; the gap below tells how good it is.
-            _ if res.x.iter().all(|v| v.is_finite()) && round > 1 => {
-                last.status = Status::Inaccurate;
-                last.solver_status = status_txt.clone();
-                last.note = Some(format!(
-                    "clarabel stopped with {status_txt}; the previous round's design is kept"
-                ));
-                last.rounds = round;
-                last.ipm_iterations = iters;
-                return last;
-            }
-            _ if res.x.iter().all(|v| v.is_finite()) => {}
-            _ => {
-                last.solver_status = status_txt;
-                last.note = Some("clarabel returned no finite iterate".into());
-                return last;
-            }
+        if self.solver_stopped(&res, &status_txt, round) {
+            return true;
         }
         let u = P2::new(res.x[0], res.x[1]);
         let peaks = match field_peaks(&pb.fields, u, s) {
             Ok(p) => p,
             Err(e) => {
-                last.note = Some(format!("peak evaluation failed: {e}"));
-                return last;
+                self.last.note = Some(format!("peak evaluation failed: {e}"));
+                return true;
             }
         };
-        // The sampled bound at the tightened limits lim′ = lim(1 − margin), moved to the true
-        // limits by weak duality: the dual objective is affine in each limit with slope
-        // −Σz₀, so at lim it is the bound at lim′ minus Σz₀·(lim − lim′).
-        let shift: f64 = pb
-            .limits
-            .iter()
-            .zip(&limit_rows)
-            .zip(&margin)
-            .map(|((&(_, lim), rows), &mg)| {
-                rows.iter().map(|&r| res.z[r].max(0.0)).sum::<f64>() * lim * mg
-            })
-            .sum();
-        let lower = res.obj.min(res.obj_dual) - shift;
-        // Gap of the objective and worst relative violation of the limits.
+        let lower = res.obj.min(res.obj_dual) - self.limit_shift(pb, &res.z, &limit_rows);
+        // Gap of the objective.
         let (obj_gap, scale) = match pb.goal {
             Goal::MinPeak(i) => ((peaks[i].peak.fx - lower).max(0.0), peaks[i].peak.fx),
             _ => (0.0, 1.0),
         };
-        let violation = pb
-            .limits
-            .iter()
-            .map(|&(i, lim)| (peaks[i].peak.fx - lim).max(0.0) / lim.abs().max(1e-300))
-            .fold(0.0, f64::max);
-        // A limit is met when the refined peak is at or under it: not "within rel_tol".
-        let converged = obj_gap <= s.rel_tol * scale.max(1e-300) && violation == 0.0;
-        let mut tightened = false;
-        for (k, &(i, lim)) in pb.limits.iter().enumerate() {
-            let v = (peaks[i].peak.fx - lim) / lim.abs().max(1e-300);
-            if v > 0.0 && v <= s.rel_tol.max(1e-6) {
-                margin[k] += 1.05 * v + 4.0 * f64::EPSILON;
-                tightened = true;
-            }
-        }
-        let rel_gap = (obj_gap / scale.abs().max(1e-300)).max(violation);
-        // Between the target and 1e-6; a target looser than 1e-6 (allowed: rel_tol < 1) is
-        // its own next tolerance (`clamp(rel_tol, 1e-6)` would panic there: min > max).
-        let next_tol = (0.01 * rel_gap).min(1e-6).max(s.rel_tol);
-        // A round solved at a looser tolerance than the target cannot certify the target:
-        // unless it already meets it, the next round tightens.
-        round_tol = if round_tol > s.rel_tol {
-            next_tol.min(round_tol * 0.01).max(s.rel_tol)
-        } else {
-            s.rel_tol
-        };
+        let (converged, tightened) = self.verdict(pb, s, &peaks, obj_gap, scale);
         let almost = res.status == SolverStatus::AlmostSolved;
-        last = Solution {
+        self.last = Solution {
             status: if converged && !almost {
                 Status::Optimal
             } else {
@@ -699,10 +601,10 @@ pub fn solve(pb: &Problem, s: &Settings) -> Solution {
             peaks,
             gap: obj_gap,
             rounds: round,
-            samples: samples.len(),
-            ipm_iterations: iters,
+            samples: self.samples.len(),
+            ipm_iterations: self.iters,
             solver_status: status_txt,
-            presolved: was_presolved,
+            presolved: self.presolved,
             disc: false,
             note: if almost {
                 Some("clarabel reached reduced accuracy only (AlmostSolved)".into())
@@ -714,15 +616,107 @@ pub fn solve(pb: &Problem, s: &Settings) -> Solution {
         let viol_abs = pb
             .limits
             .iter()
-            .map(|&(i, lim)| (last.peaks[i].peak.fx - lim).max(0.0))
+            .map(|&(i, lim)| (self.last.peaks[i].peak.fx - lim).max(0.0))
             .fold(0.0, f64::max);
-        last.gap = last.gap.max(viol_abs);
+        self.last.gap = self.last.gap.max(viol_abs);
         if converged {
-            return last;
+            return true;
         }
-        // Exchange: drop the samples far from active (a subset still gives a lower bound, and
-        // a small SOCP is a fast one), then add every local maximum that is above the sampled
-        // bound (objective) or above its limit.
+        if self.exchange(pb, s, u, lower, scale) == 0 && !tightened {
+            self.last.note = Some(stalled_note(round, "clarabel's accuracy"));
+            return true;
+        }
+        false
+    }
+
+    /// clarabel's status of a round: infeasible, or stopped short (the previous round's
+    /// design kept, or none). True when the solve ends there (`last` then says why).
+    fn solver_stopped(&mut self, res: &ConicResult, status_txt: &str, round: usize) -> bool {
+        let last = &mut self.last;
+        match res.status {
+            SolverStatus::Solved | SolverStatus::AlmostSolved => false,
+            SolverStatus::PrimalInfeasible | SolverStatus::AlmostPrimalInfeasible => {
+                last.status = Status::Infeasible;
+                last.solver_status = status_txt.to_string();
+                last.rounds = round;
+                last.samples = self.samples.len();
+                last.ipm_iterations = self.iters;
+                last.note = Some("the constraints cannot all be met on the sampled angles (so not on all angles either)".into());
+                true
+            }
+            // InsufficientProgress, MaxIterations, NumericalError …: keep the iterate if it
+            // is finite and say so; the gap below tells how good it is.
+            _ if res.x.iter().all(|v| v.is_finite()) && round > 1 => {
+                last.status = Status::Inaccurate;
+                last.solver_status = status_txt.to_string();
+                last.note = Some(format!(
+                    "clarabel stopped with {status_txt}; the previous round's design is kept"
+                ));
+                last.rounds = round;
+                last.ipm_iterations = self.iters;
+                true
+            }
+            _ if res.x.iter().all(|v| v.is_finite()) => false,
+            _ => {
+                last.solver_status = status_txt.to_string();
+                last.note = Some("clarabel returned no finite iterate".into());
+                true
+            }
+        }
+    }
+
+    /// The sampled bound at the tightened limits lim′ = lim(1 − margin) moved to the true
+    /// limits by weak duality: the dual objective is affine in each limit with slope −Σz₀,
+    /// so at lim it is the bound at lim′ minus Σz₀·(lim − lim′), the shift returned.
+    fn limit_shift(&self, pb: &Problem, z: &[f64], limit_rows: &[Vec<usize>]) -> f64 {
+        pb.limits
+            .iter()
+            .zip(limit_rows)
+            .zip(&self.margin)
+            .map(|((&(_, lim), rows), &mg)| {
+                rows.iter().map(|&r| z[r].max(0.0)).sum::<f64>() * lim * mg
+            })
+            .sum()
+    }
+
+    /// The verdict on a round from its objective gap (relative to `scale`) and the limits'
+    /// relative violations: (converged, a limit's margin tightened). Sets the next round's
+    /// clarabel tolerance.
+    fn verdict(
+        &mut self,
+        pb: &Problem,
+        s: &Settings,
+        peaks: &[PeriodicPeak],
+        obj_gap: f64,
+        scale: f64,
+    ) -> (bool, bool) {
+        let violation = pb
+            .limits
+            .iter()
+            .map(|&(i, lim)| (peaks[i].peak.fx - lim).max(0.0) / lim.abs().max(1e-300))
+            .fold(0.0, f64::max);
+        // A limit is met when the refined peak is at or under it: not "within rel_tol".
+        let converged = obj_gap <= s.rel_tol * scale.max(1e-300) && violation == 0.0;
+        let mut tightened = false;
+        for (k, &(i, lim)) in pb.limits.iter().enumerate() {
+            let v = (peaks[i].peak.fx - lim) / lim.abs().max(1e-300);
+            if v > 0.0 && v <= s.rel_tol.max(1e-6) {
+                self.margin[k] += 1.05 * v + 4.0 * f64::EPSILON;
+                tightened = true;
+            }
+        }
+        let rel_gap = (obj_gap / scale.abs().max(1e-300)).max(violation);
+        // A round solved at a looser tolerance than the target cannot certify the target:
+        // unless it already meets it, the next round tightens.
+        self.round_tol = next_round_tol(self.round_tol, rel_gap, s.rel_tol);
+        (converged, tightened)
+    }
+
+    /// Exchange: drop the samples far from active (a subset still gives a lower bound, and
+    /// a small SOCP is a fast one), then add every local maximum of the last design `u`
+    /// that is above the sampled bound (objective) or above its limit. Returns the number
+    /// added.
+    fn exchange(&mut self, pb: &Problem, s: &Settings, u: P2, lower: f64, scale: f64) -> usize {
         let keep = |phi: f64| -> bool {
             let near = |i: usize, level: f64| {
                 pb.fields[i].magnitude(phi, u) >= (1.0 - s.keep_band) * level
@@ -733,7 +727,7 @@ pub fn solve(pb: &Problem, s: &Settings) -> Solution {
             };
             obj || pb.limits.iter().any(|&(i, lim)| near(i, lim))
         };
-        samples.retain(|&phi| keep(phi));
+        self.samples.retain(|&phi| keep(phi));
         let mut added = 0;
         let mut add = |phi: f64, samples: &mut Vec<f64>| {
             if is_new(samples, phi) {
@@ -742,31 +736,21 @@ pub fn solve(pb: &Problem, s: &Settings) -> Solution {
             }
         };
         if let Goal::MinPeak(i) = pb.goal {
-            for m in &last.peaks[i].maxima {
+            for m in &self.last.peaks[i].maxima {
                 if m.fx > lower + 0.5 * s.rel_tol * scale {
-                    add(m.x, &mut samples);
+                    add(m.x, &mut self.samples);
                 }
             }
         }
         for &(i, lim) in &pb.limits {
-            for m in &last.peaks[i].maxima {
+            for m in &self.last.peaks[i].maxima {
                 if m.fx > lim {
-                    add(m.x, &mut samples);
+                    add(m.x, &mut self.samples);
                 }
             }
         }
-        if added == 0 && !tightened {
-            last.note = Some(format!(
-                "exchange stalled after {round} rounds: every local maximum is already sampled; the remaining gap is clarabel's accuracy"
-            ));
-            return last;
-        }
+        added
     }
-    last.note = Some(format!(
-        "stopped after max_rounds = {} exchange rounds",
-        s.max_rounds
-    ));
-    last
 }
 
 /// Geometric presolve of a minimax force, `min_u max_φ ‖A(φ)u + b(φ)‖`, when every A(φ) is
@@ -790,7 +774,7 @@ pub fn solve(pb: &Problem, s: &Settings) -> Solution {
 /// where to look; the exchange loop still verifies (and corrects) the result. `None` when
 /// the goal is not a peak force of that form.
 pub fn enclosing_presolve(pb: &Problem, s: &Settings) -> Option<Vec<(f64, P2)>> {
-    let form = DiscForm::of(pb)?;
+    let form = ObjectiveDisc::of(pb)?;
     // p(φ) is independent of u, and each round's refinement ends on an angle it evaluated:
     // the disc of the refined angles and the next round's middle sample are remembered
     // values (the same numbers, not recomputed).
@@ -863,8 +847,7 @@ pub fn enclosing_presolve(pb: &Problem, s: &Settings) -> Option<Vec<(f64, P2)>> 
             .iter()
             .map(|&a| point(a).map(|p| (a, p)))
             .collect::<Option<_>>()?;
-        let ps: Vec<P2> = at.iter().map(|&(_, p)| p).collect();
-        u = crate::geom::enclosing_disc(&ps)?.centre;
+        u = DiscSamples::of(&at).disc()?.centre;
         let contracting = round > 0 && moved < 0.5 * last_move;
         if moved <= xtol || (contracting && moved * (moved / last_move) <= xtol) {
             break;
@@ -874,21 +857,18 @@ pub fn enclosing_presolve(pb: &Problem, s: &Settings) -> Option<Vec<(f64, P2)>> 
     Some(at)
 }
 
-/// A minimax force `max_φ ‖A(φ)u + b(φ)‖` whose every A(φ) is c·Q(φ), Q orthogonal, one
-/// constant c > 0 (a counterweight turning with the crank): ‖A u + b‖ = c‖u − p(φ)‖ with
-/// p(φ) = −Aᵀb/c², the unbalance that would cancel the force at φ.
-pub(crate) struct DiscForm<'p, 'a> {
+/// The objective field of a problem in the smallest-disc form ([`DiscForm`]: every A(φ) is
+/// c·Q(φ), Q orthogonal, c from φ = 0), when the goal is its peak and it has it.
+struct ObjectiveDisc<'p, 'a> {
     /// The objective field and its index in the problem.
     f: &'p Field<'a>,
     i: usize,
-    /// c².
-    c2: f64,
+    form: DiscForm,
 }
 
-impl<'p, 'a> DiscForm<'p, 'a> {
-    /// The form of the objective field of `pb`, when the goal is its peak and it has it
-    /// (c from φ = 0).
-    pub(crate) fn of(pb: &'p Problem<'a>) -> Option<Self> {
+impl<'p, 'a> ObjectiveDisc<'p, 'a> {
+    /// The objective field of `pb`, when the goal is its peak and it has the form.
+    fn of(pb: &'p Problem<'a>) -> Option<Self> {
         let Goal::MinPeak(i) = pb.goal else {
             return None;
         };
@@ -896,32 +876,22 @@ impl<'p, 'a> DiscForm<'p, 'a> {
         if f.dim != 2 {
             return None;
         }
-        let [[a00, _], [a10, _]] = (f.eval)(0.0).a;
-        let c2 = a00 * a00 + a10 * a10;
-        (c2 > 0.0).then_some(DiscForm { f, i, c2 })
+        DiscForm::scaled_by(&(f.eval)(0.0)).map(|form| ObjectiveDisc { f, i, form })
     }
 
-    /// p of one affine value (`None` when its A is not c·orthogonal).
-    pub(crate) fn point_of(&self, aff: &Affine) -> Option<P2> {
-        let tol = 1e-12 * self.c2;
-        let [[a00, a01], [a10, a11]] = aff.a;
-        let (n0, n1) = (a00 * a00 + a10 * a10, a01 * a01 + a11 * a11);
-        let dot = a00 * a01 + a10 * a11;
-        if (n0 - self.c2).abs() > tol || (n1 - self.c2).abs() > tol || dot.abs() > tol {
-            return None;
-        }
-        let [b0, b1] = aff.b;
-        Some(-P2::new(a00 * b0 + a10 * b1, a01 * b0 + a11 * b1) / self.c2)
+    /// p of one affine value of the field.
+    fn point_of(&self, aff: &Affine) -> Option<P2> {
+        self.form.point_of(aff)
     }
 
     /// p(φ).
     fn point(&self, phi: f64) -> Option<P2> {
-        self.point_of(&(self.f.eval)(phi))
+        self.form.point_of(&(self.f.eval)(phi))
     }
 }
 
 /// The exchange loop with the sampled minimax solved exactly, as the smallest disc enclosing
-/// p(φ_k) ([`DiscForm`]) by Welzl's algorithm, instead of by clarabel's SOCP: the two are
+/// p(φ_k) ([`DiscForm`], [`DiscSamples`]) by Welzl's algorithm, instead of by clarabel's SOCP: the two are
 /// the same problem when the goal is the peak of such a force, the direction is free, no
 /// field has a limit and the disc's centre is within `u_max` (the disc is then also the
 /// SOCP's optimum, to round-off instead of to an interior-point tolerance). Starts from the
@@ -932,13 +902,13 @@ fn disc_exchange(pb: &Problem, s: &Settings, start: &[(f64, P2)]) -> Option<Solu
     if !(pb.limits.is_empty() && pb.direction == Direction::Free) {
         return None;
     }
-    let form = DiscForm::of(pb)?;
-    let (i, c) = (form.i, form.c2.sqrt());
+    let form = ObjectiveDisc::of(pb)?;
+    let (i, c) = (form.i, form.form.c());
     // The sampled angles and their points p(φ) (the presolve's are known).
-    let (mut samples, mut points): (Vec<f64>, Vec<P2>) = start.iter().copied().unzip();
+    let mut sampled = DiscSamples::of(start);
     let mut last = None;
     for round in 1..=s.max_rounds {
-        let disc = crate::geom::enclosing_disc(&points)?;
+        let disc = sampled.disc()?;
         if !(disc.centre.norm() <= pb.u_max) {
             return None;
         }
@@ -960,7 +930,7 @@ fn disc_exchange(pb: &Problem, s: &Settings, start: &[(f64, P2)]) -> Option<Solu
             .iter()
             .filter(|m| m.fx > lower + 0.5 * s.rel_tol * peak)
             .map(|m| m.x)
-            .filter(|&x| is_new(&samples, x))
+            .filter(|&x| sampled.is_new(x))
             .collect();
         let sol = Solution {
             status: if converged {
@@ -973,7 +943,7 @@ fn disc_exchange(pb: &Problem, s: &Settings, start: &[(f64, P2)]) -> Option<Solu
             peaks,
             gap,
             rounds: round,
-            samples: samples.len(),
+            samples: sampled.len(),
             ipm_iterations: 0,
             solver_status: "exact".into(),
             presolved: true,
@@ -985,34 +955,17 @@ fn disc_exchange(pb: &Problem, s: &Settings, start: &[(f64, P2)]) -> Option<Solu
         }
         if added.is_empty() {
             return Some(Solution {
-                note: Some(format!(
-                    "exchange stalled after {round} rounds: every local maximum is already sampled; the remaining gap is the peak refinement's accuracy"
-                )),
+                note: Some(stalled_note(round, "the peak refinement's accuracy")),
                 ..sol
             });
         }
         for phi in added {
-            points.push(form.point(phi)?);
-            samples.push(phi);
+            sampled.push(phi, form.point(phi)?);
         }
         last = Some(sol);
     }
     last.map(|l| Solution {
-        note: Some(format!(
-            "stopped after max_rounds = {} exchange rounds",
-            s.max_rounds
-        )),
+        note: Some(max_rounds_note(s.max_rounds)),
         ..l
     })
-}
-
-/// Whether `phi` is not yet among the sampled angles (none within 1e-9 rad).
-pub(crate) fn is_new(samples: &[f64], phi: f64) -> bool {
-    samples.iter().all(|&q| angle_dist(q, phi) > 1e-9)
-}
-
-/// Distance between two angles on the circle.
-pub fn angle_dist(a: f64, b: f64) -> f64 {
-    let d = (a - b).rem_euclid(std::f64::consts::TAU);
-    d.min(std::f64::consts::TAU - d)
 }

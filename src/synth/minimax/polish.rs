@@ -25,7 +25,10 @@
 //! put them. Multipliers that come out negative drop their constraint and Newton reruns;
 //! a maximum the refined scan finds above the polished level joins the set (the caller).
 
-use super::{AffineValue, Engine, MinimaxError};
+use super::assembly::Round;
+use super::{AffineValue, Engine, Goal, MinimaxError, Solution, Stop};
+use crate::numeric::PeriodicPeak;
+use crate::synth::exchange::{angle_dist, Status};
 use nalgebra::{DMatrix, DVector};
 
 /// A sampled cone moved to a refined maximum, with its multiplier: the constraint
@@ -365,57 +368,15 @@ impl Engine<'_, '_> {
         let np = terms.len();
         let ni = active.len();
         let (it, ith, iw, inu) = (n, n + 1, n + 1 + np, n + 1 + 2 * np);
-        let size = inu + ni;
         let mut x = x_hat.to_vec();
         let mut t = t_hat;
         let mut terms = terms.to_vec();
         let start: Vec<f64> = terms.iter().map(|p| p.theta).collect();
         let mut nu = vec![0.0; ni];
-        let mut grad_d = vec![0.0; n];
         let mut last = f64::INFINITY;
         let mut stalls = 0;
         for _ in 0..MAX_NEWTON {
-            let mut r = DVector::<f64>::zeros(size);
-            let mut jac = DMatrix::<f64>::zeros(size, size);
-            let mut hxx = DMatrix::<f64>::zeros(n, n);
-            r[it] = 1.0;
-            for (p, term) in terms.iter().enumerate() {
-                let l = self.local(term, &x)?;
-                let w = term.weight;
-                for j in 0..n {
-                    r[j] += w * l.grad[j];
-                    jac[(j, ith + p)] = w * l.dgrad[j];
-                    jac[(j, iw + p)] = l.grad[j];
-                    jac[(ith + p, j)] = l.dgrad[j];
-                    jac[(iw + p, j)] = l.grad[j];
-                }
-                if let Some(h) = &l.hess {
-                    hxx += w * h;
-                }
-                r[ith + p] = l.d1;
-                jac[(ith + p, ith + p)] = l.d2;
-                jac[(iw + p, ith + p)] = l.d1;
-                match term.eps {
-                    None => {
-                        r[it] -= w;
-                        jac[(it, iw + p)] = -1.0;
-                        r[iw + p] = l.phi - t;
-                        jac[(iw + p, it)] = -1.0;
-                    }
-                    Some(e) => r[iw + p] = l.phi - e,
-                }
-            }
-            for (k, &i) in active.iter().enumerate() {
-                cons[i].grad(&x, &mut grad_d);
-                cons[i].add_hessian(&x, nu[k], &mut hxx);
-                for j in 0..n {
-                    r[j] += nu[k] * grad_d[j];
-                    jac[(j, inu + k)] = grad_d[j];
-                    jac[(inu + k, j)] = grad_d[j];
-                }
-                r[inu + k] = cons[i].value(&x);
-            }
-            jac.view_mut((0, 0), (n, n)).copy_from(&hxx);
+            let (r, jac) = self.kkt_system(&terms, cons, active, &x, t, &nu)?;
             let res = r.amax();
             if !res.is_finite() {
                 return Ok(None);
@@ -450,7 +411,7 @@ impl Engine<'_, '_> {
             if terms
                 .iter()
                 .zip(&start)
-                .any(|(p, s)| crate::synth::counterweight::angle_dist(p.theta, *s) > 2.0 * h)
+                .any(|(p, s)| angle_dist(p.theta, *s) > 2.0 * h)
                 || !x.iter().all(|v| v.is_finite())
             {
                 return Ok(None);
@@ -469,6 +430,309 @@ impl Engine<'_, '_> {
             design: active.iter().copied().zip(nu).collect(),
             design_nu: None,
         }))
+    }
+
+    /// The Newton system at (x̂, t̂, θ, w, ν) (module doc): the residual r of the
+    /// optimality conditions and its Jacobian, the unknowns in the order x̂, t̂, θ, w, ν.
+    fn kkt_system(
+        &self,
+        terms: &[Term],
+        cons: &[Design],
+        active: &[usize],
+        x: &[f64],
+        t: f64,
+        nu: &[f64],
+    ) -> Result<(DVector<f64>, DMatrix<f64>), MinimaxError> {
+        let n = self.n;
+        let np = terms.len();
+        let (it, ith, iw, inu) = (n, n + 1, n + 1 + np, n + 1 + 2 * np);
+        let size = inu + active.len();
+        let mut grad_d = vec![0.0; n];
+        let mut r = DVector::<f64>::zeros(size);
+        let mut jac = DMatrix::<f64>::zeros(size, size);
+        let mut hxx = DMatrix::<f64>::zeros(n, n);
+        r[it] = 1.0;
+        for (p, term) in terms.iter().enumerate() {
+            let l = self.local(term, x)?;
+            let w = term.weight;
+            for j in 0..n {
+                r[j] += w * l.grad[j];
+                jac[(j, ith + p)] = w * l.dgrad[j];
+                jac[(j, iw + p)] = l.grad[j];
+                jac[(ith + p, j)] = l.dgrad[j];
+                jac[(iw + p, j)] = l.grad[j];
+            }
+            if let Some(h) = &l.hess {
+                hxx += w * h;
+            }
+            r[ith + p] = l.d1;
+            jac[(ith + p, ith + p)] = l.d2;
+            jac[(iw + p, ith + p)] = l.d1;
+            match term.eps {
+                None => {
+                    r[it] -= w;
+                    jac[(it, iw + p)] = -1.0;
+                    r[iw + p] = l.phi - t;
+                    jac[(iw + p, it)] = -1.0;
+                }
+                Some(e) => r[iw + p] = l.phi - e,
+            }
+        }
+        for (k, &i) in active.iter().enumerate() {
+            cons[i].grad(x, &mut grad_d);
+            cons[i].add_hessian(x, nu[k], &mut hxx);
+            for j in 0..n {
+                r[j] += nu[k] * grad_d[j];
+                jac[(j, inu + k)] = grad_d[j];
+                jac[(inu + k, j)] = grad_d[j];
+            }
+            r[inu + k] = cons[i].value(x);
+        }
+        jac.view_mut((0, 0), (n, n)).copy_from(&hxx);
+        Ok((r, jac))
+    }
+}
+
+/// Newton polishes at most per solve.
+pub(super) const MAX_POLISH: usize = 3;
+
+/// A solve's polished optimality conditions, the start of a neighbouring solve's Newton:
+/// the scaled design x̂, t̂ and the active maxima with their multipliers.
+pub(super) struct KktStart {
+    pub(super) x_hat: Vec<f64>,
+    pub(super) t_hat: f64,
+    pub(super) terms: Vec<Term>,
+}
+
+/// A polished design with its certificate parts (caller's units).
+pub(super) struct PolishOutcome {
+    pub(super) x: Vec<f64>,
+    pub(super) pk: Vec<Option<PeriodicPeak>>,
+    /// V: the refined objective peak at x.
+    pub(super) value: f64,
+    /// The limits' relative violation at x.
+    pub(super) lim_rel: f64,
+    /// L, rigorous, and its residual part.
+    pub(super) lower: f64,
+    pub(super) lower_err: f64,
+    /// The polished x̂ and t̂ (before the projection) and active maxima: the start of a
+    /// neighbouring solve's Newton.
+    pub(super) x_hat: Vec<f64>,
+    pub(super) t_hat: f64,
+    pub(super) terms: Vec<Term>,
+}
+
+impl<'p, 'a> Engine<'p, 'a> {
+    /// The certified solution of a polish (`optimal`), its active maxima the sampled
+    /// angles (the other fields keep theirs), and the conditions for a neighbour's start.
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn polished_solution(
+        &self,
+        goal: &Goal,
+        limits: &[(usize, f64)],
+        mut sets: Vec<Vec<(f64, AffineValue)>>,
+        po: PolishOutcome,
+        round: usize,
+        iters: u32,
+        solver_status: String,
+    ) -> Result<(Solution, KktStart), MinimaxError> {
+        for (f, set) in sets.iter_mut().enumerate() {
+            if po.terms.iter().any(|t| t.field == f) {
+                set.clear();
+            }
+        }
+        for t in &po.terms {
+            self.insert(&mut sets[t.field], t.field, t.theta)?;
+        }
+        let sol = self.finish(
+            goal,
+            limits,
+            &sets,
+            &po.x,
+            po.pk,
+            po.value,
+            (po.lower, po.lower_err, true),
+            Status::Optimal,
+            Stop::Converged,
+            None,
+            round,
+            iters,
+            solver_status,
+        )?;
+        Ok((
+            sol,
+            KktStart {
+                x_hat: po.x_hat,
+                t_hat: po.t_hat,
+                terms: po.terms,
+            },
+        ))
+    }
+
+    /// A round's active set polished by Newton ([`polish`]) into a candidate certificate
+    /// ([`Engine::polish_certify`]): the round's cones with multiplier ≥ 1e-6 whose refined
+    /// maxima are within 1e-5 (relative) of their bound at x start it. `None` when Newton fails (the
+    /// caller's loop goes on).
+    pub(super) fn try_polish(
+        &self,
+        list: &[(usize, f64)],
+        limits: &[(usize, f64)],
+        rd: &Round,
+        x: &[f64],
+        pk: &[Option<PeriodicPeak>],
+    ) -> Result<Option<PolishOutcome>, MinimaxError> {
+        let n = self.n;
+        let Some(all) = self.round_terms(rd, pk) else {
+            return Ok(None);
+        };
+        let t_hat = rd.res.x[n];
+        let level = |t: &Term, th: f64| t.eps.unwrap_or(th);
+        let value_at = |t: &Term, x: &[f64]| -> Result<f64, MinimaxError> {
+            let d = self.pb.fields[t.field].dim();
+            Ok(t.c * self.eval(t.field, t.theta)?.magnitude(d, x))
+        };
+        let mut terms = Vec::new();
+        for t in all {
+            if t.weight >= 1e-6 && value_at(&t, x)? >= (1.0 - 1e-5) * level(&t, t_hat) {
+                terms.push(t);
+            }
+        }
+        let x_hat: Vec<f64> = x.iter().zip(&self.scale).map(|(v, s)| v / s).collect();
+        self.polish_certify(list, limits, terms, &x_hat, t_hat, rd.t_scale)
+    }
+
+    /// Newton from the given active maxima, design x̂ and objective t̂ ([`polish`]); the
+    /// polished design (projected) is scanned for its true peaks, a maximum found above the
+    /// polished level joins the set and Newton reruns (at most twice), and the lower bound
+    /// is the rigorous Lagrangian bound ([`Engine::lagrangian_bound`]) at the polished
+    /// angles and multipliers. `None` when Newton fails.
+    pub(super) fn polish_certify(
+        &self,
+        list: &[(usize, f64)],
+        limits: &[(usize, f64)],
+        mut terms: Vec<Term>,
+        x_hat: &[f64],
+        t_hat: f64,
+        t_scale: f64,
+    ) -> Result<Option<PolishOutcome>, MinimaxError> {
+        if !terms.iter().any(|t| t.eps.is_none()) {
+            return Ok(None);
+        }
+        let mut x_hat = x_hat.to_vec();
+        let mut t_hat = t_hat;
+        let nf = self.pb.fields.len();
+        for pass in 0..3 {
+            let Some(p) = self.polish(&terms, &x_hat, t_hat)? else {
+                return Ok(None);
+            };
+            let xp = self.project(
+                &p.x_hat
+                    .iter()
+                    .zip(&self.scale)
+                    .map(|(v, s)| v * s)
+                    .collect::<Vec<_>>(),
+            );
+            // The upper bound is a design's peak only if it is a design.
+            if self.design_violation(&xp) > FEASIBLE {
+                return Ok(None);
+            }
+            let mut pkp: Vec<Option<PeriodicPeak>> = vec![None; nf];
+            for &(f, _) in list.iter().chain(limits) {
+                if pkp[f].is_none() {
+                    pkp[f] = Some(self.scan(f, &xp)?);
+                }
+            }
+            let peak_of = |f: usize| pkp[f].as_ref().expect("scanned").peak.fx;
+            let value = list
+                .iter()
+                .map(|&(f, w)| w * peak_of(f))
+                .fold(0.0, f64::max);
+            let lim_rel = limits
+                .iter()
+                .map(|&(f, e)| (peak_of(f) - e).max(0.0) / self.lim_floor(f, e))
+                .fold(0.0, f64::max);
+            let missing = self.missing_maxima(list, limits, &p, &pkp, t_scale);
+            if !missing.is_empty() && pass < 2 {
+                terms = p.terms.clone();
+                terms.extend(missing);
+                x_hat = p.x_hat.clone();
+                t_hat = p.t_hat;
+                continue;
+            }
+            // Newton's own dual point first; clarabel's Lagrangian SOCPs where it falls short.
+            let mut bound = self.kkt_bound(&p, &xp, t_scale)?;
+            if bound.is_none_or(|b| value - b.0 > self.s.rel_tol * value) {
+                if let Some(b) = self.lagrangian_bound(&p.terms, &xp, t_scale)? {
+                    if bound.is_none_or(|a| b.0 > a.0) {
+                        bound = Some(b);
+                    }
+                }
+            }
+            let Some((lower, lower_err)) = bound else {
+                return Ok(None);
+            };
+            return Ok(Some(PolishOutcome {
+                x: xp,
+                pk: pkp,
+                value,
+                lim_rel,
+                lower,
+                lower_err,
+                x_hat: p.x_hat,
+                t_hat: p.t_hat,
+                terms: p.terms,
+            }));
+        }
+        Ok(None)
+    }
+
+    /// The refined maxima of the polished design above the polished level t̂·T (objective)
+    /// or above their limit, by more than 0.1 `rel_tol`, that the polished set lacks (none of
+    /// its angles of the field within a scan step): they join it with weight 0.
+    fn missing_maxima(
+        &self,
+        list: &[(usize, f64)],
+        limits: &[(usize, f64)],
+        p: &Polished,
+        pkp: &[Option<PeriodicPeak>],
+        t_scale: f64,
+    ) -> Vec<Term> {
+        let h = std::f64::consts::TAU / self.s.scan_samples as f64;
+        let mut missing = Vec::new();
+        let known = |f: usize, th: f64| {
+            p.terms
+                .iter()
+                .any(|t| t.field == f && angle_dist(t.theta, th) <= h)
+        };
+        let t_level = p.t_hat * t_scale;
+        for &(f, w) in list {
+            for m in &pkp[f].as_ref().expect("scanned").maxima {
+                if w * m.fx > t_level * (1.0 + 0.1 * self.s.rel_tol) && !known(f, m.x) {
+                    missing.push(Term {
+                        field: f,
+                        theta: m.x,
+                        c: w / t_scale,
+                        eps: None,
+                        weight: 0.0,
+                    });
+                }
+            }
+        }
+        for &(f, e) in limits {
+            for m in &pkp[f].as_ref().expect("scanned").maxima {
+                if m.fx > e * (1.0 + 0.1 * self.s.rel_tol) && !known(f, m.x) {
+                    let g = self.g_ref[f];
+                    missing.push(Term {
+                        field: f,
+                        theta: m.x,
+                        c: 1.0 / g,
+                        eps: Some(e / g),
+                        weight: 0.0,
+                    });
+                }
+            }
+        }
+        missing
     }
 }
 

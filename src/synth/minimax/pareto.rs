@@ -1,0 +1,98 @@
+//! Pareto fronts: min peak A subject to peak B ≤ ε for a list of ε, each point its own
+//! certified solve, continued in ε from its neighbour.
+
+use super::polish::KktStart;
+use super::{Engine, Goal, MinimaxError, ParetoFront, ParetoPoint};
+use crate::synth::exchange::{is_new, Status};
+
+impl<'p, 'a> Engine<'p, 'a> {
+    /// Min peak of field `a` subject to peak of field `b` ≤ ε, for each ε (plus the problem's
+    /// own limits); each point first tries Newton from the last polished point's optimality
+    /// conditions (a continuation in ε, no SOCP), else runs the exchange loop warm-started
+    /// from the previous point's final angles only.
+    pub fn pareto(
+        &self,
+        a: usize,
+        b: usize,
+        eps: &[f64],
+        warm: Option<&[Vec<f64>]>,
+    ) -> Result<Vec<ParetoPoint>, MinimaxError> {
+        let mut out: Vec<ParetoPoint> = Vec::with_capacity(eps.len());
+        let mut warm_sets: Option<Vec<Vec<f64>>> = warm.map(|w| w.to_vec());
+        let mut start: Option<KktStart> = None;
+        for &e in eps {
+            let mut limits = self.pb.limits.clone();
+            limits.push((b, e));
+            // Newton first from the previous point's polished optimality conditions (a
+            // continuation in ε), then the exchange loop from its angles.
+            let (sol, st) = self.solve_goal_from(
+                &Goal::MinPeak(vec![(a, 1.0)]),
+                &limits,
+                warm_sets.as_deref(),
+                start.as_ref(),
+            )?;
+            if st.is_some() {
+                start = st;
+            }
+            if sol.status != Status::Infeasible && sol.status != Status::Failed {
+                // Only the previous point's (pruned) angles: merged sets would grow to
+                // hundreds of cones over a front.
+                warm_sets = Some(sol.angle_sets.clone());
+            }
+            out.push(ParetoPoint {
+                eps: e,
+                solution: sol,
+            });
+        }
+        Ok(out)
+    }
+
+    /// The front of peak A against peak B in `n` ≥ 2 points: the two single-field optima
+    /// bound it; ε runs evenly from B* (the min-B peak, raised by 10 `rel_tol` so the first
+    /// point is feasible despite the gap) to the peak B of the min-A design.
+    pub fn pareto_front(&self, a: usize, b: usize, n: usize) -> Result<ParetoFront, MinimaxError> {
+        let min_b = self.solve_goal(&Goal::MinPeak(vec![(b, 1.0)]), &self.pb.limits, None)?;
+        let min_a = self.solve_goal(&Goal::MinPeak(vec![(a, 1.0)]), &self.pb.limits, None)?;
+        for (sol, which) in [(&min_b, "B"), (&min_a, "A")] {
+            if matches!(sol.status, Status::Infeasible | Status::Failed) {
+                return Ok(ParetoFront {
+                    points: Vec::new(),
+                    min_b: min_b.clone(),
+                    min_a: {
+                        let _ = which;
+                        min_a.clone()
+                    },
+                });
+            }
+        }
+        let lo = min_b.peaks[b].peak * (1.0 + 10.0 * self.s.rel_tol) + min_b.peaks[b].error;
+        let hi = min_a.peaks[b].peak.max(lo);
+        let n = n.max(2);
+        let eps: Vec<f64> = (0..n)
+            .map(|k| lo + (hi - lo) * k as f64 / (n - 1) as f64)
+            .collect();
+        let warm = merge_sets(Some(&min_b.angle_sets), &min_a.angle_sets);
+        let points = self.pareto(a, b, &eps, Some(&warm))?;
+        Ok(ParetoFront {
+            min_b,
+            min_a,
+            points,
+        })
+    }
+}
+
+/// Per field, the union of two angle sets (sorted, near-duplicates dropped).
+fn merge_sets(a: Option<&[Vec<f64>]>, b: &[Vec<f64>]) -> Vec<Vec<f64>> {
+    (0..b.len())
+        .map(|f| {
+            let mut v: Vec<f64> = a.and_then(|a| a.get(f)).cloned().unwrap_or_default();
+            for &t in &b[f] {
+                if is_new(&v, t) {
+                    v.push(t);
+                }
+            }
+            v.sort_by(f64::total_cmp);
+            v
+        })
+        .collect()
+}
