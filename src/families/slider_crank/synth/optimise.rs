@@ -40,7 +40,9 @@ pub(super) fn needs_torque(objective: Objective, max_torque: Option<f64>) -> boo
 }
 
 /// [`optimise`] with the objective and limits given explicitly (the Pareto front solves the
-/// scene again with other ones).
+/// scene again with other ones). A scene with balancers, a moment or a main-bearing limit
+/// goes to the joint design; otherwise the counterweight is analysed (all fixed), searched
+/// on its circle (|U| fixed, β free) or found by the convex engine ([`convex_optimum`]).
 pub(super) fn optimise_with(
     scene: &Scene,
     objective: Objective,
@@ -52,15 +54,163 @@ pub(super) fn optimise_with(
         return optimise_joint(scene, objective, max_force, max_torque);
     }
     // The caller has run `check` (the grid needed it).
-    let s = &scene.resolved_settings();
     let nf = Normalised::new(scene);
-    // The fields on the scan grid (the scans of the exchange loop and the presolve).
+    let u_ref = nf.u_ref;
+    let (u_lo, u_hi) = unbalance_bounds(&scene.counterweight);
+    let mut warnings = Vec::new();
+
+    let cwspec = &scene.counterweight;
+    let fixed_len = u_hi.is_finite() && (u_hi - u_lo) <= 1e-15 * u_hi.max(1e-300);
+    let found = if let (Some(beta), true) = (cwspec.angle.fixed(), fixed_len) {
+        // Everything fixed: an analysis.
+        Found {
+            status: Status::Optimal,
+            u: P2::new(beta.cos(), beta.sin()) * u_lo,
+            gap: 0.0,
+            method: "analysis of the given counterweight (no free design variable)".to_string(),
+            rounds: 0,
+        }
+    } else if fixed_len && full_circle(scene) {
+        // |U| fixed, direction free: a circle, not convex — 1-D search over β.
+        let r = search_on_circle(&nf, objective, u_lo / u_ref)?;
+        Found {
+            status: r.0,
+            u: r.1 * u_ref,
+            gap: 0.0,
+            method: r.2,
+            rounds: 0,
+        }
+    } else {
+        let limits = Limits {
+            force: max_force,
+            torque: max_torque,
+        };
+        convex_optimum(&nf, objective, limits, grid, &mut warnings)?
+    };
+    if found.status == Status::Infeasible {
+        warnings.push(format!(
+            "infeasible: no counterweight within the bounds meets the limits (peak force ≤ {:?} N, peak torque ≤ {:?} N·m)",
+            max_force, max_torque
+        ));
+    }
+    Ok(Optimum {
+        status: found.status,
+        u: found.u,
+        gap: found.gap,
+        method: found.method,
+        rounds: found.rounds,
+        warnings,
+        balancers: Vec::new(),
+    })
+}
+
+/// The optimiser's answer before it becomes an [`Optimum`]: status, U (kg·m), gap in the
+/// objective's SI unit, method and exchange rounds (0 without a convex solve).
+struct Found {
+    status: Status,
+    u: P2,
+    gap: f64,
+    method: String,
+    rounds: usize,
+}
+
+/// The peak-force and peak-torque limits of one solve (N, N·m).
+#[derive(Clone, Copy)]
+struct Limits {
+    force: Option<f64>,
+    torque: Option<f64>,
+}
+
+/// Whether the counterweight's angle range is the whole circle (β_hi − β_lo ≥ 2π).
+fn full_circle(scene: &Scene) -> bool {
+    let (beta_lo, beta_hi) = scene.counterweight.angle.bounds();
+    beta_hi - beta_lo >= std::f64::consts::TAU - 1e-9
+}
+
+/// The convex solve of [`crate::synth::counterweight`] on the normalised fields: the force
+/// f̂ (and the torque T̂ where the objective or a limit needs it) on the scan `grid`, the
+/// engine's goal and limits, U's direction (fixed, a sector or free) and |U| ≤ U_max/U_ref;
+/// then, where the optimum lies inside the non-convex lower bound |U| ≥ U_min, the search on
+/// that circle. The engine's note goes to `warnings`.
+fn convex_optimum(
+    nf: &Normalised,
+    objective: Objective,
+    limits: Limits,
+    grid: &Grid,
+    warnings: &mut Vec<String>,
+) -> Result<Found, SolveError> {
+    let scene = nf.scene;
+    let s = &scene.resolved_settings();
+    let torque_needed = needs_torque(objective, limits.torque);
+    let (force_grid, torque_grid) = field_grids(nf, grid, torque_needed);
+    let u_ref = nf.u_ref;
+    let force = |phi: f64| nf.force(phi);
+    let torque = |phi: f64| nf.torque(phi);
+    let (u_lo, u_hi) = unbalance_bounds(&scene.counterweight);
+    let (goal, obj_ref, limits) = goal_and_limits(nf, objective, limits);
+    let direction = direction_of(scene, u_lo / u_ref);
+    let mut fields = vec![Field {
+        name: "shaking force",
+        dim: 2,
+        eval: &force,
+        grid: Some(&force_grid),
+    }];
+    if torque_needed {
+        fields.push(Field {
+            name: "drive torque",
+            dim: 1,
+            eval: &torque,
+            grid: Some(&torque_grid),
+        });
+    }
+    let warm_angles = if s.warm_start && goal != Goal::MinNorm {
+        warm_start(nf, s)
+    } else {
+        Vec::new()
+    };
+    let pb = Problem {
+        fields,
+        goal,
+        limits,
+        u_max: u_hi / u_ref,
+        direction,
+        warm_angles,
+    };
+    let sol = cw::solve(&pb, s);
+    let method = convex_method(&sol, goal);
+    if let Some(n) = &sol.note {
+        warnings.push(n.clone());
+    }
+    let mut found = Found {
+        status: sol.status,
+        u: sol.u * u_ref,
+        gap: sol.gap * obj_ref,
+        method,
+        rounds: if sol.disc { 0 } else { sol.rounds },
+    };
+    if found.status != Status::Infeasible
+        && found.status != Status::Failed
+        && matches!(direction, Direction::Free | Direction::Sector { .. })
+        && found.u.norm() < u_lo * (1.0 - 1e-9)
+    {
+        // The lower bound on |U| is active and not convex: search its circle.
+        let r = search_on_circle(nf, objective, u_lo / u_ref)?;
+        found.status = r.0;
+        found.u = r.1 * u_ref;
+        found.gap = 0.0;
+        found.method = format!("{}; |U| ≥ {u_lo:.6e} kg·m active: {}", found.method, r.2);
+    }
+    Ok(found)
+}
+
+/// The fields on the scan grid (the scans of the exchange loop and the presolve): f̂(φₖ),
+/// and T̂(φₖ) only where a field needs the torque (the callers pass a grid with the torque
+/// column then: `Columns::All`), else empty.
+fn field_grids(nf: &Normalised, grid: &Grid, torque: bool) -> (Vec<Affine>, Vec<Affine>) {
     let force_grid: Vec<Affine> = (0..grid.len())
         .map(|k| nf.force_of(grid.cs[k], grid.f0[k]))
         .collect();
-    // The torque on the grid only where a field needs it (the callers pass a grid with the
-    // torque column then: `Columns::All`).
-    let torque_grid: Vec<Affine> = if needs_torque(objective, max_torque) {
+    let torque_grid: Vec<Affine> = if torque {
         debug_assert_eq!(grid.t0.len(), grid.len(), "the torque needs Columns::All");
         (0..grid.len())
             .map(|k| nf.torque_of(grid.cs[k], grid.t0[k]))
@@ -68,24 +218,24 @@ pub(super) fn optimise_with(
     } else {
         Vec::new()
     };
-    let u_ref = nf.u_ref;
-    let f_ref = scene.omega * scene.omega * u_ref; // N per normalised unit
-    let force = |phi: f64| nf.force(phi);
-    let torque = |phi: f64| nf.torque(phi);
-    let (u_lo, u_hi) = unbalance_bounds(&scene.counterweight);
-    let mut warnings = Vec::new();
+    (force_grid, torque_grid)
+}
 
-    let cwspec = &scene.counterweight;
-    let (beta_lo, beta_hi) = cwspec.angle.bounds();
-    let full_circle = beta_hi - beta_lo >= std::f64::consts::TAU - 1e-9;
-    let fixed_len = u_hi.is_finite() && (u_hi - u_lo) <= 1e-15 * u_hi.max(1e-300);
-
-    let mut limits = Vec::new();
-    if let Some(f) = max_force {
-        limits.push((0, f / f_ref));
+/// The engine's goal for `objective` with the SI size of its normalised unit (ω²U_ref in N
+/// for the force, t_ref in N·m for the torque), and the limits as (field, normalised bound):
+/// field 0 the force F/(ω²U_ref), field 1 the torque T/t_ref.
+fn goal_and_limits(
+    nf: &Normalised,
+    objective: Objective,
+    limits: Limits,
+) -> (Goal, f64, Vec<(usize, f64)>) {
+    let f_ref = nf.scene.omega * nf.scene.omega * nf.u_ref; // N per normalised unit
+    let mut out = Vec::new();
+    if let Some(f) = limits.force {
+        out.push((0, f / f_ref));
     }
-    if let Some(t) = max_torque {
-        limits.push((1, t / nf.t_ref));
+    if let Some(t) = limits.torque {
+        out.push((1, t / nf.t_ref));
     }
     let (goal, obj_ref) = match objective {
         Objective::MinPeakForce => (Goal::MinPeak(0), f_ref),
@@ -95,128 +245,55 @@ pub(super) fn optimise_with(
         // Never here: a moment objective is a joint scene (`optimise_joint`).
         Objective::MinPeakMoment => (Goal::MinPeak(0), f_ref),
     };
+    (goal, obj_ref, out)
+}
 
-    let mut method;
-    let mut rounds = 0;
-    let (status, u, gap);
-    if let (Some(beta), true) = (cwspec.angle.fixed(), fixed_len) {
-        // Everything fixed: an analysis.
-        status = Status::Optimal;
-        u = P2::new(beta.cos(), beta.sin()) * u_lo;
-        gap = 0.0;
-        method = "analysis of the given counterweight (no free design variable)".to_string();
-    } else if fixed_len && full_circle {
-        // |U| fixed, direction free: a circle, not convex — 1-D search over β.
-        let r = search_on_circle(&nf, objective, u_lo / u_ref)?;
-        status = r.0;
-        u = r.1 * u_ref;
-        gap = 0.0;
-        method = r.2;
+/// U's direction for the engine: fixed at β with |U| ≥ `min_len` (normalised), free on the
+/// whole circle, or in the sector [β_lo, β_hi].
+fn direction_of(scene: &Scene, min_len: f64) -> Direction {
+    let angle = &scene.counterweight.angle;
+    let (beta_lo, beta_hi) = angle.bounds();
+    if let Some(beta) = angle.fixed() {
+        Direction::Fixed { beta, min_len }
+    } else if full_circle(scene) {
+        Direction::Free
     } else {
-        let direction = if let Some(beta) = cwspec.angle.fixed() {
-            Direction::Fixed {
-                beta,
-                min_len: u_lo / u_ref,
-            }
-        } else if full_circle {
-            Direction::Free
-        } else {
-            Direction::Sector {
-                lo: beta_lo,
-                hi: beta_hi,
-            }
-        };
-        let mut fields = vec![Field {
-            name: "shaking force",
-            dim: 2,
-            eval: &force,
-            grid: Some(&force_grid),
-        }];
-        if needs_torque(objective, max_torque) {
-            fields.push(Field {
-                name: "drive torque",
-                dim: 1,
-                eval: &torque,
-                grid: Some(&torque_grid),
-            });
+        Direction::Sector {
+            lo: beta_lo,
+            hi: beta_hi,
         }
-        let warm_angles = if s.warm_start && goal != Goal::MinNorm {
-            warm_start(&nf, s)
-        } else {
-            Vec::new()
-        };
-        let pb = Problem {
-            fields,
-            goal,
-            limits,
-            u_max: u_hi / u_ref,
-            direction,
-            warm_angles,
-        };
-        let sol = cw::solve(&pb, s);
-        let presolve = if sol.presolved {
-            "geometric presolve (smallest disc enclosing the force-cancelling unbalances) + "
-        } else {
-            ""
-        };
-        method = if sol.disc {
-            format!(
-                "{presolve}exact sampled minimax (smallest enclosing disc, Welzl; the SOCP's optimum without clarabel) + exchange loop: {} rounds, {} angles",
-                sol.rounds, sol.samples
-            )
-        } else {
-            format!(
-                "{presolve}clarabel {} + exchange loop: {} rounds, {} angles, {} interior-point iterations, last status {}",
-                match goal {
-                    Goal::MinPeak(0) => "SOCP (minimax force)",
-                    Goal::MinPeak(_) => "SOCP/LP (minimax torque)",
-                    Goal::MinMeanSquare(_) => "QP (mean square)",
-                    Goal::MinNorm => "SOCP (least |U|)",
-                },
-                sol.rounds,
-                sol.samples,
-                sol.ipm_iterations,
-                sol.solver_status
-            )
-        };
-        if let Some(n) = &sol.note {
-            warnings.push(n.clone());
-        }
-        rounds = if sol.disc { 0 } else { sol.rounds };
-        let mut st = sol.status;
-        let mut uu = sol.u * u_ref;
-        let mut g = sol.gap * obj_ref;
-        if st != Status::Infeasible
-            && st != Status::Failed
-            && matches!(direction, Direction::Free | Direction::Sector { .. })
-            && uu.norm() < u_lo * (1.0 - 1e-9)
-        {
-            // The lower bound on |U| is active and not convex: search its circle.
-            let r = search_on_circle(&nf, objective, u_lo / u_ref)?;
-            st = r.0;
-            uu = r.1 * u_ref;
-            g = 0.0;
-            method = format!("{method}; |U| ≥ {u_lo:.6e} kg·m active: {}", r.2);
-        }
-        status = st;
-        u = uu;
-        gap = g;
     }
-    if status == Status::Infeasible {
-        warnings.push(format!(
-            "infeasible: no counterweight within the bounds meets the limits (peak force ≤ {:?} N, peak torque ≤ {:?} N·m)",
-            max_force, max_torque
-        ));
+}
+
+/// The method string of a convex solve: the presolve if it ran, then the exact smallest
+/// disc (Welzl) or the clarabel program of `goal`, with the exchange loop's rounds, angles,
+/// iterations and last status.
+fn convex_method(sol: &cw::Solution, goal: Goal) -> String {
+    let presolve = if sol.presolved {
+        "geometric presolve (smallest disc enclosing the force-cancelling unbalances) + "
+    } else {
+        ""
+    };
+    if sol.disc {
+        format!(
+            "{presolve}exact sampled minimax (smallest enclosing disc, Welzl; the SOCP's optimum without clarabel) + exchange loop: {} rounds, {} angles",
+            sol.rounds, sol.samples
+        )
+    } else {
+        format!(
+            "{presolve}clarabel {} + exchange loop: {} rounds, {} angles, {} interior-point iterations, last status {}",
+            match goal {
+                Goal::MinPeak(0) => "SOCP (minimax force)",
+                Goal::MinPeak(_) => "SOCP/LP (minimax torque)",
+                Goal::MinMeanSquare(_) => "QP (mean square)",
+                Goal::MinNorm => "SOCP (least |U|)",
+            },
+            sol.rounds,
+            sol.samples,
+            sol.ipm_iterations,
+            sol.solver_status
+        )
     }
-    Ok(Optimum {
-        status,
-        u,
-        gap,
-        method,
-        rounds,
-        warnings,
-        balancers: Vec::new(),
-    })
 }
 
 /// Angles of the local maxima of |F| for the least-squares counterweight
