@@ -277,7 +277,7 @@ pub fn run(cli: Cli) -> anyhow::Result<i32> {
             merge: false,
             units,
         } => batch(&inputs, out, threads, shard, quiet, summary_only, units),
-        Command::Merge { dirs, out } => merge(&dirs, &out),
+        Command::Merge { dirs, out } => merge(&dirs, &out, false),
         Command::Calibrate {
             file,
             out,
@@ -343,16 +343,7 @@ fn merge_in_place(inputs: &[String], out: PathBuf, quiet: bool) -> anyhow::Resul
     if !inputs.is_empty() {
         anyhow::bail!("--merge takes no inputs: it joins the shard summaries in --out");
     }
-    let c = crate::batch::merge(std::slice::from_ref(&out), &out)?;
-    if !quiet {
-        eprintln!(
-            "merged {} machines ({} failed) into {}",
-            c.total,
-            c.failed,
-            out.join("summary.csv").display()
-        );
-    }
-    Ok(if c.failed > 0 { 1 } else { 0 })
+    merge(std::slice::from_ref(&out), &out, quiet)
 }
 
 /// `cwsynth batch`: solves every input into `out` (a shard of them with `--shard`) and
@@ -394,15 +385,18 @@ fn batch(
     Ok(if c.failed > 0 { 1 } else { 0 })
 }
 
-/// `cwsynth merge`: joins the summaries of the shard directories `dirs` into `out`.
-fn merge(dirs: &[PathBuf], out: &Path) -> anyhow::Result<i32> {
+/// `cwsynth merge` (and `batch --merge`): joins the summaries of the shard directories
+/// `dirs` into `out`, saying so unless `quiet`; exit code 1 when any machine failed.
+fn merge(dirs: &[PathBuf], out: &Path, quiet: bool) -> anyhow::Result<i32> {
     let c = crate::batch::merge(dirs, out)?;
-    eprintln!(
-        "merged {} machines ({} failed) into {}",
-        c.total,
-        c.failed,
-        out.join("summary.csv").display()
-    );
+    if !quiet {
+        eprintln!(
+            "merged {} machines ({} failed) into {}",
+            c.total,
+            c.failed,
+            out.join("summary.csv").display()
+        );
+    }
     Ok(if c.failed > 0 { 1 } else { 0 })
 }
 
