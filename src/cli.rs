@@ -256,26 +256,17 @@ fn load_all(files: &[PathBuf]) -> (Vec<Scene>, Vec<String>) {
     (ok, bad)
 }
 
-/// Runs the CLI; returns the process exit code.
+/// Runs the CLI; returns the process exit code. One function per verb.
 pub fn run(cli: Cli) -> anyhow::Result<i32> {
     match cli.command {
-        Command::Check { inputs } => {
-            let files = crate::batch::expand_inputs(&inputs)?;
-            let (ok, bad) = load_all(&files);
-            let mut stdout = Stdout::new();
-            for s in &ok {
-                stdout.write(&format!(
-                    "ok    {} ({}, {})\n",
-                    s.source.display(),
-                    s.name,
-                    s.family.name()
-                ))?;
-            }
-            for e in &bad {
-                eprintln!("error {e}");
-            }
-            Ok(if bad.is_empty() { 0 } else { 1 })
-        }
+        Command::Check { inputs } => check(&inputs),
+        Command::Batch {
+            inputs,
+            out,
+            quiet,
+            merge: true,
+            ..
+        } => merge_in_place(&inputs, out, quiet),
         Command::Batch {
             inputs,
             out,
@@ -283,141 +274,17 @@ pub fn run(cli: Cli) -> anyhow::Result<i32> {
             shard,
             quiet,
             summary_only,
-            merge,
+            merge: false,
             units,
-        } => {
-            if merge {
-                if !inputs.is_empty() {
-                    anyhow::bail!("--merge takes no inputs: it joins the shard summaries in --out");
-                }
-                let c = crate::batch::merge(std::slice::from_ref(&out), &out)?;
-                if !quiet {
-                    eprintln!(
-                        "merged {} machines ({} failed) into {}",
-                        c.total,
-                        c.failed,
-                        out.join("summary.csv").display()
-                    );
-                }
-                return Ok(if c.failed > 0 { 1 } else { 0 });
-            }
-            if inputs.is_empty() {
-                anyhow::bail!("batch: no inputs");
-            }
-            let opts = crate::batch::Options {
-                out: out.clone(),
-                threads,
-                shard: shard
-                    .as_deref()
-                    .map(crate::batch::parse_shard)
-                    .transpose()?,
-                quiet,
-                summary_only,
-                units: units.into(),
-            };
-            let c = crate::batch::run(crate::batch::expand(&inputs)?, &opts)?;
-            if !quiet {
-                eprintln!(
-                    "batch: {} machines, {} ok, {} failed, {} skipped (unchanged); summary in {}",
-                    c.total,
-                    c.ok,
-                    c.failed,
-                    c.skipped,
-                    out.join(crate::batch::summary_name(opts.shard)).display()
-                );
-            }
-            Ok(if c.failed > 0 { 1 } else { 0 })
-        }
-        Command::Merge { dirs, out } => {
-            let c = crate::batch::merge(&dirs, &out)?;
-            eprintln!(
-                "merged {} machines ({} failed) into {}",
-                c.total,
-                c.failed,
-                out.join("summary.csv").display()
-            );
-            Ok(if c.failed > 0 { 1 } else { 0 })
-        }
+        } => batch(&inputs, out, threads, shard, quiet, summary_only, units),
+        Command::Merge { dirs, out } => merge(&dirs, &out, false),
         Command::Calibrate {
             file,
             out,
             json,
             units,
-        } => {
-            let text = std::fs::read_to_string(&file)
-                .with_context(|| format!("cannot read {}", file.display()))?;
-            let mut c = crate::calibrate::calibrate(&text, &file)?;
-            let mut o = Stdout::new();
-            if json {
-                o.write(&(serde_json::to_string_pretty(&c.result.to_json())? + "\n"))?;
-            } else {
-                let f = &c.fit;
-                let mut t = format!(
-                    "{}: calibration ({}; {} solves), χ² = {:.3e}\n",
-                    file.display(),
-                    f.method,
-                    f.evaluations,
-                    f.chi2
-                );
-                for p in &f.parameters {
-                    t += &format!(
-                        "  {} = {} {}{}\n",
-                        p.key,
-                        fmt_num(p.value),
-                        p.unit,
-                        match p.uncertainty {
-                            Some(u) => format!(" ± {} {} (1σ)", fmt_num(u), p.unit),
-                            None => " (not identifiable)".into(),
-                        }
-                    );
-                }
-                for m in &f.matches {
-                    t += &format!(
-                        "  {}: {} against {} (residual {:.3e}, σ {:.3e})\n",
-                        m.key,
-                        fmt_num(m.fitted),
-                        fmt_num(m.target),
-                        m.residual,
-                        m.sigma
-                    );
-                }
-                for n in &f.notes {
-                    t += &format!("  note: {n}\n");
-                }
-                o.write(&t)?;
-                o.write(&summary(&c.result))?;
-            }
-            if let Some(dir) = out {
-                std::fs::create_dir_all(&dir)
-                    .with_context(|| format!("cannot create {}", dir.display()))?;
-                c.result.units = units.into();
-                write_outputs(&mut c.result, &dir)
-                    .with_context(|| format!("writing into {}", dir.display()))?;
-            }
-            Ok(if c.result.status == Status::Failed {
-                1
-            } else {
-                0
-            })
-        }
-        Command::Study { file, out, repeats } => {
-            let text = std::fs::read_to_string(&file)
-                .with_context(|| format!("cannot read {}", file.display()))?;
-            let st = crate::study::study(&text, &file, repeats.max(1))?;
-            let md = crate::study::markdown(&st);
-            Stdout::new().write(&md)?;
-            if let Some(dir) = out {
-                std::fs::create_dir_all(&dir)
-                    .with_context(|| format!("cannot create {}", dir.display()))?;
-                let svg = crate::study::svg(&st)?;
-                for (ext, body) in [("csv", crate::study::csv(&st)), ("md", md), ("svg", svg)] {
-                    let p = dir.join(format!("{}-study.{ext}", st.name));
-                    crate::report::write_atomic(&p, body.as_bytes())
-                        .with_context(|| format!("writing {}", p.display()))?;
-                }
-            }
-            Ok(0)
-        }
+        } => calibrate(&file, out, json, units),
+        Command::Study { file, out, repeats } => study(&file, out, repeats),
         Command::New { family } => {
             let text = crate::families::new_problem(&family)
                 .with_context(|| format!("unknown family `{family}`"))?;
@@ -447,64 +314,257 @@ pub fn run(cli: Cli) -> anyhow::Result<i32> {
             json,
             out,
             units,
-        } => {
-            let files = crate::batch::expand_inputs(&inputs)?;
-            let (scenes, bad) = load_all(&files);
-            for e in &bad {
-                eprintln!("error {e}");
+        } => solve(&inputs, json, out.as_deref(), units),
+    }
+}
+
+/// `cwsynth check`: reads every file, prints `ok` for each that resolves and `error` for
+/// each that does not; exit code 1 when any failed.
+fn check(inputs: &[PathBuf]) -> anyhow::Result<i32> {
+    let files = crate::batch::expand_inputs(inputs)?;
+    let (ok, bad) = load_all(&files);
+    let mut stdout = Stdout::new();
+    for s in &ok {
+        stdout.write(&format!(
+            "ok    {} ({}, {})\n",
+            s.source.display(),
+            s.name,
+            s.family.name()
+        ))?;
+    }
+    for e in &bad {
+        eprintln!("error {e}");
+    }
+    Ok(if bad.is_empty() { 0 } else { 1 })
+}
+
+/// `cwsynth batch --merge`: joins the shard summaries in `--out` (no inputs allowed).
+fn merge_in_place(inputs: &[String], out: PathBuf, quiet: bool) -> anyhow::Result<i32> {
+    if !inputs.is_empty() {
+        anyhow::bail!("--merge takes no inputs: it joins the shard summaries in --out");
+    }
+    merge(std::slice::from_ref(&out), &out, quiet)
+}
+
+/// `cwsynth batch`: solves every input into `out` (a shard of them with `--shard`) and
+/// writes the summary; exit code 1 when any machine failed.
+fn batch(
+    inputs: &[String],
+    out: PathBuf,
+    threads: Option<usize>,
+    shard: Option<String>,
+    quiet: bool,
+    summary_only: bool,
+    units: UnitsArg,
+) -> anyhow::Result<i32> {
+    if inputs.is_empty() {
+        anyhow::bail!("batch: no inputs");
+    }
+    let opts = crate::batch::Options {
+        out: out.clone(),
+        threads,
+        shard: shard
+            .as_deref()
+            .map(crate::batch::parse_shard)
+            .transpose()?,
+        quiet,
+        summary_only,
+        units: units.into(),
+    };
+    let c = crate::batch::run(crate::batch::expand(inputs)?, &opts)?;
+    if !quiet {
+        eprintln!(
+            "batch: {} machines, {} ok, {} failed, {} skipped (unchanged); summary in {}",
+            c.total,
+            c.ok,
+            c.failed,
+            c.skipped,
+            out.join(crate::batch::summary_name(opts.shard)).display()
+        );
+    }
+    Ok(if c.failed > 0 { 1 } else { 0 })
+}
+
+/// `cwsynth merge` (and `batch --merge`): joins the summaries of the shard directories
+/// `dirs` into `out`, saying so unless `quiet`; exit code 1 when any machine failed.
+fn merge(dirs: &[PathBuf], out: &Path, quiet: bool) -> anyhow::Result<i32> {
+    let c = crate::batch::merge(dirs, out)?;
+    if !quiet {
+        eprintln!(
+            "merged {} machines ({} failed) into {}",
+            c.total,
+            c.failed,
+            out.join("summary.csv").display()
+        );
+    }
+    Ok(if c.failed > 0 { 1 } else { 0 })
+}
+
+/// `cwsynth calibrate`: fits the file's parameters, prints the fit (or its JSON) and the
+/// calibrated result's summary, and writes the result into `out` when given.
+fn calibrate(
+    file: &Path,
+    out: Option<PathBuf>,
+    json: bool,
+    units: UnitsArg,
+) -> anyhow::Result<i32> {
+    let text =
+        std::fs::read_to_string(file).with_context(|| format!("cannot read {}", file.display()))?;
+    let mut c = crate::calibrate::calibrate(&text, file)?;
+    let mut o = Stdout::new();
+    if json {
+        o.write(&(serde_json::to_string_pretty(&c.result.to_json())? + "\n"))?;
+    } else {
+        o.write(&fit_text(file, &c.fit))?;
+        o.write(&summary(&c.result))?;
+    }
+    if let Some(dir) = out {
+        std::fs::create_dir_all(&dir)
+            .with_context(|| format!("cannot create {}", dir.display()))?;
+        c.result.units = units.into();
+        write_outputs(&mut c.result, &dir)
+            .with_context(|| format!("writing into {}", dir.display()))?;
+    }
+    Ok(if c.result.status == Status::Failed {
+        1
+    } else {
+        0
+    })
+}
+
+/// The calibration's text: method, solves and χ², each parameter with its 1σ uncertainty
+/// (or "not identifiable"), each matched value against its target, and the notes.
+fn fit_text(file: &Path, f: &crate::calibrate::Fit) -> String {
+    let mut t = format!(
+        "{}: calibration ({}; {} solves), χ² = {:.3e}\n",
+        file.display(),
+        f.method,
+        f.evaluations,
+        f.chi2
+    );
+    for p in &f.parameters {
+        t += &format!(
+            "  {} = {} {}{}\n",
+            p.key,
+            fmt_num(p.value),
+            p.unit,
+            match p.uncertainty {
+                Some(u) => format!(" ± {} {} (1σ)", fmt_num(u), p.unit),
+                None => " (not identifiable)".into(),
             }
-            let mut failed = !bad.is_empty();
-            let mut stdout = Stdout::new();
-            // With --out, two scenes whose file names clash (same name, or names equal but
-            // for case, which clash on case-insensitive file systems) would overwrite each
-            // other: the first keeps it, the later one is an error.
-            let mut taken: std::collections::BTreeMap<String, &Path> = Default::default();
-            for sc in &scenes {
-                if out.is_some() {
-                    if let Some(first) = taken.get(&sc.name.to_lowercase()) {
-                        eprintln!(
-                            "error {}: name `{}` clashes with {} (result files would overwrite each other); give it another `name`",
-                            sc.source.display(),
-                            sc.name,
-                            first.display()
-                        );
-                        failed = true;
-                        continue;
-                    }
-                    taken.insert(sc.name.to_lowercase(), &sc.source);
-                }
-                // One scene's panic fails that scene only (reported once, on stderr).
-                let r = match crate::batch::isolate(|| {
-                    crate::batch::test_panic(&sc.name);
-                    let mut r = solve_scene(sc);
-                    r.units = units.into();
-                    let written = out.as_ref().map(|dir| write_outputs(&mut r, dir));
-                    (r, written)
-                }) {
-                    Ok((r, written)) => {
-                        if let Some(Err(e)) = written {
-                            return Err(e)
-                                .with_context(|| format!("writing results of {}", r.name));
-                        }
-                        r
-                    }
-                    Err(panic) => {
-                        eprintln!(
-                            "error {}: internal error (a panic, please report it): {panic}",
-                            sc.source.display()
-                        );
-                        failed = true;
-                        continue;
-                    }
-                };
-                failed |= matches!(r.status, Status::Failed | Status::Infeasible);
-                if json {
-                    stdout.write(&(serde_json::to_string(&r.to_json())? + "\n"))?;
-                } else {
-                    stdout.write(&summary(&r))?;
-                }
+        );
+    }
+    for m in &f.matches {
+        t += &format!(
+            "  {}: {} against {} (residual {:.3e}, σ {:.3e})\n",
+            m.key,
+            fmt_num(m.fitted),
+            fmt_num(m.target),
+            m.residual,
+            m.sigma
+        );
+    }
+    for n in &f.notes {
+        t += &format!("  note: {n}\n");
+    }
+    t
+}
+
+/// `cwsynth study`: runs the study file (`repeats` timings, at least 1), prints its
+/// Markdown and writes its CSV, Markdown and SVG into `out` when given.
+fn study(file: &Path, out: Option<PathBuf>, repeats: usize) -> anyhow::Result<i32> {
+    let text =
+        std::fs::read_to_string(file).with_context(|| format!("cannot read {}", file.display()))?;
+    let st = crate::study::study(&text, file, repeats.max(1))?;
+    let md = crate::study::markdown(&st);
+    Stdout::new().write(&md)?;
+    if let Some(dir) = out {
+        std::fs::create_dir_all(&dir)
+            .with_context(|| format!("cannot create {}", dir.display()))?;
+        let svg = crate::study::svg(&st)?;
+        for (ext, body) in [("csv", crate::study::csv(&st)), ("md", md), ("svg", svg)] {
+            let p = dir.join(format!("{}-study.{ext}", st.name));
+            crate::report::write_atomic(&p, body.as_bytes())
+                .with_context(|| format!("writing {}", p.display()))?;
+        }
+    }
+    Ok(0)
+}
+
+/// `cwsynth solve`: solves each file, prints its summary (or JSON line) and writes its
+/// results into `out` when given; exit code 1 when a file did not load, a name clashed, a
+/// scene panicked, failed or was infeasible.
+fn solve(
+    inputs: &[PathBuf],
+    json: bool,
+    out: Option<&Path>,
+    units: UnitsArg,
+) -> anyhow::Result<i32> {
+    let files = crate::batch::expand_inputs(inputs)?;
+    let (scenes, bad) = load_all(&files);
+    for e in &bad {
+        eprintln!("error {e}");
+    }
+    let mut failed = !bad.is_empty();
+    let mut stdout = Stdout::new();
+    // With --out, two scenes whose file names clash (same name, or names equal but
+    // for case, which clash on case-insensitive file systems) would overwrite each
+    // other: the first keeps it, the later one is an error.
+    let mut taken: std::collections::BTreeMap<String, &Path> = Default::default();
+    for sc in &scenes {
+        if out.is_some() {
+            if let Some(first) = taken.get(&sc.name.to_lowercase()) {
+                eprintln!(
+                    "error {}: name `{}` clashes with {} (result files would overwrite each other); give it another `name`",
+                    sc.source.display(),
+                    sc.name,
+                    first.display()
+                );
+                failed = true;
+                continue;
             }
-            Ok(if failed { 1 } else { 0 })
+            taken.insert(sc.name.to_lowercase(), &sc.source);
+        }
+        let Some(r) = solve_isolated(sc, units, out)? else {
+            failed = true;
+            continue;
+        };
+        failed |= matches!(r.status, Status::Failed | Status::Infeasible);
+        if json {
+            stdout.write(&(serde_json::to_string(&r.to_json())? + "\n"))?;
+        } else {
+            stdout.write(&summary(&r))?;
+        }
+    }
+    Ok(if failed { 1 } else { 0 })
+}
+
+/// Solves one scene and writes its results into `out` when given, isolated: a panic fails
+/// that scene only (reported once, on stderr, and `None`); a write error ends the run.
+fn solve_isolated(
+    sc: &Scene,
+    units: UnitsArg,
+    out: Option<&Path>,
+) -> anyhow::Result<Option<SolveResult>> {
+    match crate::batch::isolate(|| {
+        crate::batch::test_panic(&sc.name);
+        let mut r = solve_scene(sc);
+        r.units = units.into();
+        let written = out.map(|dir| write_outputs(&mut r, dir));
+        (r, written)
+    }) {
+        Ok((r, written)) => {
+            if let Some(Err(e)) = written {
+                return Err(e).with_context(|| format!("writing results of {}", r.name));
+            }
+            Ok(Some(r))
+        }
+        Err(panic) => {
+            eprintln!(
+                "error {}: internal error (a panic, please report it): {panic}",
+                sc.source.display()
+            );
+            Ok(None)
         }
     }
 }

@@ -806,77 +806,156 @@ pub fn markdown(r: &SolveResult) -> String {
 }
 
 /// The Markdown summary of a result, with or without the wall times of its solve (the only
-/// text that differs between identical runs).
+/// text that differs between identical runs): the head, then what to build (the design,
+/// the drawings, the bounds that decide it), then the evidence (objectives, search, model,
+/// derived figures, baselines, the paper, the family's sections, warnings, plots, tables).
 pub(crate) fn markdown_report(r: &SolveResult, timing: bool) -> String {
     let mut s = String::new();
-    let mut p = |line: String| {
-        s.push_str(&line);
-        s.push('\n');
-    };
-    p(format!("# {} ({})\n", md_escape(&r.name), r.family));
-    if !r.description.is_empty() {
-        p(format!("{}\n", md_escape(&r.description)));
-    }
-    p(format!(
-        "Status: **{}** ({}) · source `{}`{}\n",
-        r.status.as_str(),
-        r.status.promise(),
-        md_escape(&r.source),
-        if timing {
-            format!(
-                " · solve {:.3} ms, total {:.3} ms",
-                r.timing.solve_s * 1e3,
-                r.timing.total_s * 1e3
-            )
-        } else {
-            String::new()
-        }
-    ));
-    if let Some(d) = &r.status_detail {
-        p(format!("Status detail: {}\n", md_escape(d)));
-    }
-    p(format!("Method: {}\n", md_escape(&r.method)));
-    let table =
-        |title: &str, m: &BTreeMap<String, f64>, errs: Option<&BTreeMap<String, f64>>| -> String {
-            if m.is_empty() {
-                return String::new();
-            }
-            let mut t = format!(
-                "## {title}\n\n| quantity | value | unit |{} key (SI) |\n|---|---:|---|{}---|\n",
-                if errs.is_some() { " ± error |" } else { "" },
-                if errs.is_some() { "---:|" } else { "" }
-            );
-            for (k, v) in m {
-                let (words, unit, f) = display_unit(r.units, k, *v);
-                let err = errs.map(|e| {
-                    e.get(k)
-                        .map(|x| format!("{:.2e}", x * f))
-                        .unwrap_or("–".into())
-                });
-                let value = fmt_value(v * f);
-                t += &format!(
-                    "| {words} | {value} | {unit} |{} `{k}` |\n",
-                    err.map(|e| format!(" {e} |")).unwrap_or_default()
-                );
-            }
-            t
-        };
+    md_head(&mut s, r, timing);
     // What to build first, then the evidence.
-    p(table("Design: what to build", &r.design, None));
-    for d in &r.drawings {
-        p(format!(
-            "Drawing, {}: [SVG]({n}-{s}.svg) · [DXF]({n}-{s}.dxf) (mm)\n\n![{}]({n}-{s}.svg)\n",
-            d.caption,
-            d.caption,
-            n = r.name,
-            s = d.suffix
-        ));
+    md_line(
+        &mut s,
+        md_table(r, "Design: what to build", &r.design, None),
+    );
+    md_drawings(&mut s, r);
+    md_bounds(&mut s, r);
+    md_line(
+        &mut s,
+        md_table(r, "Objectives", &r.objectives, Some(&r.errors)),
+    );
+    md_search(&mut s, r);
+    md_model(&mut s, r);
+    md_line(&mut s, md_table(r, "Derived", &r.derived, None));
+    md_baselines(&mut s, r);
+    md_paper(&mut s, r);
+    // The family's own sections, readable here as in the JSON.
+    for (k, v) in &r.extra {
+        let sec = extra_section(r.units, k, v);
+        if !sec.is_empty() {
+            md_line(&mut s, sec);
+        }
     }
-    if !r.bounds.is_empty() {
-        p("On a bound (the bound, not an interior optimum, decides these):\n".into());
-        for b in &r.bounds {
-            let key = b.key.rsplit('.').next().unwrap_or(&b.key);
-            p(format!(
+    if !r.warnings.is_empty() {
+        md_line(&mut s, "## Warnings\n");
+        for w in &r.warnings {
+            md_line(&mut s, format!("- {}", md_escape(w)));
+        }
+        md_line(&mut s, "");
+    }
+    for pl in &r.plots {
+        md_line(
+            &mut s,
+            format!("![{}]({}-{}.svg)\n", pl.caption, r.name, pl.suffix),
+        );
+    }
+    for t in &r.tables {
+        md_line(
+            &mut s,
+            format!("- [{}]({}-{}.csv)", t.caption, r.name, t.suffix),
+        );
+    }
+    s
+}
+
+/// Appends `line` and a newline to the Markdown `s`.
+fn md_line(s: &mut String, line: impl AsRef<str>) {
+    s.push_str(line.as_ref());
+    s.push('\n');
+}
+
+/// The report's head: title and family, description, status (and the solve's wall times
+/// with `timing`), status detail and method.
+fn md_head(s: &mut String, r: &SolveResult, timing: bool) {
+    md_line(s, format!("# {} ({})\n", md_escape(&r.name), r.family));
+    if !r.description.is_empty() {
+        md_line(s, format!("{}\n", md_escape(&r.description)));
+    }
+    md_line(
+        s,
+        format!(
+            "Status: **{}** ({}) · source `{}`{}\n",
+            r.status.as_str(),
+            r.status.promise(),
+            md_escape(&r.source),
+            if timing {
+                format!(
+                    " · solve {:.3} ms, total {:.3} ms",
+                    r.timing.solve_s * 1e3,
+                    r.timing.total_s * 1e3
+                )
+            } else {
+                String::new()
+            }
+        ),
+    );
+    if let Some(d) = &r.status_detail {
+        md_line(s, format!("Status detail: {}\n", md_escape(d)));
+    }
+    md_line(s, format!("Method: {}\n", md_escape(&r.method)));
+}
+
+/// A section of SI figures `m` as a table in the result's units (quantity, value, unit,
+/// the error where `errs` is given, the SI key); empty when `m` is.
+fn md_table(
+    r: &SolveResult,
+    title: &str,
+    m: &BTreeMap<String, f64>,
+    errs: Option<&BTreeMap<String, f64>>,
+) -> String {
+    if m.is_empty() {
+        return String::new();
+    }
+    let mut t = format!(
+        "## {title}\n\n| quantity | value | unit |{} key (SI) |\n|---|---:|---|{}---|\n",
+        if errs.is_some() { " ± error |" } else { "" },
+        if errs.is_some() { "---:|" } else { "" }
+    );
+    for (k, v) in m {
+        let (words, unit, f) = display_unit(r.units, k, *v);
+        let err = errs.map(|e| {
+            e.get(k)
+                .map(|x| format!("{:.2e}", x * f))
+                .unwrap_or("–".into())
+        });
+        let value = fmt_value(v * f);
+        t += &format!(
+            "| {words} | {value} | {unit} |{} `{k}` |\n",
+            err.map(|e| format!(" {e} |")).unwrap_or_default()
+        );
+    }
+    t
+}
+
+/// Each drawing's links (SVG, DXF) and its picture.
+fn md_drawings(s: &mut String, r: &SolveResult) {
+    for d in &r.drawings {
+        md_line(
+            s,
+            format!(
+                "Drawing, {}: [SVG]({n}-{s}.svg) · [DXF]({n}-{s}.dxf) (mm)\n\n![{}]({n}-{s}.svg)\n",
+                d.caption,
+                d.caption,
+                n = r.name,
+                s = d.suffix
+            ),
+        );
+    }
+}
+
+/// The design figures that sit on a bound, each with its bound, side and what set it.
+fn md_bounds(s: &mut String, r: &SolveResult) {
+    if r.bounds.is_empty() {
+        return;
+    }
+    md_line(
+        s,
+        "On a bound (the bound, not an interior optimum, decides these):\n",
+    );
+    for b in &r.bounds {
+        let key = b.key.rsplit('.').next().unwrap_or(&b.key);
+        md_line(
+            s,
+            format!(
                 "- **{}** = {}, on its {} bound, set by `{}`: {}",
                 workshop_unit(key, 0.0).0,
                 value_with_unit(r.units, key, b.value),
@@ -886,81 +965,116 @@ pub(crate) fn markdown_report(r: &SolveResult, timing: bool) -> String {
                 },
                 b.set_by,
                 md_escape(&b.meaning)
-            ));
-        }
-        p(String::new());
+            ),
+        );
     }
-    p(table("Objectives", &r.objectives, Some(&r.errors)));
-    if let Some(e) = &r.search {
-        p("## Search evidence (status `best_found`: not proven optimal)\n".into());
-        p(format!("- method: {}", md_escape(&e.method)));
-        p(format!(
+    md_line(s, "");
+}
+
+/// The evidence of a multistart search (a `best_found` result): method, starts, basins,
+/// evaluations, the best distinct values and the gap to the second basin.
+fn md_search(s: &mut String, r: &SolveResult) {
+    let Some(e) = &r.search else { return };
+    md_line(
+        s,
+        "## Search evidence (status `best_found`: not proven optimal)\n",
+    );
+    md_line(s, format!("- method: {}", md_escape(&e.method)));
+    md_line(
+        s,
+        format!(
             "- {} starts, {} distinct basins, {} at the best value, {} evaluations",
             e.starts, e.distinct_basins, e.starts_at_best, e.evaluations
-        ));
-        if !e.best_values.is_empty() {
-            let v: Vec<String> = e.best_values.iter().map(|x| fmt_num(*x)).collect();
-            p(format!("- best distinct values: {}", v.join(", ")));
-        }
-        if let Some(sp) = e.spread_rel {
-            p(format!("- relative gap to the second basin: {sp:.2e}"));
-        }
-        p(String::new());
+        ),
+    );
+    if !e.best_values.is_empty() {
+        let v: Vec<String> = e.best_values.iter().map(|x| fmt_num(*x)).collect();
+        md_line(s, format!("- best distinct values: {}", v.join(", ")));
     }
-    if !r.model.is_empty() {
-        p("## Model\n".into());
-        p("| setting | value | key (SI) |\n|---|---|---|".into());
-        for (k, v) in &r.model {
-            p(format!(
+    if let Some(sp) = e.spread_rel {
+        md_line(s, format!("- relative gap to the second basin: {sp:.2e}"));
+    }
+    md_line(s, "");
+}
+
+/// The model's settings, each in the result's units with its SI key.
+fn md_model(s: &mut String, r: &SolveResult) {
+    if r.model.is_empty() {
+        return;
+    }
+    md_line(s, "## Model\n");
+    md_line(s, "| setting | value | key (SI) |\n|---|---|---|");
+    for (k, v) in &r.model {
+        md_line(
+            s,
+            format!(
                 "| {} | {} | `{k}` |",
                 workshop_unit(k, 0.0).0,
                 md_escape(&model_value(r.units, k, v))
-            ));
-        }
-        p(String::new());
+            ),
+        );
     }
-    p(table("Derived", &r.derived, None));
-    if !r.baselines.is_empty() {
-        let keys: Vec<&String> = {
-            let mut k: Vec<&String> = r.baselines.values().flat_map(|m| m.keys()).collect();
-            k.sort();
-            k.dedup();
-            k
-        };
-        p("## Baselines\n".into());
-        // In workshop units: each column in the unit of its key (the SI key below the table).
-        let head: Vec<String> = keys.iter().map(|k| column_head(r.units, k)).collect();
-        p(format!("| baseline | {} |", head.join(" | ")));
-        p(format!("|---|{}", "---:|".repeat(keys.len())));
-        for (name, m) in &r.baselines {
-            let cells: Vec<String> = keys
-                .iter()
-                .map(|k| {
-                    m.get(*k)
-                        .map(|v| fmt_value(v * display_unit(r.units, k, 0.0).2))
-                        .unwrap_or("–".into())
-                })
-                .collect();
-            p(format!(
-                "| {} | {} |",
-                name.replace('_', " "),
-                cells.join(" | ")
-            ));
-        }
-        p(format!(
+    md_line(s, "");
+}
+
+/// The baselines as one table: a row per baseline, a column per key (the union of their
+/// keys, sorted) in the result's units, the SI keys below.
+fn md_baselines(s: &mut String, r: &SolveResult) {
+    if r.baselines.is_empty() {
+        return;
+    }
+    let keys: Vec<&String> = {
+        let mut k: Vec<&String> = r.baselines.values().flat_map(|m| m.keys()).collect();
+        k.sort();
+        k.dedup();
+        k
+    };
+    md_line(s, "## Baselines\n");
+    // In workshop units: each column in the unit of its key (the SI key below the table).
+    let head: Vec<String> = keys.iter().map(|k| column_head(r.units, k)).collect();
+    md_line(s, format!("| baseline | {} |", head.join(" | ")));
+    md_line(s, format!("|---|{}", "---:|".repeat(keys.len())));
+    for (name, m) in &r.baselines {
+        let cells: Vec<String> = keys
+            .iter()
+            .map(|k| {
+                m.get(*k)
+                    .map(|v| fmt_value(v * display_unit(r.units, k, 0.0).2))
+                    .unwrap_or("–".into())
+            })
+            .collect();
+        md_line(
+            s,
+            format!("| {} | {} |", name.replace('_', " "), cells.join(" | ")),
+        );
+    }
+    md_line(
+        s,
+        format!(
             "\nKeys (SI, in the JSON `baselines.<name>.<key>`): {}",
             keys.iter()
                 .map(|k| format!("`{k}`"))
                 .collect::<Vec<_>>()
                 .join(", ")
-        ));
-        p(String::new());
+        ),
+    );
+    md_line(s, "");
+}
+
+/// The comparison with the paper's figures: paper, computed, difference (%) and note.
+fn md_paper(s: &mut String, r: &SolveResult) {
+    if r.paper.is_empty() {
+        return;
     }
-    if !r.paper.is_empty() {
-        p("## Against the paper\n".into());
-        p("| quantity | paper | cwsynth | diff | note |\n|---|---|---|---|---|".into());
-        for c in &r.paper {
-            p(format!(
+    md_line(s, "## Against the paper\n");
+    md_line(
+        s,
+        "| quantity | paper | cwsynth | diff | note |\n|---|---|---|---|---|",
+    );
+    for c in &r.paper {
+        md_line(
+            s,
+            format!(
                 "| {} ({}) | {} | {} | {} | {} |",
                 md_escape(&c.quantity),
                 md_escape(&c.key),
@@ -970,31 +1084,10 @@ pub(crate) fn markdown_report(r: &SolveResult, timing: bool) -> String {
                     .map(|d| format!("{d:+.2} %"))
                     .unwrap_or("–".into()),
                 md_escape(&c.note)
-            ));
-        }
-        p(String::new());
+            ),
+        );
     }
-    // The family's own sections, readable here as in the JSON.
-    for (k, v) in &r.extra {
-        let sec = extra_section(r.units, k, v);
-        if !sec.is_empty() {
-            p(sec);
-        }
-    }
-    if !r.warnings.is_empty() {
-        p("## Warnings\n".into());
-        for w in &r.warnings {
-            p(format!("- {}", md_escape(w)));
-        }
-        p(String::new());
-    }
-    for pl in &r.plots {
-        p(format!("![{}]({}-{}.svg)\n", pl.caption, r.name, pl.suffix));
-    }
-    for t in &r.tables {
-        p(format!("- [{}]({}-{}.csv)", t.caption, r.name, t.suffix));
-    }
-    s
+    md_line(s, "");
 }
 
 /// The report files of a result beside its JSON: `<dir>/<name>.md`, its page

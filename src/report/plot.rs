@@ -602,6 +602,10 @@ fn colour(t: f64) -> RGBColor {
     RGBColor(m(a.0, b.0), m(a.1, b.1), m(a.2, b.2))
 }
 
+/// A chart of `f64` × `f64` on an SVG drawing area.
+type Chart2d<'a, 'b> =
+    ChartContext<'a, SVGBackend<'b>, Cartesian2d<RangedCoordf64, RangedCoordf64>>;
+
 /// A heat map of `grid` (colour bar in the title range) with `overlay` series on top.
 /// `symmetric_log` colours by sign(v)·log10(1 + |v|/scale) so that a zero set stands out.
 pub fn heat_map(
@@ -639,166 +643,212 @@ pub fn heat_map(
         root.fill(&WHITE).map_err(PlotError::draw)?;
         // The map, and on its right the colour bar.
         let (map_area, bar_area) = root.split_horizontally(px(w.saturating_sub(110)));
-        let (x0, x1) = (grid.x[0], grid.x[nx - 1]);
-        let (y0, y1) = (grid.y[0], grid.y[ny - 1]);
-        let mut chart = ChartBuilder::on(&map_area)
-            .caption(&panel.title, font(17))
-            .margin(px(12))
-            .x_label_area_size(px(44))
-            .y_label_area_size(px(74))
-            .build_cartesian_2d(x0..x1, y0..y1)
-            .map_err(PlotError::draw)?;
-        let xt = |v: &f64| tick_on(*v, x1 - x0);
-        let yt = |v: &f64| tick_on(*v, y1 - y0);
-        chart
-            .configure_mesh()
-            .x_desc(&panel.x_label)
-            .y_desc(&panel.y_label)
-            .x_label_formatter(&xt)
-            .y_label_formatter(&yt)
-            .label_style(font(13))
-            .axis_desc_style(font(14))
-            .axis_style(RGBColor(90, 90, 90).stroke_width(S / 2))
-            .set_all_tick_mark_size(px(4))
-            .disable_mesh()
-            .draw()
-            .map_err(PlotError::draw)?;
-        let half = |v: &[f64], i: usize| {
-            let a = if i == 0 {
-                v[0]
+        let mut chart = heat_chart(&map_area, panel, grid)?;
+        let cell_colour = |v: f64| {
+            if v.is_finite() {
+                colour((tf(v) - lo) / span)
             } else {
-                0.5 * (v[i - 1] + v[i])
-            };
-            let b = if i + 1 == v.len() {
-                v[i]
-            } else {
-                0.5 * (v[i] + v[i + 1])
-            };
-            (a, b)
-        };
-        // Each cell reaches one nominal pixel into the next one (drawn after it, in row
-        // order), so no seam of the background shows between cells.
-        let (pw, ph) = chart.plotting_area().dim_in_pixel();
-        let (ex, ey) = (
-            f64::from(S) * (x1 - x0) / pw.max(1) as f64,
-            f64::from(S) * (y1 - y0) / ph.max(1) as f64,
-        );
-        chart
-            .draw_series(
-                (0..ny)
-                    .flat_map(|r| (0..nx).map(move |c| (r, c)))
-                    .map(|(r, c)| {
-                        let (xa, xb) = half(&grid.x, c);
-                        let (ya, yb) = half(&grid.y, r);
-                        let (xb, yb) = ((xb + ex).min(x1), (yb + ey).min(y1));
-                        let v = grid.values[r][c];
-                        let col = if v.is_finite() {
-                            colour((tf(v) - lo) / span)
-                        } else {
-                            RGBColor(200, 200, 200)
-                        };
-                        Rectangle::new([(xa, ya), (xb, yb)], col.filled())
-                    }),
-            )
-            .map_err(PlotError::draw)?;
-        let longest = panel
-            .series
-            .iter()
-            .map(|s| s.name.chars().count() + 9)
-            .max()
-            .unwrap_or(0) as i32;
-        for (i, s) in panel.series.iter().enumerate() {
-            let c = [RED, WHITE, BLACK, MAGENTA][i % 4];
-            match s.style {
-                Style::Line | Style::Points => {
-                    for seg in s.points.split(|q| !(q.0.is_finite() && q.1.is_finite())) {
-                        if seg.len() >= 2 {
-                            chart
-                                .draw_series(LineSeries::new(
-                                    seg.iter().copied(),
-                                    c.stroke_width(px(2)),
-                                ))
-                                .map_err(PlotError::draw)?;
-                        } else if seg.len() == 1 {
-                            chart
-                                .draw_series(std::iter::once(Circle::new(
-                                    seg[0],
-                                    px(2),
-                                    c.filled(),
-                                )))
-                                .map_err(PlotError::draw)?;
-                        }
-                    }
-                }
-                Style::Marker | Style::Peak => {
-                    chart
-                        .draw_series(
-                            s.points
-                                .iter()
-                                .map(|&q| Cross::new(q, pxi(8), c.stroke_width(px(3)))),
-                        )
-                        .map_err(PlotError::draw)?;
-                }
+                RGBColor(200, 200, 200)
             }
-            // Legend entry as text in the corner, on a light band so it reads on any colour.
-            let text = format!(
-                "{}: {}",
-                ["red", "white", "black", "magenta"][i % 4],
-                s.name
-            );
-            let (tx, ty) = (pxi(92), pxi(44 + 17 * i as i32));
-            root.draw(&Rectangle::new(
-                [
-                    (tx - pxi(3), ty - pxi(2)),
-                    (tx + pxi(6 * longest + 6), ty + pxi(15)),
-                ],
-                WHITE.mix(0.75).filled(),
-            ))
-            .map_err(PlotError::draw)?;
-            root.draw(&Text::new(
-                text,
-                (tx, ty),
-                font(13).into_font().color(&BLACK),
-            ))
-            .map_err(PlotError::draw)?;
-        }
-        // The colour bar: the ramp over [lo, hi] with its own ticks.
-        let mut bar = ChartBuilder::on(&bar_area)
-            .margin_top(px(44))
-            .margin_bottom(px(56))
-            .margin_right(px(8))
-            .y_label_area_size(px(70))
-            .build_cartesian_2d(0.0..1.0, lo..(lo + span))
-            .map_err(PlotError::draw)?;
-        let bt = |v: &f64| tick_on(*v, span);
-        bar.configure_mesh()
-            .disable_mesh()
-            .disable_x_axis()
-            .y_label_formatter(&bt)
-            .y_desc(if symmetric_log.is_some() {
-                "colour: sign·log10(1 + |v|/s)"
-            } else {
-                "colour: the value in the title"
-            })
-            .label_style(font(12))
-            .axis_desc_style(font(13))
-            .set_all_tick_mark_size(px(4))
-            .draw()
-            .map_err(PlotError::draw)?;
-        let steps = 128;
-        bar.draw_series((0..steps).map(|k| {
-            let (a, b) = (k as f64 / steps as f64, (k + 1) as f64 / steps as f64);
-            // Half a stripe into the next one (no seams).
-            let b = (b + 0.5 / steps as f64).min(1.0);
-            Rectangle::new(
-                [(0.0, lo + a * span), (1.0, lo + b * span)],
-                colour(0.5 * (a + b)).filled(),
-            )
-        }))
-        .map_err(PlotError::draw)?;
+        };
+        heat_cells(&mut chart, grid, cell_colour)?;
+        heat_overlay(&mut chart, &root, panel)?;
+        colour_bar(&bar_area, lo, span, symmetric_log.is_some())?;
         root.present().map_err(PlotError::draw)?;
     }
     Ok(finish(buf, w, h))
+}
+
+/// The heat map's chart on `area`: the grid's x and y ranges, the panel's title and axis
+/// labels, no mesh.
+fn heat_chart<'a, 'b>(
+    area: &'a DrawingArea<SVGBackend<'b>, Shift>,
+    panel: &Panel,
+    grid: &Grid,
+) -> Result<Chart2d<'a, 'b>, PlotError> {
+    let (nx, ny) = (grid.x.len(), grid.y.len());
+    let (x0, x1) = (grid.x[0], grid.x[nx - 1]);
+    let (y0, y1) = (grid.y[0], grid.y[ny - 1]);
+    let mut chart = ChartBuilder::on(area)
+        .caption(&panel.title, font(17))
+        .margin(px(12))
+        .x_label_area_size(px(44))
+        .y_label_area_size(px(74))
+        .build_cartesian_2d(x0..x1, y0..y1)
+        .map_err(PlotError::draw)?;
+    let xt = |v: &f64| tick_on(*v, x1 - x0);
+    let yt = |v: &f64| tick_on(*v, y1 - y0);
+    chart
+        .configure_mesh()
+        .x_desc(&panel.x_label)
+        .y_desc(&panel.y_label)
+        .x_label_formatter(&xt)
+        .y_label_formatter(&yt)
+        .label_style(font(13))
+        .axis_desc_style(font(14))
+        .axis_style(RGBColor(90, 90, 90).stroke_width(S / 2))
+        .set_all_tick_mark_size(px(4))
+        .disable_mesh()
+        .draw()
+        .map_err(PlotError::draw)?;
+    Ok(chart)
+}
+
+/// The grid's cells, each from the midpoints to its neighbours (the edge cells from the
+/// edge), filled with `cell_colour` of its value.
+fn heat_cells(
+    chart: &mut Chart2d,
+    grid: &Grid,
+    cell_colour: impl Fn(f64) -> RGBColor,
+) -> Result<(), PlotError> {
+    let (nx, ny) = (grid.x.len(), grid.y.len());
+    let (x0, x1) = (grid.x[0], grid.x[nx - 1]);
+    let (y0, y1) = (grid.y[0], grid.y[ny - 1]);
+    let half = |v: &[f64], i: usize| {
+        let a = if i == 0 {
+            v[0]
+        } else {
+            0.5 * (v[i - 1] + v[i])
+        };
+        let b = if i + 1 == v.len() {
+            v[i]
+        } else {
+            0.5 * (v[i] + v[i + 1])
+        };
+        (a, b)
+    };
+    // Each cell reaches one nominal pixel into the next one (drawn after it, in row
+    // order), so no seam of the background shows between cells.
+    let (pw, ph) = chart.plotting_area().dim_in_pixel();
+    let (ex, ey) = (
+        f64::from(S) * (x1 - x0) / pw.max(1) as f64,
+        f64::from(S) * (y1 - y0) / ph.max(1) as f64,
+    );
+    chart
+        .draw_series(
+            (0..ny)
+                .flat_map(|r| (0..nx).map(move |c| (r, c)))
+                .map(|(r, c)| {
+                    let (xa, xb) = half(&grid.x, c);
+                    let (ya, yb) = half(&grid.y, r);
+                    let (xb, yb) = ((xb + ex).min(x1), (yb + ey).min(y1));
+                    let col = cell_colour(grid.values[r][c]);
+                    Rectangle::new([(xa, ya), (xb, yb)], col.filled())
+                }),
+        )
+        .map_err(PlotError::draw)?;
+    Ok(())
+}
+
+/// The panel's series on top of the map (red, white, black, magenta in turn: lines, points
+/// or crosses), each named in a legend line in the corner of `root`.
+fn heat_overlay(
+    chart: &mut Chart2d,
+    root: &DrawingArea<SVGBackend, Shift>,
+    panel: &Panel,
+) -> Result<(), PlotError> {
+    let longest = panel
+        .series
+        .iter()
+        .map(|s| s.name.chars().count() + 9)
+        .max()
+        .unwrap_or(0) as i32;
+    for (i, s) in panel.series.iter().enumerate() {
+        let c = [RED, WHITE, BLACK, MAGENTA][i % 4];
+        match s.style {
+            Style::Line | Style::Points => {
+                for seg in s.points.split(|q| !(q.0.is_finite() && q.1.is_finite())) {
+                    if seg.len() >= 2 {
+                        chart
+                            .draw_series(LineSeries::new(
+                                seg.iter().copied(),
+                                c.stroke_width(px(2)),
+                            ))
+                            .map_err(PlotError::draw)?;
+                    } else if seg.len() == 1 {
+                        chart
+                            .draw_series(std::iter::once(Circle::new(seg[0], px(2), c.filled())))
+                            .map_err(PlotError::draw)?;
+                    }
+                }
+            }
+            Style::Marker | Style::Peak => {
+                chart
+                    .draw_series(
+                        s.points
+                            .iter()
+                            .map(|&q| Cross::new(q, pxi(8), c.stroke_width(px(3)))),
+                    )
+                    .map_err(PlotError::draw)?;
+            }
+        }
+        // Legend entry as text in the corner, on a light band so it reads on any colour.
+        let text = format!(
+            "{}: {}",
+            ["red", "white", "black", "magenta"][i % 4],
+            s.name
+        );
+        let (tx, ty) = (pxi(92), pxi(44 + 17 * i as i32));
+        root.draw(&Rectangle::new(
+            [
+                (tx - pxi(3), ty - pxi(2)),
+                (tx + pxi(6 * longest + 6), ty + pxi(15)),
+            ],
+            WHITE.mix(0.75).filled(),
+        ))
+        .map_err(PlotError::draw)?;
+        root.draw(&Text::new(
+            text,
+            (tx, ty),
+            font(13).into_font().color(&BLACK),
+        ))
+        .map_err(PlotError::draw)?;
+    }
+    Ok(())
+}
+
+/// The colour bar on `area`: the ramp over [lo, lo + span] in 128 stripes with its own
+/// ticks, labelled with the colour's transform (`symmetric_log`) or the title's value.
+fn colour_bar(
+    area: &DrawingArea<SVGBackend, Shift>,
+    lo: f64,
+    span: f64,
+    symmetric_log: bool,
+) -> Result<(), PlotError> {
+    let mut bar = ChartBuilder::on(area)
+        .margin_top(px(44))
+        .margin_bottom(px(56))
+        .margin_right(px(8))
+        .y_label_area_size(px(70))
+        .build_cartesian_2d(0.0..1.0, lo..(lo + span))
+        .map_err(PlotError::draw)?;
+    let bt = |v: &f64| tick_on(*v, span);
+    bar.configure_mesh()
+        .disable_mesh()
+        .disable_x_axis()
+        .y_label_formatter(&bt)
+        .y_desc(if symmetric_log {
+            "colour: sign·log10(1 + |v|/s)"
+        } else {
+            "colour: the value in the title"
+        })
+        .label_style(font(12))
+        .axis_desc_style(font(13))
+        .set_all_tick_mark_size(px(4))
+        .draw()
+        .map_err(PlotError::draw)?;
+    let steps = 128;
+    bar.draw_series((0..steps).map(|k| {
+        let (a, b) = (k as f64 / steps as f64, (k + 1) as f64 / steps as f64);
+        // Half a stripe into the next one (no seams).
+        let b = (b + 0.5 / steps as f64).min(1.0);
+        Rectangle::new(
+            [(0.0, lo + a * span), (1.0, lo + b * span)],
+            colour(0.5 * (a + b)).filled(),
+        )
+    }))
+    .map_err(PlotError::draw)?;
+    Ok(())
 }
 
 #[cfg(test)]

@@ -25,7 +25,7 @@
 
 use super::model::Linkage;
 use super::statics::{
-    counterweight_torque_row, statics, virtual_work_torque, HoistRope, Loads, SelfWeight,
+    counterweight_torque_row, statics, virtual_work_torque, HoistRope, Loads, SelfWeight, Statics,
 };
 use crate::numeric::interval_peak;
 use crate::synth::counterweight::Status;
@@ -239,210 +239,304 @@ pub fn solve(
     if !matches!(link.guide, super::model::Guide::Circle { .. }) {
         return Err(BalanceError::StraightGuide);
     }
-    let w = scene.self_weight_at(link.k2);
-    let cases: Vec<(&str, f64)> = match scene.load_mass {
-        Some(q) => vec![("empty", 0.0), ("loaded", q)],
-        None => vec![("empty", 0.0)],
-    };
-    let at = |phi: f64, q: f64, m: f64, u: [f64; 2]| {
-        let pose = link.pose(phi).ok_or(BalanceError::NoPose { phi })?;
-        let loads = Loads {
-            load_mass: q,
-            counterweight_mass: m,
-            counterweight_moment: u,
-            rope: scene.rope,
-        };
-        statics(link, phi, &pose, &w, &loads).ok_or(BalanceError::NoPose { phi })
+    let c = Cases {
+        link,
+        scene,
+        w: scene.self_weight_at(link.k2),
+        cases: match scene.load_mass {
+            Some(q) => vec![("empty", 0.0), ("loaded", q)],
+            None => vec![("empty", 0.0)],
+        },
     };
     // Every field must evaluate over the range; a failing pose is an error, not a NaN.
     let [p0, p1] = link.phi_range;
     for k in 0..=64 {
         let phi = p0 + (p1 - p0) * k as f64 / 64.0;
-        for &(_, q) in &cases {
-            at(phi, q, 0.0, [0.0; 2])?;
+        for &(_, q) in &c.cases {
+            c.at(phi, q, 0.0, [0.0; 2])?;
         }
     }
-    let fields: Vec<_> = cases
-        .iter()
-        .map(|&(name, q)| {
-            let at = &at;
-            FnField::new(
-                format!("drive torque, {name}"),
-                1,
-                move |theta: f64, out: &mut AffineValue| {
-                    let phi = phi_of(link, theta);
-                    let s = at(phi, q, 0.0, [0.0; 2]);
-                    out.b[0] = s.map_or(f64::NAN, |s| s.drive_torque);
-                    let row = counterweight_torque_row(phi);
-                    let r = out.row_mut(0);
-                    r[mm::var_u(0)] = row[0];
-                    r[mm::var_u(0) + 1] = row[1];
-                },
-            )
-            .with_error(move |theta: f64, _x: &[f64]| {
-                at(phi_of(link, theta), q, 0.0, [0.0; 2])
-                    .map_or(f64::INFINITY, |s| s.drive_torque_error)
-            })
-        })
-        .collect();
-    let field_refs: Vec<&dyn mm::AffineField> =
-        fields.iter().map(|f| f as &dyn mm::AffineField).collect();
-    // Without a counterweight to design the engine still computes the peaks (at u = 0): a
-    // counterweight of zero mass.
-    let spec = scene.counterweight.unwrap_or(CounterweightSpec {
-        max_mass: 1.0,
-        lever: 1.0,
-        directions: None,
-    });
-    let mut limits = CounterweightLimits::new(spec.max_mass, spec.lever);
-    limits.sector = spec.directions;
-    let pb = Problem {
-        fields: field_refs,
-        counterweights: vec![limits],
-        extra: vec![],
-        linear: vec![],
-        goal: Goal::MinPeak((0..cases.len()).map(|f| (f, 1.0)).collect()),
-        limits: vec![],
-    };
-    let engine = Engine::new(&pb, settings)?;
-    let case_peaks = |peaks: &[FieldPeak]| -> Vec<CasePeak> {
-        peaks
-            .iter()
-            .zip(&cases)
-            .map(|(p, &(name, _))| CasePeak {
-                case: name.into(),
-                peak_nm: p.peak,
-                phi_rad: phi_of(link, p.angle),
-                error_nm: p.error,
-            })
-            .collect()
-    };
-    let x0 = vec![0.0; pb.n()];
-    let unbalanced = case_peaks(&engine.peaks(&x0)?);
-    let (counterweight, balanced, m, u) = match scene.counterweight {
-        None => (None, Vec::new(), 0.0, [0.0; 2]),
-        Some(spec) => {
-            let sol = engine.solve()?;
-            let cw = sol.counterweight(0);
-            let u = cw.first_moment;
-            let un = u[0].hypot(u[1]);
-            let m = un / spec.lever;
-            let c = Counterweight {
-                status: sol.status,
-                note: sol.note.clone(),
-                static_moment_kgm: u,
-                static_moment_magnitude_kgm: un,
-                // In [0, 2π), or within the allowed sector when one is given.
-                direction_rad: if un > 0.0 {
-                    let a = u[1].atan2(u[0]).rem_euclid(std::f64::consts::TAU);
-                    match spec.directions {
-                        Some((lo, _)) => lo + (a - lo).rem_euclid(std::f64::consts::TAU),
-                        None => a,
-                    }
-                } else {
-                    0.0
-                },
-                mass_kg: m,
-                lever_m: spec.lever,
-                peak_drive_torque_nm: sol.objective,
-                lower_bound_nm: sol.lower_bound,
-                error_nm: sol.error.total,
-                rounds: sol.rounds,
-            };
-            (Some(c), case_peaks(&sol.peaks), m, u)
-        }
-    };
-    // Force peaks with the counterweight (if any), each refined over the range.
-    let scan = 64;
-    let mut forces = Vec::new();
-    type Get = fn(&super::statics::Statics) -> f64;
-    let which: [(&str, f64, Get); 9] = [
-        ("tie tension max", 1.0, |s| s.tie_tension),
-        ("tie tension min", -1.0, |s| -s.tie_tension),
-        ("boom compression max", 1.0, |s| s.boom_compression),
-        ("boom shear max", 1.0, |s| s.boom_shear.abs()),
-        ("pin A max", 1.0, |s| s.pin_a.norm()),
-        ("pin B max", 1.0, |s| s.pin_b.norm()),
-        ("pin D max", 1.0, |s| s.pin_d.norm()),
-        ("pin E max", 1.0, |s| s.pin_e.norm()),
-        ("head force N max", 1.0, |s| s.head_force),
-    ];
-    for &(name, q) in &cases {
-        for &(force, sign, g) in &which {
-            let f = |phi: f64| at(phi, q, m, u).map_or(f64::NAN, |s| g(&s));
-            let p = interval_peak(f, p0, p1, scan, PEAK_XTOL)
-                .map_err(|_| BalanceError::NoPose { phi: p0 })?;
-            let s = at(p.peak.x, q, m, u)?;
-            forces.push(ForcePeak {
-                case: name.into(),
-                force: force.into(),
-                value_n: sign * p.peak.fx,
-                phi_rad: p.peak.x,
-                error_n: p.error + s.force_error,
-                alpha_rad: (force == "head force N max").then_some(s.head_force_angle),
-            });
-        }
-    }
-    // Series over the range for the table and the plots.
-    let n = samples.max(2);
-    let mut series = Vec::with_capacity(n + 1);
-    for i in 0..=n {
-        let phi = p0 + (p1 - p0) * i as f64 / n as f64;
-        let mut bare = [0.0; 2];
-        let mut bal = [0.0; 2];
-        let mut last = None;
-        for (k, &(_, q)) in cases.iter().enumerate() {
-            bare[k] = at(phi, q, 0.0, [0.0; 2])?.drive_torque;
-            let s = at(phi, q, m, u)?;
-            bal[k] = s.drive_torque;
-            last = Some(s);
-        }
-        if cases.len() == 1 {
-            bare[1] = bare[0];
-            bal[1] = bal[0];
-        }
-        let c = link.pose(phi).ok_or(BalanceError::NoPose { phi })?.c;
-        series.push(Sample {
-            phi,
-            reach: foot_offset - c.x,
-            bare,
-            balanced: bal,
-            loaded: last.expect("at least one case"),
-        });
-    }
-    // The check: statics against virtual work at equally spaced angles, ends included.
-    let mut vw = VirtualWorkCheck {
-        positions: VW_POSITIONS,
-        max_difference_nm: 0.0,
-        max_stated_error_nm: 0.0,
-        pass: true,
-    };
-    for i in 0..VW_POSITIONS {
-        let phi = p0 + (p1 - p0) * i as f64 / (VW_POSITIONS - 1) as f64;
-        // Inside the range by the stencil's reach, so every pose assembles.
-        let phi = phi.clamp(p0 + VW_STEP, p1 - VW_STEP);
-        for &(_, q) in &cases {
-            let s = at(phi, q, 0.0, [0.0; 2])?;
-            let (t_vw, e_vw) = virtual_work_torque(link, phi, VW_STEP, &w, q, scene.rope.as_ref())
-                .ok_or(BalanceError::NoPose { phi })?;
-            let diff = (s.drive_torque - t_vw).abs();
-            let stated = s.drive_torque_error + e_vw + 1e-12 * t_vw.abs();
-            vw.max_difference_nm = vw.max_difference_nm.max(diff);
-            vw.max_stated_error_nm = vw.max_stated_error_nm.max(stated);
-            vw.pass &= diff <= stated;
-        }
-    }
+    let d = c.design(settings)?;
+    let forces = c.force_peaks(d.m, d.u)?;
+    let series = c.series(d.m, d.u, foot_offset, samples)?;
+    let vw = c.virtual_work_check()?;
     Ok(Balance {
         method: "quasi-static equilibrium of boom, jib and tie (2×2 tie–jib system per pose); counterweight: certified minimax of |T| over the luffing range and both load cases (clarabel SOCP + exchange loop, synth::minimax)".into(),
-        self_weight: w,
+        self_weight: c.w,
         load_mass_kg: scene.load_mass,
-        unbalanced,
-        counterweight,
-        balanced,
+        unbalanced: d.unbalanced,
+        counterweight: d.counterweight,
+        balanced: d.balanced,
         forces,
         virtual_work_check: vw,
         series,
     })
+}
+
+/// The linkage under its self weight `w` and the load cases (name, load mass q): what
+/// every figure of the balance evaluates.
+struct Cases<'a> {
+    link: &'a Linkage,
+    scene: &'a BalanceScene,
+    w: SelfWeight,
+    cases: Vec<(&'static str, f64)>,
+}
+
+/// The drive-torque peaks without and with the counterweight, and the counterweight
+/// (mass m, first moment u) found, zero without one to design.
+struct Designed {
+    unbalanced: Vec<CasePeak>,
+    counterweight: Option<Counterweight>,
+    balanced: Vec<CasePeak>,
+    m: f64,
+    u: [f64; 2],
+}
+
+impl Cases<'_> {
+    /// The statics at φ with load mass q and the counterweight of mass m and first moment u.
+    fn at(&self, phi: f64, q: f64, m: f64, u: [f64; 2]) -> Result<Statics, BalanceError> {
+        let pose = self.link.pose(phi).ok_or(BalanceError::NoPose { phi })?;
+        let loads = Loads {
+            load_mass: q,
+            counterweight_mass: m,
+            counterweight_moment: u,
+            rope: self.scene.rope,
+        };
+        statics(self.link, phi, &pose, &self.w, &loads).ok_or(BalanceError::NoPose { phi })
+    }
+
+    /// The minimax of the drive torque over the luffing range and the load cases: field k
+    /// is T_k(φ; u) = T_k(φ; 0) + row(φ)·u, u the counterweight's first moment with
+    /// |u| ≤ ℓ m_max (in its sector when given). The peaks at u = 0 always; the optimum
+    /// when the scene asks for a counterweight.
+    fn design(&self, settings: &mm::Settings) -> Result<Designed, BalanceError> {
+        let link = self.link;
+        let fields: Vec<_> = self
+            .cases
+            .iter()
+            .map(|&(name, q)| {
+                FnField::new(
+                    format!("drive torque, {name}"),
+                    1,
+                    move |theta: f64, out: &mut AffineValue| {
+                        let phi = phi_of(link, theta);
+                        let s = self.at(phi, q, 0.0, [0.0; 2]);
+                        out.b[0] = s.map_or(f64::NAN, |s| s.drive_torque);
+                        let row = counterweight_torque_row(phi);
+                        let r = out.row_mut(0);
+                        r[mm::var_u(0)] = row[0];
+                        r[mm::var_u(0) + 1] = row[1];
+                    },
+                )
+                .with_error(move |theta: f64, _x: &[f64]| {
+                    self.at(phi_of(link, theta), q, 0.0, [0.0; 2])
+                        .map_or(f64::INFINITY, |s| s.drive_torque_error)
+                })
+            })
+            .collect();
+        let field_refs: Vec<&dyn mm::AffineField> =
+            fields.iter().map(|f| f as &dyn mm::AffineField).collect();
+        // Without a counterweight to design the engine still computes the peaks (at u = 0): a
+        // counterweight of zero mass.
+        let spec = self.scene.counterweight.unwrap_or(CounterweightSpec {
+            max_mass: 1.0,
+            lever: 1.0,
+            directions: None,
+        });
+        let mut limits = CounterweightLimits::new(spec.max_mass, spec.lever);
+        limits.sector = spec.directions;
+        let pb = Problem {
+            fields: field_refs,
+            counterweights: vec![limits],
+            extra: vec![],
+            linear: vec![],
+            goal: Goal::MinPeak((0..self.cases.len()).map(|f| (f, 1.0)).collect()),
+            limits: vec![],
+        };
+        let engine = Engine::new(&pb, settings)?;
+        let x0 = vec![0.0; pb.n()];
+        let unbalanced = self.case_peaks(&engine.peaks(&x0)?);
+        Ok(match self.scene.counterweight {
+            None => Designed {
+                unbalanced,
+                counterweight: None,
+                balanced: Vec::new(),
+                m: 0.0,
+                u: [0.0; 2],
+            },
+            Some(spec) => {
+                let sol = engine.solve()?;
+                let c = counterweight_of(&sol, &spec);
+                let (m, u) = (c.mass_kg, c.static_moment_kgm);
+                Designed {
+                    unbalanced,
+                    counterweight: Some(c),
+                    balanced: self.case_peaks(&sol.peaks),
+                    m,
+                    u,
+                }
+            }
+        })
+    }
+
+    /// The engine's field peaks as the load cases' torque peaks (θ mapped back to φ).
+    fn case_peaks(&self, peaks: &[FieldPeak]) -> Vec<CasePeak> {
+        peaks
+            .iter()
+            .zip(&self.cases)
+            .map(|(p, &(name, _))| CasePeak {
+                case: name.into(),
+                peak_nm: p.peak,
+                phi_rad: phi_of(self.link, p.angle),
+                error_nm: p.error,
+            })
+            .collect()
+    }
+
+    /// The force peaks with the counterweight (m, u) in each load case, each refined over
+    /// the range from a 64-point scan, with its error (refinement + the statics' bound).
+    fn force_peaks(&self, m: f64, u: [f64; 2]) -> Result<Vec<ForcePeak>, BalanceError> {
+        let [p0, p1] = self.link.phi_range;
+        let scan = 64;
+        let mut forces = Vec::new();
+        type Get = fn(&Statics) -> f64;
+        let which: [(&str, f64, Get); 9] = [
+            ("tie tension max", 1.0, |s| s.tie_tension),
+            ("tie tension min", -1.0, |s| -s.tie_tension),
+            ("boom compression max", 1.0, |s| s.boom_compression),
+            ("boom shear max", 1.0, |s| s.boom_shear.abs()),
+            ("pin A max", 1.0, |s| s.pin_a.norm()),
+            ("pin B max", 1.0, |s| s.pin_b.norm()),
+            ("pin D max", 1.0, |s| s.pin_d.norm()),
+            ("pin E max", 1.0, |s| s.pin_e.norm()),
+            ("head force N max", 1.0, |s| s.head_force),
+        ];
+        for &(name, q) in &self.cases {
+            for &(force, sign, g) in &which {
+                let f = |phi: f64| self.at(phi, q, m, u).map_or(f64::NAN, |s| g(&s));
+                let p = interval_peak(f, p0, p1, scan, PEAK_XTOL)
+                    .map_err(|_| BalanceError::NoPose { phi: p0 })?;
+                let s = self.at(p.peak.x, q, m, u)?;
+                forces.push(ForcePeak {
+                    case: name.into(),
+                    force: force.into(),
+                    value_n: sign * p.peak.fx,
+                    phi_rad: p.peak.x,
+                    error_n: p.error + s.force_error,
+                    alpha_rad: (force == "head force N max").then_some(s.head_force_angle),
+                });
+            }
+        }
+        Ok(forces)
+    }
+
+    /// The series over the range for the table and the plots: at `samples` + 1 angles the
+    /// reach r − C_x, the drive torque without and with the counterweight in each case (the
+    /// one case twice without a load), and the statics of the last case.
+    fn series(
+        &self,
+        m: f64,
+        u: [f64; 2],
+        foot_offset: f64,
+        samples: usize,
+    ) -> Result<Vec<Sample>, BalanceError> {
+        let [p0, p1] = self.link.phi_range;
+        let n = samples.max(2);
+        let mut series = Vec::with_capacity(n + 1);
+        for i in 0..=n {
+            let phi = p0 + (p1 - p0) * i as f64 / n as f64;
+            let mut bare = [0.0; 2];
+            let mut bal = [0.0; 2];
+            let mut last = None;
+            for (k, &(_, q)) in self.cases.iter().enumerate() {
+                bare[k] = self.at(phi, q, 0.0, [0.0; 2])?.drive_torque;
+                let s = self.at(phi, q, m, u)?;
+                bal[k] = s.drive_torque;
+                last = Some(s);
+            }
+            if self.cases.len() == 1 {
+                bare[1] = bare[0];
+                bal[1] = bal[0];
+            }
+            let c = self.link.pose(phi).ok_or(BalanceError::NoPose { phi })?.c;
+            series.push(Sample {
+                phi,
+                reach: foot_offset - c.x,
+                bare,
+                balanced: bal,
+                loaded: last.expect("at least one case"),
+            });
+        }
+        Ok(series)
+    }
+
+    /// The check: the statics' drive torque against virtual work at [`VW_POSITIONS`]
+    /// equally spaced angles, ends included; it passes where |T − T_vw| is within the stated
+    /// errors (the statics', the stencil's and 1e-12 |T_vw|) everywhere.
+    fn virtual_work_check(&self) -> Result<VirtualWorkCheck, BalanceError> {
+        let [p0, p1] = self.link.phi_range;
+        let mut vw = VirtualWorkCheck {
+            positions: VW_POSITIONS,
+            max_difference_nm: 0.0,
+            max_stated_error_nm: 0.0,
+            pass: true,
+        };
+        for i in 0..VW_POSITIONS {
+            let phi = p0 + (p1 - p0) * i as f64 / (VW_POSITIONS - 1) as f64;
+            // Inside the range by the stencil's reach, so every pose assembles.
+            let phi = phi.clamp(p0 + VW_STEP, p1 - VW_STEP);
+            for &(_, q) in &self.cases {
+                let s = self.at(phi, q, 0.0, [0.0; 2])?;
+                let (t_vw, e_vw) = virtual_work_torque(
+                    self.link,
+                    phi,
+                    VW_STEP,
+                    &self.w,
+                    q,
+                    self.scene.rope.as_ref(),
+                )
+                .ok_or(BalanceError::NoPose { phi })?;
+                let diff = (s.drive_torque - t_vw).abs();
+                let stated = s.drive_torque_error + e_vw + 1e-12 * t_vw.abs();
+                vw.max_difference_nm = vw.max_difference_nm.max(diff);
+                vw.max_stated_error_nm = vw.max_stated_error_nm.max(stated);
+                vw.pass &= diff <= stated;
+            }
+        }
+        Ok(vw)
+    }
+}
+
+/// The counterweight of the engine's solution: its first moment u, |u|, its direction (in
+/// [0, 2π), or within the allowed sector), the mass m = |u|/ℓ at the full lever, the peak
+/// drive torque with its lower bound and error.
+fn counterweight_of(sol: &mm::Solution, spec: &CounterweightSpec) -> Counterweight {
+    let cw = sol.counterweight(0);
+    let u = cw.first_moment;
+    let un = u[0].hypot(u[1]);
+    let m = un / spec.lever;
+    Counterweight {
+        status: sol.status,
+        note: sol.note.clone(),
+        static_moment_kgm: u,
+        static_moment_magnitude_kgm: un,
+        // In [0, 2π), or within the allowed sector when one is given.
+        direction_rad: if un > 0.0 {
+            let a = u[1].atan2(u[0]).rem_euclid(std::f64::consts::TAU);
+            match spec.directions {
+                Some((lo, _)) => lo + (a - lo).rem_euclid(std::f64::consts::TAU),
+                None => a,
+            }
+        } else {
+            0.0
+        },
+        mass_kg: m,
+        lever_m: spec.lever,
+        peak_drive_torque_nm: sol.objective,
+        lower_bound_nm: sol.lower_bound,
+        error_nm: sol.error.total,
+        rounds: sol.rounds,
+    }
 }
 
 /// The load's path with an inclined hoist rope (thesis §2.2, Fig 2.3): the load hangs at

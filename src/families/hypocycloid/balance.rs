@@ -336,220 +336,272 @@ pub fn total_force(
     harmonic_force(geo, v1, v2, phi) + P2::new(recip, 0.0)
 }
 
-/// Computes what `spec` asks at the design `at`.
+/// Computes what `spec` asks at the design `at`: the rotating masses' counterweights, the
+/// drive torque (with a gas cycle or masses) and the Lanchester shafts' couples.
 pub fn solve(spec: &DynamicsSpec, at: &At) -> Result<DynamicsOutcome, DynamicsError> {
     let geo = at.geometry();
     let mut warnings = Vec::new();
-    let rerr = at.recip_error();
     let rotating = match &spec.masses {
         None => None,
-        Some(ms) => {
-            if ms.rod_centroid > geo.l_rod {
-                return Err(derr(
-                    "mechanism.rod.centroid",
-                    format!(
-                        "AG = {} m is longer than the rod L = R/λ = {} m",
-                        ms.rod_centroid, geo.l_rod
-                    ),
-                ));
-            }
-            if ms.rod_at_b(&geo) > at.m_b * (1.0 + 1e-12) {
-                return Err(derr(
-                    "mechanism.reciprocating_mass",
-                    format!(
-                        "m_B = {} kg is less than the rod's share at B, m_r·AG/L = {} kg; m_B is the piston group plus that share",
-                        at.m_b,
-                        ms.rod_at_b(&geo)
-                    ),
-                ));
-            }
-            let (u1, u2) = ms.unbalances(&geo);
-            let (rot_peak, _, rot_err) = peak_of(|p| harmonic_force(&geo, u1, u2, p).norm());
-            let (bare, _, bare_err) =
-                peak_of(|p| (harmonic_force(&geo, u1, u2, p) + P2::new(at.recip(p), 0.0)).norm());
-            let mut out = RotatingOutcome {
-                u1: [u1.x, u1.y],
-                u2: [u2.x, u2.y],
-                rotating_peak: rot_peak,
-                closed: None,
-                closed_rotating_residual: None,
-                closed_total_peak: None,
-                bare_total_peak: bare,
-                peak_error: rot_err.max(bare_err) + rerr,
-                minimax: None,
-            };
-            if let Some(d) = &spec.design {
-                let (c1, c2) = cancelling_counterweights(
-                    u1,
-                    u2,
-                    geo.r_carrier,
-                    d.carrier_radius,
-                    d.planet_radius,
-                );
-                let (res, _, _) = peak_of(|p| total_force(&geo, u1, u2, (&c1, &c2), 0.0, p).norm());
-                let (tot, _, tot_err) =
-                    peak_of(|p| total_force(&geo, u1, u2, (&c1, &c2), at.recip(p), p).norm());
-                out.closed = Some((c1, c2));
-                out.closed_rotating_residual = Some(res);
-                out.closed_total_peak = Some(tot);
-                out.peak_error = out.peak_error.max(tot_err + rerr);
-                if d.minimize == RotatingGoal::PeakShakingForce {
-                    let recip = |p: f64| at.recip(p);
-                    let mm = minimax_counterweights(&geo, u1, u2, &recip, rerr, d)?;
-                    if mm.status != EngineStatus::Optimal {
-                        warnings.push(format!(
-                            "the rotating counterweights' minimax is {:?}: {}",
-                            mm.status,
-                            mm.note.clone().unwrap_or_default()
-                        ));
-                    }
-                    out.minimax = Some(mm);
-                }
-            }
-            Some(out)
-        }
+        Some(ms) => Some(rotating_outcome(spec, ms, at, &geo, &mut warnings)?),
     };
     // The drive torque: with a gas cycle or masses.
     let torque = if spec.gas.is_some() || spec.masses.is_some() {
-        let zero = RotatingMasses {
-            carrier_mass: 0.0,
-            carrier_centroid: [0.0; 2],
-            planet_mass: 0.0,
-            planet_centroid: [0.0; 2],
-            rod_mass: 0.0,
-            rod_centroid: 0.0,
-            rod_inertia: None,
-        };
-        let planet_cw = rotating
-            .as_ref()
-            .and_then(|r| {
-                r.minimax
-                    .as_ref()
-                    .map(|m| m.planet)
-                    .or(r.closed.map(|c| c.1))
-            })
-            .map_or((0.0, P2::zeros()), |c| (c.mass, P2::from(c.w)));
-        let moving = MovingMasses {
-            rotating: spec.masses.unwrap_or(zero),
-            m_b: at.m_b,
-            planet_cw,
-        };
-        let w2 = at.omega * at.omega;
-        let t_in = |p: f64| {
-            w2 * moving
-                .energy_and_torque(&kinematics(at.model, &geo, p), &geo)
-                .1
-        };
-        let cycle = match &spec.gas {
-            Some(g) => Some(
-                Cycle::new(at.model, at.r_carrier, *g)
-                    .map_err(|e| derr("mechanism.gas", e.to_string()))?,
-            ),
-            None => None,
-        };
-        let t_gas = |p: f64| {
-            cycle
-                .as_ref()
-                .map_or(0.0, |c| c.torque(at.model, at.r_carrier, p))
-        };
-        let total = |p: f64| t_gas(p) + t_in(p);
-        let (gas_mean, in_mean, mean, mean_err) = match &cycle {
-            Some(c) => {
-                let (g, ge) = c.mean_over_pieces(&t_gas, 8);
-                let (i, ie) = c.mean_over_pieces(&t_in, 8);
-                (g, i, g + i, ge + ie)
-            }
-            None => {
-                // The trapezoid rule on a turn (spectrally accurate: T_in is smooth and
-                // periodic), its change from half the points as the error.
-                let n = 1440;
-                let m1: f64 =
-                    (0..n).map(|k| t_in(TAU * k as f64 / n as f64)).sum::<f64>() / n as f64;
-                let m2: f64 = (0..n / 2)
-                    .map(|k| t_in(TAU * k as f64 / (n / 2) as f64))
-                    .sum::<f64>()
-                    / (n / 2) as f64;
-                (0.0, m1, m1, (m1 - m2).abs())
-            }
-        };
-        if let Some(c) = &cycle {
-            if !c.delivers {
-                warnings.push(
-                    "the compression never reaches the discharge pressure (clearance too large for the pressure ratio): nothing is delivered"
-                        .into(),
-                );
-            }
-        }
-        let (peak, peak_angle, mut peak_error) = peak_of(|p| total(p).abs());
-        if cycle.is_some() {
-            // T has kinks at the valve events, where the curvature estimate of the peak's
-            // error does not hold: add the slope bound max|T'|·xtol (1e-10 rad), the slope
-            // from a 1440-point scan (doubled for the scan's own error).
-            let n = 1440;
-            let h = TAU / n as f64;
-            let ts: Vec<f64> = (0..=n).map(|k| total(k as f64 * h)).collect();
-            let slope = ts
-                .windows(2)
-                .map(|w| (w[1] - w[0]).abs() / h)
-                .fold(0.0, f64::max);
-            peak_error += 2.0 * slope * 1e-10;
-        }
-        let np = at.plot_samples;
-        let phi: Vec<f64> = (0..np).map(|j| TAU * j as f64 / (np - 1) as f64).collect();
-        Some(TorqueOutcome {
-            peak,
-            peak_angle,
-            peak_error: peak_error + mean_err,
-            mean,
-            gas_mean,
-            mean_error: mean_err,
-            inertia_mean: in_mean,
-            indicated_work: cycle.as_ref().map(|_| gas_mean * TAU),
-            gas_force_peak: cycle.as_ref().map(|c| c.peak_force(at.model, at.r_carrier)),
-            delivers: cycle.as_ref().map(|c| c.delivers),
-            gas: phi.iter().map(|&p| t_gas(p)).collect(),
-            inertia: phi.iter().map(|&p| t_in(p)).collect(),
-            total: phi.iter().map(|&p| total(p)).collect(),
-            pressure: cycle
-                .as_ref()
-                .map(|c| {
-                    phi.iter()
-                        .map(|&p| c.pressure(at.model, at.r_carrier, p))
-                        .collect()
-                })
-                .unwrap_or_default(),
-            phi,
-        })
+        Some(torque_outcome(
+            spec,
+            at,
+            &geo,
+            rotating.as_ref(),
+            &mut warnings,
+        )?)
     } else {
         None
     };
-    let couples = spec.shafts.map(|layout| {
-        let rows: Vec<CoupleRow> = at
-            .pairs
-            .iter()
-            .map(|p| CoupleRow {
-                order: p.order,
-                amplitude: layout.couple_amplitude(p),
-            })
-            .collect();
-        let (peak, _, err) = peak_of(|phi| {
-            at.pairs
-                .iter()
-                .map(|p| layout.couple_direct(p, phi))
-                .sum::<f64>()
-                .abs()
-        });
-        CoupleOutcome {
-            layout,
-            rows,
-            peak,
-            peak_error: err,
-        }
-    });
+    let couples = spec.shafts.map(|layout| couple_outcome(layout, at));
     Ok(DynamicsOutcome {
         rotating,
         torque,
         couples,
         warnings,
     })
+}
+
+/// The rotating masses `ms` and their counterweights: the unbalances U₁, U₂ (rod centroid
+/// within the rod, m_B at least the rod's share at B), the peaks of the rotating and the
+/// whole force without counterweights, and with `spec.design` the cancelling pair (closed
+/// form) and, when asked, the certified minimax pair.
+fn rotating_outcome(
+    spec: &DynamicsSpec,
+    ms: &RotatingMasses,
+    at: &At,
+    geo: &Geometry,
+    warnings: &mut Vec<String>,
+) -> Result<RotatingOutcome, DynamicsError> {
+    let rerr = at.recip_error();
+    if ms.rod_centroid > geo.l_rod {
+        return Err(derr(
+            "mechanism.rod.centroid",
+            format!(
+                "AG = {} m is longer than the rod L = R/λ = {} m",
+                ms.rod_centroid, geo.l_rod
+            ),
+        ));
+    }
+    if ms.rod_at_b(geo) > at.m_b * (1.0 + 1e-12) {
+        return Err(derr(
+            "mechanism.reciprocating_mass",
+            format!(
+                "m_B = {} kg is less than the rod's share at B, m_r·AG/L = {} kg; m_B is the piston group plus that share",
+                at.m_b,
+                ms.rod_at_b(geo)
+            ),
+        ));
+    }
+    let (u1, u2) = ms.unbalances(geo);
+    let (rot_peak, _, rot_err) = peak_of(|p| harmonic_force(geo, u1, u2, p).norm());
+    let (bare, _, bare_err) =
+        peak_of(|p| (harmonic_force(geo, u1, u2, p) + P2::new(at.recip(p), 0.0)).norm());
+    let mut out = RotatingOutcome {
+        u1: [u1.x, u1.y],
+        u2: [u2.x, u2.y],
+        rotating_peak: rot_peak,
+        closed: None,
+        closed_rotating_residual: None,
+        closed_total_peak: None,
+        bare_total_peak: bare,
+        peak_error: rot_err.max(bare_err) + rerr,
+        minimax: None,
+    };
+    if let Some(d) = &spec.design {
+        let (c1, c2) =
+            cancelling_counterweights(u1, u2, geo.r_carrier, d.carrier_radius, d.planet_radius);
+        let (res, _, _) = peak_of(|p| total_force(geo, u1, u2, (&c1, &c2), 0.0, p).norm());
+        let (tot, _, tot_err) =
+            peak_of(|p| total_force(geo, u1, u2, (&c1, &c2), at.recip(p), p).norm());
+        out.closed = Some((c1, c2));
+        out.closed_rotating_residual = Some(res);
+        out.closed_total_peak = Some(tot);
+        out.peak_error = out.peak_error.max(tot_err + rerr);
+        if d.minimize == RotatingGoal::PeakShakingForce {
+            let recip = |p: f64| at.recip(p);
+            let mm = minimax_counterweights(geo, u1, u2, &recip, rerr, d)?;
+            if mm.status != EngineStatus::Optimal {
+                warnings.push(format!(
+                    "the rotating counterweights' minimax is {:?}: {}",
+                    mm.status,
+                    mm.note.clone().unwrap_or_default()
+                ));
+            }
+            out.minimax = Some(mm);
+        }
+    }
+    Ok(out)
+}
+
+/// The drive torque T = T_gas + T_in over a turn: T_in = ω²·dE/dφ of the moving masses
+/// (with the planet's counterweight, the minimax one before the closed one), T_gas of the
+/// compressor cycle; its mean (split into gas and inertia), its refined peak |T| and the
+/// curves at `at.plot_samples` angles.
+fn torque_outcome(
+    spec: &DynamicsSpec,
+    at: &At,
+    geo: &Geometry,
+    rotating: Option<&RotatingOutcome>,
+    warnings: &mut Vec<String>,
+) -> Result<TorqueOutcome, DynamicsError> {
+    let moving = moving_masses(spec, at, rotating);
+    let w2 = at.omega * at.omega;
+    let t_in = |p: f64| {
+        w2 * moving
+            .energy_and_torque(&kinematics(at.model, geo, p), geo)
+            .1
+    };
+    let cycle = match &spec.gas {
+        Some(g) => Some(
+            Cycle::new(at.model, at.r_carrier, *g)
+                .map_err(|e| derr("mechanism.gas", e.to_string()))?,
+        ),
+        None => None,
+    };
+    let t_gas = |p: f64| {
+        cycle
+            .as_ref()
+            .map_or(0.0, |c| c.torque(at.model, at.r_carrier, p))
+    };
+    let total = |p: f64| t_gas(p) + t_in(p);
+    let (gas_mean, in_mean, mean, mean_err) = mean_torques(cycle.as_ref(), &t_gas, &t_in);
+    if let Some(c) = &cycle {
+        if !c.delivers {
+            warnings.push(
+                "the compression never reaches the discharge pressure (clearance too large for the pressure ratio): nothing is delivered"
+                    .into(),
+            );
+        }
+    }
+    let (peak, peak_angle, mut peak_error) = peak_of(|p| total(p).abs());
+    if cycle.is_some() {
+        peak_error += kink_error(&total);
+    }
+    let np = at.plot_samples;
+    let phi: Vec<f64> = (0..np).map(|j| TAU * j as f64 / (np - 1) as f64).collect();
+    Ok(TorqueOutcome {
+        peak,
+        peak_angle,
+        peak_error: peak_error + mean_err,
+        mean,
+        gas_mean,
+        mean_error: mean_err,
+        inertia_mean: in_mean,
+        indicated_work: cycle.as_ref().map(|_| gas_mean * TAU),
+        gas_force_peak: cycle.as_ref().map(|c| c.peak_force(at.model, at.r_carrier)),
+        delivers: cycle.as_ref().map(|c| c.delivers),
+        gas: phi.iter().map(|&p| t_gas(p)).collect(),
+        inertia: phi.iter().map(|&p| t_in(p)).collect(),
+        total: phi.iter().map(|&p| total(p)).collect(),
+        pressure: cycle
+            .as_ref()
+            .map(|c| {
+                phi.iter()
+                    .map(|&p| c.pressure(at.model, at.r_carrier, p))
+                    .collect()
+            })
+            .unwrap_or_default(),
+        phi,
+    })
+}
+
+/// The moving masses of the torque: the rotating masses (none without `[mechanism.*]`
+/// masses), m_B, and the planet's counterweight (mass, first moment) of the design — the
+/// minimax one, else the closed-form one, else none.
+fn moving_masses(spec: &DynamicsSpec, at: &At, rotating: Option<&RotatingOutcome>) -> MovingMasses {
+    let zero = RotatingMasses {
+        carrier_mass: 0.0,
+        carrier_centroid: [0.0; 2],
+        planet_mass: 0.0,
+        planet_centroid: [0.0; 2],
+        rod_mass: 0.0,
+        rod_centroid: 0.0,
+        rod_inertia: None,
+    };
+    let planet_cw = rotating
+        .and_then(|r| {
+            r.minimax
+                .as_ref()
+                .map(|m| m.planet)
+                .or(r.closed.map(|c| c.1))
+        })
+        .map_or((0.0, P2::zeros()), |c| (c.mass, P2::from(c.w)));
+    MovingMasses {
+        rotating: spec.masses.unwrap_or(zero),
+        m_b: at.m_b,
+        planet_cw,
+    }
+}
+
+/// The means over a turn of T_gas and T_in, their sum and its error: with a cycle, Gauss
+/// quadrature on its smooth pieces; without, the trapezoid rule on 1440 points
+/// (spectrally accurate: T_in is smooth and periodic), its change from half the points as
+/// the error.
+fn mean_torques(
+    cycle: Option<&Cycle>,
+    t_gas: &dyn Fn(f64) -> f64,
+    t_in: &dyn Fn(f64) -> f64,
+) -> (f64, f64, f64, f64) {
+    match cycle {
+        Some(c) => {
+            let (g, ge) = c.mean_over_pieces(t_gas, 8);
+            let (i, ie) = c.mean_over_pieces(t_in, 8);
+            (g, i, g + i, ge + ie)
+        }
+        None => {
+            let n = 1440;
+            let m1: f64 = (0..n).map(|k| t_in(TAU * k as f64 / n as f64)).sum::<f64>() / n as f64;
+            let m2: f64 = (0..n / 2)
+                .map(|k| t_in(TAU * k as f64 / (n / 2) as f64))
+                .sum::<f64>()
+                / (n / 2) as f64;
+            (0.0, m1, m1, (m1 - m2).abs())
+        }
+    }
+}
+
+/// The extra error of the torque's peak with a gas cycle: T has kinks at the valve events,
+/// where the curvature estimate of the peak's error does not hold, so add the slope bound
+/// 2·max|T'|·xtol (xtol = 1e-10 rad), the slope from a 1440-point scan (doubled for the
+/// scan's own error).
+fn kink_error(total: &dyn Fn(f64) -> f64) -> f64 {
+    let n = 1440;
+    let h = TAU / n as f64;
+    let ts: Vec<f64> = (0..=n).map(|k| total(k as f64 * h)).collect();
+    let slope = ts
+        .windows(2)
+        .map(|w| (w[1] - w[0]).abs() / h)
+        .fold(0.0, f64::max);
+    2.0 * slope * 1e-10
+}
+
+/// The couples of the Lanchester shafts in `layout`: each pair's amplitude and the refined
+/// peak of their sum over φ.
+fn couple_outcome(layout: ShaftLayout, at: &At) -> CoupleOutcome {
+    let rows: Vec<CoupleRow> = at
+        .pairs
+        .iter()
+        .map(|p| CoupleRow {
+            order: p.order,
+            amplitude: layout.couple_amplitude(p),
+        })
+        .collect();
+    let (peak, _, err) = peak_of(|phi| {
+        at.pairs
+            .iter()
+            .map(|p| layout.couple_direct(p, phi))
+            .sum::<f64>()
+            .abs()
+    });
+    CoupleOutcome {
+        layout,
+        rows,
+        peak,
+        peak_error: err,
+    }
 }

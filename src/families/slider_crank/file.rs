@@ -349,16 +349,145 @@ pub const MAX_TABLE_POINTS: usize = 10_000;
 /// Most `[[mechanism.mass_items]]`.
 pub const MAX_MASS_ITEMS: usize = 1000;
 
-/// The value checks of a slider-crank file.
+/// The value checks of a slider-crank file, section by section in the file's order: the
+/// name, the mechanism and its loads ([`resolve_mechanism`]), the counterweight's variables
+/// ([`resolve_counterweight`]), the objective and its limits ([`resolve_objective`]), the
+/// accuracy, the paper's design, the plate, the balancers, the load limits, the joint
+/// design's requirements, the speed sweep and the work budget.
 pub fn resolve_raw(raw: &File) -> Result<SliderCrankProblem, FieldError> {
     check_name(&raw.name)?;
     let m = &raw.mechanism;
+    let md = &raw.model;
+    let (mech, omega, loads) = resolve_mechanism(m, md)?;
+    let d = &raw.design;
+    let o = &raw.objective;
+    let (unbalance, angle, mass, radius) = resolve_counterweight(d, mech.r)?;
+    let (objective, max_peak_force, max_peak_torque) = resolve_objective(o, d, mass, radius)?;
+    let settings = resolve_accuracy(&raw.accuracy)?;
+    let paper = resolve_paper(d, radius)?;
+    let shape = resolve_shape(d, unbalance)?;
+    let balancers = match &d.balancers {
+        None => Vec::new(),
+        Some(b) => resolve_balancers(b)?,
+    };
+    let force_limit = |q: Option<Qty<Force>>, f: &str| q.map(|q| positive(f, q.si())).transpose();
+    let load_limits = sc::LoadLimits {
+        main_bearing: force_limit(o.max_main_bearing_load, "objective.max_main_bearing_load")?,
+        crank_pin: force_limit(o.max_crank_pin_load, "objective.max_crank_pin_load")?,
+        wrist_pin: force_limit(o.max_wrist_pin_load, "objective.max_wrist_pin_load")?,
+        guide: force_limit(o.max_guide_load, "objective.max_guide_load")?,
+    };
+    let max_shaking_moment = o
+        .max_shaking_moment
+        .map(|q| positive("objective.max_shaking_moment", q.si()))
+        .transpose()?;
+    let core = sc::Scene {
+        mech,
+        omega,
+        counterweight: CounterweightSpec {
+            unbalance,
+            angle,
+            mass,
+            radius,
+            prefer: d.prefer,
+            shape,
+        },
+        objective,
+        max_peak_force,
+        max_peak_torque,
+        loads,
+        pareto_points: o.pareto_points,
+        settings,
+        balancers,
+        max_shaking_moment,
+        load_limits,
+        bearing_loads: md.bearing_loads,
+    };
+    if core.joint() {
+        check_joint(&core, o.speed_sweep.is_some(), md.gravity)?;
+    }
+    let speed_sweep = resolve_speed_sweep(o)?;
+    check_work(&core, speed_sweep.as_ref())?;
+    Ok(SliderCrankProblem {
+        core,
+        paper,
+        speed_sweep,
+    })
+}
+
+/// `[mechanism]` and `[model]`: the slider-crank (R, L, e, the kinematics, the crank, the
+/// rod and the slider), its speed ω and its loads (gravity in the slider axis' frame,
+/// the process force); the crank must turn a full revolution, (R + |e|)/L < 1.
+fn resolve_mechanism(
+    m: &MechanismRaw,
+    md: &ModelRaw,
+) -> Result<(SliderCrank, f64, Loads), FieldError> {
     let r = positive("mechanism.crank_radius", m.crank_radius.si())?;
     let l = positive("mechanism.rod_length", m.rod_length.si())?;
     let e = m.offset.map_or(0.0, |q| q.si());
     let omega = positive("mechanism.speed", m.speed.si())?;
     let m3 = non_negative("mechanism.rod_mass", m.rod_mass.si())?;
-    let (m2, m4, r2) = if m.mass_items.is_empty() {
+    let (m2, m4, r2) = resolve_link_masses(m, r)?;
+    let ratio = (r + e.abs()) / l;
+    if ratio >= 1.0 {
+        return Err(FieldError::new(
+            "mechanism.rod_length",
+            format!(
+                "the crank cannot turn a full revolution: (R + |e|)/L = {ratio:.6} ≥ 1 (λ = R/L = {:.6}); allowed: rod_length > crank_radius + |offset| = {} m",
+                r / l,
+                r + e.abs()
+            ),
+        ));
+    }
+    if m2 + m3 + m4 <= 0.0 {
+        return Err(FieldError::new(
+            "mechanism.slider_mass",
+            "all link masses are zero: nothing to balance; allowed: some mass > 0",
+        ));
+    }
+    let kinematics = md.kinematics.unwrap_or(Kinematics::Exact);
+    if kinematics == Kinematics::TwoHarmonic && e != 0.0 {
+        return Err(FieldError::new(
+            "model.kinematics",
+            "the two-harmonic series is the in-line slider's; with an offset use \"exact\"",
+        ));
+    }
+    let rod = resolve_rod(md, m3, l)?;
+    let g = md.gravity_acceleration.map_or(9.80665, |q| q.si());
+    if md.gravity_acceleration.is_some() && !md.gravity {
+        return Err(FieldError::new(
+            "model.gravity_acceleration",
+            "given but model.gravity is false; set gravity = true or remove it",
+        ));
+    }
+    non_negative("model.gravity_acceleration", g)?;
+    let axis = m.slider_axis_angle.map_or(0.0, |q| q.si());
+    let gravity = if md.gravity {
+        Loads::gravity_for_axis(g, axis)
+    } else {
+        crate::geom::P2::zeros()
+    };
+    let process = resolve_process_force(m)?;
+    let mech = SliderCrank {
+        r,
+        l,
+        e,
+        kinematics,
+        crank: Crank {
+            mass: m2,
+            centroid: r2,
+        },
+        rod,
+        slider_mass: m4,
+    };
+    Ok((mech, omega, Loads { gravity, process }))
+}
+
+/// The crank-pin mass m₂, the slider mass m₄ and the crank's centroid radius r₂: given
+/// (r₂ = R/2 by default), or summed from `[[mechanism.mass_items]]` (each item's fraction
+/// of its mass at the crank pin or at the slider; r₂ = R).
+fn resolve_link_masses(m: &MechanismRaw, r: f64) -> Result<(f64, f64, f64), FieldError> {
+    Ok(if m.mass_items.is_empty() {
         let need = |q: Option<Qty<Mass>>, f: &str| {
             q.map(|q| q.si()).ok_or_else(|| {
                 FieldError::new(
@@ -424,33 +553,13 @@ pub fn resolve_raw(raw: &File) -> Result<SliderCrankProblem, FieldError> {
             }
         }
         (pin, slider, r)
-    };
-    let ratio = (r + e.abs()) / l;
-    if ratio >= 1.0 {
-        return Err(FieldError::new(
-            "mechanism.rod_length",
-            format!(
-                "the crank cannot turn a full revolution: (R + |e|)/L = {ratio:.6} ≥ 1 (λ = R/L = {:.6}); allowed: rod_length > crank_radius + |offset| = {} m",
-                r / l,
-                r + e.abs()
-            ),
-        ));
-    }
-    if m2 + m3 + m4 <= 0.0 {
-        return Err(FieldError::new(
-            "mechanism.slider_mass",
-            "all link masses are zero: nothing to balance; allowed: some mass > 0",
-        ));
-    }
-    let md = &raw.model;
-    let kinematics = md.kinematics.unwrap_or(Kinematics::Exact);
-    if kinematics == Kinematics::TwoHarmonic && e != 0.0 {
-        return Err(FieldError::new(
-            "model.kinematics",
-            "the two-harmonic series is the in-line slider's; with an offset use \"exact\"",
-        ));
-    }
-    let rod = match md.masses {
+    })
+}
+
+/// The rod of `[model]`: lumped (its mass m₃ split between the crank pin and the slider by
+/// `rod_split`) or rigid (centroid and inertia), on a rod of length `l`.
+fn resolve_rod(md: &ModelRaw, m3: f64, l: f64) -> Result<Rod, FieldError> {
+    Ok(match md.masses {
         self::Masses::Lumped => {
             if md.rod_centroid.is_some() || md.rod_inertia.is_some() {
                 let f = if md.rod_centroid.is_some() {
@@ -491,22 +600,13 @@ pub fn resolve_raw(raw: &File) -> Result<SliderCrankProblem, FieldError> {
             }
             Rod::rigid(m3, l, c, i)
         }
-    };
-    let g = md.gravity_acceleration.map_or(9.80665, |q| q.si());
-    if md.gravity_acceleration.is_some() && !md.gravity {
-        return Err(FieldError::new(
-            "model.gravity_acceleration",
-            "given but model.gravity is false; set gravity = true or remove it",
-        ));
-    }
-    non_negative("model.gravity_acceleration", g)?;
-    let axis = m.slider_axis_angle.map_or(0.0, |q| q.si());
-    let gravity = if md.gravity {
-        Loads::gravity_for_axis(g, axis)
-    } else {
-        crate::geom::P2::zeros()
-    };
-    let process = match (&m.process_force, &m.process_force_table) {
+    })
+}
+
+/// The process force on the slider: none, a constant, or a table over the crank angle
+/// (strictly increasing angles spanning less than a turn, at most [`MAX_TABLE_POINTS`]).
+fn resolve_process_force(m: &MechanismRaw) -> Result<ProcessForce, FieldError> {
+    Ok(match (&m.process_force, &m.process_force_table) {
         (Some(_), Some(_)) => {
             return Err(FieldError::new(
                 "mechanism.process_force_table",
@@ -547,21 +647,16 @@ pub fn resolve_raw(raw: &File) -> Result<SliderCrankProblem, FieldError> {
             ProcessForce::Table { angles, forces }
         }
         (None, None) => ProcessForce::None,
-    };
-    let mech = SliderCrank {
-        r,
-        l,
-        e,
-        kinematics,
-        crank: Crank {
-            mass: m2,
-            centroid: r2,
-        },
-        rod,
-        slider_mass: m4,
-    };
+    })
+}
 
-    let d = &raw.design;
+/// The counterweight's variables of `[design]`: the unbalance |U|, the angle β (fixed, a
+/// range at most 180° wide, or the full circle), and the mass and radius when given (the
+/// radius not below [`MIN_RADIUS_OF_CRANK`] × R, a fixed m·r inside the unbalance bounds).
+fn resolve_counterweight(
+    d: &DesignRaw,
+    r: f64,
+) -> Result<(Var, Var, Option<Var>, Option<Var>), FieldError> {
     let var = |v: &Option<RawVar<_>>, f: &str, default: Var| -> Result<Var, FieldError> {
         let v = v.map(|v| v.resolve(f)).transpose()?.unwrap_or(default);
         let (lo, _) = v.bounds();
@@ -622,7 +717,18 @@ pub fn resolve_raw(raw: &File) -> Result<SliderCrankProblem, FieldError> {
         }
         Some(v) => v,
     };
-    let o = &raw.objective;
+    Ok((unbalance, angle, mass, radius))
+}
+
+/// `[objective]`: what is minimised and the peak-force and peak-torque limits (a mass or
+/// radius objective needs a force limit and a counterweight that has a mass and a radius),
+/// and the Pareto points' count (0, or 2 to 200).
+fn resolve_objective(
+    o: &ObjectiveRaw,
+    d: &DesignRaw,
+    mass: Option<Var>,
+    radius: Option<Var>,
+) -> Result<(Objective, Option<f64>, Option<f64>), FieldError> {
     let objective = match o.minimize {
         Minimize::PeakForce => Objective::MinPeakForce,
         Minimize::RmsForce => Objective::MinRmsForce,
@@ -673,8 +779,13 @@ pub fn resolve_raw(raw: &File) -> Result<SliderCrankProblem, FieldError> {
             format!("got {}; allowed: 0 (none) or 2 to 200", o.pareto_points),
         ));
     }
-    let settings = resolve_accuracy(&raw.accuracy)?;
-    let paper = match &d.paper {
+    Ok((objective, max_peak_force, max_peak_torque))
+}
+
+/// `[design.paper]`: the paper's printed design, its counterweight with a lever radius
+/// (`lever_radius` or the fixed `design.radius`).
+fn resolve_paper(d: &DesignRaw, radius: Option<Var>) -> Result<Option<PaperDesign>, FieldError> {
+    Ok(match &d.paper {
         None => None,
         Some(p) => {
             let pos = |q: Option<Qty<Mass>>, f: &str| q.map(|q| positive(f, q.si())).transpose();
@@ -696,8 +807,14 @@ pub fn resolve_raw(raw: &File) -> Result<SliderCrankProblem, FieldError> {
             }
             Some(pd)
         }
-    };
-    let shape = match &d.shape {
+    })
+}
+
+/// `[design.shape]`: the plate's envelope (outer radius above the inner, 0 < angle ≤ 360°),
+/// which is the counterweight (no design.mass or design.radius with it) and must hold the
+/// unbalance's minimum.
+fn resolve_shape(d: &DesignRaw, unbalance: Var) -> Result<Option<ShapeSpec>, FieldError> {
+    Ok(match &d.shape {
         None => None,
         Some(sh) => {
             let spec = ShapeSpec {
@@ -750,48 +867,12 @@ pub fn resolve_raw(raw: &File) -> Result<SliderCrankProblem, FieldError> {
             }
             Some(spec)
         }
-    };
-    let balancers = match &d.balancers {
-        None => Vec::new(),
-        Some(b) => resolve_balancers(b)?,
-    };
-    let force_limit = |q: Option<Qty<Force>>, f: &str| q.map(|q| positive(f, q.si())).transpose();
-    let load_limits = sc::LoadLimits {
-        main_bearing: force_limit(o.max_main_bearing_load, "objective.max_main_bearing_load")?,
-        crank_pin: force_limit(o.max_crank_pin_load, "objective.max_crank_pin_load")?,
-        wrist_pin: force_limit(o.max_wrist_pin_load, "objective.max_wrist_pin_load")?,
-        guide: force_limit(o.max_guide_load, "objective.max_guide_load")?,
-    };
-    let max_shaking_moment = o
-        .max_shaking_moment
-        .map(|q| positive("objective.max_shaking_moment", q.si()))
-        .transpose()?;
-    let core = sc::Scene {
-        mech,
-        omega,
-        counterweight: CounterweightSpec {
-            unbalance,
-            angle,
-            mass,
-            radius,
-            prefer: d.prefer,
-            shape,
-        },
-        objective,
-        max_peak_force,
-        max_peak_torque,
-        loads: Loads { gravity, process },
-        pareto_points: o.pareto_points,
-        settings,
-        balancers,
-        max_shaking_moment,
-        load_limits,
-        bearing_loads: md.bearing_loads,
-    };
-    if core.joint() {
-        check_joint(&core, o.speed_sweep.is_some(), md.gravity)?;
-    }
-    let speed_sweep = match &o.speed_sweep {
+    })
+}
+
+/// `[objective.speed_sweep]`: the speeds 0 < min < max (rad/s) and their count.
+fn resolve_speed_sweep(o: &ObjectiveRaw) -> Result<Option<SpeedSweep>, FieldError> {
+    Ok(match &o.speed_sweep {
         None => None,
         Some(sw) => {
             let min = positive("objective.speed_sweep.min", sw.min.si())?;
@@ -809,12 +890,6 @@ pub fn resolve_raw(raw: &File) -> Result<SliderCrankProblem, FieldError> {
                 points: sw.points,
             })
         }
-    };
-    check_work(&core, speed_sweep.as_ref())?;
-    Ok(SliderCrankProblem {
-        core,
-        paper,
-        speed_sweep,
     })
 }
 

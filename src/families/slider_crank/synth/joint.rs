@@ -1,0 +1,407 @@
+//! The joint design of the crank counterweight and the balancers (or a moment or a
+//! main-bearing limit) by the certified affine minimax of [`crate::synth::minimax`].
+
+use super::fields::{force0, moment0, torque0};
+use super::outcome::Optimum;
+use super::realise::unbalance_bounds;
+use super::round_off::{joint_load_round_off, round_off_bounds};
+use super::scene::{Objective, Scene, SolveError};
+use crate::families::slider_crank::model::{weight_torque_cs, State};
+use crate::geom::P2;
+use crate::synth::counterweight::Status;
+use crate::synth::minimax::{self as mm, AffineField, AffineValue, FnField};
+use crate::synth::Var;
+
+/// The joint design of the crank counterweight U and the balancers' unbalances B_n by the
+/// certified affine minimax of [`crate::synth::minimax`]: every figure is affine in
+/// x = (U; B_1; …), so the columns of the balancers are added to those of U and the same
+/// cone program and exchange loop certify the joint optimum.
+///
+/// Variables: each unbalance is a 2-vector held as the first moment of one of the engine's
+/// counterweights (m, u, I) with m_max = 1 and r_max = ρ = its bound, so |u| ≤ bound is the
+/// engine's own cone (m and I enter no field). Fields (SI): 0 the shaking force (N),
+/// 1 the shaking moment about O (N·m), 2 the drive torque (N·m), 3 the main bearing load
+/// without the counterweight's weight (N).
+///
+/// Bounds: where the scene leaves |U| or |B_n| unbounded, the Fourier coefficients of the
+/// force z = F_x + iF_y bound them at any design whose peak (or RMS) force is at most K:
+/// z = z₀ + U e^{iφ} + Σ n²(B_n e^{inφ} + B̄_n e^{−inφ})/2, and |c_k(z)| ≤ max|z| (≤ RMS for
+/// the RMS), so n²|B_n|/2 ≤ K + P₀ and |U| ≤ 2(K + P₀), P₀ the peak of z₀ (taken as 1.5 ×
+/// its sampled maximum). K is the force limit, or P₀ for a force objective (reached by the
+/// design 0). Where the other limits exclude the design 0 the optimum's force may exceed P₀,
+/// so a design on an automatic bound is reported `inaccurate`; one inside them all is the
+/// unbounded problem's optimum too (a convex problem: a local optimum is global).
+pub(super) fn optimise_joint(
+    scene: &Scene,
+    objective: Objective,
+    max_force: Option<f64>,
+    max_torque: Option<f64>,
+) -> Result<Optimum, SolveError> {
+    let nb = scene.balancers.len();
+    let zero = scene.with_balancers(&vec![[0.0; 2]; nb]);
+    let js = JointScene {
+        scene,
+        zero: &zero,
+        w2: scene.omega * scene.omega,
+        g: scene.loads.gravity,
+        nb,
+    };
+    let bounds = js.bounds(objective, max_force)?;
+    let (force, moment) = (js.force_field(), js.moment_field());
+    let (torque, bearing) = (js.torque_field(), js.bearing_field());
+    let goal = match objective {
+        Objective::MinPeakForce => mm::Goal::MinPeak(vec![(FORCE, 1.0)]),
+        Objective::MinRmsForce => mm::Goal::MinRms(FORCE),
+        Objective::MinPeakTorque => mm::Goal::MinPeak(vec![(TORQUE, 1.0)]),
+        Objective::MinPeakMoment => mm::Goal::MinPeak(vec![(MOMENT, 1.0)]),
+        Objective::MinMass | Objective::MinRadius => {
+            return Err(SolveError::Numeric(
+                "minimising the counterweight's mass or radius is not available with balancers, moment or main-bearing limits".into(),
+            ))
+        }
+    };
+    let mut limits = Vec::new();
+    for (f, lim) in [
+        (FORCE, max_force),
+        (TORQUE, max_torque),
+        (MOMENT, scene.max_shaking_moment),
+        (BEARING, scene.load_limits.main_bearing),
+    ] {
+        if let Some(l) = lim {
+            limits.push((f, l));
+        }
+    }
+    let pb = mm::Problem {
+        fields: vec![&force, &moment, &torque, &bearing],
+        counterweights: bounds.limits(),
+        extra: Vec::new(),
+        linear: Vec::new(),
+        goal,
+        limits,
+    };
+    let num = |e: mm::MinimaxError| SolveError::Numeric(e.to_string());
+    let engine = mm::Engine::new(&pb, &minimax_settings(scene)).map_err(num)?;
+    let sol = engine.solve().map_err(num)?;
+    js.optimum(&sol, &bounds, max_force, max_torque)
+}
+
+/// The minimax engine's fields, by index: the shaking force (N).
+const FORCE: usize = 0;
+/// The shaking moment about O (N·m).
+const MOMENT: usize = 1;
+/// The drive torque (N·m).
+const TORQUE: usize = 2;
+/// The main bearing load without the counterweight's weight (N).
+const BEARING: usize = 3;
+
+/// The scene of a joint design with what its fields share: the scene with the balancers at
+/// 0 (`zero`: the design-independent parts b(φ)), ω², the gravity g and the balancer count.
+struct JointScene<'a> {
+    scene: &'a Scene,
+    zero: &'a Scene,
+    w2: f64,
+    g: P2,
+    nb: usize,
+}
+
+/// The bounds on the design's unbalances (kg·m): the scene's |U| range, the automatic
+/// Fourier bound on |U| and the bound on |U| and each |B_n| used, with the peak-force
+/// scale K + P₀ the automatic bounds come from.
+struct JointBounds {
+    u_lo: f64,
+    u_hi: f64,
+    u_auto: f64,
+    u_max: f64,
+    b_max: Vec<f64>,
+    /// K + P₀ (N): the force scale of the automatic bounds.
+    k_p0: f64,
+    /// ω² (rad²/s²).
+    w2: f64,
+    /// U's angle range when not the full circle.
+    sector: Option<(f64, f64)>,
+}
+
+impl JointBounds {
+    /// The automatic bound on |B_n| of order `n`: 2(K + P₀)/(ω² n²).
+    fn auto(&self, n: f64) -> f64 {
+        2.0 * self.k_p0 / (self.w2 * n * n)
+    }
+
+    /// The engine's counterweights: U (in its sector) and the balancers, each with
+    /// m_max = 1 and r_max = its bound.
+    fn limits(&self) -> Vec<mm::CounterweightLimits> {
+        let limits_of = |bound: f64| mm::CounterweightLimits {
+            sector: None,
+            ..mm::CounterweightLimits::new(1.0, bound)
+        };
+        let mut cws = vec![mm::CounterweightLimits {
+            sector: self.sector,
+            ..limits_of(self.u_max)
+        }];
+        cws.extend(self.b_max.iter().map(|&b| limits_of(b)));
+        cws
+    }
+}
+
+impl JointScene<'_> {
+    /// The mechanism's state at φ (assembly was checked for the whole revolution).
+    fn state(&self, phi: f64) -> State {
+        self.scene.mech.state(phi).expect("assembly checked")
+    }
+
+    /// The bounds of the design (see [`optimise_joint`]): P₀ = 1.5 × the largest of
+    /// ω²|f₀(φₖ)| on 720 angles, K the force limit or P₀ (the least of them for a force
+    /// objective), |U| ≤ 2(K + P₀)/ω² · 2 and n²|B_n| ≤ 2(K + P₀)/ω², each capped by the
+    /// scene's own bound.
+    fn bounds(
+        &self,
+        objective: Objective,
+        max_force: Option<f64>,
+    ) -> Result<JointBounds, SolveError> {
+        let (scene, w2) = (self.scene, self.w2);
+        // P₀, the peak of the force without design (sampled, with margin).
+        let p0 = 1.5
+            * (0..720)
+                .map(|k| {
+                    let phi = k as f64 * std::f64::consts::TAU / 720.0;
+                    force0(self.zero, &self.state(phi)).norm() * w2
+                })
+                .fold(0.0, f64::max);
+        let k_force = match (objective, max_force) {
+            (Objective::MinPeakForce | Objective::MinRmsForce, Some(f)) => f.min(p0),
+            (Objective::MinPeakForce | Objective::MinRmsForce, None) => p0,
+            (_, Some(f)) => f,
+            (_, None) => {
+                return Err(SolveError::Numeric(
+                    "a joint design (balancers, moment or main-bearing limits) minimising the torque or the moment needs objective.max_peak_force: the counterweight is otherwise unbounded".into(),
+                ))
+            }
+        };
+        let auto = |n: f64| 2.0 * (k_force + p0) / (w2 * n * n);
+        let (u_lo, u_hi) = unbalance_bounds(&scene.counterweight);
+        let u_auto = 2.0 * auto(1.0);
+        let sector = match scene.counterweight.angle {
+            Var::Fixed(b) => Some((b, b)),
+            Var::Free { min, max } if max - min < std::f64::consts::TAU - 1e-9 => Some((min, max)),
+            _ => None,
+        };
+        Ok(JointBounds {
+            u_lo,
+            u_hi,
+            u_auto,
+            u_max: u_hi.min(u_auto),
+            b_max: scene
+                .balancers
+                .iter()
+                .map(|b| b.max_unbalance.min(auto(b.pair.order as f64)))
+                .collect(),
+            k_p0: k_force + p0,
+            w2,
+            sector,
+        })
+    }
+
+    /// Writes the balancers' columns of field `which` (0 the force, 1 the moment, 2 the
+    /// torque of their weights) at φ into row 0 of `out`: their coefficients times ω² (1 for
+    /// the torque).
+    fn fill_balancers(&self, out: &mut AffineValue, phi: f64, which: u8) {
+        for (j, b) in self.scene.balancers.iter().enumerate() {
+            let (c, scale) = match which {
+                0 => (b.pair.force_coeffs(phi), self.w2),
+                1 => (b.pair.moment_coeffs(phi), self.w2),
+                _ => (b.pair.weight_torque_coeffs(phi, self.g), 1.0),
+            };
+            let row = out.row_mut(0);
+            row[mm::var_u(j + 1)] = c[0] * scale;
+            row[mm::var_u(j + 1) + 1] = c[1] * scale;
+        }
+    }
+
+    /// U and the balancers' B_n from the engine's variables x.
+    fn parts(&self, x: &[f64]) -> (P2, Vec<[f64; 2]>) {
+        let ub = mm::var_u;
+        (
+            P2::new(x[ub(0)], x[ub(0) + 1]),
+            (0..self.nb)
+                .map(|j| [x[ub(j + 1)], x[ub(j + 1) + 1]])
+                .collect(),
+        )
+    }
+
+    /// [`round_off_bounds`] of the design x (force, torque, moment).
+    fn round_off(&self, x: &[f64]) -> [f64; 3] {
+        let (u, b) = self.parts(x);
+        round_off_bounds(&self.zero.with_balancers(&b), u)
+    }
+
+    /// The shaking force F = ω²(f₀ + Rot(φ)U + Σ balancers) (N).
+    fn force_field(&self) -> impl AffineField + '_ {
+        let ub = mm::var_u;
+        let w2 = self.w2;
+        FnField::new(
+            "shaking force",
+            2,
+            move |phi: f64, out: &mut AffineValue| {
+                let s = self.state(phi);
+                let f0 = force0(self.zero, &s) * w2;
+                let [c, sn] = s.cs;
+                out.b = [f0.x, f0.y];
+                out.row_mut(0)[ub(0)] = w2 * c;
+                out.row_mut(0)[ub(0) + 1] = -w2 * sn;
+                out.row_mut(1)[ub(0)] = w2 * sn;
+                out.row_mut(1)[ub(0) + 1] = w2 * c;
+                self.fill_balancers(out, phi, 0);
+            },
+        )
+        .with_error(move |_, x: &[f64]| self.round_off(x)[0])
+    }
+
+    /// The shaking moment about O, ω²(M₀ + Σ balancers' couples) (N·m); U adds none.
+    fn moment_field(&self) -> impl AffineField + '_ {
+        FnField::new(
+            "shaking moment",
+            1,
+            move |phi: f64, out: &mut AffineValue| {
+                out.b = [moment0(self.zero, &self.state(phi)) * self.w2, 0.0];
+                self.fill_balancers(out, phi, 1);
+            },
+        )
+        .with_error(move |_, x: &[f64]| self.round_off(x)[2])
+    }
+
+    /// The drive torque T₀ − g·Rot'(φ)U + Σ balancers' weights (N·m).
+    fn torque_field(&self) -> impl AffineField + '_ {
+        let ub = mm::var_u;
+        let g = self.g;
+        FnField::new("drive torque", 1, move |phi: f64, out: &mut AffineValue| {
+            let s = self.state(phi);
+            out.b = [torque0(self.zero, &s), 0.0];
+            out.row_mut(0)[ub(0)] = weight_torque_cs(s.cs, g, P2::new(1.0, 0.0));
+            out.row_mut(0)[ub(0) + 1] = weight_torque_cs(s.cs, g, P2::new(0.0, 1.0));
+            self.fill_balancers(out, phi, 2);
+        })
+        .with_error(move |_, x: &[f64]| self.round_off(x)[1])
+    }
+
+    /// The main bearing load without the counterweight's weight, F_main(φ; 0) − ω²Rot(φ)U (N).
+    fn bearing_field(&self) -> impl AffineField + '_ {
+        let ub = mm::var_u;
+        let (scene, w2) = (self.scene, self.w2);
+        FnField::new(
+            "main bearing load",
+            2,
+            move |phi: f64, out: &mut AffineValue| {
+                let s = self.state(phi);
+                let f = scene
+                    .mech
+                    .joint_loads(&s, scene.omega, &scene.loads, P2::zeros(), 0.0)
+                    .main;
+                let [c, sn] = s.cs;
+                out.b = [f.x, f.y];
+                out.row_mut(0)[ub(0)] = -w2 * c;
+                out.row_mut(0)[ub(0) + 1] = w2 * sn;
+                out.row_mut(1)[ub(0)] = -w2 * sn;
+                out.row_mut(1)[ub(0) + 1] = -w2 * c;
+            },
+        )
+        .with_error(move |_, x: &[f64]| joint_load_round_off(scene, self.parts(x).0, 0.0))
+    }
+
+    /// The [`Optimum`] of the engine's solution: U and the B_n (0 where infeasible), the
+    /// status (`inaccurate` on an automatic bound), the gap (sampling + solver error), the
+    /// method with the bounds used, and the warnings. |U| below the scene's U_min is an
+    /// error (that bound is not convex).
+    fn optimum(
+        &self,
+        sol: &mm::Solution,
+        bounds: &JointBounds,
+        max_force: Option<f64>,
+        max_torque: Option<f64>,
+    ) -> Result<Optimum, SolveError> {
+        let (scene, nb) = (self.scene, self.nb);
+        let mut warnings = Vec::new();
+        if let Some(n) = &sol.note {
+            warnings.push(n.clone());
+        }
+        let feasible = sol.x.iter().all(|v| v.is_finite());
+        let (u, b) = if feasible {
+            self.parts(&sol.x)
+        } else {
+            (P2::zeros(), vec![[0.0; 2]; nb])
+        };
+        if sol.status == Status::Infeasible {
+            warnings.push(format!(
+                "infeasible: no counterweight and balancers within the bounds meet the limits (peak force ≤ {max_force:?} N, peak torque ≤ {max_torque:?} N·m, shaking moment ≤ {:?} N·m, main bearing ≤ {:?} N); the figures shown are those of no counterweight and no balancers",
+                scene.max_shaking_moment, scene.load_limits.main_bearing
+            ));
+        }
+        // A design on a bound the scene did not set would be the bounds' optimum, not the
+        // scene's: the Fourier bounds exclude it, so say so if it happens.
+        let on = |v: f64, auto: f64, given: f64| auto < given && v >= auto * (1.0 - 1e-6);
+        let mut status = sol.status;
+        if feasible
+            && (on(u.norm(), bounds.u_auto, bounds.u_hi)
+                || b.iter().zip(&scene.balancers).any(|(bb, spec)| {
+                    on(
+                        bb[0].hypot(bb[1]),
+                        bounds.auto(spec.pair.order as f64),
+                        spec.max_unbalance,
+                    )
+                }))
+        {
+            status = Status::Inaccurate;
+            warnings.push(
+                "the joint design reached an automatic bound on |U| or |B_n| (see the method); the optimum may lie beyond it".into(),
+            );
+        }
+        let u_lo = bounds.u_lo;
+        if u_lo > 0.0 && u.norm() < u_lo * (1.0 - 1e-9) {
+            return Err(SolveError::Numeric(format!(
+                "|U| ≥ {u_lo} kg·m is not convex and not available with balancers, moment or main-bearing limits"
+            )));
+        }
+        let gap = if feasible {
+            sol.error.sampling + sol.error.solver
+        } else {
+            0.0
+        };
+        Ok(Optimum {
+            status,
+            u,
+            gap,
+            method: format!(
+                "joint design of the crank counterweight and {nb} balancer pair(s) (synth::minimax, bounds |U| ≤ {:.6e} kg·m{}): clarabel SOCP + exchange loop: {} rounds, {} angles, {} interior-point iterations, last status {}",
+                bounds.u_max,
+                bounds
+                    .b_max
+                    .iter()
+                    .zip(&scene.balancers)
+                    .map(|(m, s)| format!(", |B_{}| ≤ {m:.6e} kg·m", s.pair.order))
+                    .collect::<String>(),
+                sol.rounds,
+                sol.angles,
+                sol.ipm_iterations,
+                sol.solver_status
+            ),
+            rounds: sol.rounds,
+            warnings,
+            balancers: b,
+        })
+    }
+}
+
+/// The minimax engine's settings from the scene's accuracy (the RMS quadrature's count made
+/// even).
+fn minimax_settings(scene: &Scene) -> mm::Settings {
+    let cs = &scene.resolved_settings();
+    mm::Settings {
+        rel_tol: cs.rel_tol,
+        initial_samples: cs.initial_samples,
+        scan_samples: cs.scan_samples,
+        max_rounds: cs.max_rounds,
+        peak_xtol: cs.peak_xtol,
+        rms_samples: (cs.rms_samples + 1) & !1,
+        exact_disc: cs.exact_disc,
+        ..mm::Settings::default()
+    }
+}
