@@ -295,12 +295,11 @@ fn iteration<P: Minimax + ?Sized>(cp: &Counted<P>, s: &mut Iterate, settings: &S
     if pred <= settings.tol * m0.abs().max(1e-12) || dn < TRUST_MIN {
         return Step::Converged;
     }
-    let un: Vec<f64> = s
-        .u
-        .iter()
-        .zip(&st.d)
-        .map(|(a, d)| (a + d).clamp(0.0, 1.0))
-        .collect();
+    let un: Vec<f64> =
+        s.u.iter()
+            .zip(&st.d)
+            .map(|(a, d)| (a + d).clamp(0.0, 1.0))
+            .collect();
     let un = second_order_correction(cp.problem, un, &s.p, &s.jac, &st);
     let pn = cp.probe(&un);
     let rho = pn.as_ref().map_or(-1.0, |q| (m0 - q.merit(s.mu)) / pred);

@@ -29,12 +29,7 @@ const DIGITS_WARNING: f64 = 1e-6;
 /// the statics of a weightless boom system with the load W at the jib head (thesis §2.2,
 /// M_Ah = N L_c sin α; exact up to the rounding and conditioning it states) when the tie is a
 /// circle, by the finite difference [`load_moment`] for the straight-guide limit.
-fn load_moment_at(
-    link: &Linkage,
-    w: f64,
-    phi: f64,
-    h: f64,
-) -> Option<(f64, f64)> {
+fn load_moment_at(link: &Linkage, w: f64, phi: f64, h: f64) -> Option<(f64, f64)> {
     use crate::families::crane::statics::{statics, Loads, SelfWeight};
     if let Guide::Circle { .. } = link.guide {
         let pose = link.pose(phi)?;
@@ -48,7 +43,6 @@ fn load_moment_at(
     }
     load_moment(link, w, phi, h)
 }
-
 
 /// Full evaluation of one design for the result.
 pub(super) fn report(
@@ -220,7 +214,14 @@ fn thesis_checks(scene: &CraneScene, ev: &Evaluation, tol: f64, out: &mut Outcom
     let r_min = scene.foot_offset + boom.l_c * angles.unit_reach_min(boom.k);
     let equal = (c3.y - h1).abs();
     let equal_tol = EQUAL_HEIGHTS_TOL * boom.l_c;
-    check(out, "equal_head_heights", equal, equal_tol, equal <= equal_tol, "|y_C3 - y_C1| (m)");
+    check(
+        out,
+        "equal_head_heights",
+        equal,
+        equal_tol,
+        equal <= equal_tol,
+        "|y_C3 - y_C1| (m)",
+    );
     check(
         out,
         "reach_max",
@@ -446,4 +447,3 @@ pub fn landscape(scene: &CraneScene, settings: &Settings, x: &[f64; 6]) -> Optio
         optimum: [x[0], x[1]],
     })
 }
-

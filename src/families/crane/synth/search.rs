@@ -179,9 +179,12 @@ fn multistart(obj: &Objective) -> Found {
         .collect();
     let mut evaluations = pts.len();
     let min_sep = 0.15 * (n as f64).sqrt();
-    let starts = distinct_starts(&ranked(pts), settings.local_starts, |_| true, |s, u| {
-        distance(s, u) >= min_sep
-    });
+    let starts = distinct_starts(
+        &ranked(pts),
+        settings.local_starts,
+        |_| true,
+        |s, u| distance(s, u) >= min_sep,
+    );
     let name = |u: &[f64]| {
         let (x, _) = obj.point(u);
         Vars::of(&x).named(&obj.free)
@@ -268,7 +271,10 @@ pub fn solve(scene: &CraneScene, settings: &Settings) -> Result<Outcome, FieldEr
     };
     let mut out = report(scene, settings, &found.x, &mut warnings);
     out.evaluations += found.evaluations;
-    out.method = format!("{}; {} evaluations of delta h", found.method, out.evaluations);
+    out.method = format!(
+        "{}; {} evaluations of delta h",
+        found.method, out.evaluations
+    );
     out.basins = found.basins;
     if out.status == Status::Evaluated {
         out.status = Status::BestFound;
@@ -277,7 +283,8 @@ pub fn solve(scene: &CraneScene, settings: &Settings) -> Result<Outcome, FieldEr
         warnings.push("the best local search stopped at its iteration limit".into());
     }
     let search = SearchEvidence::of_ends(
-        "Halton global stage + trust-region SQP (Fletcher's Sl1QP) from the best distinct points".into(),
+        "Halton global stage + trust-region SQP (Fletcher's Sl1QP) from the best distinct points"
+            .into(),
         out.basins
             .iter()
             .filter(|b| b.feasible)
