@@ -525,6 +525,7 @@ fn qp_step(
 }
 
 /// The QP's quadratic term: the upper triangle of B in the first n of `nv` variables.
+#[allow(clippy::needless_range_loop)]
 fn hessian_block(b: &[Vec<f64>], nv: usize) -> clarabel::algebra::CscMatrix<f64> {
     let n = b.len();
     let (mut pi, mut pj, mut pv) = (vec![], vec![], vec![]);
