@@ -18,6 +18,7 @@ use crate::numeric::{brent_root, minimize_1d};
 use crate::problem::calibrate::{resolve_calibration, CalibrateRaw, Calibration};
 use crate::problem::ProblemError;
 use crate::report::SolveResult;
+use crate::synth::search::{nelder_mead, NelderMead};
 use crate::units::Dim;
 use std::path::Path;
 
@@ -182,8 +183,8 @@ fn evaluate(
     Ok((r, ys))
 }
 
-/// Fits the `[calibrate]` section of the problem text, then solves with the fitted values.
-pub fn calibrate(text: &str, path: &Path) -> Result<Calibrated, CalibrateError> {
+/// The problem file's table and its resolved `[calibrate]` section.
+fn section(text: &str, path: &Path) -> Result<(toml::Table, Calibration), CalibrateError> {
     // The file must be valid as it stands (its own values are the starting point).
     parse_str(text, path)?;
     let table: toml::Table = toml::from_str(text).map_err(|e| CalibrateError::Parameter {
@@ -205,31 +206,53 @@ pub fn calibrate(text: &str, path: &Path) -> Result<Calibrated, CalibrateError> 
         key: String::new(),
         why: e.to_string(),
     })?;
-    let np = cal.parameters.len();
-    let nm = cal.matches.len();
-    let lo: Vec<f64> = cal.parameters.iter().map(|p| p.min).collect();
-    let hi: Vec<f64> = cal.parameters.iter().map(|p| p.max).collect();
-    let evals = std::cell::Cell::new(0usize);
-    let sigma0: Vec<f64> = cal.matches.iter().map(|m| m.uncertainty).collect();
-    let chi2_at = |p: &[f64]| -> f64 {
-        evals.set(evals.get() + 1);
-        match evaluate(text, path, &cal, p) {
+    Ok((table, cal))
+}
+
+/// One calibration's problem: the text, its section and the solves counted.
+struct Problem<'a> {
+    text: &'a str,
+    path: &'a Path,
+    table: toml::Table,
+    cal: Calibration,
+    lo: Vec<f64>,
+    hi: Vec<f64>,
+    evals: std::cell::Cell<usize>,
+}
+
+impl Problem<'_> {
+    /// The result and the values at the match keys at parameters `p` (not counted).
+    fn evaluate(&self, p: &[f64]) -> Result<(SolveResult, Vec<(f64, f64)>), CalibrateError> {
+        evaluate(self.text, self.path, &self.cal, p)
+    }
+
+    /// Count `n` solves.
+    fn count(&self, n: usize) {
+        self.evals.set(self.evals.get() + n);
+    }
+
+    /// χ² at `p` (∞ where the scene does not solve), counted.
+    fn chi2(&self, p: &[f64]) -> f64 {
+        self.count(1);
+        match self.evaluate(p) {
             Ok((_, ys)) => ys
                 .iter()
-                .zip(&cal.matches)
-                .zip(&sigma0)
-                .map(|(((y, _), m), s)| ((y - m.value) / s).powi(2))
+                .zip(&self.cal.matches)
+                .map(|((y, _), m)| ((y - m.value) / m.uncertainty).powi(2))
                 .sum(),
             Err(_) => f64::INFINITY,
         }
-    };
-    let mut notes = Vec::new();
-    let (p_fit, method) = if np == 1 && nm == 1 {
-        // y(p) − ŷ: bracketed on a 16-point scan of the bounds, then Brent.
+    }
+
+    /// One parameter against one value: y(p) − ŷ bracketed on a 16-point scan of the bounds,
+    /// then Brent's root (argmin's `BrentRoot`); without a sign change the least |y − ŷ| by
+    /// argmin's `BrentOpt`. The parameter and the method; what to know into `notes`.
+    fn fit_one(&self, notes: &mut Vec<String>) -> (Vec<f64>, String) {
+        let (lo, hi, cal) = (&self.lo, &self.hi, &self.cal);
         let m = &cal.matches[0];
         let g = |x: f64| -> f64 {
-            evals.set(evals.get() + 1);
-            evaluate(text, path, &cal, &[x])
+            self.count(1);
+            self.evaluate(&[x])
                 .map(|(_, ys)| ys[0].0 - m.value)
                 .unwrap_or(f64::NAN)
         };
@@ -266,7 +289,7 @@ pub fn calibrate(text: &str, path: &Path) -> Result<Calibrated, CalibrateError> 
                         roots.iter().map(|r| format!("{r:.6e}")).collect::<Vec<_>>().join(", ")
                     ));
                 }
-                let own = own_value(&table, &cal.parameters[0].key, cal.parameters[0].dim)
+                let own = own_value(&self.table, &cal.parameters[0].key, cal.parameters[0].dim)
                     .unwrap_or(0.5 * (lo[0] + hi[0]));
                 let best = roots
                     .iter()
@@ -280,41 +303,39 @@ pub fn calibrate(text: &str, path: &Path) -> Result<Calibrated, CalibrateError> 
                 )
             }
         }
-    } else {
-        let p0: Vec<f64> = cal
-            .parameters
-            .iter()
-            .map(|p| own_value(&table, &p.key, p.dim).unwrap_or(0.5 * (p.min + p.max)))
-            .collect();
-        (
-            nelder_mead(&chi2_at, &p0, &lo, &hi),
-            "argmin Nelder–Mead (Nelder & Mead 1965) on χ² in the box".to_string(),
-        )
-    };
-    // The fit's result, and the Jacobian by central differences.
-    let (result, ys) = evaluate(text, path, &cal, &p_fit)?;
-    evals.set(evals.get() + 1);
-    let mut jac = vec![vec![0.0; np]; nm];
-    for i in 0..np {
-        let h = 1e-4 * (hi[i] - lo[i]);
-        let (mut a, mut b) = (p_fit.clone(), p_fit.clone());
-        a[i] = (p_fit[i] - h).max(lo[i]);
-        b[i] = (p_fit[i] + h).min(hi[i]);
-        let (_, ya) = evaluate(text, path, &cal, &a)?;
-        let (_, yb) = evaluate(text, path, &cal, &b)?;
-        evals.set(evals.get() + 2);
-        for k in 0..nm {
-            jac[k][i] = (yb[k].0 - ya[k].0) / (b[i] - a[i]);
-        }
     }
-    let sigma: Vec<f64> = cal
-        .matches
-        .iter()
-        .zip(&ys)
-        .map(|(m, &(_, e))| m.uncertainty.hypot(e))
-        .collect();
-    // C = (JᵀWJ)⁻¹ through the SVD of W^½J: a singular value below 1e-10 of the largest is a
-    // direction the data do not fix.
+
+    /// The Jacobian ∂y_k/∂p_i at `p_fit` by central differences (1e-4 of each range, kept
+    /// in the bounds).
+    fn jacobian(&self, p_fit: &[f64]) -> Result<Vec<Vec<f64>>, CalibrateError> {
+        let (np, nm) = (self.cal.parameters.len(), self.cal.matches.len());
+        let (lo, hi) = (&self.lo, &self.hi);
+        let mut jac = vec![vec![0.0; np]; nm];
+        for i in 0..np {
+            let h = 1e-4 * (hi[i] - lo[i]);
+            let (mut a, mut b) = (p_fit.to_vec(), p_fit.to_vec());
+            a[i] = (p_fit[i] - h).max(lo[i]);
+            b[i] = (p_fit[i] + h).min(hi[i]);
+            let (_, ya) = self.evaluate(&a)?;
+            let (_, yb) = self.evaluate(&b)?;
+            self.count(2);
+            for k in 0..nm {
+                jac[k][i] = (yb[k].0 - ya[k].0) / (b[i] - a[i]);
+            }
+        }
+        Ok(jac)
+    }
+}
+
+/// The linearised covariance C = (JᵀWJ)⁻¹ through the SVD of W^½J (rows of J over `sigma`):
+/// a singular value below 1e-10 of the largest is a direction the data do not fix. The
+/// rank and C (absent when the rank is short).
+fn covariance(
+    jac: &[Vec<f64>],
+    sigma: &[f64],
+    np: usize,
+) -> (usize, Option<nalgebra::DMatrix<f64>>) {
+    let nm = jac.len();
     let a = nalgebra::DMatrix::from_fn(nm, np, |k, i| jac[k][i] / sigma[k]);
     let svd = a.clone().svd(true, true);
     let smax = svd.singular_values.max();
@@ -323,10 +344,52 @@ pub fn calibrate(text: &str, path: &Path) -> Result<Calibrated, CalibrateError> 
         .iter()
         .filter(|&&s| s > 1e-10 * smax && s > 0.0)
         .count();
-    let identifiable = rank == np;
-    let cov = identifiable
+    let cov = (rank == np)
         .then(|| (a.transpose() * &a).try_inverse())
         .flatten();
+    (rank, cov)
+}
+
+/// Fits the `[calibrate]` section of the problem text, then solves with the fitted values.
+pub fn calibrate(text: &str, path: &Path) -> Result<Calibrated, CalibrateError> {
+    let (table, cal) = section(text, path)?;
+    let problem = Problem {
+        text,
+        path,
+        lo: cal.parameters.iter().map(|p| p.min).collect(),
+        hi: cal.parameters.iter().map(|p| p.max).collect(),
+        table,
+        cal,
+        evals: std::cell::Cell::new(0),
+    };
+    let cal = &problem.cal;
+    let (np, nm) = (cal.parameters.len(), cal.matches.len());
+    let mut notes = Vec::new();
+    let (p_fit, method) = if np == 1 && nm == 1 {
+        problem.fit_one(&mut notes)
+    } else {
+        let p0: Vec<f64> = cal
+            .parameters
+            .iter()
+            .map(|p| own_value(&problem.table, &p.key, p.dim).unwrap_or(0.5 * (p.min + p.max)))
+            .collect();
+        (
+            nelder_mead_in_box(&|p: &[f64]| problem.chi2(p), &p0, &problem.lo, &problem.hi),
+            "argmin Nelder–Mead (Nelder & Mead 1965) on χ² in the box".to_string(),
+        )
+    };
+    // The fit's result, and the Jacobian by central differences.
+    let (result, ys) = problem.evaluate(&p_fit)?;
+    problem.count(1);
+    let jac = problem.jacobian(&p_fit)?;
+    let sigma: Vec<f64> = cal
+        .matches
+        .iter()
+        .zip(&ys)
+        .map(|(m, &(_, e))| m.uncertainty.hypot(e))
+        .collect();
+    let (rank, cov) = covariance(&jac, &sigma, np);
+    let identifiable = rank == np;
     if !identifiable {
         notes.push(format!(
             "not identifiable: {} parameter(s) against {} value(s), rank {rank} — the data fix only {rank} combination(s) of the parameters; add values to match or fix a parameter",
@@ -339,25 +402,7 @@ pub fn calibrate(text: &str, path: &Path) -> Result<Calibrated, CalibrateError> 
         .zip(&sigma)
         .map(|(((y, _), m), s)| ((y - m.value) / s).powi(2))
         .sum();
-    let parameters: Vec<FittedParameter> = cal
-        .parameters
-        .iter()
-        .enumerate()
-        .map(|(i, p)| {
-            let at_bound = (p_fit[i] - p.min).abs() <= 1e-9 * (p.max - p.min)
-                || (p.max - p_fit[i]).abs() <= 1e-9 * (p.max - p.min);
-            FittedParameter {
-                key: p.key.clone(),
-                value: p_fit[i],
-                uncertainty: cov.as_ref().map(|c| c[(i, i)].max(0.0).sqrt()),
-                unit: p.dim.si().to_string(),
-                min: p.min,
-                max: p.max,
-                at_bound,
-                sensitivity: (0..nm).map(|k| jac[k][i]).collect(),
-            }
-        })
-        .collect();
+    let parameters = fitted_parameters(cal, &p_fit, &jac, cov.as_ref());
     notes.push(
         "the uncertainty propagates the stated σ of the matched values (and the solve's own error) only: a difference between this model and the source of the values (another model, a measurement) is not in it".into(),
     );
@@ -386,7 +431,7 @@ pub fn calibrate(text: &str, path: &Path) -> Result<Calibrated, CalibrateError> 
         matches,
         chi2,
         identifiable,
-        evaluations: evals.get(),
+        evaluations: problem.evals.get(),
         method,
         notes,
     };
@@ -400,6 +445,34 @@ pub fn calibrate(text: &str, path: &Path) -> Result<Calibrated, CalibrateError> 
     Ok(Calibrated { fit, result })
 }
 
+/// The fitted parameters: value, uncertainty (from the covariance, if any), bounds, whether
+/// on a bound, and the sensitivities.
+fn fitted_parameters(
+    cal: &Calibration,
+    p_fit: &[f64],
+    jac: &[Vec<f64>],
+    cov: Option<&nalgebra::DMatrix<f64>>,
+) -> Vec<FittedParameter> {
+    cal.parameters
+        .iter()
+        .enumerate()
+        .map(|(i, p)| {
+            let at_bound = (p_fit[i] - p.min).abs() <= 1e-9 * (p.max - p.min)
+                || (p.max - p_fit[i]).abs() <= 1e-9 * (p.max - p.min);
+            FittedParameter {
+                key: p.key.clone(),
+                value: p_fit[i],
+                uncertainty: cov.map(|c| c[(i, i)].max(0.0).sqrt()),
+                unit: p.dim.si().to_string(),
+                min: p.min,
+                max: p.max,
+                at_bound,
+                sensitivity: jac.iter().map(|row| row[i]).collect(),
+            }
+        })
+        .collect()
+}
+
 /// The file's own value of a parameter (its starting point), in SI.
 fn own_value(table: &toml::Table, key: &str, dim: Dim) -> Option<f64> {
     match crate::problem::edit::dotted_get(table, key)? {
@@ -410,33 +483,21 @@ fn own_value(table: &toml::Table, key: &str, dim: Dim) -> Option<f64> {
     }
 }
 
-/// Nelder–Mead on the box [lo, hi] (argmin), in coordinates scaled to [0, 1].
-fn nelder_mead(f: &dyn Fn(&[f64]) -> f64, p0: &[f64], lo: &[f64], hi: &[f64]) -> Vec<f64> {
-    use argmin::core::{CostFunction, Error, Executor, State};
-    use argmin::solver::neldermead::NelderMead;
-    struct Cost<'a> {
-        f: &'a dyn Fn(&[f64]) -> f64,
-        lo: &'a [f64],
-        hi: &'a [f64],
-    }
-    impl Cost<'_> {
-        fn unscale(&self, z: &[f64]) -> Vec<f64> {
-            z.iter()
-                .enumerate()
-                .map(|(i, &t)| self.lo[i] + (self.hi[i] - self.lo[i]) * t.clamp(0.0, 1.0))
-                .collect()
-        }
-    }
-    impl CostFunction for Cost<'_> {
-        type Param = Vec<f64>;
-        type Output = f64;
-        fn cost(&self, z: &Vec<f64>) -> Result<f64, Error> {
-            // Outside the box: the value at its projection plus the distance (a penalty).
-            let out: f64 = z.iter().map(|t| (t - t.clamp(0.0, 1.0)).abs()).sum();
-            Ok((self.f)(&self.unscale(z)) + 1e6 * out)
-        }
-    }
-    let cost = Cost { f, lo, hi };
+/// Nelder–Mead on the box [lo, hi] (argmin's, through [`crate::synth::search::nelder_mead`]),
+/// in coordinates scaled to [0, 1]: outside the box the cost is the value at the projection
+/// plus 1e6 times the distance (a penalty). From the file's values `p0`, a simplex of steps
+/// ±0.1 (towards the box's middle); 400 iterations at most, stop at a spread of 1e-12.
+fn nelder_mead_in_box(f: &dyn Fn(&[f64]) -> f64, p0: &[f64], lo: &[f64], hi: &[f64]) -> Vec<f64> {
+    let unscale = |z: &[f64]| -> Vec<f64> {
+        z.iter()
+            .enumerate()
+            .map(|(i, &t)| lo[i] + (hi[i] - lo[i]) * t.clamp(0.0, 1.0))
+            .collect()
+    };
+    let cost = |z: &[f64]| {
+        let out: f64 = z.iter().map(|t| (t - t.clamp(0.0, 1.0)).abs()).sum();
+        f(&unscale(z)) + 1e6 * out
+    };
     let n = p0.len();
     let z0: Vec<f64> = (0..n).map(|i| (p0[i] - lo[i]) / (hi[i] - lo[i])).collect();
     let mut simplex = vec![z0.clone()];
@@ -445,14 +506,11 @@ fn nelder_mead(f: &dyn Fn(&[f64]) -> f64, p0: &[f64], lo: &[f64], hi: &[f64]) ->
         z[i] += if z[i] < 0.5 { 0.1 } else { -0.1 };
         simplex.push(z);
     }
-    let solver = NelderMead::new(simplex)
-        .with_sd_tolerance(1e-12)
-        .expect("tolerance > 0");
-    let best = Executor::new(cost, solver)
-        .configure(|s| s.max_iters(400))
-        .run()
-        .ok()
-        .and_then(|r| r.state().get_best_param().cloned())
-        .unwrap_or(z0);
-    Cost { f, lo, hi }.unscale(&best)
+    let settings = NelderMead {
+        simplex,
+        sd_tolerance: 1e-12,
+        max_iters: 400,
+    };
+    let best = nelder_mead(&cost, &settings).map_or(z0, |end| end.x);
+    unscale(&best)
 }

@@ -7,60 +7,10 @@ pub(crate) mod conic;
 pub mod counterweight;
 pub mod exchange;
 pub mod minimax;
+pub mod search;
 pub mod shape;
 
-/// The evidence behind a `best_found` status: what a heuristic global search did and how
-/// consistent its best results were (JSON key `search`).
-#[derive(Debug, Clone, PartialEq, serde::Serialize, Default)]
-pub struct SearchEvidence {
-    /// The search, with its reference (e.g. "Halton 256 + Nelder–Mead (Lagarias 1998) from 8 starts").
-    pub method: String,
-    /// Local searches started.
-    pub starts: usize,
-    /// Distinct local optima (basins) the starts ended in.
-    pub distinct_basins: usize,
-    /// Objective evaluations in all.
-    pub evaluations: usize,
-    /// The best few distinct local optima's objective values, best first (SI, the objective's unit).
-    pub best_values: Vec<f64>,
-    /// How many starts ended within `rel_tol` of the best value.
-    pub starts_at_best: usize,
-    /// (second best − best)/|best| over distinct basins; absent with one basin.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub spread_rel: Option<f64>,
-}
-
-impl SearchEvidence {
-    /// The evidence of a minimising multistart from the objective values its starts ended
-    /// at (feasible ends only) out of `starts` starts: ends within `same_rel` (relative) of
-    /// each other are one basin; the best five distinct values are kept, best first.
-    pub fn of_minima(
-        method: String,
-        mut ends: Vec<f64>,
-        starts: usize,
-        evaluations: usize,
-        same_rel: f64,
-    ) -> SearchEvidence {
-        ends.sort_by(f64::total_cmp);
-        let best = ends.first().copied();
-        let at_best = best.map_or(0, |b| {
-            ends.iter()
-                .filter(|&&d| d <= b + same_rel * b.abs())
-                .count()
-        });
-        ends.dedup_by(|a, b| (*a - *b).abs() <= same_rel * b.abs());
-        let spread_rel = (ends.len() > 1).then(|| (ends[1] - ends[0]) / ends[0].abs().max(1e-300));
-        SearchEvidence {
-            method,
-            starts,
-            distinct_basins: ends.len(),
-            evaluations,
-            starts_at_best: at_best,
-            spread_rel,
-            best_values: ends.into_iter().take(5).collect(),
-        }
-    }
-}
+pub use search::SearchEvidence;
 
 /// A design variable the optimum left on one of its bounds: the bound, not an interior
 /// optimum, decides it, and when the bound is a machine limit the designer should know that
