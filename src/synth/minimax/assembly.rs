@@ -3,7 +3,7 @@
 //! (`solve_round`) and the design constraints every program shares (`design_rows`, and the
 //! same constraints as smooth functions for the Newton polish, `design_constraints`).
 
-use super::polish::Design;
+use super::constraints::Design;
 use super::validate::{bad, check_finite, validate_structure};
 use super::{
     var_i, var_m, var_u, AffineValue, Engine, Goal, LinearConstraint, MinimaxError, Problem,

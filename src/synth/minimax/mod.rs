@@ -138,6 +138,7 @@ pub use crate::synth::exchange::Status;
 
 mod assembly;
 mod certificate;
+mod constraints;
 mod exchange_loop;
 mod pareto;
 mod peaks;
