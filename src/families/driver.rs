@@ -5,7 +5,8 @@
 //! A family supplies the parts through [`Solve`] (the way Clarabel.rs writes its solver loop
 //! once and takes the cone and KKT parts through traits): its `solve.rs` computes every number
 //! into a typed [`Solve::Solution`] — the synthesis and every second solve that the result
-//! reports (a speed sweep, a boom counterweight, joint loads, the dynamics) — and its
+//! reports (a speed sweep, a boom counterweight, joint loads, the dynamics) — with the
+//! [`Claim`] every family makes of its design (status, method, evidence, bounds), and its
 //! `report.rs` shapes that value into the result's number maps and draws it, calling no solver.
 //! A `--summary-only` batch, a study rung or a calibration step pays for the solve and the
 //! numbers only: the drawing stage is a [`Deferred`] ([`DOCUMENTS`]) that runs in
@@ -13,11 +14,57 @@
 //! carry ([`ANALYSES`], a crane's Δh landscape) run in [`SolveResult::complete`] alone.
 
 use super::family::Scene;
-use crate::report::{Deferred, SolveResult, ANALYSES, DOCUMENTS};
+use crate::report::{Deferred, SolveResult, Status, ANALYSES, DOCUMENTS};
+use crate::synth::{ActiveBound, SearchEvidence};
 use serde_json::Value;
 use std::collections::BTreeMap;
 use std::sync::Arc;
 use std::time::Instant;
+
+/// What a family's solve claims of its design, typed, in every family's words: the status
+/// (a claim: `optimal` only with a certificate, `best_found` with its search's evidence), the
+/// family's finer detail, the method that found it, the evidence, the bounds the design sits
+/// on and the solve's own warnings. The family's numbers are its `Solution`'s; this is what
+/// every result says about them.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Claim {
+    /// The status.
+    pub status: Status,
+    /// The family's finer status (`branch-defect`, the reason of a `degenerate`), if any.
+    pub status_detail: Option<String>,
+    /// The method: solver, crate, evaluations.
+    pub method: String,
+    /// With `best_found`: what the heuristic search did.
+    pub search: Option<SearchEvidence>,
+    /// The design variables left on a bound of their range.
+    pub bounds: Vec<ActiveBound>,
+    /// The solve's warnings (the report adds those of its checks after them).
+    pub warnings: Vec<String>,
+}
+
+impl Claim {
+    /// A claim of `status` by `method`, with nothing else to say.
+    pub fn new(status: Status, method: impl Into<String>) -> Claim {
+        Claim {
+            status,
+            status_detail: None,
+            method: method.into(),
+            search: None,
+            bounds: Vec::new(),
+            warnings: Vec::new(),
+        }
+    }
+
+    /// Writes the claim into the result.
+    fn fill(&self, r: &mut SolveResult) {
+        r.status = self.status;
+        r.status_detail = self.status_detail.clone();
+        r.method = self.method.clone();
+        r.search = self.search.clone();
+        r.bounds = self.bounds.clone();
+        r.warnings = self.warnings.clone();
+    }
+}
 
 /// A family's parts of a solve: what [`drive`] calls, in this order.
 pub trait Solve: Send + Sync + 'static {
@@ -32,8 +79,11 @@ pub trait Solve: Send + Sync + 'static {
     fn model(&self, sol: Option<&Self::Solution>) -> BTreeMap<String, Value>;
     /// The solve: every number, nothing drawn. An error is why the result is `failed`.
     fn solve(&self) -> Result<Self::Solution, String>;
-    /// The result's numbers from the solution — status, design, objectives, errors, derived
-    /// figures, baselines, bounds, sections, warnings, method — computing nothing new.
+    /// What the solve claims of its design.
+    fn claim<'s>(&self, sol: &'s Self::Solution) -> &'s Claim;
+    /// The result's numbers from the solution — design, objectives, errors, derived figures,
+    /// baselines, sections, and the warnings of the report's own checks — computing nothing
+    /// new.
     fn numbers(&self, scene: &Scene, sol: &Self::Solution, r: &mut SolveResult);
     /// The tables, plots and drawings of the solution: made only when they are asked for
     /// ([`SolveResult::draw`], [`SolveResult::complete`]).
@@ -66,6 +116,7 @@ pub fn drive<P: Solve + super::Machine>(scene: &Scene, part: &P) -> SolveResult 
     };
     r.timing.solve_s = t0.elapsed().as_secs_f64();
     r.model = part.model(Some(&sol));
+    part.claim(&sol).fill(&mut r);
     part.numbers(scene, &sol, &mut r);
     let (scene, sol) = (Arc::new(scene.clone()), Arc::new(sol));
     let (s, x) = (scene.clone(), sol.clone());

@@ -167,6 +167,9 @@ macro_rules! family_folder {
             fn solve(&self) -> Result<solve::Solution, String> {
                 solve::solve(self)
             }
+            fn claim<'s>(&self, sol: &'s solve::Solution) -> &'s $crate::families::driver::Claim {
+                &sol.claim
+            }
             fn numbers(
                 &self,
                 scene: &$crate::families::family::Scene,

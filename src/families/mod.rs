@@ -16,7 +16,7 @@ pub mod slider_crank;
 pub mod driver;
 pub mod family;
 
-pub use driver::{drive, Solve};
+pub use driver::{drive, Claim, Solve};
 
 pub use family::{machine, relative, Effect, Family, Ladder, Machine, Rung, Scene};
 

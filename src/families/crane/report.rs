@@ -8,30 +8,16 @@ use crate::families::crane::balance;
 use crate::families::crane::model::{synthesize, Angles, Boom, Guide};
 use crate::families::crane::statics::boom_frame;
 use crate::families::crane::synth::{
-    self as cr, Derived, Design, Objectives, Outcome, Status as CraneStatus, TiePinLimit,
+    self as cr, Derived, Design, Objectives, Outcome, TiePinLimit,
 };
 use crate::families::family::Scene;
 use crate::geom::P2;
 use crate::report::drawing::{Drawing, Layer, Sheet};
 use crate::report::numbers::key;
 use crate::report::plot::{self, Grid, Panel, PlotError, Series};
-use crate::report::{number_map, PaperCheck, Plot, SolveResult, Status, Table};
+use crate::report::{number_map, PaperCheck, Plot, SolveResult, Table};
 use serde_json::json;
 use std::collections::BTreeMap;
-
-fn status_detail(s: CraneStatus) -> &'static str {
-    match s {
-        CraneStatus::Evaluated => "evaluated",
-        CraneStatus::BestFound => {
-            "best-found: multistart (Halton + SQP), not proven globally optimal"
-        }
-        CraneStatus::Infeasible => "infeasible",
-        CraneStatus::BranchDefect => "branch-defect",
-        CraneStatus::CannotAssemble => "cannot-assemble",
-        CraneStatus::NoGeometry => "no-geometry",
-        CraneStatus::Degenerate => "ill-conditioned: the rounding bound of delta h exceeds delta h",
-    }
-}
 
 /// The result's `model` section: the sizing rule the solve used, the path, the tie-pin limit,
 /// the allowed Δh and what gravity enters (none before a solution).
@@ -79,23 +65,7 @@ pub fn model(s: &CraneProblem, sol: Option<&Solution>) -> BTreeMap<String, serde
 /// figures, the thesis's checks, the sections and the statics.
 pub fn numbers(scene: &Scene, s: &CraneProblem, sol: &Solution, r: &mut SolveResult) {
     let (cs, out) = (&s.scene, &sol.out);
-    r.status = match out.status {
-        CraneStatus::Evaluated => Status::Analysed,
-        CraneStatus::BestFound => Status::BestFound,
-        CraneStatus::Degenerate => Status::Degenerate,
-        CraneStatus::Infeasible => Status::Infeasible,
-        CraneStatus::BranchDefect | CraneStatus::CannotAssemble | CraneStatus::NoGeometry => {
-            Status::Failed
-        }
-    };
-    r.status_detail = Some(status_detail(out.status).into());
-    r.method = out.method.clone();
-    r.search = out.search.clone();
-    r.warnings = out.warnings.clone();
     r.design = number_map(&out.design);
-    if r.status == Status::BestFound {
-        range_bounds(r, cs, out);
-    }
     r.objectives = number_map(&out.objectives);
     r.errors = number_map(&out.errors);
     r.derived = number_map(&out.derived);
@@ -103,69 +73,6 @@ pub fn numbers(scene: &Scene, s: &CraneProblem, sol: &Solution, r: &mut SolveRes
     sections(r, out);
     if let Some(st) = &sol.statics {
         statics_numbers(r, s, out, st);
-    }
-}
-
-/// Free variables the search left on a bound of their range: the range decides them.
-fn range_bounds(r: &mut SolveResult, cs: &cr::CraneScene, out: &Outcome) {
-    let v = &out.design.vars;
-    let free = [
-        (
-            "k1",
-            "design.k1",
-            &cs.k1,
-            v.k1,
-            "the middle design position C2 between C1 and C3",
-        ),
-        (
-            "k2",
-            "design.k2",
-            &cs.k2,
-            v.k2,
-            "the jib tail over the jib head length",
-        ),
-        (
-            "phi_min_rad",
-            "design.phi_min",
-            &cs.phi_min,
-            v.phi_min_rad,
-            "the boom elevation at maximum reach",
-        ),
-        (
-            "gamma1_rad",
-            "design.gamma1",
-            &cs.gamma1,
-            v.gamma1_rad,
-            "the boom from vertical at minimum reach",
-        ),
-        (
-            "gamma2_rad",
-            "design.gamma2",
-            &cs.gamma2,
-            v.gamma2_rad,
-            "the jib from vertical at minimum reach",
-        ),
-        (
-            "gamma3_rad",
-            "design.gamma3",
-            &cs.gamma3,
-            v.gamma3_rad,
-            "the jib below horizontal at maximum reach",
-        ),
-    ];
-    for (key, field, var, value, what) in free {
-        if var.fixed().is_none() {
-            let lo = format!("{what} at the least the range allows: the range, not an interior optimum, decides it");
-            let hi = format!("{what} at the most the range allows: the range, not an interior optimum, decides it");
-            r.bounds.extend(crate::report::ActiveBound::check(
-                &format!("design.{key}"),
-                value,
-                var.bounds(),
-                1e-6,
-                (field, &lo),
-                (field, &hi),
-            ));
-        }
     }
 }
 

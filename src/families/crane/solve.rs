@@ -7,7 +7,10 @@
 
 use super::balance;
 use super::file::CraneProblem;
-use super::synth::{self as cr, Landscape};
+use super::synth::{self as cr, Landscape, Status as CraneStatus};
+use crate::families::driver::Claim;
+use crate::report::Status;
+use crate::synth::ActiveBound;
 
 /// Series points of the balance's table and plots.
 const BALANCE_SAMPLES: usize = 120;
@@ -15,6 +18,10 @@ const BALANCE_SAMPLES: usize = 120;
 /// Every number of a solved crane scene.
 #[derive(Debug, Clone)]
 pub struct Solution {
+    /// What the solve claims: the status (`best_found` for a multistart search), its finer
+    /// detail, the method, the search's evidence, the free variables on a bound of their
+    /// range, the synthesis's warnings.
+    pub claim: Claim,
     /// The synthesis: design, objectives, checks, path, search evidence.
     pub out: cr::Outcome,
     /// The boom system's statics at the reported design, where the scene asks for them
@@ -51,7 +58,112 @@ impl Solution {
 pub fn solve(p: &CraneProblem) -> Result<Solution, String> {
     let out = cr::solve(&p.scene, &p.settings).map_err(|e| e.to_string())?;
     let statics = statics(p, &out);
-    Ok(Solution { out, statics })
+    Ok(Solution {
+        claim: claim(&p.scene, &out),
+        out,
+        statics,
+    })
+}
+
+/// What the solve claims of its design.
+fn claim(cs: &cr::CraneScene, out: &cr::Outcome) -> Claim {
+    let status = match out.status {
+        CraneStatus::Evaluated => Status::Analysed,
+        CraneStatus::BestFound => Status::BestFound,
+        CraneStatus::Degenerate => Status::Degenerate,
+        CraneStatus::Infeasible => Status::Infeasible,
+        CraneStatus::BranchDefect | CraneStatus::CannotAssemble | CraneStatus::NoGeometry => {
+            Status::Failed
+        }
+    };
+    let mut c = Claim::new(status, out.method.clone());
+    c.status_detail = Some(status_detail(out.status).into());
+    c.search = out.search.clone();
+    c.warnings = out.warnings.clone();
+    if status == Status::BestFound {
+        c.bounds = range_bounds(cs, out);
+    }
+    c
+}
+
+/// The family's finer status, in words.
+fn status_detail(s: CraneStatus) -> &'static str {
+    match s {
+        CraneStatus::Evaluated => "evaluated",
+        CraneStatus::BestFound => {
+            "best-found: multistart (Halton + SQP), not proven globally optimal"
+        }
+        CraneStatus::Infeasible => "infeasible",
+        CraneStatus::BranchDefect => "branch-defect",
+        CraneStatus::CannotAssemble => "cannot-assemble",
+        CraneStatus::NoGeometry => "no-geometry",
+        CraneStatus::Degenerate => "ill-conditioned: the rounding bound of delta h exceeds delta h",
+    }
+}
+
+/// Free variables the search left on a bound of their range: the range decides them.
+fn range_bounds(cs: &cr::CraneScene, out: &cr::Outcome) -> Vec<ActiveBound> {
+    let mut bounds = Vec::new();
+    let v = &out.design.vars;
+    let free = [
+        (
+            "k1",
+            "design.k1",
+            &cs.k1,
+            v.k1,
+            "the middle design position C2 between C1 and C3",
+        ),
+        (
+            "k2",
+            "design.k2",
+            &cs.k2,
+            v.k2,
+            "the jib tail over the jib head length",
+        ),
+        (
+            "phi_min_rad",
+            "design.phi_min",
+            &cs.phi_min,
+            v.phi_min_rad,
+            "the boom elevation at maximum reach",
+        ),
+        (
+            "gamma1_rad",
+            "design.gamma1",
+            &cs.gamma1,
+            v.gamma1_rad,
+            "the boom from vertical at minimum reach",
+        ),
+        (
+            "gamma2_rad",
+            "design.gamma2",
+            &cs.gamma2,
+            v.gamma2_rad,
+            "the jib from vertical at minimum reach",
+        ),
+        (
+            "gamma3_rad",
+            "design.gamma3",
+            &cs.gamma3,
+            v.gamma3_rad,
+            "the jib below horizontal at maximum reach",
+        ),
+    ];
+    for (key, field, var, value, what) in free {
+        if var.fixed().is_none() {
+            let lo = format!("{what} at the least the range allows: the range, not an interior optimum, decides it");
+            let hi = format!("{what} at the most the range allows: the range, not an interior optimum, decides it");
+            bounds.extend(ActiveBound::check(
+                &format!("design.{key}"),
+                value,
+                var.bounds(),
+                1e-6,
+                (field, &lo),
+                (field, &hi),
+            ));
+        }
+    }
+    bounds
 }
 
 /// The statics at the design `out.x`, where the scene asks for them and the design has

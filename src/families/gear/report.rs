@@ -11,21 +11,11 @@ use crate::families::gear::teeth::Arch;
 use crate::geom::P2;
 use crate::report::drawing::{Drawing, Layer, Sheet};
 use crate::report::plot::{self, Panel, PlotError, Series};
-use crate::report::{number_map, Plot, SolveResult, Status, Table};
+use crate::report::{number_map, Plot, SolveResult, Table};
 use serde_json::json;
 use std::collections::BTreeMap;
 use std::f64::consts::TAU;
 use std::fmt::Write as _;
-
-fn status_detail(s: sg::Status) -> &'static str {
-    match s {
-        sg::Status::Analysed => "analysed",
-        sg::Status::Optimal => "interior-optimum",
-        sg::Status::ConstraintBound => "constraint-bound",
-        sg::Status::AtBound => "at-bound",
-        sg::Status::Infeasible => "infeasible",
-    }
-}
 
 /// The result's `model` section: the teeth, the centre distance, the pole window, the turns
 /// and the speed.
@@ -51,22 +41,10 @@ pub fn model(p: &GearProblem, _: Option<&Solution>) -> BTreeMap<String, serde_js
 /// figures, the paper's checks, the poles and zeros, the flank wear.
 pub fn numbers(_: &Scene, _: &GearProblem, sol: &Solution, r: &mut SolveResult) {
     let out = &sol.out;
-    r.status = match out.status {
-        sg::Status::Analysed => Status::Analysed,
-        // A sampled sweep + Brent is a heuristic search, not a certificate.
-        sg::Status::Optimal | sg::Status::ConstraintBound | sg::Status::AtBound => {
-            Status::BestFound
-        }
-        sg::Status::Infeasible => Status::Infeasible,
-    };
-    r.status_detail = Some(status_detail(out.status).into());
-    r.search = out.search.clone();
-    r.method = out.method.clone();
     r.design = number_map(&out.design);
     r.objectives = number_map(&out.objectives);
     r.errors = number_map(&out.errors);
     r.derived = number_map(&out.derived);
-    r.warnings.extend(out.warnings.iter().cloned());
     r.paper = out.paper.clone();
     r.extra.insert(
         "poles".into(),

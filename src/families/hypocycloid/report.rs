@@ -4,9 +4,9 @@
 
 use super::balance::{DynamicsOutcome, RotatingOutcome};
 use super::file::*;
-use super::solve::{Analyses, Solution};
+use super::solve::{kebab, Analyses, Solution};
 use crate::families::family::Scene;
-use crate::families::hypocycloid::synth::{self as hy, OptStatus, Outcome, ZeroStatus};
+use crate::families::hypocycloid::synth::{self as hy, Outcome, ZeroStatus};
 use crate::geom::P2;
 use crate::report::drawing::{Drawing, DrawingError, Layer, Sheet};
 use crate::report::plot::{self, Grid, Panel, PlotError, Series};
@@ -15,13 +15,6 @@ use serde_json::json;
 use std::collections::BTreeMap;
 use std::f64::consts::{PI, TAU};
 use std::fmt::Write as _;
-
-fn kebab<T: serde::Serialize>(v: T) -> String {
-    serde_json::to_value(v)
-        .ok()
-        .and_then(|v| v.as_str().map(str::to_string))
-        .unwrap_or_default()
-}
 
 /// The result's `model` section: the kinematics, the coefficient model, the variant and the
 /// masses the solve uses.
@@ -65,38 +58,6 @@ pub fn model(s: &HypocycloidProblem, _: Option<&Solution>) -> BTreeMap<String, s
 /// figures, the coefficients, balancing, zero-curve, closed-form and dynamics sections.
 pub fn numbers(_: &Scene, s: &HypocycloidProblem, sol: &Solution, r: &mut SolveResult) {
     let out = &sol.out;
-    // Nelder–Mead from a few starts is a heuristic search: `best_found` with its evidence.
-    r.status = match out.status {
-        OptStatus::Analysis => Status::Analysed,
-        OptStatus::Converged => Status::BestFound,
-        OptStatus::MaxIterations => Status::Inaccurate,
-        OptStatus::Infeasible => Status::Infeasible,
-    };
-    if !out.coefficients.converged && matches!(r.status, Status::Analysed | Status::BestFound) {
-        r.status = Status::Inaccurate;
-    }
-    r.search = out.search.clone();
-    let mut detail = kebab(out.status);
-    if let Some(d) = &out.degenerate {
-        r.status = Status::Degenerate;
-        let _ = write!(detail, "; degenerate: {d}");
-    }
-    if let Some(z) = &out.zero_search {
-        let _ = write!(detail, "; zero search: {}", kebab(z.status));
-    }
-    r.status_detail = Some(detail);
-    r.method = if out.zero_search.is_some() {
-        out.method.clone()
-    } else {
-        // No zero search ran: drop its part of the method text.
-        out.method
-            .split("; ")
-            .filter(|p| !p.starts_with("zero search"))
-            .collect::<Vec<_>>()
-            .join("; ")
-    };
-    r.warnings.extend(out.warnings.iter().cloned());
-    r.bounds = out.bounds.clone();
     r.design = number_map(&out.design);
     r.objectives = number_map(&out.objectives);
     r.errors = number_map(&out.errors);

@@ -7,11 +7,18 @@
 use super::balance::{self, At, DynamicsOutcome};
 use super::file::HypocycloidProblem;
 use super::model::{Coefficients, Hypocycloid};
-use super::synth::{self as hy, Outcome};
+use super::synth::{self as hy, OptStatus, Outcome};
+use crate::families::driver::Claim;
+use crate::report::Status;
+use std::fmt::Write as _;
 
 /// Every number of a solved hypocycloid scene.
 #[derive(Debug, Clone)]
 pub struct Solution {
+    /// What the solve claims: `best_found` for the multistart Nelder–Mead, `inaccurate` where
+    /// the coefficients did not converge, `degenerate` with its reason; the method (without
+    /// its zero-search part when none ran), the search's evidence, the bounds, the warnings.
+    pub claim: Claim,
     /// The coefficients, balancing pairs, zero curve and searches.
     pub out: Outcome,
     /// The dynamics at the reported design, where the file asks for any (`Err`: why they
@@ -23,7 +30,59 @@ pub struct Solution {
 pub fn solve(p: &HypocycloidProblem) -> Result<Solution, String> {
     let out = hy::solve(&p.scene, &p.settings).map_err(|e| e.to_string())?;
     let dynamics = p.dynamics.any().then(|| dynamics(p, &out));
-    Ok(Solution { out, dynamics })
+    Ok(Solution {
+        claim: claim(&out),
+        out,
+        dynamics,
+    })
+}
+
+/// What the solve claims of its design.
+fn claim(out: &Outcome) -> Claim {
+    // Nelder–Mead from a few starts is a heuristic search: `best_found` with its evidence.
+    let mut status = match out.status {
+        OptStatus::Analysis => Status::Analysed,
+        OptStatus::Converged => Status::BestFound,
+        OptStatus::MaxIterations => Status::Inaccurate,
+        OptStatus::Infeasible => Status::Infeasible,
+    };
+    if !out.coefficients.converged && matches!(status, Status::Analysed | Status::BestFound) {
+        status = Status::Inaccurate;
+    }
+    let mut detail = kebab(out.status);
+    if let Some(d) = &out.degenerate {
+        status = Status::Degenerate;
+        let _ = write!(detail, "; degenerate: {d}");
+    }
+    if let Some(z) = &out.zero_search {
+        let _ = write!(detail, "; zero search: {}", kebab(z.status));
+    }
+    let method = if out.zero_search.is_some() {
+        out.method.clone()
+    } else {
+        // No zero search ran: drop its part of the method text.
+        out.method
+            .split("; ")
+            .filter(|p| !p.starts_with("zero search"))
+            .collect::<Vec<_>>()
+            .join("; ")
+    };
+    Claim {
+        status,
+        status_detail: Some(detail),
+        method,
+        search: out.search.clone(),
+        bounds: out.bounds.clone(),
+        warnings: out.warnings.clone(),
+    }
+}
+
+/// A serde enum value's spelling (`best-found`), as the result writes it.
+pub fn kebab<T: serde::Serialize>(v: T) -> String {
+    serde_json::to_value(v)
+        .ok()
+        .and_then(|v| v.as_str().map(str::to_string))
+        .unwrap_or_default()
 }
 
 /// The rotating counterweights, drive torque and couples at the design of `out`.

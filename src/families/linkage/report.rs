@@ -11,7 +11,7 @@ use crate::families::linkage::model::{Dyad, JointKind, Linkage, Point};
 use crate::geom::P2;
 use crate::report::drawing::{Drawing, DrawingError, Layer, Sheet};
 use crate::report::plot::{self, Panel, PlotError, Series};
-use crate::report::{ActiveBound, Plot, SolveResult, Status, Table};
+use crate::report::{ActiveBound, Plot, SolveResult, Table};
 use crate::synth::counterweight::Status as CwStatus;
 use crate::synth::minimax::{FieldPeak, Solution};
 use serde_json::json;
@@ -101,56 +101,18 @@ pub fn numbers(_: &Scene, p: &LinkageProblem, sol: &Solved, r: &mut SolveResult)
     r.baselines.insert("unbalanced".into(), bare);
     r.derived
         .insert("max_dyad_conditioning".into(), out.kappa_max);
-    if out.kappa_max > 1e3 {
-        r.warnings.push(format!(
-            "the linkage passes near a toggle (dyad conditioning up to {:.3e}): its accelerations are large there and lose digits as ε·κ²; the stated errors include it",
-            out.kappa_max
-        ));
-    }
     let key = objective_key(sc.objective.minimize);
     r.objective = Some(key.into());
     match (&out.design, out.balance_residual) {
-        (_, Some(resid)) => {
-            r.status = Status::Infeasible;
-            r.status_detail = Some(format!(
-                "full force balance is out of reach of these counterweights: the least-squares residual of the balance equations is {resid:.3e} of the unbalanced force (the counterweights' first moments cannot make the total centre of mass stationary; a four-bar needs them on crank and rocker)"
-            ));
-            put_fields(
-                &mut r.objectives,
-                Some(&mut r.errors),
-                &out.bare,
-                &out.bare_rms,
-            );
-            r.method = "full force balance: SVD of the force blocks at 64 angles".into();
-        }
-        (None, None) => {
-            r.status = Status::Analysed;
-            put_fields(
-                &mut r.objectives,
-                Some(&mut r.errors),
-                &out.bare,
-                &out.bare_rms,
-            );
-            r.method = "closed-form dyads; every peak refined from a scan".into();
-        }
-        (Some(d), None) if d.status == CwStatus::Infeasible => {
-            // No design: the limits cannot be met (a certificate on the sampled angles).
-            r.status = Status::Infeasible;
-            r.status_detail = Some(d.note.clone().unwrap_or_else(|| {
-                "no design meets the limits within the counterweight limits".into()
-            }));
-            put_fields(
-                &mut r.objectives,
-                Some(&mut r.errors),
-                &out.bare,
-                &out.bare_rms,
-            );
-            r.method = format!(
-                "clarabel SOCP + exchange loop: infeasible on {} sampled angles, so on all angles",
-                d.angles
-            );
-        }
-        (Some(d), None) => design_keys(r, p, sol, d, key),
+        // A balance out of reach, an analysis, or no design within the limits: the bare
+        // linkage's figures (the claim says which).
+        (Some(d), None) if d.status != CwStatus::Infeasible => design_keys(r, p, sol, d, key),
+        _ => put_fields(
+            &mut r.objectives,
+            Some(&mut r.errors),
+            &out.bare,
+            &out.bare_rms,
+        ),
     }
     if let Some(front) = &out.pareto {
         r.extra.insert(
@@ -191,10 +153,6 @@ fn design_keys(
     key: &str,
 ) {
     let (sc, out) = (&p.scene, &solution.out);
-    r.status = cw_status(sol.status);
-    if let Some(note) = &sol.note {
-        r.warnings.push(note.clone());
-    }
     let mut total_mass = 0.0;
     for j in 0..sc.counterweights.len() {
         total_mass += counterweight_keys(r, p, solution, sol, j);
@@ -296,7 +254,7 @@ fn counterweight_keys(
     d.mass
 }
 
-/// The solver's figures (bound, gaps, rounds, angles), the limit violations and the method.
+/// The solver's figures (bound, gaps, rounds, angles) and the limit violations.
 fn solver_facts(r: &mut SolveResult, p: &LinkageProblem, out: &ls::Outcome, sol: &Solution) {
     let sc = &p.scene;
     for (k, v) in [
@@ -331,30 +289,6 @@ fn solver_facts(r: &mut SolveResult, p: &LinkageProblem, out: &ls::Outcome, sol:
             sol.peaks[FORCE].peak / bare,
         );
     }
-    r.method = format!(
-        "closed-form dyads; {} + exchange loop: {} rounds, {} angles, {} IPM iterations{}{}",
-        if sol.solver_status == crate::synth::minimax::DISC_SOLVER {
-            "smallest enclosing disc (Welzl, support angles by Newton)"
-        } else {
-            "clarabel SOCP (rotated cones I·m ≥ |u|²)"
-        },
-        sol.rounds,
-        sol.angles,
-        sol.ipm_iterations,
-        if sol.solver_status.contains(crate::synth::minimax::POLISHED) {
-            "; optimality conditions (active maxima, angles, multipliers) polished by Newton"
-        } else {
-            ""
-        },
-        if out.balance_rows > 0 {
-            format!(
-                "; full force balance as {} equalities (SVD of the force blocks)",
-                out.balance_rows
-            )
-        } else {
-            String::new()
-        }
-    );
 }
 
 /// One row per joint: (label, kind, the bare linkage's peak, the design's peak).

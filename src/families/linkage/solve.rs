@@ -6,11 +6,19 @@
 use super::file::LinkageProblem;
 use super::model::ForceBalance;
 use super::synth::{self as ls, JointPeak, Outcome};
+use crate::families::driver::Claim;
+use crate::families::family::cw_status;
+use crate::report::Status;
+use crate::synth::counterweight::Status as CwStatus;
 use crate::synth::shape::sector_realising;
 
 /// Every number of a solved linkage scene.
 #[derive(Debug, Clone)]
 pub struct Solution {
+    /// What the solve claims: the exchange loop's status and method, `infeasible` (with how)
+    /// for a balance out of reach or limits no design meets, `analysed` without
+    /// counterweights; a warning near a toggle and the solver's note.
+    pub claim: Claim,
     /// The counterweights, the bare and balanced fields, the front.
     pub out: Outcome,
     /// Per counterweight of the design with a mass, the annular sector (rᵢ, rₒ, θ) about its
@@ -60,6 +68,7 @@ pub fn solve(p: &LinkageProblem) -> Result<Solution, String> {
         None => Vec::new(),
     };
     let mut sol = Solution {
+        claim: claim(&out),
         out,
         sectors,
         joints: Err(String::new()),
@@ -67,6 +76,81 @@ pub fn solve(p: &LinkageProblem) -> Result<Solution, String> {
     };
     sol.joints = joint_loads(p, sol.design_x());
     Ok(sol)
+}
+
+/// What the solve claims of its design.
+fn claim(out: &Outcome) -> Claim {
+    let mut c = match (&out.design, out.balance_residual) {
+        (_, Some(resid)) => {
+            let mut c = Claim::new(
+                Status::Infeasible,
+                "full force balance: SVD of the force blocks at 64 angles",
+            );
+            c.status_detail = Some(format!(
+                "full force balance is out of reach of these counterweights: the least-squares residual of the balance equations is {resid:.3e} of the unbalanced force (the counterweights' first moments cannot make the total centre of mass stationary; a four-bar needs them on crank and rocker)"
+            ));
+            c
+        }
+        (None, None) => Claim::new(
+            Status::Analysed,
+            "closed-form dyads; every peak refined from a scan",
+        ),
+        (Some(d), None) if d.status == CwStatus::Infeasible => {
+            // No design: the limits cannot be met (a certificate on the sampled angles).
+            let mut c = Claim::new(
+                Status::Infeasible,
+                format!(
+                    "clarabel SOCP + exchange loop: infeasible on {} sampled angles, so on all angles",
+                    d.angles
+                ),
+            );
+            c.status_detail = Some(d.note.clone().unwrap_or_else(|| {
+                "no design meets the limits within the counterweight limits".into()
+            }));
+            c
+        }
+        (Some(d), None) => {
+            let mut c = Claim::new(cw_status(d.status), method(out, d));
+            c.warnings.extend(d.note.clone());
+            c
+        }
+    };
+    if out.kappa_max > 1e3 {
+        c.warnings.insert(0, format!(
+            "the linkage passes near a toggle (dyad conditioning up to {:.3e}): its accelerations are large there and lose digits as ε·κ²; the stated errors include it",
+            out.kappa_max
+        ));
+    }
+    c
+}
+
+/// The method of a solved design: the engine (the exact disc or clarabel's SOCP), its rounds,
+/// angles and iterations, the polish and the balance equalities.
+fn method(out: &Outcome, sol: &crate::synth::minimax::Solution) -> String {
+    format!(
+        "closed-form dyads; {} + exchange loop: {} rounds, {} angles, {} IPM iterations{}{}",
+        if sol.solver_status == crate::synth::minimax::DISC_SOLVER {
+            "smallest enclosing disc (Welzl, support angles by Newton)"
+        } else {
+            "clarabel SOCP (rotated cones I·m ≥ |u|²)"
+        },
+        sol.rounds,
+        sol.angles,
+        sol.ipm_iterations,
+        if sol.solver_status.contains(crate::synth::minimax::POLISHED) {
+            "; optimality conditions (active maxima, angles, multipliers) polished by Newton"
+        } else {
+            ""
+        },
+        if out.balance_rows > 0 {
+            format!(
+                "; full force balance as {} equalities (SVD of the force blocks)",
+                out.balance_rows
+            )
+        } else {
+            String::new()
+        }
+    )
 }
 
 /// The joints' peak loads without counterweights and with the design `x`.

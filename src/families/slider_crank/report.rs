@@ -4,7 +4,7 @@
 
 use super::file::*;
 use super::solve::{Analyses, Solution};
-use crate::families::family::{cw_status, Scene};
+use crate::families::family::Scene;
 use crate::families::slider_crank::model::Kinematics;
 use crate::families::slider_crank::model::ProcessForce;
 use crate::families::slider_crank::model::SliderCrank;
@@ -12,8 +12,7 @@ use crate::families::slider_crank::synth::{self as sc, Objective, SweepPoint};
 use crate::geom::P2;
 use crate::report::drawing::{Drawing, DrawingError, Layer, Sheet};
 use crate::report::plot::{self, Panel, PlotError, Series};
-use crate::report::{number_map, Plot, SolveResult, Status, Table};
-use crate::synth::counterweight::Status as CwStatus;
+use crate::report::{number_map, Plot, SolveResult, Table};
 use crate::synth::shape::Sector;
 use serde_json::json;
 use std::collections::BTreeMap;
@@ -58,30 +57,10 @@ pub fn model(p: &SliderCrankProblem, _: Option<&Solution>) -> BTreeMap<String, s
     ])
 }
 
-/// Is any part of the counterweight free (else the scene is an analysis)?
-fn is_free(s: &sc::Scene) -> bool {
-    s.counterweight.angle.fixed().is_none() || s.counterweight.unbalance.fixed().is_none()
-}
-
-/// The design's keys: U, the realised counterweight and the balancers.
-fn design(p: &SliderCrankProblem, out: &sc::Outcome) -> sc::Design {
-    sc::Design::new(
-        out.design.unbalance,
-        &out.counterweight,
-        p.core.counterweight.shape.as_ref(),
-    )
-    .with_balancers(&out.designed.balancers)
-}
-
 /// The result's numbers from the solution: status, design, objectives with their errors,
 /// derived figures, baselines, the sections and the warnings (what `--json` prints).
 pub fn numbers(_: &Scene, p: &SliderCrankProblem, sol: &Solution, r: &mut SolveResult) {
     let (s, out) = (&p.core, &sol.out);
-    status(r, s, out);
-    r.method = out.method.clone();
-    r.warnings.extend(out.warnings.iter().cloned());
-    let design = design(p, out);
-    unbalance_bound(r, s, &design);
     r.objective = Some(sc::Objectives::key(s.objective).into());
     let mut derived = derived(s, out);
     paper_design_checks(r, &mut derived, p, sol);
@@ -90,7 +69,7 @@ pub fn numbers(_: &Scene, p: &SliderCrankProblem, sol: &Solution, r: &mut SolveR
     shape_numbers(r, s, out);
     balancer_numbers(r, sol);
     joint_load_numbers(r, s, out);
-    r.design = number_map(&design);
+    r.design = number_map(&sol.design);
     r.objectives = number_map(&objectives(out));
     r.errors = number_map(&errors(s, out));
     r.derived = number_map(&derived);
@@ -101,56 +80,6 @@ pub fn numbers(_: &Scene, p: &SliderCrankProblem, sol: &Solution, r: &mut SolveR
             serde_json::to_value(pts).expect("plain data"),
         );
     }
-}
-
-/// The status: the exchange loop's claim, `analysed` for a given counterweight, `degenerate`
-/// with the reason where the free counterweight cannot move the objective.
-fn status(r: &mut SolveResult, s: &sc::Scene, out: &sc::Outcome) {
-    let free = is_free(s);
-    r.status = match out.status {
-        CwStatus::Optimal if !free => Status::Analysed,
-        s => cw_status(s),
-    };
-    if let Some(why) = &out.degenerate {
-        if free {
-            r.status = Status::Degenerate;
-            r.status_detail = Some(why.clone());
-        }
-    }
-}
-
-/// |U| on a bound of its range: the envelope, the unbalance range or m_max·r_max decides the
-/// counterweight, not the balance.
-fn unbalance_bound(r: &mut SolveResult, s: &sc::Scene, design: &sc::Design) {
-    if !is_free(s) || s.counterweight.unbalance.fixed().is_some() {
-        return;
-    }
-    let (lo, hi) = sc::unbalance_bounds(&s.counterweight);
-    let upper = match s.counterweight.shape.as_ref() {
-        Some(sh) if hi >= sh.max_unbalance() => (
-            "design.shape",
-            "the plate fills its envelope: a larger counterweight would balance better; enlarge outer_radius_max, thickness or max_angle",
-        ),
-        _ if s.counterweight.mass.is_some() && hi < s.counterweight.unbalance.bounds().1 => (
-            "design.mass",
-            "the largest mass at the largest radius: a larger counterweight would balance better",
-        ),
-        _ => (
-            "design.unbalance",
-            "the unbalance range's upper end: a larger counterweight would balance better",
-        ),
-    };
-    r.bounds.extend(crate::report::ActiveBound::check(
-        "design.counterweight_unbalance_kgm",
-        design.counterweight_unbalance_kgm,
-        (lo, hi),
-        1e-7,
-        (
-            "design.unbalance",
-            "the unbalance range's lower end: a smaller counterweight would balance better",
-        ),
-        upper,
-    ));
 }
 
 /// The design's objective values.
@@ -320,7 +249,7 @@ pub fn documents(scene: &Scene, p: &SliderCrankProblem, sol: &Solution, r: &mut 
     if let Some((pts, _)) = &sol.sweep {
         speed_sweep_documents(r, scene, &p.core, pts);
     }
-    let design = design(p, out);
+    let design = &sol.design;
     plate_drawing(
         r,
         scene,
@@ -328,7 +257,7 @@ pub fn documents(scene: &Scene, p: &SliderCrankProblem, sol: &Solution, r: &mut 
         out.counterweight.plate,
         design.counterweight_angle_rad,
     );
-    mechanism_drawing(r, scene, &p.core.mech, &design);
+    mechanism_drawing(r, scene, &p.core.mech, design);
     let (scene, s, out) = (scene.clone(), p.core.clone(), out.clone());
     r.plots.push(Plot::new(
         "shaking-force",

@@ -5,12 +5,22 @@
 
 use super::file::SliderCrankProblem;
 use super::synth::{self as sc, Metrics, SweepPoint};
+use crate::families::driver::Claim;
+use crate::families::family::cw_status;
 use crate::geom::P2;
+use crate::report::Status;
+use crate::synth::counterweight::Status as CwStatus;
 use std::collections::BTreeMap;
 
 /// Every number of a solved slider-crank scene.
 #[derive(Debug, Clone)]
 pub struct Solution {
+    /// What the solve claims: the exchange loop's status (`analysed` for a given
+    /// counterweight, `degenerate` where a free one cannot move the objective), its method,
+    /// the bound |U| sits on, the synthesis's warnings.
+    pub claim: Claim,
+    /// The design's keys: U, the realised counterweight and the balancers.
+    pub design: sc::Design,
     /// The synthesis: design, objectives, the exchange loop's certificate, the Pareto front,
     /// the joint loads and the classical baselines.
     pub out: sc::Outcome,
@@ -41,7 +51,10 @@ impl Solution {
 pub fn solve(p: &SliderCrankProblem) -> Result<Solution, String> {
     let s = &p.core;
     let out = sc::solve(s).map_err(|e| e.to_string())?;
+    let design = design(p, &out);
     let mut sol = Solution {
+        claim: claim(s, &out, &design),
+        design,
         baselines: out.baselines.clone(),
         balancers: balancer_figures(&out),
         out,
@@ -63,6 +76,78 @@ pub fn solve(p: &SliderCrankProblem) -> Result<Solution, String> {
         sol.sweep = Some(sc::speed_sweep(s, sw, sol.unbalance()));
     }
     Ok(sol)
+}
+
+/// What the solve claims of its design.
+fn claim(s: &sc::Scene, out: &sc::Outcome, design: &sc::Design) -> Claim {
+    let free = is_free(s);
+    let mut c = Claim::new(
+        match out.status {
+            CwStatus::Optimal if !free => Status::Analysed,
+            st => cw_status(st),
+        },
+        out.method.clone(),
+    );
+    if let Some(why) = &out.degenerate {
+        if free {
+            c.status = Status::Degenerate;
+            c.status_detail = Some(why.clone());
+        }
+    }
+    c.warnings = out.warnings.clone();
+    c.bounds = unbalance_bound(s, design);
+    c
+}
+
+/// Is any part of the counterweight free (else the scene is an analysis)?
+fn is_free(s: &sc::Scene) -> bool {
+    s.counterweight.angle.fixed().is_none() || s.counterweight.unbalance.fixed().is_none()
+}
+
+/// The design's keys: U, the realised counterweight and the balancers.
+fn design(p: &SliderCrankProblem, out: &sc::Outcome) -> sc::Design {
+    sc::Design::new(
+        out.design.unbalance,
+        &out.counterweight,
+        p.core.counterweight.shape.as_ref(),
+    )
+    .with_balancers(&out.designed.balancers)
+}
+
+/// |U| on a bound of its range: the envelope, the unbalance range or m_max·r_max decides the
+/// counterweight, not the balance.
+fn unbalance_bound(s: &sc::Scene, design: &sc::Design) -> Vec<crate::synth::ActiveBound> {
+    if !is_free(s) || s.counterweight.unbalance.fixed().is_some() {
+        return Vec::new();
+    }
+    let (lo, hi) = sc::unbalance_bounds(&s.counterweight);
+    let upper = match s.counterweight.shape.as_ref() {
+        Some(sh) if hi >= sh.max_unbalance() => (
+            "design.shape",
+            "the plate fills its envelope: a larger counterweight would balance better; enlarge outer_radius_max, thickness or max_angle",
+        ),
+        _ if s.counterweight.mass.is_some() && hi < s.counterweight.unbalance.bounds().1 => (
+            "design.mass",
+            "the largest mass at the largest radius: a larger counterweight would balance better",
+        ),
+        _ => (
+            "design.unbalance",
+            "the unbalance range's upper end: a larger counterweight would balance better",
+        ),
+    };
+    crate::synth::ActiveBound::check(
+        "design.counterweight_unbalance_kgm",
+        design.counterweight_unbalance_kgm,
+        (lo, hi),
+        1e-7,
+        (
+            "design.unbalance",
+            "the unbalance range's lower end: a smaller counterweight would balance better",
+        ),
+        upper,
+    )
+    .into_iter()
+    .collect()
 }
 
 /// The lever radius of formula (6): the paper's, else the counterweight's fixed radius.
