@@ -127,14 +127,15 @@ mod yoke {
 
     pub mod solve {
         use super::file::YokeProblem;
+        use cwsynth::families::Claim;
+        use cwsynth::report::Status;
 
         /// Every number: the design u, its sampled peak and the closed-form optimum.
         #[derive(Debug, Clone)]
         pub struct Solution {
+            pub claim: Claim,
             pub u: f64,
             pub peak: f64,
-            pub free: bool,
-            pub on_bound: bool,
             pub unbalanced_peak: f64,
         }
 
@@ -146,11 +147,24 @@ mod yoke {
                     (best.min(max), true, best > max)
                 }
             };
+            // The peak is convex piecewise linear in u: its least value is proven.
+            let mut claim = Claim::new(
+                if free {
+                    Status::Optimal
+                } else {
+                    Status::Analysed
+                },
+                "closed form u* = (m_r + m_s/2) R; peak sampled where it lies",
+            );
+            if on_bound {
+                claim
+                    .warnings
+                    .push("the counterweight is at max_unbalance".into());
+            }
             Ok(Solution {
+                claim,
                 u,
                 peak: p.yoke.peak(u, p.samples),
-                free,
-                on_bound,
                 unbalanced_peak: p.yoke.peak(0.0, p.samples),
             })
         }
@@ -162,20 +176,13 @@ mod yoke {
         use super::file::YokeProblem;
         use super::solve::{Analyses, Solution};
         use cwsynth::families::Scene;
-        use cwsynth::report::{SolveResult, Status, Table};
+        use cwsynth::report::{SolveResult, Table};
         use std::collections::BTreeMap;
 
         pub fn model(_: &YokeProblem, _: Option<&Solution>) -> BTreeMap<String, serde_json::Value> {
             BTreeMap::from([("kinematics".into(), serde_json::json!("exact: x = R cos φ"))])
         }
         pub fn numbers(_: &Scene, p: &YokeProblem, s: &Solution, r: &mut SolveResult) {
-            // The peak is convex piecewise linear in u: its least value is proven.
-            r.status = if s.free {
-                Status::Optimal
-            } else {
-                Status::Analysed
-            };
-            r.method = "closed form u* = (m_r + m_s/2) R; peak sampled where it lies".into();
             r.design.insert("unbalance_kgm".into(), s.u);
             r.objectives.insert("peak_shaking_force_n".into(), s.peak);
             r.errors
@@ -184,10 +191,6 @@ mod yoke {
                 "none".into(),
                 BTreeMap::from([("peak_shaking_force_n".into(), s.unbalanced_peak)]),
             );
-            if s.on_bound {
-                r.warnings
-                    .push("the counterweight is at max_unbalance".into());
-            }
             r.derived.insert("samples".into(), p.samples as f64);
         }
         pub fn documents(_: &Scene, p: &YokeProblem, s: &Solution, r: &mut SolveResult) {
