@@ -79,7 +79,10 @@ pub fn by_name(name: &str) -> Option<&'static dyn Family> {
         .iter()
         .copied()
         .find(|f| f.name() == name)
-        .or_else(|| all().into_iter().find(|f| f.name() == name))
+        .or_else(|| {
+            let reg = REGISTERED.read().unwrap_or_else(|e| e.into_inner());
+            reg.iter().copied().find(|f| f.name() == name)
+        })
 }
 
 /// A commented problem file of `family` to start from (`cwsynth new <family>`): the

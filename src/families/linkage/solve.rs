@@ -43,12 +43,16 @@ pub struct JointLoads {
 impl Solution {
     /// The design vector, where there is a design and all of it is finite.
     pub fn design_x(&self) -> Option<&[f64]> {
-        self.out
-            .design
-            .as_ref()
-            .map(|s| s.x.as_slice())
-            .filter(|x| x.iter().all(|v| v.is_finite()))
+        finite_design(&self.out)
     }
+}
+
+/// The design vector of `out`, where there is a design and all of it is finite.
+fn finite_design(out: &Outcome) -> Option<&[f64]> {
+    out.design
+        .as_ref()
+        .map(|s| s.x.as_slice())
+        .filter(|x| x.iter().all(|v| v.is_finite()))
 }
 
 /// Solves the scene: the counterweights, their sectors, the joint loads, Berkof–Lowen.
@@ -67,15 +71,13 @@ pub fn solve(p: &LinkageProblem) -> Result<Solution, String> {
             .collect(),
         None => Vec::new(),
     };
-    let mut sol = Solution {
+    Ok(Solution {
         claim: claim(&out),
+        joints: joint_loads(p, finite_design(&out)),
         out,
         sectors,
-        joints: Err(String::new()),
         berkof_lowen: sc.linkage.berkof_lowen().ok(),
-    };
-    sol.joints = joint_loads(p, sol.design_x());
-    Ok(sol)
+    })
 }
 
 /// What the solve claims of its design.

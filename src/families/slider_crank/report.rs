@@ -159,7 +159,7 @@ fn derived(s: &sc::Scene, out: &sc::Outcome) -> sc::Derived {
 fn baselines(r: &mut SolveResult, s: &sc::Scene, sol: &Solution) {
     let d = &sol.out.design;
     let torque_objective = s.objective == Objective::MinPeakTorque;
-    for (name, b) in &sol.baselines {
+    for (name, b) in sol.baselines() {
         let (base, ours) = if torque_objective {
             (b.peak_torque, d.peak_torque)
         } else {
@@ -169,7 +169,7 @@ fn baselines(r: &mut SolveResult, s: &sc::Scene, sol: &Solution) {
             improvement_pct: Some(100.0 * (base - ours) / base.max(1e-300)),
             ..b.baseline()
         };
-        r.baselines.insert(name.clone(), number_map(&figures));
+        r.baselines.insert(name.into(), number_map(&figures));
     }
 }
 
@@ -290,7 +290,11 @@ fn pareto_documents(r: &mut SolveResult, scene: &Scene, sol: &Solution) {
         caption: "Torque–force Pareto front".into(),
         csv,
     });
-    let (scene, out, baselines) = (scene.clone(), out.clone(), sol.baselines.clone());
+    let baselines: BTreeMap<String, sc::Metrics> = sol
+        .baselines()
+        .map(|(k, m)| (k.into(), m.clone()))
+        .collect();
+    let (scene, out) = (scene.clone(), out.clone());
     r.plots.push(Plot::new(
         "pareto",
         "Torque–force Pareto front",
@@ -567,22 +571,17 @@ fn paper_design_checks(
             }
         }
     }
-    if pd.counterweight_mass.is_some() {
-        match (
-            &sol.paper_counterweight_error,
-            sol.baselines.get("paper_counterweight"),
-        ) {
-            (Some(e), _) => r.warnings.push(format!(
-                "the paper's counterweight could not be evaluated: {e}"
-            )),
-            (None, Some(met)) => {
-                if let Some(none) = sol.baselines.get("none") {
-                    derived.paper_counterweight_torque_reduction_pct =
-                        Some(100.0 * (none.peak_torque - met.peak_torque) / none.peak_torque);
-                }
+    match &sol.paper_counterweight {
+        Some(Err(e)) => r.warnings.push(format!(
+            "the paper's counterweight could not be evaluated: {e}"
+        )),
+        Some(Ok(met)) => {
+            if let Some(none) = sol.out.baselines.get("none") {
+                derived.paper_counterweight_torque_reduction_pct =
+                    Some(100.0 * (none.peak_torque - met.peak_torque) / none.peak_torque);
             }
-            (None, None) => {}
         }
+        None => {}
     }
 }
 

@@ -10,7 +10,6 @@ use crate::families::family::cw_status;
 use crate::geom::P2;
 use crate::report::Status;
 use crate::synth::counterweight::Status as CwStatus;
-use std::collections::BTreeMap;
 
 /// Every number of a solved slider-crank scene.
 #[derive(Debug, Clone)]
@@ -24,15 +23,12 @@ pub struct Solution {
     /// The synthesis: design, objectives, the exchange loop's certificate, the Pareto front,
     /// the joint loads and the classical baselines.
     pub out: sc::Outcome,
-    /// The baselines of the result: the classical designs of `out.baselines`, and
-    /// `paper_counterweight` (the paper's printed counterweight) where the file gives one and
-    /// it could be evaluated.
-    pub baselines: BTreeMap<String, Metrics>,
+    /// The paper's printed counterweight evaluated as the baseline `paper_counterweight`,
+    /// where the file gives one (`Err`: why it could not be evaluated).
+    pub paper_counterweight: Option<Result<Metrics, String>>,
     /// The lever radius of the classical formula (6) (`[paper].lever_radius`, else the
     /// counterweight's fixed radius), where there is one.
     pub lever: Option<f64>,
-    /// Why the paper's counterweight could not be evaluated, where it could not.
-    pub paper_counterweight_error: Option<String>,
     /// The design's Lanchester balancer pairs, as the result lists them.
     pub balancers: Vec<BalancerFigures>,
     /// The speed sweep (`objective.speed_sweep`): one point per speed whose solve succeeded,
@@ -41,6 +37,20 @@ pub struct Solution {
 }
 
 impl Solution {
+    /// The result's baselines: the classical designs of `out.baselines`, then the paper's
+    /// counterweight where it was evaluated.
+    pub fn baselines(&self) -> impl Iterator<Item = (&str, &Metrics)> {
+        let paper = match &self.paper_counterweight {
+            Some(Ok(m)) => Some(("paper_counterweight", m)),
+            _ => None,
+        };
+        self.out
+            .baselines
+            .iter()
+            .map(|(k, m)| (k.as_str(), m))
+            .chain(paper)
+    }
+
     /// The design's unbalance vector U (kg·m).
     pub fn unbalance(&self) -> P2 {
         P2::from(self.out.design.unbalance)
@@ -55,22 +65,17 @@ pub fn solve(p: &SliderCrankProblem) -> Result<Solution, String> {
     let mut sol = Solution {
         claim: claim(s, &out, &design),
         design,
-        baselines: out.baselines.clone(),
         balancers: balancer_figures(&out),
         out,
         lever: lever_radius(p),
-        paper_counterweight_error: None,
+        paper_counterweight: None,
         sweep: None,
     };
     // The paper's counterweight m at the lever radius r: U = (−m r, 0).
     let printed = p.paper.as_ref().and_then(|pd| pd.counterweight_mass);
     if let (Some(rad), Some(pm)) = (sol.lever, printed) {
-        match sc::metrics(s, P2::new(-pm * rad, 0.0)) {
-            Ok(met) => {
-                sol.baselines.insert("paper_counterweight".into(), met);
-            }
-            Err(e) => sol.paper_counterweight_error = Some(e.to_string()),
-        }
+        sol.paper_counterweight =
+            Some(sc::metrics(s, P2::new(-pm * rad, 0.0)).map_err(|e| e.to_string()));
     }
     if let Some(sw) = &p.speed_sweep {
         sol.sweep = Some(sc::speed_sweep(s, sw, sol.unbalance()));
