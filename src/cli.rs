@@ -216,8 +216,9 @@ fn summary(r: &SolveResult) -> String {
     for (name, b) in &r.baselines {
         if let (Some(p), Some(i)) = (b.get("peak_shaking_force_n"), b.get("improvement_pct")) {
             s += &format!(
-                "  baseline   {name:<34} peak {} N (optimum {:+.1} %)\n",
+                "  baseline   {name:<34} peak {} N ({} {:+.1} %)\n",
                 fmt_num(*p),
+                r.status.design_label(),
                 -i
             );
         }

@@ -41,4 +41,5 @@ mod schema;
 mod scotch_yoke;
 mod slider_crank;
 mod slider_crank_balancers;
+mod statuses;
 mod study;

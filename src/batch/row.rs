@@ -297,7 +297,13 @@ fn row_of(index: u64, source: &str, hash: &str, v: RowInput) -> Row {
     let message = if status == "degenerate" {
         v.status_detail.to_string()
     } else if matches!(status.as_str(), "failed" | "infeasible" | "inaccurate") {
-        v.warnings.join(" | ")
+        // The detail first: an infeasible result's says how far off each limit is.
+        (!v.status_detail.is_empty())
+            .then_some(v.status_detail)
+            .into_iter()
+            .chain(v.warnings.iter().copied())
+            .collect::<Vec<&str>>()
+            .join(" | ")
     } else {
         String::new()
     };

@@ -15,7 +15,7 @@
 
 use super::family::Scene;
 use crate::report::{Deferred, SolveResult, Status, ANALYSES, DOCUMENTS};
-use crate::synth::{ActiveBound, SearchEvidence};
+use crate::synth::{ActiveBound, SearchEvidence, Shortfall};
 use serde_json::Value;
 use std::collections::BTreeMap;
 use std::sync::Arc;
@@ -40,6 +40,9 @@ pub struct Claim {
     pub bounds: Vec<ActiveBound>,
     /// The solve's warnings (the report adds those of its checks after them).
     pub warnings: Vec<String>,
+    /// With `infeasible`: each limit and the least value of its quantity that any design
+    /// within the bounds reaches (how far off the limit is).
+    pub infeasibility: Vec<Shortfall>,
 }
 
 impl Claim {
@@ -52,7 +55,19 @@ impl Claim {
             search: None,
             bounds: Vec::new(),
             warnings: Vec::new(),
+            infeasibility: Vec::new(),
         }
+    }
+
+    /// An `infeasible` claim: the shortfalls, and a status detail that says them (unless
+    /// the family gave one).
+    pub fn infeasible(&mut self, shortfalls: Vec<Shortfall>) {
+        self.status = Status::Infeasible;
+        if self.status_detail.is_none() && !shortfalls.is_empty() {
+            let said: Vec<String> = shortfalls.iter().map(Shortfall::describe).collect();
+            self.status_detail = Some(said.join("; "));
+        }
+        self.infeasibility = shortfalls;
     }
 
     /// Writes the claim into the result.
@@ -63,6 +78,7 @@ impl Claim {
         r.search = self.search.clone();
         r.bounds = self.bounds.clone();
         r.warnings = self.warnings.clone();
+        r.infeasibility = self.infeasibility.clone();
     }
 }
 

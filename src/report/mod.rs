@@ -71,8 +71,22 @@ impl Status {
             }
             Status::Analysed => "nothing free: the given design, evaluated to the stated error",
             Status::Inaccurate => "stopped short of the requested accuracy; the stated error says how far",
-            Status::Infeasible => "the constraints cannot be met",
+            Status::Infeasible => {
+                "no design within the bounds meets the limits; `infeasibility` says how far off each is, and the design shown is the closest"
+            }
             Status::Failed => "the solve failed; the warnings say why",
+        }
+    }
+
+    /// What the result's design is, in a label (plots, the terminal summary): the
+    /// `optimum` only where the status claims one.
+    pub fn design_label(self) -> &'static str {
+        match self {
+            Status::Optimal => "optimum",
+            Status::BestFound => "best found",
+            Status::Analysed => "given design",
+            Status::Infeasible => "closest design",
+            Status::Degenerate | Status::Inaccurate | Status::Failed => "design",
         }
     }
 }
@@ -84,7 +98,7 @@ impl std::fmt::Display for Status {
 }
 
 /// The evidence of a `best_found` result (defined with the searches that produce it).
-pub use crate::synth::{ActiveBound, BoundSide, SearchEvidence};
+pub use crate::synth::{ActiveBound, BoundSide, SearchEvidence, Shortfall};
 
 /// A paper's printed value against the program's.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -277,6 +291,10 @@ pub struct SolveResult {
     /// and what that means for the machine (absent when none).
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub bounds: Vec<ActiveBound>,
+    /// With `infeasible`: each limit no design meets and the least value of its quantity that
+    /// any design within the bounds reaches (absent otherwise).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub infeasibility: Vec<Shortfall>,
     /// The key of `objectives` that the scene optimised, where it is one of them.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub objective: Option<String>,
@@ -337,6 +355,7 @@ impl SolveResult {
             model: BTreeMap::new(),
             design: BTreeMap::new(),
             bounds: Vec::new(),
+            infeasibility: Vec::new(),
             objective: None,
             objectives: BTreeMap::new(),
             errors: BTreeMap::new(),

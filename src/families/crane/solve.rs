@@ -10,7 +10,7 @@ use super::file::CraneProblem;
 use super::synth::{self as cr, Landscape, Status as CraneStatus};
 use crate::families::driver::Claim;
 use crate::report::Status;
-use crate::synth::ActiveBound;
+use crate::synth::{ActiveBound, Sense, Shortfall};
 
 /// Series points of the balance's table and plots.
 const BALANCE_SAMPLES: usize = 120;
@@ -83,7 +83,42 @@ fn claim(cs: &cr::CraneScene, out: &cr::Outcome) -> Claim {
     if status == Status::BestFound {
         c.bounds = range_bounds(cs, out);
     }
+    if status == Status::Infeasible {
+        c.status_detail = None;
+        c.infeasible(failed_checks(out));
+    }
     c
+}
+
+/// The checks the search's best design fails, as shortfalls: what it reaches against each
+/// limit. The search is heuristic, so none is certified the closest a design can come.
+fn failed_checks(out: &cr::Outcome) -> Vec<Shortfall> {
+    out.checks
+        .iter()
+        .filter(|k| !k.pass)
+        .map(|k| {
+            // The note ends with the unit: "reach at phi_min … >= R_max (m)".
+            let (quantity, unit) = match k.note.rsplit_once(" (") {
+                Some((q, u)) if u.ends_with(')') => (q, u.trim_end_matches(')')),
+                _ => (k.note.as_str(), ""),
+            };
+            (k, quantity.to_string(), unit.to_string())
+        })
+        .map(|(k, quantity, unit)| Shortfall {
+            limit: format!("checks.{}", k.name),
+            quantity,
+            sense: if k.value > k.limit {
+                Sense::AtMost
+            } else {
+                Sense::AtLeast
+            },
+            value: k.limit,
+            closest: k.value,
+            error: 0.0,
+            certified: false,
+            unit,
+        })
+        .collect()
 }
 
 /// The family's finer status, in words.

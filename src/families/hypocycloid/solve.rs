@@ -74,6 +74,7 @@ fn claim(out: &Outcome) -> Claim {
         search: out.search.clone(),
         bounds: out.bounds.clone(),
         warnings: out.warnings.clone(),
+        infeasibility: Vec::new(),
     }
 }
 

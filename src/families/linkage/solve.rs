@@ -3,7 +3,7 @@
 //! sector about its joint, every joint's Newton–Euler load over the cycle without and with
 //! them, and the Berkof–Lowen closed form of a four-bar — every number the result reports.
 
-use super::file::LinkageProblem;
+use super::file::{Goal, LinkageProblem, LinkageScene, Objective as ObjectiveSpec};
 use super::model::ForceBalance;
 use super::synth::{self as ls, JointPeak, Outcome};
 use crate::families::driver::Claim;
@@ -11,6 +11,7 @@ use crate::families::family::cw_status;
 use crate::report::Status;
 use crate::synth::counterweight::Status as CwStatus;
 use crate::synth::shape::sector_realising;
+use crate::synth::Shortfall;
 
 /// Every number of a solved linkage scene.
 #[derive(Debug, Clone)]
@@ -71,13 +72,52 @@ pub fn solve(p: &LinkageProblem) -> Result<Solution, String> {
             .collect(),
         None => Vec::new(),
     };
+    let mut claim = claim(&out);
+    if matches!(&out.design, Some(d) if d.status == CwStatus::Infeasible) {
+        claim.status_detail = None;
+        claim.infeasible(shortfalls(p));
+    }
     Ok(Solution {
-        claim: claim(&out),
+        claim,
         joints: joint_loads(p, finite_design(&out)),
         out,
         sectors,
         berkof_lowen: sc.linkage.berkof_lowen().ok(),
     })
+}
+
+/// How far off each peak limit of an infeasible linkage is: the peak force, moment and
+/// torque each minimised alone (every limit and the full balance left out), a certified
+/// minimax like the solve's own. A limit whose own solve does not certify gives no entry.
+fn shortfalls(p: &LinkageProblem) -> Vec<Shortfall> {
+    let o = &p.scene.objective;
+    let limits = [
+        (o.max_peak_force, Goal::PeakForce, "max_peak_force", "peak shaking force", "N"),
+        (o.max_peak_moment, Goal::PeakMoment, "max_peak_moment", "peak shaking moment", "N·m"),
+        (o.max_peak_torque, Goal::PeakTorque, "max_peak_torque", "peak drive torque", "N·m"),
+    ];
+    let mut out = Vec::new();
+    for (limit, goal, key, quantity, unit) in limits {
+        let Some(limit) = limit else { continue };
+        let relaxed = LinkageScene {
+            objective: ObjectiveSpec {
+                minimize: goal,
+                max_peak_force: None,
+                max_peak_moment: None,
+                max_peak_torque: None,
+                max_joint_force: None,
+                full_force_balance: false,
+                pareto_points: 0,
+            },
+            ..p.scene.clone()
+        };
+        let least = ls::solve(&relaxed, &p.settings).ok().and_then(|r| r.design);
+        if let Some(d) = least.filter(|d| d.status == CwStatus::Optimal) {
+            let key = format!("objective.{key}");
+            out.push(Shortfall::at_most(&key, quantity, limit, d.objective, d.error.total, unit));
+        }
+    }
+    out
 }
 
 /// What the solve claims of its design.
@@ -114,6 +154,10 @@ fn claim(out: &Outcome) -> Claim {
         (Some(d), None) => {
             let mut c = Claim::new(cw_status(d.status), method(out, d));
             c.warnings.extend(d.note.clone());
+            if let (Some(why), Status::Optimal) = (&out.degenerate, c.status) {
+                c.status = Status::Degenerate;
+                c.status_detail = Some(why.clone());
+            }
             c
         }
     };

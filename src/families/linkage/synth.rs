@@ -521,6 +521,9 @@ pub struct Outcome {
     pub pareto: Option<mm::ParetoFront>,
     /// Largest dyad conditioning κ over the scan.
     pub kappa_max: f64,
+    /// Why the objective cannot be moved by a counterweight the scene leaves free, if it
+    /// cannot ([`idle_counterweights`]): the result is then `degenerate`.
+    pub degenerate: Option<String>,
 }
 
 /// Solves the scene: the bare linkage's peaks, then the counterweights (if any) for the
@@ -586,6 +589,7 @@ pub fn solve(scene: &LinkageScene, settings: &Settings) -> Result<Outcome, Linka
         balance_rows,
         pareto: None,
         kappa_max: 1.0,
+        degenerate: None,
     };
     if !cws.is_empty() && balance_residual.is_none() {
         let sol = engine.solve()?;
@@ -601,9 +605,80 @@ pub fn solve(scene: &LinkageScene, settings: &Settings) -> Result<Outcome, Linka
             out.pareto = Some(engine.pareto_front(a, b, o.pareto_points)?);
         }
     }
+    if out.design.is_some() {
+        out.degenerate = idle_counterweights(&fields, scene);
+    }
     if let Some(e) = fields.failure() {
         return Err(e);
     }
     out.kappa_max = fields.kappa_max();
     Ok(out)
+}
+
+/// Angles at which [`idle_counterweights`] looks at the blocks.
+const IDLE_ANGLES: usize = 64;
+
+/// The counterweights that cannot move the objective, in words, if any: counterweight j on
+/// link L enters a field (F, M_O or T; their RMS alike) only through the block of L, A_L(θ)
+/// (`Blocks`), so where that block is zero at every angle — relative to the largest block of
+/// the field, 10⁻⁹ — for the objective's field and for every field a constraint limits (the
+/// full balance limits the force; a joint-load limit every link), its (m, u, I) are arbitrary
+/// at the optimum and the problem is degenerate as posed (a crank counterweight turning at
+/// constant speed without gravity adds no drive torque, and none about its own pivot). The
+/// lightest-counterweight goal depends on every free mass and is never idle.
+fn idle_counterweights(fields: &SceneFields, scene: &LinkageScene) -> Option<String> {
+    let o = &scene.objective;
+    let (field, name) = match o.minimize {
+        Goal::PeakForce | Goal::RmsForce => (FORCE, "shaking force"),
+        Goal::PeakMoment | Goal::RmsMoment => (MOMENT, "shaking moment"),
+        Goal::PeakTorque | Goal::RmsTorque => (TORQUE, "drive torque"),
+        Goal::CounterweightMass => return None,
+    };
+    if o.max_joint_force.is_some() {
+        return None;
+    }
+    let constrained = [
+        (FORCE, o.max_peak_force.is_some() || o.full_force_balance),
+        (MOMENT, o.max_peak_moment.is_some()),
+        (TORQUE, o.max_peak_torque.is_some()),
+    ];
+    let entered: Vec<usize> = constrained
+        .iter()
+        .filter(|&&(f, on)| on || f == field)
+        .map(|&(f, _)| f)
+        .collect();
+    let links = scene.link_names.len();
+    // norms[f][link]: the largest block of field f over the angles.
+    let mut norms = [vec![0.0_f64; links], vec![0.0; links], vec![0.0; links]];
+    for k in 0..IDLE_ANGLES {
+        let theta = std::f64::consts::TAU * k as f64 / IDLE_ANGLES as f64;
+        let Some(map) = fields.balance_map(theta) else {
+            continue;
+        };
+        for (i, b) in map.blocks.iter().enumerate() {
+            let v = [b.force.norm(), b.moment.norm(), b.torque.norm()];
+            for f in 0..3 {
+                norms[f][i] = norms[f][i].max(v[f]);
+            }
+        }
+    }
+    let idle_in = |f: usize, link: usize| {
+        let scale = norms[f].iter().cloned().fold(0.0, f64::max);
+        norms[f][link] <= 1e-9 * scale
+    };
+    let idle: Vec<&str> = scene
+        .counterweights
+        .iter()
+        .filter(|c| entered.iter().all(|&f| idle_in(f, c.link)))
+        .map(|c| c.link_name.as_str())
+        .collect();
+    (!idle.is_empty()).then(|| {
+        format!(
+            "the objective, the {name}, does not depend on the counterweight on {}: at constant \
+             speed its mass, first moment and inertia add nothing to the {name} at any angle, so \
+             any value of it is equally 'optimal' and the one shown is arbitrary (remove it, or \
+             minimise a field it enters)",
+            idle.join(", ")
+        )
+    })
 }

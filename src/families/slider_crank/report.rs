@@ -259,10 +259,11 @@ pub fn documents(scene: &Scene, p: &SliderCrankProblem, sol: &Solution, r: &mut 
     );
     mechanism_drawing(r, scene, &p.core.mech, design);
     let (scene, s, out) = (scene.clone(), p.core.clone(), out.clone());
+    let label = sol.claim.status.design_label();
     r.plots.push(Plot::new(
         "shaking-force",
         "Shaking force (and drive torque) with and without counterweight",
-        move || slider_crank_plot(&scene, &s, &out),
+        move || slider_crank_plot(&scene, &s, &out, label),
     ));
 }
 
@@ -664,14 +665,22 @@ fn pareto_plot(
     Ok(svg)
 }
 
-fn slider_crank_plot(scene: &Scene, s: &sc::Scene, out: &sc::Outcome) -> Result<String, PlotError> {
+/// The shaking-force locus, |F| and the drive torque over a turn: no counterweight, the
+/// design (called what the status claims it is, `label`: the optimum, the given design, …)
+/// and the 50 % rule.
+fn slider_crank_plot(
+    scene: &Scene,
+    s: &sc::Scene,
+    out: &sc::Outcome,
+    label: &str,
+) -> Result<String, PlotError> {
     let n = 361;
-    // The optimum with its balancers (if any), the others on the scene as read.
-    let opt = |name: &str| name == "optimum";
+    // The design with its balancers (if any), the others on the scene as read.
+    let opt = |name: &str| name == label;
     let at = |name: &str| if opt(name) { &out.designed } else { s };
     let curves: Vec<(String, P2)> = [
         ("no counterweight".to_string(), P2::zeros()),
-        ("optimum".to_string(), P2::from(out.design.unbalance)),
+        (label.to_string(), P2::from(out.design.unbalance)),
     ]
     .into_iter()
     .chain(
@@ -712,7 +721,7 @@ fn slider_crank_plot(scene: &Scene, s: &sc::Scene, out: &sc::Outcome) -> Result<
         P2::from(out.design.unbalance),
         out.design.peak_angle,
     );
-    locus.push(Series::marker("peak of optimum", vec![(f_opt.x, f_opt.y)]));
+    locus.push(Series::marker(format!("peak of {label}"), vec![(f_opt.x, f_opt.y)]));
     mag.push(Series::peak(
         format!(
             "peak {} N at {}°",

@@ -83,30 +83,30 @@ pub fn solve(p: &SliderCrankProblem) -> Result<Solution, String> {
     Ok(sol)
 }
 
-/// What the solve claims of its design.
+/// What the solve claims of its design: `analysed` for a given counterweight, `degenerate`
+/// where a free one cannot move the objective, `infeasible` with how far off each limit is.
 fn claim(s: &sc::Scene, out: &sc::Outcome, design: &sc::Design) -> Claim {
-    let free = is_free(s);
+    let given = s.given();
     let mut c = Claim::new(
         match out.status {
-            CwStatus::Optimal if !free => Status::Analysed,
+            CwStatus::Optimal if given => Status::Analysed,
             st => cw_status(st),
         },
         out.method.clone(),
     );
     if let Some(why) = &out.degenerate {
-        if free {
+        if !given {
             c.status = Status::Degenerate;
             c.status_detail = Some(why.clone());
         }
     }
     c.warnings = out.warnings.clone();
-    c.bounds = unbalance_bound(s, design);
+    if c.status == Status::Infeasible {
+        c.infeasible(out.infeasibility.clone());
+    } else {
+        c.bounds = unbalance_bound(s, design);
+    }
     c
-}
-
-/// Is any part of the counterweight free (else the scene is an analysis)?
-fn is_free(s: &sc::Scene) -> bool {
-    s.counterweight.angle.fixed().is_none() || s.counterweight.unbalance.fixed().is_none()
 }
 
 /// The design's keys: U, the realised counterweight and the balancers.
@@ -122,7 +122,7 @@ fn design(p: &SliderCrankProblem, out: &sc::Outcome) -> sc::Design {
 /// |U| on a bound of its range: the envelope, the unbalance range or m_max·r_max decides the
 /// counterweight, not the balance.
 fn unbalance_bound(s: &sc::Scene, design: &sc::Design) -> Vec<crate::synth::ActiveBound> {
-    if !is_free(s) || s.counterweight.unbalance.fixed().is_some() {
+    if s.given() || s.counterweight.unbalance.fixed().is_some() {
         return Vec::new();
     }
     let (lo, hi) = sc::unbalance_bounds(&s.counterweight);

@@ -82,7 +82,7 @@ pub(super) fn optimise_joint(
     let num = |e: mm::MinimaxError| SolveError::Numeric(e.to_string());
     let engine = mm::Engine::new(&pb, &minimax_settings(scene)).map_err(num)?;
     let sol = engine.solve().map_err(num)?;
-    js.optimum(&sol, &bounds, max_force, max_torque)
+    js.optimum(&sol, &bounds)
 }
 
 /// The minimax engine's fields, by index: the shaking force (N).
@@ -315,8 +315,6 @@ impl JointScene<'_> {
         &self,
         sol: &mm::Solution,
         bounds: &JointBounds,
-        max_force: Option<f64>,
-        max_torque: Option<f64>,
     ) -> Result<Optimum, SolveError> {
         let (scene, nb) = (self.scene, self.nb);
         let mut warnings = Vec::new();
@@ -329,12 +327,6 @@ impl JointScene<'_> {
         } else {
             (P2::zeros(), vec![[0.0; 2]; nb])
         };
-        if sol.status == Status::Infeasible {
-            warnings.push(format!(
-                "infeasible: no counterweight and balancers within the bounds meet the limits (peak force ≤ {max_force:?} N, peak torque ≤ {max_torque:?} N·m, shaking moment ≤ {:?} N·m, main bearing ≤ {:?} N); the figures shown are those of no counterweight and no balancers",
-                scene.max_shaking_moment, scene.load_limits.main_bearing
-            ));
-        }
         // A design on a bound the scene did not set would be the bounds' optimum, not the
         // scene's: the Fourier bounds exclude it, so say so if it happens.
         let on = |v: f64, auto: f64, given: f64| auto < given && v >= auto * (1.0 - 1e-6);

@@ -61,8 +61,9 @@ pub(super) fn optimise_with(
 
     let cwspec = &scene.counterweight;
     let fixed_len = u_hi.is_finite() && (u_hi - u_lo) <= 1e-15 * u_hi.max(1e-300);
-    let found = if let (Some(beta), true) = (cwspec.angle.fixed(), fixed_len) {
-        // Everything fixed: an analysis.
+    let found = if scene.given() {
+        // Everything fixed: an analysis (the solve claims `analysed`).
+        let beta = cwspec.angle.fixed().unwrap_or(0.0);
         Found {
             status: Status::Optimal,
             u: P2::new(beta.cos(), beta.sin()) * u_lo,
@@ -87,12 +88,6 @@ pub(super) fn optimise_with(
         };
         convex_optimum(&nf, objective, limits, grid, &mut warnings)?
     };
-    if found.status == Status::Infeasible {
-        warnings.push(format!(
-            "infeasible: no counterweight within the bounds meets the limits (peak force ≤ {:?} N, peak torque ≤ {:?} N·m)",
-            max_force, max_torque
-        ));
-    }
     Ok(Optimum {
         status: found.status,
         u: found.u,

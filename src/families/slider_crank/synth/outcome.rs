@@ -456,6 +456,8 @@ pub struct Outcome {
     pub designed: Scene,
     /// The peak joint loads (with `bearing_loads` or a load limit).
     pub joint_loads: Option<JointLoadPeaks>,
+    /// With an infeasible scene: how far off each limit is (the design is then the closest).
+    pub infeasibility: Vec<crate::synth::Shortfall>,
 }
 
 /// The peak of one joint load over the cycle.

@@ -6,7 +6,7 @@ use super::fields::{moment0, torque_independent_of_counterweight, Normalised, Sa
 use super::loads::{check_load_limits, joint_load_peaks};
 use super::metrics::{grid_extremes, metrics, metrics_sampled};
 use super::optimise::optimise_with;
-use super::outcome::{JointLoadPeaks, Optimum, Outcome, ParetoPoint};
+use super::outcome::{JointLoadPeaks, Metrics, Optimum, Outcome, ParetoPoint};
 use super::realise::{realise, Realised};
 use super::round_off::round_off_bounds;
 use super::scene::{check, LoadLimits, Objective, Scene, SolveError};
@@ -14,6 +14,8 @@ use super::sweep::pareto_sampled;
 use crate::families::slider_crank::model::{Kinematics, SliderCrank};
 use crate::geom::P2;
 use crate::numeric::PeriodicPeak;
+use crate::synth::counterweight::Status;
+use crate::synth::Shortfall;
 
 /// Solves the scene: [`optimise`](fn@super::optimise), then the design's figures and the
 /// baselines.
@@ -33,6 +35,25 @@ pub fn solve(scene: &Scene) -> Result<Outcome, SolveError> {
     } else {
         scene.objective
     };
+    let mut optimum = optimise_with(
+        scene,
+        objective,
+        scene.max_peak_force,
+        scene.max_peak_torque,
+        &tab.scan,
+    )?;
+    let mut infeasibility = Vec::new();
+    if optimum.status == Status::Infeasible {
+        let (shortfalls, closest) = shortfalls(scene, &tab, torque_fixed)?;
+        infeasibility = shortfalls;
+        if let Some(c) = closest {
+            optimum = Optimum {
+                status: Status::Infeasible,
+                method: format!("{}; the closest design: {}", optimum.method, c.method),
+                ..c
+            };
+        }
+    }
     let Optimum {
         mut status,
         u,
@@ -41,13 +62,10 @@ pub fn solve(scene: &Scene) -> Result<Outcome, SolveError> {
         mut warnings,
         balancers,
         ..
-    } = optimise_with(
-        scene,
-        objective,
-        scene.max_peak_force,
-        scene.max_peak_torque,
-        &tab.scan,
-    )?;
+    } = optimum;
+    if scene.given() {
+        given_over_limits(scene, u, &mut warnings)?;
+    }
     // The design's figures on the scene with its balancers (the scene itself without any);
     // the baselines on the scene as read (no balancers).
     let designed = scene.with_balancers(&balancers);
@@ -104,7 +122,80 @@ pub fn solve(scene: &Scene) -> Result<Outcome, SolveError> {
         degenerate,
         designed: scene.clone(),
         joint_loads,
+        infeasibility,
     })
+}
+
+/// How far off each limit of an infeasible scene is: the least peak force (and peak torque)
+/// that any design within the bounds reaches, each minimised alone with every limit left out
+/// (a certified minimax like the solve's own), and the closest design — the one that
+/// minimises the first limit out of reach, or the first limit's when each is reachable alone.
+fn shortfalls(
+    scene: &Scene,
+    tab: &Sampled,
+    torque_fixed: bool,
+) -> Result<(Vec<Shortfall>, Option<Optimum>), SolveError> {
+    let relaxed = Scene {
+        max_peak_force: None,
+        max_peak_torque: None,
+        max_shaking_moment: None,
+        load_limits: LoadLimits::default(),
+        ..scene.clone()
+    };
+    let least = |objective: Objective| -> Result<(Optimum, Metrics), SolveError> {
+        let o = optimise_with(&relaxed, objective, None, None, &tab.scan)?;
+        let m = metrics(&relaxed.with_balancers(&o.balancers), o.u)?;
+        Ok((o, m))
+    };
+    let mut out = Vec::new();
+    let mut closest: Option<(bool, Optimum)> = None;
+    let mut keep = |s: Shortfall, o: Optimum, out: &mut Vec<Shortfall>| {
+        let off = !s.reachable_alone();
+        if closest.as_ref().is_none_or(|(was_off, _)| off && !was_off) {
+            closest = Some((off, o));
+        }
+        out.push(s);
+    };
+    if let Some(limit) = scene.max_peak_force {
+        let (o, m) = least(Objective::MinPeakForce)?;
+        let e = o.gap.max(0.0) + m.peak_error;
+        let s = Shortfall::at_most("objective.max_peak_force", "peak shaking force", limit, m.peak, e, "N");
+        keep(s, o, &mut out);
+    }
+    if let Some(limit) = scene.max_peak_torque {
+        let (o, m) = if torque_fixed {
+            // The torque does not depend on the counterweight: every design's is the same.
+            let o = optimise_with(&relaxed, Objective::MinPeakForce, None, None, &tab.scan)?;
+            let m = metrics(&relaxed.with_balancers(&o.balancers), o.u)?;
+            (Optimum { gap: 0.0, ..o }, m)
+        } else {
+            least(Objective::MinPeakTorque)?
+        };
+        let e = o.gap.max(0.0) + m.peak_torque_error;
+        let s = Shortfall::at_most("objective.max_peak_torque", "peak drive torque", limit, m.peak_torque, e, "N·m");
+        keep(s, o, &mut out);
+    }
+    Ok((out, closest.map(|(_, o)| o)))
+}
+
+/// A given counterweight is analysed, not designed: say where it exceeds the scene's limits.
+fn given_over_limits(scene: &Scene, u: P2, warnings: &mut Vec<String>) -> Result<(), SolveError> {
+    if scene.max_peak_force.is_none() && scene.max_peak_torque.is_none() {
+        return Ok(());
+    }
+    let m = metrics(scene, u)?;
+    let over = [
+        ("objective.max_peak_force", "peak shaking force", scene.max_peak_force, m.peak, "N"),
+        ("objective.max_peak_torque", "peak drive torque", scene.max_peak_torque, m.peak_torque, "N·m"),
+    ];
+    for (key, q, limit, v, unit) in over {
+        if let Some(l) = limit.filter(|&l| v > l) {
+            warnings.push(format!(
+                "the given counterweight exceeds {key} = {l} {unit}: its {q} is {v:.6} {unit}"
+            ));
+        }
+    }
+    Ok(())
 }
 
 /// Why the scene's objective does not depend on the design, if it does not: the peak torque
