@@ -21,6 +21,7 @@
 
 pub mod batch;
 pub mod calibrate;
+pub mod dynamics;
 pub mod cli;
 pub mod families;
 pub mod geom;

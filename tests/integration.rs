@@ -13,6 +13,7 @@ mod calibrate;
 mod certified;
 mod cli;
 mod crane;
+mod drive;
 mod crane_acceptance;
 mod crane_balance;
 mod crane_io;

@@ -1,0 +1,626 @@
+//! The machine as it runs (issue 33): a one-degree-of-freedom machine driven through its input
+//! angle φ, at constant speed (mean drive torque, energy curve, energy fluctuation ΔE, the
+//! textbook flywheel) and at real speed (the periodic steady state with a flywheel and a
+//! motor, the least flywheel that meets a coefficient of speed fluctuation).
+//!
+//! A family describes its machine by three functions of φ ([`OneDof`]): the generalised
+//! inertia J(φ) = Σ (mᵢ |r_Gᵢ′|² + I_Gᵢ φᵢ′²) (′ = d/dφ), its derivative J′(φ), and G(φ) =
+//! V′(φ) + Q(φ), the torque of the weights and the process load. Then (`../shared/domain/
+//! machine-as-it-runs.md`):
+//! - at constant ω̄ the drive torque is T(φ) = ½ J′(φ) ω̄² + G(φ), its mean T̄ = Ḡ, the energy
+//!   curve E(φ) = ∫₀^φ (T − T̄) dφ and ΔE = max E − min E; the textbook flywheel for a
+//!   coefficient Cs is I_f = ΔE / (Cs ω̄²);
+//! - at real speed, with a flywheel I_f on the input shaft and a motor torque T_m(ω), the
+//!   energy equation d/dφ [½ (J + I_f) ω²] = T_m(ω) − G(φ) has one periodic solution ω(φ),
+//!   and α = ω dω/dφ = (T_m − G − ½ J′ ω²)/(J + I_f).
+//!
+//! J, J′ and G are smooth and 2π-periodic, so everything is computed from their samples on a
+//! uniform grid and their trigonometric interpolants (rustfft): integrals of a period by the
+//! trapezoidal rule and antiderivatives term by term are then spectrally accurate, and every
+//! figure's truncation error is measured by halving the grid. Hand-written on rustfft because
+//! no crate integrates periodic energy equations: ODE crates (e.g. `ode_solvers`) integrate in
+//! time and would need the shooting, the grid alignment and the error bookkeeping around them.
+
+use crate::numeric::{brent_max, brent_root};
+use rustfft::num_complex::Complex;
+use rustfft::FftPlanner;
+use std::f64::consts::TAU;
+
+/// A one-degree-of-freedom machine over one turn of its input angle φ: `eval(φ)` returns
+/// (J(φ) in kg·m², J′(φ) in kg·m², G(φ) in N·m).
+pub trait OneDof: Sync {
+    /// (J, J′, G) at φ.
+    fn eval(&self, phi: f64) -> [f64; 3];
+}
+
+impl<F: Fn(f64) -> [f64; 3] + Sync> OneDof for F {
+    fn eval(&self, phi: f64) -> [f64; 3] {
+        self(phi)
+    }
+}
+
+/// The motor on the input shaft.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+#[serde(rename_all = "snake_case", tag = "kind")]
+pub enum Motor {
+    /// A constant torque, equal to the cycle's mean load T̄ (the only constant torque with a
+    /// periodic motion); the mean speed is then the nominal one.
+    ConstantTorque,
+    /// A torque–speed line through (ω_r, T_r) and (ω₀, 0): T_m(ω) = T_r (ω₀ − ω)/(ω₀ − ω_r)
+    /// (an induction motor's slip line, ω₀ its synchronous speed; or a hydraulic motor's
+    /// characteristic). The mean speed is where the motor and the load agree.
+    Line {
+        /// Rated torque T_r (N·m).
+        rated_torque: f64,
+        /// Rated speed ω_r (rad/s).
+        rated_speed: f64,
+        /// No-load speed ω₀ (rad/s), above ω_r.
+        no_load_speed: f64,
+    },
+}
+
+impl Motor {
+    /// T_m(ω) (N·m); `mean` is the cycle's mean load T̄ (the constant torque's value).
+    pub fn torque(&self, omega: f64, mean: f64) -> f64 {
+        match *self {
+            Motor::ConstantTorque => mean,
+            Motor::Line {
+                rated_torque,
+                rated_speed,
+                no_load_speed,
+            } => rated_torque * (no_load_speed - omega) / (no_load_speed - rated_speed),
+        }
+    }
+}
+
+/// Why a drive could not be computed.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum DriveError {
+    /// J, J′ or G is not finite at this angle (rad).
+    #[error("the machine's inertia or load torque is not finite at φ = {0} rad")]
+    NotFinite(f64),
+    /// J + I_f is not positive at this angle (rad).
+    #[error("the generalised inertia J + I_f is not positive at φ = {0} rad")]
+    NoInertia(f64),
+    /// The motor cannot keep the machine turning (its torque line never meets the load).
+    #[error("the motor stalls: {0}")]
+    Stalls(String),
+    /// No flywheel up to this inertia (kg·m²) meets the coefficient of fluctuation.
+    #[error("no flywheel up to {0:.3e} kg·m² meets the coefficient of speed fluctuation")]
+    NoFlywheel(f64),
+}
+
+/// Accuracy of the drive's figures.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DriveSettings {
+    /// Grid samples to start with (a power of two ≥ 16).
+    pub min_samples: usize,
+    /// Grid samples at most (a power of two).
+    pub max_samples: usize,
+    /// Relative truncation error at which the grid stops doubling.
+    pub rel_tol: f64,
+}
+
+impl Default for DriveSettings {
+    fn default() -> Self {
+        DriveSettings {
+            min_samples: 256,
+            max_samples: 1 << 16,
+            rel_tol: 1e-11,
+        }
+    }
+}
+
+/// A 2π-periodic function's trigonometric interpolant on n uniform samples: c_k, k < n/2
+/// (the Nyquist term dropped: the functions are smooth, and its coefficient is measured by
+/// the grid doubling).
+#[derive(Debug, Clone)]
+struct Trig {
+    c: Vec<Complex<f64>>,
+}
+
+impl Trig {
+    fn new(samples: &[f64]) -> Trig {
+        let n = samples.len();
+        let mut buf: Vec<Complex<f64>> = samples.iter().map(|&x| Complex::new(x, 0.0)).collect();
+        FftPlanner::new().plan_fft_forward(n).process(&mut buf);
+        let c = buf[..n / 2].iter().map(|z| z / n as f64).collect();
+        Trig { c }
+    }
+
+    fn mean(&self) -> f64 {
+        self.c[0].re
+    }
+
+    /// The value at φ: c₀ + Σ 2 Re(c_k e^{ikφ}).
+    fn eval(&self, phi: f64) -> f64 {
+        let step = Complex::from_polar(1.0, phi);
+        let mut e = step;
+        let mut s = self.c[0].re;
+        for c in &self.c[1..] {
+            s += 2.0 * (c * e).re;
+            e *= step;
+        }
+        s
+    }
+
+    /// The antiderivative of the zero-mean part, 0 at φ = 0.
+    fn antiderivative(&self) -> Trig {
+        let mut c: Vec<Complex<f64>> = self
+            .c
+            .iter()
+            .enumerate()
+            .map(|(k, c)| {
+                if k == 0 {
+                    Complex::new(0.0, 0.0)
+                } else {
+                    c / Complex::new(0.0, k as f64)
+                }
+            })
+            .collect();
+        let at0: f64 = c[1..].iter().map(|c| 2.0 * c.re).sum();
+        c[0] = Complex::new(-at0, 0.0);
+        Trig { c }
+    }
+
+    /// The values on the n-point grid.
+    fn grid(&self, n: usize) -> Vec<f64> {
+        let mut buf = vec![Complex::new(0.0, 0.0); n];
+        buf[0] = self.c[0];
+        for (k, c) in self.c.iter().enumerate().skip(1).take(n / 2 - 1) {
+            buf[k] = *c;
+            buf[n - k] = c.conj();
+        }
+        FftPlanner::new().plan_fft_inverse(n).process(&mut buf);
+        buf.iter().map(|z| z.re).collect()
+    }
+}
+
+/// The machine sampled on the uniform grid φ_k = 2πk/n.
+#[derive(Debug, Clone)]
+struct Grid {
+    j: Vec<f64>,
+    dj: Vec<f64>,
+    g: Vec<f64>,
+}
+
+impl Grid {
+    fn new(m: &dyn OneDof, n: usize) -> Result<Grid, DriveError> {
+        let mut grid = Grid {
+            j: Vec::with_capacity(n),
+            dj: Vec::with_capacity(n),
+            g: Vec::with_capacity(n),
+        };
+        for k in 0..n {
+            let phi = TAU * k as f64 / n as f64;
+            let [j, dj, g] = m.eval(phi);
+            if !(j.is_finite() && dj.is_finite() && g.is_finite()) {
+                return Err(DriveError::NotFinite(phi));
+            }
+            grid.j.push(j);
+            grid.dj.push(dj);
+            grid.g.push(g);
+        }
+        Ok(grid)
+    }
+
+    fn n(&self) -> usize {
+        self.j.len()
+    }
+
+    /// Every other sample: the grid of n/2.
+    fn halved(&self) -> Grid {
+        let h = |v: &Vec<f64>| v.iter().step_by(2).copied().collect();
+        Grid {
+            j: h(&self.j),
+            dj: h(&self.dj),
+            g: h(&self.g),
+        }
+    }
+}
+
+/// The drive at constant speed ω̄.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct ConstantSpeed {
+    /// ω̄ (rad/s).
+    pub omega: f64,
+    /// T̄, the mean drive torque (N·m): the mean load, the motor's mean torque.
+    pub mean_torque: f64,
+    /// ΔE = max E − min E (J).
+    pub energy_fluctuation: f64,
+    /// Bound on the error of ΔE (J): the grid's truncation (measured by halving it), the
+    /// refinement of the extremes and round-off.
+    pub energy_fluctuation_error: f64,
+    /// φ at max E and at min E (rad).
+    pub extreme_angles: [f64; 2],
+    /// Grid samples used.
+    pub samples: usize,
+    /// (φ, T(φ), E(φ)) on 361 points over the turn, for the turning-moment diagram.
+    #[serde(skip)]
+    pub curve: Vec<[f64; 3]>,
+}
+
+impl ConstantSpeed {
+    /// The textbook flywheel for the coefficient of fluctuation `cs`: I_f = ΔE / (Cs ω̄²)
+    /// (kg·m²), which neglects the variation of J and the definition of the mean speed.
+    pub fn textbook_flywheel(&self, cs: f64) -> f64 {
+        self.energy_fluctuation / (cs * self.omega * self.omega)
+    }
+}
+
+/// ΔE on one grid: (ΔE, φ at max E, φ at min E, T̄, T's and E's interpolants).
+fn energy_on(grid: &Grid, omega: f64) -> (f64, [f64; 2], f64, Trig, Trig) {
+    let n = grid.n();
+    let w2 = omega * omega;
+    let t: Vec<f64> = (0..n).map(|k| 0.5 * grid.dj[k] * w2 + grid.g[k]).collect();
+    let tt = Trig::new(&t);
+    let e = tt.antiderivative();
+    let eg = e.grid(n);
+    let h = TAU / n as f64;
+    let refine = |sign: f64| {
+        let (k, _) = eg
+            .iter()
+            .enumerate()
+            .max_by(|a, b| (sign * a.1).total_cmp(&(sign * b.1)))
+            .expect("a grid");
+        let at = k as f64 * h;
+        brent_max(|p| sign * e.eval(p), at - h, at + h, 1e-13)
+            .map(|x| (x.x.rem_euclid(TAU), sign * x.fx))
+            .unwrap_or((at, eg[k]))
+    };
+    let (hi, lo) = (refine(1.0), refine(-1.0));
+    (hi.1 - lo.1, [hi.0, lo.0], tt.mean(), tt, e)
+}
+
+/// The drive at constant speed ω̄: T̄, the energy curve and ΔE, the grid doubled until ΔE
+/// changes by less than `rel_tol` of itself (or of T's scale over a radian).
+pub fn constant_speed(
+    m: &dyn OneDof,
+    omega: f64,
+    s: &DriveSettings,
+) -> Result<ConstantSpeed, DriveError> {
+    let mut n = s.min_samples.next_power_of_two().max(16);
+    let mut grid = Grid::new(m, n)?;
+    let mut prev = energy_on(&grid.halved(), omega);
+    loop {
+        let cur = energy_on(&grid, omega);
+        let scale = cur.0.abs().max(cur.2.abs() * TAU).max(f64::MIN_POSITIVE);
+        let diff = (cur.0 - prev.0).abs();
+        if diff <= s.rel_tol * scale || 2 * n > s.max_samples {
+            let (de, angles, mean, tt, e) = cur;
+            let round_off = 1e-15 * n as f64 * scale;
+            let curve = (0..=360)
+                .map(|d| {
+                    let p = (d as f64).to_radians();
+                    [p, tt.eval(p), e.eval(p)]
+                })
+                .collect();
+            return Ok(ConstantSpeed {
+                omega,
+                mean_torque: mean,
+                energy_fluctuation: de,
+                energy_fluctuation_error: diff + round_off + 1e-13 * de,
+                extreme_angles: angles,
+                samples: n,
+                curve,
+            });
+        }
+        prev = cur;
+        n *= 2;
+        grid = Grid::new(m, n)?;
+    }
+}
+
+/// The periodic steady state at real speed.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct SteadyState {
+    /// The flywheel I_f (kg·m²) on the input shaft.
+    pub flywheel: f64,
+    /// ω_min and ω_max over the turn (rad/s).
+    pub omega_min: f64,
+    /// See `omega_min`.
+    pub omega_max: f64,
+    /// Their angles (rad).
+    pub extreme_angles: [f64; 2],
+    /// The time-mean speed 2π/period (rad/s): the mean that Cs is taken about.
+    pub omega_mean: f64,
+    /// Cs = (ω_max − ω_min)/ω_mean.
+    pub cs: f64,
+    /// Bound on the error of Cs: the grid's truncation (the steady state on half the grid).
+    pub cs_error: f64,
+    /// Bound on the error of ω_min, ω_max and ω_mean (rad/s), likewise.
+    pub omega_error: f64,
+    /// The period of one turn (s).
+    pub period: f64,
+    /// max |α| over the turn (rad/s²).
+    pub peak_alpha: f64,
+    /// Grid samples.
+    pub samples: usize,
+    /// (φ, ω, α) at the grid's nodes, for the tables and plots.
+    #[serde(skip)]
+    pub curve: Vec<[f64; 3]>,
+}
+
+/// One steady state on one grid: (ω at the nodes, α at the nodes, node spacing) — the
+/// constant torque exactly at every grid point, the line by RK4 on every other point.
+fn steady_on(
+    grid: &Grid,
+    motor: &Motor,
+    flywheel: f64,
+    omega_nominal: f64,
+) -> Result<(Vec<f64>, Vec<f64>, f64), DriveError> {
+    let n = grid.n();
+    let h = TAU / n as f64;
+    let gbar = Trig::new(&grid.g).mean();
+    for (k, j) in grid.j.iter().enumerate() {
+        if j + flywheel <= 0.0 {
+            return Err(DriveError::NoInertia(k as f64 * h));
+        }
+    }
+    let omega_of = |y: f64, k: usize| (2.0 * y.max(0.0) / (grid.j[k] + flywheel)).sqrt();
+    let alpha_of = |w: f64, k: usize| {
+        (motor.torque(w, gbar) - grid.g[k] - 0.5 * grid.dj[k] * w * w) / (grid.j[k] + flywheel)
+    };
+    let omegas = match motor {
+        Motor::ConstantTorque => {
+            // y = ½ (J + I_f) ω² = y₀ + W(φ), W = ∫ (Ḡ − G): y₀ sets the time-mean speed.
+            let neg: Vec<f64> = grid.g.iter().map(|g| gbar - g).collect();
+            let w = Trig::new(&neg).antiderivative().grid(n);
+            let wmin = w.iter().cloned().fold(f64::INFINITY, f64::min);
+            let mean_speed = |y0: f64| {
+                let inv: f64 = (0..n).map(|k| 1.0 / omega_of(y0 + w[k], k)).sum();
+                TAU / (h * inv)
+            };
+            let jmax = grid.j.iter().cloned().fold(0.0, f64::max) + flywheel;
+            let mut hi = 0.5 * jmax * omega_nominal * omega_nominal + wmin.abs() * 2.0;
+            while mean_speed(hi) < omega_nominal {
+                hi *= 4.0;
+            }
+            let lo = -wmin + 1e-300;
+            let f = |y0: f64| mean_speed(y0) - omega_nominal;
+            let y0 = brent_root(f, lo, hi, 1e-15 * hi)
+                .map_err(|e| DriveError::Stalls(e.to_string()))?
+                .x;
+            (0..n).map(|k| omega_of(y0 + w[k], k)).collect::<Vec<f64>>()
+        }
+        Motor::Line { .. } => shoot_line(grid, motor, flywheel, gbar)?,
+    };
+    let stride = n / omegas.len();
+    let alphas = omegas
+        .iter()
+        .enumerate()
+        .map(|(i, &w)| alpha_of(w, i * stride))
+        .collect();
+    Ok((omegas, alphas, h * stride as f64))
+}
+
+/// The periodic solution of d/dφ y = T_m(ω) − G with a motor line, y = ½ (J + I_f) ω²: RK4
+/// with step 2h on the grid (its stages fall on grid points), shooting on y₀ until
+/// y(2π) = y₀ (Brent on y(2π) − y₀, which falls through zero once: the line brakes a fast
+/// machine and drives a slow one). ω at the nodes φ_{2i}.
+fn shoot_line(grid: &Grid, motor: &Motor, flywheel: f64, gbar: f64) -> Result<Vec<f64>, DriveError> {
+    let n = grid.n();
+    let h2 = 2.0 * TAU / n as f64;
+    let jf = |k: usize| grid.j[k % n] + flywheel;
+    let rate = |y: f64, k: usize| {
+        let w = (2.0 * y.max(0.0) / jf(k)).sqrt();
+        motor.torque(w, gbar) - grid.g[k % n]
+    };
+    let run = |y0: f64, out: Option<&mut Vec<f64>>| {
+        let mut y = y0;
+        let mut ys = Vec::new();
+        for i in 0..n / 2 {
+            ys.push(y);
+            let k = 2 * i;
+            let k1 = rate(y, k);
+            let k2 = rate(y + 0.5 * h2 * k1, k + 1);
+            let k3 = rate(y + 0.5 * h2 * k2, k + 1);
+            let k4 = rate(y + h2 * k3, k + 2);
+            y += h2 / 6.0 * (k1 + 2.0 * k2 + 2.0 * k3 + k4);
+        }
+        if let Some(o) = out {
+            *o = ys;
+        }
+        y
+    };
+    // The speed where the motor's torque meets the mean load, then a bracket around it.
+    let Motor::Line {
+        rated_torque,
+        rated_speed,
+        no_load_speed,
+    } = *motor
+    else {
+        unreachable!("a line motor")
+    };
+    let wc = no_load_speed - gbar * (no_load_speed - rated_speed) / rated_torque;
+    if !(wc > 0.0) {
+        return Err(DriveError::Stalls(format!(
+            "the mean load {gbar:.6} N·m is above the motor's stall torque"
+        )));
+    }
+    let jbar = grid.j.iter().sum::<f64>() / n as f64 + flywheel;
+    let yc = 0.5 * jbar * wc * wc;
+    let f = |y0: f64| run(y0, None) - y0;
+    let (mut lo, mut hi) = (0.5 * yc, 2.0 * yc);
+    for _ in 0..60 {
+        if f(lo) > 0.0 {
+            break;
+        }
+        lo *= 0.5;
+    }
+    for _ in 0..60 {
+        if f(hi) < 0.0 {
+            break;
+        }
+        hi *= 2.0;
+    }
+    let y0 = brent_root(f, lo, hi, 1e-15 * hi)
+        .map_err(|e| DriveError::Stalls(format!("no periodic motion: {e}")))?
+        .x;
+    let mut ys = Vec::new();
+    run(y0, Some(&mut ys));
+    if ys.iter().any(|&y| y <= 0.0) {
+        return Err(DriveError::Stalls("the speed falls to zero in the cycle".into()));
+    }
+    Ok(ys
+        .iter()
+        .enumerate()
+        .map(|(i, &y)| (2.0 * y / jf(2 * i)).sqrt())
+        .collect())
+}
+
+/// Extremes of ω on the nodes, refined on the cubic Hermite interpolant through (ω, ω′ = α/ω)
+/// of the node's neighbours: ((ω_min, φ), (ω_max, φ)).
+fn speed_extremes(om: &[f64], al: &[f64], h: f64) -> [(f64, f64); 2] {
+    let m = om.len();
+    let refine = |sign: f64| {
+        let (k, _) = om
+            .iter()
+            .enumerate()
+            .max_by(|a, b| (sign * a.1).total_cmp(&(sign * b.1)))
+            .expect("nodes");
+        let mut best = (sign * om[k], k as f64 * h);
+        for (a, b) in [((k + m - 1) % m, k), (k, (k + 1) % m)] {
+            let (y0, y1) = (om[a], om[b]);
+            let (d0, d1) = (al[a] / om[a] * h, al[b] / om[b] * h);
+            let herm = |t: f64| {
+                let (t2, t3) = (t * t, t * t * t);
+                (2.0 * t3 - 3.0 * t2 + 1.0) * y0
+                    + (t3 - 2.0 * t2 + t) * d0
+                    + (-2.0 * t3 + 3.0 * t2) * y1
+                    + (t3 - t2) * d1
+            };
+            if let Ok(x) = brent_max(|t| sign * herm(t), 0.0, 1.0, 1e-12) {
+                if x.fx > best.0 {
+                    best = (x.fx, ((a as f64 + x.x) * h).rem_euclid(TAU));
+                }
+            }
+        }
+        (sign * best.0, best.1)
+    };
+    [refine(-1.0), refine(1.0)]
+}
+
+/// The figures of one steady state on one grid.
+fn figures(grid: &Grid, motor: &Motor, flywheel: f64, omega_nominal: f64) -> Result<SteadyState, DriveError> {
+    let (om, al, h) = steady_on(grid, motor, flywheel, omega_nominal)?;
+    let [(wmin, pmin), (wmax, pmax)] = speed_extremes(&om, &al, h);
+    // The period ∫ dφ/ω by the trapezoidal rule on the nodes (spectral for a smooth ω).
+    let period: f64 = om.iter().map(|w| h / w).sum();
+    let mean = TAU / period;
+    Ok(SteadyState {
+        flywheel,
+        omega_min: wmin,
+        omega_max: wmax,
+        extreme_angles: [pmin, pmax],
+        omega_mean: mean,
+        cs: (wmax - wmin) / mean,
+        cs_error: 0.0,
+        omega_error: 0.0,
+        period,
+        peak_alpha: al.iter().fold(0.0, |a: f64, b| a.max(b.abs())),
+        samples: grid.n(),
+        curve: om
+            .iter()
+            .zip(&al)
+            .enumerate()
+            .map(|(i, (&w, &a))| [i as f64 * h, w, a])
+            .collect(),
+    })
+}
+
+/// The periodic steady state with the flywheel `flywheel` and `motor`, the constant torque's
+/// mean speed at `omega_nominal`: the grid doubled until Cs changes by less than `rel_tol` (or
+/// 10⁻¹³ absolutely); the errors are the last change.
+pub fn steady_state(
+    m: &dyn OneDof,
+    motor: &Motor,
+    flywheel: f64,
+    omega_nominal: f64,
+    s: &DriveSettings,
+) -> Result<SteadyState, DriveError> {
+    let mut n = s.min_samples.next_power_of_two().max(16);
+    let mut grid = Grid::new(m, n)?;
+    let mut prev = figures(&grid.halved(), motor, flywheel, omega_nominal)?;
+    loop {
+        let mut cur = figures(&grid, motor, flywheel, omega_nominal)?;
+        let dcs = (cur.cs - prev.cs).abs();
+        let dw = [
+            cur.omega_min - prev.omega_min,
+            cur.omega_max - prev.omega_max,
+            cur.omega_mean - prev.omega_mean,
+        ]
+        .iter()
+        .fold(0.0, |a: f64, b| a.max(b.abs()));
+        if dcs <= s.rel_tol * cur.cs.abs() + 1e-13 || 2 * n > s.max_samples {
+            cur.cs_error = dcs + 1e-14 * n as f64 * cur.cs.abs().max(1e-300);
+            cur.omega_error = dw + 1e-14 * n as f64 * cur.omega_max;
+            return Ok(cur);
+        }
+        prev = cur;
+        n *= 2;
+        grid = Grid::new(m, n)?;
+    }
+}
+
+/// The least flywheel that meets a coefficient of fluctuation, exactly and by the textbook.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct Flywheel {
+    /// The requested Cs.
+    pub cs: f64,
+    /// The least I_f (kg·m²) whose periodic steady state has Cs ≤ the request (0 when the
+    /// machine meets it without one).
+    pub inertia: f64,
+    /// Bound on its error (kg·m²): the root's tolerance plus Cs's error over |dCs/dI_f|.
+    pub inertia_error: f64,
+    /// The textbook I_f = ΔE / (Cs ω̄²) (kg·m²).
+    pub textbook: f64,
+    /// The steady state with the least I_f.
+    pub steady: SteadyState,
+}
+
+/// The least flywheel for the coefficient of fluctuation `cs` (Brent on Cs(I_f) − cs, Cs
+/// falling as I_f grows), beside the textbook one from `constant`.
+pub fn least_flywheel(
+    m: &dyn OneDof,
+    motor: &Motor,
+    constant: &ConstantSpeed,
+    cs: f64,
+    s: &DriveSettings,
+) -> Result<Flywheel, DriveError> {
+    let textbook = constant.textbook_flywheel(cs);
+    let at = |i: f64| steady_state(m, motor, i, constant.omega, s);
+    let zero = at(0.0)?;
+    if zero.cs <= cs {
+        return Ok(Flywheel {
+            cs,
+            inertia: 0.0,
+            inertia_error: 0.0,
+            textbook,
+            steady: zero,
+        });
+    }
+    let mut hi = textbook.max(f64::MIN_POSITIVE) * 2.0;
+    let mut tries = 0;
+    while at(hi)?.cs > cs {
+        hi *= 4.0;
+        tries += 1;
+        if tries > 30 {
+            return Err(DriveError::NoFlywheel(hi));
+        }
+    }
+    let f = |i: f64| at(i).map(|st| st.cs - cs).unwrap_or(f64::NAN);
+    let tol = 1e-12 * hi;
+    let root = brent_root(f, 0.0, hi, tol).map_err(|e| DriveError::Stalls(e.to_string()))?;
+    let steady = at(root.x)?;
+    // |dCs/dI_f| by a central difference, for the error that Cs's own error makes in I_f.
+    let d = 1e-4 * root.x.max(tol);
+    let slope = ((at(root.x + d)?.cs - at((root.x - d).max(0.0))?.cs) / (2.0 * d)).abs();
+    Ok(Flywheel {
+        cs,
+        inertia: root.x,
+        inertia_error: tol + steady.cs_error / slope.max(f64::MIN_POSITIVE),
+        textbook,
+        steady,
+    })
+}
