@@ -33,6 +33,20 @@ fn slider(r: f64, l: f64, m4: f64, ma: f64, p: f64) -> impl Fn(f64) -> [f64; 3] 
     }
 }
 
+/// ΔE of the torque `t` by a composite Simpson running integral of T − T̄ on `n` panels.
+fn simpson_delta_e(t: &dyn Fn(f64) -> f64, n: usize) -> f64 {
+    let h = TAU / n as f64;
+    let mean = (0..n).map(|k| t(k as f64 * h)).sum::<f64>() / n as f64;
+    let (mut e, mut hi, mut lo) = (0.0_f64, 0.0_f64, 0.0_f64);
+    for k in 0..n {
+        let p = k as f64 * h;
+        e += h / 6.0 * (t(p) + 4.0 * t(p + h / 2.0) + t(p + h) - 6.0 * mean);
+        hi = hi.max(e);
+        lo = lo.min(e);
+    }
+    hi - lo
+}
+
 #[test]
 fn energy_fluctuation_matches_its_closed_form() {
     let (j0, a, b, c, w) = (2.0, 0.3, 40.0, 7.0, 30.0);
@@ -64,23 +78,14 @@ fn energy_fluctuation_of_a_slider_crank_matches_a_direct_quadrature() {
     let w = 150.0;
     let cs = constant_speed(&m, w, &DriveSettings::default()).unwrap();
     // Composite Simpson on 2·10⁵ panels of T − T̄, the running integral's max − min.
-    let n = 200_000;
-    let h = TAU / n as f64;
     let t = |p: f64| {
         let [_, dj, g] = m.eval(p);
         0.5 * dj * w * w + g
     };
-    let mean = (0..n).map(|k| t(k as f64 * h)).sum::<f64>() / n as f64;
-    let (mut e, mut hi, mut lo) = (0.0_f64, 0.0_f64, 0.0_f64);
-    for k in 0..n {
-        let p = k as f64 * h;
-        e += h / 6.0 * (t(p) + 4.0 * t(p + h / 2.0) + t(p + h) - 6.0 * mean);
-        hi = hi.max(e);
-        lo = lo.min(e);
-    }
-    let rel = ((hi - lo) - cs.energy_fluctuation).abs() / cs.energy_fluctuation;
+    let q = simpson_delta_e(&t, 200_000);
+    let rel = (q - cs.energy_fluctuation).abs() / cs.energy_fluctuation;
     // The quadrature samples E only at its nodes: its max is within (h²/8)·|T′|max ≈ 1e-8.
-    assert!(rel < 1e-7, "ΔE {} vs quadrature {} ({rel:.2e})", cs.energy_fluctuation, hi - lo);
+    assert!(rel < 1e-7, "ΔE {} vs quadrature {q} ({rel:.2e})", cs.energy_fluctuation);
     assert!(cs.energy_fluctuation_error < 1e-9 * cs.energy_fluctuation);
 }
 
@@ -260,4 +265,52 @@ fn a_machine_that_needs_no_flywheel_gets_none() {
     let fw = least_flywheel(&m, &Motor::ConstantTorque, &cs, 0.01, &s).unwrap();
     assert_eq!(fw.inertia, 0.0);
     let _ = PI;
+}
+
+/// The slider-crank's (J, J′, G) reproduce the family's own constant-speed drive torque, and
+/// its ΔE matches a Simpson quadrature of that torque, with gravity and a counterweight.
+#[test]
+fn the_slider_crank_drive_matches_its_drive_torque() {
+    use cwsynth::families::slider_crank::model::Loads;
+    use cwsynth::families::slider_crank::synth::{drive_torque, machine, paper_piston};
+    use cwsynth::geom::P2;
+    let mut scene = paper_piston(1000.0);
+    scene.loads = Loads {
+        gravity: Loads::gravity_for_axis(9.81, 1.2),
+        ..scene.loads
+    };
+    let u = P2::new(-0.03, 0.004);
+    let m = machine(&scene, u, 0.001);
+    let w = scene.omega;
+    for k in 0..50 {
+        let p = 0.1257 * k as f64;
+        let [_, dj, g] = m.eval(p);
+        let t = drive_torque(&scene, u, p);
+        assert!((0.5 * dj * w * w + g - t).abs() < 1e-12 * t.abs().max(1.0), "φ {p}");
+    }
+    let cs = constant_speed(&m, w, &DriveSettings::default()).unwrap();
+    let q = simpson_delta_e(&|p: f64| drive_torque(&scene, u, p), 100_000);
+    let rel = (q - cs.energy_fluctuation).abs() / cs.energy_fluctuation;
+    assert!(rel < 1e-7, "{} vs {q} ({rel:.1e})", cs.energy_fluctuation);
+}
+
+/// `[mechanism.drive]` in a problem file: the result carries ΔE, both flywheels and the steady
+/// state, and the least flywheel meets the requested Cs.
+#[test]
+fn a_problem_file_with_a_drive_reports_its_flywheel() {
+    let base = std::fs::read_to_string(crate::common::problem("piston-1000rpm.toml")).unwrap();
+    let text = crate::common::with(&base, "[model]", "[mechanism.drive]\ncs = 0.01\n\n[model]");
+    let r = cwsynth::families::solve_scene(
+        &cwsynth::families::parse_str(&text, std::path::Path::new("d.toml")).unwrap(),
+    );
+    let d = &r.derived;
+    assert!(d["energy_fluctuation_j"] > 0.0);
+    let (least, book) = (d["flywheel_least_kgm2"], d["flywheel_textbook_kgm2"]);
+    assert!(least > 0.0 && (least - book).abs() > 1e-9 * book, "{least} {book}");
+    assert!((d["steady_cs"] - 0.01).abs() <= 1e-9 + d["steady_cs_error"]);
+    assert_eq!(d["steady_flywheel_kgm2"], least);
+    // A unitless flywheel is an error naming the field.
+    let bad = crate::common::with(&base, "[model]", "[mechanism.drive]\nflywheel = 0.2\n\n[model]");
+    let e = cwsynth::families::parse_str(&bad, std::path::Path::new("d.toml")).unwrap_err();
+    assert!(e.to_string().contains("flywheel"), "{e}");
 }

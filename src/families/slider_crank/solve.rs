@@ -3,7 +3,8 @@
 //! scene at every speed — every number the result reports, computed here and nowhere in
 //! `report.rs`.
 
-use super::file::SliderCrankProblem;
+use super::file::{Drive, SliderCrankProblem};
+use crate::dynamics;
 use super::synth::{self as sc, Metrics, SweepPoint};
 use crate::families::driver::Claim;
 use crate::families::family::cw_status;
@@ -34,6 +35,51 @@ pub struct Solution {
     /// The speed sweep (`objective.speed_sweep`): one point per speed whose solve succeeded,
     /// and a warning per speed that failed.
     pub sweep: Option<(Vec<SweepPoint>, Vec<String>)>,
+    /// The design's drive (`[mechanism.drive]`): `Err` says why it could not be computed.
+    pub drive: Option<Result<DriveFigures, String>>,
+}
+
+/// The design's drive, at constant speed and at real speed.
+#[derive(Debug, Clone)]
+pub struct DriveFigures {
+    /// T̄, the energy curve and ΔE at the nominal speed.
+    pub constant: dynamics::ConstantSpeed,
+    /// The least flywheel for `cs`, with the textbook one (with `cs`).
+    pub flywheel: Option<dynamics::Flywheel>,
+    /// The periodic steady state with the given flywheel, else the least one, else none.
+    pub steady: dynamics::SteadyState,
+}
+
+/// The drive of the design U = `u`: ΔE, the least flywheel for the file's Cs, the steady
+/// state with the file's flywheel (or the least one, or none).
+fn drive(p: &SliderCrankProblem, out: &sc::Outcome, d: &Drive) -> Result<DriveFigures, String> {
+    let s = &out.designed;
+    let u = P2::from(out.design.unbalance);
+    let cw = &out.counterweight;
+    let j_c = match (cw.mass, cw.radius) {
+        (Some(m), Some(r)) => m * r * r,
+        _ => 0.0,
+    };
+    let m = sc::machine(s, u, j_c);
+    let set = dynamics::DriveSettings::default();
+    let e = |e: dynamics::DriveError| e.to_string();
+    let constant = dynamics::constant_speed(&m, p.core.omega, &set).map_err(e)?;
+    let flywheel = d
+        .cs
+        .map(|cs| dynamics::least_flywheel(&m, &d.motor, &constant, cs, &set))
+        .transpose()
+        .map_err(e)?;
+    let steady = match (d.flywheel, &flywheel) {
+        (None, Some(f)) => f.steady.clone(),
+        (given, _) => {
+            dynamics::steady_state(&m, &d.motor, given.unwrap_or(0.0), p.core.omega, &set).map_err(e)?
+        }
+    };
+    Ok(DriveFigures {
+        constant,
+        flywheel,
+        steady,
+    })
 }
 
 impl Solution {
@@ -70,6 +116,7 @@ pub fn solve(p: &SliderCrankProblem) -> Result<Solution, String> {
         lever: lever_radius(p),
         paper_counterweight: None,
         sweep: None,
+        drive: None,
     };
     // The paper's counterweight m at the lever radius r: U = (−m r, 0).
     let printed = p.paper.as_ref().and_then(|pd| pd.counterweight_mass);
@@ -79,6 +126,9 @@ pub fn solve(p: &SliderCrankProblem) -> Result<Solution, String> {
     }
     if let Some(sw) = &p.speed_sweep {
         sol.sweep = Some(sc::speed_sweep(s, sw, sol.unbalance()));
+    }
+    if let Some(d) = &p.drive {
+        sol.drive = Some(drive(p, &sol.out, d));
     }
     Ok(sol)
 }

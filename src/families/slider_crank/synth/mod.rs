@@ -16,6 +16,7 @@
 //! and speed sweep), `solve` (the whole solve) and `outcome` (the types it returns).
 
 mod baselines;
+mod drive;
 mod fields;
 mod joint;
 mod loads;
@@ -29,6 +30,7 @@ mod solve;
 mod sweep;
 
 pub use baselines::baselines;
+pub use drive::machine;
 pub use fields::{drive_torque, force0, moment0, scene_force, shaking_force};
 pub use metrics::metrics;
 pub use optimise::optimise;

@@ -20,6 +20,17 @@ pub fn unbalance_bounds(cw: &CounterweightSpec) -> (f64, f64) {
     (lo.max(0.0), hi)
 }
 
+impl super::scene::Scene {
+    /// Whether nothing is free: the counterweight's direction β is fixed and its bounds
+    /// (|U|, mass × radius, the plate's envelope) leave one |U|, with no balancer or joint
+    /// limit to design. The solve then analyses the given counterweight (`analysed`).
+    pub fn given(&self) -> bool {
+        let (lo, hi) = unbalance_bounds(&self.counterweight);
+        let fixed_len = hi.is_finite() && (hi - lo) <= 1e-15 * hi.max(1e-300);
+        !self.joint() && self.counterweight.angle.fixed().is_some() && fixed_len
+    }
+}
+
 /// The counterweight that realises |U|: its mass and centroid radius, and the plate when the
 /// scene gives one (then mass and radius are the plate's, so they cannot disagree).
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]

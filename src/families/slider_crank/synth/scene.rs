@@ -129,15 +129,6 @@ pub struct LoadLimits {
 }
 
 impl Scene {
-    /// Whether nothing is free: the counterweight's direction β is fixed and its bounds
-    /// (|U|, mass × radius, the plate's envelope) leave one |U|, with no balancer or joint
-    /// limit to design. The solve then analyses the given counterweight (`analysed`).
-    pub fn given(&self) -> bool {
-        let (lo, hi) = super::realise::unbalance_bounds(&self.counterweight);
-        let fixed_len = hi.is_finite() && (hi - lo) <= 1e-15 * hi.max(1e-300);
-        !self.joint() && self.counterweight.angle.fixed().is_some() && fixed_len
-    }
-
     /// Whether the scene needs the joint design of [`crate::synth::minimax`]: balancers, a
     /// shaking-moment objective or limit, or a main-bearing limit.
     pub fn joint(&self) -> bool {
