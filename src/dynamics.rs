@@ -97,8 +97,11 @@ pub struct DriveSettings {
     pub min_samples: usize,
     /// Grid samples at most (a power of two).
     pub max_samples: usize,
-    /// Relative truncation error at which the grid stops doubling.
+    /// Relative truncation error of ΔE at which the grid stops doubling.
     pub rel_tol: f64,
+    /// Relative truncation error of the steady state's Cs at which its grid stops doubling
+    /// (the motor line's RK4 and Hermite extremes converge as h⁴, not spectrally).
+    pub steady_rel_tol: f64,
 }
 
 impl Default for DriveSettings {
@@ -107,6 +110,7 @@ impl Default for DriveSettings {
             min_samples: 256,
             max_samples: 1 << 16,
             rel_tol: 1e-11,
+            steady_rel_tol: 1e-9,
         }
     }
 }
@@ -235,7 +239,8 @@ pub struct ConstantSpeed {
     pub extreme_angles: [f64; 2],
     /// Grid samples used.
     pub samples: usize,
-    /// (φ, T(φ), E(φ)) on 361 points over the turn, for the turning-moment diagram.
+    /// (φ, T(φ), E(φ)) on the grid's points over the turn (0 and 2π both), for the
+    /// turning-moment diagram.
     #[serde(skip)]
     pub curve: Vec<[f64; 3]>,
 }
@@ -289,11 +294,9 @@ pub fn constant_speed(
         if diff <= s.rel_tol * scale || 2 * n > s.max_samples {
             let (de, angles, mean, tt, e) = cur;
             let round_off = 1e-15 * n as f64 * scale;
-            let curve = (0..=360)
-                .map(|d| {
-                    let p = (d as f64).to_radians();
-                    [p, tt.eval(p), e.eval(p)]
-                })
+            let (tg, eg) = (tt.grid(n), e.grid(n));
+            let curve = (0..=n)
+                .map(|k| [TAU * k as f64 / n as f64, tg[k % n], eg[k % n]])
                 .collect();
             return Ok(ConstantSpeed {
                 omega,
@@ -341,14 +344,32 @@ pub struct SteadyState {
     pub curve: Vec<[f64; 3]>,
 }
 
-/// One steady state on one grid: (ω at the nodes, α at the nodes, node spacing) — the
-/// constant torque exactly at every grid point, the line by RK4 on every other point.
+/// ω(φ) of a constant-torque steady state anywhere on the turn, exactly (up to the
+/// interpolants' truncation): ω = sqrt(2 (y₀ + W(φ)) / (J(φ) + I_f)).
+struct ExactSpeed {
+    y0: f64,
+    w: Trig,
+    j: Trig,
+    flywheel: f64,
+}
+
+impl ExactSpeed {
+    fn at(&self, phi: f64) -> f64 {
+        (2.0 * (self.y0 + self.w.eval(phi)).max(0.0) / (self.j.eval(phi) + self.flywheel)).sqrt()
+    }
+}
+
+/// One steady state on one grid: (ω at the nodes, α at the nodes, node spacing, ω anywhere
+/// where it is explicit) — the constant torque exactly at every grid point, the line by RK4
+/// on every other point.
+type OnGrid = (Vec<f64>, Vec<f64>, f64, Option<ExactSpeed>);
+
 fn steady_on(
     grid: &Grid,
     motor: &Motor,
     flywheel: f64,
     omega_nominal: f64,
-) -> Result<(Vec<f64>, Vec<f64>, f64), DriveError> {
+) -> Result<OnGrid, DriveError> {
     let n = grid.n();
     let h = TAU / n as f64;
     let gbar = Trig::new(&grid.g).mean();
@@ -365,7 +386,8 @@ fn steady_on(
         Motor::ConstantTorque => {
             // y = ½ (J + I_f) ω² = y₀ + W(φ), W = ∫ (Ḡ − G): y₀ sets the time-mean speed.
             let neg: Vec<f64> = grid.g.iter().map(|g| gbar - g).collect();
-            let w = Trig::new(&neg).antiderivative().grid(n);
+            let w_trig = Trig::new(&neg).antiderivative();
+            let w = w_trig.grid(n);
             let wmin = w.iter().cloned().fold(f64::INFINITY, f64::min);
             let mean_speed = |y0: f64| {
                 let inv: f64 = (0..n).map(|k| 1.0 / omega_of(y0 + w[k], k)).sum();
@@ -381,17 +403,24 @@ fn steady_on(
             let y0 = brent_root(f, lo, hi, 1e-15 * hi)
                 .map_err(|e| DriveError::Stalls(e.to_string()))?
                 .x;
-            (0..n).map(|k| omega_of(y0 + w[k], k)).collect::<Vec<f64>>()
+            let exact = ExactSpeed {
+                y0,
+                w: w_trig,
+                j: Trig::new(&grid.j),
+                flywheel,
+            };
+            ((0..n).map(|k| omega_of(y0 + w[k], k)).collect::<Vec<f64>>(), Some(exact))
         }
-        Motor::Line { .. } => shoot_line(grid, motor, flywheel, gbar)?,
+        Motor::Line { .. } => (shoot_line(grid, motor, flywheel, gbar)?, None),
     };
+    let (omegas, exact) = omegas;
     let stride = n / omegas.len();
     let alphas = omegas
         .iter()
         .enumerate()
         .map(|(i, &w)| alpha_of(w, i * stride))
         .collect();
-    Ok((omegas, alphas, h * stride as f64))
+    Ok((omegas, alphas, h * stride as f64, exact))
 }
 
 /// The periodic solution of d/dφ y = T_m(ω) − G with a motor line, y = ½ (J + I_f) ω²: RK4
@@ -441,22 +470,28 @@ fn shoot_line(grid: &Grid, motor: &Motor, flywheel: f64, gbar: f64) -> Result<Ve
     let jbar = grid.j.iter().sum::<f64>() / n as f64 + flywheel;
     let yc = 0.5 * jbar * wc * wc;
     let f = |y0: f64| run(y0, None) - y0;
-    let (mut lo, mut hi) = (0.5 * yc, 2.0 * yc);
-    for _ in 0..60 {
-        if f(lo) > 0.0 {
-            break;
+    let y0 = match secant(&f, yc, 1.001 * yc) {
+        Some(y0) => y0,
+        None => {
+            // The secant strayed: bracket the root and let Brent find it.
+            let (mut lo, mut hi) = (0.5 * yc, 2.0 * yc);
+            for _ in 0..60 {
+                if f(lo) > 0.0 {
+                    break;
+                }
+                lo *= 0.5;
+            }
+            for _ in 0..60 {
+                if f(hi) < 0.0 {
+                    break;
+                }
+                hi *= 2.0;
+            }
+            brent_root(f, lo, hi, 1e-15 * hi)
+                .map_err(|e| DriveError::Stalls(format!("no periodic motion: {e}")))?
+                .x
         }
-        lo *= 0.5;
-    }
-    for _ in 0..60 {
-        if f(hi) < 0.0 {
-            break;
-        }
-        hi *= 2.0;
-    }
-    let y0 = brent_root(f, lo, hi, 1e-15 * hi)
-        .map_err(|e| DriveError::Stalls(format!("no periodic motion: {e}")))?
-        .x;
+    };
     let mut ys = Vec::new();
     run(y0, Some(&mut ys));
     if ys.iter().any(|&y| y <= 0.0) {
@@ -467,6 +502,30 @@ fn shoot_line(grid: &Grid, motor: &Motor, flywheel: f64, gbar: f64) -> Result<Ve
         .enumerate()
         .map(|(i, &y)| (2.0 * y / jf(2 * i)).sqrt())
         .collect())
+}
+
+/// A root of `f` by the secant method from `a` and `b`, to 10⁻¹⁴ relative, if it converges
+/// in 12 steps without leaving the positive axis: the periodicity defect y(2π) − y₀ of a
+/// motor line is nearly affine in y₀, so this takes three or four runs where a bracketed
+/// Brent takes a dozen.
+fn secant(f: &dyn Fn(f64) -> f64, a: f64, b: f64) -> Option<f64> {
+    let (mut x0, mut x1) = (a, b);
+    let (mut f0, mut f1) = (f(x0), f(x1));
+    for _ in 0..12 {
+        if !(f0.is_finite() && f1.is_finite()) || f1 == f0 {
+            return None;
+        }
+        let x2 = x1 - f1 * (x1 - x0) / (f1 - f0);
+        if !(x2 > 0.0) {
+            return None;
+        }
+        if (x2 - x1).abs() <= 1e-14 * x2 {
+            return Some(x2);
+        }
+        (x0, f0, x1) = (x1, f1, x2);
+        f1 = f(x1);
+    }
+    None
 }
 
 /// Extremes of ω on the nodes, refined on the cubic Hermite interpolant through (ω, ω′ = α/ω)
@@ -501,10 +560,29 @@ fn speed_extremes(om: &[f64], al: &[f64], h: f64) -> [(f64, f64); 2] {
     [refine(-1.0), refine(1.0)]
 }
 
+/// Extremes of an explicit ω(φ): Brent on it around the extreme nodes.
+fn exact_extremes(om: &[f64], h: f64, e: &ExactSpeed) -> [(f64, f64); 2] {
+    let refine = |sign: f64| {
+        let (k, _) = om
+            .iter()
+            .enumerate()
+            .max_by(|a, b| (sign * a.1).total_cmp(&(sign * b.1)))
+            .expect("nodes");
+        let at = k as f64 * h;
+        brent_max(|p| sign * e.at(p), at - h, at + h, 1e-13)
+            .map(|x| (sign * x.fx, x.x.rem_euclid(TAU)))
+            .unwrap_or((om[k], at))
+    };
+    [refine(-1.0), refine(1.0)]
+}
+
 /// The figures of one steady state on one grid.
 fn figures(grid: &Grid, motor: &Motor, flywheel: f64, omega_nominal: f64) -> Result<SteadyState, DriveError> {
-    let (om, al, h) = steady_on(grid, motor, flywheel, omega_nominal)?;
-    let [(wmin, pmin), (wmax, pmax)] = speed_extremes(&om, &al, h);
+    let (om, al, h, exact) = steady_on(grid, motor, flywheel, omega_nominal)?;
+    let [(wmin, pmin), (wmax, pmax)] = match &exact {
+        Some(e) => exact_extremes(&om, h, e),
+        None => speed_extremes(&om, &al, h),
+    };
     // The period ∫ dφ/ω by the trapezoidal rule on the nodes (spectral for a smooth ω).
     let period: f64 = om.iter().map(|w| h / w).sum();
     let mean = TAU / period;
@@ -530,7 +608,7 @@ fn figures(grid: &Grid, motor: &Motor, flywheel: f64, omega_nominal: f64) -> Res
 }
 
 /// The periodic steady state with the flywheel `flywheel` and `motor`, the constant torque's
-/// mean speed at `omega_nominal`: the grid doubled until Cs changes by less than `rel_tol` (or
+/// mean speed at `omega_nominal`: the grid doubled until Cs changes by less than `steady_rel_tol` (or
 /// 10⁻¹³ absolutely); the errors are the last change.
 pub fn steady_state(
     m: &dyn OneDof,
@@ -539,28 +617,45 @@ pub fn steady_state(
     omega_nominal: f64,
     s: &DriveSettings,
 ) -> Result<SteadyState, DriveError> {
+    converged(m, motor, flywheel, omega_nominal, s).map(|(st, _)| st)
+}
+
+/// [`steady_state`], and the grid it converged on (to solve again on it).
+fn converged(
+    m: &dyn OneDof,
+    motor: &Motor,
+    flywheel: f64,
+    omega_nominal: f64,
+    s: &DriveSettings,
+) -> Result<(SteadyState, Grid), DriveError> {
     let mut n = s.min_samples.next_power_of_two().max(16);
     let mut grid = Grid::new(m, n)?;
     let mut prev = figures(&grid.halved(), motor, flywheel, omega_nominal)?;
     loop {
-        let mut cur = figures(&grid, motor, flywheel, omega_nominal)?;
-        let dcs = (cur.cs - prev.cs).abs();
-        let dw = [
-            cur.omega_min - prev.omega_min,
-            cur.omega_max - prev.omega_max,
-            cur.omega_mean - prev.omega_mean,
-        ]
-        .iter()
-        .fold(0.0, |a: f64, b| a.max(b.abs()));
-        if dcs <= s.rel_tol * cur.cs.abs() + 1e-13 || 2 * n > s.max_samples {
-            cur.cs_error = dcs + 1e-14 * n as f64 * cur.cs.abs().max(1e-300);
-            cur.omega_error = dw + 1e-14 * n as f64 * cur.omega_max;
-            return Ok(cur);
+        let cur = figures(&grid, motor, flywheel, omega_nominal)?;
+        if (cur.cs - prev.cs).abs() <= s.steady_rel_tol * cur.cs.abs() + 1e-13 || 2 * n > s.max_samples {
+            return Ok((with_errors(cur, &prev), grid));
         }
         prev = cur;
         n *= 2;
         grid = Grid::new(m, n)?;
     }
+}
+
+/// `cur` with its errors: the change from `coarse` (the same state on half the grid) plus
+/// round-off.
+fn with_errors(mut cur: SteadyState, coarse: &SteadyState) -> SteadyState {
+    let n = cur.samples as f64;
+    let dw = [
+        cur.omega_min - coarse.omega_min,
+        cur.omega_max - coarse.omega_max,
+        cur.omega_mean - coarse.omega_mean,
+    ]
+    .iter()
+    .fold(0.0, |a: f64, b| a.max(b.abs()));
+    cur.cs_error = (cur.cs - coarse.cs).abs() + 1e-14 * n * cur.cs.abs().max(1e-300);
+    cur.omega_error = dw + 1e-14 * n * cur.omega_max;
+    cur
 }
 
 /// The least flywheel that meets a coefficient of fluctuation, exactly and by the textbook.
@@ -590,7 +685,7 @@ pub fn least_flywheel(
 ) -> Result<Flywheel, DriveError> {
     let textbook = constant.textbook_flywheel(cs);
     let at = |i: f64| steady_state(m, motor, i, constant.omega, s);
-    let zero = at(0.0)?;
+    let (zero, g0) = converged(m, motor, 0.0, constant.omega, s)?;
     if zero.cs <= cs {
         return Ok(Flywheel {
             cs,
@@ -609,13 +704,19 @@ pub fn least_flywheel(
             return Err(DriveError::NoFlywheel(hi));
         }
     }
-    let f = |i: f64| at(i).map(|st| st.cs - cs).unwrap_or(f64::NAN);
+    // Cs(I_f) on one grid, the finer of those that converged without a flywheel and at the
+    // bracket's top (the speed swings most without one): the root's search evaluates the
+    // machine no more, and the state at the root is checked on the grid and on its half.
+    let (_, g1) = converged(m, motor, hi, constant.omega, s)?;
+    let grid = if g0.n() >= g1.n() { g0 } else { g1 };
+    let cs_on = |g: &Grid, i: f64| figures(g, motor, i, constant.omega);
+    let f = |i: f64| cs_on(&grid, i).map(|st| st.cs - cs).unwrap_or(f64::NAN);
     let tol = 1e-12 * hi;
     let root = brent_root(f, 0.0, hi, tol).map_err(|e| DriveError::Stalls(e.to_string()))?;
-    let steady = at(root.x)?;
+    let steady = with_errors(cs_on(&grid, root.x)?, &cs_on(&grid.halved(), root.x)?);
     // |dCs/dI_f| by a central difference, for the error that Cs's own error makes in I_f.
     let d = 1e-4 * root.x.max(tol);
-    let slope = ((at(root.x + d)?.cs - at((root.x - d).max(0.0))?.cs) / (2.0 * d)).abs();
+    let slope = ((cs_on(&grid, root.x + d)?.cs - cs_on(&grid, (root.x - d).max(0.0))?.cs) / (2.0 * d)).abs();
     Ok(Flywheel {
         cs,
         inertia: root.x,

@@ -314,3 +314,41 @@ fn a_problem_file_with_a_drive_reports_its_flywheel() {
     let e = cwsynth::families::parse_str(&bad, std::path::Path::new("d.toml")).unwrap_err();
     assert!(e.to_string().contains("flywheel"), "{e}");
 }
+
+/// The shaking force at real speed is −d²/dt² of the mass-weighted position Σ mᵢ r_Gᵢ + Rot(φ)U:
+/// checked against central differences of that position in φ (S′ and S″, step 1e-4) with the
+/// steady state's ω and α, and against the constant-speed force where α = 0.
+#[test]
+fn the_real_speed_shaking_force_is_minus_the_second_time_derivative_of_the_mass_centre() {
+    use cwsynth::families::slider_crank::synth::{machine, paper_piston, real_speed_force, scene_force};
+    use cwsynth::geom::P2;
+    let scene = paper_piston(1000.0);
+    let u = P2::new(-0.03, 0.004);
+    let mech = &scene.mech;
+    let pos = |phi: f64| {
+        let st = mech.state(phi).unwrap();
+        let g2 = st.a[0] * (mech.crank.centroid / mech.r);
+        let b = P2::new(st.x[0], mech.e);
+        let (s, c) = phi.sin_cos();
+        g2 * mech.crank.mass
+            + st.g3[0] * mech.rod.mass
+            + b * mech.slider_mass
+            + P2::new(c * u.x - s * u.y, s * u.x + c * u.y)
+    };
+    let m = machine(&scene, u, 0.0);
+    let st = steady_state(&m, &Motor::ConstantTorque, 0.002, scene.omega, &DriveSettings::default()).unwrap();
+    assert!(st.cs > 0.05, "a large swing: {}", st.cs);
+    let d = 1e-4;
+    let mut worst = 0.0_f64;
+    for &[phi, w, a] in st.curve.iter().step_by(17) {
+        let s1 = (pos(phi + d) - pos(phi - d)) / (2.0 * d);
+        let s2 = (pos(phi + d) - pos(phi) * 2.0 + pos(phi - d)) / (d * d);
+        let fd = -(s2 * (w * w) + s1 * a);
+        let f = real_speed_force(&scene, u, phi, w, a).unwrap();
+        worst = worst.max((f - fd).norm() / f.norm().max(1.0));
+        // α = 0 is the constant-speed force.
+        let f0 = real_speed_force(&scene, u, phi, scene.omega, 0.0).unwrap();
+        assert!((f0 - scene_force(&scene, u, phi)).norm() < 1e-9 * f0.norm().max(1.0));
+    }
+    assert!(worst < 1e-6, "{worst:.2e}");
+}

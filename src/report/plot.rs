@@ -200,23 +200,43 @@ pub fn tick(v: &f64) -> String {
     }
 }
 
-/// The corner for a legend of `n` entries over data in `x`×`y` (plot area `w`×`h` pixels):
-/// the one whose legend box covers the fewest points (upper right on a tie).
+/// The corner for the legend over data in `x`×`y` (plot area `w`×`h` pixels): the one whose
+/// legend box covers the fewest points of the data (a line's segments sampled between its
+/// vertices; upper right on a tie), that count, and the box's height as a fraction of the
+/// area's (for the headroom that clears it, [`draw_panel`]).
 fn legend_corner(
     series: &[Series],
     x: (f64, f64),
     y: (f64, f64),
     w: u32,
     h: u32,
-) -> SeriesLabelPosition {
-    let longest = series
+) -> (SeriesLabelPosition, usize, f64) {
+    let listed: Vec<&Series> = series.iter().filter(|s| s.style != Style::Peak).collect();
+    let longest = listed
         .iter()
         .map(|s| s.name.chars().count())
         .max()
         .unwrap_or(0) as f64;
     // The box: 40 px + 7 px per character wide, 18 px per entry + 10 tall (nominal).
     let bw = ((40.0 + 7.0 * longest) * S as f64 / w.max(1) as f64).min(1.0);
-    let bh = ((10.0 + 18.0 * series.len() as f64) * S as f64 / h.max(1) as f64).min(1.0);
+    let bh = ((10.0 + 18.0 * listed.len() as f64) * S as f64 / h.max(1) as f64).min(1.0);
+    // Every vertex, and 7 points between consecutive vertices of a line.
+    let points: Vec<(f64, f64)> = series
+        .iter()
+        .flat_map(|s| {
+            let line = s.style == Style::Line;
+            s.points.iter().enumerate().flat_map(move |(i, &p)| {
+                let next = if line { s.points.get(i + 1).copied() } else { None };
+                (0..if next.is_some() { 8 } else { 1 }).map(move |k| match next {
+                    Some(q) => {
+                        let t = k as f64 / 8.0;
+                        (p.0 + t * (q.0 - p.0), p.1 + t * (q.1 - p.1))
+                    }
+                    None => p,
+                })
+            })
+        })
+        .collect();
     let corners = [
         (
             SeriesLabelPosition::UpperRight,
@@ -228,9 +248,8 @@ fn legend_corner(
         (SeriesLabelPosition::LowerLeft, (0.0, bw), (0.0, bh)),
     ];
     let count = |(fx, fy): ((f64, f64), (f64, f64))| {
-        series
+        points
             .iter()
-            .flat_map(|s| s.points.iter())
             .filter(|p| p.0.is_finite() && p.1.is_finite())
             .filter(|p| {
                 let u = (p.0 - x.0) / (x.1 - x.0);
@@ -246,7 +265,7 @@ fn legend_corner(
             best = (c, pos);
         }
     }
-    best.1
+    (best.1, best.0, bh)
 }
 
 const PALETTE: [RGBColor; 8] = [
@@ -336,6 +355,12 @@ fn draw_panel(area: &DrawingArea<SVGBackend, Shift>, p: &Panel) -> Result<(), Pl
     };
     if p.equal_aspect {
         ((x0, x1), (y0, y1)) = equal_scale((x0, x1), (y0, y1), pw, ph);
+    }
+    // A legend that would cover data in every corner gets headroom above the data instead.
+    let (mut corner, covered, bh) = legend_corner(&p.series, (x0, x1), (y0, y1), pw, ph);
+    if covered > 0 && !p.equal_aspect && bh < 0.5 {
+        y1 += (y1 - y0) * (bh + 0.02) / (1.0 - bh - 0.02);
+        corner = SeriesLabelPosition::UpperRight;
     }
     let mut chart = chart_on(area, p, (x0, x1), (y0, y1))?;
     let xt = |v: &f64| tick_on(*v, x1 - x0);
@@ -440,7 +465,6 @@ fn draw_panel(area: &DrawingArea<SVGBackend, Shift>, p: &Panel) -> Result<(), Pl
             }
         }
     }
-    let corner = legend_corner(&p.series, (x0, x1), (y0, y1), pw, ph);
     chart
         .configure_series_labels()
         .background_style(WHITE.mix(0.85))

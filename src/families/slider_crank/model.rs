@@ -251,6 +251,12 @@ impl SliderCrank {
         self.force0_of(st.a[2], st.g3[2], st.x[2])
     }
 
+    /// The links' momentum per ω, negated (kg·m): p₀ = −(m2 G2' + m3 G3' + m4 B'). At real
+    /// speed, with α = dω/dt, the shaking force is ω² f₀ + α p₀ (a_G = r_G″ ω² + r_G′ α).
+    pub fn momentum0(&self, st: &State) -> P2 {
+        self.force0_of(st.a[1], st.g3[1], st.x[1])
+    }
+
     /// f₀ from A'', G3'' and x'' ([`Self::shaking_force0`]).
     fn force0_of(&self, a2: P2, g3: P2, x2: f64) -> P2 {
         let g2 = a2 * (self.crank.centroid / self.r);

@@ -73,7 +73,7 @@ pub fn numbers(_: &Scene, p: &SliderCrankProblem, sol: &Solution, r: &mut SolveR
     r.objectives = number_map(&objectives(out));
     r.errors = number_map(&errors(s, out));
     r.derived = number_map(&derived);
-    drive_numbers(r, sol);
+    super::drive_report::drive_numbers(r, sol);
     if let Some((pts, warnings)) = &sol.sweep {
         r.warnings.extend(warnings.iter().cloned());
         r.extra.insert(
@@ -81,68 +81,6 @@ pub fn numbers(_: &Scene, p: &SliderCrankProblem, sol: &Solution, r: &mut SolveR
             serde_json::to_value(pts).expect("plain data"),
         );
     }
-}
-
-/// The drive's figures (`[mechanism.drive]`, `docs/results.md`), in `derived`.
-#[derive(Debug, serde::Serialize)]
-struct DriveNumbers {
-    /// T̄, the mean drive torque at the nominal speed (N·m).
-    drive_mean_torque_nm: f64,
-    /// ΔE = max E − min E of the energy curve E = ∫ (T − T̄) dφ at the nominal speed (J).
-    energy_fluctuation_j: f64,
-    /// Bound on the error of ΔE (J).
-    energy_fluctuation_error_j: f64,
-    /// With `cs`: the textbook flywheel ΔE / (Cs ω̄²) (kg·m²).
-    flywheel_textbook_kgm2: Option<f64>,
-    /// With `cs`: the least flywheel whose periodic steady state meets Cs (kg·m²).
-    flywheel_least_kgm2: Option<f64>,
-    /// Bound on its error (kg·m²).
-    flywheel_least_error_kgm2: Option<f64>,
-    /// The flywheel of the steady state below (kg·m²).
-    steady_flywheel_kgm2: f64,
-    /// The steady state's ω_min (rad/s).
-    steady_omega_min_rad_s: f64,
-    /// Its ω_max (rad/s).
-    steady_omega_max_rad_s: f64,
-    /// Its time-mean speed 2π/period (rad/s).
-    steady_omega_mean_rad_s: f64,
-    /// Bound on the error of the three speeds (rad/s).
-    steady_omega_error_rad_s: f64,
-    /// Its Cs = (ω_max − ω_min)/ω_mean.
-    steady_cs: f64,
-    /// Bound on the error of Cs.
-    steady_cs_error: f64,
-    /// Its peak angular acceleration |α| of the crank (rad/s²).
-    steady_peak_angular_acceleration_rad_s2: f64,
-}
-
-/// The drive's numbers in `derived`, or its error as a warning.
-fn drive_numbers(r: &mut SolveResult, sol: &Solution) {
-    let d = match &sol.drive {
-        None => return,
-        Some(Err(why)) => {
-            r.warnings.push(format!("the drive could not be computed: {why}"));
-            return;
-        }
-        Some(Ok(d)) => d,
-    };
-    let (c, st, f) = (&d.constant, &d.steady, d.flywheel.as_ref());
-    r.derived.extend(number_map(&DriveNumbers {
-        drive_mean_torque_nm: c.mean_torque,
-        energy_fluctuation_j: c.energy_fluctuation,
-        energy_fluctuation_error_j: c.energy_fluctuation_error,
-        flywheel_textbook_kgm2: f.map(|f| f.textbook),
-        flywheel_least_kgm2: f.map(|f| f.inertia),
-        flywheel_least_error_kgm2: f.map(|f| f.inertia_error),
-        steady_flywheel_kgm2: st.flywheel,
-        steady_omega_min_rad_s: st.omega_min,
-        steady_omega_max_rad_s: st.omega_max,
-        steady_omega_mean_rad_s: st.omega_mean,
-        steady_omega_error_rad_s: st.omega_error,
-        steady_cs: st.cs,
-        steady_cs_error: st.cs_error,
-        steady_peak_angular_acceleration_rad_s2: st.peak_alpha,
-    }));
 }
 
 /// The design's objective values.
@@ -321,6 +259,7 @@ pub fn documents(scene: &Scene, p: &SliderCrankProblem, sol: &Solution, r: &mut 
         design.counterweight_angle_rad,
     );
     mechanism_drawing(r, scene, &p.core.mech, design);
+    super::drive_report::drive_documents(r, sol);
     let (scene, s, out) = (scene.clone(), p.core.clone(), out.clone());
     let label = sol.claim.status.design_label();
     r.plots.push(Plot::new(

@@ -48,6 +48,52 @@ pub struct DriveFigures {
     pub flywheel: Option<dynamics::Flywheel>,
     /// The periodic steady state with the given flywheel, else the least one, else none.
     pub steady: dynamics::SteadyState,
+    /// The peaks at real speed, in that steady state (`None` with balancers).
+    pub real: Option<RealSpeed>,
+}
+
+/// The design's peaks at real speed: the steady state's ω(φ) and α(φ) in the accelerations.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RealSpeed {
+    /// max |F| over the steady state's nodes (N).
+    pub peak_force: f64,
+    /// Its error bound (N): the change from every other node, plus the speeds' error.
+    pub peak_force_error: f64,
+    /// Its crank angle (rad).
+    pub peak_force_angle: f64,
+    /// max |T_m(ω) − I_f α|, the torque the crank shaft carries between the flywheel and the
+    /// mechanism (N·m).
+    pub peak_shaft_torque: f64,
+}
+
+/// The real-speed peaks of the design U = `u` in the steady state `st` with the motor
+/// `motor` and the mean load `mean`.
+fn real_speed(s: &sc::Scene, u: P2, st: &dynamics::SteadyState, motor: &dynamics::Motor, mean: f64) -> Option<RealSpeed> {
+    let forces: Vec<(f64, f64)> = st
+        .curve
+        .iter()
+        .map(|&[phi, w, a]| sc::real_speed_force(s, u, phi, w, a).map(|f| (f.norm(), phi)))
+        .collect::<Option<_>>()?;
+    let peak = |step: usize| {
+        forces
+            .iter()
+            .step_by(step)
+            .fold((0.0_f64, 0.0), |b, &(f, p)| if f > b.0 { (f, p) } else { b })
+    };
+    let (fine, coarse) = (peak(1), peak(2));
+    // F scales as ω²: the speeds' error δω adds 2 δω/ω of it.
+    let speed_err = 2.0 * st.omega_error / st.omega_min * fine.0;
+    let shaft = st
+        .curve
+        .iter()
+        .map(|&[_, w, a]| (motor.torque(w, mean) - st.flywheel * a).abs())
+        .fold(0.0, f64::max);
+    Some(RealSpeed {
+        peak_force: fine.0,
+        peak_force_error: (fine.0 - coarse.0).abs() + speed_err,
+        peak_force_angle: fine.1,
+        peak_shaft_torque: shaft,
+    })
 }
 
 /// The drive of the design U = `u`: ΔE, the least flywheel for the file's Cs, the steady
@@ -75,10 +121,12 @@ fn drive(p: &SliderCrankProblem, out: &sc::Outcome, d: &Drive) -> Result<DriveFi
             dynamics::steady_state(&m, &d.motor, given.unwrap_or(0.0), p.core.omega, &set).map_err(e)?
         }
     };
+    let real = real_speed(s, u, &steady, &d.motor, constant.mean_torque);
     Ok(DriveFigures {
         constant,
         flywheel,
         steady,
+        real,
     })
 }
 

@@ -4,7 +4,7 @@
 //! ([`super::drive_torque`]) the rest of the family reports.
 
 use super::scene::Scene;
-use crate::families::slider_crank::model::weight_torque_cs;
+use crate::families::slider_crank::model::{rot_cs, weight_torque_cs};
 use crate::geom::P2;
 
 /// (J, J′, G) of `scene` with the counterweight U = `u`:
@@ -32,4 +32,21 @@ pub fn machine(scene: &Scene, u: P2, constant_inertia: f64) -> impl Fn(f64) -> [
             g,
         ]
     }
+}
+
+/// The shaking force (N) at φ at real speed, with the crank at speed ω and angular
+/// acceleration α: F = ω² (f₀ + Rot(φ)U) + α (p₀ − Rot(φ + π/2)U), the links' f₀ and p₀ of
+/// [`crate::families::slider_crank::model::SliderCrank::momentum0`] and the counterweight's
+/// centripetal and tangential parts. Balancers are left out (their tangential part is not
+/// modelled): `None` with balancers, or where the mechanism does not assemble.
+pub fn real_speed_force(scene: &Scene, u: P2, phi: f64, omega: f64, alpha: f64) -> Option<P2> {
+    if !scene.balancers.is_empty() {
+        return None;
+    }
+    let m = &scene.mech;
+    let st = m.state(phi)?;
+    let [c, s] = st.cs;
+    let f0 = m.shaking_force0(&st) + rot_cs([c, s], u);
+    let p0 = m.momentum0(&st) - rot_cs([-s, c], u);
+    Some(f0 * (omega * omega) + p0 * alpha)
 }

@@ -1,0 +1,41 @@
+//! The machine as it runs (issue 33) on the paper's piston with its minimax counterweight:
+//! ΔE at constant speed, the periodic steady state with a flywheel (constant torque and a
+//! motor line), and the least flywheel for Cs = 0.02. Targets: the steady state ≤ 2 ms.
+use criterion::{criterion_group, criterion_main, Criterion};
+use cwsynth::dynamics::{constant_speed, least_flywheel, steady_state, DriveSettings, Motor};
+use cwsynth::families::slider_crank::synth::{machine, paper_piston};
+use cwsynth::geom::P2;
+
+fn bench(c: &mut Criterion) {
+    let sc = paper_piston(1000.0);
+    let u = P2::new(-0.0357393, 0.0);
+    let m = machine(&sc, u, 0.0018);
+    let s = DriveSettings::default();
+    let w = sc.omega;
+    let cs = constant_speed(&m, w, &s).unwrap();
+    eprintln!("ΔE {} J on {} samples", cs.energy_fluctuation, cs.samples);
+    c.bench_function("drive/energy_fluctuation", |b| {
+        b.iter(|| constant_speed(std::hint::black_box(&m), w, &s).unwrap())
+    });
+    let st = steady_state(&m, &Motor::ConstantTorque, 0.0355, w, &s).unwrap();
+    eprintln!("steady state (constant torque) on {} samples", st.samples);
+    c.bench_function("drive/steady_state_constant_torque", |b| {
+        b.iter(|| steady_state(std::hint::black_box(&m), &Motor::ConstantTorque, 0.0355, w, &s).unwrap())
+    });
+    let line = Motor::Line {
+        rated_torque: 20.0,
+        rated_speed: 100.0,
+        no_load_speed: 110.0,
+    };
+    let st = steady_state(&m, &line, 0.0355, w, &s).unwrap();
+    eprintln!("steady state (motor line) on {} samples", st.samples);
+    c.bench_function("drive/steady_state_motor_line", |b| {
+        b.iter(|| steady_state(std::hint::black_box(&m), &line, 0.0355, w, &s).unwrap())
+    });
+    c.bench_function("drive/least_flywheel_cs_0.02", |b| {
+        b.iter(|| least_flywheel(std::hint::black_box(&m), &Motor::ConstantTorque, &cs, 0.02, &s).unwrap())
+    });
+}
+
+criterion_group!(benches, bench);
+criterion_main!(benches);

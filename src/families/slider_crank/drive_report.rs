@@ -1,0 +1,174 @@
+//! The slider-crank's drive in its result (`[mechanism.drive]`, issue 33): the figures of
+//! [`super::solve::DriveFigures`] in `derived`, the table of the turn (`<name>-drive.csv`)
+//! and the turning-moment and speed plot. It draws; `solve.rs` computed every number.
+
+use super::solve::{DriveFigures, Solution};
+use crate::report::plot::{self, Panel, PlotError, Series};
+use crate::report::{number_map, Plot, SolveResult, Table};
+
+/// The drive's figures (`[mechanism.drive]`, `docs/results.md`), in `derived`.
+#[derive(Debug, serde::Serialize)]
+struct DriveNumbers {
+    /// T̄, the mean drive torque at the nominal speed (N·m).
+    drive_mean_torque_nm: f64,
+    /// ΔE = max E − min E of the energy curve E = ∫ (T − T̄) dφ at the nominal speed (J).
+    energy_fluctuation_j: f64,
+    /// Bound on the error of ΔE (J).
+    energy_fluctuation_error_j: f64,
+    /// With `cs`: the textbook flywheel ΔE / (Cs ω̄²) (kg·m²).
+    flywheel_textbook_kgm2: Option<f64>,
+    /// With `cs`: the least flywheel whose periodic steady state meets Cs (kg·m²).
+    flywheel_least_kgm2: Option<f64>,
+    /// Bound on its error (kg·m²).
+    flywheel_least_error_kgm2: Option<f64>,
+    /// The flywheel of the steady state below (kg·m²).
+    steady_flywheel_kgm2: f64,
+    /// The steady state's ω_min (rad/s).
+    steady_omega_min_rad_s: f64,
+    /// Its ω_max (rad/s).
+    steady_omega_max_rad_s: f64,
+    /// Its time-mean speed 2π/period (rad/s).
+    steady_omega_mean_rad_s: f64,
+    /// Bound on the error of the three speeds (rad/s).
+    steady_omega_error_rad_s: f64,
+    /// Its Cs = (ω_max − ω_min)/ω_mean.
+    steady_cs: f64,
+    /// Bound on the error of Cs.
+    steady_cs_error: f64,
+    /// Its peak angular acceleration |α| of the crank (rad/s²).
+    steady_peak_angular_acceleration_rad_s2: f64,
+    /// The peak shaking force at real speed (N), without balancers.
+    steady_peak_shaking_force_n: Option<f64>,
+    /// Its error bound (N).
+    steady_peak_shaking_force_error_n: Option<f64>,
+    /// Its difference from the constant-speed peak, relative (%).
+    steady_peak_shaking_force_change_pct: Option<f64>,
+    /// The peak torque in the crank shaft between flywheel and mechanism at real speed (N·m).
+    steady_peak_shaft_torque_nm: Option<f64>,
+}
+
+/// The drive's numbers in `derived`, or its error as a warning.
+pub fn drive_numbers(r: &mut SolveResult, sol: &Solution) {
+    let d = match &sol.drive {
+        None => return,
+        Some(Err(why)) => {
+            r.warnings.push(format!("the drive could not be computed: {why}"));
+            return;
+        }
+        Some(Ok(d)) => d,
+    };
+    let (c, st, f) = (&d.constant, &d.steady, d.flywheel.as_ref());
+    r.derived.extend(number_map(&DriveNumbers {
+        drive_mean_torque_nm: c.mean_torque,
+        energy_fluctuation_j: c.energy_fluctuation,
+        energy_fluctuation_error_j: c.energy_fluctuation_error,
+        flywheel_textbook_kgm2: f.map(|f| f.textbook),
+        flywheel_least_kgm2: f.map(|f| f.inertia),
+        flywheel_least_error_kgm2: f.map(|f| f.inertia_error),
+        steady_flywheel_kgm2: st.flywheel,
+        steady_omega_min_rad_s: st.omega_min,
+        steady_omega_max_rad_s: st.omega_max,
+        steady_omega_mean_rad_s: st.omega_mean,
+        steady_omega_error_rad_s: st.omega_error,
+        steady_cs: st.cs,
+        steady_cs_error: st.cs_error,
+        steady_peak_angular_acceleration_rad_s2: st.peak_alpha,
+        steady_peak_shaking_force_n: d.real.map(|x| x.peak_force),
+        steady_peak_shaking_force_error_n: d.real.map(|x| x.peak_force_error),
+        steady_peak_shaking_force_change_pct: d
+            .real
+            .map(|x| 100.0 * (x.peak_force - sol.out.design.peak) / sol.out.design.peak),
+        steady_peak_shaft_torque_nm: d.real.map(|x| x.peak_shaft_torque),
+    }));
+}
+
+/// The drive's table and plot: the turn at constant speed (T, E) and at real speed (ω, α).
+pub fn drive_documents(r: &mut SolveResult, sol: &Solution) {
+    let Some(Ok(d)) = &sol.drive else { return };
+    let mut csv = String::from("crank_angle_deg,drive_torque_nm,energy_j\n");
+    for [p, t, e] in &d.constant.curve {
+        csv += &format!("{},{},{}\n", p.to_degrees(), t, e);
+    }
+    r.tables.push(Table {
+        suffix: "drive".into(),
+        caption: "The turn at constant speed: drive torque T and energy curve E = ∫ (T − T̄) dφ".into(),
+        csv,
+    });
+    let mut csv = String::from("crank_angle_deg,speed_rad_s,angular_acceleration_rad_s2\n");
+    for [p, w, a] in &d.steady.curve {
+        csv += &format!("{},{},{}\n", p.to_degrees(), w, a);
+    }
+    r.tables.push(Table {
+        suffix: "steady-state".into(),
+        caption: "The periodic steady state at real speed: crank speed ω and acceleration α".into(),
+        csv,
+    });
+    let d = d.clone();
+    r.plots.push(Plot::new(
+        "drive",
+        "Turning-moment diagram, energy fluctuation and the speed over a turn",
+        move || drive_plot(&d),
+    ));
+}
+
+/// Three panels over the crank angle: T with T̄; E with its extremes marked (ΔE between them);
+/// ω at real speed with ω_min, ω_max and the mean.
+fn drive_plot(d: &DriveFigures) -> Result<String, PlotError> {
+    let (c, st) = (&d.constant, &d.steady);
+    let deg = |p: f64| p.to_degrees();
+    let curve = |k: usize| c.curve.iter().map(|v| (deg(v[0]), v[k])).collect::<Vec<_>>();
+    let flat = |y: f64| vec![(0.0, y), (360.0, y)];
+    let e_at = |p: f64| {
+        c.curve
+            .iter()
+            .min_by(|a, b| (a[0] - p).abs().total_cmp(&(b[0] - p).abs()))
+            .map_or(0.0, |v| v[2])
+    };
+    let [p_hi, p_lo] = c.extreme_angles;
+    let (e_hi, e_lo) = (e_at(p_hi), e_at(p_lo));
+    // The nodes of one turn, closed at 360°.
+    let speed: Vec<(f64, f64)> = st
+        .curve
+        .iter()
+        .map(|v| (deg(v[0]), v[1]))
+        .chain(st.curve.first().map(|v| (360.0, v[1])))
+        .collect();
+    // T̄ at round-off level (a machine that does no net work) is shown as 0.
+    let t_scale = c.curve.iter().fold(0.0_f64, |m, v| m.max(v[1].abs()));
+    let t_bar = if c.mean_torque.abs() < 1e-12 * t_scale { 0.0 } else { c.mean_torque };
+    plot::panels(
+        &[
+            Panel {
+                title: format!("Drive torque at constant speed, T̄ = {} N·m", plot::tick(&t_bar)),
+                x_label: "crank angle φ (°)".into(),
+                y_label: "T (N·m)".into(),
+                series: vec![Series::line("T(φ)", curve(1)), Series::line("T̄", flat(t_bar))],
+                equal_aspect: false,
+            },
+            Panel {
+                title: format!("Energy curve: ΔE = {} J", plot::tick(&c.energy_fluctuation)),
+                x_label: "crank angle φ (°)".into(),
+                y_label: "E (J)".into(),
+                series: vec![
+                    Series::line("E(φ) = ∫ (T − T̄) dφ", curve(2)),
+                    Series::peak("max E", vec![(deg(p_hi), e_hi)]),
+                    Series::peak("min E", vec![(deg(p_lo), e_lo)]),
+                ],
+                equal_aspect: false,
+            },
+            Panel {
+                title: format!(
+                    "Crank speed at real speed, flywheel {} kg·m²: Cs = {}",
+                    plot::tick(&st.flywheel),
+                    plot::tick(&st.cs)
+                ),
+                x_label: "crank angle φ (°)".into(),
+                y_label: "ω (rad/s)".into(),
+                series: vec![Series::line("ω(φ)", speed), Series::line("time-mean speed", flat(st.omega_mean))],
+                equal_aspect: false,
+            },
+        ],
+        480,
+        420,
+    )
+}
