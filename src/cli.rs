@@ -45,9 +45,9 @@ pub enum Command {
         /// Output directory.
         #[arg(long)]
         out: PathBuf,
-        /// Worker threads (default: all cores).
-        #[arg(long)]
-        threads: Option<usize>,
+        /// Worker threads, 1–1024 (default: all cores).
+        #[arg(long, value_parser = clap::value_parser!(u16).range(1..=1024))]
+        threads: Option<u16>,
         /// Only machines with index % n == i, e.g. `--shard 0/4`, or `--shard auto` (the
         /// array index of a Slurm job array or a Kubernetes Indexed Job, docs/batch.md);
         /// writes `summary-shard-i-of-n.csv` (join them with `--merge` or `cwsynth merge`).
@@ -277,7 +277,7 @@ pub fn run(cli: Cli) -> anyhow::Result<i32> {
             summary_only,
             merge: false,
             units,
-        } => batch(&inputs, out, threads, shard, quiet, summary_only, units),
+        } => batch(&inputs, out, threads.map(usize::from), shard, quiet, summary_only, units),
         Command::Merge { dirs, out } => merge(&dirs, &out, false),
         Command::Calibrate {
             file,

@@ -253,6 +253,25 @@ impl ConstantSpeed {
     }
 }
 
+/// The index of the largest of `sign`·v (the max for +1, the min for −1).
+fn extreme_node(v: &[f64], sign: f64) -> usize {
+    v.iter()
+        .enumerate()
+        .max_by(|a, b| (sign * a.1).total_cmp(&(sign * b.1)))
+        .map_or(0, |(k, _)| k)
+}
+
+/// The extreme (max for `sign` +1, min for −1) of a smooth periodic `f` sampled as `v` at
+/// spacing `h`: the extreme sample, refined by Brent on `f` within a sample either side.
+/// (value, angle in [0, 2π)).
+fn refined_extreme(v: &[f64], h: f64, sign: f64, f: impl Fn(f64) -> f64) -> (f64, f64) {
+    let k = extreme_node(v, sign);
+    let at = k as f64 * h;
+    brent_max(|p| sign * f(p), at - h, at + h, 1e-13)
+        .map(|x| (sign * x.fx, x.x.rem_euclid(TAU)))
+        .unwrap_or((v[k], at))
+}
+
 /// ΔE on one grid: (ΔE, φ at max E, φ at min E, T̄, T's and E's interpolants).
 fn energy_on(grid: &Grid, omega: f64) -> (f64, [f64; 2], f64, Trig, Trig) {
     let n = grid.n();
@@ -262,19 +281,9 @@ fn energy_on(grid: &Grid, omega: f64) -> (f64, [f64; 2], f64, Trig, Trig) {
     let e = tt.antiderivative();
     let eg = e.grid(n);
     let h = TAU / n as f64;
-    let refine = |sign: f64| {
-        let (k, _) = eg
-            .iter()
-            .enumerate()
-            .max_by(|a, b| (sign * a.1).total_cmp(&(sign * b.1)))
-            .expect("a grid");
-        let at = k as f64 * h;
-        brent_max(|p| sign * e.eval(p), at - h, at + h, 1e-13)
-            .map(|x| (x.x.rem_euclid(TAU), sign * x.fx))
-            .unwrap_or((at, eg[k]))
-    };
-    let (hi, lo) = (refine(1.0), refine(-1.0));
-    (hi.1 - lo.1, [hi.0, lo.0], tt.mean(), tt, e)
+    let hi = refined_extreme(&eg, h, 1.0, |p| e.eval(p));
+    let lo = refined_extreme(&eg, h, -1.0, |p| e.eval(p));
+    (hi.0 - lo.0, [hi.1, lo.1], tt.mean(), tt, e)
 }
 
 /// The drive at constant speed ω̄: T̄, the energy curve and ΔE, the grid doubled until ΔE
@@ -533,11 +542,7 @@ fn secant(f: &dyn Fn(f64) -> f64, a: f64, b: f64) -> Option<f64> {
 fn speed_extremes(om: &[f64], al: &[f64], h: f64) -> [(f64, f64); 2] {
     let m = om.len();
     let refine = |sign: f64| {
-        let (k, _) = om
-            .iter()
-            .enumerate()
-            .max_by(|a, b| (sign * a.1).total_cmp(&(sign * b.1)))
-            .expect("nodes");
+        let k = extreme_node(om, sign);
         let mut best = (sign * om[k], k as f64 * h);
         for (a, b) in [((k + m - 1) % m, k), (k, (k + 1) % m)] {
             let (y0, y1) = (om[a], om[b]);
@@ -562,18 +567,10 @@ fn speed_extremes(om: &[f64], al: &[f64], h: f64) -> [(f64, f64); 2] {
 
 /// Extremes of an explicit ω(φ): Brent on it around the extreme nodes.
 fn exact_extremes(om: &[f64], h: f64, e: &ExactSpeed) -> [(f64, f64); 2] {
-    let refine = |sign: f64| {
-        let (k, _) = om
-            .iter()
-            .enumerate()
-            .max_by(|a, b| (sign * a.1).total_cmp(&(sign * b.1)))
-            .expect("nodes");
-        let at = k as f64 * h;
-        brent_max(|p| sign * e.at(p), at - h, at + h, 1e-13)
-            .map(|x| (sign * x.fx, x.x.rem_euclid(TAU)))
-            .unwrap_or((om[k], at))
-    };
-    [refine(-1.0), refine(1.0)]
+    [
+        refined_extreme(om, h, -1.0, |p| e.at(p)),
+        refined_extreme(om, h, 1.0, |p| e.at(p)),
+    ]
 }
 
 /// The figures of one steady state on one grid.

@@ -371,3 +371,100 @@ fn completions_and_man_page_are_written() {
         "{text}"
     );
 }
+
+/// `--threads` is bounded: a mistyped count is refused before a thread starts (issue 34).
+#[test]
+fn an_absurd_thread_count_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = problem("piston-1000rpm.toml");
+    let out = bin()
+        .args(["batch", p.to_str().unwrap(), "--out", dir.path().to_str().unwrap(), "--threads", "100000"])
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("--threads") && err.contains("1..=1024"), "{err}");
+}
+
+/// Result names in `--out` that are a FIFO or a link to `/dev/zero` are not read: the batch
+/// ends and writes its results (issue 34).
+#[cfg(unix)]
+#[test]
+fn a_fifo_or_dev_zero_in_the_output_does_not_hang_a_batch() {
+    let dir = tempfile::tempdir().unwrap();
+    let status = std::process::Command::new("mkfifo")
+        .arg(dir.path().join("piston-1000rpm.json"))
+        .status()
+        .unwrap();
+    assert!(status.success());
+    std::os::unix::fs::symlink("/dev/zero", dir.path().join("summary.csv.resume")).unwrap();
+    let p = problem("piston-1000rpm.toml");
+    let mut child = bin()
+        .args(["batch", p.to_str().unwrap(), "--out", dir.path().to_str().unwrap(), "--quiet"])
+        .spawn()
+        .unwrap();
+    let t0 = std::time::Instant::now();
+    loop {
+        if let Some(st) = child.try_wait().unwrap() {
+            assert!(st.success());
+            break;
+        }
+        if t0.elapsed() > std::time::Duration::from_secs(60) {
+            let _ = child.kill();
+            panic!("the batch hangs on a FIFO or /dev/zero in --out");
+        }
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    }
+    let json = std::fs::read_to_string(dir.path().join("piston-1000rpm.json")).unwrap();
+    assert!(json.contains("\"optimal\""));
+}
+
+/// A problem file far over the limit is refused after reading at most the limit (issue 34):
+/// a 1 GB sparse file costs no more memory than 1 MiB.
+#[test]
+fn a_huge_problem_file_is_refused_without_reading_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let big = dir.path().join("big.toml");
+    std::fs::File::create(&big).unwrap().set_len(1 << 30).unwrap();
+    let bytes = cwsynth::problem::read_bounded(&big, cwsynth::problem::MAX_FILE_BYTES).unwrap();
+    assert_eq!(bytes.len(), cwsynth::problem::MAX_FILE_BYTES + 1);
+    let e = cwsynth::families::load(&big).unwrap_err().to_string();
+    assert!(e.contains("passes the limit"), "{e}");
+    // A directory is not a problem file.
+    assert!(cwsynth::problem::read_bounded(dir.path(), 10).is_err());
+}
+
+/// `merge` refuses the same shard twice and a shard whose rows belong to another split
+/// (issue 34): it would duplicate or mix machines.
+#[test]
+fn merge_refuses_a_shard_given_twice_or_from_another_run() {
+    let (a, b, out) = (
+        tempfile::tempdir().unwrap(),
+        tempfile::tempdir().unwrap(),
+        tempfile::tempdir().unwrap(),
+    );
+    let inputs = [problem("piston-1000rpm.toml"), problem("piston-2000rpm.toml")];
+    for d in [&a, &b] {
+        let st = bin()
+            .args(["batch", "--quiet", "--summary-only", "--shard", "0/2", "--out"])
+            .arg(d.path())
+            .args(&inputs)
+            .status()
+            .unwrap();
+        assert!(st.success());
+    }
+    let merge = |dirs: &[&std::path::Path]| {
+        let o = bin().arg("merge").args(dirs).arg("--out").arg(out.path()).output().unwrap();
+        (o.status.success(), String::from_utf8_lossy(&o.stderr).to_string())
+    };
+    let (ok, err) = merge(&[a.path(), b.path()]);
+    assert!(!ok && err.contains("given twice"), "{err}");
+    // Shard 0's rows renamed shard 1: its machine 0 is not of shard 1.
+    std::fs::rename(
+        b.path().join("summary-shard-0-of-2.csv"),
+        b.path().join("summary-shard-1-of-2.csv"),
+    )
+    .unwrap();
+    let (ok, err) = merge(&[a.path(), b.path()]);
+    assert!(!ok && err.contains("another run"), "{err}");
+}

@@ -392,6 +392,17 @@ fn bad_values_name_the_dotted_key() {
         "[accuracy]\nroot_tol = 1.0\n\n[objective]",
     );
     assert_names(&t, "accuracy.root_tol", "root_tol =", "in (0, 1e-3)");
+    // Negative ratios are no machine (issue 34): θ = r/R ≥ 0, λ = R/L > 0.
+    let t = C4V1.replace(
+        "lambda = { min = 0.02, max = 0.5 }\ntheta = { min = 0, max = 0.9 }\n",
+        "lambda = { min = 0.02, max = 0.5 }\ntheta = { min = -0.2, max = 0.9 }\n",
+    );
+    assert_names(&t, "design.theta", "theta = { min = -0.2", "allowed: ≥ 0");
+    let t = C4V1.replace(
+        "lambda = { min = 0.02, max = 0.5 }\ntheta = { min = 0, max = 0.9 }\n",
+        "lambda = { min = -0.1, max = 0.5 }\ntheta = { min = 0, max = 0.9 }\n",
+    );
+    assert_names(&t, "design.lambda", "lambda = { min = -0.1", "allowed: > 0");
     let t = C4V1.replace(
         "lambda = { min = 0.02, max = 0.5 }\ntheta = { min = 0, max = 0.9 }\n",
         "lambda = { min = 0.02, max = 0.5 }\ntheta = { min = 0.9, max = 0.1 }\n",

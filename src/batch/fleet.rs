@@ -180,7 +180,7 @@ fn set_dotted(
 impl Template {
     /// Reads the template and the CSV header.
     pub fn open(template: &Path, csv: &Path) -> Result<Template, BatchError> {
-        let bytes = std::fs::read(template).map_err(|cause| BatchError::Unreadable {
+        let bytes = crate::problem::read_bounded(template, crate::problem::MAX_FILE_BYTES).map_err(|cause| BatchError::Unreadable {
             path: template.into(),
             cause,
         })?;

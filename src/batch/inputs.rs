@@ -192,7 +192,7 @@ impl Work {
     pub(super) fn read(self) -> Work {
         match self {
             Work::Path(path) => {
-                let text = std::fs::read(&path)
+                let text = crate::problem::read_bounded(&path, crate::problem::MAX_FILE_BYTES)
                     .map_err(|e| format!("{}: cannot read: {e}", path.display()))
                     .and_then(|b| {
                         crate::problem::text_of(&b, &path)

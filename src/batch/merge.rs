@@ -28,7 +28,18 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<Counts, BatchError> {
                 if let Some((i, n)) = rest.split_once("-of-") {
                     if let (Ok(i), Ok(n)) = (i.parse::<u64>(), n.parse::<u64>()) {
                         ns.insert(n);
-                        seen.insert(i);
+                        // The same shard twice (two copies of one run, or shards of two
+                        // runs) would duplicate or mix rows: refused.
+                        if !seen.insert(i) {
+                            let first = files.iter().find(|f: &&PathBuf| {
+                                f.file_name() == p.file_name()
+                            });
+                            return Err(BatchError::BadSummary(format!(
+                                "{}: shard {i} of {n} is given twice (also {}); merge the shards of one run, once each",
+                                p.display(),
+                                first.map_or(String::new(), |f| f.display().to_string())
+                            )));
+                        }
                         files.push(p);
                     }
                 }
@@ -60,6 +71,19 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<Counts, BatchError> {
             .min();
         let Some((_, k)) = k else { break };
         let row = readers[k].peek.take().expect("peeked");
+        // A shard holds the machines with index % n == i: a row that does not belongs to
+        // another split or another run.
+        if let Some(i) = shard_of(&files[k]) {
+            if row.index % n != i {
+                w.abandon();
+                return Err(BatchError::BadSummary(format!(
+                    "{}: machine {} is not of shard {i} of {n} (index % {n} = {}): the shard belongs to another run",
+                    files[k].display(),
+                    row.index,
+                    row.index % n
+                )));
+            }
+        }
         readers[k].advance();
         counts.add(&row, false);
         w.write(&row)?;
@@ -73,4 +97,15 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<Counts, BatchError> {
     w.commit()?;
     write_reports(out)?;
     Ok(counts)
+}
+
+/// The shard number i of a `summary-shard-i-of-n.csv` path.
+fn shard_of(p: &Path) -> Option<u64> {
+    p.file_name()?
+        .to_str()?
+        .strip_prefix("summary-shard-")?
+        .split_once("-of-")?
+        .0
+        .parse()
+        .ok()
 }

@@ -264,6 +264,9 @@ fn process(job: Job, opts: &Options) -> (Row, bool) {
     (row, false)
 }
 
+/// The most worker threads a batch starts (`--threads` refuses more).
+pub const MAX_THREADS: usize = 1024;
+
 /// Runs a batch; writes the summary (and, unsharded, `summary.md` and `index.html`).
 pub fn run(inputs: Vec<Input>, opts: &Options) -> Result<Counts, BatchError> {
     std::fs::create_dir_all(&opts.out)
@@ -271,8 +274,9 @@ pub fn run(inputs: Vec<Input>, opts: &Options) -> Result<Counts, BatchError> {
     let threads = opts
         .threads
         .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
+    // At most MAX_THREADS: a mistyped count must not spawn thousands of threads.
     let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(threads.max(1))
+        .num_threads(threads.clamp(1, MAX_THREADS))
         .build()
         .map_err(BatchError::Threads)?;
     let (si, sn) = opts.shard.unwrap_or((0, 1));

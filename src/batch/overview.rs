@@ -164,7 +164,7 @@ pub(super) fn machine_plots(dir: &Path, shown: &[Row]) -> Vec<MachinePlots> {
         if crate::problem::check_name(&r.name).is_err() {
             continue;
         }
-        let Ok(b) = std::fs::read(dir.join(format!("{}.json", r.name))) else {
+        let Some(b) = super::resume::read_result(&dir.join(format!("{}.json", r.name))) else {
             continue;
         };
         let Ok(v) = serde_json::from_slice::<serde_json::Value>(&b) else {

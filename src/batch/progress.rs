@@ -37,9 +37,17 @@ impl Progress {
             let pb = indicatif::ProgressBar::new(total);
             pb.set_style(
                 indicatif::ProgressStyle::with_template(
-                    "{bar:40} {pos}/{len} machines  {per_sec}  ETA {eta}  {msg}",
+                    "{bar:40} {pos}/{len} machines  {rate}  ETA {eta}  {msg}",
                 )
-                .expect("valid template"),
+                .expect("valid template")
+                // Machines per second as a whole number (indicatif's `per_sec` prints
+                // `6,877.338/s`).
+                .with_key(
+                    "rate",
+                    |s: &indicatif::ProgressState, w: &mut dyn std::fmt::Write| {
+                        let _ = write!(w, "{:.0} machines/s", s.per_sec());
+                    },
+                ),
             );
             Progress::Bar(pb, Errors::default())
         } else {

@@ -47,12 +47,21 @@ pub(super) fn write_result(
     (v, written)
 }
 
+/// A result file's bytes, if it is a regular file within [`crate::problem::MAX_RESULT_BYTES`]
+/// (a FIFO or `/dev/zero` under a result's name is not read; it is solved again).
+pub(super) fn read_result(path: &Path) -> Option<Vec<u8>> {
+    let limit = crate::problem::MAX_RESULT_BYTES;
+    crate::problem::read_bounded(path, limit)
+        .ok()
+        .filter(|b| b.len() <= limit)
+}
+
 /// The result JSON at `json` if the machine is done: the JSON parses, its `batch.input_hash`
 /// is `hash`, and every file it lists in `batch.files` (name: size and [`file_hash`]) is in
 /// `dir` with that size and hash. Anything else (a file missing, torn by a crash, edited, a
 /// JSON of an older cwsynth without the list) means the machine is solved again.
 pub(super) fn complete_result(json: &Path, hash: &str, dir: &Path) -> Option<serde_json::Value> {
-    let v: serde_json::Value = serde_json::from_slice(&std::fs::read(json).ok()?).ok()?;
+    let v: serde_json::Value = serde_json::from_slice(&read_result(json)?).ok()?;
     let batch = v.get("batch")?;
     if batch.get("input_hash")?.as_str()? != hash {
         return None;
@@ -62,7 +71,7 @@ pub(super) fn complete_result(json: &Path, hash: &str, dir: &Path) -> Option<ser
         if Path::new(name).file_name() != Some(std::ffi::OsStr::new(name)) {
             return None;
         }
-        let bytes = std::fs::read(dir.join(name)).ok()?;
+        let bytes = read_result(&dir.join(name))?;
         if f.get("bytes")?.as_u64()? != bytes.len() as u64
             || f.get("hash")?.as_str()? != file_hash(&bytes)
         {
@@ -177,7 +186,7 @@ impl Previous {
         let (partial, resume) = (beside(summary, "partial"), beside(summary, "resume"));
         if partial.exists() {
             let rows = |p: &Path| {
-                std::fs::read(p).map_or(0, |b| b.iter().filter(|&&c| c == b'\n').count())
+                read_result(p).map_or(0, |b| b.iter().filter(|&&c| c == b'\n').count())
             };
             if resume.exists() && rows(&resume) > rows(&partial) {
                 std::fs::remove_file(&partial).map_err(|e| {

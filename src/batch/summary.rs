@@ -51,6 +51,14 @@ impl SummaryRows {
             last: None,
             stopped: None,
         };
+        // Only a regular file: a FIFO or `/dev/zero` under the summary's name would never end.
+        if path.exists() && !path.metadata().is_ok_and(|m| m.is_file()) {
+            o.stopped = Some(format!(
+                "{}: not a regular file (a directory, a FIFO or a device): not read",
+                path.display()
+            ));
+            return o;
+        }
         match csv::Reader::from_path(path) {
             Ok(mut r) => match r.headers() {
                 Ok(h) if h.iter().eq(HEADER.iter().copied()) => {

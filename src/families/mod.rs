@@ -113,7 +113,7 @@ pub fn new_problem(family: &str) -> Option<String> {
 
 /// Reads and resolves a problem file.
 pub fn load(path: &Path) -> Result<Scene, ProblemError> {
-    let bytes = std::fs::read(path).map_err(|source| ProblemError::Read {
+    let bytes = crate::problem::read_bounded(path, crate::problem::MAX_FILE_BYTES).map_err(|source| ProblemError::Read {
         file: path.into(),
         source,
     })?;

@@ -255,6 +255,29 @@ fn deepest_line(text: &str) -> usize {
 /// The largest problem file read (bytes): the shipped ones are a few kB.
 pub const MAX_FILE_BYTES: usize = 1 << 20;
 
+/// The largest result file read back (bytes: a result JSON, a file it lists).
+pub const MAX_RESULT_BYTES: usize = 256 << 20;
+
+/// The bytes of the regular file at `path`, at most `limit` + 1 of them (one more than the
+/// limit, so that the caller can say the file passes it): a FIFO, a device or a directory is
+/// refused before a byte is read (`/dev/zero` or a pipe would otherwise never end), and a
+/// huge file costs no more memory than the limit. A symlink is followed to what it names.
+pub fn read_bounded(path: &std::path::Path, limit: usize) -> std::io::Result<Vec<u8>> {
+    use std::io::Read;
+    let meta = std::fs::metadata(path)?;
+    if !meta.is_file() {
+        return Err(std::io::Error::new(
+            std::io::ErrorKind::InvalidInput,
+            "not a regular file (a directory, a FIFO or a device)",
+        ));
+    }
+    let mut bytes = Vec::with_capacity((meta.len() as usize).min(limit + 1));
+    std::fs::File::open(path)?
+        .take(limit as u64 + 1)
+        .read_to_end(&mut bytes)?;
+    Ok(bytes)
+}
+
 /// The longest `description` and `[[paper]]` text (characters).
 pub const MAX_TEXT_CHARS: usize = 10_000;
 

@@ -590,8 +590,11 @@ pub fn fmt_num(v: f64) -> String {
 /// pure number.
 pub fn workshop_unit(key: &str, v: f64) -> (String, &'static str, f64) {
     use std::f64::consts::PI;
-    let table: [(&str, &str, f64); 15] = [
+    let table: [(&str, &str, f64); 18] = [
+        ("_rad_s2", "rad/s²", 1.0),
         ("_rad_s", "rpm", 30.0 / PI),
+        ("_per_m", "1/m", 1.0),
+        ("_j", "J", 1.0),
         ("_m_s2", "m/s²", 1.0),
         ("_m_per_s", "m/s", 1.0),
         ("_kg_m3", "kg/m³", 1.0),

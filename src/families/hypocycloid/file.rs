@@ -257,17 +257,29 @@ pub fn resolve(ctx: &Ctx, input: Input) -> Result<Resolved<HypocycloidProblem>, 
 }
 
 /// A pure-number design variable: equal bounds collapse to a fixed value.
-fn ratio_var(v: &Option<RawVar<Dimensionless>>, f: &str) -> Result<Var, FieldError> {
+fn ratio_var(v: &Option<RawVar<Dimensionless>>, f: &str, lo_open: bool) -> Result<Var, FieldError> {
     let Some(v) = v else {
         return Err(FieldError::new(
             f,
             "missing; allowed: a pure number (fixed) or { min = …, max = … } (free)",
         ));
     };
-    Ok(match v.resolve(f)? {
+    let var = match v.resolve(f)? {
         Var::Free { min, max } if min == max => Var::Fixed(min),
         other => other,
-    })
+    };
+    // λ = R/L > 0, θ = r/R ≥ 0: a negative ratio is no machine.
+    let lo = var.bounds().0;
+    if (lo_open && lo <= 0.0) || lo < 0.0 {
+        return Err(FieldError::new(
+            f,
+            format!(
+                "{lo} is out of range; allowed: {}",
+                if lo_open { "> 0" } else { "≥ 0" }
+            ),
+        ));
+    }
+    Ok(var)
 }
 
 /// A ratio raised to at least `lo` (from the machine limit `why`): a free range's lower bound
@@ -364,13 +376,13 @@ pub fn resolve_raw(raw: &File) -> Result<HypocycloidProblem, FieldError> {
         .transpose()?;
     // The machine's limits as lower bounds of the ratios: θ ≥ r_min/R, λ ≥ R/L_max.
     let lambda = at_least(
-        ratio_var(&raw.design.lambda, "design.lambda")?,
+        ratio_var(&raw.design.lambda, "design.lambda", true)?,
         max_rod_length.map(|l| r / l),
         "design.lambda",
         "objective.max_rod_length",
     )?;
     let theta = at_least(
-        ratio_var(&raw.design.theta, "design.theta")?,
+        ratio_var(&raw.design.theta, "design.theta", false)?,
         min_crank_arm.map(|a| a / r),
         "design.theta",
         "objective.min_crank_arm",
