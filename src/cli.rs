@@ -22,7 +22,7 @@ pub struct Cli {
 pub enum Command {
     /// Solve problem files (or every *.toml in given directories) and report.
     Solve {
-        /// Problem files or directories.
+        /// Problem files or directories; `-` reads one problem file from standard input.
         #[arg(required = true)]
         inputs: Vec<PathBuf>,
         /// Print each scene's result as one JSON object on one line (JSON Lines, the same
@@ -243,6 +243,19 @@ fn summary(r: &SolveResult) -> String {
         r.timing.total_s * 1e3
     );
     s
+}
+
+/// A problem file from standard input (named `<stdin>` in messages and as the source), read
+/// up to the problem-file limit.
+fn load_stdin() -> Result<Scene, String> {
+    use std::io::Read;
+    let limit = crate::problem::MAX_FILE_BYTES;
+    let mut bytes = Vec::new();
+    std::io::stdin()
+        .take(limit as u64 + 1)
+        .read_to_end(&mut bytes)
+        .map_err(|e| format!("<stdin>: cannot read: {e}"))?;
+    families::parse_bytes(&bytes, Path::new("<stdin>")).map_err(|e| e.to_string())
 }
 
 fn load_all(files: &[PathBuf]) -> (Vec<Scene>, Vec<String>) {
@@ -501,8 +514,17 @@ fn solve(
     out: Option<&Path>,
     units: UnitsArg,
 ) -> anyhow::Result<i32> {
-    let files = crate::batch::expand_inputs(inputs)?;
-    let (scenes, bad) = load_all(&files);
+    // `-` is standard input; everything else a file or a directory.
+    let stdin = inputs.iter().any(|p| p.as_os_str() == "-");
+    let paths: Vec<PathBuf> = inputs.iter().filter(|p| p.as_os_str() != "-").cloned().collect();
+    let files = crate::batch::expand_inputs(&paths)?;
+    let (mut scenes, mut bad) = load_all(&files);
+    if stdin {
+        match load_stdin() {
+            Ok(s) => scenes.insert(0, s),
+            Err(e) => bad.insert(0, e),
+        }
+    }
     for e in &bad {
         eprintln!("error {e}");
     }

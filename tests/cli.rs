@@ -468,3 +468,31 @@ fn merge_refuses_a_shard_given_twice_or_from_another_run() {
     let (ok, err) = merge(&[a.path(), b.path()]);
     assert!(!ok && err.contains("another run"), "{err}");
 }
+
+/// `cwsynth solve -` reads the problem file from standard input (issue 34); a bad one is
+/// an error at `<stdin>:LINE`.
+#[test]
+fn solve_reads_a_problem_from_standard_input() {
+    use std::io::Write;
+    let run = |text: &str| {
+        let mut child = bin()
+            .args(["solve", "--json", "-"])
+            .stdin(std::process::Stdio::piped())
+            .stdout(std::process::Stdio::piped())
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .unwrap();
+        child.stdin.take().unwrap().write_all(text.as_bytes()).unwrap();
+        child.wait_with_output().unwrap()
+    };
+    let text = std::fs::read_to_string(problem("piston-1000rpm.toml")).unwrap();
+    let out = run(&text);
+    assert!(out.status.success());
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(v["status"], "optimal");
+    assert_eq!(v["source"], "<stdin>");
+    let out = run("name = \"x\"\n");
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("<stdin>:1") && err.contains("family"), "{err}");
+}
