@@ -71,6 +71,19 @@ impl Motor {
             } => rated_torque * (no_load_speed - omega) / (no_load_speed - rated_speed),
         }
     }
+
+    /// The speed (rad/s) at which a line gives the torque `load` (N·m); `None` for a
+    /// constant torque, which gives it at any speed.
+    pub fn speed_at(&self, load: f64) -> Option<f64> {
+        match *self {
+            Motor::ConstantTorque => None,
+            Motor::Line {
+                rated_torque,
+                rated_speed,
+                no_load_speed,
+            } => Some(no_load_speed - load * (no_load_speed - rated_speed) / rated_torque),
+        }
+    }
 }
 
 /// Why a drive could not be computed.
@@ -186,40 +199,75 @@ struct Grid {
     j: Vec<f64>,
     dj: Vec<f64>,
     g: Vec<f64>,
+    /// What every steady state on the grid shares whatever the flywheel, made once
+    /// ([`Grid::series`]).
+    series: std::cell::OnceCell<Series>,
+}
+
+/// The interpolants of J and of W = ∫₀^φ (Ḡ − G) dφ, and W on the grid.
+#[derive(Debug, Clone)]
+struct Series {
+    j: Trig,
+    w_trig: Trig,
+    w: Vec<f64>,
 }
 
 impl Grid {
     fn new(m: &dyn OneDof, n: usize) -> Result<Grid, DriveError> {
-        let mut grid = Grid {
-            j: Vec::with_capacity(n),
-            dj: Vec::with_capacity(n),
-            g: Vec::with_capacity(n),
-        };
+        let (mut j, mut dj, mut g) = (
+            Vec::with_capacity(n),
+            Vec::with_capacity(n),
+            Vec::with_capacity(n),
+        );
         for k in 0..n {
             let phi = TAU * k as f64 / n as f64;
-            let [j, dj, g] = m.eval(phi);
-            if !(j.is_finite() && dj.is_finite() && g.is_finite()) {
+            let [jk, djk, gk] = m.eval(phi);
+            if !(jk.is_finite() && djk.is_finite() && gk.is_finite()) {
                 return Err(DriveError::NotFinite(phi));
             }
-            grid.j.push(j);
-            grid.dj.push(dj);
-            grid.g.push(g);
+            j.push(jk);
+            dj.push(djk);
+            g.push(gk);
         }
-        Ok(grid)
+        Ok(Grid::of(j, dj, g))
+    }
+
+    fn of(j: Vec<f64>, dj: Vec<f64>, g: Vec<f64>) -> Grid {
+        Grid {
+            j,
+            dj,
+            g,
+            series: std::cell::OnceCell::new(),
+        }
+    }
+
+    /// The grid's [`Series`].
+    fn series(&self) -> &Series {
+        self.series.get_or_init(|| {
+            let gbar = self.gbar();
+            let neg: Vec<f64> = self.g.iter().map(|g| gbar - g).collect();
+            let w_trig = Trig::new(&neg).antiderivative();
+            Series {
+                j: Trig::new(&self.j),
+                w: w_trig.grid(self.n()),
+                w_trig,
+            }
+        })
     }
 
     fn n(&self) -> usize {
         self.j.len()
     }
 
+    /// Ḡ, the mean of G: the trapezoidal rule on the periodic grid (its interpolant's c₀).
+    fn gbar(&self) -> f64 {
+        self.g.iter().sum::<f64>() / self.n() as f64
+    }
+
     /// Every other sample: the grid of n/2.
     fn halved(&self) -> Grid {
         let h = |v: &Vec<f64>| v.iter().step_by(2).copied().collect();
-        Grid {
-            j: h(&self.j),
-            dj: h(&self.dj),
-            g: h(&self.g),
-        }
+        Grid::of(h(&self.j), h(&self.dj), h(&self.g))
     }
 }
 
@@ -237,6 +285,8 @@ pub struct ConstantSpeed {
     pub energy_fluctuation_error: f64,
     /// φ at max E and at min E (rad).
     pub extreme_angles: [f64; 2],
+    /// max E and min E (J): E(0) = 0.
+    pub extreme_energies: [f64; 2],
     /// Grid samples used.
     pub samples: usize,
     /// (φ, T(φ), E(φ)) on the grid's points over the turn (0 and 2π both), for the
@@ -272,18 +322,63 @@ fn refined_extreme(v: &[f64], h: f64, sign: f64, f: impl Fn(f64) -> f64) -> (f64
         .unwrap_or((v[k], at))
 }
 
-/// ΔE on one grid: (ΔE, φ at max E, φ at min E, T̄, T's and E's interpolants).
-fn energy_on(grid: &Grid, omega: f64) -> (f64, [f64; 2], f64, Trig, Trig) {
+/// The energy figures on one grid.
+struct Energy {
+    /// ΔE (J).
+    delta: f64,
+    /// (max E, its φ) and (min E, its φ).
+    max: (f64, f64),
+    min: (f64, f64),
+    /// T̄ (N·m).
+    mean: f64,
+    /// T's and E's interpolants.
+    torque: Trig,
+    energy: Trig,
+}
+
+/// ΔE on one grid: T = ½ J′ ω² + G, E its zero-mean antiderivative, the extremes refined on E.
+fn energy_on(grid: &Grid, omega: f64) -> Energy {
     let n = grid.n();
     let w2 = omega * omega;
     let t: Vec<f64> = (0..n).map(|k| 0.5 * grid.dj[k] * w2 + grid.g[k]).collect();
-    let tt = Trig::new(&t);
-    let e = tt.antiderivative();
-    let eg = e.grid(n);
+    let torque = Trig::new(&t);
+    let energy = torque.antiderivative();
+    let eg = energy.grid(n);
     let h = TAU / n as f64;
-    let hi = refined_extreme(&eg, h, 1.0, |p| e.eval(p));
-    let lo = refined_extreme(&eg, h, -1.0, |p| e.eval(p));
-    (hi.0 - lo.0, [hi.1, lo.1], tt.mean(), tt, e)
+    let max = refined_extreme(&eg, h, 1.0, |p| energy.eval(p));
+    let min = refined_extreme(&eg, h, -1.0, |p| energy.eval(p));
+    Energy {
+        delta: max.0 - min.0,
+        max,
+        min,
+        mean: torque.mean(),
+        torque,
+        energy,
+    }
+}
+
+/// The figures `on` a grid of the machine, the grid doubled from `s.min_samples` until
+/// `settled(current, on half the grid)` (or `s.max_samples`): (current, on half, the grid).
+/// The one refinement loop of the drive: every figure's error is its change from half the
+/// grid.
+fn doubled<T>(
+    m: &dyn OneDof,
+    s: &DriveSettings,
+    on: impl Fn(&Grid) -> Result<T, DriveError>,
+    settled: impl Fn(&T, &T) -> bool,
+) -> Result<(T, T, Grid), DriveError> {
+    let mut n = s.min_samples.next_power_of_two().max(16);
+    let mut grid = Grid::new(m, n)?;
+    let mut prev = on(&grid.halved())?;
+    loop {
+        let cur = on(&grid)?;
+        if settled(&cur, &prev) || 2 * n > s.max_samples {
+            return Ok((cur, prev, grid));
+        }
+        prev = cur;
+        n *= 2;
+        grid = Grid::new(m, n)?;
+    }
 }
 
 /// The drive at constant speed ω̄: T̄, the energy curve and ΔE, the grid doubled until ΔE
@@ -293,34 +388,33 @@ pub fn constant_speed(
     omega: f64,
     s: &DriveSettings,
 ) -> Result<ConstantSpeed, DriveError> {
-    let mut n = s.min_samples.next_power_of_two().max(16);
-    let mut grid = Grid::new(m, n)?;
-    let mut prev = energy_on(&grid.halved(), omega);
-    loop {
-        let cur = energy_on(&grid, omega);
-        let scale = cur.0.abs().max(cur.2.abs() * TAU).max(f64::MIN_POSITIVE);
-        let diff = (cur.0 - prev.0).abs();
-        if diff <= s.rel_tol * scale || 2 * n > s.max_samples {
-            let (de, angles, mean, tt, e) = cur;
-            let round_off = 1e-15 * n as f64 * scale;
-            let (tg, eg) = (tt.grid(n), e.grid(n));
-            let curve = (0..=n)
-                .map(|k| [TAU * k as f64 / n as f64, tg[k % n], eg[k % n]])
-                .collect();
-            return Ok(ConstantSpeed {
-                omega,
-                mean_torque: mean,
-                energy_fluctuation: de,
-                energy_fluctuation_error: diff + round_off + 1e-13 * de,
-                extreme_angles: angles,
-                samples: n,
-                curve,
-            });
-        }
-        prev = cur;
-        n *= 2;
-        grid = Grid::new(m, n)?;
-    }
+    let scale = |e: &Energy| {
+        e.delta
+            .abs()
+            .max(e.mean.abs() * TAU)
+            .max(f64::MIN_POSITIVE)
+    };
+    let on = |g: &Grid| Ok(energy_on(g, omega));
+    let settled = |cur: &Energy, prev: &Energy| {
+        (cur.delta - prev.delta).abs() <= s.rel_tol * scale(cur)
+    };
+    let (cur, prev, grid) = doubled(m, s, on, settled)?;
+    let n = grid.n();
+    let round_off = 1e-15 * n as f64 * scale(&cur);
+    let (tg, eg) = (cur.torque.grid(n), cur.energy.grid(n));
+    let curve = (0..=n)
+        .map(|k| [TAU * k as f64 / n as f64, tg[k % n], eg[k % n]])
+        .collect();
+    Ok(ConstantSpeed {
+        omega,
+        mean_torque: cur.mean,
+        energy_fluctuation: cur.delta,
+        energy_fluctuation_error: (cur.delta - prev.delta).abs() + round_off + 1e-13 * cur.delta,
+        extreme_angles: [cur.max.1, cur.min.1],
+        extreme_energies: [cur.max.0, cur.min.0],
+        samples: n,
+        curve,
+    })
 }
 
 /// The periodic steady state at real speed.
@@ -355,14 +449,14 @@ pub struct SteadyState {
 
 /// ω(φ) of a constant-torque steady state anywhere on the turn, exactly (up to the
 /// interpolants' truncation): ω = sqrt(2 (y₀ + W(φ)) / (J(φ) + I_f)).
-struct ExactSpeed {
+struct ExactSpeed<'g> {
     y0: f64,
-    w: Trig,
-    j: Trig,
+    w: &'g Trig,
+    j: &'g Trig,
     flywheel: f64,
 }
 
-impl ExactSpeed {
+impl ExactSpeed<'_> {
     fn at(&self, phi: f64) -> f64 {
         (2.0 * (self.y0 + self.w.eval(phi)).max(0.0) / (self.j.eval(phi) + self.flywheel)).sqrt()
     }
@@ -371,17 +465,17 @@ impl ExactSpeed {
 /// One steady state on one grid: (ω at the nodes, α at the nodes, node spacing, ω anywhere
 /// where it is explicit) — the constant torque exactly at every grid point, the line by RK4
 /// on every other point.
-type OnGrid = (Vec<f64>, Vec<f64>, f64, Option<ExactSpeed>);
+type OnGrid<'g> = (Vec<f64>, Vec<f64>, f64, Option<ExactSpeed<'g>>);
 
-fn steady_on(
-    grid: &Grid,
+fn steady_on<'g>(
+    grid: &'g Grid,
     motor: &Motor,
     flywheel: f64,
     omega_nominal: f64,
-) -> Result<OnGrid, DriveError> {
+) -> Result<OnGrid<'g>, DriveError> {
     let n = grid.n();
     let h = TAU / n as f64;
-    let gbar = Trig::new(&grid.g).mean();
+    let gbar = grid.gbar();
     for (k, j) in grid.j.iter().enumerate() {
         if j + flywheel <= 0.0 {
             return Err(DriveError::NoInertia(k as f64 * h));
@@ -394,9 +488,8 @@ fn steady_on(
     let omegas = match motor {
         Motor::ConstantTorque => {
             // y = ½ (J + I_f) ω² = y₀ + W(φ), W = ∫ (Ḡ − G): y₀ sets the time-mean speed.
-            let neg: Vec<f64> = grid.g.iter().map(|g| gbar - g).collect();
-            let w_trig = Trig::new(&neg).antiderivative();
-            let w = w_trig.grid(n);
+            let series = grid.series();
+            let w = &series.w;
             let wmin = w.iter().cloned().fold(f64::INFINITY, f64::min);
             let mean_speed = |y0: f64| {
                 let inv: f64 = (0..n).map(|k| 1.0 / omega_of(y0 + w[k], k)).sum();
@@ -414,8 +507,8 @@ fn steady_on(
                 .x;
             let exact = ExactSpeed {
                 y0,
-                w: w_trig,
-                j: Trig::new(&grid.j),
+                w: &series.w_trig,
+                j: &series.j,
                 flywheel,
             };
             ((0..n).map(|k| omega_of(y0 + w[k], k)).collect::<Vec<f64>>(), Some(exact))
@@ -462,20 +555,11 @@ fn shoot_line(grid: &Grid, motor: &Motor, flywheel: f64, gbar: f64) -> Result<Ve
         y
     };
     // The speed where the motor's torque meets the mean load, then a bracket around it.
-    let Motor::Line {
-        rated_torque,
-        rated_speed,
-        no_load_speed,
-    } = *motor
-    else {
-        unreachable!("a line motor")
-    };
-    let wc = no_load_speed - gbar * (no_load_speed - rated_speed) / rated_torque;
-    if !(wc > 0.0) {
+    let Some(wc) = motor.speed_at(gbar).filter(|&w| w > 0.0) else {
         return Err(DriveError::Stalls(format!(
             "the mean load {gbar:.6} N·m is above the motor's stall torque"
         )));
-    }
+    };
     let jbar = grid.j.iter().sum::<f64>() / n as f64 + flywheel;
     let yc = 0.5 * jbar * wc * wc;
     let f = |y0: f64| run(y0, None) - y0;
@@ -625,18 +709,12 @@ fn converged(
     omega_nominal: f64,
     s: &DriveSettings,
 ) -> Result<(SteadyState, Grid), DriveError> {
-    let mut n = s.min_samples.next_power_of_two().max(16);
-    let mut grid = Grid::new(m, n)?;
-    let mut prev = figures(&grid.halved(), motor, flywheel, omega_nominal)?;
-    loop {
-        let cur = figures(&grid, motor, flywheel, omega_nominal)?;
-        if (cur.cs - prev.cs).abs() <= s.steady_rel_tol * cur.cs.abs() + 1e-13 || 2 * n > s.max_samples {
-            return Ok((with_errors(cur, &prev), grid));
-        }
-        prev = cur;
-        n *= 2;
-        grid = Grid::new(m, n)?;
-    }
+    let on = |g: &Grid| figures(g, motor, flywheel, omega_nominal);
+    let settled = |cur: &SteadyState, prev: &SteadyState| {
+        (cur.cs - prev.cs).abs() <= s.steady_rel_tol * cur.cs.abs() + 1e-13
+    };
+    let (cur, prev, grid) = doubled(m, s, on, settled)?;
+    Ok((with_errors(cur, &prev), grid))
 }
 
 /// `cur` with its errors: the change from `coarse` (the same state on half the grid) plus
@@ -681,8 +759,8 @@ pub fn least_flywheel(
     s: &DriveSettings,
 ) -> Result<Flywheel, DriveError> {
     let textbook = constant.textbook_flywheel(cs);
-    let at = |i: f64| steady_state(m, motor, i, constant.omega, s);
-    let (zero, g0) = converged(m, motor, 0.0, constant.omega, s)?;
+    let at = |i: f64| converged(m, motor, i, constant.omega, s);
+    let (zero, g0) = at(0.0)?;
     if zero.cs <= cs {
         return Ok(Flywheel {
             cs,
@@ -693,18 +771,21 @@ pub fn least_flywheel(
         });
     }
     let mut hi = textbook.max(f64::MIN_POSITIVE) * 2.0;
-    let mut tries = 0;
-    while at(hi)?.cs > cs {
-        hi *= 4.0;
-        tries += 1;
-        if tries > 30 {
-            return Err(DriveError::NoFlywheel(hi));
+    let mut top = at(hi)?;
+    for _ in 0..30 {
+        if top.0.cs <= cs {
+            break;
         }
+        hi *= 4.0;
+        top = at(hi)?;
+    }
+    if top.0.cs > cs {
+        return Err(DriveError::NoFlywheel(hi));
     }
     // Cs(I_f) on one grid, the finer of those that converged without a flywheel and at the
     // bracket's top (the speed swings most without one): the root's search evaluates the
     // machine no more, and the state at the root is checked on the grid and on its half.
-    let (_, g1) = converged(m, motor, hi, constant.omega, s)?;
+    let g1 = top.1;
     let grid = if g0.n() >= g1.n() { g0 } else { g1 };
     let cs_on = |g: &Grid, i: f64| figures(g, motor, i, constant.omega);
     let f = |i: f64| cs_on(&grid, i).map(|st| st.cs - cs).unwrap_or(f64::NAN);

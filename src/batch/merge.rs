@@ -7,45 +7,37 @@ use super::reports::write_reports;
 use super::resume::lock_out;
 use super::row::Counts;
 use super::summary::{SummaryRows, SummaryWriter};
-use std::collections::BTreeSet;
+use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
 /// Joins the shard summaries found in `dirs` (`summary-shard-i-of-n.csv`) into
 /// `out/summary.csv` (in index order, a streaming k-way merge) and writes the reports.
 pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<Counts, BatchError> {
-    let mut files = Vec::new();
+    // The shard files by shard number i (each i once), and the splits n they name.
+    let mut shards: BTreeMap<u64, PathBuf> = BTreeMap::new();
     let mut ns = BTreeSet::new();
-    let mut seen = BTreeSet::new();
     for d in dirs {
         let listing = |e| BatchError::io("cannot list", d, e);
         for e in std::fs::read_dir(d).map_err(listing)? {
             let p = e.map_err(listing)?.path();
-            let n = p.file_name().and_then(|n| n.to_str()).unwrap_or("");
-            if let Some(rest) = n
-                .strip_prefix("summary-shard-")
-                .and_then(|r| r.strip_suffix(".csv"))
-            {
-                if let Some((i, n)) = rest.split_once("-of-") {
-                    if let (Ok(i), Ok(n)) = (i.parse::<u64>(), n.parse::<u64>()) {
-                        ns.insert(n);
-                        // The same shard twice (two copies of one run, or shards of two
-                        // runs) would duplicate or mix rows: refused.
-                        if !seen.insert(i) {
-                            let first = files.iter().find(|f: &&PathBuf| {
-                                f.file_name() == p.file_name()
-                            });
-                            return Err(BatchError::BadSummary(format!(
-                                "{}: shard {i} of {n} is given twice (also {}); merge the shards of one run, once each",
-                                p.display(),
-                                first.map_or(String::new(), |f| f.display().to_string())
-                            )));
-                        }
-                        files.push(p);
-                    }
-                }
+            let Some((i, n)) = p.file_name().and_then(|f| f.to_str()).and_then(shard_name)
+            else {
+                continue;
+            };
+            ns.insert(n);
+            // The same shard twice (two copies of one run, or shards of two runs) would
+            // duplicate or mix rows: refused.
+            if let Some(first) = shards.get(&i) {
+                return Err(BatchError::BadSummary(format!(
+                    "{}: shard {i} of {n} is given twice (also {}); merge the shards of one run, once each",
+                    p.display(),
+                    first.display()
+                )));
             }
+            shards.insert(i, p);
         }
     }
+    let mut files: Vec<(PathBuf, u64)> = shards.into_iter().map(|(i, p)| (p, i)).collect();
     files.sort();
     if files.is_empty() {
         return Err(BatchError::NoShards);
@@ -54,13 +46,15 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<Counts, BatchError> {
         return Err(BatchError::MixedSplits(ns));
     }
     let n = *ns.iter().next().expect("one split");
-    let missing: Vec<u64> = (0..n).filter(|i| !seen.contains(i)).collect();
+    let missing: Vec<u64> = (0..n)
+        .filter(|i| !files.iter().any(|(_, j)| j == i))
+        .collect();
     if !missing.is_empty() {
         return Err(BatchError::MissingShards { missing, n });
     }
     std::fs::create_dir_all(out).map_err(|e| BatchError::io("cannot create", out, e))?;
     let _lock = lock_out(out, "summary.csv")?;
-    let mut readers: Vec<SummaryRows> = files.iter().map(|f| SummaryRows::open(f)).collect();
+    let mut readers: Vec<SummaryRows> = files.iter().map(|(f, _)| SummaryRows::open(f)).collect();
     let mut w = SummaryWriter::create(&out.join("summary.csv"))?;
     let mut counts = Counts::default();
     loop {
@@ -73,16 +67,15 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<Counts, BatchError> {
         let row = readers[k].peek.take().expect("peeked");
         // A shard holds the machines with index % n == i: a row that does not belongs to
         // another split or another run.
-        if let Some(i) = shard_of(&files[k]) {
-            if row.index % n != i {
-                w.abandon();
-                return Err(BatchError::BadSummary(format!(
-                    "{}: machine {} is not of shard {i} of {n} (index % {n} = {}): the shard belongs to another run",
-                    files[k].display(),
-                    row.index,
-                    row.index % n
-                )));
-            }
+        let (file, i) = &files[k];
+        if row.index % n != *i {
+            w.abandon();
+            return Err(BatchError::BadSummary(format!(
+                "{}: machine {} is not of shard {i} of {n} (index % {n} = {}): the shard belongs to another run",
+                file.display(),
+                row.index,
+                row.index % n
+            )));
         }
         readers[k].advance();
         counts.add(&row, false);
@@ -99,13 +92,11 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<Counts, BatchError> {
     Ok(counts)
 }
 
-/// The shard number i of a `summary-shard-i-of-n.csv` path.
-fn shard_of(p: &Path) -> Option<u64> {
-    p.file_name()?
-        .to_str()?
+/// (i, n) of a shard summary's file name `summary-shard-i-of-n.csv`.
+fn shard_name(name: &str) -> Option<(u64, u64)> {
+    let (i, n) = name
         .strip_prefix("summary-shard-")?
-        .split_once("-of-")?
-        .0
-        .parse()
-        .ok()
+        .strip_suffix(".csv")?
+        .split_once("-of-")?;
+    Some((i.parse().ok()?, n.parse().ok()?))
 }

@@ -118,14 +118,7 @@ fn drive_plot(d: &DriveFigures) -> Result<String, PlotError> {
     let deg = |p: f64| p.to_degrees();
     let curve = |k: usize| c.curve.iter().map(|v| (deg(v[0]), v[k])).collect::<Vec<_>>();
     let flat = |y: f64| vec![(0.0, y), (360.0, y)];
-    let e_at = |p: f64| {
-        c.curve
-            .iter()
-            .min_by(|a, b| (a[0] - p).abs().total_cmp(&(b[0] - p).abs()))
-            .map_or(0.0, |v| v[2])
-    };
-    let [p_hi, p_lo] = c.extreme_angles;
-    let (e_hi, e_lo) = (e_at(p_hi), e_at(p_lo));
+    let ([p_hi, p_lo], [e_hi, e_lo]) = (c.extreme_angles, c.extreme_energies);
     // The nodes of one turn, closed at 360°.
     let speed: Vec<(f64, f64)> = st
         .curve

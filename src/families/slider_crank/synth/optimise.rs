@@ -5,7 +5,7 @@
 use super::fields::{Columns, Grid, Normalised};
 use super::joint::optimise_joint;
 use super::outcome::Optimum;
-use super::realise::unbalance_bounds;
+use super::realise::{fixed_length, unbalance_bounds};
 use super::scene::{check, Objective, Scene, SolveError};
 use crate::families::slider_crank::model::rot;
 use crate::geom::P2;
@@ -56,11 +56,11 @@ pub(super) fn optimise_with(
     // The caller has run `check` (the grid needed it).
     let nf = Normalised::new(scene);
     let u_ref = nf.u_ref;
-    let (u_lo, u_hi) = unbalance_bounds(&scene.counterweight);
+    let u_lo = unbalance_bounds(&scene.counterweight).0;
     let mut warnings = Vec::new();
 
     let cwspec = &scene.counterweight;
-    let fixed_len = u_hi.is_finite() && (u_hi - u_lo) <= 1e-15 * u_hi.max(1e-300);
+    let fixed_len = fixed_length(&scene.counterweight);
     let found = if scene.given() {
         // Everything fixed: an analysis (the solve claims `analysed`).
         let beta = cwspec.angle.fixed().unwrap_or(0.0);

@@ -25,10 +25,14 @@ impl super::scene::Scene {
     /// (|U|, mass × radius, the plate's envelope) leave one |U|, with no balancer or joint
     /// limit to design. The solve then analyses the given counterweight (`analysed`).
     pub fn given(&self) -> bool {
-        let (lo, hi) = unbalance_bounds(&self.counterweight);
-        let fixed_len = hi.is_finite() && (hi - lo) <= 1e-15 * hi.max(1e-300);
-        !self.joint() && self.counterweight.angle.fixed().is_some() && fixed_len
+        !self.joint() && self.counterweight.angle.fixed().is_some() && fixed_length(&self.counterweight)
     }
+}
+
+/// Whether the bounds of |U| ([`unbalance_bounds`]) leave one value (to 10⁻¹⁵ relative).
+pub fn fixed_length(cw: &CounterweightSpec) -> bool {
+    let (lo, hi) = unbalance_bounds(cw);
+    hi.is_finite() && (hi - lo) <= 1e-15 * hi.max(1e-300)
 }
 
 /// The counterweight that realises |U|: its mass and centroid radius, and the plate when the

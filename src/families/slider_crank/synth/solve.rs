@@ -63,9 +63,6 @@ pub fn solve(scene: &Scene) -> Result<Outcome, SolveError> {
         balancers,
         ..
     } = optimum;
-    if scene.given() {
-        given_over_limits(scene, u, &mut warnings)?;
-    }
     // The design's figures on the scene with its balancers (the scene itself without any);
     // the baselines on the scene as read (no balancers).
     let designed = scene.with_balancers(&balancers);
@@ -75,6 +72,9 @@ pub fn solve(scene: &Scene) -> Result<Outcome, SolveError> {
     let mech = &scene.mech;
 
     let design = metrics_sampled(scene, u, tab)?;
+    if scene.given() {
+        given_over_limits(scene, &design, &mut warnings);
+    }
     let counterweight = realise(
         P2::new(design.unbalance[0], design.unbalance[1]).norm(),
         &scene.counterweight,
@@ -163,10 +163,10 @@ fn shortfalls(
         keep(s, o, &mut out);
     }
     if let Some(limit) = scene.max_peak_torque {
+        // Where the torque does not depend on the counterweight every design's is the same:
+        // the force optimum's, with no gap in torque.
         let (o, m) = if torque_fixed {
-            // The torque does not depend on the counterweight: every design's is the same.
-            let o = optimise_with(&relaxed, Objective::MinPeakForce, None, None, &tab.scan)?;
-            let m = metrics(&relaxed.with_balancers(&o.balancers), o.u)?;
+            let (o, m) = least(Objective::MinPeakForce)?;
             (Optimum { gap: 0.0, ..o }, m)
         } else {
             least(Objective::MinPeakTorque)?
@@ -179,11 +179,7 @@ fn shortfalls(
 }
 
 /// A given counterweight is analysed, not designed: say where it exceeds the scene's limits.
-fn given_over_limits(scene: &Scene, u: P2, warnings: &mut Vec<String>) -> Result<(), SolveError> {
-    if scene.max_peak_force.is_none() && scene.max_peak_torque.is_none() {
-        return Ok(());
-    }
-    let m = metrics(scene, u)?;
+fn given_over_limits(scene: &Scene, m: &Metrics, warnings: &mut Vec<String>) {
     let over = [
         ("objective.max_peak_force", "peak shaking force", scene.max_peak_force, m.peak, "N"),
         ("objective.max_peak_torque", "peak drive torque", scene.max_peak_torque, m.peak_torque, "N·m"),
@@ -195,7 +191,6 @@ fn given_over_limits(scene: &Scene, u: P2, warnings: &mut Vec<String>) -> Result
             ));
         }
     }
-    Ok(())
 }
 
 /// Why the scene's objective does not depend on the design, if it does not: the peak torque
