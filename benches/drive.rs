@@ -20,7 +20,16 @@ fn bench(c: &mut Criterion) {
     let st = steady_state(&m, &Motor::ConstantTorque, 0.0355, w, &s).unwrap();
     eprintln!("steady state (constant torque) on {} samples", st.samples);
     c.bench_function("drive/steady_state_constant_torque", |b| {
-        b.iter(|| steady_state(std::hint::black_box(&m), &Motor::ConstantTorque, 0.0355, w, &s).unwrap())
+        b.iter(|| {
+            steady_state(
+                std::hint::black_box(&m),
+                &Motor::ConstantTorque,
+                0.0355,
+                w,
+                &s,
+            )
+            .unwrap()
+        })
     });
     let line = Motor::Line {
         rated_torque: 20.0,
@@ -33,7 +42,16 @@ fn bench(c: &mut Criterion) {
         b.iter(|| steady_state(std::hint::black_box(&m), &line, 0.0355, w, &s).unwrap())
     });
     c.bench_function("drive/least_flywheel_cs_0.02", |b| {
-        b.iter(|| least_flywheel(std::hint::black_box(&m), &Motor::ConstantTorque, &cs, 0.02, &s).unwrap())
+        b.iter(|| {
+            least_flywheel(
+                std::hint::black_box(&m),
+                &Motor::ConstantTorque,
+                &cs,
+                0.02,
+                &s,
+            )
+            .unwrap()
+        })
     });
 }
 

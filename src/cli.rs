@@ -290,7 +290,15 @@ pub fn run(cli: Cli) -> anyhow::Result<i32> {
             summary_only,
             merge: false,
             units,
-        } => batch(&inputs, out, threads.map(usize::from), shard, quiet, summary_only, units),
+        } => batch(
+            &inputs,
+            out,
+            threads.map(usize::from),
+            shard,
+            quiet,
+            summary_only,
+            units,
+        ),
         Command::Merge { dirs, out } => merge(&dirs, &out, false),
         Command::Calibrate {
             file,
@@ -516,7 +524,11 @@ fn solve(
 ) -> anyhow::Result<i32> {
     // `-` is standard input; everything else a file or a directory.
     let stdin = inputs.iter().any(|p| p.as_os_str() == "-");
-    let paths: Vec<PathBuf> = inputs.iter().filter(|p| p.as_os_str() != "-").cloned().collect();
+    let paths: Vec<PathBuf> = inputs
+        .iter()
+        .filter(|p| p.as_os_str() != "-")
+        .cloned()
+        .collect();
     let files = crate::batch::expand_inputs(&paths)?;
     let (mut scenes, mut bad) = load_all(&files);
     if stdin {

@@ -388,16 +388,10 @@ pub fn constant_speed(
     omega: f64,
     s: &DriveSettings,
 ) -> Result<ConstantSpeed, DriveError> {
-    let scale = |e: &Energy| {
-        e.delta
-            .abs()
-            .max(e.mean.abs() * TAU)
-            .max(f64::MIN_POSITIVE)
-    };
+    let scale = |e: &Energy| e.delta.abs().max(e.mean.abs() * TAU).max(f64::MIN_POSITIVE);
     let on = |g: &Grid| Ok(energy_on(g, omega));
-    let settled = |cur: &Energy, prev: &Energy| {
-        (cur.delta - prev.delta).abs() <= s.rel_tol * scale(cur)
-    };
+    let settled =
+        |cur: &Energy, prev: &Energy| (cur.delta - prev.delta).abs() <= s.rel_tol * scale(cur);
     let (cur, prev, grid) = doubled(m, s, on, settled)?;
     let n = grid.n();
     let round_off = 1e-15 * n as f64 * scale(&cur);
@@ -511,7 +505,10 @@ fn steady_on<'g>(
                 j: &series.j,
                 flywheel,
             };
-            ((0..n).map(|k| omega_of(y0 + w[k], k)).collect::<Vec<f64>>(), Some(exact))
+            (
+                (0..n).map(|k| omega_of(y0 + w[k], k)).collect::<Vec<f64>>(),
+                Some(exact),
+            )
         }
         Motor::Line { .. } => (shoot_line(grid, motor, flywheel, gbar)?, None),
     };
@@ -529,7 +526,12 @@ fn steady_on<'g>(
 /// with step 2h on the grid (its stages fall on grid points), shooting on y₀ until
 /// y(2π) = y₀ (Brent on y(2π) − y₀, which falls through zero once: the line brakes a fast
 /// machine and drives a slow one). ω at the nodes φ_{2i}.
-fn shoot_line(grid: &Grid, motor: &Motor, flywheel: f64, gbar: f64) -> Result<Vec<f64>, DriveError> {
+fn shoot_line(
+    grid: &Grid,
+    motor: &Motor,
+    flywheel: f64,
+    gbar: f64,
+) -> Result<Vec<f64>, DriveError> {
     let n = grid.n();
     let h2 = 2.0 * TAU / n as f64;
     let jf = |k: usize| grid.j[k % n] + flywheel;
@@ -588,7 +590,9 @@ fn shoot_line(grid: &Grid, motor: &Motor, flywheel: f64, gbar: f64) -> Result<Ve
     let mut ys = Vec::new();
     run(y0, Some(&mut ys));
     if ys.iter().any(|&y| y <= 0.0) {
-        return Err(DriveError::Stalls("the speed falls to zero in the cycle".into()));
+        return Err(DriveError::Stalls(
+            "the speed falls to zero in the cycle".into(),
+        ));
     }
     Ok(ys
         .iter()
@@ -658,7 +662,12 @@ fn exact_extremes(om: &[f64], h: f64, e: &ExactSpeed) -> [(f64, f64); 2] {
 }
 
 /// The figures of one steady state on one grid.
-fn figures(grid: &Grid, motor: &Motor, flywheel: f64, omega_nominal: f64) -> Result<SteadyState, DriveError> {
+fn figures(
+    grid: &Grid,
+    motor: &Motor,
+    flywheel: f64,
+    omega_nominal: f64,
+) -> Result<SteadyState, DriveError> {
     let (om, al, h, exact) = steady_on(grid, motor, flywheel, omega_nominal)?;
     let [(wmin, pmin), (wmax, pmax)] = match &exact {
         Some(e) => exact_extremes(&om, h, e),
@@ -794,7 +803,9 @@ pub fn least_flywheel(
     let steady = with_errors(cs_on(&grid, root.x)?, &cs_on(&grid.halved(), root.x)?);
     // |dCs/dI_f| by a central difference, for the error that Cs's own error makes in I_f.
     let d = 1e-4 * root.x.max(tol);
-    let slope = ((cs_on(&grid, root.x + d)?.cs - cs_on(&grid, (root.x - d).max(0.0))?.cs) / (2.0 * d)).abs();
+    let slope = ((cs_on(&grid, root.x + d)?.cs - cs_on(&grid, (root.x - d).max(0.0))?.cs)
+        / (2.0 * d))
+        .abs();
     Ok(Flywheel {
         cs,
         inertia: root.x,

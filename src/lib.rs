@@ -21,8 +21,8 @@
 
 pub mod batch;
 pub mod calibrate;
-pub mod dynamics;
 pub mod cli;
+pub mod dynamics;
 pub mod families;
 pub mod geom;
 pub mod numeric;

@@ -378,12 +378,22 @@ fn an_absurd_thread_count_is_refused() {
     let dir = tempfile::tempdir().unwrap();
     let p = problem("piston-1000rpm.toml");
     let out = bin()
-        .args(["batch", p.to_str().unwrap(), "--out", dir.path().to_str().unwrap(), "--threads", "100000"])
+        .args([
+            "batch",
+            p.to_str().unwrap(),
+            "--out",
+            dir.path().to_str().unwrap(),
+            "--threads",
+            "100000",
+        ])
         .output()
         .unwrap();
     assert!(!out.status.success());
     let err = String::from_utf8_lossy(&out.stderr);
-    assert!(err.contains("--threads") && err.contains("1..=1024"), "{err}");
+    assert!(
+        err.contains("--threads") && err.contains("1..=1024"),
+        "{err}"
+    );
 }
 
 /// Result names in `--out` that are a FIFO or a link to `/dev/zero` are not read: the batch
@@ -400,7 +410,13 @@ fn a_fifo_or_dev_zero_in_the_output_does_not_hang_a_batch() {
     std::os::unix::fs::symlink("/dev/zero", dir.path().join("summary.csv.resume")).unwrap();
     let p = problem("piston-1000rpm.toml");
     let mut child = bin()
-        .args(["batch", p.to_str().unwrap(), "--out", dir.path().to_str().unwrap(), "--quiet"])
+        .args([
+            "batch",
+            p.to_str().unwrap(),
+            "--out",
+            dir.path().to_str().unwrap(),
+            "--quiet",
+        ])
         .spawn()
         .unwrap();
     let t0 = std::time::Instant::now();
@@ -425,7 +441,10 @@ fn a_fifo_or_dev_zero_in_the_output_does_not_hang_a_batch() {
 fn a_huge_problem_file_is_refused_without_reading_it() {
     let dir = tempfile::tempdir().unwrap();
     let big = dir.path().join("big.toml");
-    std::fs::File::create(&big).unwrap().set_len(1 << 30).unwrap();
+    std::fs::File::create(&big)
+        .unwrap()
+        .set_len(1 << 30)
+        .unwrap();
     let bytes = cwsynth::problem::read_bounded(&big, cwsynth::problem::MAX_FILE_BYTES).unwrap();
     assert_eq!(bytes.len(), cwsynth::problem::MAX_FILE_BYTES + 1);
     let e = cwsynth::families::load(&big).unwrap_err().to_string();
@@ -443,10 +462,20 @@ fn merge_refuses_a_shard_given_twice_or_from_another_run() {
         tempfile::tempdir().unwrap(),
         tempfile::tempdir().unwrap(),
     );
-    let inputs = [problem("piston-1000rpm.toml"), problem("piston-2000rpm.toml")];
+    let inputs = [
+        problem("piston-1000rpm.toml"),
+        problem("piston-2000rpm.toml"),
+    ];
     for d in [&a, &b] {
         let st = bin()
-            .args(["batch", "--quiet", "--summary-only", "--shard", "0/2", "--out"])
+            .args([
+                "batch",
+                "--quiet",
+                "--summary-only",
+                "--shard",
+                "0/2",
+                "--out",
+            ])
             .arg(d.path())
             .args(&inputs)
             .status()
@@ -454,8 +483,17 @@ fn merge_refuses_a_shard_given_twice_or_from_another_run() {
         assert!(st.success());
     }
     let merge = |dirs: &[&std::path::Path]| {
-        let o = bin().arg("merge").args(dirs).arg("--out").arg(out.path()).output().unwrap();
-        (o.status.success(), String::from_utf8_lossy(&o.stderr).to_string())
+        let o = bin()
+            .arg("merge")
+            .args(dirs)
+            .arg("--out")
+            .arg(out.path())
+            .output()
+            .unwrap();
+        (
+            o.status.success(),
+            String::from_utf8_lossy(&o.stderr).to_string(),
+        )
     };
     let (ok, err) = merge(&[a.path(), b.path()]);
     assert!(!ok && err.contains("given twice"), "{err}");
@@ -482,7 +520,12 @@ fn solve_reads_a_problem_from_standard_input() {
             .stderr(std::process::Stdio::piped())
             .spawn()
             .unwrap();
-        child.stdin.take().unwrap().write_all(text.as_bytes()).unwrap();
+        child
+            .stdin
+            .take()
+            .unwrap()
+            .write_all(text.as_bytes())
+            .unwrap();
         child.wait_with_output().unwrap()
     };
     let text = std::fs::read_to_string(problem("piston-1000rpm.toml")).unwrap();

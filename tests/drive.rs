@@ -12,7 +12,13 @@ use std::f64::consts::{PI, TAU};
 /// A machine with a closed form: J = J₀ + a cos 2φ, J′ = −2a sin 2φ, G = b sin φ + c
 /// (a crank-like inertia swing, a weight and a constant process load).
 fn toy(j0: f64, a: f64, b: f64, c: f64) -> impl Fn(f64) -> [f64; 3] + Sync {
-    move |p: f64| [j0 + a * (2.0 * p).cos(), -2.0 * a * (2.0 * p).sin(), b * p.sin() + c]
+    move |p: f64| {
+        [
+            j0 + a * (2.0 * p).cos(),
+            -2.0 * a * (2.0 * p).sin(),
+            b * p.sin() + c,
+        ]
+    }
 }
 
 /// A slider-crank's (J, J′, G) in closed form, exact kinematics: crank R, rod L, slider mass
@@ -85,7 +91,11 @@ fn energy_fluctuation_of_a_slider_crank_matches_a_direct_quadrature() {
     let q = simpson_delta_e(&t, 200_000);
     let rel = (q - cs.energy_fluctuation).abs() / cs.energy_fluctuation;
     // The quadrature samples E only at its nodes: its max is within (h²/8)·|T′|max ≈ 1e-8.
-    assert!(rel < 1e-7, "ΔE {} vs quadrature {q} ({rel:.2e})", cs.energy_fluctuation);
+    assert!(
+        rel < 1e-7,
+        "ΔE {} vs quadrature {q} ({rel:.2e})",
+        cs.energy_fluctuation
+    );
     assert!(cs.energy_fluctuation_error < 1e-9 * cs.energy_fluctuation);
 }
 
@@ -102,7 +112,10 @@ fn time_domain(
     let f = |y: [f64; 2]| {
         let [j, dj, g] = m.eval(y[0]);
         let w = y[1];
-        [w, (motor.torque(w, mean_load) - g - 0.5 * dj * w * w) / (j + flywheel)]
+        [
+            w,
+            (motor.torque(w, mean_load) - g - 0.5 * dj * w * w) / (j + flywheel),
+        ]
     };
     const C: [f64; 7] = [0.0, 1.0 / 5.0, 3.0 / 10.0, 4.0 / 5.0, 8.0 / 9.0, 1.0, 1.0];
     const A: [[f64; 6]; 7] = [
@@ -110,13 +123,48 @@ fn time_domain(
         [1.0 / 5.0, 0.0, 0.0, 0.0, 0.0, 0.0],
         [3.0 / 40.0, 9.0 / 40.0, 0.0, 0.0, 0.0, 0.0],
         [44.0 / 45.0, -56.0 / 15.0, 32.0 / 9.0, 0.0, 0.0, 0.0],
-        [19372.0 / 6561.0, -25360.0 / 2187.0, 64448.0 / 6561.0, -212.0 / 729.0, 0.0, 0.0],
-        [9017.0 / 3168.0, -355.0 / 33.0, 46732.0 / 5247.0, 49.0 / 176.0, -5103.0 / 18656.0, 0.0],
-        [35.0 / 384.0, 0.0, 500.0 / 1113.0, 125.0 / 192.0, -2187.0 / 6784.0, 11.0 / 84.0],
+        [
+            19372.0 / 6561.0,
+            -25360.0 / 2187.0,
+            64448.0 / 6561.0,
+            -212.0 / 729.0,
+            0.0,
+            0.0,
+        ],
+        [
+            9017.0 / 3168.0,
+            -355.0 / 33.0,
+            46732.0 / 5247.0,
+            49.0 / 176.0,
+            -5103.0 / 18656.0,
+            0.0,
+        ],
+        [
+            35.0 / 384.0,
+            0.0,
+            500.0 / 1113.0,
+            125.0 / 192.0,
+            -2187.0 / 6784.0,
+            11.0 / 84.0,
+        ],
     ];
-    const B5: [f64; 7] = [35.0 / 384.0, 0.0, 500.0 / 1113.0, 125.0 / 192.0, -2187.0 / 6784.0, 11.0 / 84.0, 0.0];
+    const B5: [f64; 7] = [
+        35.0 / 384.0,
+        0.0,
+        500.0 / 1113.0,
+        125.0 / 192.0,
+        -2187.0 / 6784.0,
+        11.0 / 84.0,
+        0.0,
+    ];
     const B4: [f64; 7] = [
-        5179.0 / 57600.0, 0.0, 7571.0 / 16695.0, 393.0 / 640.0, -92097.0 / 339200.0, 187.0 / 2100.0, 1.0 / 40.0,
+        5179.0 / 57600.0,
+        0.0,
+        7571.0 / 16695.0,
+        393.0 / 640.0,
+        -92097.0 / 339200.0,
+        187.0 / 2100.0,
+        1.0 / 40.0,
     ];
     let _ = C;
     let step = |y: [f64; 2], h: f64| -> ([f64; 2], f64) {
@@ -185,7 +233,14 @@ fn check_against_time_domain(m: &dyn OneDof, motor: Motor, flywheel: f64, w: f64
     let nodes: Vec<[f64; 3]> = st.curve.iter().step_by(8).copied().collect();
     let mut targets: Vec<f64> = nodes.iter().skip(1).map(|p| p[0]).collect();
     targets.push(TAU);
-    let td = time_domain(m, &motor, cs.mean_torque, flywheel, st.curve[0][1], &targets);
+    let td = time_domain(
+        m,
+        &motor,
+        cs.mean_torque,
+        flywheel,
+        st.curve[0][1],
+        &targets,
+    );
     let mut worst = 0.0_f64;
     for (node, w_td) in nodes.iter().skip(1).zip(&td) {
         worst = worst.max((node[1] - w_td).abs() / node[1]);
@@ -201,7 +256,8 @@ fn steady_state_with_a_constant_torque_matches_a_time_domain_integration() {
     eprintln!("constant torque, slider: worst relative difference in ω {worst:.2e}");
     assert!(worst < 1e-8, "{worst:.2e}");
     // Without a flywheel the speed swings by tens of per cent: still periodic and matched.
-    let worst = check_against_time_domain(&toy(0.05, 0.02, 5.0, 1.0), Motor::ConstantTorque, 0.0, 20.0);
+    let worst =
+        check_against_time_domain(&toy(0.05, 0.02, 5.0, 1.0), Motor::ConstantTorque, 0.0, 20.0);
     assert!(worst < 1e-8, "{worst:.2e}");
 }
 
@@ -222,8 +278,15 @@ fn steady_state_with_a_motor_line_matches_a_time_domain_integration() {
     let cs = constant_speed(&m, 150.0, &DriveSettings::default()).unwrap();
     let w_phi = st.curve.iter().map(|p| p[1]).sum::<f64>() / st.curve.len() as f64;
     let tm = motor.torque(w_phi, 0.0);
-    assert!((tm - cs.mean_torque).abs() < 1e-9 * cs.mean_torque, "{tm} vs {}", cs.mean_torque);
-    assert!(st.omega_mean < w_phi, "the time mean is the harmonic mean over φ");
+    assert!(
+        (tm - cs.mean_torque).abs() < 1e-9 * cs.mean_torque,
+        "{tm} vs {}",
+        cs.mean_torque
+    );
+    assert!(
+        st.omega_mean < w_phi,
+        "the time mean is the harmonic mean over φ"
+    );
 }
 
 #[test]
@@ -235,7 +298,10 @@ fn the_least_flywheel_meets_cs_exactly_and_differs_from_the_textbook() {
     for target in [0.2, 0.05, 0.02, 0.005] {
         let fw = least_flywheel(&m, &Motor::ConstantTorque, &cs, target, &s).unwrap();
         // It meets the target, and 0.1 % less does not.
-        assert!((fw.steady.cs - target).abs() <= 1e-9 * target + fw.steady.cs_error, "{fw:?}");
+        assert!(
+            (fw.steady.cs - target).abs() <= 1e-9 * target + fw.steady.cs_error,
+            "{fw:?}"
+        );
         let less = steady_state(&m, &Motor::ConstantTorque, fw.inertia * 0.999, w, &s).unwrap();
         assert!(less.cs > target, "{} at 0.999 I_f", less.cs);
         // The textbook formula neglects J's swing and the mean's definition: a different,
@@ -248,7 +314,12 @@ fn the_least_flywheel_meets_cs_exactly_and_differs_from_the_textbook() {
             fw.textbook,
             100.0 * rel
         );
-        assert!(rel.abs() > 1e-6, "textbook {} exact {}", fw.textbook, fw.inertia);
+        assert!(
+            rel.abs() > 1e-6,
+            "textbook {} exact {}",
+            fw.textbook,
+            fw.inertia
+        );
         if target <= 0.005 {
             assert!(rel.abs() < 0.05, "{rel}");
         }
@@ -286,7 +357,10 @@ fn the_slider_crank_drive_matches_its_drive_torque() {
         let p = 0.1257 * k as f64;
         let [_, dj, g] = m.eval(p);
         let t = drive_torque(&scene, u, p);
-        assert!((0.5 * dj * w * w + g - t).abs() < 1e-12 * t.abs().max(1.0), "φ {p}");
+        assert!(
+            (0.5 * dj * w * w + g - t).abs() < 1e-12 * t.abs().max(1.0),
+            "φ {p}"
+        );
     }
     let cs = constant_speed(&m, w, &DriveSettings::default()).unwrap();
     let q = simpson_delta_e(&|p: f64| drive_torque(&scene, u, p), 100_000);
@@ -306,11 +380,18 @@ fn a_problem_file_with_a_drive_reports_its_flywheel() {
     let d = &r.derived;
     assert!(d["energy_fluctuation_j"] > 0.0);
     let (least, book) = (d["flywheel_least_kgm2"], d["flywheel_textbook_kgm2"]);
-    assert!(least > 0.0 && (least - book).abs() > 1e-9 * book, "{least} {book}");
+    assert!(
+        least > 0.0 && (least - book).abs() > 1e-9 * book,
+        "{least} {book}"
+    );
     assert!((d["steady_cs"] - 0.01).abs() <= 1e-9 + d["steady_cs_error"]);
     assert_eq!(d["steady_flywheel_kgm2"], least);
     // A unitless flywheel is an error naming the field.
-    let bad = crate::common::with(&base, "[model]", "[mechanism.drive]\nflywheel = 0.2\n\n[model]");
+    let bad = crate::common::with(
+        &base,
+        "[model]",
+        "[mechanism.drive]\nflywheel = 0.2\n\n[model]",
+    );
     let e = cwsynth::families::parse_str(&bad, std::path::Path::new("d.toml")).unwrap_err();
     assert!(e.to_string().contains("flywheel"), "{e}");
 }
@@ -320,7 +401,9 @@ fn a_problem_file_with_a_drive_reports_its_flywheel() {
 /// steady state's ω and α, and against the constant-speed force where α = 0.
 #[test]
 fn the_real_speed_shaking_force_is_minus_the_second_time_derivative_of_the_mass_centre() {
-    use cwsynth::families::slider_crank::synth::{machine, paper_piston, real_speed_force, scene_force};
+    use cwsynth::families::slider_crank::synth::{
+        machine, paper_piston, real_speed_force, scene_force,
+    };
     use cwsynth::geom::P2;
     let scene = paper_piston(1000.0);
     let u = P2::new(-0.03, 0.004);
@@ -336,7 +419,14 @@ fn the_real_speed_shaking_force_is_minus_the_second_time_derivative_of_the_mass_
             + P2::new(c * u.x - s * u.y, s * u.x + c * u.y)
     };
     let m = machine(&scene, u, 0.0);
-    let st = steady_state(&m, &Motor::ConstantTorque, 0.002, scene.omega, &DriveSettings::default()).unwrap();
+    let st = steady_state(
+        &m,
+        &Motor::ConstantTorque,
+        0.002,
+        scene.omega,
+        &DriveSettings::default(),
+    )
+    .unwrap();
     assert!(st.cs > 0.05, "a large swing: {}", st.cs);
     let d = 1e-4;
     let mut worst = 0.0_f64;

@@ -67,17 +67,27 @@ fn an_unreachable_force_limit_is_infeasible_and_says_how_far_off() {
     assert!(detail.contains("objective.max_peak_force"), "{detail}");
     assert!(detail.contains("298.94"), "{detail}");
     assert!(!detail.contains("Some("), "{detail}");
-    assert!(r.warnings.iter().all(|w| !w.contains("Some(")), "{:?}", r.warnings);
+    assert!(
+        r.warnings.iter().all(|w| !w.contains("Some(")),
+        "{:?}",
+        r.warnings
+    );
     assert_eq!(r.infeasibility.len(), 1);
     let s = &r.infeasibility[0];
     assert_eq!(s.limit, "objective.max_peak_force");
     assert!(s.certified && !s.reachable_alone());
-    assert!((s.closest - best).abs() <= s.error + best_err + 1e-9 * best, "{s:?} vs {best}");
+    assert!(
+        (s.closest - best).abs() <= s.error + best_err + 1e-9 * best,
+        "{s:?} vs {best}"
+    );
     // The design shown is the closest one: its peak is the least reachable.
     assert!((r.objectives["peak_shaking_force_n"] - best).abs() < 1e-6 * best);
     let json = serde_json::to_value(&r).unwrap();
     assert_eq!(json["status"], "infeasible");
-    assert_eq!(json["infeasibility"][0]["limit"], "objective.max_peak_force");
+    assert_eq!(
+        json["infeasibility"][0]["limit"],
+        "objective.max_peak_force"
+    );
     assert!((json["infeasibility"][0]["closest"].as_f64().unwrap() - best).abs() < 1e-6);
     // A limit just above the least reachable value is met.
     let ok = solve(&set_key(

@@ -180,10 +180,11 @@ fn set_dotted(
 impl Template {
     /// Reads the template and the CSV header.
     pub fn open(template: &Path, csv: &Path) -> Result<Template, BatchError> {
-        let bytes = crate::problem::read_bounded(template, crate::problem::MAX_FILE_BYTES).map_err(|cause| BatchError::Unreadable {
-            path: template.into(),
-            cause,
-        })?;
+        let bytes = crate::problem::read_bounded(template, crate::problem::MAX_FILE_BYTES)
+            .map_err(|cause| BatchError::Unreadable {
+                path: template.into(),
+                cause,
+            })?;
         let text = crate::problem::text_of(&bytes, template)
             .map_err(BatchError::Template)?
             .to_string();

@@ -20,8 +20,7 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<Counts, BatchError> {
         let listing = |e| BatchError::io("cannot list", d, e);
         for e in std::fs::read_dir(d).map_err(listing)? {
             let p = e.map_err(listing)?.path();
-            let Some((i, n)) = p.file_name().and_then(|f| f.to_str()).and_then(shard_name)
-            else {
+            let Some((i, n)) = p.file_name().and_then(|f| f.to_str()).and_then(shard_name) else {
                 continue;
             };
             ns.insert(n);

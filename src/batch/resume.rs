@@ -185,9 +185,8 @@ impl Previous {
     pub(super) fn open(summary: &Path) -> Result<Previous, BatchError> {
         let (partial, resume) = (beside(summary, "partial"), beside(summary, "resume"));
         if partial.exists() {
-            let rows = |p: &Path| {
-                read_result(p).map_or(0, |b| b.iter().filter(|&&c| c == b'\n').count())
-            };
+            let rows =
+                |p: &Path| read_result(p).map_or(0, |b| b.iter().filter(|&&c| c == b'\n').count());
             if resume.exists() && rows(&resume) > rows(&partial) {
                 std::fs::remove_file(&partial).map_err(|e| {
                     BatchError::io("cannot remove the smaller checkpoint", &partial, e)

@@ -113,10 +113,13 @@ pub fn new_problem(family: &str) -> Option<String> {
 
 /// Reads and resolves a problem file.
 pub fn load(path: &Path) -> Result<Scene, ProblemError> {
-    let bytes = crate::problem::read_bounded(path, crate::problem::MAX_FILE_BYTES).map_err(|source| ProblemError::Read {
-        file: path.into(),
-        source,
-    })?;
+    let bytes =
+        crate::problem::read_bounded(path, crate::problem::MAX_FILE_BYTES).map_err(|source| {
+            ProblemError::Read {
+                file: path.into(),
+                source,
+            }
+        })?;
     parse_bytes(&bytes, path)
 }
 

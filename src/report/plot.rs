@@ -226,7 +226,11 @@ fn legend_corner(
         .flat_map(|s| {
             let line = s.style == Style::Line;
             s.points.iter().enumerate().flat_map(move |(i, &p)| {
-                let next = if line { s.points.get(i + 1).copied() } else { None };
+                let next = if line {
+                    s.points.get(i + 1).copied()
+                } else {
+                    None
+                };
                 (0..if next.is_some() { 8 } else { 1 }).map(move |k| match next {
                     Some(q) => {
                         let t = k as f64 / 8.0;

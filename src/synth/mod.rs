@@ -119,7 +119,14 @@ pub enum Sense {
 impl Shortfall {
     /// An upper limit `key` = `value` on `quantity`, whose least reachable value is
     /// certified to be `closest` ± `error` (SI, `unit`).
-    pub fn at_most(key: &str, quantity: &str, value: f64, closest: f64, error: f64, unit: &str) -> Self {
+    pub fn at_most(
+        key: &str,
+        quantity: &str,
+        value: f64,
+        closest: f64,
+        error: f64,
+        unit: &str,
+    ) -> Self {
         Shortfall {
             limit: key.into(),
             quantity: quantity.into(),

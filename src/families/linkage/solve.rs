@@ -92,9 +92,27 @@ pub fn solve(p: &LinkageProblem) -> Result<Solution, String> {
 fn shortfalls(p: &LinkageProblem) -> Vec<Shortfall> {
     let o = &p.scene.objective;
     let limits = [
-        (o.max_peak_force, Goal::PeakForce, "max_peak_force", "peak shaking force", "N"),
-        (o.max_peak_moment, Goal::PeakMoment, "max_peak_moment", "peak shaking moment", "N·m"),
-        (o.max_peak_torque, Goal::PeakTorque, "max_peak_torque", "peak drive torque", "N·m"),
+        (
+            o.max_peak_force,
+            Goal::PeakForce,
+            "max_peak_force",
+            "peak shaking force",
+            "N",
+        ),
+        (
+            o.max_peak_moment,
+            Goal::PeakMoment,
+            "max_peak_moment",
+            "peak shaking moment",
+            "N·m",
+        ),
+        (
+            o.max_peak_torque,
+            Goal::PeakTorque,
+            "max_peak_torque",
+            "peak drive torque",
+            "N·m",
+        ),
     ];
     let mut out = Vec::new();
     for (limit, goal, key, quantity, unit) in limits {
@@ -114,7 +132,14 @@ fn shortfalls(p: &LinkageProblem) -> Vec<Shortfall> {
         let least = ls::solve(&relaxed, &p.settings).ok().and_then(|r| r.design);
         if let Some(d) = least.filter(|d| d.status == CwStatus::Optimal) {
             let key = format!("objective.{key}");
-            out.push(Shortfall::at_most(&key, quantity, limit, d.objective, d.error.total, unit));
+            out.push(Shortfall::at_most(
+                &key,
+                quantity,
+                limit,
+                d.objective,
+                d.error.total,
+                unit,
+            ));
         }
     }
     out

@@ -52,7 +52,8 @@ pub fn drive_numbers(r: &mut SolveResult, sol: &Solution) {
     let d = match &sol.drive {
         None => return,
         Some(Err(why)) => {
-            r.warnings.push(format!("the drive could not be computed: {why}"));
+            r.warnings
+                .push(format!("the drive could not be computed: {why}"));
             return;
         }
         Some(Ok(d)) => d,
@@ -91,7 +92,8 @@ pub fn drive_documents(r: &mut SolveResult, sol: &Solution) {
     }
     r.tables.push(Table {
         suffix: "drive".into(),
-        caption: "The turn at constant speed: drive torque T and energy curve E = ∫ (T − T̄) dφ".into(),
+        caption: "The turn at constant speed: drive torque T and energy curve E = ∫ (T − T̄) dφ"
+            .into(),
         csv,
     });
     let mut csv = String::from("crank_angle_deg,speed_rad_s,angular_acceleration_rad_s2\n");
@@ -116,7 +118,12 @@ pub fn drive_documents(r: &mut SolveResult, sol: &Solution) {
 fn drive_plot(d: &DriveFigures) -> Result<String, PlotError> {
     let (c, st) = (&d.constant, &d.steady);
     let deg = |p: f64| p.to_degrees();
-    let curve = |k: usize| c.curve.iter().map(|v| (deg(v[0]), v[k])).collect::<Vec<_>>();
+    let curve = |k: usize| {
+        c.curve
+            .iter()
+            .map(|v| (deg(v[0]), v[k]))
+            .collect::<Vec<_>>()
+    };
     let flat = |y: f64| vec![(0.0, y), (360.0, y)];
     let ([p_hi, p_lo], [e_hi, e_lo]) = (c.extreme_angles, c.extreme_energies);
     // The nodes of one turn, closed at 360°.
@@ -128,14 +135,24 @@ fn drive_plot(d: &DriveFigures) -> Result<String, PlotError> {
         .collect();
     // T̄ at round-off level (a machine that does no net work) is shown as 0.
     let t_scale = c.curve.iter().fold(0.0_f64, |m, v| m.max(v[1].abs()));
-    let t_bar = if c.mean_torque.abs() < 1e-12 * t_scale { 0.0 } else { c.mean_torque };
+    let t_bar = if c.mean_torque.abs() < 1e-12 * t_scale {
+        0.0
+    } else {
+        c.mean_torque
+    };
     plot::panels(
         &[
             Panel {
-                title: format!("Drive torque at constant speed, T̄ = {} N·m", plot::tick(&t_bar)),
+                title: format!(
+                    "Drive torque at constant speed, T̄ = {} N·m",
+                    plot::tick(&t_bar)
+                ),
                 x_label: "crank angle φ (°)".into(),
                 y_label: "T (N·m)".into(),
-                series: vec![Series::line("T(φ)", curve(1)), Series::line("T̄", flat(t_bar))],
+                series: vec![
+                    Series::line("T(φ)", curve(1)),
+                    Series::line("T̄", flat(t_bar)),
+                ],
                 equal_aspect: false,
             },
             Panel {
@@ -157,7 +174,10 @@ fn drive_plot(d: &DriveFigures) -> Result<String, PlotError> {
                 ),
                 x_label: "crank angle φ (°)".into(),
                 y_label: "ω (rad/s)".into(),
-                series: vec![Series::line("ω(φ)", speed), Series::line("time-mean speed", flat(st.omega_mean))],
+                series: vec![
+                    Series::line("ω(φ)", speed),
+                    Series::line("time-mean speed", flat(st.omega_mean)),
+                ],
                 equal_aspect: false,
             },
         ],

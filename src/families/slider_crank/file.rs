@@ -146,7 +146,10 @@ fn resolve_drive(d: &DriveRaw) -> Result<Drive, FieldError> {
     }
     let flywheel = match d.flywheel {
         Some(q) if !(q.si() >= 0.0) => {
-            return Err(FieldError::new("mechanism.drive.flywheel", "allowed: ≥ 0 kg·m²"))
+            return Err(FieldError::new(
+                "mechanism.drive.flywheel",
+                "allowed: ≥ 0 kg·m²",
+            ))
         }
         q => q.map(Qty::si),
     };

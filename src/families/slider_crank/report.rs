@@ -723,7 +723,10 @@ fn slider_crank_plot(
         P2::from(out.design.unbalance),
         out.design.peak_angle,
     );
-    locus.push(Series::marker(format!("peak of {label}"), vec![(f_opt.x, f_opt.y)]));
+    locus.push(Series::marker(
+        format!("peak of {label}"),
+        vec![(f_opt.x, f_opt.y)],
+    ));
     mag.push(Series::peak(
         format!(
             "peak {} N at {}°",

@@ -4,8 +4,8 @@
 //! `report.rs`.
 
 use super::file::{Drive, SliderCrankProblem};
-use crate::dynamics;
 use super::synth::{self as sc, Metrics, SweepPoint};
+use crate::dynamics;
 use crate::families::driver::Claim;
 use crate::families::family::cw_status;
 use crate::geom::P2;
@@ -68,17 +68,23 @@ pub struct RealSpeed {
 
 /// The real-speed peaks of the design U = `u` in the steady state `st` with the motor
 /// `motor` and the mean load `mean`.
-fn real_speed(s: &sc::Scene, u: P2, st: &dynamics::SteadyState, motor: &dynamics::Motor, mean: f64) -> Option<RealSpeed> {
+fn real_speed(
+    s: &sc::Scene,
+    u: P2,
+    st: &dynamics::SteadyState,
+    motor: &dynamics::Motor,
+    mean: f64,
+) -> Option<RealSpeed> {
     let forces: Vec<(f64, f64)> = st
         .curve
         .iter()
         .map(|&[phi, w, a]| sc::real_speed_force(s, u, phi, w, a).map(|f| (f.norm(), phi)))
         .collect::<Option<_>>()?;
     let peak = |step: usize| {
-        forces
-            .iter()
-            .step_by(step)
-            .fold((0.0_f64, 0.0), |b, &(f, p)| if f > b.0 { (f, p) } else { b })
+        forces.iter().step_by(step).fold(
+            (0.0_f64, 0.0),
+            |b, &(f, p)| if f > b.0 { (f, p) } else { b },
+        )
     };
     let (fine, coarse) = (peak(1), peak(2));
     // F scales as ω²: the speeds' error δω adds 2 δω/ω of it.
@@ -110,15 +116,15 @@ fn drive(p: &SliderCrankProblem, out: &sc::Outcome, d: &Drive) -> Result<DriveFi
     let set = dynamics::DriveSettings::default();
     let e = |e: dynamics::DriveError| e.to_string();
     let constant = dynamics::constant_speed(&m, p.core.omega, &set).map_err(e)?;
-    let flywheel = d
-        .cs
-        .map(|cs| dynamics::least_flywheel(&m, &d.motor, &constant, cs, &set))
-        .transpose()
-        .map_err(e)?;
+    let flywheel =
+        d.cs.map(|cs| dynamics::least_flywheel(&m, &d.motor, &constant, cs, &set))
+            .transpose()
+            .map_err(e)?;
     let steady = match (d.flywheel, &flywheel) {
         (None, Some(f)) => f.steady.clone(),
         (given, _) => {
-            dynamics::steady_state(&m, &d.motor, given.unwrap_or(0.0), p.core.omega, &set).map_err(e)?
+            dynamics::steady_state(&m, &d.motor, given.unwrap_or(0.0), p.core.omega, &set)
+                .map_err(e)?
         }
     };
     let real = real_speed(s, u, &steady, &d.motor, constant.mean_torque);

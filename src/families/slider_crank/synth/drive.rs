@@ -16,13 +16,18 @@ use crate::geom::P2;
 /// (`load_torque0`) plus the counterweight's and the balancers' weights. The balancers'
 /// own inertia is not modelled (it only adds to J_c: leaving it out errs towards a larger
 /// flywheel).
-pub fn machine(scene: &Scene, u: P2, constant_inertia: f64) -> impl Fn(f64) -> [f64; 3] + Sync + '_ {
+pub fn machine(
+    scene: &Scene,
+    u: P2,
+    constant_inertia: f64,
+) -> impl Fn(f64) -> [f64; 3] + Sync + '_ {
     move |phi: f64| {
         let m = &scene.mech;
         let Some(st) = m.state(phi) else {
             return [f64::NAN; 3];
         };
-        let mut g = m.load_torque0(&st, &scene.loads) + weight_torque_cs(st.cs, scene.loads.gravity, u);
+        let mut g =
+            m.load_torque0(&st, &scene.loads) + weight_torque_cs(st.cs, scene.loads.gravity, u);
         if !scene.balancers.is_empty() {
             g += scene.balancer_torque(phi);
         }

@@ -311,11 +311,7 @@ impl JointScene<'_> {
     /// status (`inaccurate` on an automatic bound), the gap (sampling + solver error), the
     /// method with the bounds used, and the warnings. |U| below the scene's U_min is an
     /// error (that bound is not convex).
-    fn optimum(
-        &self,
-        sol: &mm::Solution,
-        bounds: &JointBounds,
-    ) -> Result<Optimum, SolveError> {
+    fn optimum(&self, sol: &mm::Solution, bounds: &JointBounds) -> Result<Optimum, SolveError> {
         let (scene, nb) = (self.scene, self.nb);
         let mut warnings = Vec::new();
         if let Some(n) = &sol.note {

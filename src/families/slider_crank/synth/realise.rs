@@ -25,7 +25,9 @@ impl super::scene::Scene {
     /// (|U|, mass × radius, the plate's envelope) leave one |U|, with no balancer or joint
     /// limit to design. The solve then analyses the given counterweight (`analysed`).
     pub fn given(&self) -> bool {
-        !self.joint() && self.counterweight.angle.fixed().is_some() && fixed_length(&self.counterweight)
+        !self.joint()
+            && self.counterweight.angle.fixed().is_some()
+            && fixed_length(&self.counterweight)
     }
 }
 

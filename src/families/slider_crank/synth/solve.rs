@@ -159,7 +159,14 @@ fn shortfalls(
     if let Some(limit) = scene.max_peak_force {
         let (o, m) = least(Objective::MinPeakForce)?;
         let e = o.gap.max(0.0) + m.peak_error;
-        let s = Shortfall::at_most("objective.max_peak_force", "peak shaking force", limit, m.peak, e, "N");
+        let s = Shortfall::at_most(
+            "objective.max_peak_force",
+            "peak shaking force",
+            limit,
+            m.peak,
+            e,
+            "N",
+        );
         keep(s, o, &mut out);
     }
     if let Some(limit) = scene.max_peak_torque {
@@ -172,7 +179,14 @@ fn shortfalls(
             least(Objective::MinPeakTorque)?
         };
         let e = o.gap.max(0.0) + m.peak_torque_error;
-        let s = Shortfall::at_most("objective.max_peak_torque", "peak drive torque", limit, m.peak_torque, e, "N·m");
+        let s = Shortfall::at_most(
+            "objective.max_peak_torque",
+            "peak drive torque",
+            limit,
+            m.peak_torque,
+            e,
+            "N·m",
+        );
         keep(s, o, &mut out);
     }
     Ok((out, closest.map(|(_, o)| o)))
@@ -181,8 +195,20 @@ fn shortfalls(
 /// A given counterweight is analysed, not designed: say where it exceeds the scene's limits.
 fn given_over_limits(scene: &Scene, m: &Metrics, warnings: &mut Vec<String>) {
     let over = [
-        ("objective.max_peak_force", "peak shaking force", scene.max_peak_force, m.peak, "N"),
-        ("objective.max_peak_torque", "peak drive torque", scene.max_peak_torque, m.peak_torque, "N·m"),
+        (
+            "objective.max_peak_force",
+            "peak shaking force",
+            scene.max_peak_force,
+            m.peak,
+            "N",
+        ),
+        (
+            "objective.max_peak_torque",
+            "peak drive torque",
+            scene.max_peak_torque,
+            m.peak_torque,
+            "N·m",
+        ),
     ];
     for (key, q, limit, v, unit) in over {
         if let Some(l) = limit.filter(|&l| v > l) {
