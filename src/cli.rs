@@ -213,11 +213,19 @@ fn summary(r: &SolveResult) -> String {
             .unwrap_or_default();
         s += &format!("  objective  {k:<34} {}{e}\n", fmt_num(*v));
     }
+    // Each baseline in the objective its improvement is measured in (the peak force where
+    // the baseline does not carry the objective's key).
     for (name, b) in &r.baselines {
-        if let (Some(p), Some(i)) = (b.get("peak_shaking_force_n"), b.get("improvement_pct")) {
+        let key = r
+            .objective
+            .as_deref()
+            .filter(|k| b.contains_key(*k))
+            .unwrap_or("peak_shaking_force_n");
+        if let (Some(p), Some(i)) = (b.get(key), b.get("improvement_pct")) {
+            let (words, unit, f) = crate::report::workshop_unit(key, *p);
             s += &format!(
-                "  baseline   {name:<34} peak {} N ({} {:+.1} %)\n",
-                fmt_num(*p),
+                "  baseline   {name:<34} {words} {} {unit} ({} {:+.1} %)\n",
+                fmt_num(p * f),
                 r.status.design_label(),
                 -i
             );

@@ -180,6 +180,21 @@ impl Trig {
         Trig { c }
     }
 
+    /// The interpolant without its trailing terms whose bound Σ 2|c_k| is at most `tol`, and
+    /// that bound.
+    fn trimmed(mut self, tol: f64) -> (Trig, f64) {
+        let mut dropped = 0.0;
+        while self.c.len() > 1 {
+            let t = 2.0 * self.c[self.c.len() - 1].norm();
+            if dropped + t > tol {
+                break;
+            }
+            dropped += t;
+            self.c.pop();
+        }
+        (self, dropped)
+    }
+
     /// The values on the n-point grid.
     fn grid(&self, n: usize) -> Vec<f64> {
         let mut buf = vec![Complex::new(0.0, 0.0); n];
@@ -191,6 +206,108 @@ impl Trig {
         FftPlanner::new().plan_fft_inverse(n).process(&mut buf);
         buf.iter().map(|z| z.re).collect()
     }
+}
+
+/// The zero-mean antiderivative E(φ) = ∫₀^φ (f − f̄) dφ of a smooth 2π-periodic f (an energy
+/// curve from a torque), as a trigonometric interpolant with a bound on its error: what the
+/// design for the drive needs at any φ, column by column of a torque affine in the design
+/// ([`antiderivatives`]).
+#[derive(Debug, Clone)]
+pub struct Antiderivative {
+    e: Trig,
+    /// f̄, the mean of f over the turn.
+    pub mean: f64,
+    /// Bound on |E_computed(φ) − E(φ)| over the turn: the change from half the grid, the
+    /// terms dropped as negligible, and round-off.
+    pub error: f64,
+    /// max |E| on the grid.
+    pub sup: f64,
+    /// Grid samples used.
+    pub samples: usize,
+}
+
+impl Antiderivative {
+    /// E(φ).
+    pub fn eval(&self, phi: f64) -> f64 {
+        self.e.eval(phi)
+    }
+
+    /// True when f is zero at every sample (a column the function does not depend on).
+    pub fn is_zero(&self) -> bool {
+        self.sup == 0.0 && self.mean == 0.0
+    }
+}
+
+/// The [`Antiderivative`]s of `cols` periodic functions sampled together (`f(φ, out)` writes
+/// their values at φ into `out`), on one grid doubled from `s.min_samples` until every
+/// column's E changes by at most `s.rel_tol` of its scale (max |E| + |f̄|·2π) from half the
+/// grid, or `s.max_samples`. Each interpolant then drops the trailing terms whose sum is
+/// below 10⁻¹⁶ of its scale (counted in its error), so that evaluating E costs only the
+/// harmonics f has.
+pub fn antiderivatives(
+    mut f: impl FnMut(f64, &mut [f64]),
+    cols: usize,
+    s: &DriveSettings,
+) -> Result<Vec<Antiderivative>, DriveError> {
+    let mut sample = |n: usize| -> Result<Vec<Vec<f64>>, DriveError> {
+        let mut by_col = vec![Vec::with_capacity(n); cols];
+        let mut row = vec![0.0; cols];
+        for k in 0..n {
+            let phi = TAU * k as f64 / n as f64;
+            row.iter_mut().for_each(|v| *v = 0.0);
+            f(phi, &mut row);
+            for (c, &v) in by_col.iter_mut().zip(&row) {
+                if !v.is_finite() {
+                    return Err(DriveError::NotFinite(phi));
+                }
+                c.push(v);
+            }
+        }
+        Ok(by_col)
+    };
+    let mut n = s.min_samples.next_power_of_two().max(16);
+    loop {
+        let by_col = sample(n)?;
+        let done: Vec<(Antiderivative, bool)> = by_col
+            .iter()
+            .map(|v| antiderivative_on(v, s.rel_tol))
+            .collect();
+        if done.iter().all(|d| d.1) || 2 * n > s.max_samples {
+            return Ok(done.into_iter().map(|d| d.0).collect());
+        }
+        n *= 2;
+    }
+}
+
+/// One column's [`Antiderivative`] on the grid of `v`, and whether it has settled: its change
+/// from every other sample is within `rel_tol` of its scale.
+fn antiderivative_on(v: &[f64], rel_tol: f64) -> (Antiderivative, bool) {
+    let n = v.len();
+    let full = Trig::new(v);
+    let half: Vec<f64> = v.iter().step_by(2).copied().collect();
+    let (e, e_half) = (full.antiderivative(), Trig::new(&half).antiderivative());
+    let (eg, eg_half) = (e.grid(n), e_half.grid(n / 2));
+    let change = eg_half
+        .iter()
+        .zip(eg.iter().step_by(2))
+        .map(|(a, b)| (a - b).abs())
+        .fold(0.0, f64::max);
+    let sup = eg.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
+    let mean = full.mean();
+    let scale = sup + mean.abs() * TAU;
+    let (e, dropped) = e.trimmed(1e-16 * scale);
+    let error = change + dropped + 1e-15 * n as f64 * scale;
+    let settled = change <= rel_tol * scale;
+    (
+        Antiderivative {
+            e,
+            mean,
+            error,
+            sup,
+            samples: n,
+        },
+        settled,
+    )
 }
 
 /// The machine sampled on the uniform grid φ_k = 2πk/n.

@@ -16,21 +16,7 @@ use std::f64::consts::TAU;
 
 use crate::common;
 
-/// A small deterministic generator (tests must not depend on a seed source).
-struct Lcg(u64);
-impl Lcg {
-    fn next(&mut self) -> f64 {
-        self.0 = self
-            .0
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        (self.0 >> 11) as f64 / (1u64 << 53) as f64
-    }
-    /// Log-uniform in [lo, hi].
-    fn log(&mut self, lo: f64, hi: f64) -> f64 {
-        (lo.ln() + self.next() * (hi.ln() - lo.ln())).exp()
-    }
-}
+use common::Lcg;
 
 fn d(x: f64) -> D {
     D::from(x)

@@ -39,19 +39,7 @@ fn slider(r: f64, l: f64, m4: f64, ma: f64, p: f64) -> impl Fn(f64) -> [f64; 3] 
     }
 }
 
-/// ΔE of the torque `t` by a composite Simpson running integral of T − T̄ on `n` panels.
-fn simpson_delta_e(t: &dyn Fn(f64) -> f64, n: usize) -> f64 {
-    let h = TAU / n as f64;
-    let mean = (0..n).map(|k| t(k as f64 * h)).sum::<f64>() / n as f64;
-    let (mut e, mut hi, mut lo) = (0.0_f64, 0.0_f64, 0.0_f64);
-    for k in 0..n {
-        let p = k as f64 * h;
-        e += h / 6.0 * (t(p) + 4.0 * t(p + h / 2.0) + t(p + h) - 6.0 * mean);
-        hi = hi.max(e);
-        lo = lo.min(e);
-    }
-    hi - lo
-}
+use crate::common::simpson_delta_e;
 
 #[test]
 fn energy_fluctuation_matches_its_closed_form() {

@@ -139,8 +139,7 @@ fn pareto_front_is_monotone_and_spans_the_two_optima() {
         // More allowed force never means more torque (up to the solver gaps).
         assert!(w[1].force_limit_n > w[0].force_limit_n);
         assert!(
-            w[1].peak_drive_torque_nm
-                <= w[0].peak_drive_torque_nm + w[0].gap_nm + w[1].gap_nm + 1e-9
+            w[1].peak_drive_torque_nm <= w[0].peak_drive_torque_nm + w[0].gap() + w[1].gap() + 1e-9
         );
     }
     let mut f = sc.clone();

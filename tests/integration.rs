@@ -18,6 +18,7 @@ mod crane_balance;
 mod crane_io;
 mod drawings;
 mod drive;
+mod energy_design;
 mod felling_head;
 mod fleet_mutants;
 mod gear;

@@ -5,6 +5,7 @@
 
 pub(crate) mod conic;
 pub mod counterweight;
+pub mod energy;
 pub mod exchange;
 pub mod minimax;
 pub mod search;

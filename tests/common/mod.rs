@@ -215,3 +215,39 @@ pub fn non_finite(r: &cwsynth::report::SolveResult) -> Option<String> {
             .map(|(k, v)| format!("{sec}.{k} = {v}"))
     })
 }
+
+/// A small deterministic generator (tests must not depend on a seed source).
+pub struct Lcg(pub u64);
+impl Lcg {
+    /// Uniform in [0, 1).
+    pub fn next(&mut self) -> f64 {
+        self.0 = self
+            .0
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (self.0 >> 11) as f64 / (1u64 << 53) as f64
+    }
+    /// Uniform in [a, b).
+    pub fn range(&mut self, a: f64, b: f64) -> f64 {
+        a + (b - a) * self.next()
+    }
+    /// Log-uniform in [lo, hi].
+    pub fn log(&mut self, lo: f64, hi: f64) -> f64 {
+        (lo.ln() + self.next() * (hi.ln() - lo.ln())).exp()
+    }
+}
+
+/// ΔE of the torque `t` by a composite Simpson running integral of T − T̄ on `n` panels (an
+/// evaluation independent of the library's trigonometric interpolants).
+pub fn simpson_delta_e(t: &dyn Fn(f64) -> f64, n: usize) -> f64 {
+    let h = std::f64::consts::TAU / n as f64;
+    let mean = (0..n).map(|k| t(k as f64 * h)).sum::<f64>() / n as f64;
+    let (mut e, mut hi, mut lo) = (0.0_f64, 0.0_f64, 0.0_f64);
+    for k in 0..n {
+        let p = k as f64 * h;
+        e += h / 6.0 * (t(p) + 4.0 * t(p + h / 2.0) + t(p + h) - 6.0 * mean);
+        hi = hi.max(e);
+        lo = lo.min(e);
+    }
+    hi - lo
+}

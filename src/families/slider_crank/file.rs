@@ -353,6 +353,9 @@ pub enum Minimize {
     PeakTorque,
     /// Peak shaking moment about the crank axis, under `max_peak_force`.
     PeakMoment,
+    /// Energy fluctuation ΔE of the drive at constant speed (max E − min E, E = ∫ (T − T̄) dφ):
+    /// the flywheel a coefficient of speed fluctuation needs is proportional to it.
+    EnergyFluctuation,
 }
 
 /// `[objective]`.
@@ -842,6 +845,7 @@ fn resolve_objective(
         Minimize::Radius => Objective::MinRadius,
         Minimize::PeakTorque => Objective::MinPeakTorque,
         Minimize::PeakMoment => Objective::MinPeakMoment,
+        Minimize::EnergyFluctuation => Objective::MinEnergyFluctuation,
     };
     let max_peak_force = o
         .max_peak_force

@@ -91,6 +91,7 @@ fn objectives(out: &sc::Outcome) -> sc::Objectives {
         rms_shaking_force_n: d.rms,
         peak_drive_torque_nm: d.peak_torque,
         peak_shaking_moment_nm: out.peak_shaking_moment,
+        energy_fluctuation_j: d.energy_fluctuation.map(|e| e[0]),
     }
 }
 
@@ -101,12 +102,16 @@ fn errors(s: &sc::Scene, out: &sc::Outcome) -> sc::Errors {
     let d = &out.design;
     let torque_objective = s.objective == Objective::MinPeakTorque && out.degenerate.is_none();
     let moment_objective = s.objective == Objective::MinPeakMoment && out.degenerate.is_none();
-    let (gap_f, gap_t, gap_m) = if torque_objective {
-        (0.0, out.gap, 0.0)
+    let energy_objective =
+        s.objective == Objective::MinEnergyFluctuation && out.degenerate.is_none();
+    let (gap_f, gap_t, gap_m, gap_e) = if torque_objective {
+        (0.0, out.gap, 0.0, 0.0)
     } else if moment_objective {
-        (0.0, 0.0, out.gap)
+        (0.0, 0.0, out.gap, 0.0)
+    } else if energy_objective {
+        (0.0, 0.0, 0.0, out.gap)
     } else {
-        (out.gap, 0.0, 0.0)
+        (out.gap, 0.0, 0.0, 0.0)
     };
     sc::Errors {
         objectives: sc::Objectives {
@@ -114,6 +119,7 @@ fn errors(s: &sc::Scene, out: &sc::Outcome) -> sc::Errors {
             rms_shaking_force_n: d.rms_error,
             peak_drive_torque_nm: gap_t + d.peak_torque_error,
             peak_shaking_moment_nm: gap_m + out.peak_shaking_moment_error,
+            energy_fluctuation_j: d.energy_fluctuation.map(|e| gap_e + e[1]),
         },
         model_two_harmonic_n: out.exact_peak.map(|ex| (ex - d.peak).abs()),
         joint_loads: sc::JointLoadFigures::of(out.joint_loads.as_ref(), true),
@@ -149,6 +155,7 @@ fn derived(s: &sc::Scene, out: &sc::Outcome) -> sc::Derived {
         paper_counterweight_torque_reduction_pct: None,
         pareto_force_span_n: None,
         pareto_torque_span_nm: None,
+        pareto_energy_span_j: None,
         plate_max_unbalance_kgm: s.counterweight.shape.as_ref().map(|sh| sh.max_unbalance()),
         joint_loads: sc::JointLoadFigures::of(out.joint_loads.as_ref(), false),
         joint_load_angles: sc::JointLoadAngles::of(out.joint_loads.as_ref()),
@@ -160,11 +167,14 @@ fn derived(s: &sc::Scene, out: &sc::Outcome) -> sc::Derived {
 fn baselines(r: &mut SolveResult, s: &sc::Scene, sol: &Solution) {
     let d = &sol.out.design;
     let torque_objective = s.objective == Objective::MinPeakTorque;
+    let energy = |m: &sc::Metrics| m.energy_fluctuation.map(|e| e[0]);
     for (name, b) in sol.baselines() {
-        let (base, ours) = if torque_objective {
-            (b.peak_torque, d.peak_torque)
-        } else {
-            (b.peak, d.peak)
+        let (base, ours) = match (energy(b), energy(d)) {
+            (Some(base), Some(ours)) if s.objective == Objective::MinEnergyFluctuation => {
+                (base, ours)
+            }
+            _ if torque_objective => (b.peak_torque, d.peak_torque),
+            _ => (b.peak, d.peak),
         };
         let figures = sc::Baseline {
             improvement_pct: Some(100.0 * (base - ours) / base.max(1e-300)),
@@ -187,13 +197,19 @@ fn pareto_numbers(r: &mut SolveResult, derived: &mut sc::Derived, out: &sc::Outc
     if let (Some(a), Some(b)) = (out.pareto.first(), out.pareto.last()) {
         let (df, dt) = (
             b.peak_shaking_force_n - a.peak_shaking_force_n,
-            a.peak_drive_torque_nm - b.peak_drive_torque_nm,
+            a.traded() - b.traded(),
         );
         derived.pareto_force_span_n = Some(df);
-        derived.pareto_torque_span_nm = Some(dt);
-        if df < 0.01 * a.peak_shaking_force_n && dt < 0.01 * b.peak_drive_torque_nm {
+        let (what, unit) = if a.energy_fluctuation_j.is_some() {
+            derived.pareto_energy_span_j = Some(dt);
+            ("ΔE", "J")
+        } else {
+            derived.pareto_torque_span_nm = Some(dt);
+            ("torque", "N·m")
+        };
+        if df < 0.01 * a.peak_shaking_force_n && dt < 0.01 * b.traded() {
             r.warnings.push(format!(
-                "the force optimum and the torque optimum nearly coincide (the front spans {df:.3} N and {dt:.4} N·m): one counterweight serves both"
+                "the force optimum and the {what} optimum nearly coincide (the front spans {df:.3} N and {dt:.4} {unit}): one counterweight serves both"
             ));
         }
     }
@@ -272,14 +288,24 @@ pub fn documents(scene: &Scene, p: &SliderCrankProblem, sol: &Solution, r: &mut 
 /// The torque–force front as `<name>-pareto.csv` and its plot.
 fn pareto_documents(r: &mut SolveResult, scene: &Scene, sol: &Solution) {
     let out = &sol.out;
-    let mut csv = String::from("force_limit_n,peak_shaking_force_n,peak_drive_torque_nm,gap_nm,unbalance_x_kgm,unbalance_y_kgm,status\n");
+    let energy = out.pareto.iter().any(|p| p.energy_fluctuation_j.is_some());
+    let (traded, caption) = if energy {
+        ("energy_fluctuation_j,gap_j", "ΔE–force Pareto front")
+    } else {
+        ("gap_nm", "Torque–force Pareto front")
+    };
+    let mut csv = format!("force_limit_n,peak_shaking_force_n,peak_drive_torque_nm,{traded},unbalance_x_kgm,unbalance_y_kgm,status\n");
     for p in &out.pareto {
+        let traded = match p.energy_fluctuation_j {
+            Some(e) => format!("{e},{}", p.gap()),
+            None => format!("{}", p.gap()),
+        };
         csv += &format!(
             "{},{},{},{},{},{},{}\n",
             p.force_limit_n,
             p.peak_shaking_force_n,
             p.peak_drive_torque_nm,
-            p.gap_nm,
+            traded,
             p.unbalance_x_kgm,
             p.unbalance_y_kgm,
             serde_json::to_value(p.status)
@@ -290,7 +316,7 @@ fn pareto_documents(r: &mut SolveResult, scene: &Scene, sol: &Solution) {
     }
     r.tables.push(Table {
         suffix: "pareto".into(),
-        caption: "Torque–force Pareto front".into(),
+        caption: caption.into(),
         csv,
     });
     let baselines: BTreeMap<String, sc::Metrics> = sol
@@ -298,11 +324,9 @@ fn pareto_documents(r: &mut SolveResult, scene: &Scene, sol: &Solution) {
         .map(|(k, m)| (k.into(), m.clone()))
         .collect();
     let (scene, out) = (scene.clone(), out.clone());
-    r.plots.push(Plot::new(
-        "pareto",
-        "Torque–force Pareto front",
-        move || pareto_plot(&scene, &out, &baselines),
-    ));
+    r.plots.push(Plot::new("pareto", caption, move || {
+        pareto_plot(&scene, &out, &baselines)
+    }));
 }
 
 /// The Lanchester balancers' section (`lanchester_balancers`).
@@ -593,70 +617,79 @@ fn pareto_plot(
     out: &sc::Outcome,
     baselines: &BTreeMap<String, sc::Metrics>,
 ) -> Result<String, PlotError> {
+    // The objective traded against the force: the peak torque, or ΔE.
+    let energy = out.pareto.iter().any(|p| p.energy_fluctuation_j.is_some());
+    let (what, least, y_label) = if energy {
+        ("ΔE", "ΔE", "energy fluctuation ΔE (J)")
+    } else {
+        ("torque", "peak torque", "peak drive torque (N·m)")
+    };
+    let of = |m: &sc::Metrics| {
+        if energy {
+            m.energy_fluctuation.map_or(f64::NAN, |e| e[0])
+        } else {
+            m.peak_torque
+        }
+    };
     let front: Vec<(f64, f64)> = out
         .pareto
         .iter()
-        .map(|p| (p.peak_shaking_force_n, p.peak_drive_torque_nm))
+        .map(|p| (p.peak_shaking_force_n, p.traded()))
         .collect();
+    let ends = |series: &mut Vec<Series>| {
+        if let (Some(first), Some(last)) = (out.pareto.first(), out.pareto.last()) {
+            series.push(Series::marker(
+                "force optimum",
+                vec![(first.peak_shaking_force_n, first.traded())],
+            ));
+            series.push(Series::marker(
+                format!("{what} optimum"),
+                vec![(last.peak_shaking_force_n, last.traded())],
+            ));
+        }
+    };
     let mut series = vec![Series::line(
-        "Pareto front (least peak torque for a force limit)",
+        format!("Pareto front (least {least} for a force limit)"),
         front.clone(),
     )];
     series.push(Series::points("front points", front.clone()));
-    if let (Some(first), Some(last)) = (out.pareto.first(), out.pareto.last()) {
-        series.push(Series::marker(
-            "force optimum",
-            vec![(first.peak_shaking_force_n, first.peak_drive_torque_nm)],
-        ));
-        series.push(Series::marker(
-            "torque optimum",
-            vec![(last.peak_shaking_force_n, last.peak_drive_torque_nm)],
-        ));
-    }
+    ends(&mut series);
     for (name, label) in [
         ("paper_counterweight", "paper's counterweight"),
         ("fifty_percent", "formula (6) / 50 % rule"),
         ("none", "no counterweight"),
     ] {
-        if let Some(b) = baselines.get(name) {
-            series.push(Series::marker(label, vec![(b.peak, b.peak_torque)]));
+        if let Some(b) = baselines.get(name).filter(|b| of(b).is_finite()) {
+            series.push(Series::marker(label, vec![(b.peak, of(b))]));
         }
     }
     series.push(Series::marker(
         "this design",
-        vec![(out.design.peak, out.design.peak_torque)],
+        vec![(out.design.peak, of(&out.design))],
     ));
     // The front itself, at its own scale (the optima can be close together).
     let mut zoom = vec![
         Series::line("Pareto front", front.clone()),
         Series::points("front points", front),
     ];
-    if let (Some(first), Some(last)) = (out.pareto.first(), out.pareto.last()) {
-        zoom.push(Series::marker(
-            "force optimum",
-            vec![(first.peak_shaking_force_n, first.peak_drive_torque_nm)],
-        ));
-        zoom.push(Series::marker(
-            "torque optimum",
-            vec![(last.peak_shaking_force_n, last.peak_drive_torque_nm)],
-        ));
-    }
+    ends(&mut zoom);
     let svg = plot::panels(
         &[
             Panel {
                 title: format!(
-                    "{}: peak drive torque against peak shaking force",
-                    scene.name
+                    "{}: {} against peak shaking force",
+                    scene.name,
+                    if energy { "ΔE" } else { "peak drive torque" }
                 ),
                 x_label: "peak shaking force (N)".into(),
-                y_label: "peak drive torque (N·m)".into(),
+                y_label: y_label.into(),
                 series,
                 equal_aspect: false,
             },
             Panel {
                 title: "the Pareto front at its own scale".into(),
                 x_label: "peak shaking force (N)".into(),
-                y_label: "peak drive torque (N·m)".into(),
+                y_label: y_label.into(),
                 series: zoom,
                 equal_aspect: false,
             },

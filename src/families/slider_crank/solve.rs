@@ -175,8 +175,18 @@ pub fn solve(p: &SliderCrankProblem) -> Result<Solution, String> {
     // The paper's counterweight m at the lever radius r: U = (−m r, 0).
     let printed = p.paper.as_ref().and_then(|pd| pd.counterweight_mass);
     if let (Some(rad), Some(pm)) = (sol.lever, printed) {
-        sol.paper_counterweight =
-            Some(sc::metrics(s, P2::new(-pm * rad, 0.0)).map_err(|e| e.to_string()));
+        let u = P2::new(-pm * rad, 0.0);
+        let energy = s.objective == sc::Objective::MinEnergyFluctuation;
+        sol.paper_counterweight = Some(
+            sc::metrics(s, u)
+                .and_then(|mut m| {
+                    if energy {
+                        m.energy_fluctuation = Some(sc::energy_fluctuation(s, u)?);
+                    }
+                    Ok(m)
+                })
+                .map_err(|e| e.to_string()),
+        );
     }
     if let Some(sw) = &p.speed_sweep {
         sol.sweep = Some(sc::speed_sweep(s, sw, sol.unbalance()));

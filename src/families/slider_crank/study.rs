@@ -245,6 +245,7 @@ mod tests {
             rms_shaking_force_n: 0.0,
             peak_drive_torque_nm: 0.0,
             peak_shaking_moment_nm: 0.0,
+            energy_fluctuation_j: None,
         };
         let d = Design::new(
             [0.0, 0.0],

@@ -3,9 +3,23 @@
 //! load, so that ½ J′ ω² + G is exactly the constant-speed drive torque
 //! ([`super::drive_torque`]) the rest of the family reports.
 
-use super::scene::Scene;
+use super::scene::{Scene, SolveError};
+use crate::dynamics::{constant_speed, DriveSettings};
 use crate::families::slider_crank::model::{rot_cs, weight_torque_cs};
 use crate::geom::P2;
+
+/// ΔE of the drive at constant speed with the counterweight U = `u`, and its error bound
+/// (J): [`crate::dynamics::constant_speed`] on [`machine`] (a constant inertia adds nothing
+/// to ΔE, so the counterweight's own is left out).
+pub fn energy_fluctuation(scene: &Scene, u: P2) -> Result<[f64; 2], SolveError> {
+    let c = constant_speed(
+        &machine(scene, u, 0.0),
+        scene.omega,
+        &DriveSettings::default(),
+    )
+    .map_err(|e| SolveError::Numeric(format!("the energy curve: {e}")))?;
+    Ok([c.energy_fluctuation, c.energy_fluctuation_error])
+}
 
 /// (J, J′, G) of `scene` with the counterweight U = `u`:
 /// J(φ) = 2 E₀(φ) + J_c with E₀ the links' kinetic energy per ω²

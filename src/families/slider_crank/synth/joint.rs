@@ -6,9 +6,11 @@ use super::outcome::Optimum;
 use super::realise::unbalance_bounds;
 use super::round_off::{joint_load_round_off, round_off_bounds};
 use super::scene::{Objective, Scene, SolveError};
+use crate::dynamics::DriveSettings;
 use crate::families::slider_crank::model::{weight_torque_cs, State};
 use crate::geom::P2;
 use crate::synth::counterweight::Status;
+use crate::synth::energy::EnergyField;
 use crate::synth::minimax::{self as mm, AffineField, AffineValue, FnField};
 use crate::synth::Var;
 
@@ -49,7 +51,25 @@ pub(super) fn optimise_joint(
     let bounds = js.bounds(objective, max_force)?;
     let (force, moment) = (js.force_field(), js.moment_field());
     let (torque, bearing) = (js.torque_field(), js.bearing_field());
+    let energy_design = objective == Objective::MinEnergyFluctuation;
+    // ΔE = 2 min_c max|E − c|: the offset c is the one extra variable (`synth::energy`).
+    let offset = mm::PER_COUNTERWEIGHT * (1 + nb);
+    let energy = if energy_design {
+        let e = EnergyField::new(&torque, offset + 1, offset, &DriveSettings::default())
+            .map_err(|e| SolveError::Numeric(format!("the energy curve: {e}")))?;
+        Some(e)
+    } else {
+        None
+    };
+    let extra = match &energy {
+        Some(e) => {
+            let c = e.offset_bound(|j| bounds.var_bound(j));
+            vec![(-c, c)]
+        }
+        None => Vec::new(),
+    };
     let goal = match objective {
+        Objective::MinEnergyFluctuation => mm::Goal::MinPeak(vec![(ENERGY, 2.0)]),
         Objective::MinPeakForce => mm::Goal::MinPeak(vec![(FORCE, 1.0)]),
         Objective::MinRmsForce => mm::Goal::MinRms(FORCE),
         Objective::MinPeakTorque => mm::Goal::MinPeak(vec![(TORQUE, 1.0)]),
@@ -71,10 +91,14 @@ pub(super) fn optimise_joint(
             limits.push((f, l));
         }
     }
+    let mut fields: Vec<&dyn AffineField> = vec![&force, &moment, &torque, &bearing];
+    if let Some(e) = &energy {
+        fields.push(e);
+    }
     let pb = mm::Problem {
-        fields: vec![&force, &moment, &torque, &bearing],
+        fields,
         counterweights: bounds.limits(),
-        extra: Vec::new(),
+        extra,
         linear: Vec::new(),
         goal,
         limits,
@@ -82,7 +106,15 @@ pub(super) fn optimise_joint(
     let num = |e: mm::MinimaxError| SolveError::Numeric(e.to_string());
     let engine = mm::Engine::new(&pb, &minimax_settings(scene)).map_err(num)?;
     let sol = engine.solve().map_err(num)?;
-    js.optimum(&sol, &bounds)
+    let mut optimum = js.optimum(&sol, &bounds)?;
+    if let Some(e) = &energy {
+        optimum.method = format!(
+            "least energy fluctuation ΔE = 2 min_c max_φ |E(φ) − c|, E = ∫₀^φ (T − T̄) dφ affine in the design (per-column trigonometric interpolants on {} samples, synth::energy); {}",
+            e.samples(),
+            optimum.method
+        );
+    }
+    Ok(optimum)
 }
 
 /// The minimax engine's fields, by index: the shaking force (N).
@@ -93,6 +125,8 @@ const MOMENT: usize = 1;
 const TORQUE: usize = 2;
 /// The main bearing load without the counterweight's weight (N).
 const BEARING: usize = 3;
+/// The energy curve less its offset, E(φ) − c (J; with the energy-fluctuation objective).
+const ENERGY: usize = 4;
 
 /// The scene of a joint design with what its fields share: the scene with the balancers at
 /// 0 (`zero`: the design-independent parts b(φ)), ω², the gravity g and the balancer count.
@@ -125,6 +159,17 @@ impl JointBounds {
     /// The automatic bound on |B_n| of order `n`: 2(K + P₀)/(ω² n²).
     fn auto(&self, n: f64) -> f64 {
         2.0 * self.k_p0 / (self.w2 * n * n)
+    }
+
+    /// The bound on |x_j| of the engine's variable `j`: |U| or |B_n| for their components,
+    /// 0 for the masses and inertias (they enter no field).
+    fn var_bound(&self, j: usize) -> f64 {
+        let (cw, k) = (j / mm::PER_COUNTERWEIGHT, j % mm::PER_COUNTERWEIGHT);
+        match (cw, k) {
+            (_, 0 | 3) => 0.0,
+            (0, _) => self.u_max,
+            (c, _) => self.b_max.get(c - 1).copied().unwrap_or(f64::INFINITY),
+        }
     }
 
     /// The engine's counterweights: U (in its sector) and the balancers, each with
@@ -171,9 +216,17 @@ impl JointScene<'_> {
             (Objective::MinPeakForce | Objective::MinRmsForce, Some(f)) => f.min(p0),
             (Objective::MinPeakForce | Objective::MinRmsForce, None) => p0,
             (_, Some(f)) => f,
+            // ΔE within the scene's own bounds: no automatic bound is needed where they
+            // are finite.
+            (Objective::MinEnergyFluctuation, None)
+                if unbalance_bounds(&scene.counterweight).1.is_finite()
+                    && scene.balancers.iter().all(|b| b.max_unbalance.is_finite()) =>
+            {
+                f64::INFINITY
+            }
             (_, None) => {
                 return Err(SolveError::Numeric(
-                    "a joint design (balancers, moment or main-bearing limits) minimising the torque or the moment needs objective.max_peak_force: the counterweight is otherwise unbounded".into(),
+                    "a joint design (balancers, moment or main-bearing limits, or the energy fluctuation) minimising the torque, the moment or ΔE needs objective.max_peak_force (or, for ΔE, finite bounds on |U| and every |B_n|): the counterweight is otherwise unbounded".into(),
                 ))
             }
         };
@@ -345,7 +398,7 @@ impl JointScene<'_> {
         let u_lo = bounds.u_lo;
         if u_lo > 0.0 && u.norm() < u_lo * (1.0 - 1e-9) {
             return Err(SolveError::Numeric(format!(
-                "|U| ≥ {u_lo} kg·m is not convex and not available with balancers, moment or main-bearing limits"
+                "|U| ≥ {u_lo} kg·m is not convex and not available with balancers, moment or main-bearing limits, or the energy-fluctuation objective"
             )));
         }
         let gap = if feasible {

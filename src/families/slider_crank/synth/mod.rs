@@ -30,7 +30,7 @@ mod solve;
 mod sweep;
 
 pub use baselines::baselines;
-pub use drive::{machine, real_speed_force};
+pub use drive::{energy_fluctuation, machine, real_speed_force};
 pub use fields::{drive_torque, force0, moment0, scene_force, shaking_force};
 pub use metrics::metrics;
 pub use optimise::optimise;

@@ -50,7 +50,7 @@ pub(super) fn optimise_with(
     max_torque: Option<f64>,
     grid: &Grid,
 ) -> Result<Optimum, SolveError> {
-    if scene.joint() {
+    if scene.joint() || (objective == Objective::MinEnergyFluctuation && !scene.given()) {
         return optimise_joint(scene, objective, max_force, max_torque);
     }
     // The caller has run `check` (the grid needed it).
@@ -237,8 +237,8 @@ fn goal_and_limits(
         Objective::MinRmsForce => (Goal::MinMeanSquare(0), f_ref),
         Objective::MinMass | Objective::MinRadius => (Goal::MinNorm, f_ref),
         Objective::MinPeakTorque => (Goal::MinPeak(1), nf.t_ref),
-        // Never here: a moment objective is a joint scene (`optimise_joint`).
-        Objective::MinPeakMoment => (Goal::MinPeak(0), f_ref),
+        // Never here: a moment or ΔE objective is a joint design (`optimise_joint`).
+        Objective::MinPeakMoment | Objective::MinEnergyFluctuation => (Goal::MinPeak(0), f_ref),
     };
     (goal, obj_ref, out)
 }

@@ -40,6 +40,9 @@ pub struct Metrics {
     pub peak_torque_angle: f64,
     /// Bound on the torque peak's evaluation error (N·m).
     pub peak_torque_error: f64,
+    /// ΔE of the drive at constant speed and its error bound (J), where the scene asks for
+    /// it (the energy-fluctuation objective; [`super::drive::energy_fluctuation`]).
+    pub energy_fluctuation: Option<[f64; 2]>,
 }
 
 impl Metrics {
@@ -61,6 +64,7 @@ impl Metrics {
             peak_x_n: self.peak_x,
             peak_y_n: self.peak_y,
             peak_drive_torque_nm: self.peak_torque,
+            energy_fluctuation_j: self.energy_fluctuation.map(|e| e[0]),
             improvement_pct: None,
         }
     }
@@ -231,6 +235,10 @@ pub struct Objectives {
     pub peak_drive_torque_nm: f64,
     /// max over φ of the shaking moment about the crank axis (N·m).
     pub peak_shaking_moment_nm: f64,
+    /// ΔE = max E − min E, the energy fluctuation of the drive at constant speed, E(φ) =
+    /// ∫₀^φ (T − T̄) dφ (J; with the energy-fluctuation objective).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub energy_fluctuation_j: Option<f64>,
 }
 
 impl Objectives {
@@ -239,6 +247,7 @@ impl Objectives {
     pub fn key(objective: Objective) -> &'static str {
         match objective {
             Objective::MinPeakTorque => key!(Objectives, peak_drive_torque_nm),
+            Objective::MinEnergyFluctuation => key!(Objectives, energy_fluctuation_j),
             Objective::MinPeakMoment => key!(Objectives, peak_shaking_moment_nm),
             Objective::MinRmsForce => key!(Objectives, rms_shaking_force_n),
             Objective::MinPeakForce | Objective::MinMass | Objective::MinRadius => {
@@ -383,6 +392,9 @@ pub struct Derived {
     /// Torque span of the Pareto front (N·m).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub pareto_torque_span_nm: Option<f64>,
+    /// ΔE span of a ΔE–force Pareto front (J).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub pareto_energy_span_j: Option<f64>,
     /// The largest |U| the plate envelope holds (kg·m; with `[design.shape]`): the bound the
     /// optimisation keeps.
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -416,6 +428,10 @@ pub struct Baseline {
     pub peak_y_n: f64,
     /// max |T| (N·m).
     pub peak_drive_torque_nm: f64,
+    /// ΔE, the energy fluctuation of the drive at constant speed (J; with the
+    /// energy-fluctuation objective).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub energy_fluctuation_j: Option<f64>,
     /// (baseline − result)/baseline of the key objective (%).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub improvement_pct: Option<f64>,
@@ -494,14 +510,35 @@ pub struct ParetoPoint {
     pub peak_shaking_force_n: f64,
     /// Peak drive torque of the point's design (N·m).
     pub peak_drive_torque_nm: f64,
-    /// Its optimality gap in torque (N·m).
-    pub gap_nm: f64,
+    /// Its optimality gap in torque (N·m; a torque–force front).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub gap_nm: Option<f64>,
+    /// ΔE of the point's design, the energy fluctuation (J; a ΔE–force front).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub energy_fluctuation_j: Option<f64>,
+    /// Its optimality gap in ΔE (J; a ΔE–force front).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub gap_j: Option<f64>,
     /// Unbalance in the crank frame (kg·m).
     pub unbalance_x_kgm: f64,
     /// See `unbalance_x_kgm`.
     pub unbalance_y_kgm: f64,
     /// Solver status.
     pub status: Status,
+}
+
+impl ParetoPoint {
+    /// The objective the front trades against the peak force: ΔE on a ΔE–force front, else
+    /// the peak drive torque.
+    pub fn traded(&self) -> f64 {
+        self.energy_fluctuation_j
+            .unwrap_or(self.peak_drive_torque_nm)
+    }
+
+    /// The optimality gap in [`Self::traded`].
+    pub fn gap(&self) -> f64 {
+        self.gap_j.or(self.gap_nm).unwrap_or(0.0)
+    }
 }
 
 /// The optimal counterweight of a scene, before its evaluation.

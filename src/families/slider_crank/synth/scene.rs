@@ -29,6 +29,11 @@ pub enum Objective {
     /// `max_peak_force` (the crank counterweight adds no moment at constant speed; offset
     /// balancer pairs do: [`BalancerPair`]). Solved jointly by [`crate::synth::minimax`].
     MinPeakMoment,
+    /// The energy fluctuation ΔE = max E − min E of the drive at constant speed, E(φ) =
+    /// ∫₀^φ (T − T̄) dφ: affine in U through the counterweight's weight (and the balancers'),
+    /// so ΔE is convex in the design. Solved jointly by [`crate::synth::minimax`] with the
+    /// energy curve as a field ([`crate::synth::energy`]).
+    MinEnergyFluctuation,
 }
 
 /// How a free |U| is split into mass and radius when both are free.

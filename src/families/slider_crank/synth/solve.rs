@@ -2,6 +2,7 @@
 //! Pareto front, the joint loads and the baselines.
 
 use super::baselines::baselines_sampled;
+use super::drive::energy_fluctuation;
 use super::fields::{moment0, torque_independent_of_counterweight, Normalised, Sampled};
 use super::loads::{check_load_limits, joint_load_peaks};
 use super::metrics::{grid_extremes, metrics, metrics_sampled};
@@ -71,7 +72,14 @@ pub fn solve(scene: &Scene) -> Result<Outcome, SolveError> {
     let (baseline_tab, tab) = (&tab, designed_tab.as_ref().unwrap_or(&tab));
     let mech = &scene.mech;
 
-    let design = metrics_sampled(scene, u, tab)?;
+    let mut design = metrics_sampled(scene, u, tab)?;
+    let mut baselines = baselines_sampled(baseline_scene, baseline_tab)?;
+    if scene.objective == Objective::MinEnergyFluctuation {
+        design.energy_fluctuation = Some(energy_fluctuation(scene, u)?);
+        for b in baselines.values_mut() {
+            b.energy_fluctuation = Some(energy_fluctuation(baseline_scene, P2::from(b.unbalance))?);
+        }
+    }
     if scene.given() {
         given_over_limits(scene, &design, &mut warnings);
     }
@@ -115,7 +123,7 @@ pub fn solve(scene: &Scene) -> Result<Outcome, SolveError> {
         peak_shaking_moment_error: mm.error + round_off[2],
         pareto,
         static_weight,
-        baselines: baselines_sampled(baseline_scene, baseline_tab)?,
+        baselines,
         exact_peak,
         method,
         warnings,
@@ -230,6 +238,17 @@ fn degeneracy(scene: &Scene, torque_fixed: bool) -> Option<String> {
          instead (set model.gravity for a vertical machine, or minimise the shaking force)"
             .to_string()
     });
+    if torque_fixed && scene.objective == Objective::MinEnergyFluctuation {
+        degenerate = Some(
+            "the objective, the energy fluctuation ΔE, does not depend on the design: without \
+             gravity a counterweight (or a balancer) turning at constant speed only adds a \
+             constant inertia, which changes no drive torque and so no energy curve; ΔE is the \
+             same for every counterweight, and the design shown minimises the peak shaking \
+             force instead (set model.gravity for a vertical machine; a flywheel, not a \
+             counterweight, is the answer to ΔE here: mechanism.drive.cs)"
+                .to_string(),
+        );
+    }
     if scene.objective == Objective::MinPeakMoment
         && scene.balancers.iter().all(|b| b.pair.offset == 0.0)
     {
@@ -335,17 +354,21 @@ fn pareto_front(
         return Ok(Vec::new());
     }
     let front = pareto_sampled(scene, scene.pareto_points, tab)?;
+    let (what, unit) = if scene.objective == Objective::MinEnergyFluctuation {
+        ("ΔE", "J")
+    } else {
+        ("peak torque", "N·m")
+    };
     // A front only where the two objectives trade off by more than their errors: ends
-    // whose torques differ by no more than their gaps are one design, not a front.
+    // whose torques (or ΔE) differ by no more than their gaps are one design, not a front.
     Ok(match (front.first(), front.last()) {
         (Some(a), Some(b))
-            if a.peak_drive_torque_nm - b.peak_drive_torque_nm
-                <= a.gap_nm + b.gap_nm + 1e-12 * a.peak_drive_torque_nm.abs() =>
+            if a.traded() - b.traded() <= a.gap() + b.gap() + 1e-12 * a.traded().abs() =>
         {
             warnings.push(format!(
-                "no torque–force Pareto front: the torque optimum and the force optimum differ by {:.3e} N·m in peak torque, within their errors ({:.3e} N·m): the objectives do not trade off",
-                a.peak_drive_torque_nm - b.peak_drive_torque_nm,
-                a.gap_nm + b.gap_nm
+                "no {what}–force Pareto front: the {what} optimum and the force optimum differ by {:.3e} {unit} in {what}, within their errors ({:.3e} {unit}): the objectives do not trade off",
+                a.traded() - b.traded(),
+                a.gap() + b.gap()
             ));
             Vec::new()
         }

@@ -1,6 +1,7 @@
 //! The torque–force Pareto front (ε-constraint) and the speed sweep: the scene solved again
 //! with other limits or at other speeds.
 
+use super::drive::energy_fluctuation;
 use super::fields::Sampled;
 use super::metrics::{metrics, metrics_sampled};
 use super::optimise::{optimise, optimise_with};
@@ -8,9 +9,10 @@ use super::outcome::{Metrics, ParetoPoint};
 use super::scene::{check, Objective, Scene, SolveError};
 use crate::geom::P2;
 
-/// The torque–force Pareto front by the ε-constraint method: the force optimum F* and the
-/// torque optimum (whose peak force is F_T) bound the front; for `n` limits ε spaced evenly
-/// in [F*, F_T], minimise the peak torque subject to peak force ≤ ε.
+/// The Pareto front of the peak drive torque (or, with the energy-fluctuation objective, of
+/// ΔE) against the peak shaking force by the ε-constraint method: the force optimum F* and
+/// the other objective's optimum (whose peak force is F_T) bound the front; for `n` limits ε
+/// spaced evenly in [F*, F_T], minimise the other objective subject to peak force ≤ ε.
 pub fn pareto(scene: &Scene, n: usize) -> Result<Vec<ParetoPoint>, SolveError> {
     check(scene)?;
     pareto_sampled(scene, n, &Sampled::new(scene))
@@ -22,6 +24,14 @@ pub(super) fn pareto_sampled(
     tab: &Sampled,
 ) -> Result<Vec<ParetoPoint>, SolveError> {
     let g = &tab.scan;
+    let energy = scene.objective == Objective::MinEnergyFluctuation;
+    let traded = if energy {
+        Objective::MinEnergyFluctuation
+    } else {
+        Objective::MinPeakTorque
+    };
+    // The torque limit stays on every point of a ΔE front (and on the force optimum).
+    let torque_limit = if energy { scene.max_peak_torque } else { None };
     let f_opt = optimise_with(
         scene,
         Objective::MinPeakForce,
@@ -29,13 +39,7 @@ pub(super) fn pareto_sampled(
         scene.max_peak_torque,
         g,
     )?;
-    let t_opt = optimise_with(
-        scene,
-        Objective::MinPeakTorque,
-        scene.max_peak_force,
-        None,
-        g,
-    )?;
+    let t_opt = optimise_with(scene, traded, scene.max_peak_force, torque_limit, g)?;
     let fmin = metrics_sampled(scene, f_opt.u, tab)?.peak;
     let fmax = metrics_sampled(scene, t_opt.u, tab)?.peak;
     let n = n.max(2);
@@ -47,13 +51,20 @@ pub(super) fn pareto_sampled(
         } else {
             fmin + (fmax - fmin) * k as f64 / (n - 1) as f64
         };
-        let o = optimise_with(scene, Objective::MinPeakTorque, Some(eps), None, g)?;
+        let o = optimise_with(scene, traded, Some(eps), torque_limit, g)?;
         let m = metrics_sampled(scene, o.u, tab)?;
+        let de = if energy {
+            Some(energy_fluctuation(scene, o.u)?)
+        } else {
+            None
+        };
         out.push(ParetoPoint {
             force_limit_n: eps,
             peak_shaking_force_n: m.peak,
             peak_drive_torque_nm: m.peak_torque,
-            gap_nm: o.gap,
+            gap_nm: (!energy).then_some(o.gap),
+            energy_fluctuation_j: de.map(|e| e[0]),
+            gap_j: de.map(|e| o.gap + e[1]),
             unbalance_x_kgm: o.u.x,
             unbalance_y_kgm: o.u.y,
             status: o.status,
@@ -96,10 +107,13 @@ pub struct SweepPoint {
 /// the scene's own speed) and no counterweight there, in the scene's objective; a speed whose
 /// solve fails is left out with a warning.
 pub fn speed_sweep(s: &Scene, sw: &SpeedSweep, u: P2) -> (Vec<SweepPoint>, Vec<String>) {
-    let value = |m: &Metrics| match s.objective {
-        Objective::MinPeakTorque => m.peak_torque,
-        Objective::MinRmsForce => m.rms,
-        _ => m.peak,
+    let value = |at: &Scene, u: P2, m: &Metrics| -> Result<f64, SolveError> {
+        Ok(match s.objective {
+            Objective::MinPeakTorque => m.peak_torque,
+            Objective::MinRmsForce => m.rms,
+            Objective::MinEnergyFluctuation => energy_fluctuation(at, u)?[0],
+            _ => m.peak,
+        })
     };
     let mut pts = Vec::with_capacity(sw.points);
     let mut warnings = Vec::new();
@@ -114,9 +128,9 @@ pub fn speed_sweep(s: &Scene, sw: &SpeedSweep, u: P2) -> (Vec<SweepPoint>, Vec<S
                 omega_rad_s: omega,
                 speed_rpm: omega * 60.0 / std::f64::consts::TAU,
                 optimal_unbalance_kgm: o.u.norm(),
-                optimal_objective: value(&opt),
-                design_objective: value(&des),
-                none_objective: value(&none),
+                optimal_objective: value(&at, o.u, &opt)?,
+                design_objective: value(&at, u, &des)?,
+                none_objective: value(&at, P2::zeros(), &none)?,
                 status: crate::families::family::cw_status(o.status),
             })
         });
