@@ -2,7 +2,8 @@
 //! ΔE at constant speed, the periodic steady state with a flywheel (constant torque and a
 //! motor line), and the least flywheel for Cs = 0.02; and the felling head's counterweight
 //! that minimises ΔE (certified). Targets: the steady state ≤ 2 ms, the ΔE-optimal
-//! counterweight ≤ 1 ms.
+//! counterweight ≤ 1 ms; the piston over an envelope of 8 vertices against the nominal piston
+//! (target ≤ 5×).
 use criterion::{criterion_group, criterion_main, Criterion};
 use cwsynth::dynamics::{constant_speed, least_flywheel, steady_state, DriveSettings, Motor};
 use cwsynth::families::slider_crank::file::SliderCrankProblem;
@@ -71,5 +72,26 @@ fn bench_energy_design(c: &mut Criterion) {
     });
 }
 
-criterion_group!(benches, bench, bench_energy_design);
+/// The piston over 800–1200 rpm and ±2 % piston and rod masses (8 vertices and the nominal
+/// scene) against the nominal piston alone (issue 33: ≤ 5× the single-scenario solve).
+fn bench_envelope(c: &mut Criterion) {
+    let text = include_str!("../problems/piston-1000rpm-envelope.toml");
+    let i = text.find("\n[[mechanism.envelope.length]]").unwrap();
+    let j = text.find("\n[model]").unwrap();
+    let text = format!("{}{}", &text[..i], &text[j..]);
+    let s = cwsynth::families::parse_str(&text, std::path::Path::new("env.toml")).unwrap();
+    let env = s.machine::<SliderCrankProblem>().unwrap().core.clone();
+    let nominal = cwsynth::families::slider_crank::synth::Scene {
+        envelope: Default::default(),
+        ..env.clone()
+    };
+    c.bench_function("drive/envelope_8_vertices_minimax_force", |b| {
+        b.iter(|| optimise(std::hint::black_box(&env)).unwrap())
+    });
+    c.bench_function("drive/envelope_nominal_only_minimax_force", |b| {
+        b.iter(|| optimise(std::hint::black_box(&nominal)).unwrap())
+    });
+}
+
+criterion_group!(benches, bench, bench_energy_design, bench_envelope);
 criterion_main!(benches);

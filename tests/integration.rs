@@ -19,6 +19,7 @@ mod crane_io;
 mod drawings;
 mod drive;
 mod energy_design;
+mod envelope;
 mod felling_head;
 mod fleet_mutants;
 mod gear;

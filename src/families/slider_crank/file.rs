@@ -3,6 +3,7 @@
 //! `docs/problem-files.md`) — and the shaping of its outcome into a result (keys in
 //! `docs/results.md`).
 
+use super::file_envelope::{check_envelope, resolve_envelope, EnvelopeRaw, NamedMass};
 use crate::families::slider_crank::model::{Crank, Kinematics, Rod, SliderCrank};
 use crate::families::slider_crank::model::{Loads, ProcessForce};
 use crate::families::slider_crank::synth::{self as sc, CounterweightSpec, Objective, Prefer};
@@ -81,6 +82,9 @@ pub struct MechanismRaw {
     /// The drive: motor, flywheel and the coefficient of speed fluctuation to meet
     /// (`[mechanism.drive]`, the machine as it runs).
     pub drive: Option<DriveRaw>,
+    /// The operating envelope: speed band, mass intervals, length tolerances
+    /// (`[mechanism.envelope]`).
+    pub envelope: Option<EnvelopeRaw>,
 }
 
 /// `[mechanism.drive]`: the machine at real speed (`crate::dynamics`).
@@ -488,7 +492,7 @@ pub fn resolve_raw(raw: &File) -> Result<SliderCrankProblem, FieldError> {
         .max_shaking_moment
         .map(|q| positive("objective.max_shaking_moment", q.si()))
         .transpose()?;
-    let core = sc::Scene {
+    let mut core = sc::Scene {
         mech,
         omega,
         counterweight: CounterweightSpec {
@@ -509,7 +513,25 @@ pub fn resolve_raw(raw: &File) -> Result<SliderCrankProblem, FieldError> {
         max_shaking_moment,
         load_limits,
         bearing_loads: md.bearing_loads,
+        envelope: sc::Envelope::default(),
     };
+    if let Some(e) = &m.envelope {
+        let items: Vec<NamedMass> = m
+            .mass_items
+            .iter()
+            .map(|it| NamedMass {
+                name: &it.name,
+                of: match it.at {
+                    MassAt::Slider => sc::MassOf::Slider,
+                    MassAt::CrankPin => sc::MassOf::CrankPin,
+                },
+                mass: it.mass.si(),
+                fraction: it.fraction.unwrap_or(1.0),
+            })
+            .collect();
+        core.envelope = resolve_envelope(&items, e, &core)?;
+        check_envelope(&core, o.speed_sweep.is_some())?;
+    }
     if core.joint() {
         check_joint(&core, o.speed_sweep.is_some(), md.gravity)?;
     }

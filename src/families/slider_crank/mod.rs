@@ -4,6 +4,7 @@
 
 mod drive_report;
 pub mod file;
+pub mod file_envelope;
 pub mod model;
 pub mod report;
 pub mod solve;

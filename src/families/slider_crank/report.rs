@@ -61,7 +61,11 @@ pub fn model(p: &SliderCrankProblem, _: Option<&Solution>) -> BTreeMap<String, s
 /// derived figures, baselines, the sections and the warnings (what `--json` prints).
 pub fn numbers(_: &Scene, p: &SliderCrankProblem, sol: &Solution, r: &mut SolveResult) {
     let (s, out) = (&p.core, &sol.out);
-    r.objective = Some(sc::Objectives::key(s.objective).into());
+    r.objective = Some(if s.envelope.is_empty() {
+        sc::Objectives::key(s.objective).into()
+    } else {
+        sc::Objectives::worst_case_key(s.objective).into()
+    });
     let mut derived = derived(s, out);
     paper_design_checks(r, &mut derived, p, sol);
     baselines(r, s, sol);
@@ -74,6 +78,7 @@ pub fn numbers(_: &Scene, p: &SliderCrankProblem, sol: &Solution, r: &mut SolveR
     r.errors = number_map(&errors(s, out));
     r.derived = number_map(&derived);
     super::drive_report::drive_numbers(r, sol);
+    envelope_numbers(r, out);
     if let Some((pts, warnings)) = &sol.sweep {
         r.warnings.extend(warnings.iter().cloned());
         r.extra.insert(
@@ -92,6 +97,18 @@ fn objectives(out: &sc::Outcome) -> sc::Objectives {
         peak_drive_torque_nm: d.peak_torque,
         peak_shaking_moment_nm: out.peak_shaking_moment,
         energy_fluctuation_j: d.energy_fluctuation.map(|e| e[0]),
+        worst_case_peak_shaking_force_n: out
+            .envelope
+            .as_ref()
+            .map(|e| e.worst_peak_shaking_force.value),
+        worst_case_peak_drive_torque_nm: out
+            .envelope
+            .as_ref()
+            .map(|e| e.worst_peak_drive_torque.value),
+        worst_case_energy_fluctuation_j: out
+            .envelope
+            .as_ref()
+            .and_then(|e| e.worst_energy_fluctuation.map(|w| w.value)),
     }
 }
 
@@ -104,7 +121,12 @@ fn errors(s: &sc::Scene, out: &sc::Outcome) -> sc::Errors {
     let moment_objective = s.objective == Objective::MinPeakMoment && out.degenerate.is_none();
     let energy_objective =
         s.objective == Objective::MinEnergyFluctuation && out.degenerate.is_none();
-    let (gap_f, gap_t, gap_m, gap_e) = if torque_objective {
+    let env = out.envelope.as_ref();
+    // Over an envelope the gap is that of the worst case, not of the nominal figures.
+    let gap_w = |on: bool| if on { out.gap.max(0.0) } else { 0.0 };
+    let (gap_f, gap_t, gap_m, gap_e) = if env.is_some() {
+        (0.0, 0.0, 0.0, 0.0)
+    } else if torque_objective {
         (0.0, out.gap, 0.0, 0.0)
     } else if moment_objective {
         (0.0, 0.0, out.gap, 0.0)
@@ -120,6 +142,16 @@ fn errors(s: &sc::Scene, out: &sc::Outcome) -> sc::Errors {
             peak_drive_torque_nm: gap_t + d.peak_torque_error,
             peak_shaking_moment_nm: gap_m + out.peak_shaking_moment_error,
             energy_fluctuation_j: d.energy_fluctuation.map(|e| gap_e + e[1]),
+            worst_case_peak_shaking_force_n: env.map(|e| {
+                e.worst_peak_shaking_force.error
+                    + gap_w(!torque_objective && !energy_objective && !moment_objective)
+            }),
+            worst_case_peak_drive_torque_nm: env
+                .map(|e| e.worst_peak_drive_torque.error + gap_w(torque_objective)),
+            worst_case_energy_fluctuation_j: env.and_then(|e| {
+                e.worst_energy_fluctuation
+                    .map(|w| w.error + gap_w(energy_objective))
+            }),
         },
         model_two_harmonic_n: out.exact_peak.map(|ex| (ex - d.peak).abs()),
         joint_loads: sc::JointLoadFigures::of(out.joint_loads.as_ref(), true),
@@ -168,18 +200,30 @@ fn baselines(r: &mut SolveResult, s: &sc::Scene, sol: &Solution) {
     let d = &sol.out.design;
     let torque_objective = s.objective == Objective::MinPeakTorque;
     let energy = |m: &sc::Metrics| m.energy_fluctuation.map(|e| e[0]);
+    // Over an envelope each baseline is judged on its worst case, as the design is.
+    let worst = sol.out.envelope.as_ref().map(|e| match s.objective {
+        Objective::MinPeakTorque => e.worst_peak_drive_torque.value,
+        Objective::MinEnergyFluctuation => e.worst_energy_fluctuation.map_or(f64::NAN, |w| w.value),
+        _ => e.worst_peak_shaking_force.value,
+    });
     for (name, b) in sol.baselines() {
-        let (base, ours) = match (energy(b), energy(d)) {
-            (Some(base), Some(ours)) if s.objective == Objective::MinEnergyFluctuation => {
+        let (base, ours) = match (energy(b), energy(d), b.worst_case.zip(worst)) {
+            (_, _, Some(pair)) => pair,
+            (Some(base), Some(ours), None) if s.objective == Objective::MinEnergyFluctuation => {
                 (base, ours)
             }
             _ if torque_objective => (b.peak_torque, d.peak_torque),
             _ => (b.peak, d.peak),
         };
-        let figures = sc::Baseline {
+        let mut figures = sc::Baseline {
             improvement_pct: Some(100.0 * (base - ours) / base.max(1e-300)),
             ..b.baseline()
         };
+        if let Some(w) = b.worst_case {
+            figures
+                .worst_case
+                .insert(sc::Objectives::worst_case_key(s.objective).into(), w);
+        }
         r.baselines.insert(name.into(), number_map(&figures));
     }
 }
@@ -255,6 +299,7 @@ pub fn documents(scene: &Scene, p: &SliderCrankProblem, sol: &Solution, r: &mut 
     }
     balancer_table(r, sol);
     joint_load_table(r, &p.core, out);
+    envelope_table(r, out);
     if out.joint_loads.is_some() {
         let (name, out) = (scene.name.clone(), out.clone());
         r.plots.push(Plot::new(
@@ -283,6 +328,55 @@ pub fn documents(scene: &Scene, p: &SliderCrankProblem, sol: &Solution, r: &mut 
         "Shaking force (and drive torque) with and without counterweight",
         move || slider_crank_plot(&scene, &s, &out, label),
     ));
+}
+
+/// The operating envelope (`envelope`): the vertices, the worst cases and the quasi-Monte
+/// Carlo check; a warning where a sample beats the vertices' worst case.
+fn envelope_numbers(r: &mut SolveResult, out: &sc::Outcome) {
+    let Some(e) = &out.envelope else { return };
+    r.extra.insert(
+        "envelope".into(),
+        serde_json::to_value(e).expect("plain data"),
+    );
+    if let Some(mc) = e.monte_carlo.as_ref().filter(|m| m.beyond_worst_case > 0) {
+        r.warnings.push(format!(
+            "{} of {} quasi-Monte Carlo samples of the envelope exceed the vertices' worst case beyond its error{}",
+            mc.beyond_worst_case,
+            mc.samples,
+            if e.certified {
+                " although it is proven there: please report this scene"
+            } else {
+                ": the length tolerances' worst case lies inside their band"
+            }
+        ));
+    }
+}
+
+/// The design at every scenario of the envelope as `<name>-envelope.csv`.
+fn envelope_table(r: &mut SolveResult, out: &sc::Outcome) {
+    let Some(e) = &out.envelope else { return };
+    let mut csv = e.parameters.join(",");
+    csv += ",peak_shaking_force_n,peak_shaking_force_error_n,peak_drive_torque_nm,peak_drive_torque_error_nm,energy_fluctuation_j,energy_fluctuation_error_j\n";
+    for v in &e.vertices {
+        let opt = |x: Option<f64>| x.map(|x| x.to_string()).unwrap_or_default();
+        let vals: Vec<String> = v.values.iter().map(|x| x.to_string()).collect();
+        csv += &format!(
+            "{},{},{},{},{},{},{}\n",
+            vals.join(","),
+            v.peak_shaking_force_n,
+            v.peak_shaking_force_error_n,
+            v.peak_drive_torque_nm,
+            v.peak_drive_torque_error_nm,
+            opt(v.energy_fluctuation_j),
+            opt(v.energy_fluctuation_error_j)
+        );
+    }
+    r.tables.push(Table {
+        suffix: "envelope".into(),
+        caption: "The design over the operating envelope: the nominal scene, then every vertex"
+            .into(),
+        csv,
+    });
 }
 
 /// The torque–force front as `<name>-pareto.csv` and its plot.

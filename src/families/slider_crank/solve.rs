@@ -183,6 +183,9 @@ pub fn solve(p: &SliderCrankProblem) -> Result<Solution, String> {
                     if energy {
                         m.energy_fluctuation = Some(sc::energy_fluctuation(s, u)?);
                     }
+                    if !s.envelope.is_empty() {
+                        m.worst_case = Some(s.envelope.worst_of(s, u, s.objective)?);
+                    }
                     Ok(m)
                 })
                 .map_err(|e| e.to_string()),
@@ -212,6 +215,19 @@ fn claim(s: &sc::Scene, out: &sc::Outcome, design: &sc::Design) -> Claim {
         if !given {
             c.status = Status::Degenerate;
             c.status_detail = Some(why.clone());
+        }
+    }
+    if let Some(e) = out.envelope.as_ref().filter(|e| !e.certified) {
+        if c.status == Status::Optimal {
+            c.status = Status::BestFound;
+            c.status_detail = Some(format!(
+                "the worst case over the length tolerances is taken at their ends, not proven (lengths enter the kinematics non-linearly); the design is certified over those {} scenarios{}",
+                e.vertices.len(),
+                e.monte_carlo.as_ref().map_or(String::new(), |m| format!(
+                    "; {} quasi-Monte Carlo samples of the whole box: {} beyond the worst case",
+                    m.samples, m.beyond_worst_case
+                ))
+            ));
         }
     }
     c.warnings = out.warnings.clone();

@@ -246,6 +246,9 @@ mod tests {
             peak_drive_torque_nm: 0.0,
             peak_shaking_moment_nm: 0.0,
             energy_fluctuation_j: None,
+            worst_case_peak_shaking_force_n: None,
+            worst_case_peak_drive_torque_nm: None,
+            worst_case_energy_fluctuation_j: None,
         };
         let d = Design::new(
             [0.0, 0.0],

@@ -15,9 +15,9 @@ pub fn halton(mut i: usize, b: usize) -> f64 {
 
 /// The bases of the Halton sequence's coordinates (the first primes): at most this many
 /// dimensions.
-pub const HALTON_PRIMES: [usize; 6] = [2, 3, 5, 7, 11, 13];
+pub const HALTON_PRIMES: [usize; 10] = [2, 3, 5, 7, 11, 13, 17, 19, 23, 29];
 
-/// The Halton points of indices 1..=`count` in the unit cube of `dim` ≤ 6 dimensions
+/// The Halton points of indices 1..=`count` in the unit cube of `dim` ≤ 10 dimensions
 /// (coordinate d in base [`HALTON_PRIMES`]`[d]`); index 0, the origin, is left out.
 pub fn halton_points(count: usize, dim: usize) -> Vec<Vec<f64>> {
     (1..=count)

@@ -33,6 +33,11 @@ use crate::synth::Var;
 /// design 0). Where the other limits exclude the design 0 the optimum's force may exceed P₀,
 /// so a design on an automatic bound is reported `inaccurate`; one inside them all is the
 /// unbounded problem's optimum too (a convex problem: a local optimum is global).
+///
+/// With an operating envelope (`scene.envelope`) every figure is a field per scenario (the
+/// nominal scene and each vertex of the envelope's box), the objective their weighted
+/// minimax and every limit imposed on each: the worst case over the vertices, one cone
+/// program ([`super::envelope`]).
 pub(super) fn optimise_joint(
     scene: &Scene,
     objective: Objective,
@@ -40,43 +45,60 @@ pub(super) fn optimise_joint(
     max_torque: Option<f64>,
 ) -> Result<Optimum, SolveError> {
     let nb = scene.balancers.len();
-    let zero = scene.with_balancers(&vec![[0.0; 2]; nb]);
-    let js = JointScene {
-        scene,
-        zero: &zero,
-        w2: scene.omega * scene.omega,
-        g: scene.loads.gravity,
-        nb,
-    };
-    let bounds = js.bounds(objective, max_force)?;
-    let (force, moment) = (js.force_field(), js.moment_field());
-    let (torque, bearing) = (js.torque_field(), js.bearing_field());
-    let energy_design = objective == Objective::MinEnergyFluctuation;
-    // ΔE = 2 min_c max|E − c|: the offset c is the one extra variable (`synth::energy`).
-    let offset = mm::PER_COUNTERWEIGHT * (1 + nb);
-    let energy = if energy_design {
-        let e = EnergyField::new(&torque, offset + 1, offset, &DriveSettings::default())
-            .map_err(|e| SolveError::Numeric(format!("the energy curve: {e}")))?;
-        Some(e)
+    let scenes: Vec<Scene> = if scene.envelope.is_empty() {
+        vec![scene.clone()]
     } else {
-        None
+        let all = scene.envelope.scenarios(scene);
+        all.into_iter().map(|s| s.scene).collect()
     };
-    let extra = match &energy {
-        Some(e) => {
+    let zeros: Vec<Scene> = scenes
+        .iter()
+        .map(|s| s.with_balancers(&vec![[0.0; 2]; nb]))
+        .collect();
+    let jss: Vec<JointScene> = scenes
+        .iter()
+        .zip(&zeros)
+        .map(|(s, z)| JointScene::new(s, z, nb))
+        .collect();
+    let p0 = jss.iter().map(JointScene::p0).fold(0.0, f64::max);
+    let bounds = jss[0].bounds(objective, max_force, p0)?;
+    let energy = objective == Objective::MinEnergyFluctuation;
+    // The fields the goal or a limit names; the others are left zero (the engine scans every
+    // field on its grid: the main bearing's Newton–Euler loads are not free).
+    let used = [
+        matches!(objective, Objective::MinPeakForce | Objective::MinRmsForce)
+            || max_force.is_some(),
+        objective == Objective::MinPeakMoment || scene.max_shaking_moment.is_some(),
+        objective == Objective::MinPeakTorque || max_torque.is_some(),
+        scene.load_limits.main_bearing.is_some(),
+    ];
+    // ΔE = 2 min_c max|E − c|: one offset c per scenario, the extra variables (`synth::energy`).
+    let offset0 = mm::PER_COUNTERWEIGHT * (1 + nb);
+    let n = offset0 + if energy { jss.len() } else { 0 };
+    let sets = jss
+        .iter()
+        .enumerate()
+        .map(|(k, js)| js.fields(used, energy.then_some((n, offset0 + k))))
+        .collect::<Result<Vec<_>, _>>()?;
+    let extra = sets
+        .iter()
+        .filter_map(|f| f.energy.as_ref())
+        .map(|e| {
             let c = e.offset_bound(|j| bounds.var_bound(j));
-            vec![(-c, c)]
-        }
-        None => Vec::new(),
-    };
+            (-c, c)
+        })
+        .collect();
+    let stride = if energy { 5 } else { 4 };
+    let every = |field: usize, w: f64| (0..sets.len()).map(move |k| (k * stride + field, w));
     let goal = match objective {
-        Objective::MinEnergyFluctuation => mm::Goal::MinPeak(vec![(ENERGY, 2.0)]),
-        Objective::MinPeakForce => mm::Goal::MinPeak(vec![(FORCE, 1.0)]),
-        Objective::MinRmsForce => mm::Goal::MinRms(FORCE),
-        Objective::MinPeakTorque => mm::Goal::MinPeak(vec![(TORQUE, 1.0)]),
-        Objective::MinPeakMoment => mm::Goal::MinPeak(vec![(MOMENT, 1.0)]),
-        Objective::MinMass | Objective::MinRadius => {
+        Objective::MinEnergyFluctuation => mm::Goal::MinPeak(every(ENERGY, 2.0).collect()),
+        Objective::MinPeakForce => mm::Goal::MinPeak(every(FORCE, 1.0).collect()),
+        Objective::MinRmsForce if sets.len() == 1 => mm::Goal::MinRms(FORCE),
+        Objective::MinPeakTorque => mm::Goal::MinPeak(every(TORQUE, 1.0).collect()),
+        Objective::MinPeakMoment => mm::Goal::MinPeak(every(MOMENT, 1.0).collect()),
+        Objective::MinRmsForce | Objective::MinMass | Objective::MinRadius => {
             return Err(SolveError::Numeric(
-                "minimising the counterweight's mass or radius is not available with balancers, moment or main-bearing limits".into(),
+                "minimising the RMS force, or the counterweight's mass or radius, is not available with balancers, moment or main-bearing limits (or the RMS over an operating envelope)".into(),
             ))
         }
     };
@@ -88,15 +110,11 @@ pub(super) fn optimise_joint(
         (BEARING, scene.load_limits.main_bearing),
     ] {
         if let Some(l) = lim {
-            limits.push((f, l));
+            limits.extend(every(f, l));
         }
     }
-    let mut fields: Vec<&dyn AffineField> = vec![&force, &moment, &torque, &bearing];
-    if let Some(e) = &energy {
-        fields.push(e);
-    }
     let pb = mm::Problem {
-        fields,
+        fields: sets.iter().flat_map(FieldSet::all).collect(),
         counterweights: bounds.limits(),
         extra,
         linear: Vec::new(),
@@ -106,15 +124,48 @@ pub(super) fn optimise_joint(
     let num = |e: mm::MinimaxError| SolveError::Numeric(e.to_string());
     let engine = mm::Engine::new(&pb, &minimax_settings(scene)).map_err(num)?;
     let sol = engine.solve().map_err(num)?;
-    let mut optimum = js.optimum(&sol, &bounds)?;
-    if let Some(e) = &energy {
+    let mut optimum = jss[0].optimum(&sol, &bounds)?;
+    if let Some(e) = sets[0].energy.as_ref() {
         optimum.method = format!(
             "least energy fluctuation ΔE = 2 min_c max_φ |E(φ) − c|, E = ∫₀^φ (T − T̄) dφ affine in the design (per-column trigonometric interpolants on {} samples, synth::energy); {}",
             e.samples(),
             optimum.method
         );
     }
+    if sets.len() > 1 {
+        optimum.method = format!(
+            "worst case over the operating envelope: the nominal scene and the {} vertices of its box, every figure a field per scenario; {}",
+            sets.len() - 1,
+            optimum.method
+        );
+    }
     Ok(optimum)
+}
+
+/// One scenario's fields, in the engine's order within its stride: the force, the moment,
+/// the torque, the main bearing load and, for a ΔE design, the energy curve.
+struct FieldSet<'a> {
+    force: Box<dyn AffineField + 'a>,
+    moment: Box<dyn AffineField + 'a>,
+    torque: Box<dyn AffineField + 'a>,
+    bearing: Box<dyn AffineField + 'a>,
+    energy: Option<EnergyField>,
+}
+
+impl FieldSet<'_> {
+    /// The fields in order.
+    fn all(&self) -> Vec<&dyn AffineField> {
+        let mut v: Vec<&dyn AffineField> = vec![
+            self.force.as_ref(),
+            self.moment.as_ref(),
+            self.torque.as_ref(),
+            self.bearing.as_ref(),
+        ];
+        if let Some(e) = &self.energy {
+            v.push(e);
+        }
+        v
+    }
 }
 
 /// The minimax engine's fields, by index: the shaking force (N).
@@ -188,30 +239,81 @@ impl JointBounds {
     }
 }
 
-impl JointScene<'_> {
+impl<'a> JointScene<'a> {
     /// The mechanism's state at φ (assembly was checked for the whole revolution).
     fn state(&self, phi: f64) -> State {
         self.scene.mech.state(phi).expect("assembly checked")
     }
 
-    /// The bounds of the design (see [`optimise_joint`]): P₀ = 1.5 × the largest of
-    /// ω²|f₀(φₖ)| on 720 angles, K the force limit or P₀ (the least of them for a force
-    /// objective), |U| ≤ 2(K + P₀)/ω² · 2 and n²|B_n| ≤ 2(K + P₀)/ω², each capped by the
-    /// scene's own bound.
+    /// The scenario of `scene` with its balancers at 0 in `zero`.
+    fn new(scene: &'a Scene, zero: &'a Scene, nb: usize) -> Self {
+        JointScene {
+            scene,
+            zero,
+            w2: scene.omega * scene.omega,
+            g: scene.loads.gravity,
+            nb,
+        }
+    }
+
+    /// P₀, the peak of the force without design: 1.5 × the largest of ω²|f₀(φₖ)| on 720
+    /// angles (sampled, with margin).
+    fn p0(&self) -> f64 {
+        1.5 * (0..720)
+            .map(|k| {
+                let phi = k as f64 * std::f64::consts::TAU / 720.0;
+                force0(self.zero, &self.state(phi)).norm() * self.w2
+            })
+            .fold(0.0, f64::max)
+    }
+
+    /// The scenario's fields; with `energy` = (n, the offset's index) also its energy curve
+    /// over n variables.
+    /// `used` says which of the force, moment, torque and bearing fields the problem names
+    /// (the others are zero fields of the same dimension).
+    fn fields(
+        &self,
+        used: [bool; 4],
+        energy: Option<(usize, usize)>,
+    ) -> Result<FieldSet<'_>, SolveError> {
+        let energy = match energy {
+            Some((n, offset)) => Some(
+                EnergyField::new(&self.torque_field(), n, offset, &DriveSettings::default())
+                    .map_err(|e| SolveError::Numeric(format!("the energy curve: {e}")))?,
+            ),
+            None => None,
+        };
+        fn keep<'b>(on: bool, f: impl AffineField + 'b, dim: usize) -> Box<dyn AffineField + 'b> {
+            if on {
+                Box::new(f)
+            } else {
+                Box::new(FnField::new(
+                    "unused",
+                    dim,
+                    |_: f64, _: &mut AffineValue| {},
+                ))
+            }
+        }
+        Ok(FieldSet {
+            force: keep(used[0], self.force_field(), 2),
+            moment: keep(used[1], self.moment_field(), 1),
+            torque: keep(used[2], self.torque_field(), 1),
+            bearing: keep(used[3], self.bearing_field(), 2),
+            energy,
+        })
+    }
+
+    /// The bounds of the design (see [`optimise_joint`]) from P₀ (the largest over the
+    /// scenarios): K the force limit or P₀ (the least of them for a force objective),
+    /// |U| ≤ 2(K + P₀)/ω² · 2 and n²|B_n| ≤ 2(K + P₀)/ω², each capped by the scene's own
+    /// bound.
     fn bounds(
         &self,
         objective: Objective,
         max_force: Option<f64>,
+        p0: f64,
     ) -> Result<JointBounds, SolveError> {
         let (scene, w2) = (self.scene, self.w2);
-        // P₀, the peak of the force without design (sampled, with margin).
-        let p0 = 1.5
-            * (0..720)
-                .map(|k| {
-                    let phi = k as f64 * std::f64::consts::TAU / 720.0;
-                    force0(self.zero, &self.state(phi)).norm() * w2
-                })
-                .fold(0.0, f64::max);
         let k_force = match (objective, max_force) {
             (Objective::MinPeakForce | Objective::MinRmsForce, Some(f)) => f.min(p0),
             (Objective::MinPeakForce | Objective::MinRmsForce, None) => p0,

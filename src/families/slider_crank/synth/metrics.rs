@@ -86,6 +86,7 @@ pub(super) fn metrics_sampled(scene: &Scene, u: P2, tab: &Sampled) -> Result<Met
         peak_torque_angle: tq_angle,
         peak_torque_error: tq_error + ro_t,
         energy_fluctuation: None,
+        worst_case: None,
     })
 }
 

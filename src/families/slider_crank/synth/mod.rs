@@ -17,6 +17,7 @@
 
 mod baselines;
 mod drive;
+mod envelope;
 mod fields;
 mod joint;
 mod loads;
@@ -25,12 +26,17 @@ mod optimise;
 mod outcome;
 mod realise;
 mod round_off;
+mod scenarios;
 mod scene;
 mod solve;
 mod sweep;
 
 pub use baselines::baselines;
 pub use drive::{energy_fluctuation, machine, real_speed_force};
+pub use envelope::{
+    Envelope, EnvelopeOutcome, LengthOf, LengthRange, MassOf, MassRange, MonteCarlo, VertexFigures,
+    WorstCase, MAX_PARAMETERS,
+};
 pub use fields::{drive_torque, force0, moment0, scene_force, shaking_force};
 pub use metrics::metrics;
 pub use optimise::optimise;
@@ -38,8 +44,9 @@ pub use outcome::{
     headline, Baseline, Derived, Design, Errors, JointLoadAngles, JointLoadFigures, JointLoadPeaks,
     LoadPeak, Metrics, Objectives, Optimum, Outcome, ParetoPoint,
 };
-pub use realise::{realise, split_unbalance, unbalance_bounds, Realised};
+pub use realise::{fixed_length, realise, split_unbalance, unbalance_bounds, Realised};
 pub use round_off::{joint_load_round_off, round_off_bounds};
+pub use scenarios::Scenario;
 pub use scene::{
     paper_piston, BalancerSpec, CounterweightSpec, LoadLimits, Objective, Prefer, Scene, SolveError,
 };

@@ -50,7 +50,9 @@ pub(super) fn optimise_with(
     max_torque: Option<f64>,
     grid: &Grid,
 ) -> Result<Optimum, SolveError> {
-    if scene.joint() || (objective == Objective::MinEnergyFluctuation && !scene.given()) {
+    let joint =
+        scene.joint() || objective == Objective::MinEnergyFluctuation || !scene.envelope.is_empty();
+    if joint && !scene.given() {
         return optimise_joint(scene, objective, max_force, max_torque);
     }
     // The caller has run `check` (the grid needed it).

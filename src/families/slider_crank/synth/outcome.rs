@@ -43,6 +43,9 @@ pub struct Metrics {
     /// ΔE of the drive at constant speed and its error bound (J), where the scene asks for
     /// it (the energy-fluctuation objective; [`super::drive::energy_fluctuation`]).
     pub energy_fluctuation: Option<[f64; 2]>,
+    /// With an operating envelope: the worst case over its vertices of the figure the scene
+    /// minimises (N, N·m or J; [`super::envelope::Envelope::worst_of`]), for a baseline.
+    pub worst_case: Option<f64>,
 }
 
 impl Metrics {
@@ -65,6 +68,7 @@ impl Metrics {
             peak_y_n: self.peak_y,
             peak_drive_torque_nm: self.peak_torque,
             energy_fluctuation_j: self.energy_fluctuation.map(|e| e[0]),
+            worst_case: Default::default(),
             improvement_pct: None,
         }
     }
@@ -239,9 +243,28 @@ pub struct Objectives {
     /// ∫₀^φ (T − T̄) dφ (J; with the energy-fluctuation objective).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub energy_fluctuation_j: Option<f64>,
+    /// With an operating envelope: the largest peak force over it (N).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub worst_case_peak_shaking_force_n: Option<f64>,
+    /// With an operating envelope: the largest peak drive torque over it (N·m).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub worst_case_peak_drive_torque_nm: Option<f64>,
+    /// With an operating envelope and the energy-fluctuation objective: the largest ΔE over it (J).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub worst_case_energy_fluctuation_j: Option<f64>,
 }
 
 impl Objectives {
+    /// The key objective of a scene with an operating envelope: the worst case of the
+    /// objective over it (the peak moment's worst case is not reported: its own key).
+    pub fn worst_case_key(objective: Objective) -> &'static str {
+        match objective {
+            Objective::MinPeakTorque => key!(Objectives, worst_case_peak_drive_torque_nm),
+            Objective::MinEnergyFluctuation => key!(Objectives, worst_case_energy_fluctuation_j),
+            _ => key!(Objectives, worst_case_peak_shaking_force_n),
+        }
+    }
+
     /// The key objective of a scene: the one minimised (`peak_shaking_force_n` for the mass
     /// and radius objectives, whose peak force is their constraint).
     pub fn key(objective: Objective) -> &'static str {
@@ -432,6 +455,10 @@ pub struct Baseline {
     /// energy-fluctuation objective).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub energy_fluctuation_j: Option<f64>,
+    /// With an operating envelope: the worst case of the scene's objective over it, under
+    /// the objective's own key (`worst_case_peak_shaking_force_n`, …).
+    #[serde(flatten, skip_serializing_if = "std::collections::BTreeMap::is_empty")]
+    pub worst_case: std::collections::BTreeMap<String, f64>,
     /// (baseline − result)/baseline of the key objective (%).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub improvement_pct: Option<f64>,
@@ -474,6 +501,8 @@ pub struct Outcome {
     pub joint_loads: Option<JointLoadPeaks>,
     /// With an infeasible scene: how far off each limit is (the design is then the closest).
     pub infeasibility: Vec<crate::synth::Shortfall>,
+    /// With an operating envelope: the design over it (vertices, worst cases, the check).
+    pub envelope: Option<super::envelope::EnvelopeOutcome>,
 }
 
 /// The peak of one joint load over the cycle.

@@ -1,6 +1,7 @@
 //! The slider-crank scene: the mechanism, its speed and loads, the counterweight's and the
 //! balancers' variables, the objective and the limits, and the checks that make it solvable.
 
+use super::envelope::Envelope;
 use crate::families::slider_crank::model::{
     BalancerPair, Kinematics, Loads, ProcessForce, SliderCrank,
 };
@@ -105,6 +106,8 @@ pub struct Scene {
     pub load_limits: LoadLimits,
     /// Report the joint (bearing) loads over the cycle.
     pub bearing_loads: bool,
+    /// The operating envelope (empty: the nominal scene only).
+    pub envelope: Envelope,
 }
 
 /// One Lanchester balancer pair of a scene: its geometry, its bound and the unbalance at
@@ -301,5 +304,6 @@ pub fn paper_piston(rpm: f64) -> Scene {
         max_shaking_moment: None,
         load_limits: LoadLimits::default(),
         bearing_loads: false,
+        envelope: Envelope::default(),
     }
 }

@@ -80,6 +80,13 @@ pub fn solve(scene: &Scene) -> Result<Outcome, SolveError> {
             b.energy_fluctuation = Some(energy_fluctuation(baseline_scene, P2::from(b.unbalance))?);
         }
     }
+    if !baseline_scene.envelope.is_empty() {
+        for b in baselines.values_mut() {
+            let env = &baseline_scene.envelope;
+            b.worst_case =
+                Some(env.worst_of(baseline_scene, P2::from(b.unbalance), scene.objective)?);
+        }
+    }
     if scene.given() {
         given_over_limits(scene, &design, &mut warnings);
     }
@@ -107,6 +114,16 @@ pub fn solve(scene: &Scene) -> Result<Outcome, SolveError> {
     } else {
         gap
     };
+    let envelope = if baseline_scene.envelope.is_empty() {
+        None
+    } else {
+        let energy = scene.objective == Objective::MinEnergyFluctuation;
+        Some(
+            baseline_scene
+                .envelope
+                .evaluate(baseline_scene, u, &balancers, energy)?,
+        )
+    };
     let joint_loads = if scene.bearing_loads || scene.load_limits != LoadLimits::default() {
         let jl = design_joint_loads(scene, u, &counterweight, tab, &mut warnings)?;
         check_load_limits(scene, &jl, &mut status, &mut warnings);
@@ -131,6 +148,7 @@ pub fn solve(scene: &Scene) -> Result<Outcome, SolveError> {
         designed: scene.clone(),
         joint_loads,
         infeasibility,
+        envelope,
     })
 }
 
