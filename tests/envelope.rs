@@ -237,3 +237,44 @@ fn the_check_does_not_depend_on_the_thread_count() {
     };
     assert_eq!(run(1), run(2));
 }
+
+#[test]
+fn a_fleet_varies_the_envelope_and_reports_its_worst_cases() {
+    let dir = tempfile::tempdir().unwrap();
+    let csv = dir.path().join("fleet.csv");
+    std::fs::write(
+        &csv,
+        "name,mechanism.envelope.speed.max [rpm],mechanism.envelope.monte_carlo\n\
+         env-a,1100,0\nenv-b,1300,0\nenv-c,900 furlong,0\n",
+    )
+    .unwrap();
+    let template = common::problem("piston-1000rpm-envelope.toml");
+    let out = dir.path().join("out");
+    let st = std::process::Command::new(env!("CARGO_BIN_EXE_cwsynth"))
+        .args([
+            "batch",
+            &format!("{}:{}", template.display(), csv.display()),
+        ])
+        .arg("--out")
+        .arg(&out)
+        .args(["--summary-only", "--quiet"])
+        .status()
+        .unwrap();
+    assert_eq!(st.code(), Some(1), "one bad row, the others solved");
+    let text = std::fs::read_to_string(out.join("fleet-fleet.csv")).unwrap();
+    let mut rows = csv::Reader::from_reader(text.as_bytes());
+    let head = rows.headers().unwrap().clone();
+    let col = |k: &str| head.iter().position(|h| h == k).unwrap();
+    let worst = col("objectives.worst_case_peak_shaking_force_n");
+    let recs: Vec<csv::StringRecord> = rows.records().map(|r| r.unwrap()).collect();
+    let w = |i: usize| recs[i][worst].parse::<f64>().unwrap();
+    assert_eq!(&recs[0][col("status")], "best_found");
+    // The worst case is at the band's top speed: it grows as ω².
+    let ratio = w(1) / w(0);
+    assert!(
+        (ratio / (1300.0f64 / 1100.0).powi(2) - 1.0).abs() < 0.01,
+        "{ratio}"
+    );
+    assert_eq!(&recs[2][col("status")], "error", "{:?}", recs[2]);
+    assert!(recs[2][col("message")].contains("mechanism.envelope.speed.max"));
+}

@@ -298,3 +298,55 @@ fn mutated_problem_files_never_panic_and_rejections_name_a_field_or_line() {
         panic!("{e}");
     }
 }
+
+/// A point or range given with a third value is refused at its field, not cut to two.
+#[test]
+fn a_pair_with_a_third_value_is_refused_at_its_field() {
+    let cases = [
+        (
+            "crane-thesis-inclined-rope.toml",
+            "sheave = [\"4 m\", \"9 m\"]",
+            "sheave = [\"4 m\", \"9 m\", \"1 m\"]",
+            "mechanism.hoist_rope.sheave",
+        ),
+        (
+            "crane-tukan-40t-counterweight.toml",
+            "directions = [\"150 deg\", \"210 deg\"]",
+            "directions = [\"150 deg\", \"210 deg\", \"240 deg\"]",
+            "design.counterweight.directions",
+        ),
+        (
+            "crane-tukan-40t.toml",
+            "x_range = [\"0 m\", \"12 m\"]",
+            "x_range = [\"0 m\"]",
+            "",
+        ),
+        (
+            "hypocycloid-compressor.toml",
+            "centroid = [\"12.5 mm\", \"0 mm\"]",
+            "centroid = [\"12.5 mm\", \"0 mm\", \"3 mm\"]",
+            "",
+        ),
+        (
+            "linkage-sixbar-press.toml",
+            "line_point = [\"120 mm\", \"0 mm\"]",
+            "line_point = [\"120 mm\", \"0 mm\", \"0 mm\"]",
+            "",
+        ),
+    ];
+    for (file, from, to, field) in cases {
+        let base = std::fs::read_to_string(crate::common::problem(file)).unwrap();
+        let text = crate::common::with(&base, from, to);
+        let e = crate::common::err(&text);
+        let msg = e.to_string();
+        assert!(msg.contains("exactly 2 values"), "{file}: {msg}");
+        assert_eq!(
+            e.line(),
+            Some(crate::common::line_of(&text, to)),
+            "{file}: {msg}"
+        );
+        if !field.is_empty() {
+            assert!(msg.contains(field), "{file}: {msg}");
+        }
+    }
+}

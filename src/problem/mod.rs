@@ -737,6 +737,41 @@ pub fn resolve_paper(raw: &[PaperRaw]) -> Result<Vec<PaperRef>, FieldError> {
         .collect()
 }
 
+/// Exactly two values `[a, b]` (a point, a range) in a problem file. serde's fixed-size
+/// arrays read the first two elements of a longer array and drop the rest without a word;
+/// this refuses any other length, so `[x, y, z]` for a planar point is an error at its field.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Pair<T>(pub [T; 2]);
+
+impl<T> std::ops::Deref for Pair<T> {
+    type Target = [T; 2];
+    fn deref(&self) -> &[T; 2] {
+        &self.0
+    }
+}
+
+impl<'de, T: Deserialize<'de>> Deserialize<'de> for Pair<T> {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let v = Vec::<T>::deserialize(d)?;
+        let n = v.len();
+        <[T; 2]>::try_from(v)
+            .map(Pair)
+            .map_err(|_| de::Error::invalid_length(n, &"exactly 2 values, [a, b]"))
+    }
+}
+
+impl<T: schemars::JsonSchema> schemars::JsonSchema for Pair<T> {
+    fn schema_name() -> std::borrow::Cow<'static, str> {
+        <[T; 2]>::schema_name()
+    }
+    fn json_schema(g: &mut schemars::SchemaGenerator) -> schemars::Schema {
+        <[T; 2]>::json_schema(g)
+    }
+    fn inline_schema() -> bool {
+        <[T; 2]>::inline_schema()
+    }
+}
+
 /// Checks that a value is finite and positive.
 pub fn positive(field: &str, v: f64) -> Result<f64, FieldError> {
     if v > 0.0 && v.is_finite() {

@@ -8,7 +8,9 @@ use crate::families::crane::balance::{BalanceScene, CounterweightSpec};
 use crate::families::crane::statics::{HoistRope, SelfWeight};
 use crate::families::crane::synth::{self as cr, Settings, SizingRule, TiePinLimit};
 use crate::problem::limits::{self, c, Count};
-use crate::problem::{check_name, Ctx, FieldError, Input, ProblemError, RawFile, RawVar, Resolved};
+use crate::problem::{
+    check_name, Ctx, FieldError, Input, Pair, ProblemError, RawFile, RawVar, Resolved,
+};
 use crate::units::{Angle, Dimensionless, Length, Mass, Qty};
 use serde::Deserialize;
 
@@ -67,7 +69,7 @@ pub struct MechanismRaw {
 pub struct HoistRopeRaw {
     /// S = [x, y], the fixed sheave the rope comes from, in the frame of A (x behind the foot,
     /// y up), e.g. `["3 m", "12 m"]`.
-    pub sheave: [Qty<Length>; 2],
+    pub sheave: Pair<Qty<Length>>,
     /// n, the falls between the jib head and the load (default 1).
     pub parts: Option<u32>,
 }
@@ -102,7 +104,7 @@ pub struct CounterweightRaw {
     /// Allowed directions of its centroid from A in the boom frame, `[from, to]` at most
     /// 180° apart (0° along the boom towards its head, 90° the boom turned a quarter turn
     /// anticlockwise, 180° the boom's extension behind A). Default: any direction.
-    pub directions: Option<[Qty<Angle>; 2]>,
+    pub directions: Option<Pair<Qty<Angle>>>,
 }
 
 /// How the boom length follows from the step-1 angles when `design.boom_length` is absent.
@@ -160,9 +162,9 @@ pub struct TiePinRaw {
     /// |AB| ≤ max_distance.
     pub max_distance: Option<Qty<Length>>,
     /// x_B within [min, max].
-    pub x_range: Option<[Qty<Length>; 2]>,
+    pub x_range: Option<Pair<Qty<Length>>>,
     /// y_B within [min, max].
-    pub y_range: Option<[Qty<Length>; 2]>,
+    pub y_range: Option<Pair<Qty<Length>>>,
 }
 
 /// `[objective]`.
@@ -232,7 +234,7 @@ pub fn resolve_raw(raw: &File) -> Result<CraneProblem, FieldError> {
         (None, Some(Sizing::MinReach) | None) => SizingRule::MinReach,
     };
     let o = &raw.objective;
-    let range = |r: &Option<[Qty<Length>; 2]>| r.map(|[a, b]| [a.si(), b.si()]);
+    let range = |r: &Option<Pair<Qty<Length>>>| r.map(|Pair([a, b])| [a.si(), b.si()]);
     let tie_pin = o
         .tie_pin
         .as_ref()
@@ -282,7 +284,7 @@ fn balance_scene(raw: &File) -> Result<Option<BalanceScene>, FieldError> {
     let rope = match &m.hoist_rope {
         None => None,
         Some(r) => {
-            let [x, y] = r.sheave.map(|q| q.si());
+            let [x, y] = r.sheave.0.map(|q| q.si());
             if !(x.is_finite() && y.is_finite()) {
                 return Err(FieldError::new(
                     "mechanism.hoist_rope.sheave",
@@ -373,7 +375,7 @@ fn balance_scene(raw: &File) -> Result<Option<BalanceScene>, FieldError> {
             }
             let directions = match c.directions {
                 None => None,
-                Some([a, b]) => {
+                Some(Pair([a, b])) => {
                     let (lo, hi) = (a.si(), b.si());
                     if !(lo.is_finite()
                         && hi.is_finite()

@@ -13,7 +13,7 @@ use crate::families::hypocycloid::synth::{
 };
 use crate::problem::limits::{self, c, Count};
 use crate::problem::{
-    check_name, positive, Ctx, FieldError, Input, ProblemError, RawFile, RawVar, Resolved,
+    check_name, positive, Ctx, FieldError, Input, Pair, ProblemError, RawFile, RawVar, Resolved,
 };
 use crate::synth::Var;
 use crate::units::{Angle, AngularSpeed, Dimensionless, Inertia, Length, Mass, Pressure, Qty};
@@ -83,7 +83,7 @@ pub struct BodyRaw {
     pub mass: Qty<Mass>,
     /// Its centroid in the body's frame, [x, y]: the carrier's from O with x along OO1, the
     /// planet's from O1 with x along the crank arm O1A.
-    pub centroid: [Qty<Length>; 2],
+    pub centroid: Pair<Qty<Length>>,
 }
 
 /// `[mechanism.rod]`: the rod AB. Its share at B, mass·centroid/L, is part of

@@ -50,7 +50,7 @@ pub const COUNTS: &[Count] = &[
 pub const WORK_BUDGET: f64 = 5e7;
 
 /// A pair of lengths: a point in the plane (x, y).
-pub type XyRaw = [Qty<Length>; 2];
+pub type XyRaw = crate::problem::Pair<Qty<Length>>;
 
 /// `[mechanism]`.
 #[derive(Debug, Deserialize, schemars::JsonSchema)]
