@@ -31,7 +31,7 @@ fn a_given_slider_crank_counterweight_is_analysed_not_optimal() {
     );
     let r = solve(&text);
     assert_eq!(r.status, Status::Analysed, "{:?}", r.status_detail);
-    // No "a larger counterweight would balance better": nothing was optimised.
+    // No "a larger counterweight would lower the objective": nothing was optimised.
     assert!(r.bounds.is_empty(), "{:?}", r.bounds);
     assert!((r.design["counterweight_unbalance_kgm"] - 0.234).abs() < 1e-12);
     assert_eq!(r.status.design_label(), "given design");

@@ -64,7 +64,7 @@ impl Status {
         match self {
             Status::Optimal => "certified optimum: the true optimum is within the stated error",
             Status::BestFound => {
-                "best design a heuristic global search found; not proven optimal (see the search evidence)"
+                "best design found, not proven optimal: the search evidence or the status detail says what was done"
             }
             Status::Degenerate => {
                 "the problem is degenerate as posed (see the detail); the numbers optimise nothing"

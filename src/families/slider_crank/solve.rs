@@ -259,15 +259,15 @@ fn unbalance_bound(s: &sc::Scene, design: &sc::Design) -> Vec<crate::synth::Acti
     let upper = match s.counterweight.shape.as_ref() {
         Some(sh) if hi >= sh.max_unbalance() => (
             "design.shape",
-            "the plate fills its envelope: a larger counterweight would balance better; enlarge outer_radius_max, thickness or max_angle",
+            "the plate fills its envelope: a larger counterweight would lower the objective; enlarge outer_radius_max, thickness or max_angle",
         ),
         _ if s.counterweight.mass.is_some() && hi < s.counterweight.unbalance.bounds().1 => (
             "design.mass",
-            "the largest mass at the largest radius: a larger counterweight would balance better",
+            "the largest mass at the largest radius: a larger counterweight would lower the objective",
         ),
         _ => (
             "design.unbalance",
-            "the unbalance range's upper end: a larger counterweight would balance better",
+            "the unbalance range's upper end: a larger counterweight would lower the objective",
         ),
     };
     crate::synth::ActiveBound::check(
