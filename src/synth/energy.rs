@@ -66,11 +66,6 @@ impl EnergyField {
         })
     }
 
-    /// T̄ at the design x: T₀'s mean plus each column's times xⱼ.
-    pub fn mean_torque(&self, x: &[f64]) -> f64 {
-        self.b.mean + self.cols.iter().map(|(j, e)| e.mean * x[*j]).sum::<f64>()
-    }
-
     /// A bound B on |c| at the optimum: the mid-range of E(·; x) lies within E's range, so
     /// within sup|E₀| + Σⱼ sup|Eⱼ|·|xⱼ|max (plus the errors), with |xⱼ| ≤ `x_max(j)`.
     pub fn offset_bound(&self, x_max: impl Fn(usize) -> f64) -> f64 {

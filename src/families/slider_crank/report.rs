@@ -201,11 +201,11 @@ fn baselines(r: &mut SolveResult, s: &sc::Scene, sol: &Solution) {
     let torque_objective = s.objective == Objective::MinPeakTorque;
     let energy = |m: &sc::Metrics| m.energy_fluctuation.map(|e| e[0]);
     // Over an envelope each baseline is judged on its worst case, as the design is.
-    let worst = sol.out.envelope.as_ref().map(|e| match s.objective {
-        Objective::MinPeakTorque => e.worst_peak_drive_torque.value,
-        Objective::MinEnergyFluctuation => e.worst_energy_fluctuation.map_or(f64::NAN, |w| w.value),
-        _ => e.worst_peak_shaking_force.value,
-    });
+    let worst = sol
+        .out
+        .envelope
+        .as_ref()
+        .map(|e| e.worst_for(s.objective).map_or(f64::NAN, |w| w.value));
     for (name, b) in sol.baselines() {
         let (base, ours) = match (energy(b), energy(d), b.worst_case.zip(worst)) {
             (_, _, Some(pair)) => pair,

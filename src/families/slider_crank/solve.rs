@@ -175,19 +175,9 @@ pub fn solve(p: &SliderCrankProblem) -> Result<Solution, String> {
     // The paper's counterweight m at the lever radius r: U = (−m r, 0).
     let printed = p.paper.as_ref().and_then(|pd| pd.counterweight_mass);
     if let (Some(rad), Some(pm)) = (sol.lever, printed) {
-        let u = P2::new(-pm * rad, 0.0);
-        let energy = s.objective == sc::Objective::MinEnergyFluctuation;
         sol.paper_counterweight = Some(
-            sc::metrics(s, u)
-                .and_then(|mut m| {
-                    if energy {
-                        m.energy_fluctuation = Some(sc::energy_fluctuation(s, u)?);
-                    }
-                    if !s.envelope.is_empty() {
-                        m.worst_case = Some(s.envelope.worst_of(s, u, s.objective)?);
-                    }
-                    Ok(m)
-                })
+            sc::metrics(s, P2::new(-pm * rad, 0.0))
+                .and_then(|mut m| sc::judge_baseline(s, &mut m).map(|()| m))
                 .map_err(|e| e.to_string()),
         );
     }

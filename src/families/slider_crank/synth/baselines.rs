@@ -1,10 +1,11 @@
 //! The classical counterweights (none, y force zeroed, 50 %, equal x and y ranges) and
 //! their figures, for comparison with the optimum.
 
+use super::drive::energy_fluctuation;
 use super::fields::{scene_force, Sampled};
 use super::metrics::{grid_extremes, grid_x_extremes, metrics_sampled, value_xtol};
 use super::outcome::Metrics;
-use super::scene::{check, Scene, SolveError};
+use super::scene::{check, Objective, Scene, SolveError};
 use crate::geom::P2;
 use crate::numeric::{newton_polish, newton_root, refine_periodic_sample};
 use std::collections::BTreeMap;
@@ -20,6 +21,20 @@ use std::collections::BTreeMap;
 pub fn baselines(scene: &Scene) -> Result<BTreeMap<String, Metrics>, SolveError> {
     check(scene)?;
     baselines_sampled(scene, &Sampled::new(scene))
+}
+
+/// Completes a baseline's figures `m` (of its unbalance, on `scene` without balancers) with
+/// what the scene judges it on beyond [`metrics_sampled`]: its ΔE with the energy-fluctuation
+/// objective, its worst case over an operating envelope.
+pub fn judge_baseline(scene: &Scene, m: &mut Metrics) -> Result<(), SolveError> {
+    let u = P2::from(m.unbalance);
+    if scene.objective == Objective::MinEnergyFluctuation {
+        m.energy_fluctuation = Some(energy_fluctuation(scene, u)?);
+    }
+    if !scene.envelope.is_empty() {
+        m.worst_case = Some(scene.envelope.worst_of(scene, u, scene.objective)?);
+    }
+    Ok(())
 }
 
 pub(super) fn baselines_sampled(

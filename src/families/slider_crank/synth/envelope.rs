@@ -106,16 +106,6 @@ impl Envelope {
             .chain(self.lengths.iter().map(|l| l.delta))
             .collect()
     }
-
-    /// The parameters' nominal values (ω of the scene, zero changes).
-    pub fn nominal_values(&self, omega: f64) -> Vec<f64> {
-        let speed = self.speed.map(|_| omega);
-        speed
-            .into_iter()
-            .chain(self.masses.iter().map(|_| 0.0))
-            .chain(self.lengths.iter().map(|_| 0.0))
-            .collect()
-    }
 }
 
 /// A design's figures in one scenario (N, N·m, J).

@@ -60,7 +60,7 @@ pub(super) fn optimise_joint(
         .zip(&zeros)
         .map(|(s, z)| JointScene::new(s, z, nb))
         .collect();
-    let p0 = jss.iter().map(JointScene::p0).fold(0.0, f64::max);
+    let p0 = || jss.iter().map(JointScene::p0).fold(0.0, f64::max);
     let bounds = jss[0].bounds(objective, max_force, p0)?;
     let energy = objective == Objective::MinEnergyFluctuation;
     // The fields the goal or a limit names; the others are left zero (the engine scans every
@@ -303,20 +303,23 @@ impl<'a> JointScene<'a> {
         })
     }
 
-    /// The bounds of the design (see [`optimise_joint`]) from P₀ (the largest over the
-    /// scenarios): K the force limit or P₀ (the least of them for a force objective),
+    /// The bounds of the design (see [`optimise_joint`]) from P₀ (`p0`, the largest over the
+    /// scenarios, sampled only where a bound needs it): K the force limit or P₀ (the least of
+    /// them for a force objective),
     /// |U| ≤ 2(K + P₀)/ω² · 2 and n²|B_n| ≤ 2(K + P₀)/ω², each capped by the scene's own
     /// bound.
     fn bounds(
         &self,
         objective: Objective,
         max_force: Option<f64>,
-        p0: f64,
+        sample_p0: impl Fn() -> f64,
     ) -> Result<JointBounds, SolveError> {
         let (scene, w2) = (self.scene, self.w2);
+        let once = std::cell::OnceCell::new();
+        let p0 = || *once.get_or_init(&sample_p0);
         let k_force = match (objective, max_force) {
-            (Objective::MinPeakForce | Objective::MinRmsForce, Some(f)) => f.min(p0),
-            (Objective::MinPeakForce | Objective::MinRmsForce, None) => p0,
+            (Objective::MinPeakForce | Objective::MinRmsForce, Some(f)) => f.min(p0()),
+            (Objective::MinPeakForce | Objective::MinRmsForce, None) => p0(),
             (_, Some(f)) => f,
             // ΔE within the scene's own bounds: no automatic bound is needed where they
             // are finite.
@@ -332,7 +335,13 @@ impl<'a> JointScene<'a> {
                 ))
             }
         };
-        let auto = |n: f64| 2.0 * (k_force + p0) / (w2 * n * n);
+        // K + P₀, infinite (and P₀ not sampled) where the scene's own bounds suffice.
+        let k_p0 = if k_force.is_finite() {
+            k_force + p0()
+        } else {
+            f64::INFINITY
+        };
+        let auto = |n: f64| 2.0 * k_p0 / (w2 * n * n);
         let (u_lo, u_hi) = unbalance_bounds(&scene.counterweight);
         let u_auto = 2.0 * auto(1.0);
         let sector = match scene.counterweight.angle {
@@ -350,7 +359,7 @@ impl<'a> JointScene<'a> {
                 .iter()
                 .map(|b| b.max_unbalance.min(auto(b.pair.order as f64)))
                 .collect(),
-            k_p0: k_force + p0,
+            k_p0,
             w2,
             sector,
         })

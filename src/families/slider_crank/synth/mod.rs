@@ -31,7 +31,7 @@ mod scene;
 mod solve;
 mod sweep;
 
-pub use baselines::baselines;
+pub use baselines::{baselines, judge_baseline};
 pub use drive::{energy_fluctuation, machine, real_speed_force};
 pub use envelope::{
     Envelope, EnvelopeOutcome, LengthOf, LengthRange, MassOf, MassRange, MonteCarlo, VertexFigures,

@@ -28,7 +28,12 @@ impl Envelope {
     pub fn scenarios(&self, nominal: &Scene) -> Vec<Scenario> {
         let ranges = self.ranges();
         let k = ranges.len();
-        let mut out = vec![self.at(nominal, self.nominal_values(nominal.omega))];
+        // The nominal values: the scene's ω, no change of mass or length.
+        let mut at_nominal = vec![0.0; k];
+        if self.speed.is_some() {
+            at_nominal[0] = nominal.omega;
+        }
+        let mut out = vec![self.at(nominal, at_nominal)];
         for bits in 0..(1usize << k) {
             let values = (0..k)
                 .map(|i| {
@@ -122,6 +127,28 @@ fn figures(s: &Scene, u: P2, b: &[[f64; 2]], energy: bool) -> Result<[f64; 6], S
     ])
 }
 
+/// The column of [`figures`] an objective is judged on over an envelope: the peak torque
+/// (2), ΔE (4), else the peak force (0).
+fn column(objective: Objective) -> usize {
+    match objective {
+        Objective::MinPeakTorque => 2,
+        Objective::MinEnergyFluctuation => 4,
+        _ => 0,
+    }
+}
+
+impl EnvelopeOutcome {
+    /// The worst case of the figure `objective` is judged on ([`column`]); `None` for ΔE
+    /// where it was not evaluated.
+    pub fn worst_for(&self, objective: Objective) -> Option<WorstCase> {
+        match column(objective) {
+            2 => Some(self.worst_peak_drive_torque),
+            4 => self.worst_energy_fluctuation,
+            _ => Some(self.worst_peak_shaking_force),
+        }
+    }
+}
+
 /// The worst of column `c` (error in column `c + 1`) over the vertices.
 fn worst(rows: &[[f64; 6]], c: usize) -> WorstCase {
     let (k, r) = rows
@@ -147,11 +174,7 @@ impl Envelope {
         objective: Objective,
     ) -> Result<f64, SolveError> {
         let energy = objective == Objective::MinEnergyFluctuation;
-        let c = match objective {
-            Objective::MinPeakTorque => 2,
-            Objective::MinEnergyFluctuation => 4,
-            _ => 0,
-        };
+        let c = column(objective);
         self.scenarios(nominal).iter().try_fold(0.0_f64, |w, s| {
             Ok(w.max(figures(&s.scene, u, &[], energy)?[c]))
         })

@@ -1,7 +1,7 @@
 //! The whole solve of a scene: the optimum, its figures, the warnings on the model, the
 //! Pareto front, the joint loads and the baselines.
 
-use super::baselines::baselines_sampled;
+use super::baselines::{baselines_sampled, judge_baseline};
 use super::drive::energy_fluctuation;
 use super::fields::{moment0, torque_independent_of_counterweight, Normalised, Sampled};
 use super::loads::{check_load_limits, joint_load_peaks};
@@ -76,16 +76,9 @@ pub fn solve(scene: &Scene) -> Result<Outcome, SolveError> {
     let mut baselines = baselines_sampled(baseline_scene, baseline_tab)?;
     if scene.objective == Objective::MinEnergyFluctuation {
         design.energy_fluctuation = Some(energy_fluctuation(scene, u)?);
-        for b in baselines.values_mut() {
-            b.energy_fluctuation = Some(energy_fluctuation(baseline_scene, P2::from(b.unbalance))?);
-        }
     }
-    if !baseline_scene.envelope.is_empty() {
-        for b in baselines.values_mut() {
-            let env = &baseline_scene.envelope;
-            b.worst_case =
-                Some(env.worst_of(baseline_scene, P2::from(b.unbalance), scene.objective)?);
-        }
+    for b in baselines.values_mut() {
+        judge_baseline(baseline_scene, b)?;
     }
     if scene.given() {
         given_over_limits(scene, &design, &mut warnings);
