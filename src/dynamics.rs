@@ -395,6 +395,8 @@ pub struct ConstantSpeed {
     pub omega: f64,
     /// T̄, the mean drive torque (N·m): the mean load, the motor's mean torque.
     pub mean_torque: f64,
+    /// Bound on the error of T̄ (N·m): its change from half the grid, round-off.
+    pub mean_torque_error: f64,
     /// ΔE = max E − min E (J).
     pub energy_fluctuation: f64,
     /// Bound on the error of ΔE (J): the grid's truncation (measured by halving it), the
@@ -474,25 +476,60 @@ fn energy_on(grid: &Grid, omega: f64) -> Energy {
     }
 }
 
+/// What [`doubled`] ends on: the figures on the last grid, on its half, and — where the grid
+/// stopped at `max_samples` before the figures settled — on its quarter.
+struct Doubled<T> {
+    cur: T,
+    prev: T,
+    /// On a quarter of the grid, where the doubling stopped unsettled (`None` otherwise).
+    unsettled: Option<T>,
+    grid: Grid,
+}
+
+impl<T> Doubled<T> {
+    /// The error bound of the figure `f`: its change from half the grid — the whole error of
+    /// a spectrally converging figure — plus, where the doubling stopped unsettled, its
+    /// change before that. A load with kinks (a compressor's valve events) converges as h²
+    /// with a constant that swings with the kinks' places on the grid, so one change can be
+    /// small by chance; two in a row cover it.
+    fn change(&self, f: impl Fn(&T) -> f64) -> f64 {
+        let (c, p) = (f(&self.cur), f(&self.prev));
+        (c - p).abs() + self.unsettled.as_ref().map_or(0.0, |e| (p - f(e)).abs())
+    }
+}
+
 /// The figures `on` a grid of the machine, the grid doubled from `s.min_samples` until
-/// `settled(current, on half the grid)` (or `s.max_samples`): (current, on half, the grid).
-/// The one refinement loop of the drive: every figure's error is its change from half the
-/// grid.
+/// `settled(current, on half the grid)` (or `s.max_samples`). The one refinement loop of
+/// the drive: every figure's error is its change from half the grid ([`Doubled::change`]).
 fn doubled<T>(
     m: &dyn OneDof,
     s: &DriveSettings,
     on: impl Fn(&Grid) -> Result<T, DriveError>,
     settled: impl Fn(&T, &T) -> bool,
-) -> Result<(T, T, Grid), DriveError> {
+) -> Result<Doubled<T>, DriveError> {
     let mut n = s.min_samples.next_power_of_two().max(16);
     let mut grid = Grid::new(m, n)?;
     let mut prev = on(&grid.halved())?;
+    let mut before = None;
     loop {
         let cur = on(&grid)?;
-        if settled(&cur, &prev) || 2 * n > s.max_samples {
-            return Ok((cur, prev, grid));
+        if settled(&cur, &prev) {
+            return Ok(Doubled {
+                cur,
+                prev,
+                unsettled: None,
+                grid,
+            });
         }
-        prev = cur;
+        if 2 * n > s.max_samples {
+            return Ok(Doubled {
+                cur,
+                prev,
+                unsettled: before,
+                grid,
+            });
+        }
+        before = Some(std::mem::replace(&mut prev, cur));
         n *= 2;
         grid = Grid::new(m, n)?;
     }
@@ -509,9 +546,9 @@ pub fn constant_speed(
     let on = |g: &Grid| Ok(energy_on(g, omega));
     let settled =
         |cur: &Energy, prev: &Energy| (cur.delta - prev.delta).abs() <= s.rel_tol * scale(cur);
-    let (cur, prev, grid) = doubled(m, s, on, settled)?;
-    let n = grid.n();
-    let round_off = 1e-15 * n as f64 * scale(&cur);
+    let d = doubled(m, s, on, settled)?;
+    let (cur, n) = (&d.cur, d.grid.n());
+    let round_off = 1e-15 * n as f64 * scale(cur);
     let (tg, eg) = (cur.torque.grid(n), cur.energy.grid(n));
     let curve = (0..=n)
         .map(|k| [TAU * k as f64 / n as f64, tg[k % n], eg[k % n]])
@@ -519,8 +556,9 @@ pub fn constant_speed(
     Ok(ConstantSpeed {
         omega,
         mean_torque: cur.mean,
+        mean_torque_error: d.change(|e| e.mean) + round_off / TAU,
         energy_fluctuation: cur.delta,
-        energy_fluctuation_error: (cur.delta - prev.delta).abs() + round_off + 1e-13 * cur.delta,
+        energy_fluctuation_error: d.change(|e| e.delta) + round_off + 1e-13 * cur.delta,
         extreme_angles: [cur.max.1, cur.min.1],
         extreme_energies: [cur.max.0, cur.min.0],
         samples: n,
@@ -839,22 +877,39 @@ fn converged(
     let settled = |cur: &SteadyState, prev: &SteadyState| {
         (cur.cs - prev.cs).abs() <= s.steady_rel_tol * cur.cs.abs() + 1e-13
     };
-    let (cur, prev, grid) = doubled(m, s, on, settled)?;
-    Ok((with_errors(cur, &prev), grid))
+    let Doubled {
+        cur,
+        prev,
+        unsettled,
+        grid,
+    } = doubled(m, s, on, settled)?;
+    Ok((with_errors(cur, &prev, unsettled.as_ref()), grid))
 }
 
-/// `cur` with its errors: the change from `coarse` (the same state on half the grid) plus
-/// round-off.
-fn with_errors(mut cur: SteadyState, coarse: &SteadyState) -> SteadyState {
+/// `cur` with its errors: the change from `coarse` (the same state on half the grid), plus
+/// that from `coarser` (on a quarter) where the grid stopped unsettled
+/// ([`Doubled::change`]), plus round-off.
+fn with_errors(
+    mut cur: SteadyState,
+    coarse: &SteadyState,
+    coarser: Option<&SteadyState>,
+) -> SteadyState {
     let n = cur.samples as f64;
-    let dw = [
-        cur.omega_min - coarse.omega_min,
-        cur.omega_max - coarse.omega_max,
-        cur.omega_mean - coarse.omega_mean,
-    ]
-    .iter()
-    .fold(0.0, |a: f64, b| a.max(b.abs()));
-    cur.cs_error = (cur.cs - coarse.cs).abs() + 1e-14 * n * cur.cs.abs().max(1e-300);
+    let speeds = |a: &SteadyState, b: &SteadyState| {
+        [
+            a.omega_min - b.omega_min,
+            a.omega_max - b.omega_max,
+            a.omega_mean - b.omega_mean,
+        ]
+        .iter()
+        .fold(0.0, |m: f64, d| m.max(d.abs()))
+    };
+    let (mut dw, mut dcs) = (speeds(&cur, coarse), (cur.cs - coarse.cs).abs());
+    if let Some(q) = coarser {
+        dw += speeds(coarse, q);
+        dcs += (coarse.cs - q.cs).abs();
+    }
+    cur.cs_error = dcs + 1e-14 * n * cur.cs.abs().max(1e-300);
     cur.omega_error = dw + 1e-14 * n * cur.omega_max;
     cur
 }
@@ -917,7 +972,17 @@ pub fn least_flywheel(
     let f = |i: f64| cs_on(&grid, i).map(|st| st.cs - cs).unwrap_or(f64::NAN);
     let tol = 1e-12 * hi;
     let root = brent_root(f, 0.0, hi, tol).map_err(|e| DriveError::Stalls(e.to_string()))?;
-    let steady = with_errors(cs_on(&grid, root.x)?, &cs_on(&grid.halved(), root.x)?);
+    // A grid at the cap may not have settled: then the quarter grid's change counts too.
+    let quarter = if 2 * grid.n() > s.max_samples {
+        Some(cs_on(&grid.halved().halved(), root.x)?)
+    } else {
+        None
+    };
+    let steady = with_errors(
+        cs_on(&grid, root.x)?,
+        &cs_on(&grid.halved(), root.x)?,
+        quarter.as_ref(),
+    );
     // |dCs/dI_f| by a central difference, for the error that Cs's own error makes in I_f.
     let d = 1e-4 * root.x.max(tol);
     let slope = ((cs_on(&grid, root.x + d)?.cs - cs_on(&grid, (root.x - d).max(0.0))?.cs)
@@ -930,4 +995,109 @@ pub fn least_flywheel(
         textbook,
         steady,
     })
+}
+
+/// A problem file's `[mechanism.drive]`, checked (`crate::problem::drive`).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct Drive {
+    /// Cs to meet, if any.
+    pub cs: Option<f64>,
+    /// The given flywheel (kg·m²), if any.
+    pub flywheel: Option<f64>,
+    /// The motor.
+    pub motor: Motor,
+}
+
+/// A design's drive, at constant speed and at real speed: what every family's result reports
+/// of `[mechanism.drive]`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct DriveFigures {
+    /// T̄, the energy curve and ΔE at the nominal speed.
+    pub constant: ConstantSpeed,
+    /// The least flywheel for `cs`, with the textbook one (with `cs`).
+    pub flywheel: Option<Flywheel>,
+    /// The periodic steady state with the given flywheel, else the least one, else none.
+    pub steady: SteadyState,
+    /// The shaking force's and the shaft's peaks in that steady state, where the family
+    /// computes the force at real speed.
+    pub real: Option<RealSpeed>,
+}
+
+/// The peaks at real speed: the steady state's ω(φ) and α(φ) in the accelerations.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RealSpeed {
+    /// max |F| over the steady state's nodes (N).
+    pub peak_force: f64,
+    /// Its error bound (N): the change from every other node, plus the speeds' error.
+    pub peak_force_error: f64,
+    /// Its input angle (rad).
+    pub peak_force_angle: f64,
+    /// max |T_m(ω) − I_f α|, the torque the input shaft carries between the flywheel and the
+    /// mechanism (N·m).
+    pub peak_shaft_torque: f64,
+}
+
+/// The drive of the machine `m` at the nominal speed `omega` with `d`'s motor: ΔE, the least
+/// flywheel for `d.cs`, the steady state with `d.flywheel` (or the least one, or none).
+pub fn drive(
+    m: &dyn OneDof,
+    omega: f64,
+    d: &Drive,
+    s: &DriveSettings,
+) -> Result<DriveFigures, DriveError> {
+    let constant = constant_speed(m, omega, s)?;
+    let flywheel =
+        d.cs.map(|cs| least_flywheel(m, &d.motor, &constant, cs, s))
+            .transpose()?;
+    let steady = match (d.flywheel, &flywheel) {
+        (None, Some(f)) => f.steady.clone(),
+        (given, _) => steady_state(m, &d.motor, given.unwrap_or(0.0), omega, s)?,
+    };
+    Ok(DriveFigures {
+        constant,
+        flywheel,
+        steady,
+        real: None,
+    })
+}
+
+impl DriveFigures {
+    /// The peaks at real speed, with `force(φ, ω, α)` the shaking force's magnitude (N) at
+    /// the steady state's nodes (`None` where it cannot be computed: then no peaks). A force
+    /// of the accelerations scales as ω², so the speeds' error δω adds 2 δω/ω_min of it; the
+    /// sampling error is the change from every other node.
+    pub fn with_real_speed(
+        mut self,
+        motor: &Motor,
+        force: impl Fn(f64, f64, f64) -> Option<f64>,
+    ) -> DriveFigures {
+        let st = &self.steady;
+        let forces: Option<Vec<(f64, f64)>> = st
+            .curve
+            .iter()
+            .map(|&[phi, w, a]| force(phi, w, a).map(|f| (f, phi)))
+            .collect();
+        let Some(forces) = forces else { return self };
+        let peak = |step: usize| {
+            forces.iter().step_by(step).fold(
+                (0.0_f64, 0.0),
+                |b, &(f, p)| if f > b.0 { (f, p) } else { b },
+            )
+        };
+        let (fine, coarse) = (peak(1), peak(2));
+        let speed_err = 2.0 * st.omega_error / st.omega_min * fine.0;
+        let mean = self.constant.mean_torque;
+        let shaft = st
+            .curve
+            .iter()
+            .map(|&[_, w, a]| (motor.torque(w, mean) - st.flywheel * a).abs())
+            .fold(0.0, f64::max);
+        self.real = Some(RealSpeed {
+            peak_force: fine.0,
+            peak_force_error: (fine.0 - coarse.0).abs() + speed_err,
+            peak_force_angle: fine.1,
+            peak_shaft_torque: shaft,
+        });
+        self
+    }
 }

@@ -28,9 +28,7 @@ fn scene(text: &str, edit: impl Fn(String) -> String) -> Scene {
 
 /// The piston file without its length tolerance (speed and ±2 % masses: certified).
 fn piston_masses_text() -> String {
-    let i = PISTON.find("\n[[mechanism.envelope.length]]").unwrap();
-    let j = PISTON.find("\n[model]").unwrap();
-    format!("{}{}", &PISTON[..i], &PISTON[j..])
+    cut(PISTON, "\n[[mechanism.envelope.length]]")
 }
 
 /// The piston over speed and ±2 % masses only.
@@ -277,4 +275,90 @@ fn a_fleet_varies_the_envelope_and_reports_its_worst_cases() {
     );
     assert_eq!(&recs[2][col("status")], "error", "{:?}", recs[2]);
     assert!(recs[2][col("message")].contains("mechanism.envelope.speed.max"));
+}
+
+/// `text` without its lines from `from` up to `[model]`.
+fn cut(text: &str, from: &str) -> String {
+    let i = text.find(from).unwrap();
+    let j = text.find("\n[model]").unwrap();
+    format!("{}{}", &text[..i], &text[j..])
+}
+
+/// The scene of `text` without its Monte Carlo check (the shipped files ask for the
+/// sensitivity table), its result (`optimal`) and the table's rows.
+fn sensitivity_rows(
+    text: String,
+) -> (
+    cwsynth::families::Scene,
+    cwsynth::report::SolveResult,
+    Vec<serde_json::Value>,
+) {
+    let text = text.replace("monte_carlo = 2000", "monte_carlo = 0");
+    let s = parse_str(&text, Path::new("s.toml")).unwrap();
+    let r = solve_scene(&s);
+    assert_eq!(r.status, Status::Optimal, "{:?}", r.warnings);
+    let rows = r.extra["envelope"]["sensitivities"]
+        .as_array()
+        .unwrap()
+        .clone();
+    (s, r, rows)
+}
+
+/// The sensitivity table against closed forms and re-solves of the nominal scene. Over a
+/// speed band alone (no gravity) every force scales with ω², so the optimal design does not
+/// depend on the speed and the worst case is V*(ω_max) = V₁ (ω_max/ω₁)²: dV*/dω_max =
+/// 2 V*/ω_max and dV*/dω_min = 0. With the masses too, where the vertex (ω_max, m_max, …)
+/// alone binds, V* is the nominal minimax of that vertex's machine, so dV*/d(m_max) is the
+/// derivative of the nominal minimax in that mass (central differences of nominal solves).
+#[test]
+fn sensitivities_match_the_closed_form_speed_law_and_nominal_re_solves() {
+    let (_, r, rows) = sensitivity_rows(cut(PISTON, "\n[[mechanism.envelope.mass]]"));
+    assert_eq!(rows.len(), 2);
+    let v = r.objectives["worst_case_peak_shaking_force_n"];
+    let w_max = 1200.0 * TAU / 60.0;
+    let (lo, hi) = (&rows[0], &rows[1]);
+    assert_eq!(lo["end"], "min");
+    assert_eq!(hi["end"], "max");
+    let f = |x: &serde_json::Value, k: &str| x[k].as_f64().unwrap();
+    let want = 2.0 * v / w_max;
+    assert!(
+        (f(hi, "derivative") - want).abs() <= f(hi, "error") + 1e-9 * want,
+        "dV/dω_max {} ± {} vs 2V/ω = {want}",
+        f(hi, "derivative"),
+        f(hi, "error")
+    );
+    assert!(f(hi, "error") < 1e-5 * want, "{}", f(hi, "error"));
+    assert!(f(lo, "derivative").abs() <= f(lo, "error") + 1e-9 * want);
+
+    // The speed band and the slider's ±2 % (the rod's too would make two vertices bind):
+    // the slider mass's upper end against nominal re-solves of the binding vertex.
+    let rod = "\n[[mechanism.envelope.mass]]\nof = \"rod_mass\"";
+    let (s, r, rows) = sensitivity_rows(cut(&piston_masses_text(), rod));
+    let row = rows
+        .iter()
+        .find(|x| x["parameter"] == "slider_mass_delta_kg" && x["end"] == "max")
+        .unwrap();
+    let sc = s.machine::<SliderCrankProblem>().unwrap().core.clone();
+    let d_hi = sc.envelope.masses[0].delta.1;
+    let nominal_at = |dm: f64| {
+        let mut v = sc.envelope.at(&sc, vec![w_max, d_hi + dm]).scene;
+        v.objective = Objective::MinPeakForce;
+        let o = optimise(&v).unwrap();
+        metrics(&v, o.u).unwrap().peak
+    };
+    // The premise: that vertex alone binds, so V* is its own minimax.
+    let v = r.objectives["worst_case_peak_shaking_force_n"];
+    assert!(
+        (v - nominal_at(0.0)).abs() < 1e-8 * v,
+        "{v} vs {}",
+        nominal_at(0.0)
+    );
+    let h = 1e-3 * d_hi;
+    let reference = (nominal_at(h) - nominal_at(-h)) / (2.0 * h);
+    assert!(
+        (f(row, "derivative") - reference).abs() <= f(row, "error") + 1e-5 * reference.abs(),
+        "dV/dm {} ± {} vs nominal re-solves {reference}",
+        f(row, "derivative"),
+        f(row, "error")
+    );
 }

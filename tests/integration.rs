@@ -18,6 +18,7 @@ mod crane_balance;
 mod crane_io;
 mod drawings;
 mod drive;
+mod drive_families;
 mod energy_design;
 mod envelope;
 mod felling_head;

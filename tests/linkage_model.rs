@@ -381,6 +381,67 @@ fn shaking_force_and_moment_are_momentum_rates() {
     }
 }
 
+/// The drive's terms (issue 33) against independent evaluations from the pose alone: J is
+/// twice the kinetic energy per ω² ([`energy`]), J′ its central difference, ½ J′ ω² + G the
+/// balance map's input torque (with and without gravity, with a counterweight added to every
+/// link), the momentum Σ m r_G′ that of [`momenta`] and its rate that momentum's difference.
+#[test]
+fn drive_terms_are_the_energy_its_rate_and_the_input_torque() {
+    let h = 1e-5;
+    for (name, l0) in fixtures() {
+        for g in [P2::zeros(), P2::new(3.0, -9.81)] {
+            let l = with_gravity(&l0, g);
+            let w2 = l.omega() * l.omega();
+            let extra: Vec<(usize, Params)> = (0..l.n_links())
+                .map(|i| (i, Params::new(0.3, 0.01 * i as f64, -0.02, 4e-4)))
+                .collect();
+            for t in angles(11, 24) {
+                let pose = l.pose(t).unwrap();
+                let bare = l.drive_terms(&pose, &[]);
+                let scale = bare.j.abs() + bare.dj.abs() + 1e-12;
+                assert!(
+                    (bare.j - 2.0 * energy(&l, &pose)).abs() < 1e-12 * scale,
+                    "{name} J at {t}"
+                );
+                let jp = l.drive_terms(&l.pose(t + h).unwrap(), &[]).j;
+                let jm = l.drive_terms(&l.pose(t - h).unwrap(), &[]).j;
+                assert!(
+                    ((jp - jm) / (2.0 * h) - bare.dj).abs() < 1e-7 * scale,
+                    "{name} J′ at {t}: {} vs {}",
+                    (jp - jm) / (2.0 * h),
+                    bare.dj
+                );
+                let (p, _) = momenta(&l, &pose, P2::zeros());
+                assert!(
+                    (p - bare.momentum).norm() < 1e-12 * (p.norm() + 1e-9),
+                    "{name}"
+                );
+                let (pp, _) = momenta(&l, &l.pose(t + h).unwrap(), P2::zeros());
+                let (pm, _) = momenta(&l, &l.pose(t - h).unwrap(), P2::zeros());
+                let rate = (pp - pm) / (2.0 * h);
+                assert!(
+                    (rate - bare.momentum_rate).norm() < 1e-7 * (rate.norm() + 1e-6),
+                    "{name} momentum rate at {t}"
+                );
+                for ex in [&[][..], &extra[..]] {
+                    let d = l.drive_terms(&pose, ex);
+                    let map = l.balance_map(&pose, P2::zeros());
+                    let tq = map.fields(ex).torque;
+                    let f = map.fields(ex).force;
+                    let tscale = map.blocks.iter().fold(0.0, |s, b| s + b.torque.norm());
+                    assert!(
+                        (0.5 * d.dj * w2 + d.g - tq).abs() < 1e-12 * tscale,
+                        "{name} g={g:?} T at {t}: {} vs {tq}",
+                        0.5 * d.dj * w2 + d.g
+                    );
+                    // At constant speed the shaking force is −ω² Σ m r_G″.
+                    assert!((f + d.momentum_rate * w2).norm() < 1e-9 * (f.norm() + 1.0));
+                }
+            }
+        }
+    }
+}
+
 // ---------------------------------------------------------------- (c) Newton–Euler
 
 fn with_gravity(l: &Linkage, g: P2) -> Linkage {

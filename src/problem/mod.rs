@@ -10,6 +10,7 @@
 //! passes and checks without its text (`families::parse_table`); its errors have no line.
 
 pub mod calibrate;
+pub mod drive;
 pub mod edit;
 pub mod limits;
 pub mod schema;

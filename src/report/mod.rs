@@ -6,6 +6,7 @@
 //! `_rad`, `_kg`, `_s`, `_pct`); pure numbers have no suffix.
 
 pub mod drawing;
+pub mod drive;
 pub mod numbers;
 pub mod page;
 pub mod plot;

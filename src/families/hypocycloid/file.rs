@@ -73,6 +73,9 @@ pub struct MechanismRaw {
     pub gas: Option<GasRaw>,
     /// Where the Lanchester shafts sit (their couples).
     pub lanchester: Option<ShaftsRaw>,
+    /// The drive: motor, flywheel and the coefficient of speed fluctuation to meet
+    /// (`[mechanism.drive]`, the machine as it runs).
+    pub drive: Option<crate::problem::drive::DriveRaw>,
 }
 
 /// `[mechanism.carrier]` / `[mechanism.planet]`: a body turning with its frame.
@@ -614,10 +617,16 @@ fn resolve_dynamics(raw: &File) -> Result<DynamicsSpec, FieldError> {
             })
         }
     };
+    let drive = m
+        .drive
+        .as_ref()
+        .map(crate::problem::drive::resolve)
+        .transpose()?;
     Ok(DynamicsSpec {
         masses,
         design,
         gas,
         shafts,
+        drive,
     })
 }

@@ -816,6 +816,7 @@ fn dynamics_numbers(r: &mut SolveResult, d: &Result<DynamicsOutcome, String>) {
     }
     r.derived.extend(number_map(&k));
     r.extra.insert("dynamics".into(), json!(d));
+    crate::report::drive::drive_numbers(r, d.drive.as_ref(), None);
 }
 
 /// The rotating counterweights' figures, and the pair to build in `design`: the minimax pair
@@ -976,6 +977,7 @@ fn dynamics_documents(r: &mut SolveResult, name: &str, d: &DynamicsOutcome) {
             csv,
         });
     }
+    crate::report::drive::drive_documents(r, d.drive.as_ref(), "carrier");
 }
 
 fn torque_plot(

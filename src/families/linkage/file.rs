@@ -71,6 +71,9 @@ pub struct MechanismRaw {
     /// Mass data of every link, by name (`crank` and the dyads' `links`).
     #[serde(default)]
     pub links: BTreeMap<String, LinkRaw>,
+    /// The drive: motor, flywheel and the coefficient of speed fluctuation to meet
+    /// (`[mechanism.drive]`, the machine as it runs).
+    pub drive: Option<crate::problem::drive::DriveRaw>,
 }
 
 /// The kinds of dyad.
@@ -238,6 +241,8 @@ pub struct LinkageProblem {
     pub scene: LinkageScene,
     /// The exchange loop's settings.
     pub settings: Settings,
+    /// The drive at real speed (`[mechanism.drive]`), if given.
+    pub drive: Option<crate::dynamics::Drive>,
 }
 
 /// Reads and resolves a linkage problem file (its text or its table).
@@ -260,7 +265,17 @@ pub fn resolve_raw(raw: &File) -> Result<LinkageProblem, FieldError> {
         FieldError::new(format!("accuracy.{key}"), format!("{key} {message}"))
     })?;
     check_work(&scene, &settings)?;
-    Ok(LinkageProblem { scene, settings })
+    let drive = raw
+        .mechanism
+        .drive
+        .as_ref()
+        .map(crate::problem::drive::resolve)
+        .transpose()?;
+    Ok(LinkageProblem {
+        scene,
+        settings,
+        drive,
+    })
 }
 
 /// The work budget ([`limits::check_work`]): each SOCP round scans the three fields

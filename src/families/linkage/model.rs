@@ -360,6 +360,21 @@ pub struct Fields {
     pub torque: f64,
 }
 
+/// A linkage's terms for the drive at one crank angle ([`Linkage::drive_terms`]).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct DriveTerms {
+    /// J, the generalised inertia (kg·m²).
+    pub j: f64,
+    /// J' = dJ/dθ (kg·m²).
+    pub dj: f64,
+    /// G = V', the weights' torque on the crank (N·m).
+    pub g: f64,
+    /// Σ m r_G', the momentum per unit crank speed (kg·m).
+    pub momentum: P2,
+    /// Σ m r_G'', its θ-derivative (kg·m).
+    pub momentum_rate: P2,
+}
+
 /// The linear maps of one link's parameters p_i into the fields: F += A p_i, M_O += m p_i,
 /// T += t p_i.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -897,6 +912,36 @@ impl Linkage {
     /// The fields of the bare linkage at θ, moment about `o`.
     pub fn fields(&self, theta: f64, o: P2) -> Result<Fields, NoAssembly> {
         Ok(self.balance_map(&self.pose(theta)?, o).base)
+    }
+
+    /// The machine's terms for the drive at a pose (`crate::dynamics::OneDof`), with `extra`
+    /// added to the links' parameters as in [`BalanceMap::fields`]. Per link, with
+    /// p = (m, u, I_P), R u the first moment in the world and J the rotation by +90°:
+    /// - J(θ) = Σ [m |P'|² + 2 ψ' P'·(J R u) + I_P ψ'²], the generalised inertia
+    ///   Σ (m |r_G'|² + J_G ψ'²);
+    /// - J'(θ) = 2 Σ [m P'·P'' + (E2ᵀ P' − ψ' Rᵀ J P'')·u + I_P ψ' ψ''], twice the inertial
+    ///   part of the torque row over ω² ([`Blocks::torque`]);
+    /// - G(θ) = V' = Σ [−m g·P' + ψ' (Rᵀ J g)·u], the weights' part of it;
+    /// - the momentum and its derivative, Σ m r_G' = Σ (m P' + ψ' J R u) and
+    ///   Σ m r_G'' = Σ (m P'' + E2 u), so that at real speed the shaking force is
+    ///   F = −(ω² Σ m r_G'' + α Σ m r_G').
+    pub fn drive_terms(&self, pose: &Pose, extra: &[(usize, Params)]) -> DriveTerms {
+        let g = self.gravity;
+        let mut t = DriveTerms::default();
+        let own = self.params().into_iter().enumerate();
+        for (i, p) in own.chain(extra.iter().copied()) {
+            let ls = &pose.links[i];
+            let (m, u, ip) = (p[0], P2::new(p[1], p[2]), p[3]);
+            let ru = cmul(ls.e, u);
+            let (p1, p2, w1, w2) = (ls.p[1], ls.p[2], ls.psi[1], ls.psi[2]);
+            let e2u = perp(ru) * w2 - ru * (w1 * w1);
+            t.j += m * p1.norm_squared() + 2.0 * w1 * p1.dot(&perp(ru)) + ip * w1 * w1;
+            t.dj += 2.0 * (m * p1.dot(&p2) + p1.dot(&e2u) + w1 * p2.dot(&perp(ru)) + ip * w1 * w2);
+            t.g += -m * g.dot(&p1) - w1 * g.dot(&perp(ru));
+            t.momentum += p1 * m + perp(ru) * w1;
+            t.momentum_rate += p2 * m + e2u;
+        }
+        t
     }
 
     /// Berkof–Lowen full force balance of a four-bar (a crank and one RRR dyad joining a crank

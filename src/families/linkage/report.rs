@@ -122,6 +122,13 @@ pub fn numbers(_: &Scene, p: &LinkageProblem, sol: &Solved, r: &mut SolveResult)
     }
     berkof_lowen(r, p, sol);
     joint_numbers(r, p, sol);
+    // The drive is the design's where there is one (the bare linkage's otherwise).
+    let peaks = match &out.design {
+        Some(d) if d.status != CwStatus::Infeasible && sol.design_x().is_some() => &d.peaks,
+        _ => &out.bare,
+    };
+    let peak_force = peaks.first().map(|f| f.peak);
+    crate::report::drive::drive_numbers(r, sol.drive.as_ref(), peak_force);
 }
 
 /// No analyses beyond the solution's own documents.
@@ -141,6 +148,7 @@ pub fn documents(scene: &Scene, p: &LinkageProblem, sol: &Solved, r: &mut SolveR
     }
     joint_table(r, p, sol);
     curves(r, scene, p, sol);
+    crate::report::drive::drive_documents(r, sol.drive.as_ref(), "crank");
     linkage_drawing(r, scene, p, sol);
 }
 

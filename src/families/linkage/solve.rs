@@ -6,6 +6,7 @@
 use super::file::{Goal, LinkageProblem, LinkageScene, Objective as ObjectiveSpec};
 use super::model::ForceBalance;
 use super::synth::{self as ls, JointPeak, Outcome};
+use crate::dynamics::{self, Drive, DriveError, DriveFigures};
 use crate::families::driver::Claim;
 use crate::families::family::cw_status;
 use crate::report::Status;
@@ -30,6 +31,9 @@ pub struct Solution {
     pub joints: Result<JointLoads, String>,
     /// A four-bar's full force balance in closed form (Berkof–Lowen), where the linkage is one.
     pub berkof_lowen: Option<ForceBalance>,
+    /// The design's drive (`[mechanism.drive]`; the bare linkage's without a design): `Err`
+    /// says why it could not be computed.
+    pub drive: Option<Result<DriveFigures, String>>,
 }
 
 /// Every joint's peak load over the cycle.
@@ -77,13 +81,37 @@ pub fn solve(p: &LinkageProblem) -> Result<Solution, String> {
         claim.status_detail = None;
         claim.infeasible(shortfalls(p));
     }
+    let x = finite_design(&out);
     Ok(Solution {
         claim,
-        joints: joint_loads(p, finite_design(&out)),
+        joints: joint_loads(p, x),
+        drive: p
+            .drive
+            .as_ref()
+            .map(|d| drive(p, d, x).map_err(|e| e.to_string())),
         out,
         sectors,
         berkof_lowen: sc.linkage.berkof_lowen().ok(),
     })
+}
+
+/// The drive of the design `x` (without one, the bare linkage's): ΔE, the least flywheel for
+/// the file's Cs, the steady state with the file's flywheel (or the least one, or none), and
+/// the shaking force at real speed, F = −(ω² Σ m r_G'' + α Σ m r_G')
+/// ([`crate::families::linkage::model::Linkage::drive_terms`]).
+fn drive(p: &LinkageProblem, d: &Drive, x: Option<&[f64]>) -> Result<DriveFigures, DriveError> {
+    let sc = &p.scene;
+    let lk = &sc.linkage;
+    let extra = x
+        .map(|x| ls::extras(&sc.counterweights, x))
+        .unwrap_or_default();
+    let terms = |th: f64| lk.pose(th).ok().map(|pose| lk.drive_terms(&pose, &extra));
+    let machine = |th: f64| terms(th).map_or([f64::NAN; 3], |t| [t.j, t.dj, t.g]);
+    let set = dynamics::DriveSettings::default();
+    let figures = dynamics::drive(&machine, lk.omega(), d, &set)?;
+    Ok(figures.with_real_speed(&d.motor, |th, w, a| {
+        terms(th).map(|t| (t.momentum_rate * (w * w) + t.momentum * a).norm())
+    }))
 }
 
 /// How far off each peak limit of an infeasible linkage is: the peak force, moment and

@@ -81,109 +81,10 @@ pub struct MechanismRaw {
     pub process_force_table: Option<ForceTableRaw>,
     /// The drive: motor, flywheel and the coefficient of speed fluctuation to meet
     /// (`[mechanism.drive]`, the machine as it runs).
-    pub drive: Option<DriveRaw>,
+    pub drive: Option<crate::problem::drive::DriveRaw>,
     /// The operating envelope: speed band, mass intervals, length tolerances
     /// (`[mechanism.envelope]`).
     pub envelope: Option<EnvelopeRaw>,
-}
-
-/// `[mechanism.drive]`: the machine at real speed (`crate::dynamics`).
-#[derive(Debug, Deserialize, schemars::JsonSchema)]
-#[serde(deny_unknown_fields)]
-pub struct DriveRaw {
-    /// The coefficient of speed fluctuation Cs = (ω_max − ω_min)/ω̄ to meet (dimensionless):
-    /// the least flywheel that meets it is computed, beside the textbook one.
-    pub cs: Option<f64>,
-    /// A flywheel on the crank shaft (kg·m²) for the steady state; without it, the least that
-    /// meets `cs` (or none).
-    pub flywheel: Option<Qty<Inertia>>,
-    /// The motor: `"constant-torque"` (default) or a torque–speed line.
-    pub motor: Option<MotorRaw>,
-}
-
-/// The motor of `[mechanism.drive]`.
-#[derive(Debug, Deserialize, schemars::JsonSchema)]
-#[serde(untagged)]
-pub enum MotorRaw {
-    /// `"constant-torque"`: the mean load, the speed at the nominal `speed`.
-    Kind(MotorKind),
-    /// `{ rated_torque, rated_speed, no_load_speed }`: T_m(ω) = T_r (ω₀ − ω)/(ω₀ − ω_r).
-    Line {
-        /// T_r.
-        rated_torque: Qty<Torque>,
-        /// ω_r.
-        rated_speed: Qty<AngularSpeed>,
-        /// ω₀ (> ω_r).
-        no_load_speed: Qty<AngularSpeed>,
-    },
-}
-
-/// A motor named by its kind.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, schemars::JsonSchema)]
-#[serde(rename_all = "kebab-case")]
-pub enum MotorKind {
-    /// A constant torque.
-    ConstantTorque,
-}
-
-/// The resolved `[mechanism.drive]`.
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
-pub struct Drive {
-    /// Cs to meet, if any.
-    pub cs: Option<f64>,
-    /// The given flywheel (kg·m²), if any.
-    pub flywheel: Option<f64>,
-    /// The motor.
-    pub motor: crate::dynamics::Motor,
-}
-
-/// `[mechanism.drive]`: 0 < cs < 2, a flywheel ≥ 0, a motor line with ω₀ > ω_r > 0 and T_r > 0.
-fn resolve_drive(d: &DriveRaw) -> Result<Drive, FieldError> {
-    use crate::dynamics::Motor;
-    if let Some(cs) = d.cs {
-        if !(cs > 0.0 && cs < 2.0) {
-            return Err(FieldError::new(
-                "mechanism.drive.cs",
-                format!("{cs} is out of range; allowed: 0 < cs < 2 (e.g. 0.02 for a compressor)"),
-            ));
-        }
-    }
-    let flywheel = match d.flywheel {
-        Some(q) if !(q.si() >= 0.0) => {
-            return Err(FieldError::new(
-                "mechanism.drive.flywheel",
-                "allowed: ≥ 0 kg·m²",
-            ))
-        }
-        q => q.map(Qty::si),
-    };
-    let motor = match &d.motor {
-        None | Some(MotorRaw::Kind(MotorKind::ConstantTorque)) => Motor::ConstantTorque,
-        Some(MotorRaw::Line {
-            rated_torque,
-            rated_speed,
-            no_load_speed,
-        }) => {
-            let f = "mechanism.drive.motor";
-            let (t, wr, w0) = (rated_torque.si(), rated_speed.si(), no_load_speed.si());
-            if !(t > 0.0 && wr > 0.0 && w0 > wr) {
-                return Err(FieldError::new(
-                    f,
-                    "allowed: rated_torque > 0, 0 < rated_speed < no_load_speed",
-                ));
-            }
-            Motor::Line {
-                rated_torque: t,
-                rated_speed: wr,
-                no_load_speed: w0,
-            }
-        }
-    };
-    Ok(Drive {
-        cs: d.cs,
-        flywheel,
-        motor,
-    })
 }
 
 /// Where an itemised mass is reduced to.
@@ -430,7 +331,7 @@ pub struct SliderCrankProblem {
     /// Speeds to re-optimise at, if asked for.
     pub speed_sweep: Option<SpeedSweep>,
     /// The drive at real speed (`[mechanism.drive]`), if given.
-    pub drive: Option<Drive>,
+    pub drive: Option<crate::dynamics::Drive>,
 }
 
 /// The paper's printed inputs and output of formula (6) (SI).
@@ -537,7 +438,11 @@ pub fn resolve_raw(raw: &File) -> Result<SliderCrankProblem, FieldError> {
     }
     let speed_sweep = resolve_speed_sweep(o)?;
     check_work(&core, speed_sweep.as_ref())?;
-    let drive = m.drive.as_ref().map(resolve_drive).transpose()?;
+    let drive = m
+        .drive
+        .as_ref()
+        .map(crate::problem::drive::resolve)
+        .transpose()?;
     Ok(SliderCrankProblem {
         core,
         paper,

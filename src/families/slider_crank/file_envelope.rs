@@ -28,6 +28,10 @@ pub struct EnvelopeRaw {
     /// Samples of the Monte Carlo check over the whole box (default 1000; 0: none; at most
     /// 1,000,000).
     pub monte_carlo: Option<usize>,
+    /// The sensitivity table: the optimised worst case's derivative with respect to every
+    /// interval end (4 re-solves per end; default false).
+    #[serde(default)]
+    pub sensitivities: bool,
 }
 
 /// `speed = { min, max }`.
@@ -125,6 +129,7 @@ pub fn resolve_envelope(
         masses,
         lengths,
         monte_carlo,
+        sensitivities: e.sensitivities,
     };
     let k = env.names().len();
     if k > MAX_PARAMETERS {

@@ -2,7 +2,6 @@
 //! (`synth`), its result and plots (`report`) and its study
 //! ladder and left-out effects (`study`), behind the `Family` and `Machine` traits.
 
-mod drive_report;
 pub mod file;
 pub mod file_envelope;
 pub mod model;

@@ -77,8 +77,8 @@ pub fn numbers(_: &Scene, p: &SliderCrankProblem, sol: &Solution, r: &mut SolveR
     r.objectives = number_map(&objectives(out));
     r.errors = number_map(&errors(s, out));
     r.derived = number_map(&derived);
-    super::drive_report::drive_numbers(r, sol);
-    envelope_numbers(r, out);
+    crate::report::drive::drive_numbers(r, sol.drive.as_ref(), Some(sol.out.design.peak));
+    envelope_numbers(r, out, sol.sensitivities.as_ref());
     if let Some((pts, warnings)) = &sol.sweep {
         r.warnings.extend(warnings.iter().cloned());
         r.extra.insert(
@@ -300,6 +300,7 @@ pub fn documents(scene: &Scene, p: &SliderCrankProblem, sol: &Solution, r: &mut 
     balancer_table(r, sol);
     joint_load_table(r, &p.core, out);
     envelope_table(r, out);
+    sensitivity_table(r, sol.sensitivities.as_ref());
     if out.joint_loads.is_some() {
         let (name, out) = (scene.name.clone(), out.clone());
         r.plots.push(Plot::new(
@@ -320,7 +321,7 @@ pub fn documents(scene: &Scene, p: &SliderCrankProblem, sol: &Solution, r: &mut 
         design.counterweight_angle_rad,
     );
     mechanism_drawing(r, scene, &p.core.mech, design);
-    super::drive_report::drive_documents(r, sol);
+    crate::report::drive::drive_documents(r, sol.drive.as_ref(), "crank");
     let (scene, s, out) = (scene.clone(), p.core.clone(), out.clone());
     let label = sol.claim.status.design_label();
     r.plots.push(Plot::new(
@@ -332,12 +333,23 @@ pub fn documents(scene: &Scene, p: &SliderCrankProblem, sol: &Solution, r: &mut 
 
 /// The operating envelope (`envelope`): the vertices, the worst cases and the quasi-Monte
 /// Carlo check; a warning where a sample beats the vertices' worst case.
-fn envelope_numbers(r: &mut SolveResult, out: &sc::Outcome) {
+fn envelope_numbers(
+    r: &mut SolveResult,
+    out: &sc::Outcome,
+    sensitivities: Option<&Result<Vec<sc::Sensitivity>, String>>,
+) {
     let Some(e) = &out.envelope else { return };
-    r.extra.insert(
-        "envelope".into(),
-        serde_json::to_value(e).expect("plain data"),
-    );
+    let mut json = serde_json::to_value(e).expect("plain data");
+    match sensitivities {
+        Some(Ok(rows)) => {
+            json["sensitivities"] = serde_json::to_value(rows).expect("plain data");
+        }
+        Some(Err(why)) => r.warnings.push(format!(
+            "the envelope's sensitivities could not be computed: {why}"
+        )),
+        None => {}
+    }
+    r.extra.insert("envelope".into(), json);
     if let Some(mc) = e.monte_carlo.as_ref().filter(|m| m.beyond_worst_case > 0) {
         r.warnings.push(format!(
             "{} of {} quasi-Monte Carlo samples of the envelope exceed the vertices' worst case beyond its error{}",
@@ -350,6 +362,27 @@ fn envelope_numbers(r: &mut SolveResult, out: &sc::Outcome) {
             }
         ));
     }
+}
+
+/// The sensitivity table as `<name>-envelope-sensitivity.csv`.
+fn sensitivity_table(r: &mut SolveResult, rows: Option<&Result<Vec<sc::Sensitivity>, String>>) {
+    let Some(Ok(rows)) = rows else { return };
+    let mut csv = String::from("parameter,end,at_si,derivative,derivative_error\n");
+    for x in rows {
+        let end = match x.end {
+            sc::End::Min => "min",
+            sc::End::Max => "max",
+        };
+        csv += &format!(
+            "{},{end},{},{},{}\n",
+            x.parameter, x.at, x.derivative, x.error
+        );
+    }
+    r.tables.push(Table {
+        suffix: "envelope-sensitivity".into(),
+        caption: "What each interval end costs: the optimised worst case's derivative with respect to it (the objective's unit per rad/s, kg or m)".into(),
+        csv,
+    });
 }
 
 /// The design at every scenario of the envelope as `<name>-envelope.csv`.

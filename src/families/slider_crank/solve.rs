@@ -3,9 +3,9 @@
 //! scene at every speed — every number the result reports, computed here and nowhere in
 //! `report.rs`.
 
-use super::file::{Drive, SliderCrankProblem};
+use super::file::SliderCrankProblem;
 use super::synth::{self as sc, Metrics, SweepPoint};
-use crate::dynamics;
+use crate::dynamics::{self, Drive, DriveError, DriveFigures};
 use crate::families::driver::Claim;
 use crate::families::family::cw_status;
 use crate::geom::P2;
@@ -37,74 +37,15 @@ pub struct Solution {
     pub sweep: Option<(Vec<SweepPoint>, Vec<String>)>,
     /// The design's drive (`[mechanism.drive]`): `Err` says why it could not be computed.
     pub drive: Option<Result<DriveFigures, String>>,
-}
-
-/// The design's drive, at constant speed and at real speed.
-#[derive(Debug, Clone)]
-pub struct DriveFigures {
-    /// T̄, the energy curve and ΔE at the nominal speed.
-    pub constant: dynamics::ConstantSpeed,
-    /// The least flywheel for `cs`, with the textbook one (with `cs`).
-    pub flywheel: Option<dynamics::Flywheel>,
-    /// The periodic steady state with the given flywheel, else the least one, else none.
-    pub steady: dynamics::SteadyState,
-    /// The peaks at real speed, in that steady state (`None` with balancers).
-    pub real: Option<RealSpeed>,
-}
-
-/// The design's peaks at real speed: the steady state's ω(φ) and α(φ) in the accelerations.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct RealSpeed {
-    /// max |F| over the steady state's nodes (N).
-    pub peak_force: f64,
-    /// Its error bound (N): the change from every other node, plus the speeds' error.
-    pub peak_force_error: f64,
-    /// Its crank angle (rad).
-    pub peak_force_angle: f64,
-    /// max |T_m(ω) − I_f α|, the torque the crank shaft carries between the flywheel and the
-    /// mechanism (N·m).
-    pub peak_shaft_torque: f64,
-}
-
-/// The real-speed peaks of the design U = `u` in the steady state `st` with the motor
-/// `motor` and the mean load `mean`.
-fn real_speed(
-    s: &sc::Scene,
-    u: P2,
-    st: &dynamics::SteadyState,
-    motor: &dynamics::Motor,
-    mean: f64,
-) -> Option<RealSpeed> {
-    let forces: Vec<(f64, f64)> = st
-        .curve
-        .iter()
-        .map(|&[phi, w, a]| sc::real_speed_force(s, u, phi, w, a).map(|f| (f.norm(), phi)))
-        .collect::<Option<_>>()?;
-    let peak = |step: usize| {
-        forces.iter().step_by(step).fold(
-            (0.0_f64, 0.0),
-            |b, &(f, p)| if f > b.0 { (f, p) } else { b },
-        )
-    };
-    let (fine, coarse) = (peak(1), peak(2));
-    // F scales as ω²: the speeds' error δω adds 2 δω/ω of it.
-    let speed_err = 2.0 * st.omega_error / st.omega_min * fine.0;
-    let shaft = st
-        .curve
-        .iter()
-        .map(|&[_, w, a]| (motor.torque(w, mean) - st.flywheel * a).abs())
-        .fold(0.0, f64::max);
-    Some(RealSpeed {
-        peak_force: fine.0,
-        peak_force_error: (fine.0 - coarse.0).abs() + speed_err,
-        peak_force_angle: fine.1,
-        peak_shaft_torque: shaft,
-    })
+    /// The envelope's sensitivity table (`[mechanism.envelope] sensitivities = true`): `Err`
+    /// says why it could not be computed.
+    pub sensitivities: Option<Result<Vec<sc::Sensitivity>, String>>,
 }
 
 /// The drive of the design U = `u`: ΔE, the least flywheel for the file's Cs, the steady
-/// state with the file's flywheel (or the least one, or none).
-fn drive(p: &SliderCrankProblem, out: &sc::Outcome, d: &Drive) -> Result<DriveFigures, String> {
+/// state with the file's flywheel (or the least one, or none), and the shaking force at
+/// real speed (without balancers).
+fn drive(p: &SliderCrankProblem, out: &sc::Outcome, d: &Drive) -> Result<DriveFigures, DriveError> {
     let s = &out.designed;
     let u = P2::from(out.design.unbalance);
     let cw = &out.counterweight;
@@ -114,26 +55,11 @@ fn drive(p: &SliderCrankProblem, out: &sc::Outcome, d: &Drive) -> Result<DriveFi
     };
     let m = sc::machine(s, u, j_c);
     let set = dynamics::DriveSettings::default();
-    let e = |e: dynamics::DriveError| e.to_string();
-    let constant = dynamics::constant_speed(&m, p.core.omega, &set).map_err(e)?;
-    let flywheel =
-        d.cs.map(|cs| dynamics::least_flywheel(&m, &d.motor, &constant, cs, &set))
-            .transpose()
-            .map_err(e)?;
-    let steady = match (d.flywheel, &flywheel) {
-        (None, Some(f)) => f.steady.clone(),
-        (given, _) => {
-            dynamics::steady_state(&m, &d.motor, given.unwrap_or(0.0), p.core.omega, &set)
-                .map_err(e)?
-        }
-    };
-    let real = real_speed(s, u, &steady, &d.motor, constant.mean_torque);
-    Ok(DriveFigures {
-        constant,
-        flywheel,
-        steady,
-        real,
-    })
+    Ok(
+        dynamics::drive(&m, p.core.omega, d, &set)?.with_real_speed(&d.motor, |phi, w, a| {
+            sc::real_speed_force(s, u, phi, w, a).map(|f| f.norm())
+        }),
+    )
 }
 
 impl Solution {
@@ -171,6 +97,7 @@ pub fn solve(p: &SliderCrankProblem) -> Result<Solution, String> {
         paper_counterweight: None,
         sweep: None,
         drive: None,
+        sensitivities: None,
     };
     // The paper's counterweight m at the lever radius r: U = (−m r, 0).
     let printed = p.paper.as_ref().and_then(|pd| pd.counterweight_mass);
@@ -185,7 +112,10 @@ pub fn solve(p: &SliderCrankProblem) -> Result<Solution, String> {
         sol.sweep = Some(sc::speed_sweep(s, sw, sol.unbalance()));
     }
     if let Some(d) = &p.drive {
-        sol.drive = Some(drive(p, &sol.out, d));
+        sol.drive = Some(drive(p, &sol.out, d).map_err(|e| e.to_string()));
+    }
+    if s.envelope.sensitivities {
+        sol.sensitivities = Some(sc::sensitivities(s).map_err(|e| e.to_string()));
     }
     Ok(sol)
 }

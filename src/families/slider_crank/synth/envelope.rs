@@ -71,6 +71,8 @@ pub struct Envelope {
     pub lengths: Vec<LengthRange>,
     /// Monte Carlo samples of the check (0: none).
     pub monte_carlo: usize,
+    /// Whether the result carries the sensitivity table (`super::sensitivity`).
+    pub sensitivities: bool,
 }
 
 /// Most interval parameters of an envelope: 2^10 = 1024 vertices.

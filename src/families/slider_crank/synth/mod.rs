@@ -28,6 +28,7 @@ mod realise;
 mod round_off;
 mod scenarios;
 mod scene;
+mod sensitivity;
 mod solve;
 mod sweep;
 
@@ -50,5 +51,6 @@ pub use scenarios::Scenario;
 pub use scene::{
     paper_piston, BalancerSpec, CounterweightSpec, LoadLimits, Objective, Prefer, Scene, SolveError,
 };
+pub use sensitivity::{sensitivities, End, Sensitivity};
 pub use solve::solve;
 pub use sweep::{pareto, speed_sweep, SpeedSweep, SweepPoint};

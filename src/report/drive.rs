@@ -1,8 +1,9 @@
-//! The slider-crank's drive in its result (`[mechanism.drive]`, issue 33): the figures of
-//! [`super::solve::DriveFigures`] in `derived`, the table of the turn (`<name>-drive.csv`)
-//! and the turning-moment and speed plot. It draws; `solve.rs` computed every number.
+//! A machine's drive in its result (`[mechanism.drive]`, issue 33), for every family with a
+//! drive torque: the figures of [`DriveFigures`] in `derived`, the tables of the turn
+//! (`<name>-drive.csv`, `<name>-steady-state.csv`) and the turning-moment and speed plot. It
+//! draws; the family's solve computed every number.
 
-use super::solve::{DriveFigures, Solution};
+use crate::dynamics::DriveFigures;
 use crate::report::plot::{self, Panel, PlotError, Series};
 use crate::report::{number_map, Plot, SolveResult, Table};
 
@@ -11,6 +12,8 @@ use crate::report::{number_map, Plot, SolveResult, Table};
 struct DriveNumbers {
     /// T̄, the mean drive torque at the nominal speed (N·m).
     drive_mean_torque_nm: f64,
+    /// Bound on its error (N·m).
+    drive_mean_torque_error_nm: f64,
     /// ΔE = max E − min E of the energy curve E = ∫ (T − T̄) dφ at the nominal speed (J).
     energy_fluctuation_j: f64,
     /// Bound on the error of ΔE (J).
@@ -47,9 +50,15 @@ struct DriveNumbers {
     steady_peak_shaft_torque_nm: Option<f64>,
 }
 
-/// The drive's numbers in `derived`, or its error as a warning.
-pub fn drive_numbers(r: &mut SolveResult, sol: &Solution) {
-    let d = match &sol.drive {
+/// The drive's numbers in `derived`, or its error as a warning; `peak_force` is the
+/// design's peak shaking force at constant speed (N), which the real-speed peak is compared
+/// with.
+pub fn drive_numbers(
+    r: &mut SolveResult,
+    drive: Option<&Result<DriveFigures, String>>,
+    peak_force: Option<f64>,
+) {
+    let d = match drive {
         None => return,
         Some(Err(why)) => {
             r.warnings
@@ -61,6 +70,7 @@ pub fn drive_numbers(r: &mut SolveResult, sol: &Solution) {
     let (c, st, f) = (&d.constant, &d.steady, d.flywheel.as_ref());
     r.derived.extend(number_map(&DriveNumbers {
         drive_mean_torque_nm: c.mean_torque,
+        drive_mean_torque_error_nm: c.mean_torque_error,
         energy_fluctuation_j: c.energy_fluctuation,
         energy_fluctuation_error_j: c.energy_fluctuation_error,
         flywheel_textbook_kgm2: f.map(|f| f.textbook),
@@ -78,15 +88,24 @@ pub fn drive_numbers(r: &mut SolveResult, sol: &Solution) {
         steady_peak_shaking_force_error_n: d.real.map(|x| x.peak_force_error),
         steady_peak_shaking_force_change_pct: d
             .real
-            .map(|x| 100.0 * (x.peak_force - sol.out.design.peak) / sol.out.design.peak),
+            .zip(peak_force)
+            .map(|(x, p)| 100.0 * (x.peak_force - p) / p),
         steady_peak_shaft_torque_nm: d.real.map(|x| x.peak_shaft_torque),
     }));
 }
 
 /// The drive's table and plot: the turn at constant speed (T, E) and at real speed (ω, α).
-pub fn drive_documents(r: &mut SolveResult, sol: &Solution) {
-    let Some(Ok(d)) = &sol.drive else { return };
-    let mut csv = String::from("crank_angle_deg,drive_torque_nm,energy_j\n");
+/// `angle` names the input angle in the CSV columns and the plot (e.g. `"crank"`).
+pub fn drive_documents(
+    r: &mut SolveResult,
+    drive: Option<&Result<DriveFigures, String>>,
+    angle: &'static str,
+) {
+    let Some(Ok(d)) = drive else { return };
+    let mut d = d.clone();
+    d.constant.curve = thin(&d.constant.curve);
+    d.steady.curve = thin(&d.steady.curve);
+    let mut csv = format!("{angle}_angle_deg,drive_torque_nm,energy_j\n");
     for [p, t, e] in &d.constant.curve {
         csv += &format!("{},{},{}\n", p.to_degrees(), t, e);
     }
@@ -96,26 +115,46 @@ pub fn drive_documents(r: &mut SolveResult, sol: &Solution) {
             .into(),
         csv,
     });
-    let mut csv = String::from("crank_angle_deg,speed_rad_s,angular_acceleration_rad_s2\n");
+    let mut csv = format!("{angle}_angle_deg,speed_rad_s,angular_acceleration_rad_s2\n");
     for [p, w, a] in &d.steady.curve {
         csv += &format!("{},{},{}\n", p.to_degrees(), w, a);
     }
     r.tables.push(Table {
         suffix: "steady-state".into(),
-        caption: "The periodic steady state at real speed: crank speed ω and acceleration α".into(),
+        caption: format!(
+            "The periodic steady state at real speed: {angle} speed ω and acceleration α"
+        ),
         csv,
     });
-    let d = d.clone();
     r.plots.push(Plot::new(
         "drive",
         "Turning-moment diagram, energy fluctuation and the speed over a turn",
-        move || drive_plot(&d),
+        move || drive_plot(&d, angle),
     ));
 }
 
-/// Three panels over the crank angle: T with T̄; E with its extremes marked (ΔE between them);
+/// `word` with its first letter in upper case ("crank" → "Crank").
+fn capitalised(word: &str) -> String {
+    let mut c = word.chars();
+    c.next()
+        .map(|f| f.to_uppercase().chain(c).collect())
+        .unwrap_or_default()
+}
+
+/// Most rows of a curve in the tables and plots: a grid that had to be finer (a load with
+/// kinks, such as a compressor's valve events) is shown at every 2ᵏ-th node.
+const MAX_ROWS: usize = 4096;
+
+/// Every 2ᵏ-th point of `v`, the least k that leaves at most `MAX_ROWS` + 1 (a closed curve's
+/// last point, at 2π, is kept).
+fn thin(v: &[[f64; 3]]) -> Vec<[f64; 3]> {
+    let k = v.len().div_ceil(MAX_ROWS + 1).next_power_of_two();
+    v.iter().step_by(k).copied().collect()
+}
+
+/// Three panels over the input angle: T with T̄; E with its extremes marked (ΔE between them);
 /// ω at real speed with ω_min, ω_max and the mean.
-fn drive_plot(d: &DriveFigures) -> Result<String, PlotError> {
+fn drive_plot(d: &DriveFigures, angle: &str) -> Result<String, PlotError> {
     let (c, st) = (&d.constant, &d.steady);
     let deg = |p: f64| p.to_degrees();
     let curve = |k: usize| {
@@ -147,7 +186,7 @@ fn drive_plot(d: &DriveFigures) -> Result<String, PlotError> {
                     "Drive torque at constant speed, T̄ = {} N·m",
                     plot::tick(&t_bar)
                 ),
-                x_label: "crank angle φ (°)".into(),
+                x_label: format!("{angle} angle φ (°)"),
                 y_label: "T (N·m)".into(),
                 series: vec![
                     Series::line("T(φ)", curve(1)),
@@ -157,7 +196,7 @@ fn drive_plot(d: &DriveFigures) -> Result<String, PlotError> {
             },
             Panel {
                 title: format!("Energy curve: ΔE = {} J", plot::tick(&c.energy_fluctuation)),
-                x_label: "crank angle φ (°)".into(),
+                x_label: format!("{angle} angle φ (°)"),
                 y_label: "E (J)".into(),
                 series: vec![
                     Series::line("E(φ) = ∫ (T − T̄) dφ", curve(2)),
@@ -168,11 +207,12 @@ fn drive_plot(d: &DriveFigures) -> Result<String, PlotError> {
             },
             Panel {
                 title: format!(
-                    "Crank speed at real speed, flywheel {} kg·m²: Cs = {}",
+                    "{} speed at real speed, flywheel {} kg·m²: Cs = {}",
+                    capitalised(angle),
                     plot::tick(&st.flywheel),
                     plot::tick(&st.cs)
                 ),
-                x_label: "crank angle φ (°)".into(),
+                x_label: format!("{angle} angle φ (°)"),
                 y_label: "ω (rad/s)".into(),
                 series: vec![
                     Series::line("ω(φ)", speed),

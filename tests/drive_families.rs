@@ -1,0 +1,130 @@
+//! The drive (`[mechanism.drive]`, issue 33) in the hypocycloid and the linkage families,
+//! against independent evaluations: ΔE against a Simpson quadrature of the linkage's own
+//! input-torque field at the design, and a trapezoid quadrature of the hypocycloid's drive
+//! torque table (a separate code path: `balance::torque_outcome`); T̄ against the families'
+//! mean torques; the least flywheel meeting Cs. The dynamics core (steady state against a
+//! Dormand–Prince integration) is checked in `tests/drive.rs`, the linkage's J, J′ and G in
+//! `tests/linkage_model.rs`.
+
+use crate::common::{problem, set_key, simpson_delta_e};
+use cwsynth::families::linkage::file::LinkageProblem;
+use cwsynth::families::linkage::synth as ls;
+use cwsynth::families::{load, parse_str, solve_scene};
+use cwsynth::report::Status;
+use std::f64::consts::TAU;
+use std::path::Path;
+
+/// The least flywheel of a result meets its Cs (within its error), differs from the
+/// textbook one, and the steady state is the least flywheel's.
+fn meets_cs(d: &std::collections::BTreeMap<String, f64>, cs: f64) {
+    let (least, book) = (d["flywheel_least_kgm2"], d["flywheel_textbook_kgm2"]);
+    assert!(least > 0.0 && book > 0.0, "{least} {book}");
+    assert!((least - book).abs() > 1e-6 * book, "{least} {book}");
+    assert!(
+        (d["steady_cs"] - cs).abs() <= 1e-9 + d["steady_cs_error"],
+        "Cs {} ± {}",
+        d["steady_cs"],
+        d["steady_cs_error"]
+    );
+    assert_eq!(d["steady_flywheel_kgm2"], least);
+}
+
+#[test]
+fn the_linkage_press_drive_matches_a_quadrature_of_its_input_torque() {
+    let path = problem("linkage-sixbar-press-flywheel.toml");
+    let s = load(&path).unwrap();
+    let mut r = solve_scene(&s);
+    assert_eq!(r.status, Status::Optimal, "{:?}", r.warnings);
+    r.complete();
+    let p: &LinkageProblem = s.machine().unwrap();
+    let out = ls::solve(&p.scene, &p.settings).unwrap();
+    let x = out.design.unwrap().x;
+    let extra = ls::extras(&p.scene.counterweights, &x);
+    let l = &p.scene.linkage;
+    let torque = |t: f64| {
+        let pose = l.pose(t).unwrap();
+        l.balance_map(&pose, p.scene.moment_about)
+            .fields(&extra)
+            .torque
+    };
+    let d = &r.derived;
+    // Simpson's nodes miss the extremes by up to half a step: 1e-7 is its own limit.
+    let q = simpson_delta_e(&torque, 20_000);
+    let de = d["energy_fluctuation_j"];
+    assert!(
+        (de - q).abs() < 1e-7 * de + d["energy_fluctuation_error_j"],
+        "ΔE {de} vs Simpson {q}"
+    );
+    // Weights and inertia only: no net work over a turn.
+    let tmax = (0..360)
+        .map(|k| torque(k as f64 * TAU / 360.0).abs())
+        .fold(0.0, f64::max);
+    assert!(d["drive_mean_torque_nm"].abs() < 1e-9 * tmax);
+    meets_cs(d, 0.05);
+    // At real speed the peak force moves, and it is stated beside the constant-speed one.
+    assert!(d["steady_peak_shaking_force_n"] > 0.0);
+    assert!(d.contains_key("steady_peak_shaking_force_change_pct"));
+    for suffix in ["drive", "steady-state"] {
+        assert!(r.tables.iter().any(|t| t.suffix == suffix), "{suffix}");
+    }
+    assert!(r.plots.iter().any(|p| p.suffix == "drive"));
+}
+
+#[test]
+fn the_compressor_drive_matches_its_torque_table_and_meets_cs() {
+    let base = std::fs::read_to_string(problem("hypocycloid-compressor.toml")).unwrap();
+    // A fine torque table for the independent quadrature.
+    let text = set_key(&base, "accuracy.plot_samples", "40001");
+    let mut r = solve_scene(&parse_str(&text, Path::new("c.toml")).unwrap());
+    r.complete();
+    assert!(r.warnings.is_empty(), "{:?} {:?}", r.status, r.warnings);
+    let d = &r.derived;
+    let csv = &r.tables.iter().find(|t| t.suffix == "torque").unwrap().csv;
+    let rows: Vec<(f64, f64)> = csv
+        .lines()
+        .skip(1)
+        .map(|l| {
+            let v: Vec<f64> = l.split(',').map(|x| x.parse().unwrap_or(0.0)).collect();
+            (v[0], v[3])
+        })
+        .collect();
+    // Trapezoid on the table (0..2π, both ends): the mean, then E and ΔE.
+    let n = rows.len() - 1;
+    let h = TAU / n as f64;
+    let mean = rows
+        .windows(2)
+        .map(|w| 0.5 * (w[0].1 + w[1].1))
+        .sum::<f64>()
+        / n as f64;
+    let (mut e, mut hi, mut lo) = (0.0_f64, 0.0_f64, 0.0_f64);
+    for w in rows.windows(2) {
+        e += h * (0.5 * (w[0].1 + w[1].1) - mean);
+        hi = hi.max(e);
+        lo = lo.min(e);
+    }
+    let (de, q) = (d["energy_fluctuation_j"], hi - lo);
+    // The trapezoid's own error on a table of 40000 steps with the valve kinks: ~1e-6.
+    let tol = 1e-5 * de + d["energy_fluctuation_error_j"];
+    assert!((de - q).abs() < tol, "ΔE {de} vs trapezoid {q}");
+    assert!(
+        (d["drive_mean_torque_nm"] - d["drive_torque_mean_nm"]).abs()
+            <= d["drive_mean_torque_error_nm"] + d["drive_torque_mean_error_nm"],
+        "{} vs {}",
+        d["drive_mean_torque_nm"],
+        d["drive_torque_mean_nm"]
+    );
+    // The kinks cost digits, and the bound says so: T̄ to ~1e-5 relative.
+    assert!(d["drive_mean_torque_error_nm"] < 1e-4 * d["drive_torque_mean_nm"]);
+    meets_cs(d, 0.02);
+    // The motor line carries the mean load a little below its 1500 rpm no-load speed.
+    let mean_rpm = d["steady_omega_mean_rad_s"] * 60.0 / TAU;
+    assert!(mean_rpm > 1430.0 && mean_rpm < 1500.0, "{mean_rpm}");
+    let steady = &r
+        .tables
+        .iter()
+        .find(|t| t.suffix == "steady-state")
+        .unwrap()
+        .csv;
+    assert!(steady.starts_with("carrier_angle_deg,"));
+    assert!(steady.lines().count() <= 4098);
+}
