@@ -645,9 +645,17 @@ fn steady_on<'g>(
                 TAU / (h * inv)
             };
             let jmax = grid.j.iter().cloned().fold(0.0, f64::max) + flywheel;
-            let mut hi = 0.5 * jmax * omega_nominal * omega_nominal + wmin.abs() * 2.0;
+            // From a positive start (ω̄² can underflow to 0 with W ≡ 0: a tiny speed), up by
+            // fours until the mean speed is reached; a bracket beyond f64 is no steady state.
+            let mut hi = (0.5 * jmax * omega_nominal * omega_nominal + wmin.abs() * 2.0)
+                .max(f64::MIN_POSITIVE);
             while mean_speed(hi) < omega_nominal {
                 hi *= 4.0;
+                if !hi.is_finite() {
+                    return Err(DriveError::Stalls(format!(
+                        "no constant-torque steady state reaches the mean speed {omega_nominal:e} rad/s"
+                    )));
+                }
             }
             let lo = -wmin + 1e-300;
             let f = |y0: f64| mean_speed(y0) - omega_nominal;

@@ -41,7 +41,7 @@ pub struct Root {
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum SearchError {
     /// `f(a)` and `f(b)` have the same sign: there is no bracket.
-    #[error("no sign change on [{a}, {b}]: f(a) = {fa}, f(b) = {fb}")]
+    #[error("no sign change on [{a:e}, {b:e}]: f(a) = {fa:e}, f(b) = {fb:e}")]
     NotBracketed { a: f64, b: f64, fa: f64, fb: f64 },
     /// The function returned NaN or an infinity inside the interval.
     #[error("the function is not finite at x = {x}")]

@@ -490,6 +490,63 @@ fn virtual_work_torque_equals_newton_euler() {
     }
 }
 
+/// Process loads (a force at a point of the last link, over a window of the turn): the input
+/// torque gains −F·X′ with X′ from central differences of the point's position (virtual
+/// work), Newton–Euler with the load on its link gives the same torque, the reaction map's
+/// base is the reactions of the own parameters, the shaking force does not change, and the
+/// drive's G carries the load too.
+#[test]
+fn process_loads_enter_the_torque_by_virtual_work_and_the_joint_loads() {
+    use cwsynth::families::linkage::model::ProcessLoad;
+    let h = 1e-6;
+    for (name, l0) in fixtures() {
+        let last = l0.n_links() - 1;
+        let at = P2::new(0.013, -0.007);
+        let load = ProcessLoad {
+            link: last,
+            at,
+            direction: P2::new(0.6, 0.8),
+            table: vec![(0.5, 0.0), (1.5, 900.0), (2.5, 400.0), (4.0, 0.0)],
+        };
+        let l = with_gravity(&l0, P2::new(0.0, -9.81))
+            .with_loads(vec![load.clone()])
+            .unwrap();
+        let bare = with_gravity(&l0, P2::new(0.0, -9.81));
+        let params = l.params();
+        for t in angles(17, 30) {
+            let pose = l.pose(t).unwrap();
+            let x = |t: f64| l.pose(t).unwrap().links[last].point(at)[0];
+            let dx = (x(t + h) - x(t - h)) / (2.0 * h);
+            let want = -load.force(t).dot(&dx);
+            let map = l.balance_map(&pose, P2::zeros());
+            let map0 = bare.balance_map(&pose, P2::zeros());
+            let scale = map.load_scale + map0.base.torque.abs() + 1.0;
+            assert!(
+                (map.base.torque - map0.base.torque - want).abs() < 1e-6 * scale,
+                "{name} at {t}: {} vs {want}",
+                map.base.torque - map0.base.torque
+            );
+            assert_eq!(map.base.force, map0.base.force, "{name}");
+            let ne = l.reactions(&pose, &params).unwrap();
+            assert!(
+                (ne.torque - map.base.torque).abs() < 1e-9 * scale,
+                "{name} at {t}: NE {} vs energy {}",
+                ne.torque,
+                map.base.torque
+            );
+            let rm = l.reaction_map(&pose).unwrap();
+            for (j, ld) in ne.loads.iter().enumerate() {
+                for (c, v) in ld.iter().enumerate() {
+                    assert!((rm.base[2 * j + c] - v).abs() < 1e-9 * (v.abs() + 1.0));
+                }
+            }
+            let d = l.drive_terms(&pose, &[]);
+            let d0 = bare.drive_terms(&pose, &[]);
+            assert!((d.g - d0.g - map.load_torque).abs() < 1e-12 * scale);
+        }
+    }
+}
+
 /// Without gravity the pins and slides on the frame carry exactly the shaking force, and
 /// their moment minus the motor's reaction −T is the shaking moment.
 #[test]

@@ -23,7 +23,9 @@
 //!   UTF-8, too deep) or too large may lack one; a duplicated key names the key.
 //!
 //! The tallies of every kind of failure are printed before the assertion, so a run on an
-//! older build is the table (`cargo test --test integration mutants:: -- --nocapture`).
+//! older build is the table (`cargo test --test integration mutants:: -- --nocapture`);
+//! with `MUTANTS_TIMES=1` also the time spent on each file's mutants (what to look at when
+//! this test, the longest of the suite, grows).
 
 use crate::common;
 
@@ -641,6 +643,18 @@ fn mutants_of_every_shipped_problem_file() {
         slowest.2.as_secs_f64(),
         all[slowest.0].what
     );
+    if std::env::var_os("MUTANTS_TIMES").is_some() {
+        let mut per: BTreeMap<String, f64> = BTreeMap::new();
+        for (i, _, dt) in &results {
+            let file = all[*i].what.split(':').next().unwrap_or("").to_string();
+            *per.entry(file).or_default() += dt.as_secs_f64();
+        }
+        let mut v: Vec<_> = per.into_iter().collect();
+        v.sort_by(|a, b| b.1.total_cmp(&a.1));
+        for (f, t) in v.iter().take(12) {
+            println!("  {t:8.2} s  {f}");
+        }
+    }
     for (kind, v) in &tally {
         println!("{kind:?}: {}", v.len());
         for m in v.iter().take(if std::env::var_os("MUTANTS_ALL").is_some() {

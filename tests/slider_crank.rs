@@ -632,3 +632,42 @@ fn auto_scan_matches_brute_force_from_ordinary_to_near_toggle_machines() {
     }
     assert_eq!(last_n, 360, "near the toggle the scan keeps the former 360");
 }
+
+/// The cycle table (`<name>-cycle.csv`, issue 34): one row per degree, the design's |F| and
+/// torque never above their certified peaks (beyond the errors) and within the 1° grid's
+/// reach of them, the bare machine's |F| likewise against the `none` baseline, the force
+/// columns consistent with |F|, and the moment unchanged by a crank counterweight.
+#[test]
+fn the_cycle_table_follows_the_peaks_of_the_result() {
+    let s = cwsynth::families::load(&crate::common::problem("felling-head-150rpm.toml")).unwrap();
+    let mut r = cwsynth::families::solve_scene(&s);
+    r.complete();
+    let csv = &r.tables.iter().find(|t| t.suffix == "cycle").unwrap().csv;
+    let rows: Vec<Vec<f64>> = csv
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').map(|x| x.parse().unwrap()).collect())
+        .collect();
+    assert_eq!(rows.len(), 361);
+    let max = |c: usize| rows.iter().map(|r| r[c].abs()).fold(0.0, f64::max);
+    let near = |grid: f64, peak: f64, err: f64| grid <= peak + err && grid >= peak * (1.0 - 1e-3);
+    let o = &r.objectives;
+    let e = &r.errors;
+    assert!(near(
+        max(8),
+        o["peak_shaking_force_n"],
+        e["peak_shaking_force_n"]
+    ));
+    assert!(near(
+        max(9),
+        o["peak_drive_torque_nm"],
+        e["peak_drive_torque_nm"]
+    ));
+    let bare = r.lookup("baselines.none.peak_shaking_force_n").unwrap();
+    assert!(near(max(3), bare, 1e-9 * bare), "{} vs {bare}", max(3));
+    for row in &rows {
+        assert!((row[1].hypot(row[2]) - row[3]).abs() <= 1e-12 * row[3].max(1.0));
+        assert!((row[6].hypot(row[7]) - row[8]).abs() <= 1e-12 * row[8].max(1.0));
+        assert_eq!(row[5], row[10]);
+    }
+}

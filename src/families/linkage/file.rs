@@ -74,6 +74,11 @@ pub struct MechanismRaw {
     /// The drive: motor, flywheel and the coefficient of speed fluctuation to meet
     /// (`[mechanism.drive]`, the machine as it runs).
     pub drive: Option<crate::problem::drive::DriveRaw>,
+    /// Process forces on points of links (a press's pressing force): they enter the input
+    /// torque, the drive and the joint loads, not the shaking force.
+    #[serde(default)]
+    #[schemars(length(max = super::file_loads::MAX_LOADS))]
+    pub loads: Vec<super::file_loads::LoadRaw>,
 }
 
 /// The kinds of dyad.
@@ -819,7 +824,11 @@ pub fn resolve_scene(
         .unwrap_or(0.0);
     let (dyads, names) = dyads(m, crank_length)?;
     let inertia = inertias(m, &names, &dyads, crank_length)?;
+    let loads = super::file_loads::resolve_loads(&m.loads, &|key: &str, v: &toml::Value| {
+        point(key, v, &names, &dyads, crank_length)
+    })?;
     let linkage = Linkage::new(pivot, dyads, inertia, omega, P2::new(0.0, -g))
+        .and_then(|l| l.with_loads(loads))
         .map_err(|e| FieldError::new("mechanism", e.to_string()))?;
     check_full_turn(&linkage)?;
     let counterweights = counterweights(design, &names, crank_length)?;

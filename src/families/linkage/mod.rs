@@ -1,10 +1,11 @@
 //! Any one-degree-of-freedom planar linkage, whole: a crank and a chain of Assur dyads with the
 //! shaking force, shaking moment, input torque and joint reactions as linear maps in the links'
-//! inertial parameters (`model`), its problem file (`file`), the certified counterweight cone
+//! inertial parameters (`model`), its problem file (`file`, `file_loads`), the certified counterweight cone
 //! programs (`synth`), its result and plots (`report`) and its
 //! study ladder (`study`), behind the `Family` and `Machine` traits.
 
 pub mod file;
+pub mod file_loads;
 pub mod model;
 pub mod report;
 pub mod solve;

@@ -31,7 +31,9 @@ use crate::geom::{circle_circle, cmul, cross, link_slider, perp, solve_columns, 
 use nalgebra::{Matrix2, Matrix2x4, RowVector4, Vector4};
 use std::f64::consts::TAU;
 
+mod loads;
 mod reactions;
+pub use loads::ProcessLoad;
 pub use reactions::{Body, Joint, JointKind, ReactionMap, Reactions};
 
 /// Inertial parameters of one link, p = (m, m c_x, m c_y, I_P) (kg, kg·m, kg·m, kg·m²).
@@ -216,6 +218,12 @@ pub enum LinkageError {
         /// θ (rad).
         theta: f64,
     },
+    /// A process load's link, point, direction or table is invalid.
+    #[error("process load {load}: its link, point, direction or table is invalid")]
+    BadLoad {
+        /// The load's index.
+        load: usize,
+    },
 }
 
 /// A dyad that does not assemble at θ: a value, never a NaN.
@@ -250,6 +258,8 @@ pub struct Linkage {
     inertia: Vec<Inertia>,
     omega: f64,
     gravity: P2,
+    /// Process loads ([`Linkage::with_loads`]); none by default.
+    loads: Vec<ProcessLoad>,
 }
 
 /// One link's state at θ: its reference joint, its angle and their θ-derivatives.
@@ -355,8 +365,8 @@ pub struct Fields {
     /// positive): the inertial moment the frame feels, the motor's reaction included. The
     /// pin forces alone give M_O + T.
     pub moment: f64,
-    /// T = ω² Σ [m_i r'_Gi·r''_Gi + J_i ψ'_i ψ''_i] − Σ m_i g·r'_Gi: the input torque on the
-    /// crank at constant speed (inertia and weights).
+    /// T = ω² Σ [m_i r'_Gi·r''_Gi + J_i ψ'_i ψ''_i] − Σ m_i g·r'_Gi − Σ F_L·X'_L: the input
+    /// torque on the crank at constant speed (inertia, weights and process loads).
     pub torque: f64,
 }
 
@@ -414,6 +424,11 @@ pub struct BalanceMap {
     /// of a four-bar up to κ ≈ 4·10⁵, and 0.02 ρ between rotated copies near the limits of
     /// every dyad kind.
     pub rho: f64,
+    /// The process loads' torque T_L = −Σ F·X′ (N·m), in `base.torque`
+    /// ([`Linkage::load_torque`]).
+    pub load_torque: f64,
+    /// Its scale Σ |F|·|X′| (N·m), for the round-off bound.
+    pub load_scale: f64,
 }
 
 impl BalanceMap {
@@ -447,7 +462,11 @@ impl BalanceMap {
         for (i, x) in extra {
             add(&self.blocks[*i], x);
         }
-        (self.rho * s.0, self.rho * s.1, self.rho * s.2)
+        (
+            self.rho * s.0,
+            self.rho * s.1,
+            self.rho * (s.2 + self.load_scale),
+        )
     }
 }
 
@@ -576,6 +595,7 @@ impl Linkage {
             inertia: Vec::new(),
             omega,
             gravity,
+            loads: Vec::new(),
         };
         l.inertia = vec![Inertia::NONE; expected];
         for (i, m) in inertia.into_iter().enumerate() {
@@ -903,9 +923,13 @@ impl Linkage {
             blocks,
             kappa: pose.kappa(),
             rho: 64.0 * f64::EPSILON * pose.amp(),
+            load_torque: 0.0,
+            load_scale: 0.0,
         };
         let own: Vec<(usize, Params)> = self.params().into_iter().enumerate().collect();
         map.base = map.fields(&own);
+        (map.load_torque, map.load_scale) = self.load_torque(pose);
+        map.base.torque += map.load_torque;
         map
     }
 
@@ -924,7 +948,8 @@ impl Linkage {
     /// - G(θ) = V' = Σ [−m g·P' + ψ' (Rᵀ J g)·u], the weights' part of it;
     /// - the momentum and its derivative, Σ m r_G' = Σ (m P' + ψ' J R u) and
     ///   Σ m r_G'' = Σ (m P'' + E2 u), so that at real speed the shaking force is
-    ///   F = −(ω² Σ m r_G'' + α Σ m r_G').
+    ///   F = −(ω² Σ m r_G'' + α Σ m r_G');
+    /// - G also carries the process loads' torque T_L = −Σ F·X′ ([`Linkage::load_torque`]).
     pub fn drive_terms(&self, pose: &Pose, extra: &[(usize, Params)]) -> DriveTerms {
         let g = self.gravity;
         let mut t = DriveTerms::default();
@@ -941,6 +966,7 @@ impl Linkage {
             t.momentum += p1 * m + perp(ru) * w1;
             t.momentum_rate += p2 * m + e2u;
         }
+        t.g += self.load_torque(pose).0;
         t
     }
 

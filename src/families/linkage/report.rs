@@ -90,6 +90,17 @@ pub fn model(p: &LinkageProblem, _: Option<&Solved>) -> BTreeMap<String, serde_j
             },
         ),
     ])
+    .into_iter()
+    .chain((!sc.linkage.loads().is_empty()).then(|| {
+        (
+            "process_loads".into(),
+            json!({
+                "count": sc.linkage.loads().len(),
+                "enter": "input torque, drive and joint loads (reacted by the frame: not the shaking force or moment)"
+            }),
+        )
+    }))
+    .collect()
 }
 
 /// The result's numbers from the solution: the unbalanced baseline, status, design,

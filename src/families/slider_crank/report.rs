@@ -298,6 +298,7 @@ pub fn documents(scene: &Scene, p: &SliderCrankProblem, sol: &Solution, r: &mut 
         pareto_documents(r, scene, sol);
     }
     balancer_table(r, sol);
+    cycle_table(r, &p.core, out);
     joint_load_table(r, &p.core, out);
     envelope_table(r, out);
     sensitivity_table(r, sol.sensitivities.as_ref());
@@ -546,6 +547,49 @@ fn joint_load_table(r: &mut SolveResult, s: &sc::Scene, out: &sc::Outcome) {
     r.tables.push(Table {
         suffix: "joint-loads".into(),
         caption: "Joint loads (Newton–Euler of the rigid links at constant speed)".into(),
+        csv,
+    });
+}
+
+/// The machine over one turn at 1° steps (`<name>-cycle.csv`), without counterweight (the
+/// scene as read, U = 0) and with the design (its balancers too): F_x, F_y, |F|, the drive
+/// torque at constant speed and the shaking moment about the crank pivot. The moment is the
+/// same with and without a crank counterweight (its centrifugal force passes through O), not
+/// with balancers.
+fn cycle_table(r: &mut SolveResult, s: &sc::Scene, out: &sc::Outcome) {
+    let d = &out.designed;
+    let u = P2::from(out.design.unbalance);
+    let w2 = s.omega * s.omega;
+    let mut csv = String::from(
+        "crank_angle_deg,bare_fx_n,bare_fy_n,bare_force_n,bare_torque_nm,bare_moment_nm,fx_n,fy_n,force_n,torque_nm,moment_nm\n",
+    );
+    for k in 0..=360 {
+        let phi = (k as f64).to_radians();
+        let (Some(st0), Some(st)) = (s.mech.state(phi), d.mech.state(phi)) else {
+            continue;
+        };
+        let (f0, f) = (
+            sc::scene_force(s, P2::zeros(), phi),
+            sc::scene_force(d, u, phi),
+        );
+        csv += &format!(
+            // Debug notation: the shortest round trip, in exponent form for tiny values.
+            "{k},{:?},{:?},{:?},{:?},{:?},{:?},{:?},{:?},{:?},{:?}\n",
+            f0.x,
+            f0.y,
+            f0.norm(),
+            sc::drive_torque(s, P2::zeros(), phi),
+            sc::moment0(s, &st0) * w2,
+            f.x,
+            f.y,
+            f.norm(),
+            sc::drive_torque(d, u, phi),
+            sc::moment0(d, &st) * w2,
+        );
+    }
+    r.tables.push(Table {
+        suffix: "cycle".into(),
+        caption: "One turn at constant speed without and with the design: shaking force, drive torque, shaking moment about O".into(),
         csv,
     });
 }

@@ -1,7 +1,7 @@
 //! The joint reactions of a linkage: the joints in the order of the unknowns, the
-//! equilibrium system of every link (d'Alembert: the inertial wrench, gravity and the drive
-//! torque balanced by the reactions), and its solution as a map linear in the links'
-//! inertial parameters.
+//! equilibrium system of every link (d'Alembert: the inertial wrench, gravity, the process
+//! loads and the drive torque balanced by the reactions), and its solution as a map affine in
+//! the links' inertial parameters.
 
 use super::{inertial_wrench, Dyad, Linkage, LinkageError, Params, Point, Pose};
 use crate::geom::{cross, perp, P2};
@@ -187,11 +187,12 @@ impl Linkage {
     /// like κ and their round-off like the pose's ([`BalanceMap::rho`]) times κ.
     pub fn reactions(&self, pose: &Pose, params: &[Params]) -> Result<Reactions, LinkageError> {
         let (k, w) = self.reaction_system(pose);
-        let mut rhs = DVector::<f64>::zeros(k.nrows());
+        // The process loads' wrench, then the inertial and weight wrench of the parameters.
+        let mut rhs = -DVector::from_vec(self.load_wrench(pose));
         for (i, (wi, p)) in w.iter().zip(params).enumerate() {
             let v = wi * p;
             for r in 0..3 {
-                rhs[3 * i + r] = -v[r];
+                rhs[3 * i + r] -= v[r];
             }
         }
         let x = k
@@ -231,7 +232,8 @@ impl Linkage {
             .iter()
             .zip(params)
             .map(|(wi, p)| wi.norm() * p.norm())
-            .sum();
+            .sum::<f64>()
+            + DVector::from_vec(self.load_wrench(pose)).norm();
         let x = r
             .loads
             .iter()
@@ -260,11 +262,15 @@ impl Linkage {
             }
             let b = lu.solve(&rhs).ok_or(singular.clone())?;
             if !b.iter().all(|v| v.is_finite()) {
-                return Err(singular);
+                return Err(singular.clone());
             }
             blocks.push(b);
         }
-        let mut base = DVector::<f64>::zeros(rows);
+        // The process loads' part: K x = −w_L.
+        let mut base = lu
+            .solve(&-DVector::from_vec(self.load_wrench(pose)))
+            .filter(|b| b.iter().all(|v| v.is_finite()))
+            .ok_or(singular)?;
         for (b, p) in blocks.iter().zip(self.params()) {
             base += b * p;
         }
