@@ -589,11 +589,29 @@ pub struct SteadyState {
     pub period: f64,
     /// max |α| over the turn (rad/s²).
     pub peak_alpha: f64,
+    /// Bound on its error (rad/s²): the difference from the peak node's neighbours, plus its
+    /// change from half the grid.
+    pub peak_alpha_error: f64,
     /// Grid samples.
     pub samples: usize,
     /// (φ, ω, α) at the grid's nodes, for the tables and plots.
     #[serde(skip)]
     pub curve: Vec<[f64; 3]>,
+}
+
+/// max |v| over the nodes of one turn (periodic), its node, and a bound on how far the true
+/// maximum between the nodes can lie above it: the larger difference from the two
+/// neighbours. A peak at a kink (a load table's corner) is off by at most its slope times half
+/// a step, a smooth one by far less; the neighbour difference covers both.
+fn node_peak(v: &[f64]) -> (f64, usize, f64) {
+    let (k, peak) = v
+        .iter()
+        .map(|x| x.abs())
+        .enumerate()
+        .fold((0, 0.0_f64), |b, (i, x)| if x > b.1 { (i, x) } else { b });
+    let n = v.len();
+    let near = |j: usize| (peak - v[j % n].abs()).abs();
+    (peak, k, near(k + 1).max(near(k + n - 1)))
 }
 
 /// ω(φ) of a constant-torque steady state anywhere on the turn, exactly (up to the
@@ -849,7 +867,8 @@ fn figures(
         cs_error: 0.0,
         omega_error: 0.0,
         period,
-        peak_alpha: al.iter().fold(0.0, |a: f64, b| a.max(b.abs())),
+        peak_alpha: node_peak(&al).0,
+        peak_alpha_error: node_peak(&al).2,
         samples: grid.n(),
         curve: om
             .iter()
@@ -918,6 +937,8 @@ fn with_errors(
         dcs += (coarse.cs - q.cs).abs();
     }
     cur.cs_error = dcs + 1e-14 * n * cur.cs.abs().max(1e-300);
+    cur.peak_alpha_error += (cur.peak_alpha - coarse.peak_alpha).abs()
+        + coarser.map_or(0.0, |q| (coarse.peak_alpha - q.peak_alpha).abs());
     cur.omega_error = dw + 1e-14 * n * cur.omega_max;
     cur
 }
@@ -1036,13 +1057,17 @@ pub struct DriveFigures {
 pub struct RealSpeed {
     /// max |F| over the steady state's nodes (N).
     pub peak_force: f64,
-    /// Its error bound (N): the change from every other node, plus the speeds' error.
+    /// Its error bound (N): the larger difference from the peak node's neighbours (how far
+    /// the maximum between nodes can rise), plus the speeds' error.
     pub peak_force_error: f64,
     /// Its input angle (rad).
     pub peak_force_angle: f64,
     /// max |T_m(ω) − I_f α|, the torque the input shaft carries between the flywheel and the
     /// mechanism (N·m).
     pub peak_shaft_torque: f64,
+    /// Bound on its error (N·m): the difference from the peak node's neighbours, plus I_f
+    /// times the error of α's peak and the motor line's slope times the speeds' error.
+    pub peak_shaft_torque_error: f64,
 }
 
 /// The drive of the machine `m` at the nominal speed `omega` with `d`'s motor: ΔE, the least
@@ -1073,38 +1098,39 @@ impl DriveFigures {
     /// The peaks at real speed, with `force(φ, ω, α)` the shaking force's magnitude (N) at
     /// the steady state's nodes (`None` where it cannot be computed: then no peaks). A force
     /// of the accelerations scales as ω², so the speeds' error δω adds 2 δω/ω_min of it; the
-    /// sampling error is the change from every other node.
+    /// sampling error is the peak node's difference from its neighbours ([`node_peak`]).
     pub fn with_real_speed(
         mut self,
         motor: &Motor,
         force: impl Fn(f64, f64, f64) -> Option<f64>,
     ) -> DriveFigures {
         let st = &self.steady;
-        let forces: Option<Vec<(f64, f64)>> = st
+        let forces: Option<Vec<f64>> = st
             .curve
             .iter()
-            .map(|&[phi, w, a]| force(phi, w, a).map(|f| (f, phi)))
+            .map(|&[phi, w, a]| force(phi, w, a))
             .collect();
         let Some(forces) = forces else { return self };
-        let peak = |step: usize| {
-            forces.iter().step_by(step).fold(
-                (0.0_f64, 0.0),
-                |b, &(f, p)| if f > b.0 { (f, p) } else { b },
-            )
-        };
-        let (fine, coarse) = (peak(1), peak(2));
-        let speed_err = 2.0 * st.omega_error / st.omega_min * fine.0;
+        let (peak, k, between) = node_peak(&forces);
+        let speed_err = 2.0 * st.omega_error / st.omega_min * peak;
         let mean = self.constant.mean_torque;
-        let shaft = st
+        let shafts: Vec<f64> = st
             .curve
             .iter()
-            .map(|&[_, w, a]| (motor.torque(w, mean) - st.flywheel * a).abs())
-            .fold(0.0, f64::max);
+            .map(|&[_, w, a]| motor.torque(w, mean) - st.flywheel * a)
+            .collect();
+        let (shaft, _, shaft_between) = node_peak(&shafts);
+        // dT_m/dω of a line (0 for a constant torque), for the speeds' error.
+        let slope =
+            (motor.torque(st.omega_mean + 1.0, mean) - motor.torque(st.omega_mean, mean)).abs();
+        let shaft_error =
+            shaft_between + st.flywheel * st.peak_alpha_error + slope * st.omega_error;
         self.real = Some(RealSpeed {
-            peak_force: fine.0,
-            peak_force_error: (fine.0 - coarse.0).abs() + speed_err,
-            peak_force_angle: fine.1,
+            peak_force: peak,
+            peak_force_error: between + speed_err,
+            peak_force_angle: st.curve[k][0],
             peak_shaft_torque: shaft,
+            peak_shaft_torque_error: shaft_error,
         });
         self
     }

@@ -40,6 +40,8 @@ struct DriveNumbers {
     steady_cs_error: f64,
     /// Its peak angular acceleration |α| of the crank (rad/s²).
     steady_peak_angular_acceleration_rad_s2: f64,
+    /// Bound on its error (rad/s²).
+    steady_peak_angular_acceleration_error_rad_s2: f64,
     /// The peak shaking force at real speed (N), without balancers.
     steady_peak_shaking_force_n: Option<f64>,
     /// Its error bound (N).
@@ -48,6 +50,8 @@ struct DriveNumbers {
     steady_peak_shaking_force_change_pct: Option<f64>,
     /// The peak torque in the crank shaft between flywheel and mechanism at real speed (N·m).
     steady_peak_shaft_torque_nm: Option<f64>,
+    /// Bound on its error (N·m).
+    steady_peak_shaft_torque_error_nm: Option<f64>,
 }
 
 /// The drive's numbers in `derived`, or its error as a warning; `peak_force` is the
@@ -84,6 +88,7 @@ pub fn drive_numbers(
         steady_cs: st.cs,
         steady_cs_error: st.cs_error,
         steady_peak_angular_acceleration_rad_s2: st.peak_alpha,
+        steady_peak_angular_acceleration_error_rad_s2: st.peak_alpha_error,
         steady_peak_shaking_force_n: d.real.map(|x| x.peak_force),
         steady_peak_shaking_force_error_n: d.real.map(|x| x.peak_force_error),
         steady_peak_shaking_force_change_pct: d
@@ -91,6 +96,7 @@ pub fn drive_numbers(
             .zip(peak_force)
             .map(|(x, p)| 100.0 * (x.peak_force - p) / p),
         steady_peak_shaft_torque_nm: d.real.map(|x| x.peak_shaft_torque),
+        steady_peak_shaft_torque_error_nm: d.real.map(|x| x.peak_shaft_torque_error),
     }));
 }
 
