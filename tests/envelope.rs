@@ -362,3 +362,43 @@ fn sensitivities_match_the_closed_form_speed_law_and_nominal_re_solves() {
         f(row, "error")
     );
 }
+
+/// A limit no design meets over the envelope is `infeasible`, and how far off it is counts
+/// over the envelope too: the least worst case any design reaches (the envelope's own
+/// optimum, certified for masses and speed), not the nominal scene's least peak (reported
+/// before: 10.0006 N·m for a torque limit whose worst case is 14.78 N·m at 1200 rpm).
+#[test]
+fn an_unreachable_limit_over_the_envelope_says_how_far_off_its_worst_case_is() {
+    let free = solve_scene(&parse_str(&piston_masses_text(), Path::new("f.toml")).unwrap());
+    assert_eq!(free.status, Status::Optimal);
+    let best = free.objectives["worst_case_peak_shaking_force_n"];
+    let text = piston_masses_text().replace(
+        "minimize = \"peak-force\"",
+        "minimize = \"peak-force\"\nmax_peak_force = \"300 N\"\nmax_peak_torque = \"1 N*m\"",
+    );
+    let r = solve_scene(&parse_str(&text, Path::new("i.toml")).unwrap());
+    assert_eq!(r.status, Status::Infeasible, "{:?}", r.status_detail);
+    let rows = &r.infeasibility;
+    assert_eq!(rows.len(), 2);
+    let force = rows
+        .iter()
+        .find(|s| s.limit == "objective.max_peak_force")
+        .unwrap();
+    assert!(force.certified);
+    assert!(
+        (force.closest - best).abs() <= force.error + 1e-9 * best,
+        "{} vs the envelope's optimum {best}",
+        force.closest
+    );
+    let torque = rows
+        .iter()
+        .find(|s| s.limit == "objective.max_peak_torque")
+        .unwrap();
+    let worst_torque = free.objectives["worst_case_peak_drive_torque_nm"];
+    assert!(
+        (torque.closest - worst_torque).abs() <= 1e-9 * worst_torque,
+        "{} vs {worst_torque}",
+        torque.closest
+    );
+    assert!(torque.closest > 1.4 * r.objectives["peak_drive_torque_nm"]);
+}
