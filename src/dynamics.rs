@@ -117,6 +117,21 @@ pub struct DriveSettings {
     pub steady_rel_tol: f64,
 }
 
+impl DriveSettings {
+    /// For a load with kinks (a compressor's valve events, a load table's corners): its
+    /// grids converge as h², not spectrally, so past 4096 nodes a halving costs far more than
+    /// it gains; the grid stops there, unsettled, and every error adds the last two halvings'
+    /// changes ([`Doubled::change`]). Measured on `hypocycloid-compressor` against 65,536
+    /// nodes: ΔE off by 8.3e-6 J with a stated 1.4e-4 J, T̄ by 2.4e-6 N·m with 4.1e-5; the
+    /// finer grid took 0.57 s instead of 38 ms.
+    pub fn for_kinks() -> Self {
+        DriveSettings {
+            max_samples: 1 << 12,
+            ..Default::default()
+        }
+    }
+}
+
 impl Default for DriveSettings {
     fn default() -> Self {
         DriveSettings {
@@ -493,8 +508,12 @@ impl<T> Doubled<T> {
     /// with a constant that swings with the kinks' places on the grid, so one change can be
     /// small by chance; two in a row cover it.
     fn change(&self, f: impl Fn(&T) -> f64) -> f64 {
-        let (c, p) = (f(&self.cur), f(&self.prev));
-        (c - p).abs() + self.unsettled.as_ref().map_or(0.0, |e| (p - f(e)).abs())
+        self.change_by(|a, b| (f(a) - f(b)).abs())
+    }
+
+    /// [`Doubled::change`] with the change between two grids' figures measured by `diff`.
+    fn change_by(&self, diff: impl Fn(&T, &T) -> f64) -> f64 {
+        diff(&self.cur, &self.prev) + self.unsettled.as_ref().map_or(0.0, |e| diff(&self.prev, e))
     }
 }
 
@@ -854,6 +873,7 @@ fn figures(
         Some(e) => exact_extremes(&om, h, e),
         None => speed_extremes(&om, &al, h),
     };
+    let (peak_alpha, _, peak_alpha_error) = node_peak(&al);
     // The period ∫ dφ/ω by the trapezoidal rule on the nodes (spectral for a smooth ω).
     let period: f64 = om.iter().map(|w| h / w).sum();
     let mean = TAU / period;
@@ -867,8 +887,8 @@ fn figures(
         cs_error: 0.0,
         omega_error: 0.0,
         period,
-        peak_alpha: node_peak(&al).0,
-        peak_alpha_error: node_peak(&al).2,
+        peak_alpha,
+        peak_alpha_error,
         samples: grid.n(),
         curve: om
             .iter()
@@ -904,24 +924,13 @@ fn converged(
     let settled = |cur: &SteadyState, prev: &SteadyState| {
         (cur.cs - prev.cs).abs() <= s.steady_rel_tol * cur.cs.abs() + 1e-13
     };
-    let Doubled {
-        cur,
-        prev,
-        unsettled,
-        grid,
-    } = doubled(m, s, on, settled)?;
-    Ok((with_errors(cur, &prev, unsettled.as_ref()), grid))
+    Ok(with_errors(doubled(m, s, on, settled)?))
 }
 
-/// `cur` with its errors: the change from `coarse` (the same state on half the grid), plus
-/// that from `coarser` (on a quarter) where the grid stopped unsettled
-/// ([`Doubled::change`]), plus round-off.
-fn with_errors(
-    mut cur: SteadyState,
-    coarse: &SteadyState,
-    coarser: Option<&SteadyState>,
-) -> SteadyState {
-    let n = cur.samples as f64;
+/// The state on the last grid with its errors: the changes from half the grid (and from a
+/// quarter where the grid stopped unsettled, [`Doubled::change`]) plus round-off; and the
+/// grid.
+fn with_errors(d: Doubled<SteadyState>) -> (SteadyState, Grid) {
     let speeds = |a: &SteadyState, b: &SteadyState| {
         [
             a.omega_min - b.omega_min,
@@ -931,16 +940,17 @@ fn with_errors(
         .iter()
         .fold(0.0, |m: f64, d| m.max(d.abs()))
     };
-    let (mut dw, mut dcs) = (speeds(&cur, coarse), (cur.cs - coarse.cs).abs());
-    if let Some(q) = coarser {
-        dw += speeds(coarse, q);
-        dcs += (coarse.cs - q.cs).abs();
-    }
+    let (dw, dcs, dpa) = (
+        d.change_by(speeds),
+        d.change(|s| s.cs),
+        d.change(|s| s.peak_alpha),
+    );
+    let Doubled { mut cur, grid, .. } = d;
+    let n = cur.samples as f64;
     cur.cs_error = dcs + 1e-14 * n * cur.cs.abs().max(1e-300);
-    cur.peak_alpha_error += (cur.peak_alpha - coarse.peak_alpha).abs()
-        + coarser.map_or(0.0, |q| (coarse.peak_alpha - q.peak_alpha).abs());
+    cur.peak_alpha_error += dpa;
     cur.omega_error = dw + 1e-14 * n * cur.omega_max;
-    cur
+    (cur, grid)
 }
 
 /// The least flywheel that meets a coefficient of fluctuation, exactly and by the textbook.
@@ -1002,16 +1012,17 @@ pub fn least_flywheel(
     let tol = 1e-12 * hi;
     let root = brent_root(f, 0.0, hi, tol).map_err(|e| DriveError::Stalls(e.to_string()))?;
     // A grid at the cap may not have settled: then the quarter grid's change counts too.
-    let quarter = if 2 * grid.n() > s.max_samples {
+    let unsettled = if 2 * grid.n() > s.max_samples {
         Some(cs_on(&grid.halved().halved(), root.x)?)
     } else {
         None
     };
-    let steady = with_errors(
-        cs_on(&grid, root.x)?,
-        &cs_on(&grid.halved(), root.x)?,
-        quarter.as_ref(),
-    );
+    let (steady, grid) = with_errors(Doubled {
+        cur: cs_on(&grid, root.x)?,
+        prev: cs_on(&grid.halved(), root.x)?,
+        unsettled,
+        grid,
+    });
     // |dCs/dI_f| by a central difference, for the error that Cs's own error makes in I_f.
     let d = 1e-4 * root.x.max(tol);
     let slope = ((cs_on(&grid, root.x + d)?.cs - cs_on(&grid, (root.x - d).max(0.0))?.cs)

@@ -113,6 +113,17 @@ pub struct RotatingOutcome {
     pub minimax: Option<MinimaxCounterweights>,
 }
 
+impl RotatingOutcome {
+    /// The (carrier, planet) counterweights the design builds: the minimax pair where it was
+    /// asked for, else the closed-form pair; none without `[design.rotating]`.
+    fn design_pair(&self) -> Option<(Counterweight, Counterweight)> {
+        self.minimax
+            .as_ref()
+            .map(|m| (m.carrier, m.planet))
+            .or(self.closed)
+    }
+}
+
 /// The drive torque over a turn.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct TorqueOutcome {
@@ -394,13 +405,8 @@ fn drive_outcome(
     let moving = moving_masses(spec, at, rotating);
     let cycle = cycle(spec, at)?;
     let carrier_cw = rotating
-        .and_then(|r| {
-            r.minimax
-                .as_ref()
-                .map(|m| m.carrier)
-                .or(r.closed.map(|c| c.0))
-        })
-        .map_or(0.0, |c| c.mass * c.radius * c.radius);
+        .and_then(RotatingOutcome::design_pair)
+        .map_or(0.0, |(c, _)| c.mass * c.radius * c.radius);
     let j0 = spec.masses.map_or(0.0, |m| {
         m.carrier_mass * P2::from(m.carrier_centroid).norm_squared()
     }) + carrier_cw;
@@ -411,15 +417,8 @@ fn drive_outcome(
             .map_or(0.0, |c| c.torque(at.model, at.r_carrier, p));
         [2.0 * e + j0, 2.0 * t, g]
     };
-    // The gas torque's kinks at the valve events make the grids converge as h², not
-    // spectrally: the grid stops at 4096 nodes and every error is the sum of the last two
-    // halvings' changes (dynamics::Doubled::change). Measured on hypocycloid-compressor
-    // against 65536 nodes: ΔE off by 8.3e-6 J with a stated 1.4e-4 J, T̄ by 2.4e-6 N·m with
-    // 4.1e-5; 65536 nodes would take 0.57 s instead of 38 ms.
-    let set = dynamics::DriveSettings {
-        max_samples: 1 << 12,
-        ..Default::default()
-    };
+    // The gas torque has kinks at the valve events.
+    let set = dynamics::DriveSettings::for_kinks();
     Ok(dynamics::drive(&machine, at.omega, d, &set).map_err(|e| e.to_string()))
 }
 
@@ -584,13 +583,8 @@ fn moving_masses(spec: &DynamicsSpec, at: &At, rotating: Option<&RotatingOutcome
         rod_inertia: None,
     };
     let planet_cw = rotating
-        .and_then(|r| {
-            r.minimax
-                .as_ref()
-                .map(|m| m.planet)
-                .or(r.closed.map(|c| c.1))
-        })
-        .map_or((0.0, P2::zeros()), |c| (c.mass, P2::from(c.w)));
+        .and_then(RotatingOutcome::design_pair)
+        .map_or((0.0, P2::zeros()), |(_, c)| (c.mass, P2::from(c.w)));
     MovingMasses {
         rotating: spec.masses.unwrap_or(zero),
         m_b: at.m_b,

@@ -107,16 +107,11 @@ fn drive(p: &LinkageProblem, d: &Drive, x: Option<&[f64]>) -> Result<DriveFigure
         .unwrap_or_default();
     let terms = |th: f64| lk.pose(th).ok().map(|pose| lk.drive_terms(&pose, &extra));
     let machine = |th: f64| terms(th).map_or([f64::NAN; 3], |t| [t.j, t.dj, t.g]);
-    // A load table's corners are kinks of G: the grids then converge as h², and past 4096
-    // nodes a halving costs more than it gains (the errors add the last two halvings'
-    // changes, dynamics::Doubled::change). A smooth linkage settles far below the cap.
-    let set = dynamics::DriveSettings {
-        max_samples: if lk.loads().is_empty() {
-            1 << 16
-        } else {
-            1 << 12
-        },
-        ..Default::default()
+    // A load table's corners are kinks of G.
+    let set = if lk.loads().is_empty() {
+        dynamics::DriveSettings::default()
+    } else {
+        dynamics::DriveSettings::for_kinks()
     };
     let figures = dynamics::drive(&machine, lk.omega(), d, &set)?;
     Ok(figures.with_real_speed(&d.motor, |th, w, a| {

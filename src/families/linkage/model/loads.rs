@@ -83,14 +83,14 @@ impl Linkage {
         &self.loads
     }
 
-    /// Each load's point on the pose: (X, X′, X″) and the force.
-    fn load_points(&self, pose: &Pose) -> impl Iterator<Item = (usize, [P2; 3], P2)> + '_ {
-        let theta = pose.theta;
-        let links: Vec<_> = self.loads.iter().map(|l| pose.links[l.link]).collect();
+    /// Each load's link, its point on the pose (X, X′, X″) and the force.
+    fn load_points<'a>(
+        &'a self,
+        pose: &'a Pose,
+    ) -> impl Iterator<Item = (usize, [P2; 3], P2)> + 'a {
         self.loads
             .iter()
-            .zip(links)
-            .map(move |(l, ls)| (l.link, ls.point(l.at), l.force(theta)))
+            .map(move |l| (l.link, pose.links[l.link].point(l.at), l.force(pose.theta)))
     }
 
     /// The loads' torque on the crank, T_L = −Σ F·X′ (N·m): what the motor supplies for

@@ -100,6 +100,16 @@ impl Envelope {
             .collect()
     }
 
+    /// Parameter `i`'s interval (in [`Self::names`]' order), to change it.
+    pub fn range_mut(&mut self, i: usize) -> &mut (f64, f64) {
+        let speeds = usize::from(self.speed.is_some());
+        match self.speed.as_mut() {
+            Some(s) if i == 0 => s,
+            _ if i - speeds < self.masses.len() => &mut self.masses[i - speeds].delta,
+            _ => &mut self.lengths[i - speeds - self.masses.len()].delta,
+        }
+    }
+
     /// Each parameter's interval, in [`Self::names`]' order.
     pub fn ranges(&self) -> Vec<(f64, f64)> {
         self.speed

@@ -12,7 +12,6 @@
 //! difference over ±2h (the truncation). A kink of V* inside ±2h shows as a large error.
 //! Opt-in (`[mechanism.envelope] sensitivities = true`): 4 re-solves per end.
 
-use super::envelope::Envelope;
 use super::scene::{Scene, SolveError};
 use super::solve::solve;
 
@@ -29,7 +28,7 @@ pub enum End {
 /// One row of the sensitivity table.
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct Sensitivity {
-    /// The parameter ([`Envelope::names`]).
+    /// The parameter ([`super::Envelope::names`]).
     pub parameter: String,
     /// Which end moves.
     pub end: End,
@@ -59,18 +58,10 @@ fn moved(scene: &Scene, i: usize, end: End, d: f64) -> Scene {
     let mut s = scene.clone();
     s.pareto_points = 0;
     s.envelope.monte_carlo = 0;
-    let shift = |r: &mut (f64, f64)| match end {
+    let r = s.envelope.range_mut(i);
+    match end {
         End::Min => r.0 += d,
         End::Max => r.1 += d,
-    };
-    let e: &mut Envelope = &mut s.envelope;
-    let speeds = usize::from(e.speed.is_some());
-    if i < speeds {
-        shift(e.speed.as_mut().expect("counted"));
-    } else if i - speeds < e.masses.len() {
-        shift(&mut e.masses[i - speeds].delta);
-    } else {
-        shift(&mut e.lengths[i - speeds - e.masses.len()].delta);
     }
     s
 }
