@@ -1,7 +1,7 @@
 //! The seam between solving and reporting (issue 32), held against the code: a family's
-//! `report.rs` and the shared `report/` draw a solved value and never call a solve, a search or
-//! a peak refinement — every number a report shows was computed by the family's `solve.rs` —
-//! and a solved scene carries no document until one is asked for.
+//! `numbers.rs` and `report.rs` and the shared `report/` shape and draw a solved value and never
+//! call a solve, a search or a peak refinement — every solve a result shows ran in the family's
+//! `solve.rs` — and a solved scene carries no document until one is asked for.
 
 use cwsynth::families::{load, solve_scene};
 use std::path::Path;
@@ -30,7 +30,8 @@ const SOLVING: [&str; 20] = [
     "newton_root",
 ];
 
-/// The report sources: every family's `report.rs` and everything under `src/report/`.
+/// The report sources: every family's `numbers.rs` and `report.rs`, and everything under
+/// `src/report/`.
 fn report_sources() -> Vec<std::path::PathBuf> {
     let mut files = Vec::new();
     for dir in ["src/families", "src/report"] {
@@ -40,7 +41,10 @@ fn report_sources() -> Vec<std::path::PathBuf> {
                 let p = e.path();
                 if p.is_dir() {
                     stack.push(p);
-                } else if dir == "src/report" || p.file_name().unwrap() == "report.rs" {
+                } else if dir == "src/report"
+                    || ["report.rs", "numbers.rs"]
+                        .contains(&p.file_name().unwrap().to_str().unwrap())
+                {
                     files.push(p);
                 }
             }

@@ -1,6 +1,6 @@
 //! A family written outside the crate (issue 32, "adding a family"): the Scotch yoke with a
 //! crank counterweight, in the files a new family writes — `model` (physics), `file` (its
-//! problem file), `solve` (every number), `report` (the numbers shaped, the documents drawn),
+//! problem file), `solve` (every number), `numbers` (the numbers shaped), `report` (the documents drawn),
 //! `study` (its ladder) — one `cwsynth::family_folder!` line and one `register` call. It
 //! then loads, solves, batches and studies through the library unchanged.
 //!
@@ -172,11 +172,11 @@ mod yoke {
         pub fn analyse(_: &YokeProblem, _: &Solution) -> Analyses {}
     }
 
-    pub mod report {
+    pub mod numbers {
         use super::file::YokeProblem;
-        use super::solve::{Analyses, Solution};
+        use super::solve::Solution;
         use cwsynth::families::Scene;
-        use cwsynth::report::{SolveResult, Table};
+        use cwsynth::report::SolveResult;
         use std::collections::BTreeMap;
 
         pub fn model(_: &YokeProblem, _: Option<&Solution>) -> BTreeMap<String, serde_json::Value> {
@@ -193,6 +193,14 @@ mod yoke {
             );
             r.derived.insert("samples".into(), p.samples as f64);
         }
+    }
+
+    pub mod report {
+        use super::file::YokeProblem;
+        use super::solve::{Analyses, Solution};
+        use cwsynth::families::Scene;
+        use cwsynth::report::{SolveResult, Table};
+
         pub fn documents(_: &Scene, p: &YokeProblem, s: &Solution, r: &mut SolveResult) {
             let mut csv = String::from("phi_rad,force_n\n");
             for k in 0..=8 {

@@ -7,7 +7,8 @@
 //! into a typed [`Solve::Solution`] — the synthesis and every second solve that the result
 //! reports (a speed sweep, a boom counterweight, joint loads, the dynamics) — with the
 //! [`Claim`] every family makes of its design (status, method, evidence, bounds), and its
-//! `report.rs` shapes that value into the result's number maps and draws it, calling no solver.
+//! `numbers.rs` shapes that value into the result's number maps and its `report.rs` draws it,
+//! neither calling a solver.
 //! A `--summary-only` batch, a study rung or a calibration step pays for the solve and the
 //! numbers only: the drawing stage is a [`Deferred`] ([`DOCUMENTS`]) that runs in
 //! [`SolveResult::draw`] or [`SolveResult::complete`], and the analyses only written files

@@ -145,8 +145,9 @@ pub fn machine<K: Machine>(r: Resolved<K>) -> Resolved<Arc<dyn Machine>> {
 /// [`Machine`] for `$problem` through the one driver ([`super::driver::drive`]), and the
 /// driver's [`super::driver::Solve`] from the parts every family folder has:
 /// `file::{FAMILY, COUNTS, resolve, File, TEMPLATE}` (its schema derived from `File`),
-/// `solve::{solve, Solution, analyse, Analyses}` (every number), `report::{model, numbers,
-/// documents, analysis_documents}` (the result drawn from the solution) and `study::{headline, ladder, effects}`.
+/// `solve::{solve, Solution, analyse, Analyses}` (every solve), `numbers::{model, numbers}` (the
+/// solution's figures into the result's maps, at solve time), `report::{documents,
+/// analysis_documents}` (the result drawn from the solution, only when asked for) and `study::{headline, ladder, effects}`.
 /// Invoked once in each family's `mod.rs` (`cwsynth::family_folder!(Family, Problem)`); a
 /// family defined outside this crate invokes it the same way beside the same four modules and
 /// adds itself with [`super::register`].
@@ -162,7 +163,7 @@ macro_rules! family_folder {
                 &self,
                 sol: Option<&solve::Solution>,
             ) -> std::collections::BTreeMap<String, serde_json::Value> {
-                report::model(self, sol)
+                numbers::model(self, sol)
             }
             fn solve(&self) -> Result<solve::Solution, String> {
                 solve::solve(self)
@@ -176,7 +177,7 @@ macro_rules! family_folder {
                 sol: &solve::Solution,
                 r: &mut $crate::report::SolveResult,
             ) {
-                report::numbers(scene, self, sol, r)
+                numbers::numbers(scene, self, sol, r)
             }
             fn documents(
                 &self,

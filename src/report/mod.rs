@@ -337,6 +337,22 @@ pub struct SolveResult {
 }
 
 impl SolveResult {
+    /// Sets the four number maps from a family's typed sections (`#[derive(Serialize)]`
+    /// structs whose fields are the keys, through [`number_map`]): the design, the objectives,
+    /// their errors and the derived figures.
+    pub fn set_figures<D, O, E, X>(&mut self, design: &D, objectives: &O, errors: &E, derived: &X)
+    where
+        D: serde::Serialize + ?Sized,
+        O: serde::Serialize + ?Sized,
+        E: serde::Serialize + ?Sized,
+        X: serde::Serialize + ?Sized,
+    {
+        self.design = number_map(design);
+        self.objectives = number_map(objectives);
+        self.errors = number_map(errors);
+        self.derived = number_map(derived);
+    }
+
     /// An empty result of a scene (its name, family, description and source file) with
     /// status `failed`, to be filled by its family.
     pub fn new(

@@ -5,6 +5,7 @@
 pub mod balance;
 pub mod file;
 pub mod model;
+pub mod numbers;
 pub mod report;
 pub mod solve;
 pub mod statics;

@@ -1,6 +1,7 @@
-//! The gear result: its outcome shaped into the common result — design,
-//! objectives with their errors, baselines, paper checks, tables and plots (keys in
-//! `docs/results.md`).
+//! The gear's documents: the tables, plots and drawings of a solved scene, drawn from its
+//! solution and the result's numbers, calling no solver; the driver makes them only when a
+//! result's files are asked for (`SolveResult::draw`, `complete`). The numbers themselves are
+//! `numbers.rs`'.
 
 use super::file::*;
 use super::solve::{Analyses, Solution};
@@ -11,62 +12,9 @@ use crate::families::gear::teeth::Arch;
 use crate::geom::P2;
 use crate::report::drawing::{Drawing, Layer, Sheet};
 use crate::report::plot::{self, Panel, PlotError, Series};
-use crate::report::{number_map, Plot, SolveResult, Table};
-use serde_json::json;
-use std::collections::BTreeMap;
+use crate::report::{Plot, SolveResult, Table};
 use std::f64::consts::TAU;
 use std::fmt::Write as _;
-
-/// The result's `model` section: the teeth, the centre distance, the pole window, the turns
-/// and the speed.
-pub fn model(p: &GearProblem, _: Option<&Solution>) -> BTreeMap<String, serde_json::Value> {
-    let g = &p.gear;
-    BTreeMap::from([
-        (
-            "teeth".into(),
-            json!("cycloidal: epicycloid and hypocycloid arches of the generating circle, alternating"),
-        ),
-        (
-            "center_distance".into(),
-            json!("closing: solved from the closure integral for n1/n2"),
-        ),
-        ("pole_window_rad".into(), json!(g.pole_window)),
-        ("turns_gear1".into(), json!(g.turns_gear1)),
-        ("turns_gear2".into(), json!(g.turns_gear2)),
-        ("omega1_rad_s".into(), json!(g.omega1)),
-    ])
-}
-
-/// The result's numbers from the solution: status, design, objectives, errors, derived
-/// figures, the paper's checks, the poles and zeros, the flank wear.
-pub fn numbers(_: &Scene, _: &GearProblem, sol: &Solution, r: &mut SolveResult) {
-    let out = &sol.out;
-    r.design = number_map(&out.design);
-    r.objectives = number_map(&out.objectives);
-    r.errors = number_map(&out.errors);
-    r.derived = number_map(&out.derived);
-    r.paper = out.paper.clone();
-    r.extra.insert(
-        "poles".into(),
-        serde_json::to_value(&out.poles).expect("plain data"),
-    );
-    r.extra.insert(
-        "zeros".into(),
-        serde_json::to_value(&out.zeros).expect("plain data"),
-    );
-    if let Some(t) = &out.teeth {
-        r.extra.insert("flank_wear".into(), flank_wear_rows(t));
-        r.extra
-            .insert("sliding_comparison".into(), sliding_comparison_rows(out, t));
-        if !t.certified_pole_arches.is_empty() {
-            r.warnings.push(format!(
-                "pole correction (the paper's proposal after its eq. 12): not possible by the design parameters. On {} of the {} arches of gear 1 the pole function (K − O_j)·d of µ1 and of µ2 tends to ∓ρ_j sin ψ at one cusp and ±ρ_j sin ψ at the other with ψ of one sign, so it changes sign inside the arch for every generating radius r, pitch radius R and centre distance a (derived.arches_with_certified_pole); only e = 0 (ψ ≡ 0) is free of poles. Removing them needs a profile that is not a full cusp-to-cusp cycloid (e.g. relieved cusps with overlapping contact)",
-                t.certified_pole_arches.len(),
-                out.derived.arches_gear1
-            ));
-        }
-    }
-}
 
 /// No analyses beyond the solution's own documents.
 pub fn analysis_documents(
@@ -734,67 +682,6 @@ fn teeth_tables(t: &TeethOutcome) -> Vec<Table> {
         csv,
     });
     out
-}
-
-/// The `flank_wear` section: the sliding distance per arch of gear 1 (one row per arch; gear
-/// 2's arches in `<name>-flank-wear.csv`).
-fn flank_wear_rows(t: &TeethOutcome) -> serde_json::Value {
-    let rows: Vec<serde_json::Value> = t
-        .wear
-        .gear1
-        .iter()
-        .enumerate()
-        .map(|(i, (v, e))| {
-            json!({
-                "arch": i,
-                "tooth": i / 2,
-                "flank": if i.is_multiple_of(2) { "addendum" } else { "dedendum" },
-                "sliding_distance_per_engagement_m": t.wear.per_engagement[i].value,
-                "sliding_distance_per_cycle_m": v,
-                "error_m": e,
-            })
-        })
-        .collect();
-    serde_json::Value::Array(rows)
-}
-
-/// The `sliding_comparison` section: the eccentric pair, its circular cycloidal equivalent
-/// and the involute equivalent, side by side.
-fn sliding_comparison_rows(out: &Outcome, t: &TeethOutcome) -> serde_json::Value {
-    let d = &out.derived;
-    let f = |x: f64| format!("{x:.6}");
-    let [(m1a, m2a), (m1d, m2d)] = t.circular;
-    let inv = &t.involute;
-    let circ_max = [m1a, m2a, m1d, m2d]
-        .iter()
-        .fold(0.0, |a: f64, b| a.max(b.abs()));
-    let inv_max = d.involute_peak_sliding_coefficient.unwrap_or(f64::NAN);
-    let span = |a: f64, b: f64| (a.min(b), a.max(b));
-    let (i1, i1h) = span(inv.mu1_start, inv.mu1_end);
-    let (i2, i2h) = span(inv.mu2_start, inv.mu2_end);
-    json!([
-        {
-            "compared": format!("eccentric cycloidal (this pair, e = {:.4} mm)", out.design.eccentricity_m * 1e3),
-            "mu1": "poles on every arch with ψ ≠ 0 at its cusps",
-            "mu2": "poles on every arch with ψ ≠ 0 at its cusps",
-            "max_abs_mu": format!("{} on the working window (±{:.4} rad around poles)", f(out.objectives.peak_sliding_coefficient), d.pole_window_rad),
-            "poles_per_turn": d.poles_mu1_per_turn + d.poles_mu2_per_turn,
-        },
-        {
-            "compared": format!("circular cycloidal (e = 0, z1 = {}, z2 = {})", inv.z1, inv.z2),
-            "mu1": format!("{} (addendum), {} (dedendum)", f(m1a), f(m1d)),
-            "mu2": format!("{} (addendum), {} (dedendum)", f(m2a), f(m2d)),
-            "max_abs_mu": f(circ_max),
-            "poles_per_turn": 0,
-        },
-        {
-            "compared": format!("involute (m = {:.4} mm, α = {:.2}°, standard addendum, contact ratio {:.4})", inv.module_m * 1e3, inv.pressure_angle_rad.to_degrees(), inv.contact_ratio),
-            "mu1": format!("{} … {} (root A … tip E of gear 1)", f(i1), f(i1h)),
-            "mu2": format!("{} … {}", f(i2), f(i2h)),
-            "max_abs_mu": f(inv_max),
-            "poles_per_turn": if inv.interference { "on the path (interference)" } else { "0 (N1, N2 off the path)" },
-        },
-    ])
 }
 
 /// ρ_K1, ρ_K2 (mm) and V_K1, V_K2, v_t1, v_t2, v_s (m/s) against α1, over one turn and on

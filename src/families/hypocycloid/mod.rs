@@ -8,6 +8,7 @@ pub mod dynamics;
 pub mod file;
 pub mod gas;
 pub mod model;
+pub mod numbers;
 pub mod report;
 pub mod solve;
 pub mod study;

@@ -7,6 +7,7 @@
 pub mod file;
 pub mod file_loads;
 pub mod model;
+pub mod numbers;
 pub mod report;
 pub mod solve;
 pub mod study;

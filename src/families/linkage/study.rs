@@ -2,7 +2,7 @@
 //! effects its model leaves out or includes, each with a bound computed from the scene.
 
 use super::file::LinkageProblem;
-use super::report::objective_key;
+use super::numbers::objective_key;
 use crate::families::family::{relative, Effect, Ladder, Rung};
 use crate::problem::edit::{v_f, v_int, v_s, Edit};
 use crate::report::SolveResult;

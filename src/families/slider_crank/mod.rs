@@ -5,6 +5,7 @@
 pub mod file;
 pub mod file_envelope;
 pub mod model;
+pub mod numbers;
 pub mod report;
 pub mod solve;
 pub mod study;

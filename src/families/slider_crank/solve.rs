@@ -1,7 +1,7 @@
 //! The slider-crank's whole solve: the counterweight synthesis ([`sc::solve`]), the paper's
 //! printed counterweight evaluated as a baseline, and the speed sweep that re-optimises the
 //! scene at every speed — every number the result reports, computed here and nowhere in
-//! `report.rs`.
+//! `numbers.rs` or `report.rs`.
 
 use super::file::SliderCrankProblem;
 use super::synth::{self as sc, Metrics, SweepPoint};

@@ -1,0 +1,528 @@
+//! The linkage's numbers: the solution's figures into the result's maps — `model`, design,
+//! objectives with their errors, derived figures, baselines, paper checks, sections and the
+//! warnings of the result's own checks (keys in `docs/results.md`). Arithmetic on the solution
+//! (sums, ratios, a limit compared), never a solve or a search: the driver runs it at solve
+//! time for every result, `--summary-only` included, and `report.rs` draws from the same
+//! solution.
+
+use super::file::{Goal, LinkageProblem};
+use super::solve::{JointLoads, Solution as Solved};
+use super::synth::{self as ls, FORCE, MOMENT, TORQUE};
+use crate::families::family::{cw_status, Scene};
+use crate::families::linkage::model::JointKind;
+use crate::geom::P2;
+use crate::report::{ActiveBound, SolveResult};
+use crate::synth::counterweight::Status as CwStatus;
+use crate::synth::minimax::{FieldPeak, Solution};
+use serde_json::json;
+use std::collections::BTreeMap;
+use std::f64::consts::TAU;
+
+/// The objective keys of the three fields' peaks and RMS.
+const PEAK_KEYS: [&str; 3] = [
+    "peak_shaking_force_n",
+    "peak_shaking_moment_nm",
+    "peak_input_torque_nm",
+];
+
+/// See [`PEAK_KEYS`].
+const RMS_KEYS: [&str; 3] = [
+    "rms_shaking_force_n",
+    "rms_shaking_moment_nm",
+    "rms_input_torque_nm",
+];
+
+/// The key of `objectives` the scene's goal is judged on.
+pub fn objective_key(g: Goal) -> &'static str {
+    match g {
+        Goal::PeakForce => PEAK_KEYS[FORCE],
+        Goal::PeakMoment => PEAK_KEYS[MOMENT],
+        Goal::PeakTorque => PEAK_KEYS[TORQUE],
+        Goal::RmsForce => RMS_KEYS[FORCE],
+        Goal::RmsMoment => RMS_KEYS[MOMENT],
+        Goal::RmsTorque => RMS_KEYS[TORQUE],
+        Goal::CounterweightMass => "counterweight_mass_kg",
+    }
+}
+
+fn put_fields(
+    m: &mut BTreeMap<String, f64>,
+    e: Option<&mut BTreeMap<String, f64>>,
+    peaks: &[FieldPeak],
+    rms: &[(f64, f64); 3],
+) {
+    let mut errs = Vec::new();
+    // An infeasible or failed solve has no peaks (and its RMS are NaN, dropped as such).
+    for (k, pk) in peaks.iter().enumerate().take(3) {
+        m.insert(PEAK_KEYS[k].into(), pk.peak);
+        errs.push((PEAK_KEYS[k], pk.error));
+    }
+    for k in 0..3 {
+        m.insert(RMS_KEYS[k].into(), rms[k].0);
+        // The quadrature's estimate plus the field's evaluation error (an RMS is off by at
+        // most the largest pointwise error; the peak's bound stands for it).
+        let eval = peaks.get(k).map_or(0.0, |p| p.error);
+        errs.push((RMS_KEYS[k], rms[k].1 + eval));
+    }
+    if let Some(e) = e {
+        for (k, v) in errs {
+            e.insert(k.into(), v);
+        }
+    }
+}
+
+/// The result's `model` section: the links, the moment's reference point, the speed and
+/// what gravity enters.
+pub fn model(p: &LinkageProblem, _: Option<&Solved>) -> BTreeMap<String, serde_json::Value> {
+    let sc = &p.scene;
+    BTreeMap::from([
+        ("links".into(), json!(sc.link_names)),
+        (
+            "moment_about_m".into(),
+            json!([sc.moment_about.x, sc.moment_about.y]),
+        ),
+        ("speed_rad_s".into(), json!(sc.linkage.omega())),
+        (
+            "gravity".into(),
+            if sc.linkage.gravity().norm() > 0.0 {
+                json!({"acceleration_m_s2": sc.linkage.gravity().norm(), "enters": "input torque only"})
+            } else {
+                json!("not modelled")
+            },
+        ),
+    ])
+    .into_iter()
+    .chain((!sc.linkage.loads().is_empty()).then(|| {
+        (
+            "process_loads".into(),
+            json!({
+                "count": sc.linkage.loads().len(),
+                "enter": "input torque, drive and joint loads (reacted by the frame: not the shaking force or moment)"
+            }),
+        )
+    }))
+    .collect()
+}
+
+/// The result's numbers from the solution: the unbalanced baseline, status, design,
+/// objectives with their errors, the front, Berkof–Lowen and the joint loads.
+pub fn numbers(_: &Scene, p: &LinkageProblem, sol: &Solved, r: &mut SolveResult) {
+    let (sc, out) = (&p.scene, &sol.out);
+    let mut bare = BTreeMap::new();
+    put_fields(&mut bare, None, &out.bare, &out.bare_rms);
+    r.baselines.insert("unbalanced".into(), bare);
+    r.derived
+        .insert("max_dyad_conditioning".into(), out.kappa_max);
+    let key = objective_key(sc.objective.minimize);
+    r.objective = Some(key.into());
+    match (&out.design, out.balance_residual) {
+        // A balance out of reach, an analysis, or no design within the limits: the bare
+        // linkage's figures (the claim says which).
+        (Some(d), None) if d.status != CwStatus::Infeasible => design_keys(r, p, sol, d, key),
+        _ => put_fields(
+            &mut r.objectives,
+            Some(&mut r.errors),
+            &out.bare,
+            &out.bare_rms,
+        ),
+    }
+    if let Some(front) = &out.pareto {
+        r.extra.insert(
+            "pareto".into(),
+            Front::of(front, sc.objective.minimize).json(&r.name),
+        );
+    }
+    berkof_lowen(r, p, sol);
+    joint_numbers(r, p, sol);
+    // The drive is the design's where there is one (the bare linkage's otherwise).
+    let peaks = match &out.design {
+        Some(d) if d.status != CwStatus::Infeasible && sol.design_x().is_some() => &d.peaks,
+        _ => &out.bare,
+    };
+    let peak_force = peaks.first().map(|f| f.peak);
+    crate::report::drive::drive_numbers(r, sol.drive.as_ref(), peak_force);
+}
+
+/// Design, objectives, errors and solver facts of a solved design.
+fn design_keys(
+    r: &mut SolveResult,
+    p: &LinkageProblem,
+    solution: &Solved,
+    sol: &Solution,
+    key: &str,
+) {
+    let (sc, out) = (&p.scene, &solution.out);
+    let mut total_mass = 0.0;
+    for j in 0..sc.counterweights.len() {
+        total_mass += counterweight_keys(r, p, solution, sol, j);
+    }
+    let rms = out.design_rms.unwrap_or([(f64::NAN, f64::NAN); 3]);
+    put_fields(&mut r.objectives, Some(&mut r.errors), &sol.peaks, &rms);
+    r.objectives
+        .insert("counterweight_mass_kg".into(), total_mass);
+    // The optimised figure's bound covers its distance from the true optimum too.
+    let own = r.errors.get(key).copied().unwrap_or(0.0);
+    r.errors.insert(key.into(), own.max(sol.error.total));
+    solver_facts(r, p, out, sol);
+}
+
+/// Counterweight j's keys: its mass, centroid, angle, first moment and inertias, the annular
+/// sector that realises it, and the bounds it sits on; returns its mass.
+fn counterweight_keys(
+    r: &mut SolveResult,
+    p: &LinkageProblem,
+    solution: &Solved,
+    sol: &Solution,
+    j: usize,
+) -> f64 {
+    let cw = &p.scene.counterweights[j];
+    let d = sol.counterweight(j);
+    let n = &cw.link_name;
+    r.design
+        .insert(format!("{n}_counterweight_mass_kg"), d.mass);
+    r.design
+        .insert(format!("{n}_counterweight_radius_m"), d.radius);
+    r.design.insert(
+        format!("{n}_counterweight_angle_rad"),
+        d.angle.rem_euclid(TAU),
+    );
+    r.design.insert(
+        format!("{n}_counterweight_first_moment_x_kgm"),
+        d.first_moment[0],
+    );
+    r.design.insert(
+        format!("{n}_counterweight_first_moment_y_kgm"),
+        d.first_moment[1],
+    );
+    r.design.insert(
+        format!("{n}_counterweight_inertia_about_joint_kgm2"),
+        d.inertia,
+    );
+    r.design.insert(
+        format!("{n}_counterweight_centroidal_inertia_kgm2"),
+        d.centroidal_inertia,
+    );
+    // One body with this mass, centroid and inertia about the joint, within the
+    // envelope: an annular sector about the joint, symmetric about u (any thickness of
+    // areal density m/area).
+    if d.mass > 0.0 {
+        match solution.sectors[j] {
+            Some((ri, ro, th)) => {
+                for (k, v) in [("inner_radius_m", ri), ("outer_radius_m", ro), ("angle_rad", th)] {
+                    r.design.insert(format!("{n}_counterweight_sector_{k}"), v);
+                }
+            }
+            None => r.warnings.push(format!(
+                "the {n} counterweight (m {:.4} kg, centroid {:.2} mm, I {:.4e} kg·m² about its joint) is no annular sector within the envelope {:.2} mm",
+                d.mass,
+                d.radius * 1e3,
+                d.inertia,
+                cw.radius * 1e3
+            )),
+        }
+    }
+    // A counterweight at its largest mass or radius: the limit, not the balance, sizes it.
+    if d.mass > 0.0 {
+        let (m_lo, m_hi) = cw.mass.bounds();
+        let field = format!("design.counterweights[{j}]");
+        if m_hi > m_lo {
+            r.bounds.extend(ActiveBound::check(
+                &format!("design.{n}_counterweight_mass_kg"),
+                d.mass,
+                (m_lo, m_hi),
+                1e-7,
+                (&format!("{field}.mass"), "the least mass allowed"),
+                (
+                    &format!("{field}.mass"),
+                    "the largest mass allowed: the limit, not the balance, sizes this counterweight",
+                ),
+            ));
+        }
+        r.bounds.extend(ActiveBound::check(
+            &format!("design.{n}_counterweight_radius_m"),
+            d.radius,
+            (0.0, cw.radius),
+            1e-7,
+            (&format!("{field}.radius"), "at the joint"),
+            (
+                &format!("{field}.radius"),
+                "the centroid at the envelope radius: as far out as allowed, the least mass for its first moment",
+            ),
+        ));
+    }
+    d.mass
+}
+
+/// The solver's figures (bound, gaps, rounds, angles) and the limit violations.
+fn solver_facts(r: &mut SolveResult, p: &LinkageProblem, out: &ls::Outcome, sol: &Solution) {
+    let sc = &p.scene;
+    for (k, v) in [
+        ("lower_bound", sol.lower_bound),
+        ("gap_sampling", sol.error.sampling),
+        ("error_solver", sol.error.solver),
+        ("error_evaluation", sol.error.evaluation),
+        ("error_refinement", sol.error.refinement),
+        ("design_constraint_violation", sol.design_violation),
+        ("socp_rounds", sol.rounds as f64),
+        ("sampled_angles", sol.angles as f64),
+        ("ipm_iterations", f64::from(sol.ipm_iterations)),
+        ("balance_equalities", out.balance_rows as f64),
+    ] {
+        r.derived.insert(k.into(), v);
+    }
+    for (f, pk) in sol.peaks.iter().enumerate().take(3) {
+        if pk.violation > 0.0 {
+            r.warnings.push(format!(
+                "{} peak {:.6e} exceeds its limit {:.6e} by {:.3e}",
+                PEAK_KEYS[f],
+                pk.peak,
+                pk.limit.unwrap_or(f64::NAN),
+                pk.violation
+            ));
+        }
+    }
+    if sc.objective.full_force_balance && !sol.peaks.is_empty() {
+        let bare = out.bare[FORCE].peak.max(f64::MIN_POSITIVE);
+        r.derived.insert(
+            "balanced_force_relative".into(),
+            sol.peaks[FORCE].peak / bare,
+        );
+    }
+}
+
+/// One row per joint: (label, kind, the bare linkage's peak, the design's peak).
+pub(super) fn joint_rows<'a>(
+    p: &'a LinkageProblem,
+    loads: &'a JointLoads,
+) -> impl Iterator<Item = (String, &'static str, ls::JointPeak, Option<ls::JointPeak>)> + 'a {
+    let sc = &p.scene;
+    let design = loads.design.as_ref().and_then(|d| d.as_ref().ok());
+    sc.linkage
+        .joints()
+        .into_iter()
+        .enumerate()
+        .map(move |(k, j)| {
+            let kind = match j.kind {
+                JointKind::Revolute => "revolute",
+                JointKind::Prismatic => "prismatic",
+            };
+            (
+                ls::joint_label(&j, &sc.link_names),
+                kind,
+                loads.bare[k],
+                design.map(|d| d[k]),
+            )
+        })
+}
+
+/// The bearing loads: every joint's peak load over the cycle without and with the
+/// counterweights (`joints`), the largest of them as `peak_joint_force_n` in the objectives
+/// and the unbalanced baseline, a warning for each limit exceeded.
+fn joint_numbers(r: &mut SolveResult, p: &LinkageProblem, solved: &Solved) {
+    let sc = &p.scene;
+    let loads = match &solved.joints {
+        Ok(l) => l,
+        Err(e) => {
+            r.warnings.push(format!("joint loads not computed: {e}"));
+            return;
+        }
+    };
+    if let Some(Err(e)) = &loads.design {
+        r.warnings
+            .push(format!("joint loads of the design not computed: {e}"));
+    }
+    let design = loads.design.as_ref().and_then(|d| d.as_ref().ok());
+    // The largest of several peaks is off by at most the largest of their errors.
+    let worst = |v: &[ls::JointPeak]| {
+        (
+            v.iter().map(|j| j.peak).fold(0.0, f64::max),
+            v.iter().map(|j| j.error).fold(0.0, f64::max),
+        )
+    };
+    if let Some(b) = r.baselines.get_mut("unbalanced") {
+        b.insert("peak_joint_force_n".into(), worst(&loads.bare).0);
+    }
+    // The figure of the result: the design's, or the bare linkage's for an analysis.
+    if !r.objectives.is_empty() {
+        let (w, e) = worst(design.map_or(&loads.bare, |d| d.as_slice()));
+        r.objectives.insert("peak_joint_force_n".into(), w);
+        r.errors.insert("peak_joint_force_n".into(), e);
+    }
+    let mut rows = Vec::new();
+    for (label, kind, b, d) in joint_rows(p, loads) {
+        let mut row = json!({
+            "joint": label,
+            "kind": kind,
+            "unbalanced_peak_n": b.peak,
+            "unbalanced_peak_error_n": b.error,
+            "unbalanced_angle_rad": b.angle,
+        });
+        if let Some(d) = d {
+            row["peak_n"] = json!(d.peak);
+            row["peak_error_n"] = json!(d.error);
+            row["angle_rad"] = json!(d.angle);
+            if let Some(lim) = sc.objective.max_joint_force {
+                if d.peak > lim * (1.0 + p.settings.rel_tol) + d.error {
+                    r.warnings.push(format!(
+                        "joint {label} peak load {:.6e} N exceeds its limit {lim:.6e} N",
+                        d.peak
+                    ));
+                }
+            }
+        }
+        rows.push(row);
+    }
+    r.extra.insert(
+        "joints".into(),
+        json!({
+            "load": "peak over the cycle of |R| (a pin) or of the force normal to the slide (a slide), Newton–Euler",
+            "limit_n": sc.objective.max_joint_force,
+            "joints": rows,
+            "csv": format!("{}-joints.csv", r.name),
+        }),
+    );
+}
+
+/// A force–moment front as the result shows it: the points with a design, ordered by their
+/// limited field, each marked dominated or not.
+pub(super) struct Front<'a> {
+    front: &'a crate::synth::minimax::ParetoFront,
+    /// The points with a design (infeasible or failed points have no peaks: left out).
+    ok: Vec<&'a crate::synth::minimax::ParetoPoint>,
+    /// Indices into `ok` by increasing limited field.
+    order: Vec<usize>,
+    /// Does a point fail to trade off?
+    dominated: Vec<bool>,
+}
+
+impl<'a> Front<'a> {
+    /// A point trades off only if, against every point of smaller limited field, its
+    /// optimised field is lower by more than both errors; past the knee (the limit slack) the
+    /// points repeat the unlimited optimum with a larger other field: dominated, left out of
+    /// the front (kept in the CSV, marked).
+    pub(super) fn of(front: &'a crate::synth::minimax::ParetoFront, goal: Goal) -> Front<'a> {
+        let ok: Vec<_> = front
+            .points
+            .iter()
+            .filter(|p| p.solution.peaks.len() == 3)
+            .collect();
+        let (opt, lim) = match goal {
+            Goal::PeakMoment => (MOMENT, FORCE),
+            _ => (FORCE, MOMENT),
+        };
+        let mut order: Vec<usize> = (0..ok.len()).collect();
+        order.sort_by(|&i, &j| {
+            ok[i].solution.peaks[lim]
+                .peak
+                .total_cmp(&ok[j].solution.peaks[lim].peak)
+        });
+        let mut dominated = vec![false; ok.len()];
+        let mut best: Option<(f64, f64)> = None;
+        for &i in &order {
+            let pk = &ok[i].solution.peaks[opt];
+            match best {
+                Some((v, e)) if pk.peak >= v - (e + pk.error) => dominated[i] = true,
+                _ => best = Some((pk.peak, pk.error)),
+            }
+        }
+        Front {
+            front,
+            ok,
+            order,
+            dominated,
+        }
+    }
+
+    /// The `pareto` section of the result `name`.
+    fn json(&self, name: &str) -> serde_json::Value {
+        let pts: Vec<serde_json::Value> = self
+            .ok
+            .iter()
+            .zip(&self.dominated)
+            .filter(|(_, d)| !**d)
+            .map(|(pt, _)| {
+                let s = &pt.solution;
+                json!({
+                    "eps": pt.eps,
+                    "peak_shaking_force_n": s.peaks[FORCE].peak,
+                    "peak_shaking_moment_nm": s.peaks[MOMENT].peak,
+                    "error_total": s.error.total,
+                    "status": cw_status(s.status).as_str(),
+                })
+            })
+            .collect();
+        let certified = self
+            .front
+            .points
+            .iter()
+            .filter(|p| p.solution.status == CwStatus::Optimal)
+            .count();
+        json!({"points": pts, "certified": certified, "without_design": self.front.points.len() - self.ok.len(), "dominated": self.dominated.iter().filter(|d| **d).count(), "csv": format!("{name}-pareto.csv")})
+    }
+
+    /// The front's CSV: every point with a design, dominated ones marked.
+    pub(super) fn csv(&self) -> String {
+        let mut csv = String::from("eps,peak_shaking_force_n,peak_shaking_moment_nm,error_force_n,error_moment_nm,gap,status,dominated\n");
+        for (pt, dominated) in self.ok.iter().zip(&self.dominated) {
+            let s = &pt.solution;
+            csv += &format!(
+                "{:.12e},{:.12e},{:.12e},{:.3e},{:.3e},{:.3e},{},{dominated}\n",
+                pt.eps,
+                s.peaks[FORCE].peak,
+                s.peaks[MOMENT].peak,
+                s.peaks[FORCE].error,
+                s.peaks[MOMENT].error,
+                s.error.total,
+                cw_status(s.status).as_str(),
+            );
+        }
+        csv
+    }
+
+    /// (peak moment, peak force) of the front's points, by increasing limited field.
+    pub(super) fn line(&self) -> Vec<(f64, f64)> {
+        self.order
+            .iter()
+            .filter(|&&i| !self.dominated[i])
+            .map(|&i| {
+                let p = &self.ok[i].solution.peaks;
+                (p[MOMENT].peak, p[FORCE].peak)
+            })
+            .collect()
+    }
+}
+
+/// For a four-bar with counterweights on crank and rocker: the Berkof–Lowen first moments
+/// beside the numeric ones.
+fn berkof_lowen(r: &mut SolveResult, p: &LinkageProblem, solved: &Solved) {
+    let sc = &p.scene;
+    let Some(fb) = solved.berkof_lowen else {
+        return;
+    };
+    let sol = solved
+        .out
+        .design
+        .as_ref()
+        .filter(|s| s.x.iter().all(|v| v.is_finite()));
+    let mut v = json!({
+        "crank_first_moment_kgm": [fb.crank.x, fb.crank.y],
+        "rocker_first_moment_kgm": [fb.rocker.x, fb.rocker.y],
+        "crank_counterweight_first_moment_kgm": [fb.crank_add.x, fb.crank_add.y],
+        "rocker_counterweight_first_moment_kgm": [fb.rocker_add.x, fb.rocker_add.y],
+    });
+    if let (Some(sol), true) = (sol, sc.objective.full_force_balance) {
+        let find = |link: usize| sc.counterweights.iter().position(|c| c.link == link);
+        if let (Some(a), Some(b)) = (find(fb.links.0), find(fb.links.1)) {
+            let (ca, cb) = (sol.counterweight(a), sol.counterweight(b));
+            let diff = (P2::from(ca.first_moment) - fb.crank_add).norm()
+                + (P2::from(cb.first_moment) - fb.rocker_add).norm();
+            let scale = fb.crank_add.norm() + fb.rocker_add.norm();
+            v["numeric_minus_closed_form_relative"] = json!(diff / scale.max(f64::MIN_POSITIVE));
+            r.derived.insert(
+                "berkof_lowen_relative_difference".into(),
+                diff / scale.max(f64::MIN_POSITIVE),
+            );
+        }
+    }
+    r.extra.insert("berkof_lowen".into(), v);
+}

@@ -1,0 +1,413 @@
+//! The slider-crank's numbers: the solution's figures into the result's maps — `model`, design,
+//! objectives with their errors, derived figures, baselines, paper checks, sections and the
+//! warnings of the result's own checks (keys in `docs/results.md`). Arithmetic on the solution
+//! (sums, ratios, a limit compared), never a solve or a search: the driver runs it at solve
+//! time for every result, `--summary-only` included, and `report.rs` draws from the same
+//! solution.
+
+use super::file::*;
+use super::solve::Solution;
+use crate::families::family::Scene;
+use crate::families::slider_crank::model::Kinematics;
+use crate::families::slider_crank::model::ProcessForce;
+use crate::families::slider_crank::synth::{self as sc, Objective};
+use crate::geom::P2;
+use crate::report::{number_map, SolveResult};
+use serde_json::json;
+use std::collections::BTreeMap;
+
+/// The result's `model` section: the kinematics, the rod, the offset, gravity and the process
+/// force the solve uses.
+pub fn model(p: &SliderCrankProblem, _: Option<&Solution>) -> BTreeMap<String, serde_json::Value> {
+    let s = &p.core;
+    let m = &s.mech;
+    let g = s.loads.gravity;
+    BTreeMap::from([
+        (
+            "kinematics".into(),
+            json!(match m.kinematics {
+                Kinematics::Exact => "exact",
+                Kinematics::TwoHarmonic => "two-harmonic",
+            }),
+        ),
+        (
+            "rod_centroid_from_crank_pin_m".into(),
+            json!(m.rod.centroid),
+        ),
+        ("rod_inertia_kgm2".into(), json!(m.rod.inertia)),
+        ("offset_m".into(), json!(m.e)),
+        (
+            "gravity".into(),
+            if g.norm() > 0.0 {
+                json!({"acceleration_m_s2": g.norm(), "x_m_s2": g.x, "y_m_s2": g.y})
+            } else {
+                json!("not modelled")
+            },
+        ),
+        (
+            "process_force".into(),
+            json!(match &s.loads.process {
+                ProcessForce::None => "none".to_string(),
+                ProcessForce::Constant(f) => format!("constant {f} N"),
+                ProcessForce::Table { angles, .. } => format!("table of {} points", angles.len()),
+            }),
+        ),
+    ])
+}
+
+/// The result's numbers from the solution: status, design, objectives with their errors,
+/// derived figures, baselines, the sections and the warnings (what `--json` prints).
+pub fn numbers(_: &Scene, p: &SliderCrankProblem, sol: &Solution, r: &mut SolveResult) {
+    let (s, out) = (&p.core, &sol.out);
+    r.objective = Some(if s.envelope.is_empty() {
+        sc::Objectives::key(s.objective).into()
+    } else {
+        sc::Objectives::worst_case_key(s.objective).into()
+    });
+    let mut derived = derived(s, out);
+    paper_design_checks(r, &mut derived, p, sol);
+    baselines(r, s, sol);
+    pareto_numbers(r, &mut derived, out);
+    shape_numbers(r, s, out);
+    balancer_numbers(r, sol);
+    joint_load_numbers(r, s, out);
+    r.set_figures(&sol.design, &objectives(out), &errors(s, out), &derived);
+    crate::report::drive::drive_numbers(r, sol.drive.as_ref(), Some(sol.out.design.peak));
+    envelope_numbers(r, out, sol.sensitivities.as_ref());
+    if let Some((pts, warnings)) = &sol.sweep {
+        r.warnings.extend(warnings.iter().cloned());
+        r.extra.insert(
+            "speed_sweep".into(),
+            serde_json::to_value(pts).expect("plain data"),
+        );
+    }
+}
+
+/// The design's objective values.
+fn objectives(out: &sc::Outcome) -> sc::Objectives {
+    let d = &out.design;
+    sc::Objectives {
+        peak_shaking_force_n: d.peak,
+        rms_shaking_force_n: d.rms,
+        peak_drive_torque_nm: d.peak_torque,
+        peak_shaking_moment_nm: out.peak_shaking_moment,
+        energy_fluctuation_j: d.energy_fluctuation.map(|e| e[0]),
+        worst_case_peak_shaking_force_n: out
+            .envelope
+            .as_ref()
+            .map(|e| e.worst_peak_shaking_force.value),
+        worst_case_peak_drive_torque_nm: out
+            .envelope
+            .as_ref()
+            .map(|e| e.worst_peak_drive_torque.value),
+        worst_case_energy_fluctuation_j: out
+            .envelope
+            .as_ref()
+            .and_then(|e| e.worst_energy_fluctuation.map(|w| w.value)),
+    }
+}
+
+/// The objectives' errors: each figure's evaluation error, plus the optimality gap on the
+/// objective the scene optimised (a degenerate torque or moment objective was solved as the
+/// minimax force: its gap is in N).
+fn errors(s: &sc::Scene, out: &sc::Outcome) -> sc::Errors {
+    let d = &out.design;
+    let torque_objective = s.objective == Objective::MinPeakTorque && out.degenerate.is_none();
+    let moment_objective = s.objective == Objective::MinPeakMoment && out.degenerate.is_none();
+    let energy_objective =
+        s.objective == Objective::MinEnergyFluctuation && out.degenerate.is_none();
+    let env = out.envelope.as_ref();
+    // Over an envelope the gap is that of the worst case, not of the nominal figures.
+    let gap_w = |on: bool| if on { out.gap.max(0.0) } else { 0.0 };
+    let (gap_f, gap_t, gap_m, gap_e) = if env.is_some() {
+        (0.0, 0.0, 0.0, 0.0)
+    } else if torque_objective {
+        (0.0, out.gap, 0.0, 0.0)
+    } else if moment_objective {
+        (0.0, 0.0, out.gap, 0.0)
+    } else if energy_objective {
+        (0.0, 0.0, 0.0, out.gap)
+    } else {
+        (out.gap, 0.0, 0.0, 0.0)
+    };
+    sc::Errors {
+        objectives: sc::Objectives {
+            peak_shaking_force_n: gap_f + d.peak_error,
+            rms_shaking_force_n: d.rms_error,
+            peak_drive_torque_nm: gap_t + d.peak_torque_error,
+            peak_shaking_moment_nm: gap_m + out.peak_shaking_moment_error,
+            energy_fluctuation_j: d.energy_fluctuation.map(|e| gap_e + e[1]),
+            worst_case_peak_shaking_force_n: env.map(|e| {
+                e.worst_peak_shaking_force.error
+                    + gap_w(!torque_objective && !energy_objective && !moment_objective)
+            }),
+            worst_case_peak_drive_torque_nm: env
+                .map(|e| e.worst_peak_drive_torque.error + gap_w(torque_objective)),
+            worst_case_energy_fluctuation_j: env.and_then(|e| {
+                e.worst_energy_fluctuation
+                    .map(|w| w.error + gap_w(energy_objective))
+            }),
+        },
+        model_two_harmonic_n: out.exact_peak.map(|ex| (ex - d.peak).abs()),
+        joint_loads: sc::JointLoadFigures::of(out.joint_loads.as_ref(), true),
+    }
+}
+
+/// The derived figures (the paper's and the front's are filled in later).
+fn derived(s: &sc::Scene, out: &sc::Outcome) -> sc::Derived {
+    let (m, d) = (&s.mech, &out.design);
+    let u = P2::from(d.unbalance);
+    let (mt, mc) = (m.m_rot(), m.m_rec());
+    sc::Derived {
+        lambda: m.lambda(),
+        omega_rad_s: s.omega,
+        rotating_mass_kg: mt,
+        reciprocating_mass_kg: mc,
+        reciprocating_fraction_balanced: if mc > 0.0 {
+            (-u.x / m.r - mt) / mc
+        } else {
+            0.0
+        },
+        peak_angle_rad: d.peak_angle,
+        peak_torque_angle_rad: d.peak_torque_angle,
+        peak_to_peak_x_n: d.ptp_x,
+        peak_to_peak_y_n: d.ptp_y,
+        optimality_gap: out.gap,
+        gravity_ratio: 9.80665 / (m.r * s.omega * s.omega),
+        scan_samples: s.resolved_settings().scan_samples,
+        static_weight_n: (out.static_weight > 0.0).then_some(out.static_weight),
+        peak_shaking_force_exact_kinematics_n: out.exact_peak,
+        formula6_counterweight_mass_kg: None,
+        formula6_counterweight_mass_printed_inputs_kg: None,
+        paper_counterweight_torque_reduction_pct: None,
+        pareto_force_span_n: None,
+        pareto_torque_span_nm: None,
+        pareto_energy_span_j: None,
+        plate_max_unbalance_kgm: s.counterweight.shape.as_ref().map(|sh| sh.max_unbalance()),
+        joint_loads: sc::JointLoadFigures::of(out.joint_loads.as_ref(), false),
+        joint_load_angles: sc::JointLoadAngles::of(out.joint_loads.as_ref()),
+    }
+}
+
+/// Every baseline with its improvement over it, in the scene's objective (peak torque or peak
+/// force).
+fn baselines(r: &mut SolveResult, s: &sc::Scene, sol: &Solution) {
+    let d = &sol.out.design;
+    let torque_objective = s.objective == Objective::MinPeakTorque;
+    let energy = |m: &sc::Metrics| m.energy_fluctuation.map(|e| e[0]);
+    // Over an envelope each baseline is judged on its worst case, as the design is.
+    let worst = sol
+        .out
+        .envelope
+        .as_ref()
+        .map(|e| e.worst_for(s.objective).map_or(f64::NAN, |w| w.value));
+    for (name, b) in sol.baselines() {
+        let (base, ours) = match (energy(b), energy(d), b.worst_case.zip(worst)) {
+            (_, _, Some(pair)) => pair,
+            (Some(base), Some(ours), None) if s.objective == Objective::MinEnergyFluctuation => {
+                (base, ours)
+            }
+            _ if torque_objective => (b.peak_torque, d.peak_torque),
+            _ => (b.peak, d.peak),
+        };
+        let mut figures = sc::Baseline {
+            improvement_pct: Some(100.0 * (base - ours) / base.max(1e-300)),
+            ..b.baseline()
+        };
+        if let Some(w) = b.worst_case {
+            figures
+                .worst_case
+                .insert(sc::Objectives::worst_case_key(s.objective).into(), w);
+        }
+        r.baselines.insert(name.into(), number_map(&figures));
+    }
+}
+
+/// The torque–force front (`pareto`), its spans, and a warning where it is too narrow to
+/// choose along.
+fn pareto_numbers(r: &mut SolveResult, derived: &mut sc::Derived, out: &sc::Outcome) {
+    if out.pareto.is_empty() {
+        return;
+    }
+    r.extra.insert(
+        "pareto".into(),
+        serde_json::to_value(&out.pareto).expect("plain data"),
+    );
+    if let (Some(a), Some(b)) = (out.pareto.first(), out.pareto.last()) {
+        let (df, dt) = (
+            b.peak_shaking_force_n - a.peak_shaking_force_n,
+            a.traded() - b.traded(),
+        );
+        derived.pareto_force_span_n = Some(df);
+        let (what, unit) = if a.energy_fluctuation_j.is_some() {
+            derived.pareto_energy_span_j = Some(dt);
+            ("ΔE", "J")
+        } else {
+            derived.pareto_torque_span_nm = Some(dt);
+            ("torque", "N·m")
+        };
+        if df < 0.01 * a.peak_shaking_force_n && dt < 0.01 * b.traded() {
+            r.warnings.push(format!(
+                "the force optimum and the {what} optimum nearly coincide (the front spans {df:.3} N and {dt:.4} {unit}): one counterweight serves both"
+            ));
+        }
+    }
+}
+
+/// The counterweight plate (`shape`), where the scene shapes one.
+fn shape_numbers(r: &mut SolveResult, s: &sc::Scene, out: &sc::Outcome) {
+    if s.counterweight.shape.is_none() {
+        return;
+    }
+    let cw = &out.counterweight;
+    let note = cw.plate_note.clone().unwrap_or_default();
+    match &cw.plate {
+        Some(sector) => {
+            r.extra
+                .insert("shape".into(), json!({"sector": sector, "method": note}));
+        }
+        None => {
+            r.warnings.push(format!("counterweight plate: {note}"));
+            r.extra.insert(
+                "shape".into(),
+                json!({"status": "infeasible", "reason": note}),
+            );
+        }
+    }
+}
+
+/// The operating envelope (`envelope`): the vertices, the worst cases and the quasi-Monte
+/// Carlo check; a warning where a sample beats the vertices' worst case.
+fn envelope_numbers(
+    r: &mut SolveResult,
+    out: &sc::Outcome,
+    sensitivities: Option<&Result<Vec<sc::Sensitivity>, String>>,
+) {
+    let Some(e) = &out.envelope else { return };
+    let mut json = serde_json::to_value(e).expect("plain data");
+    match sensitivities {
+        Some(Ok(rows)) => {
+            json["sensitivities"] = serde_json::to_value(rows).expect("plain data");
+        }
+        Some(Err(why)) => r.warnings.push(format!(
+            "the envelope's sensitivities could not be computed: {why}"
+        )),
+        None => {}
+    }
+    r.extra.insert("envelope".into(), json);
+    if let Some(mc) = e.monte_carlo.as_ref().filter(|m| m.beyond_worst_case > 0) {
+        r.warnings.push(format!(
+            "{} of {} quasi-Monte Carlo samples of the envelope exceed the vertices' worst case beyond its error{}",
+            mc.beyond_worst_case,
+            mc.samples,
+            if e.certified {
+                " although it is proven there: please report this scene"
+            } else {
+                ": the length tolerances' worst case lies inside their band"
+            }
+        ));
+    }
+}
+
+/// The Lanchester balancers' section (`lanchester_balancers`).
+fn balancer_numbers(r: &mut SolveResult, sol: &Solution) {
+    if sol.balancers.is_empty() {
+        return;
+    }
+    r.extra.insert(
+        "lanchester_balancers".into(),
+        serde_json::to_value(&sol.balancers).expect("plain data"),
+    );
+}
+
+/// The peak of each joint load over the cycle, its crank angle, error and limit: (joint,
+/// peak, limit) in the order the result lists them.
+pub(super) fn joint_rows<'a>(
+    s: &sc::Scene,
+    jl: &'a sc::JointLoadPeaks,
+) -> [(&'static str, &'a sc::LoadPeak, Option<f64>); 4] {
+    let ll = &s.load_limits;
+    [
+        ("main bearing O", &jl.main_bearing, ll.main_bearing),
+        ("crank pin A", &jl.crank_pin, ll.crank_pin),
+        ("wrist pin B", &jl.wrist_pin, ll.wrist_pin),
+        ("guide (normal force)", &jl.guide, ll.guide),
+    ]
+}
+
+/// The joint loads' section (`joint_loads`).
+fn joint_load_numbers(r: &mut SolveResult, s: &sc::Scene, out: &sc::Outcome) {
+    let Some(jl) = &out.joint_loads else { return };
+    let rows: Vec<serde_json::Value> = joint_rows(s, jl)
+        .iter()
+        .map(|(name, p, lim)| {
+            json!({
+                "joint": name,
+                "peak_load_n": p.peak,
+                "angle_rad": p.angle,
+                "error_n": p.error,
+                "limit_n": lim,
+            })
+        })
+        .collect();
+    r.extra.insert("joint_loads".into(), json!(rows));
+}
+
+/// Formula (6) at the lever radius, and the paper's classical design against its own inputs:
+/// the printed masses against the itemised sums, the printed counterweight against formula
+/// (6) on the printed inputs, and the paper's counterweight as a baseline
+/// (`paper_counterweight`, evaluated in the solve).
+fn paper_design_checks(
+    r: &mut SolveResult,
+    derived: &mut sc::Derived,
+    p: &SliderCrankProblem,
+    sol: &Solution,
+) {
+    let Some(rad) = sol.lever else { return };
+    let m = &p.core.mech;
+    let (mt, mc) = (m.m_rot(), m.m_rec());
+    // The classical formula (6) at the lever radius is the 50 % rule: m = (m_r + ½m_s)R/r_pr.
+    derived.formula6_counterweight_mass_kg = Some((mt + 0.5 * mc) * m.r / rad);
+    let Some(pd) = &p.paper else { return };
+    let pct = |a: f64, b: f64| 100.0 * (a - b) / b;
+    if let Some(pr) = pd.rotating_mass {
+        if (pr - mt).abs() > 1e-3 * mt {
+            r.warnings.push(format!(
+                "the paper prints a rotating mass of {pr} kg but its own items add up to {mt:.4} kg ({:+.2} %)",
+                pct(pr, mt)
+            ));
+        }
+    }
+    if let Some(ps) = pd.reciprocating_mass {
+        if (ps - mc).abs() > 1e-3 * mc {
+            r.warnings.push(format!(
+                "the paper prints a reciprocating mass of {ps} kg but its own items add up to {mc:.4} kg ({:+.2} %)",
+                pct(ps, mc)
+            ));
+        }
+    }
+    if let (Some(pr), Some(ps)) = (pd.rotating_mass, pd.reciprocating_mass) {
+        let f6 = (pr + 0.5 * ps) * m.r / rad;
+        derived.formula6_counterweight_mass_printed_inputs_kg = Some(f6);
+        if let Some(pm) = pd.counterweight_mass {
+            if (pm - f6).abs() > 1e-4 * f6 {
+                r.warnings.push(format!(
+                    "the paper prints a counterweight of {pm} kg but formula (6) on its own printed inputs gives {f6:.4} kg ({:+.3} %)",
+                    pct(pm, f6)
+                ));
+            }
+        }
+    }
+    match &sol.paper_counterweight {
+        Some(Err(e)) => r.warnings.push(format!(
+            "the paper's counterweight could not be evaluated: {e}"
+        )),
+        Some(Ok(met)) => {
+            if let Some(none) = sol.out.baselines.get("none") {
+                derived.paper_counterweight_torque_reduction_pct =
+                    Some(100.0 * (none.peak_torque - met.peak_torque) / none.peak_torque);
+            }
+        }
+        None => {}
+    }
+}
