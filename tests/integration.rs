@@ -47,3 +47,4 @@ mod slider_crank;
 mod slider_crank_balancers;
 mod statuses;
 mod study;
+mod textbook;

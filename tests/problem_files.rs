@@ -276,7 +276,7 @@ fn model_options_only_where_they_apply() {
         &t,
         "model.kinematics",
         "kinematics",
-        "expected `exact` or `two-harmonic`",
+        "expected one of `exact`, `two-harmonic`, `primary`",
     );
 }
 

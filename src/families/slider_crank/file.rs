@@ -4,6 +4,7 @@
 //! `docs/results.md`).
 
 use super::file_envelope::{check_envelope, resolve_envelope, EnvelopeRaw, NamedMass};
+use super::file_textbook::{fraction_rule, resolve_evaluate_at, MAX_EVALUATE_AT};
 use crate::families::slider_crank::model::{Crank, Kinematics, Rod, SliderCrank};
 use crate::families::slider_crank::model::{Loads, ProcessForce};
 use crate::families::slider_crank::synth::{self as sc, CounterweightSpec, Objective, Prefer};
@@ -27,7 +28,10 @@ use std::f64::consts::{PI, TAU};
 /// machine (and at 1e-308 mm it overflowed to inf).
 pub const MIN_RADIUS_OF_CRANK: f64 = 1e-6;
 
-/// `[mechanism]`.
+/// The least crank radius (m) of a file that leaves the rod length out: the model's stand-in
+/// rod of 4R is squared in the loop closure, which must not underflow.
+pub const MIN_STAND_IN_CRANK: f64 = 1e-100;
+
 /// The `family = "…"` value of this family's files.
 pub const FAMILY: &str = "slider-crank";
 
@@ -54,8 +58,8 @@ pub const COUNTS: &[Count] = &[
 pub struct MechanismRaw {
     /// R.
     pub crank_radius: Qty<Length>,
-    /// L.
-    pub rod_length: Qty<Length>,
+    /// L (may be left out with `model.kinematics = "primary"`: obliquity neglected).
+    pub rod_length: Option<Qty<Length>>,
     /// e (default 0).
     pub offset: Option<Qty<Length>>,
     /// n or ω.
@@ -138,7 +142,7 @@ pub enum Masses {
 #[derive(Debug, Deserialize, Default, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ModelRaw {
-    /// `exact` (default) or `two-harmonic`.
+    /// `exact` (default), `two-harmonic` or `primary` (obliquity neglected).
     pub kinematics: Option<Kinematics>,
     /// `lumped` (default) or `rigid`.
     #[serde(default)]
@@ -173,6 +177,10 @@ pub struct DesignRaw {
     pub mass: Option<RawVar<Mass>>,
     /// r.
     pub radius: Option<RawVar<Length>>,
+    /// The textbook rule "balance the rotating mass and a fraction c of the reciprocating
+    /// mass" (c = 2/3: the two-thirds rule): fixes U = −(m_tq + c·m_ct)·R opposite the crank
+    /// pin (0 ≤ c ≤ 1, dimensionless), so the design is analysed, not optimised.
+    pub reciprocating_fraction: Option<f64>,
     /// Split preference.
     #[serde(default)]
     pub prefer: Prefer,
@@ -289,6 +297,12 @@ pub struct ObjectiveRaw {
     pub pareto_points: usize,
     /// Re-optimise over a range of speeds.
     pub speed_sweep: Option<SpeedSweepRaw>,
+    /// Crank angles (φ from the crank pin towards the slider: inner dead centre) at which the
+    /// result lists the design's shaking force, its components and the drive torque
+    /// (`at_angles`), e.g. a textbook's "30° from inner dead centre".
+    #[serde(default)]
+    #[schemars(length(max = MAX_EVALUATE_AT))]
+    pub evaluate_at: Vec<Qty<Angle>>,
 }
 
 /// `[objective.speed_sweep]`: the scene re-optimised at evenly spaced speeds.
@@ -332,6 +346,11 @@ pub struct SliderCrankProblem {
     pub speed_sweep: Option<SpeedSweep>,
     /// The drive at real speed (`[mechanism.drive]`), if given.
     pub drive: Option<crate::dynamics::Drive>,
+    /// Whether the file gives the rod length: left out (obliquity neglected), the model
+    /// carries a stand-in of 4R that no figure depends on, and nothing draws the rod.
+    pub rod_length_given: bool,
+    /// The crank angles (rad) of `objective.evaluate_at`.
+    pub evaluate_at: Vec<f64>,
 }
 
 /// The paper's printed inputs and output of formula (6) (SI).
@@ -373,7 +392,7 @@ pub fn resolve_raw(raw: &File) -> Result<SliderCrankProblem, FieldError> {
     let (mech, omega, loads) = resolve_mechanism(m, md)?;
     let d = &raw.design;
     let o = &raw.objective;
-    let (unbalance, angle, mass, radius) = resolve_counterweight(d, mech.r)?;
+    let (unbalance, angle, mass, radius) = resolve_counterweight(d, &mech)?;
     let (objective, max_peak_force, max_peak_torque) = resolve_objective(o, d, mass, radius)?;
     let settings = resolve_accuracy(&raw.accuracy)?;
     let paper = resolve_paper(d, radius)?;
@@ -443,11 +462,26 @@ pub fn resolve_raw(raw: &File) -> Result<SliderCrankProblem, FieldError> {
         .as_ref()
         .map(crate::problem::drive::resolve)
         .transpose()?;
+    let rod_length_given = m.rod_length.is_some();
+    if !rod_length_given
+        && core
+            .envelope
+            .lengths
+            .iter()
+            .any(|l| l.of == sc::LengthOf::RodLength)
+    {
+        return Err(FieldError::new(
+            "mechanism.envelope.length",
+            "a rod-length tolerance needs mechanism.rod_length",
+        ));
+    }
     Ok(SliderCrankProblem {
         core,
         paper,
         speed_sweep,
         drive,
+        rod_length_given,
+        evaluate_at: resolve_evaluate_at(&o.evaluate_at)?,
     })
 }
 
@@ -459,8 +493,28 @@ fn resolve_mechanism(
     md: &ModelRaw,
 ) -> Result<(SliderCrank, f64, Loads), FieldError> {
     let r = positive("mechanism.crank_radius", m.crank_radius.si())?;
-    let l = positive("mechanism.rod_length", m.rod_length.si())?;
     let e = m.offset.map_or(0.0, |q| q.si());
+    let kinematics = md.kinematics.unwrap_or(Kinematics::Exact);
+    let l = match m.rod_length {
+        Some(q) => positive("mechanism.rod_length", q.si())?,
+        // Obliquity neglected: no figure depends on L (a lumped rod's split is a fraction).
+        None if kinematics == Kinematics::Primary && md.masses == Masses::Lumped => {
+            // The stand-in's square must not underflow (the loop closure squares it).
+            if r < MIN_STAND_IN_CRANK {
+                return Err(FieldError::new(
+                    "mechanism.crank_radius",
+                    format!("{r:e} m without a rod length; allowed: at least {MIN_STAND_IN_CRANK:e} m (or give mechanism.rod_length)"),
+                ));
+            }
+            4.0 * r
+        }
+        None => {
+            return Err(FieldError::new(
+                "mechanism.rod_length",
+                "missing field `rod_length`: it may be left out only with model.kinematics = \"primary\" (obliquity neglected) and a lumped rod",
+            ))
+        }
+    };
     let omega = positive("mechanism.speed", m.speed.si())?;
     let m3 = non_negative("mechanism.rod_mass", m.rod_mass.si())?;
     let (m2, m4, r2) = resolve_link_masses(m, r)?;
@@ -481,11 +535,10 @@ fn resolve_mechanism(
             "all link masses are zero: nothing to balance; allowed: some mass > 0",
         ));
     }
-    let kinematics = md.kinematics.unwrap_or(Kinematics::Exact);
-    if kinematics == Kinematics::TwoHarmonic && e != 0.0 {
+    if kinematics != Kinematics::Exact && e != 0.0 {
         return Err(FieldError::new(
             "model.kinematics",
-            "the two-harmonic series is the in-line slider's; with an offset use \"exact\"",
+            "the two-harmonic series and the primary-only model are the in-line slider's; with an offset use \"exact\"",
         ));
     }
     let rod = resolve_rod(md, m3, l)?;
@@ -691,8 +744,9 @@ fn resolve_process_force(m: &MechanismRaw) -> Result<ProcessForce, FieldError> {
 /// radius not below [`MIN_RADIUS_OF_CRANK`] × R, a fixed m·r inside the unbalance bounds).
 fn resolve_counterweight(
     d: &DesignRaw,
-    r: f64,
+    mech: &SliderCrank,
 ) -> Result<(Var, Var, Option<Var>, Option<Var>), FieldError> {
+    let r = mech.r;
     let var = |v: &Option<RawVar<_>>, f: &str, default: Var| -> Result<Var, FieldError> {
         let v = v.map(|v| v.resolve(f)).transpose()?.unwrap_or(default);
         let (lo, _) = v.bounds();
@@ -739,6 +793,16 @@ fn resolve_counterweight(
                 ),
             ));
         }
+    }
+    if let Some(c) = d.reciprocating_fraction {
+        let given = [
+            (d.unbalance.is_some(), "design.unbalance"),
+            (d.angle.is_some(), "design.angle"),
+            (d.shape.is_some(), "design.shape"),
+            (d.balancers.is_some(), "design.balancers"),
+            (mass.is_some() && radius.is_some(), "design.mass"),
+        ];
+        return fraction_rule(c, &given, mech, mass, radius);
     }
     let angle = match d.angle.map(|v| v.resolve("design.angle")).transpose()? {
         None => Var::Free { min: 0.0, max: TAU },

@@ -4,6 +4,7 @@
 
 pub mod file;
 pub mod file_envelope;
+pub mod file_textbook;
 pub mod model;
 pub mod numbers;
 pub mod report;

@@ -27,6 +27,12 @@ pub enum Kinematics {
     /// the series to the same order, ψ ≈ −λ sin φ (so ψ' = −λ cos φ, ψ'' = λ sin φ). A lumped
     /// rod (ΔI = 0) then has exactly zero shaking moment and the torque m_ct x'x''.
     TwoHarmonic,
+    /// "Obliquity neglected", the textbooks' primary-only model (in-line slider only): the
+    /// rod stays parallel to the slider axis, x = R cos φ + L, x'' = −R cos φ, ψ ≡ 0 — the
+    /// two-harmonic series at λ = 0, so the rod is again its two point masses plus ΔI, and
+    /// ΔI enters nothing (ψ' = ψ'' = 0). Every force, torque and moment is independent of L:
+    /// the rod length may be left out of the file.
+    Primary,
 }
 
 /// The crank's own mass (a point mass at the centroid on the crank line).
@@ -130,6 +136,15 @@ impl SliderCrank {
         self.r / self.l
     }
 
+    /// The λ of the series kinematics: R/L for the two-harmonic series, 0 with the obliquity
+    /// neglected (0 too for exact kinematics, which use no series).
+    pub fn series_lambda(&self) -> f64 {
+        match self.kinematics {
+            Kinematics::TwoHarmonic => self.lambda(),
+            Kinematics::Primary | Kinematics::Exact => 0.0,
+        }
+    }
+
     /// The largest (R + |e|)/L: below 1 the crank turns a full revolution.
     pub fn assembly_ratio(&self) -> f64 {
         (self.r + self.e.abs()) / self.l
@@ -160,16 +175,16 @@ impl SliderCrank {
         let rc = r * c;
         let dpsi = match self.kinematics {
             Kinematics::Exact => [-rc / k, r * s / k - sigma * rc * rc / (k * k2)],
-            Kinematics::TwoHarmonic => {
-                let lam = self.lambda();
+            Kinematics::TwoHarmonic | Kinematics::Primary => {
+                let lam = self.series_lambda();
                 [-lam * c, lam * s]
             }
         };
         let x2 = self.slider_acc(phi, &lp);
         let x = match self.kinematics {
             Kinematics::Exact => [rc + k, -r * s - sigma * rc / k, x2],
-            Kinematics::TwoHarmonic => {
-                let lam = self.lambda();
+            Kinematics::TwoHarmonic | Kinematics::Primary => {
+                let lam = self.series_lambda();
                 let (s2, c2) = (2.0 * phi).sin_cos();
                 [
                     r * (c + 0.25 * lam * c2) + self.l - 0.25 * r * lam,
@@ -225,7 +240,7 @@ impl SliderCrank {
 
     /// Slider acceleration x'' (per ω², m): exact,
     /// x'' = −R cos φ − (R² cos²φ − σ R sin φ)/k − σ² R² cos²φ / k³; two-harmonic,
-    /// x'' = −R (cos φ + λ cos 2φ).
+    /// x'' = −R (cos φ + λ cos 2φ); obliquity neglected, x'' = −R cos φ.
     fn slider_acc(&self, phi: f64, lp: &Loop) -> f64 {
         let Loop { s, c, sigma, k, k2 } = *lp;
         let r = self.r;
@@ -235,6 +250,7 @@ impl SliderCrank {
                 -rc - (rc * rc - sigma * r * s) / k - sigma * sigma * rc * rc / (k * k2)
             }
             Kinematics::TwoHarmonic => -r * (c + self.lambda() * (2.0 * phi).cos()),
+            Kinematics::Primary => -rc,
         }
     }
 
@@ -305,7 +321,7 @@ impl SliderCrank {
                     + self.rod.inertia * st.dpsi[0] * st.dpsi[1]
                     + self.slider_mass * st.x[1] * st.x[2]
             }
-            Kinematics::TwoHarmonic => {
+            Kinematics::TwoHarmonic | Kinematics::Primary => {
                 self.m_rec() * st.x[1] * st.x[2]
                     + self.rod_inertia_excess() * st.dpsi[0] * st.dpsi[1]
             }
@@ -335,7 +351,7 @@ impl SliderCrank {
                     + self.rod.inertia * st.dpsi[1]
                     + self.slider_mass * cross(b, b2))
             }
-            Kinematics::TwoHarmonic => {
+            Kinematics::TwoHarmonic | Kinematics::Primary => {
                 -(self.rod_inertia_excess() * st.dpsi[1] + self.m_rec() * cross(b, b2))
             }
         }
@@ -351,7 +367,7 @@ impl SliderCrank {
                 self.rod.mass * st.g3[1].norm_squared() + self.rod.inertia * st.dpsi[0] * st.dpsi[0]
             }
             // Two point masses (the one at A moves at constant speed) and ΔI.
-            Kinematics::TwoHarmonic => {
+            Kinematics::TwoHarmonic | Kinematics::Primary => {
                 let mu = self.rod.centroid / self.l;
                 self.rod.mass * ((1.0 - mu) * st.a[1].norm_squared() + mu * st.x[1] * st.x[1])
                     + self.rod_inertia_excess() * st.dpsi[0] * st.dpsi[0]
@@ -418,8 +434,8 @@ impl SliderCrank {
                     rho_k: rho,
                 }
             }
-            Kinematics::TwoHarmonic => {
-                let lam = self.lambda();
+            Kinematics::TwoHarmonic | Kinematics::Primary => {
+                let lam = self.series_lambda();
                 let xb = r * (1.0 + lam);
                 RoundOff {
                     x: [r + l + xb, xb, xb],
@@ -679,7 +695,11 @@ mod tests {
 
     #[test]
     fn force_only_evaluation_is_bit_identical_to_the_state() {
-        for kin in [Kinematics::Exact, Kinematics::TwoHarmonic] {
+        for kin in [
+            Kinematics::Exact,
+            Kinematics::TwoHarmonic,
+            Kinematics::Primary,
+        ] {
             let m = SliderCrank {
                 kinematics: kin,
                 ..piston()
@@ -698,7 +718,11 @@ mod tests {
 
     #[test]
     fn force_y_is_one_harmonic_of_the_stated_amplitude() {
-        for kin in [Kinematics::Exact, Kinematics::TwoHarmonic] {
+        for kin in [
+            Kinematics::Exact,
+            Kinematics::TwoHarmonic,
+            Kinematics::Primary,
+        ] {
             let m = SliderCrank {
                 kinematics: kin,
                 ..piston()
@@ -818,6 +842,40 @@ mod tests {
             assert!((m.shaking_moment0(&st) + di * lam * phi.sin()).abs() < 1e-15);
             // ψ' and ψ'' are the derivatives of the series ψ = −λ sin φ.
             assert!((st.dpsi[0] + lam * phi.cos()).abs() < 1e-15);
+        }
+    }
+
+    /// Obliquity neglected: the textbooks' primary forces, F/ω² = (m_tq R + U_x, …) with the
+    /// whole reciprocating mass on −R cos φ, the torque m_ct x'x'' and no moment (lumped rod),
+    /// whatever the rod length — the figures for L and for 7L agree to the last bits.
+    #[test]
+    fn primary_model_is_the_textbooks_and_ignores_the_rod_length() {
+        let mut m = piston();
+        m.e = 0.0;
+        m.kinematics = Kinematics::Primary;
+        m.rod = Rod::lumped(0.3, 0.5, m.l);
+        let long = SliderCrank {
+            l: 7.0 * m.l,
+            rod: Rod::lumped(0.3, 0.5, 7.0 * m.l),
+            ..m
+        };
+        let (mt, mc, r) = (m.m_rot(), m.m_rec(), m.r);
+        for k in 0..36 {
+            let phi = 0.01 + k as f64 * 0.17;
+            let (st, sl) = (m.state(phi).unwrap(), long.state(phi).unwrap());
+            let f = m.shaking_force0(&st);
+            let (s, c) = phi.sin_cos();
+            // F = −Σ m a: the pin's mass on the circle, the slider's on −R cos φ.
+            let want = P2::new((mt + mc) * r * c, mt * r * s);
+            assert!(
+                (f - want).norm() <= 1e-15 * (mt + mc) * r,
+                "{phi}: {f:?} {want:?}"
+            );
+            assert!((f - long.shaking_force0(&sl)).norm() <= 1e-16 * (mt + mc) * r);
+            assert_eq!(m.shaking_moment0(&st), 0.0);
+            let t = m.drive_torque0(&st);
+            assert!((t - mc * r * r * s * c).abs() <= 1e-15 * mc * r * r);
+            assert!((t - long.drive_torque0(&sl)).abs() <= 1e-16 * mc * r * r);
         }
     }
 }

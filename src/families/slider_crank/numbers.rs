@@ -22,19 +22,29 @@ pub fn model(p: &SliderCrankProblem, _: Option<&Solution>) -> BTreeMap<String, s
     let s = &p.core;
     let m = &s.mech;
     let g = s.loads.gravity;
-    BTreeMap::from([
+    let rod = if p.rod_length_given {
+        vec![
+            (
+                "rod_centroid_from_crank_pin_m".into(),
+                json!(m.rod.centroid),
+            ),
+            ("rod_inertia_kgm2".into(), json!(m.rod.inertia)),
+        ]
+    } else {
+        vec![(
+            "rod_length".into(),
+            json!("not given: obliquity neglected, no figure depends on it"),
+        )]
+    };
+    let mut model = BTreeMap::from([
         (
             "kinematics".into(),
             json!(match m.kinematics {
                 Kinematics::Exact => "exact",
                 Kinematics::TwoHarmonic => "two-harmonic",
+                Kinematics::Primary => "primary (obliquity neglected)",
             }),
         ),
-        (
-            "rod_centroid_from_crank_pin_m".into(),
-            json!(m.rod.centroid),
-        ),
-        ("rod_inertia_kgm2".into(), json!(m.rod.inertia)),
         ("offset_m".into(), json!(m.e)),
         (
             "gravity".into(),
@@ -52,7 +62,9 @@ pub fn model(p: &SliderCrankProblem, _: Option<&Solution>) -> BTreeMap<String, s
                 ProcessForce::Table { angles, .. } => format!("table of {} points", angles.len()),
             }),
         ),
-    ])
+    ]);
+    model.extend(rod);
+    model
 }
 
 /// The result's numbers from the solution: status, design, objectives with their errors,
@@ -64,7 +76,7 @@ pub fn numbers(_: &Scene, p: &SliderCrankProblem, sol: &Solution, r: &mut SolveR
     } else {
         sc::Objectives::worst_case_key(s.objective).into()
     });
-    let mut derived = derived(s, out);
+    let mut derived = derived(p, out);
     paper_design_checks(r, &mut derived, p, sol);
     baselines(r, s, sol);
     pareto_numbers(r, &mut derived, out);
@@ -74,6 +86,12 @@ pub fn numbers(_: &Scene, p: &SliderCrankProblem, sol: &Solution, r: &mut SolveR
     r.set_figures(&sol.design, &objectives(out), &errors(s, out), &derived);
     crate::report::drive::drive_numbers(r, sol.drive.as_ref(), Some(sol.out.design.peak));
     envelope_numbers(r, out, sol.sensitivities.as_ref());
+    if !sol.at_angles.is_empty() {
+        r.extra.insert(
+            "at_angles".into(),
+            serde_json::to_value(&sol.at_angles).expect("plain data"),
+        );
+    }
     if let Some((pts, warnings)) = &sol.sweep {
         r.warnings.extend(warnings.iter().cloned());
         r.extra.insert(
@@ -154,12 +172,13 @@ fn errors(s: &sc::Scene, out: &sc::Outcome) -> sc::Errors {
 }
 
 /// The derived figures (the paper's and the front's are filled in later).
-fn derived(s: &sc::Scene, out: &sc::Outcome) -> sc::Derived {
+fn derived(p: &SliderCrankProblem, out: &sc::Outcome) -> sc::Derived {
+    let s = &p.core;
     let (m, d) = (&s.mech, &out.design);
     let u = P2::from(d.unbalance);
     let (mt, mc) = (m.m_rot(), m.m_rec());
     sc::Derived {
-        lambda: m.lambda(),
+        lambda: p.rod_length_given.then(|| m.lambda()),
         omega_rad_s: s.omega,
         rotating_mass_kg: mt,
         reciprocating_mass_kg: mc,

@@ -60,7 +60,7 @@ pub fn documents(scene: &Scene, p: &SliderCrankProblem, sol: &Solution, r: &mut 
         out.counterweight.plate,
         design.counterweight_angle_rad,
     );
-    mechanism_drawing(r, scene, &p.core.mech, design);
+    mechanism_drawing(r, scene, p, design);
     crate::report::drive::drive_documents(r, sol.drive.as_ref(), "crank");
     let (scene, s, out) = (scene.clone(), p.core.clone(), out.clone());
     let label = sol.claim.status.design_label();
@@ -652,14 +652,15 @@ fn plate_drawing(
 /// crank (C = r(cos(φ + β), sin(φ + β))) as a disc of symbolic size, R, L and r dimensioned,
 /// β as an angle; where the scene does not size m and r, the direction of U alone with a note
 /// |U| = m·r.
-fn mechanism_drawing(r: &mut SolveResult, scene: &Scene, mech: &SliderCrank, d: &sc::Design) {
+fn mechanism_drawing(r: &mut SolveResult, scene: &Scene, p: &SliderCrankProblem, d: &sc::Design) {
     if r.extra.get("shape").and_then(|v| v.get("sector")).is_some() {
         return;
     }
     let mech = SliderCrank {
         kinematics: Kinematics::Exact,
-        ..*mech
+        ..p.core.mech
     };
+    let rod_given = p.rod_length_given;
     let (name, beta, u) = (
         scene.name.clone(),
         d.counterweight_angle_rad,
@@ -726,7 +727,9 @@ fn mechanism_drawing(r: &mut SolveResult, scene: &Scene, mech: &SliderCrank, d: 
             if phi == 0.0 {
                 dr.mark(a).mark(b);
                 dr.linear(o, a, -8.0 * pin, "R");
-                dr.linear(a, b, -8.0 * pin, "L");
+                if rod_given {
+                    dr.linear(a, b, -8.0 * pin, "L");
+                }
             }
         }
         match sized {
@@ -749,7 +752,10 @@ fn mechanism_drawing(r: &mut SolveResult, scene: &Scene, mech: &SliderCrank, d: 
         if e != 0.0 {
             dr.note(format!("slider offset e = {:.2} mm", e * 1e3));
         }
-        dr.note("O: crank axis; the slider runs on +x; dimensions in mm");
+        if !rod_given {
+            dr.note("rod length not given (obliquity neglected): the rod is drawn at 4R, not to scale");
+        }
+        dr.note("O: crank axis; the slider runs on +x; φ = 0 with the crank pin towards the slider (inner dead centre), φ counter-clockwise; dimensions in mm");
         Ok(dr)
     }));
 }

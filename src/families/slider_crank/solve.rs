@@ -40,6 +40,55 @@ pub struct Solution {
     /// The envelope's sensitivity table (`[mechanism.envelope] sensitivities = true`): `Err`
     /// says why it could not be computed.
     pub sensitivities: Option<Result<Vec<sc::Sensitivity>, String>>,
+    /// The design's figures at the crank angles of `objective.evaluate_at`, in their order.
+    pub at_angles: Vec<AtAngle>,
+}
+
+/// The design's figures at one crank angle of `objective.evaluate_at` (the result's
+/// `at_angles` rows), at constant speed, with the balancers; each error is the round-off
+/// bound of one evaluation ([`sc::round_off_bounds`]).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct AtAngle {
+    /// φ (deg) from the crank pin towards the slider (inner dead centre).
+    pub crank_angle_deg: f64,
+    /// F_x (N), along the slider axis.
+    pub force_x_n: f64,
+    /// F_y (N), across it.
+    pub force_y_n: f64,
+    /// |F| (N).
+    pub force_n: f64,
+    /// The bound on |F|'s error (N).
+    pub force_error_n: f64,
+    /// The drive torque (N·m).
+    pub drive_torque_nm: f64,
+    /// The bound on its error (N·m).
+    pub drive_torque_error_nm: f64,
+    /// |F| without the design: no counterweight, no balancers (N), as the cycle table's
+    /// `bare_force_n`.
+    pub unbalanced_force_n: f64,
+}
+
+/// [`AtAngle`] at each angle of `angles` (rad) for the designed scene (and `bare`, the
+/// file's scene, without the design).
+fn at_angles(bare: &sc::Scene, out: &sc::Outcome, angles: &[f64]) -> Vec<AtAngle> {
+    let (d, u) = (&out.designed, P2::from(out.design.unbalance));
+    let [df, dt, _] = sc::round_off_bounds(d, u);
+    angles
+        .iter()
+        .map(|&phi| {
+            let f = sc::scene_force(d, u, phi);
+            AtAngle {
+                crank_angle_deg: phi.to_degrees(),
+                force_x_n: f.x,
+                force_y_n: f.y,
+                force_n: f.norm(),
+                force_error_n: df,
+                drive_torque_nm: sc::drive_torque(d, u, phi),
+                drive_torque_error_nm: dt,
+                unbalanced_force_n: sc::scene_force(bare, P2::zeros(), phi).norm(),
+            }
+        })
+        .collect()
 }
 
 /// The drive of the design U = `u`: ΔE, the least flywheel for the file's Cs, the steady
@@ -98,7 +147,9 @@ pub fn solve(p: &SliderCrankProblem) -> Result<Solution, String> {
         sweep: None,
         drive: None,
         sensitivities: None,
+        at_angles: Vec::new(),
     };
+    sol.at_angles = at_angles(s, &sol.out, &p.evaluate_at);
     // The paper's counterweight m at the lever radius r: U = (−m r, 0).
     let printed = p.paper.as_ref().and_then(|pd| pd.counterweight_mass);
     if let (Some(rad), Some(pm)) = (sol.lever, printed) {

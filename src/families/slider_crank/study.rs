@@ -70,6 +70,35 @@ pub fn ladder(s: &super::file::SliderCrankProblem) -> Ladder {
         ));
     }
     let m = &s.core.mech;
+    // Obliquity neglected with no rod length: no other kinematics or rod model exists.
+    if s.rod_length_given {
+        model_rungs(&mut l, m);
+    }
+    if s.core.loads.gravity.norm() > 0.0 {
+        l.push(Rung::new(
+            "no gravity",
+            "model",
+            vec![
+                Remove("model.gravity_acceleration"),
+                Set("model.gravity", Value::from(false)),
+            ],
+        ));
+    } else {
+        l.push(Rung::new(
+            "with gravity",
+            "model",
+            vec![Set("model.gravity", Value::from(true))],
+        ));
+    }
+    Ladder {
+        reference,
+        rungs: l,
+    }
+}
+
+/// The model rungs: the other kinematics, the other rod model.
+fn model_rungs(l: &mut Vec<Rung>, m: &crate::families::slider_crank::model::SliderCrank) {
+    use Edit::{Remove, Set};
     if m.kinematics == Kinematics::Exact {
         l.push(Rung::new(
             "two-harmonic kinematics",
@@ -101,26 +130,6 @@ pub fn ladder(s: &super::file::SliderCrankProblem) -> Ladder {
                 Set("model.masses", v_s("lumped")),
             ],
         ));
-    }
-    if s.core.loads.gravity.norm() > 0.0 {
-        l.push(Rung::new(
-            "no gravity",
-            "model",
-            vec![
-                Remove("model.gravity_acceleration"),
-                Set("model.gravity", Value::from(false)),
-            ],
-        ));
-    } else {
-        l.push(Rung::new(
-            "with gravity",
-            "model",
-            vec![Set("model.gravity", Value::from(true))],
-        ));
-    }
-    Ladder {
-        reference,
-        rungs: l,
     }
 }
 
@@ -195,11 +204,21 @@ pub fn effects(
         ));
     }
     // Series truncation of the kinematics.
-    if m.e == 0.0 {
+    if m.kinematics == Kinematics::Primary && !s.rod_length_given {
+        out.push((
+            "kinematics".into(),
+            format!(
+                "primary only (obliquity neglected): the secondary force m_ct ω² λR cos 2φ is left out; its size, {:.4} N per unit of λ, is unknown without the rod length (λ = R/L)",
+                m.m_rec() * w2 * m.r
+            ),
+        ));
+    } else if m.e == 0.0 {
         let mut ex = *m;
         ex.kinematics = Kinematics::Exact;
         let mut th = *m;
-        th.kinematics = Kinematics::TwoHarmonic;
+        if th.kinematics == Kinematics::Exact {
+            th.kinematics = Kinematics::TwoHarmonic;
+        }
         let mut dx = 0.0f64;
         for &p in &phis {
             if let (Some(a), Some(b)) = (ex.state(p), th.state(p)) {
@@ -207,15 +226,20 @@ pub fn effects(
             }
         }
         let bound = (m.slider_mass + m.rod.mass) * w2 * dx;
-        let what = if m.kinematics == Kinematics::Exact {
-            "exact (nothing left out); the two-harmonic series would change the shaking force by at most"
+        let (series, order) = if th.kinematics == Kinematics::Primary {
+            ("primary", "λ")
         } else {
-            "two-harmonic: the harmonics of order ≥ 4 left out change the shaking force by at most"
+            ("2h", "λ³")
+        };
+        let what = match m.kinematics {
+            Kinematics::Exact => "exact (nothing left out); the two-harmonic series would change the shaking force by at most",
+            Kinematics::TwoHarmonic => "two-harmonic: the harmonics of order ≥ 4 left out change the shaking force by at most",
+            Kinematics::Primary => "primary only (obliquity neglected): the harmonics of order ≥ 2 left out change the shaking force by at most",
         };
         out.push((
             "kinematics".into(),
             format!(
-                "{what} (m3 + m4)ω²·max|x''_exact − x''_2h| = {bound:.4} N ({:.2e} of the headline value; λ = {:.4}, the first term left out is O(λ³))",
+                "{what} (m3 + m4)ω²·max|x''_exact − x''_{series}| = {bound:.4} N ({:.2e} of the headline value; λ = {:.4}, the first term left out is O({order}))",
                 relative(bound, reference),
                 m.lambda()
             ),

@@ -368,8 +368,9 @@ impl JointLoadAngles {
 /// apply.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Derived {
-    /// λ = r/l: crank over rod.
-    pub lambda: f64,
+    /// λ = r/l: crank over rod (absent where the file leaves the rod length out: obliquity
+    /// neglected).
+    pub lambda: Option<f64>,
     /// ω (rad/s).
     pub omega_rad_s: f64,
     /// m_r: the rotating mass reduced to the crank pin (kg).
