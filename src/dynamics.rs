@@ -40,7 +40,7 @@ impl<F: Fn(f64) -> [f64; 3] + Sync> OneDof for F {
 }
 
 /// The motor on the input shaft.
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
 #[serde(rename_all = "snake_case", tag = "kind")]
 pub enum Motor {
     /// A constant torque, equal to the cycle's mean load T̄ (the only constant torque with a
@@ -57,6 +57,22 @@ pub enum Motor {
         /// No-load speed ω₀ (rad/s), above ω_r.
         no_load_speed: f64,
     },
+    /// A measured torque–speed characteristic (a hydraulic motor's from its displacement, the
+    /// pump's flow and the relief pressure; any motor's from its data sheet): T_m(ω) linear
+    /// between the points, continued along the end segments beyond them. The torque falls
+    /// strictly as the speed rises, so every load has one speed (a stable operating point).
+    Table {
+        /// Speeds ω (rad/s), strictly increasing, at least two.
+        speeds: Vec<f64>,
+        /// Torques T_m (N·m) at those speeds, strictly decreasing.
+        torques: Vec<f64>,
+    },
+}
+
+/// The segment k of the strictly increasing `xs` (at least two) to interpolate at `x` on:
+/// xs[k] ≤ x < xs[k+1], or an end segment outside them.
+fn segment(xs: &[f64], x: f64) -> usize {
+    xs.partition_point(|&v| v <= x).clamp(1, xs.len() - 1) - 1
 }
 
 impl Motor {
@@ -69,11 +85,40 @@ impl Motor {
                 rated_speed,
                 no_load_speed,
             } => rated_torque * (no_load_speed - omega) / (no_load_speed - rated_speed),
+            Motor::Table {
+                ref speeds,
+                ref torques,
+            } => {
+                let k = segment(speeds, omega);
+                let t = (omega - speeds[k]) / (speeds[k + 1] - speeds[k]);
+                torques[k] + t * (torques[k + 1] - torques[k])
+            }
         }
     }
 
-    /// The speed (rad/s) at which a line gives the torque `load` (N·m); `None` for a
-    /// constant torque, which gives it at any speed.
+    /// The steepest |dT_m/dω| (N·m·s/rad) anywhere: a line's slope, a table's steepest
+    /// segment's, 0 for a constant torque.
+    pub fn max_slope(&self) -> f64 {
+        match *self {
+            Motor::ConstantTorque => 0.0,
+            Motor::Line {
+                rated_torque,
+                rated_speed,
+                no_load_speed,
+            } => rated_torque / (no_load_speed - rated_speed),
+            Motor::Table {
+                ref speeds,
+                ref torques,
+            } => speeds
+                .windows(2)
+                .zip(torques.windows(2))
+                .map(|(w, t)| ((t[1] - t[0]) / (w[1] - w[0])).abs())
+                .fold(0.0, f64::max),
+        }
+    }
+
+    /// The speed (rad/s) at which a line or a table gives the torque `load` (N·m); `None`
+    /// for a constant torque, which gives it at any speed.
     pub fn speed_at(&self, load: f64) -> Option<f64> {
         match *self {
             Motor::ConstantTorque => None,
@@ -82,6 +127,18 @@ impl Motor {
                 rated_speed,
                 no_load_speed,
             } => Some(no_load_speed - load * (no_load_speed - rated_speed) / rated_torque),
+            Motor::Table {
+                ref speeds,
+                ref torques,
+            } => {
+                // The torques fall: the segment whose torques bracket the load (or an end's).
+                let n = torques.len();
+                let k = (0..n - 1)
+                    .find(|&k| torques[k + 1] <= load)
+                    .unwrap_or(n - 2);
+                let t = (load - torques[k]) / (torques[k + 1] - torques[k]);
+                Some(speeds[k] + t * (speeds[k + 1] - speeds[k]))
+            }
         }
     }
 }
@@ -710,7 +767,9 @@ fn steady_on<'g>(
                 Some(exact),
             )
         }
-        Motor::Line { .. } => (shoot_line(grid, motor, flywheel, gbar)?, None),
+        Motor::Line { .. } | Motor::Table { .. } => {
+            (shoot_line(grid, motor, flywheel, gbar)?, None)
+        }
     };
     let (omegas, exact) = omegas;
     let stride = n / omegas.len();
@@ -1038,7 +1097,7 @@ pub fn least_flywheel(
 }
 
 /// A problem file's `[mechanism.drive]`, checked (`crate::problem::drive`).
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct Drive {
     /// Cs to meet, if any.
     pub cs: Option<f64>,
@@ -1077,7 +1136,7 @@ pub struct RealSpeed {
     /// mechanism (N·m).
     pub peak_shaft_torque: f64,
     /// Bound on its error (N·m): the difference from the peak node's neighbours, plus I_f
-    /// times the error of α's peak and the motor line's slope times the speeds' error.
+    /// times the error of α's peak and the motor's steepest slope times the speeds' error.
     pub peak_shaft_torque_error: f64,
 }
 
@@ -1131,9 +1190,8 @@ impl DriveFigures {
             .map(|&[_, w, a]| motor.torque(w, mean) - st.flywheel * a)
             .collect();
         let (shaft, _, shaft_between) = node_peak(&shafts);
-        // dT_m/dω of a line (0 for a constant torque), for the speeds' error.
-        let slope =
-            (motor.torque(st.omega_mean + 1.0, mean) - motor.torque(st.omega_mean, mean)).abs();
+        // The steepest |dT_m/dω| (0 for a constant torque), for the speeds' error.
+        let slope = motor.max_slope();
         let shaft_error =
             shaft_between + st.flywheel * st.peak_alpha_error + slope * st.omega_error;
         self.real = Some(RealSpeed {

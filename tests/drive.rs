@@ -257,7 +257,7 @@ fn steady_state_with_a_motor_line_matches_a_time_domain_integration() {
         rated_speed: 145.0,
         no_load_speed: 157.0,
     };
-    let worst = check_against_time_domain(&m, motor, 0.02, 150.0);
+    let worst = check_against_time_domain(&m, motor.clone(), 0.02, 150.0);
     eprintln!("motor line, slider: worst relative difference in ω {worst:.2e}");
     assert!(worst < 1e-8, "{worst:.2e}");
     let st = steady_state(&m, &motor, 0.02, 150.0, &DriveSettings::default()).unwrap();
@@ -275,6 +275,46 @@ fn steady_state_with_a_motor_line_matches_a_time_domain_integration() {
         st.omega_mean < w_phi,
         "the time mean is the harmonic mean over φ"
     );
+}
+
+/// A motor given as a table (a hydraulic motor's measured characteristic): two points are its
+/// line exactly; a characteristic with kinks inside the speed swing matches the time-domain
+/// integration within the steady state's own stated error.
+#[test]
+fn a_motor_table_is_its_line_and_matches_a_time_domain_integration() {
+    let m = slider(0.05, 0.2, 1.2, 0.8, 3000.0);
+    let s = DriveSettings::default();
+    let line = Motor::Line {
+        rated_torque: 60.0,
+        rated_speed: 145.0,
+        no_load_speed: 157.0,
+    };
+    let two = Motor::Table {
+        speeds: vec![145.0, 157.0],
+        torques: vec![60.0, 0.0],
+    };
+    let (a, b) = (
+        steady_state(&m, &line, 0.02, 150.0, &s).unwrap(),
+        steady_state(&m, &two, 0.02, 150.0, &s).unwrap(),
+    );
+    assert!((a.omega_mean - b.omega_mean).abs() <= 1e-12 * a.omega_mean);
+    assert!((a.cs - b.cs).abs() <= 1e-12 * a.cs + 1e-15);
+    // Extrapolated along the end segments, inverted where the torque meets a load.
+    assert!((two.torque(163.0, 0.0) + 30.0).abs() < 1e-12);
+    assert!((two.speed_at(30.0).unwrap() - 151.0).abs() < 1e-12);
+    // Kinks at 149 and 151 rad/s, inside the swing (Cs of a few per cent at 150 rad/s).
+    let hydraulic = Motor::Table {
+        speeds: vec![0.0, 149.0, 151.0, 160.0],
+        torques: vec![90.0, 40.0, 30.0, 0.0],
+    };
+    let st = steady_state(&m, &hydraulic, 0.02, 150.0, &s).unwrap();
+    assert!(st.omega_min < 149.0 && st.omega_max > 151.0, "{st:?}");
+    let worst = check_against_time_domain(&m, hydraulic, 0.02, 150.0);
+    let stated = st.omega_error / st.omega_min;
+    eprintln!(
+        "motor table with kinks: worst relative difference in ω {worst:.2e}, stated {stated:.2e}"
+    );
+    assert!(worst <= stated.max(1e-8), "{worst:.2e} > {stated:.2e}");
 }
 
 #[test]
@@ -382,6 +422,36 @@ fn a_problem_file_with_a_drive_reports_its_flywheel() {
     );
     let e = cwsynth::families::parse_str(&bad, std::path::Path::new("d.toml")).unwrap_err();
     assert!(e.to_string().contains("flywheel"), "{e}");
+}
+
+/// A motor table in a problem file: the machine runs where the table meets its mean load;
+/// a table whose torque rises with the speed is refused, naming the field and its line.
+#[test]
+fn a_problem_file_with_a_motor_table_runs_where_the_table_meets_the_load() {
+    let base = std::fs::read_to_string(crate::common::problem("piston-1000rpm.toml")).unwrap();
+    let table = "motor = { speed = [\"0 rpm\", \"990 rpm\", \"1010 rpm\"], torque = [\"40 N*m\", \"10 N*m\", \"0 N*m\"] }";
+    let text = crate::common::with(
+        &base,
+        "[model]",
+        &format!("[mechanism.drive]\ncs = 0.01\n{table}\n\n[model]"),
+    );
+    let r = cwsynth::families::solve_scene(
+        &cwsynth::families::parse_str(&text, std::path::Path::new("d.toml")).unwrap(),
+    );
+    let d = &r.derived;
+    // No process load and no gravity: T̄ = 0, so the table's no-load end, 1010 rpm.
+    let want = 1010.0 * TAU / 60.0;
+    assert!(d["drive_mean_torque_nm"].abs() < 1e-9);
+    let w = d["steady_omega_mean_rad_s"];
+    assert!((w - want).abs() < 1e-3 * want, "{w} vs {want}");
+    assert!((d["steady_cs"] - 0.01).abs() <= 1e-9 + d["steady_cs_error"]);
+    let rising = crate::common::with(&text, "\"10 N*m\", \"0 N*m\"", "\"10 N*m\", \"20 N*m\"");
+    crate::common::assert_names(
+        &rising,
+        "mechanism.drive.motor",
+        "motor = {",
+        "strictly decreasing",
+    );
 }
 
 /// The shaking force at real speed is −d²/dt² of the mass-weighted position Σ mᵢ r_Gᵢ + Rot(φ)U:

@@ -37,7 +37,20 @@ pub enum MotorRaw {
         /// ω₀ (> ω_r).
         no_load_speed: Qty<AngularSpeed>,
     },
+    /// `{ speed = [..], torque = [..] }`: a measured torque–speed characteristic, linear
+    /// between the points (2 to 64, speeds strictly increasing, torques strictly decreasing).
+    Table {
+        /// Speeds ω, strictly increasing.
+        #[schemars(length(min = 2, max = MAX_MOTOR_POINTS))]
+        speed: Vec<Qty<AngularSpeed>>,
+        /// Torques T_m at those speeds, strictly decreasing.
+        #[schemars(length(min = 2, max = MAX_MOTOR_POINTS))]
+        torque: Vec<Qty<Torque>>,
+    },
 }
+
+/// Most points of a motor table.
+pub const MAX_MOTOR_POINTS: usize = 64;
 
 /// A motor named by its kind.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, schemars::JsonSchema)]
@@ -76,13 +89,14 @@ pub fn resolve(d: &DriveRaw) -> Result<Drive, FieldError> {
 
 /// The motor: a constant torque by default.
 fn motor(m: Option<&MotorRaw>) -> Result<Motor, FieldError> {
-    let Some(MotorRaw::Line {
-        rated_torque,
-        rated_speed,
-        no_load_speed,
-    }) = m
-    else {
-        return Ok(Motor::ConstantTorque);
+    let (rated_torque, rated_speed, no_load_speed) = match m {
+        None | Some(MotorRaw::Kind(MotorKind::ConstantTorque)) => return Ok(Motor::ConstantTorque),
+        Some(MotorRaw::Table { speed, torque }) => return motor_table(speed, torque),
+        Some(MotorRaw::Line {
+            rated_torque,
+            rated_speed,
+            no_load_speed,
+        }) => (rated_torque, rated_speed, no_load_speed),
     };
     let (t, wr, w0) = (rated_torque.si(), rated_speed.si(), no_load_speed.si());
     if !(t > 0.0 && wr > 0.0 && w0 > wr) {
@@ -96,4 +110,31 @@ fn motor(m: Option<&MotorRaw>) -> Result<Motor, FieldError> {
         rated_speed: wr,
         no_load_speed: w0,
     })
+}
+
+/// A motor table: 2 to [`MAX_MOTOR_POINTS`] points, as many torques as speeds, the speeds
+/// positive and strictly increasing, the torques strictly decreasing.
+fn motor_table(speed: &[Qty<AngularSpeed>], torque: &[Qty<Torque>]) -> Result<Motor, FieldError> {
+    const F: &str = "mechanism.drive.motor";
+    let speeds: Vec<f64> = speed.iter().map(|q| q.si()).collect();
+    let torques: Vec<f64> = torque.iter().map(|q| q.si()).collect();
+    let n = speeds.len();
+    if n != torques.len() || !(2..=MAX_MOTOR_POINTS).contains(&n) {
+        return Err(FieldError::new(
+            F,
+            format!(
+                "{n} speeds and {} torques; allowed: equal lists of 2 to {MAX_MOTOR_POINTS} points",
+                torques.len()
+            ),
+        ));
+    }
+    let rising = speeds.windows(2).all(|w| w[1] > w[0]) && speeds[0] >= 0.0;
+    let falling = torques.windows(2).all(|w| w[1] < w[0]);
+    if !(rising && falling && torques.iter().all(|t| t.is_finite())) {
+        return Err(FieldError::new(
+            F,
+            "allowed: speeds ≥ 0 strictly increasing, torques strictly decreasing (a stable characteristic: one speed for every load)",
+        ));
+    }
+    Ok(Motor::Table { speeds, torques })
 }
