@@ -675,6 +675,32 @@ pub struct SteadyState {
     pub curve: Vec<[f64; 3]>,
 }
 
+/// The peak of a quantity over a steady state's nodes, with its error bound and angle.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct NodePeak {
+    /// max |v| over the nodes.
+    pub peak: f64,
+    /// Its error bound: how far the maximum between the nodes can rise ([`node_peak`]) plus
+    /// the speeds' error (2 δω/ω_min of it, for a quantity that scales as ω²).
+    pub error: f64,
+    /// The input angle of the peak node (rad).
+    pub angle: f64,
+}
+
+impl SteadyState {
+    /// The peak of an inertial quantity `v(φ, ω, α)` (a force or a load, which scales as ω²)
+    /// over the nodes ([`NodePeak`]); `None` where `v` is `None` at a node.
+    pub fn inertial_peak(&self, v: impl Fn(f64, f64, f64) -> Option<f64>) -> Option<NodePeak> {
+        let vs: Option<Vec<f64>> = self.curve.iter().map(|&[p, w, a]| v(p, w, a)).collect();
+        let (peak, k, between) = node_peak(&vs?);
+        Some(NodePeak {
+            peak,
+            error: between + 2.0 * self.omega_error / self.omega_min * peak,
+            angle: self.curve[k][0],
+        })
+    }
+}
+
 /// max |v| over the nodes of one turn (periodic), its node, and a bound on how far the true
 /// maximum between the nodes can lie above it: the larger difference from the two
 /// neighbours. A peak at a kink (a load table's corner) is off by at most its slope times half
@@ -1175,14 +1201,9 @@ impl DriveFigures {
         force: impl Fn(f64, f64, f64) -> Option<f64>,
     ) -> DriveFigures {
         let st = &self.steady;
-        let forces: Option<Vec<f64>> = st
-            .curve
-            .iter()
-            .map(|&[phi, w, a]| force(phi, w, a))
-            .collect();
-        let Some(forces) = forces else { return self };
-        let (peak, k, between) = node_peak(&forces);
-        let speed_err = 2.0 * st.omega_error / st.omega_min * peak;
+        let Some(force) = st.inertial_peak(force) else {
+            return self;
+        };
         let mean = self.constant.mean_torque;
         let shafts: Vec<f64> = st
             .curve
@@ -1195,9 +1216,9 @@ impl DriveFigures {
         let shaft_error =
             shaft_between + st.flywheel * st.peak_alpha_error + slope * st.omega_error;
         self.real = Some(RealSpeed {
-            peak_force: peak,
-            peak_force_error: between + speed_err,
-            peak_force_angle: st.curve[k][0],
+            peak_force: force.peak,
+            peak_force_error: force.error,
+            peak_force_angle: force.angle,
             peak_shaft_torque: shaft,
             peak_shaft_torque_error: shaft_error,
         });

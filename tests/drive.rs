@@ -424,6 +424,48 @@ fn a_problem_file_with_a_drive_reports_its_flywheel() {
     assert!(e.to_string().contains("flywheel"), "{e}");
 }
 
+/// The joint loads at real speed (issue 33): reported beside the constant-speed ones, and
+/// equal to them within the stated errors when a huge flywheel holds the speed constant.
+#[test]
+fn joint_loads_at_real_speed_approach_the_constant_speed_ones_with_a_huge_flywheel() {
+    let base =
+        std::fs::read_to_string(crate::common::problem("piston-1000rpm-flywheel.toml")).unwrap();
+    // The shipped scene reports its joint loads (`bearing_loads = true`).
+    let text = crate::common::with(&base, "bearing_loads = true", "bearing_loads = true");
+    let solve = |t: &str| {
+        cwsynth::families::solve_scene(
+            &cwsynth::families::parse_str(t, std::path::Path::new("d.toml")).unwrap(),
+        )
+    };
+    let r = solve(&text);
+    let d = &r.derived;
+    for j in ["main_bearing", "crank_pin", "wrist_pin", "guide"] {
+        let (real, at) = (
+            d[&format!("steady_peak_{j}_load_n")],
+            d[&format!("peak_{j}_load_n")],
+        );
+        let pct = d[&format!("steady_peak_{j}_load_change_pct")];
+        assert!((100.0 * (real - at) / at - pct).abs() < 1e-9, "{j}");
+        // Cs 0.02: the loads move by a few per cent at most.
+        assert!(pct.abs() < 5.0, "{j}: {pct} %");
+    }
+    let huge = crate::common::with(&text, "cs = 0.02", "flywheel = \"1e6 kg*m^2\"");
+    let r = solve(&huge);
+    let d = &r.derived;
+    for j in ["main_bearing", "crank_pin", "wrist_pin", "guide"] {
+        let (real, err, at) = (
+            d[&format!("steady_peak_{j}_load_n")],
+            d[&format!("steady_peak_{j}_load_error_n")],
+            d[&format!("peak_{j}_load_n")],
+        );
+        let at_err = r.errors[&format!("peak_{j}_load_n")];
+        assert!(
+            (real - at).abs() <= err + at_err + 1e-6 * at,
+            "{j}: {real} ± {err} vs {at} ± {at_err}"
+        );
+    }
+}
+
 /// A motor table in a problem file: the machine runs where the table meets its mean load;
 /// a table whose torque rises with the speed is refused, naming the field and its line.
 #[test]

@@ -393,18 +393,24 @@ fn joint_loads_satisfy_newton_euler_by_finite_differences() {
         (a, b, g3, psi(&mech, p), cw)
     };
     let g = loads.gravity;
-    for k in 0..37 {
+    // At constant speed (α = 0) and at real speed (issue 33): a = r″ω² + r′α.
+    for (k, alpha) in (0..37).flat_map(|k| [(k, 0.0), (k, 900.0), (k, -1500.0)]) {
         let phi = 0.05 + k as f64 * 0.17;
         let st = mech.state(phi).unwrap();
-        let j = mech.joint_loads(&st, omega, &loads, u, mcw);
+        let j = mech.joint_loads_at(&st, omega, alpha, &loads, u, mcw);
+        if alpha == 0.0 {
+            assert_eq!(j, mech.joint_loads(&st, omega, &loads, u, mcw));
+        }
         let (a, b, g3, _, _) = pos(phi);
         let (ap, bp, gp, sp, cp) = pos(phi + h);
         let (am, bm, gm, sm, cm) = pos(phi - h);
         let (a0, b0, g0, s0, c0) = pos(phi);
-        let acc = |p: P2, c: P2, m: P2| (p - c * 2.0 + m) * (w2 / (h * h));
+        let acc = |p: P2, c: P2, m: P2| {
+            (p - c * 2.0 + m) * (w2 / (h * h)) + (p - m) * (alpha / (2.0 * h))
+        };
         let a_b = acc(bp, b0, bm);
         let a_g3 = acc(gp, g0, gm);
-        let psi2 = (sp - 2.0 * s0 + sm) * w2 / (h * h);
+        let psi2 = (sp - 2.0 * s0 + sm) * w2 / (h * h) + (sp - sm) * alpha / (2.0 * h);
         let fp = loads.process.at(phi);
         let scale = 2000.0;
         let tol = 2e-5 * scale;

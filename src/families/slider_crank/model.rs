@@ -652,19 +652,41 @@ impl SliderCrank {
         u: P2,
         cw_mass: f64,
     ) -> JointLoads {
+        self.joint_loads_at(st, omega, 0.0, loads, u, cw_mass)
+    }
+
+    /// [`Self::joint_loads`] at real speed, the crank at speed ω with angular acceleration α:
+    /// every acceleration r″ω² + r′α (a_B = x″ω² + x′α, a_G3 = G3″ω² + G3′α,
+    /// ψ̈ = ψ″ω² + ψ′α, the crank's m2 (r2/R)(A″ω² + A′α) and the counterweight's
+    /// −Rot(φ)U ω² + Rot(φ + π/2)U α). At α = 0 it is the constant-speed load, bit for bit.
+    pub fn joint_loads_at(
+        &self,
+        st: &State,
+        omega: f64,
+        alpha: f64,
+        loads: &Loads,
+        u: P2,
+        cw_mass: f64,
+    ) -> JointLoads {
         let w2 = omega * omega;
         let g = loads.gravity;
         let (m2, m3, m4) = (self.crank.mass, self.rod.mass, self.slider_mass);
-        let f34x = m4 * w2 * st.x[2] - loads.process.at(st.phi) - m4 * g.x;
+        // (Each α term beside its ω² term, so that α = 0 adds exact zeros.)
+        let f34x = m4 * w2 * st.x[2] + m4 * alpha * st.x[1] - loads.process.at(st.phi) - m4 * g.x;
         let f43x = -f34x;
         let a = st.a[0];
         let g3 = st.g3[0];
-        let inert3 = (st.g3[2] * w2 - g) * m3;
+        let inert3 = (st.g3[2] * w2 + st.g3[1] * alpha - g) * m3;
         let [sigma, k] = st.sigma_k;
-        let f43y = (self.rod.inertia * w2 * st.dpsi[1] - cross(a - g3, inert3) - sigma * f43x) / k;
+        let i3 = self.rod.inertia;
+        let i3_psi2 = i3 * w2 * st.dpsi[1] + i3 * alpha * st.dpsi[0];
+        let f43y = (i3_psi2 - cross(a - g3, inert3) - sigma * f43x) / k;
         let f43 = P2::new(f43x, f43y);
         let f23 = inert3 - f43;
-        let crank = (st.a[2] * (m2 * self.crank.centroid / self.r) - rot_cs(st.cs, u)) * w2;
+        let [c, s] = st.cs;
+        let k2 = m2 * self.crank.centroid / self.r;
+        let crank =
+            (st.a[2] * k2 - rot_cs(st.cs, u)) * w2 + (st.a[1] * k2 + rot_cs([-s, c], u)) * alpha;
         JointLoads {
             main: crank + f23 - g * (m2 + cw_mass),
             crank_pin: f23,

@@ -86,6 +86,9 @@ pub fn numbers(_: &Scene, p: &SliderCrankProblem, sol: &Solution, r: &mut SolveR
     r.set_figures(&sol.design, &objectives(out), &errors(s, out), &derived);
     crate::report::drive::drive_numbers(r, sol.drive.as_ref(), Some(sol.out.design.peak));
     envelope_numbers(r, out, sol.sensitivities.as_ref());
+    if let Some(j) = &sol.real_joint_loads {
+        r.derived.extend(crate::report::number_map(j));
+    }
     if !sol.at_angles.is_empty() {
         r.extra.insert(
             "at_angles".into(),

@@ -42,6 +42,80 @@ pub struct Solution {
     pub sensitivities: Option<Result<Vec<sc::Sensitivity>, String>>,
     /// The design's figures at the crank angles of `objective.evaluate_at`, in their order.
     pub at_angles: Vec<AtAngle>,
+    /// The joint loads' peaks in the drive's steady state (with `[mechanism.drive]` and the
+    /// joint loads), beside the constant-speed ones.
+    pub real_joint_loads: Option<RealJointLoads>,
+}
+
+/// The joint loads' peaks at real speed: in the drive's periodic steady state, each
+/// acceleration r″ω² + r′α ([`crate::families::slider_crank::model::SliderCrank::joint_loads_at`]),
+/// over its nodes; each error the nodes' bound and the speeds' error
+/// ([`crate::dynamics::SteadyState::inertial_peak`]) plus the round-off of one evaluation; and
+/// each peak's change from the constant-speed peak (keys of `derived`).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct RealJointLoads {
+    /// The main bearing's peak load at real speed (N).
+    pub steady_peak_main_bearing_load_n: f64,
+    /// Its error bound (N).
+    pub steady_peak_main_bearing_load_error_n: f64,
+    /// Its change from the constant-speed peak (%).
+    pub steady_peak_main_bearing_load_change_pct: f64,
+    /// The crank pin's (N).
+    pub steady_peak_crank_pin_load_n: f64,
+    /// Its error bound (N).
+    pub steady_peak_crank_pin_load_error_n: f64,
+    /// Its change (%).
+    pub steady_peak_crank_pin_load_change_pct: f64,
+    /// The wrist pin's (N).
+    pub steady_peak_wrist_pin_load_n: f64,
+    /// Its error bound (N).
+    pub steady_peak_wrist_pin_load_error_n: f64,
+    /// Its change (%).
+    pub steady_peak_wrist_pin_load_change_pct: f64,
+    /// The guide's normal force (N).
+    pub steady_peak_guide_load_n: f64,
+    /// Its error bound (N).
+    pub steady_peak_guide_load_error_n: f64,
+    /// Its change (%).
+    pub steady_peak_guide_load_change_pct: f64,
+}
+
+/// [`RealJointLoads`] of the design in the steady state `st`, beside the constant-speed
+/// peaks `at_speed`; `None` where the mechanism does not assemble at a node.
+fn real_joint_loads(
+    out: &sc::Outcome,
+    st: &crate::dynamics::SteadyState,
+    at_speed: &sc::JointLoadPeaks,
+) -> Option<RealJointLoads> {
+    use crate::families::slider_crank::model::JointLoads;
+    let (s, u) = (&out.designed, P2::from(out.design.unbalance));
+    let cw = out.counterweight.mass.unwrap_or(0.0);
+    let ro = sc::joint_load_round_off(s, u, cw);
+    let peak = |pick: fn(&JointLoads) -> f64, c: &sc::LoadPeak| {
+        let p = st.inertial_peak(|phi, w, a| {
+            let state = s.mech.state(phi)?;
+            Some(pick(&s.mech.joint_loads_at(&state, w, a, &s.loads, u, cw)))
+        })?;
+        Some((p.peak, p.error + ro, 100.0 * (p.peak - c.peak) / c.peak))
+    };
+    let main = peak(|j| j.main.norm(), &at_speed.main_bearing)?;
+    let pin = peak(|j| j.crank_pin.norm(), &at_speed.crank_pin)?;
+    let wrist = peak(|j| j.wrist_pin.norm(), &at_speed.wrist_pin)?;
+    let guide = peak(|j| j.guide.abs(), &at_speed.guide)?;
+    Some(RealJointLoads {
+        steady_peak_main_bearing_load_n: main.0,
+        steady_peak_main_bearing_load_error_n: main.1,
+        steady_peak_main_bearing_load_change_pct: main.2,
+        steady_peak_crank_pin_load_n: pin.0,
+        steady_peak_crank_pin_load_error_n: pin.1,
+        steady_peak_crank_pin_load_change_pct: pin.2,
+        steady_peak_wrist_pin_load_n: wrist.0,
+        steady_peak_wrist_pin_load_error_n: wrist.1,
+        steady_peak_wrist_pin_load_change_pct: wrist.2,
+        steady_peak_guide_load_n: guide.0,
+        steady_peak_guide_load_error_n: guide.1,
+        steady_peak_guide_load_change_pct: guide.2,
+    })
 }
 
 /// The design's figures at one crank angle of `objective.evaluate_at` (the result's
@@ -148,6 +222,7 @@ pub fn solve(p: &SliderCrankProblem) -> Result<Solution, String> {
         drive: None,
         sensitivities: None,
         at_angles: Vec::new(),
+        real_joint_loads: None,
     };
     sol.at_angles = at_angles(s, &sol.out, &p.evaluate_at);
     // The paper's counterweight m at the lever radius r: U = (−m r, 0).
@@ -164,6 +239,9 @@ pub fn solve(p: &SliderCrankProblem) -> Result<Solution, String> {
     }
     if let Some(d) = &p.drive {
         sol.drive = Some(drive(p, &sol.out, d).map_err(|e| e.to_string()));
+    }
+    if let (Some(Ok(d)), Some(jl)) = (&sol.drive, &sol.out.joint_loads) {
+        sol.real_joint_loads = real_joint_loads(&sol.out, &d.steady, jl);
     }
     if s.envelope.sensitivities {
         sol.sensitivities = Some(sc::sensitivities(s).map_err(|e| e.to_string()));
