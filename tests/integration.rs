@@ -23,6 +23,7 @@ mod energy_design;
 mod envelope;
 mod felling_head;
 mod fleet_mutants;
+mod flywheel_design;
 mod gear;
 mod gear_conditioning;
 mod gear_io;

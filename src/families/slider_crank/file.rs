@@ -269,6 +269,9 @@ pub enum Minimize {
     /// Energy fluctuation ΔE of the drive at constant speed (max E − min E, E = ∫ (T − T̄) dφ):
     /// the flywheel a coefficient of speed fluctuation needs is proportional to it.
     EnergyFluctuation,
+    /// The least flywheel that meets `[mechanism.drive] cs` in the exact periodic steady
+    /// state: not convex in the design, so a search (`best_found` with its evidence).
+    FlywheelInertia,
 }
 
 /// `[objective]`.
@@ -351,6 +354,9 @@ pub struct SliderCrankProblem {
     pub rod_length_given: bool,
     /// The crank angles (rad) of `objective.evaluate_at`.
     pub evaluate_at: Vec<f64>,
+    /// `minimize = "flywheel-inertia"`: the design searched for the least flywheel that meets
+    /// the drive's Cs (the core scene then holds the force objective of its start).
+    pub flywheel_objective: bool,
 }
 
 /// The paper's printed inputs and output of formula (6) (SI).
@@ -475,12 +481,17 @@ pub fn resolve_raw(raw: &File) -> Result<SliderCrankProblem, FieldError> {
             "a rod-length tolerance needs mechanism.rod_length",
         ));
     }
+    let flywheel_objective = o.minimize == Minimize::FlywheelInertia;
+    if flywheel_objective {
+        check_flywheel_objective(&core, drive.as_ref(), speed_sweep.is_some())?;
+    }
     Ok(SliderCrankProblem {
         core,
         paper,
         speed_sweep,
         drive,
         rod_length_given,
+        flywheel_objective,
         evaluate_at: resolve_evaluate_at(&o.evaluate_at)?,
     })
 }
@@ -820,6 +831,45 @@ fn resolve_counterweight(
     Ok((unbalance, angle, mass, radius))
 }
 
+/// `minimize = "flywheel-inertia"` needs `[mechanism.drive]` with `cs` and no given
+/// flywheel, and a counterweight its search can move alone: no balancers, envelope, plate,
+/// front, sweep, moment or joint-load limit.
+fn check_flywheel_objective(
+    core: &sc::Scene,
+    drive: Option<&crate::dynamics::Drive>,
+    sweep: bool,
+) -> Result<(), FieldError> {
+    const F: &str = "objective.minimize";
+    match drive {
+        Some(d) if d.cs.is_some() && d.flywheel.is_none() => {}
+        _ => {
+            return Err(FieldError::new(
+                F,
+                "\"flywheel-inertia\" needs [mechanism.drive] with cs (the coefficient of speed fluctuation to meet) and no flywheel (the flywheel is what it minimises)",
+            ))
+        }
+    }
+    let other = [
+        (!core.balancers.is_empty(), "design.balancers"),
+        (!core.envelope.is_empty(), "mechanism.envelope"),
+        (core.counterweight.shape.is_some(), "design.shape"),
+        (core.pareto_points > 0, "objective.pareto_points"),
+        (sweep, "objective.speed_sweep"),
+        (
+            core.max_shaking_moment.is_some(),
+            "objective.max_shaking_moment",
+        ),
+        (core.joint(), "objective.max_main_bearing_load"),
+    ];
+    match other.iter().find(|(on, _)| *on) {
+        Some((_, f)) => Err(FieldError::new(
+            *f,
+            "not with minimize = \"flywheel-inertia\" (a search over the counterweight alone, with max_peak_force and max_peak_torque as its limits)",
+        )),
+        None => Ok(()),
+    }
+}
+
 /// `[objective]`: what is minimised and the peak-force and peak-torque limits (a mass or
 /// radius objective needs a force limit and a counterweight that has a mass and a radius),
 /// and the Pareto points' count (0, or 2 to 200).
@@ -837,6 +887,8 @@ fn resolve_objective(
         Minimize::PeakTorque => Objective::MinPeakTorque,
         Minimize::PeakMoment => Objective::MinPeakMoment,
         Minimize::EnergyFluctuation => Objective::MinEnergyFluctuation,
+        // Searched over the certified force optimum's scene (`flywheel_design.rs`).
+        Minimize::FlywheelInertia => Objective::MinPeakForce,
     };
     let max_peak_force = o
         .max_peak_force

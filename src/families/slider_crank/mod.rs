@@ -5,6 +5,7 @@
 pub mod file;
 pub mod file_envelope;
 pub mod file_textbook;
+pub mod flywheel_design;
 pub mod model;
 pub mod numbers;
 pub mod report;

@@ -71,7 +71,9 @@ pub fn model(p: &SliderCrankProblem, _: Option<&Solution>) -> BTreeMap<String, s
 /// derived figures, baselines, the sections and the warnings (what `--json` prints).
 pub fn numbers(_: &Scene, p: &SliderCrankProblem, sol: &Solution, r: &mut SolveResult) {
     let (s, out) = (&p.core, &sol.out);
-    r.objective = Some(if s.envelope.is_empty() {
+    r.objective = Some(if sol.flywheel.is_some() {
+        FLYWHEEL_KEY.into()
+    } else if s.envelope.is_empty() {
         sc::Objectives::key(s.objective).into()
     } else {
         sc::Objectives::worst_case_key(s.objective).into()
@@ -84,6 +86,7 @@ pub fn numbers(_: &Scene, p: &SliderCrankProblem, sol: &Solution, r: &mut SolveR
     balancer_numbers(r, sol);
     joint_load_numbers(r, s, out);
     r.set_figures(&sol.design, &objectives(out), &errors(s, out), &derived);
+    flywheel_numbers(r, sol);
     crate::report::drive::drive_numbers(r, sol.drive.as_ref(), Some(sol.out.design.peak));
     envelope_numbers(r, out, sol.sensitivities.as_ref());
     if let Some(j) = &sol.real_joint_loads {
@@ -101,6 +104,34 @@ pub fn numbers(_: &Scene, p: &SliderCrankProblem, sol: &Solution, r: &mut SolveR
             "speed_sweep".into(),
             serde_json::to_value(pts).expect("plain data"),
         );
+    }
+}
+
+/// The key objective of `minimize = "flywheel-inertia"` (in `objectives` and `errors`).
+pub const FLYWHEEL_KEY: &str = "flywheel_inertia_kgm2";
+
+/// With `minimize = "flywheel-inertia"`: the design's least flywheel as the key objective
+/// (its error the drive's), and each baseline's least flywheel with the improvement over it.
+fn flywheel_numbers(r: &mut SolveResult, sol: &Solution) {
+    let Some((found, bases)) = &sol.flywheel else {
+        return;
+    };
+    let error = sol
+        .drive
+        .as_ref()
+        .and_then(|d| d.as_ref().ok())
+        .and_then(|d| d.flywheel.as_ref())
+        .map_or(f64::NAN, |f| f.inertia_error);
+    r.objectives.insert(FLYWHEEL_KEY.into(), found.inertia);
+    r.errors.insert(FLYWHEEL_KEY.into(), error);
+    for (name, i) in bases {
+        if let Some(b) = r.baselines.get_mut(name) {
+            b.insert(FLYWHEEL_KEY.into(), *i);
+            b.insert(
+                "improvement_pct".into(),
+                100.0 * (i - found.inertia) / i.max(1e-300),
+            );
+        }
     }
 }
 

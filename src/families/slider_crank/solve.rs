@@ -4,6 +4,7 @@
 //! `numbers.rs` or `report.rs`.
 
 use super::file::SliderCrankProblem;
+use super::flywheel_design::{self, FlywheelDesign};
 use super::synth::{self as sc, Metrics, SweepPoint};
 use crate::dynamics::{self, Drive, DriveError, DriveFigures};
 use crate::families::driver::Claim;
@@ -11,6 +12,8 @@ use crate::families::family::cw_status;
 use crate::geom::P2;
 use crate::report::Status;
 use crate::synth::counterweight::Status as CwStatus;
+use crate::synth::Var;
+use std::f64::consts::TAU;
 
 /// Every number of a solved slider-crank scene.
 #[derive(Debug, Clone)]
@@ -45,6 +48,9 @@ pub struct Solution {
     /// The joint loads' peaks in the drive's steady state (with `[mechanism.drive]` and the
     /// joint loads), beside the constant-speed ones.
     pub real_joint_loads: Option<RealJointLoads>,
+    /// With `minimize = "flywheel-inertia"`: the search's design and evidence, and each
+    /// baseline's least flywheel (by name, where its drive could be computed).
+    pub flywheel: Option<(FlywheelDesign, Vec<(String, f64)>)>,
 }
 
 /// The joint loads' peaks at real speed: in the drive's periodic steady state, each
@@ -206,13 +212,43 @@ impl Solution {
     }
 }
 
+/// With `minimize = "flywheel-inertia"`: the search from the certified force optimum `out`,
+/// and the outcome of its design (the scene solved with U fixed there).
+fn flywheel_outcome(
+    p: &SliderCrankProblem,
+    out: sc::Outcome,
+) -> Result<(sc::Outcome, Option<FlywheelDesign>), String> {
+    let Some(d) = p.drive.as_ref().filter(|_| p.flywheel_objective) else {
+        return Ok((out, None));
+    };
+    let found = flywheel_design::design(p, d, P2::from(out.design.unbalance))?;
+    let mut at = p.core.clone();
+    at.counterweight.unbalance = Var::Fixed(found.u.norm());
+    at.counterweight.angle = Var::Fixed(found.u.y.atan2(found.u.x).rem_euclid(TAU));
+    let out = sc::solve(&at).map_err(|e| e.to_string())?;
+    Ok((out, Some(found)))
+}
+
+/// The `best_found` claim of the flywheel search: its method, evidence and warnings.
+fn flywheel_claim(out: &sc::Outcome, found: &FlywheelDesign) -> Claim {
+    let mut c = Claim::new(Status::BestFound, found.evidence.method.clone());
+    c.search = Some(found.evidence.clone());
+    c.warnings = out.warnings.clone();
+    c
+}
+
 /// Solves the scene: the synthesis, the paper's counterweight as a baseline, the speed sweep.
 pub fn solve(p: &SliderCrankProblem) -> Result<Solution, String> {
     let s = &p.core;
     let out = sc::solve(s).map_err(|e| e.to_string())?;
+    let (out, found) = flywheel_outcome(p, out)?;
     let design = design(p, &out);
+    let claim = match &found {
+        Some(f) => flywheel_claim(&out, f),
+        None => claim(s, &out, &design),
+    };
     let mut sol = Solution {
-        claim: claim(s, &out, &design),
+        claim,
         design,
         balancers: balancer_figures(&out),
         out,
@@ -223,6 +259,7 @@ pub fn solve(p: &SliderCrankProblem) -> Result<Solution, String> {
         sensitivities: None,
         at_angles: Vec::new(),
         real_joint_loads: None,
+        flywheel: None,
     };
     sol.at_angles = at_angles(s, &sol.out, &p.evaluate_at);
     // The paper's counterweight m at the lever radius r: U = (−m r, 0).
@@ -239,6 +276,16 @@ pub fn solve(p: &SliderCrankProblem) -> Result<Solution, String> {
     }
     if let Some(d) = &p.drive {
         sol.drive = Some(drive(p, &sol.out, d).map_err(|e| e.to_string()));
+    }
+    if let (Some(found), Some(d)) = (found, &p.drive) {
+        let bases = sol
+            .baselines()
+            .filter_map(|(n, m)| {
+                flywheel_design::least_flywheel_of(p, d, P2::from(m.unbalance))
+                    .map(|i| (n.to_string(), i))
+            })
+            .collect();
+        sol.flywheel = Some((found, bases));
     }
     if let (Some(Ok(d)), Some(jl)) = (&sol.drive, &sol.out.joint_loads) {
         sol.real_joint_loads = real_joint_loads(&sol.out, &d.steady, jl);

@@ -14,6 +14,9 @@ use toml_edit::Value;
 /// The headline: the dotted result key a design is judged on (see
 /// [`crate::families::Machine::headline`]).
 pub fn headline(p: &super::file::SliderCrankProblem) -> String {
+    if p.flywheel_objective {
+        return format!("objectives.{}", super::numbers::FLYWHEEL_KEY);
+    }
     super::synth::headline(p.core.objective)
 }
 
