@@ -202,16 +202,24 @@ fn summary(r: &SolveResult) -> String {
             e.starts, e.distinct_basins, e.starts_at_best, e.evaluations
         );
     }
+    // What to build, in the report's units (workshop: mm, °, rpm, kN), the JSON's SI key after.
+    let shown = |k: &str, v: f64| {
+        let (words, unit, f) = crate::report::display_unit(r.units, k, v);
+        let unit = if unit == "–" { "" } else { unit };
+        (words, fmt_num(v * f), unit, f)
+    };
     for (k, v) in &r.design {
-        s += &format!("  design     {k:<34} {}\n", fmt_num(*v));
+        let (words, num, unit, _) = shown(k, *v);
+        s += &format!("  design     {words:<34} {num:>12} {unit:<6} [{k}]\n");
     }
     for (k, v) in &r.objectives {
+        let (words, num, unit, f) = shown(k, *v);
         let e = r
             .errors
             .get(k)
-            .map(|e| format!(" ± {e:.1e}"))
+            .map(|e| format!("± {:.1e}", e * f))
             .unwrap_or_default();
-        s += &format!("  objective  {k:<34} {}{e}\n", fmt_num(*v));
+        s += &format!("  objective  {words:<34} {num:>12} {unit:<6} {e:<9} [{k}]\n");
     }
     // Each baseline in the objective its improvement is measured in (the peak force where
     // the baseline does not carry the objective's key).
