@@ -201,3 +201,28 @@ fn the_new_inputs_are_refused_where_they_mean_nothing() {
         "within one turn",
     );
 }
+
+/// A counterweight of the designer's own, in neutral words (issue 34): `[design.reference]`
+/// is evaluated as the baseline `reference_counterweight`, and formula (6) of the felling-head
+/// paper is not reported for a machine without `[design.paper]`.
+#[test]
+fn a_reference_counterweight_is_a_baseline_in_neutral_words() {
+    // The shipped minimax file compares the book's 90 kg as its reference.
+    let text = std::fs::read_to_string(problem("textbook-engine-minimax.toml")).unwrap();
+    assert!(text.contains("[design.reference]") && text.contains("counterweight_mass = \"90 kg\""));
+    let r = solve_scene(&parse_str(&text, Path::new("e.toml")).unwrap());
+    let b = &r.baselines["reference_counterweight"];
+    // 90 kg at the design's 150 mm, opposite the pin: the two-thirds rule's design.
+    assert!((b["unbalance_kgm"] - 13.5).abs() < 1e-12);
+    let want = residual(2.0 / 3.0, PI / 2.0);
+    assert!((b["peak_shaking_force_n"] - want).abs() < 1e-9 * want);
+    assert!((b["improvement_pct"] - 25.0).abs() < 1e-9);
+    assert!(!r.derived.contains_key("formula6_counterweight_mass_kg"));
+    let no_lever = with(&text, "radius = \"150 mm\"", "");
+    assert_names(
+        &no_lever,
+        "design.reference.lever_radius",
+        "[design.reference]",
+        "lever radius",
+    );
+}

@@ -186,6 +186,9 @@ pub struct DesignRaw {
     pub prefer: Prefer,
     /// The paper's classical counterweight (formula (6)) as printed.
     pub paper: Option<PaperDesignRaw>,
+    /// A reference counterweight of the designer's own (a current design, a supplier's part,
+    /// a handbook rule's result), evaluated as the baseline `reference_counterweight`.
+    pub reference: Option<ReferenceRaw>,
     /// A plate shape to realise the counterweight.
     pub shape: Option<ShapeRaw>,
     /// Lanchester balancers designed jointly with the counterweight.
@@ -229,6 +232,19 @@ pub struct PaperDesignRaw {
     /// `design.radius` when that is fixed; needed with `[design.shape]`, whose plate sets the
     /// design's own radius).
     pub lever_radius: Option<Qty<Length>>,
+}
+
+/// `[design.reference]`: a counterweight to compare with — its mass at a lever radius, at an
+/// angle from the crank line (default 180°: opposite the pin).
+#[derive(Debug, Deserialize, schemars::JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct ReferenceRaw {
+    /// Its mass.
+    pub counterweight_mass: Qty<Mass>,
+    /// Where its mass sits (default: `design.radius` when that is fixed).
+    pub lever_radius: Option<Qty<Length>>,
+    /// β from the crank line (default 180°).
+    pub angle: Option<Qty<Angle>>,
 }
 
 /// `[design.shape]`: the counterweight is an annular-sector plate; its mass and centroid
@@ -354,6 +370,8 @@ pub struct SliderCrankProblem {
     pub rod_length_given: bool,
     /// The crank angles (rad) of `objective.evaluate_at`.
     pub evaluate_at: Vec<f64>,
+    /// `[design.reference]`: the reference counterweight's unbalance U (kg·m, crank frame).
+    pub reference: Option<[f64; 2]>,
     /// `minimize = "flywheel-inertia"`: the design searched for the least flywheel that meets
     /// the drive's Cs (the core scene then holds the force objective of its start).
     pub flywheel_objective: bool,
@@ -492,6 +510,7 @@ pub fn resolve_raw(raw: &File) -> Result<SliderCrankProblem, FieldError> {
         drive,
         rod_length_given,
         flywheel_objective,
+        reference: resolve_reference(d, radius)?,
         evaluate_at: resolve_evaluate_at(&o.evaluate_at)?,
     })
 }
@@ -961,6 +980,29 @@ fn resolve_paper(d: &DesignRaw, radius: Option<Var>) -> Result<Option<PaperDesig
             Some(pd)
         }
     })
+}
+
+/// `[design.reference]`: its unbalance U = m·r·(cos β, sin β), r the lever radius (or the
+/// fixed `design.radius`).
+fn resolve_reference(d: &DesignRaw, radius: Option<Var>) -> Result<Option<[f64; 2]>, FieldError> {
+    let Some(rf) = &d.reference else {
+        return Ok(None);
+    };
+    let m = positive(
+        "design.reference.counterweight_mass",
+        rf.counterweight_mass.si(),
+    )?;
+    let r = match rf.lever_radius {
+        Some(q) => positive("design.reference.lever_radius", q.si())?,
+        None => radius.and_then(|r| r.fixed()).ok_or_else(|| {
+            FieldError::new(
+                "design.reference.lever_radius",
+                "missing: the reference counterweight needs its lever radius (or design.radius as a fixed value)",
+            )
+        })?,
+    };
+    let b = rf.angle.map_or(PI, |q| q.si());
+    Ok(Some([m * r * b.cos(), m * r * b.sin()]))
 }
 
 /// `[design.shape]`: the plate's envelope (outer radius above the inner, 0 < angle ≤ 360°),

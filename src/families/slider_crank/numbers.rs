@@ -416,7 +416,15 @@ fn paper_design_checks(
     p: &SliderCrankProblem,
     sol: &Solution,
 ) {
-    let Some(rad) = sol.lever else { return };
+    if let Some(Err(e)) = &sol.reference_counterweight {
+        r.warnings.push(format!(
+            "the reference counterweight could not be evaluated: {e}"
+        ));
+    }
+    // Formula (6) is the felling-head paper's: only beside its [design.paper].
+    let Some(rad) = sol.lever.filter(|_| p.paper.is_some()) else {
+        return;
+    };
     let m = &p.core.mech;
     let (mt, mc) = (m.m_rot(), m.m_rec());
     // The classical formula (6) at the lever radius is the 50 % rule: m = (m_r + ½m_s)R/r_pr.

@@ -430,6 +430,7 @@ fn pareto_plot(
     ends(&mut series);
     for (name, label) in [
         ("paper_counterweight", "paper's counterweight"),
+        ("reference_counterweight", "reference counterweight"),
         ("fifty_percent", "formula (6) / 50 % rule"),
         ("none", "no counterweight"),
     ] {

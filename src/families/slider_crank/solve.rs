@@ -30,6 +30,9 @@ pub struct Solution {
     /// The paper's printed counterweight evaluated as the baseline `paper_counterweight`,
     /// where the file gives one (`Err`: why it could not be evaluated).
     pub paper_counterweight: Option<Result<Metrics, String>>,
+    /// The file's `[design.reference]` counterweight evaluated as the baseline
+    /// `reference_counterweight` (`Err`: why it could not be evaluated).
+    pub reference_counterweight: Option<Result<Metrics, String>>,
     /// The lever radius of the classical formula (6) (`[paper].lever_radius`, else the
     /// counterweight's fixed radius), where there is one.
     pub lever: Option<f64>,
@@ -199,11 +202,16 @@ impl Solution {
             Some(Ok(m)) => Some(("paper_counterweight", m)),
             _ => None,
         };
+        let reference = match &self.reference_counterweight {
+            Some(Ok(m)) => Some(("reference_counterweight", m)),
+            _ => None,
+        };
         self.out
             .baselines
             .iter()
             .map(|(k, m)| (k.as_str(), m))
             .chain(paper)
+            .chain(reference)
     }
 
     /// The design's unbalance vector U (kg·m).
@@ -254,6 +262,7 @@ pub fn solve(p: &SliderCrankProblem) -> Result<Solution, String> {
         out,
         lever: lever_radius(p),
         paper_counterweight: None,
+        reference_counterweight: None,
         sweep: None,
         drive: None,
         sensitivities: None,
@@ -262,15 +271,18 @@ pub fn solve(p: &SliderCrankProblem) -> Result<Solution, String> {
         flywheel: None,
     };
     sol.at_angles = at_angles(s, &sol.out, &p.evaluate_at);
+    // A counterweight given as a baseline, evaluated as the design is.
+    let judged = |u: P2| {
+        sc::metrics(s, u)
+            .and_then(|mut m| sc::judge_baseline(s, &mut m).map(|()| m))
+            .map_err(|e| e.to_string())
+    };
     // The paper's counterweight m at the lever radius r: U = (−m r, 0).
     let printed = p.paper.as_ref().and_then(|pd| pd.counterweight_mass);
     if let (Some(rad), Some(pm)) = (sol.lever, printed) {
-        sol.paper_counterweight = Some(
-            sc::metrics(s, P2::new(-pm * rad, 0.0))
-                .and_then(|mut m| sc::judge_baseline(s, &mut m).map(|()| m))
-                .map_err(|e| e.to_string()),
-        );
+        sol.paper_counterweight = Some(judged(P2::new(-pm * rad, 0.0)));
     }
+    sol.reference_counterweight = p.reference.map(|u| judged(P2::from(u)));
     if let Some(sw) = &p.speed_sweep {
         sol.sweep = Some(sc::speed_sweep(s, sw, sol.unbalance()));
     }
