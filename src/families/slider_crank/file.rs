@@ -4,7 +4,9 @@
 //! `docs/results.md`).
 
 use super::file_envelope::{check_envelope, resolve_envelope, EnvelopeRaw, NamedMass};
-use super::file_textbook::{fraction_rule, resolve_evaluate_at, MAX_EVALUATE_AT};
+use super::file_textbook::{
+    fraction_rule, resolve_evaluate_at, resolve_reference, ReferenceRaw, MAX_EVALUATE_AT,
+};
 use crate::families::slider_crank::model::{Crank, Kinematics, Rod, SliderCrank};
 use crate::families::slider_crank::model::{Loads, ProcessForce};
 use crate::families::slider_crank::synth::{self as sc, CounterweightSpec, Objective, Prefer};
@@ -232,19 +234,6 @@ pub struct PaperDesignRaw {
     /// `design.radius` when that is fixed; needed with `[design.shape]`, whose plate sets the
     /// design's own radius).
     pub lever_radius: Option<Qty<Length>>,
-}
-
-/// `[design.reference]`: a counterweight to compare with — its mass at a lever radius, at an
-/// angle from the crank line (default 180°: opposite the pin).
-#[derive(Debug, Deserialize, schemars::JsonSchema)]
-#[serde(deny_unknown_fields)]
-pub struct ReferenceRaw {
-    /// Its mass.
-    pub counterweight_mass: Qty<Mass>,
-    /// Where its mass sits (default: `design.radius` when that is fixed).
-    pub lever_radius: Option<Qty<Length>>,
-    /// β from the crank line (default 180°).
-    pub angle: Option<Qty<Angle>>,
 }
 
 /// `[design.shape]`: the counterweight is an annular-sector plate; its mass and centroid
@@ -510,7 +499,7 @@ pub fn resolve_raw(raw: &File) -> Result<SliderCrankProblem, FieldError> {
         drive,
         rod_length_given,
         flywheel_objective,
-        reference: resolve_reference(d, radius)?,
+        reference: resolve_reference(d.reference.as_ref(), radius)?,
         evaluate_at: resolve_evaluate_at(&o.evaluate_at)?,
     })
 }
@@ -980,29 +969,6 @@ fn resolve_paper(d: &DesignRaw, radius: Option<Var>) -> Result<Option<PaperDesig
             Some(pd)
         }
     })
-}
-
-/// `[design.reference]`: its unbalance U = m·r·(cos β, sin β), r the lever radius (or the
-/// fixed `design.radius`).
-fn resolve_reference(d: &DesignRaw, radius: Option<Var>) -> Result<Option<[f64; 2]>, FieldError> {
-    let Some(rf) = &d.reference else {
-        return Ok(None);
-    };
-    let m = positive(
-        "design.reference.counterweight_mass",
-        rf.counterweight_mass.si(),
-    )?;
-    let r = match rf.lever_radius {
-        Some(q) => positive("design.reference.lever_radius", q.si())?,
-        None => radius.and_then(|r| r.fixed()).ok_or_else(|| {
-            FieldError::new(
-                "design.reference.lever_radius",
-                "missing: the reference counterweight needs its lever radius (or design.radius as a fixed value)",
-            )
-        })?,
-    };
-    let b = rf.angle.map_or(PI, |q| q.si());
-    Ok(Some([m * r * b.cos(), m * r * b.sin()]))
 }
 
 /// `[design.shape]`: the plate's envelope (outer radius above the inner, 0 < angle ≤ 360°),

@@ -1,12 +1,16 @@
-//! The textbooks' inputs of a slider-crank file: the rule "balance the revolving masses and a
-//! fraction of the reciprocating masses" (`design.reciprocating_fraction`) and the crank angles
-//! a book quotes its forces at (`objective.evaluate_at`), read and checked (issue 34, textbook
-//! machines). Their keys are documented in `docs/problem-files.md`.
+//! The textbooks' and the designer's own inputs of a slider-crank file: the rule "balance the
+//! revolving masses and a fraction of the reciprocating masses"
+//! (`design.reciprocating_fraction`), the crank angles a book quotes its forces at
+//! (`objective.evaluate_at`) and a reference counterweight to compare with
+//! (`[design.reference]`), read and checked (issue 34). Their keys are documented in
+//! `docs/problem-files.md`.
 
 use crate::families::slider_crank::model::SliderCrank;
+use crate::problem::positive;
 use crate::problem::FieldError;
 use crate::synth::Var;
-use crate::units::{Angle, Qty};
+use crate::units::{Angle, Length, Mass, Qty};
+use serde::Deserialize;
 use std::f64::consts::{PI, TAU};
 
 /// Most angles of `objective.evaluate_at`.
@@ -74,4 +78,43 @@ pub fn resolve_evaluate_at(angles: &[Qty<Angle>]) -> Result<Vec<f64>, FieldError
             }
         })
         .collect()
+}
+
+/// `[design.reference]`: a counterweight to compare with — its mass at a lever radius, at an
+/// angle from the crank line (default 180°: opposite the pin).
+#[derive(Debug, Deserialize, schemars::JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct ReferenceRaw {
+    /// Its mass.
+    pub counterweight_mass: Qty<Mass>,
+    /// Where its mass sits (default: `design.radius` when that is fixed).
+    pub lever_radius: Option<Qty<Length>>,
+    /// β from the crank line (default 180°).
+    pub angle: Option<Qty<Angle>>,
+}
+
+/// `[design.reference]`: its unbalance U = m·r·(cos β, sin β), r the lever radius (or the
+/// fixed `design.radius`).
+pub fn resolve_reference(
+    reference: Option<&ReferenceRaw>,
+    radius: Option<Var>,
+) -> Result<Option<[f64; 2]>, FieldError> {
+    let Some(rf) = reference else {
+        return Ok(None);
+    };
+    let m = positive(
+        "design.reference.counterweight_mass",
+        rf.counterweight_mass.si(),
+    )?;
+    let r = match rf.lever_radius {
+        Some(q) => positive("design.reference.lever_radius", q.si())?,
+        None => radius.and_then(|r| r.fixed()).ok_or_else(|| {
+            FieldError::new(
+                "design.reference.lever_radius",
+                "missing: the reference counterweight needs its lever radius (or design.radius as a fixed value)",
+            )
+        })?,
+    };
+    let b = rf.angle.map_or(PI, |q| q.si());
+    Ok(Some([m * r * b.cos(), m * r * b.sin()]))
 }
