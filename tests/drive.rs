@@ -354,6 +354,33 @@ fn the_least_flywheel_meets_cs_exactly_and_differs_from_the_textbook() {
     }
 }
 
+/// A machine that stalls without a flywheel (its weight's swing is six times its kinetic
+/// energy) on a motor line still gets its least flywheel: the bracket's bottom is found
+/// below its top, and the flywheel meets Cs where 1 % less does not.
+#[test]
+fn a_machine_that_stalls_without_a_flywheel_gets_its_least_one() {
+    let m = toy(0.05, 0.02, 30.0, 1.0);
+    let s = DriveSettings::default();
+    let motor = Motor::Line {
+        rated_torque: 2.0,
+        rated_speed: 19.0,
+        no_load_speed: 21.0,
+    };
+    assert!(
+        steady_state(&m, &motor, 0.0, 20.0, &s).is_err(),
+        "stalls without one"
+    );
+    let cs = constant_speed(&m, 20.0, &s).unwrap();
+    let fw = least_flywheel(&m, &motor, &cs, 0.05, &s).unwrap();
+    assert!(fw.inertia > 0.0);
+    assert!(
+        (fw.steady.cs - 0.05).abs() <= 1e-9 + fw.steady.cs_error,
+        "{fw:?}"
+    );
+    let less = steady_state(&m, &motor, 0.99 * fw.inertia, 20.0, &s).unwrap();
+    assert!(less.cs > 0.05, "{}", less.cs);
+}
+
 #[test]
 fn a_machine_that_needs_no_flywheel_gets_none() {
     // J constant and no load: the speed does not vary at all.

@@ -963,16 +963,22 @@ pub fn least_flywheel(
 ) -> Result<Flywheel, DriveError> {
     let textbook = constant.textbook_flywheel(cs);
     let at = |i: f64| converged(m, motor, i, constant.omega, s);
-    let (zero, g0) = at(0.0)?;
-    if zero.cs <= cs {
-        return Ok(Flywheel {
-            cs,
-            inertia: 0.0,
-            inertia_error: 0.0,
-            textbook,
-            steady: zero,
-        });
-    }
+    // Without a flywheel a machine on a motor line may stall (no periodic motion): then the
+    // bracket's bottom is found below its top instead.
+    let zero = match at(0.0) {
+        Ok((zero, _)) if zero.cs <= cs => {
+            return Ok(Flywheel {
+                cs,
+                inertia: 0.0,
+                inertia_error: 0.0,
+                textbook,
+                steady: zero,
+            });
+        }
+        Ok((_, g0)) => Some(g0),
+        Err(DriveError::Stalls(_)) => None,
+        Err(e) => return Err(e),
+    };
     let mut hi = textbook.max(f64::MIN_POSITIVE) * 2.0;
     let mut top = at(hi)?;
     for _ in 0..30 {
@@ -985,15 +991,19 @@ pub fn least_flywheel(
     if top.0.cs > cs {
         return Err(DriveError::NoFlywheel(hi));
     }
-    // Cs(I_f) on one grid, the finer of those that converged without a flywheel and at the
-    // bracket's top (the speed swings most without one): the root's search evaluates the
-    // machine no more, and the state at the root is checked on the grid and on its half.
+    let (lo, g0) = match zero {
+        Some(g0) => (0.0, g0),
+        None => stall_floor(&at, hi, cs)?,
+    };
+    // Cs(I_f) on one grid, the finer of those that converged at the bracket's bottom and top
+    // (the speed swings most at the bottom): the root's search evaluates the machine no more,
+    // and the state at the root is checked on the grid and on its half.
     let g1 = top.1;
     let grid = if g0.n() >= g1.n() { g0 } else { g1 };
     let cs_on = |g: &Grid, i: f64| figures(g, motor, i, constant.omega);
     let f = |i: f64| cs_on(&grid, i).map(|st| st.cs - cs).unwrap_or(f64::NAN);
     let tol = 1e-12 * hi;
-    let root = brent_root(f, 0.0, hi, tol).map_err(|e| DriveError::Stalls(e.to_string()))?;
+    let root = brent_root(f, lo, hi, tol).map_err(|e| DriveError::Stalls(e.to_string()))?;
     // A grid at the cap may not have settled: then the quarter grid's change counts too.
     let unsettled = if 2 * grid.n() > s.max_samples {
         Some(cs_on(&grid.halved().halved(), root.x)?)
@@ -1018,6 +1028,29 @@ pub fn least_flywheel(
         textbook,
         steady,
     })
+}
+
+/// The bottom of the least flywheel's bracket for a machine that stalls without one: halving
+/// from the top `hi` (which meets `cs`), the first flywheel whose steady state exists and
+/// swings more than `cs`, with its grid. A flywheel below which the machine stalls while it
+/// still meets `cs` has no least one to find by Brent: an error.
+fn stall_floor(
+    at: &dyn Fn(f64) -> Result<(SteadyState, Grid), DriveError>,
+    hi: f64,
+    cs: f64,
+) -> Result<(f64, Grid), DriveError> {
+    let mut t = hi;
+    for _ in 0..60 {
+        t *= 0.5;
+        match at(t) {
+            Ok((st, g)) if st.cs > cs => return Ok((t, g)),
+            Ok(_) => {}
+            Err(e) => return Err(e),
+        }
+    }
+    Err(DriveError::Stalls(format!(
+        "no flywheel down to {t:e} kg·m² swings more than Cs = {cs}: the least one is not bracketed"
+    )))
 }
 
 /// A problem file's `[mechanism.drive]`, checked (`crate::problem::drive`).

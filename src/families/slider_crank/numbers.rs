@@ -124,13 +124,19 @@ fn flywheel_numbers(r: &mut SolveResult, sol: &Solution) {
         .map_or(f64::NAN, |f| f.inertia_error);
     r.objectives.insert(FLYWHEEL_KEY.into(), found.inertia);
     r.errors.insert(FLYWHEEL_KEY.into(), error);
-    for (name, i) in bases {
-        if let Some(b) = r.baselines.get_mut(name) {
-            b.insert(FLYWHEEL_KEY.into(), *i);
-            b.insert(
-                "improvement_pct".into(),
-                100.0 * (i - found.inertia) / i.max(1e-300),
-            );
+    for (name, b) in r.baselines.iter_mut() {
+        // A baseline whose drive could not be computed has no improvement in this objective.
+        match bases.iter().find(|(n, _)| n == name) {
+            Some((_, i)) => {
+                b.insert(FLYWHEEL_KEY.into(), *i);
+                b.insert(
+                    "improvement_pct".into(),
+                    100.0 * (i - found.inertia) / i.max(1e-300),
+                );
+            }
+            None => {
+                b.remove("improvement_pct");
+            }
         }
     }
 }
