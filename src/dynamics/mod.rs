@@ -586,16 +586,20 @@ pub struct NodePeak {
 }
 
 impl SteadyState {
-    /// The peak of an inertial quantity `v(φ, ω, α)` (a force or a load, which scales as ω²)
-    /// over the nodes ([`NodePeak`]); `None` where `v` is `None` at a node.
-    pub fn inertial_peak(&self, v: impl Fn(f64, f64, f64) -> Option<f64>) -> Option<NodePeak> {
-        let vs: Option<Vec<f64>> = self.curve.iter().map(|&[p, w, a]| v(p, w, a)).collect();
-        let (peak, k, between) = node_peak(&vs?);
-        Some(NodePeak {
+    /// `v(φ, ω, α)` at every node of the curve; `None` where it is `None` at a node.
+    pub fn at_nodes<T>(&self, v: impl Fn(f64, f64, f64) -> Option<T>) -> Option<Vec<T>> {
+        self.curve.iter().map(|&[p, w, a]| v(p, w, a)).collect()
+    }
+
+    /// The peak of an inertial quantity (a force or a load, which scales as ω²) given at
+    /// the nodes ([`Self::at_nodes`]), with its error and angle ([`NodePeak`]).
+    pub fn inertial_peak(&self, values: &[f64]) -> NodePeak {
+        let (peak, k, between) = node_peak(values);
+        NodePeak {
             peak,
             error: between + 2.0 * self.omega_error / self.omega_min * peak,
             angle: self.curve[k][0],
-        })
+        }
     }
 }
 
@@ -1132,9 +1136,10 @@ impl DriveFigures {
         force: impl Fn(f64, f64, f64) -> Option<f64>,
     ) -> DriveFigures {
         let st = &self.steady;
-        let Some(force) = st.inertial_peak(force) else {
+        let Some(forces) = st.at_nodes(force) else {
             return self;
         };
+        let force = st.inertial_peak(&forces);
         let mean = self.constant.mean_torque;
         let shafts: Vec<f64> = st
             .curve

@@ -37,14 +37,10 @@ const HALTON_STARTS: usize = 2;
 /// inertia m·r² included where the scene sizes it; `None` where the drive fails.
 pub fn least_flywheel_of(p: &SliderCrankProblem, d: &Drive, u: P2) -> Option<f64> {
     let s = &p.core;
-    let cs = d.cs?;
-    let (m, r) = sc::split_unbalance(u.norm(), &s.counterweight);
-    let j_c = m.zip(r).map_or(0.0, |(m, r)| m * r * r);
-    let machine = sc::machine(s, u, j_c);
-    let set = DriveSettings::default();
-    let constant = dynamics::constant_speed(&machine, s.omega, &set).ok()?;
-    let f = dynamics::least_flywheel(&machine, &d.motor, &constant, cs, &set).ok()?;
-    Some(f.inertia)
+    let cw = sc::realise(u.norm(), &s.counterweight, s.objective);
+    let machine = sc::machine(s, u, cw.drive_inertia());
+    let figures = dynamics::drive(&machine, s.omega, d, &DriveSettings::default()).ok()?;
+    Some(figures.flywheel?.inertia)
 }
 
 /// How far `u` is outside what the design may be (kg·m): the |U| range and the direction

@@ -110,10 +110,10 @@ pub fn numbers(_: &Scene, p: &SliderCrankProblem, sol: &Solution, r: &mut SolveR
 /// The key objective of `minimize = "flywheel-inertia"` (in `objectives` and `errors`).
 pub const FLYWHEEL_KEY: &str = "flywheel_inertia_kgm2";
 
-/// With `minimize = "flywheel-inertia"`: the design's least flywheel as the key objective
-/// (its error the drive's), and each baseline's least flywheel with the improvement over it.
+/// With `minimize = "flywheel-inertia"`: the design's least flywheel as the key objective,
+/// its error the drive's (the baselines' flywheels are written with the baselines).
 fn flywheel_numbers(r: &mut SolveResult, sol: &Solution) {
-    let Some((found, bases)) = &sol.flywheel else {
+    let Some((found, _)) = &sol.flywheel else {
         return;
     };
     let error = sol
@@ -124,21 +124,6 @@ fn flywheel_numbers(r: &mut SolveResult, sol: &Solution) {
         .map_or(f64::NAN, |f| f.inertia_error);
     r.objectives.insert(FLYWHEEL_KEY.into(), found.inertia);
     r.errors.insert(FLYWHEEL_KEY.into(), error);
-    for (name, b) in r.baselines.iter_mut() {
-        // A baseline whose drive could not be computed has no improvement in this objective.
-        match bases.iter().find(|(n, _)| n == name) {
-            Some((_, i)) => {
-                b.insert(FLYWHEEL_KEY.into(), *i);
-                b.insert(
-                    "improvement_pct".into(),
-                    100.0 * (i - found.inertia) / i.max(1e-300),
-                );
-            }
-            None => {
-                b.remove("improvement_pct");
-            }
-        }
-    }
 }
 
 /// The design's objective values.
@@ -261,16 +246,24 @@ fn baselines(r: &mut SolveResult, s: &sc::Scene, sol: &Solution) {
         .as_ref()
         .map(|e| e.worst_for(s.objective).map_or(f64::NAN, |w| w.value));
     for (name, b) in sol.baselines() {
-        let (base, ours) = match (energy(b), energy(d), b.worst_case.zip(worst)) {
-            (_, _, Some(pair)) => pair,
-            (Some(base), Some(ours), None) if s.objective == Objective::MinEnergyFluctuation => {
+        // With the flywheel objective: its least flywheel (none where its drive failed).
+        let flywheel = sol.flywheel.as_ref().map(|(found, bases)| {
+            let own = bases.iter().find(|(n, _)| n == name).map(|(_, i)| *i);
+            (own, found.inertia)
+        });
+        let (base, ours) = match (flywheel, energy(b), energy(d), b.worst_case.zip(worst)) {
+            (Some((own, ours)), ..) => (own.unwrap_or(f64::NAN), ours),
+            (None, _, _, Some(pair)) => pair,
+            (None, Some(base), Some(ours), None)
+                if s.objective == Objective::MinEnergyFluctuation =>
+            {
                 (base, ours)
             }
             _ if torque_objective => (b.peak_torque, d.peak_torque),
             _ => (b.peak, d.peak),
         };
         let mut figures = sc::Baseline {
-            improvement_pct: Some(100.0 * (base - ours) / base.max(1e-300)),
+            improvement_pct: Some(100.0 * (base - ours) / base.max(1e-300)).filter(|v| !v.is_nan()),
             ..b.baseline()
         };
         if let Some(w) = b.worst_case {
@@ -278,7 +271,11 @@ fn baselines(r: &mut SolveResult, s: &sc::Scene, sol: &Solution) {
                 .worst_case
                 .insert(sc::Objectives::worst_case_key(s.objective).into(), w);
         }
-        r.baselines.insert(name.into(), number_map(&figures));
+        let mut map = number_map(&figures);
+        if let Some((Some(own), _)) = flywheel {
+            map.insert(FLYWHEEL_KEY.into(), own);
+        }
+        r.baselines.insert(name.into(), map);
     }
 }
 

@@ -100,17 +100,20 @@ fn real_joint_loads(
     let (s, u) = (&out.designed, P2::from(out.design.unbalance));
     let cw = out.counterweight.mass.unwrap_or(0.0);
     let ro = sc::joint_load_round_off(s, u, cw);
+    // The loads once per node, then each joint's peak.
+    let loads = st.at_nodes(|phi, w, a| {
+        let state = s.mech.state(phi)?;
+        Some(s.mech.joint_loads_at(&state, w, a, &s.loads, u, cw))
+    })?;
     let peak = |pick: fn(&JointLoads) -> f64, c: &sc::LoadPeak| {
-        let p = st.inertial_peak(|phi, w, a| {
-            let state = s.mech.state(phi)?;
-            Some(pick(&s.mech.joint_loads_at(&state, w, a, &s.loads, u, cw)))
-        })?;
-        Some((p.peak, p.error + ro, 100.0 * (p.peak - c.peak) / c.peak))
+        let values: Vec<f64> = loads.iter().map(pick).collect();
+        let p = st.inertial_peak(&values);
+        (p.peak, p.error + ro, 100.0 * (p.peak - c.peak) / c.peak)
     };
-    let main = peak(|j| j.main.norm(), &at_speed.main_bearing)?;
-    let pin = peak(|j| j.crank_pin.norm(), &at_speed.crank_pin)?;
-    let wrist = peak(|j| j.wrist_pin.norm(), &at_speed.wrist_pin)?;
-    let guide = peak(|j| j.guide.abs(), &at_speed.guide)?;
+    let main = peak(|j| j.main.norm(), &at_speed.main_bearing);
+    let pin = peak(|j| j.crank_pin.norm(), &at_speed.crank_pin);
+    let wrist = peak(|j| j.wrist_pin.norm(), &at_speed.wrist_pin);
+    let guide = peak(|j| j.guide.abs(), &at_speed.guide);
     Some(RealJointLoads {
         steady_peak_main_bearing_load_n: main.0,
         steady_peak_main_bearing_load_error_n: main.1,
@@ -180,12 +183,7 @@ fn at_angles(bare: &sc::Scene, out: &sc::Outcome, angles: &[f64]) -> Vec<AtAngle
 fn drive(p: &SliderCrankProblem, out: &sc::Outcome, d: &Drive) -> Result<DriveFigures, DriveError> {
     let s = &out.designed;
     let u = P2::from(out.design.unbalance);
-    let cw = &out.counterweight;
-    let j_c = match (cw.mass, cw.radius) {
-        (Some(m), Some(r)) => m * r * r,
-        _ => 0.0,
-    };
-    let m = sc::machine(s, u, j_c);
+    let m = sc::machine(s, u, out.counterweight.drive_inertia());
     let set = dynamics::DriveSettings::default();
     Ok(
         dynamics::drive(&m, p.core.omega, d, &set)?.with_real_speed(&d.motor, |phi, w, a| {

@@ -51,6 +51,14 @@ pub struct Realised {
     pub plate_note: Option<String>,
 }
 
+impl Realised {
+    /// Its inertia about the crank axis as the drive counts it, m·r² (a point mass at its
+    /// centroid radius; 0 where the scene does not size it): a constant part of J.
+    pub fn drive_inertia(&self) -> f64 {
+        self.mass.zip(self.radius).map_or(0.0, |(m, r)| m * r * r)
+    }
+}
+
 /// The counterweight realising |U| = `u` under `objective`: with a plate, the plate the
 /// objective asks for (the lightest for `MinMass`, the smallest outer radius for
 /// `MinRadius`, else `[design.shape] minimize`); otherwise |U| split into mass and radius.
