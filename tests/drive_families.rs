@@ -182,3 +182,97 @@ fn process_load_errors_name_their_field() {
         crate::common::assert_names(&text, field, to, says);
     }
 }
+
+/// The linkage's Newton–Euler reactions at real speed (ω, α) against two independent forms:
+/// the input torque against the energy equation T = J α + ½ J′ ω² + G of the drive's terms
+/// (with the press's weights and pressing force), and — without weights or loads — the
+/// frame's reactions against the momentum, Σ R_frame = ω² Σ m r_G″ + α Σ m r_G′. At α = 0 and
+/// the nominal speed they are the constant-speed reactions bit for bit.
+#[test]
+fn linkage_reactions_at_real_speed_obey_the_energy_equation_and_the_momentum() {
+    use cwsynth::families::linkage::model::{Body, JointKind};
+    use cwsynth::geom::{perp, P2};
+    let path = problem("linkage-sixbar-press-flywheel.toml");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let free = set_key(&text, "mechanism.gravity", "\"0 m/s^2\"");
+    let free = free.replace(
+        "forces = [\"0 N\", \"5 kN\", \"5 kN\", \"0 N\"]",
+        "forces = [\"0 N\", \"0 N\", \"0 N\", \"0 N\"]",
+    );
+    let mut worst = (0.0_f64, 0.0_f64);
+    for (k, t) in [text, free].iter().enumerate() {
+        let s = parse_str(t, Path::new("press.toml")).unwrap();
+        let p: &LinkageProblem = s.machine().unwrap();
+        let l = &p.scene.linkage;
+        let params = l.params();
+        let joints = l.joints();
+        for i in 0..24 {
+            let theta = TAU * (i as f64 + 0.37) / 24.0;
+            let (w, a) = (9.0 + 0.5 * i as f64, 300.0 * (0.7 * i as f64).sin());
+            let pose = l.pose(theta).unwrap();
+            let r = l.reactions_at(&pose, &params, w, a).unwrap();
+            let dt = l.drive_terms(&pose, &[]);
+            let want = dt.j * a + 0.5 * dt.dj * w * w + dt.g;
+            let scale = r.torque.abs().max(dt.j * a.abs()).max(1.0);
+            worst.0 = worst.0.max((r.torque - want).abs() / scale);
+            if k == 1 {
+                let mut frame = P2::zeros();
+                for (jt, ld) in joints.iter().zip(&r.loads) {
+                    if jt.first != Body::Frame {
+                        continue;
+                    }
+                    frame += match jt.kind {
+                        JointKind::Revolute => P2::new(ld[0], ld[1]),
+                        JointKind::Prismatic => perp(pose.links[jt.second].e) * ld[0],
+                    };
+                }
+                let want = dt.momentum_rate * (w * w) + dt.momentum * a;
+                worst.1 = worst.1.max((frame - want).norm() / want.norm().max(1.0));
+            }
+            let r0 = l.reactions_at(&pose, &params, l.omega(), 0.0).unwrap();
+            assert_eq!(r0, l.reactions(&pose, &params).unwrap());
+        }
+    }
+    eprintln!(
+        "torque against the energy equation, frame force against the momentum: {:.1e} {:.1e}",
+        worst.0, worst.1
+    );
+    assert!(worst.0 < 1e-10 && worst.1 < 1e-10, "{worst:?}");
+}
+
+/// The press's joint loads at real speed: every joint's row carries its steady-state peak,
+/// error and change, the largest is `steady_peak_joint_force_n`; under a 10⁶ kg·m² flywheel
+/// they are the constant-speed peaks within both errors.
+#[test]
+fn linkage_joint_loads_at_real_speed_approach_the_constant_speed_ones_with_a_huge_flywheel() {
+    let path = problem("linkage-sixbar-press-flywheel.toml");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let solve = |t: &str| solve_scene(&parse_str(t, Path::new("press.toml")).unwrap());
+    let rows =
+        |r: &cwsynth::report::SolveResult| r.extra["joints"]["joints"].as_array().unwrap().clone();
+    let r = solve(&text);
+    let mut largest = 0.0_f64;
+    for row in rows(&r) {
+        let (st, at) = (
+            row["steady_peak_n"].as_f64().unwrap(),
+            row["peak_n"].as_f64().unwrap(),
+        );
+        let pct = row["steady_change_pct"].as_f64().unwrap();
+        assert!((100.0 * (st / at - 1.0) - pct).abs() < 1e-9, "{row}");
+        // Cs 0.1: the loads move, but by well under a third.
+        assert!(pct.abs() < 30.0, "{row}");
+        largest = largest.max(st);
+    }
+    assert_eq!(r.derived["steady_peak_joint_force_n"], largest);
+    let huge = text.replace("cs = 0.1 ", "flywheel = \"1e6 kg*m^2\" ");
+    assert_ne!(huge, text);
+    let r = solve(&huge);
+    for row in rows(&r) {
+        let f = |k: &str| row[k].as_f64().unwrap();
+        let (st, at) = (f("steady_peak_n"), f("peak_n"));
+        assert!(
+            (st - at).abs() <= f("steady_peak_error_n") + f("peak_error_n") + 1e-6 * at,
+            "{row}"
+        );
+    }
+}

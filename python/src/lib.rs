@@ -155,9 +155,20 @@ fn schema() -> String {
     serde_json::to_string_pretty(&families::problem_schema()).expect("plain data") + "\n"
 }
 
+/// How deep a problem given as a dict may nest (tables and arrays together). A problem file
+/// nests 4 levels at most; the limit turns a dict or list that contains itself, or a hostile
+/// nesting thousands deep, into a `ValueError` instead of a stack overflow.
+const MAX_NESTING: usize = 64;
+
 /// A Python value as a TOML value: dict → table, list/tuple → array, str, bool, int, float.
-fn toml_value(v: &Bound<'_, PyAny>, key: &str) -> PyResult<toml::Value> {
+/// `depth` is the nesting of `v` (0 for the problem's own keys).
+fn toml_value(v: &Bound<'_, PyAny>, key: &str, depth: usize) -> PyResult<toml::Value> {
     let bad = |what: &str| PyTypeError::new_err(format!("`{key}`: {what} has no TOML form"));
+    if depth > MAX_NESTING {
+        return Err(PyValueError::new_err(format!(
+            "`{key}`: nested deeper than {MAX_NESTING} levels (a dict or list that contains itself?)"
+        )));
+    }
     if v.is_instance_of::<PyBool>() {
         Ok(toml::Value::Boolean(v.extract()?))
     } else if v.is_instance_of::<PyInt>() {
@@ -169,11 +180,11 @@ fn toml_value(v: &Bound<'_, PyAny>, key: &str) -> PyResult<toml::Value> {
     } else if v.is_instance_of::<PyString>() {
         Ok(toml::Value::String(v.extract()?))
     } else if let Ok(d) = v.downcast::<PyDict>() {
-        Ok(toml::Value::Table(toml_table(d, key)?))
+        Ok(toml::Value::Table(toml_table(d, key, depth + 1)?))
     } else if v.is_instance_of::<PyList>() || v.is_instance_of::<PyTuple>() {
         let mut a = Vec::new();
         for (i, x) in v.try_iter()?.enumerate() {
-            a.push(toml_value(&x?, &format!("{key}[{i}]"))?);
+            a.push(toml_value(&x?, &format!("{key}[{i}]"), depth + 1)?);
         }
         Ok(toml::Value::Array(a))
     } else {
@@ -181,7 +192,7 @@ fn toml_value(v: &Bound<'_, PyAny>, key: &str) -> PyResult<toml::Value> {
     }
 }
 
-fn toml_table(d: &Bound<'_, PyDict>, prefix: &str) -> PyResult<toml::Table> {
+fn toml_table(d: &Bound<'_, PyDict>, prefix: &str, depth: usize) -> PyResult<toml::Table> {
     let mut t = toml::Table::new();
     for (k, v) in d.iter() {
         let k: String = k
@@ -195,7 +206,7 @@ fn toml_table(d: &Bound<'_, PyDict>, prefix: &str) -> PyResult<toml::Table> {
         if v.is_none() {
             continue; // None: the key is absent (the file's default applies).
         }
-        t.insert(k, toml_value(&v, &path)?);
+        t.insert(k, toml_value(&v, &path, depth)?);
     }
     Ok(t)
 }
@@ -204,7 +215,7 @@ fn toml_table(d: &Bound<'_, PyDict>, prefix: &str) -> PyResult<toml::Table> {
 /// as a file: keys whose value is None are left out.
 #[pyfunction]
 fn dict_to_toml(d: &Bound<'_, PyDict>) -> PyResult<String> {
-    toml::to_string(&toml_table(d, "")?)
+    toml::to_string(&toml_table(d, "", 0)?)
         .map_err(|e| PyValueError::new_err(format!("not TOML: {e}")))
 }
 

@@ -57,3 +57,21 @@ def test_missing_file():
     with pytest.raises(cwsynth.ProblemError) as e:
         cwsynth.solve(Path("no/such/file.toml"))
     assert e.value.file == "no/such/file.toml" and e.value.line is None and e.value.field is None
+
+
+def test_hostile_dicts_raise_instead_of_crashing():
+    """A dict that contains itself, or one nested 20,000 deep, raises; it used to overflow
+    the stack and kill the interpreter."""
+    selfish = {"name": "x", "family": "slider-crank"}
+    selfish["mechanism"] = selfish
+    deep = {}
+    inner = deep
+    for _ in range(20_000):
+        inner["a"] = {}
+        inner = inner["a"]
+    listed = {"name": "x", "family": "slider-crank", "mechanism": {"crank_pivot": []}}
+    listed["mechanism"]["crank_pivot"].append(listed["mechanism"]["crank_pivot"])
+    for problem in (selfish, {"name": "x", "family": "slider-crank", "mechanism": deep}, listed):
+        with pytest.raises(ValueError) as e:
+            cwsynth.check(problem)
+        assert "nested deeper than 64 levels" in str(e.value)

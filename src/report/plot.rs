@@ -37,6 +37,7 @@ impl PlotError {
     }
 }
 
+use plotters::coord::ranged1d::{DefaultFormatting, KeyPointHint, Ranged};
 use plotters::coord::types::RangedCoordf64;
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -317,21 +318,86 @@ fn bounds(series: &[Series], equal: bool) -> ((f64, f64), (f64, f64)) {
     (xr, yr)
 }
 
-/// The chart of a panel on `area` with data ranges `x`×`y`.
+/// A panel's x coordinate: plotters' own for f64, with its tick positions replaced where
+/// [`angle_ticks`] gives them. Hand-written because plotters' `WithKeyPoints` over an f64 range
+/// has no value formatter, which the mesh needs.
+struct XAxis {
+    inner: RangedCoordf64,
+    /// (bold ticks, light lines), if not plotters' own.
+    ticks: Option<(Vec<f64>, Vec<f64>)>,
+}
+
+impl Ranged for XAxis {
+    type ValueType = f64;
+    type FormatOption = DefaultFormatting;
+
+    fn range(&self) -> std::ops::Range<f64> {
+        self.inner.range()
+    }
+
+    fn map(&self, v: &f64, limit: (i32, i32)) -> i32 {
+        self.inner.map(v, limit)
+    }
+
+    fn key_points<H: KeyPointHint>(&self, hint: H) -> Vec<f64> {
+        match &self.ticks {
+            Some((_, light)) if hint.weight().allow_light_points() => light.clone(),
+            Some((bold, _)) => bold.clone(),
+            None => self.inner.key_points(hint),
+        }
+    }
+
+    fn axis_pixel_range(&self, limit: (i32, i32)) -> std::ops::Range<i32> {
+        self.inner.axis_pixel_range(limit)
+    }
+}
+
+/// The chart of a panel on `area` with data ranges `x`×`y`, the x axis's ticks from
+/// [`angle_ticks`] where it gives them.
 fn chart_on<'a, 'b>(
     area: &'a DrawingArea<SVGBackend<'b>, Shift>,
     p: &Panel,
     x: (f64, f64),
     y: (f64, f64),
-) -> Result<ChartContext<'a, SVGBackend<'b>, Cartesian2d<RangedCoordf64, RangedCoordf64>>, PlotError>
-{
+    ticks: Option<(Vec<f64>, Vec<f64>)>,
+) -> Result<ChartContext<'a, SVGBackend<'b>, Cartesian2d<XAxis, RangedCoordf64>>, PlotError> {
+    let x = XAxis {
+        inner: (x.0..x.1).into(),
+        ticks,
+    };
     ChartBuilder::on(area)
         .caption(&p.title, font(20))
         .margin(px(12))
         .x_label_area_size(px(44))
         .y_label_area_size(px(74))
-        .build_cartesian_2d(x.0..x.1, y.0..y.1)
+        .build_cartesian_2d(x, y.0..y.1)
         .map_err(PlotError::draw)
+}
+
+/// A panel whose x axis is an angle in degrees over (about) one turn — the crank, carrier or
+/// gear angle of a cycle — gets its range on whole quarter turns and ticks at every quarter
+/// turn (0, 90, 180, 270, 360°, the angles a designer reads dead centres and quadrature at),
+/// with light lines every 30°: `Some((x range, bold ticks, light ticks))`. Other axes: `None`
+/// (plotters' own ticks).
+fn angle_ticks(p: &Panel, x: (f64, f64)) -> Option<((f64, f64), Vec<f64>, Vec<f64>)> {
+    let label = p.x_label.to_lowercase();
+    let degrees = label.ends_with("(deg)") || label.ends_with("(°)");
+    if !(label.contains("angle") && degrees) || p.equal_aspect {
+        return None;
+    }
+    // The data's own range (without the 5 % padding of `bounds`).
+    let w = (x.1 - x.0) / 1.1;
+    let (lo, hi) = (x.0 + 0.05 * w, x.1 - 0.05 * w);
+    if !(w >= 270.0 && w <= 720.0 + 1e-9) {
+        return None;
+    }
+    let q = 90.0;
+    let (a, b) = ((lo / q + 1e-9).floor() * q, (hi / q - 1e-9).ceil() * q);
+    let every = |step: f64| {
+        let n = ((b - a) / step).round() as usize;
+        (0..=n).map(|k| a + k as f64 * step).collect::<Vec<_>>()
+    };
+    Some(((a, b), every(q), every(30.0)))
 }
 
 /// Widens the shorter-scaled range so that both axes have the same length per pixel on a
@@ -354,7 +420,7 @@ fn draw_panel(area: &DrawingArea<SVGBackend, Shift>, p: &Panel) -> Result<(), Pl
         let (w, h) = area.dim_in_pixel();
         let mut scratch = String::new();
         let root = SVGBackend::with_string(&mut scratch, (w, h)).into_drawing_area();
-        let c = chart_on(&root, p, (x0, x1), (y0, y1))?;
+        let c = chart_on(&root, p, (x0, x1), (y0, y1), None)?;
         c.plotting_area().dim_in_pixel()
     };
     if p.equal_aspect {
@@ -366,7 +432,11 @@ fn draw_panel(area: &DrawingArea<SVGBackend, Shift>, p: &Panel) -> Result<(), Pl
         y1 += (y1 - y0) * (bh + 0.02) / (1.0 - bh - 0.02);
         corner = SeriesLabelPosition::UpperRight;
     }
-    let mut chart = chart_on(area, p, (x0, x1), (y0, y1))?;
+    let ticks = angle_ticks(p, (x0, x1)).map(|((a, b), bold, light)| {
+        (x0, x1) = (a, b);
+        (bold, light)
+    });
+    let mut chart = chart_on(area, p, (x0, x1), (y0, y1), ticks)?;
     let xt = |v: &f64| tick_on(*v, x1 - x0);
     let yt = |v: &f64| tick_on(*v, y1 - y0);
     chart

@@ -1010,23 +1010,39 @@ fn e2_matrix(ls: &LinkState) -> Matrix2<f64> {
     jr * ls.psi[2] - r * (ls.psi[1] * ls.psi[1])
 }
 
-/// The inertial (d'Alembert) wrench of a link as linear maps of p = (m, u, I_P): the force
-/// −ω² (m P'' + E2 u) (2×4) and its moment about P, −ω² [(R u) × P'' + I_P ψ''] (1×4), using
-/// (R u) × P'' = −(Rᵀ J P'')·u.
+/// The inertial (d'Alembert) wrench of a link at constant speed ω (`w2` = ω²):
+/// [`inertial_wrench_at`] with α = 0.
 fn inertial_wrench(ls: &LinkState, w2: f64) -> (Matrix2x4<f64>, RowVector4<f64>) {
-    let e2 = e2_matrix(ls) * (-w2);
-    let a = ls.p[2] * (-w2);
+    inertial_wrench_at(ls, w2, 0.0)
+}
+
+/// The inertial (d'Alembert) wrench of a link at speed ω (`w2` = ω²) and angular
+/// acceleration α of the crank, as linear maps of p = (m, u, I_P): every second time
+/// derivative is (·)''ω² + (·)'α, so with A = P''ω² + P'α, E = E2 ω² + E1 α (E1 = ψ' J R,
+/// d/dθ (R c) = E1 c) and ψ̈ = ψ''ω² + ψ'α the force is −(m A + E u) (2×4) and its moment
+/// about P is −[(R u) × A + I_P ψ̈] (1×4), using (R u) × A = −(Rᵀ J A)·u. At α = 0 these are
+/// the constant-speed maps bit for bit (the α terms are exact zeros).
+pub(crate) fn inertial_wrench_at(
+    ls: &LinkState,
+    w2: f64,
+    alpha: f64,
+) -> (Matrix2x4<f64>, RowVector4<f64>) {
+    let r = ls.rot();
+    let jr = Matrix2::new(-ls.e.y, -ls.e.x, ls.e.x, -ls.e.y);
+    let e = -(e2_matrix(ls) * w2 + jr * (ls.psi[1] * alpha));
+    let a = -(ls.p[2] * w2 + ls.p[1] * alpha);
     let force = Matrix2x4::new(
         a.x,
-        e2[(0, 0)],
-        e2[(0, 1)],
+        e[(0, 0)],
+        e[(0, 1)],
         0.0,
         a.y,
-        e2[(1, 0)],
-        e2[(1, 1)],
+        e[(1, 0)],
+        e[(1, 1)],
         0.0,
     );
-    let rj = ls.rot().transpose() * perp(ls.p[2]) * w2;
-    let moment = RowVector4::new(0.0, rj.x, rj.y, -w2 * ls.psi[2]);
+    let rt = r.transpose();
+    let rj = rt * perp(ls.p[2]) * w2 + rt * perp(ls.p[1]) * alpha;
+    let moment = RowVector4::new(0.0, rj.x, rj.y, -(w2 * ls.psi[2] + alpha * ls.psi[1]));
     (force, moment)
 }

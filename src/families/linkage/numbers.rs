@@ -290,28 +290,50 @@ fn solver_facts(r: &mut SolveResult, p: &LinkageProblem, out: &ls::Outcome, sol:
     }
 }
 
-/// One row per joint: (label, kind, the bare linkage's peak, the design's peak).
+/// One joint's row of the bearing loads.
+pub(super) struct JointRow {
+    /// The joint's label (`frame–crank`).
+    pub label: String,
+    /// `revolute` or `prismatic`.
+    pub kind: &'static str,
+    /// The bare linkage's peak at constant speed.
+    pub bare: ls::JointPeak,
+    /// The design's peak at constant speed, where there is a design.
+    pub design: Option<ls::JointPeak>,
+    /// The peak at real speed (the design's, else the bare linkage's), where there is a
+    /// drive's steady state.
+    pub steady: Option<ls::JointPeak>,
+}
+
+impl JointRow {
+    /// The constant-speed peak the real-speed one is compared with: the design's, else the
+    /// bare linkage's (as [`JointRow::steady`]).
+    pub fn constant(&self) -> ls::JointPeak {
+        self.design.unwrap_or(self.bare)
+    }
+}
+
+/// One row per joint ([`JointRow`]).
 pub(super) fn joint_rows<'a>(
     p: &'a LinkageProblem,
     loads: &'a JointLoads,
-) -> impl Iterator<Item = (String, &'static str, ls::JointPeak, Option<ls::JointPeak>)> + 'a {
+) -> impl Iterator<Item = JointRow> + 'a {
     let sc = &p.scene;
     let design = loads.design.as_ref().and_then(|d| d.as_ref().ok());
+    let steady = loads.steady.as_ref().and_then(|d| d.as_ref().ok());
     sc.linkage
         .joints()
         .into_iter()
         .enumerate()
-        .map(move |(k, j)| {
-            let kind = match j.kind {
+        .map(move |(k, j)| JointRow {
+            label: ls::joint_label(&j, &sc.link_names),
+            kind: match j.kind {
                 JointKind::Revolute => "revolute",
                 JointKind::Prismatic => "prismatic",
-            };
-            (
-                ls::joint_label(&j, &sc.link_names),
-                kind,
-                loads.bare[k],
-                design.map(|d| d[k]),
-            )
+            },
+            bare: loads.bare[k],
+            design: design.map(|d| d[k]),
+            steady: steady.map(|d| d[k]),
         })
 }
 
@@ -348,16 +370,36 @@ fn joint_numbers(r: &mut SolveResult, p: &LinkageProblem, solved: &Solved) {
         r.objectives.insert("peak_joint_force_n".into(), w);
         r.errors.insert("peak_joint_force_n".into(), e);
     }
+    if let Some(Err(e)) = &loads.steady {
+        r.warnings
+            .push(format!("joint loads at real speed not computed: {e}"));
+    }
+    steady_joint_numbers(r, p, loads);
     let mut rows = Vec::new();
-    for (label, kind, b, d) in joint_rows(p, loads) {
+    for row_of in joint_rows(p, loads) {
+        let (label, b) = (&row_of.label, row_of.bare);
         let mut row = json!({
             "joint": label,
-            "kind": kind,
+            "kind": row_of.kind,
             "unbalanced_peak_n": b.peak,
             "unbalanced_peak_error_n": b.error,
             "unbalanced_angle_rad": b.angle,
         });
-        if let Some(d) = d {
+        if let Some(st) = row_of.steady {
+            row["steady_peak_n"] = json!(st.peak);
+            row["steady_peak_error_n"] = json!(st.error);
+            row["steady_angle_rad"] = json!(st.angle);
+            row["steady_change_pct"] = json!(100.0 * (st.peak / row_of.constant().peak - 1.0));
+            if let Some(lim) = sc.objective.max_joint_force {
+                if st.peak > lim * (1.0 + p.settings.rel_tol) + st.error {
+                    r.warnings.push(format!(
+                        "joint {label} peak load at real speed {:.6e} N exceeds its limit {lim:.6e} N (the limit holds at the nominal constant speed)",
+                        st.peak
+                    ));
+                }
+            }
+        }
+        if let Some(d) = row_of.design {
             row["peak_n"] = json!(d.peak);
             row["peak_error_n"] = json!(d.error);
             row["angle_rad"] = json!(d.angle);
@@ -380,6 +422,29 @@ fn joint_numbers(r: &mut SolveResult, p: &LinkageProblem, solved: &Solved) {
             "joints": rows,
             "csv": format!("{}-joints.csv", r.name),
         }),
+    );
+}
+
+/// The largest joint load at real speed (`derived.steady_peak_joint_force_n`, with its error
+/// and its change from the constant-speed figure), where the drive's steady state gave them.
+fn steady_joint_numbers(r: &mut SolveResult, p: &LinkageProblem, loads: &JointLoads) {
+    let rows: Vec<JointRow> = joint_rows(p, loads).collect();
+    let Some(steady) = rows.iter().map(|j| j.steady).collect::<Option<Vec<_>>>() else {
+        return;
+    };
+    let worst = |v: &mut dyn Iterator<Item = ls::JointPeak>| {
+        v.fold((0.0_f64, 0.0_f64), |(p, e), j| {
+            (p.max(j.peak), e.max(j.error))
+        })
+    };
+    let (peak, error) = worst(&mut steady.into_iter());
+    let (constant, _) = worst(&mut rows.iter().map(JointRow::constant));
+    r.derived.insert("steady_peak_joint_force_n".into(), peak);
+    r.derived
+        .insert("steady_peak_joint_force_error_n".into(), error);
+    r.derived.insert(
+        "steady_peak_joint_force_change_pct".into(),
+        100.0 * (peak / constant - 1.0),
     );
 }
 

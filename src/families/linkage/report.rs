@@ -40,20 +40,40 @@ pub fn documents(scene: &Scene, p: &LinkageProblem, sol: &Solved, r: &mut SolveR
 /// The bearing loads' table `<name>-joints.csv`.
 fn joint_table(r: &mut SolveResult, p: &LinkageProblem, solved: &Solved) {
     let Ok(loads) = &solved.joints else { return };
+    let steady = matches!(loads.steady, Some(Ok(_)));
     let mut csv = String::from(
-        "joint,kind,unbalanced_peak_n,unbalanced_error_n,unbalanced_angle_rad,peak_n,error_n,angle_rad\n",
+        "joint,kind,unbalanced_peak_n,unbalanced_error_n,unbalanced_angle_rad,peak_n,error_n,angle_rad",
     );
-    for (label, kind, b, d) in joint_rows(p, loads) {
-        let cell = |v: Option<f64>, f: fn(f64) -> String| v.map_or(String::new(), f);
+    if steady {
+        csv += ",steady_peak_n,steady_error_n,steady_angle_rad";
+    }
+    csv.push('\n');
+    let cell = |v: Option<f64>, f: fn(f64) -> String| v.map_or(String::new(), f);
+    let e12 = |v: f64| format!("{v:.12e}");
+    let e3 = |v: f64| format!("{v:.3e}");
+    for row in joint_rows(p, loads) {
+        let (b, d) = (row.bare, row.design);
         csv += &format!(
-            "{label},{kind},{:.12e},{:.3e},{:.12e},{},{},{}\n",
+            "{},{},{:.12e},{:.3e},{:.12e},{},{},{}",
+            row.label,
+            row.kind,
             b.peak,
             b.error,
             b.angle,
-            cell(d.map(|d| d.peak), |v| format!("{v:.12e}")),
-            cell(d.map(|d| d.error), |v| format!("{v:.3e}")),
-            cell(d.map(|d| d.angle), |v| format!("{v:.12e}")),
+            cell(d.map(|d| d.peak), e12),
+            cell(d.map(|d| d.error), e3),
+            cell(d.map(|d| d.angle), e12),
         );
+        if steady {
+            let s = row.steady;
+            csv += &format!(
+                ",{},{},{}",
+                cell(s.map(|s| s.peak), e12),
+                cell(s.map(|s| s.error), e3),
+                cell(s.map(|s| s.angle), e12)
+            );
+        }
+        csv.push('\n');
     }
     r.tables.push(Table {
         suffix: "joints".into(),

@@ -6,7 +6,7 @@
 use super::file::{Goal, LinkageProblem, LinkageScene, Objective as ObjectiveSpec};
 use super::model::ForceBalance;
 use super::synth::{self as ls, JointPeak, Outcome};
-use crate::dynamics::{self, Drive, DriveError, DriveFigures};
+use crate::dynamics::{self, Drive, DriveError, DriveFigures, SteadyState};
 use crate::families::driver::Claim;
 use crate::families::family::cw_status;
 use crate::report::Status;
@@ -43,6 +43,9 @@ pub struct JointLoads {
     pub bare: Vec<JointPeak>,
     /// With the design's counterweights (absent without a design; `Err`: why not computed).
     pub design: Option<Result<Vec<JointPeak>, String>>,
+    /// At real speed: the design's (else the bare linkage's) peaks in the drive's periodic
+    /// steady state, where the file has `[mechanism.drive]` and its steady state was computed.
+    pub steady: Option<Result<Vec<JointPeak>, String>>,
 }
 
 impl Solution {
@@ -82,13 +85,18 @@ pub fn solve(p: &LinkageProblem) -> Result<Solution, String> {
         claim.infeasible(shortfalls(p));
     }
     let x = finite_design(&out);
+    let drive = p
+        .drive
+        .as_ref()
+        .map(|d| drive(p, d, x).map_err(|e| e.to_string()));
+    let steady = drive
+        .as_ref()
+        .and_then(|d| d.as_ref().ok())
+        .map(|d| &d.steady);
     Ok(Solution {
         claim,
-        joints: joint_loads(p, x),
-        drive: p
-            .drive
-            .as_ref()
-            .map(|d| drive(p, d, x).map_err(|e| e.to_string())),
+        joints: joint_loads(p, x, steady),
+        drive,
         out,
         sectors,
         berkof_lowen: sc.linkage.berkof_lowen().ok(),
@@ -258,12 +266,22 @@ fn method(out: &Outcome, sol: &crate::synth::minimax::Solution) -> String {
 }
 
 /// The joints' peak loads without counterweights and with the design `x`.
-fn joint_loads(p: &LinkageProblem, x: Option<&[f64]>) -> Result<JointLoads, String> {
+fn joint_loads(
+    p: &LinkageProblem,
+    x: Option<&[f64]>,
+    steady: Option<&SteadyState>,
+) -> Result<JointLoads, String> {
     let sc = &p.scene;
     let zeros = vec![0.0; crate::synth::minimax::PER_COUNTERWEIGHT * sc.counterweights.len()];
     let bare = ls::joint_peaks(sc, &zeros, &p.settings).map_err(|e| e.to_string())?;
     let design = x.map(|x| ls::joint_peaks(sc, x, &p.settings).map_err(|e| e.to_string()));
-    Ok(JointLoads { bare, design })
+    let steady = steady
+        .map(|st| ls::steady_joint_peaks(sc, x.unwrap_or(&zeros), st).map_err(|e| e.to_string()));
+    Ok(JointLoads {
+        bare,
+        design,
+        steady,
+    })
 }
 
 /// The file-only analyses: none for the linkage (its curves over the cycle are drawn with its

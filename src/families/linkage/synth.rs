@@ -10,6 +10,7 @@
 //! [`BALANCE_ANGLES`] angles, from their SVD (well-conditioned rows, a consistent right-hand
 //! side); when the counterweights cannot supply it, the least-squares residual says by how much.
 
+use crate::dynamics::SteadyState;
 use crate::families::linkage::file::{CounterweightSpec, Goal, LinkageScene};
 use crate::families::linkage::model::{
     BalanceMap, Body, Joint, JointKind, Params, Pose, ReactionMap,
@@ -353,6 +354,54 @@ pub fn joint_peaks(
         });
     }
     Ok(out)
+}
+
+/// The peak load of every joint at design x in a periodic steady state at real speed: the
+/// Newton–Euler loads at the steady state's nodes with each node's ω and α
+/// ([`crate::families::linkage::model::Linkage::reactions_at`]), each joint's peak with the
+/// steady state's bound ([`SteadyState::inertial_peak`]: the peak node's neighbour difference
+/// and the speeds' error) plus the round-off bound of the reactions at the peak node.
+pub fn steady_joint_peaks(
+    scene: &LinkageScene,
+    x: &[f64],
+    st: &SteadyState,
+) -> Result<Vec<JointPeak>, LinkageSolveError> {
+    let l = &scene.linkage;
+    let joints = l.joints();
+    let p = params_with(scene, x);
+    let pose_at = |theta: f64| {
+        l.pose(theta)
+            .map_err(|e| LinkageSolveError::NoAssembly(theta.to_degrees(), e.dyad))
+    };
+    let singular = |theta: f64| LinkageSolveError::SingularReactions(theta.to_degrees());
+    let mut ys = vec![Vec::with_capacity(st.curve.len()); joints.len()];
+    for &[theta, w, a] in &st.curve {
+        let r = l
+            .reactions_at(&pose_at(theta)?, &p, w, a)
+            .map_err(|_| singular(theta))?;
+        for ((y, j), ld) in ys.iter_mut().zip(&joints).zip(&r.loads) {
+            y.push(joint_load(j.kind, *ld));
+        }
+    }
+    ys.iter()
+        .map(|y| {
+            let pk = st.inertial_peak(y);
+            // The round-off bound of the Newton–Euler solve at the peak node.
+            let k = y
+                .iter()
+                .position(|v| v.abs() == pk.peak)
+                .unwrap_or_default();
+            let [theta, w, a] = st.curve[k];
+            let (_, roundoff) = l
+                .reactions_with_error_at(&pose_at(theta)?, &p, w, a)
+                .map_err(|_| singular(theta))?;
+            Ok(JointPeak {
+                peak: pk.peak,
+                angle: pk.angle,
+                error: pk.error + roundoff,
+            })
+        })
+        .collect()
 }
 
 /// The engine's limits of one counterweight: mass up to its maximum, the body within

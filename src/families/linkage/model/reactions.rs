@@ -3,7 +3,7 @@
 //! loads and the drive torque balanced by the reactions), and its solution as a map affine in
 //! the links' inertial parameters.
 
-use super::{inertial_wrench, Dyad, Linkage, LinkageError, Params, Point, Pose};
+use super::{inertial_wrench_at, Dyad, Linkage, LinkageError, Params, Point, Pose};
 use crate::geom::{cross, perp, P2};
 use nalgebra::{DMatrix, DVector};
 
@@ -116,8 +116,14 @@ impl Linkage {
     /// The joint-force equations at a pose: K x + W(p) = 0 with x the unknowns (joint loads,
     /// then T), three rows per link (force x, y; moment about P_i), W the d'Alembert and
     /// gravity wrench of each link. Returns K and, per link, the 3×4 map of p_i into its
-    /// wrench (F = m g − ω² (m P'' + E2 u), M_P = (R u) × (g − ω² P'') − ω² I_P ψ'').
-    fn reaction_system(&self, pose: &Pose) -> (DMatrix<f64>, Vec<nalgebra::Matrix3x4<f64>>) {
+    /// wrench (F = m g − ω² (m P'' + E2 u), M_P = (R u) × (g − ω² P'') − ω² I_P ψ'' at
+    /// constant speed; at real speed every ω²(·)'' is ω²(·)'' + α(·)', [`inertial_wrench_at`]).
+    fn reaction_system(
+        &self,
+        pose: &Pose,
+        omega: f64,
+        alpha: f64,
+    ) -> (DMatrix<f64>, Vec<nalgebra::Matrix3x4<f64>>) {
         let n = self.n_links();
         let joints = self.joints();
         let nu = 2 * joints.len() + 1;
@@ -158,13 +164,13 @@ impl Linkage {
             }
         }
         k[(2, nu - 1)] = 1.0;
-        let w2 = self.omega * self.omega;
+        let w2 = omega * omega;
         let g = self.gravity;
         let wrenches = pose
             .links
             .iter()
             .map(|ls| {
-                let (fm, mp) = inertial_wrench(ls, w2);
+                let (fm, mp) = inertial_wrench_at(ls, w2, alpha);
                 let rg = ls.rot().transpose() * perp(g);
                 let mut w = nalgebra::Matrix3x4::<f64>::zeros();
                 w.fixed_view_mut::<2, 4>(0, 0).copy_from(&fm);
@@ -186,7 +192,20 @@ impl Linkage {
     /// energy form of [`Blocks::torque`]. Singular only at a toggle; near one the loads grow
     /// like κ and their round-off like the pose's ([`BalanceMap::rho`]) times κ.
     pub fn reactions(&self, pose: &Pose, params: &[Params]) -> Result<Reactions, LinkageError> {
-        let (k, w) = self.reaction_system(pose);
+        self.reactions_at(pose, params, self.omega, 0.0)
+    }
+
+    /// [`Linkage::reactions`] with the crank at speed `omega` (rad/s) and angular acceleration
+    /// `alpha` (rad/s²), as in a real machine's steady state: T is then the torque the crank's
+    /// shaft delivers to the linkage.
+    pub fn reactions_at(
+        &self,
+        pose: &Pose,
+        params: &[Params],
+        omega: f64,
+        alpha: f64,
+    ) -> Result<Reactions, LinkageError> {
+        let (k, w) = self.reaction_system(pose, omega, alpha);
         // The process loads' wrench, then the inertial and weight wrench of the parameters.
         let mut rhs = -DVector::from_vec(self.load_wrench(pose));
         for (i, (wi, p)) in w.iter().zip(params).enumerate() {
@@ -220,8 +239,20 @@ impl Linkage {
         pose: &Pose,
         params: &[Params],
     ) -> Result<(Reactions, f64), LinkageError> {
-        let r = self.reactions(pose, params)?;
-        let (k, w) = self.reaction_system(pose);
+        self.reactions_with_error_at(pose, params, self.omega, 0.0)
+    }
+
+    /// [`Linkage::reactions_with_error`] at speed `omega` and acceleration `alpha`
+    /// ([`Linkage::reactions_at`]).
+    pub fn reactions_with_error_at(
+        &self,
+        pose: &Pose,
+        params: &[Params],
+        omega: f64,
+        alpha: f64,
+    ) -> Result<(Reactions, f64), LinkageError> {
+        let r = self.reactions_at(pose, params, omega, alpha)?;
+        let (k, w) = self.reaction_system(pose, omega, alpha);
         let sv = k.singular_values();
         let (smin, smax) = (sv.min(), sv.max());
         if !(smin > 0.0) {
@@ -248,7 +279,7 @@ impl Linkage {
     /// The joint reactions as a linear map of the parameters ([`ReactionMap`]): one LU of the
     /// joint-force matrix, solved for the 4 unit parameters of every link.
     pub fn reaction_map(&self, pose: &Pose) -> Result<ReactionMap, LinkageError> {
-        let (k, w) = self.reaction_system(pose);
+        let (k, w) = self.reaction_system(pose, self.omega, 0.0);
         let rows = k.nrows();
         let lu = k.lu();
         let singular = LinkageError::SingularReactions { theta: pose.theta };
