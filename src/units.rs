@@ -528,6 +528,9 @@ pub enum UnitError {
     /// The value is beyond [`MAX_MAGNITUDE`] in SI.
     #[error("`{text}` is {si:e} {unit} in SI, beyond any machine; allowed: a magnitude up to {MAX_MAGNITUDE:e} {unit}", unit = .dim.si())]
     OutOfRange { text: String, si: f64, dim: Dim },
+    /// The value is nonzero but below [`MIN_MAGNITUDE`] in SI.
+    #[error("`{text}` is {si:e} {unit} in SI, below any machine (its squares would lose their digits); allowed: 0 or a magnitude from {MIN_MAGNITUDE:e} {unit}", unit = .dim.si())]
+    BelowRange { text: String, si: f64, dim: Dim },
     /// The unit is known but measures something else.
     #[error("`{unit}` is a unit of {found}, but this field is a {dim}; allowed: {allowed}", found = .found.name(), dim = .dim.name())]
     WrongDimension {
@@ -541,6 +544,15 @@ pub enum UnitError {
 /// The longest quantity string read (bytes): a longer one is a mistake, and parsing it
 /// would take time for nothing.
 pub const MAX_QUANTITY_LEN: usize = 256;
+
+/// The smallest nonzero magnitude of a dimensional quantity in SI (1e-30 m, kg, N, rad/s, …):
+/// far below any machine (an atom is 1e-10 m, an electron 9e-31 kg), and large enough that
+/// the products the models form (m·R·ω², up to four such factors) and their squares (|F|²
+/// in the cone programs, 1e-240 at worst) stay normal floats. Measured: a piston scaled by
+/// 1e-60 in every length and mass solves to the same optimum as the original to 1e-15,
+/// scaled by 1e-80 it does not (its squared forces are subnormal); a value such as
+/// `1e-80 m` is therefore an error instead of a wrong `optimal`.
+pub const MIN_MAGNITUDE: f64 = 1e-30;
 
 /// The largest magnitude of a dimensional quantity in SI (1e9 m, kg, N, rad/s, …): far
 /// beyond any machine, and small enough that products of a few such values (m·R·ω²) stay
@@ -625,6 +637,13 @@ pub fn parse(text: &str, dim: Dim) -> Result<f64, UnitError> {
     let si = parse_unbounded(text, dim)?;
     if dim != Dim::Dimensionless && si.abs() > MAX_MAGNITUDE {
         return Err(UnitError::OutOfRange {
+            text: text.into(),
+            si,
+            dim,
+        });
+    }
+    if dim != Dim::Dimensionless && si != 0.0 && si.abs() < MIN_MAGNITUDE {
+        return Err(UnitError::BelowRange {
             text: text.into(),
             si,
             dim,

@@ -436,11 +436,63 @@ fn us_units_are_read_and_a_decimal_comma_is_named() {
 #[test]
 fn a_linkage_counterweight_radius_below_the_machines_scale_is_refused() {
     let base = std::fs::read_to_string(problem("linkage-fourbar-pareto.toml")).unwrap();
-    let tiny = with(&base, "radius = \"60 mm\"", "radius = \"1e-308 mm\"");
+    let tiny = with(&base, "radius = \"60 mm\"", "radius = \"1e-9 mm\"");
     assert_names(
         &tiny,
         "design.counterweights[0].radius",
-        "1e-308",
+        "1e-9",
         "crank length",
+    );
+    // Below every machine: refused by the units, whatever the field.
+    let tinier = with(&base, "radius = \"60 mm\"", "radius = \"1e-308 mm\"");
+    assert_names(
+        &tinier,
+        "design.counterweights[0].radius",
+        "1e-308",
+        "below any machine",
+    );
+}
+
+/// A machine scaled to 1e-80 of its size (every length and mass) is refused, naming one such
+/// field: its squared forces would be subnormal and its `optimal` wrong. Scaled to 1e-30
+/// it is accepted and solves to the original's optimum (forces ∝ s², as mass × length).
+#[test]
+fn a_machine_below_every_scale_is_refused_and_one_just_above_solves_exactly() {
+    let base = std::fs::read_to_string(problem("piston-1000rpm.toml")).unwrap();
+    let base = base.split("[[paper]]").next().unwrap().to_string();
+    let scaled = |s: &str| {
+        let mut t = base.clone();
+        for (v, u) in [
+            ("35", "mm"),
+            ("140", "mm"),
+            ("0.35", "kg"),
+            ("0.30", "kg"),
+            ("1.03", "kg"),
+            ("0.2", "kg*m"),
+            ("50", "mm"),
+        ] {
+            t = t.replacen(&format!("\"{v} {u}\""), &format!("\"{v}{s} {u}\""), 1);
+        }
+        t
+    };
+    assert_names(
+        &scaled("e-80"),
+        "design.radius",
+        "radius = \"50e-80",
+        "below any machine",
+    );
+    let solve = |t: &str| {
+        cwsynth::families::solve_scene(
+            &cwsynth::families::parse_str(t, std::path::Path::new("s.toml")).unwrap(),
+        )
+    };
+    let (small, one) = (solve(&scaled("e-25")), solve(&base));
+    assert_eq!(small.status, one.status);
+    let f = |r: &cwsynth::report::SolveResult| r.objectives["peak_shaking_force_n"];
+    assert!(
+        (f(&small) * 1e50 / f(&one) - 1.0).abs() < 1e-12,
+        "{} vs {}",
+        f(&small),
+        f(&one)
     );
 }
