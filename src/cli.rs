@@ -21,6 +21,9 @@ pub struct Cli {
 #[derive(Debug, Subcommand)]
 pub enum Command {
     /// Solve problem files (or every *.toml in given directories) and report.
+    #[command(
+        after_help = "Examples:\n  cwsynth solve problems/piston-1000rpm.toml\n  cwsynth solve problems/ --out results/\n  cwsynth solve --json my.toml > my.json\n  cat my.toml | cwsynth solve -"
+    )]
     Solve {
         /// Problem files or directories; `-` reads one problem file from standard input.
         #[arg(required = true)]
@@ -39,6 +42,9 @@ pub enum Command {
     },
     /// Solve many machines: problem files, directories, fleets `TEMPLATE.toml:FLEET.csv`
     /// (docs/batch.md). Writes per-machine results, summary.csv, summary.md, index.html.
+    #[command(
+        after_help = "Examples:\n  cwsynth batch problems/ --out results/\n  cwsynth batch problems/piston-1000rpm.toml:fleet.csv --summary-only --out fleet/\n  cwsynth batch problems/piston-1000rpm.toml:fleet.csv --shard 0/4 --out part0/"
+    )]
     Batch {
         /// Problem files, directories of them, or fleets `TEMPLATE.toml:FLEET.csv`.
         inputs: Vec<String>,
@@ -68,6 +74,7 @@ pub enum Command {
         units: UnitsArg,
     },
     /// Join shard summaries (`summary-shard-i-of-n.csv` in the given directories).
+    #[command(after_help = "Example:\n  cwsynth merge part0/ part1/ part2/ part3/ --out fleet/")]
     Merge {
         /// Directories holding shard summaries.
         #[arg(required = true)]
@@ -76,16 +83,21 @@ pub enum Command {
         #[arg(long)]
         out: PathBuf,
     },
-    /// Validate problem files without solving.
+    /// Validate problem files without solving (`-` reads one from standard input).
+    #[command(after_help = "Examples:\n  cwsynth check problems/\n  cwsynth check - < my.toml")]
     Check {
-        /// Problem files or directories.
+        /// Problem files or directories; `-` reads one problem file from standard input.
         #[arg(required = true)]
         inputs: Vec<PathBuf>,
     },
     /// Print the JSON Schema (draft 2020-12) of the problem file, every family.
+    #[command(after_help = "Example:\n  cwsynth schema > cwsynth.schema.json")]
     Schema,
     /// Print a commented problem file of a family to start from
     /// (`cwsynth new slider-crank > my.toml && cwsynth solve my.toml`).
+    #[command(
+        after_help = "Example:\n  cwsynth new linkage > press.toml && cwsynth solve press.toml"
+    )]
     New {
         /// The family.
         #[arg(value_parser = clap::builder::PossibleValuesParser::new(family_names()))]
@@ -93,14 +105,19 @@ pub enum Command {
     },
     /// Print a shell completion script (e.g. `cwsynth completions bash >
     /// ~/.local/share/bash-completion/completions/cwsynth`).
+    #[command(
+        after_help = "Example:\n  cwsynth completions bash > ~/.local/share/bash-completion/completions/cwsynth"
+    )]
     Completions {
         /// The shell.
         shell: clap_complete::Shell,
     },
     /// Print the manual page (roff; `cwsynth man > cwsynth.1 && man ./cwsynth.1`).
+    #[command(after_help = "Example:\n  cwsynth man > cwsynth.1 && man ./cwsynth.1")]
     Man,
     /// Fit the unknown data a problem file names in its `[calibrate]` section to the values
     /// it must reproduce, then solve the design with the fitted values.
+    #[command(after_help = "Example:\n  cwsynth calibrate my-calibrate.toml --out results/")]
     Calibrate {
         /// The problem file (with a `[calibrate]` section).
         file: PathBuf,
@@ -116,6 +133,7 @@ pub enum Command {
         units: UnitsArg,
     },
     /// Solve one scene along a ladder of accuracy and fidelity settings: time against error.
+    #[command(after_help = "Example:\n  cwsynth study problems/piston-1000rpm.toml --out study/")]
     Study {
         /// The problem file.
         file: PathBuf,
@@ -286,6 +304,68 @@ fn load_all(files: &[PathBuf]) -> (Vec<Scene>, Vec<String>) {
     (ok, bad)
 }
 
+/// The manual page (roff): clap_mangen's title, name, synopsis, description and options,
+/// then every command in full in one page (clap_mangen's own subcommand section points to
+/// `cwsynth-solve(1)` pages that are not installed), EXIT STATUS and EXAMPLES.
+fn man_page() -> anyhow::Result<String> {
+    use clap_mangen::Man;
+    let cmd = Cli::command();
+    let mut buf = Vec::new();
+    let man = Man::new(cmd.clone());
+    man.render_title(&mut buf)?;
+    man.render_name_section(&mut buf)?;
+    man.render_synopsis_section(&mut buf)?;
+    man.render_description_section(&mut buf)?;
+    man.render_options_section(&mut buf)?;
+    let mut page = String::from_utf8(buf)?;
+    page += ".SH COMMANDS\n";
+    let mut examples = String::new();
+    for sub in cmd.get_subcommands() {
+        let name = format!("cwsynth {}", sub.get_name());
+        let sub = sub
+            .clone()
+            .bin_name(name.clone())
+            .display_name(name.clone());
+        let mut b = Vec::new();
+        let man = Man::new(sub.clone());
+        man.render_synopsis_section(&mut b)?;
+        man.render_options_section(&mut b)?;
+        let text = String::from_utf8(b)?
+            .replace(".SH SYNOPSIS\n", "")
+            .replace(".SH OPTIONS\n", "");
+        let about = sub.get_about().map(|a| a.to_string()).unwrap_or_default();
+        page += &format!(".SS \"{name}\"\n{}\n.PP\n{text}", roff(&about));
+        if let Some(after) = sub.get_after_help() {
+            for line in after.to_string().lines().filter(|l| l.starts_with("  ")) {
+                examples += &format!(".TP\n\\fB{}\\fR\n", roff(line.trim()));
+            }
+        }
+    }
+    page += ".SH \"EXIT STATUS\"\n\
+        .TP\n0\nEvery input was read and solved, checked or written.\n\
+        .TP\n1\nAn input did not load (its file, line and field are on standard error), a \
+        machine failed, was infeasible or stopped on an internal error, or a result name \
+        clashed; the other inputs were still solved and written.\n\
+        .TP\n2\nThe command line is wrong, or the run could not go on (an output directory \
+        that cannot be written).\n";
+    page += &format!(".SH EXAMPLES\n{examples}");
+    page += &format!(
+        ".SH \"SEE ALSO\"\nThe problem files and results are documented in docs/problem-files.md and \
+         docs/results.md of the source.\n.SH VERSION\nv{}\n",
+        env!("CARGO_PKG_VERSION")
+    );
+    Ok(page)
+}
+
+/// Text as roff: backslashes and hyphens escaped, no line starting with a control character.
+fn roff(text: &str) -> String {
+    let t = text.replace('\\', "\\e").replace('-', "\\-");
+    match t.starts_with(['.', '\'']) {
+        true => format!("\\&{t}"),
+        false => t,
+    }
+}
+
 /// Runs the CLI; returns the process exit code. One function per verb.
 pub fn run(cli: Cli) -> anyhow::Result<i32> {
     match cli.command {
@@ -336,9 +416,7 @@ pub fn run(cli: Cli) -> anyhow::Result<i32> {
             Ok(0)
         }
         Command::Man => {
-            let mut buf = Vec::new();
-            clap_mangen::Man::new(Cli::command()).render(&mut buf)?;
-            Stdout::new().write(&String::from_utf8(buf)?)?;
+            Stdout::new().write(&man_page()?)?;
             Ok(0)
         }
         Command::Schema => {
@@ -359,8 +437,7 @@ pub fn run(cli: Cli) -> anyhow::Result<i32> {
 /// `cwsynth check`: reads every file, prints `ok` for each that resolves and `error` for
 /// each that does not; exit code 1 when any failed.
 fn check(inputs: &[PathBuf]) -> anyhow::Result<i32> {
-    let files = crate::batch::expand_inputs(inputs)?;
-    let (ok, bad) = load_all(&files);
+    let (ok, bad) = load_inputs(inputs)?;
     let mut stdout = Stdout::new();
     for s in &ok {
         stdout.write(&format!(
@@ -529,16 +606,9 @@ fn study(file: &Path, out: Option<PathBuf>, repeats: usize) -> anyhow::Result<i3
     Ok(0)
 }
 
-/// `cwsynth solve`: solves each file, prints its summary (or JSON line) and writes its
-/// results into `out` when given; exit code 1 when a file did not load, a name clashed, a
-/// scene panicked, failed or was infeasible.
-fn solve(
-    inputs: &[PathBuf],
-    json: bool,
-    out: Option<&Path>,
-    units: UnitsArg,
-) -> anyhow::Result<i32> {
-    // `-` is standard input; everything else a file or a directory.
+/// Reads the scenes of `inputs` (files, directories, `-` for standard input, read first):
+/// (the scenes, the errors of those that did not load).
+fn load_inputs(inputs: &[PathBuf]) -> anyhow::Result<(Vec<Scene>, Vec<String>)> {
     let stdin = inputs.iter().any(|p| p.as_os_str() == "-");
     let paths: Vec<PathBuf> = inputs
         .iter()
@@ -553,6 +623,19 @@ fn solve(
             Err(e) => bad.insert(0, e),
         }
     }
+    Ok((scenes, bad))
+}
+
+/// `cwsynth solve`: solves each file, prints its summary (or JSON line) and writes its
+/// results into `out` when given; exit code 1 when a file did not load, a name clashed, a
+/// scene panicked, failed or was infeasible.
+fn solve(
+    inputs: &[PathBuf],
+    json: bool,
+    out: Option<&Path>,
+    units: UnitsArg,
+) -> anyhow::Result<i32> {
+    let (scenes, bad) = load_inputs(inputs)?;
     for e in &bad {
         eprintln!("error {e}");
     }

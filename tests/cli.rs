@@ -370,6 +370,56 @@ fn completions_and_man_page_are_written() {
         text.contains(".TH cwsynth 1") && text.contains("batch"),
         "{text}"
     );
+    // One page: every command in it, no pointers to `cwsynth-solve(1)` pages that are not
+    // installed; its exit statuses and examples (issue 34).
+    for want in [
+        ".SS \"cwsynth solve\"",
+        ".SS \"cwsynth study\"",
+        ".SH \"EXIT STATUS\"",
+        ".SH EXAMPLES",
+        "cat my.toml | cwsynth solve \\-",
+    ] {
+        assert!(text.contains(want), "{want}");
+    }
+    assert!(!text.contains("(1)"), "a page that is not installed");
+    // Every verb's --help ends with an example.
+    for verb in [
+        "solve",
+        "batch",
+        "merge",
+        "check",
+        "schema",
+        "new",
+        "study",
+        "calibrate",
+    ] {
+        let out = bin().args([verb, "--help"]).output().unwrap();
+        let help = String::from_utf8(out.stdout).unwrap();
+        assert!(help.contains("\n  cwsynth "), "{verb}: {help}");
+    }
+}
+
+/// `check -` reads the problem file from standard input, as `solve -` does.
+#[test]
+fn check_reads_standard_input() {
+    use std::io::Write;
+    let text = std::fs::read_to_string(problem("piston-1000rpm.toml")).unwrap();
+    let mut child = bin()
+        .args(["check", "-"])
+        .stdin(std::process::Stdio::piped())
+        .stdout(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    child
+        .stdin
+        .take()
+        .unwrap()
+        .write_all(text.as_bytes())
+        .unwrap();
+    let out = child.wait_with_output().unwrap();
+    assert!(out.status.success());
+    let said = String::from_utf8(out.stdout).unwrap();
+    assert!(said.starts_with("ok    <stdin> (piston-1000rpm"), "{said}");
 }
 
 /// `--threads` is bounded: a mistyped count is refused before a thread starts (issue 34).
