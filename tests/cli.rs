@@ -310,7 +310,8 @@ fn reports_are_in_workshop_units_unless_asked_for_si() {
 }
 
 /// Issue 20: `cwsynth new <family> > my.toml && cwsynth solve my.toml` works for every
-/// family; an unknown family names the nearest one.
+/// family, from a clean template (`templates/`, issue 34); an unknown family names the nearest
+/// one.
 #[test]
 fn new_writes_a_commented_file_that_solves_for_every_family() {
     let dir = std::env::temp_dir().join(format!("cwsynth-new-{}", std::process::id()));
@@ -343,6 +344,32 @@ fn new_writes_a_commented_file_that_solves_for_every_family() {
         assert_eq!(v["name"], format!("my-{name}"));
         assert_eq!(v["family"], name);
         assert_ne!(v["status"], "failed", "{name}");
+        // A clean start (issue 34): no paper's numbers to check, a design (not a given
+        // one), no warning but the eccentric gear's notes on its own geometry.
+        let no_paper = v["paper"].as_array().is_none_or(|a| a.is_empty());
+        // (The hypocycloid's and the gear's results always set their paper's claims about
+        // the method beside the computation — the series against the exact coefficients, µ2
+        // against −µ1 — whatever the data: not a paper's numbers for this machine.)
+        assert!(!text.contains("[[paper]]"), "{name}");
+        assert!(
+            no_paper || ["hypocycloid", "eccentric-gear"].contains(&name),
+            "{name}"
+        );
+        assert!(
+            ["optimal", "best_found"].contains(&v["status"].as_str().unwrap())
+                || name == "hypocycloid",
+            "{name}: {}",
+            v["status"]
+        );
+        let warnings = v["warnings"].as_array().unwrap();
+        let geometry = |w: &serde_json::Value| {
+            let w = w.as_str().unwrap();
+            w.contains("cusp") || w.contains("poles are as close") || w.contains("pole window")
+        };
+        assert!(
+            warnings.is_empty() || (name == "eccentric-gear" && warnings.iter().all(geometry)),
+            "{name}: {warnings:?}"
+        );
     }
     let _ = std::fs::remove_dir_all(&dir);
     let bad = bin().args(["new", "slidercrank"]).output().unwrap();

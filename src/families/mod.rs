@@ -86,13 +86,14 @@ pub fn by_name(name: &str) -> Option<&'static dyn Family> {
 }
 
 /// A commented problem file of `family` to start from (`cwsynth new <family>`): the
-/// family's template ([`Family::template`], a shipped scene) under a header that says where
-/// every key is documented, named `my-<family>`. `None` for an unknown family.
+/// family's template ([`Family::template`], `templates/<family>.toml`: a clean machine with
+/// no paper's numbers to check, whose solve gives a buildable design) under a header that
+/// says where every key is documented, named `my-<family>`. `None` for an unknown family.
 pub fn new_problem(family: &str) -> Option<String> {
     let f = by_name(family)?;
     let mut out = format!(
         "# A cwsynth problem file for the `{family}` family, to start from (`cwsynth new {family}`).\n\
-         # It is the shipped scene below, renamed: edit the data, then `cwsynth check FILE` and\n\
+         # Edit the machine's data below, then `cwsynth check FILE` and\n\
          # `cwsynth solve FILE --out DIR`. Every key, its unit and its range:\n\
          # docs/problem-files.md (family `{family}`); `cwsynth schema` prints the JSON Schema.\n\
          # Dimensional values need a unit (\"35 mm\", \"1500 rpm\"): a bare number is an error.\n\

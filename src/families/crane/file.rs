@@ -18,8 +18,8 @@ use serde::Deserialize;
 /// The `family = "…"` value of this family's files.
 pub const FAMILY: &str = "luffing-crane";
 
-/// The problem file `cwsynth new` starts from: the shipped `problems/crane-thesis-example.toml`.
-pub const TEMPLATE: &str = include_str!("../../../problems/crane-thesis-example.toml");
+/// The problem file `cwsynth new` prints: a clean template (`templates/`), not a paper's scene.
+pub const TEMPLATE: &str = include_str!("../../../templates/luffing-crane.toml");
 
 /// The work budget of one scene (see [`limits::check_work`] and `check_work` below):
 /// every single integer setting at its maximum passes on the shipped files, their products

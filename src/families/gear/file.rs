@@ -17,8 +17,8 @@ use std::f64::consts::PI;
 /// The `family = "…"` value of this family's files.
 pub const FAMILY: &str = "eccentric-gear";
 
-/// The problem file `cwsynth new` starts from: the shipped `problems/gear-paper-table1.toml`.
-pub const TEMPLATE: &str = include_str!("../../../problems/gear-paper-table1.toml");
+/// The problem file `cwsynth new` prints: a clean template (`templates/`), not a paper's scene.
+pub const TEMPLATE: &str = include_str!("../../../templates/eccentric-gear.toml");
 
 /// The work budget of one scene (see [`limits::check_work`] and `check_work` below):
 /// every single integer setting at its maximum passes on the shipped files, their products

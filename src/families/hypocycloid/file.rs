@@ -24,8 +24,8 @@ use std::f64::consts::TAU;
 /// The `family = "…"` value of this family's files.
 pub const FAMILY: &str = "hypocycloid";
 
-/// The problem file `cwsynth new` starts from: the shipped `problems/hypocycloid-variant1.toml`.
-pub const TEMPLATE: &str = include_str!("../../../problems/hypocycloid-variant1.toml");
+/// The problem file `cwsynth new` prints: a clean template (`templates/`), not a paper's scene.
+pub const TEMPLATE: &str = include_str!("../../../templates/hypocycloid.toml");
 
 /// The work budget of one scene (see [`limits::check_work`] and `check_work` below):
 /// every single integer setting at its maximum passes on the shipped files, their products
