@@ -276,3 +276,101 @@ fn linkage_joint_loads_at_real_speed_approach_the_constant_speed_ones_with_a_hug
         );
     }
 }
+
+/// The hypocycloid's shaking force at real speed, term by term against central differences
+/// of the positions (step 1e-4): the rotating unbalances' force −(ω² P″ + α P′) with
+/// P = Rot(φ)V1 + Rot(α0 − 2φ)V2, and the reciprocating residual's rate s_res′ against the
+/// difference quotient of s_res = s/R − Σ (a_i cos iφ + b_i sin iφ) over the cancelled orders.
+#[test]
+fn the_hypocycloid_force_at_real_speed_is_minus_the_second_time_derivative_of_the_positions() {
+    use cwsynth::families::hypocycloid::dynamics::{harmonic_force, harmonic_force_at, Geometry};
+    use cwsynth::families::hypocycloid::model::{Coefficients, Hypocycloid};
+    use cwsynth::families::hypocycloid::synth::{residual_rate, residual_rel};
+    use cwsynth::geom::P2;
+    let m = Hypocycloid::new(0.25, 0.5, 0.0).unwrap();
+    let g = Geometry {
+        r_carrier: 0.025,
+        r_crank: 0.0125,
+        l_rod: 0.1,
+        alpha0: 0.3,
+        omega: 150.0,
+    };
+    let (v1, v2) = (P2::new(0.004, -0.001), P2::new(-0.0007, 0.0022));
+    let rot = |t: f64, v: P2| P2::new(t.cos() * v.x - t.sin() * v.y, t.sin() * v.x + t.cos() * v.y);
+    let pos = |p: f64| rot(p, v1) + rot(g.alpha0 - 2.0 * p, v2);
+    let (a, b) = m.series_coefficients(3, 6);
+    let c = Coefficients {
+        err: vec![0.0; a.len()],
+        a,
+        b,
+        n_fft: 0,
+        converged: true,
+    };
+    let orders = [1, 2, 3];
+    let s_res = |p: f64| {
+        let mut s = m.piston(p).s_rel;
+        for &i in &orders {
+            let k = i as f64;
+            s -= c.a[i] * (k * p).cos() + c.b[i] * (k * p).sin();
+        }
+        s
+    };
+    let h = 1e-4;
+    let mut worst = (0.0_f64, 0.0_f64, 0.0_f64);
+    for i in 0..36 {
+        let p = TAU * (i as f64 + 0.3) / 36.0;
+        let (w, al) = (140.0 + i as f64, 900.0 * (1.3 * i as f64).cos());
+        let d1 = (pos(p + h) - pos(p - h)) / (2.0 * h);
+        let d2 = (pos(p + h) - pos(p) * 2.0 + pos(p - h)) / (h * h);
+        let fd = -(d2 * (w * w) + d1 * al);
+        let f = harmonic_force_at(&g, v1, v2, p, w, al);
+        worst.0 = worst.0.max((f - fd).norm() / f.norm());
+        let rate = (s_res(p + h) - s_res(p - h)) / (2.0 * h);
+        let acc = (s_res(p + h) - 2.0 * s_res(p) + s_res(p - h)) / (h * h);
+        worst.1 = worst
+            .1
+            .max((residual_rate(&m, &c, &orders, p) - rate).abs());
+        worst.2 = worst.2.max((residual_rel(&m, &c, &orders, p) + acc).abs());
+        // α = 0 at the nominal speed is the constant-speed force.
+        let f0 = harmonic_force_at(&g, v1, v2, p, g.omega, 0.0);
+        assert!((f0 - harmonic_force(&g, v1, v2, p)).norm() <= 1e-12 * f0.norm());
+    }
+    eprintln!(
+        "rotating force, s_res′, s_res″: {:.1e} {:.1e} {:.1e}",
+        worst.0, worst.1, worst.2
+    );
+    assert!(
+        worst.0 < 1e-7 && worst.1 < 1e-7 && worst.2 < 1e-5,
+        "{worst:?}"
+    );
+}
+
+/// The compressor's shaking force at real speed: within a few per cent of the certified
+/// constant-speed minimax at Cs = 0.02, and equal to it within both errors under a
+/// 10⁶ kg·m² flywheel, whose steady state turns at the motor's speed under the mean load.
+#[test]
+fn the_compressor_s_real_speed_force_approaches_the_constant_speed_one_with_a_huge_flywheel() {
+    let text = std::fs::read_to_string(problem("hypocycloid-compressor.toml")).unwrap();
+    let solve = |t: &str| solve_scene(&parse_str(t, Path::new("c.toml")).unwrap());
+    let r = solve(&text);
+    let d = &r.derived;
+    let pct = d["steady_peak_shaking_force_change_pct"];
+    let at = d["minimax_shaking_force_peak_n"];
+    assert!(pct.abs() < 5.0, "{pct}");
+    assert!((100.0 * (d["steady_peak_shaking_force_n"] / at - 1.0) - pct).abs() < 1e-9);
+    let huge = text.replace("cs = 0.02 ", "flywheel = \"1e6 kg*m^2\" ");
+    assert_ne!(huge, text);
+    let r = solve(&huge);
+    let d = &r.derived;
+    // The motor line's speed under the mean load, not the nominal one: compare at it.
+    let w = d["steady_omega_mean_rad_s"];
+    let scaled = at * (w / (1450.0 * TAU / 60.0)).powi(2);
+    let (st, err) = (
+        d["steady_peak_shaking_force_n"],
+        d["steady_peak_shaking_force_error_n"],
+    );
+    assert!(
+        (st - scaled).abs() <= err + d["shaking_force_peak_error_n"] + 1e-6 * at,
+        "{st} ± {err} vs {scaled}"
+    );
+}

@@ -7,12 +7,12 @@
 
 use crate::dynamics::{self, Drive, DriveFigures};
 use crate::families::hypocycloid::dynamics::{
-    cancelling_counterweights, carrier_from_effective, harmonic_force, kinematics, Counterweight,
-    Geometry, MovingMasses, RotatingMasses, ShaftLayout,
+    cancelling_counterweights, carrier_from_effective, harmonic_force, harmonic_force_at,
+    kinematics, Counterweight, Geometry, MovingMasses, RotatingMasses, ShaftLayout,
 };
 use crate::families::hypocycloid::gas::{Cycle, GasCycle};
 use crate::families::hypocycloid::model::{Coefficients, Hypocycloid, LanchesterPair};
-use crate::families::hypocycloid::synth::residual_rel;
+use crate::families::hypocycloid::synth::{residual_rate, residual_rel};
 use crate::geom::P2;
 use crate::numeric::periodic_peak;
 use crate::synth::counterweight::Status as EngineStatus;
@@ -114,6 +114,16 @@ pub struct RotatingOutcome {
 }
 
 impl RotatingOutcome {
+    /// The peak of the whole shaking force at constant speed with the counterweights the
+    /// design builds ([`RotatingOutcome::design_pair`]), without any where there are none.
+    pub fn design_peak(&self) -> f64 {
+        match (&self.minimax, self.closed_total_peak) {
+            (Some(m), _) => m.peak,
+            (None, Some(p)) => p,
+            (None, None) => self.bare_total_peak,
+        }
+    }
+
     /// The (carrier, planet) counterweights the design builds: the minimax pair where it was
     /// asked for, else the closed-form pair; none without `[design.rotating]`.
     fn design_pair(&self) -> Option<(Counterweight, Counterweight)> {
@@ -234,6 +244,14 @@ impl At<'_> {
     /// The reciprocating force left after the pairs (N, along x).
     fn recip(&self, phi: f64) -> f64 {
         self.fscale() * residual_rel(self.model, self.coef, self.orders, phi)
+    }
+    /// The reciprocating force left after the pairs at real speed ω and acceleration α (N,
+    /// along x): m_B R (ω² residual − α s_res′) ([`residual_rate`]).
+    fn recip_at(&self, phi: f64, omega: f64, alpha: f64) -> f64 {
+        let (m, c, o) = (self.model, self.coef, self.orders);
+        self.m_b
+            * self.r_carrier
+            * (omega * omega * residual_rel(m, c, o, phi) - alpha * residual_rate(m, c, o, phi))
     }
     /// Its error from the coefficients of the cancelled orders (N).
     fn recip_error(&self) -> f64 {
@@ -419,7 +437,27 @@ fn drive_outcome(
     };
     // The gas torque has kinks at the valve events.
     let set = dynamics::DriveSettings::for_kinks();
-    Ok(dynamics::drive(&machine, at.omega, d, &set).map_err(|e| e.to_string()))
+    let figures = match dynamics::drive(&machine, at.omega, d, &set) {
+        Ok(f) => f,
+        Err(e) => return Ok(Err(e.to_string())),
+    };
+    // The shaking force at real speed: the rotating unbalances with the design's
+    // counterweights (as `total_force`) and the reciprocating residual, each with its
+    // ω² and α parts.
+    let (v1, v2) = rotating.map_or((P2::zeros(), P2::zeros()), |r| {
+        let (u1, u2) = (P2::from(r.u1), P2::from(r.u2));
+        match r.design_pair() {
+            Some((c1, c2)) => (
+                u1 + P2::from(c1.w) + P2::new(c2.mass * geo.r_carrier, 0.0),
+                u2 + P2::from(c2.w),
+            ),
+            None => (u1, u2),
+        }
+    });
+    Ok(Ok(figures.with_real_speed(&d.motor, |p, w, a| {
+        let f = harmonic_force_at(geo, v1, v2, p, w, a) + P2::new(at.recip_at(p, w, a), 0.0);
+        Some(f.norm())
+    })))
 }
 
 /// The compressor cycle of `spec`, if it has one.

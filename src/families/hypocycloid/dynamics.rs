@@ -99,6 +99,14 @@ pub fn harmonic_force(g: &Geometry, v1: P2, v2: P2, phi: f64) -> P2 {
     g.omega * g.omega * (rot(phi, v1) + 4.0 * rot(g.alpha0 - 2.0 * phi, v2))
 }
 
+/// [`harmonic_force`] at real speed ω (`omega`) and angular acceleration α (`alpha`) of the
+/// carrier: F = ω²[Rot(φ) V1 + 4 Rot(g) V2] + α[−J Rot(φ) V1 + 2 J Rot(g) V2], g = α0 − 2φ
+/// (each unbalance's position Rot(kφ)V has the velocity k J Rot(kφ)V per unit speed).
+pub fn harmonic_force_at(g: &Geometry, v1: P2, v2: P2, phi: f64, omega: f64, alpha: f64) -> P2 {
+    let (a, b) = (rot(phi, v1), rot(g.alpha0 - 2.0 * phi, v2));
+    omega * omega * (a + 4.0 * b) + alpha * (2.0 * crate::geom::perp(b) - crate::geom::perp(a))
+}
+
 /// One counterweight: its first moment m·ρ (kg·m) in its body's frame, its angle there, and
 /// its mass at the chosen centroid radius ρ.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]

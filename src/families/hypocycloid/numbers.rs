@@ -314,7 +314,8 @@ fn dynamics_numbers(r: &mut SolveResult, d: &Result<DynamicsOutcome, String>) {
     }
     r.derived.extend(number_map(&k));
     r.extra.insert("dynamics".into(), json!(d));
-    crate::report::drive::drive_numbers(r, d.drive.as_ref(), None);
+    let peak = d.rotating.as_ref().map(|rot| rot.design_peak());
+    crate::report::drive::drive_numbers(r, d.drive.as_ref(), peak);
 }
 
 /// The rotating counterweights' figures, and the pair to build in `design`: the minimax pair

@@ -26,7 +26,7 @@ mod optimise;
 mod solve;
 mod zero;
 
-pub use optimise::residual_rel;
+pub use optimise::{residual_rate, residual_rel};
 pub use solve::solve;
 pub use zero::zero_search;
 

@@ -49,6 +49,20 @@ pub fn residual_rel(m: &Hypocycloid, c: &Coefficients, orders: &[usize], p: f64)
     f
 }
 
+/// The φ-derivative of the residual piston position per R, s_res′ = s′ − Σ_i i (b_i cos iφ −
+/// a_i sin iφ) over the cancelled orders (the Lanchester pairs cancel their order of the
+/// position, hence of the force at any speed and acceleration): at real speed the residual
+/// force is m_B R (ω² [`residual_rel`] − α s_res′).
+pub fn residual_rate(m: &Hypocycloid, c: &Coefficients, orders: &[usize], p: f64) -> f64 {
+    let mut v = m.piston(p).ds;
+    for &i in orders {
+        let k = i as f64;
+        let (sn, cs) = (k * p).sin_cos();
+        v -= k * (c.b[i] * cs - c.a[i] * sn);
+    }
+    v
+}
+
 pub(super) fn evaluate(
     scene: &HypocycloidScene,
     l: f64,
