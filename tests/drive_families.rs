@@ -374,3 +374,99 @@ fn the_compressor_s_real_speed_force_approaches_the_constant_speed_one_with_a_hu
         "{st} ± {err} vs {scaled}"
     );
 }
+
+/// `minimize = "energy-fluctuation"` on the six-bar press (crank and rocker counterweights,
+/// the pressing force and the ram's weight): the engine's certified ΔE equals the drive's own
+/// quadrature of the design's torque (`dynamics::constant_speed`) within both errors, and no
+/// design of 150 random ones within the counterweights' limits, nor 150 random perturbations
+/// of the optimum kept within them, has a smaller ΔE beyond the stated error.
+#[test]
+fn the_linkage_energy_fluctuation_optimum_is_certified_and_unbeaten() {
+    use cwsynth::dynamics::{constant_speed, DriveSettings};
+    let text = std::fs::read_to_string(problem("linkage-sixbar-press-flywheel.toml")).unwrap();
+    let text = text.replacen(
+        "minimize = \"peak-force\"",
+        "minimize = \"energy-fluctuation\"",
+        1,
+    );
+    let s = parse_str(&text, Path::new("press.toml")).unwrap();
+    let r = solve_scene(&s);
+    assert_eq!(r.status, Status::Optimal, "{:?}", r.warnings);
+    let p: &LinkageProblem = s.machine().unwrap();
+    let (sc, l) = (&p.scene, &p.scene.linkage);
+    let de = |x: &[f64]| {
+        let extra = ls::extras(&sc.counterweights, x);
+        let m = |th: f64| {
+            let t = l.drive_terms(&l.pose(th).unwrap(), &extra);
+            [t.j, t.dj, t.g]
+        };
+        constant_speed(&m, l.omega(), &DriveSettings::for_kinks())
+            .unwrap()
+            .energy_fluctuation
+    };
+    let out = ls::solve(sc, &p.settings).unwrap();
+    let sol = out.design.unwrap();
+    let (best, err) = (
+        r.objectives["energy_fluctuation_j"],
+        r.errors["energy_fluctuation_j"],
+    );
+    assert!(
+        (sol.objective - best).abs() <= err,
+        "{} vs {best} ± {err}",
+        sol.objective
+    );
+    assert!(best < 0.8 * r.baselines["unbalanced"]["energy_fluctuation_j"]);
+    // Random designs within the limits: m ≤ m_max, |u| ≤ m r, |u|²/m ≤ I ≤ m r².
+    let mut seed = 0x2545_f491_4f6c_dd1d_u64;
+    let mut unit = move || {
+        seed ^= seed << 13;
+        seed ^= seed >> 7;
+        seed ^= seed << 17;
+        (seed >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let lims: Vec<(f64, f64)> = sc
+        .counterweights
+        .iter()
+        .map(|c| (c.mass.bounds().1, c.radius))
+        .collect();
+    let project = |x: &mut [f64]| {
+        for (j, &(mmax, rad)) in lims.iter().enumerate() {
+            let q = &mut x[4 * j..4 * j + 4];
+            q[0] = q[0].clamp(0.0, mmax);
+            let u = q[1].hypot(q[2]);
+            if u > q[0] * rad {
+                let k = q[0] * rad / u.max(f64::MIN_POSITIVE);
+                q[1] *= k;
+                q[2] *= k;
+            }
+            let u2 = q[1] * q[1] + q[2] * q[2];
+            let lo = if q[0] > 0.0 { u2 / q[0] } else { 0.0 };
+            q[3] = q[3].clamp(lo.min(q[0] * rad * rad), q[0] * rad * rad);
+        }
+    };
+    let mut worst = f64::INFINITY;
+    for k in 0..300 {
+        let mut x = vec![0.0; 4 * lims.len()];
+        for (j, &(mmax, rad)) in lims.iter().enumerate() {
+            if k < 150 {
+                let m = mmax * unit();
+                let (rho, th) = (rad * unit(), TAU * unit());
+                x[4 * j..4 * j + 4].copy_from_slice(&[
+                    m,
+                    m * rho * th.cos(),
+                    m * rho * th.sin(),
+                    m * rho * rho + (m * rad * rad - m * rho * rho) * unit(),
+                ]);
+            } else {
+                for i in 0..4 {
+                    let scale = [mmax, mmax * rad, mmax * rad, mmax * rad * rad][i];
+                    x[4 * j + i] = sol.x[4 * j + i] + 0.02 * scale * (2.0 * unit() - 1.0);
+                }
+            }
+        }
+        project(&mut x);
+        worst = worst.min(de(&x));
+    }
+    eprintln!("ΔE: optimum {best:.6} ± {err:.1e} J, best of 300 others {worst:.6} J");
+    assert!(worst >= best - err, "{worst} < {best} − {err}");
+}

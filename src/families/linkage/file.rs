@@ -207,6 +207,9 @@ pub enum Goal {
     RmsTorque,
     /// The total counterweight mass (with limits on the fields).
     CounterweightMass,
+    /// The energy fluctuation ΔE = max E − min E of the input torque at constant speed,
+    /// E = ∫₀^θ (T − T̄) dθ (`crate::synth::energy`): the least flywheel's driver.
+    EnergyFluctuation,
 }
 
 /// `[objective]`.

@@ -42,6 +42,7 @@ pub fn objective_key(g: Goal) -> &'static str {
         Goal::RmsMoment => RMS_KEYS[MOMENT],
         Goal::RmsTorque => RMS_KEYS[TORQUE],
         Goal::CounterweightMass => "counterweight_mass_kg",
+        Goal::EnergyFluctuation => "energy_fluctuation_j",
     }
 }
 
@@ -126,6 +127,7 @@ pub fn numbers(_: &Scene, p: &LinkageProblem, sol: &Solved, r: &mut SolveResult)
             &out.bare_rms,
         ),
     }
+    energy_numbers(r, sol);
     if let Some(front) = &out.pareto {
         r.extra.insert(
             "pareto".into(),
@@ -141,6 +143,38 @@ pub fn numbers(_: &Scene, p: &LinkageProblem, sol: &Solved, r: &mut SolveResult)
     };
     let peak_force = peaks.first().map(|f| f.peak);
     crate::report::drive::drive_numbers(r, sol.drive.as_ref(), peak_force);
+}
+
+/// ΔE with `minimize = "energy-fluctuation"`: the unbalanced baseline's and the result's
+/// (the design's, else the bare linkage's), each from the drive's own quadrature; the error
+/// is the larger of that quadrature's and the engine's certificate (set by `design_keys`).
+fn energy_numbers(r: &mut SolveResult, sol: &Solved) {
+    let key = "energy_fluctuation_j";
+    let e = match &sol.energy {
+        None => return,
+        Some(Err(why)) => {
+            r.warnings.push(format!(
+                "the energy fluctuation could not be computed: {why}"
+            ));
+            return;
+        }
+        Some(Ok(e)) => e,
+    };
+    if let Some(b) = r.baselines.get_mut("unbalanced") {
+        b.insert(key.into(), e.bare.0);
+    }
+    let designed = sol
+        .out
+        .design
+        .as_ref()
+        .is_some_and(|d| d.status != CwStatus::Infeasible);
+    let (v, err) = match e.design {
+        Some(d) if designed => d,
+        _ => e.bare,
+    };
+    r.objectives.insert(key.into(), v);
+    let own = r.errors.get(key).copied().unwrap_or(0.0);
+    r.errors.insert(key.into(), own.max(err));
 }
 
 /// Design, objectives, errors and solver facts of a solved design.

@@ -4,7 +4,7 @@
 //! them, and the Berkof–Lowen closed form of a four-bar — every number the result reports.
 
 use super::file::{Goal, LinkageProblem, LinkageScene, Objective as ObjectiveSpec};
-use super::model::ForceBalance;
+use super::model::{DriveTerms, ForceBalance};
 use super::synth::{self as ls, JointPeak, Outcome};
 use crate::dynamics::{self, Drive, DriveError, DriveFigures, SteadyState};
 use crate::families::driver::Claim;
@@ -34,6 +34,9 @@ pub struct Solution {
     /// The design's drive (`[mechanism.drive]`; the bare linkage's without a design): `Err`
     /// says why it could not be computed.
     pub drive: Option<Result<DriveFigures, String>>,
+    /// ΔE without and with the design, with `minimize = "energy-fluctuation"` (`Err`: why
+    /// not computed).
+    pub energy: Option<Result<EnergyFigures, String>>,
 }
 
 /// Every joint's peak load over the cycle.
@@ -93,7 +96,14 @@ pub fn solve(p: &LinkageProblem) -> Result<Solution, String> {
         .as_ref()
         .and_then(|d| d.as_ref().ok())
         .map(|d| &d.steady);
+    let energy = (sc.objective.minimize == Goal::EnergyFluctuation).then(|| {
+        Ok(EnergyFigures {
+            bare: energy_fluctuation(p, None)?,
+            design: x.map(|x| energy_fluctuation(p, Some(x))).transpose()?,
+        })
+    });
     Ok(Solution {
+        energy,
         claim,
         joints: joint_loads(p, x, steady),
         drive,
@@ -108,23 +118,58 @@ pub fn solve(p: &LinkageProblem) -> Result<Solution, String> {
 /// the shaking force at real speed, F = −(ω² Σ m r_G'' + α Σ m r_G')
 /// ([`crate::families::linkage::model::Linkage::drive_terms`]).
 fn drive(p: &LinkageProblem, d: &Drive, x: Option<&[f64]>) -> Result<DriveFigures, DriveError> {
-    let sc = &p.scene;
-    let lk = &sc.linkage;
-    let extra = x
-        .map(|x| ls::extras(&sc.counterweights, x))
-        .unwrap_or_default();
-    let terms = |th: f64| lk.pose(th).ok().map(|pose| lk.drive_terms(&pose, &extra));
+    let lk = &p.scene.linkage;
+    let terms = drive_terms(p, x);
     let machine = |th: f64| terms(th).map_or([f64::NAN; 3], |t| [t.j, t.dj, t.g]);
-    // A load table's corners are kinks of G.
-    let set = if lk.loads().is_empty() {
-        dynamics::DriveSettings::default()
-    } else {
-        dynamics::DriveSettings::for_kinks()
-    };
-    let figures = dynamics::drive(&machine, lk.omega(), d, &set)?;
+    let figures = dynamics::drive(&machine, lk.omega(), d, &drive_settings(p))?;
     Ok(figures.with_real_speed(&d.motor, |th, w, a| {
         terms(th).map(|t| (t.momentum_rate * (w * w) + t.momentum * a).norm())
     }))
+}
+
+/// The drive's terms (J, J′, G and the momentum, `Linkage::drive_terms`) of the design `x`
+/// (without one, the bare linkage's) at any crank angle; `None` where it does not assemble.
+fn drive_terms<'a>(
+    p: &'a LinkageProblem,
+    x: Option<&[f64]>,
+) -> impl Fn(f64) -> Option<DriveTerms> + 'a {
+    let sc = &p.scene;
+    let extra = x
+        .map(|x| ls::extras(&sc.counterweights, x))
+        .unwrap_or_default();
+    move |th: f64| {
+        let lk = &sc.linkage;
+        lk.pose(th).ok().map(|pose| lk.drive_terms(&pose, &extra))
+    }
+}
+
+/// The drive's accuracy: a load table's corners are kinks of G.
+fn drive_settings(p: &LinkageProblem) -> dynamics::DriveSettings {
+    if p.scene.linkage.loads().is_empty() {
+        dynamics::DriveSettings::default()
+    } else {
+        dynamics::DriveSettings::for_kinks()
+    }
+}
+
+/// ΔE at constant speed with its error bound, of the design `x` (the bare linkage's
+/// without): the drive's own quadrature of T = ½ J′ ω² + G (`dynamics::constant_speed`),
+/// independent of the engine's energy field.
+fn energy_fluctuation(p: &LinkageProblem, x: Option<&[f64]>) -> Result<(f64, f64), String> {
+    let terms = drive_terms(p, x);
+    let machine = |th: f64| terms(th).map_or([f64::NAN; 3], |t| [t.j, t.dj, t.g]);
+    let c = dynamics::constant_speed(&machine, p.scene.linkage.omega(), &drive_settings(p))
+        .map_err(|e| e.to_string())?;
+    Ok((c.energy_fluctuation, c.energy_fluctuation_error))
+}
+
+/// ΔE of the bare linkage and of the design, with `minimize = "energy-fluctuation"`.
+#[derive(Debug, Clone)]
+pub struct EnergyFigures {
+    /// (ΔE, its error bound) without counterweights (J).
+    pub bare: (f64, f64),
+    /// The same with the design's, where there is a design.
+    pub design: Option<(f64, f64)>,
 }
 
 /// How far off each peak limit of an infeasible linkage is: the peak force, moment and

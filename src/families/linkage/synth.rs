@@ -10,12 +10,13 @@
 //! [`BALANCE_ANGLES`] angles, from their SVD (well-conditioned rows, a consistent right-hand
 //! side); when the counterweights cannot supply it, the least-squares residual says by how much.
 
-use crate::dynamics::SteadyState;
+use crate::dynamics::{DriveSettings, SteadyState};
 use crate::families::linkage::file::{CounterweightSpec, Goal, LinkageScene};
 use crate::families::linkage::model::{
     BalanceMap, Body, Joint, JointKind, Params, Pose, ReactionMap,
 };
 use crate::numeric::{periodic_peak_sampled, Refine};
+use crate::synth::energy::EnergyField;
 use crate::synth::minimax::{
     self as mm, AffineValue, CounterweightLimits, Engine, FnField, LinearConstraint, Problem,
     Relation, Settings, Solution,
@@ -538,7 +539,7 @@ pub fn joint_field_objects<'a>(fields: &'a SceneFields<'a>) -> Vec<FnField<Eval<
 }
 
 /// The engine goal of the file's objective.
-pub fn goal(g: Goal) -> mm::Goal {
+pub fn goal(g: Goal, energy: usize) -> mm::Goal {
     match g {
         Goal::PeakForce => mm::Goal::MinPeak(vec![(FORCE, 1.0)]),
         Goal::PeakMoment => mm::Goal::MinPeak(vec![(MOMENT, 1.0)]),
@@ -547,6 +548,9 @@ pub fn goal(g: Goal) -> mm::Goal {
         Goal::RmsMoment => mm::Goal::MinRms(MOMENT),
         Goal::RmsTorque => mm::Goal::MinRms(TORQUE),
         Goal::CounterweightMass => mm::Goal::MinMass,
+        // Weighted by 2: ΔE = 2 min_c max|E − c| (`crate::synth::energy`), the field after
+        // the joints' (`solve`).
+        Goal::EnergyFluctuation => mm::Goal::MinPeak(vec![(energy, 2.0)]),
     }
 }
 
@@ -612,17 +616,24 @@ pub fn solve(scene: &LinkageScene, settings: &Settings) -> Result<Outcome, Linka
     .collect();
     let mut field_refs: Vec<&dyn mm::AffineField> = vec![&f, &m, &t];
     field_refs.extend(joint_fields.iter().map(|j| j as &dyn mm::AffineField));
+    let energy_at = field_refs.len();
+    let energy = energy_field(scene, &t, n_cw)?;
+    // An analysis has no design variable: one fixed at 0 keeps the engine's problem whole.
+    let mut extra = if cws.is_empty() {
+        vec![(0.0, 0.0)]
+    } else {
+        Vec::new()
+    };
+    if let Some((e, bound)) = &energy {
+        field_refs.push(e);
+        extra.push((-bound, *bound));
+    }
     let pb = Problem {
         fields: field_refs,
         counterweights: cws.iter().map(limits_of).collect(),
-        // An analysis has no design variable: one fixed at 0 keeps the engine's problem whole.
-        extra: if cws.is_empty() {
-            vec![(0.0, 0.0)]
-        } else {
-            Vec::new()
-        },
+        extra,
         linear,
-        goal: goal(o.minimize),
+        goal: goal(o.minimize, energy_at),
         limits,
     };
     let engine = Engine::new(&pb, settings)?;
@@ -664,6 +675,39 @@ pub fn solve(scene: &LinkageScene, settings: &Settings) -> Result<Outcome, Linka
     Ok(out)
 }
 
+/// With `minimize = "energy-fluctuation"` and counterweights: the energy curve of the input
+/// torque field `t` as an engine field (`crate::synth::energy`) whose offset c is the extra
+/// variable after the counterweights' (index `n_cw`), with the bound on |c|. Each column's
+/// largest value is bounded by the counterweight's limits: m ≤ m_max, |u| ≤ m_max r,
+/// I ≤ m_max r².
+fn energy_field(
+    scene: &LinkageScene,
+    t: &dyn mm::AffineField,
+    n_cw: usize,
+) -> Result<Option<(EnergyField, f64)>, LinkageSolveError> {
+    let cws = &scene.counterweights;
+    if scene.objective.minimize != Goal::EnergyFluctuation || cws.is_empty() {
+        return Ok(None);
+    }
+    let e = EnergyField::new(t, n_cw + 1, n_cw, &DriveSettings::default()).map_err(|e| {
+        LinkageSolveError::Engine(mm::MinimaxError::Problem {
+            what: "the energy curve".into(),
+            message: e.to_string(),
+        })
+    })?;
+    let x_max = |j: usize| {
+        let cw = &cws[j / mm::PER_COUNTERWEIGHT];
+        let (m, r) = (cw.mass.bounds().1, cw.radius);
+        match j % mm::PER_COUNTERWEIGHT {
+            0 => m,
+            3 => m * r * r,
+            _ => m * r,
+        }
+    };
+    let bound = e.offset_bound(x_max);
+    Ok(Some((e, bound)))
+}
+
 /// Angles at which [`idle_counterweights`] looks at the blocks.
 const IDLE_ANGLES: usize = 64;
 
@@ -681,6 +725,8 @@ fn idle_counterweights(fields: &SceneFields, scene: &LinkageScene) -> Option<Str
         Goal::PeakForce | Goal::RmsForce => (FORCE, "shaking force"),
         Goal::PeakMoment | Goal::RmsMoment => (MOMENT, "shaking moment"),
         Goal::PeakTorque | Goal::RmsTorque => (TORQUE, "drive torque"),
+        // ΔE moves only through the torque's blocks.
+        Goal::EnergyFluctuation => (TORQUE, "energy fluctuation"),
         Goal::CounterweightMass => return None,
     };
     if o.max_joint_force.is_some() {
