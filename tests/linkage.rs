@@ -473,3 +473,103 @@ fn both_shipped_fronts_certify_every_point_at_1e_9() {
         }
     }
 }
+
+/// A linkage counterweight given as a body (fixed mass, centroid and inertia about it, issue
+/// 34) is analysed, not designed: the template's optimum given back is `analysed` with the
+/// optimum's figures; another given body gives its own (a larger peak); every half-given or
+/// impossible body is refused naming its field.
+#[test]
+fn a_given_linkage_counterweight_is_analysed() {
+    let base = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("templates/linkage.toml"),
+    )
+    .unwrap();
+    let solve = |t: &str| solve_scene(&parse_str(t, Path::new("bad.toml")).unwrap());
+    let opt = solve(&base);
+    assert_eq!(opt.status, Status::Optimal);
+    let d = &opt.design;
+    let body = |n: &str| {
+        let m = d[&format!("{n}_counterweight_mass_kg")];
+        let (ux, uy) = (
+            d[&format!("{n}_counterweight_first_moment_x_kgm")],
+            d[&format!("{n}_counterweight_first_moment_y_kgm")],
+        );
+        let ic = d[&format!("{n}_counterweight_centroidal_inertia_kgm2")];
+        format!(
+            "mass = \"{m:.17e} kg\"\ncentroid = [\"{:.17e} m\", \"{:.17e} m\"]\ninertia = \"{ic:.17e} kg*m^2\"",
+            ux / m,
+            uy / m
+        )
+    };
+    let given = base
+        .replacen(
+            "mass = { min = \"0 kg\", max = \"2 kg\" }",
+            &body("crank"),
+            1,
+        )
+        .replacen(
+            "mass = { min = \"0 kg\", max = \"1 kg\" }",
+            &body("rocker"),
+            1,
+        );
+    let r = solve(&given);
+    assert_eq!(r.status, Status::Analysed, "{}", r.method);
+    for k in [
+        "peak_shaking_force_n",
+        "peak_shaking_moment_nm",
+        "peak_input_torque_nm",
+    ] {
+        let (a, b) = (r.objectives[k], opt.objectives[k]);
+        assert!(
+            (a - b).abs() <= 1e-6 * b.max(1.0) + r.errors[k] + opt.errors[k],
+            "{k}: {a} vs {b}"
+        );
+    }
+    // Another body on the crank, the rocker's still free: designed, and worse than both given.
+    let other = base.replacen(
+        "mass = { min = \"0 kg\", max = \"2 kg\" }",
+        "mass = \"0.2 kg\"\ncentroid = [\"-30 mm\", \"0 mm\"]\ninertia = \"1e-4 kg*m^2\"",
+        1,
+    );
+    let r = solve(&other);
+    assert_ne!(r.status, Status::Analysed);
+    assert!(r.objectives["peak_shaking_force_n"] > opt.objectives["peak_shaking_force_n"] + 1.0);
+    assert!((r.design["crank_counterweight_mass_kg"] - 0.2).abs() < 1e-9);
+    let f = "design.counterweights[0]";
+    let crank = "mass = { min = \"0 kg\", max = \"2 kg\" }";
+    for (text, field, says) in [
+        (
+            format!("{crank}\ncentroid = [\"-30 mm\", \"0 mm\"]"),
+            "centroid",
+            "fixed",
+        ),
+        (
+            "mass = \"0.5 kg\"\ninertia = \"1e-4 kg*m^2\"".to_string(),
+            "inertia",
+            "centroid",
+        ),
+        (
+            "mass = \"0.5 kg\"\ncentroid = [\"-70 mm\", \"0 mm\"]".to_string(),
+            "centroid",
+            "envelope",
+        ),
+        (
+            "mass = \"0.5 kg\"\ncentroid = [\"-30 mm\", \"0 mm\"]\ninertia = \"1 kg*m^2\""
+                .to_string(),
+            "inertia",
+            "does not fit",
+        ),
+    ] {
+        let bad = base.replacen(crank, &text, 1);
+        let needle = text
+            .lines()
+            .last()
+            .unwrap()
+            .split(" = ")
+            .next()
+            .unwrap()
+            .to_string()
+            + " = ";
+        crate::common::assert_names(&bad, &format!("{f}.{field}"), &needle, says);
+    }
+}

@@ -175,6 +175,13 @@ pub struct CounterweightRaw {
     pub radius: Qty<Length>,
     /// Directions its centroid may take in the link's frame, at most 180° wide (default any).
     pub sector: Option<RawVar<Angle>>,
+    /// A given counterweight's centroid in the link's frame (with a fixed `mass`): fixes its
+    /// first moment u = m c.
+    pub centroid: Option<XyRaw>,
+    /// A given counterweight's moment of inertia about its own centroid (with `centroid`):
+    /// fixes I about the joint, I_c + m |c|². Mass, centroid and inertia all given: the
+    /// counterweight is analysed, not designed.
+    pub inertia: Option<Qty<InertiaDim>>,
 }
 
 /// `[design]`.
@@ -337,6 +344,16 @@ pub struct CounterweightSpec {
     pub radius: f64,
     /// Sector of centroid directions in the link's frame (rad, width ≤ π), if limited.
     pub sector: Option<(f64, f64)>,
+    /// A given centroid in the link's frame (m) and, with it, a given moment of inertia
+    /// about the centroid (kg·m²): (c, I_c).
+    pub given: Option<(P2, Option<f64>)>,
+}
+
+impl CounterweightSpec {
+    /// Whether mass, centroid and inertia are all given: nothing of it is designed.
+    pub fn is_given(&self) -> bool {
+        matches!(self.mass, Var::Fixed(_)) && matches!(self.given, Some((_, Some(_))))
+    }
 }
 
 /// The objective, resolved (SI).
@@ -705,15 +722,77 @@ fn counterweights(
                 Some((a, b))
             }
         };
+        let given = given_body(cw, &mass, radius, sector.is_some(), &at)?;
         out.push(CounterweightSpec {
             link,
             link_name: cw.link.clone(),
             mass,
             radius,
             sector,
+            given,
         });
     }
     Ok(out)
+}
+
+/// A given counterweight's centroid and inertia about it, checked: the centroid needs a
+/// fixed mass and lies within the envelope (no `sector` beside it); the inertia needs the
+/// centroid, is ≥ 0, and the body's inertia about the joint, I_c + m |c|², stays within the
+/// envelope's m r².
+fn given_body(
+    cw: &CounterweightRaw,
+    mass: &Var,
+    radius: f64,
+    sector: bool,
+    at: &dyn Fn(&str) -> String,
+) -> Result<Option<(P2, Option<f64>)>, FieldError> {
+    let Some(c) = cw.centroid.as_ref().map(xy) else {
+        if cw.inertia.is_some() {
+            return Err(FieldError::new(
+                at("inertia"),
+                "a given inertia needs the given centroid it is taken about; allowed: with centroid = [\"… mm\", \"… mm\"] and a fixed mass",
+            ));
+        }
+        return Ok(None);
+    };
+    let Var::Fixed(m) = *mass else {
+        return Err(FieldError::new(
+            at("centroid"),
+            "a given centroid fixes the first moment m·c only with a given mass; allowed: mass = \"… kg\" (fixed), or no centroid (designed)",
+        ));
+    };
+    if sector {
+        return Err(FieldError::new(
+            at("centroid"),
+            "a given centroid leaves no direction to choose; allowed: centroid or sector, not both",
+        ));
+    }
+    if c.norm() > radius * (1.0 + 1e-12) {
+        return Err(FieldError::new(
+            at("centroid"),
+            format!(
+                "|c| = {:e} m lies outside the envelope radius {radius:e} m; allowed: within it",
+                c.norm()
+            ),
+        ));
+    }
+    let ic = cw
+        .inertia
+        .map(|i| non_negative(&at("inertia"), i.si()))
+        .transpose()?;
+    if let Some(ic) = ic {
+        let about = ic + m * c.norm_squared();
+        if about > m * radius * radius * (1.0 + 1e-12) {
+            return Err(FieldError::new(
+                at("inertia"),
+                format!(
+                    "I_c + m|c|² = {about:e} kg·m² about the joint exceeds m r² = {:e} kg·m² of the envelope: the body does not fit in it; allowed: a smaller inertia or a larger radius",
+                    m * radius * radius
+                ),
+            ));
+        }
+    }
+    Ok(Some((c, ic)))
 }
 
 /// The objective, resolved and checked against the counterweights.

@@ -83,6 +83,19 @@ pub fn solve(p: &LinkageProblem) -> Result<Solution, String> {
         None => Vec::new(),
     };
     let mut claim = claim(&out);
+    let cws = &sc.counterweights;
+    if !cws.is_empty()
+        && cws.iter().all(|c| c.is_given())
+        && matches!(claim.status, Status::Optimal | Status::Degenerate)
+    {
+        // Nothing designed: every counterweight's mass, centroid and inertia are the file's.
+        claim.status = Status::Analysed;
+        claim.status_detail = None;
+        claim.method = format!(
+            "analysis of the given counterweights (mass, centroid and inertia fixed); {}",
+            claim.method
+        );
+    }
     if matches!(&out.design, Some(d) if d.status == CwStatus::Infeasible) {
         claim.status_detail = None;
         claim.infeasible(shortfalls(p));

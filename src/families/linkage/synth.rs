@@ -415,7 +415,7 @@ pub fn limits_of(cw: &CounterweightSpec) -> CounterweightLimits {
     }
 }
 
-/// A lower or fixed mass as linear rows.
+/// A lower or fixed mass, and a given centroid and inertia, as linear rows.
 fn mass_rows(cws: &[CounterweightSpec]) -> Vec<LinearConstraint> {
     let mut rows = Vec::new();
     for (j, cw) in cws.iter().enumerate() {
@@ -431,6 +431,19 @@ fn mass_rows(cws: &[CounterweightSpec]) -> Vec<LinearConstraint> {
                 rhs: -min,
             }),
             Var::Free { .. } => {}
+        }
+        // A given centroid fixes u = m c; a given inertia I about the joint = I_c + m |c|².
+        if let (Var::Fixed(m), Some((c, ic))) = (cw.mass, cw.given) {
+            let eq = |var: usize, rhs: f64| LinearConstraint {
+                coeffs: vec![(var, 1.0)],
+                relation: Relation::Eq,
+                rhs,
+            };
+            rows.push(eq(mm::PER_COUNTERWEIGHT * j + 1, m * c.x));
+            rows.push(eq(mm::PER_COUNTERWEIGHT * j + 2, m * c.y));
+            if let Some(ic) = ic {
+                rows.push(eq(mm::PER_COUNTERWEIGHT * j + 3, ic + m * c.norm_squared()));
+            }
         }
     }
     rows
