@@ -4,6 +4,11 @@
 //! `cargo test --test integration <name>::`, one test with
 //! `cargo test --test integration <name>::<test> -- --exact`. `tests/batch_reports.rs` is its
 //! own binary: it counts the documents drawn in its process.
+//!
+//! The `unit_<area>` modules are the library's former unit tests (`#[cfg(test)] mod tests` in
+//! `src/`), moved here so that the library is compiled once instead of a second time as its
+//! own unit-test harness (`docs/performance.md`, "Build and test time"); `Cargo.toml`'s `[lib]`
+//! has `test = false`.
 
 mod common;
 
@@ -49,3 +54,15 @@ mod slider_crank_balancers;
 mod statuses;
 mod study;
 mod textbook;
+mod unit_batch;
+mod unit_crane;
+mod unit_gear;
+mod unit_geom;
+mod unit_hypocycloid;
+mod unit_linkage;
+mod unit_numeric;
+mod unit_problem;
+mod unit_report;
+mod unit_slider_crank;
+mod unit_synth;
+mod unit_units;

@@ -25,7 +25,9 @@ use std::path::{Path, PathBuf};
 pub struct Template {
     path: PathBuf,
     /// The fleet CSV.
-    pub(super) csv: PathBuf,
+    // pub for the tests in tests/unit_batch.rs
+    #[doc(hidden)]
+    pub csv: PathBuf,
     table: toml::Table,
     doc: toml_edit::DocumentMut,
     /// The template's `name` (a row without a `name` cell is `<name>-<row>`).
@@ -502,7 +504,9 @@ fn dotted_text(table: &toml::Table, key: &str) -> Option<String> {
 }
 
 /// A reader of the fleet CSV `csv` (flexible rows, `#` comments; see [`FleetFile`]).
-pub(super) fn csv_reader(csv: &Path) -> Result<csv::Reader<FleetFile>, BatchError> {
+// pub for the tests in tests/unit_batch.rs
+#[doc(hidden)]
+pub fn csv_reader(csv: &Path) -> Result<csv::Reader<FleetFile>, BatchError> {
     let f = std::fs::File::open(csv).map_err(|cause| BatchError::Unreadable {
         path: csv.into(),
         cause,
@@ -523,7 +527,9 @@ pub(super) type FleetFile = std::io::Chain<std::fs::File, &'static [u8]>;
 /// before any comment or blank lines the reader skipped: so the line is counted here, from
 /// the record's byte position, in a second sequential pass over the file (streamed with the
 /// records: every byte is read once more, nothing is kept).
-pub(super) struct Lines {
+// pub for the tests in tests/unit_batch.rs
+#[doc(hidden)]
+pub struct Lines {
     rdr: std::io::BufReader<std::fs::File>,
     /// Bytes consumed so far.
     pos: u64,
@@ -533,7 +539,7 @@ pub(super) struct Lines {
 
 impl Lines {
     /// Starts counting the lines of `csv`.
-    pub(super) fn open(csv: &Path) -> Result<Lines, BatchError> {
+    pub fn open(csv: &Path) -> Result<Lines, BatchError> {
         let f = std::fs::File::open(csv).map_err(|cause| BatchError::Unreadable {
             path: csv.into(),
             cause,
@@ -549,7 +555,7 @@ impl Lines {
     /// that byte, past the rest of a line already ended (a CRLF's `\n`), blank lines and
     /// comment lines (`#`), as the CSV reader skips them. Bytes must not decrease from call
     /// to call.
-    pub(super) fn record_line(&mut self, byte: u64) -> u64 {
+    pub fn record_line(&mut self, byte: u64) -> u64 {
         use std::io::BufRead;
         while self.pos < byte {
             let Ok(buf) = self.rdr.fill_buf() else { break };
@@ -625,316 +631,5 @@ fn row_error(tpl: &Template, line: u64, e: ProblemError) -> String {
             )
         }
         e => format!("{}: {e}", tpl.source(line)),
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn template_path() -> PathBuf {
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("problems/piston-1000rpm.toml")
-    }
-
-    /// Writes `rows` under `header` as `dir/name`, opens the fleet with `template`, and
-    /// returns it with its records as [`Jobs`] reads them: (row, CSV line, cells).
-    fn fleet(
-        dir: &Path,
-        name: &str,
-        template: &Path,
-        header: &[&str],
-        rows: &[Vec<String>],
-    ) -> (Template, Vec<(u64, u64, Vec<String>)>) {
-        let csv = dir.join(name);
-        let mut w = csv::WriterBuilder::new()
-            .flexible(true)
-            .from_path(&csv)
-            .unwrap();
-        w.write_record(header).unwrap();
-        for r in rows {
-            w.write_record(r).unwrap();
-        }
-        w.flush().unwrap();
-        let tpl = Template::open(template, &csv).unwrap();
-        let recs = csv_reader(&csv)
-            .unwrap()
-            .into_records()
-            .enumerate()
-            .map(|(k, r)| {
-                let r = r.unwrap();
-                let line = r.position().unwrap().line();
-                (k as u64 + 1, line, r.iter().map(str::to_string).collect())
-            })
-            .collect();
-        (tpl, recs)
-    }
-
-    /// Every row gives the same machine the fast way as the slow way (the template's text
-    /// edited and re-parsed): equal scenes for a good row, and for a bad row the slow way's
-    /// message from both [`Template::scene`] and the slow way. Returns (good, bad) counts.
-    fn same_both_ways(tpl: &Template, recs: &[(u64, u64, Vec<String>)]) -> (usize, usize) {
-        let (mut good, mut bad) = (0, 0);
-        for (row, line, cells) in recs {
-            let (slow_name, slow) = tpl.slow_scene(*row, *line, cells);
-            let (name, scene) = tpl.scene(*row, *line, cells);
-            assert_eq!(name, slow_name);
-            let fast = tpl.fast_scene(&name, *line, cells);
-            match slow {
-                Ok(slow) => {
-                    good += 1;
-                    let fast = fast.unwrap_or_else(|| panic!("line {line}: no fast scene"));
-                    let slow = format!("{slow:?}");
-                    assert_eq!(format!("{fast:?}"), slow, "line {line}");
-                    assert_eq!(format!("{:?}", scene.unwrap()), slow, "line {line}");
-                    assert!(slow.contains(&format!("source: \"{}:{line}\"", tpl.csv.display())));
-                }
-                Err(m) => {
-                    bad += 1;
-                    assert!(fast.is_none(), "line {line}: fast scene of a bad row: {m}");
-                    assert_eq!(scene.unwrap_err(), m, "line {line}");
-                }
-            }
-        }
-        (good, bad)
-    }
-
-    /// A unit in a column header (`mechanism.speed [rpm]`) is the unit of that column's bare
-    /// numbers; a cell's own unit still counts; a bare number in a dimensional column
-    /// without a unit in its header is an error naming the file, line and column; an
-    /// unknown header unit is an error of the header line.
-    #[test]
-    fn units_come_from_the_cell_or_the_header_never_guessed() {
-        let dir = tempfile::tempdir().unwrap();
-        let header = ["mechanism.speed [rpm]", "mechanism.crank_mass"];
-        let cell = |a: &str, b: &str| vec![a.to_string(), b.to_string()];
-        let rows = [
-            cell("1000", "0.35 kg"),
-            cell("104.71975511965977 rad/s", "350 g"),
-            cell("1000", "0.35"),
-        ];
-        let (tpl, recs) = fleet(dir.path(), "f.csv", &template_path(), &header, &rows);
-        assert_eq!(same_both_ways(&tpl, &recs), (2, 1));
-        let speed = |k: usize| {
-            let (_, s) = tpl.scene(recs[k].0, recs[k].1, &recs[k].2);
-            format!("{:?}", s.unwrap().machine)
-        };
-        let omega = 1000.0 * std::f64::consts::TAU / 60.0;
-        assert!(
-            speed(0).contains(&format!("omega: {omega:?}")),
-            "{}",
-            speed(0)
-        );
-        let (_, bad) = tpl.scene(recs[2].0, recs[2].1, &recs[2].2);
-        let bad = bad.unwrap_err();
-        assert!(
-            bad.starts_with(&format!(
-                "{}:4: field `mechanism.crank_mass` (column 2): `0.35` has no unit",
-                tpl.csv.display()
-            )),
-            "{bad}"
-        );
-        assert!(bad.contains("kg"), "{bad}");
-        let csv = dir.path().join("g.csv");
-        std::fs::write(&csv, "mechanism.speed [furlong]\n1\n").unwrap();
-        let e = Template::open(&template_path(), &csv)
-            .err()
-            .unwrap()
-            .to_string();
-        assert!(
-            e.contains("g.csv:1: column `mechanism.speed [furlong]`: unknown unit `furlong`"),
-            "{e}"
-        );
-    }
-
-    /// Many rows of the piston fleet: cells with units, plain numbers under a header with a
-    /// unit, plain numbers without one (errors), integers, empty cells, a `name` column (given, empty, not a file name), a key inside an inline table,
-    /// quoted text, and every broken row of `scripts/make_fleet.py` (negative length, rod
-    /// shorter than the crank, unknown unit, not a quantity, negative mass).
-    #[test]
-    fn fast_rows_equal_slow_rows() {
-        let dir = tempfile::tempdir().unwrap();
-        let header = [
-            "name",
-            "mechanism.crank_radius [m]",
-            "mechanism.rod_length",
-            "mechanism.crank_mass [kg]",
-            "mechanism.rod_mass",
-            "mechanism.slider_mass [ kg ]",
-            "mechanism.speed [rad/s]",
-            "model.rod_split",
-            "design.unbalance.max [kg·m]",
-            "accuracy.rel_tol",
-            "description",
-        ];
-        let mut seed = 0x2545_f491_4f6c_dd1du64;
-        let mut next = move |n: u64| {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            seed % n
-        };
-        let mut rows = Vec::new();
-        for i in 0..400u64 {
-            let r = 25.0 + next(20_000) as f64 / 1000.0;
-            let l = r * (3.0 + next(2000) as f64 / 1000.0);
-            let mut c: Vec<String> = vec![
-                match next(4) {
-                    0 => format!("m-{i}"),
-                    1 if i % 50 == 1 => "not a name!".into(),
-                    _ => String::new(),
-                },
-                match next(4) {
-                    0 => format!("{r:.3} mm"),
-                    1 => format!("{}", r / 1000.0),
-                    2 => format!("{:.4} cm", r / 10.0),
-                    _ => String::new(),
-                },
-                match next(3) {
-                    0 => format!("{:.3}", l / 1000.0),
-                    1 => String::new(),
-                    _ => format!("{l:.3} mm"),
-                },
-                match next(4) {
-                    0 => "1".into(),
-                    1 => format!("{:.4}", 0.2 + next(300) as f64 / 1000.0),
-                    2 => String::new(),
-                    _ => format!("{} g", 200 + next(300)),
-                },
-                match next(3) {
-                    0 => format!(" {:.4} kg ", 0.2 + next(250) as f64 / 1000.0),
-                    _ => String::new(),
-                },
-                match next(3) {
-                    0 => "2".into(),
-                    1 => format!("{:.4} kg", 0.6 + next(900) as f64 / 1000.0),
-                    _ => String::new(),
-                },
-                match next(4) {
-                    0 => format!("{}", 60 + next(250)),
-                    1 => format!("{:.1} rpm", 600.0 + next(24_000) as f64 / 10.0),
-                    2 => format!("{}.5", 60 + next(250)),
-                    _ => String::new(),
-                },
-                match next(4) {
-                    0 => "0.5".into(),
-                    1 => "0".into(),
-                    2 => "1".into(),
-                    _ => String::new(),
-                },
-                match next(3) {
-                    0 => "0.3 kg*m".into(),
-                    1 => "0.25".into(),
-                    _ => String::new(),
-                },
-                match next(3) {
-                    0 => "1e-8".into(),
-                    1 => "0.000001".into(),
-                    _ => String::new(),
-                },
-                match next(3) {
-                    0 => format!("row {i}: a \"quoted\", \\ back\\slash, tab\t, é"),
-                    1 if i % 40 == 3 => "true".into(),
-                    _ => String::new(),
-                },
-            ];
-            // The broken rows of scripts/make_fleet.py, about one in four.
-            match next(20) {
-                0 => c[1] = format!("-{r:.3} mm"),
-                1 => c[2] = format!("{:.3} mm", 0.5 * r),
-                2 => c[3] = "0.3 furlong".into(),
-                3 => c[6] = "fast".into(),
-                4 => c[5] = "-1 kg".into(),
-                _ => {}
-            }
-            rows.push(c);
-        }
-        let (tpl, recs) = fleet(dir.path(), "fleet.csv", &template_path(), &header, &rows);
-        let (good, bad) = same_both_ways(&tpl, &recs);
-        assert_eq!(good + bad, 400);
-        assert!(good > 200 && bad > 60, "good {good}, bad {bad}");
-    }
-
-    /// Rows broken by their shape: a wrong cell count, a key through a value or an array, an
-    /// unknown key, an empty key part, a value of the wrong type, another family.
-    #[test]
-    fn broken_shapes_fail_both_ways_with_the_slow_message() {
-        let dir = tempfile::tempdir().unwrap();
-        let cases: [(&str, &[&str]); 9] = [
-            ("mechanism.speed", &["1000 rpm", "x"]),
-            ("mechanism.speed.x", &["3"]),
-            ("paper.value", &["3 N"]),
-            ("mechanism.colour", &["red"]),
-            ("mechanism..speed", &["3"]),
-            ("model.rod_split", &["true"]),
-            ("objective.minimize", &["everything"]),
-            ("family", &["hypocycloid"]),
-            ("name", &["../x"]),
-        ];
-        for (k, (key, cells)) in cases.iter().enumerate() {
-            let rows = vec![cells.iter().map(|c| c.to_string()).collect()];
-            let csv = format!("f{k}.csv");
-            let (tpl, recs) = fleet(dir.path(), &csv, &template_path(), &[key], &rows);
-            assert_eq!(same_both_ways(&tpl, &recs), (0, 1), "{key}");
-        }
-    }
-
-    /// The input hash of a row changes with the template text, the header, the name and each
-    /// cell, and is the same for the same input read again.
-    #[test]
-    fn row_hash_follows_the_input() {
-        let dir = tempfile::tempdir().unwrap();
-        let header = ["mechanism.speed", "mechanism.crank_mass"];
-        let rows = vec![vec!["1000 rpm".to_string(), "0.3 kg".to_string()]];
-        let t = template_path();
-        let (a, _) = fleet(dir.path(), "a.csv", &t, &header, &rows);
-        let (a2, _) = fleet(dir.path(), "a2.csv", &t, &header, &rows);
-        let (b, _) = fleet(
-            dir.path(),
-            "b.csv",
-            &t,
-            &["mechanism.speed", "model.rod_split"],
-            &rows,
-        );
-        let t2 = dir.path().join("t2.toml");
-        std::fs::write(&t2, std::fs::read_to_string(&t).unwrap() + "# edited\n").unwrap();
-        let (c, _) = fleet(dir.path(), "c.csv", &t2, &header, &rows);
-        let cells = |x: &[&str]| x.iter().map(|s| s.to_string()).collect::<Vec<_>>();
-        let h = a.input_hash("m", &cells(&["1000 rpm", "0.3 kg"]));
-        assert_eq!(h.len(), 32);
-        assert_eq!(h, a.input_hash("m", &cells(&["1000 rpm", "0.3 kg"])));
-        assert_eq!(h, a2.input_hash("m", &cells(&["1000 rpm", "0.3 kg"])));
-        for other in [
-            a.input_hash("n", &cells(&["1000 rpm", "0.3 kg"])),
-            a.input_hash("m", &cells(&["1001 rpm", "0.3 kg"])),
-            a.input_hash("m", &cells(&["1000 rpm", "0.4 kg"])),
-            a.input_hash("m", &cells(&["1000 rpm0.3 kg", ""])),
-            a.input_hash("m", &cells(&["1000 rpm", "0.3 kg", ""])),
-            b.input_hash("m", &cells(&["1000 rpm", "0.3 kg"])),
-            c.input_hash("m", &cells(&["1000 rpm", "0.3 kg"])),
-        ] {
-            assert_ne!(h, other);
-        }
-    }
-
-    /// The line of each record from its byte position: past CRLF ends, blank lines and
-    /// comments.
-    #[test]
-    fn record_lines_skip_what_the_reader_skips() {
-        let dir = tempfile::tempdir().unwrap();
-        let p = dir.path().join("l.csv");
-        std::fs::write(&p, "h\r\na\r\n# c\r\n\r\nb\n\n#x\n#y\nc").unwrap();
-        let mut rdr = csv_reader(&p).unwrap();
-        let mut lines = Lines::open(&p).unwrap();
-        let got: Vec<(String, u64)> = rdr
-            .records()
-            .map(|r| {
-                let r = r.unwrap();
-                (
-                    r[0].to_string(),
-                    lines.record_line(r.position().unwrap().byte()),
-                )
-            })
-            .collect();
-        assert_eq!(got, [("a".into(), 2), ("b".into(), 5), ("c".into(), 9)]);
     }
 }

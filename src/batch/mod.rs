@@ -42,15 +42,19 @@ mod summary;
 
 pub use error::BatchError;
 pub use fleet::Template;
+// pub for the tests in tests/unit_batch.rs
+#[doc(hidden)]
+pub use fleet::{csv_reader, Lines};
 pub use fleet_table::{fleet_table_path, write_fleet_tables};
 pub use hash::{content_hash, file_hash};
-pub use inputs::{expand, expand_inputs, parse_shard, Input};
+pub use inputs::{expand, expand_inputs, parse_shard, shard_from_env, Input};
 pub use isolate::{isolate, test_panic};
 pub use merge::merge;
 pub use overview::{REPORT_PLOTS, REPORT_ROWS};
 pub use reports::write_reports;
 pub use row::{
-    is_failure, row_from_json, row_from_result, Counts, Row, HEADER, MESSAGE_BYTES, ROW_STATUSES,
+    error_row, is_failure, row_from_json, row_from_result, Counts, Row, HEADER, MESSAGE_BYTES,
+    ROW_STATUSES,
 };
 pub use summary::summary_name;
 
@@ -61,7 +65,7 @@ use rayon::prelude::*;
 use resume::{
     complete_result, lock_out, remove_stale_tmp, sync_filesystem, write_result, Previous,
 };
-use row::{error_row, panic_row};
+use row::panic_row;
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::Arc;

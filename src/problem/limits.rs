@@ -129,16 +129,3 @@ pub fn check_work(
         ),
     ))
 }
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn check_names_the_key_and_range() {
-        const T: &[Count] = &[c("accuracy.rms_samples", 16, 100_000)];
-        let e = check(T, "accuracy.rms_samples", u64::MAX.into()).unwrap_err();
-        assert_eq!(e.field, "accuracy.rms_samples");
-        assert!(e.message.contains("16 to 100000"), "{}", e.message);
-    }
-}

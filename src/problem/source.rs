@@ -152,31 +152,3 @@ impl SourceMap {
             .map(|(k, _)| k.as_str())
     }
 }
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn finds_lines_of_nested_and_inline_keys() {
-        let text = "name = \"x\"\n\n[mechanism]\ncrank_radius = \"35 mm\"\n[design]\nangle = { min = 0, max = 3 }\n";
-        let m = SourceMap::new(text);
-        assert_eq!(m.line_of("name"), Some(1));
-        assert_eq!(m.line_of("mechanism.crank_radius"), Some(4));
-        assert_eq!(m.line_of("design.angle.max"), Some(6));
-        // Absent key: its parent's line.
-        assert_eq!(m.line_of("mechanism.rod_length"), Some(3));
-        let off = text.find("35 mm").unwrap();
-        assert_eq!(m.key_at(off), Some("mechanism.crank_radius"));
-    }
-
-    #[test]
-    fn a_text_toml_edit_rejects_is_indexed_by_lines() {
-        // serde reads u64::MAX; toml_edit does not: the error still gets its line.
-        let text = "name = \"x\"\n[accuracy]\n# n\nrms_samples = 18446744073709551615\n[[paper]]\nkey = \"a\"\n[[paper]]\nkey = \"b\"\n";
-        let m = SourceMap::new(text);
-        assert_eq!(m.line_of("accuracy.rms_samples"), Some(4));
-        assert_eq!(m.line_of("paper[1].key"), Some(8));
-        assert_eq!(m.line_of("accuracy.scan_samples"), Some(2));
-    }
-}

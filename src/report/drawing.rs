@@ -256,7 +256,9 @@ fn left(u: P2) -> P2 {
 }
 
 /// An angle turned by π if needed so that text along it reads left to right: in (−π/2, π/2].
-fn readable(a: f64) -> f64 {
+// pub for the tests in tests/unit_report.rs
+#[doc(hidden)]
+pub fn readable(a: f64) -> f64 {
     let mut a = a.rem_euclid(2.0 * PI);
     if a > PI {
         a -= 2.0 * PI;
@@ -1012,116 +1014,5 @@ impl PartialEq for Sheet {
     /// Sheets are equal when they would be written to the same files with the same caption.
     fn eq(&self, other: &Sheet) -> bool {
         self.suffix == other.suffix && self.caption == other.caption
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn plate() -> Drawing {
-        let mut d = Drawing::new("test plate");
-        let c = P2::zeros();
-        d.add(
-            Layer::Outline,
-            Shape::Arc {
-                centre: c,
-                radius: 0.2,
-                start_rad: 0.5,
-                end_rad: 2.5,
-            },
-        )
-        .add(Layer::Centre, Shape::CentreMark { at: c })
-        .add(
-            Layer::Dim,
-            Shape::Radius {
-                centre: c,
-                radius: 0.2,
-                angle_rad: 1.0,
-                label: "R".into(),
-            },
-        )
-        .add(
-            Layer::Dim,
-            Shape::Linear {
-                a: P2::new(-0.1, -0.05),
-                b: P2::new(0.1, -0.05),
-                offset: -0.03,
-                label: "a".into(),
-            },
-        )
-        .add(
-            Layer::Dim,
-            Shape::Angle {
-                centre: c,
-                from: 0.21,
-                radius: 0.25,
-                start_rad: 0.5,
-                end_rad: 2.5,
-                label: "θ".into(),
-            },
-        );
-        d.note("thickness 10 mm");
-        d
-    }
-
-    #[test]
-    fn svg_has_equal_scales_and_the_texts() {
-        let s = plate().svg().unwrap();
-        let attr = |name: &str| -> String {
-            let i = s.find(&format!(" {name}=\"")).unwrap() + name.len() + 3;
-            s[i..i + s[i..].find('"').unwrap()].to_string()
-        };
-        let (w, h): (f64, f64) = (
-            attr("width").parse().unwrap(),
-            attr("height").parse().unwrap(),
-        );
-        let vb: Vec<f64> = attr("viewBox")
-            .split(' ')
-            .map(|v| v.parse().unwrap())
-            .collect();
-        assert!(((w / vb[2]) / (h / vb[3]) - 1.0).abs() < 1e-12, "{s}");
-        assert!(s.contains("R = 200.00"), "{s}");
-        assert!(s.contains("a = 200.00"), "{s}");
-        assert!(s.contains("θ = 114.59°"), "{s}");
-        assert!(s.contains("thickness 10 mm"));
-    }
-
-    #[test]
-    fn dxf_is_millimetres_and_repeatable() {
-        let a = plate().dxf().unwrap();
-        let b = plate().dxf().unwrap();
-        assert_eq!(a, b);
-        let d = dxf::Drawing::load(&mut a.as_slice()).unwrap();
-        assert_eq!(
-            d.header.default_drawing_units,
-            dxf::enums::Units::Millimeters
-        );
-        let arcs: Vec<f64> = d
-            .entities()
-            .filter(|e| e.common.layer == "OUTLINE")
-            .filter_map(|e| match &e.specific {
-                dxf::entities::EntityType::Arc(a) => Some(a.radius),
-                _ => None,
-            })
-            .collect();
-        assert_eq!(arcs, vec![200.0]);
-    }
-
-    #[test]
-    fn nothing_to_draw_is_an_error_and_the_files_say_why() {
-        let d = Drawing::new("empty");
-        assert!(matches!(d.svg(), Err(DrawingError::Data(_))));
-        let sheet = Sheet::new("drawing", "empty", || Ok(Drawing::new("empty")));
-        let (dxf, svg) = sheet.files();
-        assert!(String::from_utf8(svg).unwrap().contains("drawing not made"));
-        assert!(String::from_utf8(dxf).unwrap().contains("drawing not made"));
-    }
-
-    #[test]
-    fn readable_angles() {
-        assert!((readable(PI) - 0.0).abs() < 1e-12);
-        assert!((readable(0.75 * PI) + 0.25 * PI).abs() < 1e-12);
-        assert!((readable(-0.5 * PI) - 0.5 * PI).abs() < 1e-12);
     }
 }

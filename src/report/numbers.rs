@@ -49,6 +49,9 @@ pub fn declared_keys<T: Serialize + ?Sized>(v: &T) -> Vec<String> {
 /// (a misspelt or removed field does not compile): `key!(Derived, k)` is `"k"`,
 /// `key!("derived", Derived, k)` is `"derived.k"`. For naming a key outside its struct (the
 /// key objective, a headline, a paper check, a study's lookup) without writing it twice.
+// Exported (as `cwsynth::key!`) for the tests in tests/unit_report.rs
+#[doc(hidden)]
+#[macro_export]
 macro_rules! key {
     ($t:ty, $field:ident) => {{
         let _ = |v: &$t| {
@@ -464,56 +467,5 @@ impl<C: Collect> ser::SerializeMap for Entries<C> {
     }
     fn end(self) -> Result<(), NotNumbers> {
         Ok(())
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use serde::Serialize;
-
-    #[derive(Serialize)]
-    struct Inner {
-        /// A length (m).
-        c_m: f64,
-    }
-
-    #[derive(Serialize)]
-    struct Outer {
-        /// A force (N).
-        a_n: f64,
-        /// An optional count.
-        #[serde(skip_serializing_if = "Option::is_none")]
-        b: Option<usize>,
-        /// Left out when `None`.
-        d: Option<f64>,
-        #[serde(flatten)]
-        inner: Inner,
-    }
-
-    #[test]
-    fn fields_become_keys_with_inf_and_nan_kept() {
-        let v = Outer {
-            a_n: f64::INFINITY,
-            b: Some(3),
-            d: None,
-            inner: Inner { c_m: f64::NAN },
-        };
-        let m = number_map(&v);
-        assert_eq!(m.keys().collect::<Vec<_>>(), ["a_n", "b", "c_m"]);
-        assert!(m["a_n"].is_infinite() && m["c_m"].is_nan());
-        assert_eq!(m["b"], 3.0);
-        assert_eq!(declared_keys(&v), ["a_n", "b", "d", "c_m"]);
-        assert_eq!(key!("derived", Inner, c_m), "derived.c_m");
-        assert_eq!(key!(Outer, a_n), "a_n");
-    }
-
-    #[test]
-    fn a_string_field_is_refused() {
-        #[derive(Serialize)]
-        struct S {
-            s: &'static str,
-        }
-        assert!(try_number_map(&S { s: "x" }).is_err());
     }
 }

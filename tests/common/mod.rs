@@ -237,6 +237,19 @@ impl Lcg {
     }
 }
 
+/// A deterministic stream of numbers uniform in [−1, 1) (a 64-bit LCG, Knuth's MMIX
+/// constants), for randomised tests that must not depend on a crate or a seed file (was
+/// `numeric::uniform_pm1`, the library's unit-test helper).
+pub fn uniform_pm1(seed: u64) -> impl FnMut() -> f64 {
+    let mut state = seed;
+    move || {
+        state = state
+            .wrapping_mul(6_364_136_223_846_793_005)
+            .wrapping_add(1_442_695_040_888_963_407);
+        (state >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+    }
+}
+
 /// ΔE of the torque `t` by a composite Simpson running integral of T − T̄ on `n` panels (an
 /// evaluation independent of the library's trigonometric interpolants).
 pub fn simpson_delta_e(t: &dyn Fn(f64) -> f64, n: usize) -> f64 {

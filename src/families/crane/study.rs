@@ -179,14 +179,3 @@ pub fn effects(
 // ---------------------------------------------------------------------------------------
 // Eccentric gear
 // ---------------------------------------------------------------------------------------
-
-#[cfg(test)]
-mod tests {
-    use super::super::synth::Objectives;
-    use crate::report::numbers::declared_keys;
-
-    #[test]
-    fn the_key_objective_is_a_field_of_the_objectives() {
-        assert!(declared_keys(&Objectives::default()).contains(&Objectives::KEY.to_string()));
-    }
-}

@@ -224,29 +224,3 @@ pub fn effects(
     ));
     out
 }
-
-#[cfg(test)]
-mod tests {
-    use super::super::synth::{Objectives, Var};
-    use crate::report::numbers::declared_keys;
-
-    #[test]
-    fn the_key_objectives_are_fields_of_the_objectives() {
-        let o = Objectives {
-            peak_sliding_coefficient: 0.0,
-            ratio_variation: 0.0,
-            max_pitch_pressure_angle_rad: 0.0,
-            min_gear2_curvature_per_m: 0.0,
-        };
-        let keys = declared_keys(&o);
-        for v in [
-            Var::Fixed(0.01),
-            Var::Free {
-                min: 0.0,
-                max: 0.01,
-            },
-        ] {
-            assert!(keys.contains(&Objectives::key(&v).to_string()));
-        }
-    }
-}

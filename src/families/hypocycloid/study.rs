@@ -210,24 +210,3 @@ pub fn effects(
 // ---------------------------------------------------------------------------------------
 // Luffing crane
 // ---------------------------------------------------------------------------------------
-
-#[cfg(test)]
-mod tests {
-    use super::super::synth::Objectives;
-    use crate::report::numbers::declared_keys;
-
-    #[test]
-    fn the_key_objectives_are_fields_of_the_objectives() {
-        let o = Objectives {
-            c4: 0.0,
-            residual_force_peak_n: 0.0,
-            residual_force_rms_n: 0.0,
-            unbalanced_force_peak_n: 0.0,
-            stroke_m: 0.0,
-            suction_gain: 0.0,
-        };
-        for zero_search in [false, true] {
-            assert!(declared_keys(&o).contains(&Objectives::key(zero_search).to_string()));
-        }
-    }
-}
