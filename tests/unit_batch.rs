@@ -1,7 +1,7 @@
 //! `batch` (`src/batch/`): a fleet CSV read the fast way and the slow way, units from cells
 //! and headers, row hashes and record lines (`fleet.rs`); formula escaping of a summary row
 //! (`row.rs`); the shard from a job array's variables (`inputs.rs`); the hash of a written
-//! file (`hash.rs`).
+//! file (`hash.rs`); the size a run with per-machine files announces (`mod.rs`).
 //!
 //! These were the library's unit tests (`#[cfg(test)] mod tests` in the source file), moved
 //! here so that the library is compiled once, not a second time as its unit-test harness
@@ -425,4 +425,30 @@ mod hash {
             assert_ne!(h, file_hash(&b), "{k}");
         }
     }
+}
+
+/// A run of 1000 machines or more with per-machine files says how much it will write before
+/// it starts; a smaller one, or one with `--summary-only`, says nothing (issue 34).
+#[test]
+fn a_large_run_with_files_says_how_much_it_will_write() {
+    use cwsynth::batch::{size_note, Options};
+    let opts = |summary_only| Options {
+        out: "out".into(),
+        threads: None,
+        shard: None,
+        quiet: false,
+        summary_only,
+        units: cwsynth::report::Units::Workshop,
+    };
+    let note = size_note(20_000, &opts(false)).unwrap();
+    assert!(
+        note.contains("20000 machines") && note.contains("140003 files"),
+        "{note}"
+    );
+    assert!(
+        note.contains("3.6 GB") && note.contains("--summary-only"),
+        "{note}"
+    );
+    assert_eq!(size_note(999, &opts(false)), None);
+    assert_eq!(size_note(20_000, &opts(true)), None);
 }

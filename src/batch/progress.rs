@@ -59,6 +59,15 @@ impl Progress {
             }
         }
     }
+    /// A line said once, before the run (nothing with `--quiet`).
+    pub(super) fn note(&self, line: &str) {
+        match self {
+            Progress::Bar(pb, _) => pb.println(line),
+            Progress::Lines { .. } => eprintln!("{line}"),
+            Progress::Quiet => {}
+        }
+    }
+
     /// Reports a failed machine: the first [`SHOWN_ERRORS`] in full, then one line saying
     /// that the rest are counted.
     pub(super) fn error(&mut self, m: &str) {
