@@ -14,7 +14,7 @@
 //! [`SolveResult::draw`] or [`SolveResult::complete`], and the analyses only written files
 //! carry ([`ANALYSES`], a crane's Δh landscape) run in [`SolveResult::complete`] alone.
 
-use super::family::Scene;
+use super::family::{Machine, Scene};
 use crate::report::{Deferred, SolveResult, Status, ANALYSES, DOCUMENTS};
 use crate::synth::{ActiveBound, SearchEvidence, Shortfall};
 use serde_json::Value;
@@ -120,7 +120,7 @@ pub trait Solve: Send + Sync + 'static {
 /// Solves `scene`, whose resolved part is `part`: the numbers now, the drawing stage deferred
 /// to [`SolveResult::complete`]. A solve that fails gives a `failed` result with the reason in
 /// `warnings`. `timing.solve_s` is the whole [`Solve::solve`].
-pub fn drive<P: Solve + super::Machine>(scene: &Scene, part: &P) -> SolveResult {
+pub fn drive<P: Solve + Machine>(scene: &Scene, part: &P) -> SolveResult {
     let mut r = scene.new_result();
     let t0 = Instant::now();
     let sol = match Solve::solve(part) {
@@ -151,7 +151,7 @@ pub fn drive<P: Solve + super::Machine>(scene: &Scene, part: &P) -> SolveResult 
 }
 
 /// The scene's own resolved part: the family whose driver deferred the work.
-fn own<P: super::Machine>(scene: &Scene) -> &P {
+fn own<P: Machine>(scene: &Scene) -> &P {
     scene
         .machine::<P>()
         .expect("a scene's deferred work is its own family's")

@@ -19,7 +19,7 @@ use crate::problem::{
 };
 use crate::synth::minimax::Settings;
 use crate::synth::Var;
-use crate::units::{Acceleration, Angle, AngularSpeed, Force, Inertia as InertiaDim};
+use crate::units::{Acceleration, Angle, AngularSpeed, Density, Force, Inertia as InertiaDim};
 use crate::units::{Length, Mass, Qty, Torque};
 use serde::Deserialize;
 use std::collections::BTreeMap;
@@ -175,6 +175,9 @@ pub struct CounterweightRaw {
     pub radius: Qty<Length>,
     /// Directions its centroid may take in the link's frame, at most 180° wide (default any).
     pub sector: Option<RawVar<Angle>>,
+    /// The plate's material: its density gives the thickness of the annular sector that
+    /// realises the counterweight (t = m / (ρ · area)).
+    pub density: Option<Qty<Density>>,
     /// A given counterweight's centroid in the link's frame (with a fixed `mass`): fixes its
     /// first moment u = m c.
     pub centroid: Option<XyRaw>,
@@ -347,6 +350,8 @@ pub struct CounterweightSpec {
     /// A given centroid in the link's frame (m) and, with it, a given moment of inertia
     /// about the centroid (kg·m²): (c, I_c).
     pub given: Option<(P2, Option<f64>)>,
+    /// The plate's density (kg/m³), if given.
+    pub density: Option<f64>,
 }
 
 impl CounterweightSpec {
@@ -723,6 +728,10 @@ fn counterweights(
             }
         };
         let given = given_body(cw, &mass, radius, sector.is_some(), &at)?;
+        let density = cw
+            .density
+            .map(|d| positive(&at("density"), d.si()))
+            .transpose()?;
         out.push(CounterweightSpec {
             link,
             link_name: cw.link.clone(),
@@ -730,6 +739,7 @@ fn counterweights(
             radius,
             sector,
             given,
+            density,
         });
     }
     Ok(out)

@@ -177,6 +177,35 @@ fn energy_numbers(r: &mut SolveResult, sol: &Solved) {
     r.errors.insert(key.into(), own.max(err));
 }
 
+/// The thickness of the plate of density `rho` cut as the sector (rᵢ, rₒ, θ) that carries
+/// mass `m`: t = m / (ρ θ (rₒ² − rᵢ²)/2), as `design.<link>_counterweight_plate_thickness_m`;
+/// a plate thicker than its envelope radius is no plate (a sliver of a sector: the optimum's
+/// inertia, free where the objective does not see it, sits at its bound), and the result
+/// says so.
+fn plate_thickness(
+    r: &mut SolveResult,
+    n: &str,
+    m: f64,
+    rho: f64,
+    (ri, ro, th): (f64, f64, f64),
+    envelope: f64,
+) {
+    let area = 0.5 * th * (ro * ro - ri * ri);
+    let t = m / (rho * area);
+    r.design
+        .insert(format!("{n}_counterweight_plate_thickness_m"), t);
+    if !(t <= envelope) {
+        r.warnings.push(format!(
+            "the {n} counterweight's sector (rᵢ {:.2} mm, rₒ {:.2} mm, {:.2}°) would be a plate {:.1} mm thick, more than its envelope radius {:.2} mm: not a plate to cut; a heavier material, a larger envelope or a limit on its inertia changes it",
+            ri * 1e3,
+            ro * 1e3,
+            th.to_degrees(),
+            t * 1e3,
+            envelope * 1e3
+        ));
+    }
+}
+
 /// Design, objectives, errors and solver facts of a solved design.
 fn design_keys(
     r: &mut SolveResult,
@@ -244,6 +273,9 @@ fn counterweight_keys(
             Some((ri, ro, th)) => {
                 for (k, v) in [("inner_radius_m", ri), ("outer_radius_m", ro), ("angle_rad", th)] {
                     r.design.insert(format!("{n}_counterweight_sector_{k}"), v);
+                }
+                if let Some(rho) = cw.density {
+                    plate_thickness(r, n, d.mass, rho, (ri, ro, th), cw.radius);
                 }
             }
             None => r.warnings.push(format!(

@@ -12,7 +12,7 @@ use std::f64::consts::TAU;
 use toml_edit::Value;
 
 /// The headline: the dotted result key a design is judged on (see
-/// [`crate::families::Machine::headline`]).
+/// [`crate::families::family::Machine::headline`]).
 pub fn headline(p: &super::file::SliderCrankProblem) -> String {
     if p.flywheel_objective {
         return format!("objectives.{}", super::numbers::FLYWHEEL_KEY);
@@ -137,7 +137,7 @@ fn model_rungs(l: &mut Vec<Rung>, m: &crate::families::slider_crank::model::Slid
 }
 
 /// What the model leaves out or includes, with a bound for each effect (see
-/// [`crate::families::Machine::effects`]).
+/// [`crate::families::family::Machine::effects`]).
 pub fn effects(
     s: &crate::families::slider_crank::file::SliderCrankProblem,
     _reference: &SolveResult,
