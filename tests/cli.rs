@@ -7,6 +7,26 @@ fn bin() -> Command {
     Command::new(env!("CARGO_BIN_EXE_cwsynth"))
 }
 
+/// Runs `cwsynth ARGS` with `text` on its standard input; its output, both streams captured.
+fn with_stdin(args: &[&str], text: &str) -> std::process::Output {
+    use std::io::Write;
+    use std::process::Stdio;
+    let mut child = bin()
+        .args(args)
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    child
+        .stdin
+        .take()
+        .unwrap()
+        .write_all(text.as_bytes())
+        .unwrap();
+    child.wait_with_output().unwrap()
+}
+
 fn problem(name: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
         .join("problems")
@@ -310,8 +330,8 @@ fn reports_are_in_workshop_units_unless_asked_for_si() {
 }
 
 /// Issue 20: `cwsynth new <family> > my.toml && cwsynth solve my.toml` works for every
-/// family, from a clean template (`templates/`, issue 34); an unknown family names the nearest
-/// one.
+/// family, from a machine with no paper's numbers (`templates/` or a shipped scene, issue 34);
+/// an unknown family names the nearest one.
 #[test]
 fn new_writes_a_commented_file_that_solves_for_every_family() {
     let dir = std::env::temp_dir().join(format!("cwsynth-new-{}", std::process::id()));
@@ -429,21 +449,8 @@ fn completions_and_man_page_are_written() {
 /// `check -` reads the problem file from standard input, as `solve -` does.
 #[test]
 fn check_reads_standard_input() {
-    use std::io::Write;
     let text = std::fs::read_to_string(problem("piston-1000rpm.toml")).unwrap();
-    let mut child = bin()
-        .args(["check", "-"])
-        .stdin(std::process::Stdio::piped())
-        .stdout(std::process::Stdio::piped())
-        .spawn()
-        .unwrap();
-    child
-        .stdin
-        .take()
-        .unwrap()
-        .write_all(text.as_bytes())
-        .unwrap();
-    let out = child.wait_with_output().unwrap();
+    let out = with_stdin(&["check", "-"], &text);
     assert!(out.status.success());
     let said = String::from_utf8(out.stdout).unwrap();
     assert!(said.starts_with("ok    <stdin> (piston-1000rpm"), "{said}");
@@ -588,23 +595,7 @@ fn merge_refuses_a_shard_given_twice_or_from_another_run() {
 /// an error at `<stdin>:LINE`.
 #[test]
 fn solve_reads_a_problem_from_standard_input() {
-    use std::io::Write;
-    let run = |text: &str| {
-        let mut child = bin()
-            .args(["solve", "--json", "-"])
-            .stdin(std::process::Stdio::piped())
-            .stdout(std::process::Stdio::piped())
-            .stderr(std::process::Stdio::piped())
-            .spawn()
-            .unwrap();
-        child
-            .stdin
-            .take()
-            .unwrap()
-            .write_all(text.as_bytes())
-            .unwrap();
-        child.wait_with_output().unwrap()
-    };
+    let run = |text: &str| with_stdin(&["solve", "--json", "-"], text);
     let text = std::fs::read_to_string(problem("piston-1000rpm.toml")).unwrap();
     let out = run(&text);
     assert!(out.status.success());

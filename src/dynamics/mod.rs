@@ -583,6 +583,8 @@ pub struct NodePeak {
     pub error: f64,
     /// The input angle of the peak node (rad).
     pub angle: f64,
+    /// The peak node's index in the steady state's curve.
+    pub node: usize,
 }
 
 impl SteadyState {
@@ -599,6 +601,7 @@ impl SteadyState {
             peak,
             error: between + 2.0 * self.omega_error / self.omega_min * peak,
             angle: self.curve[k][0],
+            node: k,
         }
     }
 }

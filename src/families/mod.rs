@@ -86,9 +86,10 @@ pub fn by_name(name: &str) -> Option<&'static dyn Family> {
 }
 
 /// A commented problem file of `family` to start from (`cwsynth new <family>`): the
-/// family's template ([`Family::template`], `templates/<family>.toml`: a clean machine with
-/// no paper's numbers to check, whose solve gives a buildable design) under a header that
-/// says where every key is documented, named `my-<family>`. `None` for an unknown family.
+/// family's template ([`Family::template`]: `templates/<family>.toml` for the slider-crank
+/// and the linkage, a shipped scene for the others — a machine with no paper's numbers to
+/// check whose solve gives a buildable design) under a header that says where every key is
+/// documented, named `my-<family>`. `None` for an unknown family.
 pub fn new_problem(family: &str) -> Option<String> {
     let f = by_name(family)?;
     let mut out = format!(

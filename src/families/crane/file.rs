@@ -18,8 +18,9 @@ use serde::Deserialize;
 /// The `family = "…"` value of this family's files.
 pub const FAMILY: &str = "luffing-crane";
 
-/// The problem file `cwsynth new` prints: a clean template (`templates/`), not a paper's scene.
-pub const TEMPLATE: &str = include_str!("../../../templates/luffing-crane.toml");
+/// The problem file `cwsynth new` prints: the shipped `problems/crane-tukan-40t-counterweight.toml`, a design with no
+/// paper's numbers to check.
+pub const TEMPLATE: &str = include_str!("../../../problems/crane-tukan-40t-counterweight.toml");
 
 /// The work budget of one scene (see [`limits::check_work`] and `check_work` below):
 /// every single integer setting at its maximum passes on the shipped files, their products

@@ -17,8 +17,9 @@ use std::f64::consts::PI;
 /// The `family = "…"` value of this family's files.
 pub const FAMILY: &str = "eccentric-gear";
 
-/// The problem file `cwsynth new` prints: a clean template (`templates/`), not a paper's scene.
-pub const TEMPLATE: &str = include_str!("../../../templates/eccentric-gear.toml");
+/// The problem file `cwsynth new` prints: the shipped `problems/gear-eccentricity-design.toml`, a design with no
+/// paper's numbers to check.
+pub const TEMPLATE: &str = include_str!("../../../problems/gear-eccentricity-design.toml");
 
 /// The work budget of one scene (see [`limits::check_work`] and `check_work` below):
 /// every single integer setting at its maximum passes on the shipped files, their products

@@ -365,11 +365,23 @@ pub fn total_force(
     recip: f64,
     phi: f64,
 ) -> P2 {
-    let w1 = P2::from(cw.0.w);
-    let w2 = P2::from(cw.1.w);
-    let v1 = u1 + w1 + P2::new(cw.1.mass * geo.r_carrier, 0.0);
-    let v2 = u2 + w2;
+    let (v1, v2) = with_counterweights(geo, u1, u2, cw);
     harmonic_force(geo, v1, v2, phi) + P2::new(recip, 0.0)
+}
+
+/// The unbalances (V1, V2) turning with the carrier and the planet once the counterweights
+/// `cw` (carrier, planet) are added: V1 = U1 + W1 + m2 R e_x (the planet counterweight's mass
+/// rides on the carrier at R), V2 = U2 + W2.
+fn with_counterweights(
+    geo: &Geometry,
+    u1: P2,
+    u2: P2,
+    cw: (&Counterweight, &Counterweight),
+) -> (P2, P2) {
+    (
+        u1 + P2::from(cw.0.w) + P2::new(cw.1.mass * geo.r_carrier, 0.0),
+        u2 + P2::from(cw.1.w),
+    )
 }
 
 /// Computes what `spec` asks at the design `at`: the rotating masses' counterweights, the
@@ -442,15 +454,11 @@ fn drive_outcome(
         Err(e) => return Ok(Err(e.to_string())),
     };
     // The shaking force at real speed: the rotating unbalances with the design's
-    // counterweights (as `total_force`) and the reciprocating residual, each with its
-    // ω² and α parts.
+    // counterweights and the reciprocating residual, each with its ω² and α parts.
     let (v1, v2) = rotating.map_or((P2::zeros(), P2::zeros()), |r| {
         let (u1, u2) = (P2::from(r.u1), P2::from(r.u2));
         match r.design_pair() {
-            Some((c1, c2)) => (
-                u1 + P2::from(c1.w) + P2::new(c2.mass * geo.r_carrier, 0.0),
-                u2 + P2::from(c2.w),
-            ),
+            Some((c1, c2)) => with_counterweights(geo, u1, u2, (&c1, &c2)),
             None => (u1, u2),
         }
     });

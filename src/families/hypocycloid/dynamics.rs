@@ -96,7 +96,7 @@ impl RotatingMasses {
 /// F = ω²[Rot(φ) V1 + 4 Rot(α0 − 2φ) V2] (N): the inertia force of unbalances V1 turning
 /// with the carrier and V2 with the planet.
 pub fn harmonic_force(g: &Geometry, v1: P2, v2: P2, phi: f64) -> P2 {
-    g.omega * g.omega * (rot(phi, v1) + 4.0 * rot(g.alpha0 - 2.0 * phi, v2))
+    harmonic_force_at(g, v1, v2, phi, g.omega, 0.0)
 }
 
 /// [`harmonic_force`] at real speed ω (`omega`) and angular acceleration α (`alpha`) of the

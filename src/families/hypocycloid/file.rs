@@ -24,8 +24,9 @@ use std::f64::consts::TAU;
 /// The `family = "…"` value of this family's files.
 pub const FAMILY: &str = "hypocycloid";
 
-/// The problem file `cwsynth new` prints: a clean template (`templates/`), not a paper's scene.
-pub const TEMPLATE: &str = include_str!("../../../templates/hypocycloid.toml");
+/// The problem file `cwsynth new` prints: the shipped `problems/hypocycloid-compressor.toml`, a design with no
+/// paper's numbers to check.
+pub const TEMPLATE: &str = include_str!("../../../problems/hypocycloid-compressor.toml");
 
 /// The work budget of one scene (see [`limits::check_work`] and `check_work` below):
 /// every single integer setting at its maximum passes on the shipped files, their products

@@ -27,7 +27,8 @@ use std::collections::BTreeMap;
 /// The `family = "…"` value of this family's files.
 pub const FAMILY: &str = "linkage";
 
-/// The problem file `cwsynth new` prints: a clean template (`templates/`), not a paper's scene.
+/// The problem file `cwsynth new` prints: a clean template (`templates/`), not a paper's
+/// scene.
 pub const TEMPLATE: &str = include_str!("../../../templates/linkage.toml");
 
 /// Dyads a file may chain (each adds two links and a closed-form construction per angle).

@@ -420,19 +420,12 @@ fn joint_numbers(r: &mut SolveResult, p: &LinkageProblem, solved: &Solved) {
             .push(format!("joint loads of the design not computed: {e}"));
     }
     let design = loads.design.as_ref().and_then(|d| d.as_ref().ok());
-    // The largest of several peaks is off by at most the largest of their errors.
-    let worst = |v: &[ls::JointPeak]| {
-        (
-            v.iter().map(|j| j.peak).fold(0.0, f64::max),
-            v.iter().map(|j| j.error).fold(0.0, f64::max),
-        )
-    };
     if let Some(b) = r.baselines.get_mut("unbalanced") {
         b.insert("peak_joint_force_n".into(), worst(&loads.bare).0);
     }
     // The figure of the result: the design's, or the bare linkage's for an analysis.
     if !r.objectives.is_empty() {
-        let (w, e) = worst(design.map_or(&loads.bare, |d| d.as_slice()));
+        let (w, e) = worst(design.unwrap_or(&loads.bare));
         r.objectives.insert("peak_joint_force_n".into(), w);
         r.errors.insert("peak_joint_force_n".into(), e);
     }
@@ -440,9 +433,16 @@ fn joint_numbers(r: &mut SolveResult, p: &LinkageProblem, solved: &Solved) {
         r.warnings
             .push(format!("joint loads at real speed not computed: {e}"));
     }
-    steady_joint_numbers(r, p, loads);
+    let joint_rows: Vec<JointRow> = joint_rows(p, loads).collect();
+    steady_joint_numbers(r, &joint_rows);
+    // A peak over the joint-load limit (beyond its error and the solve's tolerance).
+    let over = |pk: &ls::JointPeak| {
+        sc.objective
+            .max_joint_force
+            .filter(|lim| pk.peak > lim * (1.0 + p.settings.rel_tol) + pk.error)
+    };
     let mut rows = Vec::new();
-    for row_of in joint_rows(p, loads) {
+    for row_of in &joint_rows {
         let (label, b) = (&row_of.label, row_of.bare);
         let mut row = json!({
             "joint": label,
@@ -456,26 +456,22 @@ fn joint_numbers(r: &mut SolveResult, p: &LinkageProblem, solved: &Solved) {
             row["steady_peak_error_n"] = json!(st.error);
             row["steady_angle_rad"] = json!(st.angle);
             row["steady_change_pct"] = json!(100.0 * (st.peak / row_of.constant().peak - 1.0));
-            if let Some(lim) = sc.objective.max_joint_force {
-                if st.peak > lim * (1.0 + p.settings.rel_tol) + st.error {
-                    r.warnings.push(format!(
-                        "joint {label} peak load at real speed {:.6e} N exceeds its limit {lim:.6e} N (the limit holds at the nominal constant speed)",
-                        st.peak
-                    ));
-                }
+            if let Some(lim) = over(&st) {
+                r.warnings.push(format!(
+                    "joint {label} peak load at real speed {:.6e} N exceeds its limit {lim:.6e} N (the limit holds at the nominal constant speed)",
+                    st.peak
+                ));
             }
         }
         if let Some(d) = row_of.design {
             row["peak_n"] = json!(d.peak);
             row["peak_error_n"] = json!(d.error);
             row["angle_rad"] = json!(d.angle);
-            if let Some(lim) = sc.objective.max_joint_force {
-                if d.peak > lim * (1.0 + p.settings.rel_tol) + d.error {
-                    r.warnings.push(format!(
-                        "joint {label} peak load {:.6e} N exceeds its limit {lim:.6e} N",
-                        d.peak
-                    ));
-                }
+            if let Some(lim) = over(&d) {
+                r.warnings.push(format!(
+                    "joint {label} peak load {:.6e} N exceeds its limit {lim:.6e} N",
+                    d.peak
+                ));
             }
         }
         rows.push(row);
@@ -491,26 +487,28 @@ fn joint_numbers(r: &mut SolveResult, p: &LinkageProblem, solved: &Solved) {
     );
 }
 
+/// The largest of several joint peaks, and its error: the largest of theirs (the largest of
+/// several peaks is off by at most the largest of their errors).
+fn worst<'a>(peaks: impl IntoIterator<Item = &'a ls::JointPeak>) -> (f64, f64) {
+    peaks.into_iter().fold((0.0_f64, 0.0_f64), |(p, e), j| {
+        (p.max(j.peak), e.max(j.error))
+    })
+}
+
 /// The largest joint load at real speed (`derived.steady_peak_joint_force_n`, with its error
 /// and its change from the constant-speed figure), where the drive's steady state gave them.
-fn steady_joint_numbers(r: &mut SolveResult, p: &LinkageProblem, loads: &JointLoads) {
-    let rows: Vec<JointRow> = joint_rows(p, loads).collect();
+fn steady_joint_numbers(r: &mut SolveResult, rows: &[JointRow]) {
     let Some(steady) = rows.iter().map(|j| j.steady).collect::<Option<Vec<_>>>() else {
         return;
     };
-    let worst = |v: &mut dyn Iterator<Item = ls::JointPeak>| {
-        v.fold((0.0_f64, 0.0_f64), |(p, e), j| {
-            (p.max(j.peak), e.max(j.error))
-        })
-    };
-    let (peak, error) = worst(&mut steady.into_iter());
-    let (constant, _) = worst(&mut rows.iter().map(JointRow::constant));
+    let (peak, error) = worst(&steady);
+    let constant: Vec<ls::JointPeak> = rows.iter().map(JointRow::constant).collect();
     r.derived.insert("steady_peak_joint_force_n".into(), peak);
     r.derived
         .insert("steady_peak_joint_force_error_n".into(), error);
     r.derived.insert(
         "steady_peak_joint_force_change_pct".into(),
-        100.0 * (peak / constant - 1.0),
+        100.0 * (peak / worst(&constant).0 - 1.0),
     );
 }
 

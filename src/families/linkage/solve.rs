@@ -133,8 +133,7 @@ pub fn solve(p: &LinkageProblem) -> Result<Solution, String> {
 fn drive(p: &LinkageProblem, d: &Drive, x: Option<&[f64]>) -> Result<DriveFigures, DriveError> {
     let lk = &p.scene.linkage;
     let terms = drive_terms(p, x);
-    let machine = |th: f64| terms(th).map_or([f64::NAN; 3], |t| [t.j, t.dj, t.g]);
-    let figures = dynamics::drive(&machine, lk.omega(), d, &drive_settings(p))?;
+    let figures = dynamics::drive(&one_dof(&terms), lk.omega(), d, &drive_settings(p))?;
     Ok(figures.with_real_speed(&d.motor, |th, w, a| {
         terms(th).map(|t| (t.momentum_rate * (w * w) + t.momentum * a).norm())
     }))
@@ -145,7 +144,7 @@ fn drive(p: &LinkageProblem, d: &Drive, x: Option<&[f64]>) -> Result<DriveFigure
 fn drive_terms<'a>(
     p: &'a LinkageProblem,
     x: Option<&[f64]>,
-) -> impl Fn(f64) -> Option<DriveTerms> + 'a {
+) -> impl Fn(f64) -> Option<DriveTerms> + Sync + 'a {
     let sc = &p.scene;
     let extra = x
         .map(|x| ls::extras(&sc.counterweights, x))
@@ -154,6 +153,14 @@ fn drive_terms<'a>(
         let lk = &sc.linkage;
         lk.pose(th).ok().map(|pose| lk.drive_terms(&pose, &extra))
     }
+}
+
+/// The one-degree-of-freedom machine (J, J′, G) of the drive's terms; not finite where the
+/// linkage does not assemble (the drive then fails naming the angle).
+fn one_dof(
+    terms: &(impl Fn(f64) -> Option<DriveTerms> + Sync),
+) -> impl Fn(f64) -> [f64; 3] + Sync + '_ {
+    move |th| terms(th).map_or([f64::NAN; 3], |t| [t.j, t.dj, t.g])
 }
 
 /// The drive's accuracy: a load table's corners are kinks of G.
@@ -170,9 +177,12 @@ fn drive_settings(p: &LinkageProblem) -> dynamics::DriveSettings {
 /// independent of the engine's energy field.
 fn energy_fluctuation(p: &LinkageProblem, x: Option<&[f64]>) -> Result<(f64, f64), String> {
     let terms = drive_terms(p, x);
-    let machine = |th: f64| terms(th).map_or([f64::NAN; 3], |t| [t.j, t.dj, t.g]);
-    let c = dynamics::constant_speed(&machine, p.scene.linkage.omega(), &drive_settings(p))
-        .map_err(|e| e.to_string())?;
+    let c = dynamics::constant_speed(
+        &one_dof(&terms),
+        p.scene.linkage.omega(),
+        &drive_settings(p),
+    )
+    .map_err(|e| e.to_string())?;
     Ok((c.energy_fluctuation, c.energy_fluctuation_error))
 }
 

@@ -13,7 +13,7 @@
 use crate::dynamics::{DriveSettings, SteadyState};
 use crate::families::linkage::file::{CounterweightSpec, Goal, LinkageScene};
 use crate::families::linkage::model::{
-    BalanceMap, Body, Joint, JointKind, Params, Pose, ReactionMap,
+    BalanceMap, Body, Joint, JointKind, Linkage, Params, Pose, ReactionMap,
 };
 use crate::numeric::{periodic_peak_sampled, Refine};
 use crate::synth::energy::EnergyField;
@@ -309,19 +309,8 @@ pub fn joint_peaks(
     let l = &scene.linkage;
     let joints = l.joints();
     let p = params_with(scene, x);
-    let loads = |theta: f64| -> Result<Vec<f64>, LinkageSolveError> {
-        let pose = l
-            .pose(theta)
-            .map_err(|e| LinkageSolveError::NoAssembly(theta.to_degrees(), e.dyad))?;
-        let r = l
-            .reactions(&pose, &p)
-            .map_err(|_| LinkageSolveError::SingularReactions(theta.to_degrees()))?;
-        Ok(joints
-            .iter()
-            .zip(&r.loads)
-            .map(|(j, ld)| joint_load(j.kind, *ld))
-            .collect())
-    };
+    let w = l.omega();
+    let loads = |theta: f64| loads_at(l, &joints, &p, [theta, w, 0.0]);
     let n = s.scan_samples;
     let h = std::f64::consts::TAU / n as f64;
     let mut ys = vec![Vec::with_capacity(n); joints.len()];
@@ -337,13 +326,7 @@ pub fn joint_peaks(
             .map_err(|_| LinkageSolveError::SingularReactions(f64::NAN))?;
         let mut roundoff: f64 = 0.0;
         for m in &pk.maxima {
-            let pose = l
-                .pose(m.x)
-                .map_err(|e| LinkageSolveError::NoAssembly(m.x.to_degrees(), e.dyad))?;
-            let (_, e) = l
-                .reactions_with_error(&pose, &p)
-                .map_err(|_| LinkageSolveError::SingularReactions(m.x.to_degrees()))?;
-            roundoff = roundoff.max(e);
+            roundoff = roundoff.max(roundoff_at(l, &p, [m.x, w, 0.0])?);
         }
         if !pk.peak.fx.is_finite() {
             return Err(LinkageSolveError::SingularReactions(pk.peak.x.to_degrees()));
@@ -370,39 +353,59 @@ pub fn steady_joint_peaks(
     let l = &scene.linkage;
     let joints = l.joints();
     let p = params_with(scene, x);
-    let pose_at = |theta: f64| {
-        l.pose(theta)
-            .map_err(|e| LinkageSolveError::NoAssembly(theta.to_degrees(), e.dyad))
-    };
-    let singular = |theta: f64| LinkageSolveError::SingularReactions(theta.to_degrees());
     let mut ys = vec![Vec::with_capacity(st.curve.len()); joints.len()];
-    for &[theta, w, a] in &st.curve {
-        let r = l
-            .reactions_at(&pose_at(theta)?, &p, w, a)
-            .map_err(|_| singular(theta))?;
-        for ((y, j), ld) in ys.iter_mut().zip(&joints).zip(&r.loads) {
-            y.push(joint_load(j.kind, *ld));
+    for &node in &st.curve {
+        for (y, v) in ys.iter_mut().zip(loads_at(l, &joints, &p, node)?) {
+            y.push(v);
         }
     }
     ys.iter()
         .map(|y| {
             let pk = st.inertial_peak(y);
-            // The round-off bound of the Newton–Euler solve at the peak node.
-            let k = y
-                .iter()
-                .position(|v| v.abs() == pk.peak)
-                .unwrap_or_default();
-            let [theta, w, a] = st.curve[k];
-            let (_, roundoff) = l
-                .reactions_with_error_at(&pose_at(theta)?, &p, w, a)
-                .map_err(|_| singular(theta))?;
             Ok(JointPeak {
                 peak: pk.peak,
                 angle: pk.angle,
-                error: pk.error + roundoff,
+                error: pk.error + roundoff_at(l, &p, st.curve[pk.node])?,
             })
         })
         .collect()
+}
+
+/// Every joint's load ([`joint_load`]) at crank angle θ with the crank at speed ω and
+/// acceleration α, `[θ, ω, α]` (the nominal speed and α = 0 at constant speed).
+fn loads_at(
+    l: &Linkage,
+    joints: &[Joint],
+    p: &[Params],
+    [theta, w, a]: [f64; 3],
+) -> Result<Vec<f64>, LinkageSolveError> {
+    let r = l
+        .reactions_at(&pose_at(l, theta)?, p, w, a)
+        .map_err(|_| LinkageSolveError::SingularReactions(theta.to_degrees()))?;
+    Ok(joints
+        .iter()
+        .zip(&r.loads)
+        .map(|(j, ld)| joint_load(j.kind, *ld))
+        .collect())
+}
+
+/// The round-off bound of the Newton–Euler solve at `[θ, ω, α]`
+/// ([`crate::families::linkage::model::Linkage::reactions_with_error_at`]).
+fn roundoff_at(
+    l: &Linkage,
+    p: &[Params],
+    [theta, w, a]: [f64; 3],
+) -> Result<f64, LinkageSolveError> {
+    let (_, e) = l
+        .reactions_with_error_at(&pose_at(l, theta)?, p, w, a)
+        .map_err(|_| LinkageSolveError::SingularReactions(theta.to_degrees()))?;
+    Ok(e)
+}
+
+/// The linkage's pose at θ, or where it does not assemble.
+fn pose_at(l: &Linkage, theta: f64) -> Result<Pose, LinkageSolveError> {
+    l.pose(theta)
+        .map_err(|e| LinkageSolveError::NoAssembly(theta.to_degrees(), e.dyad))
 }
 
 /// The engine's limits of one counterweight: mass up to its maximum, the body within

@@ -37,7 +37,8 @@ pub const MIN_STAND_IN_CRANK: f64 = 1e-100;
 /// The `family = "…"` value of this family's files.
 pub const FAMILY: &str = "slider-crank";
 
-/// The problem file `cwsynth new` prints: a clean template (`templates/`), not a paper's scene.
+/// The problem file `cwsynth new` prints: a clean template (`templates/`), not a paper's
+/// scene.
 pub const TEMPLATE: &str = include_str!("../../../templates/slider-crank.toml");
 
 /// The work budget of one scene (see [`limits::check_work`] and `check_work` below):
