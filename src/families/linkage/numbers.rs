@@ -129,6 +129,9 @@ pub fn numbers(_: &Scene, p: &LinkageProblem, sol: &Solved, r: &mut SolveResult)
     }
     energy_numbers(r, sol);
     if let Some(front) = &out.pareto {
+        if let Some(why) = front.stopped() {
+            r.warnings.push(why);
+        }
         r.extra.insert(
             "pareto".into(),
             Front::of(front, sc.objective.minimize).json(&r.name),
@@ -586,7 +589,7 @@ impl<'a> Front<'a> {
             .iter()
             .filter(|p| p.solution.status == CwStatus::Optimal)
             .count();
-        json!({"points": pts, "certified": certified, "without_design": self.front.points.len() - self.ok.len(), "dominated": self.dominated.iter().filter(|d| **d).count(), "csv": format!("{name}-pareto.csv")})
+        json!({"points": pts, "certified": certified, "without_design": self.front.points.len() - self.ok.len(), "dominated": self.dominated.iter().filter(|d| **d).count(), "requested": self.front.requested, "not_solved": self.front.requested - self.front.points.len(), "csv": format!("{name}-pareto.csv")})
     }
 
     /// The front's CSV: every point with a design, dominated ones marked.

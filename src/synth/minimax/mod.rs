@@ -665,8 +665,37 @@ pub struct ParetoFront {
     pub min_b: Solution,
     /// min peak A alone (its peak B is the largest useful ε).
     pub min_a: Solution,
-    /// The points, ε increasing.
+    /// The points, ε increasing: fewer than `requested` when the front stopped (an end did
+    /// not certify, or its last point did not).
     pub points: Vec<ParetoPoint>,
+    /// The number of points asked for.
+    pub requested: usize,
+}
+
+impl ParetoFront {
+    /// Why the front has fewer points than asked, if it has: an end that did not certify
+    /// (no point is computed then), or a last point that did not (the ε after it were not
+    /// solved).
+    pub fn stopped(&self) -> Option<String> {
+        use crate::synth::exchange::Status;
+        if self.min_b.status != Status::Optimal || self.min_a.status != Status::Optimal {
+            return Some(format!(
+                "no front point was computed: its ends (the least of each peak alone) did not both certify ({:?}, {:?})",
+                self.min_b.status, self.min_a.status
+            ));
+        }
+        let last = self.points.last()?;
+        (self.points.len() < self.requested).then(|| {
+            format!(
+                "the front stopped at its point {} of {} (ε = {:.6e}), which did not certify ({:?}); the {} points after it were not solved",
+                self.points.len(),
+                self.requested,
+                last.eps,
+                last.solution.status,
+                self.requested - self.points.len()
+            )
+        })
+    }
 }
 
 /// A problem prepared for solving: validated, scaled, its fields cached on the scan grid.

@@ -1,5 +1,7 @@
 //! Pareto fronts: min peak A subject to peak B ≤ ε for a list of ε, each point its own
-//! certified solve, continued in ε from its neighbour.
+//! certified solve, continued in ε from its neighbour. A front is computed only between ends
+//! that certify, and it ends at its first point that does not: its work is bounded by its two
+//! ends, the points that certify and one more, each of at most `max_rounds` rounds.
 
 use super::polish::KktStart;
 use super::{Engine, Goal, MinimaxError, ParetoFront, ParetoPoint};
@@ -9,7 +11,10 @@ impl<'p, 'a> Engine<'p, 'a> {
     /// Min peak of field `a` subject to peak of field `b` ≤ ε, for each ε (plus the problem's
     /// own limits); each point first tries Newton from the last polished point's optimality
     /// conditions (a continuation in ε, no SOCP), else runs the exchange loop warm-started
-    /// from the previous point's final angles only.
+    /// from the previous point's final angles only. Stops after the first point that ends
+    /// `Inaccurate` or `Failed`: the ε after it are not solved (an ill-conditioned front
+    /// would otherwise spend `max_rounds` rounds on every point; an infeasible point is
+    /// cheap and certified, so the front goes on past it).
     pub fn pareto(
         &self,
         a: usize,
@@ -39,31 +44,33 @@ impl<'p, 'a> Engine<'p, 'a> {
                 // hundreds of cones over a front.
                 warm_sets = Some(sol.angle_sets.clone());
             }
+            let stop = matches!(sol.status, Status::Inaccurate | Status::Failed);
             out.push(ParetoPoint {
                 eps: e,
                 solution: sol,
             });
+            if stop {
+                break;
+            }
         }
         Ok(out)
     }
 
     /// The front of peak A against peak B in `n` ≥ 2 points: the two single-field optima
-    /// bound it; ε runs evenly from B* (the min-B peak, raised by 10 `rel_tol` so the first
+    /// bound it, and no point is computed unless both certify (ends that exhaust their
+    /// rounds leave thousands of angles to warm-start from: each point would then take
+    /// seconds for a front that would not certify either); ε runs evenly from B* (the min-B peak, raised by 10 `rel_tol` so the first
     /// point is feasible despite the gap) to the peak B of the min-A design.
     pub fn pareto_front(&self, a: usize, b: usize, n: usize) -> Result<ParetoFront, MinimaxError> {
         let min_b = self.solve_goal(&Goal::MinPeak(vec![(b, 1.0)]), &self.pb.limits, None)?;
         let min_a = self.solve_goal(&Goal::MinPeak(vec![(a, 1.0)]), &self.pb.limits, None)?;
-        for (sol, which) in [(&min_b, "B"), (&min_a, "A")] {
-            if matches!(sol.status, Status::Infeasible | Status::Failed) {
-                return Ok(ParetoFront {
-                    points: Vec::new(),
-                    min_b: min_b.clone(),
-                    min_a: {
-                        let _ = which;
-                        min_a.clone()
-                    },
-                });
-            }
+        if [&min_b, &min_a].iter().any(|s| s.status != Status::Optimal) {
+            return Ok(ParetoFront {
+                points: Vec::new(),
+                requested: n,
+                min_b,
+                min_a,
+            });
         }
         let lo = min_b.peaks[b].peak * (1.0 + 10.0 * self.s.rel_tol) + min_b.peaks[b].error;
         let hi = min_a.peaks[b].peak.max(lo);
@@ -74,6 +81,7 @@ impl<'p, 'a> Engine<'p, 'a> {
         let warm = merge_sets(Some(&min_b.angle_sets), &min_a.angle_sets);
         let points = self.pareto(a, b, &eps, Some(&warm))?;
         Ok(ParetoFront {
+            requested: n,
             min_b,
             min_a,
             points,
