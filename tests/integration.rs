@@ -47,6 +47,7 @@ mod minimax_engine;
 mod mutants;
 mod problem_files;
 mod properties;
+mod rms_near_fold;
 mod schema;
 mod scotch_yoke;
 mod slider_crank;

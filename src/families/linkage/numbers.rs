@@ -331,6 +331,7 @@ fn solver_facts(r: &mut SolveResult, p: &LinkageProblem, out: &ls::Outcome, sol:
         ("error_solver", sol.error.solver),
         ("error_evaluation", sol.error.evaluation),
         ("error_refinement", sol.error.refinement),
+        ("error_quadrature", sol.error.quadrature),
         ("design_constraint_violation", sol.design_violation),
         ("socp_rounds", sol.rounds as f64),
         ("sampled_angles", sol.angles as f64),

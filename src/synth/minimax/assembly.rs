@@ -80,6 +80,9 @@ impl<'p, 'a> Engine<'p, 'a> {
             g0,
             grid,
             xbound,
+            rms_grids: (0..pb.fields.len())
+                .map(|_| std::sync::OnceLock::new())
+                .collect(),
         })
     }
 

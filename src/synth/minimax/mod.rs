@@ -144,6 +144,7 @@ mod pareto;
 mod peaks;
 mod polish;
 mod presolve;
+mod rms;
 mod validate;
 
 /// `Solution::solver_status` of a solve by the exact disc path (no clarabel).
@@ -460,7 +461,8 @@ pub struct Settings {
     #[serde(with = "crate::units::angle_setting")]
     #[schemars(with = "crate::units::Qty<crate::units::Angle>")]
     pub peak_xtol: f64,
-    /// Uniform angles of RMS objectives (even). Default 360.
+    /// Uniform angles of RMS values and objectives (even): the least count, doubled while
+    /// the field's mean-square form still moves (`rms`, near folds). Default 360.
     pub rms_samples: usize,
     /// Solve the peak of a turning counterweight's force exactly, as a smallest enclosing
     /// disc (the engine's `disc_path`), when the problem is one. Default true; false always
@@ -665,33 +667,35 @@ pub struct ParetoFront {
     pub min_b: Solution,
     /// min peak A alone (its peak B is the largest useful ε).
     pub min_a: Solution,
-    /// The points, ε increasing: fewer than `requested` when the front stopped (an end did
-    /// not certify, or its last point did not).
+    /// The points, ε increasing: fewer than `requested` when the front stopped (an end or
+    /// its last two points spent every exchange round, or an end has no design).
     pub points: Vec<ParetoPoint>,
     /// The number of points asked for.
     pub requested: usize,
 }
 
 impl ParetoFront {
-    /// Why the front has fewer points than asked, if it has: an end that did not certify
-    /// (no point is computed then), or a last point that did not (the ε after it were not
-    /// solved).
+    /// Why the front has fewer points than asked, if it has: an end without a design or
+    /// that spent every exchange round (no point is computed then), or two last points that
+    /// spent every round (the ε after them were not solved).
     pub fn stopped(&self) -> Option<String> {
         use crate::synth::exchange::Status;
-        if self.min_b.status != Status::Optimal || self.min_a.status != Status::Optimal {
+        let unusable = |s: &Solution| pareto::spent(s) || s.status == Status::Infeasible;
+        if unusable(&self.min_b) || unusable(&self.min_a) {
             return Some(format!(
-                "no front point was computed: its ends (the least of each peak alone) did not both certify ({:?}, {:?})",
-                self.min_b.status, self.min_a.status
+                "no front point was computed: its ends (the least of each peak alone) ended {:?} ({:?}) and {:?} ({:?}); points between ends that spend every exchange round would each spend as many",
+                self.min_b.status, self.min_b.stop, self.min_a.status, self.min_a.stop
             ));
         }
         let last = self.points.last()?;
         (self.points.len() < self.requested).then(|| {
             format!(
-                "the front stopped at its point {} of {} (ε = {:.6e}), which did not certify ({:?}); the {} points after it were not solved",
+                "the front stopped at its point {} of {} (ε = {:.6e}), the second in a row that spent every exchange round ({:?}, {:?}); the {} points after it were not solved",
                 self.points.len(),
                 self.requested,
                 last.eps,
                 last.solution.status,
+                last.solution.stop,
                 self.requested - self.points.len()
             )
         })
@@ -714,6 +718,8 @@ pub struct Engine<'p, 'a> {
     grid: Vec<Vec<AffineValue>>,
     /// Bounds on |x̂_j| implied by the design constraints (∞ for an unbounded extra).
     xbound: Vec<f64>,
+    /// Each field on its RMS grid, built on first use (`rms`).
+    rms_grids: Vec<std::sync::OnceLock<rms::RmsGrid>>,
 }
 
 /// What `Solution::solver_status` contains when the design and its certificate come from

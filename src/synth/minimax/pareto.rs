@@ -1,20 +1,21 @@
 //! Pareto fronts: min peak A subject to peak B ≤ ε for a list of ε, each point its own
 //! certified solve, continued in ε from its neighbour. A front is computed only between ends
-//! that certify, and it ends at its first point that does not: its work is bounded by its two
-//! ends, the points that certify and one more, each of at most `max_rounds` rounds.
+//! that did not spend every exchange round, and it ends after two points in a row that did: the
+//! rounds a front spends are bounded, and few of them on a front that cannot certify.
 
 use super::polish::KktStart;
-use super::{Engine, Goal, MinimaxError, ParetoFront, ParetoPoint};
+use super::{Engine, Goal, MinimaxError, ParetoFront, ParetoPoint, Solution, Stop};
 use crate::synth::exchange::{is_new, Status};
 
 impl<'p, 'a> Engine<'p, 'a> {
     /// Min peak of field `a` subject to peak of field `b` ≤ ε, for each ε (plus the problem's
     /// own limits); each point first tries Newton from the last polished point's optimality
     /// conditions (a continuation in ε, no SOCP), else runs the exchange loop warm-started
-    /// from the previous point's final angles only. Stops after the first point that ends
-    /// `Inaccurate` or `Failed`: the ε after it are not solved (an ill-conditioned front
-    /// would otherwise spend `max_rounds` rounds on every point; an infeasible point is
-    /// cheap and certified, so the front goes on past it).
+    /// from the previous point's final angles only. Stops after two points in a row that
+    /// spent every round or failed: the ε after them are not solved (an ill-conditioned front would
+    /// otherwise spend `max_rounds` rounds on every point; an infeasible point is cheap and
+    /// certified, an `Inaccurate` one that stalled or ended with clarabel's reduced accuracy
+    /// states its small gap, so the front goes on past them).
     pub fn pareto(
         &self,
         a: usize,
@@ -25,6 +26,7 @@ impl<'p, 'a> Engine<'p, 'a> {
         let mut out: Vec<ParetoPoint> = Vec::with_capacity(eps.len());
         let mut warm_sets: Option<Vec<Vec<f64>>> = warm.map(|w| w.to_vec());
         let mut start: Option<KktStart> = None;
+        let mut spent_in_row = 0;
         for &e in eps {
             let mut limits = self.pb.limits.clone();
             limits.push((b, e));
@@ -44,7 +46,9 @@ impl<'p, 'a> Engine<'p, 'a> {
                 // hundreds of cones over a front.
                 warm_sets = Some(sol.angle_sets.clone());
             }
-            let stop = matches!(sol.status, Status::Inaccurate | Status::Failed);
+            // Two points in a row that spent every round: the rest of the front would too.
+            spent_in_row = if spent(&sol) { spent_in_row + 1 } else { 0 };
+            let stop = spent_in_row == 2;
             out.push(ParetoPoint {
                 eps: e,
                 solution: sol,
@@ -57,14 +61,15 @@ impl<'p, 'a> Engine<'p, 'a> {
     }
 
     /// The front of peak A against peak B in `n` ≥ 2 points: the two single-field optima
-    /// bound it, and no point is computed unless both certify (ends that exhaust their
-    /// rounds leave thousands of angles to warm-start from: each point would then take
+    /// bound it, and no point is computed when either has no design or spent every round
+    /// (such ends leave thousands of angles to warm-start from: each point would then take
     /// seconds for a front that would not certify either); ε runs evenly from B* (the min-B peak, raised by 10 `rel_tol` so the first
     /// point is feasible despite the gap) to the peak B of the min-A design.
     pub fn pareto_front(&self, a: usize, b: usize, n: usize) -> Result<ParetoFront, MinimaxError> {
         let min_b = self.solve_goal(&Goal::MinPeak(vec![(b, 1.0)]), &self.pb.limits, None)?;
         let min_a = self.solve_goal(&Goal::MinPeak(vec![(a, 1.0)]), &self.pb.limits, None)?;
-        if [&min_b, &min_a].iter().any(|s| s.status != Status::Optimal) {
+        let unusable = |s: &Solution| spent(s) || s.status == Status::Infeasible;
+        if unusable(&min_b) || unusable(&min_a) {
             return Ok(ParetoFront {
                 points: Vec::new(),
                 requested: n,
@@ -87,6 +92,12 @@ impl<'p, 'a> Engine<'p, 'a> {
             points,
         })
     }
+}
+
+/// Whether a solve spent its every round (`max_rounds`) or failed: the points after it, or a
+/// front between such ends, would spend as much each.
+pub(super) fn spent(s: &Solution) -> bool {
+    s.stop == Stop::MaxRounds || s.status == Status::Failed
 }
 
 /// Per field, the union of two angle sets (sorted, near-duplicates dropped).

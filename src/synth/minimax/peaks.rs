@@ -1,10 +1,9 @@
 //! The fields at a design: evaluated at one angle, their refined true peaks over the
-//! period (scan grid + refinement) with error bounds, and their RMS over uniform angles.
+//! period (scan grid + refinement) with error bounds (their RMS: `rms`).
 
 use super::validate::{bad, check_finite};
 use super::{AffineValue, Engine, FieldPeak, MinimaxError};
-use crate::numeric::{periodic_peak_sampled, periodic_rms_sampled, PeriodicPeak, Refine};
-use crate::synth::exchange::uniform_angles;
+use crate::numeric::{periodic_peak_sampled, PeriodicPeak, Refine};
 use std::cell::RefCell;
 
 impl<'p, 'a> Engine<'p, 'a> {
@@ -23,11 +22,6 @@ impl<'p, 'a> Engine<'p, 'a> {
                 self.field_peak(f, x, &p, &self.pb.limits)
             })
             .collect()
-    }
-
-    /// The RMS of field f at x over `rms_samples` uniform angles, with its quadrature error.
-    pub fn rms(&self, f: usize, x: &[f64]) -> (f64, f64) {
-        self.rms_at(f, x)
     }
 
     pub(super) fn eval(&self, f: usize, theta: f64) -> Result<AffineValue, MinimaxError> {
@@ -97,60 +91,5 @@ impl<'p, 'a> Engine<'p, 'a> {
             limit,
             violation: limit.map_or(0.0, |e| (p.peak.fx - e).max(0.0)),
         })
-    }
-
-    /// (RMS, quadrature error) of field f at x on `rms_samples` uniform angles.
-    pub(super) fn rms_at(&self, f: usize, x: &[f64]) -> (f64, f64) {
-        let d = self.pb.fields[f].dim();
-        let ys: Vec<f64> = self
-            .rms_values(f)
-            .iter()
-            .map(|v| v.magnitude(d, x))
-            .collect();
-        let r = periodic_rms_sampled(&ys);
-        (r.rms, r.error)
-    }
-
-    /// The field on the RMS grid (the scan grid when they coincide).
-    pub(super) fn rms_values(&self, f: usize) -> std::borrow::Cow<'_, [AffineValue]> {
-        if self.s.rms_samples == self.s.scan_samples {
-            std::borrow::Cow::Borrowed(&self.grid[f])
-        } else {
-            std::borrow::Cow::Owned(
-                uniform_angles(self.s.rms_samples)
-                    .into_iter()
-                    .map(|t| {
-                        let mut v = AffineValue::zeros(self.n);
-                        self.pb.fields[f].eval(t, &mut v);
-                        v
-                    })
-                    .collect(),
-            )
-        }
-    }
-
-    /// R, the (n+1)×(n+1) triangular factor of the scaled stacked rows
-    /// [A_r(θ_k) S, b_r(θ_k)] / (G_f √N): mean |g|²/G_f² = ‖R [x̂; 1]‖².
-    pub(super) fn rms_factor(&self, f: usize) -> Result<nalgebra::DMatrix<f64>, MinimaxError> {
-        let d = self.pb.fields[f].dim();
-        let vals = self.rms_values(f);
-        let nn = vals.len();
-        for (k, v) in vals.iter().enumerate() {
-            check_finite(
-                self.pb.fields[f],
-                k as f64 * std::f64::consts::TAU / nn as f64,
-                v,
-            )?;
-        }
-        let w = 1.0 / (self.g_ref[f] * (nn as f64).sqrt());
-        let m = nalgebra::DMatrix::from_fn(nn * d, self.n + 1, |row, col| {
-            let (k, r) = (row / d, row % d);
-            if col < self.n {
-                vals[k].row(r)[col] * self.scale[col] * w
-            } else {
-                vals[k].b[r] * w
-            }
-        });
-        Ok(m.qr().r())
     }
 }
