@@ -1,13 +1,16 @@
 //! Closed-form planar constructions shared by the mechanism models: circle–circle
 //! intersection (a dyad), link–slider intersection, the 2×2 solve of a differentiated dyad,
 //! circumcentre, and the smallest disc enclosing a point set (the geometric form of a
-//! minimax counterweight).
+//! minimax counterweight); the exact mass properties of a region bounded by lines and arcs
+//! (`outline`: a plate drawn in a DXF file).
 //!
 //! A construction that has no solution (the links cannot reach) returns `None`, never NaN:
 //! whether that is an error is for the caller to decide. Every formula is written in the
 //! form that stays accurate near tangency and near collinearity.
 
 use nalgebra::Vector2;
+
+pub mod outline;
 
 /// A point or vector in the plane (m).
 pub type P2 = Vector2<f64>;

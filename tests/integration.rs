@@ -45,6 +45,7 @@ mod linkage;
 mod linkage_model;
 mod minimax_engine;
 mod mutants;
+mod outline;
 mod problem_files;
 mod properties;
 mod rms_near_fold;

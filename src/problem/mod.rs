@@ -13,6 +13,7 @@ pub mod calibrate;
 pub mod drive;
 pub mod edit;
 pub mod limits;
+pub mod outline;
 pub mod schema;
 pub mod source;
 

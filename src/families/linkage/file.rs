@@ -11,8 +11,10 @@
 //! reference joint, x axis along it).
 
 use crate::families::linkage::model::{Dyad, Inertia, Linkage, Point};
+use crate::geom::outline::Plate;
 use crate::geom::{Side, P2};
 use crate::problem::limits::{self, c, Count};
+use crate::problem::outline::{self, OutlineRaw};
 use crate::problem::{
     check_name, non_negative, positive, Ctx, FieldError, Input, ProblemError, RawFile, RawVar,
     Resolved,
@@ -23,6 +25,7 @@ use crate::units::{Acceleration, Angle, AngularSpeed, Density, Force, Inertia as
 use crate::units::{Length, Mass, Qty, Torque};
 use serde::Deserialize;
 use std::collections::BTreeMap;
+use std::path::Path;
 
 /// The `family = "…"` value of this family's files.
 pub const FAMILY: &str = "linkage";
@@ -143,8 +146,8 @@ pub struct DyadRaw {
 #[derive(Debug, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct LinkRaw {
-    /// m.
-    pub mass: Qty<Mass>,
+    /// m (required unless `outline`).
+    pub mass: Option<Qty<Mass>>,
     /// c, the centroid in the link's frame (required unless `uniform_bar`).
     pub centroid: Option<XyRaw>,
     /// J, the moment of inertia about the centroid (required unless `uniform_bar`).
@@ -153,6 +156,11 @@ pub struct LinkRaw {
     /// only (crank, RRR links, RRP rod).
     #[serde(default)]
     pub uniform_bar: bool,
+    /// The link drawn as a plate in a DXF file: its mass, centroid and inertia from the
+    /// drawing (the drawing's origin at the link's reference joint, its x axis along the
+    /// link, unless `origin` and `angle` say otherwise); not together with `mass`,
+    /// `centroid`, `inertia`, `uniform_bar`.
+    pub outline: Option<OutlineRaw>,
 }
 
 /// `[model]`.
@@ -169,8 +177,9 @@ pub struct ModelRaw {
 pub struct CounterweightRaw {
     /// The link it is fixed to (by name).
     pub link: String,
-    /// Its mass: fixed or a range (`{ min = "0 kg", max = "2 kg" }`).
-    pub mass: RawVar<Mass>,
+    /// Its mass: fixed or a range (`{ min = "0 kg", max = "2 kg" }`; required unless
+    /// `outline`).
+    pub mass: Option<RawVar<Mass>>,
     /// The envelope: all of it within this distance of the link's reference joint (so its
     /// centroid too: |u| ≤ m r, and I ≤ m r²).
     pub radius: Qty<Length>,
@@ -186,6 +195,11 @@ pub struct CounterweightRaw {
     /// fixes I about the joint, I_c + m |c|². Mass, centroid and inertia all given: the
     /// counterweight is analysed, not designed.
     pub inertia: Option<Qty<InertiaDim>>,
+    /// A given counterweight drawn as a plate in a DXF file: its mass, centroid and inertia
+    /// from the drawing (origin at the link's reference joint, x axis along the link, unless
+    /// `origin` and `angle` say otherwise); not together with `mass`, `centroid`, `inertia`,
+    /// `sector`, `density`.
+    pub outline: Option<OutlineRaw>,
 }
 
 /// `[design]`.
@@ -265,18 +279,21 @@ pub struct LinkageProblem {
 }
 
 /// Reads and resolves a linkage problem file (its text or its table).
+/// A drawing named in an `outline` key is read relative to the file's folder.
 pub fn resolve(ctx: &Ctx, input: Input) -> Result<Resolved<LinkageProblem>, ProblemError> {
-    File::resolve(ctx, input, resolve_raw)
+    let dir = ctx.file.parent().unwrap_or(Path::new(""));
+    File::resolve(ctx, input, |raw| resolve_raw(raw, dir))
 }
 
-/// The value checks of a linkage file.
-pub fn resolve_raw(raw: &File) -> Result<LinkageProblem, FieldError> {
+/// The value checks of a linkage file; `dir` is the folder `outline` drawings are read from.
+pub fn resolve_raw(raw: &File, dir: &Path) -> Result<LinkageProblem, FieldError> {
     let scene = resolve_scene(
         &raw.name,
         &raw.mechanism,
         &raw.model,
         &raw.design,
         &raw.objective,
+        dir,
     )?;
     let settings = raw.accuracy;
     limits::check_section(COUNTS, "accuracy", &settings)?;
@@ -595,12 +612,13 @@ fn valid_link_name(s: &str) -> bool {
             .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-')
 }
 
-/// The link masses, one per named link.
+/// The link masses, one per named link (an `outline` read from `dir`).
 fn inertias(
     m: &MechanismRaw,
     names: &[String],
     dyads: &[Dyad],
     crank_length: f64,
+    dir: &Path,
 ) -> Result<Vec<Inertia>, FieldError> {
     if let Some(extra) = m.links.keys().find(|k| !names.contains(k)) {
         let hint = crate::units::did_you_mean(extra, names.iter().map(String::as_str))
@@ -625,7 +643,28 @@ fn inertias(
                     format!("missing the mass data of link `{name}`: add [mechanism.links.{name}] with mass, centroid and inertia (or uniform_bar = true); a massless link says mass = \"0 kg\""),
                 ));
             };
-            let mass = non_negative(&format!("{key}.mass"), l.mass.si())?;
+            if let Some(o) = &l.outline {
+                let given = [
+                    ("mass", l.mass.is_some()),
+                    ("centroid", l.centroid.is_some()),
+                    ("inertia", l.inertia.is_some()),
+                    ("uniform_bar", l.uniform_bar),
+                ];
+                only_outline(&key, &given)?;
+                let p = outline::plate(o, dir, &format!("{key}.outline"))?;
+                return Ok(Inertia {
+                    mass: p.mass,
+                    centroid: p.centroid,
+                    j: p.inertia,
+                });
+            }
+            let mass = l.mass.map(Qty::si).ok_or_else(|| {
+                FieldError::new(
+                    format!("{key}.mass"),
+                    "missing: the link's mass; allowed: mass = \"… kg\" (\"0 kg\" for a massless link), or outline = { file = \"….dxf\", thickness = \"… mm\", density = \"… kg/m^3\" }",
+                )
+            })?;
+            let mass = non_negative(&format!("{key}.mass"), mass)?;
             if l.uniform_bar {
                 for (f, given) in [("centroid", l.centroid.is_some()), ("inertia", l.inertia.is_some())] {
                     if given {
@@ -664,6 +703,17 @@ fn inertias(
         .collect()
 }
 
+/// A key given beside `outline`, which sets it: an error at that key.
+fn only_outline(key: &str, given: &[(&str, bool)]) -> Result<(), FieldError> {
+    match given.iter().find(|(_, g)| *g) {
+        Some((f, _)) => Err(FieldError::new(
+            format!("{key}.{f}"),
+            "given with outline, which sets it from the drawing; allowed: one or the other",
+        )),
+        None => Ok(()),
+    }
+}
+
 /// The smallest counterweight envelope radius, relative to the crank length (as the
 /// slider-crank's `design.radius` ≥ 1e-6 × `crank_radius`).
 pub const MIN_RADIUS_RATIO: f64 = 1e-6;
@@ -673,6 +723,7 @@ fn counterweights(
     d: &DesignRaw,
     names: &[String],
     crank_length: f64,
+    dir: &Path,
 ) -> Result<Vec<CounterweightSpec>, FieldError> {
     if d.counterweights.len() > MAX_COUNTERWEIGHTS {
         return Err(FieldError::new(
@@ -698,7 +749,17 @@ fn counterweights(
                 format!("link `{}` already has a counterweight; allowed: one per link (one body is the sum of two)", cw.link),
             ));
         }
-        let mass = cw.mass.resolve(&at("mass"))?;
+        let drawn = drawn_body(cw, dir, &at)?;
+        let mass = match (cw.mass, &drawn) {
+            (Some(m), _) => m.resolve(&at("mass"))?,
+            (None, Some(p)) => Var::Fixed(p.mass),
+            (None, None) => {
+                return Err(FieldError::new(
+                    at("mass"),
+                    "missing: the counterweight's mass, fixed or a range; allowed: mass = { min = \"0 kg\", max = \"2 kg\" }, or outline = { … } for a drawn one",
+                ))
+            }
+        };
         let (lo, hi) = mass.bounds();
         non_negative(&at("mass"), lo)?;
         positive(&at("mass"), hi)?;
@@ -728,7 +789,14 @@ fn counterweights(
                 Some((a, b))
             }
         };
-        let given = given_body(cw, &mass, radius, sector.is_some(), &at)?;
+        let given = match drawn {
+            Some(p) => {
+                let key = at("outline");
+                fits_envelope(p.mass, p.centroid, Some(p.inertia), radius, &key, &key)?;
+                Some((p.centroid, Some(p.inertia)))
+            }
+            None => given_body(cw, &mass, radius, sector.is_some(), &at)?,
+        };
         let density = cw
             .density
             .map(|d| positive(&at("density"), d.si()))
@@ -778,24 +846,62 @@ fn given_body(
             "a given centroid leaves no direction to choose; allowed: centroid or sector, not both",
         ));
     }
+    let ic = cw
+        .inertia
+        .map(|i| non_negative(&at("inertia"), i.si()))
+        .transpose()?;
+    fits_envelope(m, c, ic, radius, &at("centroid"), &at("inertia"))?;
+    Ok(Some((c, ic)))
+}
+
+/// A counterweight drawn in a DXF file (`outline`): its mass, centroid and inertia about the
+/// centroid, or `None` without one. The keys it sets are refused beside it, and so are
+/// `sector` (no direction is left to choose) and `density` (the drawing has its own).
+fn drawn_body(
+    cw: &CounterweightRaw,
+    dir: &Path,
+    at: &dyn Fn(&str) -> String,
+) -> Result<Option<Plate>, FieldError> {
+    let Some(o) = &cw.outline else {
+        return Ok(None);
+    };
+    let given = [
+        ("mass", cw.mass.is_some()),
+        ("centroid", cw.centroid.is_some()),
+        ("inertia", cw.inertia.is_some()),
+        ("sector", cw.sector.is_some()),
+        ("density", cw.density.is_some()),
+    ];
+    let key = at("");
+    only_outline(key.trim_end_matches('.'), &given)?;
+    outline::plate(o, dir, &at("outline")).map(Some)
+}
+
+/// A given body of mass `m`, centroid `c` and inertia `ic` about it fits the envelope of
+/// radius `radius`: |c| ≤ r, and with a given `ic` I_c + m |c|² ≤ m r² (errors at `at_c` and
+/// `at_i`).
+fn fits_envelope(
+    m: f64,
+    c: P2,
+    ic: Option<f64>,
+    radius: f64,
+    at_c: &str,
+    at_i: &str,
+) -> Result<(), FieldError> {
     if c.norm() > radius * (1.0 + 1e-12) {
         return Err(FieldError::new(
-            at("centroid"),
+            at_c,
             format!(
                 "|c| = {:e} m lies outside the envelope radius {radius:e} m; allowed: within it",
                 c.norm()
             ),
         ));
     }
-    let ic = cw
-        .inertia
-        .map(|i| non_negative(&at("inertia"), i.si()))
-        .transpose()?;
     if let Some(ic) = ic {
         let about = ic + m * c.norm_squared();
         if about > m * radius * radius * (1.0 + 1e-12) {
             return Err(FieldError::new(
-                at("inertia"),
+                at_i,
                 format!(
                     "I_c + m|c|² = {about:e} kg·m² about the joint exceeds m r² = {:e} kg·m² of the envelope: the body does not fit in it; allowed: a smaller inertia or a larger radius",
                     m * radius * radius
@@ -803,7 +909,7 @@ fn given_body(
             ));
         }
     }
-    Ok(Some((c, ic)))
+    Ok(())
 }
 
 /// The objective, resolved and checked against the counterweights.
@@ -898,13 +1004,15 @@ fn check_full_turn(l: &Linkage) -> Result<(), FieldError> {
     ))
 }
 
-/// The value checks of a linkage file's mechanism, model, design and objective.
+/// The value checks of a linkage file's mechanism, model, design and objective (`outline`
+/// drawings read from `dir`).
 pub fn resolve_scene(
     name: &str,
     m: &MechanismRaw,
     model: &ModelRaw,
     design: &DesignRaw,
     o: &ObjectiveRaw,
+    dir: &Path,
 ) -> Result<LinkageScene, FieldError> {
     check_name(name)?;
     let omega = positive("mechanism.speed", m.speed.si())?;
@@ -916,7 +1024,7 @@ pub fn resolve_scene(
         .transpose()?
         .unwrap_or(0.0);
     let (dyads, names) = dyads(m, crank_length)?;
-    let inertia = inertias(m, &names, &dyads, crank_length)?;
+    let inertia = inertias(m, &names, &dyads, crank_length, dir)?;
     let loads = super::file_loads::resolve_loads(&m.loads, &|key: &str, v: &toml::Value| {
         point(key, v, &names, &dyads, crank_length)
     })?;
@@ -924,7 +1032,7 @@ pub fn resolve_scene(
         .and_then(|l| l.with_loads(loads))
         .map_err(|e| FieldError::new("mechanism", e.to_string()))?;
     check_full_turn(&linkage)?;
-    let counterweights = counterweights(design, &names, crank_length)?;
+    let counterweights = counterweights(design, &names, crank_length, dir)?;
     let objective = objective(o, &counterweights)?;
     Ok(LinkageScene {
         moment_about: model.moment_about.as_ref().map_or(pivot, xy),
