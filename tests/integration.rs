@@ -14,6 +14,7 @@ mod common;
 
 mod architecture;
 mod batch;
+mod batch_folders;
 mod calibrate;
 mod certified;
 mod cli;

@@ -452,3 +452,31 @@ fn a_large_run_with_files_says_how_much_it_will_write() {
     assert_eq!(size_note(999, &opts(false)), None);
     assert_eq!(size_note(20_000, &opts(true)), None);
 }
+
+/// Where a machine's files go (issue 34): beside the summary below [`LARGE_RUN`] machines
+/// (the size note's threshold), else `machines/NNN/` by index, 1000 machines a folder.
+#[test]
+fn a_large_run_puts_its_machines_in_folders_by_index() {
+    use cwsynth::batch::{Layout, LARGE_RUN, MACHINES_PER_FOLDER};
+    use std::path::Path;
+    assert_eq!((LARGE_RUN, MACHINES_PER_FOLDER), (1000, 1000));
+    let flat = Layout::of_run(LARGE_RUN - 1);
+    assert_eq!(flat.folder(998), None);
+    assert_eq!(flat.dir(Path::new("out"), 998), Path::new("out"));
+    assert_eq!(flat.href(998, "m.html"), "m.html");
+    let large = Layout::of_run(LARGE_RUN);
+    for (index, folder) in [
+        (0, "machines/000"),
+        (999, "machines/000"),
+        (1000, "machines/001"),
+        (19_999, "machines/019"),
+        (1_234_567, "machines/1234"),
+    ] {
+        assert_eq!(large.folder(index).as_deref(), Some(folder));
+        assert_eq!(
+            large.dir(Path::new("out"), index),
+            Path::new("out").join(folder)
+        );
+        assert_eq!(large.href(index, "m.json"), format!("{folder}/m.json"));
+    }
+}

@@ -4,6 +4,7 @@
 //! frame of [`crate::report::page`]; the histogram is drawn by [`crate::report::plot::bars`].
 //! No I/O here: [`super::overview`] reads what the page shows.
 
+use super::layout::Layout;
 use super::overview::{
     opt, opt_err, opt_pct, MachinePlots, Overview, IMPROVEMENT_BINS, REPORT_ROWS,
 };
@@ -22,12 +23,15 @@ td,th{text-align:right}td.l,th.l{text-align:left}.scroll th{position:sticky;top:
 td{white-space:nowrap}td.l{white-space:normal}td.n{white-space:nowrap}td.design{font-size:12px}";
 
 /// The page, from what [`super::overview`] read: `plots` of the first machines that have
-/// them, and `has_page` telling which machines have a report page (`<name>.html`).
+/// them, and `has_page` telling which machines have a report page (`<name>.html`); a
+/// machine's files are linked in its folder of `layout`.
 pub(super) fn index(
     o: &Overview,
     plots: &[MachinePlots],
+    layout: Layout,
     has_page: impl Fn(&Row) -> bool,
 ) -> String {
+    let file = |r: &Row, ext: &str| layout.href(r.index, &format!("{}.{ext}", r.name));
     let plotted: HashSet<&str> = plots.iter().map(|m| m.row.name.as_str()).collect();
     let body = html! {
         h1 { "cwsynth batch" }
@@ -56,7 +60,7 @@ pub(super) fn index(
                         @if plotted.contains(r.name.as_str()) {
                             a href={ "#m-" (r.name) } { (r.name) }
                         } @else if has_page(r) {
-                            a href={ (r.name) ".html" } { (r.name) }
+                            a href=(file(r, "html")) { (r.name) }
                         } @else {
                             (r.name)
                         }
@@ -98,9 +102,9 @@ pub(super) fn index(
                 @let r = &m.row;
                 h3 id={ "m-" (r.name) } {
                     (r.name) " " span class=(r.status) { "(" (r.family) ", " (r.status) ")" }
-                    @if has_page(r) { " · " a href={ (r.name) ".html" } { "report" } }
-                    " · " a href={ (r.name) ".md" } { "Markdown" }
-                    " · " a href={ (r.name) ".json" } { "JSON" }
+                    @if has_page(r) { " · " a href=(file(r, "html")) { "report" } }
+                    " · " a href=(file(r, "md")) { "Markdown" }
+                    " · " a href=(file(r, "json")) { "JSON" }
                 }
                 div.plots {
                     @for (suffix, svg) in &m.svgs {

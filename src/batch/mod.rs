@@ -10,6 +10,7 @@
 //! | `row.rs` | one summary row: from a result JSON or an error, formula escaping, checks; the counts |
 //! | `summary.rs` | the summary CSV file: written to `.partial`, committed by a rename, read back |
 //! | `resume.rs` | re-runs: the manifest of a machine's files, the skip decision, the lock |
+//! | `layout.rs` | where a machine's files go: beside the summary, or `machines/NNN/` in a large run |
 //! | `hash.rs` | the input hash of a machine and the hash of a written file |
 //! | `isolate.rs` | one machine's panic fails that machine only |
 //! | `progress.rs` | the progress bar or lines on stderr |
@@ -32,6 +33,7 @@ mod hash;
 mod html;
 mod inputs;
 mod isolate;
+mod layout;
 mod merge;
 mod overview;
 mod progress;
@@ -49,6 +51,7 @@ pub use fleet_table::{fleet_table_path, write_fleet_tables};
 pub use hash::{content_hash, file_hash};
 pub use inputs::{expand, expand_inputs, parse_shard, shard_from_env, Input};
 pub use isolate::{isolate, test_panic};
+pub use layout::{Layout, LARGE_RUN, MACHINES_DIR, MACHINES_PER_FOLDER};
 pub use merge::merge;
 pub use overview::{REPORT_PLOTS, REPORT_ROWS};
 pub use reports::write_reports;
@@ -175,8 +178,9 @@ enum Ready {
     },
 }
 
-/// Solves (or skips) one machine; writes its files unless `summary_only`.
-fn process(job: Job, opts: &Options) -> (Row, bool) {
+/// Solves (or skips) one machine; writes its files (into its folder of `layout`) unless
+/// `summary_only`.
+fn process(job: Job, opts: &Options, layout: Layout) -> (Row, bool) {
     let index = job.index;
     let (name, source, input) = match job.work.read() {
         Work::Path(_) => unreachable!("`read` turns a path into a file"),
@@ -234,9 +238,10 @@ fn process(job: Job, opts: &Options) -> (Row, bool) {
         Ok(s) => s,
         Err((m, h)) => return (error_row(index, &name, &source, h, m), false),
     };
+    let dir = layout.dir(&opts.out, index);
     if !opts.summary_only {
-        let jp = opts.out.join(format!("{}.json", scene.name));
-        if let Some(v) = complete_result(&jp, &hash, &opts.out) {
+        let jp = dir.join(format!("{}.json", scene.name));
+        if let Some(v) = complete_result(&jp, &hash, &dir) {
             return (row_from_json(index, &source, &hash, &v), true);
         }
     }
@@ -258,7 +263,7 @@ fn process(job: Job, opts: &Options) -> (Row, bool) {
     }
     // The report files first, each listed in the JSON with its size and hash; the JSON
     // last: a machine is done when its JSON and every file it lists are whole.
-    let (v, written) = write_result(&mut r, batch, &opts.out);
+    let (v, written) = write_result(&mut r, batch, &dir);
     let mut row = row_from_json(index, &source, &hash, &v);
     if let Err(e) = written {
         row.status = "error".into();
@@ -280,11 +285,12 @@ const FILES_PER_MACHINE: u64 = 7;
 const BYTES_PER_MACHINE: u64 = 180_000;
 
 /// What a run with per-machine files will write, said before it starts when that is a lot
-/// (1000 machines or more), with the way out (`--summary-only`).
+/// ([`LARGE_RUN`] machines or more: such a run writes its machines into folders, [`Layout`]),
+/// with the way out (`--summary-only`).
 pub fn size_note(machines: u64, opts: &Options) -> Option<String> {
-    (!opts.summary_only && machines >= 1000).then(|| {
+    (!opts.summary_only && machines >= LARGE_RUN).then(|| {
         format!(
-            "batch: {machines} machines with their result files: about {} files and {:.1} GB in {} (about {FILES_PER_MACHINE} files and {} kB a machine); --summary-only writes only the summary, the fleet's table and the index",
+            "batch: {machines} machines with their result files: about {} files and {:.1} GB in {} (about {FILES_PER_MACHINE} files and {} kB a machine, {MACHINES_PER_FOLDER} machines a folder {MACHINES_DIR}/NNN/ by index); --summary-only writes only the summary, the fleet's table and the index",
             machines * FILES_PER_MACHINE + 3,
             (machines * BYTES_PER_MACHINE) as f64 / 1e9,
             opts.out.display(),
@@ -310,6 +316,7 @@ pub fn run(inputs: Vec<Input>, opts: &Options) -> Result<Counts, BatchError> {
     remove_stale_tmp(&opts.out);
     let all = count_machines(&inputs);
     let mine = all / sn + u64::from(all % sn > si);
+    let layout = Layout::of_run(all); // of the whole batch: every shard and merge agree
 
     let summary = opts.out.join(summary_name(opts.shard));
     let mut previous = Previous::open(&summary)?;
@@ -351,7 +358,7 @@ pub fn run(inputs: Vec<Input>, opts: &Options) -> Result<Counts, BatchError> {
                 .map(|j| {
                     // Whatever one machine does, the others finish (a panic is its row).
                     let (index, (name, source)) = (j.index, j.work.label());
-                    let r = isolate(|| process(j, opts))
+                    let r = isolate(|| process(j, opts, layout))
                         .unwrap_or_else(|m| (panic_row(index, &name, &source, &m), false));
                     done.fetch_add(1, Ordering::Relaxed);
                     if let Some(pb) = &tick {

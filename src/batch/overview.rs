@@ -4,6 +4,7 @@
 //! the table cells that `summary.md` and `index.html` share.
 
 use super::error::BatchError;
+use super::layout::Layout;
 use super::row::{is_failure, Row};
 use crate::report::fmt_num;
 use std::collections::BTreeMap;
@@ -154,8 +155,9 @@ pub(super) struct MachinePlots {
 }
 
 /// The plots of the first [`REPORT_PLOTS`] shown machines that have them: the SVG files
-/// their JSON lists in `batch.plots`, beside it in `dir`.
-pub(super) fn machine_plots(dir: &Path, shown: &[Row]) -> Vec<MachinePlots> {
+/// their JSON lists in `batch.plots`, beside it in the machine's folder of `layout` in the
+/// output directory `top`.
+pub(super) fn machine_plots(top: &Path, layout: Layout, shown: &[Row]) -> Vec<MachinePlots> {
     let mut out = Vec::new();
     for r in shown {
         if out.len() >= REPORT_PLOTS {
@@ -164,6 +166,7 @@ pub(super) fn machine_plots(dir: &Path, shown: &[Row]) -> Vec<MachinePlots> {
         if crate::problem::check_name(&r.name).is_err() {
             continue;
         }
+        let dir = layout.dir(top, r.index);
         let Some(b) = super::resume::read_result(&dir.join(format!("{}.json", r.name))) else {
             continue;
         };

@@ -3,6 +3,7 @@
 
 use super::error::BatchError;
 use super::html;
+use super::layout::{Layout, MACHINES_DIR, MACHINES_PER_FOLDER};
 use super::overview::{machine_plots, opt, opt_err, opt_pct, Overview, REPORT_ROWS};
 use super::row::Row;
 use crate::report::{md_escape, truncate, write_atomic};
@@ -11,22 +12,32 @@ use std::path::Path;
 /// Writes `summary.md` and `index.html` from `DIR/summary.csv` (streaming; tables capped at
 /// [`REPORT_ROWS`] rows, plots inlined for the first [`REPORT_PLOTS`] machines that have
 /// them).
+///
+/// A machine's files are looked for, and linked, in its folder of the run's [`Layout`] (of
+/// the summary's row count): `machines/NNN/` in a large run, else beside the summary.
 pub fn write_reports(dir: &Path) -> Result<(), BatchError> {
     let o = Overview::read(&dir.join("summary.csv"))?;
-    write_atomic(&dir.join("summary.md"), markdown(&o).as_bytes()).map_err(BatchError::Written)?;
-    let plots = machine_plots(dir, &o.shown);
+    let layout = Layout::of_run(o.total);
+    // Only where machine folders were written (not with `--summary-only`).
+    let folders = layout.folders && dir.join(MACHINES_DIR).is_dir();
+    write_atomic(&dir.join("summary.md"), markdown(&o, folders).as_bytes())
+        .map_err(BatchError::Written)?;
+    let plots = machine_plots(dir, layout, &o.shown);
     // A machine's report page, where its files were written (not with `--summary-only`).
     let has_page = |r: &Row| {
         !r.failed()
             && crate::problem::check_name(&r.name).is_ok()
-            && dir.join(format!("{}.html", r.name)).is_file()
+            && layout
+                .dir(dir, r.index)
+                .join(format!("{}.html", r.name))
+                .is_file()
     };
-    let page = html::index(&o, &plots, has_page);
+    let page = html::index(&o, &plots, layout, has_page);
     write_atomic(&dir.join("index.html"), page.as_bytes()).map_err(BatchError::Written)
 }
 
-/// `summary.md`.
-fn markdown(o: &Overview) -> String {
+/// `summary.md`; `folders`: the machines' files are in folders `machines/NNN/`.
+fn markdown(o: &Overview, folders: bool) -> String {
     let (total, n_fail) = (o.total, o.failed);
     let mut md = String::new();
     md += &format!(
@@ -37,6 +48,11 @@ fn markdown(o: &Overview) -> String {
     } else {
         ".\n\n"
     };
+    if folders {
+        md += &format!(
+            "Each machine's files are in `{MACHINES_DIR}/NNN/`, NNN = its index ÷ {MACHINES_PER_FOLDER} (machine 1234: `{MACHINES_DIR}/001/`).\n\n"
+        );
+    }
     md += "| family | machines | by status | improvement over best baseline (mean, min–max) |\n|---|---|---|---|\n";
     for (f, a) in &o.families {
         md += &format!(

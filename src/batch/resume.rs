@@ -8,10 +8,12 @@
 //! `--summary-only` the previous summary row of the same index carries the hash
 //! ([`Previous`]: the checkpoint of an interrupted run, then the last complete summary). One
 //! process writes a summary at a time ([`lock_out`]); temporary files of dead runs are removed
-//! ([`remove_stale_tmp`]).
+//! ([`remove_stale_tmp`], in the machine folders of a large run too). A machine's files are
+//! looked for in its folder of the run's [`super::Layout`].
 
 use super::error::BatchError;
 use super::hash::file_hash;
+use super::layout::machine_folders;
 use super::row::Row;
 use super::summary::{beside, SummaryRows};
 use crate::report::{json_path, report_files, write_replace, SolveResult};
@@ -126,10 +128,19 @@ pub(super) fn sync_filesystem(dir: &Path) -> Result<(), BatchError> {
     Ok(())
 }
 
-/// Removes the temporary files (`.NAME.PID.tmp`) a killed run left in `dir`: those whose
-/// process is gone (Unix: `kill(PID, 0)` fails), so a live run sharing the directory (another
-/// shard) keeps its own. Elsewhere every leftover of another process id is removed.
-pub(super) fn remove_stale_tmp(dir: &Path) {
+/// Removes the temporary files (`.NAME.PID.tmp`) a killed run left in the output directory
+/// `out` and in its machine folders (`machines/NNN/`, [`super::Layout`]): those whose process
+/// is gone (Unix: `kill(PID, 0)` fails), so a live run sharing the directory (another shard)
+/// keeps its own. Elsewhere every leftover of another process id is removed.
+pub(super) fn remove_stale_tmp(out: &Path) {
+    remove_stale_tmp_in(out);
+    for dir in machine_folders(out) {
+        remove_stale_tmp_in(&dir);
+    }
+}
+
+/// [`remove_stale_tmp`] in one directory.
+fn remove_stale_tmp_in(dir: &Path) {
     let Ok(entries) = std::fs::read_dir(dir) else {
         return;
     };
