@@ -480,3 +480,27 @@ fn a_large_run_puts_its_machines_in_folders_by_index() {
         assert_eq!(large.href(index, "m.json"), format!("{folder}/m.json"));
     }
 }
+
+/// A re-run notices an edited drawing: the input hash of a problem file covers the bytes of
+/// every `outline.file` it names (and whether it is there), not only its own text.
+#[test]
+fn the_input_hash_covers_the_drawings_a_problem_reads() {
+    use cwsynth::batch::problem_hash;
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("m.toml");
+    let text = "[mechanism.links.crank]\noutline = { file = \"d.dxf\", thickness = \"1 mm\" }\n";
+    std::fs::write(dir.path().join("d.dxf"), "one").unwrap();
+    let a = problem_hash(text, &path);
+    assert_eq!(a, problem_hash(text, &path), "deterministic");
+    std::fs::write(dir.path().join("d.dxf"), "two").unwrap();
+    let b = problem_hash(text, &path);
+    assert_ne!(a, b);
+    std::fs::remove_file(dir.path().join("d.dxf")).unwrap();
+    let c = problem_hash(text, &path);
+    assert!(c != a && c != b);
+    // Without a drawing, the text alone.
+    assert_eq!(
+        problem_hash("x = 1\n", &path),
+        cwsynth::batch::content_hash("x = 1\n")
+    );
+}

@@ -53,6 +53,51 @@ pub fn content_hash(text: &str) -> String {
     h.hex()
 }
 
+/// The input hash of a problem file: its text and the bytes of every drawing it reads (each
+/// `outline = { file = … }`, relative to the file's folder; a missing one hashes as such),
+/// so a re-run notices an edited drawing as it notices an edited problem. A text that is no
+/// TOML hashes as its text (its error row says why).
+pub fn problem_hash(text: &str, path: &std::path::Path) -> String {
+    let mut h = Hasher::new();
+    h.bytes(text.as_bytes());
+    let Ok(doc) = text.parse::<toml::Table>() else {
+        return h.hex();
+    };
+    let dir = path.parent().unwrap_or(std::path::Path::new("."));
+    let mut files = Vec::new();
+    drawings(&toml::Value::Table(doc), &mut files);
+    for f in files {
+        h.field(&f);
+        match std::fs::read(dir.join(&f)) {
+            Ok(bytes) => {
+                h.bytes(b"\x01");
+                h.bytes(&(bytes.len() as u64).to_le_bytes());
+                h.bytes(&bytes);
+            }
+            Err(_) => h.bytes(b"\x00"),
+        }
+    }
+    h.hex()
+}
+
+/// Every `outline.file` string under `v`, in key order.
+fn drawings(v: &toml::Value, out: &mut Vec<String>) {
+    match v {
+        toml::Value::Table(t) => {
+            for (k, v) in t {
+                if k == "outline" {
+                    if let Some(f) = v.get("file").and_then(|f| f.as_str()) {
+                        out.push(f.to_string());
+                    }
+                }
+                drawings(v, out);
+            }
+        }
+        toml::Value::Array(a) => a.iter().for_each(|v| drawings(v, out)),
+        _ => {}
+    }
+}
+
 /// A content hash of a result file, 128 bits in hex, to tell a whole file from a torn one at
 /// resume: two multiply-rotate streams over 8-byte words (fast, not cryptographic), the
 /// length folded in.

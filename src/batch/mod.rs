@@ -48,7 +48,7 @@ pub use fleet::Template;
 #[doc(hidden)]
 pub use fleet::{csv_reader, Lines};
 pub use fleet_table::{fleet_table_path, write_fleet_tables};
-pub use hash::{content_hash, file_hash};
+pub use hash::{content_hash, file_hash, problem_hash};
 pub use inputs::{expand, expand_inputs, parse_shard, shard_from_env, Input};
 pub use isolate::{isolate, test_panic};
 pub use layout::{Layout, LARGE_RUN, MACHINES_DIR, MACHINES_PER_FOLDER};
@@ -190,7 +190,7 @@ fn process(job: Job, opts: &Options, layout: Layout) -> (Row, bool) {
                 .map(|s| s.to_string_lossy().into_owned())
                 .unwrap_or_default();
             let source = path.display().to_string();
-            let input = text.map(|t| (content_hash(&t), Ready::Text(t, path)));
+            let input = text.map(|t| (problem_hash(&t, &path), Ready::Text(t, path)));
             (name, source, input)
         }
         Work::Row {
