@@ -83,11 +83,56 @@ impl Dxf {
         Dxf { d }
     }
 
+    /// The entities of a layer as a reader draws them: the model space's, and the pictures
+    /// (blocks) of its DIMENSION entities.
     fn on<'a>(&'a self, layer: &'a str) -> impl Iterator<Item = &'a EntityType> + 'a {
+        let pictures = self
+            .d
+            .entities()
+            .filter_map(|e| dimension(&e.specific))
+            .flat_map(move |(base, _)| {
+                self.d
+                    .blocks()
+                    .filter(move |b| b.name == base.block_name)
+                    .flat_map(|b| b.entities.iter())
+            });
         self.d
             .entities()
+            .chain(pictures)
             .filter(move |e| e.common.layer == layer)
             .map(|e| &e.specific)
+    }
+
+    /// Every DIMENSION: its block exists and draws something, and its measurement is what
+    /// its definition points measure (mm; an angle in radians). Returns how many.
+    fn check_dimensions(&self, name: &str) -> usize {
+        let mut n = 0;
+        for e in self.d.entities() {
+            let Some((base, measured)) = dimension(&e.specific) else {
+                continue;
+            };
+            n += 1;
+            assert_eq!(e.common.layer, "DIM", "{name}");
+            assert!(
+                base.block_name.starts_with("*D"),
+                "{name}: {}",
+                base.block_name
+            );
+            let block = self.d.blocks().find(|b| b.name == base.block_name);
+            assert!(
+                block.is_some_and(|b| !b.entities.is_empty() && b.is_anonymous()),
+                "{name}: block {} of a dimension",
+                base.block_name
+            );
+            assert!(base.text.contains("<>"), "{name}: {}", base.text);
+            let (m, truth) = (base.actual_measurement, measured);
+            assert!(
+                (m - truth).abs() <= 1e-9 * truth.max(1.0),
+                "{name}: {} measures {truth}, says {m}",
+                base.block_name
+            );
+        }
+        n
     }
 
     /// The LINEs of a layer as ((x, y), (x, y)) in m.
@@ -145,6 +190,33 @@ impl Dxf {
             })
             .collect()
     }
+}
+
+/// A DIMENSION's common part and what its definition points measure (mm, or rad for an
+/// angle), None for any other entity.
+fn dimension(e: &EntityType) -> Option<(&dxf::entities::DimensionBase, f64)> {
+    let d = |a: &dxf::Point, b: &dxf::Point| (a.x - b.x).hypot(a.y - b.y);
+    Some(match e {
+        EntityType::RotatedDimension(r) => (
+            &r.dimension_base,
+            d(&r.definition_point_2, &r.definition_point_3),
+        ),
+        EntityType::RadialDimension(r) => (
+            &r.dimension_base,
+            d(&r.dimension_base.definition_point_1, &r.definition_point_2),
+        ),
+        EntityType::AngularThreePointDimension(a) => {
+            let v = &a.definition_point_4;
+            let (p, q) = (&a.definition_point_2, &a.definition_point_3);
+            let t = (q.y - v.y).atan2(q.x - v.x) - (p.y - v.y).atan2(p.x - v.x);
+            let t = t.rem_euclid(std::f64::consts::TAU);
+            (
+                &a.dimension_base,
+                if t == 0.0 { std::f64::consts::TAU } else { t },
+            )
+        }
+        _ => return None,
+    })
 }
 
 /// `xs` has a value within `tol` of `want`.
@@ -236,6 +308,7 @@ fn every_drawing_scene_writes_dimensioned_dxf_and_equal_aspect_svg() {
 
         let d = Dxf::load(&dxf_path);
         assert!(!d.texts("NOTE").is_empty(), "{name}: a title");
+        assert!(d.check_dimensions(name) > 0, "{name}: DIMENSION entities");
         match v["family"].as_str().unwrap() {
             "slider-crank" if !v["shape"]["sector"].is_object() => {
                 mechanism_checks(&d, v, &problem(&format!("{name}.toml")));

@@ -5,10 +5,11 @@
 //! * **DXF**: AutoCAD R2010 (`AC1024`: text in UTF-8, so θ, rᵢ, ° read as written),
 //!   coordinates in **millimetres** with `$INSUNITS` = 4 (mm) and `$MEASUREMENT` = 1
 //!   (metric), so a CAD program opens the part at its true size.
-//!   Values are written with 12 decimals (of a mm). Dimensions are drawn as plain lines, filled
-//!   arrowheads (`SOLID`) and `TEXT` on layer `DIM` (no `DIMENSION` entities: those need a
-//!   block of their own graphics that not every reader makes, while lines and text look the
-//!   same everywhere); the text reads the measured value in mm or degrees to 0.01. The header
+//!   Values are written with 12 decimals (of a mm). Dimensions are `DIMENSION` entities
+//!   (aligned, radius, angular by three points) on layer `DIM` with their definition points,
+//!   measurement and the text `label = <>`, each drawing the anonymous block `*D<k>` of its
+//!   picture: lines, filled arrowheads (`SOLID`) and `TEXT` reading the value in mm or degrees
+//!   to 0.01, as the SVG draws it (`drawing/dxf_out.rs`). The header
 //!   dates are 1900-01-01 and the drawing GUIDs nil, so the same design gives the same bytes.
 //! * **SVG**: one uniform scale; the `viewBox` is exactly the drawing's extent (text
 //!   included) plus a margin, in mm with y up turned into SVG's y down, and the pixel
@@ -21,6 +22,8 @@
 
 use crate::geom::P2;
 use std::f64::consts::PI;
+
+mod dxf_out;
 
 /// Why a drawing could not be made (the files then carry the reason as a note).
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -182,6 +185,16 @@ pub enum Shape {
     },
 }
 
+impl Shape {
+    /// Whether the shape is a dimension (linear, radius or angle).
+    fn is_dimension(&self) -> bool {
+        matches!(
+            self,
+            Shape::Linear { .. } | Shape::Radius { .. } | Shape::Angle { .. }
+        )
+    }
+}
+
 /// A drawing: a title, notes and shapes on layers, in metres.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Drawing {
@@ -201,6 +214,10 @@ enum Align {
     /// Centred on the point, both ways.
     Centre,
 }
+
+/// One primitive as the writers get it: its layer, and the index in `shapes` of the
+/// dimension it draws, if it draws one (the DXF puts those in the DIMENSION's block).
+type Placed = (Layer, Prim, Option<usize>);
 
 /// What [`Drawing::primitives`] expands shapes into: what both writers draw.
 #[derive(Debug, Clone, PartialEq)]
@@ -294,6 +311,141 @@ fn sweep(s: f64, e: f64) -> f64 {
     } else {
         d
     }
+}
+
+/// The primitives that draw one shape, for text height `h` (the arrowheads, extension-line
+/// gaps and text placement of the dimensions scale with it).
+fn shape_prims(s: &Shape, h: f64) -> Vec<Prim> {
+    let (ha, gap) = (1.2 * h, 0.4 * h);
+    let arrow = |tip: P2, d: P2| -> Prim {
+        let n = left(d) * (ha / 6.0);
+        Prim::Solid([tip, tip - ha * d + n, tip - ha * d - n])
+    };
+    let text = |at: P2, text: String, angle_rad: f64| Prim::Text {
+        at,
+        height: h,
+        text,
+        angle_rad,
+        align: Align::Centre,
+    };
+    let mut out = Vec::new();
+    let mut put = |p: Prim| out.push(p);
+    match s {
+        Shape::Line { a, b } => put(Prim::Line(*a, *b)),
+        Shape::Polyline { points, closed } => put(Prim::Polyline(points.clone(), *closed)),
+        Shape::Circle { centre, radius } => put(Prim::Circle(*centre, *radius)),
+        Shape::Arc {
+            centre,
+            radius,
+            start_rad,
+            end_rad,
+        } => put(Prim::Arc(*centre, *radius, *start_rad, *end_rad)),
+        Shape::CentreMark { at } => {
+            put(Prim::Line(at - P2::new(h, 0.0), at + P2::new(h, 0.0)));
+            put(Prim::Line(at - P2::new(0.0, h), at + P2::new(0.0, h)));
+        }
+        Shape::Label { at, text: t } => put(text(*at, t.clone(), 0.0)),
+        Shape::Linear {
+            a,
+            b,
+            offset,
+            label,
+        } => {
+            let len = (b - a).norm();
+            let (u, n, side, a1, b1) = linear_line(*a, *b, *offset);
+            if offset.abs() > gap {
+                for p in [a, b] {
+                    put(Prim::Line(
+                        p + side * gap * n,
+                        p + (offset + side * gap) * n,
+                    ));
+                }
+            }
+            put(Prim::Line(a1, b1));
+            put(arrow(a1, -u));
+            put(arrow(b1, u));
+            let at = text_at(s, h).expect("a dimension");
+            put(text(at, dim_text(label, mm(len)), readable(u.y.atan2(u.x))));
+        }
+        Shape::Radius {
+            centre,
+            radius,
+            angle_rad,
+            label,
+        } => {
+            let u = dir(*angle_rad);
+            let p = centre + *radius * u;
+            put(Prim::Line(*centre, p));
+            put(arrow(p, u));
+            let at = text_at(s, h).expect("a dimension");
+            put(text(at, dim_text(label, mm(*radius)), readable(*angle_rad)));
+        }
+        Shape::Angle {
+            centre,
+            from,
+            radius,
+            start_rad,
+            end_rad,
+            label,
+        } => {
+            let sw = sweep(*start_rad, *end_rad);
+            let e = start_rad + sw;
+            for a in [*start_rad, e] {
+                put(Prim::Line(
+                    centre + *from * dir(a),
+                    centre + (radius + gap) * dir(a),
+                ));
+            }
+            put(Prim::Arc(*centre, *radius, *start_rad, e));
+            put(arrow(
+                centre + *radius * dir(*start_rad),
+                -left(dir(*start_rad)),
+            ));
+            put(arrow(centre + *radius * dir(e), left(dir(e))));
+            let mid = start_rad + 0.5 * sw;
+            put(text(
+                text_at(s, h).expect("a dimension"),
+                dim_text(label, format!("{:.2}°", sw.to_degrees())),
+                readable(mid - 0.5 * PI),
+            ));
+        }
+    }
+    out
+}
+
+/// A linear dimension's line for the points a, b and the offset: its direction u, the left
+/// normal n, the offset's side (±1) and the line's ends a₁ = a + offset·n, b₁ = b + offset·n.
+fn linear_line(a: P2, b: P2, offset: f64) -> (P2, P2, f64, P2, P2) {
+    let u = (b - a).try_normalize(0.0).unwrap_or(P2::x());
+    let n = left(u);
+    let side = if offset < 0.0 { -1.0 } else { 1.0 };
+    (u, n, side, a + offset * n, b + offset * n)
+}
+
+/// The centre of a dimension's text for text height h (None for other shapes): beside the
+/// middle of a linear dimension's line, above a radius's line as read, outside the middle
+/// of an angle's arc.
+fn text_at(s: &Shape, h: f64) -> Option<P2> {
+    Some(match s {
+        Shape::Linear { a, b, offset, .. } => {
+            let (_, n, side, a1, b1) = linear_line(*a, *b, *offset);
+            0.5 * (a1 + b1) + side * 0.8 * h * n
+        }
+        Shape::Radius {
+            centre,
+            radius,
+            angle_rad,
+            ..
+        } => centre + 0.55 * radius * dir(*angle_rad) + 0.8 * h * left(dir(readable(*angle_rad))),
+        Shape::Angle {
+            centre,
+            radius,
+            start_rad,
+            end_rad,
+            ..
+        } => centre + (radius + 0.9 * h) * dir(start_rad + 0.5 * sweep(*start_rad, *end_rad)),
+        _ => return None,
+    })
 }
 
 /// Extent of points: (min, max).
@@ -570,118 +722,21 @@ impl Drawing {
 
     /// The shapes expanded into lines, arcs, arrowheads and text (what both writers draw),
     /// the title and notes placed under the geometry; with the standard text height.
-    fn primitives(&self) -> Result<(Vec<(Layer, Prim)>, f64), DrawingError> {
+    fn primitives(&self) -> Result<(Vec<Placed>, f64), DrawingError> {
         let h = self.text_height()?;
-        let (ha, gap) = (1.2 * h, 0.4 * h);
-        let arrow = |tip: P2, d: P2| -> Prim {
-            let n = left(d) * (ha / 6.0);
-            Prim::Solid([tip, tip - ha * d + n, tip - ha * d - n])
-        };
-        let text = |at: P2, text: String, angle_rad: f64| Prim::Text {
-            at,
-            height: h,
-            text,
-            angle_rad,
-            align: Align::Centre,
-        };
-        let mut out = Vec::new();
-        for (layer, s) in &self.shapes {
-            let mut put = |p: Prim| out.push((*layer, p));
-            match s {
-                Shape::Line { a, b } => put(Prim::Line(*a, *b)),
-                Shape::Polyline { points, closed } => put(Prim::Polyline(points.clone(), *closed)),
-                Shape::Circle { centre, radius } => put(Prim::Circle(*centre, *radius)),
-                Shape::Arc {
-                    centre,
-                    radius,
-                    start_rad,
-                    end_rad,
-                } => put(Prim::Arc(*centre, *radius, *start_rad, *end_rad)),
-                Shape::CentreMark { at } => {
-                    put(Prim::Line(at - P2::new(h, 0.0), at + P2::new(h, 0.0)));
-                    put(Prim::Line(at - P2::new(0.0, h), at + P2::new(0.0, h)));
-                }
-                Shape::Label { at, text: t } => put(text(*at, t.clone(), 0.0)),
-                Shape::Linear {
-                    a,
-                    b,
-                    offset,
-                    label,
-                } => {
-                    let len = (b - a).norm();
-                    let u = (b - a).try_normalize(0.0).unwrap_or(P2::x());
-                    let n = left(u);
-                    let side = if *offset < 0.0 { -1.0 } else { 1.0 };
-                    let (a1, b1) = (a + *offset * n, b + *offset * n);
-                    if offset.abs() > gap {
-                        for p in [a, b] {
-                            put(Prim::Line(
-                                p + side * gap * n,
-                                p + (offset + side * gap) * n,
-                            ));
-                        }
-                    }
-                    put(Prim::Line(a1, b1));
-                    put(arrow(a1, -u));
-                    put(arrow(b1, u));
-                    let at = 0.5 * (a1 + b1) + side * 0.8 * h * n;
-                    put(text(at, dim_text(label, mm(len)), readable(u.y.atan2(u.x))));
-                }
-                Shape::Radius {
-                    centre,
-                    radius,
-                    angle_rad,
-                    label,
-                } => {
-                    let u = dir(*angle_rad);
-                    let p = centre + *radius * u;
-                    put(Prim::Line(*centre, p));
-                    put(arrow(p, u));
-                    let a = readable(*angle_rad);
-                    // Above the line as read.
-                    let at = centre + 0.55 * radius * u + 0.8 * h * left(dir(a));
-                    put(text(at, dim_text(label, mm(*radius)), a));
-                }
-                Shape::Angle {
-                    centre,
-                    from,
-                    radius,
-                    start_rad,
-                    end_rad,
-                    label,
-                } => {
-                    let sw = sweep(*start_rad, *end_rad);
-                    let e = start_rad + sw;
-                    for a in [*start_rad, e] {
-                        put(Prim::Line(
-                            centre + *from * dir(a),
-                            centre + (radius + gap) * dir(a),
-                        ));
-                    }
-                    put(Prim::Arc(*centre, *radius, *start_rad, e));
-                    put(arrow(
-                        centre + *radius * dir(*start_rad),
-                        -left(dir(*start_rad)),
-                    ));
-                    put(arrow(centre + *radius * dir(e), left(dir(e))));
-                    let mid = start_rad + 0.5 * sw;
-                    let at = centre + (radius + 0.9 * h) * dir(mid);
-                    put(text(
-                        at,
-                        dim_text(label, format!("{:.2}°", sw.to_degrees())),
-                        readable(mid - 0.5 * PI),
-                    ));
-                }
-            }
+        let mut out: Vec<Placed> = Vec::new();
+        for (k, (layer, s)) in self.shapes.iter().enumerate() {
+            let dim = s.is_dimension().then_some(k);
+            out.extend(shape_prims(s, h).into_iter().map(|p| (*layer, p, dim)));
         }
         // The note block: under the geometry, left-aligned.
-        if let Some((_, p)) = out.iter().find(|(_, p)| !p.is_finite()) {
+        if let Some((_, p, _)) = out.iter().find(|(_, p, _)| !p.is_finite()) {
             return Err(DrawingError::Data(format!(
                 "a coordinate is not finite in {p:?}"
             )));
         }
         let mut ext = Extent::empty();
-        out.iter().for_each(|(_, p)| ext.add_prim(p));
+        out.iter().for_each(|(_, p, _)| ext.add_prim(p));
         if !ext.is_valid() {
             ext = Extent {
                 min: P2::zeros(),
@@ -700,6 +755,7 @@ impl Drawing {
                     angle_rad: 0.0,
                     align: Align::Left,
                 },
+                None,
             ));
             y -= 1.7 * h;
         }
@@ -707,111 +763,10 @@ impl Drawing {
     }
 
     /// The extent of everything drawn (text included): (min, max) in m.
-    fn extent(prims: &[(Layer, Prim)]) -> Extent {
+    fn extent(prims: &[Placed]) -> Extent {
         let mut e = Extent::empty();
-        prims.iter().for_each(|(_, p)| e.add_prim(p));
+        prims.iter().for_each(|(_, p, _)| e.add_prim(p));
         e
-    }
-
-    /// The DXF document (R2010, mm, `$INSUNITS` = 4; see the module doc).
-    pub fn dxf(&self) -> Result<Vec<u8>, DrawingError> {
-        use chrono::TimeZone;
-        use dxf::entities::{self as de, EntityType};
-        use dxf::enums::{
-            AcadVersion, DrawingUnits, HorizontalTextJustification, Units,
-            VerticalTextJustification,
-        };
-        let (prims, _) = self.primitives()?;
-        let ext = Self::extent(&prims);
-        let pt = |p: P2| dxf::Point::new(p.x * 1e3, p.y * 1e3, 0.0);
-        let mut d = dxf::Drawing::new();
-        let hd = &mut d.header;
-        hd.version = AcadVersion::R2010;
-        hd.default_drawing_units = Units::Millimeters;
-        hd.drawing_units = DrawingUnits::Metric;
-        hd.minimum_drawing_extents = pt(ext.min);
-        hd.maximum_drawing_extents = pt(ext.max);
-        // Fixed dates and GUIDs: the same drawing, the same bytes (1900-01-01 is the DXF
-        // date epoch, written as 2415021 in any time zone).
-        let local = chrono::Local
-            .with_ymd_and_hms(1900, 1, 1, 0, 0, 0)
-            .single()
-            .ok_or_else(|| DrawingError::Dxf("no local 1900-01-01".into()))?;
-        let utc = chrono::Utc.with_ymd_and_hms(1900, 1, 1, 0, 0, 0).unwrap();
-        hd.creation_date = local;
-        hd.update_date = local;
-        hd.creation_date_universal = utc;
-        hd.update_date_universal = utc;
-        hd.fingerprint_guid = uuid::Uuid::nil();
-        hd.version_guid = uuid::Uuid::nil();
-        for l in Layer::ALL {
-            d.add_layer(dxf::tables::Layer {
-                name: l.name().into(),
-                color: dxf::Color::from_index(l.aci()),
-                ..Default::default()
-            });
-        }
-        for (layer, p) in &prims {
-            let specific = match p {
-                Prim::Line(a, b) => EntityType::Line(de::Line::new(pt(*a), pt(*b))),
-                Prim::Polyline(pts, closed) => {
-                    let mut pl = de::LwPolyline {
-                        vertices: pts
-                            .iter()
-                            .map(|p| dxf::LwPolylineVertex {
-                                x: p.x * 1e3,
-                                y: p.y * 1e3,
-                                ..Default::default()
-                            })
-                            .collect(),
-                        ..Default::default()
-                    };
-                    pl.set_is_closed(*closed);
-                    EntityType::LwPolyline(pl)
-                }
-                Prim::Circle(c, r) => EntityType::Circle(de::Circle::new(pt(*c), r * 1e3)),
-                Prim::Arc(c, r, s, e) => {
-                    let (s, e) = (
-                        s.to_degrees().rem_euclid(360.0),
-                        e.to_degrees().rem_euclid(360.0),
-                    );
-                    EntityType::Arc(de::Arc::new(pt(*c), r * 1e3, s, e))
-                }
-                Prim::Solid([a, b, c]) => {
-                    EntityType::Solid(de::Solid::new(pt(*a), pt(*b), pt(*c), pt(*c)))
-                }
-                Prim::Text {
-                    at,
-                    height,
-                    text,
-                    angle_rad,
-                    align,
-                } => {
-                    let mut t = de::Text {
-                        location: pt(*at),
-                        text_height: height * 1e3,
-                        value: text.clone(),
-                        rotation: angle_rad.to_degrees(),
-                        ..Default::default()
-                    };
-                    if *align == Align::Centre {
-                        t.horizontal_text_justification = HorizontalTextJustification::Center;
-                        t.vertical_text_justification = VerticalTextJustification::Middle;
-                        t.second_alignment_point = pt(*at);
-                    }
-                    EntityType::Text(t)
-                }
-            };
-            let mut e = de::Entity::new(specific);
-            e.common.layer = layer.name().into();
-            // Opaque (0x020000FF; the crate's default 0 is no valid transparency).
-            e.common.transparency = 0x0200_00FF;
-            d.add_entity(e);
-        }
-        let mut buf = Vec::new();
-        d.save(&mut buf)
-            .map_err(|e| DrawingError::Dxf(e.to_string()))?;
-        Ok(buf)
     }
 
     /// The SVG document: equal aspect, `viewBox` = extent + margin in mm (see the module doc).
@@ -873,7 +828,7 @@ impl Drawing {
                 layer.name(),
                 f(width * px)
             );
-            for (_, p) in prims.iter().filter(|(l, _)| *l == layer) {
+            for (_, p, _) in prims.iter().filter(|(l, _, _)| *l == layer) {
                 let _ = match p {
                     Prim::Line(a, b) => {
                         writeln!(s, "<path d=\"M{}L{}\"/>", xy(*a), xy(*b))

@@ -352,6 +352,9 @@ fn linkage_sheet(
                 d.line(layer, a, b);
                 if design {
                     d.circle(layer, a, pin).circle(layer, b, pin);
+                    // Its length, on the side away from the counterweight's dimension.
+                    let name = sc.link_names.get(i).map_or("", String::as_str);
+                    d.linear(a, b, -4.0 * pin, name);
                 }
             } else {
                 // A slider or a block: a square about its reference joint, along the link.
