@@ -266,6 +266,7 @@ impl Template {
         let mut hash = Hasher::new();
         hash.bytes(b"fleet row\0");
         hash.field(&text);
+        hash.drawings(&text, template);
         hash.field(&columns.len().to_string());
         for h in &columns {
             hash.field(h);

@@ -60,24 +60,33 @@ pub fn content_hash(text: &str) -> String {
 pub fn problem_hash(text: &str, path: &std::path::Path) -> String {
     let mut h = Hasher::new();
     h.bytes(text.as_bytes());
-    let Ok(doc) = text.parse::<toml::Table>() else {
-        return h.hex();
-    };
-    let dir = path.parent().unwrap_or(std::path::Path::new("."));
-    let mut files = Vec::new();
-    drawings(&toml::Value::Table(doc), &mut files);
-    for f in files {
-        h.field(&f);
-        match std::fs::read(dir.join(&f)) {
-            Ok(bytes) => {
-                h.bytes(b"\x01");
-                h.bytes(&(bytes.len() as u64).to_le_bytes());
-                h.bytes(&bytes);
+    h.drawings(text, path);
+    h.hex()
+}
+
+impl Hasher {
+    /// Adds the bytes of every drawing the TOML `text` of the file at `path` names
+    /// (`outline.file`, relative to the file's folder), each with its name; nothing for a
+    /// text that is no TOML.
+    pub(super) fn drawings(&mut self, text: &str, path: &std::path::Path) {
+        let Ok(doc) = text.parse::<toml::Table>() else {
+            return;
+        };
+        let dir = path.parent().unwrap_or(std::path::Path::new("."));
+        let mut files = Vec::new();
+        drawings(&toml::Value::Table(doc), &mut files);
+        for f in files {
+            self.field(&f);
+            match std::fs::read(dir.join(&f)) {
+                Ok(bytes) => {
+                    self.bytes(b"\x01");
+                    self.bytes(&(bytes.len() as u64).to_le_bytes());
+                    self.bytes(&bytes);
+                }
+                Err(_) => self.bytes(b"\x00"),
             }
-            Err(_) => h.bytes(b"\x00"),
         }
     }
-    h.hex()
 }
 
 /// Every `outline.file` string under `v`, in key order.

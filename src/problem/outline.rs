@@ -74,12 +74,19 @@ pub fn plate(raw: &OutlineRaw, dir: &Path, key: &str) -> Result<Plate, FieldErro
             format!("{shown}: larger than {MAX_DRAWING_BYTES} bytes; allowed: a smaller drawing (the part's layer alone)"),
         ));
     }
-    let drawing = dxf::Drawing::load(&mut bytes.as_slice()).map_err(|e| {
+    // The reader is a third party's: a panic on a malformed file is this field's error,
+    // not the end of a batch or a server.
+    let loaded = std::panic::catch_unwind(|| dxf::Drawing::load(&mut bytes.as_slice()));
+    let not_dxf = |why: String| {
         FieldError::new(
             at("file"),
-            format!("{shown}: not a DXF drawing the reader understands: {e}"),
+            format!("{shown}: not a DXF drawing the reader understands: {why}"),
         )
-    })?;
+    };
+    let drawing = match loaded {
+        Ok(read) => read.map_err(|e| not_dxf(e.to_string()))?,
+        Err(_) => return Err(not_dxf("the reader (the dxf crate) failed on it".into())),
+    };
     let (scale, unit) = drawing_unit(&drawing, raw.unit.as_deref(), &at("unit"), &shown)?;
     let edges = outline_edges(&drawing, raw.layer.as_deref(), key, &shown)?;
     let (lo, hi) = bounds(&edges);
