@@ -401,10 +401,15 @@ fn linkage_sheet(
             }
             d.linear(p0, c, 6.0 * pin, &format!("r ({on})"));
             d.note(format!(
-                "counterweight on {on}: {:.4} kg, centroid at {:.2} mm, {:.2}° from the link's axis",
+                "counterweight on {on}: {:.4} kg, centroid at {:.2} mm, {:.2}° from the link's axis{}",
                 m[0],
                 at.norm() * 1e3,
-                at.y.atan2(at.x).rem_euclid(TAU).to_degrees()
+                at.y.atan2(at.x).rem_euclid(TAU).to_degrees(),
+                if sc.counterweights[j].is_given() {
+                    " (a given body, drawn as the sector with its mass, centroid and inertia: an equivalent, not its own outline)"
+                } else {
+                    ""
+                }
             ));
         }
     }
