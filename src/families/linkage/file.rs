@@ -650,7 +650,7 @@ fn inertias(
                     ("inertia", l.inertia.is_some()),
                     ("uniform_bar", l.uniform_bar),
                 ];
-                only_outline(&key, &given)?;
+                set_by(&key, &given, OUTLINE_SETS)?;
                 let p = outline::plate(o, dir, &format!("{key}.outline"))?;
                 return Ok(Inertia {
                     mass: p.mass,
@@ -666,14 +666,8 @@ fn inertias(
             })?;
             let mass = non_negative(&format!("{key}.mass"), mass)?;
             if l.uniform_bar {
-                for (f, given) in [("centroid", l.centroid.is_some()), ("inertia", l.inertia.is_some())] {
-                    if given {
-                        return Err(FieldError::new(
-                            format!("{key}.{f}"),
-                            "given with uniform_bar = true, which sets it; allowed: one or the other",
-                        ));
-                    }
-                }
+                let given = [("centroid", l.centroid.is_some()), ("inertia", l.inertia.is_some())];
+                set_by(&key, &given, "uniform_bar = true, which sets it")?;
                 let Some(tip) = tip_of(dyads, crank_length, i) else {
                     return Err(FieldError::new(
                         format!("{key}.uniform_bar"),
@@ -703,12 +697,16 @@ fn inertias(
         .collect()
 }
 
-/// A key given beside `outline`, which sets it: an error at that key.
-fn only_outline(key: &str, given: &[(&str, bool)]) -> Result<(), FieldError> {
+/// What `outline` does to the keys it sets, as [`set_by`] says it.
+const OUTLINE_SETS: &str = "outline, which sets it from the drawing";
+
+/// A key given beside the key that sets it (`by`: `outline`, `uniform_bar = true`): an
+/// error at the first such key of `given` (name, given).
+fn set_by(key: &str, given: &[(&str, bool)], by: &str) -> Result<(), FieldError> {
     match given.iter().find(|(_, g)| *g) {
         Some((f, _)) => Err(FieldError::new(
             format!("{key}.{f}"),
-            "given with outline, which sets it from the drawing; allowed: one or the other",
+            format!("given with {by}; allowed: one or the other"),
         )),
         None => Ok(()),
     }
@@ -873,7 +871,7 @@ fn drawn_body(
         ("density", cw.density.is_some()),
     ];
     let key = at("");
-    only_outline(key.trim_end_matches('.'), &given)?;
+    set_by(key.trim_end_matches('.'), &given, OUTLINE_SETS)?;
     outline::plate(o, dir, &at("outline")).map(Some)
 }
 

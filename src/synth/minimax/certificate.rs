@@ -268,7 +268,7 @@ impl<'p, 'a> Engine<'p, 'a> {
     /// and, since the optimum of the exact RMS may lie elsewhere, over every design of the
     /// box (‖x̂‖² ≤ Σ x̂_max², the form's change, [`Engine::rms_uniform_error`]); the larger.
     fn rms_quadrature_error(&self, f: usize, x: &[f64], value: f64) -> f64 {
-        let at_x = self.rms_at(f, x).1;
+        let at_x = self.rms(f, x).1;
         let xhat_sq: f64 = x
             .iter()
             .zip(&self.scale)

@@ -525,7 +525,7 @@ impl<'p, 'a> Engine<'p, 'a> {
                     .fold(0.0, f64::max);
                 (v, v.max(run.obj_floor))
             }
-            Goal::MinRms(f) => (self.rms_at(*f, x).0, 0.0),
+            Goal::MinRms(f) => (self.rms(*f, x).0, 0.0),
             Goal::MinMass => (
                 (0..self.pb.counterweights.len())
                     .map(|j| x[var_m(j)])

@@ -679,9 +679,7 @@ impl ParetoFront {
     /// that spent every exchange round (no point is computed then), or two last points that
     /// spent every round (the ε after them were not solved).
     pub fn stopped(&self) -> Option<String> {
-        use crate::synth::exchange::Status;
-        let unusable = |s: &Solution| pareto::spent(s) || s.status == Status::Infeasible;
-        if unusable(&self.min_b) || unusable(&self.min_a) {
+        if pareto::unusable_end(&self.min_b) || pareto::unusable_end(&self.min_a) {
             return Some(format!(
                 "no front point was computed: its ends (the least of each peak alone) ended {:?} ({:?}) and {:?} ({:?}); points between ends that spend every exchange round would each spend as many",
                 self.min_b.status, self.min_b.stop, self.min_a.status, self.min_a.stop

@@ -12,10 +12,10 @@ impl<'p, 'a> Engine<'p, 'a> {
     /// own limits); each point first tries Newton from the last polished point's optimality
     /// conditions (a continuation in ε, no SOCP), else runs the exchange loop warm-started
     /// from the previous point's final angles only. Stops after two points in a row that
-    /// spent every round or failed: the ε after them are not solved (an ill-conditioned front would
-    /// otherwise spend `max_rounds` rounds on every point; an infeasible point is cheap and
-    /// certified, an `Inaccurate` one that stalled or ended with clarabel's reduced accuracy
-    /// states its small gap, so the front goes on past them).
+    /// spent every round or failed: the ε after them are not solved (an ill-conditioned
+    /// front would otherwise spend `max_rounds` rounds on every point; an infeasible point
+    /// is cheap and certified, an `Inaccurate` one that stalled or ended with clarabel's
+    /// reduced accuracy states its small gap, so the front goes on past them).
     pub fn pareto(
         &self,
         a: usize,
@@ -61,15 +61,14 @@ impl<'p, 'a> Engine<'p, 'a> {
     }
 
     /// The front of peak A against peak B in `n` ≥ 2 points: the two single-field optima
-    /// bound it, and no point is computed when either has no design or spent every round
-    /// (such ends leave thousands of angles to warm-start from: each point would then take
-    /// seconds for a front that would not certify either); ε runs evenly from B* (the min-B peak, raised by 10 `rel_tol` so the first
-    /// point is feasible despite the gap) to the peak B of the min-A design.
+    /// bound it, and no point is computed when either is [`unusable_end`]; ε runs evenly
+    /// from B* (the min-B peak, raised by 10 `rel_tol` so the first point is feasible
+    /// despite the gap) to the peak B of the min-A design.
     pub fn pareto_front(&self, a: usize, b: usize, n: usize) -> Result<ParetoFront, MinimaxError> {
+        let n = n.max(2);
         let min_b = self.solve_goal(&Goal::MinPeak(vec![(b, 1.0)]), &self.pb.limits, None)?;
         let min_a = self.solve_goal(&Goal::MinPeak(vec![(a, 1.0)]), &self.pb.limits, None)?;
-        let unusable = |s: &Solution| spent(s) || s.status == Status::Infeasible;
-        if unusable(&min_b) || unusable(&min_a) {
+        if unusable_end(&min_b) || unusable_end(&min_a) {
             return Ok(ParetoFront {
                 points: Vec::new(),
                 requested: n,
@@ -79,7 +78,6 @@ impl<'p, 'a> Engine<'p, 'a> {
         }
         let lo = min_b.peaks[b].peak * (1.0 + 10.0 * self.s.rel_tol) + min_b.peaks[b].error;
         let hi = min_a.peaks[b].peak.max(lo);
-        let n = n.max(2);
         let eps: Vec<f64> = (0..n)
             .map(|k| lo + (hi - lo) * k as f64 / (n - 1) as f64)
             .collect();
@@ -96,8 +94,15 @@ impl<'p, 'a> Engine<'p, 'a> {
 
 /// Whether a solve spent its every round (`max_rounds`) or failed: the points after it, or a
 /// front between such ends, would spend as much each.
-pub(super) fn spent(s: &Solution) -> bool {
+fn spent(s: &Solution) -> bool {
     s.stop == Stop::MaxRounds || s.status == Status::Failed
+}
+
+/// Whether an end of a front (the least of one peak alone) leaves no front to compute: it
+/// has no design, or it spent every round (such ends leave thousands of angles to warm-start
+/// from: each point would then take seconds for a front that would not certify either).
+pub(super) fn unusable_end(s: &Solution) -> bool {
+    spent(s) || s.status == Status::Infeasible
 }
 
 /// Per field, the union of two angle sets (sorted, near-duplicates dropped).

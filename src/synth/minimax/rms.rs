@@ -47,11 +47,6 @@ pub(super) struct RmsGrid {
 impl<'p, 'a> Engine<'p, 'a> {
     /// The RMS of field f at x on its RMS grid, with its quadrature error |R_N − R_{N/2}|.
     pub fn rms(&self, f: usize, x: &[f64]) -> (f64, f64) {
-        self.rms_at(f, x)
-    }
-
-    /// (RMS, quadrature error) of field f at x on its RMS grid.
-    pub(super) fn rms_at(&self, f: usize, x: &[f64]) -> (f64, f64) {
         let d = self.pb.fields[f].dim();
         let ys: Vec<f64> = self
             .rms_grid(f)
@@ -107,17 +102,21 @@ impl<'p, 'a> Engine<'p, 'a> {
         } else {
             REPORT_TOL.max(self.s.rel_tol)
         };
+        // Σ a aᵀ over the even values and over all: N·Q_N and (N/2)·Q_{N/2}. A doubling keeps
+        // the grid as its even points, so the old total is the new even sum.
+        let mut even = self.form_sum(f, values.iter().step_by(2));
+        let mut total = add(&even, &self.form_sum(f, values.iter().skip(1).step_by(2)));
         let mut doublings = 0;
         loop {
-            let (q, q_half) = self.forms(f, &values);
+            let n = values.len();
+            let q: Vec<f64> = total.iter().map(|t| t / n as f64).collect();
             let form_size = frobenius(&q);
             let change = q
                 .iter()
-                .zip(&q_half)
-                .map(|(a, b)| (a - b) * (a - b))
+                .zip(&even)
+                .map(|(a, e)| (a - e / (n / 2) as f64).powi(2))
                 .sum::<f64>()
                 .sqrt();
-            let n = values.len();
             let roundoff = 64.0 * n as f64 * f64::EPSILON * form_size;
             let converged = change <= (tol * form_size).max(roundoff);
             let stop = converged
@@ -132,20 +131,19 @@ impl<'p, 'a> Engine<'p, 'a> {
                     converged,
                 };
             }
-            values = self.doubled(f, values);
+            // The field at the odd points of the grid of 2N angles.
+            let odd: Vec<AffineValue> = (0..n)
+                .map(|k| self.eval_raw(f, TAU * (2 * k + 1) as f64 / (2 * n) as f64))
+                .collect();
+            even = total;
+            total = add(&even, &self.form_sum(f, odd.iter()));
+            values = values
+                .into_iter()
+                .zip(odd)
+                .flat_map(|(e, o)| [e, o])
+                .collect();
             doublings += 1;
         }
-    }
-
-    /// The grid of 2N angles: the N values at the even points, the field at the odd ones.
-    fn doubled(&self, f: usize, values: Vec<AffineValue>) -> Vec<AffineValue> {
-        let n2 = 2 * values.len();
-        let mut out = Vec::with_capacity(n2);
-        for (k, v) in values.into_iter().enumerate() {
-            out.push(v);
-            out.push(self.eval_raw(f, TAU * (2 * k + 1) as f64 / n2 as f64));
-        }
-        out
     }
 
     /// The field at θ (non-finite values are caught where they are used).
@@ -155,30 +153,24 @@ impl<'p, 'a> Engine<'p, 'a> {
         v
     }
 
-    /// The scaled mean-square forms Q_N (all values) and Q_{N/2} (the even ones), row-major
-    /// (n+1)².
-    fn forms(&self, f: usize, values: &[AffineValue]) -> (Vec<f64>, Vec<f64>) {
+    /// Σ_k Σ_r a_rk a_rkᵀ over `values`, a = [A_r S, b_r]/G_f, row-major (n+1)²: the
+    /// unnormalised mean-square form of those angles.
+    fn form_sum<'v>(&self, f: usize, values: impl Iterator<Item = &'v AffineValue>) -> Vec<f64> {
         let d = self.pb.fields[f].dim();
         let m = self.n + 1;
-        let (mut q, mut q_even) = (vec![0.0; m * m], vec![0.0; m * m]);
+        let mut sum = vec![0.0; m * m];
         let mut a = vec![0.0; m];
-        for (k, v) in values.iter().enumerate() {
+        for v in values {
             for r in 0..d {
                 self.scaled_row(v, r, 1.0 / self.g_ref[f], &mut a);
-                let target = if k % 2 == 0 { &mut q_even } else { &mut q };
                 for i in 0..m {
                     for j in 0..m {
-                        target[i * m + j] += a[i] * a[j];
+                        sum[i * m + j] += a[i] * a[j];
                     }
                 }
             }
         }
-        let n = values.len() as f64;
-        for (qi, ei) in q.iter_mut().zip(&q_even) {
-            *qi = (*qi + ei) / n;
-        }
-        q_even.iter_mut().for_each(|e| *e /= n / 2.0);
-        (q, q_even)
+        sum
     }
 
     /// a = [A_r S, b_r]·w: row r of the field at one angle in the scaled variables.
@@ -220,6 +212,11 @@ impl<'p, 'a> Engine<'p, 'a> {
         }
         Ok(r)
     }
+}
+
+/// a + b, elementwise.
+fn add(a: &[f64], b: &[f64]) -> Vec<f64> {
+    a.iter().zip(b).map(|(a, b)| a + b).collect()
 }
 
 fn frobenius(q: &[f64]) -> f64 {
