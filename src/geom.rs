@@ -2,7 +2,8 @@
 //! intersection (a dyad), link–slider intersection, the 2×2 solve of a differentiated dyad,
 //! circumcentre, and the smallest disc enclosing a point set (the geometric form of a
 //! minimax counterweight); the exact mass properties of a region bounded by lines and arcs
-//! (`outline`: a plate drawn in a DXF file).
+//! (`outline`: a plate drawn in a DXF file); the cap bounding a counterweight's first moment
+//! in its envelope disc and the ring or lens plate that realises its mass properties (`plate`).
 //!
 //! A construction that has no solution (the links cannot reach) returns `None`, never NaN:
 //! whether that is an error is for the caller to decide. Every formula is written in the
@@ -11,6 +12,7 @@
 use nalgebra::Vector2;
 
 pub mod outline;
+pub mod plate;
 
 /// A point or vector in the plane (m).
 pub type P2 = Vector2<f64>;

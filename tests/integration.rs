@@ -47,6 +47,7 @@ mod linkage_model;
 mod minimax_engine;
 mod mutants;
 mod outline;
+mod plate_geom;
 mod problem_files;
 mod properties;
 mod rms_near_fold;
