@@ -47,6 +47,7 @@ mod linkage_model;
 mod minimax_engine;
 mod mutants;
 mod outline;
+mod plate_counterweight;
 mod plate_geom;
 mod problem_files;
 mod properties;

@@ -313,6 +313,7 @@ fn rotated_cone_active_matches_the_closed_form() {
         inertia_max: 10.0,
         envelope: f64::INFINITY,
         sector: None,
+        plate: None,
     };
     let pb = Problem {
         fields: vec![&field],

@@ -84,6 +84,26 @@ pub fn cap(area: f64, r: f64) -> Cap {
     }
 }
 
+/// The areas whose cap has first moment `s`: (A_lo, A_hi), the two solutions of S(A) = s
+/// (sin³α = 3s/(2R³): α and π − α), so every A in [A_lo, A_hi] has a region of first moment
+/// s (the caps' S is at least s there, and the centred disc's is 0). `None` when s exceeds
+/// the half disc's ⅔R³ or R is not positive and finite; s ≤ 0 gives (0, πR²).
+pub fn cap_areas(s: f64, r: f64) -> Option<(f64, f64)> {
+    if !(r > 0.0 && r.is_finite()) {
+        return None;
+    }
+    let full = PI * r * r;
+    if !(s > 0.0) {
+        return Some((0.0, full));
+    }
+    let sin = (1.5 * s / (r * r * r)).cbrt();
+    if sin > 1.0 {
+        return None;
+    }
+    let lo = r * r * segment(sin.asin());
+    Some((lo, full - lo))
+}
+
 /// g(β) = β − sin β cos β = (x − sin x)/2 with x = 2β, without its cancellation near 0.
 fn segment(beta: f64) -> f64 {
     x_minus_sin(2.0 * beta) / 2.0

@@ -602,12 +602,12 @@ pub fn fmt_num(v: f64) -> String {
 }
 
 /// How a result key reads in a workshop: its words, the unit shown and the factor from SI
-/// (`crank_counterweight_radius_m` = 0.08 → "crank counterweight radius", mm, 1000; `_rad` in
-/// degrees, `_rad_s` in rpm, a force of 10 kN or more in kN). A key without a unit suffix is a
+/// (`crank_counterweight_radius_m` = 0.08 → "crank counterweight radius", mm, 1000; `_m2` in
+/// mm²; `_rad` in degrees, `_rad_s` in rpm, a force of 10 kN or more in kN). A key without a unit suffix is a
 /// pure number.
 pub fn workshop_unit(key: &str, v: f64) -> (String, &'static str, f64) {
     use std::f64::consts::PI;
-    let table: [(&str, &str, f64); 18] = [
+    let table: [(&str, &str, f64); 19] = [
         ("_rad_s2", "rad/s²", 1.0),
         ("_rad_s", "rpm", 30.0 / PI),
         ("_per_m", "1/m", 1.0),
@@ -624,6 +624,7 @@ pub fn workshop_unit(key: &str, v: f64) -> (String, &'static str, f64) {
         ("_pct", "%", 1.0),
         ("_rpm", "rpm", 1.0),
         ("_mm", "mm", 1.0),
+        ("_m2", "mm²", 1e6),
         ("_m", "m", 1.0),
         ("_s", "s", 1.0),
     ];

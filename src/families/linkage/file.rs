@@ -188,6 +188,12 @@ pub struct CounterweightRaw {
     /// The plate's material: its density gives the thickness of the annular sector that
     /// realises the counterweight (t = m / (ρ · area)).
     pub density: Option<Qty<Density>>,
+    /// The plate's thickness t (with `density`): the counterweight is then a flat plate of
+    /// areal density σ = ρt cut within `radius`, and the plate's necessary conditions are
+    /// constraints of the design (m ≤ σπr²; its first moment at most the circular
+    /// segment's of its area; its inertia between the disc's and the rim annulus's); the
+    /// result gives the plate that realises it.
+    pub thickness: Option<Qty<Length>>,
     /// A given counterweight's centroid in the link's frame (with a fixed `mass`): fixes its
     /// first moment u = m c.
     pub centroid: Option<XyRaw>,
@@ -370,12 +376,18 @@ pub struct CounterweightSpec {
     pub given: Option<(P2, Option<f64>)>,
     /// The plate's density (kg/m³), if given.
     pub density: Option<f64>,
+    /// The plate's thickness (m), if given (with `density`): a plate of the design.
+    pub thickness: Option<f64>,
 }
 
 impl CounterweightSpec {
     /// Whether mass, centroid and inertia are all given: nothing of it is designed.
     pub fn is_given(&self) -> bool {
         matches!(self.mass, Var::Fixed(_)) && matches!(self.given, Some((_, Some(_))))
+    }
+    /// σ = ρt (kg/m²), for a counterweight designed as a plate of given thickness.
+    pub fn areal_density(&self) -> Option<f64> {
+        Some(self.density? * self.thickness?)
     }
 }
 
@@ -799,6 +811,7 @@ fn counterweights(
             .density
             .map(|d| positive(&at("density"), d.si()))
             .transpose()?;
+        let thickness = plate_thickness(cw, density, &mass, radius, &at)?;
         out.push(CounterweightSpec {
             link,
             link_name: cw.link.clone(),
@@ -807,9 +820,46 @@ fn counterweights(
             sector,
             given,
             density,
+            thickness,
         });
     }
     Ok(out)
+}
+
+/// A plate counterweight's thickness, checked: it needs `density`, is not beside a given
+/// centroid, and the least mass asked fits the plate's whole envelope, σπr².
+fn plate_thickness(
+    cw: &CounterweightRaw,
+    density: Option<f64>,
+    mass: &Var,
+    radius: f64,
+    at: &dyn Fn(&str) -> String,
+) -> Result<Option<f64>, FieldError> {
+    let Some(t) = cw.thickness else {
+        return Ok(None);
+    };
+    let t = positive(&at("thickness"), t.si())?;
+    let Some(rho) = density else {
+        return Err(FieldError::new(
+            at("thickness"),
+            "a plate's thickness needs its material; allowed: with density = \"… kg/m^3\"",
+        ));
+    };
+    if cw.centroid.is_some() {
+        return Err(FieldError::new(
+            at("thickness"),
+            "a given centroid is a given body, not a plate to design; allowed: thickness or centroid, not both",
+        ));
+    }
+    let most = rho * t * std::f64::consts::PI * radius * radius;
+    let (lo, _) = mass.bounds();
+    if lo > most {
+        return Err(FieldError::new(
+            at("mass"),
+            format!("{lo} kg is more than a plate {} mm thick of {rho} kg/m³ holds within its radius {} mm ({most:.6} kg, the whole disc); allowed: a smaller mass, or a thicker plate, a denser material, a larger radius", t * 1e3, radius * 1e3),
+        ));
+    }
+    Ok(Some(t))
 }
 
 /// A given counterweight's centroid and inertia about it, checked: the centroid needs a
@@ -869,6 +919,7 @@ fn drawn_body(
         ("inertia", cw.inertia.is_some()),
         ("sector", cw.sector.is_some()),
         ("density", cw.density.is_some()),
+        ("thickness", cw.thickness.is_some()),
     ];
     let key = at("");
     set_by(key.trim_end_matches('.'), &given, OUTLINE_SETS)?;

@@ -10,6 +10,7 @@ use super::solve::{JointLoads, Solution as Solved};
 use super::synth::{self as ls, FORCE, MOMENT, TORQUE};
 use crate::families::family::{cw_status, Scene};
 use crate::families::linkage::model::JointKind;
+use crate::geom::plate::{PlateShape, Realised};
 use crate::geom::P2;
 use crate::report::{ActiveBound, SolveResult};
 use crate::synth::counterweight::Status as CwStatus;
@@ -209,6 +210,38 @@ fn plate_thickness(
     }
 }
 
+/// A plate counterweight's keys: its thickness and area, and the shape cut (a ring centred
+/// at the centroid: `plate_inner_radius_m`, `plate_outer_radius_m`; a lens, the envelope
+/// cut by a disc: `plate_cut_radius_m`, `plate_cut_centre_distance_m` from the joint along
+/// the centroid's direction, and `plate_chord_distance_m`, where the two circles cross — a
+/// cut radius of many envelope radii is a straight cut there).
+fn plate_keys(r: &mut SolveResult, n: &str, plate: &Realised, t: f64) {
+    let mut put = |k: &str, v: f64| {
+        r.design.insert(format!("{n}_counterweight_plate_{k}"), v);
+    };
+    put("thickness_m", t);
+    put("area_m2", plate.shape.moments().area);
+    match plate.shape {
+        PlateShape::Ring { inner, outer, .. } => {
+            put("inner_radius_m", inner);
+            put("outer_radius_m", outer);
+        }
+        PlateShape::Lens {
+            envelope,
+            disc_centre,
+            disc_radius,
+        } => {
+            // The chord where the two circles cross: x = (R² − ρ² + D²)/(2D).
+            let dd = disc_centre.norm();
+            let chord =
+                (envelope * envelope - (disc_radius - dd) * (disc_radius + dd)) / (2.0 * dd);
+            put("cut_radius_m", disc_radius);
+            put("cut_centre_distance_m", dd);
+            put("chord_distance_m", chord);
+        }
+    }
+}
+
 /// Design, objectives, errors and solver facts of a solved design.
 fn design_keys(
     r: &mut SolveResult,
@@ -269,9 +302,11 @@ fn counterweight_keys(
         d.centroidal_inertia,
     );
     // One body with this mass, centroid and inertia about the joint, within the
-    // envelope: an annular sector about the joint, symmetric about u (any thickness of
-    // areal density m/area).
-    if d.mass > 0.0 {
+    // envelope: the plate of the given thickness, else an annular sector about the joint,
+    // symmetric about u (any thickness of areal density m/area).
+    if let (Some(plate), Some(t)) = (solution.out.plates.get(j).copied().flatten(), cw.thickness) {
+        plate_keys(r, n, &plate, t);
+    } else if d.mass > 0.0 {
         match solution.sectors[j] {
             Some((ri, ro, th)) => {
                 for (k, v) in [("inner_radius_m", ri), ("outer_radius_m", ro), ("angle_rad", th)] {

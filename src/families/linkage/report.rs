@@ -8,6 +8,7 @@ use super::solve::{Analyses, Solution as Solved};
 use super::synth::{self as ls};
 use crate::families::family::Scene;
 use crate::families::linkage::model::{Dyad, Linkage, Point};
+use crate::geom::plate::Realised;
 use crate::geom::P2;
 use crate::report::drawing::{Drawing, DrawingError, Layer, Sheet};
 use crate::report::plot::{self, Panel, PlotError, Series};
@@ -286,22 +287,27 @@ fn drawing(name: &str, sc: &LinkageScene, x: Option<&[f64]>) -> Result<String, P
 fn linkage_drawing(r: &mut SolveResult, scene: &Scene, p: &LinkageProblem, sol: &Solved) {
     let x = sol.design_x().map(<[f64]>::to_vec);
     let (sc, name, sectors) = (p.scene.clone(), scene.name.clone(), sol.sectors.clone());
+    let plates = sol.out.plates.clone();
     let caption = "linkage at θ = 0 and its counterweights";
     r.drawings.push(Sheet::new("drawing", caption, move || {
-        linkage_sheet(&name, &sc, x.as_deref(), &sectors)
+        linkage_sheet(&name, &sc, x.as_deref(), (&sectors, &plates))
     }));
 }
+
+/// Per counterweight: its annular sector (rᵢ, rₒ, θ) and its plate, where it has them.
+type Bodies<'a> = (&'a [Option<(f64, f64, f64)>], &'a [Option<Realised>]);
 
 /// The links (reference joint to tip) at the design position θ = 0 with their joints, and at
 /// 90°, 180°, 270° (layer `PATH`); the ground pivots marked, a slider's line as a centre line;
 /// each counterweight of the design `x` as a disc at its centroid (a symbolic size), its
 /// radius from the link's reference joint dimensioned, its mass and angle in a note; its
-/// annular sector (`sectors`, from the solve) where there is one.
+/// plate (`plates`, a counterweight with a thickness) or its annular sector (`sectors`, from
+/// the solve) where there is one.
 fn linkage_sheet(
     name: &str,
     sc: &LinkageScene,
     x: Option<&[f64]>,
-    sectors: &[Option<(f64, f64, f64)>],
+    (sectors, plates): Bodies,
 ) -> Result<Drawing, DrawingError> {
     let l: &Linkage = &sc.linkage;
     let pin = 0.04 * sc.crank_length;
@@ -378,25 +384,36 @@ fn linkage_sheet(
                 pose.point(&Point::On { link: *link, at })[0],
             );
             let on = &sc.counterweights[j].link_name;
-            // The annular sector that is this counterweight, about its joint (none: a ring).
-            match sectors.get(j).copied().flatten() {
-                Some((ri, ro, th)) if ro > 0.0 && th > 0.0 => {
-                    let mid = (c - p0).y.atan2((c - p0).x);
-                    let (a0, a1) = (mid - 0.5 * th, mid + 0.5 * th);
-                    d.arc(Layer::Outline, p0, ro, a0, a1);
-                    if ri > 0.0 {
-                        d.arc(Layer::Outline, p0, ri, a0, a1);
-                    }
-                    if th < TAU - 1e-9 {
-                        for a in [a0, a1] {
-                            let v = P2::new(a.cos(), a.sin());
-                            d.line(Layer::Outline, p0 + ri * v, p0 + ro * v);
+            // The plate or the annular sector that is this counterweight, about its joint
+            // (none: a ring).
+            if let Some(plate) = plates.get(j).copied().flatten() {
+                let axis = pose.point(&Point::On {
+                    link: *link,
+                    at: P2::new(1.0, 0.0),
+                })[0]
+                    - p0;
+                draw_plate(&mut d, &plate, p0, axis.y.atan2(axis.x));
+                d.mark(c);
+            } else {
+                match sectors.get(j).copied().flatten() {
+                    Some((ri, ro, th)) if ro > 0.0 && th > 0.0 => {
+                        let mid = (c - p0).y.atan2((c - p0).x);
+                        let (a0, a1) = (mid - 0.5 * th, mid + 0.5 * th);
+                        d.arc(Layer::Outline, p0, ro, a0, a1);
+                        if ri > 0.0 {
+                            d.arc(Layer::Outline, p0, ri, a0, a1);
                         }
+                        if th < TAU - 1e-9 {
+                            for a in [a0, a1] {
+                                let v = P2::new(a.cos(), a.sin());
+                                d.line(Layer::Outline, p0 + ri * v, p0 + ro * v);
+                            }
+                        }
+                        d.mark(c);
                     }
-                    d.mark(c);
-                }
-                _ => {
-                    d.circle(Layer::Outline, c, 1.5 * pin).mark(c);
+                    _ => {
+                        d.circle(Layer::Outline, c, 1.5 * pin).mark(c);
+                    }
                 }
             }
             d.linear(p0, c, 6.0 * pin, &format!("r ({on})"));
@@ -417,7 +434,37 @@ fn linkage_sheet(
         let why = "the linkage does not assemble at θ = 0, 90°, 180°, 270°";
         return Err(DrawingError::Data(why.into()));
     }
+    if plates.iter().any(Option::is_some) {
+        d.note("a counterweight with a thickness: the plate to cut (a ring centred at its centroid, or the envelope cut by a circle)");
+    }
     d.note("a link's axis: from its reference joint towards its tip; dimensions in mm");
     d.note("crosses in circles: ground pivots; annular sectors about their joints: the counterweights (the sector with their mass, centroid and inertia within the envelope; a small ring where none is)");
     Ok(d)
+}
+
+/// A plate's outline ([`PlateShape::loops`], in its link's frame about the joint) drawn at the
+/// joint `p0` with the link's axis at angle `phi`.
+fn draw_plate(d: &mut Drawing, plate: &Realised, p0: P2, phi: f64) {
+    let w = |p: P2| p0 + crate::geom::rot(phi, p);
+    for lp in plate.shape.loops() {
+        for e in lp {
+            match e.arc {
+                Some(a) => {
+                    let (s, t) = if a.sweep >= 0.0 {
+                        (a.start, a.start + a.sweep)
+                    } else {
+                        (a.start + a.sweep, a.start)
+                    };
+                    if a.sweep.abs() >= TAU - 1e-12 {
+                        d.circle(Layer::Outline, w(a.centre), a.radius);
+                    } else {
+                        d.arc(Layer::Outline, w(a.centre), a.radius, s + phi, t + phi);
+                    }
+                }
+                None => {
+                    d.line(Layer::Outline, w(e.from), w(e.to));
+                }
+            }
+        }
+    }
 }

@@ -15,6 +15,8 @@ use crate::families::linkage::file::{CounterweightSpec, Goal, LinkageScene};
 use crate::families::linkage::model::{
     BalanceMap, Body, Joint, JointKind, Linkage, Params, Pose, ReactionMap,
 };
+use crate::geom::plate::Realised;
+use crate::geom::P2;
 use crate::numeric::{periodic_peak_sampled, Refine};
 use crate::synth::energy::EnergyField;
 use crate::synth::minimax::{
@@ -412,8 +414,14 @@ fn pose_at(l: &Linkage, theta: f64) -> Result<Pose, LinkageSolveError> {
 /// `radius` of the joint (|u| ≤ m r, I ≤ m r²), the sector.
 pub fn limits_of(cw: &CounterweightSpec) -> CounterweightLimits {
     let (_, hi) = cw.mass.bounds();
+    let plate = cw.areal_density();
+    // A plate holds at most σπr², the whole disc.
+    let hi = plate.map_or(hi, |s| {
+        hi.min(s * std::f64::consts::PI * cw.radius * cw.radius)
+    });
     CounterweightLimits {
         sector: cw.sector,
+        plate,
         ..CounterweightLimits::new(hi, cw.radius)
     }
 }
@@ -593,6 +601,9 @@ pub struct Outcome {
     /// Why the objective cannot be moved by a counterweight the scene leaves free, if it
     /// cannot ([`idle_counterweights`]): the result is then `degenerate`.
     pub degenerate: Option<String>,
+    /// Per counterweight, the plate that is the design's where it has a `thickness`
+    /// ([`realise_plates`]).
+    pub plates: Vec<Option<Realised>>,
 }
 
 /// Solves the scene: the bare linkage's peaks, then the counterweights (if any) for the
@@ -666,9 +677,11 @@ pub fn solve(scene: &LinkageScene, settings: &Settings) -> Result<Outcome, Linka
         pareto: None,
         kappa_max: 1.0,
         degenerate: None,
+        plates: Vec::new(),
     };
     if !cws.is_empty() && balance_residual.is_none() {
-        let sol = engine.solve()?;
+        let (sol, plates) = realise_plates(&engine, cws, engine.solve()?)?;
+        out.plates = plates;
         if sol.x.iter().all(|v| v.is_finite()) {
             out.design_rms = Some([0, 1, 2].map(|k| engine.rms(k, &sol.x)));
         }
@@ -689,6 +702,55 @@ pub fn solve(scene: &LinkageScene, settings: &Settings) -> Result<Outcome, Linka
     }
     out.kappa_max = fields.kappa_max();
     Ok(out)
+}
+
+/// Each plate counterweight (a `thickness`) cut as a concrete plate
+/// ([`crate::geom::plate::realise`]: the ring at its centroid, else the lens of its area and
+/// centroid). The engine's design meets the plate's necessary conditions; where the plate
+/// found has another (m, u, I) the design becomes the plate's, re-certified against the
+/// same lower bound ([`Engine::moved`]: `inaccurate` when it no longer meets the
+/// tolerance).
+fn realise_plates(
+    engine: &Engine,
+    cws: &[CounterweightSpec],
+    sol: Solution,
+) -> Result<(Solution, Vec<Option<Realised>>), LinkageSolveError> {
+    if !sol.x.iter().all(|v| v.is_finite()) {
+        return Ok((sol, vec![None; cws.len()]));
+    }
+    let mut x = sol.x.clone();
+    let mut moved = Vec::new();
+    let plates: Vec<Option<Realised>> = cws
+        .iter()
+        .enumerate()
+        .map(|(j, cw)| {
+            let sigma = cw.areal_density()?;
+            let d = sol.counterweight(j);
+            let u = P2::new(d.first_moment[0], d.first_moment[1]);
+            let r = crate::geom::plate::realise(d.mass, u, d.inertia, sigma, cw.radius);
+            let (m_s, u_s) = (sigma * std::f64::consts::PI * cw.radius.powi(2), cw.radius);
+            let off = ((r.mass - d.mass) / m_s).abs()
+                + (r.first_moment - u).norm() / (m_s * u_s)
+                + ((r.inertia - d.inertia) / (m_s * u_s * u_s)).abs();
+            if off > 1e-9 {
+                let at = mm::var_m(j);
+                x[at] = r.mass;
+                x[at + 1] = r.first_moment.x;
+                x[at + 2] = r.first_moment.y;
+                x[at + 3] = r.inertia;
+                moved.push(cw.link_name.clone());
+            }
+            Some(r)
+        })
+        .collect();
+    if moved.is_empty() {
+        return Ok((sol, plates));
+    }
+    let why = format!(
+        "the plate cut for the counterweight on {} has another mass, first moment or inertia than the optimum of the plate's necessary conditions (no ring or lens has those)",
+        moved.join(", ")
+    );
+    Ok((engine.moved(&sol, &x, &why)?, plates))
 }
 
 /// With `minimize = "energy-fluctuation"` and counterweights: the energy curve of the input

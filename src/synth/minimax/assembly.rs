@@ -4,6 +4,7 @@
 //! same constraints as smooth functions for the Newton polish, `design_constraints`).
 
 use super::constraints::Design;
+use super::plate::{body_rows, Cuts};
 use super::validate::{bad, check_finite, validate_structure};
 use super::{
     var_i, var_m, var_u, AffineValue, Engine, Goal, LinearConstraint, MinimaxError, Problem,
@@ -83,6 +84,7 @@ impl<'p, 'a> Engine<'p, 'a> {
             rms_grids: (0..pb.fields.len())
                 .map(|_| std::sync::OnceLock::new())
                 .collect(),
+            cuts: std::sync::Mutex::new(pb.counterweights.iter().map(Cuts::seed).collect()),
         })
     }
 
@@ -248,17 +250,14 @@ impl<'p, 'a> Engine<'p, 'a> {
                 rows.cones.push(SupportedConeT::SecondOrderConeT(3));
             }
             // Î m̂ ≥ |û|²: ‖(2û, Î − m̂)‖ ≤ Î + m̂.
-            rows.row(&[(i, -1.0), (m, -1.0)], 0.0);
-            rows.row(&[(ux, -2.0)], 0.0);
-            rows.row(&[(uy, -2.0)], 0.0);
-            rows.row(&[(i, -1.0), (m, 1.0)], 0.0);
-            rows.cones.push(SupportedConeT::SecondOrderConeT(4));
+            body_rows(rows, m, ux, i, 0.0, 0.0);
             if let Some((lo, hi)) = c.sector {
                 for (ax, ay) in sector_rows(lo, hi) {
                     rows.row(&[(ux, ax), (uy, ay)], 0.0);
                 }
                 nonneg(rows, 3);
             }
+            self.plate_rows(j, rows);
         }
         let n_cw = PER_COUNTERWEIGHT * self.pb.counterweights.len();
         for (e, &(lo, hi)) in self.pb.extra.iter().enumerate() {
@@ -305,6 +304,7 @@ impl<'p, 'a> Engine<'p, 'a> {
                     x[ux + 1] = 0.0;
                 }
             }
+            self.project_plate(j, &mut x);
         }
         x
     }
@@ -332,14 +332,22 @@ impl<'p, 'a> Engine<'p, 'a> {
                     m,
                     u,
                     k: c.r_max / l,
+                    c: 0.0,
                 });
             }
-            out.push(Design::Body { m, u, i });
+            out.push(Design::Body {
+                m,
+                u,
+                i,
+                p: 0.0,
+                q: 0.0,
+            });
             if let Some((lo, hi)) = c.sector {
                 for (ax, ay) in sector_rows(lo, hi) {
                     out.push(lin(vec![(u, ax), (u + 1, ay)], 0.0));
                 }
             }
+            self.plate_constraints(j, &mut out);
         }
         let n_cw = PER_COUNTERWEIGHT * self.pb.counterweights.len();
         for (e, &(lo, hi)) in self.pb.extra.iter().enumerate() {

@@ -5,7 +5,7 @@
 use super::assembly::Round;
 use super::polish::{self, Design, Term};
 use super::validate::bad;
-use super::{AffineValue, Engine, ErrorBound, Goal, MinimaxError, Solution, Stop};
+use super::{var_m, AffineValue, Engine, ErrorBound, Goal, MinimaxError, Solution, Stop};
 use crate::numeric::PeriodicPeak;
 use crate::synth::conic::{dual_lower_bound, run_clarabel_with, Rows};
 use crate::synth::exchange::{angle_dist, Status};
@@ -199,7 +199,8 @@ impl<'p, 'a> Engine<'p, 'a> {
     /// formed from Newton's multipliers ν_i instead of a clarabel solve: min qᵀx̂ + c over
     /// the design constraints is bounded by weak duality ([`dual_lower_bound`], rigorous at
     /// any dual point) at z_i = ν_i (a linear row), ν(1, −û/|û|) (the radius cone
-    /// s = (k m̂, û)), ν/2·(s₀, −s_t) (the body cone s = (Î + m̂, 2û, Î − m̂)). With
+    /// s = (k m̂ + c, û)), ν/2·(s₀, −s_t) (the body cone s = (x + m̂, 2û, x − m̂),
+    /// x = Î − p m̂ + q; the rim s = (w + 1, 2m̂, w − 1), w = p m̂ − q Î). With
     /// multipliers accurate to round-off this is tight where a clarabel solve is not: the
     /// limits' multipliers can be large near the front's end, and the bound is then a small
     /// difference of large terms. Caller's units; `None` when the polish has no design
@@ -223,7 +224,7 @@ impl<'p, 'a> Engine<'p, 'a> {
         // constraint one row, the radius cone three, the body cone four.
         let rows_of = |d: &Design| match d {
             Design::Linear { .. } => 1,
-            Design::Radius { .. } => 3,
+            Design::Radius { .. } | Design::Rim { .. } => 3,
             Design::Body { .. } => 4,
         };
         if cons.iter().map(rows_of).sum::<usize>() != lin.b.len() {
@@ -248,13 +249,21 @@ impl<'p, 'a> Engine<'p, 'a> {
                     }
                     at += 3;
                 }
-                Design::Body { m, u, i } => {
+                Design::Body { m, u, i, p, q } => {
                     let h = 0.5 * nu;
-                    z[at] = h * (xh[*i] + xh[*m]);
+                    let xi = xh[*i] - p * xh[*m] + q;
+                    z[at] = h * (xi + xh[*m]);
                     z[at + 1] = -h * 2.0 * xh[*u];
                     z[at + 2] = -h * 2.0 * xh[u + 1];
-                    z[at + 3] = -h * (xh[*i] - xh[*m]);
+                    z[at + 3] = -h * (xi - xh[*m]);
                     at += 4;
+                }
+                Design::Rim { m, i, p, q } => {
+                    let (h, w) = (0.5 * nu, p * xh[*m] - q * xh[*i]);
+                    z[at] = h * (w + 1.0);
+                    z[at + 1] = -h * 2.0 * xh[*m];
+                    z[at + 2] = -h * (w - 1.0);
+                    at += 3;
                 }
             }
         }
@@ -448,4 +457,79 @@ fn angle_sets(sets: &[Vec<(f64, AffineValue)>]) -> Vec<Vec<f64>> {
     sets.iter()
         .map(|s| s.iter().map(|p| p.0).collect())
         .collect()
+}
+
+impl<'p, 'a> Engine<'p, 'a> {
+    /// `base` (a solve of the problem's own goal) moved to another design `x` — a plate
+    /// that realises it, found by the caller: the peaks, the objective and its errors at x,
+    /// against base's lower bound, which holds for every design. The claim stays `optimal`
+    /// only if the gap V(x) − L and the limits stay within the tolerance; otherwise it is
+    /// `inaccurate`, with `why` and the gap (the error still covers the optimum).
+    pub fn moved(&self, base: &Solution, x: &[f64], why: &str) -> Result<Solution, MinimaxError> {
+        let s = &self.s;
+        let peaks = self.peaks(x)?;
+        let (value, scale, own_error) = match &self.pb.goal {
+            Goal::MinPeak(list) => {
+                let v = list
+                    .iter()
+                    .map(|&(f, w)| w * peaks[f].peak)
+                    .fold(0.0, f64::max);
+                let e = list
+                    .iter()
+                    .map(|&(f, w)| w * peaks[f].error)
+                    .fold(0.0, f64::max);
+                let floor = list
+                    .iter()
+                    .map(|&(f, w)| w * self.g0[f])
+                    .fold(0.0, f64::max);
+                (v, v.max(s.abs_floor * floor), e)
+            }
+            Goal::MinRms(f) => {
+                let (v, e) = self.rms(*f, x);
+                (v, v, e)
+            }
+            Goal::MinMass => {
+                let v: f64 = (0..self.pb.counterweights.len()).map(|j| x[var_m(j)]).sum();
+                (v, v, 0.0)
+            }
+        };
+        let lim_rel = self
+            .pb
+            .limits
+            .iter()
+            .map(|&(f, e)| peaks[f].violation / self.lim_floor(f, e).max(f64::MIN_POSITIVE))
+            .fold(0.0, f64::max);
+        let gap = value - base.lower_bound;
+        let held = gap.abs() <= s.rel_tol * scale && lim_rel <= s.rel_tol;
+        let rest = (base.error.total - base.error.sampling).max(own_error);
+        let (status, note) = match base.status {
+            Status::Optimal if !held => (
+                Status::Inaccurate,
+                Some(format!(
+                    "{why}: its objective {value:.9e} is {gap:.3e} above the lower bound {:.9e} of every design{}",
+                    base.lower_bound,
+                    if lim_rel > s.rel_tol {
+                        format!(", and a limit is exceeded by {lim_rel:.2e} of itself")
+                    } else {
+                        String::new()
+                    }
+                )),
+            ),
+            st => (st, base.note.clone()),
+        };
+        Ok(Solution {
+            status,
+            note,
+            x: x.to_vec(),
+            objective: value,
+            error: ErrorBound {
+                sampling: gap.abs(),
+                total: gap.abs() + rest,
+                ..base.error
+            },
+            peaks,
+            design_violation: self.design_violation(x),
+            ..base.clone()
+        })
+    }
 }

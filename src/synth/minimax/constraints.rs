@@ -17,7 +17,8 @@ pub(super) enum Design {
         /// An equality.
         eq: bool,
     },
-    /// |û| − k·m̂ ≤ 0: the centroid within r_max (k = r_max/ℓ).
+    /// |û| − k·m̂ − c ≤ 0: the centroid within r_max (k = r_max/ℓ, c = 0), or a tangent of
+    /// a plate's cap bound (`plate.rs`).
     Radius {
         /// Index of m̂.
         m: usize,
@@ -25,8 +26,11 @@ pub(super) enum Design {
         u: usize,
         /// k.
         k: f64,
+        /// c.
+        c: f64,
     },
-    /// |û|² − Î·m̂ ≤ 0: a real body (J ≥ 0).
+    /// |û|² − (Î − p·m̂ + q)·m̂ ≤ 0: a real body (J ≥ 0) at p = q = 0, or a tangent of a
+    /// plate's disc condition (`plate.rs`).
     Body {
         /// Index of m̂.
         m: usize,
@@ -34,6 +38,21 @@ pub(super) enum Design {
         u: usize,
         /// Index of Î.
         i: usize,
+        /// p.
+        p: f64,
+        /// q.
+        q: f64,
+    },
+    /// m̂² − p·m̂ + q·Î ≤ 0: a plate's rim, I ≤ R²m − m²/(2πσ) (`plate.rs`).
+    Rim {
+        /// Index of m̂.
+        m: usize,
+        /// Index of Î.
+        i: usize,
+        /// p.
+        p: f64,
+        /// q.
+        q: f64,
     },
 }
 
@@ -42,8 +61,11 @@ impl Design {
     pub fn value(&self, x: &[f64]) -> f64 {
         match self {
             Design::Linear { a, r, .. } => a.iter().map(|&(j, c)| c * x[j]).sum::<f64>() - r,
-            Design::Radius { m, u, k } => x[*u].hypot(x[u + 1]) - k * x[*m],
-            Design::Body { m, u, i } => x[*u] * x[*u] + x[u + 1] * x[u + 1] - x[*i] * x[*m],
+            Design::Radius { m, u, k, c } => x[*u].hypot(x[u + 1]) - k * x[*m] - c,
+            Design::Body { m, u, i, p, q } => {
+                x[*u] * x[*u] + x[u + 1] * x[u + 1] - (x[*i] - p * x[*m] + q) * x[*m]
+            }
+            Design::Rim { m, i, p, q } => x[*m] * x[*m] - p * x[*m] + q * x[*i],
         }
     }
     /// An equality.
@@ -55,7 +77,7 @@ impl Design {
         g.iter_mut().for_each(|v| *v = 0.0);
         match self {
             Design::Linear { a, .. } => a.iter().for_each(|&(j, c)| g[j] += c),
-            Design::Radius { m, u, k } => {
+            Design::Radius { m, u, k, .. } => {
                 let r = x[*u].hypot(x[u + 1]);
                 g[*m] = -k;
                 if r > 0.0 {
@@ -63,11 +85,15 @@ impl Design {
                     g[u + 1] = x[u + 1] / r;
                 }
             }
-            Design::Body { m, u, i } => {
+            Design::Body { m, u, i, p, q } => {
                 g[*u] = 2.0 * x[*u];
                 g[u + 1] = 2.0 * x[u + 1];
                 g[*i] = -x[*m];
-                g[*m] = -x[*i];
+                g[*m] = -x[*i] + 2.0 * p * x[*m] - q;
+            }
+            Design::Rim { m, i, p, q } => {
+                g[*m] = 2.0 * x[*m] - p;
+                g[*i] = *q;
             }
         }
     }
@@ -87,12 +113,14 @@ impl Design {
                     }
                 }
             }
-            Design::Body { m, u, i } => {
+            Design::Body { m, u, i, p, .. } => {
                 h[(*u, *u)] += 2.0 * w;
                 h[(u + 1, u + 1)] += 2.0 * w;
                 h[(*m, *i)] -= w;
                 h[(*i, *m)] -= w;
+                h[(*m, *m)] += 2.0 * p * w;
             }
+            Design::Rim { m, .. } => h[(*m, *m)] += 2.0 * w,
         }
     }
 }

@@ -311,17 +311,18 @@ impl<'p, 'a> Engine<'p, 'a> {
         )?;
         rs.iters += rd.res.iterations;
         let status_txt = format!("{:?}", rd.res.status);
+
         if let Some(sol) = self.solver_stopped(run, rs, &rd, round, &status_txt) {
             return Ok(Some((sol, None)));
         }
-        let x = self.project(
-            &rd.res
-                .x
-                .iter()
-                .zip(&self.scale)
-                .map(|(v, s)| v * s)
-                .collect::<Vec<_>>(),
-        );
+        let raw: Vec<f64> = rd
+            .res
+            .x
+            .iter()
+            .zip(&self.scale)
+            .map(|(v, s)| v * s)
+            .collect();
+        let x = self.project(&raw);
         // True peaks of the sampled fields.
         let mut pk: Vec<Option<PeriodicPeak>> = vec![None; nf];
         for f in (0..nf).filter(|&f| run.sampled[f]) {
@@ -342,7 +343,9 @@ impl<'p, 'a> Engine<'p, 'a> {
         let converged = self.verdict(run, rs, lb.lower, (value, gap_scale, lim_rel), tol_used);
         let mut added = 0;
         if !converged {
-            added = self.exchange(run, rs, &rd, &x, &pk, lb.lower, gap_scale)?;
+            // A plate's design that breaks its exact conditions: tangents there.
+            added += self.add_plate_cuts(&raw) as usize;
+            added += self.exchange(run, rs, &rd, &x, &pk, lb.lower, gap_scale)?;
         }
         // A stall with a gap left: clarabel's accuracy on clustered angles. Once, restart
         // from the refined maxima alone (well separated: the active set of a vertex-type
@@ -376,8 +379,11 @@ impl<'p, 'a> Engine<'p, 'a> {
         tol_used: f64,
     ) -> bool {
         let s = &self.s;
+        // An RMS or mass goal's program is exact on its own; a plate's projection onto its
+        // exact conditions (`plate.rs`) moves the design off the program's, so the gap counts.
         let obj_gap = match run.goal {
             Goal::MinPeak(_) => (value - lower).max(0.0),
+            _ if self.has_plate() => (value - lower).max(0.0),
             _ => 0.0,
         };
         let obj_ok = obj_gap <= s.rel_tol * gap_scale;
@@ -525,14 +531,20 @@ impl<'p, 'a> Engine<'p, 'a> {
                     .fold(0.0, f64::max);
                 (v, v.max(run.obj_floor))
             }
-            Goal::MinRms(f) => (self.rms(*f, x).0, 0.0),
-            Goal::MinMass => (
+            Goal::MinRms(f) => self.exact_goal_value(self.rms(*f, x).0),
+            Goal::MinMass => self.exact_goal_value(
                 (0..self.pb.counterweights.len())
                     .map(|j| x[var_m(j)])
                     .sum::<f64>(),
-                0.0,
             ),
         }
+    }
+
+    /// (V, gap scale) of a goal whose program is exact: no gap to scale (0), except with a
+    /// plate, whose projection makes one (V, with the mass goal's floor of its largest mass).
+    fn exact_goal_value(&self, v: f64) -> (f64, f64) {
+        let floor = self.s.abs_floor * self.pb.counterweights.iter().map(|c| c.m_max).sum::<f64>();
+        (v, if self.has_plate() { v.max(floor) } else { 0.0 })
     }
 
     /// The round's lower bound: the sampled problem's, from clarabel's dual iterate made
@@ -623,7 +635,8 @@ impl<'p, 'a> Engine<'p, 'a> {
             return Ok(None);
         };
         let near = (value - lower).max(0.0) <= 1e-3 * gap_scale && lim_rel <= 1e-3;
-        if !(near && rs.polish_tries < MAX_POLISH) {
+        // A plate's tangents are outer approximations the polish would hold as exact.
+        if !(near && rs.polish_tries < MAX_POLISH) || self.has_plate() {
             return Ok(None);
         }
         rs.polish_tries += 1;

@@ -20,7 +20,12 @@
 //!   implies both |u_j| ≤ ρ m_j and bounded I_j), a sector of directions of u_j up to π wide
 //!   (two half-planes and u·bisector ≥ 0);
 //! * bounds on the extra variables and generic linear equalities / inequalities (full force
-//!   balance, fixed values).
+//!   balance, fixed values);
+//! * a counterweight that is a flat plate of areal density σ within its envelope
+//!   ([`CounterweightLimits::plate`]): the plate's convex necessary conditions (the cap bound
+//!   on |u|, the rim and disc bounds on I), their curved parts as tangent cones added where
+//!   a round's design breaks them (`plate`); the design returned is projected onto the
+//!   exact conditions and certified there.
 //!
 //! The goals ([`Goal`]), over a finite set of angles θ_k per field:
 //! 1. min t s.t. w_f |g_f(θ_k; x)| ≤ t for the objective fields (weighted minimax);
@@ -126,7 +131,8 @@
 //! the public types and [`solve`]; `assembly` the scales, the scan grid and the cone
 //! programs; `exchange_loop` the rounds; `peaks` the true peaks and RMS at a design;
 //! `certificate` the lower bounds and the error bounds of a solution; `presolve` the exact
-//! disc path; `polish` the Newton polish; `pareto` the fronts; `validate` the checks. The
+//! disc path; `polish` the Newton polish; `pareto` the fronts; `plate` a plate's conditions
+//! and their cutting planes; `validate` the checks. The
 //! exchange vocabulary shared with [`crate::synth::counterweight`] is in
 //! [`crate::synth::exchange`].
 
@@ -142,6 +148,7 @@ mod constraints;
 mod exchange_loop;
 mod pareto;
 mod peaks;
+mod plate;
 mod polish;
 mod presolve;
 mod rms;
@@ -328,6 +335,10 @@ pub struct CounterweightLimits {
     pub envelope: f64,
     /// Directions of u allowed: the angles [lo, hi] (rad, link frame), hi − lo ≤ π.
     pub sector: Option<(f64, f64)>,
+    /// σ, the areal density (kg/m²: density × thickness) of a counterweight that is a flat
+    /// plate cut within the envelope ρ (finite, and m_max ≤ σπρ²): the plate's convex
+    /// necessary conditions join the constraints (`plate.rs`).
+    pub plate: Option<f64>,
 }
 
 impl CounterweightLimits {
@@ -340,6 +351,7 @@ impl CounterweightLimits {
             inertia_max: f64::INFINITY,
             envelope: r_max,
             sector: None,
+            plate: None,
         }
     }
     /// ℓ, the length scale of this counterweight's variables.
@@ -718,6 +730,9 @@ pub struct Engine<'p, 'a> {
     xbound: Vec<f64>,
     /// Each field on its RMS grid, built on first use (`rms`).
     rms_grids: Vec<std::sync::OnceLock<rms::RmsGrid>>,
+    /// Each counterweight's plate tangents (`plate.rs`), grown by the rounds of every solve
+    /// of this engine (each tangent holds for every goal: the plate is the same).
+    cuts: std::sync::Mutex<Vec<plate::Cuts>>,
 }
 
 /// What `Solution::solver_status` contains when the design and its certificate come from

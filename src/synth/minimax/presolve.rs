@@ -140,6 +140,7 @@ impl<'p, 'a> Engine<'p, 'a> {
             && pb.linear.is_empty()
             && pb.counterweights.len() == 1
             && pb.counterweights[0].sector.is_none()
+            && pb.counterweights[0].plate.is_none()
             && pb.fields[f].dim() == 2)
         {
             return None;

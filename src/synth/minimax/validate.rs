@@ -74,6 +74,24 @@ pub(super) fn validate_structure(pb: &Problem) -> Result<(), MinimaxError> {
                 "the inertia must be bounded: give inertia_max or an envelope radius",
             ));
         }
+        if let Some(sigma) = c.plate {
+            let most = sigma * std::f64::consts::PI * c.envelope * c.envelope;
+            if !(sigma.is_finite() && sigma > 0.0 && c.envelope.is_finite()) {
+                return Err(bad(
+                    w("plate"),
+                    format!("a plate needs a finite areal density > 0 and a finite envelope, got σ = {sigma} kg/m², envelope {} m", c.envelope),
+                ));
+            }
+            if !(c.m_max <= most * (1.0 + 1e-12)) {
+                return Err(bad(
+                    w("m_max"),
+                    format!(
+                        "{} kg is more than the plate's whole envelope holds, σπρ² = {most} kg",
+                        c.m_max
+                    ),
+                ));
+            }
+        }
         if let Some((lo, hi)) = c.sector {
             if !(lo.is_finite()
                 && hi.is_finite()
