@@ -450,6 +450,31 @@ fn every_drawing_scene_writes_dimensioned_dxf_and_equal_aspect_svg() {
                 }
                 // One disc per counterweight.
                 assert!(d.circles("OUTLINE").len() >= n, "{name}");
+                // A plate is drawn as cut: its cutting circle's arc, or its ring.
+                let radii: Vec<f64> = d.arcs("OUTLINE").iter().map(|a| a.0).collect();
+                let rings: Vec<f64> = d.circles("OUTLINE").iter().map(|c| c.1).collect();
+                for (k, r) in v["design"].as_object().unwrap() {
+                    match k {
+                        k if k.ends_with("_plate_cut_radius_m") => {
+                            let r = r.as_f64().unwrap();
+                            has(&radii, r, 1e-9 * r, k)
+                        }
+                        k if k.ends_with("_plate_outer_radius_m") => {
+                            has(&rings, r.as_f64().unwrap(), TOL, k)
+                        }
+                        _ => {}
+                    }
+                }
+                // A counterweight from a drawing is drawn as drawn.
+                if name.ends_with("-outline") {
+                    assert!(
+                        d.texts("NOTE")
+                            .iter()
+                            .any(|t| t.contains("drawn as in its drawing")),
+                        "{name}: {:?}",
+                        d.texts("NOTE")
+                    );
+                }
             }
             f => panic!("{name}: family {f} has no drawing check"),
         }

@@ -213,6 +213,22 @@ impl Edge {
         }
     }
 
+    /// The edge scaled by `k` about the origin, moved by `v`, then turned by `psi` about
+    /// the origin: p ↦ Rot(ψ)(k p + v) (a drawing's edge put in a body's frame, SI).
+    pub fn placed(self, k: f64, v: P2, psi: f64) -> Edge {
+        let f = |p: P2| super::rot(psi, p * k + v);
+        Edge {
+            from: f(self.from),
+            to: f(self.to),
+            arc: self.arc.map(|a| Arc {
+                centre: f(a.centre),
+                radius: a.radius * k,
+                start: a.start + psi,
+                ..a
+            }),
+        }
+    }
+
     /// Its part of the boundary integrals (module doc): the chord's triangle with the
     /// origin, plus for an arc its circular segment.
     pub fn moments(&self) -> Moments {

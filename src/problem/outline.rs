@@ -61,6 +61,16 @@ pub struct OutlineRaw {
 /// The plate an `outline` key describes, in the body's frame (SI): mass, centroid, inertia
 /// about the centroid, area.
 pub fn plate(raw: &OutlineRaw, dir: &Path, key: &str) -> Result<Plate, FieldError> {
+    drawn(raw, dir, key).map(|(p, _)| p)
+}
+
+/// [`plate`] and the drawing's closed loops in the body's frame (SI), to draw the body as
+/// it was drawn.
+pub fn drawn(
+    raw: &OutlineRaw,
+    dir: &Path,
+    key: &str,
+) -> Result<(Plate, Vec<Vec<Edge>>), FieldError> {
     let at = |f: &str| format!("{key}.{f}");
     let t = positive(&at("thickness"), raw.thickness.si())?;
     let rho = positive(&at("density"), raw.density.si())?;
@@ -131,10 +141,22 @@ pub fn plate(raw: &OutlineRaw, dir: &Path, key: &str) -> Result<Plate, FieldErro
         .as_ref()
         .map_or(P2::zeros(), |o| P2::new(o[0].si(), o[1].si()));
     let angle = raw.angle.map_or(0.0, Qty::si);
-    Ok(Plate {
-        centroid: rot(-angle, p.centroid - origin),
-        ..p
-    })
+    let placed = loops
+        .iter()
+        .map(|l| {
+            l.edges
+                .iter()
+                .map(|e| e.placed(s, -origin, -angle))
+                .collect()
+        })
+        .collect();
+    Ok((
+        Plate {
+            centroid: rot(-angle, p.centroid - origin),
+            ..p
+        },
+        placed,
+    ))
 }
 
 /// The field an error about the drawing's geometry names: the layer read, or the file.

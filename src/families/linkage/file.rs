@@ -11,7 +11,7 @@
 //! reference joint, x axis along it).
 
 use crate::families::linkage::model::{Dyad, Inertia, Linkage, Point};
-use crate::geom::outline::Plate;
+use crate::geom::outline::{Edge, Plate};
 use crate::geom::{Side, P2};
 use crate::problem::limits::{self, c, Count};
 use crate::problem::outline::{self, OutlineRaw};
@@ -378,6 +378,10 @@ pub struct CounterweightSpec {
     pub density: Option<f64>,
     /// The plate's thickness (m), if given (with `density`): a plate of the design.
     pub thickness: Option<f64>,
+    /// A drawn counterweight's outline (`outline`): its closed loops in the link's frame
+    /// (m), to draw it as drawn.
+    #[serde(skip)]
+    pub drawing: Option<Vec<Vec<Edge>>>,
 }
 
 impl CounterweightSpec {
@@ -762,7 +766,7 @@ fn counterweights(
         let drawn = drawn_body(cw, dir, &at)?;
         let mass = match (cw.mass, &drawn) {
             (Some(m), _) => m.resolve(&at("mass"))?,
-            (None, Some(p)) => Var::Fixed(p.mass),
+            (None, Some((p, _))) => Var::Fixed(p.mass),
             (None, None) => {
                 return Err(FieldError::new(
                     at("mass"),
@@ -799,8 +803,8 @@ fn counterweights(
                 Some((a, b))
             }
         };
-        let given = match drawn {
-            Some(p) => {
+        let given = match &drawn {
+            Some((p, _)) => {
                 let key = at("outline");
                 fits_envelope(p.mass, p.centroid, Some(p.inertia), radius, &key, &key)?;
                 Some((p.centroid, Some(p.inertia)))
@@ -821,6 +825,7 @@ fn counterweights(
             given,
             density,
             thickness,
+            drawing: drawn.map(|(_, loops)| loops),
         });
     }
     Ok(out)
@@ -903,13 +908,14 @@ fn given_body(
 }
 
 /// A counterweight drawn in a DXF file (`outline`): its mass, centroid and inertia about the
-/// centroid, or `None` without one. The keys it sets are refused beside it, and so are
-/// `sector` (no direction is left to choose) and `density` (the drawing has its own).
+/// centroid, and its loops in the link's frame, or `None` without one. The keys it sets are
+/// refused beside it, and so are `sector` (no direction is left to choose) and `density`
+/// (the drawing has its own).
 fn drawn_body(
     cw: &CounterweightRaw,
     dir: &Path,
     at: &dyn Fn(&str) -> String,
-) -> Result<Option<Plate>, FieldError> {
+) -> Result<Option<(Plate, Vec<Vec<Edge>>)>, FieldError> {
     let Some(o) = &cw.outline else {
         return Ok(None);
     };
@@ -923,7 +929,7 @@ fn drawn_body(
     ];
     let key = at("");
     set_by(key.trim_end_matches('.'), &given, OUTLINE_SETS)?;
-    outline::plate(o, dir, &at("outline")).map(Some)
+    outline::drawn(o, dir, &at("outline")).map(Some)
 }
 
 /// A given body of mass `m`, centroid `c` and inertia `ic` about it fits the envelope of

@@ -8,6 +8,7 @@ use super::solve::{Analyses, Solution as Solved};
 use super::synth::{self as ls};
 use crate::families::family::Scene;
 use crate::families::linkage::model::{Dyad, Linkage, Point};
+use crate::geom::outline::Edge;
 use crate::geom::plate::Realised;
 use crate::geom::P2;
 use crate::report::drawing::{Drawing, DrawingError, Layer, Sheet};
@@ -386,13 +387,15 @@ fn linkage_sheet(
             let on = &sc.counterweights[j].link_name;
             // The plate or the annular sector that is this counterweight, about its joint
             // (none: a ring).
-            if let Some(plate) = plates.get(j).copied().flatten() {
-                let axis = pose.point(&Point::On {
-                    link: *link,
-                    at: P2::new(1.0, 0.0),
-                })[0]
-                    - p0;
-                draw_plate(&mut d, &plate, p0, axis.y.atan2(axis.x));
+            let axis = pose.point(&Point::On {
+                link: *link,
+                at: P2::new(1.0, 0.0),
+            })[0]
+                - p0;
+            let own = sc.counterweights[j].drawing.clone();
+            let plate = plates.get(j).copied().flatten().map(|p| p.shape.loops());
+            if let Some(loops) = own.or(plate) {
+                draw_loops(&mut d, &loops, p0, axis.y.atan2(axis.x));
                 d.mark(c);
             } else {
                 match sectors.get(j).copied().flatten() {
@@ -422,10 +425,10 @@ fn linkage_sheet(
                 m[0],
                 at.norm() * 1e3,
                 at.y.atan2(at.x).rem_euclid(TAU).to_degrees(),
-                if sc.counterweights[j].is_given() {
-                    " (a given body, drawn as the sector with its mass, centroid and inertia: an equivalent, not its own outline)"
-                } else {
-                    ""
+                match (sc.counterweights[j].is_given(), &sc.counterweights[j].drawing) {
+                    (_, Some(_)) => " (drawn as in its drawing)",
+                    (true, None) => " (a given body, drawn as the sector with its mass, centroid and inertia: an equivalent, not its own outline)",
+                    _ => "",
                 }
             ));
         }
@@ -435,19 +438,20 @@ fn linkage_sheet(
         return Err(DrawingError::Data(why.into()));
     }
     if plates.iter().any(Option::is_some) {
-        d.note("a counterweight with a thickness: the plate to cut (a ring centred at its centroid, or the envelope cut by a circle)");
+        d.note("a counterweight with a thickness: the plate to cut (a ring centred at its centroid, or its envelope cut by a circle)");
     }
     d.note("a link's axis: from its reference joint towards its tip; dimensions in mm");
-    d.note("crosses in circles: ground pivots; annular sectors about their joints: the counterweights (the sector with their mass, centroid and inertia within the envelope; a small ring where none is)");
+    d.note("crosses in circles: ground pivots; about their joints, the counterweights: a plate as cut, a drawn one as drawn, else the annular sector with their mass, centroid and inertia within the envelope (a small ring where none is)");
     Ok(d)
 }
 
-/// A plate's outline ([`PlateShape::loops`], in its link's frame about the joint) drawn at the
-/// joint `p0` with the link's axis at angle `phi`.
-fn draw_plate(d: &mut Drawing, plate: &Realised, p0: P2, phi: f64) {
+/// A body's outline (closed loops in its link's frame about the joint: a plate's
+/// [`crate::geom::plate::PlateShape::loops`], a drawn counterweight's own) drawn at the joint
+/// `p0` with the link's axis at angle `phi`.
+fn draw_loops(d: &mut Drawing, loops: &[Vec<Edge>], p0: P2, phi: f64) {
     let w = |p: P2| p0 + crate::geom::rot(phi, p);
-    for lp in plate.shape.loops() {
-        for e in lp {
+    for lp in loops {
+        for &e in lp {
             match e.arc {
                 Some(a) => {
                     let (s, t) = if a.sweep >= 0.0 {
