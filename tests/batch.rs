@@ -1008,3 +1008,74 @@ fn many_bad_rows_show_the_first_few_and_count_the_rest() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A fleet whose column `mechanism.links.crank.outline.file` names a drawing per row: the rows
+/// read it from the template's folder (the CSV is elsewhere), and a changed drawing re-solves
+/// exactly the rows that read it; the others are skipped.
+#[test]
+fn a_changed_drawing_resolves_exactly_the_fleet_rows_that_name_it() {
+    let d = tempfile::tempdir().unwrap();
+    let shipped = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("problems");
+    let (tpl, csv_dir) = (d.path().join("tpl"), d.path().join("csv"));
+    std::fs::create_dir_all(tpl.join("drawings")).unwrap();
+    std::fs::create_dir_all(&csv_dir).unwrap();
+    let template = tpl.join("crank.toml");
+    std::fs::copy(
+        shipped.join("linkage-fourbar-crank-outline.toml"),
+        &template,
+    )
+    .unwrap();
+    let drawing = shipped.join("drawings/linkage-fourbar-crank.dxf");
+    let (a, b) = ("drawings/linkage-fourbar-crank.dxf", "drawings/crank-b.dxf");
+    std::fs::copy(&drawing, tpl.join(a)).unwrap();
+    std::fs::copy(&drawing, tpl.join(b)).unwrap();
+    let csv = csv_dir.join("fleet.csv");
+    std::fs::write(
+        &csv,
+        format!("name,mechanism.links.crank.outline.file\nr1,\nr2,{b}\nr3,{b}\nr4,{a}\n"),
+    )
+    .unwrap();
+    let input = format!("{}:{}", template.display(), csv.display());
+    let out = d.path().join("out");
+    let o = loud(&input, &out, &[]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(0), "{err}");
+    assert!(err.contains("4 ok, 0 failed, 0 skipped"), "{err}");
+    let mtime = |name: &str| {
+        std::fs::metadata(out.join(format!("{name}.json")))
+            .unwrap()
+            .modified()
+            .unwrap()
+    };
+    let before: Vec<_> = ["r1", "r2", "r3", "r4"].map(mtime).to_vec();
+    let o = loud(&input, &out, &[]);
+    assert!(String::from_utf8_lossy(&o.stderr).contains("4 skipped"));
+
+    // New bytes, the same part: a line on a layer the outline does not read.
+    let mut dxf = dxf::Drawing::load_file(tpl.join(b)).unwrap();
+    let line = dxf::entities::Line::new(
+        dxf::Point::new(0.0, 0.0, 0.0),
+        dxf::Point::new(1.0, 1.0, 0.0),
+    );
+    let mut e = dxf::entities::Entity::new(dxf::entities::EntityType::Line(line));
+    e.common.layer = "NOTES".into();
+    dxf.add_entity(e);
+    dxf.save_file(tpl.join(b)).unwrap();
+    std::thread::sleep(std::time::Duration::from_millis(20));
+    let o = loud(&input, &out, &[]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("4 ok, 0 failed, 2 skipped"), "{err}");
+    let after: Vec<_> = ["r1", "r2", "r3", "r4"].map(mtime).to_vec();
+    let solved: Vec<bool> = before.iter().zip(&after).map(|(x, y)| x != y).collect();
+    assert_eq!(solved, [false, true, true, false], "the rows naming {b}");
+    // The same numbers: the drawing's part did not change.
+    let v =
+        |dir: &Path, n: &str| json_sans_time(&dir.join(format!("{n}.json")))["objectives"].clone();
+    assert_eq!(v(&out, "r2"), v(&out, "r1"));
+
+    // The template's drawing is read by every row's counterweight: all are solved again.
+    std::fs::copy(tpl.join(b), tpl.join(a)).unwrap();
+    let o = loud(&input, &out, &[]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("4 ok, 0 failed, 0 skipped"), "{err}");
+}

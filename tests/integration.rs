@@ -56,6 +56,7 @@ mod schema;
 mod scotch_yoke;
 mod slider_crank;
 mod slider_crank_balancers;
+mod slider_crank_outline;
 mod statuses;
 mod study;
 mod textbook;

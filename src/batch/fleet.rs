@@ -13,7 +13,7 @@
 
 use super::error::BatchError;
 use super::hash::Hasher;
-use crate::families::{parse_str, parse_table, Scene};
+use crate::families::{parse_str, parse_str_in, parse_table_in, Scene};
 use crate::problem::ProblemError;
 use crate::report::truncate;
 use crate::units::Unit;
@@ -38,6 +38,13 @@ pub struct Template {
     /// gives one.
     units: Vec<Option<&'static Unit>>,
     hash: Hasher,
+    /// The template's folder: a row's drawings (`outline.file`) are read from it, as the
+    /// template's are.
+    dir: PathBuf,
+    /// The drawings a row reads: (the template's `outline.file`, empty where it has none;
+    /// the column `….outline.file` that sets it, if any), in the template's key order, then
+    /// the `outline` tables only a column names.
+    drawings: Vec<(String, Option<usize>)>,
 }
 
 /// A column header: its dotted key and, if written `key [unit]`, its unit (an unknown unit
@@ -235,12 +242,12 @@ impl Template {
         // A key set by two columns: which cell wins would be a guess.
         let mut seen: std::collections::HashMap<String, usize> = Default::default();
         for (k, key) in header.iter().enumerate() {
-            let canonical = key_parts(key).map_or_else(|_| key.clone(), |p| p.join("."));
-            if let Some(first) = seen.insert(canonical.clone(), k) {
+            let dotted = canonical(key);
+            if let Some(first) = seen.insert(dotted.clone(), k) {
                 return Err(BatchError::FleetHeader {
                     path: csv.into(),
                     why: format!(
-                        "columns {} (`{}`) and {} (`{}`) both set `{canonical}`; keep one",
+                        "columns {} (`{}`) and {} (`{}`) both set `{dotted}`; keep one",
                         first + 1,
                         truncate(&columns[first], 200),
                         k + 1,
@@ -266,11 +273,11 @@ impl Template {
         let mut hash = Hasher::new();
         hash.bytes(b"fleet row\0");
         hash.field(&text);
-        hash.drawings(&text, template);
         hash.field(&columns.len().to_string());
         for h in &columns {
             hash.field(h);
         }
+        let drawings = row_drawings(&table, &header);
         Ok(Template {
             path: template.into(),
             csv: csv.into(),
@@ -280,17 +287,31 @@ impl Template {
             header,
             units,
             hash,
+            dir: template.parent().unwrap_or(Path::new("")).into(),
+            drawings,
         })
     }
 
     /// The input hash of a row named `name` with these cells: the template text, the CSV
-    /// header, the name and the cells (as they are in the CSV), and the cwsynth build.
+    /// header, the name and the cells (as they are in the CSV), the bytes of every drawing
+    /// the row reads (the template's `outline.file`s, each replaced by the row's cell of a
+    /// column `….outline.file` that sets it), and the cwsynth build.
     pub fn input_hash(&self, name: &str, cells: &[String]) -> String {
         let mut h = self.hash.clone();
         h.field(name);
         h.field(&cells.len().to_string());
         for c in cells {
             h.field(c);
+        }
+        for (file, column) in &self.drawings {
+            let cell = column
+                .and_then(|k| cells.get(k))
+                .map(|c| c.trim())
+                .filter(|c| !c.is_empty());
+            match cell.or(Some(file.as_str()).filter(|f| !f.is_empty())) {
+                Some(f) => h.drawing(f, &self.dir),
+                None => h.field(""),
+            }
         }
         h.hex()
     }
@@ -318,7 +339,7 @@ impl Template {
         for (key, cell) in self.overrides(cells) {
             set_dotted_table(&mut table, key, cell.value())?;
         }
-        parse_table(table, Path::new(&self.source(line))).ok()
+        parse_table_in(table, Path::new(&self.source(line)), &self.dir).ok()
     }
 
     /// The machine of one CSV row: (name, its scene) or `fleet.csv:LINE: reason`. A good row
@@ -343,8 +364,9 @@ impl Template {
     ) -> (String, Result<Scene, String>) {
         let (name, text) = self.machine(row, line, cells);
         let src = self.source(line);
-        let scene =
-            text.and_then(|t| parse_str(&t, Path::new(&src)).map_err(|e| row_error(self, line, e)));
+        let scene = text.and_then(|t| {
+            parse_str_in(&t, Path::new(&src), &self.dir).map_err(|e| row_error(self, line, e))
+        });
         (name, scene)
     }
 
@@ -448,6 +470,39 @@ impl Template {
         }
         (name, Ok(doc.to_string()))
     }
+}
+
+/// A dotted key with its parts trimmed (`mechanism . speed` is `mechanism.speed`); a key with
+/// an empty part as written.
+fn canonical(key: &str) -> String {
+    key_parts(key).map_or_else(|_| key.to_string(), |p| p.join("."))
+}
+
+/// The drawings a row of the template `table` with these column keys can read (see
+/// `Template::drawings`): the template's `outline` tables with their files and the column
+/// `….outline.file` that sets each, then each `outline` table only a column names.
+fn row_drawings(table: &toml::Table, header: &[String]) -> Vec<(String, Option<usize>)> {
+    let columns: Vec<(String, usize)> = header
+        .iter()
+        .enumerate()
+        .filter_map(|(k, h)| {
+            let key = canonical(h);
+            let outline = key.strip_suffix(".file")?;
+            (outline == "outline" || outline.ends_with(".outline")).then(|| (outline.into(), k))
+        })
+        .collect();
+    let column = |outline: &str| columns.iter().find(|(o, _)| o == outline).map(|c| c.1);
+    let template = super::hash::drawings(table);
+    let mut out: Vec<(String, Option<usize>)> = template
+        .iter()
+        .map(|(outline, file)| (file.clone(), column(outline)))
+        .collect();
+    for (outline, k) in &columns {
+        if !template.iter().any(|(o, _)| o == outline) {
+            out.push((String::new(), Some(*k)));
+        }
+    }
+    out
 }
 
 /// A piece of a name template: text as written, or a `{…}` placeholder.

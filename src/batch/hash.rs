@@ -73,37 +73,58 @@ impl Hasher {
             return;
         };
         let dir = path.parent().unwrap_or(std::path::Path::new("."));
-        let mut files = Vec::new();
-        drawings(&toml::Value::Table(doc), &mut files);
-        for f in files {
-            self.field(&f);
-            match std::fs::read(dir.join(&f)) {
-                Ok(bytes) => {
-                    self.bytes(b"\x01");
-                    self.bytes(&(bytes.len() as u64).to_le_bytes());
-                    self.bytes(&bytes);
-                }
-                Err(_) => self.bytes(b"\x00"),
+        for (_, f) in drawings(&doc) {
+            self.drawing(&f, dir);
+        }
+    }
+
+    /// Adds one drawing's name and bytes, `file` read relative to `dir` (a missing one hashes
+    /// as such).
+    pub(super) fn drawing(&mut self, file: &str, dir: &std::path::Path) {
+        self.field(file);
+        match std::fs::read(dir.join(file)) {
+            Ok(bytes) => {
+                self.bytes(b"\x01");
+                self.bytes(&(bytes.len() as u64).to_le_bytes());
+                self.bytes(&bytes);
             }
+            Err(_) => self.bytes(b"\x00"),
         }
     }
 }
 
-/// Every `outline.file` string under `v`, in key order.
-fn drawings(v: &toml::Value, out: &mut Vec<String>) {
-    match v {
-        toml::Value::Table(t) => {
-            for (k, v) in t {
-                if k == "outline" {
-                    if let Some(f) = v.get("file").and_then(|f| f.as_str()) {
-                        out.push(f.to_string());
-                    }
-                }
-                drawings(v, out);
+/// Every `outline.file` string of `table`, in key order, each with the dotted key of its
+/// `outline` table (`mechanism.links.crank.outline`; an array's element as `key[i]`).
+pub(super) fn drawings(table: &toml::Table) -> Vec<(String, String)> {
+    let mut out = Vec::new();
+    collect(table, "", &mut out);
+    out
+}
+
+/// The drawings of the table whose dotted key is `at` (see [`drawings`]).
+fn collect(t: &toml::Table, at: &str, out: &mut Vec<(String, String)>) {
+    for (k, v) in t {
+        let key = match at {
+            "" => k.clone(),
+            _ => format!("{at}.{k}"),
+        };
+        if k == "outline" {
+            if let Some(f) = v.get("file").and_then(|f| f.as_str()) {
+                out.push((key.clone(), f.to_string()));
             }
         }
-        toml::Value::Array(a) => a.iter().for_each(|v| drawings(v, out)),
-        _ => {}
+        let tables: Vec<(String, &toml::Table)> = match v {
+            toml::Value::Table(t) => vec![(key, t)],
+            toml::Value::Array(a) => a
+                .iter()
+                .enumerate()
+                .filter_map(|(i, v)| v.as_table().map(|t| (format!("{key}[{i}]"), t)))
+                .collect(),
+            _ => Vec::new(),
+        };
+        for (key, t) in tables {
+            collect(t, &key, out);
+        }
     }
 }
 

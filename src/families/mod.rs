@@ -133,12 +133,23 @@ pub fn parse_bytes(bytes: &[u8], path: &Path) -> Result<Scene, ProblemError> {
     parse_str(text_of(bytes, path)?, path)
 }
 
-/// Resolves problem-file text; `path` is used for messages and as the scene's source.
+/// Resolves problem-file text; `path` is used for messages and as the scene's source, and
+/// its folder is where the file's drawings (`outline.file`) are read from.
 pub fn parse_str(text: &str, path: &Path) -> Result<Scene, ProblemError> {
-    check_size(text.as_bytes(), path)?;
-    let ctx = Ctx::new(path, text);
-    let header: Header = ctx.parse(text)?;
-    resolve(&ctx, header, Input::Text(text))
+    parse_text(Ctx::new(path, text))
+}
+
+/// [`parse_str`] with the drawings read from `dir`: a fleet row (`path` is `fleet.csv:LINE`)
+/// reads the drawings its template names from the template's folder.
+pub fn parse_str_in(text: &str, path: &Path, dir: &Path) -> Result<Scene, ProblemError> {
+    parse_text(Ctx::new(path, text).in_dir(dir))
+}
+
+/// Resolves the text of `ctx`.
+fn parse_text(ctx: Ctx) -> Result<Scene, ProblemError> {
+    check_size(ctx.text.as_bytes(), ctx.file)?;
+    let header: Header = ctx.parse(ctx.text)?;
+    resolve(&ctx, header, Input::Text(ctx.text))
 }
 
 /// Resolves a problem file already parsed into a table, with the same checks as
@@ -146,7 +157,16 @@ pub fn parse_str(text: &str, path: &Path) -> Result<Scene, ProblemError> {
 /// messages and as the scene's source. Its errors have no line: a caller that needs one reads
 /// the text with [`parse_str`]. A fleet row takes this way and never prints TOML.
 pub fn parse_table(table: toml::Table, path: &Path) -> Result<Scene, ProblemError> {
-    let ctx = Ctx::of_table(path);
+    parse_table_of(Ctx::of_table(path), table)
+}
+
+/// [`parse_table`] with the drawings read from `dir` (a fleet row's: its template's folder).
+pub fn parse_table_in(table: toml::Table, path: &Path, dir: &Path) -> Result<Scene, ProblemError> {
+    parse_table_of(Ctx::of_table(path).in_dir(dir), table)
+}
+
+/// Resolves `table` in the context `ctx`.
+fn parse_table_of(ctx: Ctx, table: toml::Table) -> Result<Scene, ProblemError> {
     let header = Header::of_table(&ctx, &table)?;
     resolve(&ctx, header, Input::Table(table))
 }

@@ -98,6 +98,9 @@ pub struct Ctx<'a> {
     map: std::cell::OnceCell<SourceMap>,
     /// Whether there is a text at all (a fleet row's table has none: no lines).
     has_text: bool,
+    /// The folder the file's drawings (`outline.file`) are read from, when it is not the
+    /// file's own: a fleet row (`fleet.csv:LINE`) reads its template's.
+    dir: Option<&'a Path>,
 }
 
 impl<'a> Ctx<'a> {
@@ -108,7 +111,23 @@ impl<'a> Ctx<'a> {
             text,
             map: std::cell::OnceCell::new(),
             has_text: true,
+            dir: None,
         }
+    }
+
+    /// The same context with its drawings read from `dir` instead of the file's folder.
+    pub fn in_dir(self, dir: &'a Path) -> Self {
+        Ctx {
+            dir: Some(dir),
+            ..self
+        }
+    }
+
+    /// The folder the file's drawings are read from: the one given by [`Ctx::in_dir`], else
+    /// the file's own.
+    pub fn dir(&self) -> &Path {
+        self.dir
+            .unwrap_or_else(|| self.file.parent().unwrap_or(Path::new("")))
     }
 
     /// A context for a table already parsed (no text, so its errors have no line).

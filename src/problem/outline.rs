@@ -159,6 +159,21 @@ pub fn drawn(
     ))
 }
 
+/// What `outline` does to the keys it sets, as [`set_by`] says it.
+pub const OUTLINE_SETS: &str = "outline, which sets it from the drawing";
+
+/// A key given beside the key that sets it (`by`: [`OUTLINE_SETS`], `uniform_bar = true`):
+/// an error at the first such key of `given` (name, given), `key.name`.
+pub fn set_by(key: &str, given: &[(&str, bool)], by: &str) -> Result<(), FieldError> {
+    match given.iter().find(|(_, g)| *g) {
+        Some((f, _)) => Err(FieldError::new(
+            format!("{key}.{f}"),
+            format!("given with {by}; allowed: one or the other"),
+        )),
+        None => Ok(()),
+    }
+}
+
 /// The field an error about the drawing's geometry names: the layer read, or the file.
 fn at_file(key: &str, raw: &OutlineRaw) -> String {
     match raw.layer {

@@ -14,7 +14,7 @@ use crate::families::linkage::model::{Dyad, Inertia, Linkage, Point};
 use crate::geom::outline::{Edge, Plate};
 use crate::geom::{Side, P2};
 use crate::problem::limits::{self, c, Count};
-use crate::problem::outline::{self, OutlineRaw};
+use crate::problem::outline::{self, set_by, OutlineRaw, OUTLINE_SETS};
 use crate::problem::{
     check_name, non_negative, positive, Ctx, FieldError, Input, ProblemError, RawFile, RawVar,
     Resolved,
@@ -285,9 +285,10 @@ pub struct LinkageProblem {
 }
 
 /// Reads and resolves a linkage problem file (its text or its table).
-/// A drawing named in an `outline` key is read relative to the file's folder.
+/// A drawing named in an `outline` key is read relative to the file's folder ([`Ctx::dir`]: a
+/// fleet row's is its template's).
 pub fn resolve(ctx: &Ctx, input: Input) -> Result<Resolved<LinkageProblem>, ProblemError> {
-    let dir = ctx.file.parent().unwrap_or(Path::new(""));
+    let dir = ctx.dir();
     File::resolve(ctx, input, |raw| resolve_raw(raw, dir))
 }
 
@@ -711,21 +712,6 @@ fn inertias(
             })
         })
         .collect()
-}
-
-/// What `outline` does to the keys it sets, as [`set_by`] says it.
-const OUTLINE_SETS: &str = "outline, which sets it from the drawing";
-
-/// A key given beside the key that sets it (`by`: `outline`, `uniform_bar = true`): an
-/// error at the first such key of `given` (name, given).
-fn set_by(key: &str, given: &[(&str, bool)], by: &str) -> Result<(), FieldError> {
-    match given.iter().find(|(_, g)| *g) {
-        Some((f, _)) => Err(FieldError::new(
-            format!("{key}.{f}"),
-            format!("given with {by}; allowed: one or the other"),
-        )),
-        None => Ok(()),
-    }
 }
 
 /// The smallest counterweight envelope radius, relative to the crank length (as the

@@ -1,29 +1,34 @@
 //! The slider-crank problem file — its raw sections and their resolution into a checked
 //! [`crate::families::slider_crank::synth::Scene`] (every field documented in
 //! `docs/problem-files.md`) — and the shaping of its outcome into a result (keys in
-//! `docs/results.md`).
+//! `docs/results.md`). The `[design]` and `[objective]` checks are `file_design.rs`', the mass
+//! items `file_masses.rs`', the envelope `file_envelope.rs`' and the textbook rules
+//! `file_textbook.rs`'; their public items are re-exported here.
 
-use super::file_envelope::{check_envelope, resolve_envelope, EnvelopeRaw, NamedMass};
-use super::file_textbook::{
-    fraction_rule, resolve_evaluate_at, resolve_reference, ReferenceRaw, MAX_EVALUATE_AT,
+use super::file_design::{
+    check_flywheel_objective, check_joint, resolve_balancers, resolve_counterweight,
+    resolve_objective, resolve_paper, resolve_shape, resolve_speed_sweep,
 };
+use super::file_envelope::{check_envelope, resolve_envelope, EnvelopeRaw};
+use super::file_masses::{named_masses, resolve_link_masses};
+pub use super::file_masses::{DrawnMass, MassAt, MassItem, MassItemRaw, MAX_MASS_ITEMS};
+use super::file_textbook::{resolve_evaluate_at, resolve_reference, ReferenceRaw, MAX_EVALUATE_AT};
 use crate::families::slider_crank::model::{Crank, Kinematics, Rod, SliderCrank};
 use crate::families::slider_crank::model::{Loads, ProcessForce};
-use crate::families::slider_crank::synth::{self as sc, CounterweightSpec, Objective, Prefer};
+use crate::families::slider_crank::synth::{self as sc, CounterweightSpec, Prefer};
 use crate::problem::limits::{self, c, Count};
 use crate::problem::{
     check_name, non_negative, positive, Ctx, FieldError, Input, ProblemError, RawFile, RawVar,
     Resolved,
 };
 use crate::synth::counterweight::Settings;
-use crate::synth::shape::{ShapeGoal, ShapeSpec};
-use crate::synth::Var;
+use crate::synth::shape::ShapeGoal;
 use crate::units::{
     Acceleration, Angle, AngularSpeed, Density, Force, Inertia, Length, Mass, Qty, Torque,
     Unbalance,
 };
 use serde::Deserialize;
-use std::f64::consts::{PI, TAU};
+use std::path::Path;
 
 /// Smallest counterweight radius (`design.radius`, fixed or a range's lower end above 0) as a
 /// fraction of the crank radius: below it the mass |U|/r is out of all proportion to the
@@ -92,30 +97,6 @@ pub struct MechanismRaw {
     /// The operating envelope: speed band, mass intervals, length tolerances
     /// (`[mechanism.envelope]`).
     pub envelope: Option<EnvelopeRaw>,
-}
-
-/// Where an itemised mass is reduced to.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, schemars::JsonSchema)]
-#[serde(rename_all = "kebab-case")]
-pub enum MassAt {
-    /// Moves with the slider.
-    Slider,
-    /// Turns with the crank pin.
-    CrankPin,
-}
-
-/// `[[mechanism.mass_items]]`.
-#[derive(Debug, Deserialize, schemars::JsonSchema)]
-#[serde(deny_unknown_fields)]
-pub struct MassItemRaw {
-    /// Label.
-    pub name: String,
-    /// Mass.
-    pub mass: Qty<Mass>,
-    /// Reduced to.
-    pub at: MassAt,
-    /// Fraction of the mass reduced there (default 1; ½ for a boom resting on a sub-frame).
-    pub fraction: Option<f64>,
 }
 
 /// `[mechanism.process_force_table]`.
@@ -365,6 +346,8 @@ pub struct SliderCrankProblem {
     /// `minimize = "flywheel-inertia"`: the design searched for the least flywheel that meets
     /// the drive's Cs (the core scene then holds the force objective of its start).
     pub flywheel_objective: bool,
+    /// The mass items whose mass was read from a drawing (`outline`), in the file's order.
+    pub drawn_masses: Vec<DrawnMass>,
 }
 
 /// The paper's printed inputs and output of formula (6) (SI).
@@ -383,27 +366,27 @@ pub struct PaperDesign {
 /// The whole slider-crank file.
 pub type File = RawFile<MechanismRaw, ModelRaw, DesignRaw, ObjectiveRaw, AccuracyRaw>;
 
-/// Reads and resolves a slider-crank problem file (its text or its table).
+/// Reads and resolves a slider-crank problem file (its text or its table). A drawing named
+/// in a mass item's `outline` is read relative to the file's folder ([`Ctx::dir`]: a fleet
+/// row's is its template's).
 pub fn resolve(ctx: &Ctx, input: Input) -> Result<Resolved<SliderCrankProblem>, ProblemError> {
-    File::resolve(ctx, input, resolve_raw)
+    let dir = ctx.dir();
+    File::resolve(ctx, input, |raw| resolve_raw(raw, dir))
 }
 
 /// Most points of `[mechanism.process_force_table]` (a measured cycle at 0.1° is 3600).
 pub const MAX_TABLE_POINTS: usize = 10_000;
 
-/// Most `[[mechanism.mass_items]]`.
-pub const MAX_MASS_ITEMS: usize = 1000;
-
 /// The value checks of a slider-crank file, section by section in the file's order: the
-/// name, the mechanism and its loads ([`resolve_mechanism`]), the counterweight's variables
-/// ([`resolve_counterweight`]), the objective and its limits ([`resolve_objective`]), the
-/// accuracy, the paper's design, the plate, the balancers, the load limits, the joint
-/// design's requirements, the speed sweep and the work budget.
-pub fn resolve_raw(raw: &File) -> Result<SliderCrankProblem, FieldError> {
+/// name, the mechanism and its loads ([`resolve_mechanism`], mass items' drawings read from
+/// `dir`), the counterweight's variables, the objective and its limits, the accuracy, the
+/// paper's design, the plate, the balancers, the load limits, the joint design's
+/// requirements, the speed sweep and the work budget.
+pub fn resolve_raw(raw: &File, dir: &Path) -> Result<SliderCrankProblem, FieldError> {
     check_name(&raw.name)?;
     let m = &raw.mechanism;
     let md = &raw.model;
-    let (mech, omega, loads) = resolve_mechanism(m, md)?;
+    let (mech, omega, loads, items) = resolve_mechanism(m, md, dir)?;
     let d = &raw.design;
     let o = &raw.objective;
     let (unbalance, angle, mass, radius) = resolve_counterweight(d, &mech)?;
@@ -450,20 +433,7 @@ pub fn resolve_raw(raw: &File) -> Result<SliderCrankProblem, FieldError> {
         envelope: sc::Envelope::default(),
     };
     if let Some(e) = &m.envelope {
-        let items: Vec<NamedMass> = m
-            .mass_items
-            .iter()
-            .map(|it| NamedMass {
-                name: &it.name,
-                of: match it.at {
-                    MassAt::Slider => sc::MassOf::Slider,
-                    MassAt::CrankPin => sc::MassOf::CrankPin,
-                },
-                mass: it.mass.si(),
-                fraction: it.fraction.unwrap_or(1.0),
-            })
-            .collect();
-        core.envelope = resolve_envelope(&items, e, &core)?;
+        core.envelope = resolve_envelope(&named_masses(&items), e, &core)?;
         check_envelope(&core, o.speed_sweep.is_some())?;
     }
     if core.joint() {
@@ -500,6 +470,7 @@ pub fn resolve_raw(raw: &File) -> Result<SliderCrankProblem, FieldError> {
         drive,
         rod_length_given,
         flywheel_objective,
+        drawn_masses: items.into_iter().filter_map(|it| it.drawn).collect(),
         reference: resolve_reference(d.reference.as_ref(), radius)?,
         evaluate_at: resolve_evaluate_at(&o.evaluate_at)?,
     })
@@ -511,7 +482,8 @@ pub fn resolve_raw(raw: &File) -> Result<SliderCrankProblem, FieldError> {
 fn resolve_mechanism(
     m: &MechanismRaw,
     md: &ModelRaw,
-) -> Result<(SliderCrank, f64, Loads), FieldError> {
+    dir: &Path,
+) -> Result<(SliderCrank, f64, Loads, Vec<MassItem>), FieldError> {
     let r = positive("mechanism.crank_radius", m.crank_radius.si())?;
     let e = m.offset.map_or(0.0, |q| q.si());
     let kinematics = md.kinematics.unwrap_or(Kinematics::Exact);
@@ -537,7 +509,7 @@ fn resolve_mechanism(
     };
     let omega = positive("mechanism.speed", m.speed.si())?;
     let m3 = non_negative("mechanism.rod_mass", m.rod_mass.si())?;
-    let (m2, m4, r2) = resolve_link_masses(m, r)?;
+    let (m2, m4, r2, items) = resolve_link_masses(m, r, dir)?;
     let ratio = (r + e.abs()) / l;
     if ratio >= 1.0 {
         return Err(FieldError::new(
@@ -589,80 +561,7 @@ fn resolve_mechanism(
         rod,
         slider_mass: m4,
     };
-    Ok((mech, omega, Loads { gravity, process }))
-}
-
-/// The crank-pin mass m₂, the slider mass m₄ and the crank's centroid radius r₂: given
-/// (r₂ = R/2 by default), or summed from `[[mechanism.mass_items]]` (each item's fraction
-/// of its mass at the crank pin or at the slider; r₂ = R).
-fn resolve_link_masses(m: &MechanismRaw, r: f64) -> Result<(f64, f64, f64), FieldError> {
-    Ok(if m.mass_items.is_empty() {
-        let need = |q: Option<Qty<Mass>>, f: &str| {
-            q.map(|q| q.si()).ok_or_else(|| {
-                FieldError::new(
-                    f,
-                    "missing: give it, or itemise the masses in [[mechanism.mass_items]]",
-                )
-            })
-        };
-        let m2 = non_negative(
-            "mechanism.crank_mass",
-            need(m.crank_mass, "mechanism.crank_mass")?,
-        )?;
-        let m4 = non_negative(
-            "mechanism.slider_mass",
-            need(m.slider_mass, "mechanism.slider_mass")?,
-        )?;
-        let r2 = non_negative(
-            "mechanism.crank_centroid",
-            m.crank_centroid.map_or(0.5 * r, |q| q.si()),
-        )?;
-        (m2, m4, r2)
-    } else {
-        for (q, f) in [
-            (m.crank_mass, "mechanism.crank_mass"),
-            (m.slider_mass, "mechanism.slider_mass"),
-        ] {
-            if q.is_some() {
-                return Err(FieldError::new(
-                    f,
-                    "given together with mechanism.mass_items; allowed: one or the other",
-                ));
-            }
-        }
-        if m.crank_centroid.is_some() {
-            return Err(FieldError::new(
-                "mechanism.crank_centroid",
-                "itemised crank-pin masses are at the crank pin (r2 = R); remove crank_centroid",
-            ));
-        }
-        if m.mass_items.len() > MAX_MASS_ITEMS {
-            return Err(FieldError::new(
-                format!("mechanism.mass_items[{MAX_MASS_ITEMS}]"),
-                format!(
-                    "{} items; allowed: at most {MAX_MASS_ITEMS}",
-                    m.mass_items.len()
-                ),
-            ));
-        }
-        let (mut pin, mut slider) = (0.0, 0.0);
-        for (i, it) in m.mass_items.iter().enumerate() {
-            let f = format!("mechanism.mass_items[{i}]");
-            let mass = non_negative(&format!("{f}.mass"), it.mass.si())?;
-            let frac = it.fraction.unwrap_or(1.0);
-            if !(0.0..=1.0).contains(&frac) {
-                return Err(FieldError::new(
-                    format!("{f}.fraction"),
-                    format!("got {frac}; allowed: 0 ≤ fraction ≤ 1"),
-                ));
-            }
-            match it.at {
-                MassAt::CrankPin => pin += frac * mass,
-                MassAt::Slider => slider += frac * mass,
-            }
-        }
-        (pin, slider, r)
-    })
+    Ok((mech, omega, Loads { gravity, process }, items))
 }
 
 /// The rod of `[model]`: lumped (its mass m₃ split between the crank pin and the slider by
@@ -757,414 +656,6 @@ fn resolve_process_force(m: &MechanismRaw) -> Result<ProcessForce, FieldError> {
         }
         (None, None) => ProcessForce::None,
     })
-}
-
-/// The counterweight's variables of `[design]`: the unbalance |U|, the angle β (fixed, a
-/// range at most 180° wide, or the full circle), and the mass and radius when given (the
-/// radius not below [`MIN_RADIUS_OF_CRANK`] × R, a fixed m·r inside the unbalance bounds).
-fn resolve_counterweight(
-    d: &DesignRaw,
-    mech: &SliderCrank,
-) -> Result<(Var, Var, Option<Var>, Option<Var>), FieldError> {
-    let r = mech.r;
-    let var = |v: &Option<RawVar<_>>, f: &str, default: Var| -> Result<Var, FieldError> {
-        let v = v.map(|v| v.resolve(f)).transpose()?.unwrap_or(default);
-        let (lo, _) = v.bounds();
-        non_negative(f, lo)?;
-        Ok(v)
-    };
-    let unbalance = var(
-        &d.unbalance,
-        "design.unbalance",
-        Var::Free {
-            min: 0.0,
-            max: f64::INFINITY,
-        },
-    )?;
-    let mass = d.mass.map(|v| v.resolve("design.mass")).transpose()?;
-    let radius = d.radius.map(|v| v.resolve("design.radius")).transpose()?;
-    for (v, f) in [(mass, "design.mass"), (radius, "design.radius")] {
-        if let Some(v) = v {
-            non_negative(f, v.bounds().0)?;
-        }
-    }
-    // m = |U|/r: a counterweight radius far below the crank's makes the mass overflow (a
-    // radius of 1e-308 mm gave an infinite mass), so it has a floor relative to the machine.
-    if let Some(v) = radius {
-        let floor = MIN_RADIUS_OF_CRANK * r;
-        let lo = v.bounds().0;
-        if lo < floor && (v.fixed().is_some() || lo > 0.0) {
-            return Err(FieldError::new(
-                "design.radius",
-                format!(
-                    "{lo:e} m is below {MIN_RADIUS_OF_CRANK:e} × crank_radius = {floor:e} m: the counterweight's mass |U|/r would be out of all proportion to the machine; allowed: a radius ≥ {floor:e} m (a free range may start at 0)"
-                ),
-            ));
-        }
-    }
-    if let (Some(Var::Fixed(mm)), Some(Var::Fixed(rr))) = (mass, radius) {
-        if !unbalance.contains(mm * rr) {
-            return Err(FieldError::new(
-                "design.unbalance",
-                format!(
-                    "mass × radius = {} kg·m is outside the unbalance bounds {:?}",
-                    mm * rr,
-                    unbalance.bounds()
-                ),
-            ));
-        }
-    }
-    if let Some(c) = d.reciprocating_fraction {
-        let given = [
-            (d.unbalance.is_some(), "design.unbalance"),
-            (d.angle.is_some(), "design.angle"),
-            (d.shape.is_some(), "design.shape"),
-            (d.balancers.is_some(), "design.balancers"),
-            (mass.is_some() && radius.is_some(), "design.mass"),
-        ];
-        return fraction_rule(c, &given, mech, mass, radius);
-    }
-    let angle = match d.angle.map(|v| v.resolve("design.angle")).transpose()? {
-        None => Var::Free { min: 0.0, max: TAU },
-        Some(Var::Free { min, max }) if max - min < TAU - 1e-9 && max - min > PI + 1e-12 => {
-            return Err(FieldError::new(
-                "design.angle",
-                format!(
-                    "a range {:.3}° wide is not convex; allowed: a fixed angle, a range at most 180° wide, or the full circle (360°)",
-                    (max - min).to_degrees()
-                ),
-            ))
-        }
-        Some(v) => v,
-    };
-    Ok((unbalance, angle, mass, radius))
-}
-
-/// `minimize = "flywheel-inertia"` needs `[mechanism.drive]` with `cs` and no given
-/// flywheel, and a counterweight its search can move alone: no balancers, envelope, plate,
-/// front, sweep, moment or joint-load limit.
-fn check_flywheel_objective(
-    core: &sc::Scene,
-    drive: Option<&crate::dynamics::Drive>,
-    sweep: bool,
-) -> Result<(), FieldError> {
-    const F: &str = "objective.minimize";
-    match drive {
-        Some(d) if d.cs.is_some() && d.flywheel.is_none() => {}
-        _ => {
-            return Err(FieldError::new(
-                F,
-                "\"flywheel-inertia\" needs [mechanism.drive] with cs (the coefficient of speed fluctuation to meet) and no flywheel (the flywheel is what it minimises)",
-            ))
-        }
-    }
-    let other = [
-        (!core.balancers.is_empty(), "design.balancers"),
-        (!core.envelope.is_empty(), "mechanism.envelope"),
-        (core.counterweight.shape.is_some(), "design.shape"),
-        (core.pareto_points > 0, "objective.pareto_points"),
-        (sweep, "objective.speed_sweep"),
-        (
-            core.max_shaking_moment.is_some(),
-            "objective.max_shaking_moment",
-        ),
-        (core.joint(), "objective.max_main_bearing_load"),
-    ];
-    match other.iter().find(|(on, _)| *on) {
-        Some((_, f)) => Err(FieldError::new(
-            *f,
-            "not with minimize = \"flywheel-inertia\" (a search over the counterweight alone, with max_peak_force and max_peak_torque as its limits)",
-        )),
-        None => Ok(()),
-    }
-}
-
-/// `[objective]`: what is minimised and the peak-force and peak-torque limits (a mass or
-/// radius objective needs a force limit and a counterweight that has a mass and a radius),
-/// and the Pareto points' count (0, or 2 to 200).
-fn resolve_objective(
-    o: &ObjectiveRaw,
-    d: &DesignRaw,
-    mass: Option<Var>,
-    radius: Option<Var>,
-) -> Result<(Objective, Option<f64>, Option<f64>), FieldError> {
-    let objective = match o.minimize {
-        Minimize::PeakForce => Objective::MinPeakForce,
-        Minimize::RmsForce => Objective::MinRmsForce,
-        Minimize::Mass => Objective::MinMass,
-        Minimize::Radius => Objective::MinRadius,
-        Minimize::PeakTorque => Objective::MinPeakTorque,
-        Minimize::PeakMoment => Objective::MinPeakMoment,
-        Minimize::EnergyFluctuation => Objective::MinEnergyFluctuation,
-        // Searched over the certified force optimum's scene (`flywheel_design.rs`).
-        Minimize::FlywheelInertia => Objective::MinPeakForce,
-    };
-    let max_peak_force = o
-        .max_peak_force
-        .map(|q| positive("objective.max_peak_force", q.si()))
-        .transpose()?;
-    if matches!(objective, Objective::MinMass | Objective::MinRadius) {
-        if max_peak_force.is_none() {
-            return Err(FieldError::new(
-                "objective.max_peak_force",
-                "missing: minimize = \"mass\" or \"radius\" needs a peak-force limit (e.g. \"400 N\")",
-            ));
-        }
-        if let Some(want) = d.shape.as_ref().and_then(|sh| sh.minimize) {
-            let asked = if objective == Objective::MinMass {
-                ShapeGoal::Mass
-            } else {
-                ShapeGoal::OuterRadius
-            };
-            if want != asked {
-                return Err(FieldError::new(
-                    "design.shape.minimize",
-                    "contradicts objective.minimize: the objective chooses the plate (\"mass\": the lightest, \"radius\": the smallest outer radius); remove design.shape.minimize",
-                ));
-            }
-        }
-        if d.shape.is_none() && (mass.is_none() || radius.is_none()) {
-            return Err(FieldError::new(
-                "objective.minimize",
-                "minimizing the counterweight's mass or radius needs design.mass and design.radius (fixed or ranges)",
-            ));
-        }
-    }
-    let max_peak_torque = o
-        .max_peak_torque
-        .map(|q| positive("objective.max_peak_torque", q.si()))
-        .transpose()?;
-    limits::check(COUNTS, "objective.pareto_points", o.pareto_points as i128)?;
-    if o.pareto_points == 1 {
-        return Err(FieldError::new(
-            "objective.pareto_points",
-            format!("got {}; allowed: 0 (none) or 2 to 200", o.pareto_points),
-        ));
-    }
-    Ok((objective, max_peak_force, max_peak_torque))
-}
-
-/// `[design.paper]`: the paper's printed design, its counterweight with a lever radius
-/// (`lever_radius` or the fixed `design.radius`).
-fn resolve_paper(d: &DesignRaw, radius: Option<Var>) -> Result<Option<PaperDesign>, FieldError> {
-    Ok(match &d.paper {
-        None => None,
-        Some(p) => {
-            let pos = |q: Option<Qty<Mass>>, f: &str| q.map(|q| positive(f, q.si())).transpose();
-            let lever_radius = match p.lever_radius {
-                Some(q) => Some(positive("design.paper.lever_radius", q.si())?),
-                None => radius.and_then(|r| r.fixed()),
-            };
-            let pd = PaperDesign {
-                rotating_mass: pos(p.rotating_mass, "design.paper.rotating_mass")?,
-                reciprocating_mass: pos(p.reciprocating_mass, "design.paper.reciprocating_mass")?,
-                counterweight_mass: pos(p.counterweight_mass, "design.paper.counterweight_mass")?,
-                lever_radius,
-            };
-            if pd.counterweight_mass.is_some() && lever_radius.is_none() {
-                return Err(FieldError::new(
-                    "design.paper.counterweight_mass",
-                    "the paper's counterweight needs its lever radius: give design.paper.lever_radius (or design.radius as a fixed value)",
-                ));
-            }
-            Some(pd)
-        }
-    })
-}
-
-/// `[design.shape]`: the plate's envelope (outer radius above the inner, 0 < angle ≤ 360°),
-/// which is the counterweight (no design.mass or design.radius with it) and must hold the
-/// unbalance's minimum.
-fn resolve_shape(d: &DesignRaw, unbalance: Var) -> Result<Option<ShapeSpec>, FieldError> {
-    Ok(match &d.shape {
-        None => None,
-        Some(sh) => {
-            let spec = ShapeSpec {
-                density: positive("design.shape.density", sh.density.si())?,
-                thickness: positive("design.shape.thickness", sh.thickness.si())?,
-                inner_radius_min: non_negative(
-                    "design.shape.inner_radius_min",
-                    sh.inner_radius_min.si(),
-                )?,
-                outer_radius_max: positive(
-                    "design.shape.outer_radius_max",
-                    sh.outer_radius_max.si(),
-                )?,
-                max_angle: sh.max_angle.map_or(std::f64::consts::PI, |q| q.si()),
-                goal: sh.minimize.unwrap_or_default(),
-            };
-            if spec.outer_radius_max <= spec.inner_radius_min {
-                return Err(FieldError::new(
-                    "design.shape.outer_radius_max",
-                    "allowed: outer_radius_max > inner_radius_min",
-                ));
-            }
-            if !(spec.max_angle > 0.0 && spec.max_angle <= TAU) {
-                return Err(FieldError::new(
-                    "design.shape.max_angle",
-                    "allowed: 0 < max_angle ≤ 360°",
-                ));
-            }
-            // One object: the plate sets the mass and the radius.
-            for (given, f) in [
-                (d.mass.is_some(), "design.mass"),
-                (d.radius.is_some(), "design.radius"),
-            ] {
-                if given {
-                    return Err(FieldError::new(
-                        f,
-                        "not allowed with [design.shape]: the plate is the counterweight, its mass and centroid radius follow from the plate (a lever radius for the paper's formula goes in design.paper.lever_radius)",
-                    ));
-                }
-            }
-            let u_max = spec.max_unbalance();
-            let u_min = unbalance.bounds().0;
-            if u_min > u_max {
-                return Err(FieldError::new(
-                    "design.shape",
-                    format!(
-                        "the envelope holds at most |U| = {u_max:.6} kg·m, below design.unbalance's minimum {u_min:.6} kg·m: enlarge outer_radius_max, thickness or max_angle"
-                    ),
-                ));
-            }
-            Some(spec)
-        }
-    })
-}
-
-/// `[objective.speed_sweep]`: the speeds 0 < min < max (rad/s) and their count.
-fn resolve_speed_sweep(o: &ObjectiveRaw) -> Result<Option<SpeedSweep>, FieldError> {
-    Ok(match &o.speed_sweep {
-        None => None,
-        Some(sw) => {
-            let min = positive("objective.speed_sweep.min", sw.min.si())?;
-            let max = positive("objective.speed_sweep.max", sw.max.si())?;
-            if max <= min {
-                return Err(FieldError::new(
-                    "objective.speed_sweep.max",
-                    "allowed: max > min",
-                ));
-            }
-            limits::check(COUNTS, "objective.speed_sweep.points", sw.points as i128)?;
-            Some(SpeedSweep {
-                min,
-                max,
-                points: sw.points,
-            })
-        }
-    })
-}
-
-/// `[design.balancers]` into the scene's pairs (their unbalance 0: the design variable).
-fn resolve_balancers(b: &BalancersRaw) -> Result<Vec<sc::BalancerSpec>, FieldError> {
-    let f = "design.balancers";
-    if b.orders.is_empty() || b.orders.len() > 4 {
-        return Err(FieldError::new(
-            format!("{f}.orders"),
-            format!(
-                "{} orders; allowed: 1 to 4 distinct orders from 1 to 4",
-                b.orders.len()
-            ),
-        ));
-    }
-    let mut seen = [false; 5];
-    for (i, &n) in b.orders.iter().enumerate() {
-        if !(1..=4).contains(&n) || seen[n as usize] {
-            return Err(FieldError::new(
-                format!("{f}.orders[{i}]"),
-                format!("got {n}; allowed: distinct orders from 1 to 4"),
-            ));
-        }
-        seen[n as usize] = true;
-    }
-    let per_order = |len: Option<usize>, key: &str| match len {
-        Some(l) if l != b.orders.len() => Err(FieldError::new(
-            format!("{f}.{key}"),
-            format!(
-                "{l} values for {} orders; allowed: one per order",
-                b.orders.len()
-            ),
-        )),
-        _ => Ok(()),
-    };
-    per_order(b.max_unbalance.as_ref().map(Vec::len), "max_unbalance")?;
-    per_order(b.offset.as_ref().map(Vec::len), "offset")?;
-    b.orders
-        .iter()
-        .enumerate()
-        .map(|(i, &order)| {
-            let max_unbalance = match &b.max_unbalance {
-                Some(v) => positive(&format!("{f}.max_unbalance[{i}]"), v[i].si())?,
-                None => f64::INFINITY,
-            };
-            let offset = b.offset.as_ref().map_or(0.0, |v| v[i].si());
-            if !offset.is_finite() {
-                return Err(FieldError::new(
-                    format!("{f}.offset[{i}]"),
-                    "allowed: a finite length",
-                ));
-            }
-            Ok(sc::BalancerSpec {
-                pair: crate::families::slider_crank::model::BalancerPair { order, offset },
-                max_unbalance,
-                unbalance: [0.0; 2],
-            })
-        })
-        .collect()
-}
-
-/// What a joint design (balancers, a moment objective or limit, a main-bearing limit) cannot
-/// be combined with, each refused with the key to change.
-fn check_joint(core: &sc::Scene, sweep: bool, gravity: bool) -> Result<(), FieldError> {
-    let why = "with design.balancers, minimize = \"peak-moment\", max_shaking_moment or max_main_bearing_load (the joint design)";
-    if matches!(core.objective, Objective::MinMass | Objective::MinRadius) {
-        return Err(FieldError::new(
-            "objective.minimize",
-            format!("\"mass\" and \"radius\" are not available {why}; allowed: \"peak-force\", \"rms-force\", \"peak-torque\", \"peak-moment\""),
-        ));
-    }
-    if matches!(
-        core.objective,
-        Objective::MinPeakMoment | Objective::MinPeakTorque
-    ) && core.max_peak_force.is_none()
-    {
-        return Err(FieldError::new(
-            "objective.max_peak_force",
-            format!("missing: minimising the moment or the torque {why} leaves the counterweight free (it adds no moment and, without gravity, no torque); give a peak-force limit"),
-        ));
-    }
-    if core.pareto_points > 0 {
-        return Err(FieldError::new(
-            "objective.pareto_points",
-            format!("the torque–force Pareto front is not available {why}"),
-        ));
-    }
-    if sweep {
-        return Err(FieldError::new(
-            "objective.speed_sweep",
-            format!("the speed sweep is not available {why}"),
-        ));
-    }
-    let u = core.counterweight.unbalance;
-    if u.bounds().0 > 0.0 {
-        return Err(FieldError::new(
-            "design.unbalance",
-            format!("a lower bound on |U| (or a fixed |U|) is not convex and not available {why}; allowed: a range from 0"),
-        ));
-    }
-    if !(sc::unbalance_bounds(&core.counterweight).1 > 0.0) {
-        return Err(FieldError::new(
-            "design.unbalance",
-            format!("|U| bounded to 0 is not available {why}; allowed: an upper bound > 0"),
-        ));
-    }
-    if core.load_limits.main_bearing.is_some() && gravity {
-        return Err(FieldError::new(
-            "objective.max_main_bearing_load",
-            "not available with model.gravity: the main bearing carries the counterweight's weight, which depends on how |U| splits into mass and radius (not affine in U); remove the limit (the load is still reported with model.bearing_loads)",
-        ));
-    }
-    Ok(())
 }
 
 /// The work budget ([`limits::check_work`]): W = (1 + P + S)·(K·(n_scan + n_init + K) +

@@ -3,7 +3,9 @@
 //! ladder and left-out effects (`study`), behind the `Family` and `Machine` traits.
 
 pub mod file;
+pub mod file_design;
 pub mod file_envelope;
+pub mod file_masses;
 pub mod file_textbook;
 pub mod flywheel_design;
 pub mod model;

@@ -17,7 +17,7 @@ use serde_json::json;
 use std::collections::BTreeMap;
 
 /// The result's `model` section: the kinematics, the rod, the offset, gravity and the process
-/// force the solve uses.
+/// force the solve uses, and where each drawn mass item's mass came from.
 pub fn model(p: &SliderCrankProblem, _: Option<&Solution>) -> BTreeMap<String, serde_json::Value> {
     let s = &p.core;
     let m = &s.mech;
@@ -64,6 +64,10 @@ pub fn model(p: &SliderCrankProblem, _: Option<&Solution>) -> BTreeMap<String, s
         ),
     ]);
     model.extend(rod);
+    // Only beside a drawn mass item: a file of typed masses keeps its `model` as it was.
+    if !p.drawn_masses.is_empty() {
+        model.insert("mass_items_from_drawings".into(), json!(p.drawn_masses));
+    }
     model
 }
 

@@ -1,0 +1,432 @@
+//! The `[design]` and `[objective]` sections of a slider-crank file resolved against its
+//! mechanism: the counterweight's variables, the objective and its limits, the paper's
+//! design, the plate, the balancers, the speed sweep, and what a joint design or the flywheel
+//! objective cannot be combined with (keys in `docs/problem-files.md`). Split from `file.rs`,
+//! which keeps the raw sections and the order the checks run in.
+
+use super::file::{
+    BalancersRaw, DesignRaw, Minimize, ObjectiveRaw, PaperDesign, COUNTS, MIN_RADIUS_OF_CRANK,
+};
+use super::file_textbook::fraction_rule;
+use crate::families::slider_crank::model::SliderCrank;
+use crate::families::slider_crank::synth::{self as sc, Objective, SpeedSweep};
+use crate::problem::limits;
+use crate::problem::{non_negative, positive, FieldError, RawVar};
+use crate::synth::shape::{ShapeGoal, ShapeSpec};
+use crate::synth::Var;
+use crate::units::{Mass, Qty};
+use std::f64::consts::{PI, TAU};
+
+/// The counterweight's variables of `[design]`: the unbalance |U|, the angle β (fixed, a
+/// range at most 180° wide, or the full circle), and the mass and radius when given (the
+/// radius not below [`MIN_RADIUS_OF_CRANK`] × R, a fixed m·r inside the unbalance bounds).
+pub(super) fn resolve_counterweight(
+    d: &DesignRaw,
+    mech: &SliderCrank,
+) -> Result<(Var, Var, Option<Var>, Option<Var>), FieldError> {
+    let r = mech.r;
+    let var = |v: &Option<RawVar<_>>, f: &str, default: Var| -> Result<Var, FieldError> {
+        let v = v.map(|v| v.resolve(f)).transpose()?.unwrap_or(default);
+        let (lo, _) = v.bounds();
+        non_negative(f, lo)?;
+        Ok(v)
+    };
+    let unbalance = var(
+        &d.unbalance,
+        "design.unbalance",
+        Var::Free {
+            min: 0.0,
+            max: f64::INFINITY,
+        },
+    )?;
+    let mass = d.mass.map(|v| v.resolve("design.mass")).transpose()?;
+    let radius = d.radius.map(|v| v.resolve("design.radius")).transpose()?;
+    for (v, f) in [(mass, "design.mass"), (radius, "design.radius")] {
+        if let Some(v) = v {
+            non_negative(f, v.bounds().0)?;
+        }
+    }
+    // m = |U|/r: a counterweight radius far below the crank's makes the mass overflow (a
+    // radius of 1e-308 mm gave an infinite mass), so it has a floor relative to the machine.
+    if let Some(v) = radius {
+        let floor = MIN_RADIUS_OF_CRANK * r;
+        let lo = v.bounds().0;
+        if lo < floor && (v.fixed().is_some() || lo > 0.0) {
+            return Err(FieldError::new(
+                "design.radius",
+                format!(
+                    "{lo:e} m is below {MIN_RADIUS_OF_CRANK:e} × crank_radius = {floor:e} m: the counterweight's mass |U|/r would be out of all proportion to the machine; allowed: a radius ≥ {floor:e} m (a free range may start at 0)"
+                ),
+            ));
+        }
+    }
+    if let (Some(Var::Fixed(mm)), Some(Var::Fixed(rr))) = (mass, radius) {
+        if !unbalance.contains(mm * rr) {
+            return Err(FieldError::new(
+                "design.unbalance",
+                format!(
+                    "mass × radius = {} kg·m is outside the unbalance bounds {:?}",
+                    mm * rr,
+                    unbalance.bounds()
+                ),
+            ));
+        }
+    }
+    if let Some(c) = d.reciprocating_fraction {
+        let given = [
+            (d.unbalance.is_some(), "design.unbalance"),
+            (d.angle.is_some(), "design.angle"),
+            (d.shape.is_some(), "design.shape"),
+            (d.balancers.is_some(), "design.balancers"),
+            (mass.is_some() && radius.is_some(), "design.mass"),
+        ];
+        return fraction_rule(c, &given, mech, mass, radius);
+    }
+    let angle = match d.angle.map(|v| v.resolve("design.angle")).transpose()? {
+        None => Var::Free { min: 0.0, max: TAU },
+        Some(Var::Free { min, max }) if max - min < TAU - 1e-9 && max - min > PI + 1e-12 => {
+            return Err(FieldError::new(
+                "design.angle",
+                format!(
+                    "a range {:.3}° wide is not convex; allowed: a fixed angle, a range at most 180° wide, or the full circle (360°)",
+                    (max - min).to_degrees()
+                ),
+            ))
+        }
+        Some(v) => v,
+    };
+    Ok((unbalance, angle, mass, radius))
+}
+
+/// `minimize = "flywheel-inertia"` needs `[mechanism.drive]` with `cs` and no given
+/// flywheel, and a counterweight its search can move alone: no balancers, envelope, plate,
+/// front, sweep, moment or joint-load limit.
+pub(super) fn check_flywheel_objective(
+    core: &sc::Scene,
+    drive: Option<&crate::dynamics::Drive>,
+    sweep: bool,
+) -> Result<(), FieldError> {
+    const F: &str = "objective.minimize";
+    match drive {
+        Some(d) if d.cs.is_some() && d.flywheel.is_none() => {}
+        _ => {
+            return Err(FieldError::new(
+                F,
+                "\"flywheel-inertia\" needs [mechanism.drive] with cs (the coefficient of speed fluctuation to meet) and no flywheel (the flywheel is what it minimises)",
+            ))
+        }
+    }
+    let other = [
+        (!core.balancers.is_empty(), "design.balancers"),
+        (!core.envelope.is_empty(), "mechanism.envelope"),
+        (core.counterweight.shape.is_some(), "design.shape"),
+        (core.pareto_points > 0, "objective.pareto_points"),
+        (sweep, "objective.speed_sweep"),
+        (
+            core.max_shaking_moment.is_some(),
+            "objective.max_shaking_moment",
+        ),
+        (core.joint(), "objective.max_main_bearing_load"),
+    ];
+    match other.iter().find(|(on, _)| *on) {
+        Some((_, f)) => Err(FieldError::new(
+            *f,
+            "not with minimize = \"flywheel-inertia\" (a search over the counterweight alone, with max_peak_force and max_peak_torque as its limits)",
+        )),
+        None => Ok(()),
+    }
+}
+
+/// `[objective]`: what is minimised and the peak-force and peak-torque limits (a mass or
+/// radius objective needs a force limit and a counterweight that has a mass and a radius),
+/// and the Pareto points' count (0, or 2 to 200).
+pub(super) fn resolve_objective(
+    o: &ObjectiveRaw,
+    d: &DesignRaw,
+    mass: Option<Var>,
+    radius: Option<Var>,
+) -> Result<(Objective, Option<f64>, Option<f64>), FieldError> {
+    let objective = match o.minimize {
+        Minimize::PeakForce => Objective::MinPeakForce,
+        Minimize::RmsForce => Objective::MinRmsForce,
+        Minimize::Mass => Objective::MinMass,
+        Minimize::Radius => Objective::MinRadius,
+        Minimize::PeakTorque => Objective::MinPeakTorque,
+        Minimize::PeakMoment => Objective::MinPeakMoment,
+        Minimize::EnergyFluctuation => Objective::MinEnergyFluctuation,
+        // Searched over the certified force optimum's scene (`flywheel_design.rs`).
+        Minimize::FlywheelInertia => Objective::MinPeakForce,
+    };
+    let max_peak_force = o
+        .max_peak_force
+        .map(|q| positive("objective.max_peak_force", q.si()))
+        .transpose()?;
+    if matches!(objective, Objective::MinMass | Objective::MinRadius) {
+        if max_peak_force.is_none() {
+            return Err(FieldError::new(
+                "objective.max_peak_force",
+                "missing: minimize = \"mass\" or \"radius\" needs a peak-force limit (e.g. \"400 N\")",
+            ));
+        }
+        if let Some(want) = d.shape.as_ref().and_then(|sh| sh.minimize) {
+            let asked = if objective == Objective::MinMass {
+                ShapeGoal::Mass
+            } else {
+                ShapeGoal::OuterRadius
+            };
+            if want != asked {
+                return Err(FieldError::new(
+                    "design.shape.minimize",
+                    "contradicts objective.minimize: the objective chooses the plate (\"mass\": the lightest, \"radius\": the smallest outer radius); remove design.shape.minimize",
+                ));
+            }
+        }
+        if d.shape.is_none() && (mass.is_none() || radius.is_none()) {
+            return Err(FieldError::new(
+                "objective.minimize",
+                "minimizing the counterweight's mass or radius needs design.mass and design.radius (fixed or ranges)",
+            ));
+        }
+    }
+    let max_peak_torque = o
+        .max_peak_torque
+        .map(|q| positive("objective.max_peak_torque", q.si()))
+        .transpose()?;
+    limits::check(COUNTS, "objective.pareto_points", o.pareto_points as i128)?;
+    if o.pareto_points == 1 {
+        return Err(FieldError::new(
+            "objective.pareto_points",
+            format!("got {}; allowed: 0 (none) or 2 to 200", o.pareto_points),
+        ));
+    }
+    Ok((objective, max_peak_force, max_peak_torque))
+}
+
+/// `[design.paper]`: the paper's printed design, its counterweight with a lever radius
+/// (`lever_radius` or the fixed `design.radius`).
+pub(super) fn resolve_paper(
+    d: &DesignRaw,
+    radius: Option<Var>,
+) -> Result<Option<PaperDesign>, FieldError> {
+    Ok(match &d.paper {
+        None => None,
+        Some(p) => {
+            let pos = |q: Option<Qty<Mass>>, f: &str| q.map(|q| positive(f, q.si())).transpose();
+            let lever_radius = match p.lever_radius {
+                Some(q) => Some(positive("design.paper.lever_radius", q.si())?),
+                None => radius.and_then(|r| r.fixed()),
+            };
+            let pd = PaperDesign {
+                rotating_mass: pos(p.rotating_mass, "design.paper.rotating_mass")?,
+                reciprocating_mass: pos(p.reciprocating_mass, "design.paper.reciprocating_mass")?,
+                counterweight_mass: pos(p.counterweight_mass, "design.paper.counterweight_mass")?,
+                lever_radius,
+            };
+            if pd.counterweight_mass.is_some() && lever_radius.is_none() {
+                return Err(FieldError::new(
+                    "design.paper.counterweight_mass",
+                    "the paper's counterweight needs its lever radius: give design.paper.lever_radius (or design.radius as a fixed value)",
+                ));
+            }
+            Some(pd)
+        }
+    })
+}
+
+/// `[design.shape]`: the plate's envelope (outer radius above the inner, 0 < angle ≤ 360°),
+/// which is the counterweight (no design.mass or design.radius with it) and must hold the
+/// unbalance's minimum.
+pub(super) fn resolve_shape(
+    d: &DesignRaw,
+    unbalance: Var,
+) -> Result<Option<ShapeSpec>, FieldError> {
+    Ok(match &d.shape {
+        None => None,
+        Some(sh) => {
+            let spec = ShapeSpec {
+                density: positive("design.shape.density", sh.density.si())?,
+                thickness: positive("design.shape.thickness", sh.thickness.si())?,
+                inner_radius_min: non_negative(
+                    "design.shape.inner_radius_min",
+                    sh.inner_radius_min.si(),
+                )?,
+                outer_radius_max: positive(
+                    "design.shape.outer_radius_max",
+                    sh.outer_radius_max.si(),
+                )?,
+                max_angle: sh.max_angle.map_or(std::f64::consts::PI, |q| q.si()),
+                goal: sh.minimize.unwrap_or_default(),
+            };
+            if spec.outer_radius_max <= spec.inner_radius_min {
+                return Err(FieldError::new(
+                    "design.shape.outer_radius_max",
+                    "allowed: outer_radius_max > inner_radius_min",
+                ));
+            }
+            if !(spec.max_angle > 0.0 && spec.max_angle <= TAU) {
+                return Err(FieldError::new(
+                    "design.shape.max_angle",
+                    "allowed: 0 < max_angle ≤ 360°",
+                ));
+            }
+            // One object: the plate sets the mass and the radius.
+            for (given, f) in [
+                (d.mass.is_some(), "design.mass"),
+                (d.radius.is_some(), "design.radius"),
+            ] {
+                if given {
+                    return Err(FieldError::new(
+                        f,
+                        "not allowed with [design.shape]: the plate is the counterweight, its mass and centroid radius follow from the plate (a lever radius for the paper's formula goes in design.paper.lever_radius)",
+                    ));
+                }
+            }
+            let u_max = spec.max_unbalance();
+            let u_min = unbalance.bounds().0;
+            if u_min > u_max {
+                return Err(FieldError::new(
+                    "design.shape",
+                    format!(
+                        "the envelope holds at most |U| = {u_max:.6} kg·m, below design.unbalance's minimum {u_min:.6} kg·m: enlarge outer_radius_max, thickness or max_angle"
+                    ),
+                ));
+            }
+            Some(spec)
+        }
+    })
+}
+
+/// `[objective.speed_sweep]`: the speeds 0 < min < max (rad/s) and their count.
+pub(super) fn resolve_speed_sweep(o: &ObjectiveRaw) -> Result<Option<SpeedSweep>, FieldError> {
+    Ok(match &o.speed_sweep {
+        None => None,
+        Some(sw) => {
+            let min = positive("objective.speed_sweep.min", sw.min.si())?;
+            let max = positive("objective.speed_sweep.max", sw.max.si())?;
+            if max <= min {
+                return Err(FieldError::new(
+                    "objective.speed_sweep.max",
+                    "allowed: max > min",
+                ));
+            }
+            limits::check(COUNTS, "objective.speed_sweep.points", sw.points as i128)?;
+            Some(SpeedSweep {
+                min,
+                max,
+                points: sw.points,
+            })
+        }
+    })
+}
+
+/// `[design.balancers]` into the scene's pairs (their unbalance 0: the design variable).
+pub(super) fn resolve_balancers(b: &BalancersRaw) -> Result<Vec<sc::BalancerSpec>, FieldError> {
+    let f = "design.balancers";
+    if b.orders.is_empty() || b.orders.len() > 4 {
+        return Err(FieldError::new(
+            format!("{f}.orders"),
+            format!(
+                "{} orders; allowed: 1 to 4 distinct orders from 1 to 4",
+                b.orders.len()
+            ),
+        ));
+    }
+    let mut seen = [false; 5];
+    for (i, &n) in b.orders.iter().enumerate() {
+        if !(1..=4).contains(&n) || seen[n as usize] {
+            return Err(FieldError::new(
+                format!("{f}.orders[{i}]"),
+                format!("got {n}; allowed: distinct orders from 1 to 4"),
+            ));
+        }
+        seen[n as usize] = true;
+    }
+    let per_order = |len: Option<usize>, key: &str| match len {
+        Some(l) if l != b.orders.len() => Err(FieldError::new(
+            format!("{f}.{key}"),
+            format!(
+                "{l} values for {} orders; allowed: one per order",
+                b.orders.len()
+            ),
+        )),
+        _ => Ok(()),
+    };
+    per_order(b.max_unbalance.as_ref().map(Vec::len), "max_unbalance")?;
+    per_order(b.offset.as_ref().map(Vec::len), "offset")?;
+    b.orders
+        .iter()
+        .enumerate()
+        .map(|(i, &order)| {
+            let max_unbalance = match &b.max_unbalance {
+                Some(v) => positive(&format!("{f}.max_unbalance[{i}]"), v[i].si())?,
+                None => f64::INFINITY,
+            };
+            let offset = b.offset.as_ref().map_or(0.0, |v| v[i].si());
+            if !offset.is_finite() {
+                return Err(FieldError::new(
+                    format!("{f}.offset[{i}]"),
+                    "allowed: a finite length",
+                ));
+            }
+            Ok(sc::BalancerSpec {
+                pair: crate::families::slider_crank::model::BalancerPair { order, offset },
+                max_unbalance,
+                unbalance: [0.0; 2],
+            })
+        })
+        .collect()
+}
+
+/// What a joint design (balancers, a moment objective or limit, a main-bearing limit) cannot
+/// be combined with, each refused with the key to change.
+pub(super) fn check_joint(core: &sc::Scene, sweep: bool, gravity: bool) -> Result<(), FieldError> {
+    let why = "with design.balancers, minimize = \"peak-moment\", max_shaking_moment or max_main_bearing_load (the joint design)";
+    if matches!(core.objective, Objective::MinMass | Objective::MinRadius) {
+        return Err(FieldError::new(
+            "objective.minimize",
+            format!("\"mass\" and \"radius\" are not available {why}; allowed: \"peak-force\", \"rms-force\", \"peak-torque\", \"peak-moment\""),
+        ));
+    }
+    if matches!(
+        core.objective,
+        Objective::MinPeakMoment | Objective::MinPeakTorque
+    ) && core.max_peak_force.is_none()
+    {
+        return Err(FieldError::new(
+            "objective.max_peak_force",
+            format!("missing: minimising the moment or the torque {why} leaves the counterweight free (it adds no moment and, without gravity, no torque); give a peak-force limit"),
+        ));
+    }
+    if core.pareto_points > 0 {
+        return Err(FieldError::new(
+            "objective.pareto_points",
+            format!("the torque–force Pareto front is not available {why}"),
+        ));
+    }
+    if sweep {
+        return Err(FieldError::new(
+            "objective.speed_sweep",
+            format!("the speed sweep is not available {why}"),
+        ));
+    }
+    let u = core.counterweight.unbalance;
+    if u.bounds().0 > 0.0 {
+        return Err(FieldError::new(
+            "design.unbalance",
+            format!("a lower bound on |U| (or a fixed |U|) is not convex and not available {why}; allowed: a range from 0"),
+        ));
+    }
+    if !(sc::unbalance_bounds(&core.counterweight).1 > 0.0) {
+        return Err(FieldError::new(
+            "design.unbalance",
+            format!("|U| bounded to 0 is not available {why}; allowed: an upper bound > 0"),
+        ));
+    }
+    if core.load_limits.main_bearing.is_some() && gravity {
+        return Err(FieldError::new(
+            "objective.max_main_bearing_load",
+            "not available with model.gravity: the main bearing carries the counterweight's weight, which depends on how |U| splits into mass and radius (not affine in U); remove the limit (the load is still reported with model.bearing_loads)",
+        ));
+    }
+    Ok(())
+}
