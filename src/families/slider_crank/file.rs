@@ -9,31 +9,25 @@ use super::file_design::{
     check_flywheel_objective, check_joint, resolve_balancers, resolve_counterweight,
     resolve_objective, resolve_paper, resolve_shape, resolve_speed_sweep,
 };
+pub use super::file_design::{
+    BalancersRaw, DesignRaw, Minimize, ObjectiveRaw, PaperDesign, PaperDesignRaw, ShapeRaw,
+    SpeedSweepRaw, COUNTS, MIN_RADIUS_OF_CRANK,
+};
 use super::file_envelope::{check_envelope, resolve_envelope, EnvelopeRaw};
-use super::file_masses::{named_masses, resolve_link_masses};
+use super::file_masses::{named_masses, resolve_link_masses, LinkMassKeys};
 pub use super::file_masses::{DrawnMass, MassAt, MassItem, MassItemRaw, MAX_MASS_ITEMS};
-use super::file_textbook::{resolve_evaluate_at, resolve_reference, ReferenceRaw, MAX_EVALUATE_AT};
+use super::file_textbook::{resolve_evaluate_at, resolve_reference};
 use crate::families::slider_crank::model::{Crank, Kinematics, Rod, SliderCrank};
 use crate::families::slider_crank::model::{Loads, ProcessForce};
-use crate::families::slider_crank::synth::{self as sc, CounterweightSpec, Prefer};
-use crate::problem::limits::{self, c, Count};
+use crate::families::slider_crank::synth::{self as sc, CounterweightSpec};
+use crate::problem::limits;
 use crate::problem::{
-    check_name, non_negative, positive, Ctx, FieldError, Input, ProblemError, RawFile, RawVar,
-    Resolved,
+    check_name, non_negative, positive, Ctx, FieldError, Input, ProblemError, RawFile, Resolved,
 };
 use crate::synth::counterweight::Settings;
-use crate::synth::shape::ShapeGoal;
-use crate::units::{
-    Acceleration, Angle, AngularSpeed, Density, Force, Inertia, Length, Mass, Qty, Torque,
-    Unbalance,
-};
+use crate::units::{Acceleration, Angle, AngularSpeed, Force, Inertia, Length, Mass, Qty};
 use serde::Deserialize;
 use std::path::Path;
-
-/// Smallest counterweight radius (`design.radius`, fixed or a range's lower end above 0) as a
-/// fraction of the crank radius: below it the mass |U|/r is out of all proportion to the
-/// machine (and at 1e-308 mm it overflowed to inf).
-pub const MIN_RADIUS_OF_CRANK: f64 = 1e-6;
 
 /// The least crank radius (m) of a file that leaves the rod length out: the model's stand-in
 /// rod of 4R is squared in the loop closure, which must not underflow.
@@ -50,16 +44,6 @@ pub const TEMPLATE: &str = include_str!("../../../templates/slider-crank.toml");
 /// every single integer setting at its maximum passes on the shipped files, their products
 /// do not, so one machine runs in seconds and can neither stall a batch nor exhaust memory.
 pub const WORK_BUDGET: f64 = 1e7;
-
-/// The integer keys of this family's file and their ranges (see [`limits`]).
-pub const COUNTS: &[Count] = &[
-    c("objective.pareto_points", 0, 200),
-    c("objective.speed_sweep.points", 2, 200),
-    c("accuracy.initial_samples", 3, 1024),
-    c("accuracy.scan_samples", 16, 20_000),
-    c("accuracy.max_rounds", 1, 1000),
-    c("accuracy.rms_samples", 16, 100_000),
-];
 
 #[derive(Debug, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
@@ -149,164 +133,6 @@ pub struct ModelRaw {
     pub bearing_loads: bool,
 }
 
-/// `[design]`: the counterweight.
-#[derive(Debug, Deserialize, Default, schemars::JsonSchema)]
-#[serde(deny_unknown_fields)]
-pub struct DesignRaw {
-    /// |U| = m r.
-    pub unbalance: Option<RawVar<Unbalance>>,
-    /// β from the crank line.
-    pub angle: Option<RawVar<Angle>>,
-    /// m.
-    pub mass: Option<RawVar<Mass>>,
-    /// r.
-    pub radius: Option<RawVar<Length>>,
-    /// The textbook rule "balance the rotating mass and a fraction c of the reciprocating
-    /// mass" (c = 2/3: the two-thirds rule): fixes U = −(m_tq + c·m_ct)·R opposite the crank
-    /// pin (0 ≤ c ≤ 1, dimensionless), so the design is analysed, not optimised.
-    pub reciprocating_fraction: Option<f64>,
-    /// Split preference.
-    #[serde(default)]
-    pub prefer: Prefer,
-    /// The paper's classical counterweight (formula (6)) as printed.
-    pub paper: Option<PaperDesignRaw>,
-    /// A reference counterweight of the designer's own (a current design, a supplier's part,
-    /// a handbook rule's result), evaluated as the baseline `reference_counterweight`.
-    pub reference: Option<ReferenceRaw>,
-    /// A plate shape to realise the counterweight.
-    pub shape: Option<ShapeRaw>,
-    /// Lanchester balancers designed jointly with the counterweight.
-    pub balancers: Option<BalancersRaw>,
-}
-
-/// `[design.balancers]`: Lanchester balancers, one pair of counter-rotating shafts per order
-/// n turning at n·ω, each pair's unbalance B_n designed jointly with the crank counterweight
-/// (its force ω²n²|B_n| cos(nφ + arg B_n) acts along the slider axis only).
-#[derive(Debug, Deserialize, schemars::JsonSchema)]
-#[serde(deny_unknown_fields)]
-pub struct BalancersRaw {
-    /// The orders n of the pairs (each 1 to 4, distinct): 1 balances the primary, 2 the
-    /// secondary reciprocating force.
-    #[schemars(length(min = 1, max = 4))]
-    pub orders: Vec<u32>,
-    /// Largest unbalance |B_n| of each pair, the two shafts together (one per order, in the
-    /// order of `orders`; default none).
-    #[schemars(length(max = 4))]
-    pub max_unbalance: Option<Vec<Qty<Unbalance>>>,
-    /// The y coordinate of each pair's mid-line across the slider axis, from the crank axis
-    /// (one per order; default 0: the pair symmetric about the line through the crank axis,
-    /// which adds no shaking moment). A pair at offset h adds the couple −h·F_n,x.
-    #[schemars(length(max = 4))]
-    pub offset: Option<Vec<Qty<Length>>>,
-}
-
-/// `[design.paper]`: the paper's printed inputs and result of the classical formula (6),
-/// m_pr = (m_r + ½ m_s)·R / r_pr.
-#[derive(Debug, Deserialize, schemars::JsonSchema)]
-#[serde(deny_unknown_fields)]
-pub struct PaperDesignRaw {
-    /// The paper's printed rotating mass m_r.
-    pub rotating_mass: Option<Qty<Mass>>,
-    /// The paper's printed reciprocating mass m_s.
-    pub reciprocating_mass: Option<Qty<Mass>>,
-    /// The paper's printed counterweight mass m_pr (at the lever radius `lever_radius`,
-    /// opposite the crank pin).
-    pub counterweight_mass: Option<Qty<Mass>>,
-    /// The paper's lever radius r_pr, where its counterweight mass sits (default:
-    /// `design.radius` when that is fixed; needed with `[design.shape]`, whose plate sets the
-    /// design's own radius).
-    pub lever_radius: Option<Qty<Length>>,
-}
-
-/// `[design.shape]`: the counterweight is an annular-sector plate; its mass and centroid
-/// radius follow from the plate, and |U| is kept within what the envelope holds.
-#[derive(Debug, Deserialize, schemars::JsonSchema)]
-#[serde(deny_unknown_fields)]
-pub struct ShapeRaw {
-    /// Material density.
-    pub density: Qty<Density>,
-    /// Plate thickness.
-    pub thickness: Qty<Length>,
-    /// Smallest inner radius (clearance to the hub).
-    pub inner_radius_min: Qty<Length>,
-    /// Largest outer radius (envelope).
-    pub outer_radius_max: Qty<Length>,
-    /// Largest sector angle (default 180°).
-    pub max_angle: Option<Qty<Angle>>,
-    /// `mass` (default) or `outer-radius`.
-    pub minimize: Option<ShapeGoal>,
-}
-
-/// What `objective.minimize` can name.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, schemars::JsonSchema)]
-#[serde(rename_all = "kebab-case")]
-pub enum Minimize {
-    /// Peak |F|.
-    PeakForce,
-    /// RMS |F|.
-    RmsForce,
-    /// Counterweight mass under `max_peak_force`.
-    Mass,
-    /// Counterweight radius under `max_peak_force`.
-    Radius,
-    /// Peak drive torque.
-    PeakTorque,
-    /// Peak shaking moment about the crank axis, under `max_peak_force`.
-    PeakMoment,
-    /// Energy fluctuation ΔE of the drive at constant speed (max E − min E, E = ∫ (T − T̄) dφ):
-    /// the flywheel a coefficient of speed fluctuation needs is proportional to it.
-    EnergyFluctuation,
-    /// The least flywheel that meets `[mechanism.drive] cs` in the exact periodic steady
-    /// state: not convex in the design, so a search (`best_found` with its evidence).
-    FlywheelInertia,
-}
-
-/// `[objective]`.
-#[derive(Debug, Deserialize, schemars::JsonSchema)]
-#[serde(deny_unknown_fields)]
-pub struct ObjectiveRaw {
-    /// What to minimise.
-    pub minimize: Minimize,
-    /// Peak shaking-force limit.
-    pub max_peak_force: Option<Qty<Force>>,
-    /// Peak drive-torque limit.
-    pub max_peak_torque: Option<Qty<Torque>>,
-    /// Peak shaking-moment limit (about the crank axis).
-    pub max_shaking_moment: Option<Qty<Torque>>,
-    /// Peak main-bearing load limit (a cone constraint on the counterweight; not with
-    /// gravity, whose counterweight weight depends on how |U| splits into mass and radius).
-    pub max_main_bearing_load: Option<Qty<Force>>,
-    /// Peak crank-pin load limit (checked: the load does not depend on the design).
-    pub max_crank_pin_load: Option<Qty<Force>>,
-    /// Peak wrist-pin load limit (checked: the load does not depend on the design).
-    pub max_wrist_pin_load: Option<Qty<Force>>,
-    /// Peak guide normal-force limit (checked: the force does not depend on the design).
-    pub max_guide_load: Option<Qty<Force>>,
-    /// Points of the torque–force Pareto front (0 or absent: none).
-    #[serde(default)]
-    pub pareto_points: usize,
-    /// Re-optimise over a range of speeds.
-    pub speed_sweep: Option<SpeedSweepRaw>,
-    /// Crank angles (φ from the crank pin towards the slider: inner dead centre) at which the
-    /// result lists the design's shaking force, its components and the drive torque
-    /// (`at_angles`), e.g. a textbook's "30° from inner dead centre".
-    #[serde(default)]
-    #[schemars(length(max = MAX_EVALUATE_AT))]
-    pub evaluate_at: Vec<Qty<Angle>>,
-}
-
-/// `[objective.speed_sweep]`: the scene re-optimised at evenly spaced speeds.
-#[derive(Debug, Deserialize, schemars::JsonSchema)]
-#[serde(deny_unknown_fields)]
-pub struct SpeedSweepRaw {
-    /// Lowest speed.
-    pub min: Qty<AngularSpeed>,
-    /// Highest speed.
-    pub max: Qty<AngularSpeed>,
-    /// Number of speeds (2–200).
-    pub points: usize,
-}
-
 pub use super::synth::{SpeedSweep, SweepPoint};
 
 /// `[accuracy]`: the family's solver [`Settings`] read directly (every key optional, unknown
@@ -348,19 +174,6 @@ pub struct SliderCrankProblem {
     pub flywheel_objective: bool,
     /// The mass items whose mass was read from a drawing (`outline`), in the file's order.
     pub drawn_masses: Vec<DrawnMass>,
-}
-
-/// The paper's printed inputs and output of formula (6) (SI).
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
-pub struct PaperDesign {
-    /// Printed m_r (kg).
-    pub rotating_mass: Option<f64>,
-    /// Printed m_s (kg).
-    pub reciprocating_mass: Option<f64>,
-    /// Printed m_pr (kg).
-    pub counterweight_mass: Option<f64>,
-    /// The lever radius r_pr (m) of formula (6): `lever_radius` or the fixed `design.radius`.
-    pub lever_radius: Option<f64>,
 }
 
 /// The whole slider-crank file.
@@ -509,7 +322,13 @@ fn resolve_mechanism(
     };
     let omega = positive("mechanism.speed", m.speed.si())?;
     let m3 = non_negative("mechanism.rod_mass", m.rod_mass.si())?;
-    let (m2, m4, r2, items) = resolve_link_masses(m, r, dir)?;
+    let keys = LinkMassKeys {
+        crank_mass: m.crank_mass,
+        slider_mass: m.slider_mass,
+        crank_centroid: m.crank_centroid,
+        mass_items: &m.mass_items,
+    };
+    let (m2, m4, r2, items) = resolve_link_masses(&keys, r, dir)?;
     let ratio = (r + e.abs()) / l;
     if ratio >= 1.0 {
         return Err(FieldError::new(

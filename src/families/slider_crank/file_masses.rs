@@ -4,12 +4,11 @@
 //! crank-pin and slider masses (`docs/problem-files.md`). Split from `file.rs` so the file's
 //! sections and the mass items each stay readable.
 
-use super::file::MechanismRaw;
 use super::file_envelope::NamedMass;
 use crate::families::slider_crank::synth as sc;
 use crate::problem::outline::{self, OutlineRaw};
 use crate::problem::{non_negative, FieldError};
-use crate::units::{Mass, Qty};
+use crate::units::{Length, Mass, Qty};
 use serde::Deserialize;
 use std::path::Path;
 
@@ -80,12 +79,24 @@ pub struct DrawnMass {
     pub mass_kg: f64,
 }
 
+/// The `[mechanism]` keys the link masses come from.
+pub(super) struct LinkMassKeys<'a> {
+    /// `crank_mass`.
+    pub crank_mass: Option<Qty<Mass>>,
+    /// `slider_mass`.
+    pub slider_mass: Option<Qty<Mass>>,
+    /// `crank_centroid`.
+    pub crank_centroid: Option<Qty<Length>>,
+    /// `[[mechanism.mass_items]]`.
+    pub mass_items: &'a [MassItemRaw],
+}
+
 /// The crank-pin mass m₂, the slider mass m₄, the crank's centroid radius r₂ and the items:
 /// given (r₂ = R/2 by default, no items), or summed from `[[mechanism.mass_items]]` (each
 /// item's fraction of its mass at the crank pin or at the slider; r₂ = R), drawings read from
 /// `dir`.
 pub(super) fn resolve_link_masses(
-    m: &MechanismRaw,
+    m: &LinkMassKeys,
     r: f64,
     dir: &Path,
 ) -> Result<(f64, f64, f64, Vec<MassItem>), FieldError> {
