@@ -486,11 +486,12 @@ impl<'p, 'a> Engine<'p, 'a> {
             }
             Goal::MinRms(f) => {
                 let (v, e) = self.rms(*f, x);
-                (v, v, e)
+                (v, v.max(s.abs_floor * self.g0[*f]), e)
             }
             Goal::MinMass => {
                 let v: f64 = (0..self.pb.counterweights.len()).map(|j| x[var_m(j)]).sum();
-                (v, v, 0.0)
+                let most: f64 = self.pb.counterweights.iter().map(|c| c.m_max).sum();
+                (v, v.max(s.abs_floor * most), 0.0)
             }
         };
         let lim_rel = self

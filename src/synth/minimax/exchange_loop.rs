@@ -531,19 +531,21 @@ impl<'p, 'a> Engine<'p, 'a> {
                     .fold(0.0, f64::max);
                 (v, v.max(run.obj_floor))
             }
-            Goal::MinRms(f) => self.exact_goal_value(self.rms(*f, x).0),
+            Goal::MinRms(f) => self.exact_goal_value(self.rms(*f, x).0, self.g0[*f]),
             Goal::MinMass => self.exact_goal_value(
                 (0..self.pb.counterweights.len())
                     .map(|j| x[var_m(j)])
                     .sum::<f64>(),
+                self.pb.counterweights.iter().map(|c| c.m_max).sum::<f64>(),
             ),
         }
     }
 
     /// (V, gap scale) of a goal whose program is exact: no gap to scale (0), except with a
-    /// plate, whose projection makes one (V, with the mass goal's floor of its largest mass).
-    fn exact_goal_value(&self, v: f64) -> (f64, f64) {
-        let floor = self.s.abs_floor * self.pb.counterweights.iter().map(|c| c.m_max).sum::<f64>();
+    /// plate, whose projection makes one: V, at least `abs_floor` times `size` (the RMS
+    /// field's unbalanced peak, the mass goal's largest total mass).
+    fn exact_goal_value(&self, v: f64, size: f64) -> (f64, f64) {
+        let floor = self.s.abs_floor * size;
         (v, if self.has_plate() { v.max(floor) } else { 0.0 })
     }
 

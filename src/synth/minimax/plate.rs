@@ -23,8 +23,9 @@
 //! tangent is added at the round's mass where its design breaks the exact condition
 //! (Kelley's cutting planes, J. SIAM 8 (1960) 703): the next round cannot land there again,
 //! so the rounds go on until no condition is broken by more than [`CUT_TOL`] of its scale.
-//! The design returned is then projected onto the exact conditions (I raised to the disc's,
-//! |u| lowered to the cap's), and its certificate is of that design.
+//! The design returned is then projected onto the exact conditions (along the cap the mass
+//! moves first, keeping u; |u| is lowered only where no mass holds it; then I is raised to
+//! the disc's), and its certificate is of that design.
 //!
 //! Hand-written rather than a solver's exponential or power cone: clarabel's power cones are
 //! non-symmetric and slower, and S(A) is no standard cone at all.
