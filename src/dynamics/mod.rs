@@ -106,11 +106,30 @@ struct Trig {
     c: Vec<Complex<f64>>,
 }
 
+thread_local! {
+    /// One FFT planner per thread: it keeps every plan it has made, so the grid doublings of
+    /// [`antiderivatives`] (four transforms per column and doubling) do not build and drop
+    /// the same twiddle tables again (that churn was most of the linkage's ΔE solve).
+    static PLANNER: std::cell::RefCell<FftPlanner<f64>> = std::cell::RefCell::new(FftPlanner::new());
+}
+
+/// The FFT of length n (forward or inverse) from this thread's planner.
+fn fft(n: usize, forward: bool) -> std::sync::Arc<dyn rustfft::Fft<f64>> {
+    PLANNER.with(|p| {
+        let mut p = p.borrow_mut();
+        if forward {
+            p.plan_fft_forward(n)
+        } else {
+            p.plan_fft_inverse(n)
+        }
+    })
+}
+
 impl Trig {
     fn new(samples: &[f64]) -> Trig {
         let n = samples.len();
         let mut buf: Vec<Complex<f64>> = samples.iter().map(|&x| Complex::new(x, 0.0)).collect();
-        FftPlanner::new().plan_fft_forward(n).process(&mut buf);
+        fft(n, true).process(&mut buf);
         let c = buf[..n / 2].iter().map(|z| z / n as f64).collect();
         Trig { c }
     }
@@ -173,7 +192,7 @@ impl Trig {
             buf[k] = *c;
             buf[n - k] = c.conj();
         }
-        FftPlanner::new().plan_fft_inverse(n).process(&mut buf);
+        fft(n, false).process(&mut buf);
         buf.iter().map(|z| z.re).collect()
     }
 }
@@ -219,10 +238,11 @@ pub fn antiderivatives(
     cols: usize,
     s: &DriveSettings,
 ) -> Result<Vec<Antiderivative>, DriveError> {
-    let mut sample = |n: usize| -> Result<Vec<Vec<f64>>, DriveError> {
-        let mut by_col = vec![Vec::with_capacity(n); cols];
+    // The columns at φ_k = 2πk/n for k = first, first + step, … < n.
+    let mut sample = |n: usize, first: usize, step: usize| -> Result<Vec<Vec<f64>>, DriveError> {
+        let mut by_col = vec![Vec::with_capacity(n / step); cols];
         let mut row = vec![0.0; cols];
-        for k in 0..n {
+        for k in (first..n).step_by(step) {
             let phi = TAU * k as f64 / n as f64;
             row.iter_mut().for_each(|v| *v = 0.0);
             f(phi, &mut row);
@@ -236,14 +256,20 @@ pub fn antiderivatives(
         Ok(by_col)
     };
     let mut n = s.min_samples.next_power_of_two().max(16);
+    let mut by_col = sample(n, 0, 1)?;
     loop {
-        let by_col = sample(n)?;
         let done: Vec<(Antiderivative, bool)> = by_col
             .iter()
             .map(|v| antiderivative_on(v, s.rel_tol))
             .collect();
         if done.iter().all(|d| d.1) || 2 * n > s.max_samples {
             return Ok(done.into_iter().map(|d| d.0).collect());
+        }
+        // Doubling keeps the samples taken (φ = 2π(2k)/(2n) is 2πk/n to the bit) and adds
+        // the odd ones between them.
+        let odd = sample(2 * n, 1, 2)?;
+        for (c, o) in by_col.iter_mut().zip(odd) {
+            *c = c.iter().zip(&o).flat_map(|(&e, &o)| [e, o]).collect();
         }
         n *= 2;
     }
