@@ -135,7 +135,7 @@ fn every_designed_plate_meets_the_plate_bounds() {
             assert!((k("plate_area_m2") * sigma / m - 1.0).abs() < 1e-9);
             assert_eq!(k("plate_thickness_m"), t);
         }
-        // The drawing is drawn (the plate's outline among its entities).
+        // The bound lies below the design's objective, within its error.
         let lb = r.derived["lower_bound"];
         let key = r.objective.clone().unwrap();
         assert!(lb <= r.objectives[&key] + r.errors[&key]);

@@ -25,7 +25,7 @@ pub struct Solution {
     pub out: Outcome,
     /// Per counterweight of the design with a mass, the annular sector (rᵢ, rₒ, θ) about its
     /// joint that has its mass, centroid and inertia within its envelope (`None`: no sector
-    /// does, or no mass).
+    /// does, no mass, or a plate, which `out.plates` cuts).
     pub sectors: Vec<Option<(f64, f64, f64)>>,
     /// The joints' peak loads, or why they could not be computed.
     pub joints: Result<JointLoads, String>,
@@ -75,7 +75,8 @@ pub fn solve(p: &LinkageProblem) -> Result<Solution, String> {
             .map(|j| {
                 let d = sol.counterweight(j);
                 let envelope = sc.counterweights[j].radius;
-                (d.mass > 0.0)
+                // A plate is cut as a plate (`Outcome::plates`), not as a sector.
+                (d.mass > 0.0 && sc.counterweights[j].areal_density().is_none())
                     .then(|| sector_realising(d.mass, d.radius, d.inertia, envelope))
                     .flatten()
             })

@@ -5,7 +5,7 @@
 use super::assembly::Round;
 use super::polish::{self, Design, Term};
 use super::validate::bad;
-use super::{var_m, AffineValue, Engine, ErrorBound, Goal, MinimaxError, Solution, Stop};
+use super::{AffineValue, Engine, ErrorBound, Goal, MinimaxError, Solution, Stop};
 use crate::numeric::PeriodicPeak;
 use crate::synth::conic::{dual_lower_bound, run_clarabel_with, Rows};
 use crate::synth::exchange::{angle_dist, Status};
@@ -468,32 +468,8 @@ impl<'p, 'a> Engine<'p, 'a> {
     pub fn moved(&self, base: &Solution, x: &[f64], why: &str) -> Result<Solution, MinimaxError> {
         let s = &self.s;
         let peaks = self.peaks(x)?;
-        let (value, scale, own_error) = match &self.pb.goal {
-            Goal::MinPeak(list) => {
-                let v = list
-                    .iter()
-                    .map(|&(f, w)| w * peaks[f].peak)
-                    .fold(0.0, f64::max);
-                let e = list
-                    .iter()
-                    .map(|&(f, w)| w * peaks[f].error)
-                    .fold(0.0, f64::max);
-                let floor = list
-                    .iter()
-                    .map(|&(f, w)| w * self.g0[f])
-                    .fold(0.0, f64::max);
-                (v, v.max(s.abs_floor * floor), e)
-            }
-            Goal::MinRms(f) => {
-                let (v, e) = self.rms(*f, x);
-                (v, v.max(s.abs_floor * self.g0[*f]), e)
-            }
-            Goal::MinMass => {
-                let v: f64 = (0..self.pb.counterweights.len()).map(|j| x[var_m(j)]).sum();
-                let most: f64 = self.pb.counterweights.iter().map(|c| c.m_max).sum();
-                (v, v.max(s.abs_floor * most), 0.0)
-            }
-        };
+        let (value, scale, own_error) =
+            self.goal_value(&self.pb.goal, x, |f| (peaks[f].peak, peaks[f].error));
         let lim_rel = self
             .pb
             .limits

@@ -188,20 +188,7 @@ impl<'p, 'a> Engine<'p, 'a> {
             _ => None,
         };
         let obj_floor = match goal {
-            Goal::MinPeak(list) => {
-                let u0 = list
-                    .iter()
-                    .map(|&(f, w)| w * self.g0[f])
-                    .fold(0.0, f64::max);
-                let u0 = if u0 > 0.0 {
-                    u0
-                } else {
-                    list.iter()
-                        .map(|&(f, w)| w * self.g_ref[f])
-                        .fold(0.0, f64::max)
-                };
-                s.abs_floor * u0
-            }
+            Goal::MinPeak(_) => self.goal_floor(goal),
             _ => 0.0,
         };
         let has_t = !matches!(goal, Goal::MinMass);
@@ -520,33 +507,60 @@ impl<'p, 'a> Engine<'p, 'a> {
     }
 
     /// V, the goal's value at the round's design (for a peak goal the weighted refined
-    /// peak), and the scale its gap is relative to (max(V, `obj_floor`); 0 for the others).
+    /// peak), and the scale its gap is relative to ([`Engine::goal_value`]).
     fn round_value(&self, run: &GoalRun, x: &[f64], pk: &[Option<PeriodicPeak>]) -> (f64, f64) {
-        let peak_of = |f: usize| pk[f].as_ref().expect("sampled").peak.fx;
-        match run.goal {
-            Goal::MinPeak(list) => {
-                let v = list
-                    .iter()
-                    .map(|&(f, w)| w * peak_of(f))
-                    .fold(0.0, f64::max);
-                (v, v.max(run.obj_floor))
-            }
-            Goal::MinRms(f) => self.exact_goal_value(self.rms(*f, x).0, self.g0[*f]),
-            Goal::MinMass => self.exact_goal_value(
+        let peak_of = |f: usize| {
+            let p = pk[f].as_ref().expect("sampled");
+            (p.peak.fx, p.error)
+        };
+        let (v, scale, _) = self.goal_value(run.goal, x, peak_of);
+        (v, scale)
+    }
+
+    /// The goal's value V at x from each field's (peak, error) `peak_of`, the scale of its
+    /// gap, max(V, [`Engine::goal_floor`]), and V's own error (the peaks' or the RMS
+    /// quadrature's). The gap of an RMS or mass goal counts only with a plate (`verdict`):
+    /// their programs are otherwise exact.
+    pub(super) fn goal_value(
+        &self,
+        goal: &Goal,
+        x: &[f64],
+        peak_of: impl Fn(usize) -> (f64, f64),
+    ) -> (f64, f64, f64) {
+        let (v, e) = match goal {
+            Goal::MinPeak(list) => list.iter().fold((0.0, 0.0), |(v, e): (f64, f64), &(f, w)| {
+                let (p, pe) = peak_of(f);
+                (v.max(w * p), e.max(w * pe))
+            }),
+            Goal::MinRms(f) => self.rms(*f, x),
+            Goal::MinMass => (
                 (0..self.pb.counterweights.len())
                     .map(|j| x[var_m(j)])
                     .sum::<f64>(),
-                self.pb.counterweights.iter().map(|c| c.m_max).sum::<f64>(),
+                0.0,
             ),
-        }
+        };
+        (v, v.max(self.goal_floor(goal)), e)
     }
 
-    /// (V, gap scale) of a goal whose program is exact: no gap to scale (0), except with a
-    /// plate, whose projection makes one: V, at least `abs_floor` times `size` (the RMS
-    /// field's unbalanced peak, the mass goal's largest total mass).
-    fn exact_goal_value(&self, v: f64, size: f64) -> (f64, f64) {
-        let floor = self.s.abs_floor * size;
-        (v, if self.has_plate() { v.max(floor) } else { 0.0 })
+    /// `abs_floor` times the goal's size where V vanishes: the objective fields' unbalanced
+    /// peak (their size over the design box where that is 0), the RMS field's, the largest
+    /// total mass.
+    pub(super) fn goal_floor(&self, goal: &Goal) -> f64 {
+        let size = match goal {
+            Goal::MinPeak(list) => {
+                let most = |g: &[f64]| list.iter().map(|&(f, w)| w * g[f]).fold(0.0, f64::max);
+                let u0 = most(&self.g0);
+                if u0 > 0.0 {
+                    u0
+                } else {
+                    most(&self.g_ref)
+                }
+            }
+            Goal::MinRms(f) => self.g0[*f],
+            Goal::MinMass => self.pb.counterweights.iter().map(|c| c.m_max).sum(),
+        };
+        self.s.abs_floor * size
     }
 
     /// The round's lower bound: the sampled problem's, from clarabel's dual iterate made
