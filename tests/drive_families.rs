@@ -382,7 +382,6 @@ fn the_compressor_s_real_speed_force_approaches_the_constant_speed_one_with_a_hu
 /// of the optimum kept within them, has a smaller ΔE beyond the stated error.
 #[test]
 fn the_linkage_energy_fluctuation_optimum_is_certified_and_unbeaten() {
-    use cwsynth::dynamics::{constant_speed, DriveSettings};
     let text = std::fs::read_to_string(problem("linkage-sixbar-press-flywheel.toml")).unwrap();
     let text = text.replacen(
         "minimize = \"peak-force\"",
@@ -393,17 +392,8 @@ fn the_linkage_energy_fluctuation_optimum_is_certified_and_unbeaten() {
     let r = solve_scene(&s);
     assert_eq!(r.status, Status::Optimal, "{:?}", r.warnings);
     let p: &LinkageProblem = s.machine().unwrap();
-    let (sc, l) = (&p.scene, &p.scene.linkage);
-    let de = |x: &[f64]| {
-        let extra = ls::extras(&sc.counterweights, x);
-        let m = |th: f64| {
-            let t = l.drive_terms(&l.pose(th).unwrap(), &extra);
-            [t.j, t.dj, t.g]
-        };
-        constant_speed(&m, l.omega(), &DriveSettings::for_kinks())
-            .unwrap()
-            .energy_fluctuation
-    };
+    let sc = &p.scene;
+    let de = |x: &[f64]| linkage_delta_e(sc, x);
     let out = ls::solve(sc, &p.settings).unwrap();
     let sol = out.design.unwrap();
     let (best, err) = (
@@ -469,4 +459,68 @@ fn the_linkage_energy_fluctuation_optimum_is_certified_and_unbeaten() {
     }
     eprintln!("ΔE: optimum {best:.6} ± {err:.1e} J, best of 300 others {worst:.6} J");
     assert!(worst >= best - err, "{worst} < {best} − {err}");
+}
+
+/// ΔE of the linkage scene `sc` with the counterweights `x`, by the drive's own quadrature of
+/// J, J′ and the weights' torque (`dynamics::constant_speed`), not the engine's energy field.
+fn linkage_delta_e(sc: &cwsynth::families::linkage::file::LinkageScene, x: &[f64]) -> f64 {
+    use cwsynth::dynamics::{constant_speed, DriveSettings};
+    let l = &sc.linkage;
+    let extra = ls::extras(&sc.counterweights, x);
+    let m = |th: f64| {
+        let t = l.drive_terms(&l.pose(th).unwrap(), &extra);
+        [t.j, t.dj, t.g]
+    };
+    constant_speed(&m, l.omega(), &DriveSettings::for_kinks())
+        .unwrap()
+        .energy_fluctuation
+}
+
+/// The linkage's ΔE–force front (issue 33, item 2): every point certified, its peak force
+/// within its limit, its ΔE the drive's own quadrature at the point's design (within both
+/// errors), ΔE falling as the force limit rises, and the loosest point the ΔE optimum.
+#[test]
+fn the_linkage_energy_force_front_is_certified_and_falls() {
+    let text = std::fs::read_to_string(problem("linkage-sixbar-press-flywheel.toml")).unwrap();
+    let text = text.replacen(
+        "minimize = \"peak-force\"",
+        "minimize = \"energy-fluctuation\"\npareto_points = 4",
+        1,
+    );
+    let s = parse_str(&text, Path::new("press.toml")).unwrap();
+    let r = solve_scene(&s);
+    assert_eq!(r.status, Status::Optimal, "{:?}", r.warnings);
+    let front = &r.extra["pareto"];
+    assert_eq!(front["certified"], 4, "{front}");
+    let pts = front["points"].as_array().unwrap();
+    assert!(pts.len() >= 3, "{front}");
+    let p: &LinkageProblem = s.machine().unwrap();
+    let out = ls::solve(&p.scene, &p.settings).unwrap();
+    let mut last = f64::INFINITY;
+    for pt in pts {
+        let num = |k: &str| pt[k].as_f64().unwrap();
+        let raw = out.pareto.as_ref().unwrap().points.iter();
+        let raw = raw.into_iter().find(|q| q.eps == num("eps")).unwrap();
+        let (de, err) = (
+            num("energy_fluctuation_j"),
+            num("energy_fluctuation_error_j"),
+        );
+        assert!(
+            num("peak_shaking_force_n") <= num("eps") * (1.0 + 1e-9),
+            "{pt}"
+        );
+        let quad = linkage_delta_e(&p.scene, &raw.solution.x);
+        assert!(
+            (quad - de).abs() <= err + 1e-6 * de,
+            "{quad} vs {de} ± {err}"
+        );
+        assert!(de <= last + err, "{de} after {last}");
+        last = de;
+    }
+    let (best, err) = (
+        r.objectives["energy_fluctuation_j"],
+        r.errors["energy_fluctuation_j"],
+    );
+    assert!((last - best).abs() <= err, "{last} vs {best} ± {err}");
+    assert!(pts[0]["energy_fluctuation_j"].as_f64().unwrap() > 1.1 * best);
 }

@@ -975,10 +975,15 @@ fn objective(o: &ObjectiveRaw, cws: &[CounterweightSpec]) -> Result<Objective, F
             "1 point is no front; allowed: 0 (none) or 2..=200",
         ));
     }
-    if obj.pareto_points > 0 && !matches!(obj.minimize, Goal::PeakForce | Goal::PeakMoment) {
+    if obj.pareto_points > 0
+        && !matches!(
+            obj.minimize,
+            Goal::PeakForce | Goal::PeakMoment | Goal::EnergyFluctuation
+        )
+    {
         return Err(FieldError::new(
             "objective.pareto_points",
-            "the front is peak force against peak moment; allowed with minimize = \"peak-force\" or \"peak-moment\"",
+            "the front is peak force against peak moment, or ΔE against peak force; allowed with minimize = \"peak-force\", \"peak-moment\" or \"energy-fluctuation\"",
         ));
     }
     if cws.is_empty() && obj.max_joint_force.is_some() {

@@ -133,10 +133,8 @@ pub fn numbers(_: &Scene, p: &LinkageProblem, sol: &Solved, r: &mut SolveResult)
         if let Some(why) = front.stopped() {
             r.warnings.push(why);
         }
-        r.extra.insert(
-            "pareto".into(),
-            Front::of(front, sc.objective.minimize).json(&r.name),
-        );
+        r.extra
+            .insert("pareto".into(), Front::of(front, out).json(&r.name));
     }
     berkof_lowen(r, p, sol);
     joint_numbers(r, p, sol);
@@ -551,12 +549,18 @@ fn steady_joint_numbers(r: &mut SolveResult, rows: &[JointRow]) {
     );
 }
 
-/// A force–moment front as the result shows it: the points with a design, ordered by their
-/// limited field, each marked dominated or not.
+/// A front as the result shows it — peak force against peak moment, or ΔE against peak
+/// force — the points with a design, ordered by their limited field, each marked dominated or
+/// not.
 pub(super) struct Front<'a> {
     front: &'a crate::synth::minimax::ParetoFront,
     /// The points with a design (infeasible or failed points have no peaks: left out).
     ok: Vec<&'a crate::synth::minimax::ParetoPoint>,
+    /// The optimised field (engine index).
+    opt: usize,
+    /// The optimised field's peak times this is the figure shown: 2 for the energy curve
+    /// (its peak is max|E − c| = ΔE/2), else 1.
+    scale: f64,
     /// Indices into `ok` by increasing limited field.
     order: Vec<usize>,
     /// Does a point fail to trade off?
@@ -568,16 +572,16 @@ impl<'a> Front<'a> {
     /// optimised field is lower by more than both errors; past the knee (the limit slack) the
     /// points repeat the unlimited optimum with a larger other field: dominated, left out of
     /// the front (kept in the CSV, marked).
-    pub(super) fn of(front: &'a crate::synth::minimax::ParetoFront, goal: Goal) -> Front<'a> {
+    pub(super) fn of(
+        front: &'a crate::synth::minimax::ParetoFront,
+        out: &ls::Outcome,
+    ) -> Front<'a> {
+        let (opt, lim) = out.pareto_fields;
         let ok: Vec<_> = front
             .points
             .iter()
-            .filter(|p| p.solution.peaks.len() == 3)
+            .filter(|p| p.solution.peaks.len() > opt.max(lim))
             .collect();
-        let (opt, lim) = match goal {
-            Goal::PeakMoment => (MOMENT, FORCE),
-            _ => (FORCE, MOMENT),
-        };
         let mut order: Vec<usize> = (0..ok.len()).collect();
         order.sort_by(|&i, &j| {
             ok[i].solution.peaks[lim]
@@ -593,12 +597,26 @@ impl<'a> Front<'a> {
                 _ => best = Some((pk.peak, pk.error)),
             }
         }
+        let energy = opt > TORQUE && lim == FORCE;
         Front {
             front,
             ok,
+            opt,
+            scale: if energy { 2.0 } else { 1.0 },
             order,
             dominated,
         }
+    }
+
+    /// Is this the ΔE–force front?
+    pub(super) fn energy(&self) -> bool {
+        self.scale == 2.0
+    }
+
+    /// ΔE and its error bound at point `pt` (J): twice the energy field's peak.
+    fn energy_of(&self, pt: &crate::synth::minimax::ParetoPoint) -> (f64, f64) {
+        let pk = &pt.solution.peaks[self.opt];
+        (self.scale * pk.peak, self.scale * pk.error)
     }
 
     /// The `pareto` section of the result `name`.
@@ -610,13 +628,19 @@ impl<'a> Front<'a> {
             .filter(|(_, d)| !**d)
             .map(|(pt, _)| {
                 let s = &pt.solution;
-                json!({
+                let mut v = json!({
                     "eps": pt.eps,
                     "peak_shaking_force_n": s.peaks[FORCE].peak,
                     "peak_shaking_moment_nm": s.peaks[MOMENT].peak,
-                    "error_total": s.error.total,
+                    "error_total": self.scale * s.error.total,
                     "status": cw_status(s.status).as_str(),
-                })
+                });
+                if self.energy() {
+                    let (de, err) = self.energy_of(pt);
+                    v["energy_fluctuation_j"] = json!(de);
+                    v["energy_fluctuation_error_j"] = json!(err);
+                }
+                v
             })
             .collect();
         let certified = self
@@ -628,33 +652,51 @@ impl<'a> Front<'a> {
         json!({"points": pts, "certified": certified, "without_design": self.front.points.len() - self.ok.len(), "dominated": self.dominated.iter().filter(|d| **d).count(), "requested": self.front.requested, "not_solved": self.front.requested - self.front.points.len(), "csv": format!("{name}-pareto.csv")})
     }
 
-    /// The front's CSV: every point with a design, dominated ones marked.
+    /// The front's CSV: every point with a design, dominated ones marked (with ΔE and its
+    /// error after the moment's columns on a ΔE–force front).
     pub(super) fn csv(&self) -> String {
-        let mut csv = String::from("eps,peak_shaking_force_n,peak_shaking_moment_nm,error_force_n,error_moment_nm,gap,status,dominated\n");
+        let mut csv = String::from(
+            "eps,peak_shaking_force_n,peak_shaking_moment_nm,error_force_n,error_moment_nm,",
+        );
+        if self.energy() {
+            csv += "energy_fluctuation_j,error_energy_j,";
+        }
+        csv += "gap,status,dominated\n";
         for (pt, dominated) in self.ok.iter().zip(&self.dominated) {
             let s = &pt.solution;
             csv += &format!(
-                "{:.12e},{:.12e},{:.12e},{:.3e},{:.3e},{:.3e},{},{dominated}\n",
+                "{:.12e},{:.12e},{:.12e},{:.3e},{:.3e},",
                 pt.eps,
                 s.peaks[FORCE].peak,
                 s.peaks[MOMENT].peak,
                 s.peaks[FORCE].error,
                 s.peaks[MOMENT].error,
-                s.error.total,
+            );
+            if self.energy() {
+                let (de, err) = self.energy_of(pt);
+                csv += &format!("{de:.12e},{err:.3e},");
+            }
+            csv += &format!(
+                "{:.3e},{},{dominated}\n",
+                self.scale * s.error.total,
                 cw_status(s.status).as_str(),
             );
         }
         csv
     }
 
-    /// (peak moment, peak force) of the front's points, by increasing limited field.
+    /// The plot's points, by increasing limited field: (peak moment, peak force), or on a
+    /// ΔE–force front (peak force, ΔE).
     pub(super) fn line(&self) -> Vec<(f64, f64)> {
         self.order
             .iter()
             .filter(|&&i| !self.dominated[i])
             .map(|&i| {
                 let p = &self.ok[i].solution.peaks;
-                (p[MOMENT].peak, p[FORCE].peak)
+                match self.energy() {
+                    true => (p[FORCE].peak, self.scale * p[self.opt].peak),
+                    false => (p[MOMENT].peak, p[FORCE].peak),
+                }
             })
             .collect()
     }

@@ -31,7 +31,7 @@ pub fn analysis_documents(
 /// The tables, plots and drawing of a solved scene, in the order the report lists them.
 pub fn documents(scene: &Scene, p: &LinkageProblem, sol: &Solved, r: &mut SolveResult) {
     if let Some(front) = &sol.out.pareto {
-        pareto_documents(r, &Front::of(front, p.scene.objective.minimize));
+        pareto_documents(r, &Front::of(front, &sol.out));
     }
     joint_table(r, p, sol);
     curves(r, scene, p, sol);
@@ -87,34 +87,45 @@ fn joint_table(r: &mut SolveResult, p: &LinkageProblem, solved: &Solved) {
 
 /// The front's table `<name>-pareto.csv` and its plot.
 fn pareto_documents(r: &mut SolveResult, front: &Front) {
+    let (caption, alt, title, x_label, y_label) = if front.energy() {
+        (
+            "Energy fluctuation ΔE against peak shaking force: each point its own certified solve",
+            "Energy fluctuation ΔE against peak shaking force (ε-constraint front, each point certified)",
+            "ΔE–force front",
+            "peak shaking force (N)",
+            "energy fluctuation ΔE (J)",
+        )
+    } else {
+        (
+            "Peak shaking force against peak shaking moment: each point its own certified solve",
+            "Peak shaking force against peak shaking moment (ε-constraint front, each point certified)",
+            "Force–moment front",
+            "peak shaking moment (N·m)",
+            "peak shaking force (N)",
+        )
+    };
     r.tables.push(Table {
         suffix: "pareto".into(),
-        caption:
-            "Peak shaking force against peak shaking moment: each point its own certified solve"
-                .into(),
+        caption: caption.into(),
         csv: front.csv(),
     });
     let line = front.line();
-    r.plots.push(Plot::new(
-        "pareto",
-        "Peak shaking force against peak shaking moment (ε-constraint front, each point certified)",
-        move || {
-            plot::panels(
-                &[Panel {
-                    title: "Force–moment front".into(),
-                    x_label: "peak shaking moment (N·m)".into(),
-                    y_label: "peak shaking force (N)".into(),
-                    series: vec![
-                        Series::line("front", line.clone()),
-                        Series::points("points", line.clone()),
-                    ],
-                    equal_aspect: false,
-                }],
-                640,
-                420,
-            )
-        },
-    ));
+    r.plots.push(Plot::new("pareto", alt, move || {
+        plot::panels(
+            &[Panel {
+                title: title.into(),
+                x_label: x_label.into(),
+                y_label: y_label.into(),
+                series: vec![
+                    Series::line("front", line.clone()),
+                    Series::points("points", line.clone()),
+                ],
+                equal_aspect: false,
+            }],
+            640,
+            420,
+        )
+    }));
 }
 
 /// The fields over the cycle with and without the counterweights (`<name>-cycle.csv`, the

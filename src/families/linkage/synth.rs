@@ -594,8 +594,12 @@ pub struct Outcome {
     pub balance_residual: Option<f64>,
     /// The number of balance equalities used (the rank of the force blocks).
     pub balance_rows: usize,
-    /// The Pareto front (peak force against peak moment), if asked.
+    /// The Pareto front (peak force against peak moment, or ΔE against peak force), if
+    /// asked.
     pub pareto: Option<mm::ParetoFront>,
+    /// The front's fields (optimised, limited): engine field indices of `pareto`'s points'
+    /// peaks (the energy field's peak is max|E − c| = ΔE/2).
+    pub pareto_fields: (usize, usize),
     /// Largest dyad conditioning κ over the scan.
     pub kappa_max: f64,
     /// Why the objective cannot be moved by a counterweight the scene leaves free, if it
@@ -675,6 +679,11 @@ pub fn solve(scene: &LinkageScene, settings: &Settings) -> Result<Outcome, Linka
         balance_residual,
         balance_rows,
         pareto: None,
+        pareto_fields: match o.minimize {
+            Goal::PeakMoment => (MOMENT, FORCE),
+            Goal::EnergyFluctuation => (energy_at, FORCE),
+            _ => (FORCE, MOMENT),
+        },
         kappa_max: 1.0,
         degenerate: None,
         plates: Vec::new(),
@@ -687,10 +696,7 @@ pub fn solve(scene: &LinkageScene, settings: &Settings) -> Result<Outcome, Linka
         }
         out.design = Some(sol);
         if o.pareto_points >= 2 {
-            let (a, b) = match o.minimize {
-                Goal::PeakMoment => (MOMENT, FORCE),
-                _ => (FORCE, MOMENT),
-            };
+            let (a, b) = out.pareto_fields;
             out.pareto = Some(engine.pareto_front(a, b, o.pareto_points)?);
         }
     }
