@@ -43,6 +43,7 @@ mod hypocycloid_io;
 mod index_page;
 mod integer_limits;
 mod linkage;
+mod linkage_envelope;
 mod linkage_model;
 mod minimax_engine;
 mod mutants;

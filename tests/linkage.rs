@@ -413,7 +413,7 @@ fn both_shipped_fronts_certify_every_point_at_1e_9() {
         let p: &LinkageProblem = sc.machine().unwrap();
         assert_eq!(p.settings.rel_tol, 1e-9, "{name} ships at the default");
         let fields = SceneFields::new(&p.scene);
-        let (f, m, t) = field_objects(&fields);
+        let (f, m, t) = field_objects(&fields, "");
         let pb = Problem {
             fields: vec![&f, &m, &t],
             counterweights: p.scene.counterweights.iter().map(limits_of).collect(),

@@ -108,7 +108,7 @@ fn true_rms(text: &str) -> impl Fn([f64; 2]) -> f64 {
     let p: LinkageProblem = sc.machine::<LinkageProblem>().unwrap().clone();
     move |u: [f64; 2]| {
         let fields = SceneFields::new(&p.scene);
-        let (force, _, _) = field_objects(&fields);
+        let (force, _, _) = field_objects(&fields, "");
         let x = [1.0, u[0], u[1], 1e-3];
         let sq = |theta: f64| {
             let mut v = AffineValue::zeros(4);

@@ -12,6 +12,7 @@
 pub mod calibrate;
 pub mod drive;
 pub mod edit;
+pub mod envelope;
 pub mod limits;
 pub mod outline;
 pub mod schema;

@@ -6,6 +6,7 @@
 pub(crate) mod conic;
 pub mod counterweight;
 pub mod energy;
+pub mod envelope;
 pub mod exchange;
 pub mod minimax;
 pub mod search;

@@ -83,6 +83,9 @@ pub struct MechanismRaw {
     #[serde(default)]
     #[schemars(length(max = super::file_loads::MAX_LOADS))]
     pub loads: Vec<super::file_loads::LoadRaw>,
+    /// The operating envelope: a speed band and link-mass intervals; every objective and
+    /// limit then means the worst case over it.
+    pub envelope: Option<super::file_envelope::LinkageEnvelopeRaw>,
 }
 
 /// The kinds of dyad.
@@ -430,6 +433,8 @@ pub struct LinkageScene {
     pub counterweights: Vec<CounterweightSpec>,
     /// The objective.
     pub objective: Objective,
+    /// The operating envelope (empty: the nominal machine only).
+    pub envelope: super::envelope::LinkageEnvelope,
 }
 
 /// What a link's `tip` is: its second joint in its own frame, where it has one.
@@ -1080,6 +1085,20 @@ pub fn resolve_scene(
     check_full_turn(&linkage)?;
     let counterweights = counterweights(design, &names, crank_length, dir)?;
     let objective = objective(o, &counterweights)?;
+    let envelope = match &m.envelope {
+        Some(e) => super::file_envelope::resolve_envelope(e, &linkage, &names)?,
+        None => Default::default(),
+    };
+    if !envelope.is_empty() {
+        super::file_envelope::check_envelope(
+            matches!(
+                objective.minimize,
+                Goal::RmsForce | Goal::RmsMoment | Goal::RmsTorque
+            ),
+            objective.pareto_points,
+            objective.full_force_balance,
+        )?;
+    }
     Ok(LinkageScene {
         moment_about: model.moment_about.as_ref().map_or(pivot, xy),
         linkage,
@@ -1087,5 +1106,6 @@ pub fn resolve_scene(
         link_names: names,
         counterweights,
         objective,
+        envelope,
     })
 }

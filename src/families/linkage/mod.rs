@@ -1,15 +1,18 @@
 //! Any one-degree-of-freedom planar linkage, whole: a crank and a chain of Assur dyads with the
 //! shaking force, shaking moment, input torque and joint reactions as linear maps in the links'
-//! inertial parameters (`model`), its problem file (`file`, `file_loads`), the certified counterweight cone
+//! inertial parameters (`model`), its problem file (`file`, `file_loads`, `file_envelope`), its operating envelope (`envelope`), the certified counterweight cone
 //! programs (`synth`), its result and plots (`report`) and its
 //! study ladder (`study`), behind the `Family` and `Machine` traits.
 
+pub mod envelope;
 pub mod file;
+pub mod file_envelope;
 pub mod file_loads;
 pub mod model;
 pub mod numbers;
 pub mod report;
 pub mod solve;
+pub mod solve_envelope;
 pub mod study;
 pub mod synth;
 

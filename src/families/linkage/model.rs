@@ -623,6 +623,15 @@ impl Linkage {
         Ok(())
     }
 
+    /// Sets the crank speed ω (rad/s, finite).
+    pub fn set_omega(&mut self, omega: f64) -> Result<(), LinkageError> {
+        if !omega.is_finite() {
+            return Err(LinkageError::NotFinite { what: "omega" });
+        }
+        self.omega = omega;
+        Ok(())
+    }
+
     /// The crank pivot A0.
     pub fn pivot(&self) -> P2 {
         self.pivot

@@ -136,6 +136,7 @@ pub fn numbers(_: &Scene, p: &LinkageProblem, sol: &Solved, r: &mut SolveResult)
         r.extra
             .insert("pareto".into(), Front::of(front, out).json(&r.name));
     }
+    envelope_numbers(r, p, sol);
     berkof_lowen(r, p, sol);
     joint_numbers(r, p, sol);
     // The drive is the design's where there is one (the bare linkage's otherwise).
@@ -145,6 +146,98 @@ pub fn numbers(_: &Scene, p: &LinkageProblem, sol: &Solved, r: &mut SolveResult)
     };
     let peak_force = peaks.first().map(|f| f.peak);
     crate::report::drive::drive_numbers(r, sol.drive.as_ref(), peak_force);
+}
+
+/// The keys of the worst cases over an operating envelope: force, moment, torque, ΔE.
+pub const WORST_KEYS: [&str; 4] = [
+    "worst_case_peak_shaking_force_n",
+    "worst_case_peak_shaking_moment_nm",
+    "worst_case_peak_input_torque_nm",
+    "worst_case_energy_fluctuation_j",
+];
+
+/// With an operating envelope: the worst cases in `objectives` (the objective's own is the
+/// result's objective, its error the binding scenario's plus the certified gap), the
+/// section `envelope`, and a warning where a Monte Carlo sample exceeds a worst case.
+fn envelope_numbers(r: &mut SolveResult, p: &LinkageProblem, sol: &Solved) {
+    let env = match &sol.envelope {
+        None => return,
+        Some(Err(why)) => {
+            let why =
+                format!("the design over the operating envelope could not be evaluated: {why}");
+            return r.warnings.push(why);
+        }
+        Some(Ok(e)) => e,
+    };
+    let goal = p.scene.objective.minimize;
+    let own = match goal {
+        Goal::PeakForce => Some(0),
+        Goal::PeakMoment => Some(1),
+        Goal::PeakTorque => Some(2),
+        Goal::EnergyFluctuation => Some(3),
+        _ => None,
+    };
+    let gap = sol.out.design.as_ref().map_or(0.0, |d| d.error.total);
+    for (c, w) in env.worst.iter().enumerate() {
+        let Some(w) = w else { continue };
+        r.objectives.insert(WORST_KEYS[c].into(), w.value);
+        let e = w.error + if own == Some(c) { gap } else { 0.0 };
+        r.errors.insert(WORST_KEYS[c].into(), e);
+    }
+    if let Some(c) = own {
+        r.objective = Some(WORST_KEYS[c].into());
+    }
+    if let Some(mc) = env.monte_carlo.as_ref().filter(|m| m.beyond_worst_case > 0) {
+        r.warnings.push(format!(
+            "{} of {} Monte Carlo samples of the envelope exceed a worst case beyond both errors",
+            mc.beyond_worst_case, mc.samples
+        ));
+    }
+    let mut v = serde_json::to_value(env).unwrap_or_default();
+    v["certified"] = json!(true);
+    v["csv"] = json!(format!("{}-envelope.csv", r.name));
+    r.extra.insert("envelope".into(), v);
+}
+
+/// The envelope's table: one row per scenario (the nominal first), the parameters' values,
+/// then each figure and its error.
+pub(super) fn envelope_csv(
+    env: &crate::families::linkage::solve_envelope::EnvelopeOutcome,
+) -> String {
+    let mut head = env.parameters.clone();
+    head.extend(
+        [
+            "peak_shaking_force_n",
+            "peak_shaking_moment_nm",
+            "peak_input_torque_nm",
+            "energy_fluctuation_j",
+        ]
+        .iter()
+        .flat_map(|k| [k.to_string(), format!("{k}_error")]),
+    );
+    let mut csv = head.join(",") + "\n";
+    for f in &env.scenarios {
+        let mut row: Vec<String> = f.values.iter().map(|v| format!("{v:.9e}")).collect();
+        for (v, e) in [
+            f.peak_shaking_force_n,
+            f.peak_shaking_moment_nm,
+            f.peak_input_torque_nm,
+            f.energy_fluctuation_j.unwrap_or((f64::NAN, f64::NAN)),
+        ] {
+            row.push(if v.is_nan() {
+                String::new()
+            } else {
+                format!("{v:.12e}")
+            });
+            row.push(if e.is_nan() {
+                String::new()
+            } else {
+                format!("{e:.3e}")
+            });
+        }
+        csv += &(row.join(",") + "\n");
+    }
+    csv
 }
 
 /// ΔE with `minimize = "energy-fluctuation"`: the unbalanced baseline's and the result's

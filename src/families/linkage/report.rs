@@ -30,6 +30,13 @@ pub fn analysis_documents(
 
 /// The tables, plots and drawing of a solved scene, in the order the report lists them.
 pub fn documents(scene: &Scene, p: &LinkageProblem, sol: &Solved, r: &mut SolveResult) {
+    if let Some(Ok(env)) = &sol.envelope {
+        r.tables.push(Table {
+            suffix: "envelope".into(),
+            caption: "The design over the operating envelope: the nominal scene, then every vertex of the box (the worst case over it is at one)".into(),
+            csv: super::numbers::envelope_csv(env),
+        });
+    }
     if let Some(front) = &sol.out.pareto {
         pareto_documents(r, &Front::of(front, &sol.out));
     }

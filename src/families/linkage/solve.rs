@@ -37,6 +37,9 @@ pub struct Solution {
     /// ΔE without and with the design, with `minimize = "energy-fluctuation"` (`Err`: why
     /// not computed).
     pub energy: Option<Result<EnergyFigures, String>>,
+    /// The design over the operating envelope (`[mechanism.envelope]`; `Err`: why not
+    /// computed).
+    pub envelope: Option<Result<super::solve_envelope::EnvelopeOutcome, String>>,
 }
 
 /// Every joint's peak load over the cycle.
@@ -116,7 +119,15 @@ pub fn solve(p: &LinkageProblem) -> Result<Solution, String> {
             design: x.map(|x| energy_fluctuation(p, Some(x))).transpose()?,
         })
     });
+    let envelope = (!sc.envelope.is_empty()).then(|| {
+        let peaks = match &out.design {
+            Some(d) if x.is_some() && d.status != CwStatus::Infeasible => &d.peaks,
+            _ => &out.bare,
+        };
+        super::solve_envelope::evaluate(sc, &out, peaks, x, &p.settings)
+    });
     Ok(Solution {
+        envelope,
         energy,
         claim,
         joints: joint_loads(p, x, steady),
@@ -174,17 +185,10 @@ fn drive_settings(p: &LinkageProblem) -> dynamics::DriveSettings {
 }
 
 /// ΔE at constant speed with its error bound, of the design `x` (the bare linkage's
-/// without): the drive's own quadrature of T = ½ J′ ω² + G (`dynamics::constant_speed`),
-/// independent of the engine's energy field.
+/// without): the drive's own quadrature, independent of the engine's energy field
+/// ([`super::solve_envelope::delta_e`]).
 fn energy_fluctuation(p: &LinkageProblem, x: Option<&[f64]>) -> Result<(f64, f64), String> {
-    let terms = drive_terms(p, x);
-    let c = dynamics::constant_speed(
-        &one_dof(&terms),
-        p.scene.linkage.omega(),
-        &drive_settings(p),
-    )
-    .map_err(|e| e.to_string())?;
-    Ok((c.energy_fluctuation, c.energy_fluctuation_error))
+    super::solve_envelope::delta_e(&p.scene, x)
 }
 
 /// ΔE of the bare linkage and of the design, with `minimize = "energy-fluctuation"`.

@@ -11,7 +11,7 @@
 //! side); when the counterweights cannot supply it, the least-squares residual says by how much.
 
 use crate::dynamics::{DriveSettings, SteadyState};
-use crate::families::linkage::file::{CounterweightSpec, Goal, LinkageScene};
+use crate::families::linkage::file::{CounterweightSpec, Goal, LinkageScene, Objective};
 use crate::families::linkage::model::{
     BalanceMap, Body, Joint, JointKind, Linkage, Params, Pose, ReactionMap,
 };
@@ -525,9 +525,11 @@ pub fn force_balance_rows(fields: &SceneFields, n: usize) -> Result<Vec<LinearCo
 type Eval<'a> = Box<dyn Fn(f64, &mut AffineValue) + Sync + 'a>;
 type Err<'a> = Box<dyn Fn(f64, &[f64]) -> f64 + Sync + 'a>;
 
-/// The three engine fields of `fields`: force (2-D), moment, torque.
+/// The three engine fields of `fields`: force (2-D), moment, torque; `label` follows each
+/// field's name (a scenario's, empty for the nominal scene).
 pub fn field_objects<'a>(
     fields: &'a SceneFields<'a>,
+    label: &str,
 ) -> (
     FnField<Eval<'a>, Err<'a>>,
     FnField<Eval<'a>, Err<'a>>,
@@ -536,7 +538,7 @@ pub fn field_objects<'a>(
     let make = |which: usize, name: &str, dim: usize| {
         let e: Eval<'a> = Box::new(move |th, out| fields.eval(which, th, out));
         let r: Err<'a> = Box::new(move |th, x| fields.error(which, th, x));
-        FnField::new(name, dim, e).with_error(r)
+        FnField::new(format!("{name}{label}"), dim, e).with_error(r)
     };
     (
         make(FORCE, "shaking_force", 2),
@@ -547,14 +549,17 @@ pub fn field_objects<'a>(
 
 /// The engine fields of the joint loads (field `JOINT0 + k` is joint k; dimension 2, a
 /// prismatic joint's second row 0).
-pub fn joint_field_objects<'a>(fields: &'a SceneFields<'a>) -> Vec<FnField<Eval<'a>, Err<'a>>> {
+pub fn joint_field_objects<'a>(
+    fields: &'a SceneFields<'a>,
+    label: &str,
+) -> Vec<FnField<Eval<'a>, Err<'a>>> {
     (0..fields.joints.len())
         .map(|k| {
             let which = JOINT0 + k;
             let e: Eval<'a> = Box::new(move |th, out| fields.eval(which, th, out));
             let r: Err<'a> = Box::new(move |th, x| fields.error(which, th, x));
             let name = format!(
-                "load of joint {}",
+                "load of joint {}{label}",
                 joint_label(&fields.joints[k], &fields.scene.link_names)
             );
             FnField::new(name, 2, e).with_error(r)
@@ -600,6 +605,9 @@ pub struct Outcome {
     /// The front's fields (optimised, limited): engine field indices of `pareto`'s points'
     /// peaks (the energy field's peak is max|E − c| = ΔE/2).
     pub pareto_fields: (usize, usize),
+    /// Fields per scenario: with an operating envelope the peaks of vertex v's field k are
+    /// at `v * block_len + k` (v = 0 the nominal scene).
+    pub block_len: usize,
     /// Largest dyad conditioning κ over the scan.
     pub kappa_max: f64,
     /// Why the objective cannot be moved by a counterweight the scene leaves free, if it
@@ -610,20 +618,129 @@ pub struct Outcome {
     pub plates: Vec<Option<Realised>>,
 }
 
+/// The engine fields of one scenario, in the order every scenario keeps: force (2-D),
+/// moment, torque ([`FORCE`], [`MOMENT`], [`TORQUE`]), the joints' with a joint-load limit
+/// ([`JOINT0`]` + k`), then the energy curve with the ΔE goal (with the bound on its offset).
+struct Block<'a> {
+    fmt: [FnField<Eval<'a>, Err<'a>>; 3],
+    joints: Vec<FnField<Eval<'a>, Err<'a>>>,
+    energy: Option<(EnergyField, f64)>,
+}
+
+impl<'a> Block<'a> {
+    /// The fields of `fields` (named with `label`), the energy curve's offset the design
+    /// variable `offset` of `n`.
+    fn new(
+        fields: &'a SceneFields<'a>,
+        label: &str,
+        n: usize,
+        offset: usize,
+    ) -> Result<Self, LinkageSolveError> {
+        let (f, m, t) = field_objects(fields, label);
+        let joints = match fields.scene.objective.max_joint_force {
+            Some(_) => joint_field_objects(fields, label),
+            None => Vec::new(),
+        };
+        let energy = energy_field(fields.scene, &t, n, offset)?;
+        Ok(Block {
+            fmt: [f, m, t],
+            joints,
+            energy,
+        })
+    }
+
+    /// The fields, in the block's order.
+    fn refs(&self) -> Vec<&dyn mm::AffineField> {
+        let fmt = self.fmt.iter().map(|f| f as &dyn mm::AffineField);
+        let joints = self.joints.iter().map(|j| j as &dyn mm::AffineField);
+        let energy = self.energy.iter().map(|(e, _)| e as &dyn mm::AffineField);
+        fmt.chain(joints).chain(energy).collect()
+    }
+}
+
+/// The scenes at the envelope's vertices (none without an envelope), in
+/// [`crate::synth::envelope::vertices`]' order.
+pub fn vertex_scenes(scene: &LinkageScene) -> Result<Vec<LinkageScene>, LinkageSolveError> {
+    let env = &scene.envelope;
+    if env.is_empty() {
+        return Ok(Vec::new());
+    }
+    crate::synth::envelope::vertices(&env.ranges())
+        .iter()
+        .map(|v| scene_at(scene, v))
+        .collect()
+}
+
+/// The scene at the envelope's parameter `values`, without an envelope of its own.
+pub fn scene_at(scene: &LinkageScene, values: &[f64]) -> Result<LinkageScene, LinkageSolveError> {
+    let linkage = scene.envelope.at(&scene.linkage, values).map_err(|e| {
+        LinkageSolveError::Engine(mm::MinimaxError::Problem {
+            what: "the operating envelope".into(),
+            message: e.to_string(),
+        })
+    })?;
+    Ok(LinkageScene {
+        linkage,
+        envelope: Default::default(),
+        ..scene.clone()
+    })
+}
+
+/// The file's peak limits as (field, ε) of one block.
+fn peak_limits(o: &Objective, joints: usize) -> Vec<(usize, f64)> {
+    [
+        (FORCE, o.max_peak_force),
+        (MOMENT, o.max_peak_moment),
+        (TORQUE, o.max_peak_torque),
+    ]
+    .into_iter()
+    .chain((0..joints).map(|k| (JOINT0 + k, o.max_joint_force)))
+    .filter_map(|(k, v)| v.map(|v| (k, v)))
+    .collect()
+}
+
+/// The goal over `blocks` blocks of `len` fields: the nominal block's goal with every
+/// peak's field repeated in each block (the worst case over the scenarios).
+fn block_goal(g: mm::Goal, blocks: usize, len: usize) -> mm::Goal {
+    match g {
+        mm::Goal::MinPeak(v) => mm::Goal::MinPeak(
+            (0..blocks)
+                .flat_map(|b| v.iter().map(move |&(k, w)| (b * len + k, w)))
+                .collect(),
+        ),
+        other => other,
+    }
+}
+
 /// Solves the scene: the bare linkage's peaks, then the counterweights (if any) for the
-/// objective under the limits, and the front if asked.
+/// objective under the limits, and the front if asked. With an operating envelope every
+/// vertex's scene is a block of fields after the nominal one, the goal is the worst case over
+/// the blocks and every limit holds in each ([`Block`]).
 pub fn solve(scene: &LinkageScene, settings: &Settings) -> Result<Outcome, LinkageSolveError> {
+    let vertices = vertex_scenes(scene)?;
     let fields = SceneFields::new(scene);
-    let (f, m, t) = field_objects(&fields);
-    // The joint loads enter the engine only as a limit (each a field scanned over the cycle).
-    let joint_fields = if scene.objective.max_joint_force.is_some() {
-        joint_field_objects(&fields)
-    } else {
-        Vec::new()
-    };
+    let vfields: Vec<SceneFields> = vertices.iter().map(SceneFields::new).collect();
     let cws = &scene.counterweights;
     let n_cw = mm::PER_COUNTERWEIGHT * cws.len();
     let o = &scene.objective;
+    // An analysis has no design variable: one fixed at 0 keeps the engine's problem whole;
+    // the ΔE goal has one offset per scenario.
+    let energy_goal = o.minimize == Goal::EnergyFluctuation && !cws.is_empty();
+    let n = n_cw
+        + if cws.is_empty() {
+            1
+        } else {
+            usize::from(energy_goal) * (1 + vfields.len())
+        };
+    let mut blocks = vec![Block::new(&fields, "", n, n_cw)?];
+    for (k, f) in vfields.iter().enumerate() {
+        blocks.push(Block::new(
+            f,
+            &format!(" at vertex {}", k + 1),
+            n,
+            n_cw + 1 + k,
+        )?);
+    }
     let mut linear = mass_rows(cws);
     let mut balance_residual = None;
     let mut balance_rows = 0;
@@ -636,36 +753,29 @@ pub fn solve(scene: &LinkageScene, settings: &Settings) -> Result<Outcome, Linka
             Err(resid) => balance_residual = Some(resid),
         }
     }
-    let limits: Vec<(usize, f64)> = [
-        (FORCE, o.max_peak_force),
-        (MOMENT, o.max_peak_moment),
-        (TORQUE, o.max_peak_torque),
-    ]
-    .into_iter()
-    .chain((0..joint_fields.len()).map(|k| (JOINT0 + k, o.max_joint_force)))
-    .filter_map(|(k, v)| v.map(|v| (k, v)))
-    .collect();
-    let mut field_refs: Vec<&dyn mm::AffineField> = vec![&f, &m, &t];
-    field_refs.extend(joint_fields.iter().map(|j| j as &dyn mm::AffineField));
-    let energy_at = field_refs.len();
-    let energy = energy_field(scene, &t, n_cw)?;
-    // An analysis has no design variable: one fixed at 0 keeps the engine's problem whole.
+    let len = blocks[0].refs().len();
+    let energy_at = 3 + blocks[0].joints.len();
+    let limits = peak_limits(o, blocks[0].joints.len());
     let mut extra = if cws.is_empty() {
         vec![(0.0, 0.0)]
     } else {
         Vec::new()
     };
-    if let Some((e, bound)) = &energy {
-        field_refs.push(e);
-        extra.push((-bound, *bound));
-    }
+    extra.extend(
+        blocks
+            .iter()
+            .filter_map(|b| b.energy.as_ref())
+            .map(|(_, c)| (-c, *c)),
+    );
     let pb = Problem {
-        fields: field_refs,
+        fields: blocks.iter().flat_map(Block::refs).collect(),
         counterweights: cws.iter().map(limits_of).collect(),
         extra,
         linear,
-        goal: goal(o.minimize, energy_at),
-        limits,
+        goal: block_goal(goal(o.minimize, energy_at), blocks.len(), len),
+        limits: (0..blocks.len())
+            .flat_map(|b| limits.iter().map(move |&(k, v)| (b * len + k, v)))
+            .collect(),
     };
     let engine = Engine::new(&pb, settings)?;
     let zeros = vec![0.0; pb.n()];
@@ -684,6 +794,7 @@ pub fn solve(scene: &LinkageScene, settings: &Settings) -> Result<Outcome, Linka
             Goal::EnergyFluctuation => (energy_at, FORCE),
             _ => (FORCE, MOMENT),
         },
+        block_len: len,
         kappa_max: 1.0,
         degenerate: None,
         plates: Vec::new(),
@@ -703,10 +814,16 @@ pub fn solve(scene: &LinkageScene, settings: &Settings) -> Result<Outcome, Linka
     if out.design.is_some() {
         out.degenerate = idle_counterweights(&fields, scene);
     }
-    if let Some(e) = fields.failure() {
+    if let Some(e) = std::iter::once(&fields)
+        .chain(&vfields)
+        .find_map(SceneFields::failure)
+    {
         return Err(e);
     }
-    out.kappa_max = fields.kappa_max();
+    out.kappa_max = std::iter::once(&fields)
+        .chain(&vfields)
+        .map(SceneFields::kappa_max)
+        .fold(1.0, f64::max);
     Ok(out)
 }
 
@@ -760,20 +877,21 @@ fn realise_plates(
 }
 
 /// With `minimize = "energy-fluctuation"` and counterweights: the energy curve of the input
-/// torque field `t` as an engine field (`crate::synth::energy`) whose offset c is the extra
-/// variable after the counterweights' (index `n_cw`), with the bound on |c|. Each column's
+/// torque field `t` as an engine field (`crate::synth::energy`) of `n` design variables whose
+/// offset c is the variable `offset`, with the bound on |c|. Each column's
 /// largest value is bounded by the counterweight's limits: m ≤ m_max, |u| ≤ m_max r,
 /// I ≤ m_max r².
 fn energy_field(
     scene: &LinkageScene,
     t: &dyn mm::AffineField,
-    n_cw: usize,
+    n: usize,
+    offset: usize,
 ) -> Result<Option<(EnergyField, f64)>, LinkageSolveError> {
     let cws = &scene.counterweights;
     if scene.objective.minimize != Goal::EnergyFluctuation || cws.is_empty() {
         return Ok(None);
     }
-    let e = EnergyField::new(t, n_cw + 1, n_cw, &DriveSettings::default()).map_err(|e| {
+    let e = EnergyField::new(t, n, offset, &DriveSettings::default()).map_err(|e| {
         LinkageSolveError::Engine(mm::MinimaxError::Problem {
             what: "the energy curve".into(),
             message: e.to_string(),

@@ -6,8 +6,10 @@ use super::synth::{
     fixed_length, Envelope, LengthOf, LengthRange, MassOf, MassRange, Objective, Scene,
     MAX_PARAMETERS,
 };
+use crate::problem::envelope::{check_parameters, mass_interval, monte_carlo, speed_band};
+pub use crate::problem::envelope::{MassRangeRaw, SpeedRangeRaw, MAX_MONTE_CARLO};
 use crate::problem::{positive, FieldError};
-use crate::units::{AngularSpeed, Length, Mass, Qty};
+use crate::units::{Length, Qty};
 use serde::Deserialize;
 
 /// `[mechanism.envelope]`.
@@ -34,30 +36,6 @@ pub struct EnvelopeRaw {
     pub sensitivities: bool,
 }
 
-/// `speed = { min, max }`.
-#[derive(Debug, Deserialize, schemars::JsonSchema)]
-#[serde(deny_unknown_fields)]
-pub struct SpeedRangeRaw {
-    /// Lowest speed.
-    pub min: Qty<AngularSpeed>,
-    /// Highest speed.
-    pub max: Qty<AngularSpeed>,
-}
-
-/// `[[mechanism.envelope.mass]]`: `min`/`max` or a relative `tolerance`.
-#[derive(Debug, Deserialize, schemars::JsonSchema)]
-#[serde(deny_unknown_fields)]
-pub struct MassRangeRaw {
-    /// `"slider_mass"`, `"crank_mass"`, `"rod_mass"`, or the name of a mass item.
-    pub of: String,
-    /// The least mass.
-    pub min: Option<Qty<Mass>>,
-    /// The largest mass.
-    pub max: Option<Qty<Mass>>,
-    /// ± this fraction of the nominal (dimensionless, e.g. 0.02 for a ±2 % casting).
-    pub tolerance: Option<f64>,
-}
-
 /// `[[mechanism.envelope.length]]`.
 #[derive(Debug, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
@@ -67,9 +45,6 @@ pub struct LengthRangeRaw {
     /// ± this length.
     pub tolerance: Qty<Length>,
 }
-
-/// Most Monte Carlo samples.
-pub const MAX_MONTE_CARLO: usize = 1_000_000;
 
 /// A `[[mechanism.mass_items]]` entry as the envelope sees it: its name, where it is reduced
 /// to, its nominal mass (kg) and the fraction reduced there.
@@ -91,20 +66,7 @@ pub fn resolve_envelope(
     e: &EnvelopeRaw,
     core: &Scene,
 ) -> Result<Envelope, FieldError> {
-    let speed = match &e.speed {
-        None => None,
-        Some(s) => {
-            let lo = positive("mechanism.envelope.speed.min", s.min.si())?;
-            let hi = positive("mechanism.envelope.speed.max", s.max.si())?;
-            if hi < lo {
-                return Err(FieldError::new(
-                    "mechanism.envelope.speed.max",
-                    "allowed: max ≥ min",
-                ));
-            }
-            Some((lo, hi))
-        }
-    };
+    let speed = speed_band(e.speed.as_ref())?;
     let masses = e
         .mass
         .iter()
@@ -117,13 +79,7 @@ pub fn resolve_envelope(
         .enumerate()
         .map(|(i, r)| length_range(r, core, &format!("mechanism.envelope.length[{i}]")))
         .collect::<Result<Vec<_>, _>>()?;
-    let monte_carlo = e.monte_carlo.unwrap_or(1000);
-    if monte_carlo > MAX_MONTE_CARLO {
-        return Err(FieldError::new(
-            "mechanism.envelope.monte_carlo",
-            format!("got {monte_carlo}; allowed: 0 to {MAX_MONTE_CARLO}"),
-        ));
-    }
+    let monte_carlo = monte_carlo(e.monte_carlo)?;
     let env = Envelope {
         speed,
         masses,
@@ -131,13 +87,7 @@ pub fn resolve_envelope(
         monte_carlo,
         sensitivities: e.sensitivities,
     };
-    let k = env.names().len();
-    if k > MAX_PARAMETERS {
-        return Err(FieldError::new(
-            "mechanism.envelope",
-            format!("{k} interval parameters; allowed: at most {MAX_PARAMETERS} (2^{MAX_PARAMETERS} vertices)"),
-        ));
-    }
+    check_parameters(env.names().len(), MAX_PARAMETERS)?;
     Ok(env)
 }
 
@@ -168,30 +118,7 @@ fn mass_range(
             ));
         }
     };
-    let (lo, hi) = match (r.min, r.max, r.tolerance) {
-        (Some(lo), Some(hi), None) => (lo.si(), hi.si()),
-        (None, None, Some(t)) if (0.0..1.0).contains(&t) => {
-            (nominal * (1.0 - t), nominal * (1.0 + t))
-        }
-        (None, None, Some(t)) => {
-            return Err(FieldError::new(
-                format!("{f}.tolerance"),
-                format!("got {t}; allowed: 0 ≤ tolerance < 1 (a fraction of the nominal)"),
-            ))
-        }
-        _ => {
-            return Err(FieldError::new(
-                f,
-                "give min and max (masses), or tolerance (a fraction), not both",
-            ))
-        }
-    };
-    if !(lo >= 0.0 && hi >= lo && hi.is_finite()) {
-        return Err(FieldError::new(
-            format!("{f}.max"),
-            format!("got {lo} kg to {hi} kg; allowed: 0 ≤ min ≤ max"),
-        ));
-    }
+    let (lo, hi) = mass_interval(r.min, r.max, r.tolerance, nominal, f)?;
     if of == MassOf::Rod && mech.rod.mass <= 0.0 {
         return Err(FieldError::new(
             format!("{f}.of"),

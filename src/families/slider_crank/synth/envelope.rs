@@ -14,6 +14,8 @@
 //! worst case is at one of them, so a scene with length tolerances claims `best_found`, with
 //! the Monte Carlo check over the whole box as its evidence.
 
+pub use crate::synth::envelope::{WorstCase, MAX_PARAMETERS};
+
 /// What a mass interval changes.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
 #[serde(rename_all = "snake_case")]
@@ -74,9 +76,6 @@ pub struct Envelope {
     /// Whether the result carries the sensitivity table (`super::sensitivity`).
     pub sensitivities: bool,
 }
-
-/// Most interval parameters of an envelope: 2^10 = 1024 vertices.
-pub const MAX_PARAMETERS: usize = 10;
 
 impl Envelope {
     /// True for a nominal scene (no interval).
@@ -139,18 +138,6 @@ pub struct VertexFigures {
     /// Its error bound (J).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub energy_fluctuation_error_j: Option<f64>,
-}
-
-/// The worst case of one figure over the scenarios.
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
-pub struct WorstCase {
-    /// Its value (the figure's unit).
-    pub value: f64,
-    /// Its error bound: the binding scenario's evaluation error (the optimisation gap is
-    /// added by the caller for the objective).
-    pub error: f64,
-    /// The binding scenario's index in `vertices` (0: the nominal scene).
-    pub vertex: usize,
 }
 
 /// The quasi-Monte Carlo check of the worst case over the whole box.

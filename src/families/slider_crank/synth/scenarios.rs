@@ -10,7 +10,7 @@ use super::envelope::{
 use super::metrics::metrics;
 use super::scene::{Objective, Scene, SolveError};
 use crate::geom::P2;
-use crate::synth::search::starts::{halton, HALTON_PRIMES};
+use crate::synth::envelope::{halton_point, vertices};
 use rayon::prelude::*;
 
 /// One scenario: the parameters' values and the scene they make.
@@ -26,27 +26,15 @@ impl Envelope {
     /// The nominal scenario first, then every vertex of the box (2^k, in binary order of the
     /// parameters' ends: bit i set = parameter i at its upper end).
     pub fn scenarios(&self, nominal: &Scene) -> Vec<Scenario> {
-        let ranges = self.ranges();
-        let k = ranges.len();
         // The nominal values: the scene's ω, no change of mass or length.
-        let mut at_nominal = vec![0.0; k];
+        let mut at_nominal = vec![0.0; self.ranges().len()];
         if self.speed.is_some() {
             at_nominal[0] = nominal.omega;
         }
-        let mut out = vec![self.at(nominal, at_nominal)];
-        for bits in 0..(1usize << k) {
-            let values = (0..k)
-                .map(|i| {
-                    if bits >> i & 1 == 1 {
-                        ranges[i].1
-                    } else {
-                        ranges[i].0
-                    }
-                })
-                .collect();
-            out.push(self.at(nominal, values));
-        }
-        out
+        std::iter::once(at_nominal)
+            .chain(vertices(&self.ranges()))
+            .map(|v| self.at(nominal, v))
+            .collect()
     }
 
     /// The scenario at `values` (in [`Self::names`]' order).
@@ -151,16 +139,8 @@ impl EnvelopeOutcome {
 
 /// The worst of column `c` (error in column `c + 1`) over the vertices.
 fn worst(rows: &[[f64; 6]], c: usize) -> WorstCase {
-    let (k, r) = rows
-        .iter()
-        .enumerate()
-        .max_by(|a, b| a.1[c].total_cmp(&b.1[c]))
-        .expect("the nominal scenario at least");
-    WorstCase {
-        value: r[c],
-        error: r[c + 1],
-        vertex: k,
-    }
+    crate::synth::envelope::worst(rows.iter().map(|r| (r[c], r[c + 1])))
+        .expect("the nominal scenario at least")
 }
 
 impl Envelope {
@@ -235,13 +215,7 @@ impl Envelope {
     ) -> Result<MonteCarlo, SolveError> {
         let ranges = self.ranges();
         let energy = w[2].is_some();
-        let point = |i: usize| -> Vec<f64> {
-            ranges
-                .iter()
-                .enumerate()
-                .map(|(d, r)| r.0 + (r.1 - r.0) * halton(i, HALTON_PRIMES[d]))
-                .collect()
-        };
+        let point = |i: usize| halton_point(&ranges, i);
         let rows = (1..=self.monte_carlo)
             .into_par_iter()
             .map(|i| figures(&self.at(nominal, point(i)).scene, u, b, energy))

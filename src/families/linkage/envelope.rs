@@ -1,0 +1,94 @@
+//! The linkage's operating envelope (issue 33, item 3): a speed band and link-mass intervals,
+//! so that every objective and limit means "the worst case over them".
+//!
+//! A link's mass interval scales its inertial parameters p = (m, m c_x, m c_y, I_P) together
+//! (a denser or a larger casting of the same shape: the centroid stays, the inertia scales
+//! with the mass). The shaking force F, the shaking moment M_O, the input torque T and the
+//! joint loads are linear in every link's p, and ω² multiplies their inertial part (the
+//! weights and process loads do not depend on it), so at a fixed design and angle each is
+//! affine in every parameter separately; its magnitude — and ΔE, a max minus a min of affine
+//! functions — is convex in each, and its maximum over the box is at a vertex
+//! (`crate::synth::envelope`). "Minimise the worst case" is then one cone program over
+//! angle × vertices, certified exactly.
+
+use crate::families::linkage::model::{Inertia, Linkage, LinkageError};
+
+/// A link's mass interval.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct LinkMassRange {
+    /// The link's name.
+    pub name: String,
+    /// The link's index.
+    pub link: usize,
+    /// Its mass at the interval's ends (kg); the nominal mass is positive.
+    pub mass: (f64, f64),
+}
+
+/// The envelope of a linkage scene: empty for a nominal scene.
+#[derive(Debug, Clone, PartialEq, Default, serde::Serialize)]
+pub struct LinkageEnvelope {
+    /// ω ∈ [ω_min, ω_max] (rad/s).
+    pub speed: Option<(f64, f64)>,
+    /// Link-mass intervals.
+    pub masses: Vec<LinkMassRange>,
+    /// Monte Carlo samples of the check (0: none).
+    pub monte_carlo: usize,
+}
+
+impl LinkageEnvelope {
+    /// True for a nominal scene (no interval).
+    pub fn is_empty(&self) -> bool {
+        self.speed.is_none() && self.masses.is_empty()
+    }
+
+    /// The parameters' names with their units, in order: `speed_rad_s`, then
+    /// `<link>_mass_kg` for each mass interval.
+    pub fn names(&self) -> Vec<String> {
+        let speed = self.speed.map(|_| "speed_rad_s".to_string());
+        speed
+            .into_iter()
+            .chain(self.masses.iter().map(|m| format!("{}_mass_kg", m.name)))
+            .collect()
+    }
+
+    /// Each parameter's interval, in [`Self::names`]' order.
+    pub fn ranges(&self) -> Vec<(f64, f64)> {
+        self.speed
+            .into_iter()
+            .chain(self.masses.iter().map(|m| m.mass))
+            .collect()
+    }
+
+    /// The parameters' values of the nominal linkage `l`.
+    pub fn nominal(&self, l: &Linkage) -> Vec<f64> {
+        self.speed
+            .map(|_| l.omega())
+            .into_iter()
+            .chain(self.masses.iter().map(|m| l.inertia()[m.link].mass))
+            .collect()
+    }
+
+    /// The linkage `l` at the parameters' `values` ([`Self::names`]' order): its speed set,
+    /// each named link's inertial parameters scaled by m / m_nominal.
+    pub fn at(&self, l: &Linkage, values: &[f64]) -> Result<Linkage, LinkageError> {
+        let mut out = l.clone();
+        let mut v = values.iter().copied();
+        if self.speed.is_some() {
+            out.set_omega(v.next().expect("one value per parameter"))?;
+        }
+        for m in &self.masses {
+            let new = v.next().expect("one value per parameter");
+            let old = l.inertia()[m.link];
+            let f = new / old.mass;
+            out.set_inertia(
+                m.link,
+                Inertia {
+                    mass: new,
+                    centroid: old.centroid,
+                    j: old.j * f,
+                },
+            )?;
+        }
+        Ok(out)
+    }
+}

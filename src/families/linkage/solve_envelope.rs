@@ -1,0 +1,217 @@
+//! The linkage design over its operating envelope (issue 33, item 3): its figures in the
+//! nominal scene and at every vertex (the engine's certified peaks, read per scenario block),
+//! the worst cases with the scenario that binds, and the quasi-Monte Carlo check — Halton
+//! points of the whole box, each a separate scan and refinement of the design's fields (not
+//! the engine), none of which may exceed a worst case beyond both errors.
+
+use super::file::{Goal, LinkageScene};
+use super::model::Linkage;
+use super::synth::{self as ls, Outcome, FORCE, MOMENT, TORQUE};
+use crate::dynamics::{self, DriveSettings};
+use crate::numeric::{periodic_peak_sampled, Refine};
+use crate::synth::envelope::{halton_point, vertices, worst, WorstCase};
+use crate::synth::minimax::{FieldPeak, Settings};
+use rayon::prelude::*;
+
+/// A design's figures in one scenario: (value, error bound) of the peak shaking force (N),
+/// moment (N·m) and input torque (N·m), and ΔE (J) with the energy-fluctuation objective.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct ScenarioFigures {
+    /// The parameters' values ([`EnvelopeOutcome::parameters`]' order).
+    pub values: Vec<f64>,
+    /// max |F| and its error (N).
+    pub peak_shaking_force_n: (f64, f64),
+    /// max |M_O| and its error (N·m).
+    pub peak_shaking_moment_nm: (f64, f64),
+    /// max |T| and its error (N·m).
+    pub peak_input_torque_nm: (f64, f64),
+    /// ΔE and its error (J), by the drive's quadrature.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub energy_fluctuation_j: Option<(f64, f64)>,
+}
+
+impl ScenarioFigures {
+    /// The four figures as (value, error), ΔE NaN where absent.
+    fn all(&self) -> [(f64, f64); 4] {
+        [
+            self.peak_shaking_force_n,
+            self.peak_shaking_moment_nm,
+            self.peak_input_torque_nm,
+            self.energy_fluctuation_j.unwrap_or((f64::NAN, 0.0)),
+        ]
+    }
+}
+
+/// The Monte Carlo check over the whole box.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct MonteCarlo {
+    /// Samples: the Halton points 1..=N of the box.
+    pub samples: usize,
+    /// The largest of each figure over them: force, moment, torque, ΔE (NaN without ΔE).
+    pub max: [f64; 4],
+    /// Samples whose figure exceeds the worst case beyond both errors (any figure).
+    pub beyond_worst_case: usize,
+}
+
+/// The design over the envelope.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct EnvelopeOutcome {
+    /// The parameters ([`crate::families::linkage::envelope::LinkageEnvelope::names`]).
+    pub parameters: Vec<String>,
+    /// The nominal scene first, then the vertices.
+    pub scenarios: Vec<ScenarioFigures>,
+    /// The worst of each figure over the scenarios: force, moment, torque, ΔE (absent
+    /// without the energy objective).
+    pub worst: [Option<WorstCase>; 4],
+    /// The check (absent with `monte_carlo = 0`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub monte_carlo: Option<MonteCarlo>,
+}
+
+/// The design `x` (none: the bare linkage) over the envelope of `scene`, from the solve's
+/// peaks `peaks` (every block's), and the check.
+pub fn evaluate(
+    scene: &LinkageScene,
+    out: &Outcome,
+    peaks: &[FieldPeak],
+    x: Option<&[f64]>,
+    s: &Settings,
+) -> Result<EnvelopeOutcome, String> {
+    let env = &scene.envelope;
+    let energy = scene.objective.minimize == Goal::EnergyFluctuation;
+    let values: Vec<Vec<f64>> = std::iter::once(env.nominal(&scene.linkage))
+        .chain(vertices(&env.ranges()))
+        .collect();
+    let scenes = std::iter::once(Ok(scene.clone()))
+        .chain(
+            ls::vertex_scenes(scene)
+                .map_err(|e| e.to_string())?
+                .into_iter()
+                .map(Ok),
+        )
+        .collect::<Result<Vec<LinkageScene>, String>>()?;
+    let scenarios = values
+        .into_iter()
+        .zip(&scenes)
+        .enumerate()
+        .map(|(b, (v, sc))| {
+            let pk = |k: usize| {
+                let p = &peaks[b * out.block_len + k];
+                (p.peak, p.error)
+            };
+            Ok(ScenarioFigures {
+                values: v,
+                peak_shaking_force_n: pk(FORCE),
+                peak_shaking_moment_nm: pk(MOMENT),
+                peak_input_torque_nm: pk(TORQUE),
+                energy_fluctuation_j: energy.then(|| delta_e(sc, x)).transpose()?,
+            })
+        })
+        .collect::<Result<Vec<_>, String>>()?;
+    let worst = [0, 1, 2, 3].map(|c| {
+        (c < 3 || energy).then(|| worst(scenarios.iter().map(|f| f.all()[c])).expect("nominal"))
+    });
+    let monte_carlo = (env.monte_carlo > 0)
+        .then(|| monte_carlo(scene, x, &worst, s))
+        .transpose()?;
+    Ok(EnvelopeOutcome {
+        parameters: env.names(),
+        scenarios,
+        worst,
+        monte_carlo,
+    })
+}
+
+/// The Halton points 1..=N of the box, each scene's figures computed afresh: the largest and
+/// how many exceed the worst cases `w` beyond both errors.
+fn monte_carlo(
+    scene: &LinkageScene,
+    x: Option<&[f64]>,
+    w: &[Option<WorstCase>; 4],
+    s: &Settings,
+) -> Result<MonteCarlo, String> {
+    let env = &scene.envelope;
+    let ranges = env.ranges();
+    let energy = w[3].is_some();
+    let rows = (1..=env.monte_carlo)
+        .into_par_iter()
+        .map(|i| {
+            let sc = ls::scene_at(scene, &halton_point(&ranges, i)).map_err(|e| e.to_string())?;
+            let [f, m, t] = peaks(&sc, x, s)?;
+            let e = energy.then(|| delta_e(&sc, x)).transpose()?;
+            Ok([f, m, t, e.unwrap_or((f64::NAN, 0.0))])
+        })
+        .collect::<Result<Vec<_>, String>>()?;
+    let beyond = |r: &[(f64, f64); 4]| {
+        r.iter()
+            .zip(w)
+            .any(|(v, wc)| wc.is_some_and(|wc| v.0 > wc.value + wc.error + v.1))
+    };
+    let max = [0, 1, 2, 3].map(|c| rows.iter().map(|r| r[c].0).fold(f64::NAN, f64::max));
+    Ok(MonteCarlo {
+        samples: rows.len(),
+        max,
+        beyond_worst_case: rows.iter().filter(|r| beyond(r)).count(),
+    })
+}
+
+/// The peaks of |F|, |M_O| and |T| of `sc` with the design `x` (none: bare), each with its
+/// error: `scan_samples` angles, every maximum that can be the peak refined to `peak_xtol`,
+/// plus the model's round-off bound at the refined peak.
+pub fn peaks(
+    sc: &LinkageScene,
+    x: Option<&[f64]>,
+    s: &Settings,
+) -> Result<[(f64, f64); 3], String> {
+    let l: &Linkage = &sc.linkage;
+    let extra = x
+        .map(|x| ls::extras(&sc.counterweights, x))
+        .unwrap_or_default();
+    let params = l.params();
+    let at = |th: f64| -> Option<([f64; 3], [f64; 3])> {
+        let map = l.balance_map(&l.pose(th).ok()?, sc.moment_about);
+        let f = map.fields(&extra);
+        let (ef, em, et) = map.error(&params, &extra);
+        Some((
+            [f.force.norm(), f.moment.abs(), f.torque.abs()],
+            [ef, em, et],
+        ))
+    };
+    let n = s.scan_samples;
+    let h = std::f64::consts::TAU / n as f64;
+    let samples: Vec<_> = (0..n)
+        .map(|k| at(k as f64 * h))
+        .collect::<Option<_>>()
+        .ok_or("the linkage does not assemble at a scanned angle")?;
+    let mut out = [(0.0, 0.0); 3];
+    for (c, o) in out.iter_mut().enumerate() {
+        let ys: Vec<f64> = samples.iter().map(|v| v.0[c]).collect();
+        let f = |th: f64| at(th).map_or(f64::NAN, |v| v.0[c]);
+        let pk = periodic_peak_sampled(&ys, f, Some(s.peak_xtol), Refine::PeakOnly)
+            .map_err(|e| e.to_string())?;
+        let round = at(pk.peak.x).map_or(f64::INFINITY, |v| v.1[c]);
+        *o = (pk.peak.fx, pk.error + round);
+    }
+    Ok(out)
+}
+
+/// ΔE of `sc` with the design `x` and its error: the drive's own quadrature of
+/// T = ½ J′ ω² + G (`dynamics::constant_speed`), not the engine's energy field.
+pub fn delta_e(sc: &LinkageScene, x: Option<&[f64]>) -> Result<(f64, f64), String> {
+    let l = &sc.linkage;
+    let extra = x
+        .map(|x| ls::extras(&sc.counterweights, x))
+        .unwrap_or_default();
+    let m = |th: f64| {
+        l.pose(th).ok().map_or([f64::NAN; 3], |p| {
+            let t = l.drive_terms(&p, &extra);
+            [t.j, t.dj, t.g]
+        })
+    };
+    let settings = match l.loads().is_empty() {
+        true => DriveSettings::default(),
+        false => DriveSettings::for_kinks(),
+    };
+    let c = dynamics::constant_speed(&m, l.omega(), &settings).map_err(|e| e.to_string())?;
+    Ok((c.energy_fluctuation, c.energy_fluctuation_error))
+}

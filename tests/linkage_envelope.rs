@@ -1,0 +1,179 @@
+//! The linkage's operating envelope (issue 33, item 3) against independent evaluations: the
+//! worst case the engine certifies over the vertices is the largest peak of a dense grid of
+//! scenarios (each a separate scan and refinement, `solve_envelope::peaks`) within both
+//! errors, no random design within the counterweights' limits has a smaller worst case over
+//! the vertices, and ΔE's worst case matches the drive's own quadrature at every vertex.
+
+use crate::common::{err, problem, set_key, Lcg};
+use cwsynth::families::linkage::file::LinkageProblem;
+use cwsynth::families::linkage::solve_envelope::{delta_e, peaks};
+use cwsynth::families::linkage::synth as ls;
+use cwsynth::families::{parse_str, solve_scene};
+use cwsynth::report::Status;
+use std::path::Path;
+
+fn press(minimize: &str) -> String {
+    let text = std::fs::read_to_string(problem("linkage-sixbar-press-envelope.toml")).unwrap();
+    let text = set_key(&text, "mechanism.envelope.monte_carlo", "0");
+    set_key(&text, "objective.minimize", &format!("\"{minimize}\""))
+}
+
+/// A random design within the counterweights' limits (m ≤ m_max, |u| ≤ m r, I = m r²).
+fn random_design(p: &LinkageProblem, rng: &mut Lcg) -> Vec<f64> {
+    let mut x = Vec::new();
+    for c in &p.scene.counterweights {
+        let (m, r) = (rng.range(0.0, c.mass.bounds().1), c.radius);
+        let (rho, th) = (rng.range(0.0, r), rng.range(0.0, std::f64::consts::TAU));
+        x.extend([m, m * rho * th.cos(), m * rho * th.sin(), m * r * r]);
+    }
+    x
+}
+
+/// The worst peak force of the design `x` over the envelope's vertices and the nominal scene.
+fn worst_force(p: &LinkageProblem, x: &[f64]) -> f64 {
+    let sc = &p.scene;
+    std::iter::once(sc.clone())
+        .chain(ls::vertex_scenes(sc).unwrap())
+        .map(|s| peaks(&s, Some(x), &p.settings).unwrap()[0].0)
+        .fold(0.0, f64::max)
+}
+
+#[test]
+fn the_press_worst_case_force_covers_a_dense_grid_and_is_unbeaten() {
+    let text = press("peak-force");
+    let s = parse_str(&text, Path::new("press.toml")).unwrap();
+    let r = solve_scene(&s);
+    assert_eq!(r.status, Status::Optimal, "{:?}", r.warnings);
+    assert_eq!(
+        r.objective.as_deref(),
+        Some("worst_case_peak_shaking_force_n")
+    );
+    let (w, e) = (
+        r.objectives["worst_case_peak_shaking_force_n"],
+        r.errors["worst_case_peak_shaking_force_n"],
+    );
+    let p: &LinkageProblem = s.machine().unwrap();
+    let out = ls::solve(&p.scene, &p.settings).unwrap();
+    let x = out.design.unwrap().x;
+    let x = &x[..4 * p.scene.counterweights.len()];
+    // A 5 × 5 × 5 grid of the box (its vertices included), each scenario scanned afresh.
+    let ranges = p.scene.envelope.ranges();
+    let mut largest: f64 = 0.0;
+    for i in 0..125 {
+        let v: Vec<f64> = (0..3)
+            .map(|d| {
+                let k = (i / 5usize.pow(d as u32)) % 5;
+                ranges[d].0 + (ranges[d].1 - ranges[d].0) * k as f64 / 4.0
+            })
+            .collect();
+        let sc = ls::scene_at(&p.scene, &v).unwrap();
+        let [(f, fe), ..] = peaks(&sc, Some(x), &p.settings).unwrap();
+        assert!(f <= w + e + fe, "{f} at {v:?} > worst {w} ± {e}");
+        largest = largest.max(f);
+    }
+    // The worst case is at a vertex, and the grid holds every vertex.
+    assert!(
+        (largest - w).abs() <= e + 1e-9 * w,
+        "{largest} vs {w} ± {e}"
+    );
+    // No random design does better over the vertices.
+    let mut rng = Lcg(7);
+    for _ in 0..60 {
+        let y = random_design(p, &mut rng);
+        let wy = worst_force(p, &y);
+        assert!(wy >= w - e - 1e-9 * w, "{wy} < {w} − {e}");
+    }
+    // The nominal scene's own optimum fares worse over the envelope.
+    let (a, b) = (
+        text.find("[mechanism.envelope]").unwrap(),
+        text.find("[mechanism.drive]").unwrap(),
+    );
+    let nominal = parse_str(
+        &format!("{}{}", &text[..a], &text[b..]),
+        Path::new("n.toml"),
+    )
+    .unwrap();
+    let pn: &LinkageProblem = nominal.machine().unwrap();
+    let xn = ls::solve(&pn.scene, &pn.settings)
+        .unwrap()
+        .design
+        .unwrap()
+        .x;
+    let wn = worst_force(p, &xn);
+    eprintln!("worst case over the envelope: {w:.4} N (nominal optimum's: {wn:.4} N)");
+    assert!(wn > w + e, "{wn} vs {w}");
+}
+
+#[test]
+fn the_press_worst_case_energy_fluctuation_is_the_vertices_quadrature() {
+    let text = press("energy-fluctuation");
+    let s = parse_str(&text, Path::new("press.toml")).unwrap();
+    let r = solve_scene(&s);
+    assert_eq!(r.status, Status::Optimal, "{:?}", r.warnings);
+    assert_eq!(
+        r.objective.as_deref(),
+        Some("worst_case_energy_fluctuation_j")
+    );
+    let (w, e) = (
+        r.objectives["worst_case_energy_fluctuation_j"],
+        r.errors["worst_case_energy_fluctuation_j"],
+    );
+    let p: &LinkageProblem = s.machine().unwrap();
+    let out = ls::solve(&p.scene, &p.settings).unwrap();
+    let sol = out.design.unwrap();
+    let x = &sol.x[..4 * p.scene.counterweights.len()];
+    // The engine's certified minimax of ΔE over the scenarios against the quadrature's.
+    let quad = std::iter::once(p.scene.clone())
+        .chain(ls::vertex_scenes(&p.scene).unwrap())
+        .map(|sc| delta_e(&sc, Some(x)).unwrap().0)
+        .fold(0.0, f64::max);
+    assert!((quad - w).abs() <= e, "{quad} vs {w} ± {e}");
+    assert!(
+        (sol.objective - w).abs() <= e,
+        "{} vs {w} ± {e}",
+        sol.objective
+    );
+    // A heavier ram at the slowest speed: ΔE there is below the worst case.
+    let mut rng = Lcg(11);
+    for _ in 0..20 {
+        let ranges = p.scene.envelope.ranges();
+        let v: Vec<f64> = ranges.iter().map(|r| rng.range(r.0, r.1)).collect();
+        let sc = ls::scene_at(&p.scene, &v).unwrap();
+        let (de, dee) = delta_e(&sc, Some(x)).unwrap();
+        assert!(de <= w + e + dee, "{de} at {v:?} > {w} ± {e}");
+    }
+}
+
+#[test]
+fn envelope_errors_name_their_field() {
+    let text = press("peak-force");
+    let bad = |t: &str, field: &str| {
+        let e = err(t).to_string();
+        assert!(e.contains(field), "{e}");
+    };
+    bad(
+        &text.replacen("of = \"ram\"", "of = \"bed\"", 1),
+        "mechanism.envelope.mass[0].of",
+    );
+    bad(
+        &text.replacen("of = \"coupler\"", "of = \"ram\"", 1),
+        "mechanism.envelope.mass[1].of",
+    );
+    bad(
+        &text.replacen("tolerance = 0.05", "tolerance = 1.5", 1),
+        "mechanism.envelope.mass[1].tolerance",
+    );
+    bad(
+        &text.replacen("min = \"100 rpm\"", "min = \"100\"", 1),
+        "speed",
+    );
+    bad(
+        &text.replacen("min = \"6 kg\"", "min = \"0 kg\"", 1),
+        "mechanism.envelope.mass[0].min",
+    );
+    bad(&press("rms-force"), "objective.minimize");
+    bad(
+        &set_key(&text, "objective.pareto_points", "5"),
+        "objective.pareto_points",
+    );
+}
