@@ -235,13 +235,18 @@ fn the_inertia_bound_covers_uniform_bars() {
             let dj = (inertia(&link, phi + step, q) - inertia(&link, phi - step, q)) / (2.0 * step);
             worst = worst.max(0.5 * dj.abs() * speed * speed);
         }
-        eprintln!("{}: ½J′φ̇² {worst} vs bound {bound}", c.case);
         assert!(
             worst <= bound * (1.0 + 1e-3) && worst > 0.0,
             "{}: ½J′φ̇² {worst} vs bound {bound}",
             c.case
         );
-        // Small against the peak torque without counterweight (quasi-static holds there).
+        // Loaded, the load's point mass dominates, which the bound takes as it is (measured:
+        // 63.6 of 67.5 kN·m); empty, the spin terms are a third of their bound.
+        if c.case == "loaded" {
+            assert!(worst >= 0.9 * bound, "{worst} vs {bound}");
+        }
+        // Small against the peak torque without counterweight (quasi-static holds there;
+        // with the counterweight the loaded bound is ~11 % of the peak: stated in the result).
         assert!(bound <= 0.03 * c.peak_torque_nm, "{c:?}");
     }
 }
@@ -308,6 +313,7 @@ fn without_the_luffing_time_nothing_changes() {
     let derived = b["derived"].as_object_mut().unwrap();
     assert!(derived.remove("luffing_peak_power_w").is_some());
     assert!(derived.remove("luffing_peak_power_error_w").is_some());
+    assert!(derived.remove("luffing_inertia_power_bound_w").is_some());
     for v in [&mut a, &mut b] {
         v.as_object_mut().unwrap().remove("timing");
     }

@@ -139,8 +139,10 @@ impl LuffingDrive {
 /// Step of the inertia bound's central differences (rad).
 const FD_STEP: f64 = 1e-3;
 
-/// The luffing drive of `bal` (the balance of `c`'s linkage and scene) with the luffing time
-/// `luffing_time` t_l (s), if given (module doc).
+/// The luffing drive of `bal`, the balance of `link` under `scene`, with the luffing time
+/// t_l = `luffing_time` (s) if given (module doc): per column (case, without or with the
+/// counterweight) W, ΔV, T̄ = W/Δφ, and with t_l the powers max |T|·φ̇, W/t_l and the inertia
+/// bound.
 pub fn drive(
     link: &super::model::Linkage,
     scene: &super::balance::BalanceScene,
