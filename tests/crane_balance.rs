@@ -7,7 +7,7 @@
 use crate::common;
 
 use cwsynth::families::crane::balance::{self, BalanceScene, CounterweightSpec};
-use cwsynth::families::crane::model::{load_moment, synthesize, Angles, Boom, Guide, Linkage};
+use cwsynth::families::crane::model::{load_moment, Guide, Linkage};
 use cwsynth::families::crane::statics::{statics, HoistRope, Loads, SelfWeight};
 use cwsynth::families::{parse_str, solve_scene};
 use cwsynth::geom::P2;
@@ -20,18 +20,7 @@ const G: f64 = 9.80665;
 
 /// A linkage: L_c and the step-1 angles (deg), k1, k2.
 fn linkage(l_c: f64, deg: [f64; 4], k1: f64, k2: f64) -> Linkage {
-    let d = f64::to_radians;
-    let boom = Boom::new(
-        l_c,
-        Angles {
-            phi_min: d(deg[0]),
-            gamma1: d(deg[1]),
-            gamma2: d(deg[2]),
-            gamma3: d(deg[3]),
-        },
-    )
-    .unwrap();
-    synthesize(&boom, k1, k2).unwrap().linkage
+    common::crane_linkage(l_c, deg, k1, k2)
 }
 
 /// The thesis's worked example (§3.4.2).
@@ -41,12 +30,7 @@ fn thesis() -> Linkage {
 
 /// The Tukan 40T geometry the optimiser finds (results/crane-tukan-40t-optimise.json).
 fn tukan() -> Linkage {
-    linkage(
-        24.077272214917357,
-        [45.0, 10.754095, 5.0, 25.0],
-        0.26742325077812024,
-        0.41627966970417185,
-    )
+    common::tukan_linkage()
 }
 
 /// V(φ) = g Σ m y of every weight, the counterweight included, with its own pose (circle

@@ -21,6 +21,7 @@ mod cli;
 mod crane;
 mod crane_acceptance;
 mod crane_balance;
+mod crane_drive;
 mod crane_io;
 mod drawings;
 mod drive;

@@ -603,15 +603,17 @@ pub fn fmt_num(v: f64) -> String {
 
 /// How a result key reads in a workshop: its words, the unit shown and the factor from SI
 /// (`crank_counterweight_radius_m` = 0.08 → "crank counterweight radius", mm, 1000; `_m2` in
-/// mm²; `_rad` in degrees, `_rad_s` in rpm, a force of 10 kN or more in kN). A key without a unit suffix is a
+/// mm²; `_rad` in degrees, `_rad_s` in rpm, a force of 10 kN or more in kN, a power of 10 kW
+/// or more in kW). A key without a unit suffix is a
 /// pure number.
 pub fn workshop_unit(key: &str, v: f64) -> (String, &'static str, f64) {
     use std::f64::consts::PI;
-    let table: [(&str, &str, f64); 19] = [
+    let table: [(&str, &str, f64); 20] = [
         ("_rad_s2", "rad/s²", 1.0),
         ("_rad_s", "rpm", 30.0 / PI),
         ("_per_m", "1/m", 1.0),
         ("_j", "J", 1.0),
+        ("_w", "W", 1.0),
         ("_m_s2", "m/s²", 1.0),
         ("_m_per_s", "m/s", 1.0),
         ("_kg_m3", "kg/m³", 1.0),
@@ -636,6 +638,7 @@ pub fn workshop_unit(key: &str, v: f64) -> (String, &'static str, f64) {
                 "m" if v.abs() < 2.0 => (words, "mm", 1e3),
                 "N" if v.abs() >= 1e4 => (words, "kN", 1e-3),
                 "N·m" if v.abs() >= 1e4 => (words, "kN·m", 1e-3),
+                "W" if v.abs() >= 1e4 => (words, "kW", 1e-3),
                 _ => (words, unit, f),
             };
         }
@@ -670,6 +673,7 @@ pub fn display_unit(units: Units, key: &str, v: f64) -> (String, &'static str, f
                 "rpm" if key.ends_with("_rad_s") => "rad/s",
                 "kN" => "N",
                 "kN·m" => "N·m",
+                "kW" => "W",
                 other => other,
             };
             (words, si, 1.0)

@@ -264,3 +264,35 @@ pub fn simpson_delta_e(t: &dyn Fn(f64) -> f64, n: usize) -> f64 {
     }
     hi - lo
 }
+
+/// A luffing-crane linkage: L_c (m), the step-1 angles φ_min, γ1, γ2, γ3 (deg), k1, k2.
+pub fn crane_linkage(
+    l_c: f64,
+    deg: [f64; 4],
+    k1: f64,
+    k2: f64,
+) -> cwsynth::families::crane::model::Linkage {
+    use cwsynth::families::crane::model::{synthesize, Angles, Boom};
+    let d = f64::to_radians;
+    let boom = Boom::new(
+        l_c,
+        Angles {
+            phi_min: d(deg[0]),
+            gamma1: d(deg[1]),
+            gamma2: d(deg[2]),
+            gamma3: d(deg[3]),
+        },
+    )
+    .unwrap();
+    synthesize(&boom, k1, k2).unwrap().linkage
+}
+
+/// The Tukan 40T geometry the optimiser finds (results/crane-tukan-40t-optimise.json).
+pub fn tukan_linkage() -> cwsynth::families::crane::model::Linkage {
+    crane_linkage(
+        24.077272214917357,
+        [45.0, 10.754095, 5.0, 25.0],
+        0.26742325077812024,
+        0.41627966970417185,
+    )
+}

@@ -211,7 +211,7 @@ pub enum BalanceError {
 }
 
 /// φ(θ) = φ_mid − ½Δφ cos θ, the luffing range as a periodic parameter.
-fn phi_of(link: &Linkage, theta: f64) -> f64 {
+pub(super) fn phi_of(link: &Linkage, theta: f64) -> f64 {
     let [p0, p1] = link.phi_range;
     0.5 * (p0 + p1) - 0.5 * (p1 - p0) * theta.cos()
 }
@@ -239,15 +239,7 @@ pub fn solve(
     if !matches!(link.guide, super::model::Guide::Circle { .. }) {
         return Err(BalanceError::StraightGuide);
     }
-    let c = Cases {
-        link,
-        scene,
-        w: scene.self_weight_at(link.k2),
-        cases: match scene.load_mass {
-            Some(q) => vec![("empty", 0.0), ("loaded", q)],
-            None => vec![("empty", 0.0)],
-        },
-    };
+    let c = Cases::new(link, scene);
     // Every field must evaluate over the range; a failing pose is an error, not a NaN.
     let [p0, p1] = link.phi_range;
     for k in 0..=64 {
@@ -274,12 +266,12 @@ pub fn solve(
 }
 
 /// The linkage under its self weight `w` and the load cases (name, load mass q): what
-/// every figure of the balance evaluates.
-struct Cases<'a> {
-    link: &'a Linkage,
-    scene: &'a BalanceScene,
-    w: SelfWeight,
-    cases: Vec<(&'static str, f64)>,
+/// every figure of the balance, and of the luffing drive ([`super::luffing`]), evaluates.
+pub(super) struct Cases<'a> {
+    pub(super) link: &'a Linkage,
+    pub(super) scene: &'a BalanceScene,
+    pub(super) w: SelfWeight,
+    pub(super) cases: Vec<(&'static str, f64)>,
 }
 
 /// The drive-torque peaks without and with the counterweight, and the counterweight
@@ -292,9 +284,28 @@ struct Designed {
     u: [f64; 2],
 }
 
-impl Cases<'_> {
+impl<'a> Cases<'a> {
+    /// The cases of `scene` on `link`: `empty`, and `loaded` with the scene's load mass.
+    pub(super) fn new(link: &'a Linkage, scene: &'a BalanceScene) -> Self {
+        Cases {
+            link,
+            scene,
+            w: scene.self_weight_at(link.k2),
+            cases: match scene.load_mass {
+                Some(q) => vec![("empty", 0.0), ("loaded", q)],
+                None => vec![("empty", 0.0)],
+            },
+        }
+    }
+
     /// The statics at φ with load mass q and the counterweight of mass m and first moment u.
-    fn at(&self, phi: f64, q: f64, m: f64, u: [f64; 2]) -> Result<Statics, BalanceError> {
+    pub(super) fn at(
+        &self,
+        phi: f64,
+        q: f64,
+        m: f64,
+        u: [f64; 2],
+    ) -> Result<Statics, BalanceError> {
         let pose = self.link.pose(phi).ok_or(BalanceError::NoPose { phi })?;
         let loads = Loads {
             load_mass: q,

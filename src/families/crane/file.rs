@@ -11,7 +11,7 @@ use crate::problem::limits::{self, c, Count};
 use crate::problem::{
     check_name, Ctx, FieldError, Input, Pair, ProblemError, RawFile, RawVar, Resolved,
 };
-use crate::units::{Angle, Dimensionless, Length, Mass, Qty};
+use crate::units::{Angle, Dimensionless, Length, Mass, Qty, Time};
 use serde::Deserialize;
 
 /// `[mechanism]`: the crane's requirements (thesis §3.1).
@@ -62,6 +62,19 @@ pub struct MechanismRaw {
     /// rope's pull on the jib head. Absent: the rope runs parallel to the boom or the tie and
     /// the load hangs at the jib head (thesis §2.1).
     pub hoist_rope: Option<HoistRopeRaw>,
+    /// The luffing drive at a given luffing speed: with `self_weight`, the drive power
+    /// over the luffing stroke beside the work (`[mechanism.drive]`).
+    pub drive: Option<CraneDriveRaw>,
+}
+
+/// `[mechanism.drive]` of the crane: the luffing speed. Luffing is a stroke, not a cycle, so
+/// the other families' flywheel, `cs` and motor do not apply (refused as unknown keys).
+#[derive(Debug, Deserialize, schemars::JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct CraneDriveRaw {
+    /// t_l, the time to luff from φ_min to φ_max (maximum to minimum reach) at a constant
+    /// boom angular speed φ̇ = (φ_max − φ_min)/t_l, e.g. `"55 s"`.
+    pub luffing_time: Qty<Time>,
 }
 
 /// `[mechanism.hoist_rope]`: the rope from a fixed sheave over the jib head to the load.
@@ -194,6 +207,8 @@ pub struct CraneProblem {
     pub scene: cr::CraneScene,
     /// Solver and sampling settings.
     pub settings: Settings,
+    /// t_l, the luffing time from φ_min to φ_max (s), `mechanism.drive.luffing_time`.
+    pub luffing_time: Option<f64>,
 }
 
 /// Reads and resolves a luffing-crane problem file (its text or its table).
@@ -276,7 +291,34 @@ pub fn resolve_raw(raw: &File) -> Result<CraneProblem, FieldError> {
     limits::check_section(COUNTS, "accuracy", &settings)?;
     settings.validate()?;
     check_work(&scene, &settings)?;
-    Ok(CraneProblem { scene, settings })
+    Ok(CraneProblem {
+        scene,
+        settings,
+        luffing_time: luffing_time(raw)?,
+    })
+}
+
+/// `mechanism.drive.luffing_time` t_l checked: a finite time > 0, with the masses whose drive
+/// it times (`mechanism.self_weight`).
+fn luffing_time(raw: &File) -> Result<Option<f64>, FieldError> {
+    const KEY: &str = "mechanism.drive.luffing_time";
+    let Some(d) = &raw.mechanism.drive else {
+        return Ok(None);
+    };
+    let t = d.luffing_time.si();
+    if !(t.is_finite() && t > 0.0) {
+        return Err(FieldError::new(
+            KEY,
+            format!("must be a finite time > 0 (the time from maximum to minimum reach, e.g. \"55 s\"), got {t} s"),
+        ));
+    }
+    if raw.mechanism.self_weight.is_none() {
+        return Err(FieldError::new(
+            KEY,
+            "needs the masses whose drive it times; allowed: add [mechanism.self_weight] with boom_mass, jib_mass and tie_mass",
+        ));
+    }
+    Ok(Some(t))
 }
 
 /// The balance section of the scene: `mechanism.self_weight` and `design.counterweight`.

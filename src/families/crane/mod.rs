@@ -4,6 +4,7 @@
 
 pub mod balance;
 pub mod file;
+pub mod luffing;
 pub mod model;
 pub mod numbers;
 pub mod report;

@@ -6,6 +6,7 @@
 //! solution.
 
 use super::file::*;
+use super::luffing::LuffingDrive;
 use super::solve::{Solution, Statics};
 use crate::families::crane::synth::{
     self as cr, Derived, Design, Objectives, Outcome, TiePinLimit,
@@ -188,6 +189,38 @@ fn statics_numbers(
     r.extra.insert(
         "balance".into(),
         serde_json::to_value(bal).expect("plain data"),
+    );
+    luffing_numbers(r, st.luffing.as_ref());
+}
+
+/// The luffing drive (`extra.luffing_drive`), and with a luffing time the peak power that
+/// sizes the motor in `derived`; its check against ΔV warns when it fails. Analyses of the
+/// given design: the status is left as it is.
+fn luffing_numbers(r: &mut SolveResult, drive: Option<&Result<LuffingDrive, String>>) {
+    let d = match drive {
+        None => return,
+        Some(Err(e)) => {
+            r.warnings
+                .push(format!("the luffing drive could not be computed: {e}"));
+            return;
+        }
+        Some(Ok(d)) => d,
+    };
+    if !d.work_check.pass {
+        r.warnings.push(format!(
+            "the luffing work differs from the change of potential energy by {:.3e} J, more than its stated error {:.3e} J",
+            d.work_check.max_difference_j, d.work_check.max_stated_error_j
+        ));
+    }
+    if let Some((p, e, inertia)) = d.design_peak_power() {
+        r.derived.insert("luffing_peak_power_w".into(), p);
+        r.derived.insert("luffing_peak_power_error_w".into(), e);
+        r.derived
+            .insert("luffing_inertia_power_bound_w".into(), inertia);
+    }
+    r.extra.insert(
+        "luffing_drive".into(),
+        serde_json::to_value(d).expect("plain data"),
     );
 }
 

@@ -85,11 +85,20 @@ fn balance_documents(r: &mut SolveResult, scene: &Scene, s: &CraneProblem, bal: 
         .balance
         .as_ref()
         .expect("a balance only for a scene with one");
-    let mut csv = String::from("phi_rad,reach_m,drive_torque_empty_unbalanced_nm,drive_torque_loaded_unbalanced_nm,drive_torque_empty_nm,drive_torque_loaded_nm,tie_tension_n,boom_compression_n,boom_shear_n,pin_a_n,pin_b_n,pin_d_n,pin_e_n,head_force_n,head_force_angle_rad\n");
+    // With a luffing time, the drive power T·φ̇ at the constant boom speed φ̇ = Δφ/t_l.
+    let speed = match (s.luffing_time, bal.series.first(), bal.series.last()) {
+        (Some(t), Some(a), Some(b)) => Some((b.phi - a.phi) / t),
+        _ => None,
+    };
+    let mut csv = String::from("phi_rad,reach_m,drive_torque_empty_unbalanced_nm,drive_torque_loaded_unbalanced_nm,drive_torque_empty_nm,drive_torque_loaded_nm,tie_tension_n,boom_compression_n,boom_shear_n,pin_a_n,pin_b_n,pin_d_n,pin_e_n,head_force_n,head_force_angle_rad");
+    if speed.is_some() {
+        csv += ",drive_power_empty_w,drive_power_loaded_w";
+    }
+    csv += "\n";
     for p in &bal.series {
         let s = &p.loaded;
         csv += &format!(
-            "{:.12e},{:.12e},{:.12e},{:.12e},{:.12e},{:.12e},{:.12e},{:.12e},{:.12e},{:.12e},{:.12e},{:.12e},{:.12e},{:.12e},{:.12e}\n",
+            "{:.12e},{:.12e},{:.12e},{:.12e},{:.12e},{:.12e},{:.12e},{:.12e},{:.12e},{:.12e},{:.12e},{:.12e},{:.12e},{:.12e},{:.12e}",
             p.phi,
             p.reach,
             p.bare[0],
@@ -106,10 +115,21 @@ fn balance_documents(r: &mut SolveResult, scene: &Scene, s: &CraneProblem, bal: 
             s.head_force,
             s.head_force_angle
         );
+        if let Some(w) = speed {
+            csv += &format!(",{:.12e},{:.12e}", p.balanced[0] * w, p.balanced[1] * w);
+        }
+        csv += "\n";
     }
     r.tables.push(Table {
         suffix: "balance".into(),
-        caption: "Luffing drive torque (empty and loaded, without and with the counterweight) and the loaded case's member forces over the luffing range".into(),
+        caption: format!(
+            "Luffing drive torque (empty and loaded, without and with the counterweight){} and the loaded case's member forces over the luffing range",
+            if speed.is_some() {
+                ", the drive power at the luffing speed (with the counterweight)"
+            } else {
+                ""
+            }
+        ),
         csv,
     });
     let (name, series, loaded) = (

@@ -1,12 +1,14 @@
 //! The luffing crane's whole solve: the linkage synthesis and its search ([`cr::solve`]),
 //! then, where the scene has them, the boom system's statics at the reported design — the
 //! load's path with an inclined hoist rope, and the drive torque, member forces and the boom
-//! counterweight ([`balance::solve`], a certified SOCP) — every number the result reports.
+//! counterweight ([`balance::solve`], a certified SOCP) and the luffing drive
+//! ([`luffing::drive`]) — every number the result reports.
 //! The Δh landscape, a diagnostic grid only the result's files carry, is
 //! [`analyse`]'s.
 
 use super::balance;
 use super::file::CraneProblem;
+use super::luffing;
 use super::synth::{self as cr, Landscape, Status as CraneStatus};
 use crate::families::driver::Claim;
 use crate::report::Status;
@@ -39,6 +41,9 @@ pub struct Statics {
     /// With the boom system's masses: the drive torque, member forces and the counterweight,
     /// or why they could not be computed.
     pub masses: Option<Result<balance::Balance, String>>,
+    /// With the balance: the luffing drive (work, mean torque, and with a luffing time the
+    /// power), or why it could not be computed.
+    pub luffing: Option<Result<luffing::LuffingDrive, String>>,
 }
 
 impl Solution {
@@ -225,7 +230,17 @@ fn statics(p: &CraneProblem, out: &cr::Outcome) -> Option<Result<Statics, String
         )
         .map_err(|e| e.to_string())
     });
-    Some(Ok(Statics { rope, masses }))
+    let luffing = match &masses {
+        Some(Ok(bal)) => {
+            Some(luffing::drive(&link, bs, bal, p.luffing_time).map_err(|e| e.to_string()))
+        }
+        _ => None,
+    };
+    Some(Ok(Statics {
+        rope,
+        masses,
+        luffing,
+    }))
 }
 
 /// The file-only analyses: the Δh landscape over (k1, k2) (`landscape.k1_points` > 0), a
