@@ -44,6 +44,7 @@ mod index_page;
 mod integer_limits;
 mod linkage;
 mod linkage_model;
+mod load_cases;
 mod minimax_engine;
 mod mutants;
 mod outline;

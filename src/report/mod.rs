@@ -603,11 +603,11 @@ pub fn fmt_num(v: f64) -> String {
 
 /// How a result key reads in a workshop: its words, the unit shown and the factor from SI
 /// (`crank_counterweight_radius_m` = 0.08 → "crank counterweight radius", mm, 1000; `_m2` in
-/// mm²; `_rad` in degrees, `_rad_s` in rpm, a force of 10 kN or more in kN). A key without a unit suffix is a
+/// mm²; `_rad` in degrees, `_rad_s` in rpm, `_pa` in bar, a force of 10 kN or more in kN). A key without a unit suffix is a
 /// pure number.
 pub fn workshop_unit(key: &str, v: f64) -> (String, &'static str, f64) {
     use std::f64::consts::PI;
-    let table: [(&str, &str, f64); 19] = [
+    let table: [(&str, &str, f64); 20] = [
         ("_rad_s2", "rad/s²", 1.0),
         ("_rad_s", "rpm", 30.0 / PI),
         ("_per_m", "1/m", 1.0),
@@ -623,6 +623,7 @@ pub fn workshop_unit(key: &str, v: f64) -> (String, &'static str, f64) {
         ("_rad", "°", 180.0 / PI),
         ("_pct", "%", 1.0),
         ("_rpm", "rpm", 1.0),
+        ("_pa", "bar", 1e-5),
         ("_mm", "mm", 1.0),
         ("_m2", "mm²", 1e6),
         ("_m", "m", 1.0),
@@ -670,6 +671,7 @@ pub fn display_unit(units: Units, key: &str, v: f64) -> (String, &'static str, f
                 "rpm" if key.ends_with("_rad_s") => "rad/s",
                 "kN" => "N",
                 "kN·m" => "N·m",
+                "bar" => "Pa",
                 other => other,
             };
             (words, si, 1.0)

@@ -11,6 +11,7 @@ use crate::families::hypocycloid::dynamics::{
     kinematics, Counterweight, Geometry, MovingMasses, RotatingMasses, ShaftLayout,
 };
 use crate::families::hypocycloid::gas::{Cycle, GasCycle};
+use crate::families::hypocycloid::load_cases::{self, LoadCase, LoadCasesOutcome};
 use crate::families::hypocycloid::model::{Coefficients, Hypocycloid, LanchesterPair};
 use crate::families::hypocycloid::synth::{residual_rate, residual_rel};
 use crate::geom::P2;
@@ -60,6 +61,8 @@ pub struct DynamicsSpec {
     pub shafts: Option<ShaftLayout>,
     /// The drive at real speed (`[mechanism.drive]`).
     pub drive: Option<Drive>,
+    /// The named load cases beside the nominal `gas` (`[[mechanism.load_cases]]`).
+    pub load_cases: Vec<LoadCase>,
 }
 
 impl DynamicsSpec {
@@ -204,6 +207,9 @@ pub struct DynamicsOutcome {
     /// be computed).
     #[serde(skip)]
     pub drive: Option<Result<DriveFigures, String>>,
+    /// Every load case's drive torque and drive, with the nominal (`[[mechanism.load_cases]]`).
+    #[serde(skip)]
+    pub load_cases: Option<LoadCasesOutcome>,
     /// Things the user should know.
     pub warnings: Vec<String>,
 }
@@ -410,11 +416,25 @@ pub fn solve(spec: &DynamicsSpec, at: &At) -> Result<DynamicsOutcome, DynamicsEr
         Some(d) => Some(drive_outcome(spec, d, at, &geo, rotating.as_ref())?),
         None => None,
     };
+    // The gas force is internal (piston against head): the rotating outcome and the couples
+    // above hold for every load case; only the torque and the drive are solved per case.
+    let load_cases = match &torque {
+        Some(t) if !spec.load_cases.is_empty() => Some(load_cases::solve(
+            spec,
+            at,
+            &geo,
+            rotating.as_ref(),
+            (t, drive.as_ref()),
+            &mut warnings,
+        )?),
+        _ => None,
+    };
     Ok(DynamicsOutcome {
         rotating,
         torque,
         couples,
         drive,
+        load_cases,
         warnings,
     })
 }
@@ -425,7 +445,7 @@ pub fn solve(spec: &DynamicsSpec, at: &At) -> Result<DynamicsOutcome, DynamicsEr
 /// the carrier's and its counterweight's m |c|², constant; the bodies' own rotational
 /// inertias (carrier, planet spin at its fixed ratio, Lanchester shafts) are constant too and
 /// not in the file: they act as flywheel, so the flywheel found includes them.
-fn drive_outcome(
+pub(super) fn drive_outcome(
     spec: &DynamicsSpec,
     d: &Drive,
     at: &At,
@@ -553,7 +573,7 @@ fn rotating_outcome(
 /// (with the planet's counterweight, the minimax one before the closed one), T_gas of the
 /// compressor cycle; its mean (split into gas and inertia), its refined peak |T| and the
 /// curves at `at.plot_samples` angles.
-fn torque_outcome(
+pub(super) fn torque_outcome(
     spec: &DynamicsSpec,
     at: &At,
     geo: &Geometry,

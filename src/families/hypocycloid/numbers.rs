@@ -316,6 +316,9 @@ fn dynamics_numbers(r: &mut SolveResult, d: &Result<DynamicsOutcome, String>) {
     r.extra.insert("dynamics".into(), json!(d));
     let peak = d.rotating.as_ref().map(|rot| rot.design_peak());
     crate::report::drive::drive_numbers(r, d.drive.as_ref(), peak);
+    if let Some(lc) = &d.load_cases {
+        super::load_cases::numbers(r, lc);
+    }
 }
 
 /// The rotating counterweights' figures, and the pair to build in `design`: the minimax pair

@@ -630,6 +630,9 @@ fn dynamics_documents(r: &mut SolveResult, name: &str, d: &DynamicsOutcome) {
         });
     }
     crate::report::drive::drive_documents(r, d.drive.as_ref(), "carrier");
+    if let Some(lc) = &d.load_cases {
+        super::load_cases::table(r, lc);
+    }
 }
 
 fn torque_plot(
