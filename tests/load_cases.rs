@@ -254,16 +254,16 @@ fn bad_load_cases_name_the_file_line_and_field() {
     let many = with(&single_case(c), "\n[model]", &format!("{many}\n[model]"));
     rejects(
         &many,
-        "mechanism.load_cases",
-        nth_line(&many, "[[mechanism.load_cases]]", 0),
+        "mechanism.load_cases[16]",
+        nth_line(&many, "[[mechanism.load_cases]]", 16),
         "at most 16",
     );
-    let start = c.find("[mechanism.gas]").unwrap();
+    let start = c.find("\n[mechanism.gas]").unwrap() + 1;
     let end = start + c[start..].find("\n[mechanism.lanchester]").unwrap();
     let no_gas = format!("{}{}", &c[..start], &c[end + 1..]);
     rejects(
         &no_gas,
-        "mechanism.load_cases",
+        "mechanism.load_cases[0]",
         nth_line(&no_gas, "[[mechanism.load_cases]]", 0),
         "[mechanism.gas]",
     );

@@ -683,15 +683,17 @@ fn resolve_load_cases(
     if raw.is_empty() {
         return Ok(Vec::new());
     }
+    // Errors of the whole array name its first entry (or the first one too many): an array
+    // of tables has no line of its own.
     let Some(nominal) = nominal else {
         return Err(FieldError::new(
-            KEY,
+            format!("{KEY}[0]"),
             "load cases change the gas cycle's pressures; allowed: with [mechanism.gas], the nominal case",
         ));
     };
     if raw.len() > MAX_LOAD_CASES {
         return Err(FieldError::new(
-            KEY,
+            format!("{KEY}[{MAX_LOAD_CASES}]"),
             format!(
                 "{} load cases; allowed: at most {MAX_LOAD_CASES}",
                 raw.len()
