@@ -30,6 +30,7 @@ use super::balance::{RotatingOutcome, TorqueOutcome};
 use super::dynamics::Geometry;
 use super::gas::GasCycle;
 use crate::dynamics::{Drive, DriveFigures};
+use crate::report::drive::DriveNumbers;
 use crate::report::{number_map, SolveResult, Table};
 use serde::Serialize;
 use serde_json::json;
@@ -229,7 +230,10 @@ fn argmax(v: impl Iterator<Item = f64>) -> Option<usize> {
 }
 
 /// One case's row of the `load_cases` section and of `<name>-load-cases.csv` (keys with
-/// their unit suffix, `docs/results.md`); the drive's figures only with `[mechanism.drive]`.
+/// their unit suffix, `docs/results.md`): its pressures, its drive torque (the single-case
+/// keys of `numbers::DynamicsDerived`) and, with `[mechanism.drive]`, the single-case drive
+/// keys ([`DriveNumbers`]) of its own constant-speed figures and least flywheel with its
+/// steady state at the flywheel of all the cases.
 #[derive(Debug, Serialize)]
 struct CaseRow<'a> {
     case: &'a str,
@@ -240,46 +244,18 @@ struct CaseRow<'a> {
     drive_torque_peak_error_nm: f64,
     #[serde(skip_serializing_if = "Option::is_none")]
     indicated_work_nm: Option<f64>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    energy_fluctuation_j: Option<f64>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    energy_fluctuation_error_j: Option<f64>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    flywheel_textbook_kgm2: Option<f64>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    flywheel_least_kgm2: Option<f64>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    flywheel_least_error_kgm2: Option<f64>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    steady_flywheel_kgm2: Option<f64>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    steady_omega_min_rad_s: Option<f64>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    steady_omega_max_rad_s: Option<f64>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    steady_omega_mean_rad_s: Option<f64>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    steady_cs: Option<f64>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    steady_cs_error: Option<f64>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    steady_peak_shaft_torque_nm: Option<f64>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    steady_peak_shaft_torque_error_nm: Option<f64>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    steady_peak_shaking_force_n: Option<f64>,
+    #[serde(flatten)]
+    drive: Option<DriveNumbers>,
     #[serde(skip_serializing_if = "Option::is_none")]
     drive_error: Option<&'a str>,
 }
 
 impl<'a> CaseRow<'a> {
-    fn of(c: &'a CaseOutcome) -> CaseRow<'a> {
+    /// `c`'s row; `peak_force` the design's constant-speed peak shaking force (N).
+    fn of(c: &'a CaseOutcome, peak_force: Option<f64>) -> CaseRow<'a> {
         let (t, g) = (&c.torque, &c.case.gas);
         let own = c.drive.as_ref().and_then(|d| d.as_ref().ok());
-        let fw = own.and_then(|d| d.flywheel.as_ref());
         let at = c.at_flywheel.as_ref().and_then(|d| d.as_ref().ok());
-        let st = at.map(|d| &d.steady);
-        let real = at.and_then(|d| d.real);
         let why = [&c.drive, &c.at_flywheel]
             .into_iter()
             .find_map(|d| d.as_ref().and_then(|d| d.as_ref().err()));
@@ -291,22 +267,17 @@ impl<'a> CaseRow<'a> {
             drive_torque_peak_nm: t.peak,
             drive_torque_peak_error_nm: t.peak_error,
             indicated_work_nm: t.indicated_work,
-            energy_fluctuation_j: own.map(|d| d.constant.energy_fluctuation),
-            energy_fluctuation_error_j: own.map(|d| d.constant.energy_fluctuation_error),
-            flywheel_textbook_kgm2: fw.map(|f| f.textbook),
-            flywheel_least_kgm2: fw.map(|f| f.inertia),
-            flywheel_least_error_kgm2: fw.map(|f| f.inertia_error),
-            steady_flywheel_kgm2: st.map(|s| s.flywheel),
-            steady_omega_min_rad_s: st.map(|s| s.omega_min),
-            steady_omega_max_rad_s: st.map(|s| s.omega_max),
-            steady_omega_mean_rad_s: st.map(|s| s.omega_mean),
-            steady_cs: st.map(|s| s.cs),
-            steady_cs_error: st.map(|s| s.cs_error),
-            steady_peak_shaft_torque_nm: real.map(|r| r.peak_shaft_torque),
-            steady_peak_shaft_torque_error_nm: real.map(|r| r.peak_shaft_torque_error),
-            steady_peak_shaking_force_n: real.map(|r| r.peak_force),
+            drive: own.zip(at).map(|(own, at)| {
+                let f = own.flywheel.as_ref();
+                DriveNumbers::of(&own.constant, f, &at.steady, at.real, peak_force)
+            }),
             drive_error: why.map(String::as_str),
         }
+    }
+
+    /// The drive's numbers, if the case has them.
+    fn d(&self) -> Option<&DriveNumbers> {
+        self.drive.as_ref()
     }
 }
 
@@ -340,31 +311,39 @@ fn worst(rows: &[CaseRow], f: impl Fn(&CaseRow) -> Option<f64>) -> Option<(f64, 
 
 /// The load cases in the result: the worst case's figures in `derived`, the `load_cases`
 /// section (the flywheel of all the cases, the governing cases' names, one row per case).
-pub fn numbers(r: &mut SolveResult, lc: &LoadCasesOutcome) {
-    let rows: Vec<CaseRow> = lc.cases.iter().map(CaseRow::of).collect();
+pub fn numbers(r: &mut SolveResult, lc: &LoadCasesOutcome, peak_force: Option<f64>) {
+    let rows: Vec<CaseRow> = lc
+        .cases
+        .iter()
+        .map(|c| CaseRow::of(c, peak_force))
+        .collect();
     let max = |f: &dyn Fn(&CaseRow) -> Option<f64>| worst(&rows, f).map(|w| w.0);
     let name = |w: Option<(f64, usize)>| w.map(|w| rows[w.1].case);
     let peak = worst(&rows, |c| Some(c.drive_torque_peak_nm));
-    let energy = worst(&rows, |c| c.energy_fluctuation_j);
-    let cs = worst(&rows, |c| c.steady_cs);
-    let shaft = worst(&rows, |c| c.steady_peak_shaft_torque_nm);
+    let energy = worst(&rows, |c| c.d().map(|d| d.energy_fluctuation_j));
+    let cs = worst(&rows, |c| c.d().map(|d| d.steady_cs));
+    let shaft = worst(&rows, |c| c.d().and_then(|d| d.steady_peak_shaft_torque_nm));
     r.derived.extend(number_map(&WorstCase {
         load_case_count: rows.len() as f64,
         worst_case_drive_torque_mean_nm: max(&|c| Some(c.drive_torque_mean_nm)),
         worst_case_drive_torque_peak_nm: peak.map(|w| w.0),
         worst_case_drive_torque_peak_error_nm: max(&|c| Some(c.drive_torque_peak_error_nm)),
         worst_case_energy_fluctuation_j: energy.map(|w| w.0),
-        worst_case_energy_fluctuation_error_j: max(&|c| c.energy_fluctuation_error_j),
-        worst_case_flywheel_textbook_kgm2: max(&|c| c.flywheel_textbook_kgm2),
+        worst_case_energy_fluctuation_error_j: max(&|c| {
+            c.d().map(|d| d.energy_fluctuation_error_j)
+        }),
+        worst_case_flywheel_textbook_kgm2: max(&|c| c.d().and_then(|d| d.flywheel_textbook_kgm2)),
         load_cases_flywheel_kgm2: lc.flywheel.map(|f| f.inertia),
         load_cases_flywheel_error_kgm2: lc.flywheel.map(|f| f.error),
         worst_case_steady_cs: cs.map(|w| w.0),
-        worst_case_steady_cs_error: max(&|c| c.steady_cs_error),
-        worst_case_steady_omega_min_rad_s: max(&|c| c.steady_omega_min_rad_s.map(|w| -w))
+        worst_case_steady_cs_error: max(&|c| c.d().map(|d| d.steady_cs_error)),
+        worst_case_steady_omega_min_rad_s: max(&|c| c.d().map(|d| -d.steady_omega_min_rad_s))
             .map(|w| -w),
-        worst_case_steady_omega_max_rad_s: max(&|c| c.steady_omega_max_rad_s),
+        worst_case_steady_omega_max_rad_s: max(&|c| c.d().map(|d| d.steady_omega_max_rad_s)),
         worst_case_steady_peak_shaft_torque_nm: shaft.map(|w| w.0),
-        worst_case_steady_peak_shaft_torque_error_nm: max(&|c| c.steady_peak_shaft_torque_error_nm),
+        worst_case_steady_peak_shaft_torque_error_nm: max(&|c| {
+            c.d().and_then(|d| d.steady_peak_shaft_torque_error_nm)
+        }),
     }));
     let flywheel_case = lc.flywheel.and_then(|f| f.governing).map(|k| rows[k].case);
     r.extra.insert(
@@ -389,8 +368,12 @@ pub fn numbers(r: &mut SolveResult, lc: &LoadCasesOutcome) {
 
 /// `<name>-load-cases.csv`: the `load_cases` section's rows, one per case, its keys the
 /// columns in the JSON's order (`case` first); a figure a case lacks is empty.
-pub fn table(r: &mut SolveResult, lc: &LoadCasesOutcome) {
-    let rows: Vec<serde_json::Value> = lc.cases.iter().map(|c| json!(CaseRow::of(c))).collect();
+pub fn table(r: &mut SolveResult, lc: &LoadCasesOutcome, peak_force: Option<f64>) {
+    let rows: Vec<serde_json::Value> = lc
+        .cases
+        .iter()
+        .map(|c| json!(CaseRow::of(c, peak_force)))
+        .collect();
     let mut cols: Vec<&str> = Vec::new();
     for row in rows.iter().filter_map(|x| x.as_object()) {
         for k in row.keys() {

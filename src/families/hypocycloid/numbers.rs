@@ -317,7 +317,7 @@ fn dynamics_numbers(r: &mut SolveResult, d: &Result<DynamicsOutcome, String>) {
     let peak = d.rotating.as_ref().map(|rot| rot.design_peak());
     crate::report::drive::drive_numbers(r, d.drive.as_ref(), peak);
     if let Some(lc) = &d.load_cases {
-        super::load_cases::numbers(r, lc);
+        super::load_cases::numbers(r, lc, peak);
     }
 }
 

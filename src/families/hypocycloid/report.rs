@@ -631,7 +631,8 @@ fn dynamics_documents(r: &mut SolveResult, name: &str, d: &DynamicsOutcome) {
     }
     crate::report::drive::drive_documents(r, d.drive.as_ref(), "carrier");
     if let Some(lc) = &d.load_cases {
-        super::load_cases::table(r, lc);
+        let peak = d.rotating.as_ref().map(|rot| rot.design_peak());
+        super::load_cases::table(r, lc, peak);
     }
 }
 
