@@ -10,8 +10,7 @@ use crate::families::hypocycloid::dynamics::{
     cancelling_counterweights, carrier_from_effective, harmonic_force, harmonic_force_at,
     kinematics, Counterweight, Geometry, MovingMasses, RotatingMasses, ShaftLayout,
 };
-use crate::families::hypocycloid::gas::{Cycle, GasCycle};
-use crate::families::hypocycloid::load_cases::{self, LoadCase, LoadCasesOutcome};
+use crate::families::hypocycloid::gas::{Cycle, GasCycle, LoadCase};
 use crate::families::hypocycloid::model::{Coefficients, Hypocycloid, LanchesterPair};
 use crate::families::hypocycloid::synth::{residual_rate, residual_rel};
 use crate::geom::P2;
@@ -207,9 +206,6 @@ pub struct DynamicsOutcome {
     /// be computed).
     #[serde(skip)]
     pub drive: Option<Result<DriveFigures, String>>,
-    /// Every load case's drive torque and drive, with the nominal (`[[mechanism.load_cases]]`).
-    #[serde(skip)]
-    pub load_cases: Option<LoadCasesOutcome>,
     /// Things the user should know.
     pub warnings: Vec<String>,
 }
@@ -235,7 +231,8 @@ pub struct At<'a> {
 }
 
 impl At<'_> {
-    fn geometry(&self) -> Geometry {
+    /// The design's lengths and speed.
+    pub(super) fn geometry(&self) -> Geometry {
         Geometry {
             r_carrier: self.r_carrier,
             r_crank: self.model.theta * self.r_carrier,
@@ -416,25 +413,11 @@ pub fn solve(spec: &DynamicsSpec, at: &At) -> Result<DynamicsOutcome, DynamicsEr
         Some(d) => Some(drive_outcome(spec, d, at, &geo, rotating.as_ref())?),
         None => None,
     };
-    // The gas force is internal (piston against head): the rotating outcome and the couples
-    // above hold for every load case; only the torque and the drive are solved per case.
-    let load_cases = match &torque {
-        Some(t) if !spec.load_cases.is_empty() => Some(load_cases::solve(
-            spec,
-            at,
-            &geo,
-            rotating.as_ref(),
-            (t, drive.as_ref()),
-            &mut warnings,
-        )?),
-        _ => None,
-    };
     Ok(DynamicsOutcome {
         rotating,
         torque,
         couples,
         drive,
-        load_cases,
         warnings,
     })
 }

@@ -6,8 +6,8 @@
 
 use crate::families::hypocycloid::balance::{DynamicsSpec, RotatingDesign, RotatingGoal};
 use crate::families::hypocycloid::dynamics::{RotatingMasses, ShaftLayout};
-use crate::families::hypocycloid::gas::GasCycle;
-use crate::families::hypocycloid::load_cases::{LoadCase, MAX_CASE_NAME, MAX_LOAD_CASES, NOMINAL};
+use crate::families::hypocycloid::gas::{GasCycle, LoadCase};
+use crate::families::hypocycloid::load_cases::{MAX_CASE_NAME, MAX_LOAD_CASES, NOMINAL};
 use crate::families::hypocycloid::model::{ALPHA0_VARIANT1, ALPHA0_VARIANT2};
 use crate::families::hypocycloid::synth::{
     CoefficientModel, HypocycloidScene, Settings, ZeroSearch,

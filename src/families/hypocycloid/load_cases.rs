@@ -26,9 +26,8 @@
 //! is I* instead: each case's Cs is reported with it.
 
 use super::balance::{drive_outcome, torque_outcome, At, DynamicsError, DynamicsSpec};
-use super::balance::{RotatingOutcome, TorqueOutcome};
-use super::dynamics::Geometry;
-use super::gas::GasCycle;
+use super::balance::{DynamicsOutcome, TorqueOutcome};
+use super::gas::{GasCycle, LoadCase};
 use crate::dynamics::{Drive, DriveFigures};
 use crate::report::drive::DriveNumbers;
 use crate::report::{number_map, SolveResult, Table};
@@ -43,15 +42,6 @@ pub const MAX_LOAD_CASES: usize = 16;
 
 /// Longest name of a load case (characters).
 pub const MAX_CASE_NAME: usize = 64;
-
-/// One named load case: the nominal cycle with the pressures the case changes.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct LoadCase {
-    /// Its name.
-    pub name: String,
-    /// Its cycle.
-    pub gas: GasCycle,
-}
 
 /// One case solved.
 #[derive(Debug, Clone, PartialEq)]
@@ -88,16 +78,19 @@ pub struct LoadCasesOutcome {
     pub flywheel: Option<CasesFlywheel>,
 }
 
-/// Solves every load case of `spec` beside the nominal one, whose torque and drive are given
-/// (`nominal`), then each case's steady state at the flywheel of all the cases.
-pub(super) fn solve(
+/// Solves every load case of `spec` beside the nominal one, whose figures are the dynamics
+/// `d` already solved at the design `at` (its torque and drive; the case-independent rotating
+/// outcome with them), then each case's steady state at the flywheel of all the cases; the
+/// cases' warnings join `d`'s. `None` without load cases (or without a drive torque).
+pub fn solve(
     spec: &DynamicsSpec,
     at: &At,
-    geo: &Geometry,
-    rotating: Option<&RotatingOutcome>,
-    nominal: (&TorqueOutcome, Option<&Result<DriveFigures, String>>),
-    warnings: &mut Vec<String>,
-) -> Result<LoadCasesOutcome, DynamicsError> {
+    d: &mut DynamicsOutcome,
+) -> Result<Option<LoadCasesOutcome>, DynamicsError> {
+    let (Some(torque), false) = (&d.torque, spec.load_cases.is_empty()) else {
+        return Ok(None);
+    };
+    let (geo, rotating, warnings) = (&at.geometry(), d.rotating.as_ref(), &mut d.warnings);
     let first = spec.gas.map(|gas| LoadCase {
         name: NOMINAL.into(),
         gas,
@@ -107,8 +100,8 @@ pub(super) fn solve(
             key: "mechanism.load_cases".into(),
             message: "load cases need [mechanism.gas]".into(),
         })?,
-        torque: nominal.0.clone(),
-        drive: nominal.1.cloned(),
+        torque: torque.clone(),
+        drive: d.drive.clone(),
         at_flywheel: None,
     }];
     for case in &spec.load_cases {
@@ -147,7 +140,7 @@ pub(super) fn solve(
         };
     }
     check_cs(spec.drive.as_ref().and_then(|d| d.cs), &cases, warnings);
-    Ok(LoadCasesOutcome { cases, flywheel })
+    Ok(Some(LoadCasesOutcome { cases, flywheel }))
 }
 
 /// `spec` with the cycle `gas` and no load cases: one case, for the single-case code.
