@@ -46,6 +46,7 @@ mod integer_limits;
 mod linkage;
 mod linkage_envelope;
 mod linkage_model;
+mod load_cases;
 mod minimax_engine;
 mod mutants;
 mod outline;

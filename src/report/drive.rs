@@ -3,55 +3,56 @@
 //! (`<name>-drive.csv`, `<name>-steady-state.csv`) and the turning-moment and speed plot. It
 //! draws; the family's solve computed every number.
 
-use crate::dynamics::DriveFigures;
+use crate::dynamics::{ConstantSpeed, DriveFigures, Flywheel, RealSpeed, SteadyState};
 use crate::report::plot::{self, Panel, PlotError, Series};
 use crate::report::{number_map, Plot, SolveResult, Table};
 
-/// The drive's figures (`[mechanism.drive]`, `docs/results.md`), in `derived`.
+/// The drive's figures (`[mechanism.drive]`, `docs/results.md`), in `derived` (and in each
+/// row of a family's load cases).
 #[derive(Debug, serde::Serialize)]
-struct DriveNumbers {
+pub struct DriveNumbers {
     /// T̄, the mean drive torque at the nominal speed (N·m).
-    drive_mean_torque_nm: f64,
+    pub drive_mean_torque_nm: f64,
     /// Bound on its error (N·m).
-    drive_mean_torque_error_nm: f64,
+    pub drive_mean_torque_error_nm: f64,
     /// ΔE = max E − min E of the energy curve E = ∫ (T − T̄) dφ at the nominal speed (J).
-    energy_fluctuation_j: f64,
+    pub energy_fluctuation_j: f64,
     /// Bound on the error of ΔE (J).
-    energy_fluctuation_error_j: f64,
+    pub energy_fluctuation_error_j: f64,
     /// With `cs`: the textbook flywheel ΔE / (Cs ω̄²) (kg·m²).
-    flywheel_textbook_kgm2: Option<f64>,
+    pub flywheel_textbook_kgm2: Option<f64>,
     /// With `cs`: the least flywheel whose periodic steady state meets Cs (kg·m²).
-    flywheel_least_kgm2: Option<f64>,
+    pub flywheel_least_kgm2: Option<f64>,
     /// Bound on its error (kg·m²).
-    flywheel_least_error_kgm2: Option<f64>,
+    pub flywheel_least_error_kgm2: Option<f64>,
     /// The flywheel of the steady state below (kg·m²).
-    steady_flywheel_kgm2: f64,
+    pub steady_flywheel_kgm2: f64,
     /// The steady state's ω_min (rad/s).
-    steady_omega_min_rad_s: f64,
+    pub steady_omega_min_rad_s: f64,
     /// Its ω_max (rad/s).
-    steady_omega_max_rad_s: f64,
+    pub steady_omega_max_rad_s: f64,
     /// Its time-mean speed 2π/period (rad/s).
-    steady_omega_mean_rad_s: f64,
+    pub steady_omega_mean_rad_s: f64,
     /// Bound on the error of the three speeds (rad/s).
-    steady_omega_error_rad_s: f64,
+    pub steady_omega_error_rad_s: f64,
     /// Its Cs = (ω_max − ω_min)/ω_mean.
-    steady_cs: f64,
+    pub steady_cs: f64,
     /// Bound on the error of Cs.
-    steady_cs_error: f64,
+    pub steady_cs_error: f64,
     /// Its peak angular acceleration |α| of the crank (rad/s²).
-    steady_peak_angular_acceleration_rad_s2: f64,
+    pub steady_peak_angular_acceleration_rad_s2: f64,
     /// Bound on its error (rad/s²).
-    steady_peak_angular_acceleration_error_rad_s2: f64,
+    pub steady_peak_angular_acceleration_error_rad_s2: f64,
     /// The peak shaking force at real speed (N), without balancers.
-    steady_peak_shaking_force_n: Option<f64>,
+    pub steady_peak_shaking_force_n: Option<f64>,
     /// Its error bound (N).
-    steady_peak_shaking_force_error_n: Option<f64>,
+    pub steady_peak_shaking_force_error_n: Option<f64>,
     /// Its difference from the constant-speed peak, relative (%).
-    steady_peak_shaking_force_change_pct: Option<f64>,
+    pub steady_peak_shaking_force_change_pct: Option<f64>,
     /// The peak torque in the crank shaft between flywheel and mechanism at real speed (N·m).
-    steady_peak_shaft_torque_nm: Option<f64>,
+    pub steady_peak_shaft_torque_nm: Option<f64>,
     /// Bound on its error (N·m).
-    steady_peak_shaft_torque_error_nm: Option<f64>,
+    pub steady_peak_shaft_torque_error_nm: Option<f64>,
 }
 
 /// The drive's numbers in `derived`, or its error as a warning; `peak_force` is the
@@ -71,33 +72,52 @@ pub fn drive_numbers(
         }
         Some(Ok(d)) => d,
     };
-    let (c, st, f) = (&d.constant, &d.steady, d.flywheel.as_ref());
-    r.derived.extend(number_map(&DriveNumbers {
-        drive_mean_torque_nm: c.mean_torque,
-        drive_mean_torque_error_nm: c.mean_torque_error,
-        energy_fluctuation_j: c.energy_fluctuation,
-        energy_fluctuation_error_j: c.energy_fluctuation_error,
-        flywheel_textbook_kgm2: f.map(|f| f.textbook),
-        flywheel_least_kgm2: f.map(|f| f.inertia),
-        flywheel_least_error_kgm2: f.map(|f| f.inertia_error),
-        steady_flywheel_kgm2: st.flywheel,
-        steady_omega_min_rad_s: st.omega_min,
-        steady_omega_max_rad_s: st.omega_max,
-        steady_omega_mean_rad_s: st.omega_mean,
-        steady_omega_error_rad_s: st.omega_error,
-        steady_cs: st.cs,
-        steady_cs_error: st.cs_error,
-        steady_peak_angular_acceleration_rad_s2: st.peak_alpha,
-        steady_peak_angular_acceleration_error_rad_s2: st.peak_alpha_error,
-        steady_peak_shaking_force_n: d.real.map(|x| x.peak_force),
-        steady_peak_shaking_force_error_n: d.real.map(|x| x.peak_force_error),
-        steady_peak_shaking_force_change_pct: d
-            .real
-            .zip(peak_force)
-            .map(|(x, p)| 100.0 * (x.peak_force - p) / p),
-        steady_peak_shaft_torque_nm: d.real.map(|x| x.peak_shaft_torque),
-        steady_peak_shaft_torque_error_nm: d.real.map(|x| x.peak_shaft_torque_error),
-    }));
+    r.derived.extend(number_map(&DriveNumbers::of(
+        &d.constant,
+        d.flywheel.as_ref(),
+        &d.steady,
+        d.real,
+        peak_force,
+    )));
+}
+
+impl DriveNumbers {
+    /// The figures of a drive's parts ([`DriveFigures`]): the constant-speed figures `c`, the
+    /// least flywheel `f`, a steady state `st` with its real-speed peaks `real`; `peak_force`
+    /// the constant-speed peak shaking force the real-speed one is compared with (N).
+    pub fn of(
+        c: &ConstantSpeed,
+        f: Option<&Flywheel>,
+        st: &SteadyState,
+        real: Option<RealSpeed>,
+        peak_force: Option<f64>,
+    ) -> DriveNumbers {
+        DriveNumbers {
+            drive_mean_torque_nm: c.mean_torque,
+            drive_mean_torque_error_nm: c.mean_torque_error,
+            energy_fluctuation_j: c.energy_fluctuation,
+            energy_fluctuation_error_j: c.energy_fluctuation_error,
+            flywheel_textbook_kgm2: f.map(|f| f.textbook),
+            flywheel_least_kgm2: f.map(|f| f.inertia),
+            flywheel_least_error_kgm2: f.map(|f| f.inertia_error),
+            steady_flywheel_kgm2: st.flywheel,
+            steady_omega_min_rad_s: st.omega_min,
+            steady_omega_max_rad_s: st.omega_max,
+            steady_omega_mean_rad_s: st.omega_mean,
+            steady_omega_error_rad_s: st.omega_error,
+            steady_cs: st.cs,
+            steady_cs_error: st.cs_error,
+            steady_peak_angular_acceleration_rad_s2: st.peak_alpha,
+            steady_peak_angular_acceleration_error_rad_s2: st.peak_alpha_error,
+            steady_peak_shaking_force_n: real.map(|x| x.peak_force),
+            steady_peak_shaking_force_error_n: real.map(|x| x.peak_force_error),
+            steady_peak_shaking_force_change_pct: real
+                .zip(peak_force)
+                .map(|(x, p)| 100.0 * (x.peak_force - p) / p),
+            steady_peak_shaft_torque_nm: real.map(|x| x.peak_shaft_torque),
+            steady_peak_shaft_torque_error_nm: real.map(|x| x.peak_shaft_torque_error),
+        }
+    }
 }
 
 /// The drive's table and plot: the turn at constant speed (T, E) and at real speed (ω, α).

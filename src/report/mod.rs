@@ -603,8 +603,8 @@ pub fn fmt_num(v: f64) -> String {
 
 /// How a result key reads in a workshop: its words, the unit shown and the factor from SI
 /// (`crank_counterweight_radius_m` = 0.08 → "crank counterweight radius", mm, 1000; `_m2` in
-/// mm²; `_rad` in degrees, `_rad_s` in rpm, a force of 10 kN or more in kN, a power of 10 kW
-/// or more in kW). A key without a unit suffix is a
+/// mm²; `_rad` in degrees, `_rad_s` in rpm, `_pa` in bar, a force of 10 kN or more in kN, a
+/// power of 10 kW or more in kW). A key without a unit suffix is a
 /// pure number.
 pub fn workshop_unit(key: &str, v: f64) -> (String, &'static str, f64) {
     use std::f64::consts::PI;
@@ -625,6 +625,7 @@ pub fn workshop_unit(key: &str, v: f64) -> (String, &'static str, f64) {
         ("_rad", "°", 180.0 / PI),
         ("_pct", "%", 1.0),
         ("_rpm", "rpm", 1.0),
+        ("_pa", "bar", 1e-5),
         ("_mm", "mm", 1.0),
         ("_m2", "mm²", 1e6),
         ("_m", "m", 1.0),
@@ -674,6 +675,7 @@ pub fn display_unit(units: Units, key: &str, v: f64) -> (String, &'static str, f
                 "kN" => "N",
                 "kN·m" => "N·m",
                 "kW" => "W",
+                "bar" => "Pa",
                 other => other,
             };
             (words, si, 1.0)

@@ -10,7 +10,7 @@ use crate::families::hypocycloid::dynamics::{
     cancelling_counterweights, carrier_from_effective, harmonic_force, harmonic_force_at,
     kinematics, Counterweight, Geometry, MovingMasses, RotatingMasses, ShaftLayout,
 };
-use crate::families::hypocycloid::gas::{Cycle, GasCycle};
+use crate::families::hypocycloid::gas::{Cycle, GasCycle, LoadCase};
 use crate::families::hypocycloid::model::{Coefficients, Hypocycloid, LanchesterPair};
 use crate::families::hypocycloid::synth::{residual_rate, residual_rel};
 use crate::geom::P2;
@@ -60,6 +60,8 @@ pub struct DynamicsSpec {
     pub shafts: Option<ShaftLayout>,
     /// The drive at real speed (`[mechanism.drive]`).
     pub drive: Option<Drive>,
+    /// The named load cases beside the nominal `gas` (`[[mechanism.load_cases]]`).
+    pub load_cases: Vec<LoadCase>,
 }
 
 impl DynamicsSpec {
@@ -229,7 +231,8 @@ pub struct At<'a> {
 }
 
 impl At<'_> {
-    fn geometry(&self) -> Geometry {
+    /// The design's lengths and speed.
+    pub(super) fn geometry(&self) -> Geometry {
         Geometry {
             r_carrier: self.r_carrier,
             r_crank: self.model.theta * self.r_carrier,
@@ -425,7 +428,7 @@ pub fn solve(spec: &DynamicsSpec, at: &At) -> Result<DynamicsOutcome, DynamicsEr
 /// the carrier's and its counterweight's m |c|², constant; the bodies' own rotational
 /// inertias (carrier, planet spin at its fixed ratio, Lanchester shafts) are constant too and
 /// not in the file: they act as flywheel, so the flywheel found includes them.
-fn drive_outcome(
+pub(super) fn drive_outcome(
     spec: &DynamicsSpec,
     d: &Drive,
     at: &At,
@@ -553,7 +556,7 @@ fn rotating_outcome(
 /// (with the planet's counterweight, the minimax one before the closed one), T_gas of the
 /// compressor cycle; its mean (split into gas and inertia), its refined peak |T| and the
 /// curves at `at.plot_samples` angles.
-fn torque_outcome(
+pub(super) fn torque_outcome(
     spec: &DynamicsSpec,
     at: &At,
     geo: &Geometry,

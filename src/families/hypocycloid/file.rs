@@ -6,7 +6,8 @@
 
 use crate::families::hypocycloid::balance::{DynamicsSpec, RotatingDesign, RotatingGoal};
 use crate::families::hypocycloid::dynamics::{RotatingMasses, ShaftLayout};
-use crate::families::hypocycloid::gas::GasCycle;
+use crate::families::hypocycloid::gas::{GasCycle, LoadCase};
+use crate::families::hypocycloid::load_cases::{MAX_CASE_NAME, MAX_LOAD_CASES, NOMINAL};
 use crate::families::hypocycloid::model::{ALPHA0_VARIANT1, ALPHA0_VARIANT2};
 use crate::families::hypocycloid::synth::{
     CoefficientModel, HypocycloidScene, Settings, ZeroSearch,
@@ -77,6 +78,25 @@ pub struct MechanismRaw {
     /// The drive: motor, flywheel and the coefficient of speed fluctuation to meet
     /// (`[mechanism.drive]`, the machine as it runs).
     pub drive: Option<crate::problem::drive::DriveRaw>,
+    /// Named load cases (`[[mechanism.load_cases]]`): other pressures of the gas cycle, each
+    /// solved beside the nominal `[mechanism.gas]` (issue 33, `load_cases.rs`).
+    #[serde(default)]
+    #[schemars(length(max = MAX_LOAD_CASES))]
+    pub load_cases: Vec<LoadCaseRaw>,
+}
+
+/// `[[mechanism.load_cases]]`: a named case of the compressor cycle, the nominal
+/// `[mechanism.gas]` with the pressures it changes (at least one of them).
+#[derive(Debug, Deserialize, schemars::JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct LoadCaseRaw {
+    /// Its name in the result: non-empty, unique, not `"nominal"` (the `[mechanism.gas]` case).
+    #[schemars(length(max = MAX_CASE_NAME))]
+    pub name: String,
+    /// p_s of the case (absolute, > 0); default the nominal one.
+    pub suction_pressure: Option<Qty<Pressure>>,
+    /// p_d of the case (absolute, > p_s); default the nominal one.
+    pub discharge_pressure: Option<Qty<Pressure>>,
 }
 
 /// `[mechanism.carrier]` / `[mechanism.planet]`: a body turning with its frame.
@@ -570,14 +590,13 @@ fn resolve_dynamics(raw: &File) -> Result<DynamicsSpec, FieldError> {
     let gas = match &m.gas {
         None => None,
         Some(g) => {
-            let ps = positive("mechanism.gas.suction_pressure", g.suction_pressure.si())?;
-            let pd = g.discharge_pressure.si();
-            if !(pd > ps && pd.is_finite()) {
-                return Err(FieldError::new(
+            let (ps, pd) = pressures(
+                ("mechanism.gas.suction_pressure", g.suction_pressure.si()),
+                (
                     "mechanism.gas.discharge_pressure",
-                    format!("got {pd} Pa; allowed: above the suction pressure {ps} Pa"),
-                ));
-            }
+                    g.discharge_pressure.si(),
+                ),
+            )?;
             let n = g.polytropic_exponent;
             if !(1.0..=2.0).contains(&n) {
                 return Err(FieldError::new(
@@ -605,6 +624,8 @@ fn resolve_dynamics(raw: &File) -> Result<DynamicsSpec, FieldError> {
             })
         }
     };
+    let back_given = m.gas.as_ref().is_some_and(|g| g.back_pressure.is_some());
+    let load_cases = resolve_load_cases(&m.load_cases, gas.as_ref(), back_given)?;
     let shafts = match &m.lanchester {
         None => None,
         Some(l) => {
@@ -629,5 +650,99 @@ fn resolve_dynamics(raw: &File) -> Result<DynamicsSpec, FieldError> {
         gas,
         shafts,
         drive,
+        load_cases,
     })
+}
+
+/// The pressures (p_s, p_d) of a cycle, each given as (its key, its value in Pa): p_s > 0 and
+/// p_d > p_s, finite; an error names the key of the pressure that breaks it (p_d's when both
+/// are given as keys).
+fn pressures(ps: (&str, f64), pd: (&str, f64)) -> Result<(f64, f64), FieldError> {
+    let s = positive(ps.0, ps.1)?;
+    let d = pd.1;
+    if !(d > s && d.is_finite()) {
+        return Err(FieldError::new(
+            pd.0,
+            format!("got p_d = {d} Pa with p_s = {s} Pa; allowed: a discharge pressure above the suction pressure"),
+        ));
+    }
+    Ok((s, d))
+}
+
+/// `[[mechanism.load_cases]]` over the nominal cycle: at most [`MAX_LOAD_CASES`], each named
+/// (non-empty, at most [`MAX_CASE_NAME`] characters, no comma, quote or control character,
+/// unique, not [`NOMINAL`]) and changing p_s, p_d or both (p_d > p_s > 0). The pressure behind
+/// the piston stays the nominal `back_pressure` where the file gives one, else it is the
+/// case's own suction pressure, as in `[mechanism.gas]`. Cases need `[mechanism.gas]`.
+fn resolve_load_cases(
+    raw: &[LoadCaseRaw],
+    nominal: Option<&GasCycle>,
+    back_given: bool,
+) -> Result<Vec<LoadCase>, FieldError> {
+    const KEY: &str = "mechanism.load_cases";
+    if raw.is_empty() {
+        return Ok(Vec::new());
+    }
+    // Errors of the whole array name its first entry (or the first one too many): an array
+    // of tables has no line of its own.
+    let Some(nominal) = nominal else {
+        return Err(FieldError::new(
+            format!("{KEY}[0]"),
+            "load cases change the gas cycle's pressures; allowed: with [mechanism.gas], the nominal case",
+        ));
+    };
+    if raw.len() > MAX_LOAD_CASES {
+        return Err(FieldError::new(
+            format!("{KEY}[{MAX_LOAD_CASES}]"),
+            format!(
+                "{} load cases; allowed: at most {MAX_LOAD_CASES}",
+                raw.len()
+            ),
+        ));
+    }
+    let mut cases: Vec<LoadCase> = Vec::with_capacity(raw.len());
+    for (i, c) in raw.iter().enumerate() {
+        let key = format!("{KEY}[{i}]");
+        let name = c.name.trim();
+        let bad = name.is_empty()
+            || name.chars().count() > MAX_CASE_NAME
+            || name
+                .chars()
+                .any(|ch| ch == ',' || ch == '"' || ch.is_control());
+        let taken = name == NOMINAL || cases.iter().any(|k| k.name == name);
+        if bad || taken {
+            return Err(FieldError::new(
+                format!("{key}.name"),
+                format!(
+                    "{:?} {}; allowed: a unique name of 1 to {MAX_CASE_NAME} characters, no comma, quote or control character, not \"{NOMINAL}\" (the [mechanism.gas] case)",
+                    c.name,
+                    if taken { "is taken" } else { "is no name" }
+                ),
+            ));
+        }
+        let (ks, kd) = (
+            format!("{key}.suction_pressure"),
+            format!("{key}.discharge_pressure"),
+        );
+        let (ps, pd) = match (c.suction_pressure, c.discharge_pressure) {
+            (None, None) => {
+                return Err(FieldError::new(
+                    key,
+                    "changes nothing; allowed: suction_pressure, discharge_pressure or both",
+                ))
+            }
+            (Some(s), None) => pressures((&ks, s.si()), (&ks, nominal.discharge))?,
+            (s, Some(d)) => pressures((&ks, s.map_or(nominal.suction, Qty::si)), (&kd, d.si()))?,
+        };
+        cases.push(LoadCase {
+            name: name.to_string(),
+            gas: GasCycle {
+                suction: ps,
+                discharge: pd,
+                back: if back_given { nominal.back } else { ps },
+                ..*nominal
+            },
+        });
+    }
+    Ok(cases)
 }

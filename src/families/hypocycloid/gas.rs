@@ -40,6 +40,16 @@ pub struct GasCycle {
     pub back: f64,
 }
 
+/// A named load case (`[[mechanism.load_cases]]`): the nominal cycle with the pressures the
+/// case changes (`load_cases.rs`).
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct LoadCase {
+    /// Its name.
+    pub name: String,
+    /// Its cycle.
+    pub gas: GasCycle,
+}
+
 /// Why a cycle cannot be computed.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum GasError {

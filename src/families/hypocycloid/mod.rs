@@ -7,6 +7,7 @@ pub mod closed_form;
 pub mod dynamics;
 pub mod file;
 pub mod gas;
+pub mod load_cases;
 pub mod model;
 pub mod numbers;
 pub mod report;

@@ -7,6 +7,7 @@
 
 use super::balance::{DynamicsOutcome, RotatingOutcome};
 use super::file::*;
+use super::load_cases::LoadCasesOutcome;
 use super::solve::Solution;
 use crate::families::family::Scene;
 use crate::families::hypocycloid::synth::{self as hy, Outcome};
@@ -61,7 +62,7 @@ pub fn numbers(_: &Scene, s: &HypocycloidProblem, sol: &Solution, r: &mut SolveR
     r.paper = out.paper.clone();
     closed_form_numbers(r, s, out);
     if let Some(d) = &sol.dynamics {
-        dynamics_numbers(r, d);
+        dynamics_numbers(r, d, sol.load_cases.as_ref());
     }
 }
 
@@ -283,8 +284,13 @@ fn closed_form_numbers(r: &mut SolveResult, s: &HypocycloidProblem, out: &Outcom
 }
 
 /// The dynamics' numbers: the counterweights to build in `design`, the rotating force, drive
-/// torque and couple figures in `derived`, the `dynamics` section; a failure fails the result.
-fn dynamics_numbers(r: &mut SolveResult, d: &Result<DynamicsOutcome, String>) {
+/// torque and couple figures in `derived`, the `dynamics` section, the load cases'; a failure
+/// fails the result.
+fn dynamics_numbers(
+    r: &mut SolveResult,
+    d: &Result<DynamicsOutcome, String>,
+    load_cases: Option<&LoadCasesOutcome>,
+) {
     let d = match d {
         Ok(d) => d,
         Err(e) => {
@@ -316,6 +322,9 @@ fn dynamics_numbers(r: &mut SolveResult, d: &Result<DynamicsOutcome, String>) {
     r.extra.insert("dynamics".into(), json!(d));
     let peak = d.rotating.as_ref().map(|rot| rot.design_peak());
     crate::report::drive::drive_numbers(r, d.drive.as_ref(), peak);
+    if let Some(lc) = load_cases {
+        super::load_cases::numbers(r, lc, peak);
+    }
 }
 
 /// The rotating counterweights' figures, and the pair to build in `design`: the minimax pair

@@ -35,6 +35,10 @@ pub fn documents(scene: &Scene, s: &HypocycloidProblem, sol: &Solution, r: &mut 
     closed_form_table(r, s, out);
     if let Some(Ok(d)) = &sol.dynamics {
         dynamics_documents(r, &scene.name, d);
+        if let Some(lc) = &sol.load_cases {
+            let peak = d.rotating.as_ref().map(|rot| rot.design_peak());
+            super::load_cases::table(r, lc, peak);
+        }
     }
     let order = out.zero_search.as_ref().map(|z| z.order);
     let shared = std::sync::Arc::new((scene.clone(), out.clone()));

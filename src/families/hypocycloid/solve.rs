@@ -1,11 +1,13 @@
 //! The hypocycloid's whole solve: the coefficients, balancing and searches ([`hy::solve`]),
 //! then, where the file gives the bodies and the gas cycle, the dynamics at the reported
 //! design — the rotating-mass counterweights (closed form, or the certified minimax of the
-//! whole shaking force), the drive torque and the shafts' couples ([`balance::solve`]) —
-//! every number the result reports.
+//! whole shaking force), the drive torque and the shafts' couples ([`balance::solve`]), and
+//! the named load cases' torques and drives ([`load_cases::solve`]) — every number the result
+//! reports.
 
 use super::balance::{self, At, DynamicsOutcome};
 use super::file::HypocycloidProblem;
+use super::load_cases::{self, LoadCasesOutcome};
 use super::model::{Coefficients, Hypocycloid};
 use super::synth::{self as hy, OptStatus, Outcome};
 use crate::families::driver::Claim;
@@ -24,16 +26,24 @@ pub struct Solution {
     /// The dynamics at the reported design, where the file asks for any (`Err`: why they
     /// failed, which fails the result).
     pub dynamics: Option<Result<DynamicsOutcome, String>>,
+    /// The load cases' torques and drives beside the dynamics' nominal ones
+    /// (`[[mechanism.load_cases]]`).
+    pub load_cases: Option<LoadCasesOutcome>,
 }
 
 /// Solves the scene: the synthesis, then the dynamics at its design.
 pub fn solve(p: &HypocycloidProblem) -> Result<Solution, String> {
     let out = hy::solve(&p.scene, &p.settings).map_err(|e| e.to_string())?;
-    let dynamics = p.dynamics.any().then(|| dynamics(p, &out));
+    let (dynamics, load_cases) = match p.dynamics.any().then(|| dynamics(p, &out)) {
+        None => (None, None),
+        Some(Ok((d, lc))) => (Some(Ok(d)), lc),
+        Some(Err(e)) => (Some(Err(e)), None),
+    };
     Ok(Solution {
         claim: claim(&out),
         out,
         dynamics,
+        load_cases,
     })
 }
 
@@ -86,8 +96,12 @@ pub fn kebab<T: serde::Serialize>(v: T) -> String {
         .unwrap_or_default()
 }
 
-/// The rotating counterweights, drive torque and couples at the design of `out`.
-fn dynamics(p: &HypocycloidProblem, out: &Outcome) -> Result<DynamicsOutcome, String> {
+/// The rotating counterweights, drive torque and couples at the design of `out`, and the
+/// load cases' torques and drives.
+fn dynamics(
+    p: &HypocycloidProblem,
+    out: &Outcome,
+) -> Result<(DynamicsOutcome, Option<LoadCasesOutcome>), String> {
     let h = &p.scene;
     let m = Hypocycloid {
         lambda: out.design.lambda,
@@ -112,7 +126,9 @@ fn dynamics(p: &HypocycloidProblem, out: &Outcome) -> Result<DynamicsOutcome, St
         omega: h.omega,
         plot_samples: p.settings.plot_samples,
     };
-    balance::solve(&p.dynamics, &at).map_err(|e| e.to_string())
+    let mut d = balance::solve(&p.dynamics, &at).map_err(|e| e.to_string())?;
+    let lc = load_cases::solve(&p.dynamics, &at, &mut d).map_err(|e| e.to_string())?;
+    Ok((d, lc))
 }
 
 /// The file-only analyses: none for the hypocycloid.

@@ -1,0 +1,395 @@
+//! Named load cases of the hypocycloid compressor (issue 33, `[[mechanism.load_cases]]`): the
+//! same machine against other suction and discharge pressures, every drive figure stated over
+//! all the cases with the case that governs it named.
+//!
+//! The gas force acts between the piston and the cylinder head, both parts of the machine: it
+//! is internal, and the frame feels only the inertia forces. So the shaking force at constant
+//! speed, the rotating counterweights and the Lanchester couples (`balance::rotating_outcome`,
+//! `balance::couple_outcome`, which never read `[mechanism.gas]`) are the same in every case.
+//! The case changes the gas torque, hence the drive torque T(φ), its mean T̄ and peak, ΔE, the
+//! flywheel and the motor's steady state (whose ω(φ), α(φ) also change the shaking force and
+//! the shaft torque at real speed). Each case is solved by the single-case code
+//! (`balance::torque_outcome`, `balance::drive_outcome`) with its own [`GasCycle`]; the nominal
+//! `[mechanism.gas]` is the case [`NOMINAL`], first, its figures those of the result's
+//! single-case keys.
+//!
+//! The flywheel over the cases. In each case k the steady state's coefficient of fluctuation
+//! Cs_k(I_f) does not increase with the flywheel I_f — the premise of
+//! `dynamics::least_flywheel`, whose bracket grows I_f until Cs ≤ cs and whose Brent search
+//! takes the one crossing. Then {I_f : Cs_k(I_f) ≤ cs} = [I_k, ∞), I_k the case's least
+//! flywheel, and the flywheels that meet cs in every case are ∩_k [I_k, ∞) = [max_k I_k, ∞):
+//!
+//!   I* = max_k I_k,   |I* − Î*| ≤ max_k δI_k   (|max a − max â| ≤ max |a − â|).
+//!
+//! Every case's steady state at I* is solved and reported, and a case whose Cs there exceeds
+//! cs by more than its error is warned about (the premise failing). A file's own `flywheel`
+//! is I* instead: each case's Cs is reported with it.
+
+use super::balance::{drive_outcome, torque_outcome, At, DynamicsError, DynamicsSpec};
+use super::balance::{DynamicsOutcome, TorqueOutcome};
+use super::gas::{GasCycle, LoadCase};
+use crate::dynamics::{Drive, DriveFigures};
+use crate::report::drive::DriveNumbers;
+use crate::report::{number_map, SolveResult, Table};
+use serde::Serialize;
+use serde_json::json;
+
+/// The name of the nominal case, `[mechanism.gas]` itself (no load case may take it).
+pub const NOMINAL: &str = "nominal";
+
+/// Most entries of `[[mechanism.load_cases]]` (the nominal case comes on top).
+pub const MAX_LOAD_CASES: usize = 16;
+
+/// Longest name of a load case (characters).
+pub const MAX_CASE_NAME: usize = 64;
+
+/// One case solved.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CaseOutcome {
+    /// The case.
+    pub case: LoadCase,
+    /// Its drive torque at constant speed.
+    pub torque: TorqueOutcome,
+    /// Its drive with `[mechanism.drive]` (its own least flywheel for `cs`); `Err`: why not.
+    pub drive: Option<Result<DriveFigures, String>>,
+    /// Its steady state (and peaks at real speed) at the flywheel of all the cases,
+    /// [`LoadCasesOutcome::flywheel`]; without one, its own drive's.
+    pub at_flywheel: Option<Result<DriveFigures, String>>,
+}
+
+/// The flywheel of all the cases.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CasesFlywheel {
+    /// I* (kg·m²).
+    pub inertia: f64,
+    /// Bound on its error (kg·m²): max_k δI_k, 0 for a given flywheel.
+    pub error: f64,
+    /// The case whose least flywheel it is; `None`: the file's `flywheel`.
+    pub governing: Option<usize>,
+}
+
+/// Every case, the nominal first, and the flywheel that meets `cs` in all of them.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LoadCasesOutcome {
+    /// The cases, [`NOMINAL`] first.
+    pub cases: Vec<CaseOutcome>,
+    /// I*: the largest least flywheel (with `cs`), or the file's `flywheel`; `None` without
+    /// either, or where a case's drive failed.
+    pub flywheel: Option<CasesFlywheel>,
+}
+
+/// Solves every load case of `spec` beside the nominal one, whose figures are the dynamics
+/// `d` already solved at the design `at` (its torque and drive; the case-independent rotating
+/// outcome with them), then each case's steady state at the flywheel of all the cases; the
+/// cases' warnings join `d`'s. `None` without load cases (or without a drive torque).
+pub fn solve(
+    spec: &DynamicsSpec,
+    at: &At,
+    d: &mut DynamicsOutcome,
+) -> Result<Option<LoadCasesOutcome>, DynamicsError> {
+    let (Some(torque), false) = (&d.torque, spec.load_cases.is_empty()) else {
+        return Ok(None);
+    };
+    let (geo, rotating, warnings) = (&at.geometry(), d.rotating.as_ref(), &mut d.warnings);
+    let first = spec.gas.map(|gas| LoadCase {
+        name: NOMINAL.into(),
+        gas,
+    });
+    let mut cases = vec![CaseOutcome {
+        case: first.ok_or_else(|| DynamicsError {
+            key: "mechanism.load_cases".into(),
+            message: "load cases need [mechanism.gas]".into(),
+        })?,
+        torque: torque.clone(),
+        drive: d.drive.clone(),
+        at_flywheel: None,
+    }];
+    for case in &spec.load_cases {
+        let s = with_gas(spec, case.gas);
+        let mut w = Vec::new();
+        let torque = torque_outcome(&s, at, geo, rotating, &mut w)?;
+        warnings.extend(w.iter().map(|w| format!("load case {}: {w}", case.name)));
+        let drive = spec
+            .drive
+            .as_ref()
+            .map(|d| drive_outcome(&s, d, at, geo, rotating))
+            .transpose()?;
+        cases.push(CaseOutcome {
+            case: case.clone(),
+            torque,
+            drive,
+            at_flywheel: None,
+        });
+    }
+    let flywheel = spec
+        .drive
+        .as_ref()
+        .and_then(|d| cases_flywheel(d, &cases, warnings));
+    for c in &mut cases {
+        c.at_flywheel = match (&c.drive, flywheel, &spec.drive) {
+            (Some(Ok(f)), Some(fw), Some(d)) if f.steady.flywheel != fw.inertia => {
+                let only = Drive {
+                    cs: None,
+                    flywheel: Some(fw.inertia),
+                    motor: d.motor.clone(),
+                };
+                let s = with_gas(spec, c.case.gas);
+                Some(drive_outcome(&s, &only, at, geo, rotating)?)
+            }
+            (own, _, _) => own.clone(),
+        };
+    }
+    check_cs(spec.drive.as_ref().and_then(|d| d.cs), &cases, warnings);
+    Ok(Some(LoadCasesOutcome { cases, flywheel }))
+}
+
+/// `spec` with the cycle `gas` and no load cases: one case, for the single-case code.
+fn with_gas(spec: &DynamicsSpec, gas: GasCycle) -> DynamicsSpec {
+    DynamicsSpec {
+        gas: Some(gas),
+        load_cases: Vec::new(),
+        ..spec.clone()
+    }
+}
+
+/// I*: the file's `flywheel`, else with `cs` the largest of the cases' least flywheels (see
+/// the module's doc), else none. A case whose drive failed leaves it unknown (a warning).
+fn cases_flywheel(
+    d: &Drive,
+    cases: &[CaseOutcome],
+    warnings: &mut Vec<String>,
+) -> Option<CasesFlywheel> {
+    if let Some(f) = d.flywheel {
+        return Some(CasesFlywheel {
+            inertia: f,
+            error: 0.0,
+            governing: None,
+        });
+    }
+    d.cs?;
+    let mut least = Vec::with_capacity(cases.len());
+    for c in cases {
+        match &c.drive {
+            Some(Ok(DriveFigures {
+                flywheel: Some(f), ..
+            })) => least.push((f.inertia, f.inertia_error)),
+            Some(Err(why)) => {
+                warnings.push(format!(
+                    "no flywheel for all the load cases: the drive of load case {} failed: {why}",
+                    c.case.name
+                ));
+                return None;
+            }
+            _ => return None,
+        }
+    }
+    let k = argmax(least.iter().map(|l| l.0))?;
+    Some(CasesFlywheel {
+        inertia: least[k].0,
+        error: least.iter().map(|l| l.1).fold(0.0, f64::max),
+        governing: Some(k),
+    })
+}
+
+/// A warning for every case whose steady state at the flywheel of all the cases swings more
+/// than `cs` beyond its error.
+fn check_cs(cs: Option<f64>, cases: &[CaseOutcome], warnings: &mut Vec<String>) {
+    let Some(cs) = cs else { return };
+    for c in cases {
+        if let Some(Ok(f)) = &c.at_flywheel {
+            let st = &f.steady;
+            if st.cs > cs + st.cs_error {
+                warnings.push(format!(
+                    "load case {}: Cs = {:.6} ± {:.1e} with the flywheel {:.6} kg·m² is above mechanism.drive.cs = {cs}",
+                    c.case.name, st.cs, st.cs_error, st.flywheel
+                ));
+            }
+        }
+    }
+}
+
+/// The index of the largest value (the first of equal ones); `None` for no values or NaN.
+fn argmax(v: impl Iterator<Item = f64>) -> Option<usize> {
+    let mut best: Option<(usize, f64)> = None;
+    for (i, x) in v.enumerate() {
+        if x.is_nan() {
+            return None;
+        }
+        if best.is_none_or(|b| x > b.1) {
+            best = Some((i, x));
+        }
+    }
+    best.map(|b| b.0)
+}
+
+/// One case's row of the `load_cases` section and of `<name>-load-cases.csv` (keys with
+/// their unit suffix, `docs/results.md`): its pressures, its drive torque (the single-case
+/// keys of `numbers::DynamicsDerived`) and, with `[mechanism.drive]`, the single-case drive
+/// keys ([`DriveNumbers`]) of its own constant-speed figures and least flywheel with its
+/// steady state at the flywheel of all the cases.
+#[derive(Debug, Serialize)]
+struct CaseRow<'a> {
+    case: &'a str,
+    suction_pressure_pa: f64,
+    discharge_pressure_pa: f64,
+    drive_torque_mean_nm: f64,
+    drive_torque_peak_nm: f64,
+    drive_torque_peak_error_nm: f64,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    indicated_work_nm: Option<f64>,
+    #[serde(flatten)]
+    drive: Option<DriveNumbers>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    drive_error: Option<&'a str>,
+}
+
+impl<'a> CaseRow<'a> {
+    /// `c`'s row; `peak_force` the design's constant-speed peak shaking force (N).
+    fn of(c: &'a CaseOutcome, peak_force: Option<f64>) -> CaseRow<'a> {
+        let (t, g) = (&c.torque, &c.case.gas);
+        let own = c.drive.as_ref().and_then(|d| d.as_ref().ok());
+        let at = c.at_flywheel.as_ref().and_then(|d| d.as_ref().ok());
+        let why = [&c.drive, &c.at_flywheel]
+            .into_iter()
+            .find_map(|d| d.as_ref().and_then(|d| d.as_ref().err()));
+        CaseRow {
+            case: &c.case.name,
+            suction_pressure_pa: g.suction,
+            discharge_pressure_pa: g.discharge,
+            drive_torque_mean_nm: t.mean,
+            drive_torque_peak_nm: t.peak,
+            drive_torque_peak_error_nm: t.peak_error,
+            indicated_work_nm: t.indicated_work,
+            drive: own.zip(at).map(|(own, at)| {
+                let f = own.flywheel.as_ref();
+                DriveNumbers::of(&own.constant, f, &at.steady, at.real, peak_force)
+            }),
+            drive_error: why.map(String::as_str),
+        }
+    }
+
+    /// The drive's numbers, if the case has them.
+    fn d(&self) -> Option<&DriveNumbers> {
+        self.drive.as_ref()
+    }
+}
+
+/// The worst case's figures over the load cases (`derived`, `docs/results.md`): each the
+/// largest over the cases (ω_min the smallest), its error the largest of the cases' errors.
+#[derive(Debug, Default, Serialize)]
+struct WorstCase {
+    load_case_count: f64,
+    worst_case_drive_torque_mean_nm: Option<f64>,
+    worst_case_drive_torque_peak_nm: Option<f64>,
+    worst_case_drive_torque_peak_error_nm: Option<f64>,
+    worst_case_energy_fluctuation_j: Option<f64>,
+    worst_case_energy_fluctuation_error_j: Option<f64>,
+    worst_case_flywheel_textbook_kgm2: Option<f64>,
+    load_cases_flywheel_kgm2: Option<f64>,
+    load_cases_flywheel_error_kgm2: Option<f64>,
+    worst_case_steady_cs: Option<f64>,
+    worst_case_steady_cs_error: Option<f64>,
+    worst_case_steady_omega_min_rad_s: Option<f64>,
+    worst_case_steady_omega_max_rad_s: Option<f64>,
+    worst_case_steady_peak_shaft_torque_nm: Option<f64>,
+    worst_case_steady_peak_shaft_torque_error_nm: Option<f64>,
+}
+
+/// The largest of one figure over the rows (`None` if a row lacks it) and its case's index.
+fn worst(rows: &[CaseRow], f: impl Fn(&CaseRow) -> Option<f64>) -> Option<(f64, usize)> {
+    let v: Option<Vec<f64>> = rows.iter().map(&f).collect();
+    let v = v?;
+    argmax(v.iter().copied()).map(|k| (v[k], k))
+}
+
+/// The load cases in the result: the worst case's figures in `derived`, the `load_cases`
+/// section (the flywheel of all the cases, the governing cases' names, one row per case).
+pub fn numbers(r: &mut SolveResult, lc: &LoadCasesOutcome, peak_force: Option<f64>) {
+    let rows: Vec<CaseRow> = lc
+        .cases
+        .iter()
+        .map(|c| CaseRow::of(c, peak_force))
+        .collect();
+    let max = |f: &dyn Fn(&CaseRow) -> Option<f64>| worst(&rows, f).map(|w| w.0);
+    let name = |w: Option<(f64, usize)>| w.map(|w| rows[w.1].case);
+    let peak = worst(&rows, |c| Some(c.drive_torque_peak_nm));
+    let energy = worst(&rows, |c| c.d().map(|d| d.energy_fluctuation_j));
+    let cs = worst(&rows, |c| c.d().map(|d| d.steady_cs));
+    let shaft = worst(&rows, |c| c.d().and_then(|d| d.steady_peak_shaft_torque_nm));
+    r.derived.extend(number_map(&WorstCase {
+        load_case_count: rows.len() as f64,
+        worst_case_drive_torque_mean_nm: max(&|c| Some(c.drive_torque_mean_nm)),
+        worst_case_drive_torque_peak_nm: peak.map(|w| w.0),
+        worst_case_drive_torque_peak_error_nm: max(&|c| Some(c.drive_torque_peak_error_nm)),
+        worst_case_energy_fluctuation_j: energy.map(|w| w.0),
+        worst_case_energy_fluctuation_error_j: max(&|c| {
+            c.d().map(|d| d.energy_fluctuation_error_j)
+        }),
+        worst_case_flywheel_textbook_kgm2: max(&|c| c.d().and_then(|d| d.flywheel_textbook_kgm2)),
+        load_cases_flywheel_kgm2: lc.flywheel.map(|f| f.inertia),
+        load_cases_flywheel_error_kgm2: lc.flywheel.map(|f| f.error),
+        worst_case_steady_cs: cs.map(|w| w.0),
+        worst_case_steady_cs_error: max(&|c| c.d().map(|d| d.steady_cs_error)),
+        worst_case_steady_omega_min_rad_s: max(&|c| c.d().map(|d| -d.steady_omega_min_rad_s))
+            .map(|w| -w),
+        worst_case_steady_omega_max_rad_s: max(&|c| c.d().map(|d| d.steady_omega_max_rad_s)),
+        worst_case_steady_peak_shaft_torque_nm: shaft.map(|w| w.0),
+        worst_case_steady_peak_shaft_torque_error_nm: max(&|c| {
+            c.d().and_then(|d| d.steady_peak_shaft_torque_error_nm)
+        }),
+    }));
+    let flywheel_case = lc.flywheel.and_then(|f| f.governing).map(|k| rows[k].case);
+    r.extra.insert(
+        "load_cases".into(),
+        json!({
+            "count": rows.len(),
+            "flywheel_kgm2": lc.flywheel.map(|f| f.inertia),
+            "flywheel_error_kgm2": lc.flywheel.map(|f| f.error),
+            "flywheel_rule": lc.flywheel.map(|f| match f.governing {
+                Some(_) => "the largest least flywheel over the cases (mechanism.drive.cs)",
+                None => "the given flywheel (mechanism.drive.flywheel)",
+            }),
+            "flywheel_case": flywheel_case,
+            "drive_torque_peak_case": name(peak),
+            "energy_fluctuation_case": name(energy),
+            "steady_cs_case": name(cs),
+            "steady_peak_shaft_torque_case": name(shaft),
+            "cases": rows,
+        }),
+    );
+}
+
+/// `<name>-load-cases.csv`: the `load_cases` section's rows, one per case, its keys the
+/// columns in the JSON's order (`case` first); a figure a case lacks is empty.
+pub fn table(r: &mut SolveResult, lc: &LoadCasesOutcome, peak_force: Option<f64>) {
+    let rows: Vec<serde_json::Value> = lc
+        .cases
+        .iter()
+        .map(|c| json!(CaseRow::of(c, peak_force)))
+        .collect();
+    let mut cols: Vec<&str> = Vec::new();
+    for row in rows.iter().filter_map(|x| x.as_object()) {
+        for k in row.keys() {
+            if !cols.contains(&k.as_str()) {
+                cols.push(k);
+            }
+        }
+    }
+    let mut csv = cols.join(",") + "\n";
+    for row in &rows {
+        let cells: Vec<String> = cols
+            .iter()
+            .map(|k| match row.get(*k) {
+                Some(serde_json::Value::String(s)) => s.clone(),
+                Some(serde_json::Value::Null) | None => String::new(),
+                Some(v) => v.to_string(),
+            })
+            .collect();
+        csv += &(cells.join(",") + "\n");
+    }
+    r.tables.push(Table {
+        suffix: "load-cases".into(),
+        caption: "The load cases: each case's pressures, drive torque, energy fluctuation, flywheels (textbook and least) and steady state at the flywheel of all the cases".into(),
+        csv,
+    });
+}
