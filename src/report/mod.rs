@@ -608,7 +608,7 @@ pub fn fmt_num(v: f64) -> String {
 /// pure number.
 pub fn workshop_unit(key: &str, v: f64) -> (String, &'static str, f64) {
     use std::f64::consts::PI;
-    let table: [(&str, &str, f64); 20] = [
+    let table: [(&str, &str, f64); 21] = [
         ("_rad_s2", "rad/s²", 1.0),
         ("_rad_s", "rpm", 30.0 / PI),
         ("_per_m", "1/m", 1.0),
