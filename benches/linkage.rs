@@ -37,7 +37,7 @@ fn bench(c: &mut Criterion) {
     let sc = scene("linkage-fourbar-crank-counterweight");
     let p: &LinkageProblem = sc.machine().unwrap();
     let fields = SceneFields::new(&p.scene);
-    let (f, _, _) = field_objects(&fields);
+    let (f, _, _) = field_objects(&fields, "");
     let pb = Problem {
         fields: vec![&f],
         counterweights: p.scene.counterweights.iter().map(limits_of).collect(),
@@ -87,7 +87,7 @@ fn pareto(c: &mut Criterion) {
     let sc = scene("linkage-sixbar-press");
     let p: &LinkageProblem = sc.machine().unwrap();
     let fields = SceneFields::new(&p.scene);
-    let (f, m, t) = field_objects(&fields);
+    let (f, m, t) = field_objects(&fields, "");
     let pb = Problem {
         fields: vec![&f, &m, &t],
         counterweights: p.scene.counterweights.iter().map(limits_of).collect(),
