@@ -5,8 +5,9 @@
 //! the vertices, and ΔE's worst case matches the drive's own quadrature at every vertex.
 
 use crate::common::{err, problem, set_key, Lcg};
+use cwsynth::families::linkage::drive::delta_e;
 use cwsynth::families::linkage::file::LinkageProblem;
-use cwsynth::families::linkage::solve_envelope::{delta_e, peaks};
+use cwsynth::families::linkage::solve_envelope::peaks;
 use cwsynth::families::linkage::synth as ls;
 use cwsynth::families::{parse_str, solve_scene};
 use cwsynth::report::Status;

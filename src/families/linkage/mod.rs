@@ -4,6 +4,7 @@
 //! programs (`synth`), its result and plots (`report`) and its
 //! study ladder (`study`), behind the `Family` and `Machine` traits.
 
+pub mod drive;
 pub mod envelope;
 pub mod file;
 pub mod file_envelope;

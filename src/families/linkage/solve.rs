@@ -4,7 +4,7 @@
 //! them, and the Berkof–Lowen closed form of a four-bar — every number the result reports.
 
 use super::file::{Goal, LinkageProblem, LinkageScene, Objective as ObjectiveSpec};
-use super::model::{DriveTerms, ForceBalance};
+use super::model::ForceBalance;
 use super::synth::{self as ls, JointPeak, Outcome};
 use crate::dynamics::{self, Drive, DriveError, DriveFigures, SteadyState};
 use crate::families::driver::Claim;
@@ -144,51 +144,18 @@ pub fn solve(p: &LinkageProblem) -> Result<Solution, String> {
 /// ([`crate::families::linkage::model::Linkage::drive_terms`]).
 fn drive(p: &LinkageProblem, d: &Drive, x: Option<&[f64]>) -> Result<DriveFigures, DriveError> {
     let lk = &p.scene.linkage;
-    let terms = drive_terms(p, x);
-    let figures = dynamics::drive(&one_dof(&terms), lk.omega(), d, &drive_settings(p))?;
+    let terms = super::drive::terms(&p.scene, x);
+    let settings = super::drive::settings(&p.scene);
+    let figures = dynamics::drive(&super::drive::one_dof(&terms), lk.omega(), d, &settings)?;
     Ok(figures.with_real_speed(&d.motor, |th, w, a| {
         terms(th).map(|t| (t.momentum_rate * (w * w) + t.momentum * a).norm())
     }))
 }
 
-/// The drive's terms (J, J′, G and the momentum, `Linkage::drive_terms`) of the design `x`
-/// (without one, the bare linkage's) at any crank angle; `None` where it does not assemble.
-fn drive_terms<'a>(
-    p: &'a LinkageProblem,
-    x: Option<&[f64]>,
-) -> impl Fn(f64) -> Option<DriveTerms> + Sync + 'a {
-    let sc = &p.scene;
-    let extra = x
-        .map(|x| ls::extras(&sc.counterweights, x))
-        .unwrap_or_default();
-    move |th: f64| {
-        let lk = &sc.linkage;
-        lk.pose(th).ok().map(|pose| lk.drive_terms(&pose, &extra))
-    }
-}
-
-/// The one-degree-of-freedom machine (J, J′, G) of the drive's terms; not finite where the
-/// linkage does not assemble (the drive then fails naming the angle).
-fn one_dof(
-    terms: &(impl Fn(f64) -> Option<DriveTerms> + Sync),
-) -> impl Fn(f64) -> [f64; 3] + Sync + '_ {
-    move |th| terms(th).map_or([f64::NAN; 3], |t| [t.j, t.dj, t.g])
-}
-
-/// The drive's accuracy: a load table's corners are kinks of G.
-fn drive_settings(p: &LinkageProblem) -> dynamics::DriveSettings {
-    if p.scene.linkage.loads().is_empty() {
-        dynamics::DriveSettings::default()
-    } else {
-        dynamics::DriveSettings::for_kinks()
-    }
-}
-
 /// ΔE at constant speed with its error bound, of the design `x` (the bare linkage's
-/// without): the drive's own quadrature, independent of the engine's energy field
-/// ([`super::solve_envelope::delta_e`]).
+/// without): the drive's own quadrature ([`super::drive::delta_e`]).
 fn energy_fluctuation(p: &LinkageProblem, x: Option<&[f64]>) -> Result<(f64, f64), String> {
-    super::solve_envelope::delta_e(&p.scene, x)
+    super::drive::delta_e(&p.scene, x)
 }
 
 /// ΔE of the bare linkage and of the design, with `minimize = "energy-fluctuation"`.

@@ -4,10 +4,10 @@
 //! points of the whole box, each a separate scan and refinement of the design's fields (not
 //! the engine), none of which may exceed a worst case beyond both errors.
 
+use super::drive::delta_e;
 use super::file::{Goal, LinkageScene};
 use super::model::Linkage;
 use super::synth::{self as ls, Outcome, FORCE, MOMENT, TORQUE};
-use crate::dynamics::{self, DriveSettings};
 use crate::numeric::{periodic_peak_sampled, Refine};
 use crate::synth::envelope::{halton_point, vertices, worst, WorstCase};
 use crate::synth::minimax::{FieldPeak, Settings};
@@ -82,29 +82,26 @@ pub fn evaluate(
     let values: Vec<Vec<f64>> = std::iter::once(env.nominal(&scene.linkage))
         .chain(vertices(&env.ranges()))
         .collect();
-    let scenes = std::iter::once(Ok(scene.clone()))
-        .chain(
-            ls::vertex_scenes(scene)
-                .map_err(|e| e.to_string())?
-                .into_iter()
-                .map(Ok),
-        )
-        .collect::<Result<Vec<LinkageScene>, String>>()?;
+    // ΔE by the drive's quadrature in each scenario's scene (the nominal values give the
+    // nominal scene).
+    let energy_at = |v: &[f64]| {
+        let sc = ls::scene_at(scene, v).map_err(|e| e.to_string())?;
+        delta_e(&sc, x)
+    };
     let scenarios = values
         .into_iter()
-        .zip(&scenes)
         .enumerate()
-        .map(|(b, (v, sc))| {
+        .map(|(b, v)| {
             let pk = |k: usize| {
                 let p = &peaks[b * out.block_len + k];
                 (p.peak, p.error)
             };
             Ok(ScenarioFigures {
+                energy_fluctuation_j: energy.then(|| energy_at(&v)).transpose()?,
                 values: v,
                 peak_shaking_force_n: pk(FORCE),
                 peak_shaking_moment_nm: pk(MOMENT),
                 peak_input_torque_nm: pk(TORQUE),
-                energy_fluctuation_j: energy.then(|| delta_e(sc, x)).transpose()?,
             })
         })
         .collect::<Result<Vec<_>, String>>()?;
@@ -193,25 +190,4 @@ pub fn peaks(
         *o = (pk.peak.fx, pk.error + round);
     }
     Ok(out)
-}
-
-/// ΔE of `sc` with the design `x` and its error: the drive's own quadrature of
-/// T = ½ J′ ω² + G (`dynamics::constant_speed`), not the engine's energy field.
-pub fn delta_e(sc: &LinkageScene, x: Option<&[f64]>) -> Result<(f64, f64), String> {
-    let l = &sc.linkage;
-    let extra = x
-        .map(|x| ls::extras(&sc.counterweights, x))
-        .unwrap_or_default();
-    let m = |th: f64| {
-        l.pose(th).ok().map_or([f64::NAN; 3], |p| {
-            let t = l.drive_terms(&p, &extra);
-            [t.j, t.dj, t.g]
-        })
-    };
-    let settings = match l.loads().is_empty() {
-        true => DriveSettings::default(),
-        false => DriveSettings::for_kinks(),
-    };
-    let c = dynamics::constant_speed(&m, l.omega(), &settings).map_err(|e| e.to_string())?;
-    Ok((c.energy_fluctuation, c.energy_fluctuation_error))
 }

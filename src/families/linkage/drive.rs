@@ -1,0 +1,51 @@
+//! The linkage as a one-degree-of-freedom machine for the drive (`crate::dynamics`): its
+//! terms J, J′, G and momentum at any crank angle for a design, and ΔE at constant speed —
+//! shared by the drive of the whole solve and by the scenarios of the operating envelope.
+
+use super::file::LinkageScene;
+use super::model::DriveTerms;
+use super::synth as ls;
+use crate::dynamics::{self, DriveSettings};
+
+/// The drive's terms (J, J′, G and the momentum, `Linkage::drive_terms`) of `sc` with the
+/// design `x` (without one, the bare linkage's) at any crank angle; `None` where it does not
+/// assemble.
+pub fn terms<'a>(
+    sc: &'a LinkageScene,
+    x: Option<&[f64]>,
+) -> impl Fn(f64) -> Option<DriveTerms> + Sync + 'a {
+    let extra = x
+        .map(|x| ls::extras(&sc.counterweights, x))
+        .unwrap_or_default();
+    move |th: f64| {
+        let lk = &sc.linkage;
+        lk.pose(th).ok().map(|pose| lk.drive_terms(&pose, &extra))
+    }
+}
+
+/// The one-degree-of-freedom machine (J, J′, G) of the drive's terms; not finite where the
+/// linkage does not assemble (the drive then fails naming the angle).
+pub fn one_dof(
+    terms: &(impl Fn(f64) -> Option<DriveTerms> + Sync),
+) -> impl Fn(f64) -> [f64; 3] + Sync + '_ {
+    move |th| terms(th).map_or([f64::NAN; 3], |t| [t.j, t.dj, t.g])
+}
+
+/// The drive's accuracy: a load table's corners are kinks of G.
+pub fn settings(sc: &LinkageScene) -> DriveSettings {
+    if sc.linkage.loads().is_empty() {
+        DriveSettings::default()
+    } else {
+        DriveSettings::for_kinks()
+    }
+}
+
+/// ΔE of `sc` with the design `x` (the bare linkage's without) and its error bound: the
+/// drive's own quadrature of T = ½ J′ ω² + G (`dynamics::constant_speed`), independent of the
+/// engine's energy field.
+pub fn delta_e(sc: &LinkageScene, x: Option<&[f64]>) -> Result<(f64, f64), String> {
+    let terms = terms(sc, x);
+    let c = dynamics::constant_speed(&one_dof(&terms), sc.linkage.omega(), &settings(sc))
+        .map_err(|e| e.to_string())?;
+    Ok((c.energy_fluctuation, c.energy_fluctuation_error))
+}
