@@ -134,6 +134,19 @@ fn the_press_worst_case_energy_fluctuation_is_the_vertices_quadrature() {
         "{} vs {w} ± {e}",
         sol.objective
     );
+    // The shipped file's sensitivity table (checked against re-solves for the peak force in
+    // `sensitivities.rs`): every end, each derivative's error small against the table's.
+    let rows = r.extra["envelope"]["sensitivities"].as_array().unwrap();
+    assert_eq!(rows.len(), 6);
+    let d = |r: &serde_json::Value, k: &str| r[k].as_f64().unwrap();
+    let scale = rows
+        .iter()
+        .map(|r| d(r, "derivative").abs())
+        .fold(0.0, f64::max);
+    assert!(scale > 0.0);
+    for row in rows {
+        assert!(d(row, "error") < 1e-2 * scale, "{row}");
+    }
     // A heavier ram at the slowest speed: ΔE there is below the worst case.
     let mut rng = Lcg(11);
     for _ in 0..20 {

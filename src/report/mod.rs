@@ -7,6 +7,7 @@
 
 pub mod drawing;
 pub mod drive;
+pub mod envelope;
 pub mod numbers;
 pub mod page;
 pub mod plot;

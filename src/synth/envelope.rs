@@ -5,8 +5,10 @@
 //! A figure affine in each parameter separately (masses; ω² with the weights fixed) has a
 //! magnitude — and ΔE, a max minus a min of affine functions — convex in each, so its
 //! maximum over the box is at a vertex: the vertices are the scenarios a certified worst case
-//! needs. The Halton points check it (they never certify it).
+//! needs. The Halton points check it (they never certify it). What each interval end costs
+//! comes from the optimum's multipliers ([`sensitivities`]).
 
+use crate::synth::minimax::Multiplier;
 use crate::synth::search::starts::{halton, HALTON_PRIMES};
 
 /// Most interval parameters of an envelope: 2^10 = 1024 vertices (and the Halton bases).
@@ -62,23 +64,182 @@ pub fn worst(rows: impl IntoIterator<Item = (f64, f64)>) -> Option<WorstCase> {
         })
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
+/// Which end of an interval.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum End {
+    /// The lower end.
+    Min,
+    /// The upper end.
+    Max,
+}
 
-    #[test]
-    fn vertices_are_in_binary_order() {
-        let v = vertices(&[(0.0, 1.0), (2.0, 3.0)]);
-        assert_eq!(
-            v,
-            vec![vec![0., 2.], vec![1., 2.], vec![0., 3.], vec![1., 3.]]
-        );
-        assert_eq!(vertices(&[]), vec![Vec::<f64>::new()]);
-    }
+/// One row of a sensitivity table.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct Sensitivity {
+    /// The parameter (the family's name for it).
+    pub parameter: String,
+    /// Which end moves.
+    pub end: End,
+    /// The end's value (the parameter's SI unit).
+    pub at: f64,
+    /// dV*/d(end): the optimised worst case's change per unit of the end (the objective's
+    /// unit per the parameter's SI unit).
+    pub derivative: f64,
+    /// Bound on its error (same unit).
+    pub error: f64,
+}
 
-    #[test]
-    fn the_worst_is_the_last_largest() {
-        let w = worst([(1.0, 0.1), (3.0, 0.2), (3.0, 0.3)]).unwrap();
-        assert_eq!((w.value, w.error, w.vertex), (3.0, 0.3, 2));
+/// ∂|g|/∂v of one active maximum with the design and its angle held, and its error: what a
+/// family computes for [`sensitivities`] by moving one parameter of one scenario.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Slope {
+    /// The derivative (the field's unit per the parameter's).
+    pub value: f64,
+    /// A bound on its error.
+    pub error: f64,
+}
+
+/// How a figure depends on a parameter, for [`central_slopes`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Dependence {
+    /// The field g (not its magnitude) affine or quadratic in it (a mass; ω, where the
+    /// inertial parts scale with ω²): its central difference is exact but for the
+    /// evaluations' errors, whatever the step.
+    Quadratic,
+    /// Anything else (a length): the magnitude's truncation is estimated from a second step.
+    General,
+}
+
+/// One field's value at an angle and the design: g (a scalar in component 0) and a bound on
+/// its evaluation error.
+pub type FieldValue = ([f64; 2], f64);
+
+/// ∂|g|/∂v at `v` of the fields `f(v)` by central differences with step `h`. For a
+/// [`Dependence::Quadratic`] field, ∂g/∂v = (g(v + h) − g(v − h))/2h exactly but for the
+/// evaluations, and ∂|g|/∂v = ĝ·∂g/∂v with ĝ = g(v)/|g(v)|: the error is the evaluations'
+/// (e₊ + e₋)/2h, ĝ's (e₀/|g|)·|∂g/∂v| and the round-off 4ε·max|g|/h. Otherwise |g| at ±h
+/// and ±2h: d_h with |d_h − d_2h| (d_2h's truncation is four times d_h's, so this
+/// over-covers d_h's) and the evaluations' errors over the steps.
+pub fn central_slopes<E>(
+    v: f64,
+    h: f64,
+    dependence: Dependence,
+    mut f: impl FnMut(f64) -> Result<Vec<FieldValue>, E>,
+) -> Result<Vec<Slope>, E> {
+    let norm = |g: &[f64; 2]| g[0].hypot(g[1]);
+    let (p1, m1) = (f(v + h)?, f(v - h)?);
+    let size = |a: &FieldValue, b: &FieldValue| norm(&a.0).max(norm(&b.0));
+    let round_off = |size: f64, h: f64| 4.0 * f64::EPSILON * size / h;
+    let slopes = match dependence {
+        Dependence::Quadratic => {
+            let at = f(v)?;
+            (0..p1.len())
+                .map(|k| {
+                    let dg = [0, 1].map(|r| (p1[k].0[r] - m1[k].0[r]) / (2.0 * h));
+                    let (g, e0) = at[k];
+                    let n = norm(&g);
+                    let (value, dir_error) = match n > 0.0 {
+                        true => ((g[0] * dg[0] + g[1] * dg[1]) / n, e0 / n * norm(&dg)),
+                        false => (norm(&dg), 0.0),
+                    };
+                    let eval = (p1[k].1 + m1[k].1) / (2.0 * h);
+                    Slope {
+                        value,
+                        error: eval + dir_error + round_off(size(&p1[k], &m1[k]), h),
+                    }
+                })
+                .collect()
+        }
+        Dependence::General => {
+            let (p2, m2) = (f(v + 2.0 * h)?, f(v - 2.0 * h)?);
+            (0..p1.len())
+                .map(|k| {
+                    let d1 = (norm(&p1[k].0) - norm(&m1[k].0)) / (2.0 * h);
+                    let d2 = (norm(&p2[k].0) - norm(&m2[k].0)) / (4.0 * h);
+                    let eval = (p1[k].1 + m1[k].1) / (2.0 * h) + (p2[k].1 + m2[k].1) / (4.0 * h);
+                    Slope {
+                        value: d1,
+                        error: (d1 - d2).abs() + eval + round_off(size(&p2[k], &m2[k]), h),
+                    }
+                })
+                .collect()
+        }
+    };
+    Ok(slopes)
+}
+
+/// The step of [`central_slopes`] for a parameter at `v` with interval `range`: 1 % of its
+/// width for a quadratic dependence (exact at any step; a long step divides the evaluations'
+/// errors), 10⁻⁴ of it otherwise; a point interval's magnitude (else 10⁻⁶) stands for the
+/// width; at most half of |v| where v ≠ 0 (an absolute mass or speed stays positive).
+pub fn step(v: f64, range: (f64, f64), dependence: Dependence) -> f64 {
+    let w = range.1 - range.0;
+    let width = if w > 0.0 {
+        w
+    } else if range.0 != 0.0 {
+        range.0.abs()
+    } else {
+        1e-6
+    };
+    let h = width
+        * match dependence {
+            Dependence::Quadratic => 1e-2,
+            Dependence::General => 1e-4,
+        };
+    if v != 0.0 {
+        h.min(0.5 * v.abs())
+    } else {
+        h
     }
+}
+
+/// The sensitivity of the optimised worst case V* to every interval end, free once the
+/// program is solved: by the envelope theorem, dV*/d(end) = Σ_k w_k ∂|g_k(θ_k; x*)|/∂v over
+/// the optimum's active maxima k ([`Multiplier`]) whose scenario has the parameter at that
+/// end, the design x* and the angles θ_k held. Field f belongs to scenario f / `stride`:
+/// 0 is the nominal scene (at no end), s ≥ 1 vertex s − 1 of [`vertices`] (bit i set:
+/// parameter i at its upper end). `slopes(s, i, maxima)` is ∂|g|/∂v_i of each of scenario
+/// s's active maxima (the family's fields, moved once for all of them). The error is
+/// Σ_k (|w_k|·slope error + w_k's error·|slope|). It is V*'s derivative where V* is
+/// differentiable; where the active set changes at the end (an end whose scenarios are all
+/// inactive but tie the worst case) it is one of the one-sided derivatives.
+pub fn sensitivities<E>(
+    names: &[String],
+    ranges: &[(f64, f64)],
+    stride: usize,
+    multipliers: &[Multiplier],
+    mut slopes: impl FnMut(usize, usize, &[&Multiplier]) -> Result<Vec<Slope>, E>,
+) -> Result<Vec<Sensitivity>, E> {
+    let active: Vec<&Multiplier> = multipliers.iter().filter(|m| m.weight != 0.0).collect();
+    let mut scenarios: Vec<usize> = active.iter().map(|m| m.field / stride).collect();
+    scenarios.sort_unstable();
+    scenarios.dedup();
+    let mut rows = Vec::new();
+    for (i, (name, &(lo, hi))) in names.iter().zip(ranges).enumerate() {
+        // (derivative, error) of the lower and the upper end.
+        let mut ends = [(0.0, 0.0); 2];
+        for &s in scenarios.iter().filter(|&&s| s >= 1) {
+            let at: Vec<&Multiplier> = active
+                .iter()
+                .copied()
+                .filter(|m| m.field / stride == s)
+                .collect();
+            let end = &mut ends[(s - 1) >> i & 1];
+            for (m, sl) in at.iter().zip(slopes(s, i, &at)?) {
+                end.0 += m.weight * sl.value;
+                end.1 += m.weight.abs() * sl.error + m.weight_error * sl.value.abs();
+            }
+        }
+        for (end, at, (derivative, error)) in [(End::Min, lo, ends[0]), (End::Max, hi, ends[1])] {
+            rows.push(Sensitivity {
+                parameter: name.clone(),
+                end,
+                at,
+                derivative,
+                error,
+            });
+        }
+    }
+    Ok(rows)
 }

@@ -33,6 +33,9 @@ pub struct LinkageEnvelope {
     pub masses: Vec<LinkMassRange>,
     /// Monte Carlo samples of the check (0: none).
     pub monte_carlo: usize,
+    /// The sensitivity table: dV*/d(end) of the optimised worst case for every interval end,
+    /// from the optimum's multipliers.
+    pub sensitivities: bool,
 }
 
 impl LinkageEnvelope {

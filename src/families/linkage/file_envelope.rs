@@ -26,6 +26,10 @@ pub struct LinkageEnvelopeRaw {
     /// Samples of the Monte Carlo check over the whole box (default 1000; 0: none; at most
     /// 1,000,000).
     pub monte_carlo: Option<usize>,
+    /// The sensitivity table (default false): what each interval end costs, dV*/d(end) of the
+    /// optimised worst case, from the optimum's multipliers (free once solved).
+    #[serde(default)]
+    pub sensitivities: bool,
 }
 
 /// The envelope of `[mechanism.envelope]` for the linkage `l` with links `names`.
@@ -75,6 +79,7 @@ pub fn resolve_envelope(
         speed,
         masses,
         monte_carlo: monte_carlo(e.monte_carlo)?,
+        sensitivities: e.sensitivities,
     };
     check_parameters(env.names().len(), MAX_PARAMETERS)?;
     Ok(env)

@@ -193,6 +193,11 @@ fn envelope_numbers(r: &mut SolveResult, p: &LinkageProblem, sol: &Solved) {
             mc.beyond_worst_case, mc.samples
         ));
     }
+    if let Some(why) = &env.sensitivity_error {
+        r.warnings.push(format!(
+            "the envelope's sensitivities could not be computed: {why}"
+        ));
+    }
     let mut v = serde_json::to_value(env).unwrap_or_default();
     v["certified"] = json!(true);
     v["csv"] = json!(format!("{}-envelope.csv", r.name));

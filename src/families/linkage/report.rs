@@ -36,6 +36,10 @@ pub fn documents(scene: &Scene, p: &LinkageProblem, sol: &Solved, r: &mut SolveR
             caption: "The design over the operating envelope: the nominal scene, then every vertex of the box (the worst case over it is at one)".into(),
             csv: super::numbers::envelope_csv(env),
         });
+        if let Some(rows) = &env.sensitivities {
+            r.tables
+                .push(crate::report::envelope::sensitivity_table(rows));
+        }
     }
     if let Some(front) = &sol.out.pareto {
         pareto_documents(r, &Front::of(front, &sol.out));

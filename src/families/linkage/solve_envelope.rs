@@ -9,8 +9,9 @@ use super::file::{Goal, LinkageScene};
 use super::model::Linkage;
 use super::synth::{self as ls, Outcome, FORCE, MOMENT, TORQUE};
 use crate::numeric::{periodic_peak_sampled, Refine};
-use crate::synth::envelope::{halton_point, vertices, worst, WorstCase};
-use crate::synth::minimax::{FieldPeak, Settings};
+use crate::synth::envelope::{self, central_slopes, halton_point, step, vertices, worst};
+use crate::synth::envelope::{Dependence, Sensitivity, Slope, WorstCase};
+use crate::synth::minimax::{FieldPeak, Multiplier, Settings, Solution, PER_COUNTERWEIGHT};
 use rayon::prelude::*;
 
 /// A design's figures in one scenario: (value, error bound) of the peak shaking force (N),
@@ -66,6 +67,13 @@ pub struct EnvelopeOutcome {
     /// The check (absent with `monte_carlo = 0`).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub monte_carlo: Option<MonteCarlo>,
+    /// What each interval end costs (`sensitivities = true`), from the optimum's
+    /// multipliers ([`sensitivities`]).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub sensitivities: Option<Vec<Sensitivity>>,
+    /// Why the sensitivities asked for could not be computed.
+    #[serde(skip)]
+    pub sensitivity_error: Option<String>,
 }
 
 /// The design `x` (none: the bare linkage) over the envelope of `scene`, from the solve's
@@ -111,12 +119,54 @@ pub fn evaluate(
     let monte_carlo = (env.monte_carlo > 0)
         .then(|| monte_carlo(scene, x, &worst, s))
         .transpose()?;
+    let (sensitivities, sensitivity_error) = match (&out.design, env.sensitivities) {
+        (Some(d), true) => match sensitivities(scene, d, out.block_len) {
+            Ok(rows) => (Some(rows), None),
+            Err(e) => (None, Some(e)),
+        },
+        _ => (None, None),
+    };
     Ok(EnvelopeOutcome {
         parameters: env.names(),
         scenarios,
         worst,
         monte_carlo,
+        sensitivities,
+        sensitivity_error,
     })
+}
+
+/// The sensitivity table of the envelope design `sol` (`block_len` fields per scenario):
+/// each active maximum's slope when one parameter of its scenario moves, the design and the
+/// angle held (the scenario's scene rebuilt, [`ls::block_field_values`]; every figure is
+/// affine in a link's mass and quadratic in ω), weighted by its multiplier
+/// (`crate::synth::envelope::sensitivities`, the envelope theorem).
+pub fn sensitivities(
+    scene: &LinkageScene,
+    sol: &Solution,
+    block_len: usize,
+) -> Result<Vec<Sensitivity>, String> {
+    if sol.multipliers.is_empty() {
+        return Err(format!(
+            "the optimum has no multipliers (its status is {:?}, not certified by Newton's polish of the optimality conditions)",
+            sol.status
+        ));
+    }
+    let env = &scene.envelope;
+    let ranges = env.ranges();
+    let vs = vertices(&ranges);
+    let n_cw = PER_COUNTERWEIGHT * scene.counterweights.len();
+    let slopes = |k: usize, i: usize, ms: &[&Multiplier]| -> Result<Vec<Slope>, String> {
+        let at: Vec<(usize, f64)> = ms.iter().map(|m| (m.field % block_len, m.angle)).collect();
+        let mut values = vs[k - 1].clone();
+        let h = step(values[i], ranges[i], Dependence::Quadratic);
+        central_slopes(values[i], h, Dependence::Quadratic, |v| {
+            values[i] = v;
+            let s = ls::scene_at(scene, &values).map_err(|e| e.to_string())?;
+            ls::block_field_values(&s, &at, n_cw + k, &sol.x).map_err(|e| e.to_string())
+        })
+    };
+    envelope::sensitivities(&env.names(), &ranges, block_len, &sol.multipliers, slopes)
 }
 
 /// The Halton points 1..=N of the box, each scene's figures computed afresh: the largest and

@@ -629,19 +629,24 @@ struct Block<'a> {
 
 impl<'a> Block<'a> {
     /// The fields of `fields` (named with `label`), the energy curve's offset the design
-    /// variable `offset` of `n`.
+    /// variable `offset` of `n` (`with_energy` false: without the energy curve, which costs
+    /// its quadrature).
     fn new(
         fields: &'a SceneFields<'a>,
         label: &str,
         n: usize,
         offset: usize,
+        with_energy: bool,
     ) -> Result<Self, LinkageSolveError> {
         let (f, m, t) = field_objects(fields, label);
         let joints = match fields.scene.objective.max_joint_force {
             Some(_) => joint_field_objects(fields, label),
             None => Vec::new(),
         };
-        let energy = energy_field(fields.scene, &t, n, offset)?;
+        let energy = match with_energy {
+            true => energy_field(fields.scene, &t, n, offset)?,
+            false => None,
+        };
         Ok(Block {
             fmt: [f, m, t],
             joints,
@@ -655,6 +660,38 @@ impl<'a> Block<'a> {
         let joints = self.joints.iter().map(|j| j as &dyn mm::AffineField);
         let energy = self.energy.iter().map(|(e, _)| e as &dyn mm::AffineField);
         fmt.chain(joints).chain(energy).collect()
+    }
+}
+
+/// g and its evaluation error of each (field, θ) of `at` in one scenario block of the
+/// scene `s` (its energy curve's offset the design variable `offset`), at the design x
+/// (n = x.len()): active maxima's values when their scenario moves (the envelope's
+/// sensitivity table). The energy curve, which costs its quadrature, only where asked.
+pub fn block_field_values(
+    s: &LinkageScene,
+    at: &[(usize, f64)],
+    offset: usize,
+    x: &[f64],
+) -> Result<Vec<([f64; 2], f64)>, LinkageSolveError> {
+    let fields = SceneFields::new(s);
+    let mut block = Block::new(&fields, "", x.len(), offset, false)?;
+    if at.iter().any(|&(f, _)| f >= block.refs().len()) {
+        block = Block::new(&fields, "", x.len(), offset, true)?;
+    }
+    let refs = block.refs();
+    let mut out = mm::AffineValue::zeros(x.len());
+    let values = at
+        .iter()
+        .map(|&(f, theta)| {
+            out.b = [0.0; 2];
+            out.a.iter_mut().for_each(|v| *v = 0.0);
+            refs[f].eval(theta, &mut out);
+            (out.at(refs[f].dim(), x), refs[f].error(theta, x))
+        })
+        .collect();
+    match fields.failure() {
+        Some(e) => Err(e),
+        None => Ok(values),
     }
 }
 
@@ -732,13 +769,14 @@ pub fn solve(scene: &LinkageScene, settings: &Settings) -> Result<Outcome, Linka
         } else {
             usize::from(energy_goal) * (1 + vfields.len())
         };
-    let mut blocks = vec![Block::new(&fields, "", n, n_cw)?];
+    let mut blocks = vec![Block::new(&fields, "", n, n_cw, true)?];
     for (k, f) in vfields.iter().enumerate() {
         blocks.push(Block::new(
             f,
             &format!(" at vertex {}", k + 1),
             n,
             n_cw + 1 + k,
+            true,
         )?);
     }
     let mut linear = mass_rows(cws);

@@ -31,7 +31,7 @@ pub struct EnvelopeRaw {
     /// 1,000,000).
     pub monte_carlo: Option<usize>,
     /// The sensitivity table: the optimised worst case's derivative with respect to every
-    /// interval end (4 re-solves per end; default false).
+    /// interval end, from the optimum's multipliers (free once solved; default false).
     #[serde(default)]
     pub sensitivities: bool,
 }

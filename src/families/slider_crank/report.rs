@@ -73,23 +73,10 @@ pub fn documents(scene: &Scene, p: &SliderCrankProblem, sol: &Solution, r: &mut 
 
 /// The sensitivity table as `<name>-envelope-sensitivity.csv`.
 fn sensitivity_table(r: &mut SolveResult, rows: Option<&Result<Vec<sc::Sensitivity>, String>>) {
-    let Some(Ok(rows)) = rows else { return };
-    let mut csv = String::from("parameter,end,at_si,derivative,derivative_error\n");
-    for x in rows {
-        let end = match x.end {
-            sc::End::Min => "min",
-            sc::End::Max => "max",
-        };
-        csv += &format!(
-            "{},{end},{},{},{}\n",
-            x.parameter, x.at, x.derivative, x.error
-        );
+    if let Some(Ok(rows)) = rows {
+        r.tables
+            .push(crate::report::envelope::sensitivity_table(rows));
     }
-    r.tables.push(Table {
-        suffix: "envelope-sensitivity".into(),
-        caption: "What each interval end costs: the optimised worst case's derivative with respect to it (the objective's unit per rad/s, kg or m)".into(),
-        csv,
-    });
 }
 
 /// The design at every scenario of the envelope as `<name>-envelope.csv`.

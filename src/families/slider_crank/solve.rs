@@ -300,9 +300,7 @@ pub fn solve(p: &SliderCrankProblem) -> Result<Solution, String> {
     if let (Some(Ok(d)), Some(jl)) = (&sol.drive, &sol.out.joint_loads) {
         sol.real_joint_loads = real_joint_loads(&sol.out, &d.steady, jl);
     }
-    if s.envelope.sensitivities {
-        sol.sensitivities = Some(sc::sensitivities(s).map_err(|e| e.to_string()));
-    }
+    sol.sensitivities = sol.out.sensitivities.clone();
     Ok(sol)
 }
 

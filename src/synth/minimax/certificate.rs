@@ -415,6 +415,7 @@ impl<'p, 'a> Engine<'p, 'a> {
             ipm_iterations: iters,
             solver_status,
             note,
+            multipliers: Vec::new(),
         })
     }
 
@@ -448,6 +449,7 @@ impl<'p, 'a> Engine<'p, 'a> {
             ipm_iterations: iters,
             solver_status,
             note: Some(note),
+            multipliers: Vec::new(),
         }
     }
 }
@@ -506,6 +508,8 @@ impl<'p, 'a> Engine<'p, 'a> {
             },
             peaks,
             design_violation: self.design_violation(x),
+            // The multipliers are the optimum's, not this design's.
+            multipliers: Vec::new(),
             ..base.clone()
         })
     }

@@ -635,6 +635,32 @@ pub struct Solution {
     pub solver_status: String,
     /// Why the status is not `optimal`, if it is not.
     pub note: Option<String>,
+    /// The active maxima at the optimum with their multipliers, when Newton's polish
+    /// certified it (empty otherwise): the envelope theorem's weights ([`Multiplier`]).
+    #[serde(skip)]
+    pub multipliers: Vec<Multiplier>,
+}
+
+/// An active maximum of the optimum with its multiplier, in the caller's units: the weight
+/// of |g_f(θ; x*)| in the optimum's Lagrangian. By the envelope theorem a parameter p that
+/// moves the fields (not the design constraints) moves the optimum by
+/// dV*/dp = Σ_k `weight`_k ∂|g_{f_k}(θ_k; x*)|/∂p at the design x* and angles θ_k held, and
+/// a limit ε_f by dV*/dε_f = −Σ_{k: f_k = f} `weight`_k — where V* is differentiable (unique
+/// multipliers; on a tie of maxima with non-unique multipliers these are one of its
+/// one-sided derivatives). `weight` = T·λ·c: the objective's multiplier λ (Σλ = 1) times its
+/// weight w_f, or a limit's μ scaled back to the objective's unit.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct Multiplier {
+    /// The field f.
+    pub field: usize,
+    /// θ_k (rad), the maximum's polished angle.
+    pub angle: f64,
+    /// The weight (objective's unit per field's unit).
+    pub weight: f64,
+    /// A bound on its error: Newton's last step in the multiplier, scaled alike.
+    pub weight_error: f64,
+    /// True for a limit's maximum (|g_f| ≤ ε_f), false for the objective's.
+    pub limit: bool,
 }
 
 impl Solution {

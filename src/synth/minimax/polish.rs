@@ -27,7 +27,7 @@
 
 use super::assembly::Round;
 pub(super) use super::constraints::Design;
-use super::{AffineValue, Engine, Goal, MinimaxError, Solution, Stop};
+use super::{AffineValue, Engine, Goal, MinimaxError, Multiplier, Solution, Stop};
 use crate::numeric::PeriodicPeak;
 use crate::synth::exchange::{angle_dist, Status};
 use nalgebra::{DMatrix, DVector};
@@ -64,6 +64,9 @@ pub(super) struct Polished {
     /// The same as indices into [`Engine::design_constraints`]; `None` when the polish
     /// added constraints of its own (a counterweight at the apex of its cones).
     pub design_nu: Option<Vec<(usize, f64)>>,
+    /// The largest change of a term's multiplier in the Newton step from the last iterate:
+    /// the multipliers' error (Newton converges quadratically).
+    pub weight_error: f64,
 }
 
 /// φ = c|g_f(θ; S x̂)| and its derivatives at (θ, x̂).
@@ -284,6 +287,13 @@ impl Engine<'_, '_> {
         let mut nu = vec![0.0; ni];
         let mut last = f64::INFINITY;
         let mut stalls = 0;
+        let mut weight_error = f64::INFINITY;
+        // The step's largest change of a term's multiplier.
+        let dw = |jac: &DMatrix<f64>, r: &DVector<f64>| {
+            kkt_step(jac, r).map_or(f64::INFINITY, |s| {
+                (0..np).map(|p| s[iw + p].abs()).fold(0.0, f64::max)
+            })
+        };
         for _ in 0..MAX_NEWTON {
             let (r, jac) = self.kkt_system(&terms, cons, active, &x, t, &nu)?;
             let res = r.amax();
@@ -292,12 +302,14 @@ impl Engine<'_, '_> {
             }
             if res <= 1e-14 {
                 last = res;
+                weight_error = dw(&jac, &r);
                 break;
             }
             if res >= 0.99 * last {
                 stalls += 1;
                 if stalls >= 3 {
                     last = last.min(res);
+                    weight_error = dw(&jac, &r);
                     break;
                 }
             }
@@ -329,6 +341,10 @@ impl Engine<'_, '_> {
         if !(last <= 1e-6) {
             return Ok(None);
         }
+        if !weight_error.is_finite() {
+            let (r, jac) = self.kkt_system(&terms, cons, active, &x, t, &nu)?;
+            weight_error = dw(&jac, &r);
+        }
         for term in &mut terms {
             term.theta = term.theta.rem_euclid(std::f64::consts::TAU);
         }
@@ -338,6 +354,7 @@ impl Engine<'_, '_> {
             terms,
             design: active.iter().copied().zip(nu).collect(),
             design_nu: None,
+            weight_error,
         }))
     }
 
@@ -429,6 +446,29 @@ pub(super) struct PolishOutcome {
     pub(super) x_hat: Vec<f64>,
     pub(super) t_hat: f64,
     pub(super) terms: Vec<Term>,
+    /// The active maxima's multipliers in the caller's units.
+    pub(super) multipliers: Vec<Multiplier>,
+}
+
+/// The polished terms' multipliers in the caller's units (`t_scale` T): weight T·λ·c with
+/// λ normalised to Σλ = 1 over the objective's terms ([`Multiplier`]).
+fn multipliers(p: &Polished, t_scale: f64) -> Vec<Multiplier> {
+    let kept: f64 = p
+        .terms
+        .iter()
+        .filter(|t| t.eps.is_none())
+        .map(|t| t.weight)
+        .sum();
+    p.terms
+        .iter()
+        .map(|t| Multiplier {
+            field: t.field,
+            angle: t.theta,
+            weight: t_scale * t.c * t.weight / kept,
+            weight_error: t_scale * t.c * p.weight_error / kept,
+            limit: t.eps.is_some(),
+        })
+        .collect()
 }
 
 impl<'p, 'a> Engine<'p, 'a> {
@@ -453,7 +493,7 @@ impl<'p, 'a> Engine<'p, 'a> {
         for t in &po.terms {
             self.insert(&mut sets[t.field], t.field, t.theta)?;
         }
-        let sol = self.finish(
+        let mut sol = self.finish(
             goal,
             limits,
             &sets,
@@ -468,6 +508,7 @@ impl<'p, 'a> Engine<'p, 'a> {
             iters,
             solver_status,
         )?;
+        sol.multipliers = po.multipliers;
         Ok((
             sol,
             KktStart {
@@ -581,6 +622,7 @@ impl<'p, 'a> Engine<'p, 'a> {
                 return Ok(None);
             };
             return Ok(Some(PolishOutcome {
+                multipliers: multipliers(&p, t_scale),
                 x: xp,
                 pk: pkp,
                 value,

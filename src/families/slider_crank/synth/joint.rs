@@ -11,6 +11,8 @@ use crate::families::slider_crank::model::{weight_torque_cs, State};
 use crate::geom::P2;
 use crate::synth::counterweight::Status;
 use crate::synth::energy::EnergyField;
+use crate::synth::envelope::{central_slopes, sensitivities, step, vertices};
+use crate::synth::envelope::{Dependence, Sensitivity, Slope};
 use crate::synth::minimax::{self as mm, AffineField, AffineValue, FnField};
 use crate::synth::Var;
 
@@ -125,6 +127,11 @@ pub(super) fn optimise_joint(
     let engine = mm::Engine::new(&pb, &minimax_settings(scene)).map_err(num)?;
     let sol = engine.solve().map_err(num)?;
     let mut optimum = jss[0].optimum(&sol, &bounds)?;
+    if scene.envelope.sensitivities && sets.len() > 1 {
+        let at = energy.then_some((n, offset0));
+        optimum.sensitivities =
+            Some(sensitivity_table(scene, &sol, stride, at).map_err(|e| e.to_string()));
+    }
     if let Some(e) = sets[0].energy.as_ref() {
         optimum.method = format!(
             "least energy fluctuation ΔE = 2 min_c max_φ |E(φ) − c|, E = ∫₀^φ (T − T̄) dφ affine in the design (per-column trigonometric interpolants on {} samples, synth::energy); {}",
@@ -538,6 +545,7 @@ impl<'a> JointScene<'a> {
             rounds: sol.rounds,
             warnings,
             balancers: b,
+            sensitivities: None,
         })
     }
 }
@@ -556,4 +564,61 @@ fn minimax_settings(scene: &Scene) -> mm::Settings {
         exact_disc: cs.exact_disc,
         ..mm::Settings::default()
     }
+}
+
+/// What each interval of the operating envelope costs (issue 33, item 3): the sensitivity
+/// table of the envelope solve `sol` of `scene` (the engine's fields `stride` per scenario,
+/// `energy` = (n, the first offset's index) for a ΔE design), dV*/d(end) for every interval
+/// end, so a designer sees which tolerance or speed limit to tighten first. By the envelope
+/// theorem from the optimum's multipliers (`synth::envelope::sensitivities`): free once the
+/// program is solved. The part here is the family's: the slope of one active maximum when
+/// one parameter of its scenario moves, the design and the angle held — the scenario's scene
+/// rebuilt at θ ± h and its field evaluated. Every figure is affine in a mass and quadratic
+/// in ω; a length is general. An error when the optimum has no multipliers (not certified
+/// by Newton's polish). The tests check the table against whole re-solves.
+fn sensitivity_table(
+    scene: &Scene,
+    sol: &mm::Solution,
+    stride: usize,
+    energy: Option<(usize, usize)>,
+) -> Result<Vec<Sensitivity>, SolveError> {
+    if sol.multipliers.is_empty() {
+        return Err(SolveError::Numeric(format!(
+            "the optimum has no multipliers (its status is {:?}, not certified by Newton's polish of the optimality conditions)",
+            sol.status
+        )));
+    }
+    let env = &scene.envelope;
+    let ranges = env.ranges();
+    let vs = vertices(&ranges);
+    let nb = scene.balancers.len();
+    let lengths_from = usize::from(env.speed.is_some()) + env.masses.len();
+    let slopes = |k: usize, i: usize, ms: &[&mm::Multiplier]| -> Result<Vec<Slope>, SolveError> {
+        let dependence = match i >= lengths_from {
+            true => Dependence::General,
+            false => Dependence::Quadratic,
+        };
+        let mut values = vs[k - 1].clone();
+        let h = step(values[i], ranges[i], dependence);
+        central_slopes(values[i], h, dependence, |v| {
+            values[i] = v;
+            let s = env.at(scene, values.clone()).scene;
+            let zero = s.with_balancers(&vec![[0.0; 2]; nb]);
+            let js = JointScene::new(&s, &zero, nb);
+            let set = js.fields([true; 4], energy.map(|(n, o)| (n, o + k)))?;
+            let all = set.all();
+            let mut out = AffineValue::zeros(sol.x.len());
+            Ok(ms
+                .iter()
+                .map(|m| {
+                    let field = all[m.field % stride];
+                    out.b = [0.0; 2];
+                    out.a.iter_mut().for_each(|v| *v = 0.0);
+                    field.eval(m.angle, &mut out);
+                    (out.at(field.dim(), &sol.x), field.error(m.angle, &sol.x))
+                })
+                .collect())
+        })
+    };
+    sensitivities(&env.names(), &ranges, stride, &sol.multipliers, slopes)
 }

@@ -28,10 +28,10 @@ mod realise;
 mod round_off;
 mod scenarios;
 mod scene;
-mod sensitivity;
 mod solve;
 mod sweep;
 
+pub use crate::synth::envelope::{End, Sensitivity};
 pub use baselines::{baselines, judge_baseline};
 pub use drive::{energy_fluctuation, machine, real_speed_force};
 pub use envelope::{
@@ -51,6 +51,5 @@ pub use scenarios::Scenario;
 pub use scene::{
     paper_piston, BalancerSpec, CounterweightSpec, LoadLimits, Objective, Prefer, Scene, SolveError,
 };
-pub use sensitivity::{sensitivities, End, Sensitivity};
 pub use solve::solve;
 pub use sweep::{pareto, speed_sweep, SpeedSweep, SweepPoint};

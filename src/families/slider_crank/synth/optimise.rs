@@ -98,6 +98,7 @@ pub(super) fn optimise_with(
         rounds: found.rounds,
         warnings,
         balancers: Vec::new(),
+        sensitivities: None,
     })
 }
 

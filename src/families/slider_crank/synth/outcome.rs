@@ -504,6 +504,8 @@ pub struct Outcome {
     pub infeasibility: Vec<crate::synth::Shortfall>,
     /// With an operating envelope: the design over it (vertices, worst cases, the check).
     pub envelope: Option<super::envelope::EnvelopeOutcome>,
+    /// The envelope's sensitivity table, where asked ([`Optimum::sensitivities`]).
+    pub sensitivities: Option<Result<Vec<super::Sensitivity>, String>>,
 }
 
 /// The peak of one joint load over the cycle.
@@ -588,4 +590,7 @@ pub struct Optimum {
     pub warnings: Vec<String>,
     /// The balancers' unbalances B_n = (B_c, B_s) (kg·m), in the scene's order.
     pub balancers: Vec<[f64; 2]>,
+    /// The envelope's sensitivity table from the optimum's multipliers (`[mechanism.envelope]
+    /// sensitivities = true`): `Err` says why it could not be computed.
+    pub sensitivities: Option<Result<Vec<super::Sensitivity>, String>>,
 }

@@ -62,6 +62,7 @@ pub fn solve(scene: &Scene) -> Result<Outcome, SolveError> {
         method,
         mut warnings,
         balancers,
+        sensitivities,
         ..
     } = optimum;
     // The design's figures on the scene with its balancers (the scene itself without any);
@@ -142,6 +143,7 @@ pub fn solve(scene: &Scene) -> Result<Outcome, SolveError> {
         joint_loads,
         infeasibility,
         envelope,
+        sensitivities,
     })
 }
 
