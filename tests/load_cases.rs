@@ -266,3 +266,118 @@ fn bad_load_cases_name_the_file_line_and_field() {
         assert!(msg.contains(says), "`{msg}` should say `{says}`");
     }
 }
+
+const BAND: &str = include_str!("../problems/hypocycloid-compressor-speed-band.toml");
+
+/// The speed band (`[mechanism.envelope] speed`): the cycle at both ends beside the nominal
+/// speed, each end's row equal to a separate solve of the file at that speed; the flywheel of
+/// all the cases the largest least flywheel, its steady state meeting Cs at the ends and at
+/// the interior speeds checked, and 0.1 % less missing it at the governing end; and,
+/// independently of the band code, the textbook flywheel of single-speed solves over a sweep
+/// of the band never above the largest of its ends' (its convexity in 1/ω², the module doc of
+/// `load_cases.rs`).
+#[test]
+fn a_speed_band_takes_the_largest_flywheel_of_its_ends_and_holds_inside() {
+    let r = solve(BAND);
+    let rows = rows(&r);
+    let names: Vec<&str> = rows.iter().map(|c| c["case"].as_str().unwrap()).collect();
+    assert_eq!(
+        names,
+        ["nominal", "nominal at 1200 rpm", "nominal at 1500 rpm"]
+    );
+    let start = BAND.find("\n[mechanism.envelope]").unwrap() + 1;
+    let end = start + BAND[start..].find("\n[model]").unwrap();
+    let alone = format!("{}{}", &BAND[..start], &BAND[end + 1..]);
+    let at = |rpm: f64| {
+        let t = with(
+            &alone,
+            "speed = \"1450 rpm\"",
+            &format!("speed = \"{rpm} rpm\""),
+        );
+        solve(&t)
+    };
+    for (row, rpm) in rows[1..].iter().zip([1200.0, 1500.0]) {
+        assert!((num(row, "speed_rad_s") - rpm * std::f64::consts::TAU / 60.0).abs() < 1e-9);
+        let d = at(rpm).derived;
+        for (key, err) in [
+            ("drive_torque_peak_nm", "drive_torque_peak_error_nm"),
+            ("energy_fluctuation_j", "energy_fluctuation_error_j"),
+            ("flywheel_least_kgm2", "flywheel_least_error_kgm2"),
+        ] {
+            let (a, b) = (num(row, key), d[key]);
+            assert!((a - b).abs() <= d[err], "{rpm} rpm {key}: {a} vs {b}");
+        }
+    }
+    let least: Vec<f64> = rows.iter().map(|c| num(c, "flywheel_least_kgm2")).collect();
+    let top = least.iter().cloned().fold(f64::NEG_INFINITY, f64::max);
+    let k = least.iter().position(|&l| l == top).unwrap();
+    assert_eq!(r.derived["load_cases_flywheel_kgm2"], top);
+    let cs = 0.02;
+    for row in &rows {
+        let (c, e) = (num(row, "steady_cs"), num(row, "steady_cs_error"));
+        assert!(c <= cs + e, "{}: Cs {c} ± {e}", row["case"]);
+    }
+    let check = &r.extra["load_cases"]["speed_band_check"];
+    assert_eq!(check["beyond"], 0, "{check}");
+    assert!(
+        num(check, "max_cs") <= cs + num(check, "max_cs_error"),
+        "{check}"
+    );
+    // 0.1 % less flywheel misses Cs at the governing speed.
+    let rpm = num(&rows[k], "speed_rad_s") * 60.0 / std::f64::consts::TAU;
+    let t = with(
+        &alone,
+        "speed = \"1450 rpm\"",
+        &format!("speed = \"{rpm} rpm\""),
+    );
+    let t = set_key(
+        &t.replace("cs = 0.02 ", "# cs = 0.02 "),
+        "mechanism.drive.flywheel",
+        &format!("\"{:e} kg*m^2\"", 0.999 * top),
+    );
+    let d = solve(&t).derived;
+    assert!(
+        d["steady_cs"] > cs + d["steady_cs_error"],
+        "{}",
+        d["steady_cs"]
+    );
+    // The textbook flywheel over the band is largest at an end (9 single-speed solves).
+    let ends = rows[1..]
+        .iter()
+        .map(|c| num(c, "flywheel_textbook_kgm2"))
+        .fold(f64::NEG_INFINITY, f64::max);
+    for j in 1..=9 {
+        let rpm = 1200.0 + 300.0 * j as f64 / 10.0;
+        let d = at(rpm).derived;
+        let (tb, e) = (d["flywheel_textbook_kgm2"], d["flywheel_least_error_kgm2"]);
+        assert!(
+            tb <= ends + e,
+            "{rpm} rpm: textbook {tb} above the ends' {ends}"
+        );
+    }
+}
+
+/// A speed band with a motor's torque–speed line, or without a gas cycle, is refused with
+/// its field.
+#[test]
+fn a_speed_band_needs_a_gas_cycle_and_no_motor_line() {
+    let motor = with(
+        BAND,
+        "[mechanism.drive]\n",
+        "[mechanism.drive]\nmotor = { rated_torque = \"5 N*m\", rated_speed = \"1430 rpm\", no_load_speed = \"1500 rpm\" }\n",
+    );
+    let e = err(&motor).to_string();
+    assert!(e.contains("mechanism.envelope.speed"), "{e}");
+    assert!(e.contains("motor"), "{e}");
+    let start = BAND.find("\n[mechanism.gas]").unwrap() + 1;
+    let end = start + BAND[start..].find("\n[mechanism.lanchester]").unwrap();
+    let e = err(&format!("{}{}", &BAND[..start], &BAND[end + 1..])).to_string();
+    assert!(e.contains("mechanism.envelope.speed"), "{e}");
+    // Only the speed: the other intervals are the slider-crank's and the linkage's.
+    let e = err(&with(
+        BAND,
+        "[mechanism.envelope]\n",
+        "[mechanism.envelope]\nmonte_carlo = 10\n",
+    ));
+    assert!(e.to_string().contains("monte_carlo"), "{e}");
+}

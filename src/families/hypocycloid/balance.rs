@@ -62,6 +62,9 @@ pub struct DynamicsSpec {
     pub drive: Option<Drive>,
     /// The named load cases beside the nominal `gas` (`[[mechanism.load_cases]]`).
     pub load_cases: Vec<LoadCase>,
+    /// The speed band (ω_min, ω_max) in rad/s (`[mechanism.envelope] speed`): every case at
+    /// both its ends too (`load_cases.rs`).
+    pub speed_band: Option<(f64, f64)>,
 }
 
 impl DynamicsSpec {
@@ -231,6 +234,20 @@ pub struct At<'a> {
 }
 
 impl At<'_> {
+    /// The same design at the speed ω (rad/s).
+    pub(super) fn at_speed(&self, omega: f64) -> Self {
+        At {
+            model: self.model,
+            coef: self.coef,
+            orders: self.orders,
+            pairs: self.pairs,
+            r_carrier: self.r_carrier,
+            m_b: self.m_b,
+            omega,
+            plot_samples: self.plot_samples,
+        }
+    }
+
     /// The design's lengths and speed.
     pub(super) fn geometry(&self) -> Geometry {
         Geometry {

@@ -83,6 +83,18 @@ pub struct MechanismRaw {
     #[serde(default)]
     #[schemars(length(max = MAX_LOAD_CASES))]
     pub load_cases: Vec<LoadCaseRaw>,
+    /// The operating envelope (`[mechanism.envelope]`): a speed band, every load case solved
+    /// at both its ends too (issue 33, `load_cases.rs`).
+    pub envelope: Option<EnvelopeRaw>,
+}
+
+/// `[mechanism.envelope]` of the compressor: the speed band.
+#[derive(Debug, Deserialize, schemars::JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct EnvelopeRaw {
+    /// The speed band `{ min, max }`: every case (the nominal cycle and each load case) at
+    /// both ends too; the flywheel then meets `cs` over the band.
+    pub speed: Option<crate::problem::envelope::SpeedRangeRaw>,
 }
 
 /// `[[mechanism.load_cases]]`: a named case of the compressor cycle, the nominal
@@ -644,6 +656,23 @@ fn resolve_dynamics(raw: &File) -> Result<DynamicsSpec, FieldError> {
         .as_ref()
         .map(crate::problem::drive::resolve)
         .transpose()?;
+    let speed_band =
+        crate::problem::envelope::speed_band(m.envelope.as_ref().and_then(|e| e.speed.as_ref()))?;
+    let line = drive
+        .as_ref()
+        .is_some_and(|d| d.motor != crate::dynamics::Motor::ConstantTorque);
+    if speed_band.is_some() && line {
+        return Err(FieldError::new(
+            "mechanism.envelope.speed",
+            "a speed band is the speed the machine is driven at (a variable-frequency drive, a constant-torque motor): with mechanism.drive.motor's torque–speed characteristic the motor sets the mean speed itself; leave `motor` out",
+        ));
+    }
+    if speed_band.is_some() && gas.is_none() {
+        return Err(FieldError::new(
+            "mechanism.envelope.speed",
+            "a speed band needs [mechanism.gas] (without a gas load every figure scales with ω², and the flywheel for a Cs does not depend on the speed)",
+        ));
+    }
     Ok(DynamicsSpec {
         masses,
         design,
@@ -651,6 +680,7 @@ fn resolve_dynamics(raw: &File) -> Result<DynamicsSpec, FieldError> {
         shafts,
         drive,
         load_cases,
+        speed_band,
     })
 }
 

@@ -24,9 +24,21 @@
 //! Every case's steady state at I* is solved and reported, and a case whose Cs there exceeds
 //! cs by more than its error is warned about (the premise failing). A file's own `flywheel`
 //! is I* instead: each case's Cs is reported with it.
+//!
+//! The speed band (`[mechanism.envelope] speed`). Every cycle — the nominal one and each
+//! load case — is solved at both ends of the band too, each a case named "<name> at <n> rpm",
+//! and I* is the largest least flywheel over all of them. The inertial part of the drive
+//! torque scales with s = ω², the gas torque does not: E(φ; s) = E_g(φ) + s E_i(φ). So the
+//! peak drive torque and ΔE (max − min of functions affine in s) are convex in s, and the
+//! textbook flywheel ΔE(s)/(cs·s) = max over φ₁, φ₂ of (E_g(φ₁) − E_g(φ₂))·(1/s) +
+//! (E_i(φ₁) − E_i(φ₂)) is convex in 1/s: each is largest at an end of the band, so the
+//! worst cases over the band's end cases are the band's (proven). The least flywheel of the
+//! exact steady state is not shown to be: every cycle's steady state at I* is checked at
+//! [`BAND_CHECK_SPEEDS`] interior speeds ([`BandCheck`]), with a warning where one swings
+//! more than cs.
 
 use super::balance::{drive_outcome, torque_outcome, At, DynamicsError, DynamicsSpec};
-use super::balance::{DynamicsOutcome, TorqueOutcome};
+use super::balance::{DynamicsOutcome, RotatingOutcome, TorqueOutcome};
 use super::gas::{GasCycle, LoadCase};
 use crate::dynamics::{Drive, DriveFigures};
 use crate::report::drive::DriveNumbers;
@@ -48,6 +60,8 @@ pub const MAX_CASE_NAME: usize = 64;
 pub struct CaseOutcome {
     /// The case.
     pub case: LoadCase,
+    /// Its speed ω (rad/s): the nominal one, or an end of the speed band.
+    pub speed: f64,
     /// Its drive torque at constant speed.
     pub torque: TorqueOutcome,
     /// Its drive with `[mechanism.drive]` (its own least flywheel for `cs`); `Err`: why not.
@@ -76,50 +90,58 @@ pub struct LoadCasesOutcome {
     /// I*: the largest least flywheel (with `cs`), or the file's `flywheel`; `None` without
     /// either, or where a case's drive failed.
     pub flywheel: Option<CasesFlywheel>,
+    /// With a speed band and `cs`: the steady state inside the band at I*.
+    pub band: Option<BandCheck>,
 }
 
 /// Solves every load case of `spec` beside the nominal one, whose figures are the dynamics
 /// `d` already solved at the design `at` (its torque and drive; the case-independent rotating
-/// outcome with them), then each case's steady state at the flywheel of all the cases; the
-/// cases' warnings join `d`'s. `None` without load cases (or without a drive torque).
+/// outcome with them), and with a speed band every case at both its ends too; then each
+/// case's steady state at the flywheel of all the cases, and with a band the interior check
+/// ([`BandCheck`]); the cases' warnings join `d`'s. `None` without load cases or band (or
+/// without a drive torque).
 pub fn solve(
     spec: &DynamicsSpec,
     at: &At,
     d: &mut DynamicsOutcome,
 ) -> Result<Option<LoadCasesOutcome>, DynamicsError> {
-    let (Some(torque), false) = (&d.torque, spec.load_cases.is_empty()) else {
+    let asked = !spec.load_cases.is_empty() || spec.speed_band.is_some();
+    let (Some(torque), true) = (&d.torque, asked) else {
         return Ok(None);
     };
-    let (geo, rotating, warnings) = (&at.geometry(), d.rotating.as_ref(), &mut d.warnings);
+    let (rotating, warnings) = (d.rotating.as_ref(), &mut d.warnings);
     let first = spec.gas.map(|gas| LoadCase {
         name: NOMINAL.into(),
         gas,
     });
+    let first = first.ok_or_else(|| DynamicsError {
+        key: "mechanism.load_cases".into(),
+        message: "load cases need [mechanism.gas]".into(),
+    })?;
+    let gases: Vec<LoadCase> = std::iter::once(first.clone())
+        .chain(spec.load_cases.iter().cloned())
+        .collect();
     let mut cases = vec![CaseOutcome {
-        case: first.ok_or_else(|| DynamicsError {
-            key: "mechanism.load_cases".into(),
-            message: "load cases need [mechanism.gas]".into(),
-        })?,
+        case: first,
+        speed: at.omega,
         torque: torque.clone(),
         drive: d.drive.clone(),
         at_flywheel: None,
     }];
-    for case in &spec.load_cases {
-        let s = with_gas(spec, case.gas);
-        let mut w = Vec::new();
-        let torque = torque_outcome(&s, at, geo, rotating, &mut w)?;
-        warnings.extend(w.iter().map(|w| format!("load case {}: {w}", case.name)));
-        let drive = spec
-            .drive
-            .as_ref()
-            .map(|d| drive_outcome(&s, d, at, geo, rotating))
-            .transpose()?;
-        cases.push(CaseOutcome {
-            case: case.clone(),
-            torque,
-            drive,
-            at_flywheel: None,
-        });
+    let ends = spec.speed_band.map_or(Vec::new(), |(lo, hi)| vec![lo, hi]);
+    let speeds: Vec<f64> = std::iter::once(at.omega).chain(ends).collect();
+    for (si, &w) in speeds.iter().enumerate() {
+        for (gi, g) in gases.iter().enumerate() {
+            if si == 0 && gi == 0 {
+                continue;
+            }
+            let name = match si {
+                0 => g.name.clone(),
+                _ => format!("{} at {} rpm", g.name, w * 60.0 / std::f64::consts::TAU),
+            };
+            let case = LoadCase { name, gas: g.gas };
+            cases.push(solve_case(spec, &at.at_speed(w), case, rotating, warnings)?);
+        }
     }
     let flywheel = spec
         .drive
@@ -128,26 +150,158 @@ pub fn solve(
     for c in &mut cases {
         c.at_flywheel = match (&c.drive, flywheel, &spec.drive) {
             (Some(Ok(f)), Some(fw), Some(d)) if f.steady.flywheel != fw.inertia => {
-                let only = Drive {
-                    cs: None,
-                    flywheel: Some(fw.inertia),
-                    motor: d.motor.clone(),
-                };
+                let at = at.at_speed(c.speed);
                 let s = with_gas(spec, c.case.gas);
-                Some(drive_outcome(&s, &only, at, geo, rotating)?)
+                Some(drive_outcome(
+                    &s,
+                    &only(d, fw.inertia),
+                    &at,
+                    &at.geometry(),
+                    rotating,
+                )?)
             }
             (own, _, _) => own.clone(),
         };
     }
     check_cs(spec.drive.as_ref().and_then(|d| d.cs), &cases, warnings);
-    Ok(Some(LoadCasesOutcome { cases, flywheel }))
+    let band = match (spec.speed_band, flywheel, &spec.drive) {
+        (Some(band), Some(fw), Some(d)) => band_check(
+            spec,
+            at,
+            &gases,
+            band,
+            only(d, fw.inertia),
+            rotating,
+            warnings,
+        )?,
+        _ => None,
+    };
+    Ok(Some(LoadCasesOutcome {
+        cases,
+        flywheel,
+        band,
+    }))
 }
 
-/// `spec` with the cycle `gas` and no load cases: one case, for the single-case code.
+/// One case solved at the design and speed `at`: its torque and its own drive; its warnings,
+/// named with the case, join `warnings`.
+fn solve_case(
+    spec: &DynamicsSpec,
+    at: &At,
+    case: LoadCase,
+    rotating: Option<&RotatingOutcome>,
+    warnings: &mut Vec<String>,
+) -> Result<CaseOutcome, DynamicsError> {
+    let (s, geo) = (with_gas(spec, case.gas), at.geometry());
+    let mut w = Vec::new();
+    let torque = torque_outcome(&s, at, &geo, rotating, &mut w)?;
+    warnings.extend(w.iter().map(|w| format!("load case {}: {w}", case.name)));
+    let drive = spec
+        .drive
+        .as_ref()
+        .map(|d| drive_outcome(&s, d, at, &geo, rotating))
+        .transpose()?;
+    Ok(CaseOutcome {
+        case,
+        speed: at.omega,
+        torque,
+        drive,
+        at_flywheel: None,
+    })
+}
+
+/// The drive `d` with the flywheel `inertia` given instead of a Cs to meet.
+fn only(d: &Drive, inertia: f64) -> Drive {
+    Drive {
+        cs: None,
+        flywheel: Some(inertia),
+        motor: d.motor.clone(),
+    }
+}
+
+/// Interior speeds of the band at which every cycle's steady state is checked.
+pub const BAND_CHECK_SPEEDS: usize = 7;
+
+/// The steady state inside the speed band, at the flywheel of all the cases: the exact
+/// least flywheel is not proven to be largest at the band's ends (the textbook one is:
+/// module doc), so every cycle is solved at [`BAND_CHECK_SPEEDS`] evenly spaced interior
+/// speeds with the flywheel `d` and its Cs compared with `cs`.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct BandCheck {
+    /// Speeds checked per cycle.
+    pub speeds: usize,
+    /// The largest Cs over them, its error and the speed (rad/s) and cycle it is at.
+    pub max_cs: f64,
+    /// Its error bound.
+    pub max_cs_error: f64,
+    /// Where: ω (rad/s).
+    pub max_cs_speed_rad_s: f64,
+    /// Where: the cycle's name.
+    pub max_cs_case: String,
+    /// Checks whose Cs is above `cs` beyond its error (0: the band's ends govern).
+    pub beyond: usize,
+}
+
+/// [`BandCheck`] of the band `band` (rad/s) for the `gases`, with the flywheel drive `d`;
+/// `None` without a Cs to meet or where a steady state failed (a warning).
+fn band_check(
+    spec: &DynamicsSpec,
+    at: &At,
+    gases: &[LoadCase],
+    band: (f64, f64),
+    d: Drive,
+    rotating: Option<&RotatingOutcome>,
+    warnings: &mut Vec<String>,
+) -> Result<Option<BandCheck>, DynamicsError> {
+    let Some(cs) = spec.drive.as_ref().and_then(|d| d.cs) else {
+        return Ok(None);
+    };
+    let n = BAND_CHECK_SPEEDS;
+    let mut out: Option<BandCheck> = None;
+    let mut beyond = 0;
+    for j in 1..=n {
+        let w = band.0 + (band.1 - band.0) * j as f64 / (n + 1) as f64;
+        let at = at.at_speed(w);
+        for g in gases {
+            let s = with_gas(spec, g.gas);
+            let st = match drive_outcome(&s, &d, &at, &at.geometry(), rotating)? {
+                Ok(f) => f.steady,
+                Err(why) => {
+                    warnings.push(format!(
+                        "the speed band's check: load case {} at {w} rad/s failed: {why}",
+                        g.name
+                    ));
+                    return Ok(None);
+                }
+            };
+            beyond += usize::from(st.cs > cs + st.cs_error);
+            if out.as_ref().is_none_or(|o| st.cs > o.max_cs) {
+                out = Some(BandCheck {
+                    speeds: n,
+                    max_cs: st.cs,
+                    max_cs_error: st.cs_error,
+                    max_cs_speed_rad_s: w,
+                    max_cs_case: g.name.clone(),
+                    beyond: 0,
+                });
+            }
+        }
+    }
+    if beyond > 0 {
+        warnings.push(format!(
+            "the speed band's check: {beyond} steady states inside the band swing more than mechanism.drive.cs = {cs} with the flywheel of all the cases: the band's interior needs more flywheel than its ends"
+        ));
+    }
+    Ok(out.map(|o| BandCheck { beyond, ..o }))
+}
+
+/// `spec` with the cycle `gas`, no load cases and no band: one case, for the single-case
+/// code.
 fn with_gas(spec: &DynamicsSpec, gas: GasCycle) -> DynamicsSpec {
     DynamicsSpec {
         gas: Some(gas),
         load_cases: Vec::new(),
+        speed_band: None,
         ..spec.clone()
     }
 }
@@ -230,6 +384,7 @@ fn argmax(v: impl Iterator<Item = f64>) -> Option<usize> {
 #[derive(Debug, Serialize)]
 struct CaseRow<'a> {
     case: &'a str,
+    speed_rad_s: f64,
     suction_pressure_pa: f64,
     discharge_pressure_pa: f64,
     drive_torque_mean_nm: f64,
@@ -254,6 +409,7 @@ impl<'a> CaseRow<'a> {
             .find_map(|d| d.as_ref().and_then(|d| d.as_ref().err()));
         CaseRow {
             case: &c.case.name,
+            speed_rad_s: c.speed,
             suction_pressure_pa: g.suction,
             discharge_pressure_pa: g.discharge,
             drive_torque_mean_nm: t.mean,
@@ -354,6 +510,7 @@ pub fn numbers(r: &mut SolveResult, lc: &LoadCasesOutcome, peak_force: Option<f6
             "energy_fluctuation_case": name(energy),
             "steady_cs_case": name(cs),
             "steady_peak_shaft_torque_case": name(shaft),
+            "speed_band_check": lc.band,
             "cases": rows,
         }),
     );
