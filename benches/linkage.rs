@@ -13,6 +13,11 @@
 //!   with its certificate, the RMS of 3 fields twice, κ).
 //! * `pareto_sixbar_press_20`: the six-bar press's 20-point force–moment front (the two ends
 //!   and 20 ε-constrained solves, each certified), on an engine with the force and moment.
+//! * `linkage-envelope/press_nominal` and `press_8_vertices`: issue 33's "an envelope of 8
+//!   vertices ≤ 5× the single-scenario solve": the family's solve (bare peaks, the certified
+//!   minimax, the RMS of three fields) of `problems/linkage-sixbar-press-envelope.toml` over
+//!   its 8 vertices and nominal scene (9 blocks of fields in one engine), and of the same scene
+//!   without its envelope.
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use cwsynth::families::linkage::file::LinkageProblem;
@@ -107,5 +112,23 @@ fn pareto(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, bench, pareto);
+fn envelope(c: &mut Criterion) {
+    let sc = scene("linkage-sixbar-press-envelope");
+    let p: &LinkageProblem = sc.machine().unwrap();
+    let nominal = cwsynth::families::linkage::file::LinkageScene {
+        envelope: Default::default(),
+        ..p.scene.clone()
+    };
+    let mut g = c.benchmark_group("linkage-envelope");
+    g.sample_size(20);
+    g.bench_function("press_nominal", |b| {
+        b.iter(|| solve(black_box(&nominal), &p.settings).unwrap())
+    });
+    g.bench_function("press_8_vertices", |b| {
+        b.iter(|| solve(black_box(&p.scene), &p.settings).unwrap())
+    });
+    g.finish();
+}
+
+criterion_group!(benches, bench, pareto, envelope);
 criterion_main!(benches);
