@@ -153,3 +153,21 @@ fn the_linkage_press_table_matches_re_solves() {
         },
     );
 }
+
+/// An optimum without multipliers (the lightest counterweights: no peak objective for
+/// Newton's polish) gets a warning saying why, and no table.
+#[test]
+fn an_optimum_without_multipliers_says_why_instead_of_a_table() {
+    let text = std::fs::read_to_string(problem("linkage-sixbar-press-envelope.toml")).unwrap();
+    let text = set_key(&text, "mechanism.envelope.monte_carlo", "0");
+    let text = set_key(&text, "objective.minimize", "\"counterweight-mass\"");
+    let text = set_key(&text, "objective.max_peak_force", "\"200 N\"");
+    let s = parse_str(&text, Path::new("m.toml")).unwrap();
+    let r = solve_scene(&s);
+    assert!(r.extra["envelope"].get("sensitivities").is_none());
+    assert!(
+        r.warnings.iter().any(|w| w.contains("no multipliers")),
+        "{:?}",
+        r.warnings
+    );
+}

@@ -8,7 +8,7 @@
 //! needs. The Halton points check it (they never certify it). What each interval end costs
 //! comes from the optimum's multipliers ([`sensitivities`]).
 
-use crate::synth::minimax::Multiplier;
+use crate::synth::minimax::{Multiplier, Solution};
 use crate::synth::search::starts::{halton, HALTON_PRIMES};
 
 /// Most interval parameters of an envelope: 2^10 = 1024 vertices (and the Halton bases).
@@ -192,6 +192,19 @@ pub fn step(v: f64, range: (f64, f64), dependence: Dependence) -> f64 {
     } else {
         h
     }
+}
+
+/// The optimum's multipliers for [`sensitivities`], or why there are none: the solve was not
+/// certified by Newton's polish of its optimality conditions (its status says how it
+/// ended), or its design was moved off the optimum (a plate cut to realise it).
+pub fn multipliers_of(sol: &Solution) -> Result<&[Multiplier], String> {
+    if sol.multipliers.is_empty() {
+        return Err(format!(
+            "the optimum has no multipliers: its status is {:?}, and it was not certified by Newton's polish of the optimality conditions, or its design was moved to a plate that realises it",
+            sol.status
+        ));
+    }
+    Ok(&sol.multipliers)
 }
 
 /// The sensitivity of the optimised worst case V* to every interval end, free once the

@@ -146,12 +146,7 @@ pub fn sensitivities(
     sol: &Solution,
     block_len: usize,
 ) -> Result<Vec<Sensitivity>, String> {
-    if sol.multipliers.is_empty() {
-        return Err(format!(
-            "the optimum has no multipliers (its status is {:?}, not certified by Newton's polish of the optimality conditions)",
-            sol.status
-        ));
-    }
+    let multipliers = envelope::multipliers_of(sol)?;
     let env = &scene.envelope;
     let ranges = env.ranges();
     let vs = vertices(&ranges);
@@ -166,7 +161,7 @@ pub fn sensitivities(
             ls::block_field_values(&s, &at, n_cw + k, &sol.x).map_err(|e| e.to_string())
         })
     };
-    envelope::sensitivities(&env.names(), &ranges, block_len, &sol.multipliers, slopes)
+    envelope::sensitivities(&env.names(), &ranges, block_len, multipliers, slopes)
 }
 
 /// The Halton points 1..=N of the box, each scene's figures computed afresh: the largest and

@@ -11,7 +11,7 @@ use crate::families::slider_crank::model::{weight_torque_cs, State};
 use crate::geom::P2;
 use crate::synth::counterweight::Status;
 use crate::synth::energy::EnergyField;
-use crate::synth::envelope::{central_slopes, sensitivities, step, vertices};
+use crate::synth::envelope::{central_slopes, multipliers_of, sensitivities, step, vertices};
 use crate::synth::envelope::{Dependence, Sensitivity, Slope};
 use crate::synth::minimax::{self as mm, AffineField, AffineValue, FnField};
 use crate::synth::Var;
@@ -582,12 +582,7 @@ fn sensitivity_table(
     stride: usize,
     energy: Option<(usize, usize)>,
 ) -> Result<Vec<Sensitivity>, SolveError> {
-    if sol.multipliers.is_empty() {
-        return Err(SolveError::Numeric(format!(
-            "the optimum has no multipliers (its status is {:?}, not certified by Newton's polish of the optimality conditions)",
-            sol.status
-        )));
-    }
+    let multipliers = multipliers_of(sol).map_err(SolveError::Numeric)?;
     let env = &scene.envelope;
     let ranges = env.ranges();
     let vs = vertices(&ranges);
@@ -620,5 +615,5 @@ fn sensitivity_table(
                 .collect())
         })
     };
-    sensitivities(&env.names(), &ranges, stride, &sol.multipliers, slopes)
+    sensitivities(&env.names(), &ranges, stride, multipliers, slopes)
 }
