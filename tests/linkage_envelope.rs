@@ -312,3 +312,107 @@ minimize = "peak-force"
         },
     );
 }
+
+/// Length tolerances (issue 33): the coupler and the rocker of the press ±0.2 mm beside its
+/// speed band and masses. A length moves the joint at its tip (the rocker's carries the rod):
+/// the envelope's scene at a length equals the file resolved with that length, field for
+/// field. The worst case over the box is sampled, not proven: `best_found`, with the Monte
+/// Carlo check as evidence and `certified` false.
+#[test]
+fn length_tolerances_move_the_tips_and_claim_best_found() {
+    let lengths = "\n[[mechanism.envelope.length]]\nof = \"coupler\"\ntolerance = \"0.2 mm\"\n\n[[mechanism.envelope.length]]\nof = \"rocker\"\ntolerance = \"0.2 mm\"\n";
+    let text = set_key(
+        &press("peak-force"),
+        "mechanism.envelope.monte_carlo",
+        "200",
+    );
+    let text = set_key(&text, "mechanism.envelope.sensitivities", "true") + lengths;
+    let s = parse_str(&text, Path::new("lengths.toml")).unwrap();
+    let r = solve_scene(&s);
+    assert_eq!(r.status, Status::BestFound, "{:?}", r.status_detail);
+    let detail = r.status_detail.clone().unwrap();
+    assert!(detail.contains("length tolerances"), "{detail}");
+    let env = &r.extra["envelope"];
+    assert_eq!(env["certified"], false);
+    assert_eq!(env["parameters"][3], "coupler_length_delta_m");
+    assert_eq!(env["parameters"][4], "rocker_length_delta_m");
+    assert_eq!(env["monte_carlo"]["samples"], 200);
+    // The lengths' sensitivities (central differences of the moved fields, with their
+    // truncation) against whole re-solves.
+    let p: &LinkageProblem = s.machine().unwrap();
+    let rows = env["sensitivities"].as_array().unwrap().clone();
+    crate::sensitivities::agree(
+        &rows,
+        |k| k >= 6 && k % 2 == 1,
+        1e-4,
+        |i, upper| {
+            crate::sensitivities::resolved(1e-3 * 4e-4, |d| {
+                let mut sc = p.scene.clone();
+                sc.envelope.monte_carlo = 0;
+                sc.envelope.sensitivities = false;
+                let r = &mut sc.envelope.lengths[i - 3].delta;
+                if upper {
+                    r.1 += d
+                } else {
+                    r.0 += d
+                }
+                let sol = ls::solve(&sc, &p.settings).unwrap().design.unwrap();
+                (sol.objective, sol.error.total)
+            })
+        },
+    );
+    // The envelope's scene at (ω, ram, coupler mass, +0.2 mm, −0.2 mm) against the file
+    // resolved with those lengths (an independent path: the file's own tips and bars).
+    let v = [14.0, 9.0, 2.0, 2e-4, -2e-4];
+    let moved = ls::scene_at(&p.scene, &v).unwrap().linkage;
+    let text2 = press("peak-force")
+        .replace("length1 = \"120 mm\"", "length1 = \"120.2 mm\"")
+        .replace("length2 = \"80 mm\"", "length2 = \"79.8 mm\"");
+    let text2 = set_key(&text2, "mechanism.speed", "\"14 rad/s\"");
+    let text2 = set_key(&text2, "mechanism.links.ram.mass", "\"9 kg\"");
+    let s2 = parse_str(&text2, Path::new("moved.toml")).unwrap();
+    let p2: &LinkageProblem = s2.machine().unwrap();
+    for k in 0..12 {
+        let th = k as f64 * 0.5;
+        let a = moved.fields(th, p.scene.moment_about).unwrap();
+        let b = p2.scene.linkage.fields(th, p2.scene.moment_about).unwrap();
+        let tol = 1e-9 * (1.0 + b.force.norm() + b.torque.abs());
+        assert!(
+            (a.force - b.force).norm() <= tol,
+            "θ {th}: {:?} vs {:?}",
+            a.force,
+            b.force
+        );
+        assert!(
+            (a.torque - b.torque).abs() <= tol,
+            "θ {th}: {} vs {}",
+            a.torque,
+            b.torque
+        );
+    }
+}
+
+/// A length on a link without one, twice on a link, or as long as the link is refused with
+/// its field.
+#[test]
+fn length_tolerance_errors_name_their_field() {
+    let base = press("peak-force");
+    for (entry, field) in [
+        (
+            "of = \"ram\"\ntolerance = \"0.1 mm\"",
+            "mechanism.envelope.length[0].of",
+        ),
+        (
+            "of = \"coupler\"\ntolerance = \"120 mm\"",
+            "mechanism.envelope.length[0].tolerance",
+        ),
+        (
+            "of = \"coupler\"\ntolerance = \"0.1\"",
+            "mechanism.envelope.length[0].tolerance",
+        ),
+    ] {
+        let text = format!("{base}\n[[mechanism.envelope.length]]\n{entry}\n");
+        let e = err(&text).to_string();
+        assert!(e.contains(field), "{entry}: {e}");
+    }
+}

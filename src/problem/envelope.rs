@@ -1,10 +1,10 @@
 //! The parts of `[mechanism.envelope]` every family with an operating envelope reads alike
 //! (issue 33, item 3): the speed band, a mass interval given as `min`/`max` or as a relative
-//! `tolerance`, and the Monte Carlo sample count. What a mass interval may name is the
+//! `tolerance`, a length tolerance, and the Monte Carlo sample count. What a mass interval may name is the
 //! family's.
 
 use crate::problem::{positive, FieldError};
-use crate::units::{AngularSpeed, Mass, Qty};
+use crate::units::{AngularSpeed, Length, Mass, Qty};
 use serde::Deserialize;
 
 /// `speed = { min, max }`.
@@ -30,6 +30,17 @@ pub struct MassRangeRaw {
     pub max: Option<Qty<Mass>>,
     /// ± this fraction of the nominal (dimensionless, e.g. 0.02 for a ±2 % casting).
     pub tolerance: Option<f64>,
+}
+
+/// `[[mechanism.envelope.length]]`: a length tolerance, ± `tolerance`.
+#[derive(Debug, Deserialize, schemars::JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct LengthRangeRaw {
+    /// What length: the slider-crank's `"crank_radius"` or `"rod_length"`; a linkage's link
+    /// (the crank, an RRR link or an RRP rod: its length to its tip).
+    pub of: String,
+    /// ± this length.
+    pub tolerance: Qty<Length>,
 }
 
 /// At most `max` interval parameters: `k` of them is an error of `mechanism.envelope`.

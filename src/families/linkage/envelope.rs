@@ -10,6 +10,11 @@
 //! functions — is convex in each, and its maximum over the box is at a vertex
 //! (`crate::synth::envelope`). "Minimise the worst case" is then one cone program over
 //! angle × vertices, certified exactly.
+//!
+//! A link's length tolerance (its distance to its tip, [`Linkage::with_length`]) enters the
+//! kinematics non-linearly: its ends are among the scenarios, but the worst case over its
+//! band is not proven there ([`LinkageEnvelope::certified`]), and the claim is `best_found`
+//! with the quasi-Monte Carlo check as its evidence.
 
 use crate::families::linkage::model::{Inertia, Linkage, LinkageError};
 
@@ -24,6 +29,21 @@ pub struct LinkMassRange {
     pub mass: (f64, f64),
 }
 
+/// A link's length tolerance.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct LinkLengthRange {
+    /// The link's name.
+    pub name: String,
+    /// The link's index.
+    pub link: usize,
+    /// Its nominal length: the distance to its tip (m).
+    pub nominal: f64,
+    /// The change of length at the interval's ends (m), (−t, t).
+    pub delta: (f64, f64),
+    /// A uniform bar: its centroid and inertia follow the length.
+    pub bar: bool,
+}
+
 /// The envelope of a linkage scene: empty for a nominal scene.
 #[derive(Debug, Clone, PartialEq, Default, serde::Serialize)]
 pub struct LinkageEnvelope {
@@ -31,6 +51,8 @@ pub struct LinkageEnvelope {
     pub speed: Option<(f64, f64)>,
     /// Link-mass intervals.
     pub masses: Vec<LinkMassRange>,
+    /// Link-length tolerances (their worst case is sampled, not proven).
+    pub lengths: Vec<LinkLengthRange>,
     /// Monte Carlo samples of the check (0: none).
     pub monte_carlo: usize,
     /// The sensitivity table: dV*/d(end) of the optimised worst case for every interval end,
@@ -41,16 +63,33 @@ pub struct LinkageEnvelope {
 impl LinkageEnvelope {
     /// True for a nominal scene (no interval).
     pub fn is_empty(&self) -> bool {
-        self.speed.is_none() && self.masses.is_empty()
+        self.speed.is_none() && self.masses.is_empty() && self.lengths.is_empty()
+    }
+
+    /// True where the worst case over the box is proven at its vertices: no length
+    /// tolerance (lengths enter the kinematics non-linearly).
+    pub fn certified(&self) -> bool {
+        self.lengths.is_empty()
+    }
+
+    /// The index of the first length parameter in [`Self::names`]' order.
+    pub fn first_length(&self) -> usize {
+        usize::from(self.speed.is_some()) + self.masses.len()
     }
 
     /// The parameters' names with their units, in order: `speed_rad_s`, then
-    /// `<link>_mass_kg` for each mass interval.
+    /// `<link>_mass_kg` for each mass interval, then `<link>_length_delta_m` for each length
+    /// tolerance.
     pub fn names(&self) -> Vec<String> {
         let speed = self.speed.map(|_| "speed_rad_s".to_string());
         speed
             .into_iter()
             .chain(self.masses.iter().map(|m| format!("{}_mass_kg", m.name)))
+            .chain(
+                self.lengths
+                    .iter()
+                    .map(|l| format!("{}_length_delta_m", l.name)),
+            )
             .collect()
     }
 
@@ -59,6 +98,7 @@ impl LinkageEnvelope {
         self.speed
             .into_iter()
             .chain(self.masses.iter().map(|m| m.mass))
+            .chain(self.lengths.iter().map(|l| l.delta))
             .collect()
     }
 
@@ -68,6 +108,7 @@ impl LinkageEnvelope {
             .map(|_| l.omega())
             .into_iter()
             .chain(self.masses.iter().map(|m| l.inertia()[m.link].mass))
+            .chain(self.lengths.iter().map(|_| 0.0))
             .collect()
     }
 
@@ -91,6 +132,10 @@ impl LinkageEnvelope {
                     j: old.j * f,
                 },
             )?;
+        }
+        for r in &self.lengths {
+            let d = v.next().expect("one value per parameter");
+            out = out.with_length(r.link, r.nominal, r.nominal + d, r.bar)?;
         }
         Ok(out)
     }

@@ -10,7 +10,7 @@
 //! `{ link = "coupler", at = ["60 mm", "20 mm"] }`, in the link's own frame (origin at its
 //! reference joint, x axis along it).
 
-use crate::families::linkage::model::{Dyad, Inertia, Linkage, Point};
+use crate::families::linkage::model::{tip_of, Dyad, Inertia, Linkage, Point};
 use crate::geom::outline::{Edge, Plate};
 use crate::geom::{Side, P2};
 use crate::problem::limits::{self, c, Count};
@@ -435,20 +435,6 @@ pub struct LinkageScene {
     pub objective: Objective,
     /// The operating envelope (empty: the nominal machine only).
     pub envelope: super::envelope::LinkageEnvelope,
-}
-
-/// What a link's `tip` is: its second joint in its own frame, where it has one.
-pub(super) fn tip_of(dyads: &[Dyad], crank_length: f64, link: usize) -> Option<P2> {
-    if link == 0 {
-        return Some(P2::new(crank_length, 0.0));
-    }
-    let (k, second) = ((link - 1) / 2, (link - 1) % 2 == 1);
-    match (dyads.get(k)?, second) {
-        (Dyad::Rrr { l1, .. }, false) => Some(P2::new(*l1, 0.0)),
-        (Dyad::Rrr { l2, .. }, true) => Some(P2::new(*l2, 0.0)),
-        (Dyad::Rrp { l, .. }, false) => Some(P2::new(*l, 0.0)),
-        _ => None,
-    }
 }
 
 fn xy(v: &XyRaw) -> P2 {
@@ -1025,6 +1011,30 @@ pub const TURN_SAMPLES: usize = 1440;
 
 /// The crank must turn fully: a linkage that cannot assemble over part of the turn is an error
 /// naming the dyad and the unreachable crank angles (in degrees, ends to 1e-9°).
+/// With length tolerances, the crank must turn fully at every vertex of the envelope's box
+/// too: an error at `mechanism.envelope.length` names the vertex and what fails.
+fn check_vertices(env: &super::envelope::LinkageEnvelope, l: &Linkage) -> Result<(), FieldError> {
+    if env.lengths.is_empty() {
+        return Ok(());
+    }
+    let key = "mechanism.envelope.length";
+    for v in crate::synth::envelope::vertices(&env.ranges()) {
+        let at = |e: String| {
+            FieldError::new(
+                key,
+                format!(
+                    "at the envelope's vertex {:?} ({}): {e}",
+                    v,
+                    env.names().join(", ")
+                ),
+            )
+        };
+        let lv = env.at(l, &v).map_err(|e| at(e.to_string()))?;
+        check_full_turn(&lv).map_err(|e| at(e.message))?;
+    }
+    Ok(())
+}
+
 fn check_full_turn(l: &Linkage) -> Result<(), FieldError> {
     // A range that closes to nothing (the bisection meeting itself at the wrap) is none.
     let bad: Vec<_> = l
@@ -1086,7 +1096,15 @@ pub fn resolve_scene(
     let counterweights = counterweights(design, &names, crank_length, dir)?;
     let objective = objective(o, &counterweights)?;
     let envelope = match &m.envelope {
-        Some(e) => super::file_envelope::resolve_envelope(e, &linkage, &names)?,
+        Some(e) => {
+            let bars: Vec<bool> = (names.iter())
+                .map(|n| m.links.get(n).is_some_and(|l| l.uniform_bar))
+                .collect();
+            let env =
+                super::file_envelope::resolve_envelope(e, &linkage, &names, crank_length, &bars)?;
+            check_vertices(&env, &linkage)?;
+            env
+        }
         None => Default::default(),
     };
     if !envelope.is_empty() {

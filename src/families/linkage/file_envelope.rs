@@ -3,12 +3,14 @@
 //! `file.rs` so that each file stays readable; the speed band, the mass interval and the
 //! Monte Carlo count are read as every family reads them (`crate::problem::envelope`).
 
-use super::envelope::{LinkMassRange, LinkageEnvelope};
+use super::envelope::{LinkLengthRange, LinkMassRange, LinkageEnvelope};
+use super::model::tip_of;
 use super::model::Linkage;
 use crate::problem::envelope::{
-    check_parameters, mass_interval, monte_carlo, speed_band, MassRangeRaw, SpeedRangeRaw,
+    check_parameters, mass_interval, monte_carlo, speed_band, LengthRangeRaw, MassRangeRaw,
+    SpeedRangeRaw,
 };
-use crate::problem::FieldError;
+use crate::problem::{positive, FieldError};
 use crate::synth::envelope::MAX_PARAMETERS;
 use serde::Deserialize;
 
@@ -23,6 +25,11 @@ pub struct LinkageEnvelopeRaw {
     #[serde(default)]
     #[schemars(length(max = MAX_PARAMETERS))]
     pub mass: Vec<MassRangeRaw>,
+    /// Link-length tolerances: `of` a link with a tip (the crank, an RRR link, an RRP rod),
+    /// ± `tolerance` (the worst case over them is sampled, not proven: `best_found`).
+    #[serde(default)]
+    #[schemars(length(max = MAX_PARAMETERS))]
+    pub length: Vec<LengthRangeRaw>,
     /// Samples of the Monte Carlo check over the whole box (default 1000; 0: none; at most
     /// 1,000,000).
     pub monte_carlo: Option<usize>,
@@ -32,23 +39,20 @@ pub struct LinkageEnvelopeRaw {
     pub sensitivities: bool,
 }
 
-/// The envelope of `[mechanism.envelope]` for the linkage `l` with links `names`.
+/// The envelope of `[mechanism.envelope]` for the linkage `l` with links `names`, its crank
+/// `crank_length` long, `bars[i]` true where link i is a uniform bar.
 pub fn resolve_envelope(
     e: &LinkageEnvelopeRaw,
     l: &Linkage,
     names: &[String],
+    crank_length: f64,
+    bars: &[bool],
 ) -> Result<LinkageEnvelope, FieldError> {
     let speed = speed_band(e.speed.as_ref())?;
     let mut masses: Vec<LinkMassRange> = Vec::new();
     for (i, r) in e.mass.iter().enumerate() {
         let f = format!("mechanism.envelope.mass[{i}]");
-        let Some(link) = names.iter().position(|n| *n == r.of) else {
-            let all: Vec<String> = names.iter().map(|n| format!("\"{n}\"")).collect();
-            return Err(FieldError::new(
-                format!("{f}.of"),
-                format!("got \"{}\"; allowed: a link, {}", r.of, all.join(", ")),
-            ));
-        };
+        let link = link_named(names, &r.of, &format!("{f}.of"))?;
         if masses.iter().any(|m| m.link == link) {
             return Err(FieldError::new(
                 format!("{f}.of"),
@@ -75,9 +79,47 @@ pub fn resolve_envelope(
             mass,
         });
     }
+    let mut lengths: Vec<LinkLengthRange> = Vec::new();
+    for (i, r) in e.length.iter().enumerate() {
+        let f = format!("mechanism.envelope.length[{i}]");
+        let link = link_named(names, &r.of, &format!("{f}.of"))?;
+        let Some(tip) = tip_of(l.dyads(), crank_length, link) else {
+            return Err(FieldError::new(
+                format!("{f}.of"),
+                format!(
+                    "link \"{}\" has no length (only the crank, RRR links and RRP rods have one)",
+                    r.of
+                ),
+            ));
+        };
+        if lengths.iter().any(|m| m.link == link) {
+            return Err(FieldError::new(
+                format!("{f}.of"),
+                format!("link \"{}\" has a tolerance already", r.of),
+            ));
+        }
+        let t = positive(&format!("{f}.tolerance"), r.tolerance.si())?;
+        if t >= tip.x {
+            return Err(FieldError::new(
+                format!("{f}.tolerance"),
+                format!(
+                    "got ±{t} m on a length of {} m; allowed: less than the length",
+                    tip.x
+                ),
+            ));
+        }
+        lengths.push(LinkLengthRange {
+            name: r.of.clone(),
+            link,
+            nominal: tip.x,
+            delta: (-t, t),
+            bar: bars.get(link).copied().unwrap_or(false),
+        });
+    }
     let env = LinkageEnvelope {
         speed,
         masses,
+        lengths,
         monte_carlo: monte_carlo(e.monte_carlo)?,
         sensitivities: e.sensitivities,
     };
@@ -116,4 +158,15 @@ pub fn check_envelope(
         );
     }
     Ok(())
+}
+
+/// The index of the link named `of` (the error at `key` lists the links).
+fn link_named(names: &[String], of: &str, key: &str) -> Result<usize, FieldError> {
+    names.iter().position(|n| n == of).ok_or_else(|| {
+        let all: Vec<String> = names.iter().map(|n| format!("\"{n}\"")).collect();
+        FieldError::new(
+            key,
+            format!("got \"{of}\"; allowed: a link, {}", all.join(", ")),
+        )
+    })
 }

@@ -31,8 +31,10 @@ use crate::geom::{circle_circle, cmul, cross, link_slider, perp, solve_columns, 
 use nalgebra::{Matrix2, Matrix2x4, RowVector4, Vector4};
 use std::f64::consts::TAU;
 
+mod lengths;
 mod loads;
 mod reactions;
+pub use lengths::tip_of;
 pub use loads::ProcessLoad;
 pub use reactions::{Body, Joint, JointKind, ReactionMap, Reactions};
 
@@ -164,6 +166,12 @@ impl Inertia {
 /// Why a linkage description is not usable.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum LinkageError {
+    /// A link without a length (a slider, a guide, a block) was given one.
+    #[error("link {link} has no length (only the crank, RRR links and RRP rods have one)")]
+    NoLength {
+        /// The link.
+        link: usize,
+    },
     /// A dyad uses a point on a link that is not yet defined.
     #[error("dyad {dyad} uses a point on link {link}, which is not defined before it (links 0..{known})")]
     ForwardReference {

@@ -199,7 +199,7 @@ fn envelope_numbers(r: &mut SolveResult, p: &LinkageProblem, sol: &Solved) {
         ));
     }
     let mut v = serde_json::to_value(env).unwrap_or_default();
-    v["certified"] = json!(true);
+    v["certified"] = json!(p.scene.envelope.certified());
     v["csv"] = json!(format!("{}-envelope.csv", r.name));
     r.extra.insert("envelope".into(), v);
 }

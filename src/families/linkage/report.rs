@@ -3,7 +3,8 @@
 //! result's files are asked for (`SolveResult::draw`, `complete`). The numbers themselves are
 //! `numbers.rs`'.
 
-use super::file::{tip_of, LinkageProblem, LinkageScene};
+use super::file::{LinkageProblem, LinkageScene};
+use super::model::tip_of;
 use super::solve::{Analyses, Solution as Solved};
 use super::synth::{self as ls};
 use crate::families::family::Scene;

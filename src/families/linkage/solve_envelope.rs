@@ -139,7 +139,7 @@ pub fn evaluate(
 /// The sensitivity table of the envelope design `sol` (`block_len` fields per scenario):
 /// each active maximum's slope when one parameter of its scenario moves, the design and the
 /// angle held (the scenario's scene rebuilt, [`ls::block_field_values`]; every figure is
-/// affine in a link's mass and quadratic in ω), weighted by its multiplier
+/// affine in a link's mass and quadratic in ω, a length is general), weighted by its multiplier
 /// (`crate::synth::envelope::sensitivities`, the envelope theorem).
 pub fn sensitivities(
     scene: &LinkageScene,
@@ -153,9 +153,13 @@ pub fn sensitivities(
     let n_cw = PER_COUNTERWEIGHT * scene.counterweights.len();
     let slopes = |k: usize, i: usize, ms: &[&Multiplier]| -> Result<Vec<Slope>, String> {
         let at: Vec<(usize, f64)> = ms.iter().map(|m| (m.field % block_len, m.angle)).collect();
+        let dependence = match i >= env.first_length() {
+            true => Dependence::General,
+            false => Dependence::Quadratic,
+        };
         let mut values = vs[k - 1].clone();
-        let h = step(values[i], ranges[i], Dependence::Quadratic);
-        central_slopes(values[i], h, Dependence::Quadratic, |v| {
+        let h = step(values[i], ranges[i], dependence);
+        central_slopes(values[i], h, dependence, |v| {
             values[i] = v;
             let s = ls::scene_at(scene, &values).map_err(|e| e.to_string())?;
             ls::block_field_values(&s, &at, n_cw + k, &sol.x).map_err(|e| e.to_string())

@@ -7,9 +7,8 @@ use super::synth::{
     MAX_PARAMETERS,
 };
 use crate::problem::envelope::{check_parameters, mass_interval, monte_carlo, speed_band};
-pub use crate::problem::envelope::{MassRangeRaw, SpeedRangeRaw, MAX_MONTE_CARLO};
+pub use crate::problem::envelope::{LengthRangeRaw, MassRangeRaw, SpeedRangeRaw, MAX_MONTE_CARLO};
 use crate::problem::{positive, FieldError};
-use crate::units::{Length, Qty};
 use serde::Deserialize;
 
 /// `[mechanism.envelope]`.
@@ -34,16 +33,6 @@ pub struct EnvelopeRaw {
     /// interval end, from the optimum's multipliers (free once solved; default false).
     #[serde(default)]
     pub sensitivities: bool,
-}
-
-/// `[[mechanism.envelope.length]]`.
-#[derive(Debug, Deserialize, schemars::JsonSchema)]
-#[serde(deny_unknown_fields)]
-pub struct LengthRangeRaw {
-    /// `"crank_radius"` or `"rod_length"`.
-    pub of: String,
-    /// ± this length.
-    pub tolerance: Qty<Length>,
 }
 
 /// A `[[mechanism.mass_items]]` entry as the envelope sees it: its name, where it is reduced
