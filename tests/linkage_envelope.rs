@@ -295,19 +295,7 @@ minimize = "peak-force"
         |i, upper| {
             let (lo, hi) = ranges[i];
             crate::sensitivities::resolved(1e-3 * (hi - lo), |d| {
-                let mut sc = p.scene.clone();
-                sc.envelope.sensitivities = false;
-                let r = match (i, sc.envelope.speed.as_mut()) {
-                    (0, Some(w)) => w,
-                    _ => &mut sc.envelope.masses[i - 1].mass,
-                };
-                if upper {
-                    r.1 += d
-                } else {
-                    r.0 += d
-                }
-                let sol = ls::solve(&sc, &p.settings).unwrap().design.unwrap();
-                (sol.objective, sol.error.total)
+                crate::sensitivities::linkage_resolved(p, i, upper, d)
             })
         },
     );
@@ -347,17 +335,7 @@ fn length_tolerances_move_the_tips_and_claim_best_found() {
         1e-4,
         |i, upper| {
             crate::sensitivities::resolved(1e-3 * 4e-4, |d| {
-                let mut sc = p.scene.clone();
-                sc.envelope.monte_carlo = 0;
-                sc.envelope.sensitivities = false;
-                let r = &mut sc.envelope.lengths[i - 3].delta;
-                if upper {
-                    r.1 += d
-                } else {
-                    r.0 += d
-                }
-                let sol = ls::solve(&sc, &p.settings).unwrap().design.unwrap();
-                (sol.objective, sol.error.total)
+                crate::sensitivities::linkage_resolved(p, i, upper, d)
             })
         },
     );

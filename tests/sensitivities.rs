@@ -134,22 +134,7 @@ fn the_linkage_press_table_matches_re_solves() {
         1e-5,
         |i, upper| {
             let (lo, hi) = p.scene.envelope.ranges()[i];
-            resolved(1e-3 * (hi - lo), |d| {
-                let mut sc = p.scene.clone();
-                sc.envelope.monte_carlo = 0;
-                sc.envelope.sensitivities = false;
-                let r = match (i, sc.envelope.speed.as_mut()) {
-                    (0, Some(w)) => w,
-                    _ => &mut sc.envelope.masses[i - 1].mass,
-                };
-                if upper {
-                    r.1 += d
-                } else {
-                    r.0 += d
-                }
-                let sol = ls::solve(&sc, &p.settings).unwrap().design.unwrap();
-                (sol.objective, sol.error.total)
-            })
+            resolved(1e-3 * (hi - lo), |d| linkage_resolved(p, i, upper, d))
         },
     );
 }
@@ -170,4 +155,32 @@ fn an_optimum_without_multipliers_says_why_instead_of_a_table() {
         "{:?}",
         r.warnings
     );
+}
+
+/// The linkage scene's optimised worst case (the engine's objective and its error), re-solved
+/// with the end of its envelope's parameter `i` (speed, masses, lengths in that order) moved
+/// by `d`: the reference of the linkage tables.
+pub(crate) fn linkage_resolved(p: &LinkageProblem, i: usize, upper: bool, d: f64) -> (f64, f64) {
+    let mut sc = p.scene.clone();
+    sc.envelope.monte_carlo = 0;
+    sc.envelope.sensitivities = false;
+    let (speeds, masses) = (
+        usize::from(sc.envelope.speed.is_some()),
+        sc.envelope.masses.len(),
+    );
+    let e = &mut sc.envelope;
+    let r: &mut (f64, f64) = if i < speeds {
+        e.speed.as_mut().unwrap()
+    } else if i - speeds < masses {
+        &mut e.masses[i - speeds].mass
+    } else {
+        &mut e.lengths[i - speeds - masses].delta
+    };
+    if upper {
+        r.1 += d
+    } else {
+        r.0 += d
+    }
+    let sol = ls::solve(&sc, &p.settings).unwrap().design.unwrap();
+    (sol.objective, sol.error.total)
 }
