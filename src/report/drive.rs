@@ -127,7 +127,21 @@ pub fn drive_documents(
     drive: Option<&Result<DriveFigures, String>>,
     angle: &'static str,
 ) {
+    drive_documents_of(r, drive, angle, None)
+}
+
+/// [`drive_documents`] of another case beside the scene's own, `case` = (suffix, name): the
+/// load case that governs the flywheel, say. Its tables and plot are `drive-<suffix>` and
+/// `steady-state-<suffix>`, their captions naming the case.
+pub fn drive_documents_of(
+    r: &mut SolveResult,
+    drive: Option<&Result<DriveFigures, String>>,
+    angle: &'static str,
+    case: Option<(&str, &str)>,
+) {
     let Some(Ok(d)) = drive else { return };
+    let suffix = |s: &str| case.map_or(s.to_string(), |c| format!("{s}-{}", c.0));
+    let of = case.map_or(String::new(), |c| format!(" (load case {})", c.1));
     let mut d = d.clone();
     d.constant.curve = thin(&d.constant.curve);
     d.steady.curve = thin(&d.steady.curve);
@@ -136,9 +150,10 @@ pub fn drive_documents(
         csv += &format!("{},{},{}\n", p.to_degrees(), t, e);
     }
     r.tables.push(Table {
-        suffix: "drive".into(),
-        caption: "The turn at constant speed: drive torque T and energy curve E = ∫ (T − T̄) dφ"
-            .into(),
+        suffix: suffix("drive"),
+        caption: format!(
+            "The turn at constant speed{of}: drive torque T and energy curve E = ∫ (T − T̄) dφ"
+        ),
         csv,
     });
     let mut csv = format!("{angle}_angle_deg,speed_rad_s,angular_acceleration_rad_s2\n");
@@ -146,15 +161,15 @@ pub fn drive_documents(
         csv += &format!("{},{},{}\n", p.to_degrees(), w, a);
     }
     r.tables.push(Table {
-        suffix: "steady-state".into(),
+        suffix: suffix("steady-state"),
         caption: format!(
-            "The periodic steady state at real speed: {angle} speed ω and acceleration α"
+            "The periodic steady state at real speed{of}: {angle} speed ω and acceleration α"
         ),
         csv,
     });
     r.plots.push(Plot::new(
-        "drive",
-        "Turning-moment diagram, energy fluctuation and the speed over a turn",
+        suffix("drive"),
+        format!("Turning-moment diagram, energy fluctuation and the speed over a turn{of}"),
         move || drive_plot(&d, angle),
     ));
 }

@@ -38,6 +38,20 @@ pub fn documents(scene: &Scene, s: &HypocycloidProblem, sol: &Solution, r: &mut 
         if let Some(lc) = &sol.load_cases {
             let peak = d.rotating.as_ref().map(|rot| rot.design_peak());
             super::load_cases::table(r, lc, peak);
+            // The case that governs the flywheel, where it is not the nominal one: its turn
+            // and its steady state with the flywheel of all the cases.
+            if let Some(c) = (lc.flywheel.and_then(|f| f.governing))
+                .filter(|&k| k > 0)
+                .map(|k| &lc.cases[k])
+            {
+                let case = Some(("governing", c.case.name.as_str()));
+                crate::report::drive::drive_documents_of(
+                    r,
+                    c.at_flywheel.as_ref(),
+                    "carrier",
+                    case,
+                );
+            }
         }
     }
     let order = out.zero_search.as_ref().map(|z| z.order);
