@@ -8,7 +8,7 @@
 //! needs. The Halton points check it (they never certify it). What each interval end costs
 //! comes from the optimum's multipliers ([`sensitivities`]).
 
-use crate::synth::minimax::{Multiplier, Solution};
+use crate::synth::minimax::{AffineField, AffineValue, Multiplier, Solution};
 use crate::synth::search::starts::{halton, HALTON_PRIMES};
 
 /// Most interval parameters of an envelope: 2^10 = 1024 vertices (and the Halton bases).
@@ -255,4 +255,50 @@ pub fn sensitivities<E>(
         }
     }
     Ok(rows)
+}
+
+/// [`sensitivities`] with each slope a central difference of the family's fields moved in one
+/// scenario: `fields_at(s, values, maxima)` is g and its evaluation error ([`field_values`])
+/// at each of scenario s's active maxima with the parameters at `values`, the design held.
+/// Parameters from `first_general` on (lengths) are [`Dependence::General`], the others
+/// (speed, masses) [`Dependence::Quadratic`]; the step is [`step`]'s.
+pub fn scenario_sensitivities<E>(
+    names: &[String],
+    ranges: &[(f64, f64)],
+    stride: usize,
+    multipliers: &[Multiplier],
+    first_general: usize,
+    mut fields_at: impl FnMut(usize, &[f64], &[&Multiplier]) -> Result<Vec<FieldValue>, E>,
+) -> Result<Vec<Sensitivity>, E> {
+    let vs = vertices(ranges);
+    sensitivities(names, ranges, stride, multipliers, |k, i, ms| {
+        let dependence = match i >= first_general {
+            true => Dependence::General,
+            false => Dependence::Quadratic,
+        };
+        let mut values = vs[k - 1].clone();
+        let h = step(values[i], ranges[i], dependence);
+        central_slopes(values[i], h, dependence, |v| {
+            values[i] = v;
+            fields_at(k, &values, ms)
+        })
+    })
+}
+
+/// g and its evaluation error at each (field, θ) of `at` at the design x: the values
+/// [`scenario_sensitivities`] differences.
+pub fn field_values(
+    fields: &[&dyn AffineField],
+    at: impl IntoIterator<Item = (usize, f64)>,
+    x: &[f64],
+) -> Vec<FieldValue> {
+    let mut out = AffineValue::zeros(x.len());
+    at.into_iter()
+        .map(|(f, theta)| {
+            out.b = [0.0; 2];
+            out.a.iter_mut().for_each(|v| *v = 0.0);
+            fields[f].eval(theta, &mut out);
+            (out.at(fields[f].dim(), x), fields[f].error(theta, x))
+        })
+        .collect()
 }

@@ -9,8 +9,7 @@ use super::file::{Goal, LinkageScene};
 use super::model::Linkage;
 use super::synth::{self as ls, Outcome, FORCE, MOMENT, TORQUE};
 use crate::numeric::{periodic_peak_sampled, Refine};
-use crate::synth::envelope::{self, central_slopes, halton_point, step, vertices, worst};
-use crate::synth::envelope::{Dependence, Sensitivity, Slope, WorstCase};
+use crate::synth::envelope::{self, halton_point, vertices, worst, Sensitivity, WorstCase};
 use crate::synth::minimax::{FieldPeak, Multiplier, Settings, Solution, PER_COUNTERWEIGHT};
 use rayon::prelude::*;
 
@@ -148,24 +147,20 @@ pub fn sensitivities(
 ) -> Result<Vec<Sensitivity>, String> {
     let multipliers = envelope::multipliers_of(sol)?;
     let env = &scene.envelope;
-    let ranges = env.ranges();
-    let vs = vertices(&ranges);
     let n_cw = PER_COUNTERWEIGHT * scene.counterweights.len();
-    let slopes = |k: usize, i: usize, ms: &[&Multiplier]| -> Result<Vec<Slope>, String> {
+    let fields_at = |k: usize, values: &[f64], ms: &[&Multiplier]| {
         let at: Vec<(usize, f64)> = ms.iter().map(|m| (m.field % block_len, m.angle)).collect();
-        let dependence = match i >= env.first_length() {
-            true => Dependence::General,
-            false => Dependence::Quadratic,
-        };
-        let mut values = vs[k - 1].clone();
-        let h = step(values[i], ranges[i], dependence);
-        central_slopes(values[i], h, dependence, |v| {
-            values[i] = v;
-            let s = ls::scene_at(scene, &values).map_err(|e| e.to_string())?;
-            ls::block_field_values(&s, &at, n_cw + k, &sol.x).map_err(|e| e.to_string())
-        })
+        let s = ls::scene_at(scene, values).map_err(|e| e.to_string())?;
+        ls::block_field_values(&s, &at, n_cw + k, &sol.x).map_err(|e| e.to_string())
     };
-    envelope::sensitivities(&env.names(), &ranges, block_len, multipliers, slopes)
+    envelope::scenario_sensitivities(
+        &env.names(),
+        &env.ranges(),
+        block_len,
+        multipliers,
+        env.first_length(),
+        fields_at,
+    )
 }
 
 /// The Halton points 1..=N of the box, each scene's figures computed afresh: the largest and

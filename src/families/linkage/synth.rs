@@ -678,17 +678,7 @@ pub fn block_field_values(
     if at.iter().any(|&(f, _)| f >= block.refs().len()) {
         block = Block::new(&fields, "", x.len(), offset, true)?;
     }
-    let refs = block.refs();
-    let mut out = mm::AffineValue::zeros(x.len());
-    let values = at
-        .iter()
-        .map(|&(f, theta)| {
-            out.b = [0.0; 2];
-            out.a.iter_mut().for_each(|v| *v = 0.0);
-            refs[f].eval(theta, &mut out);
-            (out.at(refs[f].dim(), x), refs[f].error(theta, x))
-        })
-        .collect();
+    let values = crate::synth::envelope::field_values(&block.refs(), at.iter().copied(), x);
     match fields.failure() {
         Some(e) => Err(e),
         None => Ok(values),

@@ -11,8 +11,7 @@ use crate::families::slider_crank::model::{weight_torque_cs, State};
 use crate::geom::P2;
 use crate::synth::counterweight::Status;
 use crate::synth::energy::EnergyField;
-use crate::synth::envelope::{central_slopes, multipliers_of, sensitivities, step, vertices};
-use crate::synth::envelope::{Dependence, Sensitivity, Slope};
+use crate::synth::envelope::{field_values, multipliers_of, scenario_sensitivities, Sensitivity};
 use crate::synth::minimax::{self as mm, AffineField, AffineValue, FnField};
 use crate::synth::Var;
 
@@ -584,36 +583,22 @@ fn sensitivity_table(
 ) -> Result<Vec<Sensitivity>, SolveError> {
     let multipliers = multipliers_of(sol).map_err(SolveError::Numeric)?;
     let env = &scene.envelope;
-    let ranges = env.ranges();
-    let vs = vertices(&ranges);
     let nb = scene.balancers.len();
     let lengths_from = usize::from(env.speed.is_some()) + env.masses.len();
-    let slopes = |k: usize, i: usize, ms: &[&mm::Multiplier]| -> Result<Vec<Slope>, SolveError> {
-        let dependence = match i >= lengths_from {
-            true => Dependence::General,
-            false => Dependence::Quadratic,
-        };
-        let mut values = vs[k - 1].clone();
-        let h = step(values[i], ranges[i], dependence);
-        central_slopes(values[i], h, dependence, |v| {
-            values[i] = v;
-            let s = env.at(scene, values.clone()).scene;
-            let zero = s.with_balancers(&vec![[0.0; 2]; nb]);
-            let js = JointScene::new(&s, &zero, nb);
-            let set = js.fields([true; 4], energy.map(|(n, o)| (n, o + k)))?;
-            let all = set.all();
-            let mut out = AffineValue::zeros(sol.x.len());
-            Ok(ms
-                .iter()
-                .map(|m| {
-                    let field = all[m.field % stride];
-                    out.b = [0.0; 2];
-                    out.a.iter_mut().for_each(|v| *v = 0.0);
-                    field.eval(m.angle, &mut out);
-                    (out.at(field.dim(), &sol.x), field.error(m.angle, &sol.x))
-                })
-                .collect())
-        })
+    let fields_at = |k: usize, values: &[f64], ms: &[&mm::Multiplier]| {
+        let s = env.at(scene, values.to_vec()).scene;
+        let zero = s.with_balancers(&vec![[0.0; 2]; nb]);
+        let js = JointScene::new(&s, &zero, nb);
+        let set = js.fields([true; 4], energy.map(|(n, o)| (n, o + k)))?;
+        let at = ms.iter().map(|m| (m.field % stride, m.angle));
+        Ok(field_values(&set.all(), at, &sol.x))
     };
-    sensitivities(&env.names(), &ranges, stride, multipliers, slopes)
+    scenario_sensitivities(
+        &env.names(),
+        &env.ranges(),
+        stride,
+        multipliers,
+        lengths_from,
+        fields_at,
+    )
 }
