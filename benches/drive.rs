@@ -91,6 +91,13 @@ fn bench_envelope(c: &mut Criterion) {
     c.bench_function("drive/envelope_nominal_only_minimax_force", |b| {
         b.iter(|| optimise(std::hint::black_box(&nominal)).unwrap())
     });
+    // The same single scenario through the engine the envelope uses (clarabel's rounds, not
+    // the exact disc path that only a single turning counterweight's force allows).
+    let mut general = nominal.clone();
+    general.settings.exact_disc = false;
+    c.bench_function("drive/envelope_nominal_only_general_engine", |b| {
+        b.iter(|| optimise(std::hint::black_box(&general)).unwrap())
+    });
 }
 
 criterion_group!(benches, bench, bench_energy_design, bench_envelope);

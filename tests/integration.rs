@@ -45,6 +45,7 @@ mod index_page;
 mod integer_limits;
 mod linkage;
 mod linkage_envelope;
+mod linkage_load_cases;
 mod linkage_model;
 mod load_cases;
 mod minimax_engine;

@@ -20,7 +20,7 @@ fn press(minimize: &str) -> String {
 }
 
 /// A random design within the counterweights' limits (m ≤ m_max, |u| ≤ m r, I = m r²).
-fn random_design(p: &LinkageProblem, rng: &mut Lcg) -> Vec<f64> {
+pub fn random_design(p: &LinkageProblem, rng: &mut Lcg) -> Vec<f64> {
     let mut x = Vec::new();
     for c in &p.scene.counterweights {
         let (m, r) = (rng.range(0.0, c.mass.bounds().1), c.radius);

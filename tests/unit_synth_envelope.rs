@@ -18,9 +18,9 @@ fn vertices_are_in_binary_order() {
 }
 
 #[test]
-fn the_worst_is_the_last_largest() {
-    let w = worst([(1.0, 0.1), (3.0, 0.2), (3.0, 0.3)]).unwrap();
-    assert_eq!((w.value, w.error, w.vertex), (3.0, 0.3, 2));
+fn the_worst_is_the_first_largest() {
+    let w = worst([(1.0, 0.1), (3.0, 0.2), (3.0, 0.3), (2.0, 0.1)]).unwrap();
+    assert_eq!((w.value, w.error, w.vertex), (3.0, 0.2, 1));
 }
 
 /// A quadratic field's slope is exact but for its evaluations' errors at any step (here the

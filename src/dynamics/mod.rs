@@ -21,6 +21,7 @@
 //! no crate integrates periodic energy equations: ODE crates (e.g. `ode_solvers`) integrate in
 //! time and would need the shooting, the grid alignment and the error bookkeeping around them.
 
+pub mod cases;
 mod motor;
 use crate::numeric::{brent_max, brent_root};
 pub use motor::Motor;
@@ -751,9 +752,13 @@ fn shoot_line(
     let n = grid.n();
     let h2 = 2.0 * TAU / n as f64;
     let jf = |k: usize| grid.j[k % n] + flywheel;
+    // 2/(J + I_f) and G at the nodes 0..=n (the last is the first again), once per call:
+    // the runs below evaluate them 2n times each.
+    let two_over_j: Vec<f64> = (0..=n).map(|k| 2.0 / jf(k)).collect();
+    let g: Vec<f64> = (0..=n).map(|k| grid.g[k % n]).collect();
     let rate = |y: f64, k: usize| {
-        let w = (2.0 * y.max(0.0) / jf(k)).sqrt();
-        motor.torque(w, gbar) - grid.g[k % n]
+        let w = (y.max(0.0) * two_over_j[k]).sqrt();
+        motor.torque(w, gbar) - g[k]
     };
     let run = |y0: f64, out: Option<&mut Vec<f64>>| {
         let mut y = y0;

@@ -40,6 +40,7 @@ fn segment(xs: &[f64], x: f64) -> usize {
 
 impl Motor {
     /// T_m(ω) (N·m); `mean` is the cycle's mean load T̄ (the constant torque's value).
+    #[inline]
     pub fn torque(&self, omega: f64, mean: f64) -> f64 {
         match *self {
             Motor::ConstantTorque => mean,

@@ -1,7 +1,7 @@
 //! The parts of `[mechanism.envelope]` every family with an operating envelope reads alike
 //! (issue 33, item 3): the speed band, a mass interval given as `min`/`max` or as a relative
-//! `tolerance`, a length tolerance, and the Monte Carlo sample count. What a mass interval may name is the
-//! family's.
+//! `tolerance`, a length tolerance, and the Monte Carlo sample count; and the names of
+//! `[[mechanism.load_cases]]`. What a mass interval may name is the family's.
 
 use crate::problem::{positive, FieldError};
 use crate::units::{AngularSpeed, Length, Mass, Qty};
@@ -117,4 +117,54 @@ pub fn mass_interval(
         ));
     }
     Ok((lo, hi))
+}
+
+/// The name of the nominal case, the file's own loads (no load case may take it).
+pub const NOMINAL: &str = "nominal";
+
+/// Most entries of `[[mechanism.load_cases]]` (the nominal case comes on top).
+pub const MAX_LOAD_CASES: usize = 16;
+
+/// Longest name of a load case (characters).
+pub const MAX_CASE_NAME: usize = 64;
+
+/// The checked name of load case `key` (`mechanism.load_cases[i]`): `raw` trimmed, 1 to
+/// [`MAX_CASE_NAME`] characters, no comma, quote or control character (it is a CSV cell),
+/// not [`NOMINAL`] and none of `taken`; `nominal_is` says what the nominal case is in the
+/// error.
+pub fn case_name<'a>(
+    key: &str,
+    raw: &str,
+    mut taken: impl Iterator<Item = &'a str>,
+    nominal_is: &str,
+) -> Result<String, FieldError> {
+    let name = raw.trim();
+    let bad = name.is_empty()
+        || name.chars().count() > MAX_CASE_NAME
+        || name
+            .chars()
+            .any(|ch| ch == ',' || ch == '"' || ch.is_control());
+    let used = name == NOMINAL || taken.any(|k| k == name);
+    if bad || used {
+        return Err(FieldError::new(
+            format!("{key}.name"),
+            format!(
+                "{raw:?} {}; allowed: a unique name of 1 to {MAX_CASE_NAME} characters, no comma, quote or control character, not \"{NOMINAL}\" ({nominal_is})",
+                if used { "is taken" } else { "is no name" }
+            ),
+        ));
+    }
+    Ok(name.to_string())
+}
+
+/// At most [`MAX_LOAD_CASES`] entries of `[[mechanism.load_cases]]`: more name the first one
+/// too many (an array of tables has no line of its own).
+pub fn case_count(n: usize) -> Result<(), FieldError> {
+    if n > MAX_LOAD_CASES {
+        return Err(FieldError::new(
+            format!("mechanism.load_cases[{MAX_LOAD_CASES}]"),
+            format!("{n} load cases; allowed: at most {MAX_LOAD_CASES}"),
+        ));
+    }
+    Ok(())
 }

@@ -120,6 +120,26 @@ impl DriveNumbers {
     }
 }
 
+/// One load case's drive keys ([`DriveNumbers`]) from its own drive `own` (its constant-speed
+/// figures and least flywheel) and its steady state `at` with the flywheel of all the cases,
+/// and why not where either failed; `peak_force` the design's constant-speed peak shaking
+/// force (N).
+pub fn case_numbers<'a>(
+    own: Option<&'a Result<DriveFigures, String>>,
+    at: Option<&'a Result<DriveFigures, String>>,
+    peak_force: Option<f64>,
+) -> (Option<DriveNumbers>, Option<&'a str>) {
+    let why = [own, at]
+        .into_iter()
+        .find_map(|d| d.and_then(|d| d.as_ref().err()));
+    let ok = |d: Option<&'a Result<DriveFigures, String>>| d.and_then(|d| d.as_ref().ok());
+    let numbers = ok(own).zip(ok(at)).map(|(own, at)| {
+        let f = own.flywheel.as_ref();
+        DriveNumbers::of(&own.constant, f, &at.steady, at.real, peak_force)
+    });
+    (numbers, why.map(String::as_str))
+}
+
 /// The drive's table and plot: the turn at constant speed (T, E) and at real speed (ω, α).
 /// `angle` names the input angle in the CSV columns and the plot (e.g. `"crank"`).
 pub fn drive_documents(

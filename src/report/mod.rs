@@ -265,6 +265,38 @@ pub struct Table {
     pub csv: String,
 }
 
+impl Table {
+    /// The table of JSON objects `rows`: their keys the columns in first-seen order, a
+    /// string as is, a number as JSON writes it, a key a row lacks (or null) empty.
+    pub fn of_rows(suffix: &str, caption: &str, rows: &[serde_json::Value]) -> Table {
+        let mut cols: Vec<&str> = Vec::new();
+        for row in rows.iter().filter_map(|x| x.as_object()) {
+            for k in row.keys() {
+                if !cols.contains(&k.as_str()) {
+                    cols.push(k);
+                }
+            }
+        }
+        let mut csv = cols.join(",") + "\n";
+        for row in rows {
+            let cells: Vec<String> = cols
+                .iter()
+                .map(|k| match row.get(*k) {
+                    Some(serde_json::Value::String(s)) => s.clone(),
+                    Some(serde_json::Value::Null) | None => String::new(),
+                    Some(v) => v.to_string(),
+                })
+                .collect();
+            csv += &(cells.join(",") + "\n");
+        }
+        Table {
+            suffix: suffix.into(),
+            caption: caption.into(),
+            csv,
+        }
+    }
+}
+
 /// The result of one scene.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct SolveResult {

@@ -52,11 +52,15 @@ pub struct WorstCase {
     pub vertex: usize,
 }
 
-/// The worst (largest) of `(value, error)` over the scenarios, `None` for none.
+/// The worst (largest) of `(value, error)` over the scenarios, the first of equal ones
+/// (load cases that do not change a figure tie exactly), `None` for none.
 pub fn worst(rows: impl IntoIterator<Item = (f64, f64)>) -> Option<WorstCase> {
     rows.into_iter()
         .enumerate()
-        .max_by(|a, b| a.1 .0.total_cmp(&b.1 .0))
+        .reduce(|a, b| match b.1 .0.total_cmp(&a.1 .0) {
+            std::cmp::Ordering::Greater => b,
+            _ => a,
+        })
         .map(|(vertex, (value, error))| WorstCase {
             value,
             error,
@@ -211,8 +215,9 @@ pub fn multipliers_of(sol: &Solution) -> Result<&[Multiplier], String> {
 /// program is solved: by the envelope theorem, dV*/d(end) = Σ_k w_k ∂|g_k(θ_k; x*)|/∂v over
 /// the optimum's active maxima k ([`Multiplier`]) whose scenario has the parameter at that
 /// end, the design x* and the angles θ_k held. Field f belongs to scenario f / `stride`:
-/// 0 is the nominal scene (at no end), s ≥ 1 vertex s − 1 of [`vertices`] (bit i set:
-/// parameter i at its upper end). `slopes(s, i, maxima)` is ∂|g|/∂v_i of each of scenario
+/// 0 is the nominal scene (at no end), s ≥ 1 vertex (s − 1) mod 2ⁿ of [`vertices`] (bit i
+/// set: parameter i at its upper end; the vertices repeat once per load case of a family
+/// that has them). `slopes(s, i, maxima)` is ∂|g|/∂v_i of each of scenario
 /// s's active maxima (the family's fields, moved once for all of them). The error is
 /// Σ_k (|w_k|·slope error + w_k's error·|slope|). It is V*'s derivative where V* is
 /// differentiable; where the active set changes at the end (an end whose scenarios are all
@@ -225,6 +230,7 @@ pub fn sensitivities<E>(
     mut slopes: impl FnMut(usize, usize, &[&Multiplier]) -> Result<Vec<Slope>, E>,
 ) -> Result<Vec<Sensitivity>, E> {
     let active: Vec<&Multiplier> = multipliers.iter().filter(|m| m.weight != 0.0).collect();
+    let nv = 1usize << ranges.len();
     let mut scenarios: Vec<usize> = active.iter().map(|m| m.field / stride).collect();
     scenarios.sort_unstable();
     scenarios.dedup();
@@ -238,7 +244,7 @@ pub fn sensitivities<E>(
                 .copied()
                 .filter(|m| m.field / stride == s)
                 .collect();
-            let end = &mut ends[(s - 1) >> i & 1];
+            let end = &mut ends[((s - 1) % nv) >> i & 1];
             for (m, sl) in at.iter().zip(slopes(s, i, &at)?) {
                 end.0 += m.weight * sl.value;
                 end.1 += m.weight.abs() * sl.error + m.weight_error * sl.value.abs();
@@ -259,7 +265,8 @@ pub fn sensitivities<E>(
 
 /// [`sensitivities`] with each slope a central difference of the family's fields moved in one
 /// scenario: `fields_at(s, values, maxima)` is g and its evaluation error ([`field_values`])
-/// at each of scenario s's active maxima with the parameters at `values`, the design held.
+/// at each of scenario s's active maxima with the parameters at `values`, the design held
+/// (s tells the family scenario s's load case, if it has them).
 /// Parameters from `first_general` on (lengths) are [`Dependence::General`], the others
 /// (speed, masses) [`Dependence::Quadratic`]; the step is [`step`]'s.
 pub fn scenario_sensitivities<E>(
@@ -276,7 +283,7 @@ pub fn scenario_sensitivities<E>(
             true => Dependence::General,
             false => Dependence::Quadratic,
         };
-        let mut values = vs[k - 1].clone();
+        let mut values = vs[(k - 1) % vs.len()].clone();
         let h = step(values[i], ranges[i], dependence);
         central_slopes(values[i], h, dependence, |v| {
             values[i] = v;

@@ -7,7 +7,7 @@
 use crate::families::hypocycloid::balance::{DynamicsSpec, RotatingDesign, RotatingGoal};
 use crate::families::hypocycloid::dynamics::{RotatingMasses, ShaftLayout};
 use crate::families::hypocycloid::gas::{GasCycle, LoadCase};
-use crate::families::hypocycloid::load_cases::{MAX_CASE_NAME, MAX_LOAD_CASES, NOMINAL};
+use crate::families::hypocycloid::load_cases::{MAX_CASE_NAME, MAX_LOAD_CASES};
 use crate::families::hypocycloid::model::{ALPHA0_VARIANT1, ALPHA0_VARIANT2};
 use crate::families::hypocycloid::synth::{
     CoefficientModel, HypocycloidScene, Settings, ZeroSearch,
@@ -701,7 +701,7 @@ fn pressures(ps: (&str, f64), pd: (&str, f64)) -> Result<(f64, f64), FieldError>
 
 /// `[[mechanism.load_cases]]` over the nominal cycle: at most [`MAX_LOAD_CASES`], each named
 /// (non-empty, at most [`MAX_CASE_NAME`] characters, no comma, quote or control character,
-/// unique, not [`NOMINAL`]) and changing p_s, p_d or both (p_d > p_s > 0). The pressure behind
+/// unique, not [`crate::problem::envelope::NOMINAL`]) and changing p_s, p_d or both (p_d > p_s > 0). The pressure behind
 /// the piston stays the nominal `back_pressure` where the file gives one, else it is the
 /// case's own suction pressure, as in `[mechanism.gas]`. Cases need `[mechanism.gas]`.
 fn resolve_load_cases(
@@ -721,35 +721,13 @@ fn resolve_load_cases(
             "load cases change the gas cycle's pressures; allowed: with [mechanism.gas], the nominal case",
         ));
     };
-    if raw.len() > MAX_LOAD_CASES {
-        return Err(FieldError::new(
-            format!("{KEY}[{MAX_LOAD_CASES}]"),
-            format!(
-                "{} load cases; allowed: at most {MAX_LOAD_CASES}",
-                raw.len()
-            ),
-        ));
-    }
+    crate::problem::envelope::case_count(raw.len())?;
     let mut cases: Vec<LoadCase> = Vec::with_capacity(raw.len());
     for (i, c) in raw.iter().enumerate() {
         let key = format!("{KEY}[{i}]");
-        let name = c.name.trim();
-        let bad = name.is_empty()
-            || name.chars().count() > MAX_CASE_NAME
-            || name
-                .chars()
-                .any(|ch| ch == ',' || ch == '"' || ch.is_control());
-        let taken = name == NOMINAL || cases.iter().any(|k| k.name == name);
-        if bad || taken {
-            return Err(FieldError::new(
-                format!("{key}.name"),
-                format!(
-                    "{:?} {}; allowed: a unique name of 1 to {MAX_CASE_NAME} characters, no comma, quote or control character, not \"{NOMINAL}\" (the [mechanism.gas] case)",
-                    c.name,
-                    if taken { "is taken" } else { "is no name" }
-                ),
-            ));
-        }
+        let taken = cases.iter().map(|k| k.name.as_str());
+        let name =
+            crate::problem::envelope::case_name(&key, &c.name, taken, "the [mechanism.gas] case")?;
         let (ks, kd) = (
             format!("{key}.suction_pressure"),
             format!("{key}.discharge_pressure"),

@@ -40,20 +40,17 @@
 use super::balance::{drive_outcome, torque_outcome, At, DynamicsError, DynamicsSpec};
 use super::balance::{DynamicsOutcome, RotatingOutcome, TorqueOutcome};
 use super::gas::{GasCycle, LoadCase};
+pub use crate::dynamics::cases::CasesFlywheel;
+use crate::dynamics::cases::{argmax, cases_flywheel, check_cs, with_flywheel, CaseDrive};
 use crate::dynamics::{Drive, DriveFigures};
-use crate::report::drive::DriveNumbers;
+use crate::report::drive::{case_numbers, DriveNumbers};
 use crate::report::{number_map, SolveResult, Table};
 use serde::Serialize;
 use serde_json::json;
 
-/// The name of the nominal case, `[mechanism.gas]` itself (no load case may take it).
-pub const NOMINAL: &str = "nominal";
-
-/// Most entries of `[[mechanism.load_cases]]` (the nominal case comes on top).
-pub const MAX_LOAD_CASES: usize = 16;
-
-/// Longest name of a load case (characters).
-pub const MAX_CASE_NAME: usize = 64;
+/// The name of the nominal case (`[mechanism.gas]` itself), the most load cases and the
+/// longest name: every family's (`crate::problem::envelope`).
+pub use crate::problem::envelope::{MAX_CASE_NAME, MAX_LOAD_CASES, NOMINAL};
 
 /// One case solved.
 #[derive(Debug, Clone, PartialEq)]
@@ -69,17 +66,6 @@ pub struct CaseOutcome {
     /// Its steady state (and peaks at real speed) at the flywheel of all the cases,
     /// [`LoadCasesOutcome::flywheel`]; without one, its own drive's.
     pub at_flywheel: Option<Result<DriveFigures, String>>,
-}
-
-/// The flywheel of all the cases.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct CasesFlywheel {
-    /// I* (kg·m²).
-    pub inertia: f64,
-    /// Bound on its error (kg·m²): max_k δI_k, 0 for a given flywheel.
-    pub error: f64,
-    /// The case whose least flywheel it is; `None`: the file's `flywheel`.
-    pub governing: Option<usize>,
 }
 
 /// Every case, the nominal first, and the flywheel that meets `cs` in all of them.
@@ -146,7 +132,7 @@ pub fn solve(
     let flywheel = spec
         .drive
         .as_ref()
-        .and_then(|d| cases_flywheel(d, &cases, warnings));
+        .and_then(|d| cases_flywheel(d, &named(&cases, true), warnings));
     for c in &mut cases {
         c.at_flywheel = match (&c.drive, flywheel, &spec.drive) {
             (Some(Ok(f)), Some(fw), Some(d)) if f.steady.flywheel != fw.inertia => {
@@ -154,7 +140,7 @@ pub fn solve(
                 let s = with_gas(spec, c.case.gas);
                 Some(drive_outcome(
                     &s,
-                    &only(d, fw.inertia),
+                    &with_flywheel(d, fw.inertia),
                     &at,
                     &at.geometry(),
                     rotating,
@@ -163,14 +149,15 @@ pub fn solve(
             (own, _, _) => own.clone(),
         };
     }
-    check_cs(spec.drive.as_ref().and_then(|d| d.cs), &cases, warnings);
+    let cs = spec.drive.as_ref().and_then(|d| d.cs);
+    check_cs(cs, &named(&cases, false), warnings);
     let band = match (spec.speed_band, flywheel, &spec.drive) {
         (Some(band), Some(fw), Some(d)) => band_check(
             spec,
             at,
             &gases,
             band,
-            only(d, fw.inertia),
+            with_flywheel(d, fw.inertia),
             rotating,
             warnings,
         )?,
@@ -208,15 +195,6 @@ fn solve_case(
         drive,
         at_flywheel: None,
     })
-}
-
-/// The drive `d` with the flywheel `inertia` given instead of a Cs to meet.
-fn only(d: &Drive, inertia: f64) -> Drive {
-    Drive {
-        cs: None,
-        flywheel: Some(inertia),
-        motor: d.motor.clone(),
-    }
 }
 
 /// Interior speeds of the band at which every cycle's steady state is checked.
@@ -306,74 +284,16 @@ fn with_gas(spec: &DynamicsSpec, gas: GasCycle) -> DynamicsSpec {
     }
 }
 
-/// I*: the file's `flywheel`, else with `cs` the largest of the cases' least flywheels (see
-/// the module's doc), else none. A case whose drive failed leaves it unknown (a warning).
-fn cases_flywheel(
-    d: &Drive,
-    cases: &[CaseOutcome],
-    warnings: &mut Vec<String>,
-) -> Option<CasesFlywheel> {
-    if let Some(f) = d.flywheel {
-        return Some(CasesFlywheel {
-            inertia: f,
-            error: 0.0,
-            governing: None,
-        });
-    }
-    d.cs?;
-    let mut least = Vec::with_capacity(cases.len());
-    for c in cases {
-        match &c.drive {
-            Some(Ok(DriveFigures {
-                flywheel: Some(f), ..
-            })) => least.push((f.inertia, f.inertia_error)),
-            Some(Err(why)) => {
-                warnings.push(format!(
-                    "no flywheel for all the load cases: the drive of load case {} failed: {why}",
-                    c.case.name
-                ));
-                return None;
-            }
-            _ => return None,
-        }
-    }
-    let k = argmax(least.iter().map(|l| l.0))?;
-    Some(CasesFlywheel {
-        inertia: least[k].0,
-        error: least.iter().map(|l| l.1).fold(0.0, f64::max),
-        governing: Some(k),
-    })
-}
-
-/// A warning for every case whose steady state at the flywheel of all the cases swings more
-/// than `cs` beyond its error.
-fn check_cs(cs: Option<f64>, cases: &[CaseOutcome], warnings: &mut Vec<String>) {
-    let Some(cs) = cs else { return };
-    for c in cases {
-        if let Some(Ok(f)) = &c.at_flywheel {
-            let st = &f.steady;
-            if st.cs > cs + st.cs_error {
-                warnings.push(format!(
-                    "load case {}: Cs = {:.6} ± {:.1e} with the flywheel {:.6} kg·m² is above mechanism.drive.cs = {cs}",
-                    c.case.name, st.cs, st.cs_error, st.flywheel
-                ));
-            }
-        }
-    }
-}
-
-/// The index of the largest value (the first of equal ones); `None` for no values or NaN.
-fn argmax(v: impl Iterator<Item = f64>) -> Option<usize> {
-    let mut best: Option<(usize, f64)> = None;
-    for (i, x) in v.enumerate() {
-        if x.is_nan() {
-            return None;
-        }
-        if best.is_none_or(|b| x > b.1) {
-            best = Some((i, x));
-        }
-    }
-    best.map(|b| b.0)
+/// Each case's name and one of its drives (`own`: its own; else at the flywheel of all the
+/// cases), for [`crate::dynamics::cases`].
+fn named(cases: &[CaseOutcome], own: bool) -> Vec<CaseDrive<'_>> {
+    cases
+        .iter()
+        .map(|c| {
+            let d = if own { &c.drive } else { &c.at_flywheel };
+            (c.case.name.as_str(), d.as_ref())
+        })
+        .collect()
 }
 
 /// One case's row of the `load_cases` section and of `<name>-load-cases.csv` (keys with
@@ -402,11 +322,7 @@ impl<'a> CaseRow<'a> {
     /// `c`'s row; `peak_force` the design's constant-speed peak shaking force (N).
     fn of(c: &'a CaseOutcome, peak_force: Option<f64>) -> CaseRow<'a> {
         let (t, g) = (&c.torque, &c.case.gas);
-        let own = c.drive.as_ref().and_then(|d| d.as_ref().ok());
-        let at = c.at_flywheel.as_ref().and_then(|d| d.as_ref().ok());
-        let why = [&c.drive, &c.at_flywheel]
-            .into_iter()
-            .find_map(|d| d.as_ref().and_then(|d| d.as_ref().err()));
+        let (drive, why) = case_numbers(c.drive.as_ref(), c.at_flywheel.as_ref(), peak_force);
         CaseRow {
             case: &c.case.name,
             speed_rad_s: c.speed,
@@ -416,11 +332,8 @@ impl<'a> CaseRow<'a> {
             drive_torque_peak_nm: t.peak,
             drive_torque_peak_error_nm: t.peak_error,
             indicated_work_nm: t.indicated_work,
-            drive: own.zip(at).map(|(own, at)| {
-                let f = own.flywheel.as_ref();
-                DriveNumbers::of(&own.constant, f, &at.steady, at.real, peak_force)
-            }),
-            drive_error: why.map(String::as_str),
+            drive,
+            drive_error: why,
         }
     }
 
@@ -524,29 +437,9 @@ pub fn table(r: &mut SolveResult, lc: &LoadCasesOutcome, peak_force: Option<f64>
         .iter()
         .map(|c| json!(CaseRow::of(c, peak_force)))
         .collect();
-    let mut cols: Vec<&str> = Vec::new();
-    for row in rows.iter().filter_map(|x| x.as_object()) {
-        for k in row.keys() {
-            if !cols.contains(&k.as_str()) {
-                cols.push(k);
-            }
-        }
-    }
-    let mut csv = cols.join(",") + "\n";
-    for row in &rows {
-        let cells: Vec<String> = cols
-            .iter()
-            .map(|k| match row.get(*k) {
-                Some(serde_json::Value::String(s)) => s.clone(),
-                Some(serde_json::Value::Null) | None => String::new(),
-                Some(v) => v.to_string(),
-            })
-            .collect();
-        csv += &(cells.join(",") + "\n");
-    }
-    r.tables.push(Table {
-        suffix: "load-cases".into(),
-        caption: "The load cases: each case's pressures, drive torque, energy fluctuation, flywheels (textbook and least) and steady state at the flywheel of all the cases".into(),
-        csv,
-    });
+    r.tables.push(Table::of_rows(
+        "load-cases",
+        "The load cases: each case's pressures, drive torque, energy fluctuation, flywheels (textbook and least) and steady state at the flywheel of all the cases",
+        &rows,
+    ));
 }

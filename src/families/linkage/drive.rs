@@ -5,7 +5,7 @@
 use super::file::LinkageScene;
 use super::model::DriveTerms;
 use super::synth as ls;
-use crate::dynamics::{self, DriveSettings};
+use crate::dynamics::{self, Drive, DriveError, DriveFigures, DriveSettings};
 
 /// The drive's terms (J, J′, G and the momentum, `Linkage::drive_terms`) of `sc` with the
 /// design `x` (without one, the bare linkage's) at any crank angle; `None` where it does not
@@ -48,4 +48,20 @@ pub fn delta_e(sc: &LinkageScene, x: Option<&[f64]>) -> Result<(f64, f64), Strin
     let c = dynamics::constant_speed(&one_dof(&terms), sc.linkage.omega(), &settings(sc))
         .map_err(|e| e.to_string())?;
     Ok((c.energy_fluctuation, c.energy_fluctuation_error))
+}
+
+/// The drive `d` of `sc` with the design `x` (without one, the bare linkage's): ΔE, the least
+/// flywheel for its Cs, the steady state with its flywheel (or the least one, or none), and
+/// the shaking force at real speed, F = −(ω² Σ m r_G'' + α Σ m r_G')
+/// ([`crate::families::linkage::model::Linkage::drive_terms`]).
+pub fn figures(
+    sc: &LinkageScene,
+    d: &Drive,
+    x: Option<&[f64]>,
+) -> Result<DriveFigures, DriveError> {
+    let terms = terms(sc, x);
+    let figures = dynamics::drive(&one_dof(&terms), sc.linkage.omega(), d, &settings(sc))?;
+    Ok(figures.with_real_speed(&d.motor, |th, w, a| {
+        terms(th).map(|t| (t.momentum_rate * (w * w) + t.momentum * a).norm())
+    }))
 }

@@ -11,12 +11,39 @@
 //! (`crate::synth::envelope`). "Minimise the worst case" is then one cone program over
 //! angle × vertices, certified exactly.
 //!
+//! Named load cases (`[[mechanism.load_cases]]`, each its own set of process loads in place
+//! of the file's) are a finite list: every vertex is solved in every case, the nominal loads
+//! first, so the worst case over them is exact. Process loads enter the input torque, ΔE
+//! and the joint loads only (the frame reacts them): the shaking force and moment are the
+//! same in every case.
+//!
 //! A link's length tolerance (its distance to its tip, [`Linkage::with_length`]) enters the
 //! kinematics non-linearly: its ends are among the scenarios, but the worst case over its
 //! band is not proven there ([`LinkageEnvelope::certified`]), and the claim is `best_found`
 //! with the quasi-Monte Carlo check as its evidence.
 
-use crate::families::linkage::model::{Inertia, Linkage, LinkageError};
+use crate::families::linkage::model::{Inertia, Linkage, LinkageError, ProcessLoad};
+pub use crate::problem::envelope::NOMINAL;
+
+/// A named load case: process loads in place of the file's `[[mechanism.loads]]`.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct LinkageLoadCase {
+    /// Its name.
+    pub name: String,
+    /// Its loads (none: the machine running idle).
+    #[serde(skip)]
+    pub loads: Vec<ProcessLoad>,
+}
+
+/// One scenario: a load case (0: the file's own loads, c ≥ 1: `cases[c − 1]`) and the
+/// parameters' values.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Scenario {
+    /// The load case.
+    pub case: usize,
+    /// The parameters' values ([`LinkageEnvelope::names`]' order).
+    pub values: Vec<f64>,
+}
 
 /// A link's mass interval.
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
@@ -58,12 +85,60 @@ pub struct LinkageEnvelope {
     /// The sensitivity table: dV*/d(end) of the optimised worst case for every interval end,
     /// from the optimum's multipliers.
     pub sensitivities: bool,
+    /// Named load cases after the nominal one (the file's own loads).
+    pub cases: Vec<LinkageLoadCase>,
 }
 
 impl LinkageEnvelope {
     /// True for a nominal scene (no interval).
     pub fn is_empty(&self) -> bool {
-        self.speed.is_none() && self.masses.is_empty() && self.lengths.is_empty()
+        self.speed.is_none()
+            && self.masses.is_empty()
+            && self.lengths.is_empty()
+            && self.cases.is_empty()
+    }
+
+    /// The load case c's name: [`NOMINAL`] for 0.
+    pub fn case_name(&self, c: usize) -> &str {
+        match c {
+            0 => NOMINAL,
+            c => &self.cases[c - 1].name,
+        }
+    }
+
+    /// The scenarios of the engine's blocks, in order: the nominal scene, then the box's
+    /// vertices ([`crate::synth::envelope::vertices`]' order) in the nominal load case, then
+    /// the same vertices in each named case: block 1 + c·2ⁿ + v is vertex v in case c.
+    pub fn scenarios(&self, l: &Linkage) -> Vec<Scenario> {
+        let vs = crate::synth::envelope::vertices(&self.ranges());
+        let nominal = Scenario {
+            case: 0,
+            values: self.nominal(l),
+        };
+        let all = (0..=self.cases.len()).flat_map(|case| {
+            vs.iter().map(move |v| Scenario {
+                case,
+                values: v.clone(),
+            })
+        });
+        std::iter::once(nominal).chain(all).collect()
+    }
+
+    /// The linkage `l` in load case `case` (its loads in place of `l`'s) at the parameters'
+    /// `values` ([`Self::at`]).
+    pub fn at_case(
+        &self,
+        l: &Linkage,
+        case: usize,
+        values: &[f64],
+    ) -> Result<Linkage, LinkageError> {
+        match case {
+            0 => self.at(l, values),
+            c => self.at(
+                &l.clone().with_loads(self.cases[c - 1].loads.clone())?,
+                values,
+            ),
+        }
     }
 
     /// True where the worst case over the box is proven at its vertices: no length

@@ -86,6 +86,11 @@ pub struct MechanismRaw {
     /// The operating envelope: a speed band and link-mass intervals; every objective and
     /// limit then means the worst case over it.
     pub envelope: Option<super::file_envelope::LinkageEnvelopeRaw>,
+    /// Named load cases: each its own process loads in place of `[[mechanism.loads]]` (the
+    /// nominal case); every objective and limit then means the worst case over them.
+    #[serde(default)]
+    #[schemars(length(max = crate::problem::envelope::MAX_LOAD_CASES))]
+    pub load_cases: Vec<super::file_loads::LoadCaseRaw>,
 }
 
 /// The kinds of dyad.
@@ -1095,7 +1100,7 @@ pub fn resolve_scene(
     check_full_turn(&linkage)?;
     let counterweights = counterweights(design, &names, crank_length, dir)?;
     let objective = objective(o, &counterweights)?;
-    let envelope = match &m.envelope {
+    let mut envelope = match &m.envelope {
         Some(e) => {
             let bars: Vec<bool> = (names.iter())
                 .map(|n| m.links.get(n).is_some_and(|l| l.uniform_bar))
@@ -1107,6 +1112,9 @@ pub fn resolve_scene(
         }
         None => Default::default(),
     };
+    envelope.cases = super::file_loads::resolve_cases(&m.load_cases, &|key, v| {
+        point(key, v, &names, linkage.dyads(), crank_length)
+    })?;
     if !envelope.is_empty() {
         super::file_envelope::check_envelope(
             matches!(

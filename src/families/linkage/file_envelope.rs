@@ -122,6 +122,7 @@ pub fn resolve_envelope(
         lengths,
         monte_carlo: monte_carlo(e.monte_carlo)?,
         sensitivities: e.sensitivities,
+        cases: Vec::new(),
     };
     check_parameters(env.names().len(), MAX_PARAMETERS)?;
     Ok(env)

@@ -2,6 +2,7 @@
 //! pressing force), read and checked into [`ProcessLoad`]s (`docs/problem-files.md`,
 //! "Process loads").
 
+use crate::families::linkage::envelope::LinkageLoadCase;
 use crate::families::linkage::model::{Point, ProcessLoad};
 use crate::geom::P2;
 use crate::problem::FieldError;
@@ -36,29 +37,67 @@ pub struct LoadRaw {
     pub forces: Vec<Qty<Force>>,
 }
 
-/// The loads checked, `point(key, value)` reading a point reference against the links.
-pub fn resolve_loads(
-    raw: &[LoadRaw],
-    point: &dyn Fn(&str, &toml::Value) -> Result<Point, FieldError>,
-) -> Result<Vec<ProcessLoad>, FieldError> {
+/// `[[mechanism.load_cases]]`: a named load case, its own process loads in place of the
+/// file's `[[mechanism.loads]]` (none: the machine idle).
+#[derive(Debug, Deserialize, schemars::JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct LoadCaseRaw {
+    /// Its name in the result: unique, not `"nominal"` (the file's own loads).
+    #[schemars(length(max = crate::problem::envelope::MAX_CASE_NAME))]
+    pub name: String,
+    /// Its loads, as `[[mechanism.loads]]` (`[[mechanism.load_cases.loads]]` after the case).
+    #[serde(default)]
+    #[schemars(length(max = MAX_LOADS))]
+    pub loads: Vec<LoadRaw>,
+}
+
+/// Reads a point reference against the links: `point(key, value)`.
+pub type PointOf<'a> = &'a dyn Fn(&str, &toml::Value) -> Result<Point, FieldError>;
+
+/// The loads checked.
+pub fn resolve_loads(raw: &[LoadRaw], point: PointOf) -> Result<Vec<ProcessLoad>, FieldError> {
+    loads_at("mechanism.loads", raw, point)
+}
+
+/// The load cases checked: at most [`crate::problem::envelope::MAX_LOAD_CASES`], each named
+/// ([`crate::problem::envelope::case_name`]) with its loads checked as `[[mechanism.loads]]`.
+pub fn resolve_cases(
+    raw: &[LoadCaseRaw],
+    point: PointOf,
+) -> Result<Vec<LinkageLoadCase>, FieldError> {
+    crate::problem::envelope::case_count(raw.len())?;
+    let mut cases: Vec<LinkageLoadCase> = Vec::with_capacity(raw.len());
+    for (i, c) in raw.iter().enumerate() {
+        let key = format!("mechanism.load_cases[{i}]");
+        let taken = cases.iter().map(|k| k.name.as_str());
+        let name = crate::problem::envelope::case_name(
+            &key,
+            &c.name,
+            taken,
+            "the file's own [[mechanism.loads]]",
+        )?;
+        let loads = loads_at(&format!("{key}.loads"), &c.loads, point)?;
+        cases.push(LinkageLoadCase { name, loads });
+    }
+    Ok(cases)
+}
+
+/// The loads of the array `key` checked.
+fn loads_at(key: &str, raw: &[LoadRaw], point: PointOf) -> Result<Vec<ProcessLoad>, FieldError> {
     if raw.len() > MAX_LOADS {
         return Err(FieldError::new(
-            "mechanism.loads",
+            format!("{key}[{MAX_LOADS}]"),
             format!("{} loads; allowed: at most {MAX_LOADS}", raw.len()),
         ));
     }
     raw.iter()
         .enumerate()
-        .map(|(i, l)| load(&format!("mechanism.loads[{i}]"), l, point))
+        .map(|(i, l)| load(&format!("{key}[{i}]"), l, point))
         .collect()
 }
 
 /// One load.
-fn load(
-    key: &str,
-    l: &LoadRaw,
-    point: &dyn Fn(&str, &toml::Value) -> Result<Point, FieldError>,
-) -> Result<ProcessLoad, FieldError> {
+fn load(key: &str, l: &LoadRaw, point: PointOf) -> Result<ProcessLoad, FieldError> {
     let pk = format!("{key}.point");
     let (link, at) = match point(&pk, &l.point)? {
         Point::On { link, at } => (link, at),

@@ -9,6 +9,7 @@ pub mod envelope;
 pub mod file;
 pub mod file_envelope;
 pub mod file_loads;
+pub mod load_cases;
 pub mod model;
 pub mod numbers;
 pub mod report;

@@ -139,13 +139,11 @@ pub fn numbers(_: &Scene, p: &LinkageProblem, sol: &Solved, r: &mut SolveResult)
     envelope_numbers(r, p, sol);
     berkof_lowen(r, p, sol);
     joint_numbers(r, p, sol);
-    // The drive is the design's where there is one (the bare linkage's otherwise).
-    let peaks = match &out.design {
-        Some(d) if d.status != CwStatus::Infeasible && sol.design_x().is_some() => &d.peaks,
-        _ => &out.bare,
-    };
-    let peak_force = peaks.first().map(|f| f.peak);
+    let peak_force = drive_peak_force(sol);
     crate::report::drive::drive_numbers(r, sol.drive.as_ref(), peak_force);
+    if let Some(lc) = &sol.load_cases {
+        super::load_cases::numbers(r, lc, peak_force);
+    }
 }
 
 /// The keys of the worst cases over an operating envelope: force, moment, torque, ΔE.
@@ -204,12 +202,14 @@ fn envelope_numbers(r: &mut SolveResult, p: &LinkageProblem, sol: &Solved) {
     r.extra.insert("envelope".into(), v);
 }
 
-/// The envelope's table: one row per scenario (the nominal first), the parameters' values,
-/// then each figure and its error.
+/// The envelope's table: one row per scenario (the nominal first), its load case (with
+/// `[[mechanism.load_cases]]`), the parameters' values, then each figure and its error.
 pub(super) fn envelope_csv(
     env: &crate::families::linkage::solve_envelope::EnvelopeOutcome,
 ) -> String {
-    let mut head = env.parameters.clone();
+    let cases = env.scenarios.first().is_some_and(|f| f.case.is_some());
+    let mut head: Vec<String> = cases.then(|| "case".to_string()).into_iter().collect();
+    head.extend(env.parameters.iter().cloned());
     head.extend(
         [
             "peak_shaking_force_n",
@@ -222,7 +222,8 @@ pub(super) fn envelope_csv(
     );
     let mut csv = head.join(",") + "\n";
     for f in &env.scenarios {
-        let mut row: Vec<String> = f.values.iter().map(|v| format!("{v:.9e}")).collect();
+        let mut row: Vec<String> = f.case.iter().cloned().collect();
+        row.extend(f.values.iter().map(|v| format!("{v:.9e}")));
         for (v, e) in [
             f.peak_shaking_force_n,
             f.peak_shaking_moment_nm,
@@ -833,4 +834,15 @@ fn berkof_lowen(r: &mut SolveResult, p: &LinkageProblem, solved: &Solved) {
         }
     }
     r.extra.insert("berkof_lowen".into(), v);
+}
+
+/// The constant-speed peak shaking force the drive's figures compare with: the design's where
+/// there is one (the drive is its), the bare linkage's otherwise (N).
+pub(super) fn drive_peak_force(sol: &Solved) -> Option<f64> {
+    let out = &sol.out;
+    let peaks = match &out.design {
+        Some(d) if d.status != CwStatus::Infeasible && sol.design_x().is_some() => &d.peaks,
+        _ => &out.bare,
+    };
+    peaks.first().map(|f| f.peak)
 }

@@ -34,7 +34,7 @@ pub fn documents(scene: &Scene, p: &LinkageProblem, sol: &Solved, r: &mut SolveR
     if let Some(Ok(env)) = &sol.envelope {
         r.tables.push(Table {
             suffix: "envelope".into(),
-            caption: "The design over the operating envelope: the nominal scene, then every vertex of the box (the worst case over it is at one)".into(),
+            caption: "The design over the operating envelope: the nominal scene, then every vertex of the box in every load case (the worst case over it is at one)".into(),
             csv: super::numbers::envelope_csv(env),
         });
         if let Some(rows) = &env.sensitivities {
@@ -48,6 +48,17 @@ pub fn documents(scene: &Scene, p: &LinkageProblem, sol: &Solved, r: &mut SolveR
     joint_table(r, p, sol);
     curves(r, scene, p, sol);
     crate::report::drive::drive_documents(r, sol.drive.as_ref(), "crank");
+    // The load case that governs the flywheel, where it is not the nominal one: its turn and
+    // its steady state with the flywheel of all the cases.
+    let lc = sol.load_cases.as_ref();
+    if let Some(lc) = lc {
+        super::load_cases::table(r, lc, super::numbers::drive_peak_force(sol));
+    }
+    let governing = lc.and_then(|lc| Some(&lc.cases[lc.flywheel?.governing?]));
+    if let Some(c) = governing.filter(|c| c.name != super::envelope::NOMINAL) {
+        let case = Some(("governing", c.name.as_str()));
+        crate::report::drive::drive_documents_of(r, c.at_flywheel.as_ref(), "crank", case);
+    }
     linkage_drawing(r, scene, p, sol);
 }
 

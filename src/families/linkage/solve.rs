@@ -6,7 +6,7 @@
 use super::file::{Goal, LinkageProblem, LinkageScene, Objective as ObjectiveSpec};
 use super::model::ForceBalance;
 use super::synth::{self as ls, JointPeak, Outcome};
-use crate::dynamics::{self, Drive, DriveError, DriveFigures, SteadyState};
+use crate::dynamics::{Drive, DriveError, DriveFigures, SteadyState};
 use crate::families::driver::Claim;
 use crate::families::family::cw_status;
 use crate::report::Status;
@@ -40,6 +40,9 @@ pub struct Solution {
     /// The design over the operating envelope (`[mechanism.envelope]`; `Err`: why not
     /// computed).
     pub envelope: Option<Result<super::solve_envelope::EnvelopeOutcome, String>>,
+    /// The drive in every named load case, with `[[mechanism.load_cases]]` and
+    /// `[mechanism.drive]`.
+    pub load_cases: Option<super::load_cases::LoadCaseDrives>,
 }
 
 /// Every joint's peak load over the cycle.
@@ -129,7 +132,13 @@ pub fn solve(p: &LinkageProblem) -> Result<Solution, String> {
     if let Some(Ok(e)) = &envelope {
         lengths_claim(sc, e, &mut claim);
     }
+    let load_cases = p
+        .drive
+        .as_ref()
+        .zip(drive.as_ref())
+        .and_then(|(d, nominal)| super::load_cases::solve(sc, d, x, nominal, &mut claim.warnings));
     Ok(Solution {
+        load_cases,
         envelope,
         energy,
         claim,
@@ -141,18 +150,10 @@ pub fn solve(p: &LinkageProblem) -> Result<Solution, String> {
     })
 }
 
-/// The drive of the design `x` (without one, the bare linkage's): ΔE, the least flywheel for
-/// the file's Cs, the steady state with the file's flywheel (or the least one, or none), and
-/// the shaking force at real speed, F = −(ω² Σ m r_G'' + α Σ m r_G')
-/// ([`crate::families::linkage::model::Linkage::drive_terms`]).
+/// The drive of the design `x` (without one, the bare linkage's) in the nominal load case
+/// ([`super::drive::figures`]).
 fn drive(p: &LinkageProblem, d: &Drive, x: Option<&[f64]>) -> Result<DriveFigures, DriveError> {
-    let lk = &p.scene.linkage;
-    let terms = super::drive::terms(&p.scene, x);
-    let settings = super::drive::settings(&p.scene);
-    let figures = dynamics::drive(&super::drive::one_dof(&terms), lk.omega(), d, &settings)?;
-    Ok(figures.with_real_speed(&d.motor, |th, w, a| {
-        terms(th).map(|t| (t.momentum_rate * (w * w) + t.momentum * a).norm())
-    }))
+    super::drive::figures(&p.scene, d, x)
 }
 
 /// ΔE at constant speed with its error bound, of the design `x` (the bare linkage's

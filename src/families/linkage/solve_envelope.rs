@@ -17,6 +17,9 @@ use rayon::prelude::*;
 /// moment (N·m) and input torque (N·m), and ΔE (J) with the energy-fluctuation objective.
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct ScenarioFigures {
+    /// The load case's name, with `[[mechanism.load_cases]]`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub case: Option<String>,
     /// The parameters' values ([`EnvelopeOutcome::parameters`]' order).
     pub values: Vec<f64>,
     /// max |F| and its error (N).
@@ -45,7 +48,7 @@ impl ScenarioFigures {
 /// The Monte Carlo check over the whole box.
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct MonteCarlo {
-    /// Samples: the Halton points 1..=N of the box.
+    /// Scenes evaluated: the Halton points 1..=N of the box, each in every load case.
     pub samples: usize,
     /// The largest of each figure over them: force, moment, torque, ΔE (NaN without ΔE).
     pub max: [f64; 4],
@@ -58,7 +61,8 @@ pub struct MonteCarlo {
 pub struct EnvelopeOutcome {
     /// The parameters ([`crate::families::linkage::envelope::LinkageEnvelope::names`]).
     pub parameters: Vec<String>,
-    /// The nominal scene first, then the vertices.
+    /// The nominal scene first, then the vertices, in every load case (the nominal loads
+    /// first).
     pub scenarios: Vec<ScenarioFigures>,
     /// The worst of each figure over the scenarios: force, moment, torque, ΔE (absent
     /// without the energy objective).
@@ -86,26 +90,26 @@ pub fn evaluate(
 ) -> Result<EnvelopeOutcome, String> {
     let env = &scene.envelope;
     let energy = scene.objective.minimize == Goal::EnergyFluctuation;
-    let values: Vec<Vec<f64>> = std::iter::once(env.nominal(&scene.linkage))
-        .chain(vertices(&env.ranges()))
-        .collect();
     // ΔE by the drive's quadrature in each scenario's scene (the nominal values give the
     // nominal scene).
-    let energy_at = |v: &[f64]| {
-        let sc = ls::scene_at(scene, v).map_err(|e| e.to_string())?;
+    let energy_at = |c: usize, v: &[f64]| {
+        let sc = ls::scene_at_case(scene, c, v).map_err(|e| e.to_string())?;
         delta_e(&sc, x)
     };
-    let scenarios = values
+    let named = !env.cases.is_empty();
+    let scenarios = env
+        .scenarios(&scene.linkage)
         .into_iter()
         .enumerate()
-        .map(|(b, v)| {
+        .map(|(b, sn)| {
             let pk = |k: usize| {
                 let p = &peaks[b * out.block_len + k];
                 (p.peak, p.error)
             };
             Ok(ScenarioFigures {
-                energy_fluctuation_j: energy.then(|| energy_at(&v)).transpose()?,
-                values: v,
+                energy_fluctuation_j: energy.then(|| energy_at(sn.case, &sn.values)).transpose()?,
+                case: named.then(|| env.case_name(sn.case).to_string()),
+                values: sn.values,
                 peak_shaking_force_n: pk(FORCE),
                 peak_shaking_moment_nm: pk(MOMENT),
                 peak_input_torque_nm: pk(TORQUE),
@@ -148,9 +152,11 @@ pub fn sensitivities(
     let multipliers = envelope::multipliers_of(sol)?;
     let env = &scene.envelope;
     let n_cw = PER_COUNTERWEIGHT * scene.counterweights.len();
+    let nv = vertices(&env.ranges()).len();
     let fields_at = |k: usize, values: &[f64], ms: &[&Multiplier]| {
         let at: Vec<(usize, f64)> = ms.iter().map(|m| (m.field % block_len, m.angle)).collect();
-        let s = ls::scene_at(scene, values).map_err(|e| e.to_string())?;
+        // Block k ≥ 1 is vertex (k − 1) mod 2ⁿ in load case (k − 1) / 2ⁿ.
+        let s = ls::scene_at_case(scene, (k - 1) / nv, values).map_err(|e| e.to_string())?;
         ls::block_field_values(&s, &at, n_cw + k, &sol.x).map_err(|e| e.to_string())
     };
     envelope::scenario_sensitivities(
@@ -163,8 +169,8 @@ pub fn sensitivities(
     )
 }
 
-/// The Halton points 1..=N of the box, each scene's figures computed afresh: the largest and
-/// how many exceed the worst cases `w` beyond both errors.
+/// The Halton points 1..=N of the box, each in every load case, each scene's figures
+/// computed afresh: the largest and how many exceed the worst cases `w` beyond both errors.
 fn monte_carlo(
     scene: &LinkageScene,
     x: Option<&[f64]>,
@@ -174,10 +180,13 @@ fn monte_carlo(
     let env = &scene.envelope;
     let ranges = env.ranges();
     let energy = w[3].is_some();
-    let rows = (1..=env.monte_carlo)
+    let cases = 1 + env.cases.len();
+    let rows = (0..env.monte_carlo * cases)
         .into_par_iter()
-        .map(|i| {
-            let sc = ls::scene_at(scene, &halton_point(&ranges, i)).map_err(|e| e.to_string())?;
+        .map(|j| {
+            let (i, c) = (1 + j / cases, j % cases);
+            let sc = ls::scene_at_case(scene, c, &halton_point(&ranges, i))
+                .map_err(|e| e.to_string())?;
             let [f, m, t] = peaks(&sc, x, s)?;
             let e = energy.then(|| delta_e(&sc, x)).transpose()?;
             Ok([f, m, t, e.unwrap_or((f64::NAN, 0.0))])

@@ -685,27 +685,43 @@ pub fn block_field_values(
     }
 }
 
-/// The scenes at the envelope's vertices (none without an envelope), in
-/// [`crate::synth::envelope::vertices`]' order.
+/// The scenes of the envelope's blocks after the nominal one (none without an envelope):
+/// every vertex in every load case, in
+/// [`crate::families::linkage::envelope::LinkageEnvelope::scenarios`]' order.
 pub fn vertex_scenes(scene: &LinkageScene) -> Result<Vec<LinkageScene>, LinkageSolveError> {
     let env = &scene.envelope;
     if env.is_empty() {
         return Ok(Vec::new());
     }
-    crate::synth::envelope::vertices(&env.ranges())
+    env.scenarios(&scene.linkage)
         .iter()
-        .map(|v| scene_at(scene, v))
+        .skip(1)
+        .map(|s| scene_at_case(scene, s.case, &s.values))
         .collect()
 }
 
-/// The scene at the envelope's parameter `values`, without an envelope of its own.
+/// The scene at the envelope's parameter `values` in the nominal load case, without an
+/// envelope of its own.
 pub fn scene_at(scene: &LinkageScene, values: &[f64]) -> Result<LinkageScene, LinkageSolveError> {
-    let linkage = scene.envelope.at(&scene.linkage, values).map_err(|e| {
-        LinkageSolveError::Engine(mm::MinimaxError::Problem {
-            what: "the operating envelope".into(),
-            message: e.to_string(),
-        })
-    })?;
+    scene_at_case(scene, 0, values)
+}
+
+/// The scene in load case `case` at the envelope's parameter `values`, without an envelope
+/// of its own.
+pub fn scene_at_case(
+    scene: &LinkageScene,
+    case: usize,
+    values: &[f64],
+) -> Result<LinkageScene, LinkageSolveError> {
+    let linkage = scene
+        .envelope
+        .at_case(&scene.linkage, case, values)
+        .map_err(|e| {
+            LinkageSolveError::Engine(mm::MinimaxError::Problem {
+                what: "the operating envelope".into(),
+                message: e.to_string(),
+            })
+        })?;
     Ok(LinkageScene {
         linkage,
         envelope: Default::default(),
@@ -760,14 +776,18 @@ pub fn solve(scene: &LinkageScene, settings: &Settings) -> Result<Outcome, Linka
             usize::from(energy_goal) * (1 + vfields.len())
         };
     let mut blocks = vec![Block::new(&fields, "", n, n_cw, true)?];
+    let env = &scene.envelope;
+    let nv = crate::synth::envelope::vertices(&env.ranges()).len();
     for (k, f) in vfields.iter().enumerate() {
-        blocks.push(Block::new(
-            f,
-            &format!(" at vertex {}", k + 1),
-            n,
-            n_cw + 1 + k,
-            true,
-        )?);
+        let label = match env.cases.is_empty() {
+            true => format!(" at vertex {}", k + 1),
+            false => format!(
+                " at vertex {} in load case \"{}\"",
+                k % nv + 1,
+                env.case_name(k / nv)
+            ),
+        };
+        blocks.push(Block::new(f, &label, n, n_cw + 1 + k, true)?);
     }
     let mut linear = mass_rows(cws);
     let mut balance_residual = None;

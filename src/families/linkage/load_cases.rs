@@ -1,0 +1,163 @@
+//! The linkage's drive in every named load case (issue 33, item 3: `[[mechanism.load_cases]]`
+//! with `[mechanism.drive]`): each case's own drive at the nominal speed and masses (its ΔE,
+//! textbook and least flywheel), the flywheel of all the cases — the largest least flywheel,
+//! exact ([`crate::dynamics::cases`]) — and every case's steady state with it. The counterweights
+//! are the solve's (the worst case over the cases is the envelope's, `solve_envelope`).
+
+use super::drive::figures;
+use super::file::LinkageScene;
+use super::synth as ls;
+use crate::dynamics::cases::{
+    argmax, cases_flywheel, check_cs, with_flywheel, CaseDrive, CasesFlywheel,
+};
+use crate::dynamics::{Drive, DriveFigures};
+use crate::report::drive::{case_numbers, DriveNumbers};
+use crate::report::{SolveResult, Table};
+use serde::Serialize;
+use serde_json::json;
+
+/// One case's drive.
+#[derive(Debug, Clone)]
+pub struct CaseDrives {
+    /// The case's name (`nominal` first).
+    pub name: String,
+    /// Its own drive: its least flywheel for `cs`, its steady state with it (`Err`: why not).
+    pub own: Result<DriveFigures, String>,
+    /// Its steady state with the flywheel of all the cases (its own drive where that is its
+    /// own flywheel, or where there is no flywheel of all the cases).
+    pub at_flywheel: Option<Result<DriveFigures, String>>,
+}
+
+/// Every case's drive and the flywheel of all the cases.
+#[derive(Debug, Clone)]
+pub struct LoadCaseDrives {
+    /// The cases, the nominal first.
+    pub cases: Vec<CaseDrives>,
+    /// I*: the largest least flywheel (with `cs`) or the file's `flywheel`; `None` without
+    /// either, or where a case's drive failed (a warning).
+    pub flywheel: Option<CasesFlywheel>,
+}
+
+/// The drive `d` of the design `x` in every load case of `sc` beside the nominal one, whose
+/// drive `nominal` the solve already has; `None` without named load cases. Warnings (a case
+/// whose drive failed, a case that swings more than `cs` with I*) join `warnings`.
+pub fn solve(
+    sc: &LinkageScene,
+    d: &Drive,
+    x: Option<&[f64]>,
+    nominal: &Result<DriveFigures, String>,
+    warnings: &mut Vec<String>,
+) -> Option<LoadCaseDrives> {
+    let env = &sc.envelope;
+    if env.cases.is_empty() {
+        return None;
+    }
+    let values = env.nominal(&sc.linkage);
+    let scene = |c: usize| ls::scene_at_case(sc, c, &values).map_err(|e| e.to_string());
+    let mut cases: Vec<CaseDrives> = (0..=env.cases.len())
+        .map(|c| CaseDrives {
+            name: env.case_name(c).to_string(),
+            own: match c {
+                0 => nominal.clone(),
+                c => scene(c).and_then(|s| figures(&s, d, x).map_err(|e| e.to_string())),
+            },
+            at_flywheel: None,
+        })
+        .collect();
+    let own: Vec<CaseDrive> = cases
+        .iter()
+        .map(|c| (c.name.as_str(), Some(&c.own)))
+        .collect();
+    let flywheel = cases_flywheel(d, &own, warnings);
+    for (c, case) in cases.iter_mut().enumerate() {
+        case.at_flywheel = match (&case.own, flywheel) {
+            (Ok(f), Some(fw)) if f.steady.flywheel != fw.inertia => Some(scene(c).and_then(|s| {
+                figures(&s, &with_flywheel(d, fw.inertia), x).map_err(|e| e.to_string())
+            })),
+            (own, _) => Some(own.clone()),
+        };
+    }
+    let at: Vec<CaseDrive> = cases
+        .iter()
+        .map(|c| (c.name.as_str(), c.at_flywheel.as_ref()))
+        .collect();
+    check_cs(d.cs, &at, warnings);
+    Some(LoadCaseDrives { cases, flywheel })
+}
+
+/// One case's row of the `load_cases` section and of `<name>-load-cases.csv`: its name, the
+/// drive's keys ([`DriveNumbers`]: its own constant-speed figures and least flywheel, its
+/// steady state with the flywheel of all the cases) and why its drive failed, if it did.
+#[derive(Debug, Serialize)]
+struct CaseRow<'a> {
+    case: &'a str,
+    #[serde(flatten)]
+    drive: Option<DriveNumbers>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    drive_error: Option<&'a str>,
+}
+
+impl<'a> CaseRow<'a> {
+    /// `c`'s row; `peak_force` the design's constant-speed peak shaking force (N).
+    fn of(c: &'a CaseDrives, peak_force: Option<f64>) -> CaseRow<'a> {
+        let at = c.at_flywheel.as_ref().unwrap_or(&c.own);
+        let (drive, why) = case_numbers(Some(&c.own), Some(at), peak_force);
+        CaseRow {
+            case: &c.name,
+            drive,
+            drive_error: why,
+        }
+    }
+}
+
+/// The load cases in the result: `derived.load_case_count` and the flywheel of all the
+/// cases (`load_cases_flywheel_kgm2`, its error), the section `load_cases` (that flywheel,
+/// the cases that govern it, ΔE and Cs, one row per case) and `<name>-load-cases.csv`.
+pub fn numbers(r: &mut SolveResult, lc: &LoadCaseDrives, peak_force: Option<f64>) {
+    let rows: Vec<CaseRow> = lc
+        .cases
+        .iter()
+        .map(|c| CaseRow::of(c, peak_force))
+        .collect();
+    let governing = |f: &dyn Fn(&DriveNumbers) -> f64| {
+        let v: Option<Vec<f64>> = rows.iter().map(|r| r.drive.as_ref().map(f)).collect();
+        argmax(v?.into_iter()).map(|k| rows[k].case)
+    };
+    r.derived
+        .insert("load_case_count".into(), rows.len() as f64);
+    if let Some(f) = lc.flywheel {
+        r.derived
+            .insert("load_cases_flywheel_kgm2".into(), f.inertia);
+        r.derived
+            .insert("load_cases_flywheel_error_kgm2".into(), f.error);
+    }
+    r.extra.insert(
+        "load_cases".into(),
+        json!({
+            "count": rows.len(),
+            "flywheel_kgm2": lc.flywheel.map(|f| f.inertia),
+            "flywheel_error_kgm2": lc.flywheel.map(|f| f.error),
+            "flywheel_rule": lc.flywheel.map(|f| match f.governing {
+                Some(_) => "the largest least flywheel over the cases (mechanism.drive.cs)",
+                None => "the given flywheel (mechanism.drive.flywheel)",
+            }),
+            "flywheel_case": lc.flywheel.and_then(|f| f.governing).map(|k| rows[k].case),
+            "energy_fluctuation_case": governing(&|d| d.energy_fluctuation_j),
+            "steady_cs_case": governing(&|d| d.steady_cs),
+            "cases": rows,
+        }),
+    );
+}
+
+/// `<name>-load-cases.csv`: the `load_cases` section's rows, one per case, its keys the
+/// columns in the JSON's order (`case` first); a figure a case lacks is empty.
+pub fn table(r: &mut SolveResult, lc: &LoadCaseDrives, peak_force: Option<f64>) {
+    let rows: Vec<serde_json::Value> = (lc.cases.iter())
+        .map(|c| json!(CaseRow::of(c, peak_force)))
+        .collect();
+    r.tables.push(Table::of_rows(
+        "load-cases",
+        "The load cases: each case's drive at the nominal speed (T̄, ΔE, the textbook and the least flywheel) and its steady state with the flywheel of all the cases",
+        &rows,
+    ));
+}

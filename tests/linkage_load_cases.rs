@@ -1,0 +1,278 @@
+//! The linkage's named load cases (issue 33, item 3: `[[mechanism.load_cases]]`) against
+//! independent evaluations: each case's scenario is the file rewritten with that case's
+//! loads as its own `[[mechanism.loads]]` and the speed at the band's end (parsed and scanned
+//! afresh, not through the envelope), the shaking force is the same in every case (the frame
+//! reacts the loads), no random design has a smaller worst torque over all the scenarios,
+//! and the errors name their key.
+
+use crate::common::{err, problem, set_key, Lcg};
+use crate::linkage_envelope::random_design;
+use cwsynth::families::linkage::file::LinkageProblem;
+use cwsynth::families::linkage::solve_envelope::peaks;
+use cwsynth::families::linkage::synth as ls;
+use cwsynth::families::{parse_str, solve_scene};
+use cwsynth::report::Status;
+use serde_json::Value;
+use std::path::Path;
+
+fn press() -> String {
+    std::fs::read_to_string(problem("linkage-sixbar-press-load-cases.toml")).unwrap()
+}
+
+/// The blanking case's table, as the file gives it.
+const BLANKING: &str = r#"angles = ["195 deg", "200 deg", "222 deg", "225 deg"]
+forces = ["0 N", "10 kN", "10 kN", "0 N"]"#;
+
+/// The press without its envelope and cases, at `speed`, with `loads` (the body of one
+/// `[[mechanism.loads]]` table's angles and forces; `None`: no load) in place of its own.
+fn single(text: &str, speed: &str, loads: Option<&str>) -> String {
+    let (a, b) = (
+        text.find("[mechanism.envelope]").unwrap(),
+        text.find("[[mechanism.dyads]]").unwrap(),
+    );
+    let t = format!("{}{}", &text[..a], &text[b..]);
+    let t = set_key(&t, "mechanism.speed", &format!("\"{speed}\""));
+    let (c, d) = (
+        t.find("angles = [\"185 deg\"").unwrap(),
+        t.find("\n\n[[mechanism.dyads]]").unwrap(),
+    );
+    match loads {
+        Some(l) => format!("{}{l}{}", &t[..c], &t[d..]),
+        None => {
+            let e = t.find("\n[[mechanism.loads]]").unwrap();
+            format!("{}{}", &t[..e], &t[d..])
+        }
+    }
+}
+
+/// The design's figures of one row of the result's `envelope.scenarios`.
+fn row(r: &Value, i: usize) -> (String, f64, f64, f64) {
+    let s = &r["envelope"]["scenarios"][i];
+    (
+        s["case"].as_str().unwrap().to_string(),
+        s["values"][0].as_f64().unwrap(),
+        s["peak_shaking_force_n"][0].as_f64().unwrap(),
+        s["peak_input_torque_nm"][0].as_f64().unwrap(),
+    )
+}
+
+#[test]
+fn each_case_is_the_file_with_its_loads_and_the_force_is_the_same_in_all() {
+    let text = press();
+    let s = parse_str(&text, Path::new("press.toml")).unwrap();
+    let r = solve_scene(&s);
+    assert_eq!(r.status, Status::Optimal, "{:?}", r.warnings);
+    assert_eq!(
+        r.objective.as_deref(),
+        Some("worst_case_peak_input_torque_nm")
+    );
+    let json = serde_json::to_value(&r).unwrap();
+    let p: &LinkageProblem = s.machine().unwrap();
+    let x = ls::solve(&p.scene, &p.settings).unwrap().design.unwrap().x;
+    let x = &x[..4 * p.scene.counterweights.len()];
+    // Scenarios: the nominal scene, then 110 and 130 rpm in each of the three cases.
+    let names = [
+        "nominal",
+        "nominal",
+        "nominal",
+        "10 kN blanking",
+        "10 kN blanking",
+        "idle",
+        "idle",
+    ];
+    let own = &text[text.find("angles = [\"185 deg\"").unwrap()
+        ..text.find("\n\n[mechanism.envelope]").unwrap()];
+    for (i, name) in names.iter().enumerate() {
+        let (case, omega, force, torque) = row(&json, i);
+        assert_eq!(&case, name);
+        let rpm = omega * 60.0 / std::f64::consts::TAU;
+        let speed = format!("{rpm:.12} rpm");
+        let alone = match *name {
+            "nominal" => single(&text, &speed, Some(own)),
+            "idle" => single(&text, &speed, None),
+            _ => single(&text, &speed, Some(BLANKING)),
+        };
+        let sa = parse_str(&alone, Path::new("alone.toml")).unwrap();
+        let pa: &LinkageProblem = sa.machine().unwrap();
+        let [(f, fe), _, (t, te)] = peaks(&pa.scene, Some(x), &pa.settings).unwrap();
+        assert!(
+            (f - force).abs() <= 2.0 * fe + 1e-9 * f,
+            "{name} {rpm}: force {f} vs {force}"
+        );
+        assert!(
+            (t - torque).abs() <= 2.0 * te + 1e-9 * t,
+            "{name} {rpm}: torque {t} vs {torque}"
+        );
+        // The loads are the frame's: every case's force is its speed's nominal one.
+        if i > 0 {
+            let (_, _, nominal_force, _) = row(&json, 1 + (i - 1) % 2);
+            assert_eq!(force, nominal_force, "{name} at {rpm} rpm");
+        }
+    }
+    // The worst torque is the blanking stroke's, the worst force the first of the equal ones.
+    let worst = &json["envelope"]["worst"];
+    let (case, ..) = row(&json, worst[2]["vertex"].as_u64().unwrap() as usize);
+    assert_eq!(case, "10 kN blanking");
+    assert_eq!(worst[0]["vertex"].as_u64(), Some(2));
+    let mc = &json["envelope"]["monte_carlo"];
+    assert_eq!(mc["samples"].as_u64(), Some(600), "200 points × 3 cases");
+    assert_eq!(mc["beyond_worst_case"].as_u64(), Some(0));
+}
+
+#[test]
+fn no_random_design_has_a_smaller_worst_torque_over_the_cases() {
+    let text = set_key(&press(), "mechanism.envelope.monte_carlo", "0");
+    let s = parse_str(&text, Path::new("press.toml")).unwrap();
+    let r = solve_scene(&s);
+    let (w, e) = (
+        r.objectives["worst_case_peak_input_torque_nm"],
+        r.errors["worst_case_peak_input_torque_nm"],
+    );
+    let p: &LinkageProblem = s.machine().unwrap();
+    let scenes: Vec<_> = std::iter::once(p.scene.clone())
+        .chain(ls::vertex_scenes(&p.scene).unwrap())
+        .collect();
+    assert_eq!(scenes.len(), 7);
+    let worst = |x: &[f64]| {
+        scenes
+            .iter()
+            .map(|sc| peaks(sc, Some(x), &p.settings).unwrap()[2].0)
+            .fold(0.0, f64::max)
+    };
+    let mut rng = Lcg(11);
+    for _ in 0..40 {
+        let x = random_design(p, &mut rng);
+        let wx = worst(&x);
+        assert!(wx >= w - e - 1e-9 * w, "{wx} < {w} − {e}");
+    }
+}
+
+#[test]
+fn load_case_errors_name_their_key() {
+    let text = press();
+    let bad = |t: &str, field: &str| {
+        let e = err(t).to_string();
+        assert!(e.contains(field), "{field}: {e}");
+    };
+    let idle = "name = \"idle\"";
+    let ram = "point = \"ram.pivot\"\ndirection = \"90 deg\"\nangles = [\"195";
+    for (from, to, field) in [
+        (
+            idle,
+            "name = \"10 kN blanking\"",
+            "mechanism.load_cases[1].name",
+        ),
+        (idle, "name = \"nominal\"", "mechanism.load_cases[1].name"),
+        (idle, "name = \"a, b\"", "mechanism.load_cases[1].name"),
+        (
+            "\"10 kN\", \"10 kN\", \"0 N\"]",
+            "\"10 kN\", \"0 N\"]",
+            "mechanism.load_cases[0].loads[0].forces",
+        ),
+        (
+            "forces = [\"0 N\", \"10 kN\"",
+            "forces = [\"0\", \"10 kN\"",
+            "forces",
+        ),
+        (
+            ram,
+            &ram.replace("ram.", "bed."),
+            "mechanism.load_cases[0].loads[0].point",
+        ),
+    ] {
+        bad(&text.replacen(from, to, 1), field);
+    }
+    let many: String = (0..17)
+        .map(|i| format!("\n[[mechanism.load_cases]]\nname = \"case {i}\"\n"))
+        .collect();
+    bad(
+        &text.replacen(
+            "\n[[mechanism.dyads]]",
+            &format!("{many}\n[[mechanism.dyads]]"),
+            1,
+        ),
+        "mechanism.load_cases[16]",
+    );
+    bad(
+        &set_key(&text, "objective.minimize", "\"rms-torque\""),
+        "objective.minimize",
+    );
+}
+
+/// With `[mechanism.drive]`: each case's drive is the drive of the file rewritten with that
+/// case's loads (at the same design, through `linkage::drive::figures` on the rewritten
+/// scene); the flywheel of all the cases is the largest least flywheel, every case meets Cs
+/// with it, and 0.1 % less misses Cs in the governing case.
+#[test]
+fn the_flywheel_of_all_the_cases_is_the_largest_least_one() {
+    use cwsynth::dynamics::Drive;
+    use cwsynth::families::linkage::drive::figures;
+    let text = set_key(&press(), "mechanism.envelope.monte_carlo", "0");
+    let s = parse_str(&text, Path::new("press.toml")).unwrap();
+    let json = serde_json::to_value(solve_scene(&s)).unwrap();
+    let lc = &json["load_cases"];
+    let p: &LinkageProblem = s.machine().unwrap();
+    let x = ls::solve(&p.scene, &p.settings).unwrap().design.unwrap().x;
+    let x = &x[..4 * p.scene.counterweights.len()];
+    let d = p.drive.as_ref().unwrap();
+    let own = &text[text.find("angles = [\"185 deg\"").unwrap()
+        ..text.find("\n\n[mechanism.envelope]").unwrap()];
+    let mut least: Vec<f64> = Vec::new();
+    for (i, (name, loads)) in [
+        ("nominal", Some(own)),
+        ("10 kN blanking", Some(BLANKING)),
+        ("idle", None),
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        let row = &lc["cases"][i];
+        assert_eq!(row["case"], name);
+        let alone = parse_str(&single(&text, "120 rpm", loads), Path::new("a.toml")).unwrap();
+        let pa: &LinkageProblem = alone.machine().unwrap();
+        let f = figures(&pa.scene, d, Some(x)).unwrap();
+        let fw = f.flywheel.unwrap();
+        let close = |key: &str, v: f64| {
+            let got = row[key].as_f64().unwrap();
+            assert!(
+                (got - v).abs() <= 1e-9 * v.abs().max(1e-12),
+                "{name} {key}: {got} vs {v}"
+            );
+        };
+        close("energy_fluctuation_j", f.constant.energy_fluctuation);
+        close("flywheel_least_kgm2", fw.inertia);
+        close("flywheel_textbook_kgm2", fw.textbook);
+        least.push(fw.inertia);
+        // Every case meets Cs with the flywheel of all the cases.
+        let cs = row["steady_cs"].as_f64().unwrap();
+        assert!(
+            cs <= 0.1 + row["steady_cs_error"].as_f64().unwrap(),
+            "{name}: Cs {cs}"
+        );
+    }
+    let istar = lc["flywheel_kgm2"].as_f64().unwrap();
+    assert_eq!(istar, least.iter().copied().fold(0.0, f64::max));
+    assert_eq!(lc["flywheel_case"], "10 kN blanking");
+    assert_eq!(
+        json["derived"]["load_cases_flywheel_kgm2"].as_f64(),
+        Some(istar)
+    );
+    // 0.1 % less flywheel misses Cs in the governing case.
+    let alone = parse_str(
+        &single(&text, "120 rpm", Some(BLANKING)),
+        Path::new("a.toml"),
+    )
+    .unwrap();
+    let pa: &LinkageProblem = alone.machine().unwrap();
+    let short = Drive {
+        cs: None,
+        flywheel: Some(0.999 * istar),
+        motor: d.motor.clone(),
+    };
+    let st = figures(&pa.scene, &short, Some(x)).unwrap().steady;
+    assert!(
+        st.cs > 0.1 + st.cs_error,
+        "Cs {} with 0.1 % less flywheel",
+        st.cs
+    );
+}
