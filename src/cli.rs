@@ -132,6 +132,30 @@ pub enum Command {
         #[arg(long, value_enum, default_value_t = UnitsArg::Workshop)]
         units: UnitsArg,
     },
+    /// Serve the designer in the browser: open a problem file of DIR, edit it and see it
+    /// re-solved on every edit; and the HTTP API (docs/serve.md).
+    #[command(
+        after_help = "Examples:\n  cwsynth serve problems/\n  cwsynth serve --port 9000 .\n  cwsynth serve --listen 0.0.0.0 --token $(openssl rand -hex 16) problems/"
+    )]
+    Serve {
+        /// The folder whose problem files the page opens.
+        #[arg(default_value = ".")]
+        dir: PathBuf,
+        /// The port (0: any free one).
+        #[arg(long, default_value_t = 8321)]
+        port: u16,
+        /// Listen on this address instead of 127.0.0.1 (another machine can then reach
+        /// the server: needs --token).
+        #[arg(long)]
+        listen: Option<std::net::IpAddr>,
+        /// The token every API request must then carry (`Authorization: Bearer <token>`,
+        /// at least 16 characters); the printed address carries it for the page.
+        #[arg(long)]
+        token: Option<String>,
+        /// Seconds one solve may take before its request gets an error (the server goes on).
+        #[arg(long, default_value_t = 30.0)]
+        solve_budget: f64,
+    },
     /// Solve one scene along a ladder of accuracy and fidelity settings: time against error.
     #[command(after_help = "Example:\n  cwsynth study problems/piston-1000rpm.toml --out study/")]
     Study {
@@ -403,6 +427,13 @@ pub fn run(cli: Cli) -> anyhow::Result<i32> {
             units,
         } => calibrate(&file, out, json, units),
         Command::Study { file, out, repeats } => study(&file, out, repeats),
+        Command::Serve {
+            dir,
+            port,
+            listen,
+            token,
+            solve_budget,
+        } => serve(dir, port, listen, token, solve_budget),
         Command::New { family } => {
             let text = crate::families::new_problem(&family)
                 .with_context(|| format!("unknown family `{family}`"))?;
@@ -432,6 +463,26 @@ pub fn run(cli: Cli) -> anyhow::Result<i32> {
             units,
         } => solve(&inputs, json, out.as_deref(), units),
     }
+}
+
+/// `cwsynth serve`: the designer until the process is stopped.
+fn serve(
+    dir: PathBuf,
+    port: u16,
+    listen: Option<std::net::IpAddr>,
+    token: Option<String>,
+    solve_budget: f64,
+) -> anyhow::Result<i32> {
+    if !(solve_budget > 0.0 && solve_budget <= 86_400.0) {
+        anyhow::bail!("--solve-budget: allowed: 0 < seconds ≤ 86400");
+    }
+    let mut o = crate::serve::Options::new(dir);
+    o.port = port;
+    o.listen = listen.unwrap_or(o.listen);
+    o.token = token;
+    o.solve_budget = std::time::Duration::from_secs_f64(solve_budget);
+    crate::serve::run(o)?;
+    Ok(0)
 }
 
 /// `cwsynth check`: reads every file, prints `ok` for each that resolves and `error` for

@@ -28,6 +28,7 @@ pub mod geom;
 pub mod numeric;
 pub mod problem;
 pub mod report;
+pub mod serve;
 pub mod study;
 pub mod synth;
 pub mod units;

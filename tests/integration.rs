@@ -59,6 +59,7 @@ mod rms_near_fold;
 mod schema;
 mod scotch_yoke;
 mod sensitivities;
+mod serve;
 mod slider_crank;
 mod slider_crank_balancers;
 mod slider_crank_outline;

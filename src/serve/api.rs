@@ -1,0 +1,359 @@
+//! The HTTP API the designer's page and other tools use (docs/serve.md): every route, its
+//! limits, and its JSON errors `{"error": {"file", "line", "field", "message"}}`.
+
+use super::{assets, State};
+use crate::families::{self, Scene};
+use crate::problem::ProblemError;
+use axum::extract::{Path as UrlPath, Request, State as Shared};
+use axum::http::{header, HeaderValue, StatusCode};
+use axum::middleware::{self, Next};
+use axum::response::{IntoResponse, Response};
+use axum::routing::{get, post};
+use axum::Router;
+use serde_json::{json, Value};
+use std::path::{Component, Path, PathBuf};
+use std::sync::Arc;
+use std::time::Duration;
+
+/// How long a client may take to send its request body.
+const BODY_TIME: Duration = Duration::from_secs(10);
+
+/// The Content-Security-Policy of every answer: the binary's own scripts and styles only,
+/// images from itself or inline data (the plots), no plugins, frames or foreign forms.
+const CSP: &str = "default-src 'self'; script-src 'self'; style-src 'self'; img-src 'self' data:; object-src 'none'; base-uri 'none'; frame-ancestors 'none'; form-action 'none'";
+
+/// The routes on the shared state.
+pub(super) fn routes(state: Arc<State>) -> Router {
+    let api = Router::new()
+        .route("/api/solve", post(solve))
+        .route("/api/report", post(report))
+        .route("/api/check", post(check))
+        .route("/api/templates", get(templates))
+        .route("/api/schema", get(schema))
+        .route("/api/files", get(files))
+        .route("/api/file/{name}", get(file))
+        .route_layer(middleware::from_fn_with_state(state.clone(), token));
+    Router::new()
+        .route("/", get(|| async { assets::page() }))
+        .route("/app.js", get(|| async { assets::script() }))
+        .route("/app.css", get(|| async { assets::style() }))
+        .merge(api)
+        .fallback(|| async { error(StatusCode::NOT_FOUND, None, None, "no such page or route") })
+        .layer(middleware::map_response(secure))
+        .with_state(state)
+}
+
+/// The headers every answer carries.
+async fn secure(mut r: Response) -> Response {
+    let h = r.headers_mut();
+    h.insert(
+        header::CONTENT_SECURITY_POLICY,
+        HeaderValue::from_static(CSP),
+    );
+    h.insert(
+        header::X_CONTENT_TYPE_OPTIONS,
+        HeaderValue::from_static("nosniff"),
+    );
+    h.insert(
+        header::REFERRER_POLICY,
+        HeaderValue::from_static("no-referrer"),
+    );
+    h.insert(header::CACHE_CONTROL, HeaderValue::from_static("no-store"));
+    r
+}
+
+/// With a token, every API request carries `Authorization: Bearer <token>`.
+async fn token(Shared(st): Shared<Arc<State>>, req: Request, next: Next) -> Response {
+    if let Some(t) = &st.opts.token {
+        let given = req
+            .headers()
+            .get(header::AUTHORIZATION)
+            .and_then(|v| v.to_str().ok())
+            .and_then(|v| v.strip_prefix("Bearer "));
+        if given != Some(t.as_str()) {
+            return error(
+                StatusCode::UNAUTHORIZED,
+                None,
+                None,
+                "this server needs its token: Authorization: Bearer <token> (printed when it started)",
+            );
+        }
+    }
+    next.run(req).await
+}
+
+/// A JSON error answer.
+pub(super) fn error(
+    status: StatusCode,
+    file: Option<&str>,
+    line: Option<usize>,
+    message: &str,
+) -> Response {
+    let body =
+        json!({"error": {"file": file, "line": line, "field": Value::Null, "message": message}});
+    (status, json_headers(), body.to_string()).into_response()
+}
+
+/// A problem file's error as a JSON answer (400): its file, line, field and message.
+fn problem_error(e: &ProblemError) -> Response {
+    let (file, message) = match e {
+        ProblemError::Invalid { file, message, .. } => {
+            (file.display().to_string(), message.clone())
+        }
+        ProblemError::Read { file, source } => (file.display().to_string(), source.to_string()),
+    };
+    let body =
+        json!({"error": {"file": file, "line": e.line(), "field": e.field(), "message": message}});
+    (StatusCode::BAD_REQUEST, json_headers(), body.to_string()).into_response()
+}
+
+fn json_headers() -> [(header::HeaderName, &'static str); 1] {
+    [(header::CONTENT_TYPE, "application/json")]
+}
+
+fn json_answer(v: &Value) -> Response {
+    (StatusCode::OK, json_headers(), v.to_string()).into_response()
+}
+
+/// The request's problem file: its body (at most `max_body` bytes, sent within
+/// [`BODY_TIME`]) read as a file named by the query's `name` (a bare file name, default
+/// `request.toml`), its drawings read from the served folder; a drawing path must stay
+/// inside it ([`confined`]).
+async fn problem(st: &State, req: Request) -> Result<Scene, Response> {
+    let name = file_name(req.uri().query())
+        .unwrap_or("request.toml")
+        .to_string();
+    let limit = st.opts.max_body;
+    let body = tokio::time::timeout(BODY_TIME, axum::body::to_bytes(req.into_body(), limit)).await;
+    let bytes = match body {
+        Err(_) => {
+            return Err(error(
+                StatusCode::REQUEST_TIMEOUT,
+                Some(&name),
+                None,
+                &format!(
+                    "the request body did not arrive within {} s",
+                    BODY_TIME.as_secs()
+                ),
+            ))
+        }
+        Ok(Err(_)) => {
+            return Err(error(
+                StatusCode::PAYLOAD_TOO_LARGE,
+                Some(&name),
+                None,
+                &format!("the request body is over {limit} bytes (a problem file is at most that)"),
+            ))
+        }
+        Ok(Ok(b)) => b,
+    };
+    // The file is named by its bare name (no server path in a message or the result); its
+    // drawings are read from the served folder.
+    let path = PathBuf::from(&name);
+    if let Some(e) = confined(&bytes, &path) {
+        return Err(problem_error(&e));
+    }
+    match std::str::from_utf8(&bytes) {
+        Ok(text) => families::parse_str_in(text, &path, &st.root),
+        Err(_) => families::parse_bytes(&bytes, &path),
+    }
+    .map_err(|e| problem_error(&e))
+}
+
+/// The bare file name of the query's `name=` (letters, digits, `.`, `-`, `_`; not starting
+/// with `.`), or `None`.
+fn file_name(query: Option<&str>) -> Option<&str> {
+    let v = query?.split('&').find_map(|kv| kv.strip_prefix("name="))?;
+    let ok = !v.is_empty()
+        && v.len() <= 128
+        && !v.starts_with('.')
+        && v.chars()
+            .all(|c| c.is_ascii_alphanumeric() || "._-".contains(c));
+    ok.then_some(v)
+}
+
+/// A drawing (`file` key anywhere in the problem) named outside the served folder: an
+/// absolute path or one with `..` — the client names no file outside it.
+fn confined(bytes: &[u8], path: &Path) -> Option<ProblemError> {
+    let text = std::str::from_utf8(bytes).ok()?;
+    let doc: toml::Table = toml::from_str(text).ok()?;
+    let mut bad = None;
+    walk(&toml::Value::Table(doc), "", &mut |key, v| {
+        let Some(s) = v.as_str() else { return };
+        let p = Path::new(s);
+        let outside = p.is_absolute()
+            || p.components()
+                .any(|c| !matches!(c, Component::Normal(_) | Component::CurDir));
+        if key.ends_with(".file") && outside && bad.is_none() {
+            bad = Some(ProblemError::Invalid {
+                file: path.into(),
+                line: text.lines().position(|l| l.contains(s)).map(|i| i + 1),
+                field: Some(key.to_string()),
+                message: format!(
+                    "\"{s}\": allowed: a drawing inside the served folder, named relative to it"
+                ),
+            });
+        }
+    });
+    bad
+}
+
+/// Calls `f` on every value of `v` with its dotted key.
+fn walk(v: &toml::Value, key: &str, f: &mut dyn FnMut(&str, &toml::Value)) {
+    match v {
+        toml::Value::Table(t) => {
+            for (k, x) in t {
+                let sub = if key.is_empty() {
+                    k.clone()
+                } else {
+                    format!("{key}.{k}")
+                };
+                walk(x, &sub, f);
+            }
+        }
+        toml::Value::Array(a) => {
+            for (i, x) in a.iter().enumerate() {
+                walk(x, &format!("{key}[{i}]"), f);
+            }
+        }
+        other => f(key, other),
+    }
+}
+
+/// Solves `scene` on a blocking thread, at most `max_solves` at once, within the solve
+/// budget: the result (its documents drawn with `draw`), or a JSON error (over the budget,
+/// or a panic of the solve, which fails this request only).
+async fn solved(
+    st: &Arc<State>,
+    scene: Scene,
+    draw: bool,
+) -> Result<crate::report::SolveResult, Response> {
+    let budget = st.opts.solve_budget;
+    let name = scene.source.display().to_string();
+    let run = async {
+        let permit = st
+            .solves
+            .clone()
+            .acquire_owned()
+            .await
+            .expect("never closed");
+        tokio::task::spawn_blocking(move || {
+            let _running = permit;
+            crate::batch::isolate(|| {
+                let mut r = families::solve_scene(&scene);
+                if draw {
+                    r.draw();
+                }
+                r
+            })
+        })
+        .await
+    };
+    match tokio::time::timeout(budget, run).await {
+        Err(_) => Err(error(StatusCode::SERVICE_UNAVAILABLE, Some(&name), None, &format!(
+            "the solve took longer than its budget of {} s; the server goes on (a smaller problem, or `cwsynth solve` on the command line)",
+            budget.as_secs_f64()
+        ))),
+        Ok(Err(_)) | Ok(Ok(Err(_))) => Err(error(StatusCode::INTERNAL_SERVER_ERROR, Some(&name), None,
+            "the solve stopped on an internal error (a bug: please report it with the problem file); the server goes on")),
+        Ok(Ok(Ok(r))) => Ok(r),
+    }
+}
+
+/// `POST /api/solve`: the problem file's result, the same JSON object as
+/// `cwsynth solve FILE --json` prints.
+async fn solve(Shared(st): Shared<Arc<State>>, req: Request) -> Response {
+    let scene = match problem(&st, req).await {
+        Ok(s) => s,
+        Err(r) => return r,
+    };
+    match solved(&st, scene, false).await {
+        Ok(r) => json_answer(&r.to_json()),
+        Err(r) => r,
+    }
+}
+
+/// `POST /api/report`: the result and its plots, for the page: `{"result": …, "plots":
+/// [{"suffix", "caption", "svg"}]}`.
+async fn report(Shared(st): Shared<Arc<State>>, req: Request) -> Response {
+    let scene = match problem(&st, req).await {
+        Ok(s) => s,
+        Err(r) => return r,
+    };
+    match solved(&st, scene, true).await {
+        Ok(r) => {
+            let plots: Vec<Value> = r
+                .plots
+                .iter()
+                .map(|p| json!({"suffix": p.suffix, "caption": p.caption, "svg": p.svg_or_note()}))
+                .collect();
+            json_answer(&json!({"result": r.to_json(), "plots": plots}))
+        }
+        Err(r) => r,
+    }
+}
+
+/// `POST /api/check`: `{"ok": true, "name", "family"}`, or the file's error.
+async fn check(Shared(st): Shared<Arc<State>>, req: Request) -> Response {
+    match problem(&st, req).await {
+        Ok(s) => json_answer(&json!({"ok": true, "name": s.name, "family": s.family.name()})),
+        Err(r) => r,
+    }
+}
+
+/// `GET /api/templates`: every family's `cwsynth new` file.
+async fn templates() -> Response {
+    let all: Vec<Value> = families::FAMILIES
+        .iter()
+        .map(|f| json!({"family": f.name(), "text": families::new_problem(f.name())}))
+        .collect();
+    json_answer(&json!({ "templates": all }))
+}
+
+/// `GET /api/schema`: the problem file's JSON Schema (`cwsynth schema`).
+async fn schema() -> Response {
+    json_answer(&families::problem_schema())
+}
+
+/// `GET /api/files`: the problem files (`*.toml`) of the served folder, by name.
+async fn files(Shared(st): Shared<Arc<State>>) -> Response {
+    let mut names: Vec<String> = std::fs::read_dir(&st.root)
+        .into_iter()
+        .flatten()
+        .flatten()
+        .filter(|e| e.file_type().is_ok_and(|t| t.is_file()))
+        .filter_map(|e| e.file_name().into_string().ok())
+        .filter(|n| n.ends_with(".toml") && file_name(Some(&format!("name={n}"))).is_some())
+        .collect();
+    names.sort();
+    json_answer(&json!({ "files": names }))
+}
+
+/// `GET /api/file/{name}`: one problem file of the served folder, as text.
+async fn file(Shared(st): Shared<Arc<State>>, UrlPath(name): UrlPath<String>) -> Response {
+    let not = || {
+        error(
+            StatusCode::NOT_FOUND,
+            Some(&name),
+            None,
+            "no such problem file in the served folder",
+        )
+    };
+    if file_name(Some(&format!("name={name}"))).is_none() || !name.ends_with(".toml") {
+        return not();
+    }
+    let path: PathBuf = st.root.join(&name);
+    match path.canonicalize() {
+        Ok(p) if p.starts_with(&st.root) => {}
+        _ => return not(),
+    }
+    match crate::problem::read_bounded(&path, crate::problem::MAX_FILE_BYTES) {
+        Ok(b) => match String::from_utf8(b) {
+            Ok(text) => {
+                ([(header::CONTENT_TYPE, "text/plain; charset=utf-8")], text).into_response()
+            }
+            Err(_) => error(StatusCode::BAD_REQUEST, Some(&name), None, "not UTF-8 text"),
+        },
+        Err(_) => not(),
+    }
+}

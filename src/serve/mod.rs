@@ -1,0 +1,186 @@
+//! `cwsynth serve` (issue 35): the designer in the browser and the HTTP API it uses, a local
+//! web server inside the binary (axum on tokio). Why a server at all: the page re-solves the
+//! certified optimum on every edit, and the solver is this crate; the page and its scripts
+//! are served by the binary (no CDN), so it works offline.
+//!
+//! Security (docs/serve.md): bound to 127.0.0.1 unless `--listen` names another address,
+//! which needs a token every API request carries; the client names files only by their
+//! bare names inside `DIR`; request bodies, solve times and concurrent solves are bounded;
+//! every answer carries a Content-Security-Policy that allows only the binary's own scripts.
+//! One bad request is its own JSON error and never stops the server.
+
+mod api;
+mod assets;
+
+use axum::Router;
+use std::net::{IpAddr, Ipv4Addr, SocketAddr};
+use std::path::PathBuf;
+use std::sync::Arc;
+use std::time::Duration;
+
+/// The server's settings (`cwsynth serve`'s options).
+#[derive(Debug, Clone)]
+pub struct Options {
+    /// The folder whose problem files the page opens (the current directory by default).
+    pub dir: PathBuf,
+    /// The address to listen on: 127.0.0.1 unless asked.
+    pub listen: IpAddr,
+    /// The port (0: any free one).
+    pub port: u16,
+    /// The token every API request must carry (`Authorization: Bearer <token>`); required
+    /// when `listen` is not a loopback address.
+    pub token: Option<String>,
+    /// The most bytes of a request body.
+    pub max_body: usize,
+    /// The longest one solve may take before its request gets a JSON error.
+    pub solve_budget: Duration,
+    /// Solves run at once (the others wait their turn): the core count by default.
+    pub max_solves: usize,
+}
+
+impl Options {
+    /// The defaults for `dir`: 127.0.0.1, port 8321, no token, a body of at most the
+    /// problem-file limit, 30 s per solve, one solve per core.
+    pub fn new(dir: PathBuf) -> Options {
+        Options {
+            dir,
+            listen: IpAddr::V4(Ipv4Addr::LOCALHOST),
+            port: 8321,
+            token: None,
+            max_body: crate::problem::MAX_FILE_BYTES,
+            solve_budget: Duration::from_secs(30),
+            max_solves: std::thread::available_parallelism().map_or(2, |n| n.get()),
+        }
+    }
+
+    /// Checks the settings: a folder that exists, a token where the address is not a
+    /// loopback one (and then at least 16 characters), positive limits.
+    pub fn validate(&self) -> Result<(), ServeError> {
+        if !self.dir.is_dir() {
+            return Err(ServeError::Options(format!(
+                "{}: not a folder; allowed: a folder of problem files",
+                self.dir.display()
+            )));
+        }
+        match (&self.token, self.listen.is_loopback()) {
+            (None, false) => {
+                return Err(ServeError::Options(format!(
+                    "--listen {} is not a loopback address: it needs --token (at least 16 characters) that every API request then carries",
+                    self.listen
+                )))
+            }
+            (Some(t), _) if t.chars().count() < 16 => {
+                return Err(ServeError::Options(
+                    "--token: at least 16 characters".into(),
+                ))
+            }
+            _ => {}
+        }
+        if self.max_body == 0 || self.max_solves == 0 || self.solve_budget.is_zero() {
+            return Err(ServeError::Options(
+                "the body limit, the solve budget and the solves at once must be positive".into(),
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// Why the server could not start or stopped.
+#[derive(Debug, thiserror::Error)]
+pub enum ServeError {
+    /// The settings are wrong.
+    #[error("{0}")]
+    Options(String),
+    /// The address cannot be bound or the server failed.
+    #[error("{what}: {source}")]
+    Io {
+        /// What was being done.
+        what: String,
+        /// The error.
+        source: std::io::Error,
+    },
+}
+
+/// The shared state of every request.
+#[derive(Debug)]
+pub(crate) struct State {
+    pub(crate) opts: Options,
+    /// The folder, canonical: a file's canonical path must start with it.
+    pub(crate) root: PathBuf,
+    /// One permit per solve running.
+    pub(crate) solves: Arc<tokio::sync::Semaphore>,
+}
+
+/// The designer's routes on the settings `opts` (validated first).
+pub fn router(opts: Options) -> Result<Router, ServeError> {
+    opts.validate()?;
+    let root = opts.dir.canonicalize().map_err(|source| ServeError::Io {
+        what: format!("{}", opts.dir.display()),
+        source,
+    })?;
+    let state = Arc::new(State {
+        solves: Arc::new(tokio::sync::Semaphore::new(opts.max_solves)),
+        root,
+        opts,
+    });
+    Ok(api::routes(state))
+}
+
+/// Binds `opts`' address: the listener, ready to serve, and the page's routes.
+fn bind(opts: Options) -> Result<(std::net::TcpListener, Router), ServeError> {
+    let addr = SocketAddr::new(opts.listen, opts.port);
+    let app = router(opts)?;
+    let listener = std::net::TcpListener::bind(addr).map_err(|source| ServeError::Io {
+        what: format!("binding {addr}"),
+        source,
+    })?;
+    listener
+        .set_nonblocking(true)
+        .map_err(|source| ServeError::Io {
+            what: "setting up the listener".into(),
+            source,
+        })?;
+    Ok((listener, app))
+}
+
+/// Serves `app` on `listener` in a new runtime until it fails or the process ends.
+fn serve_on(listener: std::net::TcpListener, app: Router) -> Result<(), ServeError> {
+    let io = |what: &str| {
+        let what = what.to_string();
+        move |source| ServeError::Io { what, source }
+    };
+    let rt = tokio::runtime::Builder::new_multi_thread()
+        .enable_all()
+        .build()
+        .map_err(io("starting the runtime"))?;
+    rt.block_on(async move {
+        let listener = tokio::net::TcpListener::from_std(listener).map_err(io("listening"))?;
+        axum::serve(listener, app).await.map_err(io("serving"))
+    })
+}
+
+/// Serves until the process ends: binds, prints the page's address (with the token, in the
+/// fragment, where there is one: it never reaches a server log), and answers.
+pub fn run(opts: Options) -> Result<(), ServeError> {
+    let token = opts.token.clone();
+    let (listener, app) = bind(opts)?;
+    let bound = listener.local_addr().map_err(|source| ServeError::Io {
+        what: "reading the bound address".into(),
+        source,
+    })?;
+    let fragment = token.map(|t| format!("#token={t}")).unwrap_or_default();
+    println!("cwsynth serve: http://{bound}/{fragment}");
+    serve_on(listener, app)
+}
+
+/// A server on a background thread (tests, embedding): it answers at `addr` until the
+/// process ends.
+pub fn start(opts: Options) -> Result<SocketAddr, ServeError> {
+    let (listener, app) = bind(opts)?;
+    let addr = listener.local_addr().map_err(|source| ServeError::Io {
+        what: "reading the bound address".into(),
+        source,
+    })?;
+    std::thread::spawn(move || serve_on(listener, app));
+    Ok(addr)
+}

@@ -1,0 +1,206 @@
+//! `cwsynth serve`'s HTTP API (issue 35) against the library it serves: for every shipped
+//! problem `POST /api/solve` is `cwsynth solve --json`'s object (apart from the timing and
+//! the source path); errors are JSON naming file, line and field; bodies over the limit,
+//! solves over their budget, paths outside the folder and missing tokens get their own
+//! errors and the server goes on; 50 requests at once are all answered. The client is a
+//! plain HTTP/1.1 exchange over a socket (no HTTP library between the test and the server).
+
+use cwsynth::families::{load, solve_scene};
+use cwsynth::serve::{start, Options};
+use serde_json::Value;
+use std::io::{Read, Write};
+use std::net::{SocketAddr, TcpStream};
+use std::path::PathBuf;
+use std::time::Duration;
+
+fn problems() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("problems")
+}
+
+/// A server on the shipped problems, on a free port.
+fn server(tune: impl FnOnce(&mut Options)) -> SocketAddr {
+    let mut o = Options::new(problems());
+    o.port = 0;
+    tune(&mut o);
+    start(o).unwrap()
+}
+
+/// One request: (status, headers, body).
+fn http(
+    addr: SocketAddr,
+    method: &str,
+    path: &str,
+    body: &[u8],
+    extra: &str,
+) -> (u16, String, String) {
+    let mut s = TcpStream::connect(addr).unwrap();
+    s.set_read_timeout(Some(Duration::from_secs(120))).unwrap();
+    let head = format!(
+        "{method} {path} HTTP/1.1\r\nHost: test\r\nContent-Length: {}\r\nConnection: close\r\n{extra}\r\n",
+        body.len()
+    );
+    s.write_all(head.as_bytes()).unwrap();
+    let _ = s.write_all(body);
+    let mut out = Vec::new();
+    s.read_to_end(&mut out).unwrap();
+    let text = String::from_utf8_lossy(&out).to_string();
+    let (head, body) = text.split_once("\r\n\r\n").unwrap();
+    let status = head.split(' ').nth(1).unwrap().parse().unwrap();
+    (status, head.to_lowercase(), body.to_string())
+}
+
+fn json(body: &str) -> Value {
+    serde_json::from_str(body).unwrap_or_else(|e| panic!("{e}: {body}"))
+}
+
+/// The result without what differs between two runs or two names of one file.
+fn comparable(mut v: Value) -> Value {
+    let o = v.as_object_mut().unwrap();
+    o.remove("timing");
+    o.remove("source");
+    v
+}
+
+#[test]
+fn every_shipped_problem_solves_as_the_command_line_does() {
+    let addr = server(|_| {});
+    let mut files: Vec<PathBuf> = std::fs::read_dir(problems())
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
+        .collect();
+    files.sort();
+    assert!(files.len() >= 30);
+    let (status, _, body) = http(addr, "GET", "/api/files", b"", "");
+    assert_eq!(status, 200);
+    assert_eq!(json(&body)["files"].as_array().unwrap().len(), files.len());
+    for f in &files {
+        let name = f.file_name().unwrap().to_str().unwrap();
+        let text = std::fs::read(f).unwrap();
+        let (status, _, body) = http(addr, "POST", &format!("/api/solve?name={name}"), &text, "");
+        assert_eq!(status, 200, "{name}: {body}");
+        let direct = solve_scene(&load(f).unwrap()).to_json();
+        assert_eq!(comparable(json(&body)), comparable(direct), "{name}");
+        // The file as the page opens it.
+        let (status, _, served) = http(addr, "GET", &format!("/api/file/{name}"), b"", "");
+        assert_eq!((status, served.as_bytes()), (200, &text[..]), "{name}");
+    }
+}
+
+#[test]
+fn errors_are_json_and_the_server_goes_on() {
+    let addr = server(|o| o.max_body = 4096);
+    // A located error: file, line and field.
+    let bad = "name = \"x\"\nfamily = \"slider-crank\"\n[mechanism]\ncrank_radius = \"35\"\n";
+    let (status, head, body) = http(addr, "POST", "/api/check?name=bad.toml", bad.as_bytes(), "");
+    assert_eq!(status, 400);
+    assert!(head.contains("content-type: application/json"), "{head}");
+    assert!(
+        head.contains("content-security-policy: default-src 'self'"),
+        "{head}"
+    );
+    let e = &json(&body)["error"];
+    assert_eq!(e["file"], "bad.toml");
+    assert!(
+        e["line"].as_u64().is_some() && e["field"].is_string(),
+        "{e}"
+    );
+    // A body over the limit.
+    let (status, _, body) = http(addr, "POST", "/api/solve", &[b'#'; 5000], "");
+    assert_eq!(status, 413);
+    assert!(json(&body)["error"]["message"]
+        .as_str()
+        .unwrap()
+        .contains("4096"));
+    // Paths outside the folder: a file, a drawing.
+    for path in [
+        "/api/file/..%2FCargo.toml",
+        "/api/file/%2Fetc%2Fpasswd",
+        "/api/file/.hidden.toml",
+    ] {
+        let (status, _, body) = http(addr, "GET", path, b"", "");
+        assert_eq!(status, 404, "{path}: {body}");
+    }
+    let outline =
+        std::fs::read_to_string(problems().join("linkage-fourbar-crank-outline.toml")).unwrap();
+    let outside = outline.replace("file = \"", "file = \"../");
+    let (status, _, body) = http(addr, "POST", "/api/check", outside.as_bytes(), "");
+    assert_eq!(status, 400);
+    assert!(
+        json(&body)["error"]["field"]
+            .as_str()
+            .unwrap()
+            .ends_with("outline.file"),
+        "{body}"
+    );
+    let (status, _, _) = http(addr, "POST", "/api/check", outline.as_bytes(), "");
+    assert_eq!(status, 200, "a drawing inside the folder is read");
+    // Markup in a name comes back as JSON text, never as a page.
+    let evil = std::fs::read_to_string(problems().join("piston-1000rpm.toml"))
+        .unwrap()
+        .replace(
+            "name = \"piston-1000rpm\"",
+            "name = \"<script>alert(1)</script>\"",
+        );
+    let (status, head, _) = http(addr, "POST", "/api/check", evil.as_bytes(), "");
+    assert_eq!(status, 400, "not a valid name");
+    assert!(head.contains("application/json"));
+    // An unknown route, and the server still answers.
+    assert_eq!(http(addr, "GET", "/nothing", b"", "").0, 404);
+    assert_eq!(http(addr, "GET", "/api/templates", b"", "").0, 200);
+}
+
+#[test]
+fn a_solve_over_its_budget_is_an_error_and_the_server_goes_on() {
+    let addr = server(|o| o.solve_budget = Duration::from_millis(1));
+    let text = std::fs::read(problems().join("linkage-sixbar-press-envelope.toml")).unwrap();
+    let (status, _, body) = http(addr, "POST", "/api/solve", &text, "");
+    assert_eq!(status, 503, "{body}");
+    assert!(json(&body)["error"]["message"]
+        .as_str()
+        .unwrap()
+        .contains("budget"));
+    assert_eq!(http(addr, "GET", "/api/schema", b"", "").0, 200);
+}
+
+#[test]
+fn a_token_guards_the_api() {
+    let token = "0123456789abcdef0123";
+    let addr = server(|o| o.token = Some(token.into()));
+    assert_eq!(http(addr, "GET", "/api/files", b"", "").0, 401);
+    let with = format!("Authorization: Bearer {token}\r\n");
+    assert_eq!(http(addr, "GET", "/api/files", b"", &with).0, 200);
+    // The page itself carries no data: it loads, and asks for the token in its fragment.
+    assert_eq!(http(addr, "GET", "/", b"", "").0, 200);
+    // Listening beyond this machine needs a token.
+    let mut o = Options::new(problems());
+    o.listen = "0.0.0.0".parse().unwrap();
+    assert!(o.validate().unwrap_err().to_string().contains("--token"));
+}
+
+#[test]
+fn fifty_requests_at_once_are_all_answered() {
+    let addr = server(|_| {});
+    let text = std::fs::read(problems().join("piston-1000rpm.toml")).unwrap();
+    let expected =
+        comparable(solve_scene(&load(&problems().join("piston-1000rpm.toml")).unwrap()).to_json());
+    let handles: Vec<_> = (0..50)
+        .map(|_| {
+            let text = text.clone();
+            std::thread::spawn(move || {
+                http(
+                    addr,
+                    "POST",
+                    "/api/solve?name=piston-1000rpm.toml",
+                    &text,
+                    "",
+                )
+            })
+        })
+        .collect();
+    for h in handles {
+        let (status, _, body) = h.join().unwrap();
+        assert_eq!(status, 200);
+        assert_eq!(comparable(json(&body)), expected);
+    }
+}
