@@ -204,3 +204,71 @@ fn fifty_requests_at_once_are_all_answered() {
         assert_eq!(comparable(json(&body)), expected);
     }
 }
+
+#[test]
+fn an_edit_sets_one_key_and_keeps_the_rest_of_the_file() {
+    let addr = server(|_| {});
+    let name = "linkage-fourbar-crank-counterweight.toml";
+    let text = std::fs::read_to_string(problems().join(name)).unwrap();
+    let edit = |key: &str, value: Value| {
+        let body = serde_json::json!({"text": text, "key": key, "value": value}).to_string();
+        http(addr, "POST", "/api/edit", body.as_bytes(), "")
+    };
+    // A pivot moved: that line changes, every other line (comments included) stays.
+    let (status, _, body) = edit(
+        "mechanism.dyads[0].q",
+        serde_json::json!(["110 mm", "5 mm"]),
+    );
+    assert_eq!(status, 200, "{body}");
+    let new = json(&body)["text"].as_str().unwrap().to_string();
+    let changed: Vec<(&str, &str)> = text
+        .lines()
+        .zip(new.lines())
+        .filter(|(a, b)| a != b)
+        .collect();
+    assert_eq!(
+        changed,
+        vec![("q = [\"100 mm\", \"0 mm\"]", "q = [\"110 mm\", \"5 mm\"]")]
+    );
+    // The report of the edited file draws the moved pivot among its handles.
+    let (status, _, body) = http(
+        addr,
+        "POST",
+        &format!("/api/report?name={name}"),
+        new.as_bytes(),
+        "",
+    );
+    assert_eq!(status, 200);
+    let m = &json(&body)["motion"];
+    assert_eq!(m["frames"].as_array().unwrap().len(), 72);
+    let q = m["handles"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|h| h["key"] == "mechanism.dyads[0].q")
+        .unwrap();
+    assert!(
+        (q["at"][0].as_f64().unwrap() - 0.110).abs() < 1e-12
+            && (q["at"][1].as_f64().unwrap() - 0.005).abs() < 1e-12
+    );
+    // A key the file leaves out is added to its table (the crank pivot, default the origin).
+    let (status, _, body) = edit("mechanism.crank_pivot", serde_json::json!(["1 mm", "2 mm"]));
+    assert_eq!(status, 200);
+    let with_pivot = json(&body)["text"].as_str().unwrap().to_string();
+    assert!(
+        with_pivot.contains("crank_pivot = [\"1 mm\", \"2 mm\"]"),
+        "{with_pivot}"
+    );
+    let (status, _, _) = http(addr, "POST", "/api/check", with_pivot.as_bytes(), "");
+    assert_eq!(status, 200);
+    // Keys that are not there, or not keys.
+    for key in [
+        "mechanism.dyads[5].q",
+        "nothing.here",
+        "mechanism..x",
+        "mechanism.dyads[x].q",
+    ] {
+        let (status, _, body) = edit(key, serde_json::json!(1));
+        assert_eq!(status, 400, "{key}: {body}");
+    }
+}

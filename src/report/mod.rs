@@ -364,6 +364,11 @@ pub struct SolveResult {
     /// Work only the written files need, done by [`SolveResult::complete`].
     #[serde(skip)]
     pub deferred: Vec<Deferred>,
+    /// The mechanism over one turn for the designer (`cwsynth serve`): the family's frames
+    /// and the handles a user drags (not in the JSON; made with the documents, by the
+    /// families that have one).
+    #[serde(skip)]
+    pub motion: Option<serde_json::Value>,
     /// The units of the report (`--units`; not in the JSON, which is SI).
     #[serde(skip)]
     pub units: Units,
@@ -420,6 +425,7 @@ impl SolveResult {
             tables: Vec::new(),
             drawings: Vec::new(),
             deferred: Vec::new(),
+            motion: None,
             units: Units::default(),
         }
     }

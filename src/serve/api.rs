@@ -28,6 +28,7 @@ pub(super) fn routes(state: Arc<State>) -> Router {
         .route("/api/solve", post(solve))
         .route("/api/report", post(report))
         .route("/api/check", post(check))
+        .route("/api/edit", post(edit))
         .route("/api/templates", get(templates))
         .route("/api/schema", get(schema))
         .route("/api/files", get(files))
@@ -37,6 +38,7 @@ pub(super) fn routes(state: Arc<State>) -> Router {
         .route("/", get(|| async { assets::page() }))
         .route("/app.js", get(|| async { assets::script() }))
         .route("/app.css", get(|| async { assets::style() }))
+        .route("/favicon.ico", get(|| async { StatusCode::NO_CONTENT }))
         .merge(api)
         .fallback(|| async { error(StatusCode::NOT_FOUND, None, None, "no such page or route") })
         .layer(middleware::map_response(secure))
@@ -287,9 +289,57 @@ async fn report(Shared(st): Shared<Arc<State>>, req: Request) -> Response {
                 .iter()
                 .map(|p| json!({"suffix": p.suffix, "caption": p.caption, "svg": p.svg_or_note()}))
                 .collect();
-            json_answer(&json!({"result": r.to_json(), "plots": plots}))
+            json_answer(&json!({"result": r.to_json(), "plots": plots, "motion": r.motion}))
         }
         Err(r) => r,
+    }
+}
+
+/// `POST /api/edit`: `{"text", "key", "value"}` → `{"text"}`, the file with the key set
+/// ([`super::edit::set_key`]: its comments and layout kept).
+async fn edit(Shared(st): Shared<Arc<State>>, req: Request) -> Response {
+    let limit = 2 * st.opts.max_body;
+    let bytes =
+        match tokio::time::timeout(BODY_TIME, axum::body::to_bytes(req.into_body(), limit)).await {
+            Ok(Ok(b)) => b,
+            _ => {
+                return error(
+                    StatusCode::PAYLOAD_TOO_LARGE,
+                    None,
+                    None,
+                    &format!(
+                        "allowed: a body of at most {limit} bytes, sent within {} s",
+                        BODY_TIME.as_secs()
+                    ),
+                )
+            }
+        };
+    let asked: Value = match serde_json::from_slice(&bytes) {
+        Ok(v) => v,
+        Err(e) => {
+            return error(
+                StatusCode::BAD_REQUEST,
+                None,
+                None,
+                &format!("not JSON: {e}"),
+            )
+        }
+    };
+    let (Some(text), Some(key), Some(value)) = (
+        asked["text"].as_str(),
+        asked["key"].as_str(),
+        asked.get("value"),
+    ) else {
+        return error(
+            StatusCode::BAD_REQUEST,
+            None,
+            None,
+            "allowed: {\"text\": …, \"key\": …, \"value\": …}",
+        );
+    };
+    match super::edit::set_key(text, key, value) {
+        Ok(text) => json_answer(&json!({ "text": text })),
+        Err(why) => error(StatusCode::BAD_REQUEST, None, None, &why),
     }
 }
 

@@ -11,6 +11,7 @@
 
 mod api;
 mod assets;
+pub mod edit;
 
 use axum::Router;
 use std::net::{IpAddr, Ipv4Addr, SocketAddr};

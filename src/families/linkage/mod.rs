@@ -11,6 +11,7 @@ pub mod file_envelope;
 pub mod file_loads;
 pub mod load_cases;
 pub mod model;
+pub mod motion;
 pub mod numbers;
 pub mod report;
 pub mod solve;

@@ -47,6 +47,8 @@ pub fn documents(scene: &Scene, p: &LinkageProblem, sol: &Solved, r: &mut SolveR
     }
     joint_table(r, p, sol);
     curves(r, scene, p, sol);
+    let motion = super::motion::motion(&p.scene, sol.design_x());
+    r.motion = serde_json::to_value(motion).ok();
     crate::report::drive::drive_documents(r, sol.drive.as_ref(), "crank");
     // The load case that governs the flywheel, where it is not the nominal one: its turn and
     // its steady state with the flywheel of all the cases.
@@ -280,25 +282,16 @@ fn drawing(name: &str, sc: &LinkageScene, x: Option<&[f64]>) -> Result<String, P
         let th = TAU * q as f64 / 4.0;
         let Ok(pose) = l.pose(th) else { continue };
         let mut pts = Vec::new();
-        for (i, st) in pose.links.iter().enumerate() {
-            let a = st.p[0];
-            let b = tip_of(l.dyads(), sc.crank_length, i)
-                .map(|at| pose.point(&Point::On { link: i, at })[0])
-                .unwrap_or(a);
+        for (a, b) in super::motion::segments(l, sc.crank_length, &pose) {
             pts.push((a.x * 1e3, a.y * 1e3));
             pts.push((b.x * 1e3, b.y * 1e3));
             pts.push((f64::NAN, f64::NAN));
         }
         series.push(Series::line(format!("θ = {}°", 90 * q), pts));
         if let Some(x) = x {
-            let cw: Vec<(f64, f64)> = ls::extras(&sc.counterweights, x)
+            let cw: Vec<(f64, f64)> = super::motion::counterweights(sc, x, &pose)
                 .iter()
-                .filter(|(_, p)| p[0] > 0.0)
-                .map(|(link, p)| {
-                    let at = P2::new(p[1] / p[0], p[2] / p[0]);
-                    let c = pose.point(&Point::On { link: *link, at })[0];
-                    (c.x * 1e3, c.y * 1e3)
-                })
+                .map(|c| (c.x * 1e3, c.y * 1e3))
                 .collect();
             if q == 0 && !cw.is_empty() {
                 series.push(Series::marker("counterweights (θ = 0°)", cw));

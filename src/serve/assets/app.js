@@ -6,8 +6,10 @@
 const token = new URLSearchParams(location.hash.slice(1)).get("token");
 const $ = (id) => document.getElementById(id);
 let fileName = "request.toml";
-let timer = null;
 let generation = 0;
+let editedAt = null; // when the edit being solved was made (performance.now())
+let inFlight = false; // a solve is on its way
+let pending = false; // an edit came in meanwhile: solve the text again when it is back
 
 function api(path, init = {}) {
   const headers = Object.assign({}, init.headers || {});
@@ -67,6 +69,9 @@ function show(answer) {
     w.appendChild(li);
   }
   $("method").textContent = r.method || "";
+  // What kind of solve it was (the edit-to-redraw classes of the browser test).
+  document.body.dataset.kind = JSON.stringify(r.pareto ? "front" : r.search ? "search" : "");
+  showMotion(answer.motion || null);
   const plots = $("plots");
   plots.replaceChildren();
   for (const p of answer.plots || []) {
@@ -81,24 +86,163 @@ function show(answer) {
   }
 }
 
+// The mechanism view: the frames of one turn, the crank angle on a slider (or playing), the
+// ground pivots as handles; a drag writes the pivot's key through /api/edit and re-solves.
+const SVG = "http://www.w3.org/2000/svg";
+let motion = null;
+let frame = 0;
+let playing = false;
+let scale = 1; // drawing units (mm) per metre
+
+function el(name, attrs, parent) {
+  const e = document.createElementNS(SVG, name);
+  for (const [k, v] of Object.entries(attrs)) e.setAttribute(k, v);
+  if (parent) parent.appendChild(e);
+  return e;
+}
+
+function showMotion(m) {
+  motion = m;
+  $("view").hidden = !m;
+  if (!m || !m.frames.length) return;
+  const pts = [];
+  for (const f of m.frames) {
+    for (const [a, b] of f.links) pts.push(a, b);
+    for (const c of f.counterweights) pts.push(c);
+  }
+  for (const h of m.handles) pts.push(h.at);
+  scale = 1000;
+  const xs = pts.map((p) => p[0] * scale), ys = pts.map((p) => p[1] * scale);
+  const [x0, x1, y0, y1] = [Math.min(...xs), Math.max(...xs), Math.min(...ys), Math.max(...ys)];
+  const pad = 0.08 * Math.max(x1 - x0, y1 - y0, 1);
+  // y up: the drawing is flipped inside a group, so the view box's y is −y.
+  $("mech").setAttribute("viewBox", [x0 - pad, -y1 - pad, x1 - x0 + 2 * pad, y1 - y0 + 2 * pad].join(" "));
+  $("theta").max = String(m.frames.length - 1);
+  frame = Math.min(frame, m.frames.length - 1);
+  drawFrame();
+}
+
+function drawFrame() {
+  const m = motion;
+  const svg = $("mech");
+  svg.replaceChildren();
+  const box = svg.viewBox.baseVal;
+  const w = Math.max(box.width, box.height) / 250; // a line about 1/250 of the view
+  const g = el("g", { transform: "scale(1,-1)", id: "world" }, svg);
+  // The path of every link's tip over the turn.
+  const n = m.frames[0].links.length;
+  for (let i = 0; i < n; i++) {
+    const d = m.frames.map((f, k) => (k ? "L" : "M") + f.links[i][1][0] * scale + " " + f.links[i][1][1] * scale).join(" ");
+    el("path", { d: d + " Z", class: "path", "stroke-width": w / 2 }, g);
+  }
+  const f = m.frames[frame];
+  for (const [a, b] of f.links) {
+    el("line", { x1: a[0] * scale, y1: a[1] * scale, x2: b[0] * scale, y2: b[1] * scale, class: "link", "stroke-width": 2.5 * w }, g);
+  }
+  for (const [a, b] of f.links) {
+    for (const p of [a, b]) el("circle", { cx: p[0] * scale, cy: p[1] * scale, r: 2.5 * w, class: "joint", "stroke-width": w }, g);
+  }
+  for (const c of f.counterweights) {
+    el("circle", { cx: c[0] * scale, cy: c[1] * scale, r: 5 * w, class: "cw" }, g);
+  }
+  for (const h of m.handles) {
+    const c = el("circle", { cx: h.at[0] * scale, cy: h.at[1] * scale, r: 5 * w, class: "handle", "stroke-width": 1.5 * w, "data-key": h.key }, g);
+    const t = el("title", {}, c);
+    t.textContent = h.key;
+    c.addEventListener("pointerdown", (e) => drag(e, c, h));
+  }
+  $("theta").value = String(frame);
+  $("theta-label").textContent = "θ = " + (f.theta * 180 / Math.PI).toFixed(0) + "°";
+}
+
+function drag(e, c, h) {
+  e.preventDefault();
+  playing = false;
+  c.classList.add("dragging");
+  c.setPointerCapture(e.pointerId);
+  const world = $("world");
+  const at = (ev) => {
+    const p = $("mech").createSVGPoint();
+    p.x = ev.clientX;
+    p.y = ev.clientY;
+    return p.matrixTransform(world.getScreenCTM().inverse());
+  };
+  const move = (ev) => {
+    const p = at(ev);
+    c.setAttribute("cx", p.x);
+    c.setAttribute("cy", p.y);
+  };
+  const up = async (ev) => {
+    const released = performance.now();
+    c.removeEventListener("pointermove", move);
+    c.removeEventListener("pointerup", up);
+    const p = at(ev);
+    const mm = (v) => (Math.round(v / scale * 1e4) / 10).toString() + " mm";
+    const res = await api("/api/edit", {
+      method: "POST",
+      headers: { "Content-Type": "application/json" },
+      body: JSON.stringify({ text: $("toml").value, key: h.key, value: [mm(p.x), mm(p.y)] }),
+    });
+    const answer = await res.json();
+    if (answer.error) { showError(answer.error); return; }
+    $("toml").value = answer.text;
+    editedAt = released;
+    solve();
+  };
+  c.addEventListener("pointermove", move);
+  c.addEventListener("pointerup", up);
+}
+
+function tick() {
+  if (playing && motion) {
+    frame = (frame + 1) % motion.frames.length;
+    drawFrame();
+  }
+  setTimeout(() => requestAnimationFrame(tick), 60);
+}
+
 async function solve() {
   const mine = ++generation;
-  const t0 = performance.now();
-  const res = await api("/api/report?name=" + encodeURIComponent(fileName), {
-    method: "POST",
-    headers: { "Content-Type": "text/plain" },
-    body: $("toml").value,
-  });
-  const answer = await res.json();
+  const t0 = editedAt === null ? performance.now() : editedAt;
+  editedAt = null;
+  inFlight = true;
+  let answer;
+  try {
+    const res = await api("/api/report?name=" + encodeURIComponent(fileName), {
+      method: "POST",
+      headers: { "Content-Type": "text/plain" },
+      body: $("toml").value,
+    });
+    answer = await res.json();
+  } finally {
+    inFlight = false;
+  }
+  if (pending) {
+    // Edits came in while this one was solved: solve the latest text now.
+    pending = false;
+    solve();
+    return;
+  }
   if (mine !== generation) return; // a later edit's answer is on its way
   if (answer.error) showError(answer.error); else show(answer);
-  $("timing").textContent = "edit to redraw " + (performance.now() - t0).toFixed(0) + " ms";
+  // Edit to redraw: from the edit (the last keystroke, the drag's release) to this answer
+  // drawn, the debounce included.
+  const ms = performance.now() - t0;
+  $("timing").textContent = "edit to redraw " + ms.toFixed(0) + " ms";
+  document.body.dataset.redrawMs = ms.toFixed(1);
   document.body.dataset.solved = String(mine);
 }
 
+// An edit solves as soon as no solve is on its way (the events of one change, dispatched
+// together, coalesced into one solve), else once that one is back, with the latest text:
+// no fixed debounce delay, and at most one request in flight.
+let scheduled = false;
 function edited() {
-  clearTimeout(timer);
-  timer = setTimeout(solve, 150);
+  if (editedAt === null) editedAt = performance.now();
+  if (inFlight) { pending = true; return; }
+  if (scheduled) return;
+  scheduled = true;
+  setTimeout(() => { scheduled = false; solve(); }, 0);
 }
 
 async function open(value) {
@@ -134,6 +278,9 @@ async function start() {
   sel.addEventListener("change", () => open(sel.value));
   $("toml").addEventListener("input", edited);
   $("save").addEventListener("click", save);
+  $("play").addEventListener("click", () => { playing = !playing; $("play").textContent = playing ? "Pause" : "Play"; });
+  $("theta").addEventListener("input", () => { frame = Number($("theta").value); playing = false; if (motion) drawFrame(); });
+  tick();
   if (sel.options.length) open(sel.options[0].value);
 }
 
