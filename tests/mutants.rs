@@ -68,9 +68,9 @@ impl Rng {
 }
 
 /// One mutant: where it came from, what was done, and its bytes.
-struct Mutant {
-    what: String,
-    bytes: Vec<u8>,
+pub(crate) struct Mutant {
+    pub(crate) what: String,
+    pub(crate) bytes: Vec<u8>,
     /// A key the mutant duplicated: the rejection must name it.
     duplicated: Option<String>,
 }
@@ -190,7 +190,7 @@ fn join(lines: &[String]) -> Vec<u8> {
 }
 
 /// Every mutant, in a fixed order.
-fn mutants() -> Vec<Mutant> {
+pub(crate) fn mutants() -> Vec<Mutant> {
     let mut out = Vec::new();
     let mut rng = Rng(0x15_0015_2026);
     for (name, text) in seeds() {

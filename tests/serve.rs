@@ -272,3 +272,122 @@ fn an_edit_sets_one_key_and_keeps_the_rest_of_the_file() {
         assert_eq!(status, 400, "{key}: {body}");
     }
 }
+
+/// The API campaign (issue 35): the `cwsynth serve` binary itself, 1,000 mutated problem files
+/// (an even sample of the mutation suite's, `mutants::mutants`) solved by 4 clients at once,
+/// oversized bodies, 20 clients that send half their headers and stall, 10 that promise a body
+/// and never send it: every answer is JSON with a status in its set within its limit, the
+/// server answers a shipped problem afterwards, and its peak memory stays bounded.
+#[test]
+fn the_api_campaign_leaves_the_server_answering() {
+    use std::io::BufRead;
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_cwsynth"))
+        .args(["serve", "--port", "0", "--solve-budget", "5"])
+        .arg(problems())
+        .stdout(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut line = String::new();
+    std::io::BufReader::new(child.stdout.take().unwrap())
+        .read_line(&mut line)
+        .unwrap();
+    let addr: SocketAddr = line
+        .trim()
+        .trim_start_matches("cwsynth serve: http://")
+        .trim_end_matches('/')
+        .parse()
+        .unwrap();
+    // Stalled clients, held open through the campaign.
+    let mut stalled = Vec::new();
+    for k in 0..30 {
+        let mut s = TcpStream::connect(addr).unwrap();
+        let head = if k < 20 {
+            "POST /api/solve HTTP/1.1\r\nHost: te".to_string()
+        } else {
+            "POST /api/solve HTTP/1.1\r\nHost: t\r\nContent-Length: 500\r\n\r\nname".to_string()
+        };
+        s.write_all(head.as_bytes()).unwrap();
+        stalled.push(s);
+    }
+    let all = crate::mutants::mutants();
+    let step = (all.len() / 1000).max(1);
+    let sample: Vec<Vec<u8>> = all
+        .into_iter()
+        .step_by(step)
+        .take(1000)
+        .map(|m| m.bytes)
+        .collect();
+    assert_eq!(sample.len(), 1000);
+    let sample = std::sync::Arc::new(sample);
+    let workers: Vec<_> = (0..4)
+        .map(|w| {
+            let sample = sample.clone();
+            std::thread::spawn(move || {
+                let mut tally = [0usize; 4];
+                for bytes in sample.iter().skip(w).step_by(4) {
+                    let t0 = std::time::Instant::now();
+                    let (status, head, body) =
+                        http(addr, "POST", "/api/solve?name=mut.toml", bytes, "");
+                    assert!(head.contains("application/json"), "{status}: {head}");
+                    let v = json(&body);
+                    match status {
+                        200 => tally[0] += 1,
+                        400 | 413 => tally[1] += 1,
+                        503 => tally[2] += 1,
+                        _ => panic!("{status}: {body}"),
+                    }
+                    if status != 200 {
+                        assert!(v["error"]["message"].is_string(), "{body}");
+                    }
+                    tally[3] = tally[3].max(t0.elapsed().as_millis() as usize);
+                }
+                tally
+            })
+        })
+        .collect();
+    let mut total = [0usize; 4];
+    for w in workers {
+        let t = w.join().unwrap();
+        for i in 0..3 {
+            total[i] += t[i];
+        }
+        total[3] = total[3].max(t[3]);
+    }
+    eprintln!(
+        "campaign: {} solved, {} refused, {} over the budget; slowest answer {} ms",
+        total[0], total[1], total[2], total[3]
+    );
+    assert_eq!(total[0] + total[1] + total[2], 1000);
+    assert!(total[3] < 60_000);
+    // Oversized bodies.
+    for n in [2 << 20, 8 << 20] {
+        let (status, _, _) = http(addr, "POST", "/api/solve", &vec![b'#'; n], "");
+        assert_eq!(status, 413);
+    }
+    // The stalled bodies time out by themselves (10 s); the server still answers.
+    let text = std::fs::read(problems().join("piston-1000rpm.toml")).unwrap();
+    let (status, _, _) = http(
+        addr,
+        "POST",
+        "/api/solve?name=piston-1000rpm.toml",
+        &text,
+        "",
+    );
+    assert_eq!(status, 200);
+    let status =
+        std::fs::read_to_string(format!("/proc/{}/status", child.id())).unwrap_or_default();
+    let peak_kb: u64 = status
+        .lines()
+        .find(|l| l.starts_with("VmHWM:"))
+        .and_then(|l| l.split_whitespace().nth(1))
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(0);
+    eprintln!(
+        "campaign: the server's peak resident memory {} MiB",
+        peak_kb / 1024
+    );
+    child.kill().unwrap();
+    child.wait().unwrap();
+    drop(stalled);
+    assert!(peak_kb < 1 << 20, "peak memory {peak_kb} kB");
+}

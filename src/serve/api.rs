@@ -13,10 +13,6 @@ use axum::Router;
 use serde_json::{json, Value};
 use std::path::{Component, Path, PathBuf};
 use std::sync::Arc;
-use std::time::Duration;
-
-/// How long a client may take to send its request body.
-const BODY_TIME: Duration = Duration::from_secs(10);
 
 /// The Content-Security-Policy of every answer: the binary's own scripts and styles only,
 /// images from itself or inline data (the plots), no plugins, frames or foreign forms.
@@ -117,38 +113,16 @@ fn json_answer(v: &Value) -> Response {
     (StatusCode::OK, json_headers(), v.to_string()).into_response()
 }
 
-/// The request's problem file: its body (at most `max_body` bytes, sent within
-/// [`BODY_TIME`]) read as a file named by the query's `name` (a bare file name, default
+/// The request's problem file: its body ([`body_of`]) read as a file named by the query's `name` (a bare file name, default
 /// `request.toml`), its drawings read from the served folder; a drawing path must stay
 /// inside it ([`confined`]).
 async fn problem(st: &State, req: Request) -> Result<Scene, Response> {
     let name = file_name(req.uri().query())
         .unwrap_or("request.toml")
         .to_string();
-    let limit = st.opts.max_body;
-    let body = tokio::time::timeout(BODY_TIME, axum::body::to_bytes(req.into_body(), limit)).await;
-    let bytes = match body {
-        Err(_) => {
-            return Err(error(
-                StatusCode::REQUEST_TIMEOUT,
-                Some(&name),
-                None,
-                &format!(
-                    "the request body did not arrive within {} s",
-                    BODY_TIME.as_secs()
-                ),
-            ))
-        }
-        Ok(Err(_)) => {
-            return Err(error(
-                StatusCode::PAYLOAD_TOO_LARGE,
-                Some(&name),
-                None,
-                &format!("the request body is over {limit} bytes (a problem file is at most that)"),
-            ))
-        }
-        Ok(Ok(b)) => b,
-    };
+    let bytes = body_of(&st.opts, req.into_body(), st.opts.max_body)
+        .await
+        .map_err(|(status, why)| error(status, Some(&name), None, &why))?;
     // The file is named by its bare name (no server path in a message or the result); its
     // drawings are read from the served folder.
     let path = PathBuf::from(&name);
@@ -160,6 +134,29 @@ async fn problem(st: &State, req: Request) -> Result<Scene, Response> {
         Err(_) => families::parse_bytes(&bytes, &path),
     }
     .map_err(|e| problem_error(&e))
+}
+
+/// A request body of at most `limit` bytes sent within `opts.body_time`; else the status
+/// (408, 413) and why.
+async fn body_of(
+    opts: &super::Options,
+    body: axum::body::Body,
+    limit: usize,
+) -> Result<axum::body::Bytes, (StatusCode, String)> {
+    match tokio::time::timeout(opts.body_time, axum::body::to_bytes(body, limit)).await {
+        Ok(Ok(b)) => Ok(b),
+        Err(_) => Err((
+            StatusCode::REQUEST_TIMEOUT,
+            format!(
+                "the request body did not arrive within {} s",
+                opts.body_time.as_secs_f64()
+            ),
+        )),
+        Ok(Err(_)) => Err((
+            StatusCode::PAYLOAD_TOO_LARGE,
+            format!("the request body is over {limit} bytes"),
+        )),
+    }
 }
 
 /// The bare file name of the query's `name=` (letters, digits, `.`, `-`, `_`; not starting
@@ -298,22 +295,10 @@ async fn report(Shared(st): Shared<Arc<State>>, req: Request) -> Response {
 /// `POST /api/edit`: `{"text", "key", "value"}` → `{"text"}`, the file with the key set
 /// ([`super::edit::set_key`]: its comments and layout kept).
 async fn edit(Shared(st): Shared<Arc<State>>, req: Request) -> Response {
-    let limit = 2 * st.opts.max_body;
-    let bytes =
-        match tokio::time::timeout(BODY_TIME, axum::body::to_bytes(req.into_body(), limit)).await {
-            Ok(Ok(b)) => b,
-            _ => {
-                return error(
-                    StatusCode::PAYLOAD_TOO_LARGE,
-                    None,
-                    None,
-                    &format!(
-                        "allowed: a body of at most {limit} bytes, sent within {} s",
-                        BODY_TIME.as_secs()
-                    ),
-                )
-            }
-        };
+    let bytes = match body_of(&st.opts, req.into_body(), 2 * st.opts.max_body).await {
+        Ok(b) => b,
+        Err((status, why)) => return error(status, None, None, &why),
+    };
     let asked: Value = match serde_json::from_slice(&bytes) {
         Ok(v) => v,
         Err(e) => {

@@ -33,6 +33,8 @@ pub struct Options {
     pub token: Option<String>,
     /// The most bytes of a request body.
     pub max_body: usize,
+    /// The longest a client may take to send its request body.
+    pub body_time: Duration,
     /// The longest one solve may take before its request gets a JSON error.
     pub solve_budget: Duration,
     /// Solves run at once (the others wait their turn): the core count by default.
@@ -41,7 +43,7 @@ pub struct Options {
 
 impl Options {
     /// The defaults for `dir`: 127.0.0.1, port 8321, no token, a body of at most the
-    /// problem-file limit, 30 s per solve, one solve per core.
+    /// problem-file limit sent within 10 s, 30 s per solve, one solve per core.
     pub fn new(dir: PathBuf) -> Options {
         Options {
             dir,
@@ -49,6 +51,7 @@ impl Options {
             port: 8321,
             token: None,
             max_body: crate::problem::MAX_FILE_BYTES,
+            body_time: Duration::from_secs(10),
             solve_budget: Duration::from_secs(30),
             max_solves: std::thread::available_parallelism().map_or(2, |n| n.get()),
         }
@@ -77,9 +80,11 @@ impl Options {
             }
             _ => {}
         }
-        if self.max_body == 0 || self.max_solves == 0 || self.solve_budget.is_zero() {
+        let zero = self.solve_budget.is_zero() || self.body_time.is_zero();
+        if self.max_body == 0 || self.max_solves == 0 || zero {
             return Err(ServeError::Options(
-                "the body limit, the solve budget and the solves at once must be positive".into(),
+                "the body limit and time, the solve budget and the solves at once must be positive"
+                    .into(),
             ));
         }
         Ok(())
