@@ -391,3 +391,44 @@ fn the_api_campaign_leaves_the_server_answering() {
     drop(stalled);
     assert!(peak_kb < 1 << 20, "peak memory {peak_kb} kB");
 }
+
+#[test]
+fn the_report_and_the_drawing_are_exported_as_solve_writes_them() {
+    let addr = server(|_| {});
+    let name = "linkage-fourbar-crank-counterweight";
+    let path = problems().join(format!("{name}.toml"));
+    let text = std::fs::read(&path).unwrap();
+    let out = tempfile::tempdir().unwrap();
+    let mut r = solve_scene(&load(&path).unwrap());
+    cwsynth::report::write_outputs(&mut r, out.path()).unwrap();
+    // The drawing: the bytes `solve --out` writes.
+    let (status, head, dxf) = http(
+        addr,
+        "POST",
+        &format!("/api/export?what=dxf&name={name}.toml"),
+        &text,
+        "",
+    );
+    assert_eq!(status, 200);
+    assert!(
+        head.contains(&format!(
+            "content-disposition: attachment; filename=\"{name}-drawing.dxf\""
+        )),
+        "{head}"
+    );
+    let written = std::fs::read_to_string(out.path().join(format!("{name}-drawing.dxf"))).unwrap();
+    assert_eq!(dxf, written);
+    // The report: one page, every plot inlined, no file it needs beside it.
+    let (status, _, html) = http(
+        addr,
+        "POST",
+        &format!("/api/export?what=html&name={name}.toml"),
+        &text,
+        "",
+    );
+    assert_eq!(status, 200);
+    assert!(html.contains("data:image/svg+xml;charset=utf-8,"));
+    let images = html.matches("<img").count();
+    assert!(images >= 2 && html.matches("src=\"data:image/svg+xml").count() == images);
+    assert_eq!(http(addr, "POST", "/api/export?what=pdf", &text, "").0, 400);
+}

@@ -140,3 +140,23 @@ def test_dragging_a_pivot_moves_it_and_re_solves(page, cli, tmp_path):
     shown = page.inner_text("#objectives")
     peak = f"{got['objectives']['peak_shaking_force_n']:.6}"
     assert peak[:5] in shown, (peak, shown)
+
+
+def test_the_report_and_the_drawing_download(page, tmp_path):
+    """The page's downloads: the report as one self-contained page (every plot inlined) and
+    the drawing's DXF, named as `cwsynth solve --out` names them (the DXF read by ezdxf)."""
+    solved_after(page, lambda: page.select_option("#open", "file:linkage-sixbar-press.toml"))
+    with page.expect_download() as d:
+        page.click("#export-html")
+    assert d.value.suggested_filename == "linkage-sixbar-press.html"
+    html = tmp_path / "r.html"
+    d.value.save_as(html)
+    text = html.read_text()
+    assert text.count("<img") >= 2 and text.count('src="data:image/svg+xml') == text.count("<img")
+    with page.expect_download() as d:
+        page.click("#export-dxf")
+    assert d.value.suggested_filename == "linkage-sixbar-press-drawing.dxf"
+    dxf = tmp_path / "d.dxf"
+    d.value.save_as(dxf)
+    ezdxf = pytest.importorskip("ezdxf")
+    assert len(ezdxf.readfile(dxf).modelspace()) > 10

@@ -25,6 +25,7 @@ pub(super) fn routes(state: Arc<State>) -> Router {
         .route("/api/report", post(report))
         .route("/api/check", post(check))
         .route("/api/edit", post(edit))
+        .route("/api/export", post(export))
         .route("/api/templates", get(templates))
         .route("/api/schema", get(schema))
         .route("/api/files", get(files))
@@ -219,13 +220,24 @@ fn walk(v: &toml::Value, key: &str, f: &mut dyn FnMut(&str, &toml::Value)) {
     }
 }
 
+/// What a solve makes beside its numbers.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Documents {
+    /// Nothing (`cwsynth solve --json`).
+    None,
+    /// The plots, drawings and motion ([`crate::report::SolveResult::draw`]).
+    Drawn,
+    /// Everything the written files carry ([`crate::report::SolveResult::complete`]).
+    Complete,
+}
+
 /// Solves `scene` on a blocking thread, at most `max_solves` at once, within the solve
-/// budget: the result (its documents drawn with `draw`), or a JSON error (over the budget,
-/// or a panic of the solve, which fails this request only).
+/// budget: the result with its `documents`, or a JSON error (over the budget, or a panic of
+/// the solve, which fails this request only).
 async fn solved(
     st: &Arc<State>,
     scene: Scene,
-    draw: bool,
+    documents: Documents,
 ) -> Result<crate::report::SolveResult, Response> {
     let budget = st.opts.solve_budget;
     let name = scene.source.display().to_string();
@@ -240,8 +252,10 @@ async fn solved(
             let _running = permit;
             crate::batch::isolate(|| {
                 let mut r = families::solve_scene(&scene);
-                if draw {
-                    r.draw();
+                match documents {
+                    Documents::None => {}
+                    Documents::Drawn => r.draw(),
+                    Documents::Complete => r.complete(),
                 }
                 r
             })
@@ -266,7 +280,7 @@ async fn solve(Shared(st): Shared<Arc<State>>, req: Request) -> Response {
         Ok(s) => s,
         Err(r) => return r,
     };
-    match solved(&st, scene, false).await {
+    match solved(&st, scene, Documents::None).await {
         Ok(r) => json_answer(&r.to_json()),
         Err(r) => r,
     }
@@ -279,7 +293,7 @@ async fn report(Shared(st): Shared<Arc<State>>, req: Request) -> Response {
         Ok(s) => s,
         Err(r) => return r,
     };
-    match solved(&st, scene, true).await {
+    match solved(&st, scene, Documents::Drawn).await {
         Ok(r) => {
             let plots: Vec<Value> = r
                 .plots
@@ -325,6 +339,47 @@ async fn edit(Shared(st): Shared<Arc<State>>, req: Request) -> Response {
     match super::edit::set_key(text, key, value) {
         Ok(text) => json_answer(&json!({ "text": text })),
         Err(why) => error(StatusCode::BAD_REQUEST, None, None, &why),
+    }
+}
+
+/// `POST /api/export?what=html|dxf|json`: the result's report page (self-contained), its
+/// drawing's DXF or its JSON, as an attachment ([`super::export`]).
+async fn export(Shared(st): Shared<Arc<State>>, req: Request) -> Response {
+    let what = (req.uri().query().unwrap_or(""))
+        .split('&')
+        .find_map(|kv| kv.strip_prefix("what="))
+        .and_then(super::export::Export::parse);
+    let Some(what) = what else {
+        return error(
+            StatusCode::BAD_REQUEST,
+            None,
+            None,
+            "allowed: ?what=html, dxf or json",
+        );
+    };
+    let scene = match problem(&st, req).await {
+        Ok(s) => s,
+        Err(r) => return r,
+    };
+    let r = match solved(&st, scene, Documents::Complete).await {
+        Ok(r) => r,
+        Err(r) => return r,
+    };
+    match super::export::export(&r, what) {
+        Some((name, kind, bytes)) => {
+            let disposition = format!("attachment; filename=\"{name}\"");
+            let headers = [
+                (header::CONTENT_TYPE, kind.to_string()),
+                (header::CONTENT_DISPOSITION, disposition),
+            ];
+            (headers, bytes).into_response()
+        }
+        None => error(
+            StatusCode::NOT_FOUND,
+            Some(&r.name),
+            None,
+            "this result has no drawing",
+        ),
     }
 }
 

@@ -12,6 +12,7 @@
 mod api;
 mod assets;
 pub mod edit;
+pub mod export;
 
 use axum::Router;
 use std::net::{IpAddr, Ipv4Addr, SocketAddr};

@@ -260,13 +260,30 @@ async function open(value) {
   solve();
 }
 
-function save() {
-  const blob = new Blob([$("toml").value], { type: "application/toml" });
+function download(blob, name) {
   const a = document.createElement("a");
   a.href = URL.createObjectURL(blob);
-  a.download = fileName;
+  a.download = name;
   a.click();
   URL.revokeObjectURL(a.href);
+}
+
+function save() {
+  download(new Blob([$("toml").value], { type: "application/toml" }), fileName);
+}
+
+// The result's report page (self-contained) or its drawing's DXF, solved from the text as
+// it is, named as the server names it.
+async function exportFile(what) {
+  const res = await api("/api/export?what=" + what + "&name=" + encodeURIComponent(fileName), {
+    method: "POST",
+    headers: { "Content-Type": "text/plain" },
+    body: $("toml").value,
+  });
+  if (!res.ok) { showError((await res.json()).error); return; }
+  const cd = res.headers.get("Content-Disposition") || "";
+  const m = cd.match(/filename="([^"]+)"/);
+  download(await res.blob(), m ? m[1] : "cwsynth." + what);
 }
 
 async function start() {
@@ -278,6 +295,8 @@ async function start() {
   sel.addEventListener("change", () => open(sel.value));
   $("toml").addEventListener("input", edited);
   $("save").addEventListener("click", save);
+  $("export-html").addEventListener("click", () => exportFile("html"));
+  $("export-dxf").addEventListener("click", () => exportFile("dxf"));
   $("play").addEventListener("click", () => { playing = !playing; $("play").textContent = playing ? "Pause" : "Play"; });
   $("theta").addEventListener("input", () => { frame = Number($("theta").value); playing = false; if (motion) drawFrame(); });
   tick();
