@@ -432,3 +432,38 @@ fn the_report_and_the_drawing_are_exported_as_solve_writes_them() {
     assert!(images >= 2 && html.matches("src=\"data:image/svg+xml").count() == images);
     assert_eq!(http(addr, "POST", "/api/export?what=pdf", &text, "").0, 400);
 }
+
+/// The slider-crank's drawing for the designer: every frame's crank pin on its circle, the
+/// rod its length, the slider on the guide, the counterweight at its radius opposite the
+/// unbalance it balances (the design's angle from the crank).
+#[test]
+fn the_piston_is_drawn_over_a_turn() {
+    let addr = server(|_| {});
+    let text = std::fs::read(problems().join("piston-1000rpm.toml")).unwrap();
+    let (status, _, body) = http(
+        addr,
+        "POST",
+        "/api/report?name=piston-1000rpm.toml",
+        &text,
+        "",
+    );
+    assert_eq!(status, 200);
+    let v = json(&body);
+    let (m, d) = (&v["motion"], &v["result"]["design"]);
+    let frames = m["frames"].as_array().unwrap();
+    assert_eq!(frames.len(), 72);
+    let p = |v: &Value| [v[0].as_f64().unwrap(), v[1].as_f64().unwrap()];
+    let dist = |a: [f64; 2], b: [f64; 2]| (a[0] - b[0]).hypot(a[1] - b[1]);
+    let beta = d["counterweight_angle_rad"].as_f64().unwrap();
+    let rc = d["counterweight_radius_m"].as_f64().unwrap();
+    for f in frames {
+        let th = f["theta"].as_f64().unwrap();
+        let l = &f["links"];
+        let (o, a, b) = (p(&l[0][0]), p(&l[0][1]), p(&l[1][1]));
+        assert!(dist(o, [0.0, 0.0]) < 1e-15 && (dist(a, o) - 0.035).abs() < 1e-12);
+        assert!((dist(b, a) - 0.140).abs() < 1e-12 && b[1].abs() < 1e-15);
+        let c = p(&f["counterweights"][0]);
+        assert!(dist(c, [rc * (th + beta).cos(), rc * (th + beta).sin()]) < 1e-12);
+    }
+    assert_eq!(m["guides"].as_array().unwrap().len(), 1);
+}

@@ -8,6 +8,7 @@
 pub mod drawing;
 pub mod drive;
 pub mod envelope;
+pub mod motion;
 pub mod numbers;
 pub mod page;
 pub mod plot;

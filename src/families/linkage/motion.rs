@@ -1,49 +1,15 @@
-//! The linkage over one crank turn as the designer draws it (`cwsynth serve`, issue 35):
+//! The linkage over one crank turn as the designer draws it (`crate::report::motion`):
 //! every link as a segment from its reference joint to its tip, the counterweights'
-//! centroids, and the frame points the file gives by value — the handles a user drags, each
-//! with the key it edits. Shared with the report's position plot ([`segments`]).
+//! centroids, an RRP dyad's slide line, and the frame points the file gives by value — the
+//! handles a user drags, each with the key it edits. Shared with the report's position plot
+//! ([`segments`]).
 
 use super::file::LinkageScene;
 use super::model::{tip_of, Dyad, Linkage, Point, Pose};
 use super::synth as ls;
 use crate::geom::P2;
-use serde::Serialize;
+use crate::report::motion::{xy, Frame, Handle, Motion, FRAMES};
 use std::f64::consts::TAU;
-
-/// Frames of one turn the designer animates.
-pub const FRAMES: usize = 72;
-
-/// One crank angle: the links' segments and the counterweights' centroids (m, world).
-#[derive(Debug, Clone, Serialize)]
-pub struct Frame {
-    /// θ (rad).
-    pub theta: f64,
-    /// Each link's [reference joint, tip] (a link without a tip: a point, both ends equal).
-    pub links: Vec<[[f64; 2]; 2]>,
-    /// Each counterweight with a mass: its centroid.
-    pub counterweights: Vec<[f64; 2]>,
-}
-
-/// A frame point the file gives by value: dragging it edits `key` (a point `[x, y]`).
-#[derive(Debug, Clone, Serialize)]
-pub struct Handle {
-    /// The dotted key (`mechanism.crank_pivot`, `mechanism.dyads[1].q`, …).
-    pub key: String,
-    /// Where it is (m, world).
-    pub at: [f64; 2],
-}
-
-/// The linkage over one turn: [`FRAMES`] frames (angles where it does not assemble left
-/// out), the handles and the link names (crank first).
-#[derive(Debug, Clone, Serialize)]
-pub struct Motion {
-    /// The links' names, in the frames' order.
-    pub names: Vec<String>,
-    /// The frames.
-    pub frames: Vec<Frame>,
-    /// The frame points to drag.
-    pub handles: Vec<Handle>,
-}
 
 /// Each link of `pose` as (reference joint, tip) (m, world).
 pub fn segments(l: &Linkage, crank_length: f64, pose: &Pose) -> Vec<(P2, P2)> {
@@ -100,8 +66,7 @@ fn handles(l: &Linkage) -> Vec<Handle> {
 /// The scene `sc` with the design `x` (none: bare) over one turn.
 pub fn motion(sc: &LinkageScene, x: Option<&[f64]>) -> Motion {
     let l = &sc.linkage;
-    let xy = |p: P2| [p.x, p.y];
-    let frames = (0..FRAMES)
+    let frames: Vec<Frame> = (0..FRAMES)
         .filter_map(|k| {
             let theta = TAU * k as f64 / FRAMES as f64;
             let pose = l.pose(theta).ok()?;
@@ -121,7 +86,32 @@ pub fn motion(sc: &LinkageScene, x: Option<&[f64]>) -> Motion {
         .collect();
     Motion {
         names: sc.link_names.clone(),
+        guides: guides(l, &frames),
         frames,
         handles: handles(l),
     }
+}
+
+/// Each RRP dyad's slide line, over the span its slider travels (and its line point).
+fn guides(l: &Linkage, frames: &[Frame]) -> Vec<[[f64; 2]; 2]> {
+    let mut out = Vec::new();
+    for (k, d) in l.dyads().iter().enumerate() {
+        let Dyad::Rrp { origin, angle, .. } = d else {
+            continue;
+        };
+        let u = P2::new(angle.cos(), angle.sin());
+        // The slider is the dyad's second link: 1 + 2k + 1.
+        let along = |p: [f64; 2]| (P2::new(p[0], p[1]) - origin).dot(&u);
+        let ts = frames
+            .iter()
+            .filter_map(|f| f.links.get(2 + 2 * k))
+            .map(|s| along(s[0]))
+            .chain([0.0]);
+        let (lo, hi) = ts.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), t| {
+            (a.min(t), b.max(t))
+        });
+        let pad = 0.1 * (hi - lo);
+        out.push([xy(*origin + u * (lo - pad)), xy(*origin + u * (hi + pad))]);
+    }
+    out
 }

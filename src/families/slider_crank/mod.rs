@@ -9,6 +9,7 @@ pub mod file_masses;
 pub mod file_textbook;
 pub mod flywheel_design;
 pub mod model;
+pub mod motion;
 pub mod numbers;
 pub mod report;
 pub mod solve;

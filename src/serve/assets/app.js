@@ -111,6 +111,7 @@ function showMotion(m) {
     for (const c of f.counterweights) pts.push(c);
   }
   for (const h of m.handles) pts.push(h.at);
+  for (const [a, b] of m.guides || []) pts.push(a, b);
   scale = 1000;
   const xs = pts.map((p) => p[0] * scale), ys = pts.map((p) => p[1] * scale);
   const [x0, x1, y0, y1] = [Math.min(...xs), Math.max(...xs), Math.min(...ys), Math.max(...ys)];
@@ -135,6 +136,9 @@ function drawFrame() {
     const d = m.frames.map((f, k) => (k ? "L" : "M") + f.links[i][1][0] * scale + " " + f.links[i][1][1] * scale).join(" ");
     el("path", { d: d + " Z", class: "path", "stroke-width": w / 2 }, g);
   }
+  for (const [a, b] of m.guides || []) {
+    el("line", { x1: a[0] * scale, y1: a[1] * scale, x2: b[0] * scale, y2: b[1] * scale, class: "guide", "stroke-width": w, "stroke-dasharray": 4 * w + " " + 2 * w }, g);
+  }
   const f = m.frames[frame];
   for (const [a, b] of f.links) {
     el("line", { x1: a[0] * scale, y1: a[1] * scale, x2: b[0] * scale, y2: b[1] * scale, class: "link", "stroke-width": 2.5 * w }, g);
@@ -151,6 +155,7 @@ function drawFrame() {
     t.textContent = h.key;
     c.addEventListener("pointerdown", (e) => drag(e, c, h));
   }
+  $("drag-hint").hidden = !m.handles.length;
   $("theta").value = String(frame);
   $("theta-label").textContent = "θ = " + (f.theta * 180 / Math.PI).toFixed(0) + "°";
 }
