@@ -23,7 +23,7 @@ CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
 pytestmark = pytest.mark.skipif(CHROMIUM is None, reason="no chromium")
 
 # Edits per scene for the edit-to-redraw table.
-EDITS = 4
+EDITS = 2
 
 
 
