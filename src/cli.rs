@@ -155,6 +155,9 @@ pub enum Command {
         /// Seconds one solve may take before its request gets an error (the server goes on).
         #[arg(long, default_value_t = 30.0)]
         solve_budget: f64,
+        /// Do not open the page in the desktop's browser (it is opened where there is one).
+        #[arg(long)]
+        no_open: bool,
     },
     /// Solve one scene along a ladder of accuracy and fidelity settings: time against error.
     #[command(after_help = "Example:\n  cwsynth study problems/piston-1000rpm.toml --out study/")]
@@ -433,7 +436,8 @@ pub fn run(cli: Cli) -> anyhow::Result<i32> {
             listen,
             token,
             solve_budget,
-        } => serve(dir, port, listen, token, solve_budget),
+            no_open,
+        } => serve(dir, port, listen, token, solve_budget, !no_open),
         Command::New { family } => {
             let text = crate::families::new_problem(&family)
                 .with_context(|| format!("unknown family `{family}`"))?;
@@ -472,6 +476,7 @@ fn serve(
     listen: Option<std::net::IpAddr>,
     token: Option<String>,
     solve_budget: f64,
+    open: bool,
 ) -> anyhow::Result<i32> {
     if !(solve_budget > 0.0 && solve_budget <= 86_400.0) {
         anyhow::bail!("--solve-budget: allowed: 0 < seconds ≤ 86400");
@@ -481,7 +486,7 @@ fn serve(
     o.listen = listen.unwrap_or(o.listen);
     o.token = token;
     o.solve_budget = std::time::Duration::from_secs_f64(solve_budget);
-    crate::serve::run(o)?;
+    crate::serve::run(o, open)?;
     Ok(0)
 }
 

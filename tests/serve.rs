@@ -282,7 +282,7 @@ fn an_edit_sets_one_key_and_keeps_the_rest_of_the_file() {
 fn the_api_campaign_leaves_the_server_answering() {
     use std::io::BufRead;
     let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_cwsynth"))
-        .args(["serve", "--port", "0", "--solve-budget", "5"])
+        .args(["serve", "--no-open", "--port", "0", "--solve-budget", "5"])
         .arg(problems())
         .stdout(std::process::Stdio::piped())
         .spawn()

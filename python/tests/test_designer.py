@@ -30,7 +30,7 @@ EDITS = 2
 @pytest.fixture(scope="module")
 def server():
     p = subprocess.Popen(
-        [str(cli_path()), "serve", "--port", "0", str(REPO / "problems")],
+        [str(cli_path()), "serve", "--no-open", "--port", "0", str(REPO / "problems")],
         stdout=subprocess.PIPE,
         text=True,
     )

@@ -168,7 +168,7 @@ fn serve_on(listener: std::net::TcpListener, app: Router) -> Result<(), ServeErr
 
 /// Serves until the process ends: binds, prints the page's address (with the token, in the
 /// fragment, where there is one: it never reaches a server log), and answers.
-pub fn run(opts: Options) -> Result<(), ServeError> {
+pub fn run(opts: Options, open: bool) -> Result<(), ServeError> {
     let token = opts.token.clone();
     let (listener, app) = bind(opts)?;
     let bound = listener.local_addr().map_err(|source| ServeError::Io {
@@ -176,8 +176,33 @@ pub fn run(opts: Options) -> Result<(), ServeError> {
         source,
     })?;
     let fragment = token.map(|t| format!("#token={t}")).unwrap_or_default();
-    println!("cwsynth serve: http://{bound}/{fragment}");
+    let url = format!("http://{bound}/{fragment}");
+    println!("cwsynth serve: {url}");
+    if open {
+        open_browser(&url);
+    }
     serve_on(listener, app)
+}
+
+/// Opens `url` in the desktop's browser where there is a desktop (`open` on macOS,
+/// `xdg-open` where `DISPLAY` or `WAYLAND_DISPLAY` is set); quietly nothing otherwise (a
+/// server, a container, CI): the printed address is the way in.
+fn open_browser(url: &str) {
+    let opener = if cfg!(target_os = "macos") {
+        Some("open")
+    } else if std::env::var_os("DISPLAY").is_some() || std::env::var_os("WAYLAND_DISPLAY").is_some()
+    {
+        Some("xdg-open")
+    } else {
+        None
+    };
+    if let Some(cmd) = opener {
+        let _ = std::process::Command::new(cmd)
+            .arg(url)
+            .stdout(std::process::Stdio::null())
+            .stderr(std::process::Stdio::null())
+            .spawn();
+    }
 }
 
 /// A server on a background thread (tests, embedding): it answers at `addr` until the
