@@ -17,7 +17,7 @@ use cwsynth::synth::minimax::{AffineField, AffineValue};
 use std::f64::consts::TAU;
 use std::path::Path;
 
-const NEAR_FOLD: &str = r#"
+pub(crate) const NEAR_FOLD: &str = r#"
 name = "fourbar-near-fold"
 family = "linkage"
 

@@ -120,6 +120,32 @@ impl DriveNumbers {
     }
 }
 
+/// The `load_cases` section of a family with named load cases: the keys every family
+/// writes alike — `count`, the flywheel of all the cases (`flywheel_kgm2`,
+/// `flywheel_error_kgm2`, `flywheel_rule`, `flywheel_case`, `case_of(k)` naming case k) —
+/// and the family's own keys `own` (a JSON object: its governing cases and its rows).
+pub fn load_cases_section<'a>(
+    count: usize,
+    flywheel: Option<crate::dynamics::cases::CasesFlywheel>,
+    case_of: impl Fn(usize) -> &'a str,
+    own: serde_json::Value,
+) -> serde_json::Value {
+    let mut v = serde_json::json!({
+        "count": count,
+        "flywheel_kgm2": flywheel.map(|f| f.inertia),
+        "flywheel_error_kgm2": flywheel.map(|f| f.error),
+        "flywheel_rule": flywheel.map(|f| match f.governing {
+            Some(_) => "the largest least flywheel over the cases (mechanism.drive.cs)",
+            None => "the given flywheel (mechanism.drive.flywheel)",
+        }),
+        "flywheel_case": flywheel.and_then(|f| f.governing).map(case_of),
+    });
+    if let (Some(v), serde_json::Value::Object(own)) = (v.as_object_mut(), own) {
+        v.extend(own);
+    }
+    v
+}
+
 /// One load case's drive keys ([`DriveNumbers`]) from its own drive `own` (its constant-speed
 /// figures and least flywheel) and its steady state `at` with the flywheel of all the cases,
 /// and why not where either failed; `peak_force` the design's constant-speed peak shaking

@@ -160,16 +160,26 @@ async fn body_of(
     }
 }
 
-/// The bare file name of the query's `name=` (letters, digits, `.`, `-`, `_`; not starting
-/// with `.`), or `None`.
-fn file_name(query: Option<&str>) -> Option<&str> {
-    let v = query?.split('&').find_map(|kv| kv.strip_prefix("name="))?;
-    let ok = !v.is_empty()
+/// The value of `key=` in the query, if any.
+fn query_value<'q>(query: Option<&'q str>, key: &str) -> Option<&'q str> {
+    query?
+        .split('&')
+        .find_map(|kv| kv.strip_prefix(key)?.strip_prefix('='))
+}
+
+/// A bare file name: letters, digits, `.`, `-`, `_`, not starting with `.`, at most 128
+/// characters (no path, nothing hidden).
+fn bare_name(v: &str) -> bool {
+    !v.is_empty()
         && v.len() <= 128
         && !v.starts_with('.')
         && v.chars()
-            .all(|c| c.is_ascii_alphanumeric() || "._-".contains(c));
-    ok.then_some(v)
+            .all(|c| c.is_ascii_alphanumeric() || "._-".contains(c))
+}
+
+/// The query's `name=`, where it is a [`bare_name`].
+fn file_name(query: Option<&str>) -> Option<&str> {
+    query_value(query, "name").filter(|v| bare_name(v))
 }
 
 /// A drawing (`file` key anywhere in the problem) named outside the served folder: an
@@ -345,10 +355,7 @@ async fn edit(Shared(st): Shared<Arc<State>>, req: Request) -> Response {
 /// `POST /api/export?what=html|dxf|json`: the result's report page (self-contained), its
 /// drawing's DXF or its JSON, as an attachment ([`super::export`]).
 async fn export(Shared(st): Shared<Arc<State>>, req: Request) -> Response {
-    let what = (req.uri().query().unwrap_or(""))
-        .split('&')
-        .find_map(|kv| kv.strip_prefix("what="))
-        .and_then(super::export::Export::parse);
+    let what = query_value(req.uri().query(), "what").and_then(super::export::Export::parse);
     let Some(what) = what else {
         return error(
             StatusCode::BAD_REQUEST,
@@ -413,7 +420,7 @@ async fn files(Shared(st): Shared<Arc<State>>) -> Response {
         .flatten()
         .filter(|e| e.file_type().is_ok_and(|t| t.is_file()))
         .filter_map(|e| e.file_name().into_string().ok())
-        .filter(|n| n.ends_with(".toml") && file_name(Some(&format!("name={n}"))).is_some())
+        .filter(|n| n.ends_with(".toml") && bare_name(n))
         .collect();
     names.sort();
     json_answer(&json!({ "files": names }))
@@ -429,7 +436,7 @@ async fn file(Shared(st): Shared<Arc<State>>, UrlPath(name): UrlPath<String>) ->
             "no such problem file in the served folder",
         )
     };
-    if file_name(Some(&format!("name={name}"))).is_none() || !name.ends_with(".toml") {
+    if !bare_name(&name) || !name.ends_with(".toml") {
         return not();
     }
     let path: PathBuf = st.root.join(&name);

@@ -43,7 +43,7 @@ use super::gas::{GasCycle, LoadCase};
 pub use crate::dynamics::cases::CasesFlywheel;
 use crate::dynamics::cases::{argmax, cases_flywheel, check_cs, with_flywheel, CaseDrive};
 use crate::dynamics::{Drive, DriveFigures};
-use crate::report::drive::{case_numbers, DriveNumbers};
+use crate::report::drive::{case_numbers, load_cases_section, DriveNumbers};
 use crate::report::{number_map, SolveResult, Table};
 use serde::Serialize;
 use serde_json::json;
@@ -407,26 +407,16 @@ pub fn numbers(r: &mut SolveResult, lc: &LoadCasesOutcome, peak_force: Option<f6
             c.d().and_then(|d| d.steady_peak_shaft_torque_error_nm)
         }),
     }));
-    let flywheel_case = lc.flywheel.and_then(|f| f.governing).map(|k| rows[k].case);
-    r.extra.insert(
-        "load_cases".into(),
-        json!({
-            "count": rows.len(),
-            "flywheel_kgm2": lc.flywheel.map(|f| f.inertia),
-            "flywheel_error_kgm2": lc.flywheel.map(|f| f.error),
-            "flywheel_rule": lc.flywheel.map(|f| match f.governing {
-                Some(_) => "the largest least flywheel over the cases (mechanism.drive.cs)",
-                None => "the given flywheel (mechanism.drive.flywheel)",
-            }),
-            "flywheel_case": flywheel_case,
-            "drive_torque_peak_case": name(peak),
-            "energy_fluctuation_case": name(energy),
-            "steady_cs_case": name(cs),
-            "steady_peak_shaft_torque_case": name(shaft),
-            "speed_band_check": lc.band,
-            "cases": rows,
-        }),
-    );
+    let own = json!({
+        "drive_torque_peak_case": name(peak),
+        "energy_fluctuation_case": name(energy),
+        "steady_cs_case": name(cs),
+        "steady_peak_shaft_torque_case": name(shaft),
+        "speed_band_check": lc.band,
+        "cases": rows,
+    });
+    let section = load_cases_section(rows.len(), lc.flywheel, |k| rows[k].case, own);
+    r.extra.insert("load_cases".into(), section);
 }
 
 /// `<name>-load-cases.csv`: the `load_cases` section's rows, one per case, its keys the

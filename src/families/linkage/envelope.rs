@@ -35,12 +35,14 @@ pub struct LinkageLoadCase {
     pub loads: Vec<ProcessLoad>,
 }
 
-/// One scenario: a load case (0: the file's own loads, c ≥ 1: `cases[c − 1]`) and the
-/// parameters' values.
+/// One scenario: a load case (0: the file's own loads, c ≥ 1: `cases[c − 1]`), the box's
+/// vertex and the parameters' values.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Scenario {
     /// The load case.
     pub case: usize,
+    /// The vertex ([`crate::synth::envelope::vertices`]' index); `None`: the nominal scene.
+    pub vertex: Option<usize>,
     /// The parameters' values ([`LinkageEnvelope::names`]' order).
     pub values: Vec<f64>,
 }
@@ -113,15 +115,31 @@ impl LinkageEnvelope {
         let vs = crate::synth::envelope::vertices(&self.ranges());
         let nominal = Scenario {
             case: 0,
+            vertex: None,
             values: self.nominal(l),
         };
         let all = (0..=self.cases.len()).flat_map(|case| {
-            vs.iter().map(move |v| Scenario {
+            vs.iter().enumerate().map(move |(v, values)| Scenario {
                 case,
-                values: v.clone(),
+                vertex: Some(v),
+                values: values.clone(),
             })
         });
         std::iter::once(nominal).chain(all).collect()
+    }
+
+    /// How a scenario's fields are named in messages: `""` for the nominal scene, else
+    /// `" at vertex N"` (1-based), with its load case where the file has them.
+    pub fn label(&self, s: &Scenario) -> String {
+        match (s.vertex, self.cases.is_empty()) {
+            (None, _) => String::new(),
+            (Some(v), true) => format!(" at vertex {}", v + 1),
+            (Some(v), false) => format!(
+                " at vertex {} in load case \"{}\"",
+                v + 1,
+                self.case_name(s.case)
+            ),
+        }
     }
 
     /// The linkage `l` in load case `case` (its loads in place of `l`'s) at the parameters'

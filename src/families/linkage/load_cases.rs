@@ -11,7 +11,7 @@ use crate::dynamics::cases::{
     argmax, cases_flywheel, check_cs, with_flywheel, CaseDrive, CasesFlywheel,
 };
 use crate::dynamics::{Drive, DriveFigures};
-use crate::report::drive::{case_numbers, DriveNumbers};
+use crate::report::drive::{case_numbers, load_cases_section, DriveNumbers};
 use crate::report::{SolveResult, Table};
 use serde::Serialize;
 use serde_json::json;
@@ -131,22 +131,13 @@ pub fn numbers(r: &mut SolveResult, lc: &LoadCaseDrives, peak_force: Option<f64>
         r.derived
             .insert("load_cases_flywheel_error_kgm2".into(), f.error);
     }
-    r.extra.insert(
-        "load_cases".into(),
-        json!({
-            "count": rows.len(),
-            "flywheel_kgm2": lc.flywheel.map(|f| f.inertia),
-            "flywheel_error_kgm2": lc.flywheel.map(|f| f.error),
-            "flywheel_rule": lc.flywheel.map(|f| match f.governing {
-                Some(_) => "the largest least flywheel over the cases (mechanism.drive.cs)",
-                None => "the given flywheel (mechanism.drive.flywheel)",
-            }),
-            "flywheel_case": lc.flywheel.and_then(|f| f.governing).map(|k| rows[k].case),
-            "energy_fluctuation_case": governing(&|d| d.energy_fluctuation_j),
-            "steady_cs_case": governing(&|d| d.steady_cs),
-            "cases": rows,
-        }),
-    );
+    let own = json!({
+        "energy_fluctuation_case": governing(&|d| d.energy_fluctuation_j),
+        "steady_cs_case": governing(&|d| d.steady_cs),
+        "cases": rows,
+    });
+    let section = load_cases_section(rows.len(), lc.flywheel, |k| rows[k].case, own);
+    r.extra.insert("load_cases".into(), section);
 }
 
 /// `<name>-load-cases.csv`: the `load_cases` section's rows, one per case, its keys the

@@ -9,7 +9,7 @@ use super::file::{Goal, LinkageScene};
 use super::model::Linkage;
 use super::synth::{self as ls, Outcome, FORCE, MOMENT, TORQUE};
 use crate::numeric::{periodic_peak_sampled, Refine};
-use crate::synth::envelope::{self, halton_point, vertices, worst, Sensitivity, WorstCase};
+use crate::synth::envelope::{self, halton_point, worst, Sensitivity, WorstCase};
 use crate::synth::minimax::{FieldPeak, Multiplier, Settings, Solution, PER_COUNTERWEIGHT};
 use rayon::prelude::*;
 
@@ -152,11 +152,11 @@ pub fn sensitivities(
     let multipliers = envelope::multipliers_of(sol)?;
     let env = &scene.envelope;
     let n_cw = PER_COUNTERWEIGHT * scene.counterweights.len();
-    let nv = vertices(&env.ranges()).len();
+    let scenarios = env.scenarios(&scene.linkage);
     let fields_at = |k: usize, values: &[f64], ms: &[&Multiplier]| {
         let at: Vec<(usize, f64)> = ms.iter().map(|m| (m.field % block_len, m.angle)).collect();
-        // Block k ≥ 1 is vertex (k − 1) mod 2ⁿ in load case (k − 1) / 2ⁿ.
-        let s = ls::scene_at_case(scene, (k - 1) / nv, values).map_err(|e| e.to_string())?;
+        let case = scenarios[k].case;
+        let s = ls::scene_at_case(scene, case, values).map_err(|e| e.to_string())?;
         ls::block_field_values(&s, &at, n_cw + k, &sol.x).map_err(|e| e.to_string())
     };
     envelope::scenario_sensitivities(

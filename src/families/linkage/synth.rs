@@ -777,17 +777,9 @@ pub fn solve(scene: &LinkageScene, settings: &Settings) -> Result<Outcome, Linka
         };
     let mut blocks = vec![Block::new(&fields, "", n, n_cw, true)?];
     let env = &scene.envelope;
-    let nv = crate::synth::envelope::vertices(&env.ranges()).len();
-    for (k, f) in vfields.iter().enumerate() {
-        let label = match env.cases.is_empty() {
-            true => format!(" at vertex {}", k + 1),
-            false => format!(
-                " at vertex {} in load case \"{}\"",
-                k % nv + 1,
-                env.case_name(k / nv)
-            ),
-        };
-        blocks.push(Block::new(f, &label, n, n_cw + 1 + k, true)?);
+    let scenarios = env.scenarios(&scene.linkage);
+    for (k, (f, s)) in vfields.iter().zip(&scenarios[1..]).enumerate() {
+        blocks.push(Block::new(f, &env.label(s), n, n_cw + 1 + k, true)?);
     }
     let mut linear = mass_rows(cws);
     let mut balance_residual = None;
