@@ -68,6 +68,58 @@ fn piston_worst_case_is_certified_and_unbeaten_by_brute_force() {
     }
 }
 
+/// The envelope's worst case solved as one disc over the top-speed vertices' curves (the
+/// engine's exact disc path) against clarabel's exchange rounds over every scenario
+/// (`exact_disc = false`): the same design and worst case within both certificates' gaps,
+/// both `optimal`, the disc path's sensitivities from its support weights equal to the
+/// rounds' Newton multipliers within their stated errors.
+#[test]
+fn the_envelopes_disc_path_agrees_with_clarabels_rounds() {
+    let sc = piston_masses();
+    let disc = optimise(&sc).unwrap();
+    let mut general = sc.clone();
+    general.settings.exact_disc = false;
+    let rounds = optimise(&general).unwrap();
+    assert!(
+        disc.method.contains("smallest enclosing disc"),
+        "{}",
+        disc.method
+    );
+    assert!(
+        !rounds.method.contains("smallest enclosing disc"),
+        "{}",
+        rounds.method
+    );
+    for o in [&disc, &rounds] {
+        assert_eq!(o.status, CwStatus::Optimal, "{}", o.method);
+    }
+    let (wd, wr) = (worst_force(&sc, disc.u), worst_force(&sc, rounds.u));
+    let tol = disc.gap.max(0.0) + rounds.gap.max(0.0) + 1e-9 * wd;
+    assert!((wd - wr).abs() <= tol, "{wd} against {wr} (±{tol})");
+    assert!(
+        (disc.u - rounds.u).norm() <= 1e-6 * disc.u.norm(),
+        "{:?} {:?}",
+        disc.u,
+        rounds.u
+    );
+    let (sd, sr) = (
+        disc.sensitivities.unwrap().unwrap(),
+        rounds.sensitivities.unwrap().unwrap(),
+    );
+    assert_eq!(sd.len(), sr.len());
+    for (a, b) in sd.iter().zip(&sr) {
+        let bar = a.error + b.error + 1e-9 * a.derivative.abs().max(1.0);
+        assert!(
+            (a.derivative - b.derivative).abs() <= bar,
+            "{:?} {:?}: {} against {} (±{bar})",
+            a.parameter,
+            a.end,
+            a.derivative,
+            b.derivative
+        );
+    }
+}
+
 #[test]
 fn a_hundred_thousand_samples_stay_under_the_certified_worst_case() {
     let sc = piston_masses();

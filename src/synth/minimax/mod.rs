@@ -93,7 +93,11 @@
 //! since a disc on two points leaves the exchange creeping along its diameter). Its
 //! certificate is the same pair: the refined peak at the design and a Lagrangian lower
 //! bound (weights on the support, `Engine::disc_bound`), neither resting on the form;
-//! `exact_disc = false` always runs clarabel.
+//! `exact_disc = false` always runs clarabel. A goal of several such fields (an operating
+//! envelope's scenarios) is one disc over the union of the curves of the fields of the
+//! largest scale w·c; the goal's other fields are scanned at the design for V only, so the
+//! certificate still bounds the whole goal, and the disc's weights are the optimum's
+//! multipliers ([`Multiplier`]).
 //!
 //! # Error bound (every figure, caller's units)
 //! For a field's peak P_f at x̂: E_f = e_refine + e_eval, with e_refine = ½|f''|·xtol² (the

@@ -1,9 +1,12 @@
 //! The exact disc path: the peak of a turning counterweight's force solved as the smallest
 //! enclosing disc of the curve p(θ) (the shared [`crate::synth::exchange::DiscForm`]),
-//! without clarabel, with its own Lagrangian certificate.
+//! without clarabel, with its own Lagrangian certificate. Several goal fields of one scale
+//! (an operating envelope's scenarios at one speed) are one disc over the union of their
+//! curves; the goal's other fields are only scanned for the certificate.
 
 use super::{
-    var_i, var_m, var_u, AffineValue, Engine, Goal, MinimaxError, Solution, Stop, DISC_SOLVER,
+    var_i, var_m, var_u, AffineValue, Engine, Goal, MinimaxError, Multiplier, Solution, Stop,
+    DISC_SOLVER,
 };
 use crate::geom::{Disc, P2};
 use crate::numeric::PeriodicPeak;
@@ -11,20 +14,31 @@ use crate::synth::exchange::{
     angle_dist, nearest_maximum, uniform_angles, Affine, DiscForm, DiscSamples, Status,
 };
 
-/// The end of a disc path that met the tolerance: (field, support angles with weights,
-/// design, its refined peak, V, L, round).
+/// A sample of the disc path: (member k of the [`DiscGroup`], θ).
+pub(super) type Tag = (usize, f64);
+
+/// The end of a disc path that met the tolerance: (support samples with weights, design,
+/// the refined peak of every goal field in the goal's order, V, L, round).
 type DiscEnd<'m> = (
-    usize,
-    &'m [(f64, f64)],
+    &'m [(Tag, f64)],
     Vec<f64>,
-    PeriodicPeak,
+    Vec<PeriodicPeak>,
     f64,
     f64,
     usize,
 );
 
-/// A disc round's design x and the weights (angle, λ) on its disc's support.
-type DiscDesign = (Vec<f64>, Vec<(f64, f64)>);
+/// A disc round's design x and the weights (sample, λ) on its disc's support.
+type DiscDesign = (Vec<f64>, Vec<(Tag, f64)>);
+
+/// The goal's fields the disc path solves as one disc: each a turning counterweight's force
+/// w·c·|u − p(θ)| with the same scale w·c, the largest of the goal's.
+pub(super) struct DiscGroup {
+    /// Each member's index in the goal's list.
+    pub members: Vec<usize>,
+    /// Each member's form (its c).
+    forms: Vec<DiscForm>,
+}
 
 /// The u block of counterweight 0 in a field's value: the 2×2 map u ↦ A_u u + b.
 fn u_block(v: &AffineValue) -> Affine {
@@ -42,116 +56,149 @@ impl<'p, 'a> Engine<'p, 'a> {
     /// The peak of a turning counterweight's force solved exactly, without clarabel, when
     /// the problem is one ([`Engine::disc_goal`]): then |g| = c|u − p(θ)| with p = −Qᵀb/c
     /// ([`DiscForm`]), and the minimax over sampled angles is the smallest disc enclosing
-    /// the points p(θ_k) (Welzl, [`crate::geom::enclosing_disc`], first on the scan grid),
-    /// its support angles polished on the continuous curve by Newton (`polish_support`).
+    /// the points p(θ_k) of every member of the group (Welzl,
+    /// [`crate::geom::enclosing_disc`], first on the scan grids), its support angles
+    /// polished on the continuous curves by Newton (`polish_support`).
     ///
-    /// The certificate is the engine's own: V is the refined peak at the design (the scan of
-    /// [`Engine::scan`]), L the Lagrangian bound of [`Engine::disc_bound`] at the disc's
+    /// The certificate is the engine's own: V is the largest refined peak of every goal
+    /// field at the design (the scan of [`Engine::scan`], the group's members and the
+    /// others alike), L the Lagrangian bound of [`Engine::disc_bound`] at the disc's
     /// support, with its weights (the barycentric coordinates of the centre) moved to the
-    /// nearby refined maxima; both rest on no structure (the form only chooses the design).
-    /// The maxima above L are added until V − L ≤ `rel_tol`·max(V, `abs_floor`·U₀); `None`
-    /// (clarabel's loop runs instead) when the problem is not of this form, the centre is
-    /// out of the counterweight's reach ([`Engine::disc_design`]) or the gap does not close
-    /// in a few rounds.
+    /// nearby refined maxima — a bound on the whole goal, since it weighs some of its
+    /// maxima; both rest on no structure (the form only chooses the design). The maxima
+    /// above L are added until V − L ≤ `rel_tol`·max(V, `abs_floor`·U₀); `None` (clarabel's
+    /// loop runs instead) when the problem is not of this form, the centre is out of the
+    /// counterweight's reach ([`Engine::disc_design`]) or the gap does not close in a few
+    /// rounds (a field outside the group binds).
     pub(super) fn disc_path(
         &self,
         goal: &Goal,
         limits: &[(usize, f64)],
     ) -> Result<Option<Solution>, MinimaxError> {
-        let Some((f, w)) = self.disc_goal(goal, limits) else {
+        let (Some(group), Goal::MinPeak(list)) = (self.disc_goal(goal, limits), goal) else {
             return Ok(None);
         };
-        let grid: Vec<Affine> = self.grid[f].iter().map(u_block).collect();
-        let field = self.pb.fields[f];
-        let eval = |phi: f64| {
+        let point = |k: usize, t: f64| {
             let mut v = AffineValue::zeros(self.n);
-            field.eval(phi, &mut v);
-            u_block(&v)
+            self.pb.fields[list[group.members[k]].0].eval(t, &mut v);
+            group.forms[k].point_of(&u_block(&v))
         };
-        let Some(form) = DiscForm::scaled_by(&eval(0.0)) else {
-            return Ok(None);
-        };
-        // The sampled points: the scan grid's (already evaluated), then the angles added.
-        let mut pts = DiscSamples::default();
-        for (t, a) in uniform_angles(grid.len()).into_iter().zip(&grid) {
-            match form.point_of(a) {
-                Some(p) => pts.push(t, p),
-                None => return Ok(None),
+        // The sampled points: the scan grids' (already evaluated), then the angles added.
+        let mut pts = Vec::with_capacity(group.members.len());
+        for (k, &i) in group.members.iter().enumerate() {
+            let grid = &self.grid[list[i].0];
+            let mut s = DiscSamples::default();
+            for (t, v) in uniform_angles(grid.len()).into_iter().zip(grid) {
+                match group.forms[k].point_of(&u_block(v)) {
+                    Some(p) => s.push(t, p),
+                    None => return Ok(None),
+                }
             }
+            pts.push(s);
         }
-        let point = |t: f64| form.point_of(&eval(t));
-        let floor = self.s.abs_floor * w * self.g0[f];
+        let scale = |k: usize| list[group.members[k]].1;
+        let floor = list
+            .iter()
+            .map(|&(f, w)| self.s.abs_floor * w * self.g0[f])
+            .fold(0.0, f64::max);
         let h = std::f64::consts::TAU / self.s.scan_samples as f64;
         const ROUNDS: usize = 6;
         for round in 1..=ROUNDS {
-            let Some(disc) = pts.disc() else {
+            let (tags, points) = union(&pts);
+            let Some(disc) = crate::geom::enclosing_disc(&points) else {
                 return Ok(None);
             };
-            let Some((x, weights)) = self.disc_design(&pts, &disc, &point) else {
+            let Some((x, weights)) = self.disc_design(&tags, &points, &disc, &point) else {
                 return Ok(None);
             };
-            let pk = self.scan(f, &x)?;
-            let value = w * pk.peak.fx;
-            let moved: Vec<(f64, f64)> = weights
+            let pks = list
                 .iter()
-                .map(|&(t, l)| (nearest_maximum(&pk.maxima, t, 2.0 * h), l))
+                .map(|&(f, _)| self.scan(f, &x))
+                .collect::<Result<Vec<_>, _>>()?;
+            let value = list
+                .iter()
+                .zip(&pks)
+                .map(|(&(_, w), p)| w * p.peak.fx)
+                .fold(0.0, f64::max);
+            let maxima = |k: usize| &pks[group.members[k]].maxima;
+            let moved: Vec<(Tag, f64)> = weights
+                .iter()
+                .map(|&((k, t), l)| ((k, nearest_maximum(maxima(k), t, 2.0 * h)), l))
                 .collect();
-            let lower = w * self
-                .disc_bound(f, &weights)?
-                .max(self.disc_bound(f, &moved)?);
+            let lower = self
+                .disc_bound(list, &group, &weights)?
+                .max(self.disc_bound(list, &group, &moved)?);
             let gap_scale = value.max(floor);
             if value - lower <= self.s.rel_tol * gap_scale {
-                let disc = (f, &moved[..], x, pk, value, lower, round);
-                return self.disc_solution(goal, limits, disc).map(Some);
+                let disc = (&moved[..], x, pks, value, lower, round);
+                return self.disc_solution(goal, limits, &group, disc).map(Some);
             }
-            let before = pts.len();
-            for &(t, _) in &weights {
-                pts.add_new(t, point);
+            let before: usize = pts.iter().map(DiscSamples::len).sum();
+            for &((k, t), _) in &weights {
+                pts[k].add_new(t, |t| point(k, t));
             }
-            for e in &pk.maxima {
-                if w * e.fx > lower + 0.5 * self.s.rel_tol * gap_scale {
-                    pts.add_new(e.x, point);
+            for (k, s) in pts.iter_mut().enumerate() {
+                for e in maxima(k) {
+                    if scale(k) * e.fx > lower + 0.5 * self.s.rel_tol * gap_scale {
+                        s.add_new(e.x, |t| point(k, t));
+                    }
                 }
             }
-            if pts.len() == before {
+            if pts.iter().map(DiscSamples::len).sum::<usize>() == before {
                 return Ok(None);
             }
         }
         Ok(None)
     }
 
-    /// The objective (field, weight) when the problem is a turning counterweight's peak
-    /// force: the goal is the peak of one 2-D field w·|g|, with no limit, no extra variable,
-    /// no linear row, one counterweight without a sector, and at every scan angle A(θ) has
-    /// zero m and I columns (its u block c·Q(θ), Q orthogonal, one constant c > 0, is
-    /// [`DiscForm`]'s test: a counterweight on a frame pivot turning with the crank,
-    /// F = b + c·Rot(θ)·u). `None` otherwise (and with `exact_disc = false`).
-    pub(super) fn disc_goal(&self, goal: &Goal, limits: &[(usize, f64)]) -> Option<(usize, f64)> {
+    /// The group of the goal's fields the disc path solves, when the problem is a turning
+    /// counterweight's peak force: the goal is the peak of 2-D fields w·|g|, with no
+    /// limit, no extra variable, no linear row, one counterweight without a sector, and at
+    /// every scan angle each field's A(θ) has zero m and I columns (its u block c·Q(θ), Q
+    /// orthogonal, one constant c > 0, is [`DiscForm`]'s test: a counterweight on a frame
+    /// pivot turning with the crank, F = b + c·Rot(θ)·u). The group is the fields of the
+    /// largest scale w·c (to 1e-12): one disc. `None` otherwise (and with
+    /// `exact_disc = false`).
+    pub(super) fn disc_goal(&self, goal: &Goal, limits: &[(usize, f64)]) -> Option<DiscGroup> {
         let pb = self.pb;
         let Goal::MinPeak(list) = goal else {
             return None;
         };
-        let &[(f, w)] = list.as_slice() else {
-            return None;
-        };
         if !(self.s.exact_disc
+            && !list.is_empty()
             && limits.is_empty()
             && pb.extra.is_empty()
             && pb.linear.is_empty()
             && pb.counterweights.len() == 1
             && pb.counterweights[0].sector.is_none()
-            && pb.counterweights[0].plate.is_none()
-            && pb.fields[f].dim() == 2)
+            && pb.counterweights[0].plate.is_none())
         {
             return None;
         }
         let (m, ii) = (var_m(0), var_i(0));
         let only_u = |v: &AffineValue| (0..2).all(|r| v.row(r)[m] == 0.0 && v.row(r)[ii] == 0.0);
-        self.grid[f].iter().all(only_u).then_some((f, w))
+        let mut forms = Vec::with_capacity(list.len());
+        for &(f, w) in list {
+            if pb.fields[f].dim() != 2 || !self.grid[f].iter().all(only_u) {
+                return None;
+            }
+            let mut v = AffineValue::zeros(self.n);
+            pb.fields[f].eval(0.0, &mut v);
+            let form = DiscForm::scaled_by(&u_block(&v))?;
+            forms.push((form, w * form.c()));
+        }
+        let top = forms.iter().map(|f| f.1).fold(0.0, f64::max);
+        let (members, forms) = forms
+            .into_iter()
+            .enumerate()
+            .filter(|(_, f)| (f.1 - top).abs() <= 1e-12 * top)
+            .map(|(i, f)| (i, f.0))
+            .unzip();
+        Some(DiscGroup { members, forms })
     }
 
     /// The design of a round of the disc path and the weights of its support: the disc's
-    /// centre u, its support angles polished to the continuous curve's (Newton,
+    /// centre u, its support angles polished to the continuous curves' (Newton,
     /// `polish_support`, so the design does not creep towards a maximum that moves with
     /// it; kept only if the centre is inside the polished points' hull, all weights > 0:
     /// still a disc's support). Of all the counterweights with this u the design is the
@@ -160,20 +207,25 @@ impl<'p, 'a> Engine<'p, 'a> {
     /// (|u| ≤ m_max·min(r_max, ρ), |u|² ≤ I_max·m_max).
     pub(super) fn disc_design(
         &self,
-        pts: &DiscSamples,
+        tags: &[Tag],
+        points: &[P2],
         disc: &Disc,
-        point: &dyn Fn(f64) -> Option<P2>,
+        point: &dyn Fn(usize, f64) -> Option<P2>,
     ) -> Option<DiscDesign> {
         let h = std::f64::consts::TAU / self.s.scan_samples as f64;
-        let mut weights = support_weights(pts, disc);
+        let mut weights = support_weights(tags, points, disc);
         let mut u = disc.centre;
         if let Some((t, c)) = polish_support(point, &weights, h) {
-            let ps: Vec<(f64, P2)> = t.iter().filter_map(|&a| point(a).map(|p| (a, p))).collect();
+            let ps: Vec<(Tag, P2)> = t
+                .iter()
+                .filter_map(|&(k, a)| point(k, a).map(|p| ((k, a), p)))
+                .collect();
             let d = Disc {
                 centre: c,
                 radius: ps.iter().map(|q| (q.1 - c).norm()).fold(0.0, f64::max),
             };
-            let wt = support_weights(&DiscSamples::of(&ps), &d);
+            let (pt, pp): (Vec<Tag>, Vec<P2>) = ps.iter().copied().unzip();
+            let wt = support_weights(&pt, &pp, &d);
             if wt.len() == ps.len() {
                 weights = wt;
                 u = c;
@@ -200,27 +252,39 @@ impl<'p, 'a> Engine<'p, 'a> {
         Some((self.project(&x), weights))
     }
 
-    /// The certified solution of the disc path: the design x with its refined peak `pk` of
-    /// field f (value V), the bound L, the support angles `moved` as the sampled set.
+    /// The certified solution of the disc path: the design x with the refined peaks `pks`
+    /// of the goal's fields (value V), the bound L, the support angles `moved` as the
+    /// sampled set, and their weights as the optimum's multipliers (the envelope theorem's:
+    /// the centre of the smallest enclosing disc is their weighted mean, the KKT condition
+    /// of min_u max_k |u − p_k|), each with the change of the centre's barycentric
+    /// coordinates between the disc's support and the refined maxima as its error.
     pub(super) fn disc_solution(
         &self,
         goal: &Goal,
         limits: &[(usize, f64)],
-        (f, moved, x, pk, value, lower, round): DiscEnd,
+        group: &DiscGroup,
+        (moved, x, pks, value, lower, round): DiscEnd,
     ) -> Result<Solution, MinimaxError> {
+        let Goal::MinPeak(list) = goal else {
+            unreachable!("the disc path's goal is a peak");
+        };
+        let field = |k: usize| list[group.members[k]];
         let nf = self.pb.fields.len();
         let mut sets: Vec<Vec<(f64, AffineValue)>> = vec![Vec::new(); nf];
-        for &(t, _) in moved {
+        for &((k, t), _) in moved {
+            let f = field(k).0;
             self.insert(&mut sets[f], f, t)?;
         }
-        let mut pks = vec![None; nf];
-        pks[f] = Some(pk);
-        self.finish(
+        let mut peaks = vec![None; nf];
+        for (&(f, _), pk) in list.iter().zip(pks) {
+            peaks[f] = Some(pk);
+        }
+        let mut sol = self.finish(
             goal,
             limits,
             &sets,
             &x,
-            pks,
+            peaks,
             value,
             (lower, 0.0, true),
             Status::Optimal,
@@ -229,24 +293,108 @@ impl<'p, 'a> Engine<'p, 'a> {
             round,
             0,
             DISC_SOLVER.into(),
-        )
+        )?;
+        if sol.status == Status::Optimal {
+            sol.multipliers = self.disc_multipliers(group, moved, &x, &field);
+        }
+        Ok(sol)
     }
 
-    /// A Lagrangian lower bound of min_u max_θ |g_f(θ; u)| for a field that depends on
-    /// counterweight 0's u only: for weights λ_k ≥ 0, Σλ_k = 1 at any angles θ_k,
-    /// max_θ |g|² ≥ Σ_k λ_k |b_k + A_k u|² =: q(u) ≥ min q, so √(min q) is a lower bound.
+    /// The disc's weights as [`Multiplier`]s at the support moved to the design's refined
+    /// maxima: weight w·λ', λ' the design's u in barycentric coordinates of those maxima's
+    /// points (located by the peak scan, not by the disc). Its error is |λ − λ'| (λ the
+    /// disc's own weights) plus the conditioning of the barycentric solve: the change of λ'
+    /// when each support angle moves by τ = max(`peak_xtol`, 1e-8) either way (a maximum's
+    /// angle is known to about √ε from values), summed over the points, plus 1e-12. Where
+    /// the maxima do not hold u: w·λ with all of it as its error.
+    fn disc_multipliers(
+        &self,
+        group: &DiscGroup,
+        moved: &[(Tag, f64)],
+        x: &[f64],
+        field: &dyn Fn(usize) -> (usize, f64),
+    ) -> Vec<Multiplier> {
+        let ux = var_u(0);
+        let u = P2::new(x[ux], x[ux + 1]);
+        let point = |k: usize, t: f64| {
+            let mut v = AffineValue::zeros(self.n);
+            self.pb.fields[field(k).0].eval(t, &mut v);
+            group.forms[k].point_of(&u_block(&v))
+        };
+        let at = |tags: &[Tag]| -> Option<Vec<f64>> {
+            let on: Vec<(Tag, P2)> = tags
+                .iter()
+                .map(|&(k, t)| point(k, t).map(|p| ((k, t), p)))
+                .collect::<Option<_>>()?;
+            let b = barycentric(u, &on);
+            let same = b.len() == tags.len() && b.iter().zip(tags).all(|(b, t)| b.0 == *t);
+            same.then(|| b.iter().map(|b| b.1).collect())
+        };
+        let tags: Vec<Tag> = moved.iter().map(|m| m.0).collect();
+        let tau = self.s.peak_xtol.max(1e-8);
+        let weights = at(&tags).and_then(|l2| {
+            let mut err = vec![1e-12; tags.len()];
+            for i in 0..tags.len() {
+                for s in [-tau, tau] {
+                    let mut t = tags.clone();
+                    t[i].1 += s;
+                    let l3 = at(&t)?;
+                    let mut worst = vec![0.0_f64; tags.len()];
+                    for (w, (a, b)) in worst.iter_mut().zip(l3.iter().zip(&l2)) {
+                        *w = w.max((a - b).abs());
+                    }
+                    err.iter_mut().zip(worst).for_each(|(e, w)| *e += w);
+                }
+            }
+            Some((l2, err))
+        });
+        moved
+            .iter()
+            .enumerate()
+            .map(|(i, &((k, t), l))| {
+                let (f, w) = field(k);
+                let (l2, e) = match &weights {
+                    Some((l2, err)) => (l2[i], (l - l2[i]).abs() + err[i]),
+                    None => (l, l),
+                };
+                Multiplier {
+                    field: f,
+                    angle: t,
+                    weight: w * l2,
+                    weight_error: w * e,
+                    limit: false,
+                }
+            })
+            .collect()
+    }
+
+    /// A Lagrangian lower bound of min_u max_{f,θ} w_f|g_f(θ; u)| over the goal's fields
+    /// (`list`) that depend on counterweight 0's u only, from samples of the group's
+    /// members: for weights λ_k ≥ 0, Σλ_k = 1 at any samples (f_k, θ_k),
+    /// max w²|g|² ≥ Σ_k λ_k w_k²|b_k + A_k u|² =: q(u) ≥ min q, so √(min q) is a lower
+    /// bound (scaled back by the first member's w₀).
     /// min q is computed as q(u*) − ¼∇qᵀQ⁻¹∇q at the computed minimiser u* = −Q⁻¹r
     /// (q = uᵀQu + 2rᵀu + c: exact for a quadratic, whatever the error of u*), less the
     /// round-off of q(u*) (16(n + 3)ε of its absolute terms). 0 when Q is singular.
-    pub(super) fn disc_bound(&self, f: usize, terms: &[(f64, f64)]) -> Result<f64, MinimaxError> {
+    pub(super) fn disc_bound(
+        &self,
+        list: &[(usize, f64)],
+        group: &DiscGroup,
+        terms: &[(Tag, f64)],
+    ) -> Result<f64, MinimaxError> {
         let ux = var_u(0);
         let (mut q, mut r) = ([[0.0; 2]; 2], [0.0; 2]);
         let mut vals = Vec::with_capacity(terms.len());
-        for &(t, l) in terms {
-            let v = self.eval(f, t)?;
+        let w0 = list[group.members[0]].1;
+        for &((k, t), l) in terms {
+            let (f, w) = list[group.members[k]];
+            let mut v = self.eval(f, t)?;
+            // Each member's weight relative to the first (1 where they are equal).
+            let s = w / w0;
+            v.b = v.b.map(|b| s * b);
             let a = [
-                [v.row(0)[ux], v.row(0)[ux + 1]],
-                [v.row(1)[ux], v.row(1)[ux + 1]],
+                [s * v.row(0)[ux], s * v.row(0)[ux + 1]],
+                [s * v.row(1)[ux], s * v.row(1)[ux + 1]],
             ];
             for i in 0..2 {
                 for j in 0..2 {
@@ -292,24 +440,40 @@ impl<'p, 'a> Engine<'p, 'a> {
             return Ok(0.0);
         }
         let l2 = val - 0.25 * gn * gn / (lmin * (1.0 - 1e-12)) - gamma * size;
-        Ok(l2.max(0.0).sqrt())
+        Ok(w0 * l2.max(0.0).sqrt())
     }
 }
 
+/// The samples of every member in one list, members in order: (tags, points).
+fn union(pts: &[DiscSamples]) -> (Vec<Tag>, Vec<P2>) {
+    pts.iter()
+        .enumerate()
+        .flat_map(|(k, s)| {
+            s.angles
+                .iter()
+                .zip(&s.points)
+                .map(move |(&t, &p)| ((k, t), p))
+        })
+        .unzip()
+}
+
 /// Weights λ ≥ 0, Σλ = 1, on the support of a smallest enclosing disc of the points
-/// (angle, p): the points within 1e-9 of the radius from the centre; the centre's
-/// barycentric coordinates in a triangle of them that contains it, else in their farthest
-/// pair (projected onto it). Any weights give a valid bound ([`Engine::disc_bound`]); these
-/// make it the disc's radius.
-pub(super) fn support_weights(pts: &DiscSamples, disc: &Disc) -> Vec<(f64, f64)> {
-    let on: Vec<(f64, P2)> = pts
-        .angles
+/// (sample, p): the points within 1e-9 of the radius from the centre, weighted by
+/// [`barycentric`]. Any weights give a valid bound ([`Engine::disc_bound`]); these make it
+/// the disc's radius.
+pub(super) fn support_weights(tags: &[Tag], points: &[P2], disc: &Disc) -> Vec<(Tag, f64)> {
+    let on: Vec<(Tag, P2)> = tags
         .iter()
-        .zip(&pts.points)
-        .filter(|(_, p)| (*p - disc.centre).norm() >= disc.radius * (1.0 - 1e-9))
+        .zip(points)
+        .filter(|(_, p)| (**p - disc.centre).norm() >= disc.radius * (1.0 - 1e-9))
         .map(|(&t, &p)| (t, p))
         .collect();
-    let c = disc.centre;
+    barycentric(disc.centre, &on)
+}
+
+/// The point c's barycentric coordinates in the first triangle of the points `on` that
+/// contains it, else in their farthest pair (c projected onto it), else the first point.
+fn barycentric(c: P2, on: &[(Tag, P2)]) -> Vec<(Tag, f64)> {
     for i in 0..on.len() {
         for j in i + 1..on.len() {
             for k in j + 1..on.len() {
@@ -346,18 +510,19 @@ pub(super) fn support_weights(pts: &DiscSamples, disc: &Disc) -> Vec<(f64, f64)>
     }
 }
 
-/// Newton on the support angles θ_i of a smallest enclosing disc of a curve p(θ) (2 or 3
-/// points): each must be a stationary point of |p(θ) − v| with v the centre of the disc
+/// Newton on the support angles θ_i of a smallest enclosing disc of curves p_k(θ) (2 or 3
+/// points, each on its member's curve): each must be a stationary point of |p(θ) − v| with
+/// v the centre of the disc
 /// through the points (their midpoint, or circumcentre), F_i = (p(θ_i) − v)·p'(θ_i) = 0,
 /// p' by central differences (step 1e-5), the Jacobian by forward differences of F. Where
 /// a maximum moves with the design (a disc on two points, free to slide across their
 /// diameter), the exchange alone creeps towards it; this locates it in a few steps.
 /// `None` if a step leaves the scan spacing `h` or the iteration does not settle.
 pub(super) fn polish_support(
-    point: &dyn Fn(f64) -> Option<P2>,
-    weights: &[(f64, f64)],
+    point: &dyn Fn(usize, f64) -> Option<P2>,
+    weights: &[(Tag, f64)],
     h: f64,
-) -> Option<(Vec<f64>, P2)> {
+) -> Option<(Vec<Tag>, P2)> {
     use P2;
     let centre = |ps: &[P2]| -> Option<P2> {
         if ps.len() == 2 {
@@ -367,30 +532,39 @@ pub(super) fn polish_support(
         }
     };
     let eta = 1e-5;
-    let resid = |th: &[f64]| -> Option<(Vec<f64>, P2)> {
-        let ps: Vec<P2> = th.iter().map(|&t| point(t)).collect::<Option<_>>()?;
-        let v = centre(&ps)?;
-        let mut f = Vec::with_capacity(th.len());
-        for (i, &t) in th.iter().enumerate() {
-            let d = (point(t + eta)? - point(t - eta)?) / (2.0 * eta);
-            f.push((ps[i] - v).dot(&d));
-        }
-        Some((f, v))
-    };
-    // Support points around one maximum of the curve (neighbouring samples) are one.
-    let mut merged: Vec<(f64, f64)> = Vec::new();
-    for &(t, l) in weights {
-        match merged.iter_mut().find(|m| angle_dist(m.0, t) <= 2.0 * h) {
-            Some(m) if l > m.1 => *m = (t, m.1 + l),
+    // Support points around one maximum of a curve (neighbouring samples) are one.
+    let mut merged: Vec<(Tag, f64)> = Vec::new();
+    for &((c, t), l) in weights {
+        match merged
+            .iter_mut()
+            .find(|m| m.0 .0 == c && angle_dist(m.0 .1, t) <= 2.0 * h)
+        {
+            Some(m) if l > m.1 => *m = ((c, t), m.1 + l),
             Some(m) => m.1 += l,
-            None => merged.push((t, l)),
+            None => merged.push(((c, t), l)),
         }
     }
     let k = merged.len();
     if !(k == 2 || k == 3) {
         return None;
     }
-    let mut th: Vec<f64> = merged.iter().map(|w| w.0).collect();
+    let curve: Vec<usize> = merged.iter().map(|w| w.0 .0).collect();
+    let resid = |th: &[f64]| -> Option<(Vec<f64>, P2)> {
+        let ps: Vec<P2> = th
+            .iter()
+            .zip(&curve)
+            .map(|(&t, &c)| point(c, t))
+            .collect::<Option<_>>()?;
+        let v = centre(&ps)?;
+        let mut f = Vec::with_capacity(th.len());
+        for (i, &t) in th.iter().enumerate() {
+            let c = curve[i];
+            let d = (point(c, t + eta)? - point(c, t - eta)?) / (2.0 * eta);
+            f.push((ps[i] - v).dot(&d));
+        }
+        Some((f, v))
+    };
+    let mut th: Vec<f64> = merged.iter().map(|w| w.0 .1).collect();
     let start = th.clone();
     let eta2 = 1e-6;
     let mut last_step = f64::INFINITY;
@@ -424,7 +598,8 @@ pub(super) fn polish_support(
     let (_, v) = resid(&th)?;
     Some((
         th.iter()
-            .map(|t| t.rem_euclid(std::f64::consts::TAU))
+            .zip(&curve)
+            .map(|(t, &c)| (c, t.rem_euclid(std::f64::consts::TAU)))
             .collect(),
         v,
     ))

@@ -323,18 +323,15 @@ impl<'a> JointScene<'a> {
         let (scene, w2) = (self.scene, self.w2);
         let once = std::cell::OnceCell::new();
         let p0 = || *once.get_or_init(&sample_p0);
+        // No automatic bound is needed where the scene's own bounds are finite (P₀, 720
+        // mechanism states per scenario, is then not sampled).
+        let own = unbalance_bounds(&scene.counterweight).1.is_finite()
+            && scene.balancers.iter().all(|b| b.max_unbalance.is_finite());
         let k_force = match (objective, max_force) {
+            _ if own => f64::INFINITY,
             (Objective::MinPeakForce | Objective::MinRmsForce, Some(f)) => f.min(p0()),
             (Objective::MinPeakForce | Objective::MinRmsForce, None) => p0(),
             (_, Some(f)) => f,
-            // ΔE within the scene's own bounds: no automatic bound is needed where they
-            // are finite.
-            (Objective::MinEnergyFluctuation, None)
-                if unbalance_bounds(&scene.counterweight).1.is_finite()
-                    && scene.balancers.iter().all(|b| b.max_unbalance.is_finite()) =>
-            {
-                f64::INFINITY
-            }
             (_, None) => {
                 return Err(SolveError::Numeric(
                     "a joint design (balancers, moment or main-bearing limits, or the energy fluctuation) minimising the torque, the moment or ΔE needs objective.max_peak_force (or, for ΔE, finite bounds on |U| and every |B_n|): the counterweight is otherwise unbounded".into(),
