@@ -467,3 +467,46 @@ fn the_piston_is_drawn_over_a_turn() {
     }
     assert_eq!(m["guides"].as_array().unwrap().len(), 1);
 }
+
+/// Reads until the server closes the connection; how long that took.
+fn closed_after(s: &mut TcpStream) -> Duration {
+    let t = std::time::Instant::now();
+    s.set_read_timeout(Some(Duration::from_secs(20))).unwrap();
+    let mut buf = [0u8; 256];
+    loop {
+        match s.read(&mut buf) {
+            Ok(0) | Err(_) => return t.elapsed(),
+            Ok(_) => {}
+        }
+    }
+}
+
+#[test]
+fn slow_clients_lose_their_connection_and_the_server_goes_on() {
+    let addr = server(|o| {
+        o.header_time = Duration::from_millis(800);
+        o.max_connections = 3;
+    });
+    // Three clients that never finish their request's head: the connections at once.
+    let mut slow: Vec<TcpStream> = (0..3)
+        .map(|_| {
+            let mut s = TcpStream::connect(addr).unwrap();
+            s.write_all(b"GET /api/templates HTTP/1.1\r\nHost: t")
+                .unwrap();
+            s
+        })
+        .collect();
+    std::thread::sleep(Duration::from_millis(100));
+    // One more is closed at once, without an answer.
+    let mut over = TcpStream::connect(addr).unwrap();
+    let _ = over.write_all(b"GET /api/templates HTTP/1.1\r\nHost: t\r\n\r\n");
+    assert!(closed_after(&mut over) < Duration::from_millis(700));
+    // The slow ones are closed once their head time is over …
+    for s in &mut slow {
+        let t = closed_after(s);
+        assert!(t < Duration::from_secs(5), "{t:?}");
+    }
+    // … and the server answers again.
+    let (status, _, body) = http(addr, "GET", "/api/templates", b"", "");
+    assert_eq!(status, 200, "{body}");
+}

@@ -13,6 +13,7 @@ mod api;
 mod assets;
 pub mod edit;
 pub mod export;
+mod listen;
 
 use axum::Router;
 use std::net::{IpAddr, Ipv4Addr, SocketAddr};
@@ -40,11 +41,17 @@ pub struct Options {
     pub solve_budget: Duration,
     /// Solves run at once (the others wait their turn): the core count by default.
     pub max_solves: usize,
+    /// The longest a client may take to send a request's head (its line and headers); the
+    /// connection is closed after it.
+    pub header_time: Duration,
+    /// Connections open at once; one more is closed as soon as it is accepted.
+    pub max_connections: usize,
 }
 
 impl Options {
     /// The defaults for `dir`: 127.0.0.1, port 8321, no token, a body of at most the
-    /// problem-file limit sent within 10 s, 30 s per solve, one solve per core.
+    /// problem-file limit sent within 10 s, 30 s per solve, one solve per core, a request
+    /// head within 10 s, 256 connections.
     pub fn new(dir: PathBuf) -> Options {
         Options {
             dir,
@@ -55,6 +62,8 @@ impl Options {
             body_time: Duration::from_secs(10),
             solve_budget: Duration::from_secs(30),
             max_solves: std::thread::available_parallelism().map_or(2, |n| n.get()),
+            header_time: Duration::from_secs(10),
+            max_connections: 256,
         }
     }
 
@@ -82,9 +91,10 @@ impl Options {
             _ => {}
         }
         let zero = self.solve_budget.is_zero() || self.body_time.is_zero();
+        let zero = zero || self.header_time.is_zero() || self.max_connections == 0;
         if self.max_body == 0 || self.max_solves == 0 || zero {
             return Err(ServeError::Options(
-                "the body limit and time, the solve budget and the solves at once must be positive"
+                "the body limit and time, the head time, the solve budget, the solves and the connections at once must be positive"
                     .into(),
             ));
         }
@@ -134,8 +144,9 @@ pub fn router(opts: Options) -> Result<Router, ServeError> {
 }
 
 /// Binds `opts`' address: the listener, ready to serve, and the page's routes.
-fn bind(opts: Options) -> Result<(std::net::TcpListener, Router), ServeError> {
+fn bind(opts: Options) -> Result<Bound, ServeError> {
     let addr = SocketAddr::new(opts.listen, opts.port);
+    let limits = (opts.header_time, opts.max_connections);
     let app = router(opts)?;
     let listener = std::net::TcpListener::bind(addr).map_err(|source| ServeError::Io {
         what: format!("binding {addr}"),
@@ -147,11 +158,38 @@ fn bind(opts: Options) -> Result<(std::net::TcpListener, Router), ServeError> {
             what: "setting up the listener".into(),
             source,
         })?;
-    Ok((listener, app))
+    Ok(Bound {
+        listener,
+        app,
+        limits,
+    })
+}
+
+/// A bound listener with the routes it serves and its connection limits (the head time,
+/// the connections at once).
+struct Bound {
+    listener: std::net::TcpListener,
+    app: Router,
+    limits: (Duration, usize),
+}
+
+impl Bound {
+    /// The address it listens on (the port chosen where 0 was asked).
+    fn addr(&self) -> Result<SocketAddr, ServeError> {
+        self.listener.local_addr().map_err(|source| ServeError::Io {
+            what: "reading the bound address".into(),
+            source,
+        })
+    }
 }
 
 /// Serves `app` on `listener` in a new runtime until it fails or the process ends.
-fn serve_on(listener: std::net::TcpListener, app: Router) -> Result<(), ServeError> {
+fn serve_on(bound: Bound) -> Result<(), ServeError> {
+    let Bound {
+        listener,
+        app,
+        limits: (header_time, max_connections),
+    } = bound;
     let io = |what: &str| {
         let what = what.to_string();
         move |source| ServeError::Io { what, source }
@@ -162,7 +200,9 @@ fn serve_on(listener: std::net::TcpListener, app: Router) -> Result<(), ServeErr
         .map_err(io("starting the runtime"))?;
     rt.block_on(async move {
         let listener = tokio::net::TcpListener::from_std(listener).map_err(io("listening"))?;
-        axum::serve(listener, app).await.map_err(io("serving"))
+        listen::accept(listener, app, header_time, max_connections)
+            .await
+            .map_err(io("serving"))
     })
 }
 
@@ -170,18 +210,15 @@ fn serve_on(listener: std::net::TcpListener, app: Router) -> Result<(), ServeErr
 /// fragment, where there is one: it never reaches a server log), and answers.
 pub fn run(opts: Options, open: bool) -> Result<(), ServeError> {
     let token = opts.token.clone();
-    let (listener, app) = bind(opts)?;
-    let bound = listener.local_addr().map_err(|source| ServeError::Io {
-        what: "reading the bound address".into(),
-        source,
-    })?;
+    let bound = bind(opts)?;
+    let addr = bound.addr()?;
     let fragment = token.map(|t| format!("#token={t}")).unwrap_or_default();
-    let url = format!("http://{bound}/{fragment}");
+    let url = format!("http://{addr}/{fragment}");
     println!("cwsynth serve: {url}");
     if open {
         open_browser(&url);
     }
-    serve_on(listener, app)
+    serve_on(bound)
 }
 
 /// Opens `url` in the desktop's browser where there is a desktop (`open` on macOS,
@@ -208,11 +245,8 @@ fn open_browser(url: &str) {
 /// A server on a background thread (tests, embedding): it answers at `addr` until the
 /// process ends.
 pub fn start(opts: Options) -> Result<SocketAddr, ServeError> {
-    let (listener, app) = bind(opts)?;
-    let addr = listener.local_addr().map_err(|source| ServeError::Io {
-        what: "reading the bound address".into(),
-        source,
-    })?;
-    std::thread::spawn(move || serve_on(listener, app));
+    let bound = bind(opts)?;
+    let addr = bound.addr()?;
+    std::thread::spawn(move || serve_on(bound));
     Ok(addr)
 }
