@@ -64,7 +64,7 @@ pub(super) fn optimise_joint(
     let p0 = || jss.iter().map(JointScene::p0).fold(0.0, f64::max);
     let bounds = jss[0].bounds(objective, max_force, p0)?;
     let energy = objective == Objective::MinEnergyFluctuation;
-    // The fields the goal or a limit names; the others are left zero (the engine scans every
+    // The fields the goal or a limit names; only these reach the engine (it scans every
     // field on its grid: the main bearing's Newton–Euler loads are not free).
     let used = [
         matches!(objective, Objective::MinPeakForce | Objective::MinRmsForce)
@@ -89,12 +89,28 @@ pub(super) fn optimise_joint(
             (-c, c)
         })
         .collect();
-    let stride = if energy { 5 } else { 4 };
-    let every = |field: usize, w: f64| (0..sets.len()).map(move |k| (k * stride + field, w));
+    // Only the fields the goal or a limit names go to the engine (its scan grids and the
+    // certificate's scans are most of an envelope's cost): `kinds` per scenario, in order.
+    let kinds: Vec<usize> = [FORCE, MOMENT, TORQUE, BEARING]
+        .into_iter()
+        .filter(|&k| used[k])
+        .chain(energy.then_some(ENERGY))
+        .collect();
+    let stride = kinds.len();
+    let at = |kind: usize| {
+        kinds
+            .iter()
+            .position(|&k| k == kind)
+            .expect("a named field")
+    };
+    let every = |kind: usize, w: f64| {
+        let p = at(kind);
+        (0..sets.len()).map(move |k| (k * stride + p, w))
+    };
     let goal = match objective {
         Objective::MinEnergyFluctuation => mm::Goal::MinPeak(every(ENERGY, 2.0).collect()),
         Objective::MinPeakForce => mm::Goal::MinPeak(every(FORCE, 1.0).collect()),
-        Objective::MinRmsForce if sets.len() == 1 => mm::Goal::MinRms(FORCE),
+        Objective::MinRmsForce if sets.len() == 1 => mm::Goal::MinRms(at(FORCE)),
         Objective::MinPeakTorque => mm::Goal::MinPeak(every(TORQUE, 1.0).collect()),
         Objective::MinPeakMoment => mm::Goal::MinPeak(every(MOMENT, 1.0).collect()),
         Objective::MinRmsForce | Objective::MinMass | Objective::MinRadius => {
@@ -115,7 +131,7 @@ pub(super) fn optimise_joint(
         }
     }
     let pb = mm::Problem {
-        fields: sets.iter().flat_map(FieldSet::all).collect(),
+        fields: sets.iter().flat_map(|s| s.select(&kinds)).collect(),
         counterweights: bounds.limits(),
         extra,
         linear: Vec::new(),
@@ -129,7 +145,7 @@ pub(super) fn optimise_joint(
     if scene.envelope.sensitivities && sets.len() > 1 {
         let at = energy.then_some((n, offset0));
         optimum.sensitivities =
-            Some(sensitivity_table(scene, &sol, stride, at).map_err(|e| e.to_string()));
+            Some(sensitivity_table(scene, &sol, &kinds, at).map_err(|e| e.to_string()));
     }
     if let Some(e) = sets[0].energy.as_ref() {
         optimum.method = format!(
@@ -171,6 +187,12 @@ impl FieldSet<'_> {
             v.push(e);
         }
         v
+    }
+
+    /// The fields of `kinds` (indices into [`FieldSet::all`]), in that order.
+    fn select(&self, kinds: &[usize]) -> Vec<&dyn AffineField> {
+        let all = self.all();
+        kinds.iter().map(|&k| all[k]).collect()
     }
 }
 
@@ -563,7 +585,7 @@ fn minimax_settings(scene: &Scene) -> mm::Settings {
 }
 
 /// What each interval of the operating envelope costs (issue 33, item 3): the sensitivity
-/// table of the envelope solve `sol` of `scene` (the engine's fields `stride` per scenario,
+/// table of the envelope solve `sol` of `scene` (the engine's fields `kinds` per scenario,
 /// `energy` = (n, the first offset's index) for a ΔE design), dV*/d(end) for every interval
 /// end, so a designer sees which tolerance or speed limit to tighten first. By the envelope
 /// theorem from the optimum's multipliers (`synth::envelope::sensitivities`): free once the
@@ -575,9 +597,10 @@ fn minimax_settings(scene: &Scene) -> mm::Settings {
 fn sensitivity_table(
     scene: &Scene,
     sol: &mm::Solution,
-    stride: usize,
+    kinds: &[usize],
     energy: Option<(usize, usize)>,
 ) -> Result<Vec<Sensitivity>, SolveError> {
+    let stride = kinds.len();
     let multipliers = multipliers_of(sol).map_err(SolveError::Numeric)?;
     let env = &scene.envelope;
     let nb = scene.balancers.len();
@@ -587,7 +610,7 @@ fn sensitivity_table(
         let zero = s.with_balancers(&vec![[0.0; 2]; nb]);
         let js = JointScene::new(&s, &zero, nb);
         let set = js.fields([true; 4], energy.map(|(n, o)| (n, o + k)))?;
-        let at = ms.iter().map(|m| (m.field % stride, m.angle));
+        let at = ms.iter().map(|m| (kinds[m.field % stride], m.angle));
         Ok(field_values(&set.all(), at, &sol.x))
     };
     scenario_sensitivities(
