@@ -488,7 +488,13 @@ fn the_form_reads_the_fields_and_edits_tables() {
     let v = json(&body);
     assert_eq!(v["values"]["mechanism"]["speed"], "1000 rpm");
     assert_eq!(v["values"]["paper"][1]["value"], "460 N");
-    let line = |k: &str| v["lines"][k].as_u64().unwrap() as usize;
+    let keys = v["keys"].as_array().unwrap();
+    let at = |k: &str| keys.iter().position(|e| e[0] == k).unwrap();
+    let line = |k: &str| keys[at(k)][1].as_u64().unwrap() as usize;
+    assert!(
+        at("design.unbalance.min") < at("design.unbalance.max"),
+        "the file's order"
+    );
     assert!(text
         .lines()
         .nth(line("mechanism.speed") - 1)
@@ -546,6 +552,12 @@ fn the_form_reads_the_fields_and_edits_tables() {
             .unwrap()
             .len(),
         1
+    );
+    // A field of an inline array of inline tables.
+    let inline = "a = [{ b = 1 }, { b = 2 }] # two\n";
+    assert_eq!(
+        edit(inline, "a[1].b", serde_json::json!(3)),
+        "a = [{ b = 1 }, { b = 3 }] # two\n"
     );
     for (key, value) in [("paper[5]", entry), ("paper[0]", serde_json::json!(3))] {
         let body = serde_json::json!({"text": text, "key": key, "value": value}).to_string();

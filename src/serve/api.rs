@@ -355,7 +355,8 @@ async fn edit(Shared(st): Shared<Arc<State>>, req: Request) -> Response {
 }
 
 /// `POST /api/fields`: the problem file's values as JSON for the page's form, `{"values":
-/// {…}, "lines": {"dotted.key": line}}`, or its TOML syntax error, located (400).
+/// {…}, "keys": [["dotted.key", line], …]}` (every key in the file's order), or its TOML
+/// syntax error, located (400).
 async fn fields(Shared(st): Shared<Arc<State>>, req: Request) -> Response {
     let name = file_name(req.uri().query())
         .unwrap_or("request.toml")
@@ -373,12 +374,12 @@ async fn fields(Shared(st): Shared<Arc<State>>, req: Request) -> Response {
         Ok(t) => t,
         Err(e) => return problem_error(&e),
     };
-    let lines: serde_json::Map<String, Value> = ctx
+    let keys: Vec<Value> = ctx
         .map()
         .lines()
-        .map(|(k, line)| (k.to_string(), json!(line)))
+        .map(|(k, line)| json!([k, line]))
         .collect();
-    json_answer(&json!({"values": table, "lines": lines}))
+    json_answer(&json!({"values": table, "keys": keys}))
 }
 
 /// `POST /api/export?what=html|dxf|json`: the result's report page (self-contained), its

@@ -24,15 +24,14 @@ pub fn set_key(text: &str, key: &str, value: &Value) -> Result<String, String> {
         let item = table
             .get_mut(name)
             .ok_or_else(|| format!("{key}: no `{name}` there"))?;
-        section = index.is_some() || item.is_table();
+        section = item.is_table() || item.is_array_of_tables();
         table = match index {
             None => item
                 .as_table_like_mut()
                 .ok_or_else(|| format!("{key}: `{name}` is not a table"))?,
-            Some(k) => entries(item, key, name)?
-                .get_mut(*k)
-                .map(|t| t as &mut dyn TableLike)
-                .ok_or_else(|| format!("{key}: `{name}` has no entry {k}"))?,
+            Some(k) => {
+                entry(item, *k).ok_or_else(|| format!("{key}: `{name}` has no entry {k}"))?
+            }
         };
     }
     match last {
@@ -48,6 +47,18 @@ pub fn set_key(text: &str, key: &str, value: &Value) -> Result<String, String> {
         }
     }
     Ok(doc.to_string())
+}
+
+/// Entry `k` of `item`, an array of tables or an inline array of inline tables.
+fn entry(item: &mut Item, k: usize) -> Option<&mut dyn TableLike> {
+    match item {
+        Item::ArrayOfTables(a) => a.get_mut(k).map(|t| t as &mut dyn TableLike),
+        Item::Value(toml_edit::Value::Array(a)) => a
+            .get_mut(k)
+            .and_then(|v| v.as_inline_table_mut())
+            .map(|t| t as &mut dyn TableLike),
+        _ => None,
+    }
 }
 
 /// The array of tables `item` (named `name` in `key`), or why not.

@@ -12,6 +12,7 @@ const form = {
   builtFrom: null, // the text the form shows
   values: {}, // that text's values
   lines: {}, // and the line of every dotted key
+  order: {}, // and its place in the file
 };
 
 function h(tag, attrs, ...children) {
@@ -103,13 +104,17 @@ function allowed(s) {
 }
 
 // The value a field's text stands for: "" removes the key (null); a number or a boolean
-// where the schema allows one; an array split at commas; else the text (a wrong one is sent
-// as it is: the server names the error at its field).
+// where the schema allows one; an array split at commas (where the field is one, or may be
+// one and has a comma); JSON where it looks like an object; else the text (a wrong one is
+// sent as it is: the server names the error at its field).
 function parse(text, s) {
   const t = text.trim();
   if (t === "") return null;
   const ts = allowed(s);
-  if (ts.has("array") && !ts.has("string")) {
+  if (t.startsWith("{")) {
+    try { return JSON.parse(t); } catch (_) { return t; }
+  }
+  if (s.type === "array" || (ts.has("array") && t.includes(","))) {
     const item = flat(s.items || (s.alts || []).find((a) => a.type === "array")?.items || {});
     return t.split(",").map((x) => parse(x, item)).filter((x) => x !== null);
   }
@@ -139,6 +144,7 @@ function valueAt(key) {
 // Writes `value` (null: removes) at `key`. Where the key's table is absent, the outermost
 // absent table is written with the value inside it (one edit: a new `[table]`).
 async function formEdit(key, value) {
+  const t0 = performance.now(); // the edit-to-redraw clock starts at the change
   let at = key;
   let v = value;
   const parts = key.split(".");
@@ -158,6 +164,7 @@ async function formEdit(key, value) {
   const answer = await res.json();
   if (answer.error) { showError(answer.error); markError(Object.assign({}, answer.error, { field: key })); return; }
   $("toml").value = answer.text;
+  if (editedAt === null) editedAt = t0;
   edited();
 }
 
@@ -166,14 +173,16 @@ async function formEdit(key, value) {
 function fieldRow(name, s, v, key, required) {
   s = branch(s, v);
   const u = units(s) || (s.items && units(flat(s.items)));
-  const row = h("div", { class: "field", "data-key": key });
+  const known = Object.keys(s).length > 0;
+  const row = h("div", { class: known ? "field" : "field unknown", "data-key": key });
   const label = h("label", { class: "name", text: name + (required ? " *" : "") });
   label.title = key + (s.description ? "\n\n" + s.description : "");
   const line = form.lines[key];
   const lineLink = line ? h("button", { type: "button", class: "line", text: "L" + line, title: "show line " + line + " in the text" }) : null;
   if (lineLink) lineLink.addEventListener("click", () => showLine(line));
   const input = fieldInput(s, v, key);
-  input.setAttribute("aria-label", key);
+  input.id = "field:" + key;
+  label.htmlFor = input.id;
   const hint = [u ? "unit: " + u[0] : null, firstSentence(s.description)].filter(Boolean).join(" — ");
   row.append(label, input, lineLink || h("span"));
   row.appendChild(h("small", { class: "hint", text: hint }));
@@ -207,9 +216,10 @@ function fieldInput(s, v, key) {
   return input;
 }
 
-// The line of a key (an array of tables: its first entry's), for the file's order.
-function lineOf(key) {
-  return form.lines[key] || form.lines[key + "[0]"] || 1e9;
+// The place of a key in the file (an array of tables: its first entry's).
+function placeOf(key) {
+  const i = form.order[key] ?? form.order[key + "[0]"];
+  return i === undefined ? 1e9 : i;
 }
 
 // A table's rows: the keys the file has, in its order, then the schema's other keys folded
@@ -219,7 +229,7 @@ function tableRows(s, values, path) {
   const props = s.properties || {};
   const box = h("div", { class: "rows" });
   const present = Object.keys(values || {});
-  present.sort((a, b) => lineOf(childKey(path, a)) - lineOf(childKey(path, b)));
+  present.sort((a, b) => placeOf(childKey(path, a)) - placeOf(childKey(path, b)));
   for (const name of present) box.appendChild(member(name, props[name] || {}, values[name], childKey(path, name), s));
   const absent = Object.keys(props).filter((n) => !(n in (values || {})));
   if (absent.length) {
@@ -334,8 +344,19 @@ function markError(e) {
   p.textContent = (e.line ? "line " + e.line + ": " : "") + e.message;
   p.hidden = false;
   for (let d = r.closest("details"); d; d = d.parentElement.closest("details")) d.open = true;
-  r.scrollIntoView({ block: "nearest" });
+  if (document.activeElement !== $("toml")) r.scrollIntoView({ block: "nearest" }); // not while typing there
   document.body.dataset.formError = r.dataset.key;
+}
+
+// A note above the form's fields (null: none).
+function note(text) {
+  let p = $("form").querySelector(":scope > .form-note");
+  if (!p) {
+    p = h("p", { class: "form-note error" });
+    $("form").prepend(p);
+  }
+  p.textContent = text || "";
+  p.hidden = !text;
 }
 
 // After every answer: rebuild the form where the text changed, then show the error, if any.
@@ -348,10 +369,15 @@ async function formAnswered(error) {
       body: text,
     });
     const answer = await res.json();
-    if (!answer.error && text === $("toml").value) {
+    if (text !== $("toml").value) return; // a later text's answer follows
+    if (answer.error) {
+      note("The text does not parse" + (answer.error.line ? " (line " + answer.error.line + ")" : "") +
+        ": the form shows the last text that did; fix it in the text.");
+    } else {
       form.builtFrom = text;
       form.values = answer.values;
-      form.lines = answer.lines;
+      form.lines = Object.fromEntries(answer.keys);
+      form.order = Object.fromEntries(answer.keys.map(([k], i) => [k, i]));
       render();
     }
   }
