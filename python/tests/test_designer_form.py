@@ -103,3 +103,11 @@ def test_optional_fields_tables_and_entries_are_added_and_removed(page, piston):
     set_field(page, "mechanism.drive.cs", "0.05")
     assert "[mechanism.drive]\ncs = 0.05\n" in page.input_value("#toml")
     playwright.expect(field(page, "mechanism.drive.cs")).to_have_value("0.05")
+
+
+def test_a_text_that_does_not_parse_leaves_the_form_with_a_note(page, piston):
+    formed_after(page, lambda: page.fill("#toml", piston + "\n[broken\n"))
+    playwright.expect(page.locator("#form-view .form-note")).to_contain_text("does not parse")
+    playwright.expect(field(page, "mechanism.speed")).to_have_value("1000 rpm")
+    formed_after(page, lambda: page.fill("#toml", piston))
+    playwright.expect(page.locator("#form-view .form-note")).to_be_hidden()

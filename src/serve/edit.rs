@@ -7,10 +7,12 @@ use serde_json::Value;
 use toml_edit::{Array, ArrayOfTables, DocumentMut, InlineTable, Item, Table, TableLike};
 
 /// `text` with the dotted `key` (`mechanism.dyads[1].q`: tables, `[i]` the i-th entry of an
-/// array of tables) set to `value` (a string, number, boolean, array of them, or an object:
-/// a table) or removed (`null`); the last name may be new in an existing table, and a last
-/// `name[i]` with `i` the array's length appends an entry. `Err`: why not (the text does not
-/// parse, a name or an entry does not exist, the value is not one TOML holds).
+/// array of tables, or on the way of an inline array of inline tables) set to `value` (a
+/// string, number, boolean, array of them, or an object: a table) or removed (`null`); the
+/// last name may be new in an existing table; a last `name[i]` replaces or removes entry `i`
+/// of an array of tables, or appends one where `i` is its length (`name[0]` creates a missing
+/// array). `Err`: why not (the text does not parse, a name or an entry does not exist, the
+/// value is not one TOML holds).
 pub fn set_key(text: &str, key: &str, value: &Value) -> Result<String, String> {
     let mut doc: DocumentMut = text
         .parse()

@@ -274,7 +274,7 @@ function group(name, s, v, key, required) {
 // An array of tables (`[[mechanism.dyads]]`): each entry with "Remove", and "Add" (a copy of
 // the last entry, or an empty one whose missing fields the check then names).
 function entries(name, s, list, key) {
-  const g = groupBox(name + " (" + list.length + ")", s, key, true);
+  const g = groupBox(name + " (" + list.length + ")", s, key, list.length > 0);
   list.forEach((entry, i) => {
     const k = key + "[" + i + "]";
     const sub = group(name + "[" + i + "]", flat(s.items), entry, k, false);
@@ -348,12 +348,12 @@ function markError(e) {
   document.body.dataset.formError = r.dataset.key;
 }
 
-// A note above the form's fields (null: none).
+// A note above the form (null: none), outside its scrolled box.
 function note(text) {
-  let p = $("form").querySelector(":scope > .form-note");
+  let p = $("form-view").querySelector(".form-note");
   if (!p) {
     p = h("p", { class: "form-note error" });
-    $("form").prepend(p);
+    $("form").before(p);
   }
   p.textContent = text || "";
   p.hidden = !text;
@@ -378,8 +378,11 @@ async function formAnswered(error) {
       form.values = answer.values;
       form.lines = Object.fromEntries(answer.keys);
       form.order = Object.fromEntries(answer.keys.map(([k], i) => [k, i]));
+      note(null);
       render();
     }
+  } else {
+    note(null); // back to the text the form shows
   }
   markError(error);
   document.body.dataset.form = String(Number(document.body.dataset.form || 0) + 1);
