@@ -510,3 +510,106 @@ fn slow_clients_lose_their_connection_and_the_server_goes_on() {
     let (status, _, body) = http(addr, "GET", "/api/templates", b"", "");
     assert_eq!(status, 200, "{body}");
 }
+
+/// The form's routes: `POST /api/fields` gives the file's values and every key's line (a
+/// syntax error located), `POST /api/edit` removes a key (`null`), adds a table (an object)
+/// and appends or removes an entry of an array of tables, the rest of the file kept; the
+/// form's script is served.
+#[test]
+fn the_form_reads_the_fields_and_edits_tables() {
+    let addr = server(|_| {});
+    let name = "piston-1000rpm.toml";
+    let text = std::fs::read_to_string(problems().join(name)).unwrap();
+    let (status, _, body) = http(
+        addr,
+        "POST",
+        &format!("/api/fields?name={name}"),
+        text.as_bytes(),
+        "",
+    );
+    assert_eq!(status, 200, "{body}");
+    let v = json(&body);
+    assert_eq!(v["values"]["mechanism"]["speed"], "1000 rpm");
+    assert_eq!(v["values"]["paper"][1]["value"], "460 N");
+    let keys = v["keys"].as_array().unwrap();
+    let at = |k: &str| keys.iter().position(|e| e[0] == k).unwrap();
+    let line = |k: &str| keys[at(k)][1].as_u64().unwrap() as usize;
+    assert!(
+        at("design.unbalance.min") < at("design.unbalance.max"),
+        "the file's order"
+    );
+    assert!(text
+        .lines()
+        .nth(line("mechanism.speed") - 1)
+        .unwrap()
+        .starts_with("speed = "));
+    assert!(text
+        .lines()
+        .nth(line("design.unbalance.max") - 1)
+        .unwrap()
+        .starts_with("unbalance = "));
+    let (status, _, body) = http(
+        addr,
+        "POST",
+        "/api/fields?name=x.toml",
+        b"a = 1\nb = [\n",
+        "",
+    );
+    assert_eq!(status, 400);
+    let e = &json(&body)["error"];
+    assert!(e["file"] == "x.toml" && e["line"].as_u64().is_some(), "{e}");
+    let edit = |text: &str, key: &str, value: Value| {
+        let body = serde_json::json!({"text": text, "key": key, "value": value}).to_string();
+        let (status, _, body) = http(addr, "POST", "/api/edit", body.as_bytes(), "");
+        assert_eq!(status, 200, "{key}: {body}");
+        json(&body)["text"].as_str().unwrap().to_string()
+    };
+    let removed = edit(&text, "model.rod_split", Value::Null);
+    assert_eq!(removed, text.replace("rod_split = 0.5\n", ""));
+    // A table the file leaves out, written in one edit as a `[section]` after the others.
+    let drive = edit(&text, "mechanism.drive", serde_json::json!({"cs": 0.05}));
+    assert!(
+        drive.starts_with(&text[..text.find("[model]").unwrap()]),
+        "{drive}"
+    );
+    assert!(drive.contains("[mechanism.drive]\ncs = 0.05\n"), "{drive}");
+    // Entries of an array of tables: appended, replaced, removed.
+    let entry = serde_json::json!({"quantity": "q", "value": "1 N", "key": "objectives.peak_shaking_force_n"});
+    let three = edit(&text, "paper[2]", entry.clone());
+    let added =
+        "[[paper]]\nkey = \"objectives.peak_shaking_force_n\"\nquantity = \"q\"\nvalue = \"1 N\"\n";
+    assert_eq!(three, format!("{text}\n{added}"));
+    assert_eq!(edit(&three, "paper[2]", Value::Null), text);
+    let none = edit(&text, "paper", Value::Null);
+    assert!(!none.contains("[[paper]]") && none.contains("[accuracy]\nrel_tol = 1e-9\n"));
+    assert_eq!(
+        edit(&none, "paper[0]", entry.clone())
+            .matches("[[paper]]")
+            .count(),
+        1
+    );
+    let one = edit(&text, "paper[0]", Value::Null);
+    assert_eq!(
+        json(&http(addr, "POST", "/api/fields", one.as_bytes(), "").2)["values"]["paper"]
+            .as_array()
+            .unwrap()
+            .len(),
+        1
+    );
+    // A field of an inline array of inline tables.
+    let inline = "a = [{ b = 1 }, { b = 2 }] # two\n";
+    assert_eq!(
+        edit(inline, "a[1].b", serde_json::json!(3)),
+        "a = [{ b = 1 }, { b = 3 }] # two\n"
+    );
+    for (key, value) in [("paper[5]", entry), ("paper[0]", serde_json::json!(3))] {
+        let body = serde_json::json!({"text": text, "key": key, "value": value}).to_string();
+        assert_eq!(
+            http(addr, "POST", "/api/edit", body.as_bytes(), "").0,
+            400,
+            "{key}"
+        );
+    }
+    let (status, head, js) = http(addr, "GET", "/form.js", b"", "");
+    assert!(status == 200 && head.contains("text/javascript") && js.contains("/api/fields"));
+}

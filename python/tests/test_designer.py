@@ -8,60 +8,18 @@ The page's Content-Security-Policy forbids `eval`, so the test waits on selector
 locator assertions, never on evaluated strings."""
 
 import json
-import shutil
 import statistics
-import subprocess
-import time
 import urllib.request
 
 import pytest
 
-from conftest import PROBLEMS, REPO, cli_path
+from conftest import CHROMIUM, PROBLEMS, solved_after
 
 playwright = pytest.importorskip("playwright.sync_api")
-CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
 pytestmark = pytest.mark.skipif(CHROMIUM is None, reason="no chromium")
 
 # Edits per scene for the edit-to-redraw table.
 EDITS = 2
-
-
-
-@pytest.fixture(scope="module")
-def server():
-    p = subprocess.Popen(
-        [str(cli_path()), "serve", "--no-open", "--port", "0", str(REPO / "problems")],
-        stdout=subprocess.PIPE,
-        text=True,
-    )
-    line = p.stdout.readline()
-    assert line.startswith("cwsynth serve: http://"), line
-    yield line.split(": ", 1)[1].strip()
-    p.terminate()
-    p.wait(10)
-
-
-@pytest.fixture(scope="module")
-def page(server):
-    with playwright.sync_playwright() as pw:
-        b = pw.chromium.launch(executable_path=CHROMIUM, args=["--no-sandbox"])
-        pg = b.new_page(accept_downloads=True)
-        errors = []
-        pg.on("pageerror", lambda e: errors.append(str(e)))
-        pg.goto(server)
-        pg.wait_for_selector("body[data-solved]")
-        yield pg
-        assert errors == [], errors
-        b.close()
-
-
-def solved_after(pg, act):
-    """Runs `act` and waits for the page's next answer; the time it took (s)."""
-    n = pg.get_attribute("body", "data-solved")
-    t0 = time.perf_counter()
-    act()
-    pg.wait_for_selector(f"body:not([data-solved='{n}'])", timeout=120_000)
-    return time.perf_counter() - t0
 
 
 def test_every_shipped_problem_opens_and_solves(page):

@@ -143,6 +143,14 @@ impl SourceMap {
         }
     }
 
+    /// Every dotted key (tables, `[[array]]` entries, values and inline tables' keys) with
+    /// its line, in the file's order.
+    pub fn lines(&self) -> impl Iterator<Item = (&str, usize)> + '_ {
+        self.entries
+            .iter()
+            .map(|(k, span)| (k.as_str(), self.line_of_offset(span.start)))
+    }
+
     /// The innermost dotted key whose span contains `offset`.
     pub fn key_at(&self, offset: usize) -> Option<&str> {
         self.entries

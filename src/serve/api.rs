@@ -25,6 +25,7 @@ pub(super) fn routes(state: Arc<State>) -> Router {
         .route("/api/report", post(report))
         .route("/api/check", post(check))
         .route("/api/edit", post(edit))
+        .route("/api/fields", post(fields))
         .route("/api/export", post(export))
         .route("/api/templates", get(templates))
         .route("/api/schema", get(schema))
@@ -34,6 +35,7 @@ pub(super) fn routes(state: Arc<State>) -> Router {
     Router::new()
         .route("/", get(|| async { assets::page() }))
         .route("/app.js", get(|| async { assets::script() }))
+        .route("/form.js", get(|| async { assets::form_script() }))
         .route("/app.css", get(|| async { assets::style() }))
         .route("/favicon.ico", get(|| async { StatusCode::NO_CONTENT }))
         .merge(api)
@@ -350,6 +352,34 @@ async fn edit(Shared(st): Shared<Arc<State>>, req: Request) -> Response {
         Ok(text) => json_answer(&json!({ "text": text })),
         Err(why) => error(StatusCode::BAD_REQUEST, None, None, &why),
     }
+}
+
+/// `POST /api/fields`: the problem file's values as JSON for the page's form, `{"values":
+/// {…}, "keys": [["dotted.key", line], …]}` (every key in the file's order), or its TOML
+/// syntax error, located (400).
+async fn fields(Shared(st): Shared<Arc<State>>, req: Request) -> Response {
+    let name = file_name(req.uri().query())
+        .unwrap_or("request.toml")
+        .to_string();
+    let path = PathBuf::from(&name);
+    let bytes = match body_of(&st.opts, req.into_body(), st.opts.max_body).await {
+        Ok(b) => b,
+        Err((status, why)) => return error(status, Some(&name), None, &why),
+    };
+    let Ok(text) = std::str::from_utf8(&bytes) else {
+        return error(StatusCode::BAD_REQUEST, Some(&name), None, "not UTF-8 text");
+    };
+    let ctx = crate::problem::Ctx::new(&path, text);
+    let table: toml::Table = match ctx.parse(text) {
+        Ok(t) => t,
+        Err(e) => return problem_error(&e),
+    };
+    let keys: Vec<Value> = ctx
+        .map()
+        .lines()
+        .map(|(k, line)| json!([k, line]))
+        .collect();
+    json_answer(&json!({"values": table, "keys": keys}))
 }
 
 /// `POST /api/export?what=html|dxf|json`: the result's report page (self-contained), its

@@ -22,6 +22,14 @@ pub(super) fn script() -> Response {
     )
 }
 
+/// `GET /form.js`: the form generated from the problem file's schema.
+pub(super) fn form_script() -> Response {
+    asset(
+        "text/javascript; charset=utf-8",
+        include_str!("assets/form.js"),
+    )
+}
+
 /// `GET /app.css`.
 pub(super) fn style() -> Response {
     asset("text/css; charset=utf-8", include_str!("assets/app.css"))

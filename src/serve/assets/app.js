@@ -230,6 +230,8 @@ async function solve() {
   }
   if (mine !== generation) return; // a later edit's answer is on its way
   if (answer.error) showError(answer.error); else show(answer);
+  // The form (form.js) follows the text and shows the error at its field.
+  document.dispatchEvent(new CustomEvent("cwsynth:answer", { detail: answer.error || null }));
   // Edit to redraw: from the edit (the last keystroke, the drag's release) to this answer
   // drawn, the debounce included.
   const ms = performance.now() - t0;
