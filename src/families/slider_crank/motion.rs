@@ -2,7 +2,7 @@
 //! mechanism's frame (the slider on the line y = e, whatever `slider_axis_angle` turns the
 //! machine by): crank O→A, rod A→B, the slider at B, the counterweight (its plate as
 //! designed, else a steel disc of its mass), the slider's guide, and the handles: the crank
-//! radius (the crank pin along the crank), the offset (the guide across itself) and a given
+//! radius (the crank pin along the crank), the offset (the guide's end across the guide) and a given
 //! counterweight radius (the counterweight along its line). Exact kinematics, as the
 //! drawing: the series models are approximations of the forces, not of where the parts are.
 
@@ -41,7 +41,7 @@ pub fn motion(s: &Scene, d: &Design, plate: Option<Sector>) -> Motion {
         })
         .collect();
     let (lo, hi) = mo::span(frames.iter().map(|f| f.links[2][0][0]), 0.15);
-    let handles = handles(s, d, &frames, lo);
+    let handles = handles(s, d, &frames, hi);
     Motion {
         names: vec!["crank".into(), "rod".into(), "slider".into()],
         guides: vec![[[lo, m.e], [hi, m.e]]],
@@ -74,14 +74,14 @@ fn body(s: &Scene, d: &Design, plate: Option<Sector>) -> Option<Body> {
 }
 
 /// The crank radius, the offset and a given counterweight radius as handles.
-fn handles(s: &Scene, d: &Design, frames: &[Frame], guide_start: f64) -> Vec<Handle> {
+fn handles(s: &Scene, d: &Design, frames: &[Frame], guide_end: f64) -> Vec<Handle> {
     let crank: Vec<[f64; 3]> = frames.iter().map(|f| pose(P2::zeros(), f.theta)).collect();
     let x = P2::new(1.0, 0.0);
     let mut out = vec![
         Handle::length("mechanism.crank_radius", s.mech.r * x, x, s.mech.r, "mm").on(crank.clone()),
         Handle::length(
             "mechanism.offset",
-            P2::new(guide_start, s.mech.e),
+            P2::new(guide_end, s.mech.e),
             P2::new(0.0, 1.0),
             s.mech.e,
             "mm",
