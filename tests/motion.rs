@@ -263,12 +263,7 @@ fn handles(f: &Path, m: &Value) {
 
 #[test]
 fn every_shipped_scene_moves_rigidly_and_its_handles_edit_its_keys() {
-    let mut files: Vec<PathBuf> = std::fs::read_dir(problems())
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
-        .collect();
-    files.sort();
+    let files = crate::common::shipped();
     let mut families = std::collections::BTreeSet::new();
     for f in &files {
         let (r, m) = solved(f, None);
