@@ -200,10 +200,16 @@ function drawFrame() {
   for (const [a, b] of f.links) {
     for (const p of [a, b]) el("circle", { cx: p[0] * scale, cy: p[1] * scale, r: 2.5 * w, class: "joint", "stroke-width": w }, g);
   }
-  // Each link's name beside its middle (outside the flipped group, so the text reads upright).
+  // Each link's name beside its middle, on its left (outside the flipped group, so the text
+  // reads upright).
   f.links.forEach(([a, b], i) => {
-    const [x, y] = [(a[0] + b[0]) / 2 * scale, (a[1] + b[1]) / 2 * scale];
-    const t = el("text", { x: x + 3 * w, y: -y - 3 * w, class: "label", "font-size": 9 * w }, svg);
+    const [dx, dy] = [b[0] - a[0], b[1] - a[1]];
+    const n = Math.hypot(dx, dy);
+    // A link without a tip (a slider): below its joint.
+    const [nx, ny] = n ? [-dy / n, dx / n] : [0, -1.4];
+    const x = (a[0] + b[0]) / 2 * scale + 5 * w * nx;
+    const y = (a[1] + b[1]) / 2 * scale + 5 * w * ny;
+    const t = el("text", { x: x, y: -y, class: "label", "font-size": 7 * w, "text-anchor": "middle", "dominant-baseline": "middle" }, svg);
     t.textContent = m.names[i] || "";
   });
   for (const c of f.counterweights) {
