@@ -213,15 +213,14 @@ fn has_key(text: &str, key: &str) -> bool {
 
 /// Every handle's key is in the file (or defaulted), and its own value written back draws
 /// the same mechanism.
-fn handles(f: &Path, m: &Value) {
-    let text = std::fs::read_to_string(f).unwrap();
+fn handles(f: &Path, text: &str, m: &Value) {
     for h in m["handles"].as_array().unwrap() {
         let key = h["key"].as_str().unwrap();
         assert!(
-            has_key(&text, key) || DEFAULTED.contains(&key),
+            has_key(text, key) || DEFAULTED.contains(&key),
             "{f:?}: {key} is not in the file"
         );
-        let edited = set_key(&text, key, &page_value(h)).unwrap();
+        let edited = set_key(text, key, &page_value(h)).unwrap();
         if edited == text {
             continue;
         }
@@ -271,8 +270,39 @@ fn every_shipped_scene_moves_rigidly_and_its_handles_edit_its_keys() {
         assert!(m.is_object(), "{f:?}: no motion");
         finite(&m);
         rigid(f, &family, &r["design"], &m);
-        handles(f, &m);
+        handles(f, &std::fs::read_to_string(f).unwrap(), &m);
         families.insert(family);
     }
     assert_eq!(families.len(), 5, "{families:?}");
+}
+
+#[test]
+fn a_given_counterweight_is_a_handle_on_its_link() {
+    let f = problems().join("linkage-fourbar-crank-counterweight.toml");
+    let text = std::fs::read_to_string(&f).unwrap().replace(
+        "mass = { min = \"0 kg\", max = \"2 kg\" }",
+        "mass = \"0.5 kg\"\ncentroid = [\"-30 mm\", \"5 mm\"]",
+    );
+    let (_, m) = solved(&f, Some(&text));
+    let h = (m["handles"].as_array().unwrap().iter())
+        .find(|h| h["key"] == "design.counterweights[0].centroid")
+        .expect("the centroid's handle");
+    assert_eq!(p(&h["at"]), [-0.030, 0.005]);
+    // On the crank: placed by its pose, it is the frame's counterweight centroid.
+    for (k, fr) in m["frames"].as_array().unwrap().iter().enumerate() {
+        let pose = &h["poses"][k];
+        let [x, y, t] = [0, 1, 2].map(|i| pose[i].as_f64().unwrap());
+        let at = [
+            x + t.cos() * -0.030 - t.sin() * 0.005,
+            y + t.sin() * -0.030 + t.cos() * 0.005,
+        ];
+        assert!(dist(at, p(&fr["counterweights"][0])) < 1e-12, "frame {k}");
+        near(
+            t.rem_euclid(std::f64::consts::TAU),
+            fr["theta"].as_f64().unwrap(),
+            1.0,
+            "crank",
+        );
+    }
+    handles(&f, &text, &m);
 }
