@@ -220,6 +220,14 @@ fn handles(f: &Path, text: &str, m: &Value) {
             has_key(text, key) || DEFAULTED.contains(&key),
             "{f:?}: {key} is not in the file"
         );
+        if !has_key(text, key) {
+            // Left to its default (the origin, no offset): the handle is there.
+            let v = h["scalar"]
+                .get("value")
+                .map_or(p(&h["at"]), |v| [v.as_f64().unwrap(), 0.0]);
+            assert_eq!(v, [0.0, 0.0], "{f:?}: {key}");
+            continue;
+        }
         let edited = set_key(text, key, &page_value(h)).unwrap();
         if edited == text {
             continue;
