@@ -18,17 +18,6 @@ use std::process::Command;
 /// Tolerance on a length read back from a DXF (m).
 const TOL: f64 = 1e-9;
 
-/// Every shipped problem file.
-fn shipped() -> Vec<PathBuf> {
-    let mut v: Vec<PathBuf> = std::fs::read_dir(problem(""))
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
-        .collect();
-    v.sort();
-    v
-}
-
 /// `cwsynth solve --json --out DIR FILES…`: the result JSONs by scene name.
 fn solve(files: &[PathBuf], dir: &Path) -> BTreeMap<String, Value> {
     let out = Command::new(env!("CARGO_BIN_EXE_cwsynth"))

@@ -49,6 +49,7 @@ mod linkage_load_cases;
 mod linkage_model;
 mod load_cases;
 mod minimax_engine;
+mod motion;
 mod mutants;
 mod outline;
 mod plate_counterweight;

@@ -64,12 +64,7 @@ fn comparable(mut v: Value) -> Value {
 #[test]
 fn every_shipped_problem_solves_as_the_command_line_does() {
     let addr = server(|_| {});
-    let mut files: Vec<PathBuf> = std::fs::read_dir(problems())
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
-        .collect();
-    files.sort();
+    let files = crate::common::shipped();
     assert!(files.len() >= 30);
     let (status, _, body) = http(addr, "GET", "/api/files", b"", "");
     assert_eq!(status, 200);

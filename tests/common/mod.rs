@@ -163,19 +163,23 @@ pub fn num(v: &serde_json::Value, path: &str) -> f64 {
         .unwrap_or_else(|| panic!("{path} is not a number: {x}"))
 }
 
-/// The shipped problem files of one family (`"luffing-crane"`, …), sorted.
-pub fn family_files(family: &str) -> Vec<PathBuf> {
-    let tag = format!("family = \"{family}\"");
+/// Every shipped problem file, sorted.
+pub fn shipped() -> Vec<PathBuf> {
     let mut v: Vec<PathBuf> = std::fs::read_dir(problem(""))
         .unwrap()
         .map(|e| e.unwrap().path())
-        .filter(|p| {
-            p.extension().is_some_and(|e| e == "toml")
-                && std::fs::read_to_string(p).unwrap().contains(&tag)
-        })
+        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
         .collect();
     v.sort();
     v
+}
+
+/// The shipped problem files of one family (`"luffing-crane"`, …), sorted.
+pub fn family_files(family: &str) -> Vec<PathBuf> {
+    let tag = format!("family = \"{family}\"");
+    (shipped().into_iter())
+        .filter(|p| std::fs::read_to_string(p).unwrap().contains(&tag))
+        .collect()
 }
 
 #[allow(unused_imports)]

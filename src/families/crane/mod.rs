@@ -6,6 +6,7 @@ pub mod balance;
 pub mod file;
 pub mod luffing;
 pub mod model;
+pub mod motion;
 pub mod numbers;
 pub mod report;
 pub mod solve;

@@ -6,7 +6,7 @@
 use super::file::*;
 use super::solve::{Analyses, Solution};
 use crate::families::crane::balance;
-use crate::families::crane::model::{synthesize, Angles, Boom, Guide};
+use crate::families::crane::model::{synthesize, Boom, Guide};
 use crate::families::crane::statics::boom_frame;
 use crate::families::crane::synth::{self as cr, Outcome, TiePinLimit};
 use crate::families::family::Scene;
@@ -48,6 +48,7 @@ pub fn documents(scene: &Scene, s: &CraneProblem, sol: &Solution, r: &mut SolveR
         .and_then(|b| b.counterweight.as_ref())
         .map(|c| (c.static_moment_kgm, c.mass_kg));
     crane_drawing(r, &scene.name, out, cw);
+    r.motion = super::motion::motion(s, out, cw).and_then(|m| serde_json::to_value(m).ok());
 }
 
 /// The Δh landscape (an analysis only the files carry): its section `extra.landscape`, its
@@ -308,13 +309,7 @@ fn landscape_plot(
         // The tie pin B of every grid point (cheap: step 2 only, no path), at the reported
         // angles and boom length, for the signed margin whose zero contour is the boundary.
         let v = &out.design.vars;
-        let angles = Angles {
-            phi_min: v.phi_min_rad,
-            gamma1: v.gamma1_rad,
-            gamma2: v.gamma2_rad,
-            gamma3: v.gamma3_rad,
-        };
-        let boom = Boom::new(out.design.boom_length_m.unwrap_or(f64::NAN), angles)
+        let boom = Boom::new(out.design.boom_length_m.unwrap_or(f64::NAN), v.angles())
             .map_err(PlotError::data)?;
         let margin: Vec<Vec<f64>> =
             l.k2.iter()

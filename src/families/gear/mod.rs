@@ -4,6 +4,7 @@
 
 pub mod file;
 pub mod model;
+pub mod motion;
 pub mod numbers;
 pub mod report;
 pub mod solve;

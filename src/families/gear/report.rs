@@ -55,6 +55,7 @@ pub fn documents(scene: &Scene, p: &GearProblem, sol: &Solution, r: &mut SolveRe
         ));
     }
     pitch_drawing(r, &shared.0.name, &shared.2);
+    r.motion = super::motion::motion(&p.gear, out).and_then(|m| serde_json::to_value(m).ok());
     if !shared.2.sweep.is_empty() {
         let d = shared.clone();
         r.plots.push(Plot::new(

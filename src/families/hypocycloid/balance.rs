@@ -131,7 +131,7 @@ impl RotatingOutcome {
 
     /// The (carrier, planet) counterweights the design builds: the minimax pair where it was
     /// asked for, else the closed-form pair; none without `[design.rotating]`.
-    fn design_pair(&self) -> Option<(Counterweight, Counterweight)> {
+    pub fn design_pair(&self) -> Option<(Counterweight, Counterweight)> {
         self.minimax
             .as_ref()
             .map(|m| (m.carrier, m.planet))

@@ -9,6 +9,7 @@ pub mod file;
 pub mod gas;
 pub mod load_cases;
 pub mod model;
+pub mod motion;
 pub mod numbers;
 pub mod report;
 pub mod solve;

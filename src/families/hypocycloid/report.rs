@@ -31,6 +31,10 @@ pub fn analysis_documents(
 pub fn documents(scene: &Scene, s: &HypocycloidProblem, sol: &Solution, r: &mut SolveResult) {
     let out = &sol.out;
     mechanism_drawing(r, &scene.name, &out.design, s.scene.alpha0);
+    let cws = sol.dynamics.as_ref().and_then(|d| d.as_ref().ok());
+    let cws = cws.and_then(|d| d.rotating.as_ref()?.design_pair());
+    let motion = super::motion::motion(s, &out.design, cws);
+    r.motion = motion.and_then(|m| serde_json::to_value(m).ok());
     r.tables = tables(out);
     closed_form_table(r, s, out);
     if let Some(Ok(d)) = &sol.dynamics {

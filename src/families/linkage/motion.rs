@@ -1,15 +1,24 @@
 //! The linkage over one crank turn as the designer draws it (`crate::report::motion`):
 //! every link as a segment from its reference joint to its tip, the counterweights'
-//! centroids, an RRP dyad's slide line, and the frame points the file gives by value — the
-//! handles a user drags, each with the key it edits. Shared with the report's position plot
-//! ([`segments`]).
+//! centroids and bodies (a plate as cut, a drawn outline as drawn, else the annular sector
+//! with their mass, centroid and inertia, else a steel disc), an RRP dyad's slide line, and
+//! the points the file gives by value — the handles a user drags, each with the key it
+//! edits: the frame points, and a given counterweight's centroid on its link. Shared with
+//! the report's position plot ([`segments`]).
 
 use super::file::LinkageScene;
 use super::model::{tip_of, Dyad, Linkage, Point, Pose};
 use super::synth as ls;
+use crate::geom::plate::Realised;
 use crate::geom::P2;
-use crate::report::motion::{xy, Frame, Handle, Motion, FRAMES};
-use std::f64::consts::TAU;
+use crate::report::motion::{self as mo, pose, xy, Body, BodyKind, Frame, Handle, Motion};
+use crate::synth::Var;
+
+/// Per counterweight: its annular sector (rᵢ, rₒ, θ) and its plate, where it has them.
+pub type Bodies<'a> = (&'a [Option<(f64, f64, f64)>], &'a [Option<Realised>]);
+
+/// The thickness of a counterweight drawn as a steel disc (no plate, drawing or sector, m).
+pub const DISC_THICKNESS: f64 = 0.02;
 
 /// Each link of `pose` as (reference joint, tip) (m, world).
 pub fn segments(l: &Linkage, crank_length: f64, pose: &Pose) -> Vec<(P2, P2)> {
@@ -38,10 +47,7 @@ pub fn counterweights(sc: &LinkageScene, x: &[f64], pose: &Pose) -> Vec<P2> {
 
 /// The frame points the file gives by value, with their keys.
 fn handles(l: &Linkage) -> Vec<Handle> {
-    let h = |key: String, p: P2| Handle {
-        key,
-        at: [p.x, p.y],
-    };
+    let h = |key: String, p: P2| Handle::point(key, p);
     let mut out = vec![h("mechanism.crank_pivot".into(), l.pivot())];
     for (k, d) in l.dyads().iter().enumerate() {
         let key = |f: &str| format!("mechanism.dyads[{k}].{f}");
@@ -63,12 +69,16 @@ fn handles(l: &Linkage) -> Vec<Handle> {
     out
 }
 
-/// The scene `sc` with the design `x` (none: bare) over one turn.
-pub fn motion(sc: &LinkageScene, x: Option<&[f64]>) -> Motion {
+/// The scene `sc` with the design `x` (none: bare) and its counterweights' `bodies` over one
+/// turn.
+pub fn motion(sc: &LinkageScene, x: Option<&[f64]>, bodies: Bodies) -> Motion {
     let l = &sc.linkage;
-    let frames: Vec<Frame> = (0..FRAMES)
-        .filter_map(|k| {
-            let theta = TAU * k as f64 / FRAMES as f64;
+    let cws = x
+        .map(|x| counterweight_bodies(sc, x, bodies))
+        .unwrap_or_default();
+    let mut placed: Vec<Vec<[f64; 3]>> = vec![Vec::new(); sc.link_names.len()];
+    let frames: Vec<Frame> = mo::turn()
+        .filter_map(|theta| {
             let pose = l.pose(theta).ok()?;
             let links = segments(l, sc.crank_length, &pose)
                 .into_iter()
@@ -77,18 +87,89 @@ pub fn motion(sc: &LinkageScene, x: Option<&[f64]>) -> Motion {
             let counterweights = x
                 .map(|x| counterweights(sc, x, &pose).into_iter().map(xy).collect())
                 .unwrap_or_default();
+            let at = |i: usize| pose_of(&pose, i);
+            for (i, p) in placed.iter_mut().enumerate() {
+                p.push(at(i));
+            }
             Some(Frame {
                 theta,
                 links,
                 counterweights,
+                poses: cws.iter().map(|(i, _)| at(*i)).collect(),
             })
         })
         .collect();
+    let mut handles = handles(l);
+    handles.extend(centroid_handles(sc, &placed));
     Motion {
         names: sc.link_names.clone(),
         guides: guides(l, &frames),
         frames,
-        handles: handles(l),
+        handles,
+        bodies: cws.into_iter().map(|(_, b)| b).collect(),
+    }
+}
+
+/// Link `i`'s frame on `pose`: its reference joint and its axis's angle.
+fn pose_of(p: &Pose, i: usize) -> [f64; 3] {
+    let st = &p.links[i];
+    pose(st.p[0], st.e.y.atan2(st.e.x))
+}
+
+/// A counterweight given by mass and centroid: its centroid on its link as a handle.
+fn centroid_handles(sc: &LinkageScene, placed: &[Vec<[f64; 3]>]) -> Vec<Handle> {
+    (sc.counterweights.iter().enumerate())
+        .filter(|(_, c)| c.drawing.is_none() && matches!(c.mass, Var::Fixed(_)))
+        .filter_map(|(j, c)| {
+            let (at, _) = c.given?;
+            let key = format!("design.counterweights[{j}].centroid");
+            Some(Handle::point(key, at).on(placed[c.link].clone()))
+        })
+        .collect()
+}
+
+/// Each counterweight of the design `x` with a mass as the body to build, in its link's
+/// frame about the joint, with the link's index.
+fn counterweight_bodies(
+    sc: &LinkageScene,
+    x: &[f64],
+    (sectors, plates): Bodies,
+) -> Vec<(usize, Body)> {
+    let mut out = Vec::new();
+    for (j, (link, m)) in ls::extras(&sc.counterweights, x).iter().enumerate() {
+        if m[0] <= 0.0 {
+            continue;
+        }
+        let spec = &sc.counterweights[j];
+        let c = P2::new(m[1] / m[0], m[2] / m[0]);
+        let name = format!("counterweight on {}", spec.link_name);
+        let body = |loops, note: String| Body {
+            name: name.clone(),
+            kind: BodyKind::Counterweight,
+            loops,
+            note: format!("{:.4} kg: {note}", m[0]),
+        };
+        let plate = plates.get(j).copied().flatten();
+        let b = if let Some(d) = &spec.drawing {
+            body(mo::polylines(d), "as drawn in its outline".into())
+        } else if let Some(p) = plate {
+            body(mo::polylines(&p.shape.loops()), plate_note(spec))
+        } else if let Some((ri, ro, th)) = sectors.get(j).copied().flatten().filter(|s| s.1 > 0.0) {
+            let note = "the annular sector with its mass, centroid and inertia (an equivalent)";
+            body(mo::annular_sector(ri, ro, c.y.atan2(c.x), th), note.into())
+        } else {
+            mo::steel_disc(name.clone(), c, m[0], DISC_THICKNESS)
+        };
+        out.push((*link, b));
+    }
+    out
+}
+
+/// A plate's note: its thickness and material.
+fn plate_note(spec: &super::file::CounterweightSpec) -> String {
+    match (spec.thickness, spec.density) {
+        (Some(t), Some(rho)) => format!("the plate to cut, {:.1} mm of {rho} kg/m³", t * 1e3),
+        _ => "the plate to cut".into(),
     }
 }
 

@@ -10,7 +10,6 @@ use super::synth::{self as ls};
 use crate::families::family::Scene;
 use crate::families::linkage::model::{Dyad, Linkage, Point};
 use crate::geom::outline::Edge;
-use crate::geom::plate::Realised;
 use crate::geom::P2;
 use crate::report::drawing::{Drawing, DrawingError, Layer, Sheet};
 use crate::report::plot::{self, Panel, PlotError, Series};
@@ -47,7 +46,8 @@ pub fn documents(scene: &Scene, p: &LinkageProblem, sol: &Solved, r: &mut SolveR
     }
     joint_table(r, p, sol);
     curves(r, scene, p, sol);
-    let motion = super::motion::motion(&p.scene, sol.design_x());
+    let bodies = (&sol.sectors[..], &sol.out.plates[..]);
+    let motion = super::motion::motion(&p.scene, sol.design_x(), bodies);
     r.motion = serde_json::to_value(motion).ok();
     crate::report::drive::drive_documents(r, sol.drive.as_ref(), "crank");
     // The load case that governs the flywheel, where it is not the nominal one: its turn and
@@ -322,8 +322,7 @@ fn linkage_drawing(r: &mut SolveResult, scene: &Scene, p: &LinkageProblem, sol: 
     }));
 }
 
-/// Per counterweight: its annular sector (rᵢ, rₒ, θ) and its plate, where it has them.
-type Bodies<'a> = (&'a [Option<(f64, f64, f64)>], &'a [Option<Realised>]);
+use super::motion::Bodies;
 
 /// The links (reference joint to tip) at the design position θ = 0 with their joints, and at
 /// 90°, 180°, 270° (layer `PATH`); the ground pivots marked, a slider's line as a centre line;

@@ -1,48 +1,99 @@
 //! The slider-crank over one turn as the designer draws it (`crate::report::motion`), in the
 //! mechanism's frame (the slider on the line y = e, whatever `slider_axis_angle` turns the
-//! machine by): crank O→A, rod A→B, the slider at B, the counterweight's centroid, and the
-//! slider's guide. Exact kinematics, as the drawing: the series models are approximations of
-//! the forces, not of where the parts are. No handles yet (its lengths are not frame points).
+//! machine by): crank O→A, rod A→B, the slider at B, the counterweight (its plate as
+//! designed, else a steel disc of its mass), the slider's guide, and the handles: the crank
+//! radius (the crank pin along the crank), the offset (the guide's end across the guide) and a given
+//! counterweight radius (the counterweight along its line). Exact kinematics, as the
+//! drawing: the series models are approximations of the forces, not of where the parts are.
 
 use super::model::{Kinematics, SliderCrank};
-use super::synth::Design;
+use super::synth::{Design, Scene};
 use crate::geom::P2;
-use crate::report::motion::{xy, Frame, Motion, FRAMES};
-use std::f64::consts::TAU;
+use crate::report::motion::{self as mo, pose, xy, Body, BodyKind, Frame, Handle, Motion};
+use crate::synth::shape::Sector;
+use crate::synth::Var;
 
-/// The mechanism `mech` with the design `d` over one turn.
-pub fn motion(mech: &SliderCrank, d: &Design) -> Motion {
+/// The thickness of a counterweight drawn as a steel disc (its mass and radius only, m).
+pub const DISC_THICKNESS: f64 = 0.02;
+
+/// The scene `s` with the design `d` (and its plate, if designed) over one turn.
+pub fn motion(s: &Scene, d: &Design, plate: Option<Sector>) -> Motion {
     let m = SliderCrank {
         kinematics: Kinematics::Exact,
-        ..*mech
+        ..s.mech
     };
-    let cw = d
+    let body = body(s, d, plate);
+    let rc = d
         .counterweight_radius_m
         .filter(|_| d.counterweight_unbalance_kgm > 0.0);
-    let frames: Vec<Frame> = (0..FRAMES)
-        .filter_map(|k| {
-            let phi = TAU * k as f64 / FRAMES as f64;
+    let beta = d.counterweight_angle_rad;
+    let frames: Vec<Frame> = mo::turn()
+        .filter_map(|phi| {
             let st = m.state(phi)?;
             let (a, b) = (st.a[0], P2::new(st.x[0], m.e));
-            let beta = phi + d.counterweight_angle_rad;
+            let on_crank = |r: f64| r * P2::new((phi + beta).cos(), (phi + beta).sin());
             Some(Frame {
                 theta: phi,
                 links: vec![[xy(P2::zeros()), xy(a)], [xy(a), xy(b)], [xy(b), xy(b)]],
-                counterweights: cw
-                    .map(|r| vec![[r * beta.cos(), r * beta.sin()]])
-                    .unwrap_or_default(),
+                counterweights: rc.map(|r| vec![xy(on_crank(r))]).unwrap_or_default(),
+                poses: body.iter().map(|_| pose(P2::zeros(), phi)).collect(),
             })
         })
         .collect();
-    let xs = frames.iter().map(|f| f.links[2][0][0]);
-    let (lo, hi) = xs.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| {
-        (a.min(x), b.max(x))
-    });
-    let pad = 0.15 * (hi - lo);
+    let (lo, hi) = mo::span(frames.iter().map(|f| f.links[2][0][0]), 0.15);
+    let handles = handles(s, d, &frames, hi);
     Motion {
         names: vec!["crank".into(), "rod".into(), "slider".into()],
-        guides: vec![[[lo - pad, m.e], [hi + pad, m.e]]],
+        guides: vec![[[lo, m.e], [hi, m.e]]],
         frames,
-        handles: Vec::new(),
+        handles,
+        bodies: body.into_iter().collect(),
     }
+}
+
+/// The counterweight as it would be built, in the crank's frame: its plate, else a steel
+/// disc of its mass at its radius.
+fn body(s: &Scene, d: &Design, plate: Option<Sector>) -> Option<Body> {
+    let beta = d.counterweight_angle_rad;
+    if let (Some(p), Some(spec)) = (plate, s.counterweight.shape) {
+        return Some(Body {
+            name: "counterweight plate".into(),
+            kind: BodyKind::Counterweight,
+            loops: mo::annular_sector(p.inner_radius_m, p.outer_radius_m, beta, p.angle_rad),
+            note: format!(
+                "{:.4} kg: the plate as designed, {:.1} mm of {} kg/m³",
+                p.mass_kg,
+                spec.thickness * 1e3,
+                spec.density
+            ),
+        });
+    }
+    let (m, r) = (d.counterweight_mass_kg?, d.counterweight_radius_m?);
+    let c = r * P2::new(beta.cos(), beta.sin());
+    (m > 0.0).then(|| mo::steel_disc("counterweight".into(), c, m, DISC_THICKNESS))
+}
+
+/// The crank radius, the offset and a given counterweight radius as handles.
+fn handles(s: &Scene, d: &Design, frames: &[Frame], guide_end: f64) -> Vec<Handle> {
+    let crank: Vec<[f64; 3]> = frames.iter().map(|f| pose(P2::zeros(), f.theta)).collect();
+    let x = P2::new(1.0, 0.0);
+    let mut out = vec![
+        Handle::length("mechanism.crank_radius", s.mech.r * x, x, s.mech.r, "mm").on(crank.clone()),
+        Handle::length(
+            "mechanism.offset",
+            P2::new(guide_end, s.mech.e),
+            P2::new(0.0, 1.0),
+            s.mech.e,
+            "mm",
+        )
+        .signed(),
+    ];
+    if let (Some(Var::Fixed(r)), true) = (s.counterweight.radius, s.counterweight.shape.is_none()) {
+        let u = P2::new(
+            d.counterweight_angle_rad.cos(),
+            d.counterweight_angle_rad.sin(),
+        );
+        out.push(Handle::length("design.radius", r * u, u, r, "mm").on(crank));
+    }
+    out
 }

@@ -61,7 +61,8 @@ pub fn documents(scene: &Scene, p: &SliderCrankProblem, sol: &Solution, r: &mut 
         design.counterweight_angle_rad,
     );
     mechanism_drawing(r, scene, p, design);
-    r.motion = serde_json::to_value(super::motion::motion(&p.core.mech, design)).ok();
+    let motion = super::motion::motion(&p.core, design, out.counterweight.plate);
+    r.motion = serde_json::to_value(motion).ok();
     crate::report::drive::drive_documents(r, sol.drive.as_ref(), "crank");
     let (scene, s, out) = (scene.clone(), p.core.clone(), out.clone());
     let label = sol.claim.status.design_label();

@@ -87,12 +87,14 @@ function show(answer) {
 }
 
 // The mechanism view: the frames of one turn, the crank angle on a slider (or playing), the
-// ground pivots as handles; a drag writes the pivot's key through /api/edit and re-solves.
+// bodies placed per frame, the handles (a pivot, a length along its axis, a counterweight on
+// its part); a drag writes the handle's key through /api/edit and re-solves.
 const SVG = "http://www.w3.org/2000/svg";
 let motion = null;
 let frame = 0;
 let playing = false;
 let scale = 1; // drawing units (mm) per metre
+let bodyPaths = []; // each body's outline as an SVG path (drawing units, its own frame)
 
 function el(name, attrs, parent) {
   const e = document.createElementNS(SVG, name);
@@ -105,22 +107,68 @@ function showMotion(m) {
   motion = m;
   $("view").hidden = !m;
   if (!m || !m.frames.length) return;
+  scale = 1000;
+  bodyPaths = (m.bodies || []).map((b) => b.loops.map((l) => "M" + l.map((p) => p[0] * scale + " " + p[1] * scale).join(" L") + " Z").join(" "));
   const pts = [];
   for (const f of m.frames) {
     for (const [a, b] of f.links) pts.push(a, b);
     for (const c of f.counterweights) pts.push(c);
+    (m.bodies || []).forEach((b, i) => {
+      for (const l of b.loops) {
+        const step = Math.max(1, Math.floor(l.length / 24));
+        for (let k = 0; k < l.length; k += step) pts.push(placed(f.poses[i], l[k]));
+      }
+    });
   }
-  for (const h of m.handles) pts.push(h.at);
+  for (const h of m.handles) pts.push(handleAt(h, 0));
   for (const [a, b] of m.guides || []) pts.push(a, b);
-  scale = 1000;
-  const xs = pts.map((p) => p[0] * scale), ys = pts.map((p) => p[1] * scale);
-  const [x0, x1, y0, y1] = [Math.min(...xs), Math.max(...xs), Math.min(...ys), Math.max(...ys)];
+  let [x0, x1, y0, y1] = [Infinity, -Infinity, Infinity, -Infinity];
+  for (const p of pts) {
+    x0 = Math.min(x0, p[0] * scale); x1 = Math.max(x1, p[0] * scale);
+    y0 = Math.min(y0, p[1] * scale); y1 = Math.max(y1, p[1] * scale);
+  }
   const pad = 0.08 * Math.max(x1 - x0, y1 - y0, 1);
   // y up: the drawing is flipped inside a group, so the view box's y is −y.
   $("mech").setAttribute("viewBox", [x0 - pad, -y1 - pad, x1 - x0 + 2 * pad, y1 - y0 + 2 * pad].join(" "));
   $("theta").max = String(m.frames.length - 1);
   frame = Math.min(frame, m.frames.length - 1);
+  showLegend(m);
   drawFrame();
+}
+
+// A point p of a part's frame placed at pose [x, y, angle] (m); no pose: p itself.
+function placed(pose, p) {
+  if (!pose) return p;
+  const [c, s] = [Math.cos(pose[2]), Math.sin(pose[2])];
+  return [pose[0] + c * p[0] - s * p[1], pose[1] + s * p[0] + c * p[1]];
+}
+
+// The world point w in a part's frame at pose (the inverse of placed).
+function local(pose, w) {
+  if (!pose) return w;
+  const [c, s] = [Math.cos(pose[2]), Math.sin(pose[2])];
+  const [dx, dy] = [w[0] - pose[0], w[1] - pose[1]];
+  return [c * dx + s * dy, -s * dx + c * dy];
+}
+
+// Where handle h is in frame k (m, world).
+function handleAt(h, k) {
+  return placed(h.poses && h.poses.length ? h.poses[k] : null, h.at);
+}
+
+// The bodies' legend: each body's name and where its shape comes from (the assumed discs
+// say so), with its colour.
+function showLegend(m) {
+  const ul = $("legend");
+  ul.replaceChildren();
+  for (const b of m.bodies || []) {
+    const li = document.createElement("li");
+    const sw = document.createElement("span");
+    sw.className = "swatch " + b.kind;
+    li.append(sw, b.name + ": " + b.note);
+    ul.appendChild(li);
+  }
+  ul.hidden = !ul.children.length;
 }
 
 function drawFrame() {
@@ -140,19 +188,38 @@ function drawFrame() {
     el("line", { x1: a[0] * scale, y1: a[1] * scale, x2: b[0] * scale, y2: b[1] * scale, class: "guide", "stroke-width": w, "stroke-dasharray": 4 * w + " " + 2 * w }, g);
   }
   const f = m.frames[frame];
+  (m.bodies || []).forEach((b, i) => {
+    const [x, y, a] = f.poses[i];
+    const path = el("path", { d: bodyPaths[i], class: "body " + b.kind, "fill-rule": "evenodd", "stroke-width": w / 2, transform: "translate(" + x * scale + " " + y * scale + ") rotate(" + a * 180 / Math.PI + ")" }, g);
+    if (b.kind === "pitch") path.setAttribute("stroke-dasharray", 4 * w + " " + 2 * w);
+    el("title", {}, path).textContent = b.name + ": " + b.note;
+  });
   for (const [a, b] of f.links) {
     el("line", { x1: a[0] * scale, y1: a[1] * scale, x2: b[0] * scale, y2: b[1] * scale, class: "link", "stroke-width": 2.5 * w }, g);
   }
   for (const [a, b] of f.links) {
     for (const p of [a, b]) el("circle", { cx: p[0] * scale, cy: p[1] * scale, r: 2.5 * w, class: "joint", "stroke-width": w }, g);
   }
+  // Each link's name beside its middle, on its left (outside the flipped group, so the text
+  // reads upright).
+  f.links.forEach(([a, b], i) => {
+    const [dx, dy] = [b[0] - a[0], b[1] - a[1]];
+    const n = Math.hypot(dx, dy);
+    // A link without a tip (a slider): below its joint.
+    const [nx, ny] = n ? [-dy / n, dx / n] : [0, -1.4];
+    const x = (a[0] + b[0]) / 2 * scale + 5 * w * nx;
+    const y = (a[1] + b[1]) / 2 * scale + 5 * w * ny;
+    const t = el("text", { x: x, y: -y, class: "label", "font-size": 7 * w, "text-anchor": "middle", "dominant-baseline": "middle" }, svg);
+    t.textContent = m.names[i] || "";
+  });
   for (const c of f.counterweights) {
-    el("circle", { cx: c[0] * scale, cy: c[1] * scale, r: 5 * w, class: "cw" }, g);
+    el("circle", { cx: c[0] * scale, cy: c[1] * scale, r: 1.5 * w, class: "cw" }, g);
   }
   for (const h of m.handles) {
-    const c = el("circle", { cx: h.at[0] * scale, cy: h.at[1] * scale, r: 5 * w, class: "handle", "stroke-width": 1.5 * w, "data-key": h.key }, g);
+    const p = handleAt(h, frame);
+    const c = el("circle", { cx: p[0] * scale, cy: p[1] * scale, r: 5 * w, class: "handle", "stroke-width": 1.5 * w, "data-key": h.key }, g);
     const t = el("title", {}, c);
-    t.textContent = h.key;
+    t.textContent = h.key + (h.scalar ? " = " + h.scalar.value.toPrecision(6) + " " + h.scalar.unit : "");
     c.addEventListener("pointerdown", (e) => drag(e, c, h));
   }
   $("drag-hint").hidden = !m.handles.length;
@@ -166,27 +233,32 @@ function drag(e, c, h) {
   c.classList.add("dragging");
   c.setPointerCapture(e.pointerId);
   const world = $("world");
+  const pose = h.poses && h.poses.length ? h.poses[frame] : null;
+  // The pointer in the handle's frame (m); a scalar handle's along its axis only.
   const at = (ev) => {
     const p = $("mech").createSVGPoint();
     p.x = ev.clientX;
     p.y = ev.clientY;
-    return p.matrixTransform(world.getScreenCTM().inverse());
+    const q = p.matrixTransform(world.getScreenCTM().inverse());
+    const l = local(pose, [q.x / scale, q.y / scale]);
+    if (!h.scalar) return l;
+    const u = h.scalar.axis;
+    const t = (l[0] - h.at[0]) * u[0] + (l[1] - h.at[1]) * u[1];
+    return [h.at[0] + t * u[0], h.at[1] + t * u[1], t];
   };
   const move = (ev) => {
-    const p = at(ev);
-    c.setAttribute("cx", p.x);
-    c.setAttribute("cy", p.y);
+    const p = placed(pose, at(ev));
+    c.setAttribute("cx", p[0] * scale);
+    c.setAttribute("cy", p[1] * scale);
   };
   const up = async (ev) => {
     const released = performance.now();
     c.removeEventListener("pointermove", move);
     c.removeEventListener("pointerup", up);
-    const p = at(ev);
-    const mm = (v) => (Math.round(v / scale * 1e4) / 10).toString() + " mm";
     const res = await api("/api/edit", {
       method: "POST",
       headers: { "Content-Type": "application/json" },
-      body: JSON.stringify({ text: $("toml").value, key: h.key, value: [mm(p.x), mm(p.y)] }),
+      body: JSON.stringify({ text: $("toml").value, key: h.key, value: dragged(h, at(ev)) }),
     });
     const answer = await res.json();
     if (answer.error) { showError(answer.error); return; }
@@ -196,6 +268,20 @@ function drag(e, c, h) {
   };
   c.addEventListener("pointermove", move);
   c.addEventListener("pointerup", up);
+}
+
+// The value a drag writes: a point as [x, y] in mm (its frame), a scalar as its value in
+// its unit, rounded to its step (at least its minimum).
+function dragged(h, p) {
+  const s = h.scalar;
+  if (!s) {
+    const mm = (v) => (Math.round(v * 1e4) / 10).toString() + " mm";
+    return [mm(p[0]), mm(p[1])];
+  }
+  let v = Math.round((s.value + s.per_metre * p[2]) / s.step) * s.step;
+  if (s.min !== undefined && v < s.min) v = s.min;
+  const digits = Math.max(0, -Math.floor(Math.log10(s.step) + 1e-9));
+  return s.unit ? v.toFixed(digits) + " " + s.unit : Number(v.toFixed(digits));
 }
 
 function tick() {

@@ -332,6 +332,16 @@ pub struct Vars {
 }
 
 impl Vars {
+    /// The step-1 angles.
+    pub fn angles(&self) -> Angles {
+        Angles {
+            phi_min: self.phi_min_rad,
+            gamma1: self.gamma1_rad,
+            gamma2: self.gamma2_rad,
+            gamma3: self.gamma3_rad,
+        }
+    }
+
     /// The variables of the design vector `x`.
     pub fn of(x: &[f64; 6]) -> Vars {
         Vars {

@@ -1,0 +1,316 @@
+//! The designer's drawing data (`report::motion`, issue 35) for every shipped scene, checked
+//! against each family's model rather than against the code that fills it: the frames are
+//! finite, every link keeps the length the model gives it (the crank radius and rod of the
+//! slider-crank's file, the crane's boom, jib and tie of its result, the hypocycloid's
+//! R, r, L, the gear's eccentricity; a linkage's every link constant over the turn), the
+//! hypocycloid's crank arm turns with its planet, the gears' posed pitch curves touch at
+//! the model's pitch point (ρ1(α1), 0); every handle's key is in the file (or is one whose
+//! default the edit adds), and writing a handle's own value as the page writes it changes
+//! nothing drawn.
+
+use cwsynth::families::gear::model::EccentricCircle;
+use cwsynth::families::slider_crank::file as scf;
+use cwsynth::families::{load, solve_scene};
+use cwsynth::serve::edit::set_key;
+use serde_json::{json, Value};
+use std::path::{Path, PathBuf};
+
+fn problems() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("problems")
+}
+
+/// Keys a handle may edit that a file may leave out (their defaults: the origin, no offset).
+const DEFAULTED: &[&str] = &["mechanism.crank_pivot", "mechanism.offset"];
+
+/// The result's JSON and its motion, solved from the file `f` (or its edited `text`).
+fn solved(f: &Path, text: Option<&str>) -> (Value, Value) {
+    let scene = match text {
+        None => load(f).unwrap(),
+        Some(t) => {
+            // Beside a link to the shipped drawings, which a file names relative to itself.
+            let dir = std::env::temp_dir().join(format!("cwsynth-motion-{}", std::process::id()));
+            if !dir.exists() {
+                std::fs::create_dir_all(&dir).unwrap();
+                std::os::unix::fs::symlink(problems().join("drawings"), dir.join("drawings"))
+                    .unwrap();
+            }
+            let tmp = dir.join(f.file_name().unwrap());
+            std::fs::write(&tmp, t).unwrap();
+            load(&tmp).unwrap()
+        }
+    };
+    let mut r = solve_scene(&scene);
+    r.draw();
+    (r.to_json(), r.motion.clone().unwrap_or(Value::Null))
+}
+
+fn p(v: &Value) -> [f64; 2] {
+    [v[0].as_f64().unwrap(), v[1].as_f64().unwrap()]
+}
+
+fn dist(a: [f64; 2], b: [f64; 2]) -> f64 {
+    (a[0] - b[0]).hypot(a[1] - b[1])
+}
+
+/// Link `i`'s length in frame `f`.
+fn len(f: &Value, i: usize) -> f64 {
+    dist(p(&f["links"][i][0]), p(&f["links"][i][1]))
+}
+
+/// `a` is `b` within `tol` of `scale`.
+fn near(a: f64, b: f64, scale: f64, what: &str) {
+    assert!((a - b).abs() <= 1e-9 * scale, "{what}: {a} against {b}");
+}
+
+/// Every number of the frames, bodies and handles is finite.
+fn finite(m: &Value) {
+    fn walk(v: &Value, at: &str) {
+        match v {
+            Value::Number(n) => assert!(n.as_f64().unwrap().is_finite(), "{at}"),
+            Value::Null => panic!("{at}: null (a number that was not finite)"),
+            Value::Array(a) => a.iter().for_each(|x| walk(x, at)),
+            Value::Object(o) => o.iter().for_each(|(k, x)| walk(x, &format!("{at}.{k}"))),
+            _ => {}
+        }
+    }
+    for k in ["frames", "guides", "handles", "bodies"] {
+        if let Some(v) = m.get(k) {
+            walk(v, k);
+        }
+    }
+}
+
+/// The links keep the model's lengths in every frame.
+fn rigid(f: &Path, family: &str, d: &Value, m: &Value) {
+    let frames = m["frames"].as_array().unwrap();
+    assert!(frames.len() >= 36, "{f:?}: {} frames", frames.len());
+    let g = |k: &str| d[k].as_f64().unwrap();
+    for fr in frames {
+        let what = format!("{f:?} at θ = {}", fr["theta"]);
+        match family {
+            "slider-crank" => {
+                let text = std::fs::read_to_string(f).unwrap();
+                let raw: scf::File = toml::from_str(&text).unwrap();
+                let mech = scf::resolve_raw(&raw, &problems()).unwrap().core.mech;
+                near(len(fr, 0), mech.r, mech.l, &what);
+                near(len(fr, 1), mech.l, mech.l, &what);
+                near(p(&fr["links"][2][0])[1], mech.e, mech.l, &what);
+                break;
+            }
+            "luffing-crane" => {
+                let s = g("boom_length_m");
+                near(len(fr, 0), s, s, &what);
+                near(len(fr, 1), g("jib_length_m") + g("jib_tail_m"), s, &what);
+                let (e, dd) = (p(&fr["links"][1][0]), p(&fr["links"][0][1]));
+                near(dist(e, dd), g("jib_tail_m"), s, &what);
+                if let Some(b) = d["tie_length_m"].as_f64() {
+                    near(len(fr, 2), b, s, &what);
+                }
+            }
+            "hypocycloid" => {
+                let s = g("rod_length_m");
+                near(len(fr, 0), g("carrier_radius_m"), s, &what);
+                near(len(fr, 1), g("crank_arm_m"), s, &what);
+                near(len(fr, 2), s, s, &what);
+                near(p(&fr["links"][3][0])[1], 0.0, s, &what);
+                // The crank arm is fixed on the planet (body 1): it turns with it.
+                let (o1, a) = (p(&fr["links"][1][0]), p(&fr["links"][1][1]));
+                let arm = (a[1] - o1[1]).atan2(a[0] - o1[0]);
+                let turn =
+                    (arm - fr["poses"][1][2].as_f64().unwrap()).rem_euclid(std::f64::consts::TAU);
+                assert!(turn.min(std::f64::consts::TAU - turn) < 1e-9, "{what}");
+            }
+            "eccentric-gear" => gear_frame(fr, m, d, &what),
+            _ => {
+                // A linkage: every link keeps its length over the turn.
+                for i in 0..fr["links"].as_array().unwrap().len() {
+                    near(len(fr, i), len(&frames[0], i), 1.0, &what);
+                }
+            }
+        }
+    }
+}
+
+/// The gears' posed pitch curves both pass through the model's pitch point (ρ1(α1), 0),
+/// within their polylines' spacing; the eccentric O1C is e long.
+fn gear_frame(fr: &Value, m: &Value, d: &Value, what: &str) {
+    let (big_r, e) = (
+        d["pitch_radius_m"].as_f64().unwrap(),
+        d["eccentricity_m"].as_f64().unwrap(),
+    );
+    near(len(fr, 0), e, big_r, what);
+    let a1 = fr["theta"].as_f64().unwrap();
+    let o1 = p(&fr["links"][0][0]);
+    let pitch = [
+        o1[0] + EccentricCircle::new(big_r, e).unwrap().rho1(a1),
+        o1[1],
+    ];
+    for (i, b) in m["bodies"].as_array().unwrap().iter().enumerate().take(2) {
+        let pose = &fr["poses"][i];
+        let [x, y, t] = [0, 1, 2].map(|k| pose[k].as_f64().unwrap());
+        let pts: Vec<[f64; 2]> = b["loops"][0]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|q| {
+                let q = p(q);
+                [
+                    x + t.cos() * q[0] - t.sin() * q[1],
+                    y + t.sin() * q[0] + t.cos() * q[1],
+                ]
+            })
+            .collect();
+        let gap = pts.windows(2).map(|w| dist(w[0], w[1])).fold(0.0, f64::max);
+        let nearest = pts
+            .iter()
+            .map(|q| dist(*q, pitch))
+            .fold(f64::INFINITY, f64::min);
+        assert!(
+            nearest <= gap,
+            "{what}: gear {} misses the pitch point by {nearest} (spacing {gap})",
+            i + 1
+        );
+    }
+}
+
+/// The value a zero drag writes, as the page writes it (rounded to the step).
+fn page_value(h: &Value) -> Value {
+    match h.get("scalar") {
+        Some(s) => {
+            let inv = 1.0 / s["step"].as_f64().unwrap();
+            let v = (s["value"].as_f64().unwrap() * inv).round() / inv;
+            json!(format!("{v} {}", s["unit"].as_str().unwrap()))
+        }
+        None => {
+            let mm = |v: f64| format!("{} mm", (v * 1e4).round() / 10.0);
+            let at = p(&h["at"]);
+            json!([mm(at[0]), mm(at[1])])
+        }
+    }
+}
+
+/// Whether the dotted key (`a.b[1].c`) is in the TOML text.
+fn has_key(text: &str, key: &str) -> bool {
+    let mut v: toml::Value = toml::from_str(text).unwrap();
+    for part in key.split('.') {
+        let (name, index) = match part.split_once('[') {
+            Some((n, i)) => (n, Some(i.trim_end_matches(']').parse::<usize>().unwrap())),
+            None => (part, None),
+        };
+        let Some(next) = v.get(name).cloned() else {
+            return false;
+        };
+        v = match index {
+            Some(i) => match next.get(i) {
+                Some(x) => x.clone(),
+                None => return false,
+            },
+            None => next,
+        };
+    }
+    true
+}
+
+/// Every handle's key is in the file (or defaulted), and its own value written back draws
+/// the same mechanism.
+fn handles(f: &Path, text: &str, m: &Value) {
+    for h in m["handles"].as_array().unwrap() {
+        let key = h["key"].as_str().unwrap();
+        assert!(
+            has_key(text, key) || DEFAULTED.contains(&key),
+            "{f:?}: {key} is not in the file"
+        );
+        if !has_key(text, key) {
+            // Left to its default (the origin, no offset): the handle is there.
+            let v = h["scalar"]
+                .get("value")
+                .map_or(p(&h["at"]), |v| [v.as_f64().unwrap(), 0.0]);
+            assert_eq!(v, [0.0, 0.0], "{f:?}: {key}");
+            continue;
+        }
+        let edited = set_key(text, key, &page_value(h)).unwrap();
+        if edited == text {
+            continue;
+        }
+        let (_, again) = solved(f, Some(&edited));
+        let scale = 1.0
+            + p(&m["frames"][0]["links"][0][1])
+                .iter()
+                .map(|x| x.abs())
+                .sum::<f64>();
+        for (a, b) in [
+            (&m["handles"], &again["handles"]),
+            (&m["frames"][0]["links"], &again["frames"][0]["links"]),
+        ] {
+            let flat = |v: &Value| -> Vec<f64> {
+                fn walk(v: &Value, out: &mut Vec<f64>) {
+                    match v {
+                        Value::Number(n) => out.push(n.as_f64().unwrap()),
+                        Value::Array(a) => a.iter().for_each(|x| walk(x, out)),
+                        Value::Object(o) => o.values().for_each(|x| walk(x, out)),
+                        _ => {}
+                    }
+                }
+                let mut out = Vec::new();
+                walk(v, &mut out);
+                out
+            };
+            let (x, y) = (flat(a), flat(b));
+            assert_eq!(x.len(), y.len(), "{f:?}: {key}");
+            for (u, v) in x.iter().zip(&y) {
+                assert!(
+                    (u - v).abs() <= 1e-6 * scale,
+                    "{f:?}: {key} written as {}: {u} became {v}",
+                    page_value(h)
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn every_shipped_scene_moves_rigidly_and_its_handles_edit_its_keys() {
+    let files = crate::common::shipped();
+    let mut families = std::collections::BTreeSet::new();
+    for f in &files {
+        let (r, m) = solved(f, None);
+        let family = r["family"].as_str().unwrap().to_string();
+        assert!(m.is_object(), "{f:?}: no motion");
+        finite(&m);
+        rigid(f, &family, &r["design"], &m);
+        handles(f, &std::fs::read_to_string(f).unwrap(), &m);
+        families.insert(family);
+    }
+    assert_eq!(families.len(), 5, "{families:?}");
+}
+
+#[test]
+fn a_given_counterweight_is_a_handle_on_its_link() {
+    let f = problems().join("linkage-fourbar-crank-counterweight.toml");
+    let text = std::fs::read_to_string(&f).unwrap().replace(
+        "mass = { min = \"0 kg\", max = \"2 kg\" }",
+        "mass = \"0.5 kg\"\ncentroid = [\"-30 mm\", \"5 mm\"]",
+    );
+    let (_, m) = solved(&f, Some(&text));
+    let h = (m["handles"].as_array().unwrap().iter())
+        .find(|h| h["key"] == "design.counterweights[0].centroid")
+        .expect("the centroid's handle");
+    assert_eq!(p(&h["at"]), [-0.030, 0.005]);
+    // On the crank: placed by its pose, it is the frame's counterweight centroid.
+    for (k, fr) in m["frames"].as_array().unwrap().iter().enumerate() {
+        let pose = &h["poses"][k];
+        let [x, y, t] = [0, 1, 2].map(|i| pose[i].as_f64().unwrap());
+        let at = [
+            x + t.cos() * -0.030 - t.sin() * 0.005,
+            y + t.sin() * -0.030 + t.cos() * 0.005,
+        ];
+        assert!(dist(at, p(&fr["counterweights"][0])) < 1e-12, "frame {k}");
+        near(
+            t.rem_euclid(std::f64::consts::TAU),
+            fr["theta"].as_f64().unwrap(),
+            1.0,
+            "crank",
+        );
+    }
+    handles(&f, &text, &m);
+}
