@@ -17,7 +17,7 @@ import urllib.request
 
 import pytest
 
-from conftest import CHROMIUM, PROBLEMS, solved_after
+from conftest import CHROMIUM, PROBLEMS, REPO, solved_after
 
 playwright = pytest.importorskip("playwright.sync_api")
 pytestmark = pytest.mark.skipif(CHROMIUM is None, reason="no chromium")
