@@ -299,7 +299,7 @@ async fn solve(Shared(st): Shared<Arc<State>>, req: Request) -> Response {
 }
 
 /// `POST /api/report`: the result and its plots, for the page: `{"result": …, "plots":
-/// [{"suffix", "caption", "svg"}]}`.
+/// [{"suffix", "caption", "svg"}], "motion": …, "units": {key: [words, unit, factor]}}`.
 async fn report(Shared(st): Shared<Arc<State>>, req: Request) -> Response {
     let scene = match problem(&st, req).await {
         Ok(s) => s,
@@ -312,7 +312,11 @@ async fn report(Shared(st): Shared<Arc<State>>, req: Request) -> Response {
                 .iter()
                 .map(|p| json!({"suffix": p.suffix, "caption": p.caption, "svg": p.svg_or_note()}))
                 .collect();
-            json_answer(&json!({"result": r.to_json(), "plots": plots, "motion": r.motion}))
+            let result = r.to_json();
+            let units = workshop_units(&result);
+            json_answer(
+                &json!({"result": result, "plots": plots, "motion": r.motion, "units": units}),
+            )
         }
         Err(r) => r,
     }
@@ -483,4 +487,23 @@ async fn file(Shared(st): Shared<Arc<State>>, UrlPath(name): UrlPath<String>) ->
         },
         Err(_) => not(),
     }
+}
+
+/// How the page shows each number of the result's `objectives` and `design` in a workshop
+/// ([`crate::report::workshop_unit`], as the reports write them): key → [words, unit, the
+/// factor from SI]. The JSON itself stays SI.
+fn workshop_units(result: &Value) -> Value {
+    let mut out = serde_json::Map::new();
+    for section in ["objectives", "design"] {
+        let Some(map) = result.get(section).and_then(Value::as_object) else {
+            continue;
+        };
+        for (key, v) in map {
+            if let Some(x) = v.as_f64() {
+                let (words, unit, factor) = crate::report::workshop_unit(key, x);
+                out.insert(key.clone(), json!([words, unit, factor]));
+            }
+        }
+    }
+    Value::Object(out)
 }

@@ -28,14 +28,20 @@ function fmt(v) {
   return typeof v === "number" ? v.toPrecision(6) : String(v);
 }
 
-function fill(id, map, errors) {
+// A table of numbers in workshop units (`units`: key → [words, unit, factor from SI], from
+// /api/report); the SI key is each row's tooltip.
+function fill(id, map, errors, units) {
   const body = $(id).querySelector("tbody");
   body.replaceChildren();
   for (const [k, v] of Object.entries(map || {})) {
+    const [words, unit, f] = (units && units[k]) || [k, "", 1];
+    const scaled = (x) => (typeof x === "number" ? x * f : x);
     const tr = document.createElement("tr");
-    cell(tr, k);
-    cell(tr, fmt(v), "num");
-    if (errors) cell(tr, errors[k] === undefined ? "" : fmt(errors[k]), "num");
+    tr.title = k;
+    cell(tr, words);
+    cell(tr, fmt(scaled(v)), "num");
+    cell(tr, unit === "–" ? "" : unit);
+    if (errors) cell(tr, errors[k] === undefined ? "" : fmt(scaled(errors[k])), "num");
     body.appendChild(tr);
   }
 }
@@ -59,8 +65,8 @@ function show(answer) {
   s.textContent = r.status;
   s.className = "status " + r.status;
   $("status-detail").textContent = r.status_detail || "";
-  fill("objectives", r.objectives, r.errors || {});
-  fill("design", r.design);
+  fill("objectives", r.objectives, r.errors || {}, answer.units);
+  fill("design", r.design, null, answer.units);
   const w = $("warnings");
   w.replaceChildren();
   for (const text of r.warnings || []) {
