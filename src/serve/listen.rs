@@ -30,6 +30,9 @@ pub(super) async fn accept(
                 continue;
             }
         };
+        // Answers go out as soon as they are written (no Nagle delay on a small last
+        // segment).
+        let _ = stream.set_nodelay(true);
         let Ok(permit) = open.clone().try_acquire_owned() else {
             drop(stream);
             continue;
