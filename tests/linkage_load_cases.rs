@@ -276,3 +276,26 @@ fn the_flywheel_of_all_the_cases_is_the_largest_least_one() {
         st.cs
     );
 }
+
+/// Every load case is drawn beside the governing one (`drive-cases`): its drive torque at
+/// constant speed and its speed with the flywheel of all the cases, one line per case, each
+/// steady state the one the table reports.
+#[test]
+fn every_case_is_plotted_with_the_flywheel_of_all_the_cases() {
+    let s = parse_str(&press(), Path::new("p.toml")).unwrap();
+    let mut r = solve_scene(&s);
+    r.draw();
+    let plot = r
+        .plots
+        .iter()
+        .find(|p| p.suffix == "drive-cases")
+        .expect("a plot of every case");
+    let svg = plot.svg_or_note();
+    for name in ["nominal", "10 kN blanking", "idle"] {
+        assert!(svg.contains(name), "{name} is not in the plot");
+    }
+    assert!(
+        svg.contains("flywheel 2.08778 kg·m²"),
+        "the flywheel of all the cases"
+    );
+}

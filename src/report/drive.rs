@@ -312,3 +312,72 @@ fn drive_plot(d: &DriveFigures, angle: &str) -> Result<String, PlotError> {
         420,
     )
 }
+
+/// Every load case's turn on one plot (`drive-cases`): each case's drive torque at constant
+/// speed, and its speed at real speed with the flywheel of all the cases — the cases that do
+/// not govern beside the one that does. `cases` = (legend, the case's drive at that
+/// flywheel); nothing with fewer than two.
+pub fn cases_plot(r: &mut SolveResult, cases: Vec<(String, DriveFigures)>, angle: &'static str) {
+    if cases.len() < 2 {
+        return;
+    }
+    let cases: Vec<(String, DriveFigures)> = cases
+        .into_iter()
+        .map(|(name, mut d)| {
+            d.constant.curve = thin(&d.constant.curve);
+            d.steady.curve = thin(&d.steady.curve);
+            (name, d)
+        })
+        .collect();
+    r.plots.push(Plot::new(
+        "drive-cases",
+        "Every load case: the drive torque at constant speed, and the speed over a turn with the flywheel of all the cases".to_string(),
+        move || cases_panels(&cases, angle),
+    ));
+}
+
+/// The two panels of [`cases_plot`]: T(φ) and ω(φ) of every case.
+fn cases_panels(cases: &[(String, DriveFigures)], angle: &str) -> Result<String, PlotError> {
+    let deg = |p: f64| p.to_degrees();
+    let line = |name: &str, curve: &[[f64; 3]], k: usize| {
+        let mut pts: Vec<(f64, f64)> = curve.iter().map(|v| (deg(v[0]), v[k])).collect();
+        // A steady state's nodes close at 360° (the constant-speed curve already does).
+        if let (Some(first), Some(last)) = (curve.first(), curve.last()) {
+            if deg(last[0]) < 359.999 {
+                pts.push((360.0, first[k]));
+            }
+        }
+        Series::line(name, pts)
+    };
+    let flywheel = cases.first().map_or(0.0, |c| c.1.steady.flywheel);
+    plot::panels(
+        &[
+            Panel {
+                title: "Drive torque at constant speed, every load case".into(),
+                x_label: format!("{angle} angle φ (°)"),
+                y_label: "T (N·m)".into(),
+                series: cases
+                    .iter()
+                    .map(|(n, d)| line(n, &d.constant.curve, 1))
+                    .collect(),
+                equal_aspect: false,
+            },
+            Panel {
+                title: format!(
+                    "{} speed at real speed, flywheel {} kg·m²",
+                    capitalised(angle),
+                    plot::tick(&flywheel)
+                ),
+                x_label: format!("{angle} angle φ (°)"),
+                y_label: "ω (rad/s)".into(),
+                series: cases
+                    .iter()
+                    .map(|(n, d)| line(n, &d.steady.curve, 1))
+                    .collect(),
+                equal_aspect: false,
+            },
+        ],
+        480,
+        420,
+    )
+}

@@ -42,6 +42,18 @@ pub fn documents(scene: &Scene, s: &HypocycloidProblem, sol: &Solution, r: &mut 
         if let Some(lc) = &sol.load_cases {
             let peak = d.rotating.as_ref().map(|rot| rot.design_peak());
             super::load_cases::table(r, lc, peak);
+            if lc.flywheel.is_some() {
+                // A band's end is a case of its own, named with its speed.
+                let every = lc
+                    .cases
+                    .iter()
+                    .filter_map(|c| match c.at_flywheel.as_ref() {
+                        Some(Ok(d)) => Some((c.case.name.clone(), d.clone())),
+                        _ => None,
+                    })
+                    .collect();
+                crate::report::drive::cases_plot(r, every, "carrier");
+            }
             // The case that governs the flywheel, where it is not the nominal one: its turn
             // and its steady state with the flywheel of all the cases.
             if let Some(c) = (lc.flywheel.and_then(|f| f.governing))

@@ -56,6 +56,17 @@ pub fn documents(scene: &Scene, p: &LinkageProblem, sol: &Solved, r: &mut SolveR
     if let Some(lc) = lc {
         super::load_cases::table(r, lc, super::numbers::drive_peak_force(sol));
     }
+    if let Some(lc) = lc.filter(|lc| lc.flywheel.is_some()) {
+        let every = lc
+            .cases
+            .iter()
+            .filter_map(|c| match c.at_flywheel.as_ref() {
+                Some(Ok(d)) => Some((c.name.clone(), d.clone())),
+                _ => None,
+            })
+            .collect();
+        crate::report::drive::cases_plot(r, every, "crank");
+    }
     let governing = lc.and_then(|lc| Some(&lc.cases[lc.flywheel?.governing?]));
     if let Some(c) = governing.filter(|c| c.name != super::envelope::NOMINAL) {
         let case = Some(("governing", c.name.as_str()));
