@@ -350,32 +350,33 @@ fn cases_panels(cases: &[(String, DriveFigures)], angle: &str) -> Result<String,
         Series::line(name, pts)
     };
     let flywheel = cases.first().map_or(0.0, |c| c.1.steady.flywheel);
+    // One panel of every case's curve: the constant-speed turn's T or the steady state's ω.
+    let panel = |title: String, y_label: &str, steady: bool| Panel {
+        title,
+        x_label: format!("{angle} angle φ (°)"),
+        y_label: y_label.into(),
+        series: cases
+            .iter()
+            .map(|(n, d)| match steady {
+                true => line(n, &d.steady.curve, 1),
+                false => line(n, &d.constant.curve, 1),
+            })
+            .collect(),
+        equal_aspect: false,
+    };
+    let speed = format!(
+        "{} speed at real speed, flywheel {} kg·m²",
+        capitalised(angle),
+        plot::tick(&flywheel)
+    );
     plot::panels(
         &[
-            Panel {
-                title: "Drive torque at constant speed, every load case".into(),
-                x_label: format!("{angle} angle φ (°)"),
-                y_label: "T (N·m)".into(),
-                series: cases
-                    .iter()
-                    .map(|(n, d)| line(n, &d.constant.curve, 1))
-                    .collect(),
-                equal_aspect: false,
-            },
-            Panel {
-                title: format!(
-                    "{} speed at real speed, flywheel {} kg·m²",
-                    capitalised(angle),
-                    plot::tick(&flywheel)
-                ),
-                x_label: format!("{angle} angle φ (°)"),
-                y_label: "ω (rad/s)".into(),
-                series: cases
-                    .iter()
-                    .map(|(n, d)| line(n, &d.steady.curve, 1))
-                    .collect(),
-                equal_aspect: false,
-            },
+            panel(
+                "Drive torque at constant speed, every load case".into(),
+                "T (N·m)",
+                false,
+            ),
+            panel(speed, "ω (rad/s)", true),
         ],
         480,
         420,
