@@ -49,6 +49,12 @@ fn http(
     (status, head.to_lowercase(), body.to_string())
 }
 
+/// The shipped problem file `name` posted to `route` (`?name=` it): (status, headers, body).
+fn post_problem(addr: SocketAddr, route: &str, name: &str) -> (u16, String, String) {
+    let text = std::fs::read(problems().join(name)).unwrap();
+    http(addr, "POST", &format!("{route}?name={name}"), &text, "")
+}
+
 fn json(body: &str) -> Value {
     serde_json::from_str(body).unwrap_or_else(|e| panic!("{e}: {body}"))
 }
@@ -360,14 +366,7 @@ fn the_api_campaign_leaves_the_server_answering() {
         assert_eq!(status, 413);
     }
     // The stalled bodies time out by themselves (10 s); the server still answers.
-    let text = std::fs::read(problems().join("piston-1000rpm.toml")).unwrap();
-    let (status, _, _) = http(
-        addr,
-        "POST",
-        "/api/solve?name=piston-1000rpm.toml",
-        &text,
-        "",
-    );
+    let (status, _, _) = post_problem(addr, "/api/solve", "piston-1000rpm.toml");
     assert_eq!(status, 200);
     let status =
         std::fs::read_to_string(format!("/proc/{}/status", child.id())).unwrap_or_default();
@@ -434,14 +433,7 @@ fn the_report_and_the_drawing_are_exported_as_solve_writes_them() {
 #[test]
 fn the_piston_is_drawn_over_a_turn() {
     let addr = server(|_| {});
-    let text = std::fs::read(problems().join("piston-1000rpm.toml")).unwrap();
-    let (status, _, body) = http(
-        addr,
-        "POST",
-        "/api/report?name=piston-1000rpm.toml",
-        &text,
-        "",
-    );
+    let (status, _, body) = post_problem(addr, "/api/report", "piston-1000rpm.toml");
     assert_eq!(status, 200);
     let v = json(&body);
     let (m, d) = (&v["motion"], &v["result"]["design"]);

@@ -17,6 +17,10 @@ pub const FRAMES: usize = 72;
 /// and centroid (kg/m³).
 pub const STEEL_DENSITY: f64 = 7850.0;
 
+/// The thickness of a machine's counterweight drawn as a steel disc (m): the slider-crank's,
+/// the linkage's and the hypocycloid's (a crane's, much larger, is its own).
+pub const DISC_THICKNESS: f64 = 0.02;
+
 /// One crank angle: the links' segments, the counterweights' centroids, the bodies' places.
 #[derive(Debug, Clone, Serialize, Default)]
 pub struct Frame {

@@ -120,12 +120,7 @@ fn json_answer(v: &Value) -> Response {
 /// `request.toml`), its drawings read from the served folder; a drawing path must stay
 /// inside it ([`confined`]).
 async fn problem(st: &State, req: Request) -> Result<Scene, Response> {
-    let name = file_name(req.uri().query())
-        .unwrap_or("request.toml")
-        .to_string();
-    let bytes = body_of(&st.opts, req.into_body(), st.opts.max_body)
-        .await
-        .map_err(|(status, why)| error(status, Some(&name), None, &why))?;
+    let (name, bytes) = named_body(st, req).await?;
     // The file is named by its bare name (no server path in a message or the result); its
     // drawings are read from the served folder.
     let path = PathBuf::from(&name);
@@ -137,6 +132,18 @@ async fn problem(st: &State, req: Request) -> Result<Scene, Response> {
         Err(_) => families::parse_bytes(&bytes, &path),
     }
     .map_err(|e| problem_error(&e))
+}
+
+/// The request's file name (the query's bare `name=`, default `request.toml`) and its body
+/// ([`body_of`], at most `max_body` bytes), or the located error.
+async fn named_body(st: &State, req: Request) -> Result<(String, axum::body::Bytes), Response> {
+    let name = file_name(req.uri().query())
+        .unwrap_or("request.toml")
+        .to_string();
+    let bytes = body_of(&st.opts, req.into_body(), st.opts.max_body)
+        .await
+        .map_err(|(status, why)| error(status, Some(&name), None, &why))?;
+    Ok((name, bytes))
 }
 
 /// A request body of at most `limit` bytes sent within `opts.body_time`; else the status
@@ -362,14 +369,11 @@ async fn edit(Shared(st): Shared<Arc<State>>, req: Request) -> Response {
 /// {…}, "keys": [["dotted.key", line], …]}` (every key in the file's order), or its TOML
 /// syntax error, located (400).
 async fn fields(Shared(st): Shared<Arc<State>>, req: Request) -> Response {
-    let name = file_name(req.uri().query())
-        .unwrap_or("request.toml")
-        .to_string();
-    let path = PathBuf::from(&name);
-    let bytes = match body_of(&st.opts, req.into_body(), st.opts.max_body).await {
-        Ok(b) => b,
-        Err((status, why)) => return error(status, Some(&name), None, &why),
+    let (name, bytes) = match named_body(&st, req).await {
+        Ok(nb) => nb,
+        Err(r) => return r,
     };
+    let path = PathBuf::from(&name);
     let Ok(text) = std::str::from_utf8(&bytes) else {
         return error(StatusCode::BAD_REQUEST, Some(&name), None, "not UTF-8 text");
     };

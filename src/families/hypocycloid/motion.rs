@@ -13,9 +13,6 @@ use super::synth::Design;
 use crate::geom::{rot, P2};
 use crate::report::motion::{self as mo, pose, xy, Body, BodyKind, Frame, Handle, Motion};
 
-/// The thickness of a counterweight drawn as a steel disc (its mass and radius only, m).
-pub const DISC_THICKNESS: f64 = 0.02;
-
 /// The problem `p`'s design `d` with its (carrier, planet) counterweights over one turn;
 /// `None` where the model does not assemble.
 pub fn motion(
@@ -97,7 +94,7 @@ fn pitch(name: &str, r: f64) -> Body {
 fn body(i: usize, c: &Counterweight) -> Body {
     let at = c.radius * P2::new(c.angle.cos(), c.angle.sin());
     let name = ["carrier counterweight", "planet counterweight"][i];
-    mo::steel_disc(name.into(), at, c.mass, DISC_THICKNESS)
+    mo::steel_disc(name.into(), at, c.mass, mo::DISC_THICKNESS)
 }
 
 /// R along the carrier; each counterweight's given radius along its line on its body.

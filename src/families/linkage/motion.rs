@@ -17,9 +17,6 @@ use crate::synth::Var;
 /// Per counterweight: its annular sector (rᵢ, rₒ, θ) and its plate, where it has them.
 pub type Bodies<'a> = (&'a [Option<(f64, f64, f64)>], &'a [Option<Realised>]);
 
-/// The thickness of a counterweight drawn as a steel disc (no plate, drawing or sector, m).
-pub const DISC_THICKNESS: f64 = 0.02;
-
 /// Each link of `pose` as (reference joint, tip) (m, world).
 pub fn segments(l: &Linkage, crank_length: f64, pose: &Pose) -> Vec<(P2, P2)> {
     (pose.links.iter().enumerate())
@@ -158,7 +155,7 @@ fn counterweight_bodies(
             let note = "the annular sector with its mass, centroid and inertia (an equivalent)";
             body(mo::annular_sector(ri, ro, c.y.atan2(c.x), th), note.into())
         } else {
-            mo::steel_disc(name.clone(), c, m[0], DISC_THICKNESS)
+            mo::steel_disc(name.clone(), c, m[0], mo::DISC_THICKNESS)
         };
         out.push((*link, b));
     }

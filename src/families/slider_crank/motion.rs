@@ -13,9 +13,6 @@ use crate::report::motion::{self as mo, pose, xy, Body, BodyKind, Frame, Handle,
 use crate::synth::shape::Sector;
 use crate::synth::Var;
 
-/// The thickness of a counterweight drawn as a steel disc (its mass and radius only, m).
-pub const DISC_THICKNESS: f64 = 0.02;
-
 /// The scene `s` with the design `d` (and its plate, if designed) over one turn.
 pub fn motion(s: &Scene, d: &Design, plate: Option<Sector>) -> Motion {
     let m = SliderCrank {
@@ -70,7 +67,7 @@ fn body(s: &Scene, d: &Design, plate: Option<Sector>) -> Option<Body> {
     }
     let (m, r) = (d.counterweight_mass_kg?, d.counterweight_radius_m?);
     let c = r * P2::new(beta.cos(), beta.sin());
-    (m > 0.0).then(|| mo::steel_disc("counterweight".into(), c, m, DISC_THICKNESS))
+    (m > 0.0).then(|| mo::steel_disc("counterweight".into(), c, m, mo::DISC_THICKNESS))
 }
 
 /// The crank radius, the offset and a given counterweight radius as handles.

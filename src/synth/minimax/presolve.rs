@@ -182,9 +182,8 @@ impl<'p, 'a> Engine<'p, 'a> {
             if pb.fields[f].dim() != 2 || !self.grid[f].iter().all(only_u) {
                 return None;
             }
-            let mut v = AffineValue::zeros(self.n);
-            pb.fields[f].eval(0.0, &mut v);
-            let form = DiscForm::scaled_by(&u_block(&v))?;
+            // c from the scan grid's first value (θ = 0), already evaluated.
+            let form = DiscForm::scaled_by(&u_block(self.grid[f].first()?))?;
             forms.push((form, w * form.c()));
         }
         let top = forms.iter().map(|f| f.1).fold(0.0, f64::max);
