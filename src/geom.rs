@@ -177,11 +177,60 @@ impl Disc {
 /// deterministic while points sampled along a curve still arrive well spread (expected
 /// linear time). A point counts as inside when its distance from the centre exceeds the
 /// radius by at most 1e-14 of the set's extent, so rounding cannot trigger a rebuild.
+///
+/// Over many points (the union of several sampled curves: an envelope's scenarios) Welzl's
+/// pass runs first on a few candidates — the extreme points in 8 directions — and then on
+/// those and the points left outside, until none is: the smallest disc of a subset that
+/// encloses every point is the smallest disc of them all (it is no larger than theirs, and
+/// that disc is unique), so the result is the same disc, found with a few linear checks
+/// instead of the rebuilds a long run of nearly coincident curves costs.
 pub fn enclosing_disc(points: &[P2]) -> Option<Disc> {
     let n = points.len();
     if n == 0 || points.iter().any(|p| !(p.x.is_finite() && p.y.is_finite())) {
         return None;
     }
+    if n <= 64 {
+        return Some(welzl(points));
+    }
+    let extent = points
+        .iter()
+        .map(|q| (q - points[0]).abs().max())
+        .fold(0.0, f64::max);
+    let slack = 1e-14 * extent;
+    // The extreme points along x, y, x + y and x − y, both ways, found in one pass.
+    let along = |p: &P2| [p.x, p.y, p.x + p.y, p.x - p.y];
+    let mut ext = [(0usize, f64::NEG_INFINITY); 8];
+    for (i, p) in points.iter().enumerate() {
+        for (k, v) in along(p).into_iter().enumerate() {
+            for (slot, v) in [(2 * k, v), (2 * k + 1, -v)] {
+                if v > ext[slot].1 {
+                    ext[slot] = (i, v);
+                }
+            }
+        }
+    }
+    let mut chosen = vec![false; n];
+    ext.iter().for_each(|&(i, _)| chosen[i] = true);
+    loop {
+        let subset: Vec<P2> = (0..n).filter(|&i| chosen[i]).map(|i| points[i]).collect();
+        let d = welzl(&subset);
+        let outside: Vec<usize> = (0..n)
+            .filter(|&i| (points[i] - d.centre).norm() > d.radius + slack)
+            .collect();
+        if outside.is_empty() {
+            return Some(d);
+        }
+        if outside.iter().all(|&i| chosen[i]) {
+            // Rounding left a chosen point outside its own disc: Welzl over them all.
+            return Some(welzl(points));
+        }
+        outside.into_iter().for_each(|i| chosen[i] = true);
+    }
+}
+
+/// Welzl's pass over all of `points` (finite, at least one): [`enclosing_disc`]'s core.
+fn welzl(points: &[P2]) -> Disc {
+    let n = points.len();
     let mut stride = ((n as f64) * 0.618_033_988_749_894_9) as usize;
     while stride > 1 && gcd(stride, n) != 1 {
         stride -= 1;
@@ -213,7 +262,7 @@ pub fn enclosing_disc(points: &[P2]) -> Option<Disc> {
             }
         }
     }
-    Some(d)
+    d
 }
 
 fn gcd(a: usize, b: usize) -> usize {

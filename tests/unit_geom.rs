@@ -144,3 +144,67 @@ fn enclosing_disc_of_sampled_circle_and_degenerate_sets() {
     assert!(enclosing_disc(&[]).is_none());
     assert!(enclosing_disc(&[P2::new(f64::NAN, 0.0)]).is_none());
 }
+
+/// The disc is the smallest: every point inside, and the points on its rim leave no gap
+/// wider than a half turn around its centre (else it could shrink towards them).
+fn assert_smallest(pts: &[P2], d: &cwsynth::geom::Disc, what: &str) {
+    let tol = 1e-9 * d.radius.max(1e-300);
+    for q in pts {
+        assert!(
+            (q - d.centre).norm() <= d.radius + tol,
+            "{what}: a point outside"
+        );
+    }
+    let mut angles: Vec<f64> = pts
+        .iter()
+        .filter(|q| ((*q - d.centre).norm() - d.radius).abs() <= tol)
+        .map(|q| (q.y - d.centre.y).atan2(q.x - d.centre.x))
+        .collect();
+    angles.sort_by(f64::total_cmp);
+    assert!(angles.len() >= 2 || d.radius == 0.0, "{what}: no rim");
+    let gap = angles
+        .windows(2)
+        .map(|w| w[1] - w[0])
+        .chain(
+            angles
+                .first()
+                .map(|a| a + std::f64::consts::TAU - angles[angles.len() - 1]),
+        )
+        .fold(0.0, f64::max);
+    assert!(gap <= std::f64::consts::PI + 1e-6, "{what}: rim gap {gap}");
+}
+
+#[test]
+fn enclosing_disc_of_many_points_and_of_nearly_coincident_curves_is_the_smallest() {
+    // Over 64 points the disc is found on a few candidates and checked against them all:
+    // random clouds, several nearly coincident sampled curves (an envelope's scenarios),
+    // collinear and repeated points.
+    let mut rnd = crate::common::uniform_pm1(0x9e37_79b9_7f4a_7c15);
+    for case in 0..120 {
+        let n = 65 + (case * 37) % 400;
+        let pts: Vec<P2> = match case % 4 {
+            0 => (0..n).map(|_| P2::new(rnd(), 0.3 * rnd())).collect(),
+            1 => {
+                let curves = 2 + case % 7;
+                let per = n / curves + 1;
+                (0..curves)
+                    .flat_map(|c| {
+                        let s = 1.0 + 0.02 * c as f64 / curves as f64;
+                        (0..per).map(move |k| {
+                            let t = k as f64 * std::f64::consts::TAU / per as f64;
+                            P2::new(s * (t.cos() + 0.25 * (2.0 * t).cos()), s * 0.8 * t.sin())
+                        })
+                    })
+                    .collect()
+            }
+            2 => (0..n)
+                .map(|k| P2::new(k as f64 * 1e-3 - 0.1, 2.0 * k as f64 * 1e-3))
+                .collect(),
+            _ => (0..n)
+                .map(|k| P2::new((k % 5) as f64, ((k % 3) as f64).sqrt()))
+                .collect(),
+        };
+        let d = enclosing_disc(&pts).unwrap();
+        assert_smallest(&pts, &d, &format!("case {case}"));
+    }
+}

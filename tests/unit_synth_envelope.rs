@@ -85,3 +85,37 @@ fn each_end_sums_the_multipliers_of_the_vertices_at_it() {
     assert!((rows[3].error - want).abs() < 1e-15, "{}", rows[3].error);
     assert_eq!((rows[1].at, rows[2].at), (1.0, 5.0));
 }
+
+#[test]
+fn the_scenarios_a_worst_case_needs_leave_out_only_dominated_ones() {
+    use cwsynth::synth::envelope::needed_scenarios;
+    // ω ∈ [80, 120], two masses: the nominal (100, 0, 0) is inside the box.
+    let r = [(80.0, 120.0), (-0.1, 0.1), (-0.2, 0.2)];
+    let nominal = [100.0, 0.0, 0.0];
+    // Inertial fields (∝ ω²): the vertices at the top speed alone (bit 0 set).
+    assert_eq!(
+        needed_scenarios(&r, &nominal, 3, true, true),
+        vec![2, 4, 6, 8]
+    );
+    // A weight or a process load in a field: every vertex, the nominal still dominated.
+    assert_eq!(
+        needed_scenarios(&r, &nominal, 3, true, false),
+        (1..=8).collect::<Vec<_>>()
+    );
+    // A length (parameter 2 general): the nominal is needed too.
+    assert_eq!(
+        needed_scenarios(&r, &nominal, 2, true, true),
+        vec![0, 2, 4, 6, 8]
+    );
+    // A nominal outside the box (a mass interval not containing 0) is needed.
+    let off = [(80.0, 120.0), (0.1, 0.3)];
+    assert_eq!(
+        needed_scenarios(&off, &[100.0, 0.0], 2, true, true),
+        vec![0, 2, 4]
+    );
+    // No speed interval: the masses' vertices, whatever the fields.
+    assert_eq!(
+        needed_scenarios(&r[1..], &nominal[1..], 2, false, true),
+        vec![1, 2, 3, 4]
+    );
+}

@@ -30,6 +30,45 @@ pub fn vertices(ranges: &[(f64, f64)]) -> Vec<Vec<f64>> {
         .collect()
 }
 
+/// The scenarios [nominal, vertices…] ([`vertices`]' order) that a worst case needs: the
+/// others are dominated exactly, at every angle and every design, so leaving them out of a
+/// minimax changes neither its optimum nor its certificate (their figures are still
+/// evaluated for the report).
+///
+/// - **The nominal scene**, when every parameter is multi-affine (none from `first_general`
+///   on: no lengths) and the nominal values `nominal` lie in the box: a field affine in each
+///   parameter separately (masses; ω² — a speed v enters as v², and v ∈ [lo, hi] with
+///   0 ≤ lo puts v² in [lo², hi²]) is at any point of the box the multilinear interpolation
+///   of its vertex values, g(p) = Σ_v w_v(p) g(v) with w_v ≥ 0, Σ w_v = 1 independent of the
+///   angle and the design; so |g(p)| ≤ max_v |g(v)|, and for ΔE, a max minus a min of an
+///   affine curve, ΔE(p) ≤ Σ w_v ΔE(v) ≤ max_v ΔE(v).
+/// - **A vertex with the speed (parameter 0, `speed`) at its lower end**, when every field
+///   the problem names is homogeneous in ω² (`homogeneous`: g = ω² h(φ; x, masses), the
+///   inertial figures — shaking force and moment — with no weight or process load in them):
+///   there g = (lo/hi)² × the value at the vertex with the speed at its upper end and every
+///   other parameter the same.
+pub fn needed_scenarios(
+    ranges: &[(f64, f64)],
+    nominal: &[f64],
+    first_general: usize,
+    speed: bool,
+    homogeneous: bool,
+) -> Vec<usize> {
+    let inside = ranges
+        .iter()
+        .zip(nominal)
+        .all(|(&(lo, hi), &v)| lo.min(hi) <= v && v <= lo.max(hi));
+    let speed_ok = !speed || ranges[0].0 >= 0.0 && ranges[0].0 <= ranges[0].1;
+    let nominal_needed = ranges.is_empty() || first_general < ranges.len() || !inside || !speed_ok;
+    let low_speed_out = speed && homogeneous && speed_ok;
+    let vertices = (0..(1usize << ranges.len())).filter(|v| !(low_speed_out && v & 1 == 0));
+    nominal_needed
+        .then_some(0)
+        .into_iter()
+        .chain(vertices.map(|v| v + 1))
+        .collect()
+}
+
 /// Halton point `i` (≥ 1) of the box `ranges`: coordinate d in base `HALTON_PRIMES[d]`,
 /// deterministic whatever the threads.
 pub fn halton_point(ranges: &[(f64, f64)], i: usize) -> Vec<f64> {
@@ -278,16 +317,26 @@ pub fn scenario_sensitivities<E>(
     mut fields_at: impl FnMut(usize, &[f64], &[&Multiplier]) -> Result<Vec<FieldValue>, E>,
 ) -> Result<Vec<Sensitivity>, E> {
     let vs = vertices(ranges);
+    // The maxima at the vertex itself, the same for every parameter: evaluated once.
+    let mut at_vertex: std::collections::BTreeMap<usize, Vec<FieldValue>> = Default::default();
     sensitivities(names, ranges, stride, multipliers, |k, i, ms| {
         let dependence = match i >= first_general {
             true => Dependence::General,
             false => Dependence::Quadratic,
         };
         let mut values = vs[(k - 1) % vs.len()].clone();
-        let h = step(values[i], ranges[i], dependence);
-        central_slopes(values[i], h, dependence, |v| {
+        let (v0, h) = (values[i], step(values[i], ranges[i], dependence));
+        central_slopes(v0, h, dependence, |v| {
             values[i] = v;
-            fields_at(k, &values, ms)
+            if v.to_bits() != v0.to_bits() {
+                return fields_at(k, &values, ms);
+            }
+            if let Some(g) = at_vertex.get(&k) {
+                return Ok(g.clone());
+            }
+            let g = fields_at(k, &values, ms)?;
+            at_vertex.insert(k, g.clone());
+            Ok(g)
         })
     })
 }

@@ -161,6 +161,18 @@ impl SliderCrank {
         self.slider_mass + self.rod.mass * self.rod.centroid / self.l
     }
 
+    /// Whether [`SliderCrank::state`] is the same function of φ for `other`: the same R, L,
+    /// e, kinematic model and rod centroid l3 (the masses and inertias do not enter it).
+    pub fn same_kinematics(&self, other: &SliderCrank) -> bool {
+        let key = |m: &SliderCrank| {
+            (
+                [m.r, m.l, m.e, m.rod.centroid].map(f64::to_bits),
+                m.kinematics,
+            )
+        };
+        key(self) == key(other)
+    }
+
     /// Kinematic state at φ, or `None` where the rod cannot reach the slider line
     /// (|R sin φ − e| ≥ L).
     ///

@@ -183,8 +183,10 @@ pub fn var_i(j: usize) -> usize {
 pub struct AffineValue {
     /// b (caller's units of the field).
     pub b: [f64; 2],
-    /// A, rows 0 and 1, each of length n.
-    pub a: Vec<f64>,
+    /// A, rows 0 and 1, each of length n: inline up to n = 8 (two counterweights, or one
+    /// and a balancer pair), so the millions of values a scan, a polish or an envelope
+    /// evaluates allocate nothing.
+    pub a: smallvec::SmallVec<[f64; 16]>,
 }
 
 impl AffineValue {
@@ -192,7 +194,7 @@ impl AffineValue {
     pub fn zeros(n: usize) -> Self {
         AffineValue {
             b: [0.0; 2],
-            a: vec![0.0; 2 * n],
+            a: smallvec::smallvec![0.0; 2 * n],
         }
     }
     /// n.

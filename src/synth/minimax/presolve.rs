@@ -548,32 +548,32 @@ pub(super) fn polish_support(
         return None;
     }
     let curve: Vec<usize> = merged.iter().map(|w| w.0 .0).collect();
-    let resid = |th: &[f64]| -> Option<(Vec<f64>, P2)> {
-        let ps: Vec<P2> = th
-            .iter()
-            .zip(&curve)
-            .map(|(&t, &c)| point(c, t))
-            .collect::<Option<_>>()?;
+    // One support point and its derivative p' by central differences: a column of the
+    // Jacobian moves one angle, so it re-evaluates that point alone.
+    let at = |c: usize, t: f64| -> Option<(P2, P2)> {
+        let d = (point(c, t + eta)? - point(c, t - eta)?) / (2.0 * eta);
+        Some((point(c, t)?, d))
+    };
+    let resid = |pd: &[(P2, P2)]| -> Option<(Vec<f64>, P2)> {
+        let ps: Vec<P2> = pd.iter().map(|q| q.0).collect();
         let v = centre(&ps)?;
-        let mut f = Vec::with_capacity(th.len());
-        for (i, &t) in th.iter().enumerate() {
-            let c = curve[i];
-            let d = (point(c, t + eta)? - point(c, t - eta)?) / (2.0 * eta);
-            f.push((ps[i] - v).dot(&d));
-        }
-        Some((f, v))
+        Some((pd.iter().map(|(p, d)| (p - v).dot(d)).collect(), v))
+    };
+    let points_at = |th: &[f64]| -> Option<Vec<(P2, P2)>> {
+        th.iter().zip(&curve).map(|(&t, &c)| at(c, t)).collect()
     };
     let mut th: Vec<f64> = merged.iter().map(|w| w.0 .1).collect();
     let start = th.clone();
     let eta2 = 1e-6;
     let mut last_step = f64::INFINITY;
+    let mut pd = points_at(&th)?;
     for _ in 0..10 {
-        let (f, _) = resid(&th)?;
+        let (f, _) = resid(&pd)?;
         let mut jac = nalgebra::DMatrix::<f64>::zeros(k, k);
         for j in 0..k {
-            let mut t2 = th.clone();
-            t2[j] += eta2;
-            let (f2, _) = resid(&t2)?;
+            let mut moved = pd.clone();
+            moved[j] = at(curve[j], th[j] + eta2)?;
+            let (f2, _) = resid(&moved)?;
             for i in 0..k {
                 jac[(i, j)] = (f2[i] - f[i]) / eta2;
             }
@@ -587,6 +587,7 @@ pub(super) fn polish_support(
         if th.iter().zip(&start).any(|(a, b)| angle_dist(*a, *b) > h) {
             return None;
         }
+        pd = points_at(&th)?;
         // Quadratic convergence: the next step would be below 1e-16; a step that does not
         // shrink is the differences' noise.
         if big <= 1e-9 || big >= last_step {
@@ -594,7 +595,7 @@ pub(super) fn polish_support(
         }
         last_step = big;
     }
-    let (_, v) = resid(&th)?;
+    let (_, v) = resid(&pd)?;
     Some((
         th.iter()
             .zip(&curve)

@@ -11,7 +11,9 @@ use crate::families::slider_crank::model::{weight_torque_cs, State};
 use crate::geom::P2;
 use crate::synth::counterweight::Status;
 use crate::synth::energy::EnergyField;
-use crate::synth::envelope::{field_values, multipliers_of, scenario_sensitivities, Sensitivity};
+use crate::synth::envelope::{
+    field_values, multipliers_of, needed_scenarios, scenario_sensitivities, Sensitivity,
+};
 use crate::synth::minimax::{self as mm, AffineField, AffineValue, FnField};
 use crate::synth::Var;
 
@@ -46,24 +48,6 @@ pub(super) fn optimise_joint(
     max_torque: Option<f64>,
 ) -> Result<Optimum, SolveError> {
     let nb = scene.balancers.len();
-    let scenes: Vec<Scene> = if scene.envelope.is_empty() {
-        vec![scene.clone()]
-    } else {
-        let all = scene.envelope.scenarios(scene);
-        all.into_iter().map(|s| s.scene).collect()
-    };
-    let zeros: Vec<Scene> = scenes
-        .iter()
-        .map(|s| s.with_balancers(&vec![[0.0; 2]; nb]))
-        .collect();
-    let jss: Vec<JointScene> = scenes
-        .iter()
-        .zip(&zeros)
-        .map(|(s, z)| JointScene::new(s, z, nb))
-        .collect();
-    let p0 = || jss.iter().map(JointScene::p0).fold(0.0, f64::max);
-    let bounds = jss[0].bounds(objective, max_force, p0)?;
-    let energy = objective == Objective::MinEnergyFluctuation;
     // The fields the goal or a limit names; only these reach the engine (it scans every
     // field on its grid: the main bearing's Newton–Euler loads are not free).
     let used = [
@@ -73,13 +57,29 @@ pub(super) fn optimise_joint(
         objective == Objective::MinPeakTorque || max_torque.is_some(),
         scene.load_limits.main_bearing.is_some(),
     ];
-    // ΔE = 2 min_c max|E − c|: one offset c per scenario, the extra variables (`synth::energy`).
+    let energy = objective == Objective::MinEnergyFluctuation;
+    let (scenes, keep) = scenarios(scene, used, energy);
+    let zeros: Vec<Scene> = scenes
+        .iter()
+        .map(|s| s.with_balancers(&vec![[0.0; 2]; nb]))
+        .collect();
+    let (grids, grid_of) = StateGrid::shared(&scenes, &keep, minimax_settings(scene).scan_samples);
+    let jss: Vec<JointScene> = scenes
+        .iter()
+        .zip(&zeros)
+        .zip(&grid_of)
+        .map(|((s, z), g)| JointScene::new(s, z, nb).with_grid(g.map(|g| &grids[g])))
+        .collect();
+    let p0 = || jss.iter().map(JointScene::p0).fold(0.0, f64::max);
+    let bounds = jss[0].bounds(objective, max_force, p0)?;
+    // ΔE = 2 min_c max|E − c|: one offset c per scenario the engine sees, the extra
+    // variables (`synth::energy`).
     let offset0 = mm::PER_COUNTERWEIGHT * (1 + nb);
-    let n = offset0 + if energy { jss.len() } else { 0 };
-    let sets = jss
+    let n = offset0 + if energy { keep.len() } else { 0 };
+    let sets = keep
         .iter()
         .enumerate()
-        .map(|(k, js)| js.fields(used, energy.then_some((n, offset0 + k))))
+        .map(|(i, &k)| jss[k].fields(used, energy.then_some((n, offset0 + i))))
         .collect::<Result<Vec<_>, _>>()?;
     let extra = sets
         .iter()
@@ -110,7 +110,7 @@ pub(super) fn optimise_joint(
     let goal = match objective {
         Objective::MinEnergyFluctuation => mm::Goal::MinPeak(every(ENERGY, 2.0).collect()),
         Objective::MinPeakForce => mm::Goal::MinPeak(every(FORCE, 1.0).collect()),
-        Objective::MinRmsForce if sets.len() == 1 => mm::Goal::MinRms(at(FORCE)),
+        Objective::MinRmsForce if jss.len() == 1 => mm::Goal::MinRms(at(FORCE)),
         Objective::MinPeakTorque => mm::Goal::MinPeak(every(TORQUE, 1.0).collect()),
         Objective::MinPeakMoment => mm::Goal::MinPeak(every(MOMENT, 1.0).collect()),
         Objective::MinRmsForce | Objective::MinMass | Objective::MinRadius => {
@@ -140,12 +140,16 @@ pub(super) fn optimise_joint(
     };
     let num = |e: mm::MinimaxError| SolveError::Numeric(e.to_string());
     let engine = mm::Engine::new(&pb, &minimax_settings(scene)).map_err(num)?;
-    let sol = engine.solve().map_err(num)?;
+    let mut sol = engine.solve().map_err(num)?;
+    // The multipliers' fields renumbered as every scenario's block (the sensitivity table's).
+    for m in &mut sol.multipliers {
+        m.field = keep[m.field / stride] * stride + m.field % stride;
+    }
     let mut optimum = jss[0].optimum(&sol, &bounds)?;
-    if scene.envelope.sensitivities && sets.len() > 1 {
+    if scene.envelope.sensitivities && jss.len() > 1 {
         let at = energy.then_some((n, offset0));
         optimum.sensitivities =
-            Some(sensitivity_table(scene, &sol, &kinds, at).map_err(|e| e.to_string()));
+            Some(sensitivity_table(scene, &sol, &kinds, at, &keep).map_err(|e| e.to_string()));
     }
     if let Some(e) = sets[0].energy.as_ref() {
         optimum.method = format!(
@@ -154,14 +158,36 @@ pub(super) fn optimise_joint(
             optimum.method
         );
     }
-    if sets.len() > 1 {
+    if jss.len() > 1 {
         optimum.method = format!(
-            "worst case over the operating envelope: the nominal scene and the {} vertices of its box, every figure a field per scenario; {}",
-            sets.len() - 1,
+            "worst case over the operating envelope: the nominal scene and the {} vertices of its box, every figure a field per scenario ({} of them in the program, the others dominated exactly: synth::envelope::needed_scenarios); {}",
+            jss.len() - 1,
+            keep.len(),
             optimum.method
         );
     }
     Ok(optimum)
+}
+
+/// The scenes of a joint design — the scene alone, or the nominal scene and every vertex of
+/// its envelope — and the indices of those the program needs
+/// ([`needed_scenarios`]: the shaking force and moment are homogeneous in ω², the torque,
+/// the bearing load and the energy curve carry weights and process loads).
+fn scenarios(scene: &Scene, used: [bool; 4], energy: bool) -> (Vec<Scene>, Vec<usize>) {
+    if scene.envelope.is_empty() {
+        return (vec![scene.clone()], vec![0]);
+    }
+    let env = &scene.envelope;
+    let all = env.scenarios(scene);
+    let homogeneous = !(used[TORQUE] || used[BEARING] || energy);
+    let keep = needed_scenarios(
+        &env.ranges(),
+        &all[0].values,
+        env.ranges().len() - env.lengths.len(),
+        env.speed.is_some(),
+        homogeneous,
+    );
+    (all.into_iter().map(|s| s.scene).collect(), keep)
 }
 
 /// One scenario's fields, in the engine's order within its stride: the force, the moment,
@@ -208,13 +234,64 @@ const BEARING: usize = 3;
 const ENERGY: usize = 4;
 
 /// The scene of a joint design with what its fields share: the scene with the balancers at
-/// 0 (`zero`: the design-independent parts b(φ)), ω², the gravity g and the balancer count.
+/// 0 (`zero`: the design-independent parts b(φ)), ω², the gravity g, the balancer count and
+/// the mechanism's states on the engine's scan grid (shared by the scenarios of the same
+/// kinematics).
 struct JointScene<'a> {
     scene: &'a Scene,
     zero: &'a Scene,
     w2: f64,
     g: P2,
     nb: usize,
+    grid: Option<&'a StateGrid>,
+}
+
+/// The mechanism's states at the engine's scan angles θ_k = 2πk/N
+/// ([`crate::synth::exchange::uniform_angles`]): every field of a scenario, and every
+/// scenario of an envelope whose speed and masses alone differ, is scanned at those angles,
+/// and the kinematics ([`crate::families::slider_crank::model::SliderCrank::state`], a loop
+/// closure with its square root and sine) are the same for all of them.
+struct StateGrid {
+    states: Vec<State>,
+}
+
+impl StateGrid {
+    /// The grids of the scenes `keep` names, one per distinct kinematics
+    /// ([`SliderCrank::same_kinematics`]), and each scene's grid (`None`: not kept).
+    ///
+    /// [`SliderCrank::same_kinematics`]: crate::families::slider_crank::model::SliderCrank::same_kinematics
+    fn shared(scenes: &[Scene], keep: &[usize], n: usize) -> (Vec<StateGrid>, Vec<Option<usize>>) {
+        let mut owners: Vec<usize> = Vec::new();
+        let mut grid_of = vec![None; scenes.len()];
+        for &k in keep {
+            let mech = &scenes[k].mech;
+            let same = owners
+                .iter()
+                .position(|&o| scenes[o].mech.same_kinematics(mech));
+            grid_of[k] = Some(same.unwrap_or_else(|| {
+                owners.push(k);
+                owners.len() - 1
+            }));
+        }
+        let grids = owners
+            .iter()
+            .map(|&o| StateGrid {
+                states: crate::synth::exchange::uniform_angles(n)
+                    .into_iter()
+                    .map(|phi| scenes[o].mech.state(phi).expect("assembly checked"))
+                    .collect(),
+            })
+            .collect();
+        (grids, grid_of)
+    }
+
+    /// The state at φ when φ is one of the grid's angles (bit for bit).
+    fn get(&self, phi: f64) -> Option<State> {
+        let n = self.states.len();
+        let k = (phi * n as f64 / std::f64::consts::TAU).round();
+        let s = self.states.get(k as usize).filter(|_| k >= 0.0)?;
+        (s.phi.to_bits() == phi.to_bits()).then_some(*s)
+    }
 }
 
 /// The bounds on the design's unbalances (kg·m): the scene's |U| range, the automatic
@@ -270,7 +347,15 @@ impl JointBounds {
 impl<'a> JointScene<'a> {
     /// The mechanism's state at φ (assembly was checked for the whole revolution).
     fn state(&self, phi: f64) -> State {
-        self.scene.mech.state(phi).expect("assembly checked")
+        match self.grid.and_then(|g| g.get(phi)) {
+            Some(s) => s,
+            None => self.scene.mech.state(phi).expect("assembly checked"),
+        }
+    }
+
+    /// The scenario with the states `grid` (of its kinematics) on the scan grid.
+    fn with_grid(self, grid: Option<&'a StateGrid>) -> Self {
+        JointScene { grid, ..self }
     }
 
     /// The scenario of `scene` with its balancers at 0 in `zero`.
@@ -281,6 +366,7 @@ impl<'a> JointScene<'a> {
             w2: scene.omega * scene.omega,
             g: scene.loads.gravity,
             nb,
+            grid: None,
         }
     }
 
@@ -599,6 +685,7 @@ fn sensitivity_table(
     sol: &mm::Solution,
     kinds: &[usize],
     energy: Option<(usize, usize)>,
+    keep: &[usize],
 ) -> Result<Vec<Sensitivity>, SolveError> {
     let stride = kinds.len();
     let multipliers = multipliers_of(sol).map_err(SolveError::Numeric)?;
@@ -609,7 +696,12 @@ fn sensitivity_table(
         let s = env.at(scene, values.to_vec()).scene;
         let zero = s.with_balancers(&vec![[0.0; 2]; nb]);
         let js = JointScene::new(&s, &zero, nb);
-        let set = js.fields([true; 4], energy.map(|(n, o)| (n, o + k)))?;
+        // Scenario k's energy offset is the engine's variable of its place among `keep`.
+        let place = keep
+            .iter()
+            .position(|&j| j == k)
+            .expect("an active scenario is kept");
+        let set = js.fields([true; 4], energy.map(|(n, o)| (n, o + place)))?;
         let at = ms.iter().map(|m| (kinds[m.field % stride], m.angle));
         Ok(field_values(&set.all(), at, &sol.x))
     };
