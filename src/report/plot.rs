@@ -13,6 +13,9 @@
 //! shortest decimal of the value (`600`, not `600.0`; never `-0`); a legend goes to the
 //! corner with the fewest data points under it; an equal-aspect panel has the same length per
 //! pixel on both axes (a circle is round); a heat map has a colour bar.
+//!
+//! A plot of panels is also its data ([`Figure`]: the panels with their size, and its JSON
+//! for `cwsynth serve`'s page, which draws them itself: [`Panel::to_json`]).
 
 /// Why a plot could not be drawn (a report shows the reason in place of the picture).
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
