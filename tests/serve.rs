@@ -455,6 +455,108 @@ fn the_piston_is_drawn_over_a_turn() {
     assert_eq!(m["guides"].as_array().unwrap().len(), 1);
 }
 
+/// A plot of x–y panels carries its data in `/api/report` (`width`, `height`, `panels`): the
+/// numbers its SVG is drawn from, series by series (the linkage's `fields` plot: |F|, M_O and
+/// T, bare and balanced, with their peaks), and the same SVG as the report writes; with
+/// `?plots=data` its `svg` is left out, and a plot without panels (the linkage's drawing)
+/// keeps its SVG.
+#[test]
+fn a_panel_plots_data_is_the_numbers_its_svg_is_drawn_from() {
+    let addr = server(|_| {});
+    let name = "linkage-sixbar-press.toml";
+    let mut direct = solve_scene(&load(&problems().join(name)).unwrap());
+    direct.draw();
+    let plot = direct.plots.iter().find(|p| p.suffix == "fields").unwrap();
+    let figure = plot.figure().unwrap().unwrap();
+    let svg = plot.svg().unwrap();
+    assert_eq!(figure.svg().unwrap(), svg);
+    assert_eq!(figure.panels.len(), 3);
+    let text = std::fs::read(problems().join(name)).unwrap();
+    for query in ["", "plots=data&"] {
+        let path = format!("/api/report?{query}name={name}");
+        let (status, _, body) = http(addr, "POST", &path, &text, "");
+        assert_eq!(status, 200, "{body}");
+        let plots = json(&body)["plots"].as_array().unwrap().clone();
+        let fields = plots.iter().find(|p| p["suffix"] == "fields").unwrap();
+        assert_eq!(
+            (fields["width"].as_u64(), fields["height"].as_u64()),
+            (Some(420), Some(340))
+        );
+        assert_eq!(
+            fields["svg"].as_str(),
+            (query.is_empty()).then_some(svg.as_str())
+        );
+        let panels = fields["panels"].as_array().unwrap();
+        assert_eq!(panels.len(), figure.panels.len());
+        for (got, want) in panels.iter().zip(&figure.panels) {
+            same_panel(got, want);
+            assert!(svg.contains(&want.title), "{}", want.title);
+        }
+        // A plot without panels (the drawing at four crank angles) is its SVG.
+        let drawing = plots.iter().find(|p| p["suffix"] == "linkage").unwrap();
+        assert!(drawing["panels"].is_null());
+        assert!(drawing["svg"].as_str().unwrap().starts_with("<svg"));
+    }
+}
+
+/// A panel of `/api/report` against the library's: labels, every series' name, style and
+/// points (a non-finite one as null; the JSON's numbers to the last bit or the one below it,
+/// as serde_json reads them back).
+fn same_panel(got: &Value, want: &cwsynth::report::plot::Panel) {
+    assert_eq!(got["title"], want.title.as_str());
+    assert_eq!(got["x_label"], want.x_label.as_str());
+    assert_eq!(got["y_label"], want.y_label.as_str());
+    assert_eq!(got["equal_aspect"], want.equal_aspect);
+    assert_eq!(got["angle_x"], true, "θ (deg): the crank angle");
+    let series = got["series"].as_array().unwrap();
+    assert_eq!(series.len(), want.series.len());
+    for (g, w) in series.iter().zip(&want.series) {
+        assert_eq!(g["name"], w.name.as_str());
+        assert_eq!(g["style"], w.style.as_str());
+        for (axis, k) in [("x", 0), ("y", 1)] {
+            let vs = g[axis].as_array().unwrap();
+            assert_eq!(vs.len(), w.points.len(), "{} {axis}", w.name);
+            for (v, p) in vs.iter().zip(&w.points) {
+                let p = if k == 0 { p.0 } else { p.1 };
+                match v.as_f64() {
+                    None => assert!(!p.is_finite() && v.is_null()),
+                    Some(v) => assert!((v - p).abs() <= 2.0 * f64::EPSILON * p.abs(), "{v} {p}"),
+                }
+            }
+        }
+    }
+}
+
+/// The page's plotting library and script are served from the binary (the page works
+/// offline), the library as vendored from its npm package (`scripts/vendor.sh`), with its
+/// licence.
+#[test]
+fn the_plotting_library_is_served_with_its_licence() {
+    let addr = server(|_| {});
+    let vendor = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("src/serve/assets/vendor");
+    for (path, kind) in [
+        ("uPlot.iife.min.js", "text/javascript"),
+        ("uPlot.min.css", "text/css"),
+        ("uPlot.LICENSE", "text/plain"),
+    ] {
+        let (status, head, body) = http(addr, "GET", &format!("/vendor/{path}"), b"", "");
+        assert_eq!(status, 200, "{path}");
+        assert!(head.contains(&format!("content-type: {kind}")), "{head}");
+        assert_eq!(body, std::fs::read_to_string(vendor.join(path)).unwrap());
+    }
+    let (status, _, page) = http(addr, "GET", "/", b"", "");
+    assert_eq!(status, 200);
+    for src in [
+        "/vendor/uPlot.iife.min.js",
+        "/vendor/uPlot.min.css",
+        "/plots.js",
+    ] {
+        assert!(page.contains(src), "{src}");
+    }
+    let (status, _, script) = http(addr, "GET", "/plots.js", b"", "");
+    assert!(status == 200 && script.contains("new uPlot("));
+}
+
 /// Reads until the server closes the connection; how long that took.
 fn closed_after(s: &mut TcpStream) -> Duration {
     let t = std::time::Instant::now();

@@ -121,7 +121,52 @@ mod drawing {
 
 /// The former unit tests of `src/report/plot.rs`.
 mod plot {
-    use cwsynth::report::plot::{heat_map, panels, tick, tick_on, Grid, Panel, Series};
+    use cwsynth::report::plot::{heat_map, panels, tick, tick_on, Figure, Grid, Panel, Series};
+
+    /// A panel as `/api/report` sends it: a non-finite coordinate as null, each style by
+    /// name, an x axis in degrees marked as the mechanism's angle.
+    #[test]
+    fn a_panel_is_its_json() {
+        let p = Panel {
+            title: "t".into(),
+            x_label: "crank angle θ (deg)".into(),
+            y_label: "|F| (N)".into(),
+            series: vec![
+                Series::line(
+                    "bare",
+                    vec![(0.0, 1.5), (f64::NAN, 2.0), (360.0, f64::INFINITY)],
+                ),
+                Series::peak("peak 2 N", vec![(90.0, 2.0)]),
+            ],
+            equal_aspect: false,
+        };
+        let v = p.to_json();
+        assert_eq!(v["angle_x"], true);
+        assert_eq!(v["series"][0]["x"], serde_json::json!([0.0, null, 360.0]));
+        assert_eq!(v["series"][0]["y"], serde_json::json!([1.5, 2.0, null]));
+        assert_eq!(v["series"][1]["style"], "peak");
+        for (label, angle) in [
+            ("α1, angle of gear 1 (deg)", true),
+            ("φ (°)", true),
+            ("x (mm)", false),
+            ("speed (rpm)", false),
+        ] {
+            let q = Panel {
+                x_label: label.into(),
+                ..p.clone()
+            };
+            assert_eq!(q.x_is_angle(), angle, "{label}");
+        }
+        // A figure's labels name their units, as its SVG's must.
+        let bare = Panel {
+            y_label: "|F|".into(),
+            ..p.clone()
+        };
+        assert!(Figure::new(vec![bare], 400, 300).is_err());
+        let f = Figure::new(vec![p], 400, 300).unwrap();
+        assert_eq!(f.to_json()["width"], 400);
+        assert_eq!(f.svg().unwrap(), panels(&f.panels, 400, 300).unwrap());
+    }
 
     #[test]
     fn ticks_are_the_shortest_decimal() {

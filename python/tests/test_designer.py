@@ -4,8 +4,9 @@ Every shipped problem is opened from the page's list and solved; one is edited (
 and numbers change), saved through the page's download, and the saved file solved by the
 CLI to the server's objectives (1e-12). The edit-to-redraw times are printed as a table.
 
-The page's Content-Security-Policy forbids `eval`, so the test waits on selectors and
-locator assertions, never on evaluated strings."""
+The page's Content-Security-Policy forbids `eval` to the page's scripts, so the test waits
+on selectors and locator assertions; the plots' pixels are read through Playwright's
+`evaluate` (the DevTools protocol, which the CSP does not govern)."""
 
 import json
 import math
@@ -150,9 +151,18 @@ def toml_at(text, key):
 
 def shown(pg):
     """The numbers the page shows: objectives, design and the plots (a rope's sheave moves
-    only the load's path)."""
-    plots = [pg.get_attribute(f"#plots figure:nth-child({k + 1}) img", "src") for k in range(pg.locator("#plots img").count())]
-    return pg.inner_text("#objectives") + pg.inner_text("#design") + "".join(plots)
+    only the load's path): the SVG images' sources, the charts' pixels (read through the
+    DevTools protocol, which the page's CSP does not govern)."""
+    images = pg.eval_on_selector_all("#plots img", "(els) => els.map((e) => e.src).join()")
+    charts = []
+    for k in range(pg.locator("#plots .panel").count()):
+        # A chart out of sight is drawn when it comes into sight (data-stale until then).
+        panel = pg.locator("#plots .panel").nth(k)
+        panel.scroll_into_view_if_needed()
+        playwright.expect(panel).not_to_have_attribute("data-stale", "")
+        charts.append(panel.locator("canvas").evaluate("(c) => c.toDataURL()"))
+    pg.evaluate("window.scrollTo(0, 0)")  # back to the drawing, where the drags are
+    return pg.inner_text("#objectives") + pg.inner_text("#design") + images + "".join(charts)
 
 
 def test_dragging_a_handle_edits_its_key_and_re_solves(page, server):

@@ -4,7 +4,7 @@
 //! draws; the family's solve computed every number.
 
 use crate::dynamics::{ConstantSpeed, DriveFigures, Flywheel, RealSpeed, SteadyState};
-use crate::report::plot::{self, Panel, PlotError, Series};
+use crate::report::plot::{self, Panel, Series};
 use crate::report::{number_map, Plot, SolveResult, Table};
 
 /// The drive's figures (`[mechanism.drive]`, `docs/results.md`), in `derived` (and in each
@@ -213,10 +213,12 @@ pub fn drive_documents_of(
         ),
         csv,
     });
-    r.plots.push(Plot::new(
+    r.plots.push(Plot::of_panels(
         suffix("drive"),
         format!("Turning-moment diagram, energy fluctuation and the speed over a turn{of}"),
-        move || drive_plot(&d, angle),
+        480,
+        420,
+        move || Ok(drive_panels(&d, angle)),
     ));
 }
 
@@ -241,7 +243,7 @@ fn thin(v: &[[f64; 3]]) -> Vec<[f64; 3]> {
 
 /// Three panels over the input angle: T with T̄; E with its extremes marked (ΔE between them);
 /// ω at real speed with ω_min, ω_max and the mean.
-fn drive_plot(d: &DriveFigures, angle: &str) -> Result<String, PlotError> {
+fn drive_panels(d: &DriveFigures, angle: &str) -> Vec<Panel> {
     let (c, st) = (&d.constant, &d.steady);
     let deg = |p: f64| p.to_degrees();
     let curve = |k: usize| {
@@ -266,51 +268,47 @@ fn drive_plot(d: &DriveFigures, angle: &str) -> Result<String, PlotError> {
     } else {
         c.mean_torque
     };
-    plot::panels(
-        &[
-            Panel {
-                title: format!(
-                    "Drive torque at constant speed, T̄ = {} N·m",
-                    plot::tick(&t_bar)
-                ),
-                x_label: format!("{angle} angle φ (°)"),
-                y_label: "T (N·m)".into(),
-                series: vec![
-                    Series::line("T(φ)", curve(1)),
-                    Series::line("T̄", flat(t_bar)),
-                ],
-                equal_aspect: false,
-            },
-            Panel {
-                title: format!("Energy curve: ΔE = {} J", plot::tick(&c.energy_fluctuation)),
-                x_label: format!("{angle} angle φ (°)"),
-                y_label: "E (J)".into(),
-                series: vec![
-                    Series::line("E(φ) = ∫ (T − T̄) dφ", curve(2)),
-                    Series::peak("max E", vec![(deg(p_hi), e_hi)]),
-                    Series::peak("min E", vec![(deg(p_lo), e_lo)]),
-                ],
-                equal_aspect: false,
-            },
-            Panel {
-                title: format!(
-                    "{} speed at real speed, flywheel {} kg·m²: Cs = {}",
-                    capitalised(angle),
-                    plot::tick(&st.flywheel),
-                    plot::tick(&st.cs)
-                ),
-                x_label: format!("{angle} angle φ (°)"),
-                y_label: "ω (rad/s)".into(),
-                series: vec![
-                    Series::line("ω(φ)", speed),
-                    Series::line("time-mean speed", flat(st.omega_mean)),
-                ],
-                equal_aspect: false,
-            },
-        ],
-        480,
-        420,
-    )
+    vec![
+        Panel {
+            title: format!(
+                "Drive torque at constant speed, T̄ = {} N·m",
+                plot::tick(&t_bar)
+            ),
+            x_label: format!("{angle} angle φ (°)"),
+            y_label: "T (N·m)".into(),
+            series: vec![
+                Series::line("T(φ)", curve(1)),
+                Series::line("T̄", flat(t_bar)),
+            ],
+            equal_aspect: false,
+        },
+        Panel {
+            title: format!("Energy curve: ΔE = {} J", plot::tick(&c.energy_fluctuation)),
+            x_label: format!("{angle} angle φ (°)"),
+            y_label: "E (J)".into(),
+            series: vec![
+                Series::line("E(φ) = ∫ (T − T̄) dφ", curve(2)),
+                Series::peak("max E", vec![(deg(p_hi), e_hi)]),
+                Series::peak("min E", vec![(deg(p_lo), e_lo)]),
+            ],
+            equal_aspect: false,
+        },
+        Panel {
+            title: format!(
+                "{} speed at real speed, flywheel {} kg·m²: Cs = {}",
+                capitalised(angle),
+                plot::tick(&st.flywheel),
+                plot::tick(&st.cs)
+            ),
+            x_label: format!("{angle} angle φ (°)"),
+            y_label: "ω (rad/s)".into(),
+            series: vec![
+                Series::line("ω(φ)", speed),
+                Series::line("time-mean speed", flat(st.omega_mean)),
+            ],
+            equal_aspect: false,
+        },
+    ]
 }
 
 /// Every load case's turn on one plot (`drive-cases`): each case's drive torque at constant
@@ -329,15 +327,17 @@ pub fn cases_plot(r: &mut SolveResult, cases: Vec<(String, DriveFigures)>, angle
             (name, d)
         })
         .collect();
-    r.plots.push(Plot::new(
+    r.plots.push(Plot::of_panels(
         "drive-cases",
-        "Every load case: the drive torque at constant speed, and the speed over a turn with the flywheel of all the cases".to_string(),
-        move || cases_panels(&cases, angle),
+        "Every load case: the drive torque at constant speed, and the speed over a turn with the flywheel of all the cases",
+        480,
+        420,
+        move || Ok(cases_panels(&cases, angle)),
     ));
 }
 
 /// The two panels of [`cases_plot`]: T(φ) and ω(φ) of every case.
-fn cases_panels(cases: &[(String, DriveFigures)], angle: &str) -> Result<String, PlotError> {
+fn cases_panels(cases: &[(String, DriveFigures)], angle: &str) -> Vec<Panel> {
     let deg = |p: f64| p.to_degrees();
     let line = |name: &str, curve: &[[f64; 3]], k: usize| {
         let mut pts: Vec<(f64, f64)> = curve.iter().map(|v| (deg(v[0]), v[k])).collect();
@@ -369,16 +369,12 @@ fn cases_panels(cases: &[(String, DriveFigures)], angle: &str) -> Result<String,
         capitalised(angle),
         plot::tick(&flywheel)
     );
-    plot::panels(
-        &[
-            panel(
-                "Drive torque at constant speed, every load case".into(),
-                "T (N·m)",
-                false,
-            ),
-            panel(speed, "ω (rad/s)", true),
-        ],
-        480,
-        420,
-    )
+    vec![
+        panel(
+            "Drive torque at constant speed, every load case".into(),
+            "T (N·m)",
+            false,
+        ),
+        panel(speed, "ω (rad/s)", true),
+    ]
 }

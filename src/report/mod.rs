@@ -152,7 +152,9 @@ pub struct Timing {
 
 /// One SVG plot of a result, drawn only when it is written: solving computes numbers, and a
 /// result that is only printed or summarised (`solve --json`, `batch --summary-only`,
-/// `study`) samples and draws nothing.
+/// `study`) samples and draws nothing. A plot of x–y panels ([`Plot::of_panels`]) also gives
+/// its data apart from its SVG ([`Plot::figure`]: the page of `cwsynth serve` draws it
+/// itself).
 #[derive(Clone)]
 pub struct Plot {
     /// File name suffix: `<name>-<suffix>.svg`.
@@ -160,7 +162,20 @@ pub struct Plot {
     /// Caption for reports.
     pub caption: String,
     /// Samples the plot's data and draws the SVG document.
-    draw: std::sync::Arc<dyn Fn() -> Result<String, plot::PlotError> + Send + Sync>,
+    source: Source,
+}
+
+/// What a [`Plot`] makes when it is drawn.
+#[derive(Clone)]
+enum Source {
+    /// Any SVG document (a heat map, bars, a mechanism's drawing).
+    Svg(std::sync::Arc<dyn Fn() -> Result<String, plot::PlotError> + Send + Sync>),
+    /// Side-by-side panels of nominal size `w`×`h` each ([`plot::panels`]).
+    Panels {
+        w: u32,
+        h: u32,
+        make: std::sync::Arc<dyn Fn() -> Result<Vec<plot::Panel>, plot::PlotError> + Send + Sync>,
+    },
 }
 
 impl Plot {
@@ -173,25 +188,62 @@ impl Plot {
         Plot {
             suffix: suffix.into(),
             caption: caption.into(),
-            draw: std::sync::Arc::new(draw),
+            source: Source::Svg(std::sync::Arc::new(draw)),
+        }
+    }
+
+    /// A plot of side-by-side x–y panels, each `w`×`h` nominal pixels, that `make` samples
+    /// when the plot is written or shown: its SVG is [`plot::panels`] of them.
+    pub fn of_panels(
+        suffix: impl Into<String>,
+        caption: impl Into<String>,
+        w: u32,
+        h: u32,
+        make: impl Fn() -> Result<Vec<plot::Panel>, plot::PlotError> + Send + Sync + 'static,
+    ) -> Plot {
+        Plot {
+            suffix: suffix.into(),
+            caption: caption.into(),
+            source: Source::Panels {
+                w,
+                h,
+                make: std::sync::Arc::new(make),
+            },
+        }
+    }
+
+    /// The plot's panels with their size, sampled now; `None` for a plot that is only an
+    /// SVG document ([`Plot::new`]).
+    pub fn figure(&self) -> Option<Result<plot::Figure, plot::PlotError>> {
+        match &self.source {
+            Source::Svg(_) => None,
+            Source::Panels { w, h, make } => {
+                Some(make().and_then(|panels| plot::Figure::new(panels, *w, *h)))
+            }
         }
     }
 
     /// The SVG document, drawn now.
     pub fn svg(&self) -> Result<String, plot::PlotError> {
-        (self.draw)()
+        match &self.source {
+            Source::Svg(draw) => draw(),
+            Source::Panels { w, h, make } => plot::panels(&make()?, *w, *h),
+        }
     }
 
     /// The SVG document, or, if it cannot be drawn, a small SVG that says why (a report's
     /// image link never breaks; a plot that cannot be drawn is a bug to report).
     pub fn svg_or_note(&self) -> String {
-        self.svg().unwrap_or_else(|e| {
-            format!(
-                "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"640\" height=\"40\"><text x=\"8\" y=\"24\">plot not drawn: {}</text></svg>\n",
-                html_escape(&e.to_string())
-            )
-        })
+        self.svg().unwrap_or_else(|e| plot_note(&e))
     }
+}
+
+/// A small SVG document that says why a plot was not drawn.
+pub fn plot_note(e: &plot::PlotError) -> String {
+    format!(
+        "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"640\" height=\"40\"><text x=\"8\" y=\"24\">plot not drawn: {}</text></svg>\n",
+        html_escape(&e.to_string())
+    )
 }
 
 impl std::fmt::Debug for Plot {

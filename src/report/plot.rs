@@ -13,6 +13,9 @@
 //! shortest decimal of the value (`600`, not `600.0`; never `-0`); a legend goes to the
 //! corner with the fewest data points under it; an equal-aspect panel has the same length per
 //! pixel on both axes (a circle is round); a heat map has a colour bar.
+//!
+//! A plot of panels is also its data ([`Figure`]: the panels with their size, and its JSON
+//! for `cwsynth serve`'s page, which draws them itself: [`Panel::to_json`]).
 
 /// Why a plot could not be drawn (a report shows the reason in place of the picture).
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -118,14 +121,102 @@ pub struct Panel {
     pub equal_aspect: bool,
 }
 
+impl Style {
+    /// The JSON spelling (`line`, `points`, `marker`, `peak`).
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Style::Line => "line",
+            Style::Points => "points",
+            Style::Marker => "marker",
+            Style::Peak => "peak",
+        }
+    }
+}
+
+impl Series {
+    /// `{"name", "style", "x": […], "y": […]}`, a non-finite coordinate as `null`.
+    pub fn to_json(&self) -> serde_json::Value {
+        let finite = |v: f64| v.is_finite().then_some(v);
+        let x: Vec<Option<f64>> = self.points.iter().map(|p| finite(p.0)).collect();
+        let y: Vec<Option<f64>> = self.points.iter().map(|p| finite(p.1)).collect();
+        serde_json::json!({"name": self.name, "style": self.style.as_str(), "x": x, "y": y})
+    }
+}
+
+impl Panel {
+    /// The x axis is an angle in degrees (its unit `deg` or `°`): in every family the
+    /// mechanism's input angle, the angle of its motion's frames (the page's slider).
+    pub fn x_is_angle(&self) -> bool {
+        matches!(unit_of(&self.x_label), Some("deg" | "°"))
+    }
+
+    /// `{"title", "x_label", "y_label", "equal_aspect", "angle_x", "series": […]}`
+    /// ([`Series::to_json`]; `angle_x`: [`Panel::x_is_angle`]).
+    pub fn to_json(&self) -> serde_json::Value {
+        serde_json::json!({
+            "title": self.title,
+            "x_label": self.x_label,
+            "y_label": self.y_label,
+            "equal_aspect": self.equal_aspect,
+            "angle_x": self.x_is_angle(),
+            "series": self.series.iter().map(Series::to_json).collect::<Vec<_>>(),
+        })
+    }
+}
+
+/// A plot's data: side-by-side panels, each `width`×`height` nominal pixels
+/// ([`crate::report::Plot::figure`]).
+#[derive(Debug, Clone)]
+pub struct Figure {
+    /// The panels, left to right.
+    pub panels: Vec<Panel>,
+    /// Each panel's nominal width (px).
+    pub width: u32,
+    /// Each panel's nominal height (px).
+    pub height: u32,
+}
+
+impl Figure {
+    /// `panels` of `width`×`height` each, every axis label with its unit ([`has_unit`]).
+    pub fn new(panels: Vec<Panel>, width: u32, height: u32) -> Result<Figure, PlotError> {
+        for p in &panels {
+            has_unit(&p.x_label)?;
+            has_unit(&p.y_label)?;
+        }
+        Ok(Figure {
+            panels,
+            width,
+            height,
+        })
+    }
+
+    /// The SVG document the report writes ([`panels`]).
+    pub fn svg(&self) -> Result<String, PlotError> {
+        panels(&self.panels, self.width, self.height)
+    }
+
+    /// `{"width", "height", "panels": […]}` ([`Panel::to_json`]).
+    pub fn to_json(&self) -> serde_json::Value {
+        serde_json::json!({
+            "width": self.width,
+            "height": self.height,
+            "panels": self.panels.iter().map(Panel::to_json).collect::<Vec<_>>(),
+        })
+    }
+}
+
+/// The text in a label's first parentheses, trimmed (`"|F| (N)"` → `N`).
+fn unit_of(label: &str) -> Option<&str> {
+    let a = label.find('(')?;
+    let b = label[a + 1..].find(')')?;
+    Some(label[a + 1..a + 1 + b].trim())
+}
+
 /// Every axis label names its unit in parentheses (`"|F| (N)"`, `"λ = R/L (–)"` for a pure
 /// number): an axis without one is an error of the plot, not a guess left to the reader.
 pub fn has_unit(label: &str) -> Result<(), PlotError> {
-    let inside = label
-        .find('(')
-        .and_then(|a| label[a + 1..].find(')').map(|b| &label[a + 1..a + 1 + b]));
-    match inside {
-        Some(u) if !u.trim().is_empty() => Ok(()),
+    match unit_of(label) {
+        Some(u) if !u.is_empty() => Ok(()),
         _ => Err(PlotError::Data(format!(
             "the axis label `{label}` names no unit; write it as `quantity (unit)`, `(–)` for a pure number"
         ))),

@@ -14,8 +14,10 @@ use serde_json::{json, Value};
 use std::path::{Component, Path, PathBuf};
 use std::sync::Arc;
 
-/// The Content-Security-Policy of every answer: the binary's own scripts and styles only,
-/// images from itself or inline data (the plots), no plugins, frames or foreign forms.
+/// The Content-Security-Policy of every answer: the binary's own scripts and styles only (the
+/// plotting library among them: it evaluates no strings and sets styles through the CSSOM
+/// only), images from itself or inline data (the SVG plots), no plugins, frames or foreign
+/// forms.
 const CSP: &str = "default-src 'self'; script-src 'self'; style-src 'self'; img-src 'self' data:; object-src 'none'; base-uri 'none'; frame-ancestors 'none'; form-action 'none'";
 
 /// The routes on the shared state.
@@ -36,6 +38,19 @@ pub(super) fn routes(state: Arc<State>) -> Router {
         .route("/", get(|| async { assets::page() }))
         .route("/app.js", get(|| async { assets::script() }))
         .route("/form.js", get(|| async { assets::form_script() }))
+        .route("/plots.js", get(|| async { assets::plots_script() }))
+        .route(
+            "/vendor/uPlot.iife.min.js",
+            get(|| async { assets::uplot_script() }),
+        )
+        .route(
+            "/vendor/uPlot.min.css",
+            get(|| async { assets::uplot_style() }),
+        )
+        .route(
+            "/vendor/uPlot.LICENSE",
+            get(|| async { assets::uplot_license() }),
+        )
         .route("/app.css", get(|| async { assets::style() }))
         .route("/favicon.ico", get(|| async { StatusCode::NO_CONTENT }))
         .merge(api)
@@ -305,9 +320,12 @@ async fn solve(Shared(st): Shared<Arc<State>>, req: Request) -> Response {
     }
 }
 
-/// `POST /api/report`: the result and its plots, for the page: `{"result": …, "plots":
-/// [{"suffix", "caption", "svg"}], "motion": …, "units": {key: [words, unit, factor]}}`.
+/// `POST /api/report[?plots=data]`: the result and its plots, for the page: `{"result": …,
+/// "plots": [{"suffix", "caption", "svg", "width", "height", "panels"}], "motion": …,
+/// "units": {key: [words, unit, factor]}}` ([`plot_json`]; `plots=data`: a plot of panels
+/// without its `svg`).
 async fn report(Shared(st): Shared<Arc<State>>, req: Request) -> Response {
+    let svg_of_panels = query_value(req.uri().query(), "plots") != Some("data");
     let scene = match problem(&st, req).await {
         Ok(s) => s,
         Err(r) => return r,
@@ -317,7 +335,7 @@ async fn report(Shared(st): Shared<Arc<State>>, req: Request) -> Response {
             let plots: Vec<Value> = r
                 .plots
                 .iter()
-                .map(|p| json!({"suffix": p.suffix, "caption": p.caption, "svg": p.svg_or_note()}))
+                .map(|p| plot_json(p, svg_of_panels))
                 .collect();
             let result = r.to_json();
             let units = workshop_units(&result);
@@ -327,6 +345,31 @@ async fn report(Shared(st): Shared<Arc<State>>, req: Request) -> Response {
         }
         Err(r) => r,
     }
+}
+
+/// One plot of `/api/report`: `{"suffix", "caption", "svg"}` (the report's SVG document, or
+/// one that says why it was not drawn); a plot of x–y panels also carries its data,
+/// `"width"`, `"height"` (each panel's nominal size, px) and `"panels"`
+/// ([`crate::report::plot::Figure::to_json`]), and its `svg` only where `svg_of_panels`
+/// (the page draws the panels itself).
+fn plot_json(p: &crate::report::Plot, svg_of_panels: bool) -> Value {
+    let mut v = json!({"suffix": p.suffix, "caption": p.caption});
+    match p.figure() {
+        None => v["svg"] = json!(p.svg_or_note()),
+        Some(Err(e)) => v["svg"] = json!(crate::report::plot_note(&e)),
+        Some(Ok(figure)) => {
+            if svg_of_panels {
+                let svg = figure
+                    .svg()
+                    .unwrap_or_else(|e| crate::report::plot_note(&e));
+                v["svg"] = json!(svg);
+            }
+            if let (Value::Object(o), Value::Object(data)) = (&mut v, figure.to_json()) {
+                o.extend(data);
+            }
+        }
+    }
+    v
 }
 
 /// `POST /api/edit`: `{"text", "key", "value"}` → `{"text"}`, the file with the key set

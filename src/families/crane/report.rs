@@ -34,9 +34,11 @@ pub fn documents(scene: &Scene, s: &CraneProblem, sol: &Solution, r: &mut SolveR
             csv,
         });
         let (scene, out) = (scene.clone(), out.clone());
-        r.plots.push(Plot::new(
+        r.plots.push(Plot::of_panels(
             "path",
             "Jib-head path over the luffing range and its height against the boom angle",
+            640,
+            520,
             move || path_plot(&scene, &out),
         ));
     }
@@ -139,9 +141,11 @@ fn balance_documents(r: &mut SolveResult, scene: &Scene, s: &CraneProblem, bal: 
         bs.load_mass.is_some(),
     );
     let designed = bal.counterweight.is_some();
-    r.plots.push(Plot::new(
+    r.plots.push(Plot::of_panels(
         "balance",
         "Luffing drive torque and member forces against the reach",
+        640,
+        420,
         move || balance_plot(&name, &series, loaded, designed),
     ));
 }
@@ -152,7 +156,7 @@ fn balance_plot(
     series: &[balance::Sample],
     loaded: bool,
     designed: bool,
-) -> Result<String, PlotError> {
+) -> Result<Vec<Panel>, PlotError> {
     let pts = |f: &dyn Fn(&balance::Sample) -> f64| -> Vec<(f64, f64)> {
         series.iter().map(|p| (p.reach, f(p) / 1e3)).collect()
     };
@@ -185,33 +189,29 @@ fn balance_plot(
             pts(&|p| p.loaded.head_force),
         ),
     ];
-    plot::panels(
-        &[
-            Panel {
-                title: format!("{name}: luffing drive torque"),
-                x_label: "reach from the slewing axis (m)".into(),
-                y_label: "drive torque about A (kN·m, + raises the boom)".into(),
-                series: torque,
-                equal_aspect: false,
-            },
-            Panel {
-                title: format!(
-                    "Member forces ({case}{})",
-                    if designed {
-                        ", with the counterweight"
-                    } else {
-                        ""
-                    }
-                ),
-                x_label: "reach from the slewing axis (m)".into(),
-                y_label: "force (kN)".into(),
-                series: forces,
-                equal_aspect: false,
-            },
-        ],
-        640,
-        420,
-    )
+    Ok(vec![
+        Panel {
+            title: format!("{name}: luffing drive torque"),
+            x_label: "reach from the slewing axis (m)".into(),
+            y_label: "drive torque about A (kN·m, + raises the boom)".into(),
+            series: torque,
+            equal_aspect: false,
+        },
+        Panel {
+            title: format!(
+                "Member forces ({case}{})",
+                if designed {
+                    ", with the counterweight"
+                } else {
+                    ""
+                }
+            ),
+            x_label: "reach from the slewing axis (m)".into(),
+            y_label: "force (kN)".into(),
+            series: forces,
+            equal_aspect: false,
+        },
+    ])
 }
 
 /// Compact facts of the landscape (the grid itself is in the CSV).
@@ -385,7 +385,7 @@ fn landscape_plot(
     Ok(svg)
 }
 
-fn path_plot(scene: &Scene, out: &Outcome) -> Result<String, PlotError> {
+fn path_plot(scene: &Scene, out: &Outcome) -> Result<Vec<Panel>, PlotError> {
     let nan = (f64::NAN, f64::NAN);
     let head: Vec<(f64, f64)> = out.path.iter().map(|p| (p[0], p[1])).collect();
     let tail: Vec<(f64, f64)> = out.tail_path.iter().map(|p| (p[0], p[1])).collect();
@@ -446,27 +446,22 @@ fn path_plot(scene: &Scene, out: &Outcome) -> Result<String, PlotError> {
         .map_or("Δh not available".to_string(), |d| {
             format!("Δh = {d:.4} m")
         });
-    let svg = plot::panels(
-        &[
-            Panel {
-                title: format!("{}: jib-head path ({dh})", scene.name),
-                x_label: "x from the boom foot A (m; reach is −x)".into(),
-                y_label: "y above A (m)".into(),
-                series,
-                equal_aspect: true,
-            },
-            Panel {
-                title: format!("Jib-head height over the luffing range ({dh})"),
-                x_label: "boom angle φ (deg)".into(),
-                y_label: "jib-head height y_C above A (m)".into(),
-                series: hs,
-                equal_aspect: false,
-            },
-        ],
-        640,
-        520,
-    )?;
-    Ok(svg)
+    Ok(vec![
+        Panel {
+            title: format!("{}: jib-head path ({dh})", scene.name),
+            x_label: "x from the boom foot A (m; reach is −x)".into(),
+            y_label: "y above A (m)".into(),
+            series,
+            equal_aspect: true,
+        },
+        Panel {
+            title: format!("Jib-head height over the luffing range ({dh})"),
+            x_label: "boom angle φ (deg)".into(),
+            y_label: "jib-head height y_C above A (m)".into(),
+            series: hs,
+            equal_aspect: false,
+        },
+    ])
 }
 
 /// The linkage's drawing (`<name>-drawing.dxf`/`.svg`), where the design has a geometry: the

@@ -35,22 +35,28 @@ pub fn documents(scene: &Scene, p: &GearProblem, sol: &Solution, r: &mut SolveRe
     }
     let shared = std::sync::Arc::new((scene.clone(), p.gear.clone(), out.clone()));
     let d = shared.clone();
-    r.plots.push(Plot::new(
+    r.plots.push(Plot::of_panels(
         "pitch-curves",
         "Pitch curves of both gears and the transmission function i12(α1)",
+        560,
+        480,
         move || ratio_and_curves_plot(&d.0, &d.2),
     ));
     let d = shared.clone();
-    r.plots.push(Plot::new(
+    r.plots.push(Plot::of_panels(
         "sliding",
         "Sliding coefficients µ1, µ2 against α1, poles marked, pole windows left empty",
+        640,
+        480,
         move || sliding_plot(&d.0, &d.1, &d.2),
     ));
     if shared.2.teeth.is_some() {
         let d = shared.clone();
-        r.plots.push(Plot::new(
+        r.plots.push(Plot::of_panels(
             "contact",
             "Contact point: radii ρ_K1, ρ_K2 and velocities V_K1, V_K2, v_t1, v_t2, v_s against α1",
+            640,
+            420,
             move || contact_plot(&d.0, &d.2),
         ));
     }
@@ -58,9 +64,11 @@ pub fn documents(scene: &Scene, p: &GearProblem, sol: &Solution, r: &mut SolveRe
     r.motion = super::motion::motion(&p.gear, out).and_then(|m| serde_json::to_value(m).ok());
     if !shared.2.sweep.is_empty() {
         let d = shared.clone();
-        r.plots.push(Plot::new(
+        r.plots.push(Plot::of_panels(
             "sweep",
             "Design sweep over the eccentricity e",
+            480,
+            420,
             move || sweep_plot(&d.0, &d.1, &d.2),
         ));
     }
@@ -75,7 +83,7 @@ fn closed(pts: &[[f64; 2]], scale: f64) -> Vec<(f64, f64)> {
 }
 
 /// Pitch curves (equal axes, mm) and i12(α1).
-fn ratio_and_curves_plot(scene: &Scene, out: &Outcome) -> Result<String, PlotError> {
+fn ratio_and_curves_plot(scene: &Scene, out: &Outcome) -> Result<Vec<Panel>, PlotError> {
     let pc = &out.pitch_curves;
     let mm = 1e3;
     let curves = Panel {
@@ -110,8 +118,7 @@ fn ratio_and_curves_plot(scene: &Scene, out: &Outcome) -> Result<String, PlotErr
         series: vec![Series::line("i12(α1)", i12)],
         equal_aspect: false,
     };
-    let svg = plot::panels(&[curves, ratio], 560, 480)?;
-    Ok(svg)
+    Ok(vec![curves, ratio])
 }
 
 /// Vertical lines at the given x between y0 and y1, broken between lines.
@@ -126,13 +133,12 @@ fn verticals(xs: &[f64], y0: f64, y1: f64) -> Vec<(f64, f64)> {
 /// µ1 and µ2 against α1: a full turn of gear 1 (the outcome's series) and a zoom on the
 /// arches around the peak, evaluated afresh on a fine grid that includes the exact window
 /// edges (so that the plotted curve reaches the reported peak).
-fn sliding_plot(scene: &Scene, g: &GearScene, out: &Outcome) -> Result<String, PlotError> {
+fn sliding_plot(scene: &Scene, g: &GearScene, out: &Outcome) -> Result<Vec<Panel>, PlotError> {
     let v = Sliding::new(g, out)?;
-    plot::panels(
-        &[v.panel(&scene.name, false), v.panel(&scene.name, true)],
-        640,
-        480,
-    )
+    Ok(vec![
+        v.panel(&scene.name, false),
+        v.panel(&scene.name, true),
+    ])
 }
 
 /// What the sliding plot draws: µ1 and µ2 over the turn and zoomed on two arches around the
@@ -357,7 +363,7 @@ impl<'a> Sliding<'a> {
 }
 
 /// The eccentricity sweep: ratio variation, peak |µ|, gear 2's curvature.
-fn sweep_plot(scene: &Scene, g: &GearScene, out: &Outcome) -> Result<String, PlotError> {
+fn sweep_plot(scene: &Scene, g: &GearScene, out: &Outcome) -> Result<Vec<Panel>, PlotError> {
     let mm = 1e3;
     let e_star = out.design.eccentricity_m * mm;
     let xs = |f: &dyn Fn(&sg::SweepRow) -> f64, feasible: Option<bool>| -> Vec<(f64, f64)> {
@@ -433,21 +439,16 @@ fn sweep_plot(scene: &Scene, g: &GearScene, out: &Outcome) -> Result<String, Plo
         series,
         equal_aspect: false,
     };
-    let svg = plot::panels(
-        &[
-            p(
-                format!("{}: speed-ratio variation", scene.name),
-                "i12max/i12min (–)",
-                var,
-            ),
-            p("peak sliding coefficient".into(), "peak |µ| (–)", mu),
-            p("convexity of gear 2".into(), "κmin·R (–)", curv),
-            p("pitch pressure angle".into(), "max |ψ| (deg)", psi),
-        ],
-        480,
-        420,
-    )?;
-    Ok(svg)
+    Ok(vec![
+        p(
+            format!("{}: speed-ratio variation", scene.name),
+            "i12max/i12min (–)",
+            var,
+        ),
+        p("peak sliding coefficient".into(), "peak |µ| (–)", mu),
+        p("convexity of gear 2".into(), "κmin·R (–)", curv),
+        p("pitch pressure angle".into(), "max |ψ| (deg)", psi),
+    ])
 }
 
 fn num(v: f64) -> String {
@@ -687,7 +688,7 @@ fn teeth_tables(t: &TeethOutcome) -> Vec<Table> {
 
 /// ρ_K1, ρ_K2 (mm) and V_K1, V_K2, v_t1, v_t2, v_s (m/s) against α1, over one turn and on
 /// two arches (the paper's Fig. 5 and 6).
-fn contact_plot(scene: &Scene, out: &Outcome) -> Result<String, PlotError> {
+fn contact_plot(scene: &Scene, out: &Outcome) -> Result<Vec<Panel>, PlotError> {
     let Some(t) = &out.teeth else {
         return Err(PlotError::data("no tooth-level outputs"));
     };
@@ -748,5 +749,5 @@ fn contact_plot(scene: &Scene, out: &Outcome) -> Result<String, PlotError> {
         plot::has_unit(&p.x_label)?;
         plot::has_unit(&p.y_label)?;
     }
-    plot::panels(&[radii, vel(false), vel(true)], 640, 420)
+    Ok(vec![radii, vel(false), vel(true)])
 }

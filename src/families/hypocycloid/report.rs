@@ -81,15 +81,19 @@ pub fn documents(scene: &Scene, s: &HypocycloidProblem, sol: &Solution, r: &mut 
         ));
     }
     let d = shared.clone();
-    r.plots.push(Plot::new(
+    r.plots.push(Plot::of_panels(
         "coefficients",
         "Coefficients of S/R: exact against the paper-style truncated series (values below the error estimate not drawn)",
+        560,
+        460,
         move || coefficient_plot(&d.0, &d.1),
     ));
     let d = shared;
-    r.plots.push(Plot::new(
+    r.plots.push(Plot::of_panels(
         "force",
         "Inertia force of the reciprocating mass over one turn, and the piston path",
+        560,
+        460,
         move || force_plot(&d.0, &d.1),
     ));
 }
@@ -321,7 +325,7 @@ fn headroom(series: &[Series]) -> Series {
     Series::line("", vec![(x, top)])
 }
 
-fn coefficient_plot(scene: &Scene, out: &Outcome) -> Result<String, PlotError> {
+fn coefficient_plot(scene: &Scene, out: &Outcome) -> Result<Vec<Panel>, PlotError> {
     let c = &out.coefficients;
     // Values below the coefficient's own error estimate are zero to working accuracy (e.g.
     // the b_i of variant 1, the odd a_i of variant 2): not drawn.
@@ -370,30 +374,25 @@ fn coefficient_plot(scene: &Scene, out: &Outcome) -> Result<String, PlotError> {
             .collect(),
     ));
     right.push(headroom(&right));
-    let svg = plot::panels(
-        &[
-            Panel {
-                title: format!("{}: Fourier coefficients of S/R", scene.name),
-                x_label: "order i (–)".into(),
-                y_label: "log10 |coefficient| (–)".into(),
-                series: left,
-                equal_aspect: false,
-            },
-            Panel {
-                title: format!("paper's series (to z^{p}) − exact"),
-                x_label: "order i (–)".into(),
-                y_label: "log10 |difference| (–)".into(),
-                series: right,
-                equal_aspect: false,
-            },
-        ],
-        560,
-        460,
-    )?;
-    Ok(svg)
+    Ok(vec![
+        Panel {
+            title: format!("{}: Fourier coefficients of S/R", scene.name),
+            x_label: "order i (–)".into(),
+            y_label: "log10 |coefficient| (–)".into(),
+            series: left,
+            equal_aspect: false,
+        },
+        Panel {
+            title: format!("paper's series (to z^{p}) − exact"),
+            x_label: "order i (–)".into(),
+            y_label: "log10 |difference| (–)".into(),
+            series: right,
+            equal_aspect: false,
+        },
+    ])
 }
 
-fn force_plot(scene: &Scene, out: &Outcome) -> Result<String, PlotError> {
+fn force_plot(scene: &Scene, out: &Outcome) -> Result<Vec<Panel>, PlotError> {
     let fc = &out.force_curves;
     let deg: Vec<f64> = fc.phi.iter().map(|p| p * 180.0 / PI).collect();
     let zip =
@@ -414,27 +413,22 @@ fn force_plot(scene: &Scene, out: &Outcome) -> Result<String, PlotError> {
     force_series.push(headroom(&force_series));
     let mut pos_series = vec![Series::line("S − L", zip(&pos_mm))];
     pos_series.push(headroom(&pos_series));
-    let svg = plot::panels(
-        &[
-            Panel {
-                title: format!("{}: inertia force of m_B", scene.name),
-                x_label: "carrier angle φ (deg)".into(),
-                y_label: "force (N)".into(),
-                series: force_series,
-                equal_aspect: false,
-            },
-            Panel {
-                title: "piston position".into(),
-                x_label: "carrier angle φ (deg)".into(),
-                y_label: "S − L (mm)".into(),
-                series: pos_series,
-                equal_aspect: false,
-            },
-        ],
-        560,
-        460,
-    )?;
-    Ok(svg)
+    Ok(vec![
+        Panel {
+            title: format!("{}: inertia force of m_B", scene.name),
+            x_label: "carrier angle φ (deg)".into(),
+            y_label: "force (N)".into(),
+            series: force_series,
+            equal_aspect: false,
+        },
+        Panel {
+            title: "piston position".into(),
+            x_label: "carrier angle φ (deg)".into(),
+            y_label: "S − L (mm)".into(),
+            series: pos_series,
+            equal_aspect: false,
+        },
+    ])
 }
 
 /// The mechanism's drawing (`<name>-drawing.dxf`/`.svg`) at φ = 0: the fixed ring gear
@@ -641,9 +635,11 @@ fn dynamics_documents(r: &mut SolveResult, name: &str, d: &DynamicsOutcome) {
         });
         let curves = t.clone();
         let title = name.to_string();
-        r.plots.push(Plot::new(
+        r.plots.push(Plot::of_panels(
             "torque",
             "Drive torque over a turn: gas, inertia and their sum",
+            560,
+            460,
             move || torque_plot(&title, &curves),
         ));
     }
@@ -669,7 +665,7 @@ fn dynamics_documents(r: &mut SolveResult, name: &str, d: &DynamicsOutcome) {
 fn torque_plot(
     name: &str,
     t: &crate::families::hypocycloid::balance::TorqueOutcome,
-) -> Result<String, PlotError> {
+) -> Result<Vec<Panel>, PlotError> {
     let deg: Vec<f64> = t.phi.iter().map(|p| p * 180.0 / PI).collect();
     let zip =
         |v: &[f64]| -> Vec<(f64, f64)> { deg.iter().copied().zip(v.iter().copied()).collect() };
@@ -679,15 +675,11 @@ fn torque_plot(
         Series::line("drive torque", zip(&t.total)),
     ];
     series.push(headroom(&series));
-    plot::panels(
-        &[Panel {
-            title: format!("{name}: drive torque at constant speed"),
-            x_label: "carrier angle φ (deg)".into(),
-            y_label: "torque (N·m)".into(),
-            series,
-            equal_aspect: false,
-        }],
-        560,
-        460,
-    )
+    Ok(vec![Panel {
+        title: format!("{name}: drive torque at constant speed"),
+        x_label: "carrier angle φ (deg)".into(),
+        y_label: "torque (N·m)".into(),
+        series,
+        equal_aspect: false,
+    }])
 }

@@ -146,9 +146,9 @@ fn pareto_documents(r: &mut SolveResult, front: &Front) {
         csv: front.csv(),
     });
     let line = front.line();
-    r.plots.push(Plot::new("pareto", alt, move || {
-        plot::panels(
-            &[Panel {
+    r.plots
+        .push(Plot::of_panels("pareto", alt, 640, 420, move || {
+            Ok(vec![Panel {
                 title: title.into(),
                 x_label: x_label.into(),
                 y_label: y_label.into(),
@@ -157,11 +157,8 @@ fn pareto_documents(r: &mut SolveResult, front: &Front) {
                     Series::points("points", line.clone()),
                 ],
                 equal_aspect: false,
-            }],
-            640,
-            420,
-        )
-    }));
+            }])
+        }));
 }
 
 /// The fields over the cycle with and without the counterweights (`<name>-cycle.csv`, the
@@ -184,9 +181,11 @@ fn curves(r: &mut SolveResult, scene: &Scene, p: &LinkageProblem, solved: &Solve
         csv,
     });
     let with_cw = x.is_some();
-    r.plots.push(Plot::new(
+    r.plots.push(Plot::of_panels(
         "fields",
         "|F|, M_O and T over one crank turn: bare linkage and with the counterweights",
+        420,
+        340,
         move || fields_plot(&rows, with_cw),
     ));
     let (sc, name) = (p.scene.clone(), scene.name.clone());
@@ -224,7 +223,7 @@ fn cycle_rows(sc: &LinkageScene, x: Option<&[f64]>, n: usize) -> Vec<[f64; 9]> {
 }
 
 /// |F|, M_O and T against θ from [`cycle_rows`], bare and (with counterweights) balanced.
-fn fields_plot(rows: &[[f64; 9]], with_cw: bool) -> Result<String, PlotError> {
+fn fields_plot(rows: &[[f64; 9]], with_cw: bool) -> Result<Vec<Panel>, PlotError> {
     let col = |i: usize, j: Option<usize>| -> Vec<(f64, f64)> {
         rows.iter()
             .map(|r| (r[0], j.map_or(r[i], |j| r[i].hypot(r[j]))))
@@ -261,27 +260,23 @@ fn fields_plot(rows: &[[f64; 9]], with_cw: bool) -> Result<String, PlotError> {
             equal_aspect: false,
         }
     };
-    plot::panels(
-        &[
-            pane(
-                "Shaking force |F|",
-                "|F|",
-                "N",
-                col(1, Some(2)),
-                col(5, Some(6)),
-            ),
-            pane(
-                "Shaking moment M_O",
-                "M_O",
-                "N·m",
-                col(3, None),
-                col(7, None),
-            ),
-            pane("Input torque T", "T", "N·m", col(4, None), col(8, None)),
-        ],
-        420,
-        340,
-    )
+    Ok(vec![
+        pane(
+            "Shaking force |F|",
+            "|F|",
+            "N",
+            col(1, Some(2)),
+            col(5, Some(6)),
+        ),
+        pane(
+            "Shaking moment M_O",
+            "M_O",
+            "N·m",
+            col(3, None),
+            col(7, None),
+        ),
+        pane("Input torque T", "T", "N·m", col(4, None), col(8, None)),
+    ])
 }
 
 /// The links as segments (reference joint to tip) at four crank angles; the counterweights'

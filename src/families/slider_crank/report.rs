@@ -43,9 +43,11 @@ pub fn documents(scene: &Scene, p: &SliderCrankProblem, sol: &Solution, r: &mut 
     sensitivity_table(r, sol.sensitivities.as_ref());
     if out.joint_loads.is_some() {
         let (name, out) = (scene.name.clone(), out.clone());
-        r.plots.push(Plot::new(
+        r.plots.push(Plot::of_panels(
             "joint-loads",
             "Joint loads over the cycle",
+            600,
+            420,
             move || joint_load_plot(&name, &out),
         ));
     }
@@ -66,9 +68,11 @@ pub fn documents(scene: &Scene, p: &SliderCrankProblem, sol: &Solution, r: &mut 
     crate::report::drive::drive_documents(r, sol.drive.as_ref(), "crank");
     let (scene, s, out) = (scene.clone(), p.core.clone(), out.clone());
     let label = sol.claim.status.design_label();
-    r.plots.push(Plot::new(
+    r.plots.push(Plot::of_panels(
         "shaking-force",
         "Shaking force (and drive torque) with and without counterweight",
+        560,
+        480,
         move || slider_crank_plot(&scene, &s, &out, label),
     ));
 }
@@ -147,9 +151,10 @@ fn pareto_documents(r: &mut SolveResult, scene: &Scene, sol: &Solution) {
         .map(|(k, m)| (k.into(), m.clone()))
         .collect();
     let (scene, out) = (scene.clone(), out.clone());
-    r.plots.push(Plot::new("pareto", caption, move || {
-        pareto_plot(&scene, &out, &baselines)
-    }));
+    r.plots
+        .push(Plot::of_panels("pareto", caption, 700, 520, move || {
+            pareto_plot(&scene, &out, &baselines)
+        }));
 }
 
 /// The "Lanchester balancers" table (`<name>-balancers.csv`): per pair its order, unbalance
@@ -247,7 +252,7 @@ fn cycle_table(r: &mut SolveResult, s: &sc::Scene, out: &sc::Outcome) {
 
 /// The magnitudes of the joint loads of the design against the crank angle, with the peaks
 /// marked (`<name>-joint-loads.svg`).
-fn joint_load_plot(name: &str, out: &sc::Outcome) -> Result<String, PlotError> {
+fn joint_load_plot(name: &str, out: &sc::Outcome) -> Result<Vec<Panel>, PlotError> {
     let s = &out.designed;
     let u = P2::from(out.design.unbalance);
     let mcw = out.counterweight.mass.unwrap_or(0.0);
@@ -282,17 +287,13 @@ fn joint_load_plot(name: &str, out: &sc::Outcome) -> Result<String, PlotError> {
                 .collect(),
         ));
     }
-    plot::panels(
-        &[Panel {
-            title: format!("{name}: joint loads"),
-            x_label: "crank angle φ (deg)".into(),
-            y_label: "load (N)".into(),
-            series,
-            equal_aspect: false,
-        }],
-        600,
-        420,
-    )
+    Ok(vec![Panel {
+        title: format!("{name}: joint loads"),
+        x_label: "crank angle φ (deg)".into(),
+        y_label: "load (N)".into(),
+        series,
+        equal_aspect: false,
+    }])
 }
 
 /// The speed sweep's table `<name>-speed-sweep.csv` and plot (the optimum at each speed, the
@@ -333,44 +334,42 @@ fn speed_sweep_documents(r: &mut SolveResult, scene: &Scene, s: &sc::Scene, pts:
         },
         pts.to_vec(),
     );
-    r.plots.push(Plot::new(
+    r.plots.push(Plot::of_panels(
         "speed-sweep",
         "Optimum against speed",
+        600,
+        460,
         move || {
             let pts = &pts_plot;
             let line = |f: &dyn Fn(&SweepPoint) -> f64| {
                 pts.iter().map(|p| (p.speed_rpm, f(p))).collect::<Vec<_>>()
             };
-            plot::panels(
-                &[
-                    Panel {
-                        title: format!("{name}: objective against speed"),
-                        x_label: "speed (rpm)".into(),
-                        y_label: y_label.clone(),
-                        series: vec![
-                            Series::line("optimum at each speed", line(&|p| p.optimal_objective)),
-                            Series::line(
-                                "this design (optimised at the scene's speed)",
-                                line(&|p| p.design_objective),
-                            ),
-                            Series::line("no counterweight", line(&|p| p.none_objective)),
-                        ],
-                        equal_aspect: false,
-                    },
-                    Panel {
-                        title: "optimal unbalance against speed".into(),
-                        x_label: "speed (rpm)".into(),
-                        y_label: "|U| (kg·m)".into(),
-                        series: vec![Series::line(
-                            "optimal |U|",
-                            line(&|p| p.optimal_unbalance_kgm),
-                        )],
-                        equal_aspect: false,
-                    },
-                ],
-                600,
-                460,
-            )
+            Ok(vec![
+                Panel {
+                    title: format!("{name}: objective against speed"),
+                    x_label: "speed (rpm)".into(),
+                    y_label: y_label.clone(),
+                    series: vec![
+                        Series::line("optimum at each speed", line(&|p| p.optimal_objective)),
+                        Series::line(
+                            "this design (optimised at the scene's speed)",
+                            line(&|p| p.design_objective),
+                        ),
+                        Series::line("no counterweight", line(&|p| p.none_objective)),
+                    ],
+                    equal_aspect: false,
+                },
+                Panel {
+                    title: "optimal unbalance against speed".into(),
+                    x_label: "speed (rpm)".into(),
+                    y_label: "|U| (kg·m)".into(),
+                    series: vec![Series::line(
+                        "optimal |U|",
+                        line(&|p| p.optimal_unbalance_kgm),
+                    )],
+                    equal_aspect: false,
+                },
+            ])
         },
     ));
 }
@@ -379,7 +378,7 @@ fn pareto_plot(
     scene: &Scene,
     out: &sc::Outcome,
     baselines: &BTreeMap<String, sc::Metrics>,
-) -> Result<String, PlotError> {
+) -> Result<Vec<Panel>, PlotError> {
     // The objective traded against the force: the peak torque, or ΔE.
     let energy = out.pareto.iter().any(|p| p.energy_fluctuation_j.is_some());
     let (what, least, y_label) = if energy {
@@ -437,31 +436,26 @@ fn pareto_plot(
         Series::points("front points", front),
     ];
     ends(&mut zoom);
-    let svg = plot::panels(
-        &[
-            Panel {
-                title: format!(
-                    "{}: {} against peak shaking force",
-                    scene.name,
-                    if energy { "ΔE" } else { "peak drive torque" }
-                ),
-                x_label: "peak shaking force (N)".into(),
-                y_label: y_label.into(),
-                series,
-                equal_aspect: false,
-            },
-            Panel {
-                title: "the Pareto front at its own scale".into(),
-                x_label: "peak shaking force (N)".into(),
-                y_label: y_label.into(),
-                series: zoom,
-                equal_aspect: false,
-            },
-        ],
-        700,
-        520,
-    )?;
-    Ok(svg)
+    Ok(vec![
+        Panel {
+            title: format!(
+                "{}: {} against peak shaking force",
+                scene.name,
+                if energy { "ΔE" } else { "peak drive torque" }
+            ),
+            x_label: "peak shaking force (N)".into(),
+            y_label: y_label.into(),
+            series,
+            equal_aspect: false,
+        },
+        Panel {
+            title: "the Pareto front at its own scale".into(),
+            x_label: "peak shaking force (N)".into(),
+            y_label: y_label.into(),
+            series: zoom,
+            equal_aspect: false,
+        },
+    ])
 }
 
 /// The shaking-force locus, |F| and the drive torque over a turn: no counterweight, the
@@ -472,7 +466,7 @@ fn slider_crank_plot(
     s: &sc::Scene,
     out: &sc::Outcome,
     label: &str,
-) -> Result<String, PlotError> {
+) -> Result<Vec<Panel>, PlotError> {
     let n = 361;
     // The design with its balancers (if any), the others on the scene as read.
     let opt = |name: &str| name == label;
@@ -572,8 +566,7 @@ fn slider_crank_plot(
             equal_aspect: false,
         });
     }
-    let svg = plot::panels(&panels, 560, 480)?;
-    Ok(svg)
+    Ok(panels)
 }
 
 /// The counterweight plate's drawing (`<name>-drawing.dxf`/`.svg`), where the scene shapes

@@ -1,6 +1,7 @@
 // The designer's page: open a problem file, edit it, and see it re-solved (debounced) on
 // every edit. Every element is built with textContent (nothing from a file or a result is
-// parsed as HTML); the plots are the server's SVG shown as images (an image runs no script).
+// parsed as HTML); the plots are drawn in the page by plots.js (uPlot), those without data
+// (a heat map, a drawing) shown as the server's SVG images (an image runs no script).
 "use strict";
 
 const token = new URLSearchParams(location.hash.slice(1)).get("token");
@@ -78,18 +79,27 @@ function show(answer) {
   // What kind of solve it was (the edit-to-redraw classes of the browser test).
   document.body.dataset.kind = JSON.stringify(r.pareto ? "front" : r.search ? "search" : "");
   showMotion(answer.motion || null);
-  const plots = $("plots");
-  plots.replaceChildren();
-  for (const p of answer.plots || []) {
-    const fig = document.createElement("figure");
-    const img = document.createElement("img");
-    img.alt = p.caption;
-    img.src = "data:image/svg+xml;base64," + btoa(unescape(encodeURIComponent(p.svg)));
-    const cap = document.createElement("figcaption");
-    cap.textContent = p.caption;
-    fig.append(img, cap);
-    plots.appendChild(fig);
-  }
+  // The plots' share of the page's time: built (or updated) and drawn, which uPlot does in
+  // a microtask after this task's code.
+  const t0 = performance.now();
+  cwPlots.show($("plots"), answer.plots, hoverAngle);
+  queueMicrotask(() => { document.body.dataset.plotMs = (performance.now() - t0).toFixed(1); });
+}
+
+// The pointer over a plot's angle axis at `deg`: the frame nearest that angle (a turn apart
+// the same angle) shown, the animation paused.
+function hoverAngle(deg) {
+  if (!motion || !motion.frames.length) return;
+  const apart = (f) => Math.abs(((((f.theta * 180) / Math.PI - deg) % 360) + 540) % 360 - 180);
+  let best = 0;
+  motion.frames.forEach((f, k) => { if (apart(f) < apart(motion.frames[best])) best = k; });
+  pause();
+  if (best !== frame) { frame = best; drawFrame(); }
+}
+
+function pause() {
+  playing = false;
+  $("play").textContent = "Play";
 }
 
 // The mechanism view: the frames of one turn, the crank angle on a slider (or playing), the
@@ -112,7 +122,7 @@ function el(name, attrs, parent) {
 function showMotion(m) {
   motion = m;
   $("view").hidden = !m;
-  if (!m || !m.frames.length) return;
+  if (!m || !m.frames.length) { cwPlots.setAngle(null); return; }
   scale = 1000;
   bodyPaths = (m.bodies || []).map((b) => b.loops.map((l) => "M" + l.map((p) => p[0] * scale + " " + p[1] * scale).join(" L") + " Z").join(" "));
   const pts = [];
@@ -231,11 +241,12 @@ function drawFrame() {
   $("drag-hint").hidden = !m.handles.length;
   $("theta").value = String(frame);
   $("theta-label").textContent = "θ = " + (f.theta * 180 / Math.PI).toFixed(0) + "°";
+  cwPlots.setAngle((f.theta * 180) / Math.PI);
 }
 
 function drag(e, c, h) {
   e.preventDefault();
-  playing = false;
+  pause();
   c.classList.add("dragging");
   c.setPointerCapture(e.pointerId);
   const world = $("world");
@@ -305,7 +316,8 @@ async function solve() {
   inFlight = true;
   let answer;
   try {
-    const res = await api("/api/report?name=" + encodeURIComponent(fileName), {
+    // plots=data: a plot of panels comes as its data only (drawn here), not as SVG too.
+    const res = await api("/api/report?plots=data&name=" + encodeURIComponent(fileName), {
       method: "POST",
       headers: { "Content-Type": "text/plain" },
       body: $("toml").value,
@@ -397,7 +409,7 @@ async function start() {
   $("export-html").addEventListener("click", () => exportFile("html"));
   $("export-dxf").addEventListener("click", () => exportFile("dxf"));
   $("play").addEventListener("click", () => { playing = !playing; $("play").textContent = playing ? "Pause" : "Play"; });
-  $("theta").addEventListener("input", () => { frame = Number($("theta").value); playing = false; if (motion) drawFrame(); });
+  $("theta").addEventListener("input", () => { frame = Number($("theta").value); pause(); if (motion) drawFrame(); });
   tick();
   if (sel.options.length) open(sel.options[0].value);
 }
