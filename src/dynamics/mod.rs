@@ -1039,7 +1039,14 @@ pub fn least_flywheel(
     let g1 = top.1;
     let grid = if g0.n() >= g1.n() { g0 } else { g1 };
     let cs_on = |g: &Grid, i: f64| figures(g, motor, i, constant.omega);
-    let f = |i: f64| cs_on(&grid, i).map(|st| st.cs - cs).unwrap_or(f64::NAN);
+    // The root of 1 − cs/Cs(I_f), the same as Cs(I_f) = cs's: Cs ≈ ΔE/((J̄ + I_f) ω̄²) is
+    // nearly a hyperbola in I_f, so 1/Cs is nearly a line and Brent's interpolation settles
+    // in a few evaluations instead of bisecting down from the bracket's wide top.
+    let f = |i: f64| {
+        cs_on(&grid, i)
+            .map(|st| 1.0 - cs / st.cs)
+            .unwrap_or(f64::NAN)
+    };
     let tol = 1e-12 * hi;
     let root = brent_root(f, lo, hi, tol).map_err(|e| DriveError::Stalls(e.to_string()))?;
     // A grid at the cap may not have settled: then the quarter grid's change counts too.

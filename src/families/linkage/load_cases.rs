@@ -1,8 +1,12 @@
 //! The linkage's drive in every named load case (issue 33, item 3: `[[mechanism.load_cases]]`
-//! with `[mechanism.drive]`): each case's own drive at the nominal speed and masses (its ΔE,
-//! textbook and least flywheel), the flywheel of all the cases — the largest least flywheel,
-//! exact ([`crate::dynamics::cases`]) — and every case's steady state with it. The counterweights
-//! are the solve's (the worst case over the cases is the envelope's, `solve_envelope`).
+//! with `[mechanism.drive]`): each case's own drive (its ΔE, textbook and least flywheel) at
+//! the nominal speed and masses and, with an envelope, at every vertex of its box — the ends
+//! of the speed band, where a flywheel sized at the nominal speed is too small: I ≈ ΔE/(Cs ω̄²)
+//! grows as ω̄ falls — the flywheel of all of them — the largest least flywheel, exact
+//! ([`crate::dynamics::cases`]) over those scenarios (not proven over the box's inside: the
+//! least flywheel is not convex in ω) — and every scenario's steady state with it. The
+//! counterweights are the solve's (the worst case over the cases is the envelope's,
+//! `solve_envelope`).
 
 use super::drive::figures;
 use super::file::LinkageScene;
@@ -16,11 +20,16 @@ use crate::report::{SolveResult, Table};
 use serde::Serialize;
 use serde_json::json;
 
-/// One case's drive.
+/// One case's drive in one scenario of the envelope.
 #[derive(Debug, Clone)]
 pub struct CaseDrives {
-    /// The case's name (`nominal` first).
+    /// The case's name (`nominal` first), with ` at vertex N` (1-based,
+    /// [`crate::synth::envelope::vertices`]' order) at a vertex of the envelope's box, or
+    /// ` at <n> rpm` at an end of a box that is a speed band alone.
     pub name: String,
+    /// The envelope's parameters there ([`crate::families::linkage::envelope::LinkageEnvelope::names`]
+    /// with their values; empty without an envelope).
+    pub values: Vec<(String, f64)>,
     /// Its own drive: its least flywheel for `cs`, its steady state with it (`Err`: why not).
     pub own: Result<DriveFigures, String>,
     /// Its steady state with the flywheel of all the cases (its own drive where that is its
@@ -52,14 +61,28 @@ pub fn solve(
     if env.cases.is_empty() {
         return None;
     }
-    let values = env.nominal(&sc.linkage);
-    let scene = |c: usize| ls::scene_at_case(sc, c, &values).map_err(|e| e.to_string());
-    let mut cases: Vec<CaseDrives> = (0..=env.cases.len())
-        .map(|c| CaseDrives {
-            name: env.case_name(c).to_string(),
-            own: match c {
+    let scenarios = scenarios(sc);
+    let scene = |k: usize| {
+        let (c, _, values) = &scenarios[k];
+        ls::scene_at_case(sc, *c, values).map_err(|e| e.to_string())
+    };
+    let names = env.names();
+    let mut cases: Vec<CaseDrives> = (scenarios.iter().enumerate())
+        .map(|(k, (c, vertex, values))| CaseDrives {
+            name: match vertex {
+                None => env.case_name(*c).to_string(),
+                // A speed band alone: its end in rpm, as the hypocycloid's cases.
+                Some(_) if names.len() == 1 && env.speed.is_some() => format!(
+                    "{} at {} rpm",
+                    env.case_name(*c),
+                    (values[0] * 60.0 / std::f64::consts::TAU * 1e9).round() / 1e9
+                ),
+                Some(v) => format!("{} at vertex {}", env.case_name(*c), v + 1),
+            },
+            values: names.iter().cloned().zip(values.iter().copied()).collect(),
+            own: match k {
                 0 => nominal.clone(),
-                c => scene(c).and_then(|s| figures(&s, d, x).map_err(|e| e.to_string())),
+                k => scene(k).and_then(|s| figures(&s, d, x).map_err(|e| e.to_string())),
             },
             at_flywheel: None,
         })
@@ -69,9 +92,9 @@ pub fn solve(
         .map(|c| (c.name.as_str(), Some(&c.own)))
         .collect();
     let flywheel = cases_flywheel(d, &own, warnings);
-    for (c, case) in cases.iter_mut().enumerate() {
+    for (k, case) in cases.iter_mut().enumerate() {
         case.at_flywheel = match (&case.own, flywheel) {
-            (Ok(f), Some(fw)) if f.steady.flywheel != fw.inertia => Some(scene(c).and_then(|s| {
+            (Ok(f), Some(fw)) if f.steady.flywheel != fw.inertia => Some(scene(k).and_then(|s| {
                 figures(&s, &with_flywheel(d, fw.inertia), x).map_err(|e| e.to_string())
             })),
             (own, _) => Some(own.clone()),
@@ -85,12 +108,35 @@ pub fn solve(
     Some(LoadCaseDrives { cases, flywheel })
 }
 
+/// The drive's scenarios: each load case (the nominal loads first) at the nominal values of
+/// the envelope's parameters and then at every vertex of its box (none without a box), as
+/// (case, vertex, the parameters' values).
+fn scenarios(sc: &LinkageScene) -> Vec<(usize, Option<usize>, Vec<f64>)> {
+    let env = &sc.envelope;
+    let ranges = env.ranges();
+    let vertices = match ranges.is_empty() {
+        true => Vec::new(),
+        false => crate::synth::envelope::vertices(&ranges),
+    };
+    let nominal = env.nominal(&sc.linkage);
+    (0..=env.cases.len())
+        .flat_map(|c| {
+            let at_vertices = vertices.iter().enumerate();
+            std::iter::once((c, None, nominal.clone()))
+                .chain(at_vertices.map(move |(v, values)| (c, Some(v), values.clone())))
+        })
+        .collect()
+}
+
 /// One case's row of the `load_cases` section and of `<name>-load-cases.csv`: its name, the
 /// drive's keys ([`DriveNumbers`]: its own constant-speed figures and least flywheel, its
 /// steady state with the flywheel of all the cases) and why its drive failed, if it did.
 #[derive(Debug, Serialize)]
 struct CaseRow<'a> {
     case: &'a str,
+    /// The envelope's parameters in this scenario (SI, [`CaseDrives::values`]).
+    #[serde(flatten)]
+    values: std::collections::BTreeMap<&'a str, f64>,
     #[serde(flatten)]
     drive: Option<DriveNumbers>,
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -104,6 +150,7 @@ impl<'a> CaseRow<'a> {
         let (drive, why) = case_numbers(Some(&c.own), Some(at), peak_force);
         CaseRow {
             case: &c.name,
+            values: c.values.iter().map(|(k, v)| (k.as_str(), *v)).collect(),
             drive,
             drive_error: why,
         }
