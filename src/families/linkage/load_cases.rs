@@ -17,6 +17,7 @@ use crate::dynamics::cases::{
 use crate::dynamics::{Drive, DriveFigures};
 use crate::report::drive::{case_numbers, load_cases_section, DriveNumbers};
 use crate::report::{SolveResult, Table};
+use rayon::prelude::*;
 use serde::Serialize;
 use serde_json::json;
 
@@ -67,7 +68,9 @@ pub fn solve(
         ls::scene_at_case(sc, *c, values).map_err(|e| e.to_string())
     };
     let names = env.names();
-    let mut cases: Vec<CaseDrives> = (scenarios.iter().enumerate())
+    // The scenarios' drives are independent: in parallel, collected in order (the same
+    // result whatever the threads).
+    let mut cases: Vec<CaseDrives> = (scenarios.par_iter().enumerate())
         .map(|(k, (c, vertex, values))| CaseDrives {
             name: match vertex {
                 None => env.case_name(*c).to_string(),
@@ -92,14 +95,14 @@ pub fn solve(
         .map(|c| (c.name.as_str(), Some(&c.own)))
         .collect();
     let flywheel = cases_flywheel(d, &own, warnings);
-    for (k, case) in cases.iter_mut().enumerate() {
+    cases.par_iter_mut().enumerate().for_each(|(k, case)| {
         case.at_flywheel = match (&case.own, flywheel) {
             (Ok(f), Some(fw)) if f.steady.flywheel != fw.inertia => Some(scene(k).and_then(|s| {
                 figures(&s, &with_flywheel(d, fw.inertia), x).map_err(|e| e.to_string())
             })),
             (own, _) => Some(own.clone()),
         };
-    }
+    });
     let at: Vec<CaseDrive> = cases
         .iter()
         .map(|c| (c.name.as_str(), c.at_flywheel.as_ref()))
