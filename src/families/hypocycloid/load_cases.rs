@@ -45,6 +45,7 @@ use crate::dynamics::cases::{argmax, cases_flywheel, check_cs, with_flywheel, Ca
 use crate::dynamics::{Drive, DriveFigures};
 use crate::report::drive::{case_numbers, load_cases_section, DriveNumbers};
 use crate::report::{number_map, SolveResult, Table};
+use rayon::prelude::*;
 use serde::Serialize;
 use serde_json::json;
 
@@ -116,38 +117,54 @@ pub fn solve(
     }];
     let ends = spec.speed_band.map_or(Vec::new(), |(lo, hi)| vec![lo, hi]);
     let speeds: Vec<f64> = std::iter::once(at.omega).chain(ends).collect();
-    for (si, &w) in speeds.iter().enumerate() {
-        for (gi, g) in gases.iter().enumerate() {
-            if si == 0 && gi == 0 {
-                continue;
-            }
+    // Every (speed, gas) but the nominal one, solved in parallel and collected in order (the
+    // same result and warnings whatever the threads).
+    let jobs: Vec<(usize, &f64, &LoadCase)> = (speeds.iter().enumerate())
+        .flat_map(|(si, w)| gases.iter().enumerate().map(move |(gi, g)| (si, gi, w, g)))
+        .filter(|&(si, gi, _, _)| si > 0 || gi > 0)
+        .map(|(si, _, w, g)| (si, w, g))
+        .collect();
+    let solved = jobs
+        .par_iter()
+        .map(|&(si, &w, g)| {
             let name = match si {
                 0 => g.name.clone(),
                 _ => format!("{} at {} rpm", g.name, w * 60.0 / std::f64::consts::TAU),
             };
             let case = LoadCase { name, gas: g.gas };
-            cases.push(solve_case(spec, &at.at_speed(w), case, rotating, warnings)?);
-        }
+            let mut w_ = Vec::new();
+            solve_case(spec, &at.at_speed(w), case, rotating, &mut w_).map(|c| (c, w_))
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    for (c, w) in solved {
+        cases.push(c);
+        warnings.extend(w);
     }
     let flywheel = spec
         .drive
         .as_ref()
         .and_then(|d| cases_flywheel(d, &named(&cases, true), warnings));
-    for c in &mut cases {
-        c.at_flywheel = match (&c.drive, flywheel, &spec.drive) {
-            (Some(Ok(f)), Some(fw), Some(d)) if f.steady.flywheel != fw.inertia => {
-                let at = at.at_speed(c.speed);
-                let s = with_gas(spec, c.case.gas);
-                Some(drive_outcome(
-                    &s,
-                    &with_flywheel(d, fw.inertia),
-                    &at,
-                    &at.geometry(),
-                    rotating,
-                )?)
-            }
-            (own, _, _) => own.clone(),
-        };
+    let at_flywheel = cases
+        .par_iter()
+        .map(|c| {
+            Ok(match (&c.drive, flywheel, &spec.drive) {
+                (Some(Ok(f)), Some(fw), Some(d)) if f.steady.flywheel != fw.inertia => {
+                    let at = at.at_speed(c.speed);
+                    let s = with_gas(spec, c.case.gas);
+                    Some(drive_outcome(
+                        &s,
+                        &with_flywheel(d, fw.inertia),
+                        &at,
+                        &at.geometry(),
+                        rotating,
+                    )?)
+                }
+                (own, _, _) => own.clone(),
+            })
+        })
+        .collect::<Result<Vec<_>, DynamicsError>>()?;
+    for (c, f) in cases.iter_mut().zip(at_flywheel) {
+        c.at_flywheel = f;
     }
     let cs = spec.drive.as_ref().and_then(|d| d.cs);
     check_cs(cs, &named(&cases, false), warnings);
@@ -235,34 +252,42 @@ fn band_check(
         return Ok(None);
     };
     let n = BAND_CHECK_SPEEDS;
+    // Every (interior speed, gas) steady state, in parallel, then read in order (the same
+    // result whatever the threads).
+    let jobs: Vec<(f64, &LoadCase)> = (1..=n)
+        .map(|j| band.0 + (band.1 - band.0) * j as f64 / (n + 1) as f64)
+        .flat_map(|w| gases.iter().map(move |g| (w, g)))
+        .collect();
+    let solved = jobs
+        .par_iter()
+        .map(|&(w, g)| {
+            let at = at.at_speed(w);
+            drive_outcome(&with_gas(spec, g.gas), &d, &at, &at.geometry(), rotating)
+        })
+        .collect::<Result<Vec<_>, DynamicsError>>()?;
     let mut out: Option<BandCheck> = None;
     let mut beyond = 0;
-    for j in 1..=n {
-        let w = band.0 + (band.1 - band.0) * j as f64 / (n + 1) as f64;
-        let at = at.at_speed(w);
-        for g in gases {
-            let s = with_gas(spec, g.gas);
-            let st = match drive_outcome(&s, &d, &at, &at.geometry(), rotating)? {
-                Ok(f) => f.steady,
-                Err(why) => {
-                    warnings.push(format!(
-                        "the speed band's check: load case {} at {w} rad/s failed: {why}",
-                        g.name
-                    ));
-                    return Ok(None);
-                }
-            };
-            beyond += usize::from(st.cs > cs + st.cs_error);
-            if out.as_ref().is_none_or(|o| st.cs > o.max_cs) {
-                out = Some(BandCheck {
-                    speeds: n,
-                    max_cs: st.cs,
-                    max_cs_error: st.cs_error,
-                    max_cs_speed_rad_s: w,
-                    max_cs_case: g.name.clone(),
-                    beyond: 0,
-                });
+    for (&(w, g), outcome) in jobs.iter().zip(solved) {
+        let st = match outcome {
+            Ok(f) => f.steady,
+            Err(why) => {
+                warnings.push(format!(
+                    "the speed band's check: load case {} at {w} rad/s failed: {why}",
+                    g.name
+                ));
+                return Ok(None);
             }
+        };
+        beyond += usize::from(st.cs > cs + st.cs_error);
+        if out.as_ref().is_none_or(|o| st.cs > o.max_cs) {
+            out = Some(BandCheck {
+                speeds: n,
+                max_cs: st.cs,
+                max_cs_error: st.cs_error,
+                max_cs_speed_rad_s: w,
+                max_cs_case: g.name.clone(),
+                beyond: 0,
+            });
         }
     }
     if beyond > 0 {
