@@ -41,6 +41,7 @@ DRAGGED = [
     "linkage-piston-1000rpm",  # mechanism.dyads[0].line_point
     "linkage-sixbar-press",  # mechanism.dyads[1].line_point
     "piston-1000rpm",  # design.radius
+    "piston-2000rpm:mechanism.rod_length",  # a handle other than the last: NAME:KEY
 ]
 
 
@@ -122,15 +123,18 @@ def test_dragging_a_pivot_moves_it_and_re_solves(page, cli, tmp_path):
     assert peak[:5] in shown, (peak, shown)
 
 
-def handle_to_drag(server, name):
-    """The handle the drag test moves in `name` (the last drawn, so on top: a counterweight
-    or a length where there is one), with its on-screen direction, or None."""
+def handle_to_drag(server, name, key=None):
+    """The handle the drag test moves in `name` (the one of `key`, else the last drawn, so
+    on top: a counterweight or a length where there is one), with its on-screen direction,
+    or None."""
     text = (REPO / "problems" / name).read_bytes()
     req = urllib.request.Request(server + f"api/report?name={name}", data=text, method="POST")
     m = json.loads(urllib.request.urlopen(req, timeout=60).read())["motion"]
     if not m or not m["handles"]:
         return None
-    h = m["handles"][-1]
+    h = next((h for h in m["handles"] if h["key"] == key), None) if key else m["handles"][-1]
+    if h is None:
+        return None
     u = h["scalar"]["axis"] if "scalar" in h else [0.6, 0.8]
     a = h["poses"][0][2] if h.get("poses") else 0.0
     c, s = math.cos(a), math.sin(a)
@@ -172,8 +176,10 @@ def test_dragging_a_handle_edits_its_key_and_re_solves(page, server):
     t0 = time.perf_counter()
     every = os.environ.get("CWSYNTH_DRAG_EVERY")
     picked = []
-    for f in PROBLEMS if every else [REPO / "problems" / f"{n}.toml" for n in DRAGGED]:
-        found = handle_to_drag(server, f.name)
+    named = [n.partition(":") for n in DRAGGED]
+    keys = {f"{n}.toml": k or None for n, _, k in named}
+    for f in PROBLEMS if every else [REPO / "problems" / f"{n}.toml" for n, _, _ in named]:
+        found = handle_to_drag(server, f.name, keys.get(f.name))
         assert found is not None or every, f.name
         if found is not None:
             picked.append((f, found))

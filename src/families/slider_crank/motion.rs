@@ -2,7 +2,8 @@
 //! mechanism's frame (the slider on the line y = e, whatever `slider_axis_angle` turns the
 //! machine by): crank O→A, rod A→B, the slider at B, the counterweight (its plate as
 //! designed, else a steel disc of its mass), the slider's guide, and the handles: the crank
-//! radius (the crank pin along the crank), the offset (the guide's end across the guide) and a given
+//! radius (the crank pin along the crank), the rod length where the file gives it (the slider
+//! pin along the rod), the offset (the guide's end across the guide) and a given
 //! counterweight radius (the counterweight along its line). Exact kinematics, as the
 //! drawing: the series models are approximations of the forces, not of where the parts are.
 
@@ -14,7 +15,8 @@ use crate::synth::shape::Sector;
 use crate::synth::Var;
 
 /// The scene `s` with the design `d` (and its plate, if designed) over one turn.
-pub fn motion(s: &Scene, d: &Design, plate: Option<Sector>) -> Motion {
+/// `rod_given`: the file gives `mechanism.rod_length` (a handle for it at the slider pin).
+pub fn motion(s: &Scene, d: &Design, plate: Option<Sector>, rod_given: bool) -> Motion {
     let m = SliderCrank {
         kinematics: Kinematics::Exact,
         ..s.mech
@@ -38,7 +40,22 @@ pub fn motion(s: &Scene, d: &Design, plate: Option<Sector>) -> Motion {
         })
         .collect();
     let (lo, hi) = mo::span(frames.iter().map(|f| f.links[2][0][0]), 0.15);
-    let handles = handles(s, d, &frames, hi);
+    let mut handles = handles(s, d, &frames, hi);
+    if rod_given {
+        // The rod's length at the slider pin B, along the rod (its frame: A, towards B).
+        let rod: Vec<[f64; 3]> = frames
+            .iter()
+            .map(|f| {
+                let (a, b) = (f.links[1][0], f.links[1][1]);
+                pose(P2::new(a[0], a[1]), (b[1] - a[1]).atan2(b[0] - a[0]))
+            })
+            .collect();
+        let x = P2::new(1.0, 0.0);
+        handles.insert(
+            1,
+            Handle::length("mechanism.rod_length", m.l * x, x, m.l, "mm").on(rod),
+        );
+    }
     Motion {
         names: vec!["crank".into(), "rod".into(), "slider".into()],
         guides: vec![[[lo, m.e], [hi, m.e]]],

@@ -63,7 +63,8 @@ pub fn documents(scene: &Scene, p: &SliderCrankProblem, sol: &Solution, r: &mut 
         design.counterweight_angle_rad,
     );
     mechanism_drawing(r, scene, p, design);
-    let motion = super::motion::motion(&p.core, design, out.counterweight.plate);
+    let motion =
+        super::motion::motion(&p.core, design, out.counterweight.plate, p.rod_length_given);
     r.motion = serde_json::to_value(motion).ok();
     crate::report::drive::drive_documents(r, sol.drive.as_ref(), "crank");
     let (scene, s, out) = (scene.clone(), p.core.clone(), out.clone());
