@@ -503,13 +503,13 @@ impl<T> Doubled<T> {
 /// `settled(current, on half the grid)` (or `s.max_samples`). The one refinement loop of
 /// the drive: every figure's error is its change from half the grid ([`Doubled::change`]).
 fn doubled<T>(
-    m: &dyn OneDof,
+    grids: &Grids,
     s: &DriveSettings,
     on: impl Fn(&Grid) -> Result<T, DriveError>,
     settled: impl Fn(&T, &T) -> bool,
 ) -> Result<Doubled<T>, DriveError> {
     let mut n = s.min_samples.next_power_of_two().max(16);
-    let mut grid = Grid::new(m, n)?;
+    let mut grid = grids.get(n)?;
     let mut prev = on(&grid.halved())?;
     let mut before = None;
     loop {
@@ -532,7 +532,35 @@ fn doubled<T>(
         }
         before = Some(std::mem::replace(&mut prev, cur));
         n *= 2;
-        grid = Grid::new(m, n)?;
+        grid = grids.get(n)?;
+    }
+}
+
+/// The machine's grids by size, each sampled once: the least flywheel's search converges a
+/// steady state at both ends of its bracket (and, for a machine that stalls, at the halvings
+/// of its top), each doubling the same uniform grids of the same machine.
+struct Grids<'m> {
+    m: &'m dyn OneDof,
+    made: std::cell::RefCell<Vec<Grid>>,
+}
+
+impl<'m> Grids<'m> {
+    /// None made yet.
+    fn of(m: &'m dyn OneDof) -> Self {
+        Grids {
+            m,
+            made: Default::default(),
+        }
+    }
+
+    /// The machine on the grid of `n` samples ([`Grid::new`]), made once.
+    fn get(&self, n: usize) -> Result<Grid, DriveError> {
+        if let Some(g) = self.made.borrow().iter().find(|g| g.n() == n) {
+            return Ok(g.clone());
+        }
+        let g = Grid::new(self.m, n)?;
+        self.made.borrow_mut().push(g.clone());
+        Ok(g)
     }
 }
 
@@ -547,7 +575,7 @@ pub fn constant_speed(
     let on = |g: &Grid| Ok(energy_on(g, omega));
     let settled =
         |cur: &Energy, prev: &Energy| (cur.delta - prev.delta).abs() <= s.rel_tol * scale(cur);
-    let d = doubled(m, s, on, settled)?;
+    let d = doubled(&Grids::of(m), s, on, settled)?;
     let (cur, n) = (&d.cur, d.grid.n());
     let round_off = 1e-15 * n as f64 * scale(cur);
     let (tg, eg) = (cur.torque.grid(n), cur.energy.grid(n));
@@ -930,12 +958,12 @@ pub fn steady_state(
     omega_nominal: f64,
     s: &DriveSettings,
 ) -> Result<SteadyState, DriveError> {
-    converged(m, motor, flywheel, omega_nominal, s).map(|(st, _)| st)
+    converged(&Grids::of(m), motor, flywheel, omega_nominal, s).map(|(st, _)| st)
 }
 
 /// [`steady_state`], and the grid it converged on (to solve again on it).
 fn converged(
-    m: &dyn OneDof,
+    grids: &Grids,
     motor: &Motor,
     flywheel: f64,
     omega_nominal: f64,
@@ -945,7 +973,7 @@ fn converged(
     let settled = |cur: &SteadyState, prev: &SteadyState| {
         (cur.cs - prev.cs).abs() <= s.steady_rel_tol * cur.cs.abs() + 1e-13
     };
-    Ok(with_errors(doubled(m, s, on, settled)?))
+    Ok(with_errors(doubled(grids, s, on, settled)?))
 }
 
 /// The state on the last grid with its errors: the changes from half the grid (and from a
@@ -1000,7 +1028,8 @@ pub fn least_flywheel(
     s: &DriveSettings,
 ) -> Result<Flywheel, DriveError> {
     let textbook = constant.textbook_flywheel(cs);
-    let at = |i: f64| converged(m, motor, i, constant.omega, s);
+    let grids = Grids::of(m);
+    let at = |i: f64| converged(&grids, motor, i, constant.omega, s);
     // Without a flywheel a machine on a motor line may stall (no periodic motion): then the
     // bracket's bottom is found below its top instead.
     let zero = match at(0.0) {
