@@ -271,6 +271,32 @@ fn the_flywheel_of_all_the_cases_is_the_largest_least_one() {
         json["derived"]["load_cases_flywheel_kgm2"].as_f64(),
         Some(istar)
     );
+    // Inside the band (7 speeds per case, I* given): the largest Cs is the file's own
+    // steady state at that speed and case, within Cs.
+    let band = &lc["speed_band_check"];
+    assert_eq!(band["speeds"], 7);
+    assert_eq!(band["beyond"], 0);
+    let (w, worst) = (
+        band["max_cs_speed_rad_s"].as_f64().unwrap(),
+        band["max_cs"].as_f64().unwrap(),
+    );
+    assert!(w > 110.0 / 60.0 * std::f64::consts::TAU && w < 130.0 / 60.0 * std::f64::consts::TAU);
+    let loads = cases.iter().find(|c| band["max_cs_case"] == c.0).unwrap().1;
+    let rpm = format!("{:.9} rpm", w * 60.0 / std::f64::consts::TAU);
+    let alone = parse_str(&single(&text, &rpm, loads), Path::new("a.toml")).unwrap();
+    let pa: &LinkageProblem = alone.machine().unwrap();
+    let given = Drive {
+        cs: None,
+        flywheel: Some(istar),
+        motor: d.motor.clone(),
+    };
+    let st = figures(&pa.scene, &given, Some(x)).unwrap().steady;
+    assert!(
+        (st.cs - worst).abs() <= 1e-6 * worst,
+        "{} vs {worst}",
+        st.cs
+    );
+    assert!(worst <= 0.1, "{worst}");
     // 0.1 % less flywheel misses Cs in the governing scenario.
     let alone = parse_str(&single(&text, most.2, most.3), Path::new("a.toml")).unwrap();
     let pa: &LinkageProblem = alone.machine().unwrap();

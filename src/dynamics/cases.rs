@@ -100,3 +100,70 @@ pub fn argmax(v: impl Iterator<Item = f64>) -> Option<usize> {
     }
     best.map(|b| b.0)
 }
+
+/// Interior speeds of a speed band at which every case's steady state is checked.
+pub const BAND_CHECK_SPEEDS: usize = 7;
+
+/// The steady state inside the speed band, at the flywheel of all the cases: the exact least
+/// flywheel is not proven to be largest at the band's ends (it is not convex in the speed),
+/// so every case is solved at [`BAND_CHECK_SPEEDS`] evenly spaced interior speeds with that
+/// flywheel and its Cs compared with `cs`.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct BandCheck {
+    /// Speeds checked per cycle.
+    pub speeds: usize,
+    /// The largest Cs over them, its error and the speed (rad/s) and cycle it is at.
+    pub max_cs: f64,
+    /// Its error bound.
+    pub max_cs_error: f64,
+    /// Where: ω (rad/s).
+    pub max_cs_speed_rad_s: f64,
+    /// Where: the cycle's name.
+    pub max_cs_case: String,
+    /// Checks whose Cs is above `cs` beyond its error (0: the band's ends govern).
+    pub beyond: usize,
+}
+
+impl BandCheck {
+    /// The check of the steady states `rows` — (ω in rad/s, the case's name, its steady
+    /// state with the flywheel of all the cases or why it failed), [`BAND_CHECK_SPEEDS`] = `n`
+    /// speeds per case — against `cs`: the largest Cs and where; a warning where one swings
+    /// more than `cs` beyond its error; `None` (a warning) where a steady state failed.
+    pub fn of<'a>(
+        cs: f64,
+        n: usize,
+        rows: impl IntoIterator<Item = (f64, &'a str, Result<super::SteadyState, String>)>,
+        warnings: &mut Vec<String>,
+    ) -> Option<BandCheck> {
+        let mut out: Option<BandCheck> = None;
+        let mut beyond = 0;
+        for (w, name, st) in rows {
+            let st = match st {
+                Ok(st) => st,
+                Err(why) => {
+                    warnings.push(format!(
+                        "the speed band's check: load case {name} at {w} rad/s failed: {why}"
+                    ));
+                    return None;
+                }
+            };
+            beyond += usize::from(st.cs > cs + st.cs_error);
+            if out.as_ref().is_none_or(|o| st.cs > o.max_cs) {
+                out = Some(BandCheck {
+                    speeds: n,
+                    max_cs: st.cs,
+                    max_cs_error: st.cs_error,
+                    max_cs_speed_rad_s: w,
+                    max_cs_case: name.to_string(),
+                    beyond: 0,
+                });
+            }
+        }
+        if beyond > 0 {
+            warnings.push(format!(
+                "the speed band's check: {beyond} steady states inside the band swing more than mechanism.drive.cs = {cs} with the flywheel of all the cases: the band's interior needs more flywheel than its ends"
+            ));
+        }
+        out.map(|o| BandCheck { beyond, ..o })
+    }
+}

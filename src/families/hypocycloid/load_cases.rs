@@ -40,8 +40,8 @@
 use super::balance::{drive_outcome, torque_outcome, At, DynamicsError, DynamicsSpec};
 use super::balance::{DynamicsOutcome, RotatingOutcome, TorqueOutcome};
 use super::gas::{GasCycle, LoadCase};
-pub use crate::dynamics::cases::CasesFlywheel;
 use crate::dynamics::cases::{argmax, cases_flywheel, check_cs, with_flywheel, CaseDrive};
+pub use crate::dynamics::cases::{BandCheck, CasesFlywheel, BAND_CHECK_SPEEDS};
 use crate::dynamics::{Drive, DriveFigures};
 use crate::report::drive::{case_numbers, load_cases_section, DriveNumbers};
 use crate::report::{number_map, SolveResult, Table};
@@ -214,29 +214,6 @@ fn solve_case(
     })
 }
 
-/// Interior speeds of the band at which every cycle's steady state is checked.
-pub const BAND_CHECK_SPEEDS: usize = 7;
-
-/// The steady state inside the speed band, at the flywheel of all the cases: the exact
-/// least flywheel is not proven to be largest at the band's ends (the textbook one is:
-/// module doc), so every cycle is solved at [`BAND_CHECK_SPEEDS`] evenly spaced interior
-/// speeds with the flywheel `d` and its Cs compared with `cs`.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct BandCheck {
-    /// Speeds checked per cycle.
-    pub speeds: usize,
-    /// The largest Cs over them, its error and the speed (rad/s) and cycle it is at.
-    pub max_cs: f64,
-    /// Its error bound.
-    pub max_cs_error: f64,
-    /// Where: ω (rad/s).
-    pub max_cs_speed_rad_s: f64,
-    /// Where: the cycle's name.
-    pub max_cs_case: String,
-    /// Checks whose Cs is above `cs` beyond its error (0: the band's ends govern).
-    pub beyond: usize,
-}
-
 /// [`BandCheck`] of the band `band` (rad/s) for the `gases`, with the flywheel drive `d`;
 /// `None` without a Cs to meet or where a steady state failed (a warning).
 fn band_check(
@@ -265,37 +242,11 @@ fn band_check(
             drive_outcome(&with_gas(spec, g.gas), &d, &at, &at.geometry(), rotating)
         })
         .collect::<Result<Vec<_>, DynamicsError>>()?;
-    let mut out: Option<BandCheck> = None;
-    let mut beyond = 0;
-    for (&(w, g), outcome) in jobs.iter().zip(solved) {
-        let st = match outcome {
-            Ok(f) => f.steady,
-            Err(why) => {
-                warnings.push(format!(
-                    "the speed band's check: load case {} at {w} rad/s failed: {why}",
-                    g.name
-                ));
-                return Ok(None);
-            }
-        };
-        beyond += usize::from(st.cs > cs + st.cs_error);
-        if out.as_ref().is_none_or(|o| st.cs > o.max_cs) {
-            out = Some(BandCheck {
-                speeds: n,
-                max_cs: st.cs,
-                max_cs_error: st.cs_error,
-                max_cs_speed_rad_s: w,
-                max_cs_case: g.name.clone(),
-                beyond: 0,
-            });
-        }
-    }
-    if beyond > 0 {
-        warnings.push(format!(
-            "the speed band's check: {beyond} steady states inside the band swing more than mechanism.drive.cs = {cs} with the flywheel of all the cases: the band's interior needs more flywheel than its ends"
-        ));
-    }
-    Ok(out.map(|o| BandCheck { beyond, ..o }))
+    let rows = jobs
+        .iter()
+        .zip(solved)
+        .map(|(&(w, g), f)| (w, g.name.as_str(), f.map(|f| f.steady)));
+    Ok(BandCheck::of(cs, n, rows, warnings))
 }
 
 /// `spec` with the cycle `gas`, no load cases and no band: one case, for the single-case

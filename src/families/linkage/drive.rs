@@ -50,6 +50,20 @@ pub fn delta_e(sc: &LinkageScene, x: Option<&[f64]>) -> Result<(f64, f64), Strin
     Ok((c.energy_fluctuation, c.energy_fluctuation_error))
 }
 
+/// The periodic steady state of `sc` with the design `x` on the motor of `d` with the
+/// flywheel `flywheel` (`dynamics::steady_state`): what a check at a given flywheel needs,
+/// without the constant-speed turn, the least flywheel or the peaks at real speed.
+pub fn steady(
+    sc: &LinkageScene,
+    d: &Drive,
+    flywheel: f64,
+    x: Option<&[f64]>,
+) -> Result<dynamics::SteadyState, DriveError> {
+    let terms = terms(sc, x);
+    let m = one_dof(&terms);
+    dynamics::steady_state(&m, &d.motor, flywheel, sc.linkage.omega(), &settings(sc))
+}
+
 /// The drive `d` of `sc` with the design `x` (without one, the bare linkage's): ΔE, the least
 /// flywheel for its Cs, the steady state with its flywheel (or the least one, or none), and
 /// the shaking force at real speed, F = −(ω² Σ m r_G'' + α Σ m r_G')

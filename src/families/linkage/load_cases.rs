@@ -8,13 +8,14 @@
 //! counterweights are the solve's (the worst case over the cases is the envelope's,
 //! `solve_envelope`).
 
-use super::drive::figures;
+use super::drive::{figures, steady};
 use super::file::LinkageScene;
 use super::synth as ls;
 use crate::dynamics::cases::{
-    argmax, cases_flywheel, check_cs, with_flywheel, CaseDrive, CasesFlywheel,
+    argmax, cases_flywheel, check_cs, with_flywheel, BandCheck, CaseDrive, CasesFlywheel,
+    BAND_CHECK_SPEEDS,
 };
-use crate::dynamics::{Drive, DriveFigures};
+use crate::dynamics::{Drive, DriveFigures, SteadyState};
 use crate::report::drive::{case_numbers, load_cases_section, DriveNumbers};
 use crate::report::{SolveResult, Table};
 use rayon::prelude::*;
@@ -46,6 +47,9 @@ pub struct LoadCaseDrives {
     /// I*: the largest least flywheel (with `cs`) or the file's `flywheel`; `None` without
     /// either, or where a case's drive failed (a warning).
     pub flywheel: Option<CasesFlywheel>,
+    /// With a speed band and `cs`: every case at the band's interior speeds with I*
+    /// ([`BandCheck`]; the masses and lengths nominal).
+    pub band: Option<BandCheck>,
 }
 
 /// The drive `d` of the design `x` in every load case of `sc` beside the nominal one, whose
@@ -108,7 +112,49 @@ pub fn solve(
         .map(|c| (c.name.as_str(), c.at_flywheel.as_ref()))
         .collect();
     check_cs(d.cs, &at, warnings);
-    Some(LoadCaseDrives { cases, flywheel })
+    let band = match (env.speed, flywheel, d.cs) {
+        (Some(band), Some(fw), Some(cs)) => band_check(sc, band, d, fw.inertia, x, cs, warnings),
+        _ => None,
+    };
+    Some(LoadCaseDrives {
+        cases,
+        flywheel,
+        band,
+    })
+}
+
+/// Every load case at [`BAND_CHECK_SPEEDS`] evenly spaced speeds inside the band `band`
+/// (rad/s), the other parameters nominal, on the motor of `d` with the flywheel `flywheel`:
+/// the least flywheel is sampled at the band's ends, not proven largest there
+/// ([`BandCheck`]).
+fn band_check(
+    sc: &LinkageScene,
+    band: (f64, f64),
+    d: &Drive,
+    flywheel: f64,
+    x: Option<&[f64]>,
+    cs: f64,
+    warnings: &mut Vec<String>,
+) -> Option<BandCheck> {
+    let env = &sc.envelope;
+    let n = BAND_CHECK_SPEEDS;
+    let nominal = env.nominal(&sc.linkage);
+    let jobs: Vec<(f64, usize)> = (1..=n)
+        .map(|j| band.0 + (band.1 - band.0) * j as f64 / (n + 1) as f64)
+        .flat_map(|w| (0..=env.cases.len()).map(move |c| (w, c)))
+        .collect();
+    // In parallel, read in order: the same result whatever the threads.
+    let states: Vec<Result<SteadyState, String>> = jobs
+        .par_iter()
+        .map(|&(w, c)| {
+            let mut values = nominal.clone();
+            values[0] = w;
+            let s = ls::scene_at_case(sc, c, &values).map_err(|e| e.to_string())?;
+            steady(&s, d, flywheel, x).map_err(|e| e.to_string())
+        })
+        .collect();
+    let rows = (jobs.iter().zip(states)).map(|(&(w, c), st)| (w, env.case_name(c), st));
+    BandCheck::of(cs, n, rows, warnings)
 }
 
 /// The drive's scenarios: each load case (the nominal loads first) at the nominal values of
@@ -184,6 +230,7 @@ pub fn numbers(r: &mut SolveResult, lc: &LoadCaseDrives, peak_force: Option<f64>
     let own = json!({
         "energy_fluctuation_case": governing(&|d| d.energy_fluctuation_j),
         "steady_cs_case": governing(&|d| d.steady_cs),
+        "speed_band_check": lc.band,
         "cases": rows,
     });
     let section = load_cases_section(rows.len(), lc.flywheel, |k| rows[k].case, own);
