@@ -4,7 +4,8 @@
 //! of the speed band, where a flywheel sized at the nominal speed is too small: I ≈ ΔE/(Cs ω̄²)
 //! grows as ω̄ falls — the flywheel of all of them — the largest least flywheel, exact
 //! ([`crate::dynamics::cases`]) over those scenarios (not proven over the box's inside: the
-//! least flywheel is not convex in ω) — and every scenario's steady state with it. The
+//! least flywheel is not convex in ω; every case is checked at interior speeds of the band,
+//! [`BandCheck`]) — and every scenario's steady state with it. The
 //! counterweights are the solve's (the worst case over the cases is the envelope's,
 //! `solve_envelope`).
 
