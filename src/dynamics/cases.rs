@@ -104,6 +104,20 @@ pub fn argmax(v: impl Iterator<Item = f64>) -> Option<usize> {
 /// Interior speeds of a speed band at which every case's steady state is checked.
 pub const BAND_CHECK_SPEEDS: usize = 7;
 
+/// The [`BAND_CHECK_SPEEDS`] evenly spaced speeds inside the band `(lo, hi)` (rad/s), its
+/// ends left out.
+pub fn band_speeds(band: (f64, f64)) -> impl Iterator<Item = f64> {
+    let n = BAND_CHECK_SPEEDS;
+    (1..=n).map(move |j| band.0 + (band.1 - band.0) * j as f64 / (n + 1) as f64)
+}
+
+/// A case's name at an end of a speed band: `"<case> at <n> rpm"`, n from ω (rad/s) to
+/// 10⁻⁹ rpm (so that 110 rpm, through rad/s and back, reads 110).
+pub fn at_rpm(case: &str, omega: f64) -> String {
+    let rpm = (omega * 60.0 / std::f64::consts::TAU * 1e9).round() / 1e9;
+    format!("{case} at {rpm} rpm")
+}
+
 /// The steady state inside the speed band, at the flywheel of all the cases: the exact least
 /// flywheel is not proven to be largest at the band's ends (it is not convex in the speed),
 /// so every case is solved at [`BAND_CHECK_SPEEDS`] evenly spaced interior speeds with that

@@ -227,7 +227,7 @@ impl Plot {
     pub fn svg(&self) -> Result<String, plot::PlotError> {
         match &self.source {
             Source::Svg(draw) => draw(),
-            Source::Panels { w, h, make } => plot::panels(&make()?, *w, *h),
+            Source::Panels { w, h, make } => plot::Figure::new(make()?, *w, *h)?.svg(),
         }
     }
 

@@ -34,24 +34,7 @@ pub(super) fn routes(state: Arc<State>) -> Router {
         .route("/api/files", get(files))
         .route("/api/file/{name}", get(file))
         .route_layer(middleware::from_fn_with_state(state.clone(), token));
-    Router::new()
-        .route("/", get(|| async { assets::page() }))
-        .route("/app.js", get(|| async { assets::script() }))
-        .route("/form.js", get(|| async { assets::form_script() }))
-        .route("/plots.js", get(|| async { assets::plots_script() }))
-        .route(
-            "/vendor/uPlot.iife.min.js",
-            get(|| async { assets::uplot_script() }),
-        )
-        .route(
-            "/vendor/uPlot.min.css",
-            get(|| async { assets::uplot_style() }),
-        )
-        .route(
-            "/vendor/uPlot.LICENSE",
-            get(|| async { assets::uplot_license() }),
-        )
-        .route("/app.css", get(|| async { assets::style() }))
+    assets::routes(Router::new())
         .route("/favicon.ico", get(|| async { StatusCode::NO_CONTENT }))
         .merge(api)
         .fallback(|| async { error(StatusCode::NOT_FOUND, None, None, "no such page or route") })

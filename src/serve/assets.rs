@@ -7,66 +7,46 @@
 
 use axum::http::header;
 use axum::response::{IntoResponse, Response};
+use axum::routing::get;
+use axum::Router;
 
-/// `GET /`.
-pub(super) fn page() -> Response {
-    asset(
-        "text/html; charset=utf-8",
-        include_str!("assets/index.html"),
-    )
-}
+const HTML: &str = "text/html; charset=utf-8";
+const JS: &str = "text/javascript; charset=utf-8";
+const CSS: &str = "text/css; charset=utf-8";
 
-/// `GET /app.js`.
-pub(super) fn script() -> Response {
-    asset(
-        "text/javascript; charset=utf-8",
-        include_str!("assets/app.js"),
-    )
-}
-
-/// `GET /form.js`: the form generated from the problem file's schema.
-pub(super) fn form_script() -> Response {
-    asset(
-        "text/javascript; charset=utf-8",
-        include_str!("assets/form.js"),
-    )
-}
-
-/// `GET /plots.js`: the plots drawn in the page.
-pub(super) fn plots_script() -> Response {
-    asset(
-        "text/javascript; charset=utf-8",
-        include_str!("assets/plots.js"),
-    )
-}
-
-/// `GET /vendor/uPlot.iife.min.js`: the plotting library (uPlot).
-pub(super) fn uplot_script() -> Response {
-    asset(
-        "text/javascript; charset=utf-8",
+/// Every file the page loads: (route, content type, body).
+const ASSETS: &[(&str, &str, &str)] = &[
+    ("/", HTML, include_str!("assets/index.html")),
+    ("/app.js", JS, include_str!("assets/app.js")),
+    ("/app.css", CSS, include_str!("assets/app.css")),
+    // The form generated from the problem file's schema.
+    ("/form.js", JS, include_str!("assets/form.js")),
+    // The plots drawn in the page.
+    ("/plots.js", JS, include_str!("assets/plots.js")),
+    // The plotting library (uPlot), its style and its licence (MIT).
+    (
+        "/vendor/uPlot.iife.min.js",
+        JS,
         include_str!("assets/vendor/uPlot.iife.min.js"),
-    )
-}
-
-/// `GET /vendor/uPlot.min.css`: the plotting library's style.
-pub(super) fn uplot_style() -> Response {
-    asset(
-        "text/css; charset=utf-8",
+    ),
+    (
+        "/vendor/uPlot.min.css",
+        CSS,
         include_str!("assets/vendor/uPlot.min.css"),
-    )
-}
-
-/// `GET /vendor/uPlot.LICENSE`: the plotting library's licence (MIT).
-pub(super) fn uplot_license() -> Response {
-    asset(
+    ),
+    (
+        "/vendor/uPlot.LICENSE",
         "text/plain; charset=utf-8",
         include_str!("assets/vendor/uPlot.LICENSE"),
-    )
-}
+    ),
+];
 
-/// `GET /app.css`.
-pub(super) fn style() -> Response {
-    asset("text/css; charset=utf-8", include_str!("assets/app.css"))
+/// `r` with a `GET` route for every file of [`ASSETS`].
+pub(super) fn routes<S: Clone + Send + Sync + 'static>(mut r: Router<S>) -> Router<S> {
+    for &(path, kind, body) in ASSETS {
+        r = r.route(path, get(move || async move { asset(kind, body) }));
+    }
+    r
 }
 
 fn asset(kind: &'static str, body: &'static str) -> Response {

@@ -317,26 +317,16 @@ pub fn scenario_sensitivities<E>(
     mut fields_at: impl FnMut(usize, &[f64], &[&Multiplier]) -> Result<Vec<FieldValue>, E>,
 ) -> Result<Vec<Sensitivity>, E> {
     let vs = vertices(ranges);
-    // The maxima at the vertex itself, the same for every parameter: evaluated once.
-    let mut at_vertex: std::collections::BTreeMap<usize, Vec<FieldValue>> = Default::default();
     sensitivities(names, ranges, stride, multipliers, |k, i, ms| {
         let dependence = match i >= first_general {
             true => Dependence::General,
             false => Dependence::Quadratic,
         };
         let mut values = vs[(k - 1) % vs.len()].clone();
-        let (v0, h) = (values[i], step(values[i], ranges[i], dependence));
-        central_slopes(v0, h, dependence, |v| {
+        let h = step(values[i], ranges[i], dependence);
+        central_slopes(values[i], h, dependence, |v| {
             values[i] = v;
-            if v.to_bits() != v0.to_bits() {
-                return fields_at(k, &values, ms);
-            }
-            if let Some(g) = at_vertex.get(&k) {
-                return Ok(g.clone());
-            }
-            let g = fields_at(k, &values, ms)?;
-            at_vertex.insert(k, g.clone());
-            Ok(g)
+            fields_at(k, &values, ms)
         })
     })
 }

@@ -40,7 +40,9 @@
 use super::balance::{drive_outcome, torque_outcome, At, DynamicsError, DynamicsSpec};
 use super::balance::{DynamicsOutcome, RotatingOutcome, TorqueOutcome};
 use super::gas::{GasCycle, LoadCase};
-use crate::dynamics::cases::{argmax, cases_flywheel, check_cs, with_flywheel, CaseDrive};
+use crate::dynamics::cases::{
+    argmax, at_rpm, band_speeds, cases_flywheel, check_cs, with_flywheel, CaseDrive,
+};
 pub use crate::dynamics::cases::{BandCheck, CasesFlywheel, BAND_CHECK_SPEEDS};
 use crate::dynamics::{Drive, DriveFigures};
 use crate::report::drive::{case_numbers, load_cases_section, DriveNumbers};
@@ -129,7 +131,7 @@ pub fn solve(
         .map(|&(si, &w, g)| {
             let name = match si {
                 0 => g.name.clone(),
-                _ => format!("{} at {} rpm", g.name, w * 60.0 / std::f64::consts::TAU),
+                _ => at_rpm(&g.name, w),
             };
             let case = LoadCase { name, gas: g.gas };
             let mut w_ = Vec::new();
@@ -231,8 +233,7 @@ fn band_check(
     let n = BAND_CHECK_SPEEDS;
     // Every (interior speed, gas) steady state, in parallel, then read in order (the same
     // result whatever the threads).
-    let jobs: Vec<(f64, &LoadCase)> = (1..=n)
-        .map(|j| band.0 + (band.1 - band.0) * j as f64 / (n + 1) as f64)
+    let jobs: Vec<(f64, &LoadCase)> = band_speeds(band)
         .flat_map(|w| gases.iter().map(move |g| (w, g)))
         .collect();
     let solved = jobs

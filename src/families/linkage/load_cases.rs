@@ -13,8 +13,8 @@ use super::drive::{figures, steady};
 use super::file::LinkageScene;
 use super::synth as ls;
 use crate::dynamics::cases::{
-    argmax, cases_flywheel, check_cs, with_flywheel, BandCheck, CaseDrive, CasesFlywheel,
-    BAND_CHECK_SPEEDS,
+    argmax, at_rpm, band_speeds, cases_flywheel, check_cs, with_flywheel, BandCheck, CaseDrive,
+    CasesFlywheel, BAND_CHECK_SPEEDS,
 };
 use crate::dynamics::{Drive, DriveFigures, SteadyState};
 use crate::report::drive::{case_numbers, load_cases_section, DriveNumbers};
@@ -80,11 +80,9 @@ pub fn solve(
             name: match vertex {
                 None => env.case_name(*c).to_string(),
                 // A speed band alone: its end in rpm, as the hypocycloid's cases.
-                Some(_) if names.len() == 1 && env.speed.is_some() => format!(
-                    "{} at {} rpm",
-                    env.case_name(*c),
-                    (values[0] * 60.0 / std::f64::consts::TAU * 1e9).round() / 1e9
-                ),
+                Some(_) if names.len() == 1 && env.speed.is_some() => {
+                    at_rpm(env.case_name(*c), values[0])
+                }
                 Some(v) => format!("{} at vertex {}", env.case_name(*c), v + 1),
             },
             values: names.iter().cloned().zip(values.iter().copied()).collect(),
@@ -140,14 +138,14 @@ fn band_check(
     let env = &sc.envelope;
     let n = BAND_CHECK_SPEEDS;
     let nominal = env.nominal(&sc.linkage);
-    let jobs: Vec<(f64, usize)> = (1..=n)
-        .map(|j| band.0 + (band.1 - band.0) * j as f64 / (n + 1) as f64)
+    let jobs: Vec<(f64, usize)> = band_speeds(band)
         .flat_map(|w| (0..=env.cases.len()).map(move |c| (w, c)))
         .collect();
     // In parallel, read in order: the same result whatever the threads.
     let states: Vec<Result<SteadyState, String>> = jobs
         .par_iter()
         .map(|&(w, c)| {
+            // The speed is the envelope's first parameter.
             let mut values = nominal.clone();
             values[0] = w;
             let s = ls::scene_at_case(sc, c, &values).map_err(|e| e.to_string())?;

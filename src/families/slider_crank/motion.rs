@@ -40,22 +40,7 @@ pub fn motion(s: &Scene, d: &Design, plate: Option<Sector>, rod_given: bool) -> 
         })
         .collect();
     let (lo, hi) = mo::span(frames.iter().map(|f| f.links[2][0][0]), 0.15);
-    let mut handles = handles(s, d, &frames, hi);
-    if rod_given {
-        // The rod's length at the slider pin B, along the rod (its frame: A, towards B).
-        let rod: Vec<[f64; 3]> = frames
-            .iter()
-            .map(|f| {
-                let (a, b) = (f.links[1][0], f.links[1][1]);
-                pose(P2::new(a[0], a[1]), (b[1] - a[1]).atan2(b[0] - a[0]))
-            })
-            .collect();
-        let x = P2::new(1.0, 0.0);
-        handles.insert(
-            1,
-            Handle::length("mechanism.rod_length", m.l * x, x, m.l, "mm").on(rod),
-        );
-    }
+    let handles = handles(s, d, &frames, hi, rod_given);
     Motion {
         names: vec!["crank".into(), "rod".into(), "slider".into()],
         guides: vec![[[lo, m.e], [hi, m.e]]],
@@ -87,12 +72,33 @@ fn body(s: &Scene, d: &Design, plate: Option<Sector>) -> Option<Body> {
     (m > 0.0).then(|| mo::steel_disc("counterweight".into(), c, m, mo::DISC_THICKNESS))
 }
 
-/// The crank radius, the offset and a given counterweight radius as handles.
-fn handles(s: &Scene, d: &Design, frames: &[Frame], guide_end: f64) -> Vec<Handle> {
+/// The crank radius, the rod length where the file gives it (`rod_given`), the offset and a
+/// given counterweight radius as handles.
+fn handles(
+    s: &Scene,
+    d: &Design,
+    frames: &[Frame],
+    guide_end: f64,
+    rod_given: bool,
+) -> Vec<Handle> {
     let crank: Vec<[f64; 3]> = frames.iter().map(|f| pose(P2::zeros(), f.theta)).collect();
     let x = P2::new(1.0, 0.0);
     let mut out = vec![
         Handle::length("mechanism.crank_radius", s.mech.r * x, x, s.mech.r, "mm").on(crank.clone()),
+    ];
+    if rod_given {
+        // At the slider pin B, along the rod (its frame: A, towards B).
+        let rod: Vec<[f64; 3]> = frames
+            .iter()
+            .map(|f| {
+                let (a, b) = (f.links[1][0], f.links[1][1]);
+                pose(P2::new(a[0], a[1]), (b[1] - a[1]).atan2(b[0] - a[0]))
+            })
+            .collect();
+        let l = s.mech.l;
+        out.push(Handle::length("mechanism.rod_length", l * x, x, l, "mm").on(rod));
+    }
+    out.push(
         Handle::length(
             "mechanism.offset",
             P2::new(guide_end, s.mech.e),
@@ -101,7 +107,7 @@ fn handles(s: &Scene, d: &Design, frames: &[Frame], guide_end: f64) -> Vec<Handl
             "mm",
         )
         .signed(),
-    ];
+    );
     if let (Some(Var::Fixed(r)), true) = (s.counterweight.radius, s.counterweight.shape.is_none()) {
         let u = P2::new(
             d.counterweight_angle_rad.cos(),

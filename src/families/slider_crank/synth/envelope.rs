@@ -88,6 +88,11 @@ impl Envelope {
         self.lengths.is_empty()
     }
 
+    /// The index of the first length parameter in [`Self::names`]' order.
+    pub fn first_length(&self) -> usize {
+        usize::from(self.speed.is_some()) + self.masses.len()
+    }
+
     /// The parameters' names with their units, in order: `speed_rad_s`, then `<mass>_delta_kg`
     /// for each mass, then `<length>_delta_m`.
     pub fn names(&self) -> Vec<String> {

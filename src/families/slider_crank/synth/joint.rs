@@ -183,7 +183,7 @@ fn scenarios(scene: &Scene, used: [bool; 4], energy: bool) -> (Vec<Scene>, Vec<u
     let keep = needed_scenarios(
         &env.ranges(),
         &all[0].values,
-        env.ranges().len() - env.lengths.len(),
+        env.first_length(),
         env.speed.is_some(),
         homogeneous,
     );
@@ -691,7 +691,6 @@ fn sensitivity_table(
     let multipliers = multipliers_of(sol).map_err(SolveError::Numeric)?;
     let env = &scene.envelope;
     let nb = scene.balancers.len();
-    let lengths_from = usize::from(env.speed.is_some()) + env.masses.len();
     let fields_at = |k: usize, values: &[f64], ms: &[&mm::Multiplier]| {
         let s = env.at(scene, values.to_vec()).scene;
         let zero = s.with_balancers(&vec![[0.0; 2]; nb]);
@@ -710,7 +709,7 @@ fn sensitivity_table(
         &env.ranges(),
         stride,
         multipliers,
-        lengths_from,
+        env.first_length(),
         fields_at,
     )
 }
