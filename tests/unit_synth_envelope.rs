@@ -3,7 +3,7 @@
 //! never ran (the library has no unit-test harness: `lib test = false`).
 
 use cwsynth::synth::envelope::{
-    central_slopes, sensitivities, vertices, worst, Dependence, End, Slope,
+    central_slopes, sensitivities, vertex_slopes, vertices, worst, Dependence, End, Slope,
 };
 use cwsynth::synth::minimax::Multiplier;
 
@@ -44,6 +44,28 @@ fn central_slopes_are_exact_for_quadratics_and_cover_a_cubic() {
     let c = central_slopes(2.0, 1e-4, Dependence::General, f).unwrap();
     assert!((c[1].value - 12.0).abs() <= c[1].error, "{c:?}");
     assert!(c[1].error < 1e-6, "{c:?}");
+}
+
+/// A figure affine in a mass m, g = (2 + 3m, 1 − m), and one affine in ω², g = (5 + ω², 2ω²):
+/// the slope from a vertex and its partner equals the derivative at the vertex, at either
+/// end, within its stated error, which is round-off sized.
+#[test]
+fn vertex_slopes_are_exact_for_figures_affine_in_a_mass_or_in_the_speeds_square() {
+    let mass = |m: f64| ([2.0 + 3.0 * m, 1.0 - m], 1e-13);
+    let speed = |w: f64| ([5.0 + w * w, 2.0 * w * w], 1e-12);
+    let slope_of = |g: [f64; 2], dg: [f64; 2]| (g[0] * dg[0] + g[1] * dg[1]) / g[0].hypot(g[1]);
+    for (at, to) in [(0.5, 0.7), (0.7, 0.5)] {
+        let s = vertex_slopes(at, to, false, &[mass(at)], &[mass(to)]);
+        let want = slope_of(mass(at).0, [3.0, -1.0]);
+        assert!((s[0].value - want).abs() <= s[0].error, "{s:?} {want}");
+        assert!(s[0].error < 1e-11, "{s:?}");
+    }
+    for (at, to) in [(80.0, 120.0), (120.0, 80.0)] {
+        let s = vertex_slopes(at, to, true, &[speed(at)], &[speed(to)]);
+        let want = slope_of(speed(at).0, [2.0 * at, 4.0 * at]);
+        assert!((s[0].value - want).abs() <= s[0].error, "{s:?} {want}");
+        assert!(s[0].error < 1e-9 * want.abs(), "{s:?}");
+    }
 }
 
 /// Two parameters, stride 1 (one field per scenario): the nominal scene (field 0) is at no

@@ -302,33 +302,98 @@ pub fn sensitivities<E>(
     Ok(rows)
 }
 
-/// [`sensitivities`] with each slope a central difference of the family's fields moved in one
-/// scenario: `fields_at(s, values, maxima)` is g and its evaluation error ([`field_values`])
-/// at each of scenario s's active maxima with the parameters at `values`, the design held
-/// (s tells the family scenario s's load case, if it has them).
-/// Parameters from `first_general` on (lengths) are [`Dependence::General`], the others
-/// (speed, masses) [`Dependence::Quadratic`]; the step is [`step`]'s.
+/// [`sensitivities`] with each slope from the family's fields moved in one scenario:
+/// `fields_at(s, values, maxima)` is g and its evaluation error ([`field_values`]) at each of
+/// scenario s's active maxima with the parameters at `values`, the design held (s tells the
+/// family scenario s's load case, if it has them, and its own design variables).
+///
+/// - A multi-affine parameter (before `first_general`: a mass, or the speed — parameter 0
+///   when `speed` — entering as ω²) with an interval of positive width: the exact slope from
+///   the scenario's vertex and its partner, the vertex with that parameter at its other end
+///   ([`vertex_slopes`]); both are vertices of the box, so a family can evaluate them on the
+///   scenes it already built.
+/// - A length (from `first_general` on, [`Dependence::General`]), or a point interval
+///   ([`Dependence::Quadratic`]): central differences ([`central_slopes`]) with [`step`]'s
+///   step.
 pub fn scenario_sensitivities<E>(
     names: &[String],
     ranges: &[(f64, f64)],
     stride: usize,
     multipliers: &[Multiplier],
     first_general: usize,
+    speed: bool,
     mut fields_at: impl FnMut(usize, &[f64], &[&Multiplier]) -> Result<Vec<FieldValue>, E>,
 ) -> Result<Vec<Sensitivity>, E> {
     let vs = vertices(ranges);
+    // Each scenario's own values at its vertex, evaluated once for all its parameters.
+    let mut own: Vec<(usize, Vec<FieldValue>)> = Vec::new();
     sensitivities(names, ranges, stride, multipliers, |k, i, ms| {
+        let v = (k - 1) % vs.len();
+        let (lo, hi) = ranges[i];
+        let square = speed && i == 0;
+        let phi = |x: f64| if square { x * x } else { x };
+        if i < first_general && phi(hi) != phi(lo) {
+            let partner = &vs[v ^ (1 << i)];
+            let at = match own.iter().position(|o| o.0 == k) {
+                Some(j) => j,
+                None => {
+                    own.push((k, fields_at(k, &vs[v], ms)?));
+                    own.len() - 1
+                }
+            };
+            let other = fields_at(k, partner, ms)?;
+            return Ok(vertex_slopes(
+                vs[v][i], partner[i], square, &own[at].1, &other,
+            ));
+        }
         let dependence = match i >= first_general {
             true => Dependence::General,
             false => Dependence::Quadratic,
         };
-        let mut values = vs[(k - 1) % vs.len()].clone();
+        let mut values = vs[v].clone();
         let h = step(values[i], ranges[i], dependence);
-        central_slopes(values[i], h, dependence, |v| {
-            values[i] = v;
+        central_slopes(values[i], h, dependence, |x| {
+            values[i] = x;
             fields_at(k, &values, ms)
         })
     })
+}
+
+/// ∂|g|/∂v at a vertex v = `at` of fields affine in φ(v) (φ(v) = v, or v² when `square`: a
+/// speed), from their values `own` there and `other` at the partner vertex v' = `to` (the
+/// same scenario with this parameter at its other end): ∂g/∂v = (g(v') − g(v))·φ′(v) /
+/// (φ(v') − φ(v)), exact but for the evaluations, and ∂|g|/∂v = ĝ·∂g/∂v with ĝ = g(v)/|g(v)|.
+/// The error is the evaluations' (e + e′)·φ′/|Δφ|, ĝ's (e/|g|)·|∂g/∂v| and the round-off
+/// 4ε·max|g|·φ′/|Δφ| of the difference and the quotient.
+pub fn vertex_slopes(
+    at: f64,
+    to: f64,
+    square: bool,
+    own: &[FieldValue],
+    other: &[FieldValue],
+) -> Vec<Slope> {
+    let norm = |g: &[f64; 2]| g[0].hypot(g[1]);
+    let (dphi, dv) = match square {
+        true => (to * to - at * at, 2.0 * at),
+        false => (to - at, 1.0),
+    };
+    let q = dv / dphi;
+    own.iter()
+        .zip(other)
+        .map(|(&(g, e0), &(g1, e1))| {
+            let dg = [0, 1].map(|r| (g1[r] - g[r]) * q);
+            let n = norm(&g);
+            let (value, dir_error) = match n > 0.0 {
+                true => ((g[0] * dg[0] + g[1] * dg[1]) / n, e0 / n * norm(&dg)),
+                false => (norm(&dg), 0.0),
+            };
+            let size = n.max(norm(&g1));
+            Slope {
+                value,
+                error: (e0 + e1) * q.abs() + dir_error + 4.0 * f64::EPSILON * size * q.abs(),
+            }
+        })
+        .collect()
 }
 
 /// g and its evaluation error at each (field, θ) of `at` at the design x: the values

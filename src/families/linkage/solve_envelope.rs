@@ -141,8 +141,9 @@ pub fn evaluate(
 
 /// The sensitivity table of the envelope design `sol` (`block_len` fields per scenario):
 /// each active maximum's slope when one parameter of its scenario moves, the design and the
-/// angle held (the scenario's scene rebuilt, [`ls::block_field_values`]; every figure is
-/// affine in a link's mass and quadratic in ω, a length is general), weighted by its multiplier
+/// angle held (the scenario's scene rebuilt at the partner vertex or at θ ± h,
+/// [`ls::block_field_values`]; every figure is affine in a link's mass and in ω², a length
+/// is general), weighted by its multiplier
 /// (`crate::synth::envelope::sensitivities`, the envelope theorem).
 pub fn sensitivities(
     scene: &LinkageScene,
@@ -165,6 +166,7 @@ pub fn sensitivities(
         block_len,
         multipliers,
         env.first_length(),
+        env.speed.is_some(),
         fields_at,
     )
 }

@@ -58,15 +58,20 @@ pub(super) fn optimise_joint(
         scene.load_limits.main_bearing.is_some(),
     ];
     let energy = objective == Objective::MinEnergyFluctuation;
-    let (scenes, keep) = scenarios(scene, used, energy);
-    let zeros: Vec<Scene> = scenes
-        .iter()
-        .map(|s| s.with_balancers(&vec![[0.0; 2]; nb]))
-        .collect();
+    let (scenes, values, keep) = scenarios(scene, used, energy);
+    // Without balancers a scene is its own balancer-free copy (no clone).
+    let zeros_owned: Vec<Scene> = match nb {
+        0 => Vec::new(),
+        _ => scenes
+            .iter()
+            .map(|s| s.with_balancers(&vec![[0.0; 2]; nb]))
+            .collect(),
+    };
+    let zeros: &[Scene] = if nb == 0 { &scenes } else { &zeros_owned };
     let (grids, grid_of) = StateGrid::shared(&scenes, &keep, minimax_settings(scene).scan_samples);
     let jss: Vec<JointScene> = scenes
         .iter()
-        .zip(&zeros)
+        .zip(zeros)
         .zip(&grid_of)
         .map(|((s, z), g)| JointScene::new(s, z, nb).with_grid(g.map(|g| &grids[g])))
         .collect();
@@ -148,8 +153,13 @@ pub(super) fn optimise_joint(
     let mut optimum = jss[0].optimum(&sol, &bounds)?;
     if scene.envelope.sensitivities && jss.len() > 1 {
         let at = energy.then_some((n, offset0));
+        let built = Built {
+            scenes: &jss,
+            values: &values,
+            keep: &keep,
+        };
         optimum.sensitivities =
-            Some(sensitivity_table(scene, &sol, &kinds, at, &keep).map_err(|e| e.to_string()));
+            Some(sensitivity_table(scene, &sol, &kinds, at, &built).map_err(|e| e.to_string()));
     }
     if let Some(e) = sets[0].energy.as_ref() {
         optimum.method = format!(
@@ -170,12 +180,16 @@ pub(super) fn optimise_joint(
 }
 
 /// The scenes of a joint design — the scene alone, or the nominal scene and every vertex of
-/// its envelope — and the indices of those the program needs
+/// its envelope — with their parameters' values and the indices of those the program needs
 /// ([`needed_scenarios`]: the shaking force and moment are homogeneous in ω², the torque,
 /// the bearing load and the energy curve carry weights and process loads).
-fn scenarios(scene: &Scene, used: [bool; 4], energy: bool) -> (Vec<Scene>, Vec<usize>) {
+fn scenarios(
+    scene: &Scene,
+    used: [bool; 4],
+    energy: bool,
+) -> (Vec<Scene>, Vec<Vec<f64>>, Vec<usize>) {
     if scene.envelope.is_empty() {
-        return (vec![scene.clone()], vec![0]);
+        return (vec![scene.clone()], vec![Vec::new()], vec![0]);
     }
     let env = &scene.envelope;
     let all = env.scenarios(scene);
@@ -187,7 +201,16 @@ fn scenarios(scene: &Scene, used: [bool; 4], energy: bool) -> (Vec<Scene>, Vec<u
         env.speed.is_some(),
         homogeneous,
     );
-    (all.into_iter().map(|s| s.scene).collect(), keep)
+    let (values, scenes) = all.into_iter().map(|s| (s.values, s.scene)).unzip();
+    (scenes, values, keep)
+}
+
+/// The scenarios an envelope solve built: each one's fields on its scene, its parameters'
+/// values, and the indices of those the program kept.
+struct Built<'b, 'a> {
+    scenes: &'b [JointScene<'a>],
+    values: &'b [Vec<f64>],
+    keep: &'b [usize],
 }
 
 /// One scenario's fields, in the engine's order within its stride: the force, the moment,
@@ -506,7 +529,10 @@ impl<'a> JointScene<'a> {
     /// [`round_off_bounds`] of the design x (force, torque, moment).
     fn round_off(&self, x: &[f64]) -> [f64; 3] {
         let (u, b) = self.parts(x);
-        round_off_bounds(&self.zero.with_balancers(&b), u)
+        match self.nb {
+            0 => round_off_bounds(self.zero, u),
+            _ => round_off_bounds(&self.zero.with_balancers(&b), u),
+        }
     }
 
     /// The shaking force F = ω²(f₀ + Rot(φ)U + Σ balancers) (N).
@@ -675,33 +701,40 @@ fn minimax_settings(scene: &Scene) -> mm::Settings {
 /// `energy` = (n, the first offset's index) for a ΔE design), dV*/d(end) for every interval
 /// end, so a designer sees which tolerance or speed limit to tighten first. By the envelope
 /// theorem from the optimum's multipliers (`synth::envelope::sensitivities`): free once the
-/// program is solved. The part here is the family's: the slope of one active maximum when
-/// one parameter of its scenario moves, the design and the angle held — the scenario's scene
-/// rebuilt at θ ± h and its field evaluated. Every figure is affine in a mass and quadratic
-/// in ω; a length is general. An error when the optimum has no multipliers (not certified
-/// by Newton's polish). The tests check the table against whole re-solves.
+/// program is solved. The part here is the family's: one active maximum's field evaluated
+/// with one parameter of its scenario moved, the design and the angle held — on the scene
+/// `built` already has where the values are a vertex's (the partner vertex of a mass or the
+/// speed: every figure is affine in a mass and in ω²), else on the scene rebuilt at θ ± h
+/// (a length). An error when the optimum has no multipliers (not certified by Newton's
+/// polish). The tests check the table against whole re-solves.
 fn sensitivity_table(
     scene: &Scene,
     sol: &mm::Solution,
     kinds: &[usize],
     energy: Option<(usize, usize)>,
-    keep: &[usize],
+    built: &Built,
 ) -> Result<Vec<Sensitivity>, SolveError> {
     let stride = kinds.len();
     let multipliers = multipliers_of(sol).map_err(SolveError::Numeric)?;
     let env = &scene.envelope;
     let nb = scene.balancers.len();
     let fields_at = |k: usize, values: &[f64], ms: &[&mm::Multiplier]| {
-        let s = env.at(scene, values.to_vec()).scene;
-        let zero = s.with_balancers(&vec![[0.0; 2]; nb]);
-        let js = JointScene::new(&s, &zero, nb);
         // Scenario k's energy offset is the engine's variable of its place among `keep`.
-        let place = keep
+        let place = built
+            .keep
             .iter()
             .position(|&j| j == k)
             .expect("an active scenario is kept");
-        let set = js.fields([true; 4], energy.map(|(n, o)| (n, o + place)))?;
+        let energy = energy.map(|(n, o)| (n, o + place));
         let at = ms.iter().map(|m| (kinds[m.field % stride], m.angle));
+        if let Some(j) = built.values.iter().position(|v| v == values) {
+            let set = built.scenes[j].fields([true; 4], energy)?;
+            return Ok(field_values(&set.all(), at, &sol.x));
+        }
+        let s = env.at(scene, values.to_vec()).scene;
+        let zero = s.with_balancers(&vec![[0.0; 2]; nb]);
+        let js = JointScene::new(&s, &zero, nb);
+        let set = js.fields([true; 4], energy)?;
         Ok(field_values(&set.all(), at, &sol.x))
     };
     scenario_sensitivities(
@@ -710,6 +743,7 @@ fn sensitivity_table(
         stride,
         multipliers,
         env.first_length(),
+        env.speed.is_some(),
         fields_at,
     )
 }
