@@ -499,6 +499,74 @@ fn a_panel_plots_data_is_the_numbers_its_svg_is_drawn_from() {
     }
 }
 
+/// `digits=7` (what the page asks for): the drawing's and the plots' numbers within half a
+/// unit of the 7th significant digit of the exact ones, the answer smaller, the result and
+/// the handles exactly the same; a number of digits out of 1–17 is a 400.
+#[test]
+fn the_pages_drawing_numbers_are_rounded_and_its_results_are_not() {
+    let addr = server(|_| {});
+    let name = "gear-tooth-profiles.toml";
+    let text = std::fs::read(problems().join(name)).unwrap();
+    let at = |q: &str| {
+        let (status, _, body) = http(
+            addr,
+            "POST",
+            &format!("/api/report?plots=data{q}&name={name}"),
+            &text,
+            "",
+        );
+        assert_eq!(status, 200, "{body}");
+        body
+    };
+    let (exact, rounded) = (at(""), at("&digits=7"));
+    assert!(
+        rounded.len() * 3 < exact.len() * 2,
+        "{} {}",
+        rounded.len(),
+        exact.len()
+    );
+    let (e, r) = (json(&exact), json(&rounded));
+    let mut r_result = r["result"].clone();
+    let mut e_result = e["result"].clone();
+    for v in [&mut r_result, &mut e_result] {
+        v.as_object_mut().unwrap().remove("timing");
+    }
+    assert_eq!(r_result, e_result);
+    assert_eq!(r["motion"]["handles"], e["motion"]["handles"]);
+    fn close(a: &Value, b: &Value, n: &mut usize) {
+        match (a, b) {
+            (Value::Array(x), Value::Array(y)) => {
+                assert_eq!(x.len(), y.len());
+                x.iter().zip(y).for_each(|(a, b)| close(a, b, n));
+            }
+            (Value::Object(x), Value::Object(y)) => {
+                assert_eq!(x.len(), y.len());
+                x.iter().for_each(|(k, a)| close(a, &y[k], n));
+            }
+            (Value::Number(x), Value::Number(y)) => {
+                let (x, y) = (x.as_f64().unwrap(), y.as_f64().unwrap());
+                assert!((x - y).abs() <= 5.000001e-7 * y.abs(), "{x} {y}");
+                *n += 1;
+            }
+            _ => assert_eq!(a, b),
+        }
+    }
+    let mut n = 0;
+    close(&r["motion"], &e["motion"], &mut n);
+    close(&r["plots"], &e["plots"], &mut n);
+    assert!(n > 10_000, "{n}");
+    for bad in ["0", "18", "x"] {
+        let (status, _, body) = http(
+            addr,
+            "POST",
+            &format!("/api/report?digits={bad}&name={name}"),
+            &text,
+            "",
+        );
+        assert_eq!(status, 400, "{body}");
+    }
+}
+
 /// A panel of `/api/report` against the library's: labels, every series' name, style and
 /// points (a non-finite one as null; the JSON's numbers to the last bit or the one below it,
 /// as serde_json reads them back).

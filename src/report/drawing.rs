@@ -794,13 +794,9 @@ impl Drawing {
         };
         let px = vw / pw; // mm per pixel, the same both ways
         let f = |v: f64| {
-            let s = format!("{v:.4}");
-            let s = s.trim_end_matches('0').trim_end_matches('.');
-            if s == "-0" {
-                "0".to_string()
-            } else {
-                s.to_string()
-            }
+            let mut s = String::new();
+            push_mm(&mut s, v);
+            s
         };
         let xy = |p: P2| format!("{},{}", f(p.x * 1e3), f(-p.y * 1e3));
         let mut s = String::new();
@@ -834,13 +830,17 @@ impl Drawing {
                         writeln!(s, "<path d=\"M{}L{}\"/>", xy(*a), xy(*b))
                     }
                     Prim::Polyline(pts, closed) => {
-                        let body: Vec<String> = pts.iter().map(|p| xy(*p)).collect();
-                        writeln!(
-                            s,
-                            "<path d=\"M{}{}\"/>",
-                            body.join("L"),
-                            if *closed { "Z" } else { "" }
-                        )
+                        // Written in place: an outline has thousands of points.
+                        s.push_str("<path d=\"M");
+                        for (i, p) in pts.iter().enumerate() {
+                            if i > 0 {
+                                s.push('L');
+                            }
+                            push_mm(&mut s, p.x * 1e3);
+                            s.push(',');
+                            push_mm(&mut s, -p.y * 1e3);
+                        }
+                        writeln!(s, "{}\"/>", if *closed { "Z" } else { "" })
                     }
                     Prim::Circle(c, r) => writeln!(
                         s,
@@ -969,5 +969,20 @@ impl PartialEq for Sheet {
     /// Sheets are equal when they would be written to the same files with the same caption.
     fn eq(&self, other: &Sheet) -> bool {
         self.suffix == other.suffix && self.caption == other.caption
+    }
+}
+
+/// Appends v (mm) as the SVG writes a coordinate: 4 decimals (0.1 µm), trailing zeros and a
+/// trailing point dropped, −0 as 0 — in place, without the three allocations of
+/// `format!` + trim + `to_string` per number (an outline has thousands).
+fn push_mm(s: &mut String, v: f64) {
+    use std::fmt::Write;
+    let start = s.len();
+    let _ = write!(s, "{v:.4}");
+    let kept = s[start..].trim_end_matches('0').trim_end_matches('.').len();
+    s.truncate(start + kept);
+    if &s[start..] == "-0" {
+        s.truncate(start);
+        s.push('0');
     }
 }

@@ -307,26 +307,79 @@ async fn solve(Shared(st): Shared<Arc<State>>, req: Request) -> Response {
 /// "plots": [{"suffix", "caption", "svg", "width", "height", "panels"}], "motion": …,
 /// "units": {key: [words, unit, factor]}}` ([`plot_json`]; `plots=data`: a plot of panels
 /// without its `svg`).
+///
+/// `digits=D` (1–17; the page asks for 7): the drawing's and the plots' numbers — the
+/// motion's `bodies`, `frames` and `guides`, the panels' points — rounded to D significant
+/// digits ([`round_drawn`]), which a screen cannot tell apart and which halves the answer of
+/// a scene with long outlines; the result's numbers and the handles' values stay exact.
 async fn report(Shared(st): Shared<Arc<State>>, req: Request) -> Response {
-    let svg_of_panels = query_value(req.uri().query(), "plots") != Some("data");
+    let query = req.uri().query();
+    let svg_of_panels = query_value(query, "plots") != Some("data");
+    let digits = match query_value(query, "digits").map(str::parse::<i32>) {
+        None => None,
+        Some(Ok(d)) if (1..=17).contains(&d) => Some(d),
+        Some(_) => {
+            return error(
+                StatusCode::BAD_REQUEST,
+                None,
+                None,
+                "digits: a whole number of significant digits from 1 to 17",
+            )
+        }
+    };
     let scene = match problem(&st, req).await {
         Ok(s) => s,
         Err(r) => return r,
     };
     match solved(&st, scene, Documents::Drawn).await {
         Ok(r) => {
-            let plots: Vec<Value> = r
+            let mut plots: Vec<Value> = r
                 .plots
                 .iter()
                 .map(|p| plot_json(p, svg_of_panels))
                 .collect();
             let result = r.to_json();
             let units = workshop_units(&result);
+            let mut motion = r.motion;
+            if let Some(d) = digits {
+                for p in &mut plots {
+                    round_drawn(&mut p["panels"], d);
+                }
+                if let Some(Value::Object(m)) = &mut motion {
+                    for (_, v) in m.iter_mut().filter(|(k, _)| *k != "handles") {
+                        round_drawn(v, d);
+                    }
+                }
+            }
             json_answer(
-                &json!({"result": result, "plots": plots, "motion": r.motion, "units": units}),
+                &json!({"result": result, "plots": plots, "motion": motion, "units": units}),
             )
         }
         Err(r) => r,
+    }
+}
+
+/// Every number of `v` (recursively) that is not an integer rounded to `digits` significant
+/// digits: x ↦ round(x·10^k)/10^k with k = digits − 1 − ⌊log₁₀|x|⌋, which JSON then writes
+/// in at most about `digits` digits (its shortest form that reads back the same double).
+fn round_drawn(v: &mut Value, digits: i32) {
+    match v {
+        Value::Array(a) => a.iter_mut().for_each(|x| round_drawn(x, digits)),
+        Value::Object(o) => o.values_mut().for_each(|x| round_drawn(x, digits)),
+        Value::Number(n) if n.is_f64() => {
+            let x = n.as_f64().unwrap_or(0.0);
+            if x != 0.0 && x.is_finite() {
+                let k = digits - 1 - x.abs().log10().floor() as i32;
+                let r = match k >= 0 {
+                    true => (x * 10f64.powi(k)).round() / 10f64.powi(k),
+                    false => (x / 10f64.powi(-k)).round() * 10f64.powi(-k),
+                };
+                if let Some(m) = serde_json::Number::from_f64(r) {
+                    *n = m;
+                }
+            }
+        }
+        _ => {}
     }
 }
 

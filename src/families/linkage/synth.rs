@@ -25,6 +25,7 @@ use crate::synth::minimax::{
 };
 use crate::synth::Var;
 use nalgebra::{DMatrix, DVector};
+use rayon::prelude::*;
 use std::collections::HashMap;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::Arc;
@@ -355,9 +356,17 @@ pub fn steady_joint_peaks(
     let l = &scene.linkage;
     let joints = l.joints();
     let p = params_with(scene, x);
+    // The nodes in parallel (a pose and a Newton–Euler solve each), collected in order: the
+    // same loads, and the first failing node's error, whatever the threads.
+    let rows: Vec<_> = st
+        .curve
+        .par_iter()
+        .with_min_len(64)
+        .map(|&node| loads_at(l, &joints, &p, node))
+        .collect();
     let mut ys = vec![Vec::with_capacity(st.curve.len()); joints.len()];
-    for &node in &st.curve {
-        for (y, v) in ys.iter_mut().zip(loads_at(l, &joints, &p, node)?) {
+    for row in rows {
+        for (y, v) in ys.iter_mut().zip(row?) {
             y.push(v);
         }
     }

@@ -316,8 +316,10 @@ async function solve() {
   inFlight = true;
   let answer;
   try {
-    // plots=data: a plot of panels comes as its data only (drawn here), not as SVG too.
-    const res = await api("/api/report?plots=data&name=" + encodeURIComponent(fileName), {
+    // plots=data: a plot of panels comes as its data only (drawn here), not as SVG too;
+    // digits=7: the drawing's and the plots' numbers to 7 significant digits (the result's
+    // stay exact), half the bytes of a scene with long outlines.
+    const res = await api("/api/report?plots=data&digits=7&name=" + encodeURIComponent(fileName), {
       method: "POST",
       headers: { "Content-Type": "text/plain" },
       body: $("toml").value,
@@ -345,15 +347,16 @@ async function solve() {
 }
 
 // An edit solves as soon as no solve is on its way (the events of one change, dispatched
-// together, coalesced into one solve), else once that one is back, with the latest text:
-// no fixed debounce delay, and at most one request in flight.
+// together in one task, coalesced into one solve: it starts in a microtask once the task's
+// code is done, not after a timer's turn), else once that one is back, with the latest
+// text: no fixed debounce delay, and at most one request in flight.
 let scheduled = false;
 function edited() {
   if (editedAt === null) editedAt = performance.now();
   if (inFlight) { pending = true; return; }
   if (scheduled) return;
   scheduled = true;
-  setTimeout(() => { scheduled = false; solve(); }, 0);
+  queueMicrotask(() => { scheduled = false; solve(); });
 }
 
 async function open(value) {
