@@ -121,7 +121,44 @@ mod drawing {
 
 /// The former unit tests of `src/report/plot.rs`.
 mod plot {
-    use cwsynth::report::plot::{heat_map, panels, tick, tick_on, Figure, Grid, Panel, Series};
+    use cwsynth::report::plot::{
+        heat_map, panels, peak_label_box, tick, tick_on, Figure, Grid, Panel, Series,
+    };
+
+    /// A peak's label: right of its point where it fits, else left, else as far right as the
+    /// area lets it start; below a point in the upper half, above one in the lower half; a
+    /// line further where it would cover a placed box, never out of the area.
+    #[test]
+    fn a_peak_label_sits_beside_its_point_inside_the_area_and_clear_of_others() {
+        let area = [0.0, 0.0, 400.0, 300.0];
+        let (size, gap) = ((100.0, 15.0), 9.0);
+        let inside = |b: [f64; 4]| b[0] >= 0.0 && b[1] >= 0.0 && b[2] <= 400.0 && b[3] <= 300.0;
+        // Room on the right, in the lower half: right of it and above.
+        let b = peak_label_box((50.0, 200.0), size, area, &[], gap);
+        assert_eq!(b, [59.0, 176.0, 159.0, 191.0]);
+        // At the right edge, in the upper half: left of it and below.
+        let b = peak_label_box((390.0, 20.0), size, area, &[], gap);
+        assert_eq!(b, [281.0, 29.0, 381.0, 44.0]);
+        // Too wide for either side: as far right as it can start, inside.
+        let b = peak_label_box((200.0, 250.0), (350.0, 15.0), area, &[], gap);
+        assert_eq!((b[0], b[2]), (50.0, 400.0));
+        assert!(inside(b));
+        // A placed box where it would go: a line further down (below a high point).
+        let first = peak_label_box((390.0, 20.0), size, area, &[], gap);
+        let second = peak_label_box((390.0, 25.0), size, area, &[first], gap);
+        assert!(second[1] >= first[3], "{first:?} {second:?}");
+        // Never out of the area, even when every line is taken.
+        let taken: Vec<[f64; 4]> = (0..30)
+            .map(|k| [0.0, 10.0 * k as f64, 400.0, 10.0 * k as f64 + 10.0])
+            .collect();
+        assert!(inside(peak_label_box(
+            (390.0, 290.0),
+            size,
+            area,
+            &taken,
+            gap
+        )));
+    }
 
     /// A panel as `/api/report` sends it: a non-finite coordinate as null, each style by
     /// name, an x axis in degrees marked as the mechanism's angle.

@@ -296,6 +296,21 @@ pub fn tick(v: &f64) -> String {
 /// legend box covers the fewest points of the data (a line's segments sampled between its
 /// vertices; upper right on a tie), that count, and the box's height as a fraction of the
 /// area's (for the headroom that clears it, [`draw_panel`]).
+/// The legend box's size in pixels at the drawing scale: 40 px + 7 px per character of the
+/// longest entry wide, 18 px per entry + 10 tall (nominal), the peaks not listed.
+fn legend_size(series: &[Series]) -> (f64, f64) {
+    let listed = series.iter().filter(|s| s.style != Style::Peak);
+    let longest = listed
+        .clone()
+        .map(|s| s.name.chars().count())
+        .max()
+        .unwrap_or(0) as f64;
+    (
+        (40.0 + 7.0 * longest) * S as f64,
+        (10.0 + 18.0 * listed.count() as f64) * S as f64,
+    )
+}
+
 fn legend_corner(
     series: &[Series],
     x: (f64, f64),
@@ -303,15 +318,9 @@ fn legend_corner(
     w: u32,
     h: u32,
 ) -> (SeriesLabelPosition, usize, f64) {
-    let listed: Vec<&Series> = series.iter().filter(|s| s.style != Style::Peak).collect();
-    let longest = listed
-        .iter()
-        .map(|s| s.name.chars().count())
-        .max()
-        .unwrap_or(0) as f64;
-    // The box: 40 px + 7 px per character wide, 18 px per entry + 10 tall (nominal).
-    let bw = ((40.0 + 7.0 * longest) * S as f64 / w.max(1) as f64).min(1.0);
-    let bh = ((10.0 + 18.0 * listed.len() as f64) * S as f64 / h.max(1) as f64).min(1.0);
+    let (lw, lh) = legend_size(series);
+    let bw = (lw / w.max(1) as f64).min(1.0);
+    let bh = (lh / h.max(1) as f64).min(1.0);
     // Every vertex, and 7 points between consecutive vertices of a line.
     let points: Vec<(f64, f64)> = series
         .iter()
@@ -364,7 +373,9 @@ fn legend_corner(
     (best.1, best.0, bh)
 }
 
-const PALETTE: [RGBColor; 8] = [
+/// The series colours, by index (Tableau 10): ten before a colour repeats (the six-bar
+/// press's nine load cases at the band's ends each get their own).
+const PALETTE: [RGBColor; 10] = [
     RGBColor(31, 119, 180),
     RGBColor(214, 39, 40),
     RGBColor(44, 160, 44),
@@ -373,6 +384,8 @@ const PALETTE: [RGBColor; 8] = [
     RGBColor(140, 86, 75),
     RGBColor(227, 119, 194),
     RGBColor(23, 190, 207),
+    RGBColor(127, 127, 127),
+    RGBColor(188, 189, 34),
 ];
 
 fn bounds(series: &[Series], equal: bool) -> ((f64, f64), (f64, f64)) {
@@ -491,6 +504,110 @@ fn angle_ticks(p: &Panel, x: (f64, f64)) -> Option<((f64, f64), Vec<f64>, Vec<f6
     Some(((a, b), every(q), every(30.0)))
 }
 
+/// Each peak's label beside its ring ([`peak_label_box`]), the peaks taken from the top of
+/// the plot down so that stacked labels keep their points' order, clear of every ring and of
+/// the labels before them.
+fn label_peaks(
+    chart: &mut ChartContext<'_, SVGBackend<'_>, Cartesian2d<XAxis, RangedCoordf64>>,
+    peaks: &[((f64, f64), &str)],
+    (lw, lh): (f64, f64),
+    corner: &SeriesLabelPosition,
+) -> Result<(), PlotError> {
+    let (xr, yr) = chart.plotting_area().get_pixel_range();
+    let area = [xr.start, yr.start, xr.end, yr.end].map(f64::from);
+    // The legend's box in its corner (with its margin), which no label covers either.
+    let m = f64::from(px(6));
+    let (l, t, r, b) = (area[0] + m, area[1] + m, area[2] - m, area[3] - m);
+    let legend = match corner {
+        SeriesLabelPosition::UpperLeft => [l, t, l + lw, t + lh],
+        SeriesLabelPosition::LowerRight => [r - lw, b - lh, r, b],
+        SeriesLabelPosition::LowerLeft => [l, b - lh, l + lw, b],
+        _ => [r - lw, t, r, t + lh],
+    };
+    let mut at: Vec<((f64, f64), (f64, f64), &str)> = peaks
+        .iter()
+        .map(|&(q, name)| {
+            let (x, y) = chart.backend_coord(&q);
+            (q, (f64::from(x), f64::from(y)), name)
+        })
+        .collect();
+    at.sort_by(|a, b| a.1 .1.total_cmp(&b.1 .1));
+    // The rings (radius 6 px and their stroke), which no label covers.
+    let r = f64::from(pxi(7));
+    let mut placed: Vec<[f64; 4]> = at
+        .iter()
+        .map(|(_, (x, y), _)| [x - r, y - r, x + r, y + r])
+        .chain(std::iter::once(legend))
+        .collect();
+    let c = RGBColor(20, 20, 20);
+    for (q, p, name) in at {
+        // The text's size: sans-serif at 12 px averages about 0.56 em a character.
+        let size = (
+            0.56 * f64::from(px(12)) * name.chars().count() as f64,
+            1.25 * f64::from(px(12)),
+        );
+        let b = peak_label_box(p, size, area, &placed, f64::from(pxi(9)));
+        placed.push(b);
+        chart
+            .draw_series(std::iter::once(
+                EmptyElement::at(q)
+                    + Text::new(
+                        name.to_string(),
+                        ((b[0] - p.0) as i32, (b[1] - p.1) as i32),
+                        font(12)
+                            .into_font()
+                            .color(&c)
+                            .pos(Pos::new(HPos::Left, VPos::Top)),
+                    ),
+            ))
+            .map_err(PlotError::draw)?;
+    }
+    Ok(())
+}
+
+/// The box [left, top, right, bottom] of a peak's label (pixels, y down) beside its ring at
+/// `at`, the text `size` (w, h), inside the plotting `area` [l, t, r, b], clear of the
+/// labels already `placed`, `gap` from the point: right of the point where the text fits,
+/// else left of it, else as far right as the area lets it start; below a point in the upper
+/// half of the area and above one in the lower half (towards the middle, where there is
+/// room, and clear of the caption above the plot). A box that overlaps a placed one moves
+/// one line further (down below the point, up above it), at most four times, and never out
+/// of the area. The page's charts place their labels the same way
+/// (`src/serve/assets/plots.js`, `labelBox`).
+pub fn peak_label_box(
+    at: (f64, f64),
+    size: (f64, f64),
+    area: [f64; 4],
+    placed: &[[f64; 4]],
+    gap: f64,
+) -> [f64; 4] {
+    let (w, h) = size;
+    let [l, t, r, b] = area;
+    let left = if at.0 + gap + w <= r {
+        at.0 + gap
+    } else if at.0 - gap - w >= l {
+        at.0 - gap - w
+    } else {
+        (r - w).max(l)
+    };
+    let below = at.1 < t + 0.5 * (b - t);
+    let mut top = if below { at.1 + gap } else { at.1 - gap - h };
+    let clamp = |y: f64| y.min(b - h).max(t);
+    top = clamp(top);
+    let overlaps = |y: f64| {
+        placed
+            .iter()
+            .any(|p| left < p[2] && left + w > p[0] && y < p[3] && y + h > p[1])
+    };
+    for _ in 0..4 {
+        if !overlaps(top) {
+            break;
+        }
+        top = clamp(if below { top + h } else { top - h });
+    }
+    [left, top, left + w, top + h]
+}
+
 /// Widens the shorter-scaled range so that both axes have the same length per pixel on a
 /// plotting area of `w`×`h` pixels (a circle drawn round).
 fn equal_scale(x: (f64, f64), y: (f64, f64), w: u32, h: u32) -> ((f64, f64), (f64, f64)) {
@@ -544,6 +661,8 @@ fn draw_panel(area: &DrawingArea<SVGBackend, Shift>, p: &Panel) -> Result<(), Pl
         .set_all_tick_mark_size(px(4))
         .draw()
         .map_err(PlotError::draw)?;
+    // The peaks (point, label), labelled once every ring is drawn.
+    let mut peaks: Vec<((f64, f64), &str)> = Vec::new();
     for (i, s) in p.series.iter().enumerate() {
         let c = PALETTE[i % PALETTE.len()];
         match s.style {
@@ -591,27 +710,7 @@ fn draw_panel(area: &DrawingArea<SVGBackend, Shift>, p: &Panel) -> Result<(), Pl
                             c.stroke_width(px(1)),
                         )))
                         .map_err(PlotError::draw)?;
-                    // The label beside the ring, on the side with room (left of a point in
-                    // the right third).
-                    let right = q.0 > x0 + 0.66 * (x1 - x0);
-                    let h = if right { HPos::Right } else { HPos::Left };
-                    let dx = if right { -pxi(9) } else { pxi(9) };
-                    // Below a point near the top (the caption is above the plot).
-                    let (v, dy) = if q.1 > y0 + 0.85 * (y1 - y0) {
-                        (VPos::Top, pxi(9))
-                    } else {
-                        (VPos::Bottom, -pxi(9))
-                    };
-                    chart
-                        .draw_series(std::iter::once(
-                            EmptyElement::at(q)
-                                + Text::new(
-                                    s.name.clone(),
-                                    (dx, dy),
-                                    font(12).into_font().color(&c).pos(Pos::new(h, v)),
-                                ),
-                        ))
-                        .map_err(PlotError::draw)?;
+                    peaks.push((q, s.name.as_str()));
                 }
             }
             Style::Marker => {
@@ -630,6 +729,7 @@ fn draw_panel(area: &DrawingArea<SVGBackend, Shift>, p: &Panel) -> Result<(), Pl
             }
         }
     }
+    label_peaks(&mut chart, &peaks, legend_size(&p.series), &corner)?;
     chart
         .configure_series_labels()
         .background_style(WHITE.mix(0.85))

@@ -10,7 +10,7 @@
 
 const cwPlots = (() => {
   // The SVG plots' colours (src/report/plot.rs PALETTE), by series index.
-  const PALETTE = ["#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b", "#e377c2", "#17becf"];
+  const PALETTE = ["#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b", "#e377c2", "#17becf", "#7f7f7f", "#bcbd22"];
   const PEAK = "#141414";
   const CURSOR = "#c00";
   const FONT = "12px system-ui, sans-serif";
@@ -159,8 +159,26 @@ const cwPlots = (() => {
     }
   }
 
-  // The peaks' labels beside their rings (left of a point in the right third, below one
-  // near the top: plot.rs), then the angle cursor.
+  // The box [left, top, right, bottom] of a peak's label beside its ring at (x, y), as the
+  // report's plots place it (src/report/plot.rs, peak_label_box): right of the point where
+  // the text fits, else left of it, else as far right as the area lets it start; below a
+  // point in the upper half of the area, above one in the lower half; a box overlapping one
+  // already placed moves a line further (down below, up above), at most four times, never
+  // out of the area.
+  function labelBox(x, y, w, h, area, placed, gap) {
+    const [l, t, r, b] = area;
+    const left = x + gap + w <= r ? x + gap : x - gap - w >= l ? x - gap - w : Math.max(r - w, l);
+    const below = y < t + 0.5 * (b - t);
+    const clamp = (v) => Math.max(Math.min(v, b - h), t);
+    let top = clamp(below ? y + gap : y - gap - h);
+    const overlaps = (v) => placed.some((p) => left < p[2] && left + w > p[0] && v < p[3] && v + h > p[1]);
+    for (let k = 0; k < 4 && overlaps(top); k++) top = clamp(below ? top + h : top - h);
+    return [left, top, left + w, top + h];
+  }
+
+  // The peaks' labels beside their rings (labelBox), taken from the top of the plot down so
+  // that stacked labels keep their points' order, clear of every ring and of the labels
+  // before them (as plot.rs's label_peaks); then the angle cursor.
   function drawOver(u, st) {
     const ctx = u.ctx;
     const { left, top, width, height } = u.bbox;
@@ -168,19 +186,25 @@ const cwPlots = (() => {
     ctx.save();
     ctx.font = 12 * px + "px system-ui, sans-serif";
     ctx.fillStyle = PEAK;
+    ctx.textAlign = "left";
+    ctx.textBaseline = "top";
+    const area = [left, top, left + width, top + height];
+    const peaks = [];
     st.panel.series.forEach((s) => {
       if (s.style !== "peak") return;
       for (let i = 0; i < s.x.length; i++) {
         if (s.x[i] === null || s.y[i] === null) continue;
-        const x = u.valToPos(s.x[i], "x", true);
-        const y = u.valToPos(s.y[i], "y", true);
-        const right = x > left + 0.66 * width;
-        const high = y < top + 0.15 * height;
-        ctx.textAlign = right ? "right" : "left";
-        ctx.textBaseline = high ? "top" : "bottom";
-        ctx.fillText(s.name, x + (right ? -9 : 9) * px, y + (high ? 9 : -9) * px);
+        peaks.push({ x: u.valToPos(s.x[i], "x", true), y: u.valToPos(s.y[i], "y", true), name: s.name });
       }
     });
+    peaks.sort((a, b) => a.y - b.y);
+    const r = 7 * px;
+    const placed = peaks.map((p) => [p.x - r, p.y - r, p.x + r, p.y + r]);
+    for (const p of peaks) {
+      const box = labelBox(p.x, p.y, ctx.measureText(p.name).width, 15 * px, area, placed, 9 * px);
+      placed.push(box);
+      ctx.fillText(p.name, box[0], box[1] + 1.5 * px);
+    }
     const a = cursorAt(u, st.panel);
     if (a !== null) {
       const x = Math.round(u.valToPos(a, "x", true)) + 0.5;
