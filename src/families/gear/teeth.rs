@@ -15,6 +15,7 @@
 
 use crate::families::gear::model::{Alpha2Map, GearPair};
 use crate::geom::{rot, P2};
+use rayon::prelude::*;
 use std::f64::consts::TAU;
 
 /// α1 (within the turn, in [α_i, α_{i+1}]) at which the generating circle has rolled the
@@ -66,7 +67,9 @@ pub fn profiles(pair: &GearPair, a2: &Alpha2Map, turns1: u32, turns2: u32, m: us
     let m = m.max(2);
     let o2 = P2::new(pair.a, 0.0);
     let phis: Vec<f64> = (0..=m).map(|k| TAU * k as f64 / m as f64).collect();
+    // The arches in parallel (each a few hundred contact points), collected in order.
     let gear1 = (0..n)
+        .into_par_iter()
         .map(|i| Arch {
             index: i,
             epicycloid: i.is_multiple_of(2),
@@ -88,6 +91,7 @@ pub fn profiles(pair: &GearPair, a2: &Alpha2Map, turns1: u32, turns2: u32, m: us
         rot(-a2.alpha2(xg), pair.contact_on(x, i).k - o2)
     };
     let gear2 = (0..arches2)
+        .into_par_iter()
         .map(|g| Arch {
             index: g,
             epicycloid: !(g % n).is_multiple_of(2),
@@ -219,7 +223,10 @@ pub struct FlankWear {
 /// [`FlankWear`] of the pair over a cycle of n1 turns of gear 1 (n2 of gear 2).
 pub fn flank_wear(pair: &GearPair, turns1: u32, turns2: u32, rtol: f64) -> FlankWear {
     let n = pair.n_arches;
+    // The arches' integrals in parallel, collected in order (the same numbers whatever the
+    // threads).
     let per: Vec<Integral> = (0..n)
+        .into_par_iter()
         .map(|i| arch_sliding_distance(pair, i, rtol))
         .collect();
     let gear1 = per
