@@ -6,7 +6,7 @@
 
 use super::drive::delta_e;
 use super::file::{Goal, LinkageScene};
-use super::model::Linkage;
+use super::model::{Linkage, Pose};
 use super::synth::{self as ls, Outcome, FORCE, MOMENT, TORQUE};
 use crate::numeric::{periodic_peak_sampled, Refine};
 use crate::synth::envelope::{self, halton_point, worst, Sensitivity, WorstCase};
@@ -183,13 +183,18 @@ fn monte_carlo(
     let ranges = env.ranges();
     let energy = w[3].is_some();
     let cases = 1 + env.cases.len();
+    // Without a length tolerance every point of the box has the nominal geometry: the poses
+    // on the scan grid are made once for all of them.
+    let poses = (env.first_length() == ranges.len())
+        .then(|| grid_poses(&scene.linkage, s.scan_samples))
+        .transpose()?;
     let rows = (0..env.monte_carlo * cases)
         .into_par_iter()
         .map(|j| {
             let (i, c) = (1 + j / cases, j % cases);
             let sc = ls::scene_at_case(scene, c, &halton_point(&ranges, i))
                 .map_err(|e| e.to_string())?;
-            let [f, m, t] = peaks(&sc, x, s)?;
+            let [f, m, t] = peaks_on(&sc, x, s, poses.as_deref())?;
             let e = energy.then(|| delta_e(&sc, x)).transpose()?;
             Ok([f, m, t, e.unwrap_or((f64::NAN, 0.0))])
         })
@@ -215,26 +220,51 @@ pub fn peaks(
     x: Option<&[f64]>,
     s: &Settings,
 ) -> Result<[(f64, f64); 3], String> {
+    peaks_on(sc, x, s, None)
+}
+
+/// The linkage's poses at the scan angles 2πk/n, or where it does not assemble.
+fn grid_poses(l: &Linkage, n: usize) -> Result<Vec<Pose>, String> {
+    let h = std::f64::consts::TAU / n as f64;
+    (0..n)
+        .map(|k| l.pose(k as f64 * h))
+        .collect::<Result<_, _>>()
+        .map_err(|_| "the linkage does not assemble at a scanned angle".to_string())
+}
+
+/// [`peaks`], with the poses on the scan grid given where they are known (`poses`, n =
+/// `scan_samples` of them: the scene's geometry, shared by every point of a box without a
+/// length tolerance; the refinement between grid angles makes its own).
+fn peaks_on(
+    sc: &LinkageScene,
+    x: Option<&[f64]>,
+    s: &Settings,
+    poses: Option<&[Pose]>,
+) -> Result<[(f64, f64); 3], String> {
     let l: &Linkage = &sc.linkage;
     let extra = x
         .map(|x| ls::extras(&sc.counterweights, x))
         .unwrap_or_default();
     let params = l.params();
-    let at = |th: f64| -> Option<([f64; 3], [f64; 3])> {
-        let map = l.balance_map(&l.pose(th).ok()?, sc.moment_about);
+    let on = |pose: &Pose| -> ([f64; 3], [f64; 3]) {
+        let map = l.balance_map(pose, sc.moment_about);
         let f = map.fields(&extra);
         let (ef, em, et) = map.error(&params, &extra);
-        Some((
+        (
             [f.force.norm(), f.moment.abs(), f.torque.abs()],
             [ef, em, et],
-        ))
+        )
     };
+    let at = |th: f64| l.pose(th).ok().map(|p| on(&p));
     let n = s.scan_samples;
     let h = std::f64::consts::TAU / n as f64;
-    let samples: Vec<_> = (0..n)
-        .map(|k| at(k as f64 * h))
-        .collect::<Option<_>>()
-        .ok_or("the linkage does not assemble at a scanned angle")?;
+    let samples: Vec<_> = match poses {
+        Some(ps) if ps.len() == n => ps.iter().map(on).collect(),
+        _ => (0..n)
+            .map(|k| at(k as f64 * h))
+            .collect::<Option<_>>()
+            .ok_or("the linkage does not assemble at a scanned angle")?,
+    };
     let mut out = [(0.0, 0.0); 3];
     for (c, o) in out.iter_mut().enumerate() {
         let ys: Vec<f64> = samples.iter().map(|v| v.0[c]).collect();
