@@ -14,12 +14,40 @@ pub fn terms<'a>(
     sc: &'a LinkageScene,
     x: Option<&[f64]>,
 ) -> impl Fn(f64) -> Option<DriveTerms> + Sync + 'a {
+    terms_with(sc, x, None)
+}
+
+/// The drive's terms of several scenes that differ in their speed alone, remembered by
+/// angle: J, J′, G and the momentum per unit crank speed do not depend on ω (the loads are
+/// tables over the angle, the weights constant), so the drive of one load case at the band's
+/// ends and inside it samples its linkage once per grid angle. Only for scenes of one
+/// geometry, masses, loads and design.
+#[derive(Default)]
+pub struct TermsMemo(std::sync::Mutex<std::collections::HashMap<u64, Option<DriveTerms>>>);
+
+/// [`terms`], looked up in and added to `memo` where one is given.
+fn terms_with<'a>(
+    sc: &'a LinkageScene,
+    x: Option<&[f64]>,
+    memo: Option<&'a TermsMemo>,
+) -> impl Fn(f64) -> Option<DriveTerms> + Sync + 'a {
     let extra = x
         .map(|x| ls::extras(&sc.counterweights, x))
         .unwrap_or_default();
     move |th: f64| {
-        let lk = &sc.linkage;
-        lk.pose(th).ok().map(|pose| lk.drive_terms(&pose, &extra))
+        let at = |th: f64| {
+            let lk = &sc.linkage;
+            lk.pose(th).ok().map(|pose| lk.drive_terms(&pose, &extra))
+        };
+        let Some(m) = memo else { return at(th) };
+        if let Some(t) = m.0.lock().ok().and_then(|g| g.get(&th.to_bits()).copied()) {
+            return t;
+        }
+        let t = at(th);
+        if let Ok(mut g) = m.0.lock() {
+            g.insert(th.to_bits(), t);
+        }
+        t
     }
 }
 
@@ -58,8 +86,9 @@ pub fn steady(
     d: &Drive,
     flywheel: f64,
     x: Option<&[f64]>,
+    memo: Option<&TermsMemo>,
 ) -> Result<dynamics::SteadyState, DriveError> {
-    let terms = terms(sc, x);
+    let terms = terms_with(sc, x, memo);
     let m = one_dof(&terms);
     dynamics::steady_state(&m, &d.motor, flywheel, sc.linkage.omega(), &settings(sc))
 }
@@ -73,7 +102,17 @@ pub fn figures(
     d: &Drive,
     x: Option<&[f64]>,
 ) -> Result<DriveFigures, DriveError> {
-    let terms = terms(sc, x);
+    figures_with(sc, d, x, None)
+}
+
+/// [`figures`] with the drive's terms remembered in `memo` ([`TermsMemo`]).
+pub fn figures_with(
+    sc: &LinkageScene,
+    d: &Drive,
+    x: Option<&[f64]>,
+    memo: Option<&TermsMemo>,
+) -> Result<DriveFigures, DriveError> {
+    let terms = terms_with(sc, x, memo);
     let figures = dynamics::drive(&one_dof(&terms), sc.linkage.omega(), d, &settings(sc))?;
     Ok(figures.with_real_speed(&d.motor, |th, w, a| {
         terms(th).map(|t| (t.momentum_rate * (w * w) + t.momentum * a).norm())

@@ -9,7 +9,7 @@
 //! counterweights are the solve's (the worst case over the cases is the envelope's,
 //! `solve_envelope`).
 
-use super::drive::{figures, steady};
+use super::drive::{figures_with, steady, TermsMemo};
 use super::file::LinkageScene;
 use super::synth as ls;
 use crate::dynamics::cases::{
@@ -73,6 +73,15 @@ pub fn solve(
         ls::scene_at_case(sc, *c, values).map_err(|e| e.to_string())
     };
     let names = env.names();
+    // A box that is a speed band alone: each case's scenes differ in their speed alone and
+    // share its drive's terms ([`TermsMemo`]); otherwise each scene samples its own.
+    let memos: Vec<TermsMemo> = match names.len() == 1 && env.speed.is_some() {
+        true => (0..=env.cases.len())
+            .map(|_| TermsMemo::default())
+            .collect(),
+        false => Vec::new(),
+    };
+    let memo = |k: usize| memos.get(scenarios[k].0);
     // The scenarios' drives are independent: in parallel, collected in order (the same
     // result whatever the threads).
     let mut cases: Vec<CaseDrives> = (scenarios.par_iter().enumerate())
@@ -88,7 +97,8 @@ pub fn solve(
             values: names.iter().cloned().zip(values.iter().copied()).collect(),
             own: match k {
                 0 => nominal.clone(),
-                k => scene(k).and_then(|s| figures(&s, d, x).map_err(|e| e.to_string())),
+                k => scene(k)
+                    .and_then(|s| figures_with(&s, d, x, memo(k)).map_err(|e| e.to_string())),
             },
             at_flywheel: None,
         })
@@ -101,7 +111,8 @@ pub fn solve(
     cases.par_iter_mut().enumerate().for_each(|(k, case)| {
         case.at_flywheel = match (&case.own, flywheel) {
             (Ok(f), Some(fw)) if f.steady.flywheel != fw.inertia => Some(scene(k).and_then(|s| {
-                figures(&s, &with_flywheel(d, fw.inertia), x).map_err(|e| e.to_string())
+                figures_with(&s, &with_flywheel(d, fw.inertia), x, memo(k))
+                    .map_err(|e| e.to_string())
             })),
             (own, _) => Some(own.clone()),
         };
@@ -112,7 +123,15 @@ pub fn solve(
         .collect();
     check_cs(d.cs, &at, warnings);
     let band = match (env.speed, flywheel, d.cs) {
-        (Some(band), Some(fw), Some(cs)) => band_check(sc, band, d, fw.inertia, x, cs, warnings),
+        (Some(band), Some(fw), Some(cs)) => {
+            let job = BandJob {
+                d,
+                flywheel: fw.inertia,
+                x,
+                memos: &memos,
+            };
+            band_check(sc, band, &job, cs, warnings)
+        }
         _ => None,
     };
     Some(LoadCaseDrives {
@@ -129,12 +148,16 @@ pub fn solve(
 fn band_check(
     sc: &LinkageScene,
     band: (f64, f64),
-    d: &Drive,
-    flywheel: f64,
-    x: Option<&[f64]>,
+    job: &BandJob,
     cs: f64,
     warnings: &mut Vec<String>,
 ) -> Option<BandCheck> {
+    let BandJob {
+        d,
+        flywheel,
+        x,
+        memos,
+    } = *job;
     let env = &sc.envelope;
     let n = BAND_CHECK_SPEEDS;
     let nominal = env.nominal(&sc.linkage);
@@ -149,11 +172,21 @@ fn band_check(
             let mut values = nominal.clone();
             values[0] = w;
             let s = ls::scene_at_case(sc, c, &values).map_err(|e| e.to_string())?;
-            steady(&s, d, flywheel, x).map_err(|e| e.to_string())
+            steady(&s, d, flywheel, x, memos.get(c)).map_err(|e| e.to_string())
         })
         .collect();
     let rows = (jobs.iter().zip(states)).map(|(&(w, c), st)| (w, env.case_name(c), st));
     BandCheck::of(cs, n, rows, warnings)
+}
+
+/// What the band's check solves: the drive `d` with the flywheel of all the cases, the
+/// design `x`, and each case's terms memo (empty: none shared).
+#[derive(Clone, Copy)]
+struct BandJob<'a> {
+    d: &'a Drive,
+    flywheel: f64,
+    x: Option<&'a [f64]>,
+    memos: &'a [TermsMemo],
 }
 
 /// The drive's scenarios: each load case (the nominal loads first) at the nominal values of

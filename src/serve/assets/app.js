@@ -347,16 +347,17 @@ async function solve() {
 }
 
 // An edit solves as soon as no solve is on its way (the events of one change, dispatched
-// together in one task, coalesced into one solve: it starts in a microtask once the task's
-// code is done, not after a timer's turn), else once that one is back, with the latest
-// text: no fixed debounce delay, and at most one request in flight.
+// together, coalesced into one solve), else once that one is back, with the latest text:
+// no fixed debounce delay, and at most one request in flight. (A timer's turn: a microtask
+// instead, measured again on 2026-11-27, put 29–44 ms between the edit and the request
+// against 6–9 ms.)
 let scheduled = false;
 function edited() {
   if (editedAt === null) editedAt = performance.now();
   if (inFlight) { pending = true; return; }
   if (scheduled) return;
   scheduled = true;
-  queueMicrotask(() => { scheduled = false; solve(); });
+  setTimeout(() => { scheduled = false; solve(); }, 0);
 }
 
 async function open(value) {
