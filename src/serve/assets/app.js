@@ -251,13 +251,22 @@ function drag(e, c, h) {
   c.setPointerCapture(e.pointerId);
   const world = $("world");
   const pose = h.poses && h.poses.length ? h.poses[frame] : null;
-  // The pointer in the handle's frame (m); a scalar handle's along its axis only.
-  const at = (ev) => {
+  // The pointer in the handle's frame (m).
+  const pointer = (ev) => {
     const p = $("mech").createSVGPoint();
     p.x = ev.clientX;
     p.y = ev.clientY;
     const q = p.matrixTransform(world.getScreenCTM().inverse());
-    const l = local(pose, [q.x / scale, q.y / scale]);
+    return local(pose, [q.x / scale, q.y / scale]);
+  };
+  // Where the handle was grabbed, from its point (a ring is grabbed by its rim): kept
+  // through the drag, so a press and release in place writes the value unchanged.
+  const g = pointer(e);
+  const grab = [g[0] - h.at[0], g[1] - h.at[1]];
+  // The handle's point under the pointer (its frame, m); a scalar handle's along its axis.
+  const at = (ev) => {
+    const p = pointer(ev);
+    const l = [p[0] - grab[0], p[1] - grab[1]];
     if (!h.scalar) return l;
     const u = h.scalar.axis;
     const t = (l[0] - h.at[0]) * u[0] + (l[1] - h.at[1]) * u[1];
