@@ -314,3 +314,114 @@ fn a_given_counterweight_is_a_handle_on_its_link() {
     }
     handles(&f, &text, &m);
 }
+
+/// The value the page writes for a drag of `d` (m, in the handle's frame) from the handle
+/// `h` (`dragged` in `app.js`): a scalar `value + per_metre·(d·axis)` rounded to its step,
+/// not below its least value, with its unit; a point the drop point `at + d` in mm, to
+/// 0.1 mm.
+fn page_value_moved(h: &Value, d: [f64; 2]) -> Value {
+    match h.get("scalar") {
+        Some(s) => {
+            let g = |k: &str| s[k].as_f64().unwrap();
+            let (axis, step) = (p(&s["axis"]), g("step"));
+            let t = d[0] * axis[0] + d[1] * axis[1];
+            let mut v = ((g("value") + g("per_metre") * t) / step).round() * step;
+            if let Some(min) = s["min"].as_f64() {
+                v = v.max(min);
+            }
+            let digits = (-(step.log10() + 1e-9).floor()).max(0.0) as usize;
+            json!(format!("{v:.digits$} {}", s["unit"].as_str().unwrap()))
+        }
+        None => {
+            let mm = |v: f64| format!("{} mm", (v * 1e4).round() / 10.0);
+            let at = p(&h["at"]);
+            json!([mm(at[0] + d[0]), mm(at[1] + d[1])])
+        }
+    }
+}
+
+/// The handles of `m` with the key `key`.
+fn handles_of<'a>(m: &'a Value, key: &str) -> Vec<&'a Value> {
+    (m["handles"].as_array().unwrap().iter())
+        .filter(|h| h["key"] == key)
+        .collect()
+}
+
+/// A length or a point of the TOML `text` at the dotted `key` (m), read by the program's
+/// unit parser.
+fn toml_lengths(text: &str, key: &str) -> Vec<f64> {
+    let mut v: toml::Value = toml::from_str(text).unwrap();
+    for part in key.split('.') {
+        v = match part.split_once('[') {
+            Some((n, i)) => v[n][i.trim_end_matches(']').parse::<usize>().unwrap()].clone(),
+            None => v[part].clone(),
+        };
+    }
+    let one = |x: &toml::Value| cwsynth::units::parse_any(x.as_str().unwrap()).unwrap().0;
+    match &v {
+        toml::Value::Array(a) => a.iter().map(one).collect(),
+        x => vec![one(x)],
+    }
+}
+
+#[test]
+fn a_stated_centre_distance_is_a_handle_on_gear_2s_centre_along_the_line_of_centres() {
+    let key = "mechanism.center_distance";
+    // Where the file leaves it out (the pair's closing distance is computed): no handle.
+    for n in ["gear-tooth-profiles.toml", "gear-eccentricity-design.toml"] {
+        let f = problems().join(n);
+        assert!(!has_key(&std::fs::read_to_string(&f).unwrap(), key), "{n}");
+        let (_, m) = solved(&f, None);
+        assert!(handles_of(&m, key).is_empty(), "{n}");
+    }
+    // The paper's a12 = 148 mm: one handle, fixed to the frame at O1 + a12·u on the line of
+    // centres O1 → O2 (O2 at the closing distance the model builds the pair with).
+    let f = problems().join("gear-paper-table1.toml");
+    let text = std::fs::read_to_string(&f).unwrap();
+    let (r, m) = solved(&f, None);
+    let hs = handles_of(&m, key);
+    assert_eq!(hs.len(), 1);
+    let h = hs[0];
+    let a12 = toml_lengths(&text, key)[0];
+    near(a12, 0.148, 1.0, "a12");
+    let fr = &m["frames"][0];
+    let (o1, o2) = (p(&fr["links"][0][0]), p(&fr["links"][1][0]));
+    let closing = r["derived"]["center_distance_m"].as_f64().unwrap();
+    near(dist(o1, o2), closing, closing, "O1O2, the closing distance");
+    let u = [(o2[0] - o1[0]) / closing, (o2[1] - o1[1]) / closing];
+    let at = p(&h["at"]);
+    assert!(dist(at, [o1[0] + a12 * u[0], o1[1] + a12 * u[1]]) < 1e-12);
+    assert!(
+        dist(at, o2) < 0.05e-3,
+        "on gear 2's drawn centre: {at:?} {o2:?}"
+    );
+    assert!(h.get("poses").is_none(), "fixed to the frame");
+    let s = &h["scalar"];
+    assert!(dist(p(&s["axis"]), u) < 1e-15);
+    near(s["value"].as_f64().unwrap(), 148.0, 148.0, "a12 in mm");
+    assert_eq!(s["unit"], "mm");
+    // Moved by d along the line, a12 grows by d and the handle follows; the pair stays at
+    // its closing distance, and the result compares the new stated value with it.
+    for d in [2.5e-3, -1.2e-3, 0.5e-3] {
+        let v = page_value_moved(h, [d * u[0], d * u[1]]);
+        let edited = set_key(&text, key, &v).unwrap();
+        let got = toml_lengths(&edited, key)[0];
+        assert!((got - (a12 + d)).abs() < 1e-12, "{v}: {got}");
+        let (r2, m2) = solved(&f, Some(&edited));
+        let h2 = handles_of(&m2, key);
+        assert_eq!(h2.len(), 1);
+        let moved = [at[0] + d * u[0], at[1] + d * u[1]];
+        assert!(dist(p(&h2[0]["at"]), moved) < 1e-12, "{v}");
+        assert_eq!(m2["frames"][0]["links"][1][0], fr["links"][1][0], "{v}: O2");
+        let said = format!("mechanism.center_distance: stated {:.4} mm", got * 1e3);
+        assert!(
+            r2["warnings"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .any(|w| w.as_str().unwrap().starts_with(&said)),
+            "{said}"
+        );
+    }
+}
+

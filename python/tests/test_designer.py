@@ -34,7 +34,8 @@ DRAGGED = [
     "crane-tukan-40t-counterweight",  # design.counterweight.lever
     "crane-tukan-40t",  # mechanism.foot_offset
     "felling-head-150rpm",  # mechanism.offset
-    "gear-paper-table1",  # design.eccentricity
+    "gear-paper-table1",  # mechanism.center_distance (its effect: the warning comparing it)
+    "gear-tooth-profiles",  # design.eccentricity
     "hypocycloid-compressor",  # design.rotating.planet_radius
     "hypocycloid-variant1",  # mechanism.carrier_radius
     "linkage-double-crank",  # mechanism.dyads[0].q
@@ -154,9 +155,10 @@ def toml_at(text, key):
 
 
 def shown(pg):
-    """The numbers the page shows: objectives, design and the plots (a rope's sheave moves
-    only the load's path): the SVG images' sources, the charts' pixels (read through the
-    DevTools protocol, which the page's CSP does not govern)."""
+    """The numbers the page shows: objectives, design, the warnings (a stated centre
+    distance changes only the warning that compares it with the closing one) and the plots
+    (a rope's sheave moves only the load's path): the SVG images' sources, the charts'
+    pixels (read through the DevTools protocol, which the page's CSP does not govern)."""
     images = pg.eval_on_selector_all("#plots img", "(els) => els.map((e) => e.src).join()")
     charts = []
     for k in range(pg.locator("#plots .panel").count()):
@@ -166,7 +168,8 @@ def shown(pg):
         playwright.expect(panel).not_to_have_attribute("data-stale", "")
         charts.append(panel.locator("canvas").evaluate("(c) => c.toDataURL()"))
     pg.evaluate("window.scrollTo(0, 0)")  # back to the drawing, where the drags are
-    return pg.inner_text("#objectives") + pg.inner_text("#design") + images + "".join(charts)
+    shown = pg.inner_text("#objectives") + pg.inner_text("#design") + pg.inner_text("#warnings")
+    return shown + images + "".join(charts)
 
 
 def test_dragging_a_handle_edits_its_key_and_re_solves(page, server):

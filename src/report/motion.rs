@@ -132,6 +132,15 @@ impl Handle {
         self
     }
 
+    /// The same handle with the least value `min` (in its unit): a drag below it writes it
+    /// (a key the file wants positive, where 0 would be refused).
+    pub fn at_least(mut self, min: f64) -> Handle {
+        if let Some(s) = &mut self.scalar {
+            s.min = Some(min);
+        }
+        self
+    }
+
     /// The same handle on a moving part placed at `poses`.
     pub fn on(self, poses: Vec<[f64; 3]>) -> Handle {
         Handle { poses, ..self }
