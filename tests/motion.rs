@@ -13,6 +13,7 @@ use cwsynth::families::slider_crank::file as scf;
 use cwsynth::families::{load, solve_scene};
 use cwsynth::serve::edit::set_key;
 use serde_json::{json, Value};
+use std::f64::consts::TAU;
 use std::path::{Path, PathBuf};
 
 fn problems() -> PathBuf {
@@ -364,6 +365,15 @@ fn toml_lengths(text: &str, key: &str) -> Vec<f64> {
     }
 }
 
+/// The point `q` of a frame at `pose` ([x, y, angle]) in the world.
+fn placed(pose: &Value, q: [f64; 2]) -> [f64; 2] {
+    let [x, y, t] = [0, 1, 2].map(|k| pose[k].as_f64().unwrap());
+    [
+        x + t.cos() * q[0] - t.sin() * q[1],
+        y + t.sin() * q[0] + t.cos() * q[1],
+    ]
+}
+
 #[test]
 fn a_stated_centre_distance_is_a_handle_on_gear_2s_centre_along_the_line_of_centres() {
     let key = "mechanism.center_distance";
@@ -423,5 +433,118 @@ fn a_stated_centre_distance_is_a_handle_on_gear_2s_centre_along_the_line_of_cent
             "{said}"
         );
     }
+}
+
+#[test]
+fn a_drawn_outlines_given_origin_is_a_ring_handle_at_its_links_joint() {
+    let f = problems().join("linkage-fourbar-crank-outline.toml");
+    let shipped = std::fs::read_to_string(&f).unwrap();
+    let origins = |m: &Value| -> Vec<String> {
+        (m["handles"].as_array().unwrap().iter())
+            .map(|h| h["key"].as_str().unwrap().to_string())
+            .filter(|k| k.ends_with(".outline.origin"))
+            .collect()
+    };
+    // The shipped file gives the crank's origin only.
+    let (_, m) = solved(&f, None);
+    assert_eq!(origins(&m), ["mechanism.links.crank.outline.origin"]);
+    // Without it, none; with the counterweight's too (its drawing turned by 30°), two.
+    let crank = ", origin = [\"0 mm\", \"0 mm\"] }";
+    let (_, bare) = solved(&f, Some(&crate::common::with(&shipped, crank, " }")));
+    assert!(origins(&bare).is_empty());
+    let cw = "thickness = \"28 mm\", density = \"7850 kg/m^3\" }";
+    let text = crate::common::with(
+        &shipped,
+        cw,
+        "thickness = \"28 mm\", density = \"7850 kg/m^3\", origin = [\"2 mm\", \"-1 mm\"], angle = \"30 deg\" }",
+    );
+    let (r, m) = solved(&f, Some(&text));
+    let keys = origins(&m);
+    assert_eq!(
+        keys,
+        [
+            "mechanism.links.crank.outline.origin",
+            "design.counterweights[0].outline.origin"
+        ]
+    );
+    let angle = [0.0, 30f64.to_radians()];
+    let frames = m["frames"].as_array().unwrap();
+    // The counterweight's centroid in the crank's frame (the crank: A0 → its pin).
+    let local_cw = |fr: &Value| {
+        let (a0, pin) = (p(&fr["links"][0][0]), p(&fr["links"][0][1]));
+        let psi = (pin[1] - a0[1]).atan2(pin[0] - a0[0]);
+        let c = p(&fr["counterweights"][0]);
+        let (dx, dy) = (c[0] - a0[0], c[1] - a0[1]);
+        [
+            psi.cos() * dx + psi.sin() * dy,
+            -psi.sin() * dx + psi.cos() * dy,
+        ]
+    };
+    let drawn_crank = |m: &Value| -> Vec<[f64; 2]> {
+        let b = (m["bodies"].as_array().unwrap().iter())
+            .find(|b| b["name"] == "crank (drawn)")
+            .expect("the crank as drawn");
+        (b["loops"].as_array().unwrap().iter())
+            .flat_map(|l| l.as_array().unwrap().iter().map(p))
+            .collect()
+    };
+    for (k, key) in keys.iter().enumerate() {
+        let hs = handles_of(&m, key);
+        assert_eq!(hs.len(), 1, "{key}");
+        let h = hs[0];
+        assert_eq!(h["ring"], true, "{key}");
+        // Its `at` is the origin as the file gives it (the drawing's coordinates, m) ...
+        let given = toml_lengths(&text, key);
+        assert!(dist(p(&h["at"]), [given[0], given[1]]) < 1e-15, "{key}");
+        // ... and that drawing point is the reference point: the crank pivot A0 in every
+        // frame, the drawing's axes turned by −angle from the crank's.
+        for (fr, pose) in frames.iter().zip(h["poses"].as_array().unwrap()) {
+            let a0 = p(&fr["links"][0][0]);
+            assert!(dist(placed(pose, p(&h["at"])), a0) < 1e-12, "{key}");
+            let theta = fr["theta"].as_f64().unwrap();
+            let turn = (pose[2].as_f64().unwrap() - (theta - angle[k])).rem_euclid(TAU);
+            assert!(turn.min(TAU - turn) < 1e-12, "{key} at θ = {theta}");
+        }
+        assert_eq!(h["poses"].as_array().unwrap().len(), frames.len());
+        // Moved by d (mm steps, in its frame): the field changes by d; re-solved, the
+        // handle is at the new origin, again at A0, and the part has moved the other way:
+        // by −Rot(−angle) d in the crank's frame.
+        for d in [[1.5e-3, -0.7e-3], [-4e-3, 2.2e-3]] {
+            let v = page_value_moved(h, d);
+            let edited = set_key(&text, key, &v).unwrap();
+            let got = toml_lengths(&edited, key);
+            for i in 0..2 {
+                assert!((got[i] - (given[i] + d[i])).abs() < 1e-12, "{key} {v}");
+            }
+            let (r2, m2) = solved(&f, Some(&edited));
+            assert_ne!(r2["objectives"], r["objectives"], "{key} {v}");
+            let h2 = handles_of(&m2, key)[0];
+            assert!(dist(p(&h2["at"]), [got[0], got[1]]) < 1e-15);
+            let fr2 = &m2["frames"][7];
+            assert!(
+                dist(
+                    placed(&h2["poses"][7], p(&h2["at"])),
+                    p(&fr2["links"][0][0])
+                ) < 1e-12
+            );
+            let (c, s) = (angle[k].cos(), angle[k].sin());
+            let shift = [-(c * d[0] + s * d[1]), -(-s * d[0] + c * d[1])];
+            if key.starts_with("design.") {
+                let (before, after) = (local_cw(&frames[7]), local_cw(fr2));
+                for i in 0..2 {
+                    assert!((after[i] - before[i] - shift[i]).abs() < 1e-12, "{key} {v}");
+                }
+            } else {
+                let (before, after) = (drawn_crank(&m), drawn_crank(&m2));
+                assert_eq!(before.len(), after.len());
+                for (a, b) in before.iter().zip(&after) {
+                    for i in 0..2 {
+                        assert!((b[i] - a[i] - shift[i]).abs() < 1e-12, "{key} {v}");
+                    }
+                }
+            }
+        }
+    }
+    handles(&f, &text, &m);
 }
 

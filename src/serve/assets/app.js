@@ -231,9 +231,14 @@ function drawFrame() {
   for (const c of f.counterweights) {
     el("circle", { cx: c[0] * scale, cy: c[1] * scale, r: 1.5 * w, class: "cw" }, g);
   }
-  for (const h of m.handles) {
+  // A ring handle (a reference point that may sit on another handle: a drawn outline's
+  // origin at its link's joint) is drawn first and larger, so the handle it surrounds stays
+  // on top and the ring is grabbed by its rim.
+  const rings = m.handles.filter((h) => h.ring);
+  for (const h of rings.concat(m.handles.filter((h) => !h.ring))) {
     const p = handleAt(h, frame);
-    const c = el("circle", { cx: p[0] * scale, cy: p[1] * scale, r: 5 * w, class: "handle", "stroke-width": 1.5 * w, "data-key": h.key }, g);
+    const c = el("circle", { cx: p[0] * scale, cy: p[1] * scale, r: (h.ring ? 9 : 5) * w, class: h.ring ? "handle ring" : "handle", "stroke-width": 1.5 * w, "data-key": h.key }, g);
+    if (h.ring) c.setAttribute("stroke-dasharray", 3 * w + " " + 1.5 * w);
     const t = el("title", {}, c);
     t.textContent = h.key + (h.scalar ? " = " + h.scalar.value.toPrecision(6) + " " + h.scalar.unit : "");
     c.addEventListener("pointerdown", (e) => drag(e, c, h));
