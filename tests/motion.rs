@@ -6,7 +6,9 @@
 //! hypocycloid's crank arm turns with its planet, the gears' posed pitch curves touch at
 //! the model's pitch point (ρ1(α1), 0); every handle's key is in the file (or is one whose
 //! default the edit adds), and writing a handle's own value as the page writes it changes
-//! nothing drawn.
+//! nothing drawn. The gear's stated centre distance and a drawn outline's origin are handles
+//! exactly where the file gives them, at the model's point, and a drag of d changes the field
+//! by d; the hypocycloid's Lanchester masses turn as the model's pairs do.
 
 use cwsynth::families::gear::model::EccentricCircle;
 use cwsynth::families::slider_crank::file as scf;
@@ -548,3 +550,113 @@ fn a_drawn_outlines_given_origin_is_a_ring_handle_at_its_links_joint() {
     handles(&f, &text, &m);
 }
 
+#[test]
+fn the_lanchester_shafts_turn_their_masses_as_the_model_does() {
+    use cwsynth::families::hypocycloid::model::LanchesterPair;
+    use cwsynth::report::motion::{DISC_THICKNESS, STEEL_DENSITY};
+    // Without [mechanism.lanchester] the shafts have no place: not drawn.
+    let (_, m) = solved(&problems().join("hypocycloid-variant1.toml"), None);
+    assert_eq!(m["names"].as_array().unwrap().len(), 4);
+    let lanchester = |m: &Value| -> Vec<Value> {
+        (m["bodies"].as_array().unwrap().iter())
+            .enumerate()
+            .filter(|(_, b)| b["name"].as_str().unwrap().starts_with("Lanchester mass"))
+            .map(|(i, b)| json!([i, b]))
+            .collect()
+    };
+    assert!(lanchester(&m).is_empty());
+    let f = problems().join("hypocycloid-compressor.toml");
+    let (r, m) = solved(&f, None);
+    let layout = &r["dynamics"]["couples"]["layout"];
+    let (e, d) = (
+        layout["offset"].as_f64().unwrap(),
+        layout["spacing"].as_f64().unwrap(),
+    );
+    // The model's shafts: the co-rotating at (d/2, e), the counter-rotating at (−d/2, e).
+    let shafts = [[0.5 * d, e], [-0.5 * d, e]];
+    assert_eq!(m["names"][4], "+ω, +2ω, +3ω");
+    assert_eq!(m["names"][5], "−ω, −2ω, −3ω");
+    let pairs: Vec<LanchesterPair> = (r["balancing"].as_array().unwrap().iter())
+        .map(|b| {
+            let g = |k: &str| b[k].as_f64().unwrap();
+            LanchesterPair {
+                order: b["order"].as_u64().unwrap() as usize,
+                speed: g("shaft_speed_rad_s"),
+                static_moment: g("static_moment_kgm"),
+                phase_co: g("phase_co_rad"),
+                phase_counter: g("phase_counter_rad"),
+            }
+        })
+        .collect();
+    assert_eq!(pairs.len(), 3);
+    let bodies = lanchester(&m);
+    // Co-rotating masses order by order, then counter-rotating.
+    assert_eq!(bodies.len(), 2 * pairs.len());
+    let sigma = STEEL_DENSITY * DISC_THICKNESS;
+    for fr in m["frames"].as_array().unwrap() {
+        let phi = fr["theta"].as_f64().unwrap();
+        for (k, s) in shafts.iter().enumerate() {
+            let c = p(&fr["links"][4 + k][0]);
+            assert!(dist(c, *s) < 1e-15 && dist(p(&fr["links"][4 + k][1]), *s) < 1e-15);
+        }
+        for (j, pair) in pairs.iter().enumerate() {
+            // Σ over the pair's two bodies of (mass × centroid from its shaft) × (iω)²: the
+            // pair's force in the model, each body's mass from its outline as drawn (a
+            // steel half-disc of σ = ρt; its polygon of 48 chords per half turn holds the
+            // disc's first moment to 1.07e-3, below).
+            let mut force = [0.0, 0.0];
+            for (side, (shaft, phase)) in [(0, pair.phase_co), (1, pair.phase_counter)]
+                .iter()
+                .map(|&(k, ph)| (k, (shafts[k], ph)))
+            {
+                let (i, b) = {
+                    let x = &bodies[side * pairs.len() + j];
+                    (x[0].as_u64().unwrap() as usize, &x[1])
+                };
+                let pose = &fr["poses"][i];
+                assert!(dist(placed(pose, [0.0, 0.0]), shaft) < 1e-15);
+                let sense = if side == 0 { 1.0 } else { -1.0 };
+                let want = sense * pair.order as f64 * phi + phase;
+                let turn = (pose[2].as_f64().unwrap() - want).rem_euclid(TAU);
+                assert!(
+                    turn.min(TAU - turn) < 1e-12,
+                    "order {} at φ = {phi}",
+                    pair.order
+                );
+                // The outline's first moment of area about the shaft (Green's theorem over
+                // its polygon).
+                let pts: Vec<[f64; 2]> = (b["loops"][0].as_array().unwrap().iter())
+                    .map(|q| placed(pose, p(q)))
+                    .collect();
+                let (mut mx, mut my) = (0.0, 0.0);
+                for w in 0..pts.len() {
+                    let (a, c) = (pts[w], pts[(w + 1) % pts.len()]);
+                    let (a, c) = (
+                        [a[0] - shaft[0], a[1] - shaft[1]],
+                        [c[0] - shaft[0], c[1] - shaft[1]],
+                    );
+                    let cr = a[0] * c[1] - a[1] * c[0];
+                    mx += (a[0] + c[0]) * cr / 6.0;
+                    my += (a[1] + c[1]) * cr / 6.0;
+                }
+                let moment = (sigma * mx).hypot(sigma * my);
+                assert!(
+                    (moment - pair.static_moment).abs() < 1.5e-3 * pair.static_moment,
+                    "order {}: m′r′ {moment} against {}",
+                    pair.order,
+                    pair.static_moment
+                );
+                let w2 = pair.speed * pair.speed;
+                force[0] += sigma * mx * w2;
+                force[1] += sigma * my * w2;
+            }
+            let (fx, fy) = pair.force(phi);
+            let scale = 2.0 * pair.static_moment * pair.speed * pair.speed;
+            assert!(
+                (force[0] - fx).hypot(force[1] - fy) < 1.5e-3 * scale,
+                "order {} at φ = {phi}: {force:?} against ({fx}, {fy})",
+                pair.order
+            );
+        }
+    }
+}
