@@ -44,7 +44,7 @@ pub enum BodyKind {
     Counterweight,
     /// A pitch curve (a gear's, a planet's, a ring's): a line, not filled.
     Pitch,
-    /// A part's outline (a gear's teeth).
+    /// A part's outline (a gear's teeth, a linkage's link drawn in a DXF file).
     Part,
 }
 
