@@ -3,7 +3,8 @@
 //! with the `dxf` crate, is R2010 in millimetres (`$INSUNITS` = 4) and its geometry and
 //! dimensions match the design to 1e-9 m (the plate's rᵢ, rₒ, θ and r_c, the gears' centre
 //! distance and pitch radius, the crane's link lengths, the linkage's counterweight radii,
-//! the slider-crank mechanism's R, L and counterweight radius r, the hypocycloid's R, r, L);
+//! the slider-crank mechanism's R, L and counterweight radius r, the hypocycloid's R, r, L
+//! and its Lanchester shafts with their masses' half-discs, e and d);
 //! every SVG has one scale in x and y, and everything it draws lies inside its viewBox; the
 //! files are the same bytes on a second run; a batch lists them in its manifest.
 
@@ -596,6 +597,79 @@ fn hypocycloid_checks(d: &Dxf, v: &Value) {
     assert!((v0.x * 1e-3 - a[0]).abs() < TOL && (v0.y * 1e-3 - a[1]).abs() < TOL);
     for q in &p.vertices {
         assert!((q.x * 1e-3).hypot(q.y * 1e-3) <= big_r + r + TOL);
+    }
+    lanchester_checks(d, v, &dims);
+}
+
+/// The Lanchester shafts where the file places them (`[mechanism.lanchester]`, the
+/// result's `dynamics.couples.layout`): the co-rotating shaft at (d/2, e) and the
+/// counter-rotating one at (−d/2, e), each a journal circle; about each, per balanced order
+/// (`balancing`), a half-disc's arc (sweep π) of the radius whose steel half-disc 20 mm thick
+/// (assumed) has the pair's m′r′ = ρ_steel t (2/3) ρ³, its middle at the mass's angle at
+/// φ = 0 (`phase_co_rad`, `phase_counter_rad`); e and d dimensioned. No shafts without
+/// the layout.
+#[track_caller]
+fn lanchester_checks(d: &Dxf, v: &Value, dims: &[f64]) {
+    // (centre, radius, middle angle, sweep) of the OUTLINE arcs, m and rad.
+    let arcs: Vec<([f64; 2], f64, f64, f64)> = d
+        .on("OUTLINE")
+        .filter_map(|e| match e {
+            EntityType::Arc(a) => {
+                let sweep = (a.end_angle - a.start_angle).rem_euclid(360.0);
+                Some((
+                    [a.center.x * 1e-3, a.center.y * 1e-3],
+                    a.radius * 1e-3,
+                    (a.start_angle + 0.5 * sweep).to_radians(),
+                    sweep.to_radians(),
+                ))
+            }
+            _ => None,
+        })
+        .collect();
+    let Some(layout) = v["dynamics"]["couples"]["layout"].as_object() else {
+        assert!(arcs.is_empty(), "no shafts without [mechanism.lanchester]");
+        return;
+    };
+    let (e, spacing) = (
+        layout["offset"].as_f64().unwrap(),
+        layout["spacing"].as_f64().unwrap(),
+    );
+    has(dims, e.abs(), TOL, "e");
+    has(dims, spacing, TOL, "d");
+    let sigma = 7850.0 * 0.02;
+    let circles = d.circles("OUTLINE");
+    let pairs = v["balancing"].as_array().unwrap();
+    assert_eq!(
+        arcs.len(),
+        2 * pairs.len(),
+        "a half-disc per order and shaft"
+    );
+    for (c, phase) in [
+        ([0.5 * spacing, e], "phase_co_rad"),
+        ([-0.5 * spacing, e], "phase_counter_rad"),
+    ] {
+        assert!(
+            circles
+                .iter()
+                .any(|(p, _)| (p[0] - c[0]).hypot(p[1] - c[1]) < TOL),
+            "the shaft at {c:?}"
+        );
+        for pair in pairs {
+            let s = pair["static_moment_kgm"].as_f64().unwrap();
+            let rho = (1.5 * s / sigma).cbrt();
+            let mid = pair[phase].as_f64().unwrap();
+            assert!(
+                arcs.iter().any(|(p, r, m, sw)| {
+                    let turn = (m - mid).rem_euclid(std::f64::consts::TAU);
+                    (p[0] - c[0]).hypot(p[1] - c[1]) < TOL
+                        && (r - rho).abs() < TOL
+                        && turn.min(std::f64::consts::TAU - turn) < 1e-9
+                        && (sw - std::f64::consts::PI).abs() < 1e-9
+                }),
+                "order {} at {c:?}: a half-disc of radius {rho} towards {mid} in {arcs:?}",
+                pair["order"]
+            );
+        }
     }
 }
 

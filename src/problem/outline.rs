@@ -136,11 +136,8 @@ pub fn drawn(
         second: m.second * (s * s * s * s),
     };
     let p = Plate::new(&si, about * s, t, rho);
-    let origin = raw
-        .origin
-        .as_ref()
-        .map_or(P2::zeros(), |o| P2::new(o[0].si(), o[1].si()));
-    let angle = raw.angle.map_or(0.0, Qty::si);
+    let Placement { origin, angle } = Placement::of(raw);
+    let origin = origin.unwrap_or_else(P2::zeros);
     let placed = loops
         .iter()
         .map(|l| {
@@ -157,6 +154,37 @@ pub fn drawn(
         },
         placed,
     ))
+}
+
+/// Where a drawing sits in its body's frame (`origin` and `angle` of `outline`): the drawing
+/// point placed at the body's reference point and the direction of the body's x axis in the
+/// drawing. A drawing point q (m, the drawing's coordinates) is at Rot(−angle)(q − origin) in
+/// the body's frame ([`drawn`] places the loops and the centroid so).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Placement {
+    /// The drawing point at the body's reference point (m); `None` where the file leaves
+    /// `origin` out (the drawing's origin).
+    pub origin: Option<P2>,
+    /// The direction of the body's x axis in the drawing (rad; 0 where left out).
+    pub angle: f64,
+}
+
+impl Placement {
+    /// The placement `outline = { … }` gives (its units read; no file read).
+    pub fn of(raw: &OutlineRaw) -> Placement {
+        Placement {
+            origin: raw.origin.as_ref().map(|o| P2::new(o[0].si(), o[1].si())),
+            angle: raw.angle.map_or(0.0, Qty::si),
+        }
+    }
+
+    /// The drawing's own frame as placed in the body's frame, (its origin, its x axis's
+    /// angle): the drawing point q is at t + Rot(β) q with β = −angle and
+    /// t = Rot(−angle)(−origin), the map above.
+    pub fn drawing_frame(&self) -> (P2, f64) {
+        let o = self.origin.unwrap_or_else(P2::zeros);
+        (rot(-self.angle, -o), -self.angle)
+    }
 }
 
 /// What `outline` does to the keys it sets, as [`set_by`] says it.

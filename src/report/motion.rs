@@ -44,7 +44,7 @@ pub enum BodyKind {
     Counterweight,
     /// A pitch curve (a gear's, a planet's, a ring's): a line, not filled.
     Pitch,
-    /// A part's outline (a gear's teeth).
+    /// A part's outline (a gear's teeth, a linkage's link drawn in a DXF file).
     Part,
 }
 
@@ -94,6 +94,11 @@ pub struct Handle {
     /// A scalar key: how the drag maps to its value.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub scalar: Option<Scalar>,
+    /// Drawn as a ring about its point, under the other handles and grabbed by its rim: a
+    /// reference point that may sit on another handle (a drawn outline's `origin` at its
+    /// link's joint, often a pivot), which stays grabbable inside the ring.
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub ring: bool,
 }
 
 impl Handle {
@@ -104,6 +109,7 @@ impl Handle {
             at: xy(at),
             poses: Vec::new(),
             scalar: None,
+            ring: false,
         }
     }
 
@@ -130,6 +136,20 @@ impl Handle {
             s.min = None;
         }
         self
+    }
+
+    /// The same handle with the least value `min` (in its unit): a drag below it writes it
+    /// (a key the file wants positive, where 0 would be refused).
+    pub fn at_least(mut self, min: f64) -> Handle {
+        if let Some(s) = &mut self.scalar {
+            s.min = Some(min);
+        }
+        self
+    }
+
+    /// The same handle drawn as a ring (its field `ring`).
+    pub fn as_ring(self) -> Handle {
+        Handle { ring: true, ..self }
     }
 
     /// The same handle on a moving part placed at `poses`.

@@ -3,7 +3,8 @@
 //! `model.tooth_profiles`) as rigid bodies turning about their pivots — gear 1 clockwise by
 //! α1 about O1, gear 2 anticlockwise by the model's α2(α1) ([`Alpha2Map`]) about O2 at the
 //! closing centre distance — so that they touch at the pitch point (ρ1(α1), 0); the
-//! eccentric O1→C; a given eccentricity as a handle (C along O1C on gear 1).
+//! eccentric O1→C; a given eccentricity as a handle (C along O1C on gear 1) and a stated
+//! centre distance as a handle (gear 2's centre along the line of centres O1O2).
 
 use super::model::{Alpha2Map, EccentricCircle};
 use super::synth::{GearScene, Outcome};
@@ -46,13 +47,38 @@ pub fn motion(s: &GearScene, out: &Outcome) -> Option<Motion> {
         let placed = frames.iter().map(|f| pose(o1, -f.theta)).collect();
         handles.push(Handle::length("design.eccentricity", e * x, x, e, "mm").on(placed));
     }
+    handles.extend(center_distance_handle(s, o1, o2));
     Some(Motion {
         names: vec!["gear 1 (O1→C)".into(), "gear 2".into()],
         frames,
-        guides: vec![[xy(o1), xy(o2)]],
+        guides: vec![[xy(o1), xy(line_end(s, o1, o2))]],
         handles,
         bodies: bodies.into_iter().map(|(_, b)| b).collect(),
     })
+}
+
+/// A stated `mechanism.center_distance` a12 as a handle: the centre of gear 2 where a12 puts
+/// it, O1 + a12·u with u the unit vector O1→O2 of the line of centres, moving along that line
+/// (a12 grows by the distance moved, in mm; at least 0.1 mm, the file's least positive value
+/// at the handle's step). The pair is built and drawn at its closing centre distance (the
+/// model's, `closing_center_distance`), so the handle sits on gear 2's drawn centre where the
+/// file states the closing distance (the paper's 148 mm against 147.97 mm: 0.03 mm apart)
+/// and shows how far off a stated value is where it is not. `None` where the file leaves
+/// a12 out (the closing one is computed, not edited).
+fn center_distance_handle(s: &GearScene, o1: P2, o2: P2) -> Option<Handle> {
+    let a12 = s.center_distance?;
+    let u = (o2 - o1).try_normalize(0.0)?;
+    Some(Handle::length("mechanism.center_distance", o1 + a12 * u, u, a12, "mm").at_least(0.1))
+}
+
+/// The far end of the line of centres drawn from O1: O2, or the stated centre distance's
+/// point where that is farther (its handle then stays on the line).
+fn line_end(s: &GearScene, o1: P2, o2: P2) -> P2 {
+    let a = (o2 - o1).norm();
+    match s.center_distance {
+        Some(a12) if a12 > a && a > 0.0 => o1 + (o2 - o1) * (a12 / a),
+        _ => o2,
+    }
 }
 
 /// The pitch curves and tooth outlines in their gears' frames, with their gear (0, 1).

@@ -15,6 +15,7 @@ use crate::report::{Plot, SolveResult, Table};
 use std::f64::consts::{PI, TAU};
 use std::fmt::Write as _;
 
+use super::motion::{lanchester_masses, speed_name, ShaftMass};
 use super::numbers::closed_form_rows;
 
 /// No analyses beyond the solution's own documents.
@@ -30,10 +31,13 @@ pub fn analysis_documents(
 /// The tables, plots and drawing of a solved scene, in the order the report lists them.
 pub fn documents(scene: &Scene, s: &HypocycloidProblem, sol: &Solution, r: &mut SolveResult) {
     let out = &sol.out;
-    mechanism_drawing(r, &scene.name, &out.design, s.scene.alpha0);
+    let shafts = (s.dynamics.shafts)
+        .map(|l| lanchester_masses(&l, &out.balancing))
+        .unwrap_or_default();
+    mechanism_drawing(r, &scene.name, &out.design, s.scene.alpha0, shafts);
     let cws = sol.dynamics.as_ref().and_then(|d| d.as_ref().ok());
     let cws = cws.and_then(|d| d.rotating.as_ref()?.design_pair());
-    let motion = super::motion::motion(s, &out.design, cws);
+    let motion = super::motion::motion(s, &out.design, cws, &out.balancing);
     r.motion = motion.and_then(|m| serde_json::to_value(m).ok());
     r.tables = tables(out);
     closed_form_table(r, s, out);
@@ -435,8 +439,15 @@ fn force_plot(scene: &Scene, out: &Outcome) -> Result<Vec<Panel>, PlotError> {
 /// (pitch radius 3R/2) about O, the carrier OO₁ = R, the planet (pitch radius R/2) about O₁,
 /// the crank arm O₁A = r = θR at α0 − 2φ, the rod AB = L = R/λ to the piston B on the x axis
 /// (B = (x_A + √(L² − y_A²), 0), the model's S), with R, r, L dimensioned; the path of A over
-/// a turn, A/R = (cos φ + θ cos(α0 − 2φ), sin φ + θ sin(α0 − 2φ)), on `PATH`.
-fn mechanism_drawing(r: &mut SolveResult, name: &str, d: &hy::Design, alpha0: f64) {
+/// a turn, A/R = (cos φ + θ cos(α0 − 2φ), sin φ + θ sin(α0 − 2φ)), on `PATH`; the
+/// Lanchester shafts with their masses at φ = 0 where the file places them ([`shafts`]).
+fn mechanism_drawing(
+    r: &mut SolveResult,
+    name: &str,
+    d: &hy::Design,
+    alpha0: f64,
+    masses: Vec<ShaftMass>,
+) {
     let (name, d) = (name.to_string(), d.clone());
     let caption = "planetary mechanism at φ = 0 and the path of the crank pin A";
     r.drawings.push(Sheet::new("drawing", caption, move || {
@@ -494,7 +505,13 @@ fn mechanism_drawing(r: &mut SolveResult, name: &str, d: &hy::Design, alpha0: f6
             > (0.5 * (o1 + a)).norm() + 0.5 * off;
         dr.linear(o1, a, if away { off } else { -off }, "r");
         dr.linear(a, b, -off, "L");
-        dr.label(P2::new(0.0, 1.5 * big_r + 2.0 * pin), "ring gear (fixed)");
+        // Below the ring where the Lanchester shafts are above it (their masses reach over
+        // its top), else above it.
+        let ring_label = match masses.first() {
+            Some(m) if m.centre.y > 0.0 => -(1.5 * big_r + 4.0 * pin),
+            _ => 1.5 * big_r + 2.0 * pin,
+        };
+        dr.label(P2::new(0.0, ring_label), "ring gear (fixed)");
         dr.note(format!(
             "λ = R/L = {:.4}, θ = r/R = {:.4}, orientation α0 = {:.2}°",
             d.lambda,
@@ -507,8 +524,77 @@ fn mechanism_drawing(r: &mut SolveResult, name: &str, d: &hy::Design, alpha0: f6
             0.5 * big_r * 1e3
         ));
         dr.note("O: carrier axis; O₁: planet axis; A: crank pin on the planet; B: piston on the x axis; dimensions in mm");
+        shafts(&mut dr, &masses, pin, off);
         Ok(dr)
     }));
+}
+
+/// The Lanchester shafts at φ = 0 ([`lanchester_masses`]): each shaft's centre (a mark and
+/// a journal circle of the drawing's pin size), each mass's half-disc outline towards its
+/// phase (the arc and its diameter), the offset e from the piston line (beside the right
+/// shaft's masses) and the spacing d (beyond their reach, away from the piston line)
+/// dimensioned where not 0, a label per shaft beyond that and a note per order. Nothing
+/// without masses.
+fn shafts(dr: &mut Drawing, masses: &[ShaftMass], pin: f64, off: f64) {
+    let Some(first) = masses.first() else {
+        return;
+    };
+    let (e, half) = (first.centre.y, first.centre.x.abs());
+    let reach = masses.iter().map(|m| m.radius).fold(0.0, f64::max);
+    // Away from the piston line: up where the shafts are above it.
+    let out = if e >= 0.0 { 1.0 } else { -1.0 };
+    for sense in [1.0, -1.0] {
+        let on: Vec<&ShaftMass> = masses.iter().filter(|m| m.sense == sense).collect();
+        let Some(m0) = on.first() else { continue };
+        let c = m0.centre;
+        dr.mark(c).circle(Layer::Outline, c, pin);
+        for m in &on {
+            let a = m.angle(0.0);
+            let end = |t: f64| c + m.radius * P2::new(t.cos(), t.sin());
+            dr.arc(Layer::Outline, c, m.radius, a - 0.5 * PI, a + 0.5 * PI)
+                .line(Layer::Outline, end(a - 0.5 * PI), end(a + 0.5 * PI));
+        }
+        let speeds: Vec<String> = on.iter().map(|m| speed_name(m.order, sense)).collect();
+        let at = c + P2::new(0.0, out * (reach + 1.5 * off + 2.0 * pin));
+        dr.label(at, format!("shaft {}", speeds.join(", ")));
+    }
+    if e != 0.0 {
+        // e from the piston line, beside the co-rotating shaft's masses.
+        let x = half + reach + off;
+        dr.linear(P2::new(x, 0.0), P2::new(x, e), 0.0, "e");
+    }
+    if half > 0.0 {
+        // Left to right, a positive offset is above the line.
+        dr.linear(
+            P2::new(-half, e),
+            P2::new(half, e),
+            out * (reach + 0.5 * off),
+            "d",
+        );
+    }
+    dr.note(format!(
+        "Lanchester shafts (the file's [mechanism.lanchester]): e = {:.1} mm from the piston line, d = {:.1} mm apart, centred about O (the file gives no place along the line; no figure depends on it); every order's masses on the same two shafts, drawn over each other",
+        e * 1e3,
+        2.0 * half * 1e3
+    ));
+    for m in masses.iter().filter(|m| m.sense > 0.0) {
+        dr.note(format!(
+            "order {}: m′r′ = {:.4e} kg·m each, drawn as a steel half-disc {:.0} mm thick (assumed), radius {:.1} mm, {:.3} kg; at φ = 0 the {} mass at {:.1}°, the {} mass at {:.1}°",
+            m.order,
+            m.static_moment,
+            crate::report::motion::DISC_THICKNESS * 1e3,
+            m.radius * 1e3,
+            m.mass,
+            speed_name(m.order, 1.0),
+            m.phase.to_degrees(),
+            speed_name(m.order, -1.0),
+            masses
+                .iter()
+                .find(|n| n.sense < 0.0 && n.order == m.order)
+                .map_or(f64::NAN, |n| n.phase)
+                .to_degrees()
+        ));
+    }
 }
 
 /// The closed-form comparison's table `<name>-closed-form.csv`.

@@ -14,7 +14,7 @@ use crate::families::linkage::model::{tip_of, Dyad, Inertia, Linkage, Point};
 use crate::geom::outline::{Edge, Plate};
 use crate::geom::{Side, P2};
 use crate::problem::limits::{self, c, Count};
-use crate::problem::outline::{self, set_by, OutlineRaw, OUTLINE_SETS};
+use crate::problem::outline::{self, set_by, OutlineRaw, Placement, OUTLINE_SETS};
 use crate::problem::{
     check_name, non_negative, positive, Ctx, FieldError, Input, ProblemError, RawFile, RawVar,
     Resolved,
@@ -391,6 +391,20 @@ pub struct CounterweightSpec {
     /// (m), to draw it as drawn.
     #[serde(skip)]
     pub drawing: Option<Vec<Vec<Edge>>>,
+    /// Where a drawn counterweight's drawing sits on its link (`outline`'s `origin` and
+    /// `angle`): the designer's handle for a given `origin`.
+    #[serde(skip)]
+    pub placement: Option<Placement>,
+}
+
+/// A link drawn in a DXF file (`[mechanism.links.NAME] outline`), as the designer draws it:
+/// its closed loops in the link's frame (m) and where the drawing sits there.
+#[derive(Debug, Clone, PartialEq)]
+pub struct DrawnLink {
+    /// The outline's closed loops in the link's frame (m).
+    pub loops: Vec<Vec<Edge>>,
+    /// `outline`'s `origin` and `angle`.
+    pub placement: Placement,
 }
 
 impl CounterweightSpec {
@@ -440,6 +454,9 @@ pub struct LinkageScene {
     pub objective: Objective,
     /// The operating envelope (empty: the nominal machine only).
     pub envelope: super::envelope::LinkageEnvelope,
+    /// Each link drawn in a DXF file (`outline`), index = link; `None` for a link given by
+    /// its numbers (the designer draws the drawn ones).
+    pub drawn_links: Vec<Option<DrawnLink>>,
 }
 
 fn xy(v: &XyRaw) -> P2 {
@@ -625,14 +642,14 @@ fn valid_link_name(s: &str) -> bool {
             .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-')
 }
 
-/// The link masses, one per named link (an `outline` read from `dir`).
+/// The link masses, one per named link (an `outline` read from `dir`, with its drawing).
 fn inertias(
     m: &MechanismRaw,
     names: &[String],
     dyads: &[Dyad],
     crank_length: f64,
     dir: &Path,
-) -> Result<Vec<Inertia>, FieldError> {
+) -> Result<Vec<(Inertia, Option<DrawnLink>)>, FieldError> {
     if let Some(extra) = m.links.keys().find(|k| !names.contains(k)) {
         let hint = crate::units::did_you_mean(extra, names.iter().map(String::as_str))
             .map(|n| format!(" (did you mean `{n}`?)"))
@@ -664,12 +681,17 @@ fn inertias(
                     ("uniform_bar", l.uniform_bar),
                 ];
                 set_by(&key, &given, OUTLINE_SETS)?;
-                let p = outline::plate(o, dir, &format!("{key}.outline"))?;
-                return Ok(Inertia {
+                let (p, loops) = outline::drawn(o, dir, &format!("{key}.outline"))?;
+                let drawn = DrawnLink {
+                    loops,
+                    placement: Placement::of(o),
+                };
+                let inertia = Inertia {
                     mass: p.mass,
                     centroid: p.centroid,
                     j: p.inertia,
-                });
+                };
+                return Ok((inertia, Some(drawn)));
             }
             let mass = l.mass.map(Qty::si).ok_or_else(|| {
                 FieldError::new(
@@ -687,7 +709,7 @@ fn inertias(
                         format!("link `{name}` has no length (a slider, guide or block); give centroid and inertia"),
                     ));
                 };
-                return Ok(Inertia::bar(mass, tip.x));
+                return Ok((Inertia::bar(mass, tip.x), None));
             }
             let centroid = l.centroid.as_ref().map(xy).ok_or_else(|| {
                 FieldError::new(
@@ -701,11 +723,12 @@ fn inertias(
                     "missing: the moment of inertia about the centroid; allowed: \"… kg*m^2\" ≥ 0, or uniform_bar = true",
                 )
             })?;
-            Ok(Inertia {
+            let inertia = Inertia {
                 mass,
                 centroid,
                 j: non_negative(&format!("{key}.inertia"), j)?,
-            })
+            };
+            Ok((inertia, None))
         })
         .collect()
 }
@@ -808,6 +831,7 @@ fn counterweights(
             density,
             thickness,
             drawing: drawn.map(|(_, loops)| loops),
+            placement: cw.outline.as_ref().map(Placement::of),
         });
     }
     Ok(out)
@@ -1090,7 +1114,10 @@ pub fn resolve_scene(
         .transpose()?
         .unwrap_or(0.0);
     let (dyads, names) = dyads(m, crank_length)?;
-    let inertia = inertias(m, &names, &dyads, crank_length, dir)?;
+    let (inertia, drawn_links): (Vec<Inertia>, Vec<_>) =
+        inertias(m, &names, &dyads, crank_length, dir)?
+            .into_iter()
+            .unzip();
     let loads = super::file_loads::resolve_loads(&m.loads, &|key: &str, v: &toml::Value| {
         point(key, v, &names, &dyads, crank_length)
     })?;
@@ -1133,5 +1160,6 @@ pub fn resolve_scene(
         counterweights,
         objective,
         envelope,
+        drawn_links,
     })
 }

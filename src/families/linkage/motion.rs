@@ -1,16 +1,19 @@
 //! The linkage over one crank turn as the designer draws it (`crate::report::motion`):
-//! every link as a segment from its reference joint to its tip, the counterweights'
-//! centroids and bodies (a plate as cut, a drawn outline as drawn, else the annular sector
-//! with their mass, centroid and inertia, else a steel disc), an RRP dyad's slide line, and
-//! the points the file gives by value — the handles a user drags, each with the key it
-//! edits: the frame points, and a given counterweight's centroid on its link. Shared with
-//! the report's position plot ([`segments`]).
+//! every link as a segment from its reference joint to its tip, a link drawn in a DXF file
+//! (`outline`) as drawn, the counterweights' centroids and bodies (a plate as cut, a drawn
+//! outline as drawn, else the annular sector with their mass, centroid and inertia, else a
+//! steel disc), an RRP dyad's slide line, and the points the file gives by value — the
+//! handles a user drags, each with the key it edits: the frame points, a given
+//! counterweight's centroid on its link, and a drawn outline's given `origin` (the drawing
+//! point at the link's reference joint, in the drawing's frame). Shared with the report's
+//! position plot ([`segments`]).
 
-use super::file::LinkageScene;
+use super::file::{DrawnLink, LinkageScene};
 use super::model::{tip_of, Dyad, Linkage, Point, Pose};
 use super::synth as ls;
 use crate::geom::plate::Realised;
-use crate::geom::P2;
+use crate::geom::{rot, P2};
+use crate::problem::outline::Placement;
 use crate::report::motion::{self as mo, pose, xy, Body, BodyKind, Frame, Handle, Motion};
 use crate::synth::Var;
 
@@ -70,9 +73,11 @@ fn handles(l: &Linkage) -> Vec<Handle> {
 /// turn.
 pub fn motion(sc: &LinkageScene, x: Option<&[f64]>, bodies: Bodies) -> Motion {
     let l = &sc.linkage;
-    let cws = x
-        .map(|x| counterweight_bodies(sc, x, bodies))
-        .unwrap_or_default();
+    let mut cws = link_bodies(sc);
+    cws.extend(
+        x.map(|x| counterweight_bodies(sc, x, bodies))
+            .unwrap_or_default(),
+    );
     let mut placed: Vec<Vec<[f64; 3]>> = vec![Vec::new(); sc.link_names.len()];
     let frames: Vec<Frame> = mo::turn()
         .filter_map(|theta| {
@@ -98,6 +103,7 @@ pub fn motion(sc: &LinkageScene, x: Option<&[f64]>, bodies: Bodies) -> Motion {
         .collect();
     let mut handles = handles(l);
     handles.extend(centroid_handles(sc, &placed));
+    handles.extend(origin_handles(sc, &placed));
     Motion {
         names: sc.link_names.clone(),
         guides: guides(l, &frames),
@@ -121,6 +127,64 @@ fn centroid_handles(sc: &LinkageScene, placed: &[Vec<[f64; 3]>]) -> Vec<Handle> 
             let (at, _) = c.given?;
             let key = format!("design.counterweights[{j}].centroid");
             Some(Handle::point(key, at).on(placed[c.link].clone()))
+        })
+        .collect()
+}
+
+/// A drawn outline's given `origin` as a handle: the drawing point `origin` is the body's
+/// reference point, so the handle sits at its link's reference joint; it is in the
+/// drawing's own frame as placed on the link ([`Placement::drawing_frame`]: the link's
+/// frame moved by Rot(−angle)(−origin) and turned by −angle), where its `at` is `origin`'s
+/// value. A drop at p in that frame writes `origin = p`: the drawing point under the
+/// pointer becomes the reference point, `origin` changes by the distance moved (in the
+/// drawing's axes: the link's where `angle` is 0), and the re-solve moves the drawn part by
+/// as much the other way, bringing that point to the joint. A ring handle
+/// ([`Handle::as_ring`]): the joint is often a pivot's handle too. `None` where the file
+/// leaves `origin` out. Links' (`mechanism.links.NAME.outline.origin`) first, then
+/// counterweights' (`design.counterweights[j].outline.origin`).
+fn origin_handles(sc: &LinkageScene, placed: &[Vec<[f64; 3]>]) -> Vec<Handle> {
+    let links = (sc.drawn_links.iter().enumerate()).filter_map(|(i, d)| {
+        let d: &DrawnLink = d.as_ref()?;
+        let key = format!("mechanism.links.{}.outline.origin", sc.link_names[i]);
+        Some((key, i, d.placement))
+    });
+    let cws = (sc.counterweights.iter().enumerate()).filter_map(|(j, c)| {
+        let key = format!("design.counterweights[{j}].outline.origin");
+        Some((key, c.link, c.placement?))
+    });
+    links
+        .chain(cws)
+        .filter_map(|(key, i, pl)| {
+            let origin = pl.origin?;
+            let poses = placed[i].iter().map(|p| drawing_pose(*p, pl)).collect();
+            Some(Handle::point(key, origin).on(poses).as_ring())
+        })
+        .collect()
+}
+
+/// The pose of a drawing placed by `pl` on a link at the pose `link` ([x, y, ψ]):
+/// [P + Rot(ψ) t, ψ + β] with (t, β) = [`Placement::drawing_frame`].
+fn drawing_pose(link: [f64; 3], pl: Placement) -> [f64; 3] {
+    let (t, beta) = pl.drawing_frame();
+    let at = P2::new(link[0], link[1]) + rot(link[2], t);
+    pose(at, link[2] + beta)
+}
+
+/// Each link drawn in a DXF file (`outline`) as drawn, in its frame, with its index.
+fn link_bodies(sc: &LinkageScene) -> Vec<(usize, Body)> {
+    (sc.drawn_links.iter().enumerate())
+        .filter_map(|(i, d)| {
+            let d = d.as_ref()?;
+            let name = &sc.link_names[i];
+            Some((
+                i,
+                Body {
+                    name: format!("{name} (drawn)"),
+                    kind: BodyKind::Part,
+                    loops: mo::polylines(&d.loops),
+                    note: format!("as drawn in its outline (mechanism.links.{name}.outline)"),
+                },
+            ))
         })
         .collect()
 }

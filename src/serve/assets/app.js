@@ -231,9 +231,14 @@ function drawFrame() {
   for (const c of f.counterweights) {
     el("circle", { cx: c[0] * scale, cy: c[1] * scale, r: 1.5 * w, class: "cw" }, g);
   }
-  for (const h of m.handles) {
+  // A ring handle (a reference point that may sit on another handle: a drawn outline's
+  // origin at its link's joint) is drawn first and larger, so the handle it surrounds stays
+  // on top and the ring is grabbed by its rim.
+  const rings = m.handles.filter((h) => h.ring);
+  for (const h of rings.concat(m.handles.filter((h) => !h.ring))) {
     const p = handleAt(h, frame);
-    const c = el("circle", { cx: p[0] * scale, cy: p[1] * scale, r: 5 * w, class: "handle", "stroke-width": 1.5 * w, "data-key": h.key }, g);
+    const c = el("circle", { cx: p[0] * scale, cy: p[1] * scale, r: (h.ring ? 9 : 5) * w, class: h.ring ? "handle ring" : "handle", "stroke-width": 1.5 * w, "data-key": h.key }, g);
+    if (h.ring) c.setAttribute("stroke-dasharray", 3 * w + " " + 1.5 * w);
     const t = el("title", {}, c);
     t.textContent = h.key + (h.scalar ? " = " + h.scalar.value.toPrecision(6) + " " + h.scalar.unit : "");
     c.addEventListener("pointerdown", (e) => drag(e, c, h));
@@ -251,13 +256,22 @@ function drag(e, c, h) {
   c.setPointerCapture(e.pointerId);
   const world = $("world");
   const pose = h.poses && h.poses.length ? h.poses[frame] : null;
-  // The pointer in the handle's frame (m); a scalar handle's along its axis only.
-  const at = (ev) => {
+  // The pointer in the handle's frame (m).
+  const pointer = (ev) => {
     const p = $("mech").createSVGPoint();
     p.x = ev.clientX;
     p.y = ev.clientY;
     const q = p.matrixTransform(world.getScreenCTM().inverse());
-    const l = local(pose, [q.x / scale, q.y / scale]);
+    return local(pose, [q.x / scale, q.y / scale]);
+  };
+  // Where the handle was grabbed, from its point (a ring is grabbed by its rim): kept
+  // through the drag, so a press and release in place writes the value unchanged.
+  const g = pointer(e);
+  const grab = [g[0] - h.at[0], g[1] - h.at[1]];
+  // The handle's point under the pointer (its frame, m); a scalar handle's along its axis.
+  const at = (ev) => {
+    const p = pointer(ev);
+    const l = [p[0] - grab[0], p[1] - grab[1]];
     if (!h.scalar) return l;
     const u = h.scalar.axis;
     const t = (l[0] - h.at[0]) * u[0] + (l[1] - h.at[1]) * u[1];
