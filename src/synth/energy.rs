@@ -29,6 +29,10 @@ pub struct EnergyField {
     cols: Vec<(usize, Antiderivative)>,
     /// The offset variable's index.
     offset: usize,
+    /// E₀ and the columns' values by θ's bits: the exchange loop, the certificate and the
+    /// peaks' error bounds evaluate the field at the same angles again, and each value is a
+    /// trigonometric sum over up to half the grid (a process load's kink keeps every term).
+    memo: std::sync::Mutex<std::collections::HashMap<u64, Vec<f64>>>,
 }
 
 impl EnergyField {
@@ -63,6 +67,7 @@ impl EnergyField {
             b,
             cols,
             offset,
+            memo: Default::default(),
         })
     }
 
@@ -95,11 +100,26 @@ impl AffineField for EnergyField {
         1
     }
 
+    /// E₀ and each column at θ (remembered by θ's bits: the same values again).
     fn eval(&self, theta: f64, out: &mut AffineValue) {
-        out.b = [self.b.eval(theta), 0.0];
+        let known = self
+            .memo
+            .lock()
+            .ok()
+            .and_then(|m| m.get(&theta.to_bits()).cloned());
+        let values = known.unwrap_or_else(|| {
+            let v: Vec<f64> = std::iter::once(self.b.eval(theta))
+                .chain(self.cols.iter().map(|(_, e)| e.eval(theta)))
+                .collect();
+            if let Ok(mut m) = self.memo.lock() {
+                m.insert(theta.to_bits(), v.clone());
+            }
+            v
+        });
+        out.b = [values[0], 0.0];
         let row = out.row_mut(0);
-        for (j, e) in &self.cols {
-            row[*j] = e.eval(theta);
+        for ((j, _), v) in self.cols.iter().zip(&values[1..]) {
+            row[*j] = *v;
         }
         row[self.offset] = -1.0;
     }
