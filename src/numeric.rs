@@ -9,7 +9,9 @@
 use argmin::core::{CostFunction, Error as ArgminError, Executor, State};
 use argmin::solver::brent::{BrentOpt, BrentRoot};
 
+mod parallel;
 mod peaks;
+pub use parallel::{ordered, AngleMemo};
 pub use peaks::{
     interval_peak, interval_peak_with, periodic_peak, periodic_peak_sampled,
     periodic_peak_unrefined, periodic_peak_with, IntervalPeak, PeriodicPeak, Refine, Shape,

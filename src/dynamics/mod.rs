@@ -23,7 +23,7 @@
 
 pub mod cases;
 mod motor;
-use crate::numeric::{brent_max, brent_root, refine_sampled_max};
+use crate::numeric::{brent_max, brent_root, ordered, refine_sampled_max};
 pub use motor::Motor;
 use rustfft::num_complex::Complex;
 use rustfft::FftPlanner;
@@ -344,12 +344,12 @@ impl Grid {
         };
         let (j, dj, g) = match half {
             Some(h) => {
-                let odd: Vec<_> = (0..n / 2)
-                    .into_par_iter()
-                    .with_min_len(64)
-                    .map(|i| at(2 * i + 1))
-                    .collect();
-                let odd = odd.into_iter().collect::<Result<Vec<_>, _>>()?;
+                let odd = ordered(
+                    (0..n / 2)
+                        .into_par_iter()
+                        .with_min_len(64)
+                        .map(|i| at(2 * i + 1)),
+                )?;
                 let weave = |even: &[f64], c: usize| -> Vec<f64> {
                     even.iter()
                         .zip(&odd)
@@ -359,8 +359,7 @@ impl Grid {
                 (weave(&h.j, 0), weave(&h.dj, 1), weave(&h.g, 2))
             }
             None => {
-                let all: Vec<_> = (0..n).into_par_iter().with_min_len(64).map(at).collect();
-                let all = all.into_iter().collect::<Result<Vec<_>, _>>()?;
+                let all = ordered((0..n).into_par_iter().with_min_len(64).map(at))?;
                 let col = |c: usize| all.iter().map(|v| v[c]).collect();
                 (col(0), col(1), col(2))
             }

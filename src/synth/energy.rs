@@ -32,7 +32,7 @@ pub struct EnergyField {
     /// E₀ and the columns' values by θ's bits: the exchange loop, the certificate and the
     /// peaks' error bounds evaluate the field at the same angles again, and each value is a
     /// trigonometric sum over up to half the grid (a process load's kink keeps every term).
-    memo: std::sync::Mutex<std::collections::HashMap<u64, Vec<f64>>>,
+    memo: crate::numeric::AngleMemo<Vec<f64>>,
 }
 
 impl EnergyField {
@@ -102,19 +102,10 @@ impl AffineField for EnergyField {
 
     /// E₀ and each column at θ (remembered by θ's bits: the same values again).
     fn eval(&self, theta: f64, out: &mut AffineValue) {
-        let known = self
-            .memo
-            .lock()
-            .ok()
-            .and_then(|m| m.get(&theta.to_bits()).cloned());
-        let values = known.unwrap_or_else(|| {
-            let v: Vec<f64> = std::iter::once(self.b.eval(theta))
+        let values = self.memo.get_or(theta, || {
+            std::iter::once(self.b.eval(theta))
                 .chain(self.cols.iter().map(|(_, e)| e.eval(theta)))
-                .collect();
-            if let Ok(mut m) = self.memo.lock() {
-                m.insert(theta.to_bits(), v.clone());
-            }
-            v
+                .collect()
         });
         out.b = [values[0], 0.0];
         let row = out.row_mut(0);

@@ -45,6 +45,7 @@ use crate::dynamics::cases::{
 };
 pub use crate::dynamics::cases::{BandCheck, CasesFlywheel, BAND_CHECK_SPEEDS};
 use crate::dynamics::{Drive, DriveFigures};
+use crate::numeric::ordered;
 use crate::report::drive::{case_numbers, load_cases_section, DriveNumbers};
 use crate::report::{number_map, SolveResult, Table};
 use rayon::prelude::*;
@@ -126,18 +127,15 @@ pub fn solve(
         .filter(|&(si, gi, _, _)| si > 0 || gi > 0)
         .map(|(si, _, w, g)| (si, w, g))
         .collect();
-    let solved = jobs
-        .par_iter()
-        .map(|&(si, &w, g)| {
-            let name = match si {
-                0 => g.name.clone(),
-                _ => at_rpm(&g.name, w),
-            };
-            let case = LoadCase { name, gas: g.gas };
-            let mut w_ = Vec::new();
-            solve_case(spec, &at.at_speed(w), case, rotating, &mut w_).map(|c| (c, w_))
-        })
-        .collect::<Result<Vec<_>, _>>()?;
+    let solved = ordered(jobs.par_iter().map(|&(si, &w, g)| {
+        let name = match si {
+            0 => g.name.clone(),
+            _ => at_rpm(&g.name, w),
+        };
+        let case = LoadCase { name, gas: g.gas };
+        let mut w_ = Vec::new();
+        solve_case(spec, &at.at_speed(w), case, rotating, &mut w_).map(|c| (c, w_))
+    }))?;
     for (c, w) in solved {
         cases.push(c);
         warnings.extend(w);
@@ -146,25 +144,22 @@ pub fn solve(
         .drive
         .as_ref()
         .and_then(|d| cases_flywheel(d, &named(&cases, true), warnings));
-    let at_flywheel = cases
-        .par_iter()
-        .map(|c| {
-            Ok(match (&c.drive, flywheel, &spec.drive) {
-                (Some(Ok(f)), Some(fw), Some(d)) if f.steady.flywheel != fw.inertia => {
-                    let at = at.at_speed(c.speed);
-                    let s = with_gas(spec, c.case.gas);
-                    Some(drive_outcome(
-                        &s,
-                        &with_flywheel(d, fw.inertia),
-                        &at,
-                        &at.geometry(),
-                        rotating,
-                    )?)
-                }
-                (own, _, _) => own.clone(),
-            })
+    let at_flywheel = ordered(cases.par_iter().map(|c| {
+        Ok::<_, DynamicsError>(match (&c.drive, flywheel, &spec.drive) {
+            (Some(Ok(f)), Some(fw), Some(d)) if f.steady.flywheel != fw.inertia => {
+                let at = at.at_speed(c.speed);
+                let s = with_gas(spec, c.case.gas);
+                Some(drive_outcome(
+                    &s,
+                    &with_flywheel(d, fw.inertia),
+                    &at,
+                    &at.geometry(),
+                    rotating,
+                )?)
+            }
+            (own, _, _) => own.clone(),
         })
-        .collect::<Result<Vec<_>, DynamicsError>>()?;
+    }))?;
     for (c, f) in cases.iter_mut().zip(at_flywheel) {
         c.at_flywheel = f;
     }
@@ -236,13 +231,10 @@ fn band_check(
     let jobs: Vec<(f64, &LoadCase)> = band_speeds(band)
         .flat_map(|w| gases.iter().map(move |g| (w, g)))
         .collect();
-    let solved = jobs
-        .par_iter()
-        .map(|&(w, g)| {
-            let at = at.at_speed(w);
-            drive_outcome(&with_gas(spec, g.gas), &d, &at, &at.geometry(), rotating)
-        })
-        .collect::<Result<Vec<_>, DynamicsError>>()?;
+    let solved = ordered(jobs.par_iter().map(|&(w, g)| {
+        let at = at.at_speed(w);
+        drive_outcome(&with_gas(spec, g.gas), &d, &at, &at.geometry(), rotating)
+    }))?;
     let rows = jobs
         .iter()
         .zip(solved)

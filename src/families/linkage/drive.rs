@@ -6,6 +6,7 @@ use super::file::LinkageScene;
 use super::model::DriveTerms;
 use super::synth as ls;
 use crate::dynamics::{self, Drive, DriveError, DriveFigures, DriveSettings};
+use crate::numeric::AngleMemo;
 
 /// The drive's terms (J, J′, G and the momentum, `Linkage::drive_terms`) of `sc` with the
 /// design `x` (without one, the bare linkage's) at any crank angle; `None` where it does not
@@ -22,8 +23,7 @@ pub fn terms<'a>(
 /// tables over the angle, the weights constant), so the drive of one load case at the band's
 /// ends and inside it samples its linkage once per grid angle. Only for scenes of one
 /// geometry, masses, loads and design.
-#[derive(Default)]
-pub struct TermsMemo(std::sync::Mutex<std::collections::HashMap<u64, Option<DriveTerms>>>);
+pub type TermsMemo = AngleMemo<Option<DriveTerms>>;
 
 /// [`terms`], looked up in and added to `memo` where one is given.
 fn terms_with<'a>(
@@ -35,19 +35,14 @@ fn terms_with<'a>(
         .map(|x| ls::extras(&sc.counterweights, x))
         .unwrap_or_default();
     move |th: f64| {
-        let at = |th: f64| {
+        let at = || {
             let lk = &sc.linkage;
             lk.pose(th).ok().map(|pose| lk.drive_terms(&pose, &extra))
         };
-        let Some(m) = memo else { return at(th) };
-        if let Some(t) = m.0.lock().ok().and_then(|g| g.get(&th.to_bits()).copied()) {
-            return t;
+        match memo {
+            Some(m) => m.get_or(th, at),
+            None => at(),
         }
-        let t = at(th);
-        if let Ok(mut g) = m.0.lock() {
-            g.insert(th.to_bits(), t);
-        }
-        t
     }
 }
 

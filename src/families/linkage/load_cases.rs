@@ -73,9 +73,10 @@ pub fn solve(
         ls::scene_at_case(sc, *c, values).map_err(|e| e.to_string())
     };
     let names = env.names();
+    let speed_band_alone = names.len() == 1 && env.speed.is_some();
     // A box that is a speed band alone: each case's scenes differ in their speed alone and
     // share its drive's terms ([`TermsMemo`]); otherwise each scene samples its own.
-    let memos: Vec<TermsMemo> = match names.len() == 1 && env.speed.is_some() {
+    let memos: Vec<TermsMemo> = match speed_band_alone {
         true => (0..=env.cases.len())
             .map(|_| TermsMemo::default())
             .collect(),
@@ -89,9 +90,7 @@ pub fn solve(
             name: match vertex {
                 None => env.case_name(*c).to_string(),
                 // A speed band alone: its end in rpm, as the hypocycloid's cases.
-                Some(_) if names.len() == 1 && env.speed.is_some() => {
-                    at_rpm(env.case_name(*c), values[0])
-                }
+                Some(_) if speed_band_alone => at_rpm(env.case_name(*c), values[0]),
                 Some(v) => format!("{} at vertex {}", env.case_name(*c), v + 1),
             },
             values: names.iter().cloned().zip(values.iter().copied()).collect(),

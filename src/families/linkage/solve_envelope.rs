@@ -8,7 +8,7 @@ use super::drive::delta_e;
 use super::file::{Goal, LinkageScene};
 use super::model::{Linkage, Pose};
 use super::synth::{self as ls, Outcome, FORCE, MOMENT, TORQUE};
-use crate::numeric::{periodic_peak_sampled, Refine};
+use crate::numeric::{ordered, periodic_peak_sampled, Refine};
 use crate::synth::envelope::{self, halton_point, worst, Sensitivity, WorstCase};
 use crate::synth::minimax::{FieldPeak, Multiplier, Settings, Solution, PER_COUNTERWEIGHT};
 use rayon::prelude::*;
@@ -188,17 +188,14 @@ fn monte_carlo(
     let poses = (env.first_length() == ranges.len())
         .then(|| grid_poses(&scene.linkage, s.scan_samples))
         .transpose()?;
-    let rows = (0..env.monte_carlo * cases)
-        .into_par_iter()
-        .map(|j| {
-            let (i, c) = (1 + j / cases, j % cases);
-            let sc = ls::scene_at_case(scene, c, &halton_point(&ranges, i))
-                .map_err(|e| e.to_string())?;
-            let [f, m, t] = peaks_on(&sc, x, s, poses.as_deref())?;
-            let e = energy.then(|| delta_e(&sc, x)).transpose()?;
-            Ok([f, m, t, e.unwrap_or((f64::NAN, 0.0))])
-        })
-        .collect::<Result<Vec<_>, String>>()?;
+    let rows = ordered((0..env.monte_carlo * cases).into_par_iter().map(|j| {
+        let (i, c) = (1 + j / cases, j % cases);
+        let sc =
+            ls::scene_at_case(scene, c, &halton_point(&ranges, i)).map_err(|e| e.to_string())?;
+        let [f, m, t] = peaks_on(&sc, x, s, poses.as_deref())?;
+        let e = energy.then(|| delta_e(&sc, x)).transpose()?;
+        Ok::<_, String>([f, m, t, e.unwrap_or((f64::NAN, 0.0))])
+    }))?;
     let beyond = |r: &[(f64, f64); 4]| {
         r.iter()
             .zip(w)
@@ -257,14 +254,15 @@ fn peaks_on(
     };
     let at = |th: f64| l.pose(th).ok().map(|p| on(&p));
     let n = s.scan_samples;
-    let h = std::f64::consts::TAU / n as f64;
-    let samples: Vec<_> = match poses {
-        Some(ps) if ps.len() == n => ps.iter().map(on).collect(),
-        _ => (0..n)
-            .map(|k| at(k as f64 * h))
-            .collect::<Option<_>>()
-            .ok_or("the linkage does not assemble at a scanned angle")?,
+    let own;
+    let poses = match poses {
+        Some(ps) if ps.len() == n => ps,
+        _ => {
+            own = grid_poses(l, n)?;
+            &own
+        }
     };
+    let samples: Vec<_> = poses.iter().map(on).collect();
     let mut out = [(0.0, 0.0); 3];
     for (c, o) in out.iter_mut().enumerate() {
         let ys: Vec<f64> = samples.iter().map(|v| v.0[c]).collect();

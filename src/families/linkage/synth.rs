@@ -17,7 +17,7 @@ use crate::families::linkage::model::{
 };
 use crate::geom::plate::Realised;
 use crate::geom::P2;
-use crate::numeric::{periodic_peak_sampled, Refine};
+use crate::numeric::{ordered, periodic_peak_sampled, AngleMemo, Refine};
 use crate::synth::energy::EnergyField;
 use crate::synth::minimax::{
     self as mm, AffineValue, CounterweightLimits, Engine, FnField, LinearConstraint, Problem,
@@ -26,7 +26,6 @@ use crate::synth::minimax::{
 use crate::synth::Var;
 use nalgebra::{DMatrix, DVector};
 use rayon::prelude::*;
-use std::collections::HashMap;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::Arc;
 use std::sync::Mutex;
@@ -74,9 +73,9 @@ pub struct SceneFields<'s> {
     /// The joints ([`crate::families::linkage::model::Linkage::joints`]).
     joints: Vec<Joint>,
     /// Reaction maps by θ's bits: every joint field at an angle shares one.
-    reaction_maps: Mutex<HashMap<u64, Arc<ReactionMap>>>,
+    reaction_maps: AngleMemo<Arc<ReactionMap>>,
     /// Balance maps by θ's bits: the three fields at an angle share one.
-    balance_maps: Mutex<HashMap<u64, Arc<BalanceMap>>>,
+    balance_maps: AngleMemo<Arc<BalanceMap>>,
 }
 
 impl<'s> SceneFields<'s> {
@@ -87,8 +86,8 @@ impl<'s> SceneFields<'s> {
             failure: Mutex::new(None),
             kappa: AtomicU64::new(1f64.to_bits()),
             joints: scene.linkage.joints(),
-            reaction_maps: Mutex::new(HashMap::new()),
-            balance_maps: Mutex::new(HashMap::new()),
+            reaction_maps: AngleMemo::default(),
+            balance_maps: AngleMemo::default(),
         }
     }
 
@@ -109,51 +108,30 @@ impl<'s> SceneFields<'s> {
             .ok()
     }
 
-    /// The value `cache` holds for θ, made by `make` the first time (the engine tabulates
-    /// and refines field by field, so every field at an angle shares one).
-    fn cached<T>(
-        cache: &Mutex<HashMap<u64, Arc<T>>>,
-        theta: f64,
-        make: impl FnOnce() -> Option<T>,
-    ) -> Option<Arc<T>> {
-        if let Some(m) = cache
-            .lock()
-            .expect("no panic holds it")
-            .get(&theta.to_bits())
-        {
-            return Some(m.clone());
-        }
-        let m = Arc::new(make()?);
-        cache
-            .lock()
-            .expect("no panic holds it")
-            .insert(theta.to_bits(), m.clone());
-        Some(m)
-    }
-
     /// The reaction map at θ, or `None` where the linkage does not assemble or the
     /// joint-force equations are singular (recorded as a failure).
     fn reaction_map(&self, theta: f64) -> Option<Arc<ReactionMap>> {
-        Self::cached(&self.reaction_maps, theta, || {
+        self.reaction_maps.try_get_or(theta, || {
             let pose = self.pose(theta)?;
             self.scene
                 .linkage
                 .reaction_map(&pose)
                 .map_err(|_| self.fail(LinkageSolveError::SingularReactions(theta.to_degrees())))
                 .ok()
+                .map(Arc::new)
         })
     }
 
     /// The balance map at θ, or `None` where the linkage does not assemble (recorded).
     fn balance_map(&self, theta: f64) -> Option<Arc<BalanceMap>> {
-        Self::cached(&self.balance_maps, theta, || {
+        self.balance_maps.try_get_or(theta, || {
             let pose = self.pose(theta)?;
             let map = self
                 .scene
                 .linkage
                 .balance_map(&pose, self.scene.moment_about);
             self.kappa.fetch_max(map.kappa.to_bits(), Ordering::Relaxed);
-            Some(map)
+            Some(Arc::new(map))
         })
     }
 
@@ -358,15 +336,15 @@ pub fn steady_joint_peaks(
     let p = params_with(scene, x);
     // The nodes in parallel (a pose and a Newton–Euler solve each), collected in order: the
     // same loads, and the first failing node's error, whatever the threads.
-    let rows: Vec<_> = st
-        .curve
-        .par_iter()
-        .with_min_len(64)
-        .map(|&node| loads_at(l, &joints, &p, node))
-        .collect();
+    let rows = ordered(
+        st.curve
+            .par_iter()
+            .with_min_len(64)
+            .map(|&node| loads_at(l, &joints, &p, node)),
+    )?;
     let mut ys = vec![Vec::with_capacity(st.curve.len()); joints.len()];
     for row in rows {
-        for (y, v) in ys.iter_mut().zip(row?) {
+        for (y, v) in ys.iter_mut().zip(row) {
             y.push(v);
         }
     }

@@ -10,6 +10,7 @@ use super::envelope::{
 use super::metrics::metrics;
 use super::scene::{Objective, Scene, SolveError};
 use crate::geom::P2;
+use crate::numeric::ordered;
 use crate::synth::envelope::{halton_point, vertices};
 use rayon::prelude::*;
 
@@ -216,10 +217,11 @@ impl Envelope {
         let ranges = self.ranges();
         let energy = w[2].is_some();
         let point = |i: usize| halton_point(&ranges, i);
-        let rows = (1..=self.monte_carlo)
-            .into_par_iter()
-            .map(|i| figures(&self.at(nominal, point(i)).scene, u, b, energy))
-            .collect::<Result<Vec<_>, _>>()?;
+        let rows = ordered(
+            (1..=self.monte_carlo)
+                .into_par_iter()
+                .map(|i| figures(&self.at(nominal, point(i)).scene, u, b, energy)),
+        )?;
         let beyond = |r: &[f64; 6]| {
             [0, 2, 4]
                 .iter()
