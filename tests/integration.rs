@@ -66,6 +66,7 @@ mod slider_crank_balancers;
 mod slider_crank_outline;
 mod statuses;
 mod study;
+mod synthesis;
 mod textbook;
 mod unit_batch;
 mod unit_crane;

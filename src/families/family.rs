@@ -154,6 +154,18 @@ pub fn machine<K: Machine>(r: Resolved<K>) -> Resolved<Arc<dyn Machine>> {
 #[macro_export]
 macro_rules! family_folder {
     ($(#[$doc:meta])* $family:ident, $problem:ty) => {
+        $crate::family_folder!(@parts $(#[$doc])* $family, $problem);
+        $crate::family_folder!(@machine $problem, |scene, p| {
+            $crate::families::driver::drive(scene, p)
+        });
+    };
+    // A family whose machine solves through its own `$drive(scene, p)` (which calls the one
+    // driver): the linkage's shape search chooses the geometry first.
+    ($(#[$doc:meta])* $family:ident, $problem:ty, drive = $drive:path) => {
+        $crate::family_folder!(@parts $(#[$doc])* $family, $problem);
+        $crate::family_folder!(@machine $problem, |scene, p| $drive(scene, p));
+    };
+    (@parts $(#[$doc:meta])* $family:ident, $problem:ty) => {
         $crate::family_folder!(@family $(#[$doc])* $family);
 
         impl $crate::families::driver::Solve for $problem {
@@ -200,10 +212,6 @@ macro_rules! family_folder {
                 report::analysis_documents(scene, self, sol, analyses, r)
             }
         }
-
-        $crate::family_folder!(@machine $problem, |scene, p| {
-            $crate::families::driver::drive(scene, p)
-        });
     };
     (@family $(#[$doc:meta])* $family:ident) => {
         $(#[$doc])*

@@ -224,6 +224,9 @@ pub struct DesignRaw {
     #[serde(default)]
     #[schemars(length(max = MAX_COUNTERWEIGHTS))]
     pub counterweights: Vec<CounterweightRaw>,
+    /// The geometry a shape search moves (issue 36): link lengths, frame pivots and the
+    /// tracer point of `[objective.path]`, each within bounds.
+    pub synthesis: Option<super::file_synthesis::SynthesisRaw>,
 }
 
 /// What `objective.minimize` can name.
@@ -272,6 +275,9 @@ pub struct ObjectiveRaw {
     /// Points of the peak-force against peak-moment front (0: none).
     #[serde(default)]
     pub pareto_points: u32,
+    /// A tracer point through precision points: its path error is reported, and with
+    /// `[design.synthesis]` it is the shape search's kinematic requirement.
+    pub path: Option<super::file_synthesis::PathRaw>,
 }
 
 /// `[accuracy]`: the engine's [`Settings`] read directly (every key optional, unknown keys
@@ -290,6 +296,13 @@ pub struct LinkageProblem {
     pub settings: Settings,
     /// The drive at real speed (`[mechanism.drive]`), if given.
     pub drive: Option<crate::dynamics::Drive>,
+    /// The path (`[objective.path]`), if given.
+    pub path: Option<super::synthesis::PathSpec>,
+    /// The shape search (`[design.synthesis]`), if given.
+    pub synthesis: Option<super::synthesis::Synthesis>,
+    /// What the shape search found, once it has run: the scene is then its chosen geometry
+    /// ([`super::synthesis::drive`]).
+    pub shape: Option<super::synthesis::ShapeOutcome>,
 }
 
 /// Reads and resolves a linkage problem file (its text or its table).
@@ -322,10 +335,22 @@ pub fn resolve_raw(raw: &File, dir: &Path) -> Result<LinkageProblem, FieldError>
         .as_ref()
         .map(crate::problem::drive::resolve)
         .transpose()?;
+    let path = (raw.objective.path.as_ref())
+        .map(|p| super::file_synthesis::resolve_path(p, &scene))
+        .transpose()?;
+    let bars: Vec<bool> = (scene.link_names.iter())
+        .map(|n| raw.mechanism.links.get(n).is_some_and(|l| l.uniform_bar))
+        .collect();
+    let synthesis = (raw.design.synthesis.as_ref())
+        .map(|r| super::file_synthesis::resolve_synthesis(r, &scene, path.as_ref(), &bars))
+        .transpose()?;
     Ok(LinkageProblem {
         scene,
         settings,
         drive,
+        path,
+        synthesis,
+        shape: None,
     })
 }
 
@@ -1064,7 +1089,7 @@ fn check_vertices(env: &super::envelope::LinkageEnvelope, l: &Linkage) -> Result
     Ok(())
 }
 
-fn check_full_turn(l: &Linkage) -> Result<(), FieldError> {
+pub(super) fn check_full_turn(l: &Linkage) -> Result<(), FieldError> {
     // A range that closes to nothing (the bisection meeting itself at the wrap) is none.
     let bad: Vec<_> = l
         .unreachable(TURN_SAMPLES, 1e-11)

@@ -137,6 +137,7 @@ pub fn numbers(_: &Scene, p: &LinkageProblem, sol: &Solved, r: &mut SolveResult)
             .insert("pareto".into(), Front::of(front, out).json(&r.name));
     }
     envelope_numbers(r, p, sol);
+    path_numbers(r, p, sol);
     berkof_lowen(r, p, sol);
     joint_numbers(r, p, sol);
     let peak_force = drive_peak_force(sol);
@@ -144,6 +145,54 @@ pub fn numbers(_: &Scene, p: &LinkageProblem, sol: &Solved, r: &mut SolveResult)
     if let Some(lc) = &sol.load_cases {
         super::load_cases::numbers(r, lc, peak_force);
     }
+}
+
+/// With `[objective.path]`: `objectives.path_error_m` (its error in `errors`) and the
+/// section `path` (each point's distance); with a shape search, the section `synthesis`:
+/// the parameters, the file's geometry, "synthesise first, balance afterwards", the front
+/// and the design's gain over the former (keys in `docs/results.md`).
+fn path_numbers(r: &mut SolveResult, p: &LinkageProblem, sol: &Solved) {
+    match &sol.path {
+        Some(Ok(e)) => {
+            r.objectives.insert("path_error_m".into(), e.max);
+            r.errors.insert("path_error_m".into(), e.error);
+            r.extra.insert(
+                "path".into(),
+                json!({
+                    "max_error_m": p.path.as_ref().map(|s| s.max_error),
+                    "point_errors_m": e.points,
+                    "timing": p.path.as_ref().is_some_and(|s| s.angles.is_some()),
+                }),
+            );
+            if let Some(lim) = p.path.as_ref().map(|s| s.max_error) {
+                if e.max > lim + e.error {
+                    r.warnings.push(format!(
+                        "the path error {:e} m exceeds objective.path.max_error = {lim:e} m",
+                        e.max
+                    ));
+                }
+            }
+        }
+        Some(Err(why)) => r.warnings.push(format!("the path error: {why}")),
+        None => {}
+    }
+    let Some(shape) = &p.shape else { return };
+    if let Some(chosen) = shape.chosen() {
+        // The geometry to build: "length of crank" → `length_of_crank_m`.
+        for (name, x) in shape.parameters.iter().zip(&chosen.x) {
+            r.design.insert(format!("{}_m", name.replace(' ', "_")), *x);
+        }
+    }
+    let mut v = serde_json::to_value(shape).unwrap_or_default();
+    v["objective_key"] = json!(objective_key(p.scene.objective.minimize));
+    let (kin, design) = (
+        shape.kinematic_first.objective,
+        shape.chosen().and_then(|c| c.objective),
+    );
+    if let (Some(k), Some(d)) = (kin, design) {
+        v["gain_over_kinematic_first"] = json!(1.0 - d / k);
+    }
+    r.extra.insert("synthesis".into(), v);
 }
 
 /// The keys of the worst cases over an operating envelope: force, moment, torque, ΔE.

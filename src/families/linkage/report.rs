@@ -44,10 +44,18 @@ pub fn documents(scene: &Scene, p: &LinkageProblem, sol: &Solved, r: &mut SolveR
     if let Some(front) = &sol.out.pareto {
         pareto_documents(r, &Front::of(front, &sol.out));
     }
+    if let Some(shape) = &p.shape {
+        shape_documents(r, p, shape);
+    }
     joint_table(r, p, sol);
     curves(r, scene, p, sol);
     let bodies = (&sol.sectors[..], &sol.out.plates[..]);
-    let motion = super::motion::motion(&p.scene, sol.design_x(), bodies);
+    let mut motion = super::motion::motion(&p.scene, sol.design_x(), bodies);
+    if p.shape.is_some() {
+        // The geometry drawn is the shape search's, not the file's: a drag of a pivot or a
+        // length would write the file's value, the search's seed, not what is drawn.
+        motion.handles.retain(|h| !h.key.starts_with("mechanism."));
+    }
     r.motion = serde_json::to_value(motion).ok();
     crate::report::drive::drive_documents(r, sol.drive.as_ref(), "crank");
     // The load case that governs the flywheel, where it is not the nominal one: its turn and
@@ -159,6 +167,74 @@ fn pareto_documents(r: &mut SolveResult, front: &Front) {
                 equal_aspect: false,
             }])
         }));
+}
+
+/// A shape search's table `<name>-synthesis.csv` — the file's geometry, "synthesise first,
+/// balance afterwards" and the front, each with its path error, certified objective and
+/// parameters (mm) — and its plot: the front of path error against the objective, with the
+/// two others beside it.
+fn shape_documents(
+    r: &mut SolveResult,
+    p: &LinkageProblem,
+    shape: &super::synthesis::ShapeOutcome,
+) {
+    let key = super::numbers::objective_key(p.scene.objective.minimize);
+    let row = |what: String, pt: &super::synthesis::ShapePoint| {
+        let mut v = serde_json::json!({
+            "design": what,
+            "path_error_mm": pt.path_error_m * 1e3,
+            key: pt.objective,
+        });
+        for (name, x) in shape.parameters.iter().zip(&pt.x) {
+            v[format!("{}_mm", name.replace(' ', "_"))] = serde_json::json!(x * 1e3);
+        }
+        v
+    };
+    let mut rows = Vec::new();
+    if let Some(n) = &shape.nominal {
+        rows.push(row("the file's geometry".into(), n));
+    }
+    rows.push(row(
+        "synthesise first, balance afterwards".into(),
+        &shape.kinematic_first,
+    ));
+    for pt in &shape.front {
+        let eps = pt.max_error_m.unwrap_or(f64::NAN) * 1e3;
+        rows.push(row(format!("front: path error ≤ {eps:.4} mm"), pt));
+    }
+    r.tables.push(Table::of_rows(
+        "synthesis",
+        "The shape search: the file's geometry, the least path error balanced afterwards, and the front of path error against the certified objective (each geometry a multistart's best, its counterweights certified)",
+        &rows,
+    ));
+    let pts = |it: &mut dyn Iterator<Item = &super::synthesis::ShapePoint>| -> Vec<(f64, f64)> {
+        it.filter_map(|pt| Some((pt.path_error_m * 1e3, pt.objective?)))
+            .collect()
+    };
+    let front = pts(&mut shape.front.iter());
+    let first = pts(&mut std::iter::once(&shape.kinematic_first));
+    let file = pts(&mut shape.nominal.iter());
+    let y_label = format!("{key} (certified)");
+    r.plots.push(Plot::of_panels(
+        "synthesis",
+        "Path error against the certified objective: the front of the shape search, the least path error balanced afterwards, and the file's geometry",
+        640,
+        420,
+        move || {
+            Ok(vec![Panel {
+                title: "Path error against balance".into(),
+                x_label: "path error (mm)".into(),
+                y_label: y_label.clone(),
+                series: vec![
+                    Series::line("front", front.clone()),
+                    Series::points("front points", front.clone()),
+                    Series::points("the file's geometry", file.clone()),
+                    Series::points("synthesise first, balance afterwards", first.clone()),
+                ],
+                equal_aspect: false,
+            }])
+        },
+    ));
 }
 
 /// The fields over the cycle with and without the counterweights (`<name>-cycle.csv`, the
@@ -322,10 +398,30 @@ fn linkage_drawing(r: &mut SolveResult, scene: &Scene, p: &LinkageProblem, sol: 
     let x = sol.design_x().map(<[f64]>::to_vec);
     let (sc, name, sectors) = (p.scene.clone(), scene.name.clone(), sol.sectors.clone());
     let plates = sol.out.plates.clone();
+    let path = p.path.clone();
     let caption = "linkage at θ = 0 and its counterweights";
     r.drawings.push(Sheet::new("drawing", caption, move || {
-        linkage_sheet(&name, &sc, x.as_deref(), (&sectors, &plates))
+        let mut d = linkage_sheet(&name, &sc, x.as_deref(), (&sectors, &plates))?;
+        if let Some(path) = &path {
+            tracer_path(&mut d, &sc.linkage, path, 0.04 * sc.crank_length);
+        }
+        Ok(d)
     }));
+}
+
+/// The tracer's path over the turn (layer `PATH`, 360 samples) and each precision point as
+/// a cross in a circle of radius `size`, numbered.
+fn tracer_path(d: &mut Drawing, l: &Linkage, path: &super::synthesis::PathSpec, size: f64) {
+    let pts: Vec<P2> = (0..360)
+        .filter_map(|k| l.pose(TAU * k as f64 / 360.0).ok())
+        .map(|pose| pose.links[path.link].point(path.at)[0])
+        .collect();
+    d.polyline(Layer::Path, pts, true);
+    d.note("the tracer's path over the turn, and the precision points Q1, Q2, … it must pass near (circles)");
+    for (i, q) in path.points.iter().enumerate() {
+        d.mark(*q).circle(Layer::Dim, *q, size);
+        d.label(*q + P2::new(size, size), format!("Q{}", i + 1));
+    }
 }
 
 use super::motion::Bodies;

@@ -43,6 +43,20 @@ pub struct Solution {
     /// The drive in every named load case, with `[[mechanism.load_cases]]` and
     /// `[mechanism.drive]`.
     pub load_cases: Option<super::load_cases::LoadCaseDrives>,
+    /// The path error of `[objective.path]`: the largest, each point's, and the bound on
+    /// their error (`Err`: the linkage does not turn fully).
+    pub path: Option<Result<PathError, String>>,
+}
+
+/// The tracer's path against its precision points (`[objective.path]`).
+#[derive(Debug, Clone)]
+pub struct PathError {
+    /// The largest distance from a precision point to the path (m).
+    pub max: f64,
+    /// Each point's distance (m).
+    pub points: Vec<f64>,
+    /// The bound on their error (m).
+    pub error: f64,
 }
 
 /// Every joint's peak load over the cycle.
@@ -90,6 +104,9 @@ pub fn solve(p: &LinkageProblem) -> Result<Solution, String> {
         None => Vec::new(),
     };
     let mut claim = claim(&out);
+    if let Some(shape) = &p.shape {
+        super::synthesis::claim(shape, &mut claim);
+    }
     let cws = &sc.counterweights;
     if !cws.is_empty()
         && cws.iter().all(|c| c.is_given())
@@ -137,7 +154,18 @@ pub fn solve(p: &LinkageProblem) -> Result<Solution, String> {
         .as_ref()
         .zip(drive.as_ref())
         .and_then(|(d, nominal)| super::load_cases::solve(sc, d, x, nominal, &mut claim.warnings));
+    let path = p.path.as_ref().map(|path| {
+        let l = &sc.linkage;
+        super::synthesis::path_error(l, path, path.at)
+            .map(|(max, points)| PathError {
+                max,
+                points,
+                error: super::synthesis::path_error_bound(l, path, path.at),
+            })
+            .ok_or_else(|| "the linkage does not assemble over the whole turn".to_string())
+    });
     Ok(Solution {
+        path,
         load_cases,
         envelope,
         energy,

@@ -742,14 +742,32 @@ fn block_goal(g: mm::Goal, blocks: usize, len: usize) -> mm::Goal {
     }
 }
 
-/// Solves the scene: the bare linkage's peaks, then the counterweights (if any) for the
-/// objective under the limits, and the front if asked. With an operating envelope every
-/// vertex's scene is a block of fields after the nominal one, the goal is the worst case over
-/// the blocks and every limit holds in each ([`Block`]).
-pub fn solve(scene: &LinkageScene, settings: &Settings) -> Result<Outcome, LinkageSolveError> {
+/// What the engine's problem of a scene is built from besides its fields: the full force
+/// balance's rows (or the residual that puts it out of reach) and a block's length.
+struct Built {
+    balance_residual: Option<f64>,
+    balance_rows: usize,
+    /// Fields per block.
+    len: usize,
+    /// The energy field's index in a block.
+    energy_at: usize,
+    /// Design variables.
+    n: usize,
+}
+
+/// Builds the scene's engine — the nominal scene and every vertex of its envelope, each a
+/// block of fields, the goal the worst case over the blocks, every limit in each ([`Block`])
+/// — and hands it to `then` with the scene's fields (the nominal's, then the vertices').
+fn with_engine<R>(
+    scene: &LinkageScene,
+    settings: &Settings,
+    then: impl FnOnce(&Engine, &Built, &[SceneFields]) -> Result<R, LinkageSolveError>,
+) -> Result<R, LinkageSolveError> {
     let vertices = vertex_scenes(scene)?;
-    let fields = SceneFields::new(scene);
-    let vfields: Vec<SceneFields> = vertices.iter().map(SceneFields::new).collect();
+    let all: Vec<SceneFields> = std::iter::once(SceneFields::new(scene))
+        .chain(vertices.iter().map(SceneFields::new))
+        .collect();
+    let fields = &all[0];
     let cws = &scene.counterweights;
     let n_cw = mm::PER_COUNTERWEIGHT * cws.len();
     let o = &scene.objective;
@@ -760,28 +778,32 @@ pub fn solve(scene: &LinkageScene, settings: &Settings) -> Result<Outcome, Linka
         + if cws.is_empty() {
             1
         } else {
-            usize::from(energy_goal) * (1 + vfields.len())
+            usize::from(energy_goal) * all.len()
         };
-    let mut blocks = vec![Block::new(&fields, "", n, n_cw, true)?];
+    let mut blocks = vec![Block::new(fields, "", n, n_cw, true)?];
     let env = &scene.envelope;
     let scenarios = env.scenarios(&scene.linkage);
-    for (k, (f, s)) in vfields.iter().zip(&scenarios[1..]).enumerate() {
+    for (k, (f, s)) in all[1..].iter().zip(&scenarios[1..]).enumerate() {
         blocks.push(Block::new(f, &env.label(s), n, n_cw + 1 + k, true)?);
     }
     let mut linear = mass_rows(cws);
-    let mut balance_residual = None;
-    let mut balance_rows = 0;
+    let mut built = Built {
+        balance_residual: None,
+        balance_rows: 0,
+        len: blocks[0].refs().len(),
+        energy_at: 3 + blocks[0].joints.len(),
+        n: 0,
+    };
     if o.full_force_balance && !cws.is_empty() {
-        match force_balance_rows(&fields, n_cw) {
+        match force_balance_rows(fields, n_cw) {
             Ok(rows) => {
-                balance_rows = rows.len();
+                built.balance_rows = rows.len();
                 linear.extend(rows);
             }
-            Err(resid) => balance_residual = Some(resid),
+            Err(resid) => built.balance_residual = Some(resid),
         }
     }
-    let len = blocks[0].refs().len();
-    let energy_at = 3 + blocks[0].joints.len();
+    let (len, energy_at) = (built.len, built.energy_at);
     let limits = peak_limits(o, blocks[0].joints.len());
     let mut extra = if cws.is_empty() {
         vec![(0.0, 0.0)]
@@ -804,54 +826,80 @@ pub fn solve(scene: &LinkageScene, settings: &Settings) -> Result<Outcome, Linka
             .flat_map(|b| limits.iter().map(move |&(k, v)| (b * len + k, v)))
             .collect(),
     };
+    built.n = pb.n();
     let engine = Engine::new(&pb, settings)?;
-    let zeros = vec![0.0; pb.n()];
-    let bare = engine.peaks(&zeros)?;
-    let bare_rms = [0, 1, 2].map(|k| engine.rms(k, &zeros));
-    let mut out = Outcome {
-        bare,
-        bare_rms,
-        design: None,
-        design_rms: None,
-        balance_residual,
-        balance_rows,
-        pareto: None,
-        pareto_fields: match o.minimize {
-            Goal::PeakMoment => (MOMENT, FORCE),
-            Goal::EnergyFluctuation => (energy_at, FORCE),
-            _ => (FORCE, MOMENT),
-        },
-        block_len: len,
-        kappa_max: 1.0,
-        degenerate: None,
-        plates: Vec::new(),
-    };
-    if !cws.is_empty() && balance_residual.is_none() {
-        let (sol, plates) = realise_plates(&engine, cws, engine.solve()?)?;
-        out.plates = plates;
-        if sol.x.iter().all(|v| v.is_finite()) {
-            out.design_rms = Some([0, 1, 2].map(|k| engine.rms(k, &sol.x)));
+    then(&engine, &built, &all)
+}
+
+/// The engine's optimum of the scene's counterweights alone (no baselines, RMS, plates or
+/// front): the inner program of a shape search (issue 36). `None` without counterweights or
+/// with a full force balance out of reach.
+pub fn optimum(
+    scene: &LinkageScene,
+    settings: &Settings,
+) -> Result<Option<Solution>, LinkageSolveError> {
+    if scene.counterweights.is_empty() {
+        return Ok(None);
+    }
+    with_engine(scene, settings, |engine, built, _| {
+        match built.balance_residual {
+            Some(_) => Ok(None),
+            None => Ok(Some(engine.solve()?)),
         }
-        out.design = Some(sol);
-        if o.pareto_points >= 2 {
-            let (a, b) = out.pareto_fields;
-            out.pareto = Some(engine.pareto_front(a, b, o.pareto_points)?);
+    })
+}
+
+/// Solves the scene: the bare linkage's peaks, then the counterweights (if any) for the
+/// objective under the limits, and the front if asked. With an operating envelope every
+/// vertex's scene is a block of fields after the nominal one, the goal is the worst case over
+/// the blocks and every limit holds in each ([`with_engine`]).
+pub fn solve(scene: &LinkageScene, settings: &Settings) -> Result<Outcome, LinkageSolveError> {
+    with_engine(scene, settings, |engine, built, all| {
+        let cws = &scene.counterweights;
+        let o = &scene.objective;
+        let energy_at = built.energy_at;
+        let zeros = vec![0.0; built.n];
+        let bare = engine.peaks(&zeros)?;
+        let bare_rms = [0, 1, 2].map(|k| engine.rms(k, &zeros));
+        let mut out = Outcome {
+            bare,
+            bare_rms,
+            design: None,
+            design_rms: None,
+            balance_residual: built.balance_residual,
+            balance_rows: built.balance_rows,
+            pareto: None,
+            pareto_fields: match o.minimize {
+                Goal::PeakMoment => (MOMENT, FORCE),
+                Goal::EnergyFluctuation => (energy_at, FORCE),
+                _ => (FORCE, MOMENT),
+            },
+            block_len: built.len,
+            kappa_max: 1.0,
+            degenerate: None,
+            plates: Vec::new(),
+        };
+        if !cws.is_empty() && built.balance_residual.is_none() {
+            let (sol, plates) = realise_plates(engine, cws, engine.solve()?)?;
+            out.plates = plates;
+            if sol.x.iter().all(|v| v.is_finite()) {
+                out.design_rms = Some([0, 1, 2].map(|k| engine.rms(k, &sol.x)));
+            }
+            out.design = Some(sol);
+            if o.pareto_points >= 2 {
+                let (a, b) = out.pareto_fields;
+                out.pareto = Some(engine.pareto_front(a, b, o.pareto_points)?);
+            }
         }
-    }
-    if out.design.is_some() {
-        out.degenerate = idle_counterweights(&fields, scene);
-    }
-    if let Some(e) = std::iter::once(&fields)
-        .chain(&vfields)
-        .find_map(SceneFields::failure)
-    {
-        return Err(e);
-    }
-    out.kappa_max = std::iter::once(&fields)
-        .chain(&vfields)
-        .map(SceneFields::kappa_max)
-        .fold(1.0, f64::max);
-    Ok(out)
+        if out.design.is_some() {
+            out.degenerate = idle_counterweights(&all[0], scene);
+        }
+        if let Some(e) = all.iter().find_map(SceneFields::failure) {
+            return Err(e);
+        }
+        out.kappa_max = all.iter().map(SceneFields::kappa_max).fold(1.0, f64::max);
+        Ok(out)
+    })
 }
 
 /// Each plate counterweight (a `thickness`) cut as a concrete plate

@@ -16,7 +16,11 @@
 //! (Halton points or a grid, then the best distinct ones: [`starts`]) and the evidence of a
 //! heuristic search — how many basins its ends fell in, how consistent the best ones are
 //! ([`SearchEvidence`]).
+//!
+//! A shape search — the least kinematic error, and the least balanced objective within a
+//! kinematic error — is written once over a [`constrained::Shape`].
 
+pub mod constrained;
 mod evidence;
 mod nelder_mead;
 pub mod sqp;

@@ -21,6 +21,48 @@ pub fn tip_of(dyads: &[Dyad], crank_length: f64, link: usize) -> Option<P2> {
     }
 }
 
+impl Dyad {
+    /// The same dyad with its known points through `point(link, P)` — P of link a, Q of
+    /// link b (`links` = (a, b), [`Linkage::dyad_links`]) — and its lengths through
+    /// `length(link, l)`: the one place that takes a dyad apart, for a length or a pivot
+    /// changed ([`Linkage::with_length`], the shape search's pivots).
+    pub fn remapped(
+        &self,
+        (a, b): (usize, usize),
+        point: impl Fn(usize, Point) -> Point,
+        length: impl Fn(usize, f64) -> f64,
+    ) -> Dyad {
+        match *self {
+            Dyad::Rrr { p, l1, q, l2, side } => Dyad::Rrr {
+                p: point(a, p),
+                l1: length(a, l1),
+                q: point(b, q),
+                l2: length(b, l2),
+                side,
+            },
+            Dyad::Rrp {
+                p,
+                l,
+                origin,
+                angle,
+                side,
+            } => Dyad::Rrp {
+                p: point(a, p),
+                l: length(a, l),
+                origin,
+                angle,
+                side,
+            },
+            Dyad::Rpr { p, q, offset, side } => Dyad::Rpr {
+                p: point(a, p),
+                q: point(b, q),
+                offset,
+                side,
+            },
+        }
+    }
+}
+
 impl Linkage {
     /// The same linkage with link `link`'s length — the distance to its tip ([`tip_of`]),
     /// `old` now (the crank's |A0 A| is not stored in the dyads: the caller says it) — set to
@@ -51,37 +93,7 @@ impl Linkage {
             .dyads
             .iter()
             .enumerate()
-            .map(|(k, d)| {
-                let (a, b) = Linkage::dyad_links(k);
-                match *d {
-                    Dyad::Rrr { p, l1, q, l2, side } => Dyad::Rrr {
-                        p: moved(p),
-                        l1: set(a, l1),
-                        q: moved(q),
-                        l2: set(b, l2),
-                        side,
-                    },
-                    Dyad::Rrp {
-                        p,
-                        l,
-                        origin,
-                        angle,
-                        side,
-                    } => Dyad::Rrp {
-                        p: moved(p),
-                        l: set(a, l),
-                        origin,
-                        angle,
-                        side,
-                    },
-                    Dyad::Rpr { p, q, offset, side } => Dyad::Rpr {
-                        p: moved(p),
-                        q: moved(q),
-                        offset,
-                        side,
-                    },
-                }
-            })
+            .map(|(k, d)| d.remapped(Linkage::dyad_links(k), |_, p| moved(p), set))
             .collect();
         let mut inertia = self.inertia.clone();
         if bar {

@@ -1,0 +1,328 @@
+//! `[design.synthesis]` and `[objective.path]` of a linkage file (issue 36): the geometry
+//! the search may move — link lengths, frame pivots, the tracer point — each within its
+//! bounds, and the path its tracer point must pass through. Read, checked and resolved into
+//! [`Synthesis`] and [`PathSpec`]; apart from `file.rs` so that each file stays readable.
+
+use super::file::{LinkageScene, XyRaw};
+use super::model::{tip_of, Dyad, Point};
+use super::synthesis::{GeometryParam, Kind, PathSpec, Synthesis};
+use crate::problem::{positive, FieldError};
+use crate::units::{Angle, Length, Qty};
+use serde::Deserialize;
+
+/// Geometry parameters a file may free, in all.
+pub const MAX_FREE: usize = 10;
+
+/// Precision points a path may have.
+pub const MAX_POINTS: usize = 64;
+
+/// `[design.synthesis]`: the geometry the search moves, and the search's size.
+#[derive(Debug, Deserialize, schemars::JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct SynthesisRaw {
+    /// Link lengths to choose: `of` a link with a length (the crank, an RRR link, an RRP
+    /// rod), within [`min`, `max`]. A uniform bar's mass properties follow its length.
+    #[serde(default)]
+    #[schemars(length(max = MAX_FREE))]
+    pub length: Vec<LengthFreeRaw>,
+    /// Frame pivots to place: `of` a link pivoted on the frame (the crank: A0; an RRR link
+    /// whose pivot is a frame point), within the box [`min`, `max`].
+    #[serde(default)]
+    #[schemars(length(max = MAX_FREE))]
+    pub pivot: Vec<PivotFreeRaw>,
+    /// The tracer point of `[objective.path]`, free within this box in its link's frame.
+    pub tracer: Option<BoxRaw>,
+    /// Halton points of the box ranked for the local searches (default 48, 8–4096).
+    pub halton: Option<usize>,
+    /// Local searches per front point (default 4, 1–64).
+    pub starts: Option<usize>,
+    /// Nelder–Mead iterations per local search (default 150, 10–5000).
+    pub iterations: Option<usize>,
+    /// Points of the path error–objective front below `max_error` (default 3, 0–20).
+    pub front_points: Option<usize>,
+}
+
+/// A free link length.
+#[derive(Debug, Deserialize, schemars::JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct LengthFreeRaw {
+    /// The link.
+    pub of: String,
+    /// The shortest length.
+    pub min: Qty<Length>,
+    /// The longest length.
+    pub max: Qty<Length>,
+}
+
+/// A free frame pivot.
+#[derive(Debug, Deserialize, schemars::JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct PivotFreeRaw {
+    /// The link pivoted on the frame.
+    pub of: String,
+    /// The box's lower corner (x, y).
+    pub min: XyRaw,
+    /// The box's upper corner (x, y).
+    pub max: XyRaw,
+}
+
+/// A box of points.
+#[derive(Debug, Deserialize, schemars::JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct BoxRaw {
+    /// The lower corner (x, y).
+    pub min: XyRaw,
+    /// The upper corner (x, y).
+    pub max: XyRaw,
+}
+
+/// `[objective.path]`: a point of a link through precision points (path generation; with
+/// `crank_angles`, at those angles: path generation with prescribed timing).
+#[derive(Debug, Deserialize, schemars::JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct PathRaw {
+    /// The tracer point: `link` (a moving link) and `at` (in its frame).
+    pub tracer: TracerRaw,
+    /// The precision points (world frame), at least 2.
+    #[schemars(length(min = 2, max = MAX_POINTS))]
+    pub points: Vec<XyRaw>,
+    /// The crank angle of each point (timing); absent: any angle over the turn.
+    pub crank_angles: Option<Vec<Qty<Angle>>>,
+    /// The path error the design must meet: the largest distance from a precision point to
+    /// the tracer's path (at its crank angle, with timing).
+    pub max_error: Qty<Length>,
+}
+
+/// The tracer point of a path.
+#[derive(Debug, Deserialize, schemars::JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct TracerRaw {
+    /// A moving link.
+    pub link: String,
+    /// The point in the link's frame (origin at its reference joint, x along it).
+    pub at: XyRaw,
+}
+
+fn xy(v: &XyRaw) -> crate::geom::P2 {
+    crate::geom::P2::new(v[0].si(), v[1].si())
+}
+
+fn link_named(names: &[String], of: &str, key: &str) -> Result<usize, FieldError> {
+    names.iter().position(|n| n == of).ok_or_else(|| {
+        let all: Vec<String> = names.iter().map(|n| format!("\"{n}\"")).collect();
+        FieldError::new(
+            key,
+            format!("got \"{of}\"; allowed: a link, {}", all.join(", ")),
+        )
+    })
+}
+
+/// `[objective.path]` for the scene's links.
+pub fn resolve_path(p: &PathRaw, sc: &LinkageScene) -> Result<PathSpec, FieldError> {
+    let key = "objective.path";
+    let link = link_named(
+        &sc.link_names,
+        &p.tracer.link,
+        &format!("{key}.tracer.link"),
+    )?;
+    if p.points.len() < 2 || p.points.len() > MAX_POINTS {
+        return Err(FieldError::new(
+            format!("{key}.points"),
+            format!("got {} points; allowed: 2 to {MAX_POINTS}", p.points.len()),
+        ));
+    }
+    let angles = match &p.crank_angles {
+        Some(a) if a.len() != p.points.len() => {
+            return Err(FieldError::new(
+                format!("{key}.crank_angles"),
+                format!(
+                    "got {} angles for {} points; allowed: one per point",
+                    a.len(),
+                    p.points.len()
+                ),
+            ))
+        }
+        Some(a) => Some(a.iter().map(|q| q.si()).collect()),
+        None => None,
+    };
+    Ok(PathSpec {
+        link,
+        at: xy(&p.tracer.at),
+        points: p.points.iter().map(xy).collect(),
+        angles,
+        max_error: positive(&format!("{key}.max_error"), p.max_error.si())?,
+    })
+}
+
+/// A count with its default and range, or the error naming it.
+fn count(
+    v: Option<usize>,
+    key: &str,
+    default: usize,
+    lo: usize,
+    hi: usize,
+) -> Result<usize, FieldError> {
+    match v.unwrap_or(default) {
+        n if (lo..=hi).contains(&n) => Ok(n),
+        n => Err(FieldError::new(
+            format!("design.synthesis.{key}"),
+            format!("got {n}; allowed: {lo} to {hi}"),
+        )),
+    }
+}
+
+/// An interval [lo, hi] of a parameter, checked (lo < hi). The mechanism's own value need
+/// not lie inside: it seeds the search where it does (a drag in the designer may move it
+/// out).
+fn interval(lo: f64, hi: f64, key: &str) -> Result<(f64, f64), FieldError> {
+    if !(lo < hi) {
+        return Err(FieldError::new(
+            key,
+            format!("got min {lo} ≥ max {hi}; allowed: min < max"),
+        ));
+    }
+    Ok((lo, hi))
+}
+
+/// The frame point link `link` is pivoted at: the crank's A0, or a dyad link's pivot where
+/// it is a frame point.
+pub fn frame_pivot(sc: &LinkageScene, link: usize) -> Option<crate::geom::P2> {
+    if link == 0 {
+        return Some(sc.linkage.pivot());
+    }
+    let (k, second) = ((link - 1) / 2, (link - 1) % 2 == 1);
+    let p = match (sc.linkage.dyads().get(k)?, second) {
+        (Dyad::Rrr { p, .. } | Dyad::Rrp { p, .. } | Dyad::Rpr { p, .. }, false) => *p,
+        (Dyad::Rrr { q, .. } | Dyad::Rpr { q, .. }, true) => *q,
+        _ => return None,
+    };
+    match p {
+        Point::Frame(x) => Some(x),
+        Point::On { .. } => None,
+    }
+}
+
+/// `[design.synthesis]` for the scene, its path `path` (required).
+pub fn resolve_synthesis(
+    r: &SynthesisRaw,
+    sc: &LinkageScene,
+    path: Option<&PathSpec>,
+    bars: &[bool],
+) -> Result<Synthesis, FieldError> {
+    let key = "design.synthesis";
+    if path.is_none() {
+        return Err(FieldError::new(
+            key,
+            "a shape search needs a kinematic requirement; allowed: with [objective.path]",
+        ));
+    }
+    let mut params = Vec::new();
+    for (i, f) in r.length.iter().enumerate() {
+        let k = format!("{key}.length[{i}]");
+        let link = link_named(&sc.link_names, &f.of, &format!("{k}.of"))?;
+        if tip_of(sc.linkage.dyads(), sc.crank_length, link).is_none() {
+            return Err(FieldError::new(
+                format!("{k}.of"),
+                format!(
+                    "link \"{}\" has no length (only the crank, RRR links and RRP rods have one)",
+                    f.of
+                ),
+            ));
+        }
+        let lo = positive(&format!("{k}.min"), f.min.si())?;
+        let bounds = interval(lo, f.max.si(), &k)?;
+        push(
+            &mut params,
+            &k,
+            format!("length of {}", f.of),
+            Kind::Length {
+                link,
+                bar: bars.get(link).copied().unwrap_or(false),
+            },
+            bounds,
+        )?;
+    }
+    for (i, f) in r.pivot.iter().enumerate() {
+        let k = format!("{key}.pivot[{i}]");
+        let link = link_named(&sc.link_names, &f.of, &format!("{k}.of"))?;
+        if frame_pivot(sc, link).is_none() {
+            return Err(FieldError::new(
+                format!("{k}.of"),
+                format!("link \"{}\" is not pivoted on the frame; allowed: the crank or a link whose pivot is a frame point [x, y]", f.of),
+            ));
+        }
+        let (lo, hi) = (xy(&f.min), xy(&f.max));
+        let bx = interval(lo.x, hi.x, &k)?;
+        let by = interval(lo.y, hi.y, &k)?;
+        push(
+            &mut params,
+            &k,
+            format!("pivot of {} x", f.of),
+            Kind::PivotX { link },
+            bx,
+        )?;
+        push(
+            &mut params,
+            &k,
+            format!("pivot of {} y", f.of),
+            Kind::PivotY { link },
+            by,
+        )?;
+    }
+    if let Some(b) = &r.tracer {
+        let k = format!("{key}.tracer");
+        let (lo, hi) = (xy(&b.min), xy(&b.max));
+        push(
+            &mut params,
+            &k,
+            "tracer x".into(),
+            Kind::TracerX,
+            interval(lo.x, hi.x, &k)?,
+        )?;
+        push(
+            &mut params,
+            &k,
+            "tracer y".into(),
+            Kind::TracerY,
+            interval(lo.y, hi.y, &k)?,
+        )?;
+    }
+    if params.is_empty() {
+        return Err(FieldError::new(
+            key,
+            "nothing free; allowed: at least one [[design.synthesis.length]], [[design.synthesis.pivot]] or [design.synthesis.tracer]",
+        ));
+    }
+    let search = crate::synth::search::constrained::Settings {
+        halton: count(r.halton, "halton", 48, 8, 4096)?,
+        starts: count(r.starts, "starts", 4, 1, 64)?,
+        max_iters: count(r.iterations, "iterations", 150, 10, 5000)? as u64,
+        sd_tolerance: 1e-9,
+    };
+    Ok(Synthesis {
+        params,
+        search,
+        front_points: count(r.front_points, "front_points", 3, 0, 20)?,
+    })
+}
+
+/// Adds a parameter unless one of the same kind is free already.
+fn push(
+    params: &mut Vec<GeometryParam>,
+    key: &str,
+    name: String,
+    kind: Kind,
+    bounds: (f64, f64),
+) -> Result<(), FieldError> {
+    if params.iter().any(|p| p.kind == kind) {
+        return Err(FieldError::new(key, format!("{name} is free already")));
+    }
+    if params.len() >= MAX_FREE {
+        return Err(FieldError::new(
+            key,
+            format!("more than {MAX_FREE} free parameters; allowed: at most {MAX_FREE}"),
+        ));
+    }
+    params.push(GeometryParam { name, kind, bounds });
+    Ok(())
+}
