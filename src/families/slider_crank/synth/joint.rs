@@ -1,7 +1,7 @@
 //! The joint design of the crank counterweight and the balancers (or a moment or a
 //! main-bearing limit) by the certified affine minimax of [`crate::synth::minimax`].
 
-use super::fields::{force0, moment0, torque0};
+use super::fields::{force0, force0_at, moment0, torque0};
 use super::outcome::Optimum;
 use super::realise::unbalance_bounds;
 use super::round_off::{joint_load_round_off, round_off_bounds};
@@ -157,6 +157,7 @@ pub(super) fn optimise_joint(
             scenes: &jss,
             values: &values,
             keep: &keep,
+            used,
         };
         optimum.sensitivities =
             Some(sensitivity_table(scene, &sol, &kinds, at, &built).map_err(|e| e.to_string()));
@@ -211,6 +212,8 @@ struct Built<'b, 'a> {
     scenes: &'b [JointScene<'a>],
     values: &'b [Vec<f64>],
     keep: &'b [usize],
+    /// The fields the problem names (the multipliers are on no others).
+    used: [bool; 4],
 }
 
 /// One scenario's fields, in the engine's order within its stride: the force, the moment,
@@ -267,6 +270,10 @@ struct JointScene<'a> {
     g: P2,
     nb: usize,
     grid: Option<&'a StateGrid>,
+    /// The last design's [`round_off_bounds`] (the design, the bounds): the fields' error
+    /// callbacks ask for them at every maximum and sampled angle of one design, and they
+    /// do not depend on the angle.
+    round_off_memo: std::sync::Mutex<Option<(Vec<f64>, [f64; 3])>>,
 }
 
 /// The mechanism's states at the engine's scan angles θ_k = 2πk/N
@@ -308,12 +315,14 @@ impl StateGrid {
         (grids, grid_of)
     }
 
-    /// The state at φ when φ is one of the grid's angles (bit for bit).
-    fn get(&self, phi: f64) -> Option<State> {
+    /// The state at φ when φ is one of the grid's angles (bit for bit): the nearest grid
+    /// index by a truncating cast (a negative φ casts to 0, whose angle then differs), the
+    /// angle's bits checked.
+    fn get(&self, phi: f64) -> Option<&State> {
         let n = self.states.len();
-        let k = (phi * n as f64 / std::f64::consts::TAU).round();
-        let s = self.states.get(k as usize).filter(|_| k >= 0.0)?;
-        (s.phi.to_bits() == phi.to_bits()).then_some(*s)
+        let k = (phi * n as f64 / std::f64::consts::TAU + 0.5) as usize;
+        let s = self.states.get(k)?;
+        (s.phi.to_bits() == phi.to_bits()).then_some(s)
     }
 }
 
@@ -371,8 +380,19 @@ impl<'a> JointScene<'a> {
     /// The mechanism's state at φ (assembly was checked for the whole revolution).
     fn state(&self, phi: f64) -> State {
         match self.grid.and_then(|g| g.get(phi)) {
-            Some(s) => s,
+            Some(s) => *s,
             None => self.scene.mech.state(phi).expect("assembly checked"),
+        }
+    }
+
+    /// (cos φ, sin φ) and [`force0`] at φ: from the shared state on the scan grid, else by
+    /// the force-only evaluation ([`force0_at`], the same numbers at about two thirds of the
+    /// cost of a whole state: the refinements, the polish and the certificate ask for
+    /// angles off the grid).
+    fn force0(&self, phi: f64) -> ([f64; 2], P2) {
+        match self.grid.and_then(|g| g.get(phi)) {
+            Some(s) => (s.cs, force0(self.zero, s)),
+            None => force0_at(self.zero, phi),
         }
     }
 
@@ -390,6 +410,7 @@ impl<'a> JointScene<'a> {
             g: scene.loads.gravity,
             nb,
             grid: None,
+            round_off_memo: std::sync::Mutex::new(None),
         }
     }
 
@@ -526,13 +547,26 @@ impl<'a> JointScene<'a> {
         )
     }
 
-    /// [`round_off_bounds`] of the design x (force, torque, moment).
+    /// [`round_off_bounds`] of the design x (force, torque, moment), remembered for the
+    /// last design (the same bits of x: the same numbers).
     fn round_off(&self, x: &[f64]) -> [f64; 3] {
+        let mut memo = self
+            .round_off_memo
+            .lock()
+            .unwrap_or_else(|e| e.into_inner());
+        let same = |at: &[f64]| {
+            at.len() == x.len() && at.iter().zip(x).all(|(a, b)| a.to_bits() == b.to_bits())
+        };
+        if let Some((_, r)) = memo.as_ref().filter(|m| same(&m.0)) {
+            return *r;
+        }
         let (u, b) = self.parts(x);
-        match self.nb {
+        let r = match self.nb {
             0 => round_off_bounds(self.zero, u),
             _ => round_off_bounds(&self.zero.with_balancers(&b), u),
-        }
+        };
+        *memo = Some((x.to_vec(), r));
+        r
     }
 
     /// The shaking force F = ω²(f₀ + Rot(φ)U + Σ balancers) (N).
@@ -543,15 +577,19 @@ impl<'a> JointScene<'a> {
             "shaking force",
             2,
             move |phi: f64, out: &mut AffineValue| {
-                let s = self.state(phi);
-                let f0 = force0(self.zero, &s) * w2;
-                let [c, sn] = s.cs;
+                let ([c, sn], f0) = self.force0(phi);
+                let f0 = f0 * w2;
                 out.b = [f0.x, f0.y];
-                out.row_mut(0)[ub(0)] = w2 * c;
-                out.row_mut(0)[ub(0) + 1] = -w2 * sn;
-                out.row_mut(1)[ub(0)] = w2 * sn;
-                out.row_mut(1)[ub(0) + 1] = w2 * c;
-                self.fill_balancers(out, phi, 0);
+                // Both rows at once (row r at r·n): one look at the inline storage.
+                let (n, u) = (out.n(), ub(0));
+                let a = &mut out.a[..];
+                a[u] = w2 * c;
+                a[u + 1] = -w2 * sn;
+                a[n + u] = w2 * sn;
+                a[n + u + 1] = w2 * c;
+                if self.nb > 0 {
+                    self.fill_balancers(out, phi, 0);
+                }
             },
         )
         .with_error(move |_, x: &[f64]| self.round_off(x)[0])
@@ -728,7 +766,7 @@ fn sensitivity_table(
         let energy = energy.map(|(n, o)| (n, o + place));
         let at = ms.iter().map(|m| (kinds[m.field % stride], m.angle));
         if let Some(j) = built.values.iter().position(|v| v == values) {
-            let set = built.scenes[j].fields([true; 4], energy)?;
+            let set = built.scenes[j].fields(built.used, energy)?;
             return Ok(field_values(&set.all(), at, &sol.x));
         }
         let s = env.at(scene, values.to_vec()).scene;
