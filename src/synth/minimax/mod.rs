@@ -192,10 +192,13 @@ pub struct AffineValue {
 impl AffineValue {
     /// All zero, for n variables.
     pub fn zeros(n: usize) -> Self {
-        AffineValue {
-            b: [0.0; 2],
-            a: smallvec::smallvec![0.0; 2 * n],
-        }
+        // Inline from a zero buffer (written in place; `from_elem` builds it aside and copies).
+        let a = if 2 * n <= 16 {
+            smallvec::SmallVec::from_buf_and_len([0.0; 16], 2 * n)
+        } else {
+            smallvec::smallvec![0.0; 2 * n]
+        };
+        AffineValue { b: [0.0; 2], a }
     }
     /// n.
     pub fn n(&self) -> usize {

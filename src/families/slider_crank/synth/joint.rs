@@ -219,10 +219,10 @@ struct Built<'b, 'a> {
 /// One scenario's fields, in the engine's order within its stride: the force, the moment,
 /// the torque, the main bearing load and, for a ΔE design, the energy curve.
 struct FieldSet<'a> {
-    force: Box<dyn AffineField + 'a>,
-    moment: Box<dyn AffineField + 'a>,
-    torque: Box<dyn AffineField + 'a>,
-    bearing: Box<dyn AffineField + 'a>,
+    force: Option<Box<dyn AffineField + 'a>>,
+    moment: Option<Box<dyn AffineField + 'a>>,
+    torque: Option<Box<dyn AffineField + 'a>>,
+    bearing: Option<Box<dyn AffineField + 'a>>,
     energy: Option<EnergyField>,
 }
 
@@ -230,10 +230,10 @@ impl FieldSet<'_> {
     /// The fields in order.
     fn all(&self) -> Vec<&dyn AffineField> {
         let mut v: Vec<&dyn AffineField> = vec![
-            self.force.as_ref(),
-            self.moment.as_ref(),
-            self.torque.as_ref(),
-            self.bearing.as_ref(),
+            self.force.as_deref().unwrap_or(&UNUSED_PLANAR),
+            self.moment.as_deref().unwrap_or(&UNUSED_SCALAR),
+            self.torque.as_deref().unwrap_or(&UNUSED_SCALAR),
+            self.bearing.as_deref().unwrap_or(&UNUSED_PLANAR),
         ];
         if let Some(e) = &self.energy {
             v.push(e);
@@ -247,6 +247,25 @@ impl FieldSet<'_> {
         kinds.iter().map(|&k| all[k]).collect()
     }
 }
+
+/// A field the problem does not name, zero, of its dimension (1 or 2): its place in a
+/// scenario's [`FieldSet`] without a field built (the engine never sees it).
+struct Unused(usize);
+
+impl AffineField for Unused {
+    fn name(&self) -> &str {
+        "unused"
+    }
+    fn dim(&self) -> usize {
+        self.0
+    }
+    fn eval(&self, _: f64, _: &mut AffineValue) {}
+}
+
+/// An unused scalar field (moment, torque).
+static UNUSED_SCALAR: Unused = Unused(1);
+/// An unused planar field (force, bearing load).
+static UNUSED_PLANAR: Unused = Unused(2);
 
 /// The minimax engine's fields, by index: the shaking force (N).
 const FORCE: usize = 0;
@@ -441,22 +460,14 @@ impl<'a> JointScene<'a> {
             ),
             None => None,
         };
-        fn keep<'b>(on: bool, f: impl AffineField + 'b, dim: usize) -> Box<dyn AffineField + 'b> {
-            if on {
-                Box::new(f)
-            } else {
-                Box::new(FnField::new(
-                    "unused",
-                    dim,
-                    |_: f64, _: &mut AffineValue| {},
-                ))
-            }
+        fn keep<'b>(on: bool, f: impl AffineField + 'b) -> Option<Box<dyn AffineField + 'b>> {
+            on.then(|| Box::new(f) as Box<dyn AffineField + 'b>)
         }
         Ok(FieldSet {
-            force: keep(used[0], self.force_field(), 2),
-            moment: keep(used[1], self.moment_field(), 1),
-            torque: keep(used[2], self.torque_field(), 1),
-            bearing: keep(used[3], self.bearing_field(), 2),
+            force: keep(used[0], self.force_field()),
+            moment: keep(used[1], self.moment_field()),
+            torque: keep(used[2], self.torque_field()),
+            bearing: keep(used[3], self.bearing_field()),
             energy,
         })
     }
