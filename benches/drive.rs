@@ -10,6 +10,9 @@ use cwsynth::families::slider_crank::file::SliderCrankProblem;
 use cwsynth::families::slider_crank::synth::{machine, optimise, paper_piston, Objective};
 use cwsynth::geom::P2;
 
+#[path = "common/envelope.rs"]
+mod envelope;
+
 fn bench(c: &mut Criterion) {
     let sc = paper_piston(1000.0);
     let u = P2::new(-0.0357393, 0.0);
@@ -75,16 +78,7 @@ fn bench_energy_design(c: &mut Criterion) {
 /// The piston over 800–1200 rpm and ±2 % piston and rod masses (8 vertices and the nominal
 /// scene) against the nominal piston alone (issue 33: ≤ 5× the single-scenario solve).
 fn bench_envelope(c: &mut Criterion) {
-    let text = include_str!("../problems/piston-1000rpm-envelope.toml");
-    let i = text.find("\n[[mechanism.envelope.length]]").unwrap();
-    let j = text.find("\n[model]").unwrap();
-    let text = format!("{}{}", &text[..i], &text[j..]);
-    let s = cwsynth::families::parse_str(&text, std::path::Path::new("env.toml")).unwrap();
-    let env = s.machine::<SliderCrankProblem>().unwrap().core.clone();
-    let nominal = cwsynth::families::slider_crank::synth::Scene {
-        envelope: Default::default(),
-        ..env.clone()
-    };
+    let (env, nominal) = envelope::scenes();
     c.bench_function("drive/envelope_8_vertices_minimax_force", |b| {
         b.iter(|| optimise(std::hint::black_box(&env)).unwrap())
     });

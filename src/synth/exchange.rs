@@ -204,6 +204,14 @@ impl DiscSamples {
         DiscSamples { angles, points }
     }
 
+    /// None yet, with room for `n` without growing.
+    pub(crate) fn with_capacity(n: usize) -> DiscSamples {
+        DiscSamples {
+            angles: Vec::with_capacity(n),
+            points: Vec::with_capacity(n),
+        }
+    }
+
     /// The number of samples.
     pub(crate) fn len(&self) -> usize {
         self.angles.len()

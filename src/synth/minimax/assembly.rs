@@ -70,14 +70,13 @@ impl<'p, 'a> Engine<'p, 'a> {
             })
             .collect();
         let scale = variable_scales(pb, &grid, &g0);
-        let g_ref = field_sizes(pb, &grid, &scale);
         let xbound = design_bounds(pb, &scale);
         Ok(Engine {
             pb,
             s: *s,
             n,
             scale,
-            g_ref,
+            g_ref: std::sync::OnceLock::new(),
             g0,
             grid,
             xbound,
@@ -86,6 +85,13 @@ impl<'p, 'a> Engine<'p, 'a> {
                 .collect(),
             cuts: std::sync::Mutex::new(pb.counterweights.iter().map(Cuts::seed).collect()),
         })
+    }
+
+    /// G_f, each field's size over the design box (`field_sizes`), computed on first use:
+    /// the cone programs' scales, which the exact disc path does not build.
+    pub(super) fn g_ref(&self) -> &[f64] {
+        self.g_ref
+            .get_or_init(|| field_sizes(self.pb, &self.grid, &self.scale))
     }
 
     /// Builds and solves the SOCP on the sampled angles.
@@ -136,7 +142,7 @@ impl<'p, 'a> Engine<'p, 'a> {
                 }
                 rows.cones
                     .push(SupportedConeT::SecondOrderConeT(r.nrows() + 1));
-                self.g_ref[*f]
+                self.g_ref()[*f]
             }
             Goal::MinMass => {
                 let t: f64 = self.pb.counterweights.iter().map(|c| c.m_max).sum();
@@ -148,7 +154,7 @@ impl<'p, 'a> Engine<'p, 'a> {
         };
         for &(f, e) in limits {
             let d = self.pb.fields[f].dim();
-            let g = self.g_ref[f];
+            let g = self.g_ref()[f];
             for (theta, v) in &sets[f] {
                 tags.push(ConeTag {
                     row: rows.b.len(),
@@ -215,7 +221,7 @@ impl<'p, 'a> Engine<'p, 'a> {
     /// T, the objective scale of a peak goal: max w·G_f over its fields.
     pub(super) fn peak_scale(&self, list: &[(usize, f64)]) -> f64 {
         list.iter()
-            .map(|&(f, w)| w * self.g_ref[f])
+            .map(|&(f, w)| w * self.g_ref()[f])
             .fold(0.0, f64::max)
     }
 
@@ -391,21 +397,21 @@ impl<'p, 'a> Engine<'p, 'a> {
     }
 }
 
-/// Each field on the scan grid θ_k = 2πk/`scan_samples`, checked finite.
+/// Each field on the scan grid θ_k = 2πk/`scan_samples`, checked finite: each value
+/// written in its place.
 fn scan_grid(pb: &Problem, s: &Settings, n: usize) -> Result<Vec<Vec<AffineValue>>, MinimaxError> {
-    let nf = pb.fields.len();
-    let mut grid = Vec::with_capacity(nf);
-    for f in &pb.fields {
-        let mut g = Vec::with_capacity(s.scan_samples);
-        for theta in uniform_angles(s.scan_samples) {
-            let mut v = AffineValue::zeros(n);
-            f.eval(theta, &mut v);
-            check_finite(*f, theta, &v)?;
-            g.push(v);
-        }
-        grid.push(g);
-    }
-    Ok(grid)
+    let angles = uniform_angles(s.scan_samples);
+    pb.fields
+        .iter()
+        .map(|f| {
+            let mut g: Vec<AffineValue> = angles.iter().map(|_| AffineValue::zeros(n)).collect();
+            for (v, &theta) in g.iter_mut().zip(&angles) {
+                f.eval(theta, v);
+                check_finite(*f, theta, v)?;
+            }
+            Ok(g)
+        })
+        .collect()
 }
 
 /// The column scales s_j (x = s ⊙ x̂): a counterweight's s_m = m_max, s_u = s_m ℓ,

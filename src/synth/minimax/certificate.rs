@@ -113,7 +113,7 @@ impl<'p, 'a> Engine<'p, 'a> {
             if let Some(e) = eps {
                 cst -= lam * e;
             }
-            xb.push(c * self.g_ref[f]);
+            xb.push(c * self.g_ref()[f]);
             self.field_cone(&mut rows, &v, d, c, Some(n + i), 0.0);
         }
         self.design_rows(&mut rows);

@@ -227,7 +227,7 @@ impl<'p, 'a> Engine<'p, 'a> {
                     .iter()
                     .find(|l| l.0 == t.field)
                     .map(|&(f, e)| Term {
-                        eps: Some(e / self.g_ref[f]),
+                        eps: Some(e / self.g_ref()[f]),
                         ..t.clone()
                     }),
             })
@@ -554,7 +554,7 @@ impl<'p, 'a> Engine<'p, 'a> {
                 if u0 > 0.0 {
                     u0
                 } else {
-                    most(&self.g_ref)
+                    most(self.g_ref())
                 }
             }
             Goal::MinRms(f) => self.g0[*f],

@@ -192,10 +192,13 @@ pub struct AffineValue {
 impl AffineValue {
     /// All zero, for n variables.
     pub fn zeros(n: usize) -> Self {
-        AffineValue {
-            b: [0.0; 2],
-            a: smallvec::smallvec![0.0; 2 * n],
-        }
+        // Inline from a zero buffer (written in place; `from_elem` builds it aside and copies).
+        let a = if 2 * n <= 16 {
+            smallvec::SmallVec::from_buf_and_len([0.0; 16], 2 * n)
+        } else {
+            smallvec::smallvec![0.0; 2 * n]
+        };
+        AffineValue { b: [0.0; 2], a }
     }
     /// n.
     pub fn n(&self) -> usize {
@@ -219,13 +222,16 @@ impl AffineValue {
         }
         v
     }
-    /// |b + A x|: abs for dim 1, Euclidean for dim 2.
+    /// |b + A x|: abs for dim 1, Euclidean for dim 2 (the numbers of [`AffineValue::at`],
+    /// its rows read from one slice: the scans ask for it at every grid angle).
     pub fn magnitude(&self, dim: usize, x: &[f64]) -> f64 {
-        let v = self.at(dim, x);
+        let a: &[f64] = &self.a;
+        let n = a.len() / 2;
+        let v0 = self.b[0] + dot(&a[..n], x);
         if dim == 2 {
-            v[0].hypot(v[1])
+            v0.hypot(self.b[1] + dot(&a[n..], x))
         } else {
-            v[0].abs()
+            v0.abs()
         }
     }
     /// ‖(|b_r| + Σ_j |A_rj x_j|)_r‖: the size the round-off of b + A x is relative to.
@@ -267,8 +273,9 @@ pub trait AffineField: Sync {
 
 /// An [`AffineField`] from closures: `eval(θ, out)` and optionally `error(θ, x)`.
 pub struct FnField<E, R> {
-    /// Name.
-    pub name: String,
+    /// Name (a literal one is not copied: a family builds its fields per scenario, and
+    /// again for each sensitivity).
+    pub name: std::borrow::Cow<'static, str>,
     /// 1 or 2.
     pub dim: usize,
     /// Fills b(θ), A(θ).
@@ -286,7 +293,7 @@ fn no_error(_: f64, _: &[f64]) -> f64 {
 
 impl<E: Fn(f64, &mut AffineValue) + Sync> FnField<E, NoError> {
     /// A field without an error callback.
-    pub fn new(name: impl Into<String>, dim: usize, eval: E) -> Self {
+    pub fn new(name: impl Into<std::borrow::Cow<'static, str>>, dim: usize, eval: E) -> Self {
         FnField {
             name: name.into(),
             dim,
@@ -752,8 +759,9 @@ pub struct Engine<'p, 'a> {
     n: usize,
     /// Column scales s_j (x = s ⊙ x̂).
     scale: Vec<f64>,
-    /// G_f, each field's size over the design box.
-    g_ref: Vec<f64>,
+    /// G_f, each field's size over the design box, made on first use (`Engine::g_ref`:
+    /// the exact disc path never needs it).
+    g_ref: std::sync::OnceLock<Vec<f64>>,
     /// max over the grid of |b_f|: the unbalanced peak (sampled).
     g0: Vec<f64>,
     /// Each field on the scan grid θ_k = 2πk/`scan_samples`.

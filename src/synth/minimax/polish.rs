@@ -672,7 +672,7 @@ impl<'p, 'a> Engine<'p, 'a> {
         for &(f, e) in limits {
             for m in &pkp[f].as_ref().expect("scanned").maxima {
                 if m.fx > e * (1.0 + 0.1 * self.s.rel_tol) && !known(f, m.x) {
-                    let g = self.g_ref[f];
+                    let g = self.g_ref()[f];
                     missing.push(Term {
                         field: f,
                         theta: m.x,

@@ -87,7 +87,8 @@ impl<'p, 'a> Engine<'p, 'a> {
         let mut pts = Vec::with_capacity(group.members.len());
         for (k, &i) in group.members.iter().enumerate() {
             let grid = &self.grid[list[i].0];
-            let mut s = DiscSamples::default();
+            // Room for the grid and the angles a few rounds add.
+            let mut s = DiscSamples::with_capacity(grid.len() + 16);
             for (t, v) in uniform_angles(grid.len()).into_iter().zip(grid) {
                 match group.forms[k].point_of(&u_block(v)) {
                     Some(p) => s.push(t, p),
@@ -320,23 +321,26 @@ impl<'p, 'a> Engine<'p, 'a> {
             self.pb.fields[field(k).0].eval(t, &mut v);
             group.forms[k].point_of(&u_block(&v))
         };
-        let at = |tags: &[Tag]| -> Option<Vec<f64>> {
-            let on: Vec<(Tag, P2)> = tags
-                .iter()
-                .map(|&(k, t)| point(k, t).map(|p| ((k, t), p)))
-                .collect::<Option<_>>()?;
-            let b = barycentric(u, &on);
-            let same = b.len() == tags.len() && b.iter().zip(tags).all(|(b, t)| b.0 == *t);
+        let at = |on: &[(Tag, P2)]| -> Option<Vec<f64>> {
+            let b = barycentric(u, on);
+            let same = b.len() == on.len() && b.iter().zip(on).all(|(b, t)| b.0 == t.0);
             same.then(|| b.iter().map(|b| b.1).collect())
         };
+        // The support's points, evaluated once; a moved angle re-evaluates its own alone.
+        let on: Option<Vec<(Tag, P2)>> = moved
+            .iter()
+            .map(|&((k, t), _)| point(k, t).map(|p| ((k, t), p)))
+            .collect();
         let tags: Vec<Tag> = moved.iter().map(|m| m.0).collect();
         let tau = self.s.peak_xtol.max(1e-8);
-        let weights = at(&tags).and_then(|l2| {
+        let weights = on.as_deref().and_then(at).and_then(|l2| {
+            let on = on.as_deref()?;
             let mut err = vec![1e-12; tags.len()];
             for i in 0..tags.len() {
                 for s in [-tau, tau] {
-                    let mut t = tags.clone();
-                    t[i].1 += s;
+                    let mut t = on.to_vec();
+                    let (k, a) = (tags[i].0, tags[i].1 + s);
+                    t[i] = ((k, a), point(k, a)?);
                     let l3 = at(&t)?;
                     let mut worst = vec![0.0_f64; tags.len()];
                     for (w, (a, b)) in worst.iter_mut().zip(l3.iter().zip(&l2)) {
@@ -445,15 +449,13 @@ impl<'p, 'a> Engine<'p, 'a> {
 
 /// The samples of every member in one list, members in order: (tags, points).
 fn union(pts: &[DiscSamples]) -> (Vec<Tag>, Vec<P2>) {
-    pts.iter()
-        .enumerate()
-        .flat_map(|(k, s)| {
-            s.angles
-                .iter()
-                .zip(&s.points)
-                .map(move |(&t, &p)| ((k, t), p))
-        })
-        .unzip()
+    let len = pts.iter().map(DiscSamples::len).sum();
+    let (mut tags, mut points) = (Vec::with_capacity(len), Vec::with_capacity(len));
+    for (k, s) in pts.iter().enumerate() {
+        tags.extend(s.angles.iter().map(|&t| (k, t)));
+        points.extend_from_slice(&s.points);
+    }
+    (tags, points)
 }
 
 /// Weights λ ≥ 0, Σλ = 1, on the support of a smallest enclosing disc of the points
@@ -511,27 +513,89 @@ fn barycentric(c: P2, on: &[(Tag, P2)]) -> Vec<(Tag, f64)> {
 
 /// Newton on the support angles θ_i of a smallest enclosing disc of curves p_k(θ) (2 or 3
 /// points, each on its member's curve): each must be a stationary point of |p(θ) − v| with
-/// v the centre of the disc
-/// through the points (their midpoint, or circumcentre), F_i = (p(θ_i) − v)·p'(θ_i) = 0,
-/// p' by central differences (step 1e-5), the Jacobian by forward differences of F. Where
-/// a maximum moves with the design (a disc on two points, free to slide across their
-/// diameter), the exchange alone creeps towards it; this locates it in a few steps.
-/// `None` if a step leaves the scan spacing `h` or the iteration does not settle.
+/// v the centre of the disc through the points (their midpoint, or circumcentre),
+/// F_i = (p(θ_i) − v)·p'(θ_i) = 0. Each point is evaluated at θ_i and θ_i ± η (η = 1e-5),
+/// which give p' and p'' by central differences, and the Jacobian is formed from them
+/// (`support_jacobian`): ∂F_i/∂θ_j = δ_ij(|p'_i|² + (p_i − v)·p''_i) − (∂v/∂θ_j)·p'_i.
+/// Where a maximum moves with the design (a disc on two points, free to slide across
+/// their diameter), the exchange alone creeps towards it; this locates it in a few steps.
+/// The Jacobian only steers the steps: the angles are those where F vanishes, whatever its
+/// accuracy. `None` if a step leaves the scan spacing `h` or the iteration does not settle.
 pub(super) fn polish_support(
     point: &dyn Fn(usize, f64) -> Option<P2>,
     weights: &[(Tag, f64)],
     h: f64,
 ) -> Option<(Vec<Tag>, P2)> {
-    use P2;
-    let centre = |ps: &[P2]| -> Option<P2> {
-        if ps.len() == 2 {
-            Some(0.5 * (ps[0] + ps[1]))
-        } else {
-            crate::geom::circumcentre(ps[0], ps[1], ps[2]).map(|c| c.0)
-        }
-    };
     let eta = 1e-5;
-    // Support points around one maximum of a curve (neighbouring samples) are one.
+    let merged = merge_support(weights, h);
+    let k = merged.len();
+    if !(k == 2 || k == 3) {
+        return None;
+    }
+    let curve: Vec<usize> = merged.iter().map(|w| w.0 .0).collect();
+    // One support point: p, p' and p'' by central differences.
+    let at = |c: usize, t: f64| -> Option<Jet> {
+        let (lo, mid, hi) = (point(c, t - eta)?, point(c, t)?, point(c, t + eta)?);
+        Some(Jet {
+            p: mid,
+            d: (hi - lo) / (2.0 * eta),
+            dd: (hi - 2.0 * mid + lo) / (eta * eta),
+        })
+    };
+    let points_at = |th: &[f64]| -> Option<Vec<Jet>> {
+        th.iter().zip(&curve).map(|(&t, &c)| at(c, t)).collect()
+    };
+    let mut th: Vec<f64> = merged.iter().map(|w| w.0 .1).collect();
+    let start = th.clone();
+    let mut last_step = f64::INFINITY;
+    let mut pd = points_at(&th)?;
+    for _ in 0..10 {
+        let (f, jac) = support_jacobian(&pd)?;
+        let step = jac.lu().solve(&nalgebra::DVector::from_vec(f))?;
+        let mut big: f64 = 0.0;
+        for j in 0..k {
+            th[j] -= step[j];
+            big = big.max(step[j].abs());
+        }
+        if th.iter().zip(&start).any(|(a, b)| angle_dist(*a, *b) > h) {
+            return None;
+        }
+        // Quadratic convergence: the next step would be below 1e-16; a step that does not
+        // shrink is the differences' noise. The last points need no derivatives.
+        if big <= 1e-9 || big >= last_step {
+            let ps: Option<Vec<P2>> = th.iter().zip(&curve).map(|(&t, &c)| point(c, t)).collect();
+            return polished(&th, &curve, &ps?);
+        }
+        pd = points_at(&th)?;
+        last_step = big;
+    }
+    let ps: Vec<P2> = pd.iter().map(|q| q.p).collect();
+    polished(&th, &curve, &ps)
+}
+
+/// [`polish_support`]'s result: the support (each curve with its angle in [0, 2π)) and
+/// the centre of its points `ps` (at the angles `th`).
+fn polished(th: &[f64], curve: &[usize], ps: &[P2]) -> Option<(Vec<Tag>, P2)> {
+    let v = support_centre(ps)?;
+    let tags = th.iter().zip(curve);
+    Some((
+        tags.map(|(t, &c)| (c, t.rem_euclid(std::f64::consts::TAU)))
+            .collect(),
+        v,
+    ))
+}
+
+/// A support point of [`polish_support`]: p(θ) with its first and second derivatives.
+#[derive(Clone, Copy)]
+struct Jet {
+    p: P2,
+    d: P2,
+    dd: P2,
+}
+
+/// Support points around one maximum of a curve (neighbouring samples, within 2h) are
+/// one, at the angle of the heavier and with their summed weight.
+fn merge_support(weights: &[(Tag, f64)], h: f64) -> Vec<(Tag, f64)> {
     let mut merged: Vec<(Tag, f64)> = Vec::new();
     for &((c, t), l) in weights {
         match merged
@@ -543,64 +607,48 @@ pub(super) fn polish_support(
             None => merged.push(((c, t), l)),
         }
     }
-    let k = merged.len();
-    if !(k == 2 || k == 3) {
-        return None;
+    merged
+}
+
+/// The centre of the disc through 2 points (their midpoint) or 3 (their circumcentre).
+fn support_centre(ps: &[P2]) -> Option<P2> {
+    if ps.len() == 2 {
+        Some(0.5 * (ps[0] + ps[1]))
+    } else {
+        crate::geom::circumcentre(ps[0], ps[1], ps[2]).map(|c| c.0)
     }
-    let curve: Vec<usize> = merged.iter().map(|w| w.0 .0).collect();
-    // One support point and its derivative p' by central differences: a column of the
-    // Jacobian moves one angle, so it re-evaluates that point alone.
-    let at = |c: usize, t: f64| -> Option<(P2, P2)> {
-        let d = (point(c, t + eta)? - point(c, t - eta)?) / (2.0 * eta);
-        Some((point(c, t)?, d))
-    };
-    let resid = |pd: &[(P2, P2)]| -> Option<(Vec<f64>, P2)> {
-        let ps: Vec<P2> = pd.iter().map(|q| q.0).collect();
-        let v = centre(&ps)?;
-        Some((pd.iter().map(|(p, d)| (p - v).dot(d)).collect(), v))
-    };
-    let points_at = |th: &[f64]| -> Option<Vec<(P2, P2)>> {
-        th.iter().zip(&curve).map(|(&t, &c)| at(c, t)).collect()
-    };
-    let mut th: Vec<f64> = merged.iter().map(|w| w.0 .1).collect();
-    let start = th.clone();
-    let eta2 = 1e-6;
-    let mut last_step = f64::INFINITY;
-    let mut pd = points_at(&th)?;
-    for _ in 0..10 {
-        let (f, _) = resid(&pd)?;
-        let mut jac = nalgebra::DMatrix::<f64>::zeros(k, k);
-        for j in 0..k {
-            let mut moved = pd.clone();
-            moved[j] = at(curve[j], th[j] + eta2)?;
-            let (f2, _) = resid(&moved)?;
-            for i in 0..k {
-                jac[(i, j)] = (f2[i] - f[i]) / eta2;
-            }
-        }
-        let step = jac.lu().solve(&nalgebra::DVector::from_vec(f))?;
-        let mut big: f64 = 0.0;
-        for j in 0..k {
-            th[j] -= step[j];
-            big = big.max(step[j].abs());
-        }
-        if th.iter().zip(&start).any(|(a, b)| angle_dist(*a, *b) > h) {
+}
+
+/// [`polish_support`]'s residuals F_i = (p_i − v)·p'_i and their Jacobian in the angles,
+/// from the points' derivatives: ∂F_i/∂θ_j = δ_ij(|p'_i|² + (p_i − v)·p''_i) − v_j·p'_i,
+/// v_j = ∂v/∂θ_j the centre's motion, ½p'_j for a midpoint; for a circumcentre, from
+/// differentiating 2(p_i − p_1)·v = |p_i|² − |p_1|² (i = 2, 3):
+/// (p_i − p_1)·v_j = δ_ij F_i − δ_1j F_1. `None` for collinear points.
+fn support_jacobian(pd: &[Jet]) -> Option<(Vec<f64>, nalgebra::DMatrix<f64>)> {
+    let k = pd.len();
+    let ps: Vec<P2> = pd.iter().map(|q| q.p).collect();
+    let v = support_centre(&ps)?;
+    let f: Vec<f64> = pd.iter().map(|q| (q.p - v).dot(&q.d)).collect();
+    let moves: Vec<P2> = if k == 2 {
+        pd.iter().map(|q| 0.5 * q.d).collect()
+    } else {
+        let (r1, r2) = (ps[1] - ps[0], ps[2] - ps[0]);
+        let det = crate::geom::cross(r1, r2);
+        if det == 0.0 {
             return None;
         }
-        pd = points_at(&th)?;
-        // Quadratic convergence: the next step would be below 1e-16; a step that does not
-        // shrink is the differences' noise.
-        if big <= 1e-9 || big >= last_step {
-            break;
+        // Solve [r1; r2]·v_j = (b1, b2) by Cramer's rule.
+        let solve = |b1: f64, b2: f64| {
+            P2::new((b1 * r2.y - b2 * r1.y) / det, (r1.x * b2 - r2.x * b1) / det)
+        };
+        vec![solve(-f[0], -f[0]), solve(f[1], 0.0), solve(0.0, f[2])]
+    };
+    let mut jac = nalgebra::DMatrix::<f64>::zeros(k, k);
+    for i in 0..k {
+        for j in 0..k {
+            jac[(i, j)] = -moves[j].dot(&pd[i].d);
         }
-        last_step = big;
+        jac[(i, i)] += pd[i].d.dot(&pd[i].d) + (pd[i].p - v).dot(&pd[i].dd);
     }
-    let (_, v) = resid(&pd)?;
-    Some((
-        th.iter()
-            .zip(&curve)
-            .map(|(t, &c)| (c, t.rem_euclid(std::f64::consts::TAU)))
-            .collect(),
-        v,
-    ))
+    Some((f, jac))
 }

@@ -64,7 +64,7 @@ impl<'p, 'a> Engine<'p, 'a> {
     /// |R − R_N| ≤ min(e, e²/R_N) (|a − b| = |a² − b²|/(a + b)).
     pub(super) fn rms_uniform_error(&self, f: usize, xhat_sq: f64, rms: f64) -> f64 {
         let g = self.rms_grid(f);
-        let e2 = self.g_ref[f].powi(2) * g.form_change * (1.0 + xhat_sq);
+        let e2 = self.g_ref()[f].powi(2) * g.form_change * (1.0 + xhat_sq);
         let e = e2.sqrt();
         if rms > 0.0 {
             e.min(e2 / rms)
@@ -167,7 +167,7 @@ impl<'p, 'a> Engine<'p, 'a> {
         let mut a = vec![0.0; m];
         for v in values {
             for r in 0..d {
-                self.scaled_row(v, r, 1.0 / self.g_ref[f], &mut a);
+                self.scaled_row(v, r, 1.0 / self.g_ref()[f], &mut a);
                 for i in 0..m {
                     for j in 0..m {
                         sum[i * m + j] += a[i] * a[j];
@@ -198,7 +198,7 @@ impl<'p, 'a> Engine<'p, 'a> {
             check_finite(self.pb.fields[f], TAU * k as f64 / nn as f64, v)?;
         }
         let m = self.n + 1;
-        let w = 1.0 / (self.g_ref[f] * (nn as f64).sqrt());
+        let w = 1.0 / (self.g_ref()[f] * (nn as f64).sqrt());
         let mut r = nalgebra::DMatrix::<f64>::zeros(0, m);
         let mut a = vec![0.0; m];
         for chunk in vals.chunks(2048) {

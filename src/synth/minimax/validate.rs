@@ -15,7 +15,9 @@ pub(super) fn check_finite(
     theta: f64,
     v: &AffineValue,
 ) -> Result<(), MinimaxError> {
-    if v.b.iter().chain(&v.a).all(|a| a.is_finite()) {
+    // y·0 is 0 for a finite y and NaN otherwise: one branch for the whole value.
+    let nan = v.b.iter().chain(v.a.iter()).fold(0.0, |s, a| s + a * 0.0);
+    if nan == 0.0 {
         Ok(())
     } else {
         Err(MinimaxError::NotFinite {

@@ -1,7 +1,7 @@
 //! The joint design of the crank counterweight and the balancers (or a moment or a
 //! main-bearing limit) by the certified affine minimax of [`crate::synth::minimax`].
 
-use super::fields::{force0, moment0, torque0};
+use super::fields::{force0, force0_at, moment0, torque0};
 use super::outcome::Optimum;
 use super::realise::unbalance_bounds;
 use super::round_off::{joint_load_round_off, round_off_bounds};
@@ -157,6 +157,7 @@ pub(super) fn optimise_joint(
             scenes: &jss,
             values: &values,
             keep: &keep,
+            used,
         };
         optimum.sensitivities =
             Some(sensitivity_table(scene, &sol, &kinds, at, &built).map_err(|e| e.to_string()));
@@ -211,15 +212,17 @@ struct Built<'b, 'a> {
     scenes: &'b [JointScene<'a>],
     values: &'b [Vec<f64>],
     keep: &'b [usize],
+    /// The fields the problem names (the multipliers are on no others).
+    used: [bool; 4],
 }
 
 /// One scenario's fields, in the engine's order within its stride: the force, the moment,
 /// the torque, the main bearing load and, for a ΔE design, the energy curve.
 struct FieldSet<'a> {
-    force: Box<dyn AffineField + 'a>,
-    moment: Box<dyn AffineField + 'a>,
-    torque: Box<dyn AffineField + 'a>,
-    bearing: Box<dyn AffineField + 'a>,
+    force: Option<Box<dyn AffineField + 'a>>,
+    moment: Option<Box<dyn AffineField + 'a>>,
+    torque: Option<Box<dyn AffineField + 'a>>,
+    bearing: Option<Box<dyn AffineField + 'a>>,
     energy: Option<EnergyField>,
 }
 
@@ -227,10 +230,10 @@ impl FieldSet<'_> {
     /// The fields in order.
     fn all(&self) -> Vec<&dyn AffineField> {
         let mut v: Vec<&dyn AffineField> = vec![
-            self.force.as_ref(),
-            self.moment.as_ref(),
-            self.torque.as_ref(),
-            self.bearing.as_ref(),
+            self.force.as_deref().unwrap_or(&UNUSED_PLANAR),
+            self.moment.as_deref().unwrap_or(&UNUSED_SCALAR),
+            self.torque.as_deref().unwrap_or(&UNUSED_SCALAR),
+            self.bearing.as_deref().unwrap_or(&UNUSED_PLANAR),
         ];
         if let Some(e) = &self.energy {
             v.push(e);
@@ -244,6 +247,25 @@ impl FieldSet<'_> {
         kinds.iter().map(|&k| all[k]).collect()
     }
 }
+
+/// A field the problem does not name, zero, of its dimension (1 or 2): its place in a
+/// scenario's [`FieldSet`] without a field built (the engine never sees it).
+struct Unused(usize);
+
+impl AffineField for Unused {
+    fn name(&self) -> &str {
+        "unused"
+    }
+    fn dim(&self) -> usize {
+        self.0
+    }
+    fn eval(&self, _: f64, _: &mut AffineValue) {}
+}
+
+/// An unused scalar field (moment, torque).
+static UNUSED_SCALAR: Unused = Unused(1);
+/// An unused planar field (force, bearing load).
+static UNUSED_PLANAR: Unused = Unused(2);
 
 /// The minimax engine's fields, by index: the shaking force (N).
 const FORCE: usize = 0;
@@ -267,6 +289,10 @@ struct JointScene<'a> {
     g: P2,
     nb: usize,
     grid: Option<&'a StateGrid>,
+    /// The last design's [`round_off_bounds`] (the design, the bounds): the fields' error
+    /// callbacks ask for them at every maximum and sampled angle of one design, and they
+    /// do not depend on the angle.
+    round_off_memo: std::sync::Mutex<Option<(Vec<f64>, [f64; 3])>>,
 }
 
 /// The mechanism's states at the engine's scan angles θ_k = 2πk/N
@@ -308,12 +334,14 @@ impl StateGrid {
         (grids, grid_of)
     }
 
-    /// The state at φ when φ is one of the grid's angles (bit for bit).
-    fn get(&self, phi: f64) -> Option<State> {
+    /// The state at φ when φ is one of the grid's angles (bit for bit): the nearest grid
+    /// index by a truncating cast (a negative φ casts to 0, whose angle then differs), the
+    /// angle's bits checked.
+    fn get(&self, phi: f64) -> Option<&State> {
         let n = self.states.len();
-        let k = (phi * n as f64 / std::f64::consts::TAU).round();
-        let s = self.states.get(k as usize).filter(|_| k >= 0.0)?;
-        (s.phi.to_bits() == phi.to_bits()).then_some(*s)
+        let k = (phi * n as f64 / std::f64::consts::TAU + 0.5) as usize;
+        let s = self.states.get(k)?;
+        (s.phi.to_bits() == phi.to_bits()).then_some(s)
     }
 }
 
@@ -371,8 +399,19 @@ impl<'a> JointScene<'a> {
     /// The mechanism's state at φ (assembly was checked for the whole revolution).
     fn state(&self, phi: f64) -> State {
         match self.grid.and_then(|g| g.get(phi)) {
-            Some(s) => s,
+            Some(s) => *s,
             None => self.scene.mech.state(phi).expect("assembly checked"),
+        }
+    }
+
+    /// (cos φ, sin φ) and [`force0`] at φ: from the shared state on the scan grid, else by
+    /// the force-only evaluation ([`force0_at`], the same numbers at about two thirds of the
+    /// cost of a whole state: the refinements, the polish and the certificate ask for
+    /// angles off the grid).
+    fn force0(&self, phi: f64) -> ([f64; 2], P2) {
+        match self.grid.and_then(|g| g.get(phi)) {
+            Some(s) => (s.cs, force0(self.zero, s)),
+            None => force0_at(self.zero, phi),
         }
     }
 
@@ -390,6 +429,7 @@ impl<'a> JointScene<'a> {
             g: scene.loads.gravity,
             nb,
             grid: None,
+            round_off_memo: std::sync::Mutex::new(None),
         }
     }
 
@@ -420,22 +460,14 @@ impl<'a> JointScene<'a> {
             ),
             None => None,
         };
-        fn keep<'b>(on: bool, f: impl AffineField + 'b, dim: usize) -> Box<dyn AffineField + 'b> {
-            if on {
-                Box::new(f)
-            } else {
-                Box::new(FnField::new(
-                    "unused",
-                    dim,
-                    |_: f64, _: &mut AffineValue| {},
-                ))
-            }
+        fn keep<'b>(on: bool, f: impl AffineField + 'b) -> Option<Box<dyn AffineField + 'b>> {
+            on.then(|| Box::new(f) as Box<dyn AffineField + 'b>)
         }
         Ok(FieldSet {
-            force: keep(used[0], self.force_field(), 2),
-            moment: keep(used[1], self.moment_field(), 1),
-            torque: keep(used[2], self.torque_field(), 1),
-            bearing: keep(used[3], self.bearing_field(), 2),
+            force: keep(used[0], self.force_field()),
+            moment: keep(used[1], self.moment_field()),
+            torque: keep(used[2], self.torque_field()),
+            bearing: keep(used[3], self.bearing_field()),
             energy,
         })
     }
@@ -526,13 +558,26 @@ impl<'a> JointScene<'a> {
         )
     }
 
-    /// [`round_off_bounds`] of the design x (force, torque, moment).
+    /// [`round_off_bounds`] of the design x (force, torque, moment), remembered for the
+    /// last design (the same bits of x: the same numbers).
     fn round_off(&self, x: &[f64]) -> [f64; 3] {
+        let mut memo = self
+            .round_off_memo
+            .lock()
+            .unwrap_or_else(|e| e.into_inner());
+        let same = |at: &[f64]| {
+            at.len() == x.len() && at.iter().zip(x).all(|(a, b)| a.to_bits() == b.to_bits())
+        };
+        if let Some((_, r)) = memo.as_ref().filter(|m| same(&m.0)) {
+            return *r;
+        }
         let (u, b) = self.parts(x);
-        match self.nb {
+        let r = match self.nb {
             0 => round_off_bounds(self.zero, u),
             _ => round_off_bounds(&self.zero.with_balancers(&b), u),
-        }
+        };
+        *memo = Some((x.to_vec(), r));
+        r
     }
 
     /// The shaking force F = ω²(f₀ + Rot(φ)U + Σ balancers) (N).
@@ -543,15 +588,19 @@ impl<'a> JointScene<'a> {
             "shaking force",
             2,
             move |phi: f64, out: &mut AffineValue| {
-                let s = self.state(phi);
-                let f0 = force0(self.zero, &s) * w2;
-                let [c, sn] = s.cs;
+                let ([c, sn], f0) = self.force0(phi);
+                let f0 = f0 * w2;
                 out.b = [f0.x, f0.y];
-                out.row_mut(0)[ub(0)] = w2 * c;
-                out.row_mut(0)[ub(0) + 1] = -w2 * sn;
-                out.row_mut(1)[ub(0)] = w2 * sn;
-                out.row_mut(1)[ub(0) + 1] = w2 * c;
-                self.fill_balancers(out, phi, 0);
+                // Both rows at once (row r at r·n): one look at the inline storage.
+                let (n, u) = (out.n(), ub(0));
+                let a = &mut out.a[..];
+                a[u] = w2 * c;
+                a[u + 1] = -w2 * sn;
+                a[n + u] = w2 * sn;
+                a[n + u + 1] = w2 * c;
+                if self.nb > 0 {
+                    self.fill_balancers(out, phi, 0);
+                }
             },
         )
         .with_error(move |_, x: &[f64]| self.round_off(x)[0])
@@ -728,7 +777,7 @@ fn sensitivity_table(
         let energy = energy.map(|(n, o)| (n, o + place));
         let at = ms.iter().map(|m| (kinds[m.field % stride], m.angle));
         if let Some(j) = built.values.iter().position(|v| v == values) {
-            let set = built.scenes[j].fields([true; 4], energy)?;
+            let set = built.scenes[j].fields(built.used, energy)?;
             return Ok(field_values(&set.all(), at, &sol.x));
         }
         let s = env.at(scene, values.to_vec()).scene;

@@ -16,6 +16,15 @@ use crate::synth::counterweight::{self as cw, Affine, Direction, Field, Goal, Pr
 /// benchmark times), without the report figures and baselines.
 pub fn optimise(scene: &Scene) -> Result<Optimum, SolveError> {
     check(scene)?;
+    // A joint design scans its own fields (per scenario): the grid would go unused.
+    if joint_design(scene, scene.objective) {
+        return optimise_joint(
+            scene,
+            scene.objective,
+            scene.max_peak_force,
+            scene.max_peak_torque,
+        );
+    }
     optimise_with(
         scene,
         scene.objective,
@@ -39,6 +48,15 @@ pub(super) fn needs_torque(objective: Objective, max_torque: Option<f64>) -> boo
     objective == Objective::MinPeakTorque || max_torque.is_some()
 }
 
+/// Whether the scene's design for `objective` is the joint one of `joint.rs` (balancers, a
+/// moment or main-bearing limit, the energy fluctuation or an operating envelope), which
+/// builds its own fields and grids, rather than the counterweight engine's on [`Grid`].
+fn joint_design(scene: &Scene, objective: Objective) -> bool {
+    let joint =
+        scene.joint() || objective == Objective::MinEnergyFluctuation || !scene.envelope.is_empty();
+    joint && !scene.given()
+}
+
 /// [`optimise`] with the objective and limits given explicitly (the Pareto front solves the
 /// scene again with other ones). A scene with balancers, a moment or a main-bearing limit
 /// goes to the joint design; otherwise the counterweight is analysed (all fixed), searched
@@ -50,9 +68,7 @@ pub(super) fn optimise_with(
     max_torque: Option<f64>,
     grid: &Grid,
 ) -> Result<Optimum, SolveError> {
-    let joint =
-        scene.joint() || objective == Objective::MinEnergyFluctuation || !scene.envelope.is_empty();
-    if joint && !scene.given() {
+    if joint_design(scene, objective) {
         return optimise_joint(scene, objective, max_force, max_torque);
     }
     // The caller has run `check` (the grid needed it).

@@ -32,18 +32,22 @@ impl Envelope {
         if self.speed.is_some() {
             at_nominal[0] = nominal.omega;
         }
+        // The nominal scene without its envelope, cloned once: each scenario clones that.
+        let bare = bare(nominal);
         std::iter::once(at_nominal)
             .chain(vertices(&self.ranges()))
-            .map(|v| self.at(nominal, v))
+            .map(|v| self.at_bare(&bare, v))
             .collect()
     }
 
     /// The scenario at `values` (in [`Self::names`]' order).
     pub fn at(&self, nominal: &Scene, values: Vec<f64>) -> Scenario {
-        let mut s = Scene {
-            envelope: Envelope::default(),
-            ..nominal.clone()
-        };
+        self.at_bare(&bare(nominal), values)
+    }
+
+    /// [`Self::at`] from the nominal scene without its envelope ([`bare`]).
+    fn at_bare(&self, bare: &Scene, values: Vec<f64>) -> Scenario {
+        let mut s = bare.clone();
         let mut v = values.iter();
         if self.speed.is_some() {
             s.omega = *v.next().expect("one value per parameter");
@@ -55,6 +59,14 @@ impl Envelope {
             add_length(&mut s, l.of, *v.next().expect("one value per parameter"));
         }
         Scenario { values, scene: s }
+    }
+}
+
+/// The scene without its envelope (a scenario is a single scene).
+fn bare(scene: &Scene) -> Scene {
+    Scene {
+        envelope: Envelope::default(),
+        ..scene.clone()
     }
 }
 

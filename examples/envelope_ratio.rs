@@ -1,0 +1,45 @@
+//! The two scenes of `benches/drive.rs::bench_envelope` (issue 33: an envelope of 8 vertices
+//! ≤ 5× the single-scenario solve), each solved once by `optimise` exactly as the bench
+//! times it, in functions of their own so that callgrind can count each one's instructions
+//! alone, independent of the machine's load:
+//!
+//! ```text
+//! cargo build --release --example envelope_ratio
+//! valgrind --tool=callgrind --toggle-collect='*envelope_ratio::envelope' \
+//!     target/release/examples/envelope_ratio
+//! valgrind --tool=callgrind --toggle-collect='*envelope_ratio::nominal' \
+//!     target/release/examples/envelope_ratio
+//! ```
+use cwsynth::families::slider_crank::synth::{optimise, Optimum, Scene};
+
+#[path = "../benches/common/envelope.rs"]
+mod bench_scenes;
+
+/// The envelope's scene: the piston over 800–1200 rpm and ±2 % slider and rod masses.
+#[inline(never)]
+fn envelope(scene: &Scene) -> Optimum {
+    optimise(std::hint::black_box(scene)).unwrap()
+}
+
+/// The same piston without its envelope (the special exact-disc path).
+#[inline(never)]
+fn nominal(scene: &Scene) -> Optimum {
+    optimise(std::hint::black_box(scene)).unwrap()
+}
+
+/// Solves each scene once outside the counted functions.
+#[inline(never)]
+fn warm_up(scenes: &[&Scene]) {
+    for s in scenes {
+        optimise(std::hint::black_box(s)).unwrap();
+    }
+}
+
+fn main() {
+    let (env, nom) = bench_scenes::scenes();
+    // Once untimed each first, as criterion's warm-up does (the thread pool, lazy tables).
+    warm_up(&[&env, &nom]);
+    let (e, n) = (envelope(&env), nominal(&nom));
+    println!("envelope U = {:?} {:?}", e.u, e.status);
+    println!("nominal  U = {:?} {:?}", n.u, n.status);
+}
