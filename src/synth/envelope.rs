@@ -250,6 +250,11 @@ pub fn multipliers_of(sol: &Solution) -> Result<&[Multiplier], String> {
     Ok(&sol.multipliers)
 }
 
+/// How well a polished maximum's angle is known (rad): the disc path's weights are perturbed
+/// by the same amount (`peak_xtol`'s floor), and [`sensitivities`] moves each slope's angle
+/// by it.
+pub const ANGLE_TOL: f64 = 1e-8;
+
 /// The sensitivity of the optimised worst case V* to every interval end, free once the
 /// program is solved: by the envelope theorem, dV*/d(end) = Σ_k w_k ∂|g_k(θ_k; x*)|/∂v over
 /// the optimum's active maxima k ([`Multiplier`]) whose scenario has the parameter at that
@@ -258,7 +263,10 @@ pub fn multipliers_of(sol: &Solution) -> Result<&[Multiplier], String> {
 /// set: parameter i at its upper end; the vertices repeat once per load case of a family
 /// that has them). `slopes(s, i, maxima)` is ∂|g|/∂v_i of each of scenario
 /// s's active maxima (the family's fields, moved once for all of them). The error is
-/// Σ_k (|w_k|·slope error + w_k's error·|slope|). It is V*'s derivative where V* is
+/// Σ_k (|w_k|·slope error + w_k's error·|slope|), each slope's error including twice its
+/// change when the maximum's angle moves by [`ANGLE_TOL`] (a polished maximum's angle is
+/// known to that: the slope is evaluated there too; twice: the first order either way and
+/// the second). It is V*'s derivative where V* is
 /// differentiable; where the active set changes at the end (an end whose scenarios are all
 /// inactive but tie the worst case) it is one of the one-sided derivatives.
 pub fn sensitivities<E>(
@@ -284,7 +292,21 @@ pub fn sensitivities<E>(
                 .filter(|m| m.field / stride == s)
                 .collect();
             let end = &mut ends[((s - 1) % nv) >> i & 1];
-            for (m, sl) in at.iter().zip(slopes(s, i, &at)?) {
+            let mut sls = slopes(s, i, &at)?;
+            // A maximum's angle is known to about ANGLE_TOL: the slope there moves with it,
+            // to first order (∂²|g|/∂v∂θ need not vanish at a maximum of |g| in θ), by at
+            // most |Δ| of one step of ANGLE_TOL, doubled to cover the second order.
+            let moved: Vec<Multiplier> = (at.iter())
+                .map(|m| Multiplier {
+                    angle: m.angle + ANGLE_TOL,
+                    ..**m
+                })
+                .collect();
+            let refs: Vec<&Multiplier> = moved.iter().collect();
+            for (sl, o) in sls.iter_mut().zip(slopes(s, i, &refs)?) {
+                sl.error += 2.0 * (o.value - sl.value).abs();
+            }
+            for (m, sl) in at.iter().zip(sls) {
                 end.0 += m.weight * sl.value;
                 end.1 += m.weight.abs() * sl.error + m.weight_error * sl.value.abs();
             }
