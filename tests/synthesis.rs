@@ -245,7 +245,7 @@ fn a_shape_search_names_its_mistakes() {
             "design.synthesis.length[0].of",
         ),
         (
-            with(&t, "starts = 4 ", "starts = 0 "),
+            with(&t, "starts = 3 ", "starts = 0 "),
             "design.synthesis.starts",
         ),
         (

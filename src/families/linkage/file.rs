@@ -297,12 +297,12 @@ pub struct LinkageProblem {
     /// The drive at real speed (`[mechanism.drive]`), if given.
     pub drive: Option<crate::dynamics::Drive>,
     /// The path (`[objective.path]`), if given.
-    pub path: Option<super::synthesis::PathSpec>,
+    pub path: Option<super::shape::PathSpec>,
     /// The shape search (`[design.synthesis]`), if given.
-    pub synthesis: Option<super::synthesis::Synthesis>,
+    pub synthesis: Option<super::shape::Synthesis>,
     /// What the shape search found, once it has run: the scene is then its chosen geometry
-    /// ([`super::synthesis::drive`]).
-    pub shape: Option<super::synthesis::ShapeOutcome>,
+    /// (`synthesis::drive`).
+    pub shape: Option<super::shape::ShapeOutcome>,
 }
 
 /// Reads and resolves a linkage problem file (its text or its table).
@@ -336,13 +336,16 @@ pub fn resolve_raw(raw: &File, dir: &Path) -> Result<LinkageProblem, FieldError>
         .map(crate::problem::drive::resolve)
         .transpose()?;
     let path = (raw.objective.path.as_ref())
-        .map(|p| super::file_synthesis::resolve_path(p, &scene))
+        .map(|p| super::file_synthesis::resolve_path(p, &scene.link_names))
         .transpose()?;
     let bars: Vec<bool> = (scene.link_names.iter())
         .map(|n| raw.mechanism.links.get(n).is_some_and(|l| l.uniform_bar))
         .collect();
     let synthesis = (raw.design.synthesis.as_ref())
-        .map(|r| super::file_synthesis::resolve_synthesis(r, &scene, path.as_ref(), &bars))
+        .map(|r| {
+            let l = (&scene.linkage, &scene.link_names[..], scene.crank_length);
+            super::file_synthesis::resolve_synthesis(r, l, path.as_ref(), &bars)
+        })
         .transpose()?;
     Ok(LinkageProblem {
         scene,

@@ -3,11 +3,13 @@
 //! bounds, and the path its tracer point must pass through. Read, checked and resolved into
 //! [`Synthesis`] and [`PathSpec`]; apart from `file.rs` so that each file stays readable.
 
-use super::file::{LinkageScene, XyRaw};
-use super::model::{tip_of, Dyad, Point};
-use super::synthesis::{GeometryParam, Kind, PathSpec, Synthesis};
+use super::model::{tip_of, Linkage};
+use super::shape::{frame_pivot, GeometryParam, Kind, PathSpec, Synthesis};
 use crate::problem::{positive, FieldError};
 use crate::units::{Angle, Length, Qty};
+
+/// A pair of lengths: a point (x, y).
+type XyRaw = crate::problem::Pair<Qty<Length>>;
 use serde::Deserialize;
 
 /// Geometry parameters a file may free, in all.
@@ -117,14 +119,10 @@ fn link_named(names: &[String], of: &str, key: &str) -> Result<usize, FieldError
     })
 }
 
-/// `[objective.path]` for the scene's links.
-pub fn resolve_path(p: &PathRaw, sc: &LinkageScene) -> Result<PathSpec, FieldError> {
+/// `[objective.path]` for the links `names`.
+pub fn resolve_path(p: &PathRaw, names: &[String]) -> Result<PathSpec, FieldError> {
     let key = "objective.path";
-    let link = link_named(
-        &sc.link_names,
-        &p.tracer.link,
-        &format!("{key}.tracer.link"),
-    )?;
+    let link = link_named(names, &p.tracer.link, &format!("{key}.tracer.link"))?;
     if p.points.len() < 2 || p.points.len() > MAX_POINTS {
         return Err(FieldError::new(
             format!("{key}.points"),
@@ -184,28 +182,11 @@ fn interval(lo: f64, hi: f64, key: &str) -> Result<(f64, f64), FieldError> {
     Ok((lo, hi))
 }
 
-/// The frame point link `link` is pivoted at: the crank's A0, or a dyad link's pivot where
-/// it is a frame point.
-pub fn frame_pivot(sc: &LinkageScene, link: usize) -> Option<crate::geom::P2> {
-    if link == 0 {
-        return Some(sc.linkage.pivot());
-    }
-    let (k, second) = ((link - 1) / 2, (link - 1) % 2 == 1);
-    let p = match (sc.linkage.dyads().get(k)?, second) {
-        (Dyad::Rrr { p, .. } | Dyad::Rrp { p, .. } | Dyad::Rpr { p, .. }, false) => *p,
-        (Dyad::Rrr { q, .. } | Dyad::Rpr { q, .. }, true) => *q,
-        _ => return None,
-    };
-    match p {
-        Point::Frame(x) => Some(x),
-        Point::On { .. } => None,
-    }
-}
-
-/// `[design.synthesis]` for the scene, its path `path` (required).
+/// `[design.synthesis]` for the linkage `l` with links `names`, its crank `crank_length`
+/// long, `bars[i]` true where link i is a uniform bar, and its path `path` (required).
 pub fn resolve_synthesis(
     r: &SynthesisRaw,
-    sc: &LinkageScene,
+    (l, names, crank_length): (&Linkage, &[String], f64),
     path: Option<&PathSpec>,
     bars: &[bool],
 ) -> Result<Synthesis, FieldError> {
@@ -219,8 +200,8 @@ pub fn resolve_synthesis(
     let mut params = Vec::new();
     for (i, f) in r.length.iter().enumerate() {
         let k = format!("{key}.length[{i}]");
-        let link = link_named(&sc.link_names, &f.of, &format!("{k}.of"))?;
-        if tip_of(sc.linkage.dyads(), sc.crank_length, link).is_none() {
+        let link = link_named(names, &f.of, &format!("{k}.of"))?;
+        if tip_of(l.dyads(), crank_length, link).is_none() {
             return Err(FieldError::new(
                 format!("{k}.of"),
                 format!(
@@ -244,8 +225,8 @@ pub fn resolve_synthesis(
     }
     for (i, f) in r.pivot.iter().enumerate() {
         let k = format!("{key}.pivot[{i}]");
-        let link = link_named(&sc.link_names, &f.of, &format!("{k}.of"))?;
-        if frame_pivot(sc, link).is_none() {
+        let link = link_named(names, &f.of, &format!("{k}.of"))?;
+        if frame_pivot(l, link).is_none() {
             return Err(FieldError::new(
                 format!("{k}.of"),
                 format!("link \"{}\" is not pivoted on the frame; allowed: the crank or a link whose pivot is a frame point [x, y]", f.of),

@@ -1,6 +1,6 @@
 //! Any one-degree-of-freedom planar linkage, whole: a crank and a chain of Assur dyads with the
 //! shaking force, shaking moment, input torque and joint reactions as linear maps in the links'
-//! inertial parameters (`model`), its problem file (`file`, `file_loads`, `file_envelope`), its operating envelope (`envelope`), its shape search (`synthesis`, `file_synthesis`), the certified counterweight cone
+//! inertial parameters (`model`), its problem file (`file`, `file_loads`, `file_envelope`), its operating envelope (`envelope`), its shape search (`shape`, `synthesis`, `file_synthesis`), the certified counterweight cone
 //! programs (`synth`), its result and plots (`report`) and its
 //! study ladder (`study`), behind the `Family` and `Machine` traits.
 
@@ -15,6 +15,7 @@ pub mod model;
 pub mod motion;
 pub mod numbers;
 pub mod report;
+pub mod shape;
 pub mod solve;
 pub mod solve_envelope;
 pub mod study;

@@ -173,13 +173,9 @@ fn pareto_documents(r: &mut SolveResult, front: &Front) {
 /// balance afterwards" and the front, each with its path error, certified objective and
 /// parameters (mm) — and its plot: the front of path error against the objective, with the
 /// two others beside it.
-fn shape_documents(
-    r: &mut SolveResult,
-    p: &LinkageProblem,
-    shape: &super::synthesis::ShapeOutcome,
-) {
+fn shape_documents(r: &mut SolveResult, p: &LinkageProblem, shape: &super::shape::ShapeOutcome) {
     let key = super::numbers::objective_key(p.scene.objective.minimize);
-    let row = |what: String, pt: &super::synthesis::ShapePoint| {
+    let row = |what: String, pt: &super::shape::ShapePoint| {
         let mut v = serde_json::json!({
             "design": what,
             "path_error_mm": pt.path_error_m * 1e3,
@@ -207,7 +203,7 @@ fn shape_documents(
         "The shape search: the file's geometry, the least path error balanced afterwards, and the front of path error against the certified objective (each geometry a multistart's best, its counterweights certified)",
         &rows,
     ));
-    let pts = |it: &mut dyn Iterator<Item = &super::synthesis::ShapePoint>| -> Vec<(f64, f64)> {
+    let pts = |it: &mut dyn Iterator<Item = &super::shape::ShapePoint>| -> Vec<(f64, f64)> {
         it.filter_map(|pt| Some((pt.path_error_m * 1e3, pt.objective?)))
             .collect()
     };
@@ -411,7 +407,7 @@ fn linkage_drawing(r: &mut SolveResult, scene: &Scene, p: &LinkageProblem, sol: 
 
 /// The tracer's path over the turn (layer `PATH`, 360 samples) and each precision point as
 /// a cross in a circle of radius `size`, numbered.
-fn tracer_path(d: &mut Drawing, l: &Linkage, path: &super::synthesis::PathSpec, size: f64) {
+fn tracer_path(d: &mut Drawing, l: &Linkage, path: &super::shape::PathSpec, size: f64) {
     let pts: Vec<P2> = (0..360)
         .filter_map(|k| l.pose(TAU * k as f64 / 360.0).ok())
         .map(|pose| pose.links[path.link].point(path.at)[0])

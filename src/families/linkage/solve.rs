@@ -156,11 +156,11 @@ pub fn solve(p: &LinkageProblem) -> Result<Solution, String> {
         .and_then(|(d, nominal)| super::load_cases::solve(sc, d, x, nominal, &mut claim.warnings));
     let path = p.path.as_ref().map(|path| {
         let l = &sc.linkage;
-        super::synthesis::path_error(l, path, path.at)
+        super::shape::path_error(l, path, path.at)
             .map(|(max, points)| PathError {
                 max,
                 points,
-                error: super::synthesis::path_error_bound(l, path, path.at),
+                error: super::shape::path_error_bound(l, path, path.at),
             })
             .ok_or_else(|| "the linkage does not assemble over the whole turn".to_string())
     });
