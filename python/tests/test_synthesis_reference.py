@@ -1,7 +1,7 @@
 """Issue 36's independent reference for the shape search of
 `problems/linkage-fourbar-path-synthesis.toml`: the four-bar's loop closure written again with
 NumPy, the path error of cwsynth's geometries recomputed from it (a dense scan refined by
-SciPy's bounded Brent), and the five-point path fitted from many starts by SciPy's
+SciPy's bounded Brent), and the five-point path fitted from six random starts by SciPy's
 least-squares (the loop-closure fit with each point's crank angle a variable): the least path
 error cwsynth's multistart finds agrees with SciPy's within 1e-6 m."""
 
@@ -78,8 +78,8 @@ def test_the_least_path_error_is_scipy_s_from_many_starts(result):
         r = tracer(x, th) - POINTS
         return np.nan_to_num(r.ravel(), nan=1.0)
 
-    best = np.inf
-    for _ in range(40):
+    fits = []
+    for _ in range(6):
         x0 = lo + (hi - lo) * rng.random(7)
         th0 = rng.random(5) * 2 * np.pi
         fit = scipy_optimize.least_squares(
@@ -92,7 +92,9 @@ def test_the_least_path_error_is_scipy_s_from_many_starts(result):
         )
         x = fit.x[:7]
         if np.all(np.isfinite(tracer(x, np.linspace(0, 2 * np.pi, 720)))):
-            best = min(best, path_error(x))
+            fits.append((fit.cost, x))
+    # The path error of the best fit that turns fully (its residuals' least squares).
+    best = path_error(min(fits, key=lambda f: f[0])[1])
     ours = result["synthesis"]["kinematic_first"]["path_error_m"]
     assert best <= 1e-6, best
     assert abs(ours - best) <= 1e-6, (ours, best)

@@ -11,7 +11,7 @@ use crate::synth::search::SearchEvidence;
 /// What a geometry parameter moves.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Kind {
-    /// A link's length ([`tip_of`]); a uniform bar's mass properties follow it.
+    /// A link's length ([`super::model::tip_of`]); a uniform bar's mass properties follow it.
     Length {
         /// The link.
         link: usize,
