@@ -18,6 +18,11 @@
 //!   minimax, the RMS of three fields) of `problems/linkage-sixbar-press-envelope.toml` over
 //!   its 8 vertices and nominal scene (9 blocks of fields in one engine), and of the same scene
 //!   without its envelope.
+//! * `linkage-synthesis/candidate` and `candidate_path_error`: issue 36's "≥ 10,000 certified
+//!   four-bar candidates per second on 2 cores": one candidate geometry of
+//!   `problems/linkage-fourbar-path-synthesis.toml` (the next of 32 Halton points of its box
+//!   that turn fully) balanced by the certified program as the search balances it (its scan
+//!   grid at `SEARCH_SCAN_SAMPLES`), and its path error alone.
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use cwsynth::families::linkage::file::LinkageProblem;
@@ -130,5 +135,45 @@ fn envelope(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, bench, pareto, envelope);
+/// One shape-search candidate of the shipped path synthesis: its certified balancing, and its
+/// path error alone (cycling over the admissible Halton points of the box).
+fn synthesis(c: &mut Criterion) {
+    use cwsynth::families::linkage::synthesis::{LinkageShape, SEARCH_SCAN_SAMPLES};
+    use cwsynth::synth::search::constrained::Shape;
+    let sc = scene("linkage-fourbar-path-synthesis");
+    let p: &LinkageProblem = sc.machine().unwrap();
+    let (syn, path) = (p.synthesis.as_ref().unwrap(), p.path.as_ref().unwrap());
+    let settings = Settings {
+        scan_samples: SEARCH_SCAN_SAMPLES,
+        ..p.settings
+    };
+    let shape = LinkageShape::new(&p.scene, syn, path, settings);
+    let xs: Vec<Vec<f64>> = cwsynth::synth::search::starts::halton_points(32, syn.params.len())
+        .into_iter()
+        .map(|u| {
+            (u.iter().zip(&syn.params))
+                .map(|(v, q)| q.bounds.0 + v * (q.bounds.1 - q.bounds.0))
+                .collect()
+        })
+        .filter(|x: &Vec<f64>| shape.error(x).is_some() && shape.objective(x).is_some())
+        .collect();
+    assert!(xs.len() >= 8, "{} admissible candidates", xs.len());
+    let mut g = c.benchmark_group("linkage-synthesis");
+    let mut k = 0;
+    g.bench_function("candidate", |b| {
+        b.iter(|| {
+            k = (k + 1) % xs.len();
+            shape.objective(black_box(&xs[k])).unwrap()
+        })
+    });
+    g.bench_function("candidate_path_error", |b| {
+        b.iter(|| {
+            k = (k + 1) % xs.len();
+            shape.error(black_box(&xs[k])).unwrap()
+        })
+    });
+    g.finish();
+}
+
+criterion_group!(benches, bench, pareto, envelope, synthesis);
 criterion_main!(benches);
