@@ -765,6 +765,13 @@ pub fn resolve_paper(raw: &[PaperRaw]) -> Result<Vec<PaperRef>, FieldError> {
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Pair<T>(pub [T; 2]);
 
+impl Pair<Qty<units::Length>> {
+    /// The point (x, y) in metres.
+    pub fn si(&self) -> crate::geom::P2 {
+        crate::geom::P2::new(self.0[0].si(), self.0[1].si())
+    }
+}
+
 impl<T> std::ops::Deref for Pair<T> {
     type Target = [T; 2];
     fn deref(&self) -> &[T; 2] {

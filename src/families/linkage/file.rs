@@ -47,6 +47,10 @@ pub const COUNTS: &[Count] = &[
     c("accuracy.scan_samples", 16, 20_000),
     c("accuracy.max_rounds", 1, 1000),
     c("accuracy.rms_samples", 16, 100_000),
+    c("design.synthesis.halton", 8, 4096),
+    c("design.synthesis.starts", 1, 64),
+    c("design.synthesis.iterations", 10, 5000),
+    c("design.synthesis.front_points", 0, 20),
 ];
 
 /// The work budget of one scene (see [`limits::check_work`]): field evaluations (one dyad
@@ -488,7 +492,7 @@ pub struct LinkageScene {
 }
 
 fn xy(v: &XyRaw) -> P2 {
-    P2::new(v[0].si(), v[1].si())
+    v.si()
 }
 
 /// Reads a point reference (`[x, y]`, `"NAME.pivot"`, `"NAME.tip"`, `{ link, at }`) with the

@@ -162,7 +162,8 @@ pub fn check_envelope(
 }
 
 /// The index of the link named `of` (the error at `key` lists the links).
-fn link_named(names: &[String], of: &str, key: &str) -> Result<usize, FieldError> {
+/// The index of the link named `of`, or the error at `key` listing the links.
+pub(super) fn link_named(names: &[String], of: &str, key: &str) -> Result<usize, FieldError> {
     names.iter().position(|n| n == of).ok_or_else(|| {
         let all: Vec<String> = names.iter().map(|n| format!("\"{n}\"")).collect();
         FieldError::new(

@@ -144,15 +144,6 @@ impl<'a> LinkageShape<'a> {
             bounds: syn.params.iter().map(|p| p.bounds).collect(),
         }
     }
-
-    /// The certified optimum of the geometry `x`: its objective and design, `None` unless
-    /// the engine certified it (`optimal`).
-    pub fn balanced(&self, x: &[f64]) -> Option<(f64, crate::synth::minimax::Solution)> {
-        let (sc, _) = scene_at(self.syn, self.base, self.path.at, x).ok()?;
-        let field = goal_field(sc.objective.minimize)?;
-        let sol = optimum(&sc, &self.settings).ok()??;
-        (sol.status == CwStatus::Optimal).then(|| (sol.peaks[field].peak, sol))
-    }
 }
 
 impl Shape for LinkageShape<'_> {
@@ -165,8 +156,13 @@ impl Shape for LinkageShape<'_> {
         path_error(&sc.linkage, self.path, at).map(|e| e.0)
     }
 
+    /// The peak of the geometry's certified optimum, `None` unless the engine certified
+    /// it (`optimal`).
     fn objective(&self, x: &[f64]) -> Option<f64> {
-        self.balanced(x).map(|b| b.0)
+        let (sc, _) = scene_at(self.syn, self.base, self.path.at, x).ok()?;
+        let field = goal_field(sc.objective.minimize)?;
+        let sol = optimum(&sc, &self.settings).ok()??;
+        (sol.status == CwStatus::Optimal).then(|| sol.peaks[field].peak)
     }
 }
 
