@@ -319,6 +319,11 @@ fn a_speed_band_takes_the_largest_flywheel_of_its_ends_and_holds_inside() {
     }
     let check = &r.extra["load_cases"]["speed_band_check"];
     assert_eq!(check["beyond"], 0, "{check}");
+    assert_eq!(check["proven"], true, "{check}");
+    assert!(
+        num(check, "cs_bound") <= cs + num(check, "cs_bound_error"),
+        "{check}"
+    );
     assert!(
         num(check, "max_cs") <= cs + num(check, "max_cs_error"),
         "{check}"

@@ -3,7 +3,8 @@
 //! the least-flywheel search itself, [`super::least_flywheel`]), so the flywheels that meet
 //! `cs` in case k are [I_k, ∞) and those that meet it in every case [max_k I_k, ∞): the
 //! flywheel of all the cases is the largest least flywheel, exactly, with the largest of
-//! their errors.
+//! their errors. Over a speed band it is found at the band's ends, and [`BandCheck::prove`]
+//! proves that it meets `cs` at every speed between them (or says where it does not).
 
 use super::{Drive, DriveFigures};
 
@@ -101,14 +102,23 @@ pub fn argmax(v: impl Iterator<Item = f64>) -> Option<usize> {
     best.map(|b| b.0)
 }
 
-/// Interior speeds of a speed band at which every case's steady state is checked.
+/// Interior speeds of a speed band at which every case's steady state is solved first
+/// (beside the band's ends); [`BandCheck::prove`] then halves the intervals it cannot close.
 pub const BAND_CHECK_SPEEDS: usize = 7;
 
-/// The [`BAND_CHECK_SPEEDS`] evenly spaced speeds inside the band `(lo, hi)` (rad/s), its
-/// ends left out.
+/// Steady states per case [`BandCheck::prove`] may solve at most, the first
+/// [`BAND_CHECK_SPEEDS`] + 2 included.
+pub const BAND_MAX_SPEEDS: usize = 73;
+
+/// The [`BAND_CHECK_SPEEDS`] + 2 evenly spaced speeds of the band `(lo, hi)` (rad/s), its
+/// ends included.
 pub fn band_speeds(band: (f64, f64)) -> impl Iterator<Item = f64> {
-    let n = BAND_CHECK_SPEEDS;
-    (1..=n).map(move |j| band.0 + (band.1 - band.0) * j as f64 / (n + 1) as f64)
+    let n = BAND_CHECK_SPEEDS + 1;
+    (0..=n).map(move |j| match j {
+        0 => band.0,
+        j if j == n => band.1,
+        j => band.0 + (band.1 - band.0) * j as f64 / n as f64,
+    })
 }
 
 /// A case's name at an end of a speed band: `"<case> at <n> rpm"`, n from ω (rad/s) to
@@ -118,66 +128,297 @@ pub fn at_rpm(case: &str, omega: f64) -> String {
     format!("{case} at {rpm} rpm")
 }
 
-/// The steady state inside the speed band, at the flywheel of all the cases: the exact least
-/// flywheel is not proven to be largest at the band's ends (it is not convex in the speed),
-/// so every case is solved at [`BAND_CHECK_SPEEDS`] evenly spaced interior speeds with that
-/// flywheel and its Cs compared with `cs`.
+/// The steady states over a speed band, at the flywheel of all the cases, proven to swing
+/// no more than `cs` at every speed of the band — not only at the speeds solved.
+///
+/// Why a proof is possible: with a constant-torque drive (the band is the speed the machine
+/// is driven at) and J, G that do not depend on the speed, every steady state of one case is
+/// y(φ) = ½ (J(φ) + I_f) ω(φ)² = y₀ + W(φ), W = ∫₀^φ (Ḡ − G) dφ the same at every speed: the
+/// speed's level is y₀ alone, and the time-mean speed rises with it. The normalised speed
+/// g(φ) = ω(φ)/ω(0) has g² = (1 + s W(φ)) (J(0) + I_f)/(J(φ) + I_f), s = 1/y₀: affine in s at
+/// every φ, so between two solved speeds ω̄_a < ω̄_b every g(φ) lies between its values at
+/// the two ends; and the period of g, ∫ dφ/g ∝ ∫ √(J + I_f) (1 + s W)^(−½) dφ, is convex in
+/// s, so no larger than at an end. Cs = (g_max − g_min)/ḡ (scale-free) is therefore bounded
+/// on [ω̄_a, ω̄_b] by
+///
+///   Cs ≤ (max(g_max,a, g_max,b) − min(g_min,a, g_min,b)) / min(ḡ_a, ḡ_b)
+///
+/// ([`interval_bound`], with every speed moved by its error bound against the claim). The
+/// bound tends to Cs as the interval shrinks, so the intervals whose bound is above `cs` are
+/// halved until it is below (proven), or a solved speed swings more than `cs` beyond its
+/// error (the band's inside needs more flywheel than its ends: a warning), or
+/// [`BAND_MAX_SPEEDS`] are solved (open).
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct BandCheck {
-    /// Speeds checked per cycle.
+    /// Steady states solved per case, at most (the band's ends included).
     pub speeds: usize,
-    /// The largest Cs over them, its error and the speed (rad/s) and cycle it is at.
+    /// The largest Cs among them.
     pub max_cs: f64,
     /// Its error bound.
     pub max_cs_error: f64,
     /// Where: ω (rad/s).
     pub max_cs_speed_rad_s: f64,
-    /// Where: the cycle's name.
+    /// Where: the case's name.
     pub max_cs_case: String,
-    /// Checks whose Cs is above `cs` beyond its error (0: the band's ends govern).
+    /// Solved steady states whose Cs is above `cs` beyond its error (0: the band's ends
+    /// govern).
     pub beyond: usize,
+    /// An upper bound on Cs at every speed of the band in every case: the largest
+    /// [`interval_bound`] over the final intervals.
+    pub cs_bound: f64,
+    /// Its error bound (from the solved speeds' errors).
+    pub cs_bound_error: f64,
+    /// Every interval's bound is at most `cs` within its error — the standard every solved
+    /// Cs is held to (the band's governing end meets `cs` only within its own error): the
+    /// flywheel of all the cases meets `cs` over the whole band, so it is the band's least
+    /// flywheel, exactly (its ends need it).
+    pub proven: bool,
+    /// Intervals left with a bound above `cs` and no solved speed beyond it, when the
+    /// speeds ran out.
+    pub open_intervals: usize,
+}
+
+/// One solved speed of the band: (ω̄ in rad/s, its steady state).
+type BandPoint = (f64, super::SteadyState);
+
+/// g_max, g_min and ḡ of the steady state `st`, normalised by ω(0) (its first node), each
+/// moved by `k` times the speeds' error bound against the bound's claim (k = 0: as solved);
+/// `None` where ω(0) is within its error of 0.
+fn normalised(st: &super::SteadyState, k: f64) -> Option<[f64; 3]> {
+    let w0 = st.curve.first()?[1];
+    let e = st.omega_error + 4.0 * f64::EPSILON * st.omega_max;
+    (w0 > e).then(|| {
+        let e = k * e;
+        [
+            (st.omega_max + e) / (w0 - e),
+            (st.omega_min - e) / (w0 + e),
+            (st.omega_mean - e) / (w0 + e),
+        ]
+    })
+}
+
+/// The bound on Cs at every speed between two solved speeds ([`BandCheck`]'s doc) and its
+/// error bound (the bound with every speed moved by its error against it, less the bound);
+/// +∞ where a speed's ω(0) is not known to be positive.
+pub fn interval_bound(a: &super::SteadyState, b: &super::SteadyState) -> (f64, f64) {
+    let at = |k: f64| match (normalised(a, k), normalised(b, k)) {
+        (Some(a), Some(b)) if a[2].min(b[2]) > 0.0 => {
+            (a[0].max(b[0]) - a[1].min(b[1])) / a[2].min(b[2])
+        }
+        _ => f64::INFINITY,
+    };
+    let (bound, moved) = (at(0.0), at(1.0));
+    (bound, (moved - bound) + 4.0 * f64::EPSILON * bound)
+}
+
+/// The state of one interval between two solved speeds.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Interval {
+    /// Its bound is at most `cs` within the bound's error.
+    Proven,
+    /// An end swings more than `cs` beyond its error.
+    Beyond,
+    /// Neither: to be halved.
+    Open,
+}
+
+/// The interval between `a` and `b`, its bound and the bound's error.
+fn interval(cs: f64, a: &BandPoint, b: &BandPoint) -> (Interval, f64, f64) {
+    let (bound, error) = interval_bound(&a.1, &b.1);
+    let over = |p: &BandPoint| p.1.cs > cs + p.1.cs_error;
+    let state = match () {
+        _ if bound <= cs + error => Interval::Proven,
+        _ if over(a) || over(b) => Interval::Beyond,
+        _ => Interval::Open,
+    };
+    (state, bound, error)
 }
 
 impl BandCheck {
-    /// The check of the steady states `rows` — (ω in rad/s, the case's name, its steady
-    /// state with the flywheel of all the cases or why it failed), [`BAND_CHECK_SPEEDS`] = `n`
-    /// speeds per case — against `cs`: the largest Cs and where; a warning where one swings
-    /// more than `cs` beyond its error; `None` (a warning) where a steady state failed.
-    pub fn of<'a>(
+    /// The check of `cases` (their names) over the band `band` (rad/s) against `cs`:
+    /// `solve(ω̄, case)` is the case's steady state at the mean speed ω̄ with the flywheel of
+    /// all the cases. Every case is solved at [`band_speeds`], then at the midpoints of its
+    /// open intervals, all of a round in parallel and read in order (the same result
+    /// whatever the threads). `None` (a warning) where a steady state failed.
+    pub fn prove(
         cs: f64,
-        n: usize,
-        rows: impl IntoIterator<Item = (f64, &'a str, Result<super::SteadyState, String>)>,
+        band: (f64, f64),
+        cases: &[&str],
+        solve: impl Fn(f64, usize) -> Result<super::SteadyState, String> + Sync,
         warnings: &mut Vec<String>,
     ) -> Option<BandCheck> {
-        let mut out: Option<BandCheck> = None;
-        let mut beyond = 0;
-        for (w, name, st) in rows {
-            let st = match st {
-                Ok(st) => st,
-                Err(why) => {
-                    warnings.push(format!(
-                        "the speed band's check: load case {name} at {w} rad/s failed: {why}"
-                    ));
-                    return None;
+        use rayon::prelude::*;
+        let mut points: Vec<Vec<BandPoint>> = vec![Vec::new(); cases.len()];
+        let mut jobs: Vec<(f64, usize)> = band_speeds(band)
+            .flat_map(|w| (0..cases.len()).map(move |c| (w, c)))
+            .collect();
+        while !jobs.is_empty() {
+            let solved: Vec<_> = jobs.par_iter().map(|&(w, c)| solve(w, c)).collect();
+            for (&(w, c), st) in jobs.iter().zip(solved) {
+                match st {
+                    Ok(st) => points[c].push((w, st)),
+                    Err(why) => {
+                        warnings.push(format!(
+                            "the speed band's check: load case {} at {w} rad/s failed: {why}",
+                            cases[c]
+                        ));
+                        return None;
+                    }
                 }
-            };
-            beyond += usize::from(st.cs > cs + st.cs_error);
-            if out.as_ref().is_none_or(|o| st.cs > o.max_cs) {
-                out = Some(BandCheck {
-                    speeds: n,
-                    max_cs: st.cs,
-                    max_cs_error: st.cs_error,
-                    max_cs_speed_rad_s: w,
-                    max_cs_case: name.to_string(),
-                    beyond: 0,
+            }
+            jobs = Vec::new();
+            for (c, p) in points.iter_mut().enumerate() {
+                p.sort_by(|a, b| a.0.total_cmp(&b.0));
+                if p.len() >= BAND_MAX_SPEEDS {
+                    continue;
+                }
+                let open = p.windows(2).filter(|w| interval(cs, &w[0], &w[1]).0 == Interval::Open);
+                let mids = open.map(|w| 0.5 * (w[0].0 + w[1].0)).filter(|&m| {
+                    // Halve no further than the speeds' resolution.
+                    p.iter().all(|q| q.0 != m)
                 });
+                let room = BAND_MAX_SPEEDS - p.len();
+                jobs.extend(mids.take(room).map(|m| (m, c)));
             }
         }
-        if beyond > 0 {
+        Self::of(cs, cases, &points, warnings)
+    }
+
+    /// The figures of the solved speeds `points` (per case, sorted by speed).
+    fn of(
+        cs: f64,
+        cases: &[&str],
+        points: &[Vec<BandPoint>],
+        warnings: &mut Vec<String>,
+    ) -> Option<BandCheck> {
+        let all = points
+            .iter()
+            .enumerate()
+            .flat_map(|(c, p)| p.iter().map(move |q| (c, q)));
+        let (c, top) = all.clone().reduce(|a, b| match b.1 .1.cs > a.1 .1.cs {
+            true => b,
+            false => a,
+        })?;
+        let beyond = all.filter(|(_, q)| q.1.cs > cs + q.1.cs_error).count();
+        let intervals: Vec<(Interval, f64, f64)> = points
+            .iter()
+            .flat_map(|p| p.windows(2).map(|w| interval(cs, &w[0], &w[1])))
+            .collect();
+        // The largest bound, and the error of that one.
+        let (cs_bound, cs_bound_error) = intervals
+            .iter()
+            .map(|i| (i.1, i.2))
+            .fold((top.1.cs, top.1.cs_error), |a, b| match b.0 > a.0 {
+                true => b,
+                false => a,
+            });
+        let open_intervals = intervals.iter().filter(|i| i.0 == Interval::Open).count();
+        let out = BandCheck {
+            speeds: points.iter().map(Vec::len).max().unwrap_or(0),
+            max_cs: top.1.cs,
+            max_cs_error: top.1.cs_error,
+            max_cs_speed_rad_s: top.0,
+            max_cs_case: cases[c].to_string(),
+            beyond,
+            cs_bound,
+            cs_bound_error,
+            proven: intervals.iter().all(|i| i.0 == Interval::Proven),
+            open_intervals,
+        };
+        out.warn(cs, warnings);
+        Some(out)
+    }
+
+    fn warn(&self, cs: f64, warnings: &mut Vec<String>) {
+        if self.beyond > 0 {
             warnings.push(format!(
-                "the speed band's check: {beyond} steady states inside the band swing more than mechanism.drive.cs = {cs} with the flywheel of all the cases: the band's interior needs more flywheel than its ends"
+                "the speed band's check: {} steady states inside the band swing more than mechanism.drive.cs = {cs} with the flywheel of all the cases (up to Cs = {:.6} in case {} at {:.6} rad/s): the band's interior needs more flywheel than its ends",
+                self.beyond, self.max_cs, self.max_cs_case, self.max_cs_speed_rad_s
+            ));
+        } else if !self.proven {
+            warnings.push(format!(
+                "the speed band's check: Cs is proven only up to {:.6} ± {:.1e} over the band (mechanism.drive.cs = {cs}; {} intervals left open after {} speeds per case); the largest solved Cs is {:.6}",
+                self.cs_bound, self.cs_bound_error, self.open_intervals, self.speeds, self.max_cs
             ));
         }
-        out.map(|o| BandCheck { beyond, ..o })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::dynamics::{steady_state, DriveSettings, Motor, SteadyState};
+
+    /// A machine whose Cs is not monotone in the speed: J swings from 0.8 to 3.2 kg·m² (a
+    /// fluctuation that does not fall with the speed) against a load whose second harmonic
+    /// (one that does) cancels it near 20 rad/s with the flywheel of 20 kg·m².
+    fn machine(phi: f64) -> [f64; 3] {
+        [
+            2.0 + 1.2 * (2.0 * phi).cos(),
+            -2.4 * (2.0 * phi).sin(),
+            480.0 * (2.0 * phi).sin() + 30.0 * (phi + 0.4).sin(),
+        ]
+    }
+
+    fn at(w: f64, flywheel: f64) -> Result<SteadyState, String> {
+        let s = DriveSettings::default();
+        steady_state(&machine, &Motor::ConstantTorque, flywheel, w, &s).map_err(|e| e.to_string())
+    }
+
+    /// The bound covers Cs at 400 speeds of the band, each within its own error, whether
+    /// `cs` is met or missed.
+    #[test]
+    fn the_band_bound_covers_a_dense_scan() {
+        let (band, flywheel) = ((10.0, 60.0), 20.0);
+        let scan: Vec<SteadyState> = (0..=400)
+            .map(|k| at(band.0 + (band.1 - band.0) * k as f64 / 400.0, flywheel).unwrap())
+            .collect();
+        let cs: Vec<f64> = scan.iter().map(|s| s.cs).collect();
+        let top = cs.iter().cloned().fold(0.0, f64::max);
+        let low = cs.iter().cloned().fold(f64::INFINITY, f64::min);
+        // Cs falls with the speed and then rises (J's swing): both ends matter.
+        assert!(low < 0.5 * cs[0].min(cs[400]), "{low} vs {} {}", cs[0], cs[400]);
+        for (cs, proven) in [(1.01 * top, true), (0.5 * (low + top), false)] {
+            let mut warnings = Vec::new();
+            let solve = |w: f64, _: usize| at(w, flywheel);
+            let c = BandCheck::prove(cs, band, &["one"], solve, &mut warnings).unwrap();
+            assert_eq!(c.proven, proven, "cs {cs}: {c:?}");
+            for s in &scan {
+                assert!(s.cs <= c.cs_bound + c.cs_bound_error + s.cs_error, "{c:?}");
+            }
+            assert_eq!(warnings.is_empty(), proven, "{warnings:?}");
+        }
+    }
+
+    /// With the flywheel whose Cs is `cs` exactly at the band's governing end (the least
+    /// flywheel of the ends, as the families size it), the band is proven to within the
+    /// bound's error, and the bound is that end's Cs to within it.
+    #[test]
+    fn a_band_governed_by_its_end_is_proven() {
+        let (band, flywheel) = ((10.0, 14.0), 20.0);
+        let cs = at(band.0, flywheel).unwrap().cs;
+        assert!(cs > at(band.1, flywheel).unwrap().cs);
+        let mut warnings = Vec::new();
+        let solve = |w: f64, _: usize| at(w, flywheel);
+        let c = BandCheck::prove(cs, band, &["one"], solve, &mut warnings).unwrap();
+        assert!(c.proven, "{c:?} {warnings:?}");
+        assert!(c.cs_bound - cs <= c.cs_bound_error, "{c:?}");
+        assert!(c.speeds < BAND_MAX_SPEEDS, "{c:?}");
+    }
+
+    /// Without a load (W ≡ 0), ω ∝ 1/√(J + I_f) at every speed: Cs does not depend on the
+    /// speed and every interval's bound is Cs itself.
+    #[test]
+    fn a_band_without_load_is_proven_at_once() {
+        let j = |phi: f64| [2.0 + 1.2 * (2.0 * phi).cos(), -2.4 * (2.0 * phi).sin(), 0.0];
+        let s = DriveSettings::default();
+        let solve = |w: f64, _: usize| {
+            steady_state(&j, &Motor::ConstantTorque, 0.5, w, &s).map_err(|e| e.to_string())
+        };
+        let cs = solve(10.0, 0).unwrap().cs;
+        let mut warnings = Vec::new();
+        let c = BandCheck::prove(cs, (5.0, 50.0), &["bare"], solve, &mut warnings).unwrap();
+        assert!(c.proven && c.speeds == BAND_CHECK_SPEEDS + 2, "{c:?}");
+        assert!((c.cs_bound - cs).abs() <= c.cs_bound_error, "{c:?}");
     }
 }

@@ -33,17 +33,15 @@
 //! textbook flywheel ΔE(s)/(cs·s) = max over φ₁, φ₂ of (E_g(φ₁) − E_g(φ₂))·(1/s) +
 //! (E_i(φ₁) − E_i(φ₂)) is convex in 1/s: each is largest at an end of the band, so the
 //! worst cases over the band's end cases are the band's (proven). The least flywheel of the
-//! exact steady state is not shown to be: every cycle's steady state at I* is checked at
-//! [`BAND_CHECK_SPEEDS`] interior speeds ([`BandCheck`]), with a warning where one swings
-//! more than cs.
+//! exact steady state is not convex in the speed: every cycle's Cs at I* is then proven
+//! below cs at every speed of the band, the intervals between solved speeds halved until
+//! their bound closes ([`BandCheck::prove`]), or a warning says where it is not.
 
 use super::balance::{drive_outcome, torque_outcome, At, DynamicsError, DynamicsSpec};
 use super::balance::{DynamicsOutcome, RotatingOutcome, TorqueOutcome};
 use super::gas::{GasCycle, LoadCase};
-use crate::dynamics::cases::{
-    argmax, at_rpm, band_speeds, cases_flywheel, check_cs, with_flywheel, CaseDrive,
-};
-pub use crate::dynamics::cases::{BandCheck, CasesFlywheel, BAND_CHECK_SPEEDS};
+use crate::dynamics::cases::{argmax, at_rpm, cases_flywheel, check_cs, with_flywheel, CaseDrive};
+pub use crate::dynamics::cases::{BandCheck, CasesFlywheel};
 use crate::dynamics::{Drive, DriveFigures};
 use crate::numeric::ordered;
 use crate::report::drive::{case_numbers, load_cases_section, DriveNumbers};
@@ -174,7 +172,7 @@ pub fn solve(
             with_flywheel(d, fw.inertia),
             rotating,
             warnings,
-        )?,
+        ),
         _ => None,
     };
     Ok(Some(LoadCasesOutcome {
@@ -211,8 +209,10 @@ fn solve_case(
     })
 }
 
-/// [`BandCheck`] of the band `band` (rad/s) for the `gases`, with the flywheel drive `d`;
-/// `None` without a Cs to meet or where a steady state failed (a warning).
+/// [`BandCheck::prove`] over the band `band` (rad/s) for the `gases`, with the flywheel drive
+/// `d` (a constant torque: the file refuses a band with a motor's characteristic); `None`
+/// without a Cs to meet or where a steady state failed (a warning, as is a cycle that cannot
+/// be built at a speed inside the band).
 fn band_check(
     spec: &DynamicsSpec,
     at: &At,
@@ -221,25 +221,18 @@ fn band_check(
     d: Drive,
     rotating: Option<&RotatingOutcome>,
     warnings: &mut Vec<String>,
-) -> Result<Option<BandCheck>, DynamicsError> {
-    let Some(cs) = spec.drive.as_ref().and_then(|d| d.cs) else {
-        return Ok(None);
-    };
-    let n = BAND_CHECK_SPEEDS;
-    // Every (interior speed, gas) steady state, in parallel, then read in order (the same
-    // result whatever the threads).
-    let jobs: Vec<(f64, &LoadCase)> = band_speeds(band)
-        .flat_map(|w| gases.iter().map(move |g| (w, g)))
-        .collect();
-    let solved = ordered(jobs.par_iter().map(|&(w, g)| {
+) -> Option<BandCheck> {
+    let cs = spec.drive.as_ref().and_then(|d| d.cs)?;
+    let names: Vec<&str> = gases.iter().map(|g| g.name.as_str()).collect();
+    let solve = |w: f64, c: usize| {
         let at = at.at_speed(w);
-        drive_outcome(&with_gas(spec, g.gas), &d, &at, &at.geometry(), rotating)
-    }))?;
-    let rows = jobs
-        .iter()
-        .zip(solved)
-        .map(|(&(w, g), f)| (w, g.name.as_str(), f.map(|f| f.steady)));
-    Ok(BandCheck::of(cs, n, rows, warnings))
+        let s = with_gas(spec, gases[c].gas);
+        match drive_outcome(&s, &d, &at, &at.geometry(), rotating) {
+            Ok(f) => f.map(|f| f.steady),
+            Err(e) => Err(e.to_string()),
+        }
+    };
+    BandCheck::prove(cs, band, &names, solve, warnings)
 }
 
 /// `spec` with the cycle `gas`, no load cases and no band: one case, for the single-case

@@ -3,9 +3,10 @@
 //! the nominal speed and masses and, with an envelope, at every vertex of its box — the ends
 //! of the speed band, where a flywheel sized at the nominal speed is too small: I ≈ ΔE/(Cs ω̄²)
 //! grows as ω̄ falls — the flywheel of all of them — the largest least flywheel, exact
-//! ([`crate::dynamics::cases`]) over those scenarios (not proven over the box's inside: the
-//! least flywheel is not convex in ω; every case is checked at interior speeds of the band,
-//! [`BandCheck`]) — and every scenario's steady state with it. The
+//! ([`crate::dynamics::cases`]) over those scenarios — the least flywheel is not convex in
+//! ω, so with a constant-torque drive every case's Cs at that flywheel is then proven below
+//! `cs` over the band's inside, or shown not to be ([`BandCheck::prove`]) — and every
+//! scenario's steady state with it. The
 //! counterweights are the solve's (the worst case over the cases is the envelope's,
 //! `solve_envelope`).
 
@@ -13,10 +14,9 @@ use super::drive::{figures_with, steady, TermsMemo};
 use super::file::LinkageScene;
 use super::synth as ls;
 use crate::dynamics::cases::{
-    argmax, at_rpm, band_speeds, cases_flywheel, check_cs, with_flywheel, BandCheck, CaseDrive,
-    CasesFlywheel, BAND_CHECK_SPEEDS,
+    argmax, at_rpm, cases_flywheel, check_cs, with_flywheel, BandCheck, CaseDrive, CasesFlywheel,
 };
-use crate::dynamics::{Drive, DriveFigures, SteadyState};
+use crate::dynamics::{Drive, DriveFigures, Motor, SteadyState};
 use crate::report::drive::{case_numbers, load_cases_section, DriveNumbers};
 use crate::report::{SolveResult, Table};
 use rayon::prelude::*;
@@ -48,8 +48,8 @@ pub struct LoadCaseDrives {
     /// I*: the largest least flywheel (with `cs`) or the file's `flywheel`; `None` without
     /// either, or where a case's drive failed (a warning).
     pub flywheel: Option<CasesFlywheel>,
-    /// With a speed band and `cs`: every case at the band's interior speeds with I*
-    /// ([`BandCheck`]; the masses and lengths nominal).
+    /// With a speed band, a constant-torque drive and `cs`: every case over the band with I*
+    /// ([`BandCheck::prove`]; the masses and lengths nominal).
     pub band: Option<BandCheck>,
 }
 
@@ -140,10 +140,11 @@ pub fn solve(
     })
 }
 
-/// Every load case at [`BAND_CHECK_SPEEDS`] evenly spaced speeds inside the band `band`
-/// (rad/s), the other parameters nominal, on the motor of `d` with the flywheel `flywheel`:
-/// the least flywheel is sampled at the band's ends, not proven largest there
-/// ([`BandCheck`]).
+/// Every load case over the band `band` (rad/s), the other parameters nominal, on the
+/// constant torque of `d` with the flywheel `flywheel`: Cs proven below `cs` at every speed
+/// of the band, or where not ([`BandCheck::prove`]; the terms are the same at every speed,
+/// [`TermsMemo`]). With a motor's characteristic the motor sets the speed, not the band:
+/// every speed would give the one steady state, so there is no check (`None`).
 fn band_check(
     sc: &LinkageScene,
     band: (f64, f64),
@@ -157,25 +158,20 @@ fn band_check(
         x,
         memos,
     } = *job;
+    if d.motor != Motor::ConstantTorque {
+        return None;
+    }
     let env = &sc.envelope;
-    let n = BAND_CHECK_SPEEDS;
     let nominal = env.nominal(&sc.linkage);
-    let jobs: Vec<(f64, usize)> = band_speeds(band)
-        .flat_map(|w| (0..=env.cases.len()).map(move |c| (w, c)))
-        .collect();
-    // In parallel, read in order: the same result whatever the threads.
-    let states: Vec<Result<SteadyState, String>> = jobs
-        .par_iter()
-        .map(|&(w, c)| {
-            // The speed is the envelope's first parameter.
-            let mut values = nominal.clone();
-            values[0] = w;
-            let s = ls::scene_at_case(sc, c, &values).map_err(|e| e.to_string())?;
-            steady(&s, d, flywheel, x, memos.get(c)).map_err(|e| e.to_string())
-        })
-        .collect();
-    let rows = (jobs.iter().zip(states)).map(|(&(w, c), st)| (w, env.case_name(c), st));
-    BandCheck::of(cs, n, rows, warnings)
+    let names: Vec<&str> = (0..=env.cases.len()).map(|c| env.case_name(c)).collect();
+    let solve = |w: f64, c: usize| -> Result<SteadyState, String> {
+        // The speed is the envelope's first parameter.
+        let mut values = nominal.clone();
+        values[0] = w;
+        let s = ls::scene_at_case(sc, c, &values).map_err(|e| e.to_string())?;
+        steady(&s, d, flywheel, x, memos.get(c)).map_err(|e| e.to_string())
+    };
+    BandCheck::prove(cs, band, &names, solve, warnings)
 }
 
 /// What the band's check solves: the drive `d` with the flywheel of all the cases, the
