@@ -272,7 +272,9 @@ impl BandCheck {
                 if p.len() >= BAND_MAX_SPEEDS {
                     continue;
                 }
-                let open = p.windows(2).filter(|w| interval(cs, &w[0], &w[1]).0 == Interval::Open);
+                let open = p
+                    .windows(2)
+                    .filter(|w| interval(cs, &w[0], &w[1]).0 == Interval::Open);
                 let mids = open.map(|w| 0.5 * (w[0].0 + w[1].0)).filter(|&m| {
                     // Halve no further than the speeds' resolution.
                     p.iter().all(|q| q.0 != m)
@@ -305,13 +307,14 @@ impl BandCheck {
             .flat_map(|p| p.windows(2).map(|w| interval(cs, &w[0], &w[1])))
             .collect();
         // The largest bound, and the error of that one.
-        let (cs_bound, cs_bound_error) = intervals
-            .iter()
-            .map(|i| (i.1, i.2))
-            .fold((top.1.cs, top.1.cs_error), |a, b| match b.0 > a.0 {
-                true => b,
-                false => a,
-            });
+        let (cs_bound, cs_bound_error) =
+            intervals
+                .iter()
+                .map(|i| (i.1, i.2))
+                .fold((top.1.cs, top.1.cs_error), |a, b| match b.0 > a.0 {
+                    true => b,
+                    false => a,
+                });
         let open_intervals = intervals.iter().filter(|i| i.0 == Interval::Open).count();
         let out = BandCheck {
             speeds: points.iter().map(Vec::len).max().unwrap_or(0),
@@ -377,7 +380,12 @@ mod tests {
         let top = cs.iter().cloned().fold(0.0, f64::max);
         let low = cs.iter().cloned().fold(f64::INFINITY, f64::min);
         // Cs falls with the speed and then rises (J's swing): both ends matter.
-        assert!(low < 0.5 * cs[0].min(cs[400]), "{low} vs {} {}", cs[0], cs[400]);
+        assert!(
+            low < 0.5 * cs[0].min(cs[400]),
+            "{low} vs {} {}",
+            cs[0],
+            cs[400]
+        );
         for (cs, proven) in [(1.01 * top, true), (0.5 * (low + top), false)] {
             let mut warnings = Vec::new();
             let solve = |w: f64, _: usize| at(w, flywheel);

@@ -282,6 +282,9 @@ pub struct ObjectiveRaw {
     /// A tracer point through precision points: its path error is reported, and with
     /// `[design.synthesis]` it is the shape search's kinematic requirement.
     pub path: Option<super::file_synthesis::PathRaw>,
+    /// A rocker's swing over the turn: reported, and with `[design.synthesis]` the shape
+    /// search's kinematic requirement (instead of a path).
+    pub swing: Option<super::file_synthesis::SwingRaw>,
 }
 
 /// `[accuracy]`: the engine's [`Settings`] read directly (every key optional, unknown keys
@@ -302,11 +305,21 @@ pub struct LinkageProblem {
     pub drive: Option<crate::dynamics::Drive>,
     /// The path (`[objective.path]`), if given.
     pub path: Option<super::shape::PathSpec>,
+    /// The rocker's swing (`[objective.swing]`), if given.
+    pub swing: Option<super::shape::SwingSpec>,
     /// The shape search (`[design.synthesis]`), if given.
     pub synthesis: Option<super::shape::Synthesis>,
     /// What the shape search found, once it has run: the scene is then its chosen geometry
     /// (`synthesis::drive`).
     pub shape: Option<super::shape::ShapeOutcome>,
+}
+
+impl LinkageProblem {
+    /// The shape search's kinematic requirement: the path, else the swing.
+    pub fn requirement(&self) -> Option<super::shape::Requirement<'_>> {
+        use super::shape::Requirement;
+        (self.path.as_ref().map(Requirement::Path)).or(self.swing.as_ref().map(Requirement::Swing))
+    }
 }
 
 /// Reads and resolves a linkage problem file (its text or its table).
@@ -342,13 +355,17 @@ pub fn resolve_raw(raw: &File, dir: &Path) -> Result<LinkageProblem, FieldError>
     let path = (raw.objective.path.as_ref())
         .map(|p| super::file_synthesis::resolve_path(p, &scene.link_names))
         .transpose()?;
+    let swing = (raw.objective.swing.as_ref())
+        .map(|s| super::file_synthesis::resolve_swing(s, &scene.linkage, &scene.link_names))
+        .transpose()?;
     let bars: Vec<bool> = (scene.link_names.iter())
         .map(|n| raw.mechanism.links.get(n).is_some_and(|l| l.uniform_bar))
         .collect();
     let synthesis = (raw.design.synthesis.as_ref())
         .map(|r| {
             let l = (&scene.linkage, &scene.link_names[..], scene.crank_length);
-            super::file_synthesis::resolve_synthesis(r, l, path.as_ref(), &bars)
+            let kin = (path.as_ref(), swing.as_ref());
+            super::file_synthesis::resolve_synthesis(r, l, kin, &bars)
         })
         .transpose()?;
     Ok(LinkageProblem {
@@ -356,6 +373,7 @@ pub fn resolve_raw(raw: &File, dir: &Path) -> Result<LinkageProblem, FieldError>
         settings,
         drive,
         path,
+        swing,
         synthesis,
         shape: None,
     })

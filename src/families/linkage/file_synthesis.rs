@@ -1,10 +1,12 @@
-//! `[design.synthesis]` and `[objective.path]` of a linkage file (issue 36): the geometry
-//! the search may move — link lengths, frame pivots, the tracer point — each within its
-//! bounds, and the path its tracer point must pass through. Read, checked and resolved into
-//! [`Synthesis`] and [`PathSpec`]; apart from `file.rs` so that each file stays readable.
+//! `[design.synthesis]`, `[objective.path]` and `[objective.swing]` of a linkage file (issue
+//! 36): the geometry the search may move — link lengths, frame pivots, the tracer point —
+//! each within its bounds, the least transmission angle it must keep, and the kinematic
+//! requirement: the path its tracer point must pass through, or the swing of a rocker. Read,
+//! checked and resolved into [`Synthesis`], [`PathSpec`] and [`SwingSpec`]; apart from
+//! `file.rs` so that each file stays readable.
 
 use super::model::{tip_of, Linkage};
-use super::shape::{frame_pivot, GeometryParam, Kind, PathSpec, Synthesis};
+use super::shape::{frame_pivot, GeometryParam, Kind, PathSpec, SwingSpec, Synthesis};
 use crate::problem::{positive, FieldError};
 use crate::units::{Angle, Length, Qty};
 
@@ -40,8 +42,11 @@ pub struct SynthesisRaw {
     pub starts: Option<usize>,
     /// Nelder–Mead iterations per local search (default 150, 10–5000).
     pub iterations: Option<usize>,
-    /// Points of the path error–objective front below `max_error` (default 3, 0–20).
+    /// Points of the kinematic error–objective front below `max_error` (default 3, 0–20).
     pub front_points: Option<usize>,
+    /// The least transmission angle over the turn every candidate must keep (the angle
+    /// between an RRR dyad's two links at their joint, folded into 0–90°), e.g. "40 deg".
+    pub min_transmission_angle: Option<Qty<Angle>>,
 }
 
 /// A free link length.
@@ -93,6 +98,18 @@ pub struct PathRaw {
     /// The path error the design must meet: the largest distance from a precision point to
     /// the tracer's path (at its crank angle, with timing).
     pub max_error: Qty<Length>,
+}
+
+/// `[objective.swing]`: the swing of a rocker over the turn (max − min of its angle).
+#[derive(Debug, Deserialize, schemars::JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct SwingRaw {
+    /// The rocker: a link pivoted on the frame.
+    pub link: String,
+    /// The swing to meet, below 180° (e.g. "60 deg").
+    pub angle: Qty<Angle>,
+    /// The swing error the design must meet, |swing − angle| (e.g. "0.5 deg").
+    pub max_error: Qty<Angle>,
 }
 
 /// The tracer point of a path.
@@ -152,6 +169,33 @@ pub fn resolve_path(p: &PathRaw, names: &[String]) -> Result<PathSpec, FieldErro
     })
 }
 
+/// `[objective.swing]` for the linkage `l` with links `names`.
+pub fn resolve_swing(s: &SwingRaw, l: &Linkage, names: &[String]) -> Result<SwingSpec, FieldError> {
+    let key = "objective.swing";
+    let link = link_named(names, &s.link, &format!("{key}.link"))?;
+    if link == 0 || frame_pivot(l, link).is_none() {
+        return Err(FieldError::new(
+            format!("{key}.link"),
+            format!(
+                "link \"{}\" is not a rocker; allowed: a dyad link pivoted on a frame point",
+                s.link
+            ),
+        ));
+    }
+    let angle = positive(&format!("{key}.angle"), s.angle.si())?;
+    if angle >= std::f64::consts::PI {
+        return Err(FieldError::new(
+            format!("{key}.angle"),
+            format!("got {}°; allowed: below 180°", angle.to_degrees()),
+        ));
+    }
+    Ok(SwingSpec {
+        link,
+        angle,
+        max_error: positive(&format!("{key}.max_error"), s.max_error.si())?,
+    })
+}
+
 /// A count with its default and range, or the error naming it.
 fn count(
     v: Option<usize>,
@@ -183,20 +227,48 @@ fn interval(lo: f64, hi: f64, key: &str) -> Result<(f64, f64), FieldError> {
 }
 
 /// `[design.synthesis]` for the linkage `l` with links `names`, its crank `crank_length`
-/// long, `bars[i]` true where link i is a uniform bar, and its path `path` (required).
+/// long, `bars[i]` true where link i is a uniform bar, and its kinematic requirement (a
+/// path or a swing, one of them required).
 pub fn resolve_synthesis(
     r: &SynthesisRaw,
     (l, names, crank_length): (&Linkage, &[String], f64),
-    path: Option<&PathSpec>,
+    (path, swing): (Option<&PathSpec>, Option<&SwingSpec>),
     bars: &[bool],
 ) -> Result<Synthesis, FieldError> {
     let key = "design.synthesis";
-    if path.is_none() {
+    if path.is_some() == swing.is_some() {
         return Err(FieldError::new(
             key,
-            "a shape search needs a kinematic requirement; allowed: with [objective.path]",
+            "a shape search needs one kinematic requirement; allowed: [objective.path] or [objective.swing]",
         ));
     }
+    if r.tracer.is_some() && path.is_none() {
+        return Err(FieldError::new(
+            format!("{key}.tracer"),
+            "a free tracer needs [objective.path]",
+        ));
+    }
+    let min_transmission = match &r.min_transmission_angle {
+        Some(q) => {
+            let k = format!("{key}.min_transmission_angle");
+            let mu = positive(&k, q.si())?;
+            if mu >= std::f64::consts::FRAC_PI_2 {
+                return Err(FieldError::new(
+                    k,
+                    format!("got {}°; allowed: below 90°", mu.to_degrees()),
+                ));
+            }
+            if !l
+                .dyads()
+                .iter()
+                .any(|d| matches!(d, super::model::Dyad::Rrr { .. }))
+            {
+                return Err(FieldError::new(k, "the linkage has no RRR dyad"));
+            }
+            Some(mu)
+        }
+        None => None,
+    };
     let mut params = Vec::new();
     for (i, f) in r.length.iter().enumerate() {
         let k = format!("{key}.length[{i}]");
@@ -282,6 +354,7 @@ pub fn resolve_synthesis(
     };
     Ok(Synthesis {
         params,
+        min_transmission,
         search,
         front_points: count(r.front_points, "front_points", 3, 0, 20)?,
     })

@@ -176,6 +176,7 @@ fn path_numbers(r: &mut SolveResult, p: &LinkageProblem, sol: &Solved) {
         Some(Err(why)) => r.warnings.push(format!("the path error: {why}")),
         None => {}
     }
+    swing_numbers(r, p, sol);
     let Some(shape) = &p.shape else { return };
     if let Some(chosen) = shape.chosen() {
         // The geometry to build: "length of crank" → `length_of_crank_m`.
@@ -193,6 +194,56 @@ fn path_numbers(r: &mut SolveResult, p: &LinkageProblem, sol: &Solved) {
         v["gain_over_kinematic_first"] = json!(1.0 - d / k);
     }
     r.extra.insert("synthesis".into(), v);
+}
+
+/// With `[objective.swing]`: `objectives.swing_error_rad` (|swing − angle|, its error in
+/// `errors`) and the section `swing`; with `min_transmission_angle`: `derived`'s
+/// `min_transmission_angle_rad` and its error. A requirement missed beyond its error is a
+/// warning.
+fn swing_numbers(r: &mut SolveResult, p: &LinkageProblem, sol: &Solved) {
+    match (&sol.swing, &p.swing) {
+        (Some(Ok(w)), Some(spec)) => {
+            let e = (w.value - spec.angle).abs();
+            r.objectives.insert("swing_error_rad".into(), e);
+            r.errors.insert("swing_error_rad".into(), w.error);
+            r.extra.insert(
+                "swing".into(),
+                json!({
+                    "swing_rad": w.value,
+                    "swing_bound_rad": w.error,
+                    "angle_rad": spec.angle,
+                    "max_error_rad": spec.max_error,
+                }),
+            );
+            if e > spec.max_error + w.error {
+                r.warnings.push(format!(
+                    "the swing error {:.6}° exceeds objective.swing.max_error = {:.6}°",
+                    e.to_degrees(),
+                    spec.max_error.to_degrees()
+                ));
+            }
+        }
+        (Some(Err(why)), _) => r.warnings.push(format!("the swing: {why}")),
+        _ => {}
+    }
+    let limit = p.synthesis.as_ref().and_then(|s| s.min_transmission);
+    match (&sol.transmission, limit) {
+        (Some(Ok(t)), Some(mu)) => {
+            r.derived
+                .insert("min_transmission_angle_rad".into(), t.value);
+            r.errors
+                .insert("min_transmission_angle_rad".into(), t.error);
+            if t.value + t.error < mu {
+                r.warnings.push(format!(
+                    "the least transmission angle {:.4}° is below design.synthesis.min_transmission_angle = {:.4}°",
+                    t.value.to_degrees(),
+                    mu.to_degrees()
+                ));
+            }
+        }
+        (Some(Err(why)), _) => r.warnings.push(format!("the transmission angle: {why}")),
+        _ => {}
+    }
 }
 
 /// The keys of the worst cases over an operating envelope: force, moment, torque, ΔE.

@@ -175,10 +175,13 @@ fn pareto_documents(r: &mut SolveResult, front: &Front) {
 /// two others beside it.
 fn shape_documents(r: &mut SolveResult, p: &LinkageProblem, shape: &super::shape::ShapeOutcome) {
     let key = super::numbers::objective_key(p.scene.objective.minimize);
-    let row = |what: String, pt: &super::shape::ShapePoint| {
+    // The requirement's name and unit as the points show them: "path error", mm.
+    let (what, _, unit) = shape.kinematic_first.error.shown();
+    let column = format!("{}_{unit}", what.replace(' ', "_"));
+    let row = |design: String, pt: &super::shape::ShapePoint| {
         let mut v = serde_json::json!({
-            "design": what,
-            "path_error_mm": pt.path_error_m * 1e3,
+            "design": design,
+            column.as_str(): pt.error.shown().1,
             key: pt.objective,
         });
         for (name, x) in shape.parameters.iter().zip(&pt.x) {
@@ -195,31 +198,35 @@ fn shape_documents(r: &mut SolveResult, p: &LinkageProblem, shape: &super::shape
         &shape.kinematic_first,
     ));
     for pt in &shape.front {
-        let eps = pt.max_error_m.unwrap_or(f64::NAN) * 1e3;
-        rows.push(row(format!("front: path error ≤ {eps:.4} mm"), pt));
+        let eps = pt
+            .held_to
+            .map_or(f64::NAN, |h| pt.error.with(h.value()).shown().1);
+        rows.push(row(format!("front: {what} ≤ {eps:.4} {unit}"), pt));
     }
     r.tables.push(Table::of_rows(
         "synthesis",
-        "The shape search: the file's geometry, the least path error balanced afterwards, and the front of path error against the certified objective (each geometry a multistart's best, its counterweights certified)",
+        &format!("The shape search: the file's geometry, the least {what} balanced afterwards, and the front of {what} against the certified objective (each geometry a multistart's best, its counterweights certified)"),
         &rows,
     ));
     let pts = |it: &mut dyn Iterator<Item = &super::shape::ShapePoint>| -> Vec<(f64, f64)> {
-        it.filter_map(|pt| Some((pt.path_error_m * 1e3, pt.objective?)))
+        it.filter_map(|pt| Some((pt.error.shown().1, pt.objective?)))
             .collect()
     };
     let front = pts(&mut shape.front.iter());
     let first = pts(&mut std::iter::once(&shape.kinematic_first));
     let file = pts(&mut shape.nominal.iter());
     let y_label = format!("{key} (certified)");
+    let x_label = format!("{what} ({unit})");
+    let title = format!("{}{} against balance", what[..1].to_uppercase(), &what[1..]);
     r.plots.push(Plot::of_panels(
         "synthesis",
-        "Path error against the certified objective: the front of the shape search, the least path error balanced afterwards, and the file's geometry",
+        &format!("{}{} against the certified objective: the front of the shape search, the least {what} balanced afterwards, and the file's geometry", what[..1].to_uppercase(), &what[1..]),
         640,
         420,
         move || {
             Ok(vec![Panel {
-                title: "Path error against balance".into(),
-                x_label: "path error (mm)".into(),
+                title: title.clone(),
+                x_label: x_label.clone(),
                 y_label: y_label.clone(),
                 series: vec![
                     Series::line("front", front.clone()),

@@ -1,7 +1,9 @@
 //! The shape of a linkage a shape search moves (issue 36), below the file and the search
-//! that use it: the free geometry parameters and the path of `[objective.path]` resolved, the
-//! path error of a tracer point against its precision points, a linkage with its frame pivots
-//! moved, and what a search found. The search itself is `synthesis.rs`.
+//! that use it: the free geometry parameters and the kinematic requirements resolved
+//! (`[objective.path]`, `[objective.swing]`, the least transmission angle), the path error
+//! of a tracer point against its precision points, a rocker's swing, the transmission angle
+//! over the turn, a linkage with its frame pivots moved, and what a search found. The search
+//! itself is `synthesis.rs`.
 
 use super::model::{Dyad, Linkage, LinkageError, Point};
 use crate::geom::P2;
@@ -60,11 +62,25 @@ pub struct PathSpec {
     pub max_error: f64,
 }
 
+/// `[objective.swing]` resolved: a rocker's swing over the turn.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SwingSpec {
+    /// The rocker: a link pivoted on the frame.
+    pub link: usize,
+    /// The swing to meet (rad): max ψ − min ψ over the turn.
+    pub angle: f64,
+    /// The swing error allowed (rad).
+    pub max_error: f64,
+}
+
 /// `[design.synthesis]` resolved.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Synthesis {
     /// The free parameters, in the order of the search's x.
     pub params: Vec<GeometryParam>,
+    /// The least transmission angle every candidate must keep over the turn (rad), if any
+    /// ([`min_transmission`]).
+    pub min_transmission: Option<f64>,
     /// The multistart's settings.
     pub search: constrained::Settings,
     /// Front points below `max_error`.
@@ -181,15 +197,212 @@ pub fn path_error_bound(l: &Linkage, path: &PathSpec, at: P2) -> f64 {
     v * ANGLE_TOL + 1e-15 * size * kappa
 }
 
-/// A geometry of the front: its parameters, path error and certified objective.
+/// An extreme over the turn with its error bound.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TurnExtreme {
+    /// The value.
+    pub value: f64,
+    /// Bound on its error.
+    pub error: f64,
+    /// The crank angle where it is reached (rad).
+    pub angle: f64,
+}
+
+/// g(pose) at the [`PATH_SAMPLES`] crank angles θ_k = 2πk/n; `None` where the linkage does
+/// not assemble at one of them.
+fn sampled<T>(l: &Linkage, g: &impl Fn(&super::model::Pose) -> T) -> Option<Vec<T>> {
+    let h = std::f64::consts::TAU / PATH_SAMPLES as f64;
+    (0..PATH_SAMPLES)
+        .map(|k| l.pose(k as f64 * h).ok().map(|p| g(&p)))
+        .collect()
+}
+
+/// The largest of `sign`·g(pose) over the turn from its samples `ys` (of g): every local
+/// maximum refined by Brent to [`ANGLE_TOL`] ([`crate::numeric::periodic_peak_sampled`],
+/// whose error bound it carries). `None` where the refinement meets a pose that does not
+/// assemble.
+fn turn_max(
+    l: &Linkage,
+    ys: &[f64],
+    sign: f64,
+    g: &impl Fn(&super::model::Pose) -> f64,
+) -> Option<TurnExtreme> {
+    let signed: Vec<f64> = ys.iter().map(|y| sign * y).collect();
+    let f = |t: f64| l.pose(t).map_or(f64::NAN, |p| sign * g(&p));
+    let all = crate::numeric::Refine::All;
+    let p = crate::numeric::periodic_peak_sampled(&signed, f, Some(ANGLE_TOL), all).ok()?;
+    p.peak.fx.is_finite().then_some(TurnExtreme {
+        value: p.peak.fx,
+        error: p.error,
+        angle: p.peak.x,
+    })
+}
+
+/// The swing of link `link` (a rocker) over the turn: max ψ − min ψ (rad), ψ measured from
+/// its direction at θ = 0 (continuous while the swing stays below π), with the sum of the
+/// two extremes' error bounds plus the round-off of the directions, 1e-15 times the largest
+/// sampled dyad conditioning. `None` where the linkage does not assemble over the turn.
+pub fn swing(l: &Linkage, link: usize) -> Option<TurnExtreme> {
+    let e0 = l.pose(0.0).ok()?.links.get(link)?.e;
+    let psi = |p: &super::model::Pose| {
+        let e = p.links[link].e;
+        (e0.x * e.y - e0.y * e.x).atan2(e0.dot(&e))
+    };
+    let both = sampled(l, &|p| (psi(p), p.kappa()))?;
+    let ys: Vec<f64> = both.iter().map(|b| b.0).collect();
+    let kappa = both.iter().map(|b| b.1).fold(1.0, f64::max);
+    let hi = turn_max(l, &ys, 1.0, &psi)?;
+    let lo = turn_max(l, &ys, -1.0, &psi)?;
+    Some(TurnExtreme {
+        value: hi.value + lo.value,
+        error: hi.error + lo.error + 1e-15 * kappa,
+        angle: hi.angle,
+    })
+}
+
+/// The least transmission angle over the turn of the RRR dyads of `l`: the angle between a
+/// dyad's two links at their joint, folded into [0, π/2] (μ with |sin μ|,
+/// [`super::model::DyadState::sin_mu`]) — asin of the least |sin μ| over the turn and the
+/// dyads, with its error bound (the refinement's, through asin's slope 1/cos μ). `None`
+/// without RRR dyads or where the linkage does not assemble over the turn.
+pub fn min_transmission(l: &Linkage) -> Option<TurnExtreme> {
+    let rrr: Vec<usize> = (l.dyads().iter().enumerate())
+        .filter(|(_, d)| matches!(d, Dyad::Rrr { .. }))
+        .map(|(k, _)| k)
+        .collect();
+    if rrr.is_empty() {
+        return None;
+    }
+    let least_sin = |p: &super::model::Pose| {
+        rrr.iter()
+            .map(|&k| p.dyads[k].sin_mu.abs())
+            .fold(f64::INFINITY, f64::min)
+    };
+    let ys = sampled(l, &least_sin)?;
+    let m = turn_max(l, &ys, -1.0, &least_sin)?;
+    let s = (-m.value).clamp(0.0, 1.0);
+    let slope = 1.0 / (1.0 - s * s).sqrt().max(1e-8);
+    Some(TurnExtreme {
+        value: s.asin(),
+        error: (m.error + 4.0 * f64::EPSILON) * slope,
+        angle: m.angle,
+    })
+}
+
+/// A kinematic error, as the result names it: a path error (m) or a swing error (rad).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub enum KinematicError {
+    /// The path error (m).
+    #[serde(rename = "path_error_m")]
+    Path(f64),
+    /// The swing error |swing − angle| (rad).
+    #[serde(rename = "swing_error_rad")]
+    Swing(f64),
+}
+
+impl KinematicError {
+    /// Its value (SI).
+    pub fn value(self) -> f64 {
+        match self {
+            KinematicError::Path(v) | KinematicError::Swing(v) => v,
+        }
+    }
+    /// The same kind of error with the value `v` (SI).
+    pub fn with(self, v: f64) -> Self {
+        match self {
+            KinematicError::Path(_) => KinematicError::Path(v),
+            KinematicError::Swing(_) => KinematicError::Swing(v),
+        }
+    }
+    /// (its name, its value in the report's unit, that unit): mm for a path, ° for a swing.
+    pub fn shown(self) -> (&'static str, f64, &'static str) {
+        match self {
+            KinematicError::Path(v) => ("path error", v * 1e3, "mm"),
+            KinematicError::Swing(v) => ("swing error", v.to_degrees(), "deg"),
+        }
+    }
+}
+
+/// The kinematic error a front point was held to, as the result names it.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub enum HeldTo {
+    /// A path error (m).
+    #[serde(rename = "max_error_m")]
+    Path(f64),
+    /// A swing error (rad).
+    #[serde(rename = "max_error_rad")]
+    Swing(f64),
+}
+
+impl HeldTo {
+    /// Its value (SI).
+    pub fn value(self) -> f64 {
+        match self {
+            HeldTo::Path(v) | HeldTo::Swing(v) => v,
+        }
+    }
+}
+
+/// The kinematic requirement of a shape search: a tracer's path or a rocker's swing.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Requirement<'a> {
+    /// `[objective.path]`.
+    Path(&'a PathSpec),
+    /// `[objective.swing]`.
+    Swing(&'a SwingSpec),
+}
+
+impl Requirement<'_> {
+    /// The kinematic error of `l` with the tracer at `at` (a path's; SI), `None` where it
+    /// does not assemble over the turn.
+    pub fn error(self, l: &Linkage, at: P2) -> Option<f64> {
+        match self {
+            Requirement::Path(p) => path_error(l, p, at).map(|e| e.0),
+            Requirement::Swing(s) => swing(l, s.link).map(|w| (w.value - s.angle).abs()),
+        }
+    }
+    /// The error `v` (SI) as the result names it.
+    pub fn named(self, v: f64) -> KinematicError {
+        match self {
+            Requirement::Path(_) => KinematicError::Path(v),
+            Requirement::Swing(_) => KinematicError::Swing(v),
+        }
+    }
+    /// The error allowed (SI).
+    pub fn max_error(self) -> f64 {
+        match self {
+            Requirement::Path(p) => p.max_error,
+            Requirement::Swing(s) => s.max_error,
+        }
+    }
+    /// ε as the bound a front point was held to.
+    pub fn held_to(self, eps: f64) -> HeldTo {
+        match self {
+            Requirement::Path(_) => HeldTo::Path(eps),
+            Requirement::Swing(_) => HeldTo::Swing(eps),
+        }
+    }
+    /// The file's key of the requirement.
+    pub fn key(self) -> &'static str {
+        match self {
+            Requirement::Path(_) => "objective.path",
+            Requirement::Swing(_) => "objective.swing",
+        }
+    }
+}
+
+/// A geometry of the front: its parameters, kinematic error and certified objective.
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct ShapePoint {
-    /// The path error the search was held to (m; `None` for the least-error geometry).
-    pub max_error_m: Option<f64>,
+    /// The kinematic error the search was held to: `max_error_m` (a path) or
+    /// `max_error_rad` (a swing) in the result; absent for the least-error geometry.
+    #[serde(flatten)]
+    pub held_to: Option<HeldTo>,
     /// The parameters (m), in the order of `parameters`.
     pub x: Vec<f64>,
-    /// Its path error (m).
-    pub path_error_m: f64,
+    /// Its kinematic error: `path_error_m` or `swing_error_rad` in the result.
+    #[serde(flatten)]
+    pub error: KinematicError,
     /// Its certified optimum's objective (SI), `None` where the balancing is not `optimal`.
     pub objective: Option<f64>,
     /// The search's evidence.

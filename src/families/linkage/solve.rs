@@ -46,6 +46,10 @@ pub struct Solution {
     /// The path error of `[objective.path]`: the largest, each point's, and the bound on
     /// their error (`Err`: the linkage does not turn fully).
     pub path: Option<Result<PathError, String>>,
+    /// The rocker's swing of `[objective.swing]` (`Err`: the linkage does not turn fully).
+    pub swing: Option<Result<super::shape::TurnExtreme, String>>,
+    /// The least transmission angle over the turn, where `[design.synthesis]` bounds it.
+    pub transmission: Option<Result<super::shape::TurnExtreme, String>>,
 }
 
 /// The tracer's path against its precision points (`[objective.path]`).
@@ -164,8 +168,16 @@ pub fn solve(p: &LinkageProblem) -> Result<Solution, String> {
             })
             .ok_or_else(|| "the linkage does not assemble over the whole turn".to_string())
     });
+    let turns = || "the linkage does not assemble over the whole turn".to_string();
+    let swing =
+        (p.swing.as_ref()).map(|w| super::shape::swing(&sc.linkage, w.link).ok_or_else(turns));
+    let transmission = (p.synthesis.as_ref())
+        .and_then(|s| s.min_transmission)
+        .map(|_| super::shape::min_transmission(&sc.linkage).ok_or_else(turns));
     Ok(Solution {
         path,
+        swing,
+        transmission,
         load_cases,
         envelope,
         energy,

@@ -10,8 +10,8 @@ use super::file::{Goal, LinkageProblem, LinkageScene};
 use super::model::{tip_of, LinkageError};
 use super::shape::with_pivots;
 pub use super::shape::{
-    frame_pivot, path_error, path_error_bound, GeometryParam, Kind, PathSpec, ShapeOutcome,
-    ShapePoint, Synthesis, PATH_SAMPLES,
+    frame_pivot, min_transmission, path_error, path_error_bound, swing, GeometryParam, Kind,
+    PathSpec, Requirement, ShapeOutcome, ShapePoint, SwingSpec, Synthesis, PATH_SAMPLES,
 };
 use super::synth::{optimum, FORCE, MOMENT, TORQUE};
 use crate::families::family::Scene;
@@ -92,11 +92,16 @@ pub fn scene_at(
     Ok((sc, tracer))
 }
 
-/// A search's end as a front point.
-fn point_of(found: Found, eps: Option<f64>, objective: Option<f64>) -> ShapePoint {
+/// A search's end as a front point of the requirement `req`.
+fn point_of(
+    req: Requirement,
+    found: Found,
+    eps: Option<f64>,
+    objective: Option<f64>,
+) -> ShapePoint {
     ShapePoint {
-        max_error_m: eps,
-        path_error_m: found.error,
+        held_to: eps.map(|e| req.held_to(e)),
+        error: req.named(found.error),
         objective: found.objective.or(objective),
         x: found.x,
         search: found.evidence,
@@ -113,35 +118,43 @@ pub fn goal_field(g: Goal) -> Option<usize> {
     }
 }
 
-/// The linkage scene as a [`Shape`]: its geometry parameters, its path error and its
+/// The linkage scene as a [`Shape`]: its geometry parameters, its kinematic error and its
 /// certified optimum's objective.
 pub struct LinkageShape<'a> {
     /// The file's scene.
     pub base: &'a LinkageScene,
     /// The free geometry.
     pub syn: &'a Synthesis,
-    /// The path.
-    pub path: &'a PathSpec,
+    /// The kinematic requirement.
+    pub req: Requirement<'a>,
     /// The inner program's settings.
     pub settings: Settings,
     bounds: Vec<(f64, f64)>,
 }
 
 impl<'a> LinkageShape<'a> {
-    /// The shape of the scene `base` with the free geometry `syn`, the path `path` and the
-    /// inner program's settings.
+    /// The shape of the scene `base` with the free geometry `syn`, the requirement `req` and
+    /// the inner program's settings.
     pub fn new(
         base: &'a LinkageScene,
         syn: &'a Synthesis,
-        path: &'a PathSpec,
+        req: Requirement<'a>,
         settings: Settings,
     ) -> Self {
         LinkageShape {
             base,
             syn,
-            path,
+            req,
             settings,
             bounds: syn.params.iter().map(|p| p.bounds).collect(),
+        }
+    }
+
+    /// The tracer's reference: the path's (the origin of its link without a path).
+    fn at(&self) -> P2 {
+        match self.req {
+            Requirement::Path(p) => p.at,
+            Requirement::Swing(_) => P2::zeros(),
         }
     }
 }
@@ -151,30 +164,38 @@ impl Shape for LinkageShape<'_> {
         &self.bounds
     }
 
+    /// The kinematic error; `None` (not admissible) also where the least transmission
+    /// angle is below `min_transmission_angle`.
     fn error(&self, x: &[f64]) -> Option<f64> {
-        let (sc, at) = scene_at(self.syn, self.base, self.path.at, x).ok()?;
-        path_error(&sc.linkage, self.path, at).map(|e| e.0)
+        let (sc, at) = scene_at(self.syn, self.base, self.at(), x).ok()?;
+        if let Some(mu) = self.syn.min_transmission {
+            if min_transmission(&sc.linkage)?.value < mu {
+                return None;
+            }
+        }
+        self.req.error(&sc.linkage, at)
     }
 
     /// The peak of the geometry's certified optimum, `None` unless the engine certified
     /// it (`optimal`).
     fn objective(&self, x: &[f64]) -> Option<f64> {
-        let (sc, _) = scene_at(self.syn, self.base, self.path.at, x).ok()?;
+        let (sc, _) = scene_at(self.syn, self.base, self.at(), x).ok()?;
         let field = goal_field(sc.objective.minimize)?;
         let sol = optimum(&sc, &self.settings).ok()??;
         (sol.status == CwStatus::Optimal).then(|| sol.peaks[field].peak)
     }
 }
 
-/// The shape search of the scene `sc`: the least path error (its geometry then balanced:
-/// synthesise first, balance afterwards), then for each ε of the front — `front_points`
-/// evenly spaced values below `max_error`, and `max_error` — the least certified objective
-/// with the path error ≤ ε, each searched from the Halton points and the previous geometry.
-/// `Err` when no geometry of the box meets the path or none balances.
+/// The shape search of the scene `sc`: the least kinematic error (its geometry then
+/// balanced: synthesise first, balance afterwards), then for each ε of the front —
+/// `front_points` evenly spaced values below `max_error`, and `max_error` — the least
+/// certified objective with the kinematic error ≤ ε, each searched from the Halton points
+/// and the previous geometry. `Err` when no geometry of the box meets the requirement or
+/// none balances.
 pub fn synthesise(
     sc: &LinkageScene,
     syn: &Synthesis,
-    path: &PathSpec,
+    req: Requirement,
     settings: &Settings,
 ) -> Result<ShapeOutcome, String> {
     if goal_field(sc.objective.minimize).is_none() || sc.counterweights.is_empty() {
@@ -184,29 +205,30 @@ pub fn synthesise(
         scan_samples: settings.scan_samples.min(SEARCH_SCAN_SAMPLES),
         ..*settings
     };
-    let shape = LinkageShape::new(sc, syn, path, inner);
-    let x0 = nominal(syn, sc, path.at);
+    let shape = LinkageShape::new(sc, syn, req, inner);
+    let x0 = nominal(syn, sc, shape.at());
     let inside = x0
         .iter()
         .zip(&shape.bounds)
         .all(|(v, b)| (b.0..=b.1).contains(v));
     let nominal = shape.error(&x0).filter(|_| inside).map(|e| ShapePoint {
-        max_error_m: None,
+        held_to: None,
         x: x0.clone(),
-        path_error_m: e,
+        error: req.named(e),
         objective: shape.objective(&x0),
         search: SearchEvidence::default(),
     });
     let seeds: Vec<Vec<f64>> = nominal.iter().map(|n| n.x.clone()).collect();
-    let kin = constrained::least_error(&shape, &seeds, &syn.search)
-        .ok_or("no geometry of the box assembles over the whole turn")?;
+    let kin = constrained::least_error(&shape, &seeds, &syn.search).ok_or(
+        "no geometry of the box assembles over the whole turn (with the least transmission angle asked)",
+    )?;
     let f_kin = shape.objective(&kin.x);
-    let kinematic_first = point_of(kin, None, f_kin);
-    let e_min = kinematic_first.path_error_m;
-    if e_min > path.max_error {
+    let kinematic_first = point_of(req, kin, None, f_kin);
+    let (e_min, e_max) = (kinematic_first.error.value(), req.max_error());
+    if e_min > e_max {
         return Err(format!(
-            "the least path error found, {e_min:e} m, exceeds objective.path.max_error = {:e} m",
-            path.max_error
+            "the least kinematic error found, {e_min:e}, exceeds {}.max_error = {e_max:e} (SI)",
+            req.key()
         ));
     }
     let f_ref = f_kin
@@ -216,11 +238,11 @@ pub fn synthesise(
     let mut front: Vec<ShapePoint> = Vec::new();
     let mut seeds = vec![kinematic_first.x.clone()];
     for j in 1..=n + 1 {
-        let eps = e_min + (path.max_error - e_min) * j as f64 / (n + 1) as f64;
+        let eps = e_min + (e_max - e_min) * j as f64 / (n + 1) as f64;
         let found = constrained::least_objective(&shape, eps, f_ref, &seeds, &syn.search)
-            .ok_or_else(|| format!("no balanced geometry within the path error {eps:e} m"))?;
+            .ok_or_else(|| format!("no balanced geometry within the kinematic error {eps:e}"))?;
         seeds.push(found.x.clone());
-        front.push(point_of(found, Some(eps), None));
+        front.push(point_of(req, found, Some(eps), None));
     }
     Ok(ShapeOutcome {
         parameters: syn.params.iter().map(|p| p.name.clone()).collect(),
@@ -236,17 +258,18 @@ pub fn synthesise(
 /// is added to the solve's. A search that finds no geometry leaves the file's geometry
 /// solved, with the reason as a warning.
 pub fn drive(scene: &Scene, p: &LinkageProblem) -> SolveResult {
-    let (Some(syn), Some(path), None) = (&p.synthesis, &p.path, &p.shape) else {
+    let (Some(syn), Some(req), None) = (&p.synthesis, p.requirement(), &p.shape) else {
         return crate::families::driver::drive(scene, p);
     };
     let t0 = std::time::Instant::now();
-    let chosen = synthesise(&p.scene, syn, path, &p.settings).and_then(|out| {
+    let chosen = synthesise(&p.scene, syn, req, &p.settings).and_then(|out| {
         let x = &out.chosen().ok_or("the front is empty")?.x;
-        let (sc, at) = scene_at(syn, &p.scene, path.at, x).map_err(|e| e.to_string())?;
+        let at = p.path.as_ref().map_or(P2::zeros(), |path| path.at);
+        let (sc, at) = scene_at(syn, &p.scene, at, x).map_err(|e| e.to_string())?;
         super::file::check_full_turn(&sc.linkage).map_err(|e| e.message)?;
         Ok(LinkageProblem {
             scene: sc,
-            path: Some(PathSpec { at, ..path.clone() }),
+            path: p.path.as_ref().map(|path| PathSpec { at, ..path.clone() }),
             shape: Some(out),
             ..p.clone()
         })
