@@ -447,13 +447,18 @@ impl BalanceMap {
     pub fn fields(&self, extra: &[(usize, Params)]) -> Fields {
         let mut f = self.base;
         for (i, x) in extra {
-            let b = &self.blocks[*i];
-            let fx = b.force * x;
-            f.force += P2::new(fx[0], fx[1]);
-            f.moment += b.moment.dot(&x.transpose());
-            f.torque += b.torque.dot(&x.transpose());
+            self.add(&mut f, *i, x);
         }
         f
+    }
+
+    /// f += blocks_i x: link i's parameters `x` added to the fields `f`.
+    fn add(&self, f: &mut Fields, i: usize, x: &Params) {
+        let b = &self.blocks[i];
+        let fx = b.force * x;
+        f.force += P2::new(fx[0], fx[1]);
+        f.moment += b.moment.dot(&x.transpose());
+        f.torque += b.torque.dot(&x.transpose());
     }
 
     /// The round-off bound on [`BalanceMap::fields`] with `extra` (see [`BalanceMap::rho`]),
@@ -931,8 +936,11 @@ impl Linkage {
             load_torque: 0.0,
             load_scale: 0.0,
         };
-        let own: Vec<(usize, Params)> = self.params().into_iter().enumerate().collect();
-        map.base = map.fields(&own);
+        let mut base = map.base;
+        for (i, m) in self.inertia.iter().enumerate() {
+            map.add(&mut base, i, &m.params());
+        }
+        map.base = base;
         (map.load_torque, map.load_scale) = self.load_torque(pose);
         map.base.torque += map.load_torque;
         map

@@ -49,6 +49,7 @@ pub(super) struct Placed {
 /// RRR: B on the circles (P, l1) and (Q, l2) on `side` ([`circle_circle`]);
 /// e_a = (B − P)/|B − P|, e_b = (B − Q)/|B − Q|, sin μ = e_a × e_b. `Err(gap)` where the
 /// circles do not meet, gap = max(|PQ| − (l1 + l2), |l1 − l2| − |PQ|).
+#[inline]
 pub(super) fn rrr(p: P2, l1: f64, q: P2, l2: f64, side: Side) -> Result<Placed, f64> {
     let dist = (q - p).norm();
     let gap = (dist - (l1 + l2)).max((l1 - l2).abs() - dist);
@@ -68,6 +69,7 @@ pub(super) fn rrr(p: P2, l1: f64, q: P2, l2: f64, side: Side) -> Result<Placed, 
 /// RRP: B on the line through `origin` along u = (cos angle, sin angle) at `l` from P
 /// ([`link_slider`]); e_a = (B − P)/|B − P|, the slider's place (B, u), sin μ = e_a·u.
 /// `Err(gap)` where the rod cannot reach the line, gap = |(origin − P) × u| − l.
+#[inline]
 pub(super) fn rrp(p: P2, l: f64, origin: P2, angle: f64, side: Side) -> Result<Placed, f64> {
     let (su, cu) = angle.sin_cos();
     let u = P2::new(cu, su);
@@ -88,6 +90,7 @@ pub(super) fn rrp(p: P2, l: f64, origin: P2, angle: f64, side: Side) -> Result<P
 /// RPR: v = Q − P = R(ψ)(s, e) with s = ±sqrt(|v|² − e²) (the sign of `side`), so
 /// (cos ψ, sin ψ) = (s v_x + e v_y, s v_y − e v_x)/|v|², normalised; sin μ = −s/|v|.
 /// `Err(gap)` where |v| < |e| or P = Q, gap = |e| − |v|.
+#[inline]
 pub(super) fn rpr(p: P2, q: P2, offset: f64, side: Side) -> Result<Placed, f64> {
     let v = q - p;
     let dist = v.norm();
