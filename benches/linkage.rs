@@ -32,6 +32,9 @@ use cwsynth::families::linkage::synth::{
 use cwsynth::synth::minimax::{Engine, Goal, Problem, Settings};
 use std::hint::black_box;
 
+#[path = "common/synthesis.rs"]
+mod synthesis_scene;
+
 fn scene(name: &str) -> cwsynth::families::Scene {
     let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("problems");
     let path = dir.join(format!("{name}.toml"));
@@ -138,25 +141,11 @@ fn envelope(c: &mut Criterion) {
 /// One shape-search candidate of the shipped path synthesis: its certified balancing, and its
 /// path error alone (cycling over the admissible Halton points of the box).
 fn synthesis(c: &mut Criterion) {
-    use cwsynth::families::linkage::synthesis::{LinkageShape, SEARCH_SCAN_SAMPLES};
     use cwsynth::synth::search::constrained::Shape;
-    let sc = scene("linkage-fourbar-path-synthesis");
+    let sc = synthesis_scene::scene();
     let p: &LinkageProblem = sc.machine().unwrap();
-    let (syn, path) = (p.synthesis.as_ref().unwrap(), p.path.as_ref().unwrap());
-    let settings = Settings {
-        scan_samples: SEARCH_SCAN_SAMPLES,
-        ..p.settings
-    };
-    let shape = LinkageShape::new(&p.scene, syn, path, settings);
-    let xs: Vec<Vec<f64>> = cwsynth::synth::search::starts::halton_points(32, syn.params.len())
-        .into_iter()
-        .map(|u| {
-            (u.iter().zip(&syn.params))
-                .map(|(v, q)| q.bounds.0 + v * (q.bounds.1 - q.bounds.0))
-                .collect()
-        })
-        .filter(|x: &Vec<f64>| shape.error(x).is_some() && shape.objective(x).is_some())
-        .collect();
+    let shape = synthesis_scene::shape(p);
+    let xs = synthesis_scene::candidates(&shape);
     assert!(xs.len() >= 8, "{} admissible candidates", xs.len());
     let mut g = c.benchmark_group("linkage-synthesis");
     let mut k = 0;

@@ -215,6 +215,96 @@ fn every_fixture_turns_fully() {
     }
 }
 
+/// `places` against `pose` at θ: both fail alike, or every link's P and e agree to the bit.
+fn assert_places_are_the_poses(name: &str, l: &Linkage, theta: f64) {
+    match (l.pose(theta), l.places(theta)) {
+        (Ok(pose), Ok(places)) => {
+            assert_eq!(places.len(), pose.links.len(), "{name} at {theta}");
+            for (i, (pl, ls)) in places.iter().zip(&pose.links).enumerate() {
+                let bits = |v: P2| [v.x.to_bits(), v.y.to_bits()];
+                assert_eq!(
+                    bits(pl.p),
+                    bits(ls.p[0]),
+                    "{name}: P of link {i} at {theta}"
+                );
+                assert_eq!(bits(pl.e), bits(ls.e), "{name}: e of link {i} at {theta}");
+                let at = P2::new(0.37, -0.11);
+                assert_eq!(
+                    bits(pl.point(at)),
+                    bits(ls.point(at)[0]),
+                    "{name}: X at {theta}"
+                );
+            }
+        }
+        (pose, places) => assert_eq!(pose.err(), places.err(), "{name} at {theta}"),
+    }
+}
+
+/// A four-bar of random proportions (frame 0.2–0.6, crank 0.05–0.25, coupler and rocker
+/// 0.1–0.5) with a second RRR dyad from a random coupler point to a random frame pivot.
+fn random_six_bar(seed: u64) -> (Linkage, Linkage) {
+    let u: Vec<f64> = angles(seed, 10).iter().map(|t| t / TAU).collect();
+    let side = |v: f64| if v < 0.5 { Side::Left } else { Side::Right };
+    let four = four_bar(
+        0.2 + 0.4 * u[0],
+        0.05 + 0.2 * u[1],
+        0.1 + 0.4 * u[2],
+        0.1 + 0.4 * u[3],
+        side(u[4]),
+    );
+    let mut dyads = four.dyads().to_vec();
+    dyads.push(Dyad::Rrr {
+        p: Point::On {
+            link: 1,
+            at: P2::new(0.3 * u[5], 0.2 * u[6] - 0.1),
+        },
+        l1: 0.2 + 0.3 * u[7],
+        q: Point::Frame(P2::new(0.5 * u[8], 0.4)),
+        l2: 0.2 + 0.3 * u[9],
+        side: side(u[6]),
+    });
+    let mut m = four.inertia().to_vec();
+    m.extend([
+        inertia(0.7, 0.14, 0.01, 5e-3),
+        inertia(0.6, 0.11, -0.015, 3e-3),
+    ]);
+    let six = Linkage::new(P2::zeros(), dyads, m, 40.0, P2::zeros()).unwrap();
+    (four, six)
+}
+
+#[test]
+fn places_are_the_poses_positions_bit_for_bit() {
+    for (name, l) in fixtures() {
+        for theta in angles(7, 200) {
+            assert_places_are_the_poses(name, &l, theta);
+        }
+    }
+    // Random four-bars and six-bars, Grashof or not: where they assemble and where not.
+    for seed in 0..40 {
+        let (four, six) = random_six_bar(1000 + seed);
+        for theta in angles(seed, 100) {
+            assert_places_are_the_poses("random four-bar", &four, theta);
+            assert_places_are_the_poses("random six-bar", &six, theta);
+        }
+    }
+    // Towards a fold (|AB0| → a3 + a4, κ → ∞), from either side, and at the limits that
+    // `unreachable` bisects to.
+    let (a1, a2, a3, a4) = (0.3, 0.25, 0.15, 0.18);
+    let l = four_bar(a1, a2, a3, a4, Side::Left);
+    let t = limit(a1, a2, a3 + a4);
+    for k in 1..=16 {
+        for theta in [t - 10f64.powi(-k), t + 10f64.powi(-k)] {
+            assert_places_are_the_poses("near a fold", &l, theta);
+        }
+    }
+    for r in l.unreachable(360, 1e-15) {
+        for theta in [r.from, r.to] {
+            assert_places_are_the_poses("at a fold", &l, theta);
+            assert!(l.places(theta).is_err(), "{theta}");
+        }
+    }
+}
+
 #[test]
 fn derivatives_match_central_differences() {
     let h = 1e-5;

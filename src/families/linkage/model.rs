@@ -27,15 +27,17 @@
 //! amplified by κ² again. [`LinkState::amp`] accumulates a_k = κ_k² (1 + a_in) along the chain
 //! (a = 1 for the crank) and [`BalanceMap::rho`] turns it into a stated relative error.
 
-use crate::geom::{circle_circle, cmul, cross, link_slider, perp, solve_columns, Side, P2};
+use crate::geom::{cmul, cross, perp, solve_columns, Side, P2};
 use nalgebra::{Matrix2, Matrix2x4, RowVector4, Vector4};
 use std::f64::consts::TAU;
 
 mod lengths;
 mod loads;
+mod place;
 mod reactions;
 pub use lengths::tip_of;
 pub use loads::ProcessLoad;
+pub use place::Place;
 pub use reactions::{Body, Joint, JointKind, ReactionMap, Reactions};
 
 /// Inertial parameters of one link, p = (m, m c_x, m c_y, I_P) (kg, kg·m, kg·m, kg·m²).
@@ -445,13 +447,18 @@ impl BalanceMap {
     pub fn fields(&self, extra: &[(usize, Params)]) -> Fields {
         let mut f = self.base;
         for (i, x) in extra {
-            let b = &self.blocks[*i];
-            let fx = b.force * x;
-            f.force += P2::new(fx[0], fx[1]);
-            f.moment += b.moment.dot(&x.transpose());
-            f.torque += b.torque.dot(&x.transpose());
+            self.add(&mut f, *i, x);
         }
         f
+    }
+
+    /// f += blocks_i x: link i's parameters `x` added to the fields `f`.
+    fn add(&self, f: &mut Fields, i: usize, x: &Params) {
+        let b = &self.blocks[i];
+        let fx = b.force * x;
+        f.force += P2::new(fx[0], fx[1]);
+        f.moment += b.moment.dot(&x.transpose());
+        f.torque += b.torque.dot(&x.transpose());
     }
 
     /// The round-off bound on [`BalanceMap::fields`] with `extra` (see [`BalanceMap::rho`]),
@@ -676,7 +683,8 @@ impl Linkage {
     /// Positions and θ-derivatives of every link at crank angle θ, or the first dyad that
     /// does not assemble.
     ///
-    /// Positions from the closed-form constructions; derivatives from the differentiated loop
+    /// Positions from the closed-form constructions (`model/place.rs`, shared with
+    /// [`Linkage::places`]); derivatives from the differentiated loop
     /// equations, one 2×2 system per dyad solved by [`solve_columns`] with the same matrix for
     /// both orders:
     /// - RRR, B = P + l1 e_a = Q + l2 e_b: [l1 J e_a, −l2 J e_b](ψ_a', ψ_b') = Q' − P', and
@@ -710,16 +718,13 @@ impl Linkage {
             match *d {
                 Dyad::Rrr { p, l1, q, l2, side } => {
                     let (pp, qq) = (pose.point(&p), pose.point(&q));
-                    let dist = (qq[0] - pp[0]).norm();
-                    let gap = (dist - (l1 + l2)).max((l1 - l2).abs() - dist);
-                    let b = circle_circle(pp[0], l1, qq[0], l2, side).ok_or(fail(gap))?;
-                    let (da, db) = (b - pp[0], b - qq[0]);
-                    let (ea, eb) = (da / da.norm(), db / db.norm());
+                    let placed = place::rrr(pp[0], l1, qq[0], l2, side).map_err(fail)?;
+                    let (b, ea, eb, gap) = (placed.joint, placed.a.e, placed.b.e, placed.gap);
                     let (ca, cb) = (perp(ea) * l1, -perp(eb) * l2);
                     let (wa1, wb1) = solve_columns(ca, cb, qq[1] - pp[1]).ok_or(fail(gap))?;
                     let w2 = qq[2] - pp[2] + ea * (l1 * wa1 * wa1) - eb * (l2 * wb1 * wb1);
                     let (wa2, wb2) = solve_columns(ca, cb, w2).ok_or(fail(gap))?;
-                    let sin_mu = cross(ea, eb);
+                    let sin_mu = placed.sin_mu;
                     if sin_mu == 0.0 {
                         return Err(fail(0.0));
                     }
@@ -753,17 +758,13 @@ impl Linkage {
                     side,
                 } => {
                     let pp = pose.point(&p);
-                    let (su, cu) = angle.sin_cos();
-                    let u = P2::new(cu, su);
-                    let gap = cross(origin - pp[0], u).abs() - l;
-                    let b = link_slider(pp[0], l, origin, u, side).ok_or(fail(gap))?;
-                    let da = b - pp[0];
-                    let ea = da / da.norm();
+                    let placed = place::rrp(pp[0], l, origin, angle, side).map_err(fail)?;
+                    let (b, ea, u) = (placed.joint, placed.a.e, placed.b.e);
                     let (ca, cb) = (perp(ea) * l, -u);
                     let (wa1, t1) = solve_columns(ca, cb, -pp[1]).ok_or(fail(0.0))?;
                     let w2 = -pp[2] + ea * (l * wa1 * wa1);
                     let (wa2, t2) = solve_columns(ca, cb, w2).ok_or(fail(0.0))?;
-                    let sin_mu = ea.dot(&u);
+                    let sin_mu = placed.sin_mu;
                     if sin_mu == 0.0 {
                         return Err(fail(0.0));
                     }
@@ -789,22 +790,13 @@ impl Linkage {
                 }
                 Dyad::Rpr { p, q, offset, side } => {
                     let (pp, qq) = (pose.point(&p), pose.point(&q));
-                    let v = qq[0] - pp[0];
-                    let dist = v.norm();
-                    let e_abs = offset.abs();
-                    let s2 = (dist - e_abs) * (dist + e_abs);
-                    if !(s2 >= 0.0) || dist == 0.0 {
-                        return Err(fail(e_abs - dist));
-                    }
-                    let s = side.sign() * s2.sqrt();
-                    // R(ψ)(s, e) = v ⇒ (cos ψ, sin ψ) = (s v_x + e v_y, s v_y − e v_x)/|v|².
-                    let eg = P2::new(s * v.x + offset * v.y, s * v.y - offset * v.x);
-                    let eg = eg / eg.norm();
+                    let placed = place::rpr(pp[0], qq[0], offset, side).map_err(fail)?;
+                    let (v, eg, s) = (qq[0] - pp[0], placed.a.e, placed.slide);
                     let (ca, cb) = (perp(v), eg);
                     let (w1, s1) = solve_columns(ca, cb, qq[1] - pp[1]).ok_or(fail(0.0))?;
                     let rhs = qq[2] - pp[2] + v * (w1 * w1) - perp(eg) * (2.0 * s1 * w1);
                     let (w2, s2d) = solve_columns(ca, cb, rhs).ok_or(fail(0.0))?;
-                    let sin_mu = -s / dist;
+                    let sin_mu = placed.sin_mu;
                     if sin_mu == 0.0 {
                         return Err(fail(0.0));
                     }
@@ -840,12 +832,13 @@ impl Linkage {
     /// bracket is below `tol` (rad), and the range reported is the failing side of both
     /// brackets, so each end is within `tol` of the true limit. A range narrower than the
     /// sample spacing 2π/`samples` can be missed. Empty when the crank turns fully; one range
-    /// [0, 2π] when no angle assembles.
+    /// [0, 2π] when no angle assembles. An angle assembles where [`Linkage::places`] does
+    /// (positions only).
     pub fn unreachable(&self, samples: usize, tol: f64) -> Vec<Unreachable> {
         let n = samples.max(8);
         let h = TAU / n as f64;
-        let ok: Vec<bool> = (0..n).map(|k| self.pose(k as f64 * h).is_ok()).collect();
-        let dyad_at = |t: f64| self.pose(t).err().map_or(0, |f| f.dyad);
+        let ok: Vec<bool> = (0..n).map(|k| self.places(k as f64 * h).is_ok()).collect();
+        let dyad_at = |t: f64| self.places(t).err().map_or(0, |f| f.dyad);
         let Some(first_ok) = ok.iter().position(|&b| b) else {
             return vec![Unreachable {
                 from: 0.0,
@@ -861,7 +854,7 @@ impl Linkage {
                 if mid == good || mid == bad {
                     break;
                 }
-                if self.pose(mid).is_ok() {
+                if self.places(mid).is_ok() {
                     good = mid;
                 } else {
                     bad = mid;
@@ -943,8 +936,11 @@ impl Linkage {
             load_torque: 0.0,
             load_scale: 0.0,
         };
-        let own: Vec<(usize, Params)> = self.params().into_iter().enumerate().collect();
-        map.base = map.fields(&own);
+        let mut base = map.base;
+        for (i, m) in self.inertia.iter().enumerate() {
+            map.add(&mut base, i, &m.params());
+        }
+        map.base = base;
         (map.load_torque, map.load_scale) = self.load_torque(pose);
         map.base.torque += map.load_torque;
         map

@@ -134,12 +134,11 @@ pub fn with_pivots(l: &Linkage, pivots: &[(usize, P2)]) -> Result<Linkage, Linka
 /// max_i |X(θ_i) − Q_i|), and each point's distance. Without timing each point's nearest
 /// sample of [`PATH_SAMPLES`] is refined by Brent's method in the two intervals beside it
 /// (to [`ANGLE_TOL`] in θ: the distance's error is second order in it). `None` where the
-/// linkage does not assemble at a sampled angle (the crank must turn fully).
+/// linkage does not assemble at a sampled angle (the crank must turn fully). Positions only
+/// ([`Linkage::places`]: the tracer's X of [`Linkage::pose`] bit for bit, without its
+/// derivatives).
 pub fn path_error(l: &Linkage, path: &PathSpec, at: P2) -> Option<(f64, Vec<f64>)> {
-    let x = |theta: f64| -> Option<P2> {
-        let pose = l.pose(theta).ok()?;
-        Some(pose.links[path.link].point(at)[0])
-    };
+    let x = |theta: f64| -> Option<P2> { Some(l.places(theta).ok()?[path.link].point(at)) };
     let d: Vec<f64> = match &path.angles {
         Some(angles) => (path.points.iter().zip(angles))
             .map(|(q, &t)| x(t).map(|p| (p - q).norm()))
