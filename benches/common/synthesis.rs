@@ -5,7 +5,7 @@
 //! and balance.
 
 use cwsynth::families::linkage::file::LinkageProblem;
-use cwsynth::families::linkage::synthesis::{LinkageShape, SEARCH_SCAN_SAMPLES};
+use cwsynth::families::linkage::synthesis::{LinkageShape, Requirement, SEARCH_SCAN_SAMPLES};
 use cwsynth::synth::minimax::Settings;
 use cwsynth::synth::search::constrained::Shape;
 
@@ -23,7 +23,7 @@ pub fn shape(p: &LinkageProblem) -> LinkageShape<'_> {
         scan_samples: SEARCH_SCAN_SAMPLES,
         ..p.settings
     };
-    LinkageShape::new(&p.scene, syn, path, settings)
+    LinkageShape::new(&p.scene, syn, Requirement::Path(path), settings)
 }
 
 /// The admissible candidates among the first 32 Halton points of the shape's box.
