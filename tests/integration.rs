@@ -13,6 +13,7 @@
 mod common;
 
 mod architecture;
+mod band_proof;
 mod batch;
 mod batch_folders;
 mod calibrate;

@@ -285,6 +285,9 @@ pub struct ObjectiveRaw {
     /// A rocker's swing over the turn: reported, and with `[design.synthesis]` the shape
     /// search's kinematic requirement (instead of a path).
     pub swing: Option<super::file_synthesis::SwingRaw>,
+    /// A rocker's angle against the crank's at given points (function generation):
+    /// reported, and with `[design.synthesis]` the shape search's kinematic requirement.
+    pub function: Option<super::file_synthesis::FunctionRaw>,
 }
 
 /// `[accuracy]`: the engine's [`Settings`] read directly (every key optional, unknown keys
@@ -307,6 +310,8 @@ pub struct LinkageProblem {
     pub path: Option<super::shape::PathSpec>,
     /// The rocker's swing (`[objective.swing]`), if given.
     pub swing: Option<super::shape::SwingSpec>,
+    /// The rocker's function (`[objective.function]`), if given.
+    pub function: Option<super::shape::FunctionSpec>,
     /// The shape search (`[design.synthesis]`), if given.
     pub synthesis: Option<super::shape::Synthesis>,
     /// What the shape search found, once it has run: the scene is then its chosen geometry
@@ -315,10 +320,13 @@ pub struct LinkageProblem {
 }
 
 impl LinkageProblem {
-    /// The shape search's kinematic requirement: the path, else the swing.
+    /// The shape search's kinematic requirement: the path, the swing or the function (a
+    /// file with a search has one of them).
     pub fn requirement(&self) -> Option<super::shape::Requirement<'_>> {
         use super::shape::Requirement;
-        (self.path.as_ref().map(Requirement::Path)).or(self.swing.as_ref().map(Requirement::Swing))
+        (self.path.as_ref().map(Requirement::Path))
+            .or(self.swing.as_ref().map(Requirement::Swing))
+            .or(self.function.as_ref().map(Requirement::Function))
     }
 }
 
@@ -358,13 +366,16 @@ pub fn resolve_raw(raw: &File, dir: &Path) -> Result<LinkageProblem, FieldError>
     let swing = (raw.objective.swing.as_ref())
         .map(|s| super::file_synthesis::resolve_swing(s, &scene.linkage, &scene.link_names))
         .transpose()?;
+    let function = (raw.objective.function.as_ref())
+        .map(|f| super::file_synthesis::resolve_function(f, &scene.linkage, &scene.link_names))
+        .transpose()?;
     let bars: Vec<bool> = (scene.link_names.iter())
         .map(|n| raw.mechanism.links.get(n).is_some_and(|l| l.uniform_bar))
         .collect();
     let synthesis = (raw.design.synthesis.as_ref())
         .map(|r| {
             let l = (&scene.linkage, &scene.link_names[..], scene.crank_length);
-            let kin = (path.as_ref(), swing.as_ref());
+            let kin = [path.is_some(), swing.is_some(), function.is_some()];
             super::file_synthesis::resolve_synthesis(r, l, kin, &bars)
         })
         .transpose()?;
@@ -374,6 +385,7 @@ pub fn resolve_raw(raw: &File, dir: &Path) -> Result<LinkageProblem, FieldError>
         drive,
         path,
         swing,
+        function,
         synthesis,
         shape: None,
     })

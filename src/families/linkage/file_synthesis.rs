@@ -1,12 +1,15 @@
-//! `[design.synthesis]`, `[objective.path]` and `[objective.swing]` of a linkage file (issue
-//! 36): the geometry the search may move — link lengths, frame pivots, the tracer point —
-//! each within its bounds, the least transmission angle it must keep, and the kinematic
-//! requirement: the path its tracer point must pass through, or the swing of a rocker. Read,
-//! checked and resolved into [`Synthesis`], [`PathSpec`] and [`SwingSpec`]; apart from
-//! `file.rs` so that each file stays readable.
+//! `[design.synthesis]`, `[objective.path]`, `[objective.swing]` and `[objective.function]`
+//! of a linkage file (issue 36): the geometry the search may move — link lengths, frame
+//! pivots, the tracer point — each within its bounds, the least transmission angle it must
+//! keep, and the kinematic requirement: the path its tracer point must pass through, the
+//! swing of a rocker, or a rocker's angle against the crank's. Read, checked and resolved
+//! into [`Synthesis`], [`PathSpec`], [`SwingSpec`] and [`FunctionSpec`]; apart from `file.rs`
+//! so that each file stays readable.
 
 use super::model::{tip_of, Linkage};
-use super::shape::{frame_pivot, GeometryParam, Kind, PathSpec, SwingSpec, Synthesis};
+use super::shape::{
+    frame_pivot, FunctionSpec, GeometryParam, Kind, PathSpec, SwingSpec, Synthesis,
+};
 use crate::problem::{positive, FieldError};
 use crate::units::{Angle, Length, Qty};
 
@@ -112,6 +115,23 @@ pub struct SwingRaw {
     pub max_error: Qty<Angle>,
 }
 
+/// `[objective.function]`: a rocker's angle against the crank's (function generation), as
+/// changes from the first point.
+#[derive(Debug, Deserialize, schemars::JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct FunctionRaw {
+    /// The rocker: a link pivoted on the frame.
+    pub link: String,
+    /// The crank angles θ_i, at least 2.
+    #[schemars(length(min = 2, max = MAX_POINTS))]
+    pub crank_angles: Vec<Qty<Angle>>,
+    /// The rocker's angles ψ_i at them, one per crank angle: the design must turn the
+    /// rocker by ψ_i − ψ_1 while the crank turns from θ_1 to θ_i.
+    pub angles: Vec<Qty<Angle>>,
+    /// The function error the design must meet: the largest |change of ψ − its target|.
+    pub max_error: Qty<Angle>,
+}
+
 /// The tracer point of a path.
 #[derive(Debug, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
@@ -169,19 +189,54 @@ pub fn resolve_path(p: &PathRaw, names: &[String]) -> Result<PathSpec, FieldErro
     })
 }
 
-/// `[objective.swing]` for the linkage `l` with links `names`.
-pub fn resolve_swing(s: &SwingRaw, l: &Linkage, names: &[String]) -> Result<SwingSpec, FieldError> {
-    let key = "objective.swing";
-    let link = link_named(names, &s.link, &format!("{key}.link"))?;
+/// The rocker `of` of `l` (a dyad link pivoted on a frame point) at `key`.
+fn rocker(l: &Linkage, names: &[String], of: &str, key: &str) -> Result<usize, FieldError> {
+    let link = link_named(names, of, key)?;
     if link == 0 || frame_pivot(l, link).is_none() {
         return Err(FieldError::new(
-            format!("{key}.link"),
+            key,
+            format!("link \"{of}\" is not a rocker; allowed: a dyad link pivoted on a frame point"),
+        ));
+    }
+    Ok(link)
+}
+
+/// `[objective.function]` for the linkage `l` with links `names`.
+pub fn resolve_function(
+    f: &FunctionRaw,
+    l: &Linkage,
+    names: &[String],
+) -> Result<FunctionSpec, FieldError> {
+    let key = "objective.function";
+    let link = rocker(l, names, &f.link, &format!("{key}.link"))?;
+    let n = f.crank_angles.len();
+    if !(2..=MAX_POINTS).contains(&n) {
+        return Err(FieldError::new(
+            format!("{key}.crank_angles"),
+            format!("got {n} angles; allowed: 2 to {MAX_POINTS}"),
+        ));
+    }
+    if f.angles.len() != n {
+        return Err(FieldError::new(
+            format!("{key}.angles"),
             format!(
-                "link \"{}\" is not a rocker; allowed: a dyad link pivoted on a frame point",
-                s.link
+                "got {} angles for {n} crank angles; allowed: one per crank angle",
+                f.angles.len()
             ),
         ));
     }
+    Ok(FunctionSpec {
+        link,
+        crank_angles: f.crank_angles.iter().map(|q| q.si()).collect(),
+        angles: f.angles.iter().map(|q| q.si()).collect(),
+        max_error: positive(&format!("{key}.max_error"), f.max_error.si())?,
+    })
+}
+
+/// `[objective.swing]` for the linkage `l` with links `names`.
+pub fn resolve_swing(s: &SwingRaw, l: &Linkage, names: &[String]) -> Result<SwingSpec, FieldError> {
+    let key = "objective.swing";
+    let link = rocker(l, names, &s.link, &format!("{key}.link"))?;
     let angle = positive(&format!("{key}.angle"), s.angle.si())?;
     if angle >= std::f64::consts::PI {
         return Err(FieldError::new(
@@ -227,22 +282,22 @@ fn interval(lo: f64, hi: f64, key: &str) -> Result<(f64, f64), FieldError> {
 }
 
 /// `[design.synthesis]` for the linkage `l` with links `names`, its crank `crank_length`
-/// long, `bars[i]` true where link i is a uniform bar, and its kinematic requirement (a
-/// path or a swing, one of them required).
+/// long, `bars[i]` true where link i is a uniform bar, and which kinematic requirements
+/// the file has — [path, swing, function]: exactly one required.
 pub fn resolve_synthesis(
     r: &SynthesisRaw,
     (l, names, crank_length): (&Linkage, &[String], f64),
-    (path, swing): (Option<&PathSpec>, Option<&SwingSpec>),
+    kin: [bool; 3],
     bars: &[bool],
 ) -> Result<Synthesis, FieldError> {
     let key = "design.synthesis";
-    if path.is_some() == swing.is_some() {
+    if kin.iter().filter(|&&k| k).count() != 1 {
         return Err(FieldError::new(
             key,
-            "a shape search needs one kinematic requirement; allowed: [objective.path] or [objective.swing]",
+            "a shape search needs one kinematic requirement; allowed: [objective.path], [objective.swing] or [objective.function]",
         ));
     }
-    if r.tracer.is_some() && path.is_none() {
+    if r.tracer.is_some() && !kin[0] {
         return Err(FieldError::new(
             format!("{key}.tracer"),
             "a free tracer needs [objective.path]",

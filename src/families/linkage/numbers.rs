@@ -197,7 +197,9 @@ fn path_numbers(r: &mut SolveResult, p: &LinkageProblem, sol: &Solved) {
 }
 
 /// With `[objective.swing]`: `objectives.swing_error_rad` (|swing − angle|, its error in
-/// `errors`) and the section `swing`; with `min_transmission_angle`: `derived`'s
+/// `errors`) and the section `swing`; with `[objective.function]`:
+/// `objectives.function_error_rad` and the section `function`; with
+/// `min_transmission_angle`: `derived`'s
 /// `min_transmission_angle_rad` and its error. A requirement missed beyond its error is a
 /// warning.
 fn swing_numbers(r: &mut SolveResult, p: &LinkageProblem, sol: &Solved) {
@@ -224,6 +226,25 @@ fn swing_numbers(r: &mut SolveResult, p: &LinkageProblem, sol: &Solved) {
             }
         }
         (Some(Err(why)), _) => r.warnings.push(format!("the swing: {why}")),
+        _ => {}
+    }
+    match (&sol.function, &p.function) {
+        (Some(Ok((e, each))), Some(spec)) => {
+            r.objectives.insert("function_error_rad".into(), e.value);
+            r.errors.insert("function_error_rad".into(), e.error);
+            r.extra.insert(
+                "function".into(),
+                json!({ "point_errors_rad": each, "max_error_rad": spec.max_error }),
+            );
+            if e.value > spec.max_error + e.error {
+                r.warnings.push(format!(
+                    "the function error {:.6}° exceeds objective.function.max_error = {:.6}°",
+                    e.value.to_degrees(),
+                    spec.max_error.to_degrees()
+                ));
+            }
+        }
+        (Some(Err(why)), _) => r.warnings.push(format!("the function: {why}")),
         _ => {}
     }
     let limit = p.synthesis.as_ref().and_then(|s| s.min_transmission);

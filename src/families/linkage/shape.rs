@@ -1,8 +1,8 @@
 //! The shape of a linkage a shape search moves (issue 36), below the file and the search
 //! that use it: the free geometry parameters and the kinematic requirements resolved
-//! (`[objective.path]`, `[objective.swing]`, the least transmission angle), the path error
-//! of a tracer point against its precision points, a rocker's swing, the transmission angle
-//! over the turn, a linkage with its frame pivots moved, and what a search found. The search
+//! (`[objective.path]`, `[objective.swing]`, `[objective.function]`, the least transmission
+//! angle), the path error of a tracer point against its precision points, a rocker's swing
+//! and its angle against the crank's, the transmission angle over the turn, a linkage with its frame pivots moved, and what a search found. The search
 //! itself is `synthesis.rs`.
 
 use super::model::{Dyad, Linkage, LinkageError, Point};
@@ -70,6 +70,21 @@ pub struct SwingSpec {
     /// The swing to meet (rad): max ψ − min ψ over the turn.
     pub angle: f64,
     /// The swing error allowed (rad).
+    pub max_error: f64,
+}
+
+/// `[objective.function]` resolved: a rocker's angle against the crank's (function
+/// generation), both as changes from the first point.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FunctionSpec {
+    /// The rocker: a link pivoted on the frame.
+    pub link: usize,
+    /// The crank angles θ_i (rad), at least 2.
+    pub crank_angles: Vec<f64>,
+    /// The rocker's angles ψ_i (rad) at them: the requirement is ψ(θ_i) − ψ(θ_1) =
+    /// ψ_i − ψ_1.
+    pub angles: Vec<f64>,
+    /// The function error allowed (rad).
     pub max_error: f64,
 }
 
@@ -288,6 +303,38 @@ pub fn min_transmission(l: &Linkage) -> Option<TurnExtreme> {
     })
 }
 
+/// The function error of the rocker `f.link` of `l`: max_i |(ψ(θ_i) − ψ(θ_1)) − (ψ_i − ψ_1)|
+/// (rad), each change of ψ taken in (−π, π] from the link's directions (exact at the given
+/// angles: no refinement), and each point's; with its round-off bound, 1e-15 times the
+/// largest dyad conditioning at the points. `None` where the linkage does not assemble at a
+/// point.
+pub fn function_error(l: &Linkage, f: &FunctionSpec) -> Option<(TurnExtreme, Vec<f64>)> {
+    let poses: Vec<_> = (f.crank_angles.iter())
+        .map(|&t| l.pose(t).ok())
+        .collect::<Option<_>>()?;
+    let e0 = poses.first()?.links.get(f.link)?.e;
+    let mut kappa: f64 = 1.0;
+    let each: Vec<f64> = (poses.iter().zip(&f.angles))
+        .map(|(p, &psi)| {
+            kappa = kappa.max(p.kappa());
+            let e = p.links[f.link].e;
+            let turned = (e0.x * e.y - e0.y * e.x).atan2(e0.dot(&e));
+            let want = (psi - f.angles[0] + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU)
+                - std::f64::consts::PI;
+            (turned - want + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU)
+                - std::f64::consts::PI
+        })
+        .map(f64::abs)
+        .collect();
+    let k = crate::dynamics::cases::argmax(each.iter().copied())?;
+    let worst = TurnExtreme {
+        value: each[k],
+        error: 1e-15 * kappa,
+        angle: f.crank_angles[k],
+    };
+    Some((worst, each))
+}
+
 /// A kinematic error, as the result names it: a path error (m) or a swing error (rad).
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
 pub enum KinematicError {
@@ -297,13 +344,16 @@ pub enum KinematicError {
     /// The swing error |swing − angle| (rad).
     #[serde(rename = "swing_error_rad")]
     Swing(f64),
+    /// The function error (rad, [`function_error`]).
+    #[serde(rename = "function_error_rad")]
+    Function(f64),
 }
 
 impl KinematicError {
     /// Its value (SI).
     pub fn value(self) -> f64 {
         match self {
-            KinematicError::Path(v) | KinematicError::Swing(v) => v,
+            KinematicError::Path(v) | KinematicError::Swing(v) | KinematicError::Function(v) => v,
         }
     }
     /// The same kind of error with the value `v` (SI).
@@ -311,6 +361,7 @@ impl KinematicError {
         match self {
             KinematicError::Path(_) => KinematicError::Path(v),
             KinematicError::Swing(_) => KinematicError::Swing(v),
+            KinematicError::Function(_) => KinematicError::Function(v),
         }
     }
     /// (its name, its value in the report's unit, that unit): mm for a path, ° for a swing.
@@ -318,6 +369,7 @@ impl KinematicError {
         match self {
             KinematicError::Path(v) => ("path error", v * 1e3, "mm"),
             KinematicError::Swing(v) => ("swing error", v.to_degrees(), "deg"),
+            KinematicError::Function(v) => ("function error", v.to_degrees(), "deg"),
         }
     }
 }
@@ -328,27 +380,30 @@ pub enum HeldTo {
     /// A path error (m).
     #[serde(rename = "max_error_m")]
     Path(f64),
-    /// A swing error (rad).
+    /// An angle's error: a swing's or a function's (rad).
     #[serde(rename = "max_error_rad")]
-    Swing(f64),
+    Angle(f64),
 }
 
 impl HeldTo {
     /// Its value (SI).
     pub fn value(self) -> f64 {
         match self {
-            HeldTo::Path(v) | HeldTo::Swing(v) => v,
+            HeldTo::Path(v) | HeldTo::Angle(v) => v,
         }
     }
 }
 
-/// The kinematic requirement of a shape search: a tracer's path or a rocker's swing.
+/// The kinematic requirement of a shape search: a tracer's path, a rocker's swing or a
+/// rocker's angle against the crank's.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Requirement<'a> {
     /// `[objective.path]`.
     Path(&'a PathSpec),
     /// `[objective.swing]`.
     Swing(&'a SwingSpec),
+    /// `[objective.function]`.
+    Function(&'a FunctionSpec),
 }
 
 impl Requirement<'_> {
@@ -358,6 +413,7 @@ impl Requirement<'_> {
         match self {
             Requirement::Path(p) => path_error(l, p, at).map(|e| e.0),
             Requirement::Swing(s) => swing(l, s.link).map(|w| (w.value - s.angle).abs()),
+            Requirement::Function(f) => function_error(l, f).map(|e| e.0.value),
         }
     }
     /// The error `v` (SI) as the result names it.
@@ -365,6 +421,7 @@ impl Requirement<'_> {
         match self {
             Requirement::Path(_) => KinematicError::Path(v),
             Requirement::Swing(_) => KinematicError::Swing(v),
+            Requirement::Function(_) => KinematicError::Function(v),
         }
     }
     /// The error allowed (SI).
@@ -372,13 +429,14 @@ impl Requirement<'_> {
         match self {
             Requirement::Path(p) => p.max_error,
             Requirement::Swing(s) => s.max_error,
+            Requirement::Function(f) => f.max_error,
         }
     }
     /// ε as the bound a front point was held to.
     pub fn held_to(self, eps: f64) -> HeldTo {
         match self {
             Requirement::Path(_) => HeldTo::Path(eps),
-            Requirement::Swing(_) => HeldTo::Swing(eps),
+            Requirement::Swing(_) | Requirement::Function(_) => HeldTo::Angle(eps),
         }
     }
     /// The file's key of the requirement.
@@ -386,6 +444,7 @@ impl Requirement<'_> {
         match self {
             Requirement::Path(_) => "objective.path",
             Requirement::Swing(_) => "objective.swing",
+            Requirement::Function(_) => "objective.function",
         }
     }
 }

@@ -48,6 +48,9 @@ pub struct Solution {
     pub path: Option<Result<PathError, String>>,
     /// The rocker's swing of `[objective.swing]` (`Err`: the linkage does not turn fully).
     pub swing: Option<Result<super::shape::TurnExtreme, String>>,
+    /// The function error of `[objective.function]` and each point's (`Err`: the linkage
+    /// does not assemble at a point).
+    pub function: Option<Result<(super::shape::TurnExtreme, Vec<f64>), String>>,
     /// The least transmission angle over the turn, where `[design.synthesis]` bounds it.
     pub transmission: Option<Result<super::shape::TurnExtreme, String>>,
 }
@@ -171,12 +174,15 @@ pub fn solve(p: &LinkageProblem) -> Result<Solution, String> {
     let turns = || "the linkage does not assemble over the whole turn".to_string();
     let swing =
         (p.swing.as_ref()).map(|w| super::shape::swing(&sc.linkage, w.link).ok_or_else(turns));
+    let function = (p.function.as_ref())
+        .map(|f| super::shape::function_error(&sc.linkage, f).ok_or_else(turns));
     let transmission = (p.synthesis.as_ref())
         .and_then(|s| s.min_transmission)
         .map(|_| super::shape::min_transmission(&sc.linkage).ok_or_else(turns));
     Ok(Solution {
         path,
         swing,
+        function,
         transmission,
         load_cases,
         envelope,

@@ -10,8 +10,9 @@ use super::file::{Goal, LinkageProblem, LinkageScene};
 use super::model::{tip_of, LinkageError};
 use super::shape::with_pivots;
 pub use super::shape::{
-    frame_pivot, min_transmission, path_error, path_error_bound, swing, GeometryParam, Kind,
-    PathSpec, Requirement, ShapeOutcome, ShapePoint, SwingSpec, Synthesis, PATH_SAMPLES,
+    frame_pivot, function_error, min_transmission, path_error, path_error_bound, swing,
+    FunctionSpec, GeometryParam, Kind, PathSpec, Requirement, ShapeOutcome, ShapePoint, SwingSpec,
+    Synthesis, PATH_SAMPLES,
 };
 use super::synth::{optimum, FORCE, MOMENT, TORQUE};
 use crate::families::family::Scene;
@@ -154,7 +155,7 @@ impl<'a> LinkageShape<'a> {
     fn at(&self) -> P2 {
         match self.req {
             Requirement::Path(p) => p.at,
-            Requirement::Swing(_) => P2::zeros(),
+            Requirement::Swing(_) | Requirement::Function(_) => P2::zeros(),
         }
     }
 }
