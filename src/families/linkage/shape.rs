@@ -5,7 +5,7 @@
 //! and its angle against the crank's, the transmission angle over the turn, a linkage with its frame pivots moved, and what a search found. The search
 //! itself is `synthesis.rs`.
 
-use super::model::{Dyad, Linkage, LinkageError, Point};
+use super::model::{Dyad, Linkage, LinkageError, Place, Point};
 use crate::geom::P2;
 use crate::synth::search::constrained;
 use crate::synth::search::SearchEvidence;
@@ -222,16 +222,21 @@ pub struct TurnExtreme {
     pub angle: f64,
 }
 
-/// g(pose) at the [`PATH_SAMPLES`] crank angles θ_k = 2πk/n; `None` where the linkage does
-/// not assemble at one of them.
-fn sampled<T>(l: &Linkage, g: &impl Fn(&super::model::Pose) -> T) -> Option<Vec<T>> {
+/// g(places) at the [`PATH_SAMPLES`] crank angles θ_k = 2πk/n ([`Linkage::places`]: the
+/// links' positions without their derivatives); `None` where the linkage does not assemble
+/// at one of them.
+fn sampled<T>(l: &Linkage, g: &impl Fn(&[Place]) -> T) -> Option<Vec<T>> {
     let h = std::f64::consts::TAU / PATH_SAMPLES as f64;
+    let mut buf = Vec::new();
     (0..PATH_SAMPLES)
-        .map(|k| l.pose(k as f64 * h).ok().map(|p| g(&p)))
+        .map(|k| {
+            l.places_into(k as f64 * h, &mut buf).ok()?;
+            Some(g(&buf))
+        })
         .collect()
 }
 
-/// The largest of `sign`·g(pose) over the turn from its samples `ys` (of g): every local
+/// The largest of `sign`·g(places) over the turn from its samples `ys` (of g): every local
 /// maximum refined by Brent to [`ANGLE_TOL`] ([`crate::numeric::periodic_peak_sampled`],
 /// whose error bound it carries). `None` where the refinement meets a pose that does not
 /// assemble.
@@ -239,10 +244,10 @@ fn turn_max(
     l: &Linkage,
     ys: &[f64],
     sign: f64,
-    g: &impl Fn(&super::model::Pose) -> f64,
+    g: &impl Fn(&[Place]) -> f64,
 ) -> Option<TurnExtreme> {
     let signed: Vec<f64> = ys.iter().map(|y| sign * y).collect();
-    let f = |t: f64| l.pose(t).map_or(f64::NAN, |p| sign * g(&p));
+    let f = |t: f64| l.places(t).map_or(f64::NAN, |p| sign * g(&p));
     let all = crate::numeric::Refine::All;
     let p = crate::numeric::periodic_peak_sampled(&signed, f, Some(ANGLE_TOL), all).ok()?;
     p.peak.fx.is_finite().then_some(TurnExtreme {
@@ -252,44 +257,59 @@ fn turn_max(
     })
 }
 
-/// The swing of link `link` (a rocker) over the turn: max ψ − min ψ (rad), ψ measured from
-/// its direction at θ = 0 (continuous while the swing stays below π), with the sum of the
-/// two extremes' error bounds plus the round-off of the directions, 1e-15 times the largest
-/// sampled dyad conditioning. `None` where the linkage does not assemble over the turn.
-pub fn swing(l: &Linkage, link: usize) -> Option<TurnExtreme> {
-    let e0 = l.pose(0.0).ok()?.links.get(link)?.e;
-    let psi = |p: &super::model::Pose| {
-        let e = p.links[link].e;
+/// The swing of link `link` (a rocker) over the turn without its round-off term: max ψ −
+/// min ψ (rad), ψ measured from its direction at θ = 0 (continuous while the swing stays
+/// below π), each extreme refined, with the refinements' error bounds — what the search
+/// asks of every candidate. `None` where the linkage does not assemble over the turn.
+pub fn swing_refined(l: &Linkage, link: usize) -> Option<TurnExtreme> {
+    let e0 = l.places(0.0).ok()?.get(link)?.e;
+    let psi = |p: &[Place]| {
+        let e = p[link].e;
         (e0.x * e.y - e0.y * e.x).atan2(e0.dot(&e))
     };
-    let both = sampled(l, &|p| (psi(p), p.kappa()))?;
-    let ys: Vec<f64> = both.iter().map(|b| b.0).collect();
-    let kappa = both.iter().map(|b| b.1).fold(1.0, f64::max);
+    let ys = sampled(l, &psi)?;
     let hi = turn_max(l, &ys, 1.0, &psi)?;
     let lo = turn_max(l, &ys, -1.0, &psi)?;
     Some(TurnExtreme {
         value: hi.value + lo.value,
-        error: hi.error + lo.error + 1e-15 * kappa,
+        error: hi.error + lo.error,
         angle: hi.angle,
     })
 }
 
+/// [`swing_refined`] with the round-off of the directions added to its error bound: 1e-15
+/// times the largest dyad conditioning over the samples ([`Linkage::pose`]'s κ).
+pub fn swing(l: &Linkage, link: usize) -> Option<TurnExtreme> {
+    let w = swing_refined(l, link)?;
+    let h = std::f64::consts::TAU / PATH_SAMPLES as f64;
+    let kappa = (0..PATH_SAMPLES)
+        .map(|k| l.pose(k as f64 * h).map(|p| p.kappa()).ok())
+        .collect::<Option<Vec<f64>>>()?
+        .into_iter()
+        .fold(1.0, f64::max);
+    Some(TurnExtreme {
+        error: w.error + 1e-15 * kappa,
+        ..w
+    })
+}
+
 /// The least transmission angle over the turn of the RRR dyads of `l`: the angle between a
-/// dyad's two links at their joint, folded into [0, π/2] (μ with |sin μ|,
-/// [`super::model::DyadState::sin_mu`]) — asin of the least |sin μ| over the turn and the
-/// dyads, with its error bound (the refinement's, through asin's slope 1/cos μ). `None`
-/// without RRR dyads or where the linkage does not assemble over the turn.
+/// dyad's two links at their joint, folded into [0, π/2] — asin of the least |sin μ| over
+/// the turn and the dyads, sin μ = e_a × e_b of the links' directions (the same operations
+/// as [`super::model::DyadState::sin_mu`]) — with its error bound (the refinement's,
+/// through asin's slope 1/cos μ). `None` without RRR dyads or where the linkage does not
+/// assemble over the turn.
 pub fn min_transmission(l: &Linkage) -> Option<TurnExtreme> {
-    let rrr: Vec<usize> = (l.dyads().iter().enumerate())
+    let rrr: Vec<(usize, usize)> = (l.dyads().iter().enumerate())
         .filter(|(_, d)| matches!(d, Dyad::Rrr { .. }))
-        .map(|(k, _)| k)
+        .map(|(k, _)| Linkage::dyad_links(k))
         .collect();
     if rrr.is_empty() {
         return None;
     }
-    let least_sin = |p: &super::model::Pose| {
+    let least_sin = |p: &[Place]| {
         rrr.iter()
-            .map(|&k| p.dyads[k].sin_mu.abs())
+            .map(|&(a, b)| crate::geom::cross(p[a].e, p[b].e).abs())
             .fold(f64::INFINITY, f64::min)
     };
     let ys = sampled(l, &least_sin)?;
@@ -412,7 +432,7 @@ impl Requirement<'_> {
     pub fn error(self, l: &Linkage, at: P2) -> Option<f64> {
         match self {
             Requirement::Path(p) => path_error(l, p, at).map(|e| e.0),
-            Requirement::Swing(s) => swing(l, s.link).map(|w| (w.value - s.angle).abs()),
+            Requirement::Swing(s) => swing_refined(l, s.link).map(|w| (w.value - s.angle).abs()),
             Requirement::Function(f) => function_error(l, f).map(|e| e.0.value),
         }
     }
