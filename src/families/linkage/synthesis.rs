@@ -177,6 +177,12 @@ impl Shape for LinkageShape<'_> {
         self.req.error(&sc.linkage, at)
     }
 
+    /// "the swing error 0.5 deg": the requirement's name and unit.
+    fn bound_text(&self, eps: f64) -> String {
+        let (what, v, unit) = self.req.named(eps).shown();
+        format!("the {what} {v:.6} {unit}")
+    }
+
     /// The peak of the geometry's certified optimum, `None` unless the engine certified
     /// it (`optimal`).
     fn objective(&self, x: &[f64]) -> Option<f64> {
@@ -227,8 +233,9 @@ pub fn synthesise(
     let kinematic_first = point_of(req, kin, None, f_kin);
     let (e_min, e_max) = (kinematic_first.error.value(), req.max_error());
     if e_min > e_max {
+        let (what, v, unit) = req.named(e_min).shown();
         return Err(format!(
-            "the least kinematic error found, {e_min:e}, exceeds {}.max_error = {e_max:e} (SI)",
+            "the least {what} found, {v:.6} {unit}, exceeds {}.max_error",
             req.key()
         ));
     }
@@ -241,7 +248,12 @@ pub fn synthesise(
     for j in 1..=n + 1 {
         let eps = e_min + (e_max - e_min) * j as f64 / (n + 1) as f64;
         let found = constrained::least_objective(&shape, eps, f_ref, &seeds, &syn.search)
-            .ok_or_else(|| format!("no balanced geometry within the kinematic error {eps:e}"))?;
+            .ok_or_else(|| {
+                format!(
+                    "no balanced geometry with {} at most",
+                    shape.bound_text(eps)
+                )
+            })?;
         seeds.push(found.x.clone());
         front.push(point_of(req, found, Some(eps), None));
     }

@@ -26,6 +26,11 @@ pub trait Shape: Sync {
     /// The objective f(x) > 0 of the geometry's certified inner optimum (SI); `None` where
     /// the inner program is not solved to a certificate.
     fn objective(&self, x: &[f64]) -> Option<f64>;
+    /// The bound e(x) ≤ ε in words for the search's evidence, with its unit ("the path
+    /// error 0.5 mm"); by default the bare number, SI.
+    fn bound_text(&self, eps: f64) -> String {
+        format!("the kinematic error {eps:e} (SI)")
+    }
 }
 
 /// The search's settings.
@@ -208,7 +213,8 @@ pub fn least_objective(
     };
     let (ends, evaluations) = multistart(&cost, b.len(), &to_unit(b, seeds), s);
     let method = format!(
-        "least objective within the kinematic error {eps:e}: Halton {} + Nelder–Mead (argmin) from {} starts, the constraint as a barrier",
+        "least objective with {} at most: Halton {} + Nelder–Mead (argmin) from {} starts, the constraint as a barrier",
+        shape.bound_text(eps),
         s.halton, s.starts
     );
     let (u, mut evidence) = best(method, ends, evaluations, INFEASIBLE)?;
