@@ -53,6 +53,11 @@ pub fn cross(a: P2, b: P2) -> f64 {
     a.x * b.y - a.y * b.x
 }
 
+/// The signed angle turning the direction `a` into `b`, in (−π, π]: atan2(a × b, a·b).
+pub fn turn(a: P2, b: P2) -> f64 {
+    cross(a, b).atan2(a.dot(&b))
+}
+
 /// The rotation by +90°: J v = (−v_y, v_x), so that a × b = (J a)·b.
 pub fn perp(v: P2) -> P2 {
     P2::new(-v.y, v.x)

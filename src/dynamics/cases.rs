@@ -71,6 +71,11 @@ pub fn with_flywheel(d: &Drive, inertia: f64) -> Drive {
     }
 }
 
+/// Whether the steady state `st` swings more than `cs` beyond its error.
+fn swings_beyond(st: &super::SteadyState, cs: f64) -> bool {
+    st.cs > cs + st.cs_error
+}
+
 /// A warning for every case (name, its drive at the flywheel of all the cases) whose steady
 /// state swings more than `cs` beyond its error.
 pub fn check_cs(cs: Option<f64>, cases: &[CaseDrive], warnings: &mut Vec<String>) {
@@ -78,7 +83,7 @@ pub fn check_cs(cs: Option<f64>, cases: &[CaseDrive], warnings: &mut Vec<String>
     for (name, drive) in cases {
         if let Some(Ok(f)) = drive {
             let st = &f.steady;
-            if st.cs > cs + st.cs_error {
+            if swings_beyond(st, cs) {
                 warnings.push(format!(
                     "load case {name}: Cs = {:.6} ± {:.1e} with the flywheel {:.6} kg·m² is above mechanism.drive.cs = {cs}",
                     st.cs, st.cs_error, st.flywheel
@@ -225,10 +230,9 @@ enum Interval {
 /// The interval between `a` and `b`, its bound and the bound's error.
 fn interval(cs: f64, a: &BandPoint, b: &BandPoint) -> (Interval, f64, f64) {
     let (bound, error) = interval_bound(&a.1, &b.1);
-    let over = |p: &BandPoint| p.1.cs > cs + p.1.cs_error;
     let state = match () {
         _ if bound <= cs + error => Interval::Proven,
-        _ if over(a) || over(b) => Interval::Beyond,
+        _ if swings_beyond(&a.1, cs) || swings_beyond(&b.1, cs) => Interval::Beyond,
         _ => Interval::Open,
     };
     (state, bound, error)
@@ -301,7 +305,7 @@ impl BandCheck {
             true => b,
             false => a,
         })?;
-        let beyond = all.filter(|(_, q)| q.1.cs > cs + q.1.cs_error).count();
+        let beyond = all.filter(|(_, q)| swings_beyond(&q.1, cs)).count();
         let intervals: Vec<(Interval, f64, f64)> = points
             .iter()
             .flat_map(|p| p.windows(2).map(|w| interval(cs, &w[0], &w[1])))

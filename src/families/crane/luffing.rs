@@ -30,7 +30,7 @@
 use super::balance::{phi_of, Balance, BalanceError, CasePeak, Cases};
 use super::statics::potential;
 use crate::dynamics::{antiderivatives, DriveSettings};
-use crate::geom::{cross, P2};
+use crate::geom::{turn, P2};
 use crate::numeric::interval_peak;
 use crate::units::STANDARD_GRAVITY as G;
 use std::f64::consts::PI;
@@ -327,7 +327,6 @@ fn inertia_term(c: &Cases, q: f64, phi: f64) -> Option<f64> {
         })
         .sum();
     // ψ′ and ψ″ from the turns between the three poses.
-    let turn = |a: P2, b: P2| cross(a, b).atan2(a.dot(&b));
     let spin: f64 = [(w.jib_mass, 0), (w.tie_mass, 1)]
         .iter()
         .map(|&(mass, j)| {

@@ -152,29 +152,29 @@ pub fn numbers(_: &Scene, p: &LinkageProblem, sol: &Solved, r: &mut SolveResult)
 /// the parameters, the file's geometry, "synthesise first, balance afterwards", the front
 /// and the design's gain over the former (keys in `docs/results.md`).
 fn path_numbers(r: &mut SolveResult, p: &LinkageProblem, sol: &Solved) {
-    match &sol.path {
-        Some(Ok(e)) => {
-            r.objectives.insert("path_error_m".into(), e.max);
-            r.errors.insert("path_error_m".into(), e.error);
-            r.extra.insert(
-                "path".into(),
-                json!({
-                    "max_error_m": p.path.as_ref().map(|s| s.max_error),
-                    "point_errors_m": e.points,
-                    "timing": p.path.as_ref().is_some_and(|s| s.angles.is_some()),
-                }),
-            );
-            if let Some(lim) = p.path.as_ref().map(|s| s.max_error) {
-                if e.max > lim + e.error {
-                    r.warnings.push(format!(
+    match (&sol.path, &p.path) {
+        (Some(Ok(e)), Some(spec)) => {
+            let lim = spec.max_error;
+            let section = json!({
+                "max_error_m": lim,
+                "point_errors_m": e.points,
+                "timing": spec.angles.is_some(),
+            });
+            requirement_figure(
+                r,
+                ("path_error_m", "path"),
+                (e.max, e.error, lim),
+                section,
+                || {
+                    format!(
                         "the path error {:e} m exceeds objective.path.max_error = {lim:e} m",
                         e.max
-                    ));
-                }
-            }
+                    )
+                },
+            );
         }
-        Some(Err(why)) => r.warnings.push(format!("the path error: {why}")),
-        None => {}
+        (Some(Err(why)), _) => r.warnings.push(format!("the path error: {why}")),
+        _ => {}
     }
     swing_numbers(r, p, sol);
     let Some(shape) = &p.shape else { return };
@@ -206,43 +206,41 @@ fn swing_numbers(r: &mut SolveResult, p: &LinkageProblem, sol: &Solved) {
     match (&sol.swing, &p.swing) {
         (Some(Ok(w)), Some(spec)) => {
             let e = (w.value - spec.angle).abs();
-            r.objectives.insert("swing_error_rad".into(), e);
-            r.errors.insert("swing_error_rad".into(), w.error);
-            r.extra.insert(
-                "swing".into(),
-                json!({
-                    "swing_rad": w.value,
-                    "swing_bound_rad": w.error,
-                    "angle_rad": spec.angle,
-                    "max_error_rad": spec.max_error,
-                }),
-            );
-            if e > spec.max_error + w.error {
-                r.warnings.push(format!(
+            let section = json!({
+                "swing_rad": w.value,
+                "swing_bound_rad": w.error,
+                "angle_rad": spec.angle,
+                "max_error_rad": spec.max_error,
+            });
+            let figure = (e, w.error, spec.max_error);
+            requirement_figure(r, ("swing_error_rad", "swing"), figure, section, || {
+                format!(
                     "the swing error {:.6}° exceeds objective.swing.max_error = {:.6}°",
                     e.to_degrees(),
                     spec.max_error.to_degrees()
-                ));
-            }
+                )
+            });
         }
         (Some(Err(why)), _) => r.warnings.push(format!("the swing: {why}")),
         _ => {}
     }
     match (&sol.function, &p.function) {
         (Some(Ok((e, each))), Some(spec)) => {
-            r.objectives.insert("function_error_rad".into(), e.value);
-            r.errors.insert("function_error_rad".into(), e.error);
-            r.extra.insert(
-                "function".into(),
-                json!({ "point_errors_rad": each, "max_error_rad": spec.max_error }),
+            let section = json!({ "point_errors_rad": each, "max_error_rad": spec.max_error });
+            let figure = (e.value, e.error, spec.max_error);
+            requirement_figure(
+                r,
+                ("function_error_rad", "function"),
+                figure,
+                section,
+                || {
+                    format!(
+                        "the function error {:.6}° exceeds objective.function.max_error = {:.6}°",
+                        e.value.to_degrees(),
+                        spec.max_error.to_degrees()
+                    )
+                },
             );
-            if e.value > spec.max_error + e.error {
-                r.warnings.push(format!(
-                    "the function error {:.6}° exceeds objective.function.max_error = {:.6}°",
-                    e.value.to_degrees(),
-                    spec.max_error.to_degrees()
-                ));
-            }
         }
         (Some(Err(why)), _) => r.warnings.push(format!("the function: {why}")),
         _ => {}
@@ -264,6 +262,24 @@ fn swing_numbers(r: &mut SolveResult, p: &LinkageProblem, sol: &Solved) {
         }
         (Some(Err(why)), _) => r.warnings.push(format!("the transmission angle: {why}")),
         _ => {}
+    }
+}
+
+/// One kinematic requirement's figure in the result: `objectives[key]` = `value`, its
+/// `error` in `errors`, the section `name`, and the warning `exceeded()` where the value is
+/// above `limit` beyond its error.
+fn requirement_figure(
+    r: &mut SolveResult,
+    (key, name): (&str, &str),
+    (value, error, limit): (f64, f64, f64),
+    section: serde_json::Value,
+    exceeded: impl FnOnce() -> String,
+) {
+    r.objectives.insert(key.into(), value);
+    r.errors.insert(key.into(), error);
+    r.extra.insert(name.into(), section);
+    if value > limit + error {
+        r.warnings.push(exceeded());
     }
 }
 

@@ -263,10 +263,7 @@ fn turn_max(
 /// asks of every candidate. `None` where the linkage does not assemble over the turn.
 pub fn swing_refined(l: &Linkage, link: usize) -> Option<TurnExtreme> {
     let e0 = l.places(0.0).ok()?.get(link)?.e;
-    let psi = |p: &[Place]| {
-        let e = p[link].e;
-        (e0.x * e.y - e0.y * e.x).atan2(e0.dot(&e))
-    };
+    let psi = |p: &[Place]| crate::geom::turn(e0, p[link].e);
     let ys = sampled(l, &psi)?;
     let hi = turn_max(l, &ys, 1.0, &psi)?;
     let lo = turn_max(l, &ys, -1.0, &psi)?;
@@ -333,19 +330,18 @@ pub fn function_error(l: &Linkage, f: &FunctionSpec) -> Option<(TurnExtreme, Vec
         .map(|&t| l.pose(t).ok())
         .collect::<Option<_>>()?;
     let e0 = poses.first()?.links.get(f.link)?.e;
-    let mut kappa: f64 = 1.0;
+    // An angle into (−π, π].
+    let wrap = |a: f64| {
+        use std::f64::consts::{PI, TAU};
+        (a + PI).rem_euclid(TAU) - PI
+    };
     let each: Vec<f64> = (poses.iter().zip(&f.angles))
         .map(|(p, &psi)| {
-            kappa = kappa.max(p.kappa());
-            let e = p.links[f.link].e;
-            let turned = (e0.x * e.y - e0.y * e.x).atan2(e0.dot(&e));
-            let want = (psi - f.angles[0] + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU)
-                - std::f64::consts::PI;
-            (turned - want + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU)
-                - std::f64::consts::PI
+            let turned = crate::geom::turn(e0, p.links[f.link].e);
+            wrap(turned - wrap(psi - f.angles[0])).abs()
         })
-        .map(f64::abs)
         .collect();
+    let kappa = poses.iter().map(|p| p.kappa()).fold(1.0, f64::max);
     let k = crate::dynamics::cases::argmax(each.iter().copied())?;
     let worst = TurnExtreme {
         value: each[k],
@@ -442,6 +438,13 @@ impl Requirement<'_> {
             Requirement::Path(_) => KinematicError::Path(v),
             Requirement::Swing(_) => KinematicError::Swing(v),
             Requirement::Function(_) => KinematicError::Function(v),
+        }
+    }
+    /// The tracer's reference: the path's (the origin of its link without a path).
+    pub fn tracer(self) -> P2 {
+        match self {
+            Requirement::Path(p) => p.at,
+            Requirement::Swing(_) | Requirement::Function(_) => P2::zeros(),
         }
     }
     /// The error allowed (SI).

@@ -150,14 +150,6 @@ impl<'a> LinkageShape<'a> {
             bounds: syn.params.iter().map(|p| p.bounds).collect(),
         }
     }
-
-    /// The tracer's reference: the path's (the origin of its link without a path).
-    fn at(&self) -> P2 {
-        match self.req {
-            Requirement::Path(p) => p.at,
-            Requirement::Swing(_) | Requirement::Function(_) => P2::zeros(),
-        }
-    }
 }
 
 impl Shape for LinkageShape<'_> {
@@ -168,7 +160,7 @@ impl Shape for LinkageShape<'_> {
     /// The kinematic error; `None` (not admissible) also where the least transmission
     /// angle is below `min_transmission_angle`.
     fn error(&self, x: &[f64]) -> Option<f64> {
-        let (sc, at) = scene_at(self.syn, self.base, self.at(), x).ok()?;
+        let (sc, at) = scene_at(self.syn, self.base, self.req.tracer(), x).ok()?;
         if let Some(mu) = self.syn.min_transmission {
             if min_transmission(&sc.linkage)?.value < mu {
                 return None;
@@ -186,7 +178,7 @@ impl Shape for LinkageShape<'_> {
     /// The peak of the geometry's certified optimum, `None` unless the engine certified
     /// it (`optimal`).
     fn objective(&self, x: &[f64]) -> Option<f64> {
-        let (sc, _) = scene_at(self.syn, self.base, self.at(), x).ok()?;
+        let (sc, _) = scene_at(self.syn, self.base, self.req.tracer(), x).ok()?;
         let field = goal_field(sc.objective.minimize)?;
         let sol = optimum(&sc, &self.settings).ok()??;
         (sol.status == CwStatus::Optimal).then(|| sol.peaks[field].peak)
@@ -213,7 +205,7 @@ pub fn synthesise(
         ..*settings
     };
     let shape = LinkageShape::new(sc, syn, req, inner);
-    let x0 = nominal(syn, sc, shape.at());
+    let x0 = nominal(syn, sc, req.tracer());
     let inside = x0
         .iter()
         .zip(&shape.bounds)
@@ -277,8 +269,7 @@ pub fn drive(scene: &Scene, p: &LinkageProblem) -> SolveResult {
     let t0 = std::time::Instant::now();
     let chosen = synthesise(&p.scene, syn, req, &p.settings).and_then(|out| {
         let x = &out.chosen().ok_or("the front is empty")?.x;
-        let at = p.path.as_ref().map_or(P2::zeros(), |path| path.at);
-        let (sc, at) = scene_at(syn, &p.scene, at, x).map_err(|e| e.to_string())?;
+        let (sc, at) = scene_at(syn, &p.scene, req.tracer(), x).map_err(|e| e.to_string())?;
         super::file::check_full_turn(&sc.linkage).map_err(|e| e.message)?;
         Ok(LinkageProblem {
             scene: sc,
