@@ -66,6 +66,7 @@ mod slider_crank;
 mod slider_crank_balancers;
 mod slider_crank_outline;
 mod statuses;
+mod stroke_synthesis;
 mod study;
 mod synthesis;
 mod textbook;

@@ -288,6 +288,9 @@ pub struct ObjectiveRaw {
     /// A rocker's angle against the crank's at given points (function generation):
     /// reported, and with `[design.synthesis]` the shape search's kinematic requirement.
     pub function: Option<super::file_synthesis::FunctionRaw>,
+    /// A slider's stroke over the turn: reported, and with `[design.synthesis]` the shape
+    /// search's kinematic requirement.
+    pub stroke: Option<super::file_synthesis::StrokeRaw>,
 }
 
 /// `[accuracy]`: the engine's [`Settings`] read directly (every key optional, unknown keys
@@ -312,6 +315,8 @@ pub struct LinkageProblem {
     pub swing: Option<super::shape::SwingSpec>,
     /// The rocker's function (`[objective.function]`), if given.
     pub function: Option<super::shape::FunctionSpec>,
+    /// The slider's stroke (`[objective.stroke]`), if given.
+    pub stroke: Option<super::shape::StrokeSpec>,
     /// The shape search (`[design.synthesis]`), if given.
     pub synthesis: Option<super::shape::Synthesis>,
     /// What the shape search found, once it has run: the scene is then its chosen geometry
@@ -320,13 +325,14 @@ pub struct LinkageProblem {
 }
 
 impl LinkageProblem {
-    /// The shape search's kinematic requirement: the path, the swing or the function (a
-    /// file with a search has one of them).
+    /// The shape search's kinematic requirement: the path, the swing, the function or the
+    /// stroke (a file with a search has one of them).
     pub fn requirement(&self) -> Option<super::shape::Requirement<'_>> {
         use super::shape::Requirement;
         (self.path.as_ref().map(Requirement::Path))
             .or(self.swing.as_ref().map(Requirement::Swing))
             .or(self.function.as_ref().map(Requirement::Function))
+            .or(self.stroke.as_ref().map(Requirement::Stroke))
     }
 }
 
@@ -369,13 +375,21 @@ pub fn resolve_raw(raw: &File, dir: &Path) -> Result<LinkageProblem, FieldError>
     let function = (raw.objective.function.as_ref())
         .map(|f| super::file_synthesis::resolve_function(f, &scene.linkage, &scene.link_names))
         .transpose()?;
+    let stroke = (raw.objective.stroke.as_ref())
+        .map(|s| super::file_synthesis::resolve_stroke(s, &scene.linkage, &scene.link_names))
+        .transpose()?;
     let bars: Vec<bool> = (scene.link_names.iter())
         .map(|n| raw.mechanism.links.get(n).is_some_and(|l| l.uniform_bar))
         .collect();
     let synthesis = (raw.design.synthesis.as_ref())
         .map(|r| {
             let l = (&scene.linkage, &scene.link_names[..], scene.crank_length);
-            let kin = [path.is_some(), swing.is_some(), function.is_some()];
+            let kin = [
+                path.is_some(),
+                swing.is_some(),
+                function.is_some(),
+                stroke.is_some(),
+            ];
             super::file_synthesis::resolve_synthesis(r, l, kin, &bars)
         })
         .transpose()?;
@@ -386,6 +400,7 @@ pub fn resolve_raw(raw: &File, dir: &Path) -> Result<LinkageProblem, FieldError>
         path,
         swing,
         function,
+        stroke,
         synthesis,
         shape: None,
     })

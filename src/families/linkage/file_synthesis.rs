@@ -1,14 +1,16 @@
-//! `[design.synthesis]`, `[objective.path]`, `[objective.swing]` and `[objective.function]`
-//! of a linkage file (issue 36): the geometry the search may move — link lengths, frame
-//! pivots, the tracer point — each within its bounds, the least transmission angle it must
-//! keep, and the kinematic requirement: the path its tracer point must pass through, the
-//! swing of a rocker, or a rocker's angle against the crank's. Read, checked and resolved
-//! into [`Synthesis`], [`PathSpec`], [`SwingSpec`] and [`FunctionSpec`]; apart from `file.rs`
-//! so that each file stays readable.
+//! `[design.synthesis]`, `[objective.path]`, `[objective.swing]`, `[objective.function]`
+//! and `[objective.stroke]` of a linkage file (issue 36): the geometry the search may move —
+//! link lengths, frame pivots, sliders' offsets, the tracer point — each within its bounds,
+//! the least transmission angle and the largest crank ratio it must keep, and the kinematic
+//! requirement: the path its tracer point must pass through, the swing of a rocker, a
+//! rocker's angle against the crank's, or a slider's stroke. Read, checked and resolved into
+//! [`Synthesis`], [`PathSpec`], [`SwingSpec`], [`FunctionSpec`] and [`StrokeSpec`]; apart
+//! from `file.rs` so that each file stays readable.
 
 use super::model::{tip_of, Linkage};
 use super::shape::{
-    frame_pivot, FunctionSpec, GeometryParam, Kind, PathSpec, SwingSpec, Synthesis,
+    frame_pivot, slider_line, CrankRatio, FunctionSpec, GeometryParam, Kind, PathSpec, StrokeSpec,
+    SwingSpec, Synthesis,
 };
 use crate::problem::{positive, FieldError};
 use crate::units::{Angle, Length, Qty};
@@ -37,6 +39,12 @@ pub struct SynthesisRaw {
     #[serde(default)]
     #[schemars(length(max = MAX_FREE))]
     pub pivot: Vec<PivotFreeRaw>,
+    /// Sliders' offsets to choose: `of` a slider (the second link of an RRP dyad), its
+    /// line's signed distance e from the crank's pivot within [`min`, `max`] (the line
+    /// moves along its normal; its direction stays).
+    #[serde(default)]
+    #[schemars(length(max = MAX_FREE))]
+    pub offset: Vec<LengthFreeRaw>,
     /// The tracer point of `[objective.path]`, free within this box in its link's frame.
     pub tracer: Option<BoxRaw>,
     /// Halton points of the box ranked for the local searches (default 48, 8–4096).
@@ -50,6 +58,9 @@ pub struct SynthesisRaw {
     /// The least transmission angle over the turn every candidate must keep (the angle
     /// between an RRR dyad's two links at their joint, folded into 0–90°), e.g. "40 deg".
     pub min_transmission_angle: Option<Qty<Angle>>,
+    /// The largest crank ratio λ = r/l every candidate must keep (dimensionless, 0 < λ < 1):
+    /// r the crank's length, l that of the rod of the RRP dyad on the crank's tip.
+    pub max_crank_ratio: Option<f64>,
 }
 
 /// A free link length.
@@ -130,6 +141,18 @@ pub struct FunctionRaw {
     pub angles: Vec<Qty<Angle>>,
     /// The function error the design must meet: the largest |change of ψ − its target|.
     pub max_error: Qty<Angle>,
+}
+
+/// `[objective.stroke]`: the travel of a slider over the turn.
+#[derive(Debug, Deserialize, schemars::JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct StrokeRaw {
+    /// The slider: the second link of an RRP dyad.
+    pub link: String,
+    /// The stroke to meet: max − min of the slider's place along its line.
+    pub stroke: Qty<Length>,
+    /// The stroke error the design must meet, |stroke − target|.
+    pub max_error: Qty<Length>,
 }
 
 /// The tracer point of a path.
@@ -233,6 +256,51 @@ pub fn resolve_function(
     })
 }
 
+/// The slider `of` of `l` (the second link of an RRP dyad) at `key`.
+fn slider(l: &Linkage, names: &[String], of: &str, key: &str) -> Result<usize, FieldError> {
+    let link = link_named(names, of, key)?;
+    if slider_line(l, link).is_none() {
+        return Err(FieldError::new(
+            key,
+            format!("link \"{of}\" is not a slider; allowed: the second link of an RRP dyad"),
+        ));
+    }
+    Ok(link)
+}
+
+/// `[objective.stroke]` for the linkage `l` with links `names`.
+pub fn resolve_stroke(
+    s: &StrokeRaw,
+    l: &Linkage,
+    names: &[String],
+) -> Result<StrokeSpec, FieldError> {
+    let key = "objective.stroke";
+    Ok(StrokeSpec {
+        link: slider(l, names, &s.link, &format!("{key}.link"))?,
+        stroke: positive(&format!("{key}.stroke"), s.stroke.si())?,
+        max_error: positive(&format!("{key}.max_error"), s.max_error.si())?,
+    })
+}
+
+/// `max_crank_ratio` of the linkage `l` at `key`: 0 < λ < 1, with an RRP dyad whose rod is
+/// pivoted on the crank's tip.
+fn crank_ratio(l: &Linkage, max: f64, key: &str) -> Result<CrankRatio, FieldError> {
+    if !(max > 0.0 && max < 1.0) {
+        return Err(FieldError::new(
+            key,
+            format!("got {max}; allowed: 0 < λ < 1 (e.g. 0.3)"),
+        ));
+    }
+    let on_tip = |p: &super::model::Point| matches!(p, super::model::Point::On { link: 0, at } if at.y == 0.0 && at.x > 0.0);
+    let k = (l.dyads().iter())
+        .position(|d| matches!(d, super::model::Dyad::Rrp { p, .. } if on_tip(p)))
+        .ok_or_else(|| FieldError::new(key, "no RRP dyad's rod is pivoted on the crank's tip"))?;
+    Ok(CrankRatio {
+        max,
+        rod: Linkage::dyad_links(k).0,
+    })
+}
+
 /// `[objective.swing]` for the linkage `l` with links `names`.
 pub fn resolve_swing(s: &SwingRaw, l: &Linkage, names: &[String]) -> Result<SwingSpec, FieldError> {
     let key = "objective.swing";
@@ -283,18 +351,18 @@ fn interval(lo: f64, hi: f64, key: &str) -> Result<(f64, f64), FieldError> {
 
 /// `[design.synthesis]` for the linkage `l` with links `names`, its crank `crank_length`
 /// long, `bars[i]` true where link i is a uniform bar, and which kinematic requirements
-/// the file has — [path, swing, function]: exactly one required.
+/// the file has — [path, swing, function, stroke]: exactly one required.
 pub fn resolve_synthesis(
     r: &SynthesisRaw,
     (l, names, crank_length): (&Linkage, &[String], f64),
-    kin: [bool; 3],
+    kin: [bool; 4],
     bars: &[bool],
 ) -> Result<Synthesis, FieldError> {
     let key = "design.synthesis";
     if kin.iter().filter(|&&k| k).count() != 1 {
         return Err(FieldError::new(
             key,
-            "a shape search needs one kinematic requirement; allowed: [objective.path], [objective.swing] or [objective.function]",
+            "a shape search needs one kinematic requirement; allowed: [objective.path], [objective.swing], [objective.function] or [objective.stroke]",
         ));
     }
     if r.tracer.is_some() && !kin[0] {
@@ -324,6 +392,9 @@ pub fn resolve_synthesis(
         }
         None => None,
     };
+    let max_crank_ratio = (r.max_crank_ratio)
+        .map(|m| crank_ratio(l, m, &format!("{key}.max_crank_ratio")))
+        .transpose()?;
     let mut params = Vec::new();
     for (i, f) in r.length.iter().enumerate() {
         let k = format!("{key}.length[{i}]");
@@ -377,6 +448,17 @@ pub fn resolve_synthesis(
             by,
         )?;
     }
+    for (i, f) in r.offset.iter().enumerate() {
+        let k = format!("{key}.offset[{i}]");
+        let link = slider(l, names, &f.of, &format!("{k}.of"))?;
+        push(
+            &mut params,
+            &k,
+            format!("offset of {}", f.of),
+            Kind::LineOffset { link },
+            interval(f.min.si(), f.max.si(), &k)?,
+        )?;
+    }
     if let Some(b) = &r.tracer {
         let k = format!("{key}.tracer");
         let (lo, hi) = (xy(&b.min), xy(&b.max));
@@ -398,7 +480,7 @@ pub fn resolve_synthesis(
     if params.is_empty() {
         return Err(FieldError::new(
             key,
-            "nothing free; allowed: at least one [[design.synthesis.length]], [[design.synthesis.pivot]] or [design.synthesis.tracer]",
+            "nothing free; allowed: at least one [[design.synthesis.length]], [[design.synthesis.pivot]], [[design.synthesis.offset]] or [design.synthesis.tracer]",
         ));
     }
     let search = crate::synth::search::constrained::Settings {
@@ -410,6 +492,7 @@ pub fn resolve_synthesis(
     Ok(Synthesis {
         params,
         min_transmission,
+        max_crank_ratio,
         search,
         front_points: count(r.front_points, "front_points", 3, 0, 20)?,
     })

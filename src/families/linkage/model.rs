@@ -174,6 +174,12 @@ pub enum LinkageError {
         /// The link.
         link: usize,
     },
+    /// A slider's line was asked of a link that is not a slider.
+    #[error("link {link} is not a slider (the second link of an RRP dyad)")]
+    NotSlider {
+        /// The link.
+        link: usize,
+    },
     /// A dyad uses a point on a link that is not yet defined.
     #[error("dyad {dyad} uses a point on link {link}, which is not defined before it (links 0..{known})")]
     ForwardReference {

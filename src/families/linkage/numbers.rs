@@ -196,6 +196,43 @@ fn path_numbers(r: &mut SolveResult, p: &LinkageProblem, sol: &Solved) {
     r.extra.insert("synthesis".into(), v);
 }
 
+/// With `[objective.stroke]`: `objectives.stroke_error_m` (|stroke − target|, its error in
+/// `errors`) and the section `stroke`; with `max_crank_ratio`: `derived.crank_ratio` (a
+/// warning above the limit).
+fn stroke_numbers(r: &mut SolveResult, p: &LinkageProblem, sol: &Solved) {
+    match (&sol.stroke, &p.stroke) {
+        (Some(Ok(w)), Some(spec)) => {
+            let e = (w.value - spec.stroke).abs();
+            let section = json!({
+                "stroke_m": w.value,
+                "stroke_bound_m": w.error,
+                "target_m": spec.stroke,
+                "max_error_m": spec.max_error,
+            });
+            let figure = (e, w.error, spec.max_error);
+            requirement_figure(r, ("stroke_error_m", "stroke"), figure, section, || {
+                format!(
+                    "the stroke error {:.6} mm exceeds objective.stroke.max_error = {:.6} mm",
+                    e * 1e3,
+                    spec.max_error * 1e3
+                )
+            });
+        }
+        (Some(Err(why)), _) => r.warnings.push(format!("the stroke: {why}")),
+        _ => {}
+    }
+    let limit = (p.synthesis.as_ref()).and_then(|s| s.max_crank_ratio);
+    if let (Some(lambda), Some(c)) = (sol.crank_ratio, limit) {
+        r.derived.insert("crank_ratio".into(), lambda);
+        if lambda > c.max {
+            r.warnings.push(format!(
+                "the crank ratio {lambda:.6} is above design.synthesis.max_crank_ratio = {}",
+                c.max
+            ));
+        }
+    }
+}
+
 /// With `[objective.swing]`: `objectives.swing_error_rad` (|swing − angle|, its error in
 /// `errors`) and the section `swing`; with `[objective.function]`:
 /// `objectives.function_error_rad` and the section `function`; with
@@ -245,6 +282,7 @@ fn swing_numbers(r: &mut SolveResult, p: &LinkageProblem, sol: &Solved) {
         (Some(Err(why)), _) => r.warnings.push(format!("the function: {why}")),
         _ => {}
     }
+    stroke_numbers(r, p, sol);
     let limit = p.synthesis.as_ref().and_then(|s| s.min_transmission);
     match (&sol.transmission, limit) {
         (Some(Ok(t)), Some(mu)) => {

@@ -30,6 +30,12 @@ pub enum Kind {
         /// The link.
         link: usize,
     },
+    /// The offset e of a slider's line: its signed distance from the crank's pivot A0,
+    /// e = d × (O − A0) with d the line's direction and O its point ([`line_offset`]).
+    LineOffset {
+        /// The slider (the second link of an RRP dyad).
+        link: usize,
+    },
     /// The tracer point's x in its link's frame.
     TracerX,
     /// The tracer point's y in its link's frame.
@@ -88,6 +94,34 @@ pub struct FunctionSpec {
     pub max_error: f64,
 }
 
+/// `[objective.stroke]` resolved: a slider's travel over the turn.
+#[derive(Debug, Clone, PartialEq)]
+pub struct StrokeSpec {
+    /// The slider: the second link of an RRP dyad.
+    pub link: usize,
+    /// The stroke to meet (m): max s − min s of the slider's place along its line.
+    pub stroke: f64,
+    /// The stroke error allowed (m).
+    pub max_error: f64,
+}
+
+/// `design.synthesis.max_crank_ratio` resolved: λ = r/l ≤ `max`, r the crank's length and l
+/// that of the rod of the RRP dyad on the crank's tip.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CrankRatio {
+    /// The largest λ.
+    pub max: f64,
+    /// The rod (the first link of that RRP dyad).
+    pub rod: usize,
+}
+
+impl CrankRatio {
+    /// λ = r/l of the linkage `l` with its crank `crank_length` long.
+    pub fn of(&self, l: &Linkage, crank_length: f64) -> Option<f64> {
+        Some(crank_length / super::model::tip_of(l.dyads(), crank_length, self.rod)?.x)
+    }
+}
+
 /// `[design.synthesis]` resolved.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Synthesis {
@@ -96,6 +130,8 @@ pub struct Synthesis {
     /// The least transmission angle every candidate must keep over the turn (rad), if any
     /// ([`min_transmission`]).
     pub min_transmission: Option<f64>,
+    /// The largest crank ratio λ = r/l every candidate must keep, if any.
+    pub max_crank_ratio: Option<CrankRatio>,
     /// The multistart's settings.
     pub search: constrained::Settings,
     /// Front points below `max_error`.
@@ -142,6 +178,58 @@ pub fn with_pivots(l: &Linkage, pivots: &[(usize, P2)]) -> Result<Linkage, Linka
     let pivot = pivots.iter().find(|p| p.0 == 0).map_or(l.pivot(), |p| p.1);
     Linkage::new(pivot, dyads, l.inertia().to_vec(), l.omega(), l.gravity())?
         .with_loads(l.loads().to_vec())
+}
+
+/// The line (its point O, its direction angle) of the slider `link` of `l`: the second link
+/// of an RRP dyad; `None` for any other link.
+pub fn slider_line(l: &Linkage, link: usize) -> Option<(P2, f64)> {
+    let (k, second) = ((link.checked_sub(1)?) / 2, (link - 1) % 2 == 1);
+    match (l.dyads().get(k)?, second) {
+        (Dyad::Rrp { origin, angle, .. }, true) => Some((*origin, *angle)),
+        _ => None,
+    }
+}
+
+/// The offset e of the slider `link`'s line from the crank's pivot A0: e = d × (O − A0),
+/// d = (cos α, sin α) the line's direction, O its point (positive with A0 to the line's
+/// right). `None` where `link` is not a slider.
+pub fn line_offset(l: &Linkage, link: usize) -> Option<f64> {
+    let (o, angle) = slider_line(l, link)?;
+    let d = P2::new(angle.cos(), angle.sin());
+    Some(crate::geom::cross(d, o - l.pivot()))
+}
+
+/// The linkage with the slider `link`'s line moved along its normal n = (−sin α, cos α) to
+/// the offset `e` ([`line_offset`]): O' = O + (e − e₀)·n, its direction unchanged.
+pub fn with_line_offset(l: &Linkage, link: usize, e: f64) -> Result<Linkage, LinkageError> {
+    let e0 = line_offset(l, link).ok_or(LinkageError::NotSlider { link })?;
+    let k = (link - 1) / 2;
+    let dyads = (l.dyads().iter().enumerate())
+        .map(|(j, d)| match *d {
+            Dyad::Rrp {
+                p,
+                l,
+                origin,
+                angle,
+                side,
+            } if j == k => Dyad::Rrp {
+                p,
+                l,
+                origin: origin + P2::new(-angle.sin(), angle.cos()) * (e - e0),
+                angle,
+                side,
+            },
+            d => d,
+        })
+        .collect();
+    Linkage::new(
+        l.pivot(),
+        dyads,
+        l.inertia().to_vec(),
+        l.omega(),
+        l.gravity(),
+    )?
+    .with_loads(l.loads().to_vec())
 }
 
 /// The path error of the tracer at `at` on link `path.link` of `l`: the largest distance
@@ -263,10 +351,15 @@ fn turn_max(
 /// asks of every candidate. `None` where the linkage does not assemble over the turn.
 pub fn swing_refined(l: &Linkage, link: usize) -> Option<TurnExtreme> {
     let e0 = l.places(0.0).ok()?.get(link)?.e;
-    let psi = |p: &[Place]| crate::geom::turn(e0, p[link].e);
-    let ys = sampled(l, &psi)?;
-    let hi = turn_max(l, &ys, 1.0, &psi)?;
-    let lo = turn_max(l, &ys, -1.0, &psi)?;
+    turn_range(l, |p: &[Place]| crate::geom::turn(e0, p[link].e))
+}
+
+/// max g − min g over the turn, each extreme refined ([`turn_max`]), their error bounds
+/// added; the angle is the maximum's.
+fn turn_range(l: &Linkage, g: impl Fn(&[Place]) -> f64) -> Option<TurnExtreme> {
+    let ys = sampled(l, &g)?;
+    let hi = turn_max(l, &ys, 1.0, &g)?;
+    let lo = turn_max(l, &ys, -1.0, &g)?;
     Some(TurnExtreme {
         value: hi.value + lo.value,
         error: hi.error + lo.error,
@@ -286,6 +379,35 @@ pub fn swing(l: &Linkage, link: usize) -> Option<TurnExtreme> {
         .fold(1.0, f64::max);
     Some(TurnExtreme {
         error: w.error + 1e-15 * kappa,
+        ..w
+    })
+}
+
+/// The stroke of the slider `link` of `l` without its round-off term: max s − min s (m) of
+/// its place along its line, s = P·d (d the line's direction), each extreme refined, with
+/// the refinements' error bounds — what the search asks of every candidate. For the
+/// slider-crank with crank r, rod l and offset e it is
+/// √((l + r)² − e²) − √((l − r)² − e²). `None` where the linkage does not assemble over
+/// the turn.
+pub fn stroke_refined(l: &Linkage, link: usize) -> Option<TurnExtreme> {
+    let d = l.places(0.0).ok()?.get(link)?.e;
+    turn_range(l, |p: &[Place]| p[link].p.dot(&d))
+}
+
+/// [`stroke_refined`] with the round-off of the places added to its error bound: 1e-15 times
+/// the mechanism's size (the largest |P| over the samples) times its largest dyad
+/// conditioning.
+pub fn stroke(l: &Linkage, link: usize) -> Option<TurnExtreme> {
+    let w = stroke_refined(l, link)?;
+    let h = std::f64::consts::TAU / PATH_SAMPLES as f64;
+    let (mut size, mut kappa) = (0.0f64, 1.0f64);
+    for k in 0..PATH_SAMPLES {
+        let pose = l.pose(k as f64 * h).ok()?;
+        kappa = kappa.max(pose.kappa());
+        size = (pose.links.iter()).fold(size, |m, x| m.max(x.point(P2::zeros())[0].norm()));
+    }
+    Some(TurnExtreme {
+        error: w.error + 1e-15 * size * kappa,
         ..w
     })
 }
@@ -363,13 +485,19 @@ pub enum KinematicError {
     /// The function error (rad, [`function_error`]).
     #[serde(rename = "function_error_rad")]
     Function(f64),
+    /// The stroke error |stroke − target| (m, [`stroke`]).
+    #[serde(rename = "stroke_error_m")]
+    Stroke(f64),
 }
 
 impl KinematicError {
     /// Its value (SI).
     pub fn value(self) -> f64 {
         match self {
-            KinematicError::Path(v) | KinematicError::Swing(v) | KinematicError::Function(v) => v,
+            KinematicError::Path(v)
+            | KinematicError::Swing(v)
+            | KinematicError::Function(v)
+            | KinematicError::Stroke(v) => v,
         }
     }
     /// The same kind of error with the value `v` (SI).
@@ -378,14 +506,17 @@ impl KinematicError {
             KinematicError::Path(_) => KinematicError::Path(v),
             KinematicError::Swing(_) => KinematicError::Swing(v),
             KinematicError::Function(_) => KinematicError::Function(v),
+            KinematicError::Stroke(_) => KinematicError::Stroke(v),
         }
     }
-    /// (its name, its value in the report's unit, that unit): mm for a path, ° for a swing.
+    /// (its name, its value in the report's unit, that unit): mm for a path or a stroke, °
+    /// for a swing or a function.
     pub fn shown(self) -> (&'static str, f64, &'static str) {
         match self {
             KinematicError::Path(v) => ("path error", v * 1e3, "mm"),
             KinematicError::Swing(v) => ("swing error", v.to_degrees(), "deg"),
             KinematicError::Function(v) => ("function error", v.to_degrees(), "deg"),
+            KinematicError::Stroke(v) => ("stroke error", v * 1e3, "mm"),
         }
     }
 }
@@ -393,9 +524,9 @@ impl KinematicError {
 /// The kinematic error a front point was held to, as the result names it.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
 pub enum HeldTo {
-    /// A path error (m).
+    /// A length's error: a path's or a stroke's (m).
     #[serde(rename = "max_error_m")]
-    Path(f64),
+    Length(f64),
     /// An angle's error: a swing's or a function's (rad).
     #[serde(rename = "max_error_rad")]
     Angle(f64),
@@ -405,13 +536,13 @@ impl HeldTo {
     /// Its value (SI).
     pub fn value(self) -> f64 {
         match self {
-            HeldTo::Path(v) | HeldTo::Angle(v) => v,
+            HeldTo::Length(v) | HeldTo::Angle(v) => v,
         }
     }
 }
 
-/// The kinematic requirement of a shape search: a tracer's path, a rocker's swing or a
-/// rocker's angle against the crank's.
+/// The kinematic requirement of a shape search: a tracer's path, a rocker's swing, a
+/// rocker's angle against the crank's or a slider's stroke.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Requirement<'a> {
     /// `[objective.path]`.
@@ -420,6 +551,8 @@ pub enum Requirement<'a> {
     Swing(&'a SwingSpec),
     /// `[objective.function]`.
     Function(&'a FunctionSpec),
+    /// `[objective.stroke]`.
+    Stroke(&'a StrokeSpec),
 }
 
 impl Requirement<'_> {
@@ -430,6 +563,7 @@ impl Requirement<'_> {
             Requirement::Path(p) => path_error(l, p, at).map(|e| e.0),
             Requirement::Swing(s) => swing_refined(l, s.link).map(|w| (w.value - s.angle).abs()),
             Requirement::Function(f) => function_error(l, f).map(|e| e.0.value),
+            Requirement::Stroke(s) => stroke_refined(l, s.link).map(|w| (w.value - s.stroke).abs()),
         }
     }
     /// The error `v` (SI) as the result names it.
@@ -438,13 +572,16 @@ impl Requirement<'_> {
             Requirement::Path(_) => KinematicError::Path(v),
             Requirement::Swing(_) => KinematicError::Swing(v),
             Requirement::Function(_) => KinematicError::Function(v),
+            Requirement::Stroke(_) => KinematicError::Stroke(v),
         }
     }
     /// The tracer's reference: the path's (the origin of its link without a path).
     pub fn tracer(self) -> P2 {
         match self {
             Requirement::Path(p) => p.at,
-            Requirement::Swing(_) | Requirement::Function(_) => P2::zeros(),
+            Requirement::Swing(_) | Requirement::Function(_) | Requirement::Stroke(_) => {
+                P2::zeros()
+            }
         }
     }
     /// The error allowed (SI).
@@ -453,12 +590,13 @@ impl Requirement<'_> {
             Requirement::Path(p) => p.max_error,
             Requirement::Swing(s) => s.max_error,
             Requirement::Function(f) => f.max_error,
+            Requirement::Stroke(s) => s.max_error,
         }
     }
     /// ε as the bound a front point was held to.
     pub fn held_to(self, eps: f64) -> HeldTo {
         match self {
-            Requirement::Path(_) => HeldTo::Path(eps),
+            Requirement::Path(_) | Requirement::Stroke(_) => HeldTo::Length(eps),
             Requirement::Swing(_) | Requirement::Function(_) => HeldTo::Angle(eps),
         }
     }
@@ -468,6 +606,7 @@ impl Requirement<'_> {
             Requirement::Path(_) => "objective.path",
             Requirement::Swing(_) => "objective.swing",
             Requirement::Function(_) => "objective.function",
+            Requirement::Stroke(_) => "objective.stroke",
         }
     }
 }

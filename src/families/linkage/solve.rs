@@ -53,6 +53,10 @@ pub struct Solution {
     pub function: Option<Result<(super::shape::TurnExtreme, Vec<f64>), String>>,
     /// The least transmission angle over the turn, where `[design.synthesis]` bounds it.
     pub transmission: Option<Result<super::shape::TurnExtreme, String>>,
+    /// The slider's stroke of `[objective.stroke]` (`Err`: the linkage does not turn fully).
+    pub stroke: Option<Result<super::shape::TurnExtreme, String>>,
+    /// The crank ratio λ = r/l, where `[design.synthesis]` bounds it.
+    pub crank_ratio: Option<f64>,
 }
 
 /// The tracer's path against its precision points (`[objective.path]`).
@@ -176,6 +180,11 @@ pub fn solve(p: &LinkageProblem) -> Result<Solution, String> {
         (p.swing.as_ref()).map(|w| super::shape::swing(&sc.linkage, w.link).ok_or_else(turns));
     let function = (p.function.as_ref())
         .map(|f| super::shape::function_error(&sc.linkage, f).ok_or_else(turns));
+    let stroke =
+        (p.stroke.as_ref()).map(|w| super::shape::stroke(&sc.linkage, w.link).ok_or_else(turns));
+    let crank_ratio = (p.synthesis.as_ref())
+        .and_then(|s| s.max_crank_ratio)
+        .and_then(|c| c.of(&sc.linkage, sc.crank_length));
     let transmission = (p.synthesis.as_ref())
         .and_then(|s| s.min_transmission)
         .map(|_| super::shape::min_transmission(&sc.linkage).ok_or_else(turns));
@@ -184,6 +193,8 @@ pub fn solve(p: &LinkageProblem) -> Result<Solution, String> {
         swing,
         function,
         transmission,
+        stroke,
+        crank_ratio,
         load_cases,
         envelope,
         energy,

@@ -8,12 +8,12 @@
 
 use super::file::{Goal, LinkageProblem, LinkageScene};
 use super::model::{tip_of, LinkageError};
-use super::shape::with_pivots;
 pub use super::shape::{
-    frame_pivot, function_error, min_transmission, path_error, path_error_bound, swing,
-    FunctionSpec, GeometryParam, Kind, PathSpec, Requirement, ShapeOutcome, ShapePoint, SwingSpec,
-    Synthesis, PATH_SAMPLES,
+    frame_pivot, function_error, min_transmission, path_error, path_error_bound, stroke, swing,
+    CrankRatio, FunctionSpec, GeometryParam, Kind, PathSpec, Requirement, ShapeOutcome, ShapePoint,
+    StrokeSpec, SwingSpec, Synthesis, PATH_SAMPLES,
 };
+use super::shape::{line_offset, with_line_offset, with_pivots};
 use super::synth::{optimum, FORCE, MOMENT, TORQUE};
 use crate::families::family::Scene;
 use crate::geom::P2;
@@ -40,15 +40,16 @@ pub fn nominal(syn: &Synthesis, sc: &LinkageScene, at: P2) -> Vec<f64> {
             }
             Kind::PivotX { link } => frame_pivot(&sc.linkage, link).map_or(f64::NAN, |p| p.x),
             Kind::PivotY { link } => frame_pivot(&sc.linkage, link).map_or(f64::NAN, |p| p.y),
+            Kind::LineOffset { link } => line_offset(&sc.linkage, link).unwrap_or(f64::NAN),
             Kind::TracerX => at.x,
             Kind::TracerY => at.y,
         })
         .collect()
 }
 
-/// The scene with the parameters at `x` (lengths first, then pivots) and the tracer
-/// point (the file's `at` where it is not free). Errors where a length or a pivot
-/// leaves no linkage (a length ≤ 0).
+/// The scene with the parameters at `x` (lengths first, then pivots, then the sliders'
+/// offsets from the crank's pivot as it then stands) and the tracer point (the file's `at`
+/// where it is not free). Errors where a length or a pivot leaves no linkage (a length ≤ 0).
 pub fn scene_at(
     syn: &Synthesis,
     base: &LinkageScene,
@@ -58,6 +59,7 @@ pub fn scene_at(
     let mut sc = base.clone();
     let mut tracer = at;
     let mut pivots: Vec<(usize, P2)> = Vec::new();
+    let mut offsets: Vec<(usize, f64)> = Vec::new();
     for (p, &v) in syn.params.iter().zip(x) {
         match p.kind {
             Kind::Length { link, bar } => {
@@ -83,12 +85,16 @@ pub fn scene_at(
                     _ => pivots[i].1.y = v,
                 }
             }
+            Kind::LineOffset { link } => offsets.push((link, v)),
             Kind::TracerX => tracer.x = v,
             Kind::TracerY => tracer.y = v,
         }
     }
     if !pivots.is_empty() {
         sc.linkage = with_pivots(&sc.linkage, &pivots)?;
+    }
+    for (link, e) in offsets {
+        sc.linkage = with_line_offset(&sc.linkage, link, e)?;
     }
     Ok((sc, tracer))
 }
@@ -158,9 +164,14 @@ impl Shape for LinkageShape<'_> {
     }
 
     /// The kinematic error; `None` (not admissible) also where the least transmission
-    /// angle is below `min_transmission_angle`.
+    /// angle is below `min_transmission_angle` or the crank ratio above `max_crank_ratio`.
     fn error(&self, x: &[f64]) -> Option<f64> {
         let (sc, at) = scene_at(self.syn, self.base, self.req.tracer(), x).ok()?;
+        if let Some(ratio) = &self.syn.max_crank_ratio {
+            if ratio.of(&sc.linkage, sc.crank_length)? > ratio.max {
+                return None;
+            }
+        }
         if let Some(mu) = self.syn.min_transmission {
             if min_transmission(&sc.linkage)?.value < mu {
                 return None;
