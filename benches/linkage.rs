@@ -22,7 +22,9 @@
 //!   four-bar candidates per second on 2 cores": one candidate geometry of
 //!   `problems/linkage-fourbar-path-synthesis.toml` (the next of 32 Halton points of its box
 //!   that turn fully) balanced by the certified program as the search balances it (its scan
-//!   grid at `SEARCH_SCAN_SAMPLES`), and its path error alone.
+//!   grid at `SEARCH_SCAN_SAMPLES`), and its path error alone; `candidates_64_parallel`: 64
+//!   candidates, each its path error and its balancing, over rayon's pool (all cores),
+//!   reported as candidates per second.
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use cwsynth::families::linkage::file::LinkageProblem;
@@ -159,6 +161,21 @@ fn synthesis(c: &mut Criterion) {
         b.iter(|| {
             k = (k + 1) % xs.len();
             shape.error(black_box(&xs[k])).unwrap()
+        })
+    });
+    // The throughput on every core of the pool: 64 candidates, each its path error and its
+    // certified balancing, spread by rayon as the search spreads its starts.
+    g.throughput(criterion::Throughput::Elements(64));
+    g.bench_function("candidates_64_parallel", |b| {
+        b.iter(|| {
+            use rayon::prelude::*;
+            (0..64usize)
+                .into_par_iter()
+                .map(|i| {
+                    let x = black_box(&xs[i % xs.len()]);
+                    shape.error(x).unwrap() + shape.objective(x).unwrap()
+                })
+                .sum::<f64>()
         })
     });
     g.finish();

@@ -703,6 +703,19 @@ impl Linkage {
     /// The branch of each dyad is fixed by its `side`, which a continuous motion changes only
     /// through a toggle, so the poses at successive angles lie on one branch.
     pub fn pose(&self, theta: f64) -> Result<Pose, NoAssembly> {
+        self.pose_with(theta, true)
+    }
+
+    /// [`Linkage::pose`] without the angles: every dyad link's ψ (`psi[0]`) and every RRR
+    /// dyad's μ (`var[0]`) are NaN — the three `atan2` of a four-bar's pose, which neither
+    /// the fields' balance maps nor the reactions read (they use the directions e and the
+    /// derivatives); everything else bit for bit [`Linkage::pose`]'s.
+    pub fn pose_for_fields(&self, theta: f64) -> Result<Pose, NoAssembly> {
+        self.pose_with(theta, false)
+    }
+
+    fn pose_with(&self, theta: f64, angles: bool) -> Result<Pose, NoAssembly> {
+        let psi0 = |e: P2| if angles { e.y.atan2(e.x) } else { f64::NAN };
         let (s, c) = theta.sin_cos();
         let mut pose = Pose {
             theta,
@@ -735,7 +748,7 @@ impl Linkage {
                         return Err(fail(0.0));
                     }
                     let amp = sin_mu.powi(-2) * (1.0 + pose.amp_of(&p).max(pose.amp_of(&q)));
-                    let (psa, psb) = (ea.y.atan2(ea.x), eb.y.atan2(eb.x));
+                    let (psa, psb) = (psi0(ea), psi0(eb));
                     pose.links.push(LinkState {
                         p: pp,
                         psi: [psa, wa1, wa2],
@@ -749,7 +762,10 @@ impl Linkage {
                         amp,
                     });
                     let joint = pose.links[pose.links.len() - 2].point(P2::new(l1, 0.0));
-                    let mu = sin_mu.atan2(ea.dot(&eb));
+                    let mu = match angles {
+                        true => sin_mu.atan2(ea.dot(&eb)),
+                        false => f64::NAN,
+                    };
                     pose.dyads.push(DyadState {
                         joint: [b, joint[1], joint[2]],
                         var: [mu, wb1 - wa1, wb2 - wa2],
@@ -777,7 +793,7 @@ impl Linkage {
                     let amp = sin_mu.powi(-2) * (1.0 + pose.amp_of(&p));
                     pose.links.push(LinkState {
                         p: pp,
-                        psi: [ea.y.atan2(ea.x), wa1, wa2],
+                        psi: [psi0(ea), wa1, wa2],
                         e: ea,
                         amp,
                     });
@@ -807,7 +823,7 @@ impl Linkage {
                         return Err(fail(0.0));
                     }
                     let amp = sin_mu.powi(-2) * (1.0 + pose.amp_of(&p).max(pose.amp_of(&q)));
-                    let psi = [eg.y.atan2(eg.x), w1, w2];
+                    let psi = [psi0(eg), w1, w2];
                     pose.links.push(LinkState {
                         p: pp,
                         psi,

@@ -99,11 +99,14 @@ impl<'s> SceneFields<'s> {
             .get_or_insert(e);
     }
 
-    /// The pose at θ, or `None` where the linkage does not assemble (recorded).
+    /// The pose at θ without its angles ([`Linkage::pose_for_fields`]: the balance and
+    /// reaction maps read none), or `None` where the linkage does not assemble (recorded).
+    ///
+    /// [`Linkage::pose_for_fields`]: super::model::Linkage::pose_for_fields
     fn pose(&self, theta: f64) -> Option<Pose> {
         self.scene
             .linkage
-            .pose(theta)
+            .pose_for_fields(theta)
             .map_err(|e| self.fail(LinkageSolveError::NoAssembly(theta.to_degrees(), e.dyad)))
             .ok()
     }
@@ -641,9 +644,14 @@ impl<'a> Block<'a> {
         })
     }
 
-    /// The fields, in the block's order.
-    fn refs(&self) -> Vec<&dyn mm::AffineField> {
-        let fmt = self.fmt.iter().map(|f| f as &dyn mm::AffineField);
+    /// The fields, in the block's order; a force, moment or torque not `named` is a zero
+    /// field of its dimension ([`mm::Unused`]: never evaluated).
+    fn refs(&self, named: [bool; 3]) -> Vec<&dyn mm::AffineField> {
+        let fmt = (self.fmt.iter().zip(named)).map(|(f, on)| match (on, f.dim) {
+            (true, _) => f as &dyn mm::AffineField,
+            (false, 2) => &mm::UNUSED_PLANAR,
+            (false, _) => &mm::UNUSED_SCALAR,
+        });
         let joints = self.joints.iter().map(|j| j as &dyn mm::AffineField);
         let energy = self.energy.iter().map(|(e, _)| e as &dyn mm::AffineField);
         fmt.chain(joints).chain(energy).collect()
@@ -662,10 +670,11 @@ pub fn block_field_values(
 ) -> Result<Vec<([f64; 2], f64)>, LinkageSolveError> {
     let fields = SceneFields::new(s);
     let mut block = Block::new(&fields, "", x.len(), offset, false)?;
-    if at.iter().any(|&(f, _)| f >= block.refs().len()) {
+    if at.iter().any(|&(f, _)| f >= block.refs([true; 3]).len()) {
         block = Block::new(&fields, "", x.len(), offset, true)?;
     }
-    let values = crate::synth::envelope::field_values(&block.refs(), at.iter().copied(), x);
+    let values =
+        crate::synth::envelope::field_values(&block.refs([true; 3]), at.iter().copied(), x);
     match fields.failure() {
         Some(e) => Err(e),
         None => Ok(values),
@@ -731,6 +740,15 @@ fn peak_limits(o: &Objective, joints: usize) -> Vec<(usize, f64)> {
 
 /// The goal over `blocks` blocks of `len` fields: the nominal block's goal with every
 /// peak's field repeated in each block (the worst case over the scenarios).
+/// Whether the goal `g` names field `k`.
+fn goal_names(g: &mm::Goal, k: usize) -> bool {
+    match g {
+        mm::Goal::MinPeak(v) => v.iter().any(|p| p.0 == k),
+        mm::Goal::MinRms(f) => *f == k,
+        mm::Goal::MinMass => false,
+    }
+}
+
 fn block_goal(g: mm::Goal, blocks: usize, len: usize) -> mm::Goal {
     match g {
         mm::Goal::MinPeak(v) => mm::Goal::MinPeak(
@@ -758,9 +776,12 @@ struct Built {
 /// Builds the scene's engine — the nominal scene and every vertex of its envelope, each a
 /// block of fields, the goal the worst case over the blocks, every limit in each ([`Block`])
 /// — and hands it to `then` with the scene's fields (the nominal's, then the vertices').
+/// With `named_only` the force, moment and torque that neither the goal nor a limit names
+/// are zero fields ([`Block::refs`]).
 fn with_engine<R>(
     scene: &LinkageScene,
     settings: &Settings,
+    named_only: bool,
     then: impl FnOnce(&Engine, &Built, &[SceneFields]) -> Result<R, LinkageSolveError>,
 ) -> Result<R, LinkageSolveError> {
     let vertices = vertex_scenes(scene)?;
@@ -790,7 +811,7 @@ fn with_engine<R>(
     let mut built = Built {
         balance_residual: None,
         balance_rows: 0,
-        len: blocks[0].refs().len(),
+        len: blocks[0].fmt.len() + blocks[0].joints.len() + blocks[0].energy.iter().count(),
         energy_at: 3 + blocks[0].joints.len(),
         n: 0,
     };
@@ -805,6 +826,9 @@ fn with_engine<R>(
     }
     let (len, energy_at) = (built.len, built.energy_at);
     let limits = peak_limits(o, blocks[0].joints.len());
+    let goal_k = goal(o.minimize, energy_at);
+    let named = [FORCE, MOMENT, TORQUE]
+        .map(|k| !named_only || goal_names(&goal_k, k) || limits.iter().any(|l| l.0 == k));
     let mut extra = if cws.is_empty() {
         vec![(0.0, 0.0)]
     } else {
@@ -817,11 +841,11 @@ fn with_engine<R>(
             .map(|(_, c)| (-c, *c)),
     );
     let pb = Problem {
-        fields: blocks.iter().flat_map(Block::refs).collect(),
+        fields: blocks.iter().flat_map(|b| b.refs(named)).collect(),
         counterweights: cws.iter().map(limits_of).collect(),
         extra,
         linear,
-        goal: block_goal(goal(o.minimize, energy_at), blocks.len(), len),
+        goal: block_goal(goal_k, blocks.len(), len),
         limits: (0..blocks.len())
             .flat_map(|b| limits.iter().map(move |&(k, v)| (b * len + k, v)))
             .collect(),
@@ -832,8 +856,10 @@ fn with_engine<R>(
 }
 
 /// The engine's optimum of the scene's counterweights alone (no baselines, RMS, plates or
-/// front): the inner program of a shape search (issue 36). `None` without counterweights or
-/// with a full force balance out of reach.
+/// front): the inner program of a shape search (issue 36), whose candidate needs its
+/// objective's peak only — of the force, moment and torque only those the goal and the
+/// limits name are fields (the others' peaks are 0: their grids and refinements are not
+/// paid). `None` without counterweights or with a full force balance out of reach.
 pub fn optimum(
     scene: &LinkageScene,
     settings: &Settings,
@@ -841,7 +867,7 @@ pub fn optimum(
     if scene.counterweights.is_empty() {
         return Ok(None);
     }
-    with_engine(scene, settings, |engine, built, _| {
+    with_engine(scene, settings, true, |engine, built, _| {
         match built.balance_residual {
             Some(_) => Ok(None),
             None => Ok(Some(engine.solve()?)),
@@ -854,7 +880,7 @@ pub fn optimum(
 /// vertex's scene is a block of fields after the nominal one, the goal is the worst case over
 /// the blocks and every limit holds in each ([`with_engine`]).
 pub fn solve(scene: &LinkageScene, settings: &Settings) -> Result<Outcome, LinkageSolveError> {
-    with_engine(scene, settings, |engine, built, all| {
+    with_engine(scene, settings, false, |engine, built, all| {
         let cws = &scene.counterweights;
         let o = &scene.objective;
         let energy_at = built.energy_at;

@@ -271,6 +271,26 @@ pub trait AffineField: Sync {
     }
 }
 
+/// A field the problem does not name, zero, of its dimension (1 or 2): its place in a
+/// family's list of fields kept without a field built, where a caller needs the peaks of
+/// some fields only (a shape search's candidate asks for its objective's).
+pub struct Unused(pub usize);
+
+impl AffineField for Unused {
+    fn name(&self) -> &str {
+        "unused"
+    }
+    fn dim(&self) -> usize {
+        self.0
+    }
+    fn eval(&self, _: f64, _: &mut AffineValue) {}
+}
+
+/// An unused scalar field (a moment, a torque).
+pub static UNUSED_SCALAR: Unused = Unused(1);
+/// An unused planar field (a force, a joint load).
+pub static UNUSED_PLANAR: Unused = Unused(2);
+
 /// An [`AffineField`] from closures: `eval(θ, out)` and optionally `error(θ, x)`.
 pub struct FnField<E, R> {
     /// Name (a literal one is not copied: a family builds its fields per scenario, and
