@@ -241,7 +241,8 @@ pub fn with_line_offset(l: &Linkage, link: usize, e: f64) -> Result<Linkage, Lin
 /// ([`Linkage::places`]: the tracer's X of [`Linkage::pose`] bit for bit, without its
 /// derivatives).
 pub fn path_error(l: &Linkage, path: &PathSpec, at: P2) -> Option<(f64, Vec<f64>)> {
-    let x = |theta: f64| -> Option<P2> { Some(l.places(theta).ok()?[path.link].point(at)) };
+    let placer = Placer::new(l);
+    let x = |theta: f64| placer.at(theta, |p| p[path.link].point(at));
     let d: Vec<f64> = match &path.angles {
         Some(angles) => (path.points.iter().zip(angles))
             .map(|(q, &t)| x(t).map(|p| (p - q).norm()))
@@ -299,6 +300,27 @@ pub fn path_error_bound(l: &Linkage, path: &PathSpec, at: P2) -> f64 {
     v * ANGLE_TOL + 1e-15 * size * kappa
 }
 
+/// The links' places at one crank angle after another into one buffer
+/// ([`Linkage::places_into`]): a path error or a swing asks for hundreds of them, and a fresh
+/// vector each was a sixth of a path error's instructions.
+struct Placer<'a> {
+    l: &'a Linkage,
+    buf: std::cell::RefCell<Vec<Place>>,
+}
+
+impl<'a> Placer<'a> {
+    fn new(l: &'a Linkage) -> Self {
+        let buf = std::cell::RefCell::new(Vec::with_capacity(l.n_links()));
+        Placer { l, buf }
+    }
+    /// g(places at θ); `None` where the linkage does not assemble there.
+    fn at<T>(&self, theta: f64, g: impl FnOnce(&[Place]) -> T) -> Option<T> {
+        let mut b = self.buf.borrow_mut();
+        self.l.places_into(theta, &mut b).ok()?;
+        Some(g(&b))
+    }
+}
+
 /// An extreme over the turn with its error bound.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct TurnExtreme {
@@ -315,12 +337,9 @@ pub struct TurnExtreme {
 /// at one of them.
 fn sampled<T>(l: &Linkage, g: &impl Fn(&[Place]) -> T) -> Option<Vec<T>> {
     let h = std::f64::consts::TAU / PATH_SAMPLES as f64;
-    let mut buf = Vec::new();
+    let placer = Placer::new(l);
     (0..PATH_SAMPLES)
-        .map(|k| {
-            l.places_into(k as f64 * h, &mut buf).ok()?;
-            Some(g(&buf))
-        })
+        .map(|k| placer.at(k as f64 * h, g))
         .collect()
 }
 
@@ -335,7 +354,8 @@ fn turn_max(
     g: &impl Fn(&[Place]) -> f64,
 ) -> Option<TurnExtreme> {
     let signed: Vec<f64> = ys.iter().map(|y| sign * y).collect();
-    let f = |t: f64| l.places(t).map_or(f64::NAN, |p| sign * g(&p));
+    let placer = Placer::new(l);
+    let f = |t: f64| placer.at(t, |p| sign * g(p)).unwrap_or(f64::NAN);
     let all = crate::numeric::Refine::All;
     let p = crate::numeric::periodic_peak_sampled(&signed, f, Some(ANGLE_TOL), all).ok()?;
     p.peak.fx.is_finite().then_some(TurnExtreme {
