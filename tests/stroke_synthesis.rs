@@ -1,12 +1,16 @@
 //! A slider's stroke as the shape search's requirement (issue 36): the stroke against the
 //! slider-crank's closed form on random and near-toggle geometries, the line's offset set and
-//! read back, the shipped stroke scene's requirements met and its design the plain linkage
-//! solve of its geometry, and the file's mistakes located.
+//! read back, the joints' margin in a box against brute force and the closed form, the
+//! shipped stroke scene's requirements met and its design the plain linkage solve of its
+//! geometry, and the file's mistakes located.
 
 use crate::common::{err, problem, solve_json, with};
 use cwsynth::families::linkage::file::LinkageProblem;
-use cwsynth::families::linkage::shape::{line_offset, stroke, with_line_offset};
+use cwsynth::families::linkage::shape::{
+    box_margin, line_offset, stroke, with_line_offset, JointBox,
+};
 use cwsynth::families::parse_str;
+use cwsynth::geom::P2;
 use std::path::Path;
 
 const FILE: &str = "linkage-slider-stroke-synthesis.toml";
@@ -103,6 +107,64 @@ fn a_lines_offset_is_set_and_read_back() {
     }
 }
 
+/// The joints' margin inside a box: the vertical slider-crank's joints are A0, the crank pin
+/// on the circle of radius r and the ram's pin on x = −e from √((l − r)² − e²) to
+/// √((l + r)² − e²), so in the box [−80, 80] × [−80, 270] mm the margin is
+/// min(80 − r, 80 − |e|, 270 − √((l + r)² − e²)) (the pin's lowest point stays above −80 mm
+/// here); checked against it and against 2¹⁶ crank angles by brute force.
+#[test]
+fn a_joint_boxs_margin_is_its_closed_form() {
+    let b = JointBox {
+        min: P2::new(-0.08, -0.08),
+        max: P2::new(0.08, 0.27),
+    };
+    for (r, l, e) in [
+        (50.0, 200.0, 0.0),
+        (50.0, 225.0, 0.0),
+        (40.0, 250.0, -12.0),
+        (60.0, 170.0, 25.0),
+    ] {
+        let p = slider_crank(r, l, e);
+        let lk = &p.scene.linkage;
+        let m = box_margin(lk, p.scene.crank_length, &b).unwrap();
+        let top = ((l + r).powi(2) - e * e).sqrt();
+        let truth = (80.0 - r).min(80.0 - e.abs()).min(270.0 - top) * 1e-3;
+        assert!(
+            (m.value - truth).abs() <= m.error + 1e-15,
+            "r {r} l {l} e {e}: {} against {truth} (bound {})",
+            m.value,
+            m.error
+        );
+        let n = 1 << 16;
+        let brute = (0..n)
+            .map(|k| {
+                let places = lk
+                    .places(std::f64::consts::TAU * k as f64 / n as f64)
+                    .unwrap();
+                let pts = [places[0].p, places[1].p, places[2].p];
+                (pts.iter())
+                    .map(|x| {
+                        (x.x - b.min.x)
+                            .min(b.max.x - x.x)
+                            .min(x.y - b.min.y)
+                            .min(b.max.y - x.y)
+                    })
+                    .fold(f64::INFINITY, f64::min)
+            })
+            .fold(f64::INFINITY, f64::min);
+        assert!(
+            brute >= m.value - m.error,
+            "r {r} l {l} e {e}: brute {brute} below {}",
+            m.value
+        );
+        assert!(
+            brute - m.value < 1e-9,
+            "r {r} l {l} e {e}: brute {brute} against {}",
+            m.value
+        );
+    }
+}
+
 /// The shipped scene: `best_found`; its design's stroke within 0.1 mm of 100 mm and its
 /// crank ratio at most 0.3 (both also against the closed form of the design's r, l, e); every
 /// front point within the error it was held to; the certified torque no worse than
@@ -123,6 +185,16 @@ fn the_stroke_scene_meets_its_stroke_and_crank_ratio() {
     assert!((s - 0.1).abs() <= 1e-4 + num(&v["errors"], "stroke_error_m"));
     assert!((num(&v["derived"], "crank_ratio") - r / l).abs() < 1e-15);
     assert!(r / l <= 0.3);
+    // The joint box binds: the ram's top at l + r = 270 mm, within its margin.
+    let margin = num(&v["derived"], "joint_box_margin_m");
+    assert!(
+        margin >= -num(&v["errors"], "joint_box_margin_m"),
+        "{margin}"
+    );
+    assert!(
+        margin < 1e-6 && (l + r - 0.27).abs() < 1e-6,
+        "{margin} {l} {r}"
+    );
     let syn = &v["synthesis"];
     for pt in syn["front"].as_array().unwrap() {
         assert!(num(pt, "stroke_error_m") <= num(pt, "max_error_m"), "{pt}");
@@ -194,6 +266,10 @@ fn a_stroke_names_its_mistakes() {
         (
             with(&t, "max = \"30 mm\"", "max = \"-40 mm\""),
             "design.synthesis.offset[0]",
+        ),
+        (
+            with(&t, "\"270 mm\"", "\"-270 mm\""),
+            "design.synthesis.joint_box",
         ),
     ];
     for (bad, key) in cases {

@@ -9,8 +9,8 @@
 
 use super::model::{tip_of, Linkage};
 use super::shape::{
-    frame_pivot, slider_line, CrankRatio, FunctionSpec, GeometryParam, Kind, PathSpec, StrokeSpec,
-    SwingSpec, Synthesis,
+    frame_pivot, slider_line, CrankRatio, FunctionSpec, GeometryParam, JointBox, Kind, PathSpec,
+    StrokeSpec, SwingSpec, Synthesis,
 };
 use crate::problem::{positive, FieldError};
 use crate::units::{Angle, Length, Qty};
@@ -61,6 +61,9 @@ pub struct SynthesisRaw {
     /// The largest crank ratio λ = r/l every candidate must keep (dimensionless, 0 < λ < 1):
     /// r the crank's length, l that of the rod of the RRP dyad on the crank's tip.
     pub max_crank_ratio: Option<f64>,
+    /// The box every joint must stay inside over the whole turn (world frame): every
+    /// link's reference joint and the tip of every link with a length.
+    pub joint_box: Option<BoxRaw>,
 }
 
 /// A free link length.
@@ -392,6 +395,16 @@ pub fn resolve_synthesis(
         }
         None => None,
     };
+    let joint_box = match &r.joint_box {
+        Some(b) => {
+            let k = format!("{key}.joint_box");
+            let (lo, hi) = (xy(&b.min), xy(&b.max));
+            interval(lo.x, hi.x, &k)?;
+            interval(lo.y, hi.y, &k)?;
+            Some(JointBox { min: lo, max: hi })
+        }
+        None => None,
+    };
     let max_crank_ratio = (r.max_crank_ratio)
         .map(|m| crank_ratio(l, m, &format!("{key}.max_crank_ratio")))
         .transpose()?;
@@ -493,6 +506,7 @@ pub fn resolve_synthesis(
         params,
         min_transmission,
         max_crank_ratio,
+        joint_box,
         search,
         front_points: count(r.front_points, "front_points", 3, 0, 20)?,
     })

@@ -198,7 +198,8 @@ fn path_numbers(r: &mut SolveResult, p: &LinkageProblem, sol: &Solved) {
 
 /// With `[objective.stroke]`: `objectives.stroke_error_m` (|stroke − target|, its error in
 /// `errors`) and the section `stroke`; with `max_crank_ratio`: `derived.crank_ratio` (a
-/// warning above the limit).
+/// warning above the limit); with `joint_box`: `derived.joint_box_margin_m` and its error (a
+/// warning where a joint leaves the box beyond its error).
 fn stroke_numbers(r: &mut SolveResult, p: &LinkageProblem, sol: &Solved) {
     match (&sol.stroke, &p.stroke) {
         (Some(Ok(w)), Some(spec)) => {
@@ -220,6 +221,21 @@ fn stroke_numbers(r: &mut SolveResult, p: &LinkageProblem, sol: &Solved) {
         }
         (Some(Err(why)), _) => r.warnings.push(format!("the stroke: {why}")),
         _ => {}
+    }
+    match &sol.box_margin {
+        Some(Ok(m)) => {
+            r.derived.insert("joint_box_margin_m".into(), m.value);
+            r.errors.insert("joint_box_margin_m".into(), m.error);
+            if m.value + m.error < 0.0 {
+                r.warnings.push(format!(
+                    "a joint leaves design.synthesis.joint_box by {:.6} mm at the crank angle {:.3}°",
+                    -m.value * 1e3,
+                    m.angle.to_degrees()
+                ));
+            }
+        }
+        Some(Err(why)) => r.warnings.push(format!("the joint box: {why}")),
+        None => {}
     }
     let limit = (p.synthesis.as_ref()).and_then(|s| s.max_crank_ratio);
     if let (Some(lambda), Some(c)) = (sol.crank_ratio, limit) {

@@ -122,6 +122,15 @@ impl CrankRatio {
     }
 }
 
+/// `design.synthesis.joint_box` resolved: the box every joint must stay inside over the turn.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct JointBox {
+    /// The lower corner (m, world).
+    pub min: P2,
+    /// The upper corner (m, world).
+    pub max: P2,
+}
+
 /// `[design.synthesis]` resolved.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Synthesis {
@@ -132,6 +141,8 @@ pub struct Synthesis {
     pub min_transmission: Option<f64>,
     /// The largest crank ratio λ = r/l every candidate must keep, if any.
     pub max_crank_ratio: Option<CrankRatio>,
+    /// The box every joint must stay inside over the turn, if any ([`box_margin`]).
+    pub joint_box: Option<JointBox>,
     /// The multistart's settings.
     pub search: constrained::Settings,
     /// Front points below `max_error`.
@@ -429,6 +440,47 @@ pub fn stroke(l: &Linkage, link: usize) -> Option<TurnExtreme> {
     Some(TurnExtreme {
         error: w.error + 1e-15 * size * kappa,
         ..w
+    })
+}
+
+/// The joints of `l` as (link, point in its frame): every link's reference joint P (the
+/// crank's pivot A0, a dyad link's pivot, a slider's pin) and the tip of every link with a
+/// length ([`super::model::tip_of`]; the crank's length is `crank_length`).
+fn joints(l: &Linkage, crank_length: f64) -> Vec<(usize, P2)> {
+    (0..l.n_links())
+        .flat_map(|i| {
+            let tip = super::model::tip_of(l.dyads(), crank_length, i);
+            std::iter::once((i, P2::zeros())).chain(tip.map(|t| (i, t)))
+        })
+        .collect()
+}
+
+/// The margin of the joints of `l` inside the box `b` over the turn: the least, over the
+/// joints ([`joints`]) and the crank angle, of the distance to the box's nearest wall,
+/// min(x − x_min, x_max − x, y − y_min, y_max − y) — negative where a joint leaves the box —
+/// refined like the swing ([`turn_max`], from [`PATH_SAMPLES`] samples), its error bound the
+/// refinement's plus 1e-15 of the mechanism's size. `None` where the linkage does not
+/// assemble over the turn.
+pub fn box_margin(l: &Linkage, crank_length: f64, b: &JointBox) -> Option<TurnExtreme> {
+    let pts = joints(l, crank_length);
+    let g = |p: &[Place]| {
+        (pts.iter())
+            .map(|&(i, at)| {
+                let x = p[i].point(at);
+                (x.x - b.min.x)
+                    .min(b.max.x - x.x)
+                    .min(x.y - b.min.y)
+                    .min(b.max.y - x.y)
+            })
+            .fold(f64::INFINITY, f64::min)
+    };
+    let ys = sampled(l, &g)?;
+    let m = turn_max(l, &ys, -1.0, &g)?;
+    let size = b.min.norm().max(b.max.norm());
+    Some(TurnExtreme {
+        value: -m.value,
+        error: m.error + 1e-15 * size,
+        angle: m.angle,
     })
 }
 

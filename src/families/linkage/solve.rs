@@ -57,6 +57,8 @@ pub struct Solution {
     pub stroke: Option<Result<super::shape::TurnExtreme, String>>,
     /// The crank ratio λ = r/l, where `[design.synthesis]` bounds it.
     pub crank_ratio: Option<f64>,
+    /// The joints' least margin inside `design.synthesis.joint_box` over the turn.
+    pub box_margin: Option<Result<super::shape::TurnExtreme, String>>,
 }
 
 /// The tracer's path against its precision points (`[objective.path]`).
@@ -185,6 +187,9 @@ pub fn solve(p: &LinkageProblem) -> Result<Solution, String> {
     let crank_ratio = (p.synthesis.as_ref())
         .and_then(|s| s.max_crank_ratio)
         .and_then(|c| c.of(&sc.linkage, sc.crank_length));
+    let box_margin = (p.synthesis.as_ref())
+        .and_then(|s| s.joint_box)
+        .map(|b| super::shape::box_margin(&sc.linkage, sc.crank_length, &b).ok_or_else(turns));
     let transmission = (p.synthesis.as_ref())
         .and_then(|s| s.min_transmission)
         .map(|_| super::shape::min_transmission(&sc.linkage).ok_or_else(turns));
@@ -195,6 +200,7 @@ pub fn solve(p: &LinkageProblem) -> Result<Solution, String> {
         transmission,
         stroke,
         crank_ratio,
+        box_margin,
         load_cases,
         envelope,
         energy,

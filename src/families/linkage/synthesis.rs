@@ -9,9 +9,9 @@
 use super::file::{Goal, LinkageProblem, LinkageScene};
 use super::model::{tip_of, LinkageError};
 pub use super::shape::{
-    frame_pivot, function_error, min_transmission, path_error, path_error_bound, stroke, swing,
-    CrankRatio, FunctionSpec, GeometryParam, Kind, PathSpec, Requirement, ShapeOutcome, ShapePoint,
-    StrokeSpec, SwingSpec, Synthesis, PATH_SAMPLES,
+    box_margin, frame_pivot, function_error, min_transmission, path_error, path_error_bound,
+    stroke, swing, CrankRatio, FunctionSpec, GeometryParam, JointBox, Kind, PathSpec, Requirement,
+    ShapeOutcome, ShapePoint, StrokeSpec, SwingSpec, Synthesis, PATH_SAMPLES,
 };
 use super::shape::{line_offset, with_line_offset, with_pivots};
 use super::synth::{optimum, FORCE, MOMENT, TORQUE};
@@ -164,11 +164,17 @@ impl Shape for LinkageShape<'_> {
     }
 
     /// The kinematic error; `None` (not admissible) also where the least transmission
-    /// angle is below `min_transmission_angle` or the crank ratio above `max_crank_ratio`.
+    /// angle is below `min_transmission_angle`, the crank ratio above `max_crank_ratio` or a
+    /// joint leaves `joint_box`.
     fn error(&self, x: &[f64]) -> Option<f64> {
         let (sc, at) = scene_at(self.syn, self.base, self.req.tracer(), x).ok()?;
         if let Some(ratio) = &self.syn.max_crank_ratio {
             if ratio.of(&sc.linkage, sc.crank_length)? > ratio.max {
+                return None;
+            }
+        }
+        if let Some(b) = &self.syn.joint_box {
+            if box_margin(&sc.linkage, sc.crank_length, b)?.value < 0.0 {
                 return None;
             }
         }
