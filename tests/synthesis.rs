@@ -497,3 +497,43 @@ fn machine_any(text: &str) -> LinkageProblem {
     let s = parse_str(text, Path::new("f.toml")).unwrap();
     s.machine::<LinkageProblem>().unwrap().clone()
 }
+
+/// The search's work budget: each of its settings alone at its largest is accepted on every
+/// shipped search, all of them together are refused, naming the setting raised most above
+/// its default.
+#[test]
+fn a_search_over_its_work_budget_is_refused() {
+    let settings = [
+        ("halton", "4096"),
+        ("starts", "64"),
+        ("iterations", "5000"),
+        ("front_points", "20"),
+    ];
+    for file in [
+        FILE,
+        "linkage-crank-rocker-synthesis.toml",
+        "linkage-slider-stroke-synthesis.toml",
+    ] {
+        let t = std::fs::read_to_string(problem(file)).unwrap();
+        let set = |t: &str, key: &str, v: &str| {
+            let i = t.find(&format!("\n{key} = ")).unwrap() + 1;
+            let j = i + t[i..].find(char::is_whitespace).unwrap();
+            let j = j + t[j..].find(|c: char| c.is_ascii_digit()).unwrap();
+            let k = j + t[j..].find(|c: char| !c.is_ascii_digit()).unwrap();
+            format!("{}{v}{}", &t[..j], &t[k..])
+        };
+        for (key, v) in settings {
+            let one = set(&t, key, v);
+            assert!(
+                parse_str(&one, Path::new(file)).is_ok(),
+                "{file}: {key} = {v} alone refused"
+            );
+        }
+        let all = settings.iter().fold(t.clone(), |t, (k, v)| set(&t, k, v));
+        let e = err(&all).to_string();
+        assert!(
+            e.contains("design.synthesis.iterations") && e.contains("shape-search budget"),
+            "{file}: {e}"
+        );
+    }
+}

@@ -393,6 +393,9 @@ pub fn resolve_raw(raw: &File, dir: &Path) -> Result<LinkageProblem, FieldError>
             super::file_synthesis::resolve_synthesis(r, l, kin, &bars)
         })
         .transpose()?;
+    if let Some(syn) = &synthesis {
+        super::file_synthesis::check_search_work(syn)?;
+    }
     Ok(LinkageProblem {
         scene,
         settings,

@@ -512,6 +512,38 @@ pub fn resolve_synthesis(
     })
 }
 
+/// The shape search's budget in candidate geometries ([`check_search_work`]): each a
+/// kinematic error and, within its bound, a certified cone program (about 0.1–0.3 ms on
+/// the shipped four-bars), so a search stays within about two minutes at worst.
+pub const SEARCH_BUDGET: f64 = 5e5;
+
+/// The shape search's work, counted in candidate geometries at worst —
+/// (`front_points` + 2)·(`halton` + `starts`·`iterations`·(n + 1)), n the free parameters
+/// (the least-error search, the front's points and the design each search from the Halton
+/// points; a Nelder–Mead iteration evaluates at most n + 1 points, its shrink) — against
+/// [`SEARCH_BUDGET`]: each setting alone may be at its largest on the shipped files, but
+/// their product would run for hours.
+pub fn check_search_work(syn: &Synthesis) -> Result<(), FieldError> {
+    let s = &syn.search;
+    let f = |v: usize| v as f64;
+    let n = f(syn.params.len());
+    let estimate =
+        f(syn.front_points + 2) * (f(s.halton) + f(s.starts) * s.max_iters as f64 * (n + 1.0));
+    let t = |k, v: f64, d: f64| crate::problem::limits::term(k, v, d);
+    crate::problem::limits::check_work(
+        SEARCH_BUDGET,
+        "shape-search",
+        estimate,
+        "(front_points + 2)·(halton + starts·iterations·(free parameters + 1))",
+        &[
+            t("design.synthesis.halton", f(s.halton), 48.0),
+            t("design.synthesis.starts", f(s.starts), 4.0),
+            t("design.synthesis.iterations", s.max_iters as f64, 150.0),
+            t("design.synthesis.front_points", f(syn.front_points), 3.0),
+        ],
+    )
+}
+
 /// Adds a parameter unless one of the same kind is free already.
 fn push(
     params: &mut Vec<GeometryParam>,
