@@ -689,8 +689,21 @@ impl<'p, 'a> Engine<'p, 'a> {
 
 /// The Newton step J Δ = −r. Unknowns whose column of J is zero (to 1e-14 of the largest
 /// entry: a variable no active constraint involves) stay fixed; the rest is solved by LU
-/// with full pivoting, or, where that fails (dependent active constraints), in least
-/// squares by SVD (singular values below 1e-13 of the largest cut).
+/// with full pivoting where its pivots show full rank (the smallest |U_kk| above
+/// [`RANK_CUT`] of the largest), else in least squares of minimum norm by SVD (singular
+/// values below [`RANK_CUT`] of the largest cut) wherever that solves the system as well as
+/// LU (its residual within 10× LU's, plus 1e-10 of |r|; LU's step otherwise, or where SVD
+/// fails).
+///
+/// A rank-deficient J whose null space is not a variable of its own but a combination of
+/// live ones is a flat direction of the optimum: the felling head's crank counterweight U
+/// against the order-1 balancer pair B₁ (both move the force along the slider axis and the
+/// weight torque alike; they differ only across the axis, where the active maxima at φ = 0
+/// and π see nothing). LU's step then has an arbitrary component along that direction
+/// (finite: the system is consistent to round-off), so Newton wandered along the optimal
+/// face, converged only linearly and left the face where other maxima rise above the level:
+/// the polish failed and the exchange loop ran out of rounds a few 1e-8 short (issue 38).
+/// The minimum-norm step stays where the exchange loop put the design.
 fn kkt_step(jac: &DMatrix<f64>, r: &DVector<f64>) -> Option<DVector<f64>> {
     let size = r.len();
     let big = jac.amax();
@@ -700,22 +713,41 @@ fn kkt_step(jac: &DMatrix<f64>, r: &DVector<f64>) -> Option<DVector<f64>> {
     let k = live.len();
     let sub = DMatrix::from_fn(k, k, |a, b| jac[(live[a], live[b])]);
     let rhs = DVector::from_fn(k, |a, _| -r[live[a]]);
-    let solved = sub
-        .clone()
-        .full_piv_lu()
+    let lu = sub.clone().full_piv_lu();
+    let pivots = lu.u().diagonal().abs();
+    let by_lu = lu
         .solve(&rhs)
-        .filter(|s| s.iter().all(|v| v.is_finite()) && s.amax() < 1e8)
-        .or_else(|| {
-            let svd = sub.svd(true, true);
-            let cut = 1e-13 * svd.singular_values.max();
-            svd.solve(&rhs, cut).ok()
-        })?;
+        .filter(|s| s.iter().all(|v| v.is_finite()) && s.amax() < 1e8);
+    let solved = match by_lu {
+        Some(s) if pivots.min() > RANK_CUT * pivots.max() => s,
+        by_lu => {
+            let svd = sub.clone().svd(true, true);
+            let cut = RANK_CUT * svd.singular_values.max();
+            let least = svd.solve(&rhs, cut).ok();
+            match (by_lu, least) {
+                (Some(s), Some(m)) => {
+                    // The minimum-norm step where it solves J Δ = −r as well as LU's.
+                    let miss = |d: &DVector<f64>| (&sub * d - &rhs).norm();
+                    if miss(&m) <= 10.0 * miss(&s) + 1e-10 * rhs.norm() {
+                        m
+                    } else {
+                        s
+                    }
+                }
+                (s, m) => m.or(s)?,
+            }
+        }
+    };
     let mut step = DVector::zeros(size);
     for (a, &j) in live.iter().enumerate() {
         step[j] = solved[a];
     }
     Some(step)
 }
+
+/// The numerical rank's threshold of the Newton system ([`kkt_step`]): a pivot or a singular
+/// value below this fraction of the largest counts as zero.
+const RANK_CUT: f64 = 1e-13;
 
 /// The active constraints whose gradients at x̂ are independent, kept in order (equalities
 /// first): each one's gradient, less its projection on the span of those kept, must keep
