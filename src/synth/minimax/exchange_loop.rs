@@ -4,7 +4,7 @@
 //! [`super`]: "The exchange loop and its certificate").
 
 use super::assembly::Round;
-use super::polish::{KktStart, Term, MAX_POLISH};
+use super::polish::{KktStart, PolishOutcome, Term, MAX_POLISH};
 use super::validate::validate_goal;
 use super::{
     var_m, AffineValue, Engine, Goal, MinimaxError, Solution, Stop, NEWTON_ONLY, POLISHED,
@@ -234,7 +234,7 @@ impl<'p, 'a> Engine<'p, 'a> {
             .collect();
         let t_scale = self.peak_scale(list);
         if let Some(po) =
-            self.polish_certify(list, run.limits, terms, &st.x_hat, st.t_hat, t_scale)?
+            self.polish_certify(list, run.limits, terms, &st.x_hat, st.t_hat, t_scale, false)?
         {
             if (po.value - po.lower).abs() <= s.rel_tol * po.value.max(run.obj_floor)
                 && po.lim_rel <= s.rel_tol
@@ -656,13 +656,19 @@ impl<'p, 'a> Engine<'p, 'a> {
             return Ok(None);
         }
         rs.polish_tries += 1;
-        let Some(po) = self.try_polish(list, run.limits, rd, x, pk)? else {
+        let certifies = |po: &PolishOutcome| {
+            (po.value - po.lower).abs() <= s.rel_tol * po.value.max(run.obj_floor)
+                && po.lim_rel <= s.rel_tol
+        };
+        // Plain Newton first; where it fails, the proximal retry (`polish::PROX`: a flat
+        // direction of the optimum).
+        let mut po = self.try_polish(list, run.limits, rd, x, pk, false)?;
+        if !po.as_ref().is_some_and(certifies) {
+            po = self.try_polish(list, run.limits, rd, x, pk, true)?;
+        }
+        let Some(po) = po.filter(certifies) else {
             return Ok(None);
         };
-        let gs = po.value.max(run.obj_floor);
-        if !((po.value - po.lower).abs() <= s.rel_tol * gs && po.lim_rel <= s.rel_tol) {
-            return Ok(None);
-        }
         let sets = std::mem::take(&mut rs.sets);
         let status = format!("{status_txt}; {POLISHED}");
         self.polished_solution(run.goal, run.limits, sets, po, round, rs.iters, status)
