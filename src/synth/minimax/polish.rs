@@ -562,6 +562,7 @@ impl<'p, 'a> Engine<'p, 'a> {
     /// polished level joins the set and Newton reruns (at most twice), and the lower bound
     /// is the rigorous Lagrangian bound ([`Engine::lagrangian_bound`]) at the polished
     /// angles and multipliers. `None` when Newton fails.
+    #[allow(clippy::too_many_arguments)]
     pub(super) fn polish_certify(
         &self,
         list: &[(usize, f64)],
