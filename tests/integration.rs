@@ -30,6 +30,7 @@ mod drive_families;
 mod energy_design;
 mod envelope;
 mod felling_head;
+mod felling_head_lanchester;
 mod fleet_mutants;
 mod flywheel_design;
 mod gear;

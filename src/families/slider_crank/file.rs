@@ -172,6 +172,9 @@ pub struct SliderCrankProblem {
     /// `minimize = "flywheel-inertia"`: the design searched for the least flywheel that meets
     /// the drive's Cs (the core scene then holds the force objective of its start).
     pub flywheel_objective: bool,
+    /// `[design.balancers] compare`: the scene also solved with none and with each leading
+    /// subset of its balancer orders (the result's `balancer_comparison`).
+    pub compare_balancers: bool,
     /// The mass items whose mass was read from a drawing (`outline`), in the file's order.
     pub drawn_masses: Vec<DrawnMass>,
 }
@@ -283,6 +286,7 @@ pub fn resolve_raw(raw: &File, dir: &Path) -> Result<SliderCrankProblem, FieldEr
         drive,
         rod_length_given,
         flywheel_objective,
+        compare_balancers: d.balancers.as_ref().is_some_and(|b| b.compare),
         drawn_masses: items.into_iter().filter_map(|it| it.drawn).collect(),
         reference: resolve_reference(d.reference.as_ref(), radius)?,
         evaluate_at: resolve_evaluate_at(&o.evaluate_at)?,

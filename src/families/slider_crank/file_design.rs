@@ -80,6 +80,15 @@ pub struct BalancersRaw {
     /// which adds no shaking moment). A pair at offset h adds the couple −h·F_n,x.
     #[schemars(length(max = 4))]
     pub offset: Option<Vec<Qty<Length>>>,
+    /// The centroid radius of the eccentric mass on each shaft (one per order; default
+    /// none): with it the result states each shaft's mass, |B_n|/(2r).
+    #[schemars(length(max = 4))]
+    pub radius: Option<Vec<Qty<Length>>>,
+    /// Also solve the scene with no pair, with the first order only, the first two, … up to
+    /// all of `orders` (the same objective and limits), and compare them (the result's
+    /// `balancer_comparison`).
+    #[serde(default)]
+    pub compare: bool,
 }
 
 /// `[design.paper]`: the paper's printed inputs and result of the classical formula (6),
@@ -538,6 +547,7 @@ pub(super) fn resolve_balancers(b: &BalancersRaw) -> Result<Vec<sc::BalancerSpec
     };
     per_order(b.max_unbalance.as_ref().map(Vec::len), "max_unbalance")?;
     per_order(b.offset.as_ref().map(Vec::len), "offset")?;
+    per_order(b.radius.as_ref().map(Vec::len), "radius")?;
     b.orders
         .iter()
         .enumerate()
@@ -553,10 +563,16 @@ pub(super) fn resolve_balancers(b: &BalancersRaw) -> Result<Vec<sc::BalancerSpec
                     "allowed: a finite length",
                 ));
             }
+            let mass_radius = b
+                .radius
+                .as_ref()
+                .map(|v| positive(&format!("{f}.radius[{i}]"), v[i].si()))
+                .transpose()?;
             Ok(sc::BalancerSpec {
                 pair: crate::families::slider_crank::model::BalancerPair { order, offset },
                 max_unbalance,
                 unbalance: [0.0; 2],
+                mass_radius,
             })
         })
         .collect()
@@ -582,10 +598,10 @@ pub(super) fn check_joint(core: &sc::Scene, sweep: bool, gravity: bool) -> Resul
             format!("missing: minimising the moment or the torque {why} leaves the counterweight free (it adds no moment and, without gravity, no torque); give a peak-force limit"),
         ));
     }
-    if core.pareto_points > 0 {
+    if core.pareto_points > 0 && core.objective == Objective::MinPeakMoment {
         return Err(FieldError::new(
             "objective.pareto_points",
-            format!("the torque–force Pareto front is not available {why}"),
+            "the torque–force Pareto front is not available with minimize = \"peak-moment\" (it trades the torque or ΔE against the force); allowed: \"peak-force\", \"peak-torque\", \"energy-fluctuation\"",
         ));
     }
     if sweep {

@@ -88,6 +88,7 @@ pub fn numbers(_: &Scene, p: &SliderCrankProblem, sol: &Solution, r: &mut SolveR
     pareto_numbers(r, &mut derived, out);
     shape_numbers(r, s, out);
     balancer_numbers(r, sol);
+    comparison_numbers(r, sol);
     joint_load_numbers(r, s, out);
     r.set_figures(&sol.design, &objectives(out), &errors(s, out), &derived);
     flywheel_numbers(r, sol);
@@ -366,6 +367,78 @@ fn envelope_numbers(
                 ": the length tolerances' worst case lies inside their band"
             }
         ));
+    }
+}
+
+/// One row of `balancer_comparison`: a compared scene's design and figures, each error the
+/// result's own for that scene ([`errors`]).
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct ComparisonRow {
+    /// The balancer orders of the scene (empty: the crank counterweight alone).
+    pub orders: Vec<u32>,
+    /// Its status.
+    pub status: crate::report::Status,
+    /// Peak shaking force (N).
+    pub peak_shaking_force_n: f64,
+    /// Its error bound (N).
+    pub peak_shaking_force_error_n: f64,
+    /// Peak drive torque (N·m).
+    pub peak_drive_torque_nm: f64,
+    /// Its error bound (N·m).
+    pub peak_drive_torque_error_nm: f64,
+    /// |U| of the crank counterweight (kg·m).
+    pub counterweight_unbalance_kgm: f64,
+    /// The crank counterweight's mass (kg), where the scene sizes it (a plate, or a mass and
+    /// radius).
+    pub counterweight_mass_kg: Option<f64>,
+    /// |B_n| of each pair (kg·m), in the order of `orders`.
+    pub balancer_unbalance_kgm: Vec<f64>,
+    /// The eccentric masses of all the balancer shafts together, Σ|B_n|/r_n (kg), where
+    /// every pair has its `radius` (0 without pairs).
+    pub balancer_shafts_mass_kg: Option<f64>,
+}
+
+/// The balancer comparison (`balancer_comparison`): one row per compared scene that solved,
+/// a warning for one that did not.
+fn comparison_numbers(r: &mut SolveResult, sol: &Solution) {
+    if sol.comparison.is_empty() {
+        return;
+    }
+    let mut rows = Vec::new();
+    for c in &sol.comparison {
+        let orders: Vec<u32> = c.scene.balancers.iter().map(|b| b.pair.order).collect();
+        match &c.out {
+            Ok(out) => rows.push(comparison_row(&c.scene, out, orders)),
+            Err(e) => r
+                .warnings
+                .push(format!("balancer comparison with orders {orders:?}: {e}")),
+        }
+    }
+    r.extra.insert(
+        "balancer_comparison".into(),
+        serde_json::to_value(&rows).expect("plain data"),
+    );
+}
+
+/// The [`ComparisonRow`] of one compared scene's solve.
+fn comparison_row(s: &sc::Scene, out: &sc::Outcome, orders: Vec<u32>) -> ComparisonRow {
+    let (o, e) = (objectives(out), errors(s, out).objectives);
+    let d = &out.designed;
+    ComparisonRow {
+        orders,
+        status: crate::families::family::cw_status(out.status),
+        peak_shaking_force_n: o.peak_shaking_force_n,
+        peak_shaking_force_error_n: e.peak_shaking_force_n,
+        peak_drive_torque_nm: o.peak_drive_torque_nm,
+        peak_drive_torque_error_nm: e.peak_drive_torque_nm,
+        counterweight_unbalance_kgm: P2::from(out.design.unbalance).norm(),
+        counterweight_mass_kg: out.counterweight.mass,
+        balancer_unbalance_kgm: d
+            .balancers
+            .iter()
+            .map(|b| b.unbalance[0].hypot(b.unbalance[1]))
+            .collect(),
+        balancer_shafts_mass_kg: super::solve::balancers_mass(&d.balancers),
     }
 }
 

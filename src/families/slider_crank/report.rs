@@ -37,6 +37,7 @@ pub fn documents(scene: &Scene, p: &SliderCrankProblem, sol: &Solution, r: &mut 
         pareto_documents(r, scene, sol);
     }
     balancer_table(r, sol);
+    comparison_table(r);
     cycle_table(r, &p.core, out);
     joint_load_table(r, &p.core, out);
     envelope_table(r, out);
@@ -183,6 +184,52 @@ fn balancer_table(r: &mut SolveResult, sol: &Solution) {
     r.tables.push(Table {
         suffix: "balancers".into(),
         caption: "Lanchester balancers (pairs of counter-rotating shafts at n·ω; the couple is offset × force about the crank axis, 0 for a pair on the line through it)".into(),
+        csv,
+    });
+}
+
+/// The balancer comparison as `<name>-balancer-comparison.csv`, from the result's
+/// `balancer_comparison` rows (numbers.rs wrote them; nothing is computed here).
+fn comparison_table(r: &mut SolveResult) {
+    let Some(rows) = r
+        .extra
+        .get("balancer_comparison")
+        .and_then(|v| v.as_array())
+    else {
+        return;
+    };
+    let mut csv = String::from("orders,status,peak_shaking_force_n,peak_shaking_force_error_n,peak_drive_torque_nm,peak_drive_torque_error_nm,counterweight_unbalance_kgm,counterweight_mass_kg,balancer_unbalance_kgm,balancer_shafts_mass_kg\n");
+    let text = |v: &serde_json::Value| match v {
+        serde_json::Value::Null => String::new(),
+        serde_json::Value::String(s) => s.clone(),
+        serde_json::Value::Array(a) => a
+            .iter()
+            .map(|x| x.to_string())
+            .collect::<Vec<_>>()
+            .join(" "),
+        v => v.to_string(),
+    };
+    for row in rows {
+        let cells: Vec<String> = [
+            "orders",
+            "status",
+            "peak_shaking_force_n",
+            "peak_shaking_force_error_n",
+            "peak_drive_torque_nm",
+            "peak_drive_torque_error_nm",
+            "counterweight_unbalance_kgm",
+            "counterweight_mass_kg",
+            "balancer_unbalance_kgm",
+            "balancer_shafts_mass_kg",
+        ]
+        .iter()
+        .map(|k| text(&row[*k]))
+        .collect();
+        csv += &(cells.join(",") + "\n");
+    }
+    r.tables.push(Table {
+        suffix: "balancer-comparison".into(),
+        caption: "Balancer comparison: the scene solved with no pair (crank counterweight only), then with its first 1, 2, … balancer orders (the same objective and limits); the shafts' mass is that of their eccentric masses at the given radius".into(),
         csv,
     });
 }

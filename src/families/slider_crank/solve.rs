@@ -54,6 +54,36 @@ pub struct Solution {
     /// With `minimize = "flywheel-inertia"`: the search's design and evidence, and each
     /// baseline's least flywheel (by name, where its drive could be computed).
     pub flywheel: Option<(FlywheelDesign, Vec<(String, f64)>)>,
+    /// With `[design.balancers] compare`: the scene without pairs, then with its first 1, 2,
+    /// … orders, each solved as a scene of its own ([`compare_balancers`]).
+    pub comparison: Vec<Compared>,
+}
+
+/// One scene of the balancer comparison: the file's scene with the leading `orders` of its
+/// balancers only (none: the crank counterweight alone), and its whole solve.
+#[derive(Debug, Clone)]
+pub struct Compared {
+    /// The scene solved (its balancers the compared pairs, no front).
+    pub scene: sc::Scene,
+    /// Its solve (`Err`: why it failed).
+    pub out: Result<sc::Outcome, String>,
+}
+
+/// The scene `s` with no balancer pair, then with its first 1, 2, … pairs, up to all of
+/// them: the same objective and limits, no Pareto front. Each is the solve a file with
+/// those orders alone would make (`tests/felling_head_lanchester.rs` checks that).
+fn compare_balancers(s: &sc::Scene) -> Vec<Compared> {
+    (0..=s.balancers.len())
+        .map(|k| {
+            let scene = sc::Scene {
+                balancers: s.balancers[..k].to_vec(),
+                pareto_points: 0,
+                ..s.clone()
+            };
+            let out = sc::solve(&scene).map_err(|e| e.to_string());
+            Compared { scene, out }
+        })
+        .collect()
 }
 
 /// The joint loads' peaks at real speed: in the drive's periodic steady state, each
@@ -267,7 +297,11 @@ pub fn solve(p: &SliderCrankProblem) -> Result<Solution, String> {
         at_angles: Vec::new(),
         real_joint_loads: None,
         flywheel: None,
+        comparison: Vec::new(),
     };
+    if p.compare_balancers {
+        sol.comparison = compare_balancers(s);
+    }
     sol.at_angles = at_angles(s, &sol.out, &p.evaluate_at);
     // A counterweight given as a baseline, evaluated as the design is.
     let judged = |u: P2| {
@@ -416,6 +450,22 @@ pub struct BalancerFigures {
     /// on the line through the crank axis (an in-plane pair symmetric about that line adds no
     /// moment).
     pub peak_couple_nm: f64,
+    /// The mass on each shaft, |B_n|/(2r) (kg), with `[design.balancers] radius` r.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub shaft_mass_kg: Option<f64>,
+}
+
+/// The mass of every balancer shaft's eccentric mass together, Σ |B_n|/r_n (kg: two shafts
+/// of |B_n|/(2r_n) per pair), where every pair has its radius (0 without pairs).
+pub fn balancers_mass(balancers: &[sc::BalancerSpec]) -> Option<f64> {
+    balancers
+        .iter()
+        .map(|b| {
+            b.mass_radius
+                .map(|r| b.unbalance[0].hypot(b.unbalance[1]) / r)
+        })
+        .sum::<Option<f64>>()
+        .map(|m| m.max(0.0)) // an empty sum is −0
 }
 
 /// The design's balancer pairs ([`BalancerFigures`]), in the order they were designed.
@@ -442,6 +492,7 @@ fn balancer_figures(out: &sc::Outcome) -> Vec<BalancerFigures> {
                 offset_m: b.pair.offset,
                 peak_force_n: force,
                 peak_couple_nm: force * b.pair.offset.abs(),
+                shaft_mass_kg: b.mass_radius.map(|r| 0.5 * mag / r),
             }
         })
         .collect()

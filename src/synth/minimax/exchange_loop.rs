@@ -4,7 +4,7 @@
 //! [`super`]: "The exchange loop and its certificate").
 
 use super::assembly::Round;
-use super::polish::{KktStart, Term, MAX_POLISH};
+use super::polish::{KktStart, PolishOutcome, Term, MAX_POLISH};
 use super::validate::validate_goal;
 use super::{
     var_m, AffineValue, Engine, Goal, MinimaxError, Solution, Stop, NEWTON_ONLY, POLISHED,
@@ -216,7 +216,6 @@ impl<'p, 'a> Engine<'p, 'a> {
         st: &KktStart,
         sets: &mut Vec<Vec<(f64, AffineValue)>>,
     ) -> Result<Option<Done>, MinimaxError> {
-        let s = &self.s;
         let terms: Vec<Term> = st
             .terms
             .iter()
@@ -234,11 +233,9 @@ impl<'p, 'a> Engine<'p, 'a> {
             .collect();
         let t_scale = self.peak_scale(list);
         if let Some(po) =
-            self.polish_certify(list, run.limits, terms, &st.x_hat, st.t_hat, t_scale)?
+            self.polish_certify(list, run.limits, terms, &st.x_hat, st.t_hat, t_scale, false)?
         {
-            if (po.value - po.lower).abs() <= s.rel_tol * po.value.max(run.obj_floor)
-                && po.lim_rel <= s.rel_tol
-            {
+            if self.certifies(run, &po) {
                 let sets = std::mem::take(sets);
                 return self
                     .polished_solution(run.goal, run.limits, sets, po, 0, 0, NEWTON_ONLY.into())
@@ -646,7 +643,6 @@ impl<'p, 'a> Engine<'p, 'a> {
         round: usize,
         status_txt: &str,
     ) -> Result<Option<Done>, MinimaxError> {
-        let s = &self.s;
         let Goal::MinPeak(list) = run.goal else {
             return Ok(None);
         };
@@ -656,17 +652,28 @@ impl<'p, 'a> Engine<'p, 'a> {
             return Ok(None);
         }
         rs.polish_tries += 1;
-        let Some(po) = self.try_polish(list, run.limits, rd, x, pk)? else {
+        let certifies = |po: &PolishOutcome| self.certifies(run, po);
+        // Plain Newton first; where it fails, the proximal retry (`polish::PROX`: a flat
+        // direction of the optimum).
+        let mut po = self.try_polish(list, run.limits, rd, x, pk, false)?;
+        if !po.as_ref().is_some_and(certifies) {
+            po = self.try_polish(list, run.limits, rd, x, pk, true)?;
+        }
+        let Some(po) = po.filter(certifies) else {
             return Ok(None);
         };
-        let gs = po.value.max(run.obj_floor);
-        if !((po.value - po.lower).abs() <= s.rel_tol * gs && po.lim_rel <= s.rel_tol) {
-            return Ok(None);
-        }
         let sets = std::mem::take(&mut rs.sets);
         let status = format!("{status_txt}; {POLISHED}");
         self.polished_solution(run.goal, run.limits, sets, po, round, rs.iters, status)
             .map(|(sol, st)| Some((sol, Some(st))))
+    }
+
+    /// Whether a polished point certifies the goal: |V − L| within `rel_tol` of its scale
+    /// (both ways: the polished design meets its limits to round-off, so an L above V would
+    /// be a flaw, never a claim) and every limit within `rel_tol`.
+    fn certifies(&self, run: &GoalRun, po: &PolishOutcome) -> bool {
+        let tol = self.s.rel_tol;
+        (po.value - po.lower).abs() <= tol * po.value.max(run.obj_floor) && po.lim_rel <= tol
     }
 
     /// The certificate carries over between rounds: every rigorous L is a lower bound of

@@ -77,7 +77,11 @@
 //! multipliers (`kkt_bound`, rigorous by weak duality at any dual point, and tight where
 //! large limit multipliers make a clarabel solve of the bound lose digits), else by the
 //! SOCPs of `dual_bound`. A Pareto front starts each point's Newton from its neighbour's
-//! polished conditions before any SOCP. Where Newton fails the loop goes on unchanged.
+//! polished conditions before any SOCP. Where plain Newton fails a round retries it once with
+//! proximal steps (`polish::PROX`: a flat direction of the optimum, such as a crank
+//! counterweight against an order-1 balancer pair, along which plain Newton drifts off the
+//! optimal face); a point so found is certified the same way. Where both fail the loop goes
+//! on unchanged.
 //!
 //! The status is `optimal` only when the gap is within the tolerance and clarabel reported
 //! `Solved` on the design's SOCP (or its bound came from a Lagrangian bound); otherwise

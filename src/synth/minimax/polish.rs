@@ -174,6 +174,7 @@ impl Engine<'_, '_> {
         terms: &[Term],
         x_hat: &[f64],
         t_hat: f64,
+        prox: bool,
     ) -> Result<Option<Polished>, MinimaxError> {
         let cons = self.design_constraints();
         let active: Vec<usize> = (0..cons.len())
@@ -213,7 +214,7 @@ impl Engine<'_, '_> {
         let mut terms = terms.to_vec();
         for _ in 0..MAX_PASSES {
             let active = independent(&cons, candidates.clone(), x_hat);
-            let Some(p) = self.newton(&terms, &cons, &active, x_hat, t_hat)? else {
+            let Some(p) = self.newton(&terms, &cons, &active, x_hat, t_hat, prox)? else {
                 return Ok(None);
             };
             // The most negative multiplier (relative to the objective's, Σλ = 1) leaves.
@@ -267,7 +268,9 @@ impl Engine<'_, '_> {
     }
 
     /// Newton on one active set; `None` if it diverges or an angle leaves its maximum's
-    /// neighbourhood.
+    /// neighbourhood. With `prox` each step is the proximal one ([`kkt_step`]'s ρ =
+    /// [`PROX`]·√|r|∞ on the design's block): the retry where the plain polish fails.
+    #[allow(clippy::too_many_arguments)]
     fn newton(
         &self,
         terms: &[Term],
@@ -275,6 +278,7 @@ impl Engine<'_, '_> {
         active: &[usize],
         x_hat: &[f64],
         t_hat: f64,
+        prox: bool,
     ) -> Result<Option<Polished>, MinimaxError> {
         let n = self.n;
         let np = terms.len();
@@ -290,7 +294,7 @@ impl Engine<'_, '_> {
         let mut weight_error = f64::INFINITY;
         // The step's largest change of a term's multiplier.
         let dw = |jac: &DMatrix<f64>, r: &DVector<f64>| {
-            kkt_step(jac, r).map_or(f64::INFINITY, |s| {
+            kkt_step(jac, r, n, 0.0).map_or(f64::INFINITY, |s| {
                 (0..np).map(|p| s[iw + p].abs()).fold(0.0, f64::max)
             })
         };
@@ -314,7 +318,8 @@ impl Engine<'_, '_> {
                 }
             }
             last = res;
-            let Some(step) = kkt_step(&jac, &r) else {
+            let rho = if prox { PROX * res.sqrt() } else { 0.0 };
+            let Some(step) = kkt_step(&jac, &r, n, rho) else {
                 return Ok(None);
             };
             for j in 0..n {
@@ -530,6 +535,7 @@ impl<'p, 'a> Engine<'p, 'a> {
         rd: &Round,
         x: &[f64],
         pk: &[Option<PeriodicPeak>],
+        prox: bool,
     ) -> Result<Option<PolishOutcome>, MinimaxError> {
         let n = self.n;
         let Some(all) = self.round_terms(rd, pk) else {
@@ -548,7 +554,7 @@ impl<'p, 'a> Engine<'p, 'a> {
             }
         }
         let x_hat: Vec<f64> = x.iter().zip(&self.scale).map(|(v, s)| v / s).collect();
-        self.polish_certify(list, limits, terms, &x_hat, t_hat, rd.t_scale)
+        self.polish_certify(list, limits, terms, &x_hat, t_hat, rd.t_scale, prox)
     }
 
     /// Newton from the given active maxima, design x̂ and objective t̂ ([`polish`]); the
@@ -556,6 +562,7 @@ impl<'p, 'a> Engine<'p, 'a> {
     /// polished level joins the set and Newton reruns (at most twice), and the lower bound
     /// is the rigorous Lagrangian bound ([`Engine::lagrangian_bound`]) at the polished
     /// angles and multipliers. `None` when Newton fails.
+    #[allow(clippy::too_many_arguments)]
     pub(super) fn polish_certify(
         &self,
         list: &[(usize, f64)],
@@ -564,6 +571,7 @@ impl<'p, 'a> Engine<'p, 'a> {
         x_hat: &[f64],
         t_hat: f64,
         t_scale: f64,
+        prox: bool,
     ) -> Result<Option<PolishOutcome>, MinimaxError> {
         if !terms.iter().any(|t| t.eps.is_none()) {
             return Ok(None);
@@ -572,7 +580,7 @@ impl<'p, 'a> Engine<'p, 'a> {
         let mut t_hat = t_hat;
         let nf = self.pb.fields.len();
         for pass in 0..3 {
-            let Some(p) = self.polish(&terms, &x_hat, t_hat)? else {
+            let Some(p) = self.polish(&terms, &x_hat, t_hat, prox)? else {
                 return Ok(None);
             };
             let xp = self.project(
@@ -689,33 +697,84 @@ impl<'p, 'a> Engine<'p, 'a> {
 
 /// The Newton step J Δ = −r. Unknowns whose column of J is zero (to 1e-14 of the largest
 /// entry: a variable no active constraint involves) stay fixed; the rest is solved by LU
-/// with full pivoting, or, where that fails (dependent active constraints), in least
-/// squares by SVD (singular values below 1e-13 of the largest cut).
-fn kkt_step(jac: &DMatrix<f64>, r: &DVector<f64>) -> Option<DVector<f64>> {
+/// with full pivoting where its pivots show full rank (the smallest |U_kk| above
+/// [`RANK_CUT`] of the largest), else in least squares of minimum norm by SVD (singular
+/// values below [`RANK_CUT`] of the largest cut) wherever that solves the system as well as
+/// LU (its residual within 10× LU's, plus 1e-10 of |r|; LU's step otherwise, or where SVD
+/// fails).
+///
+/// A rank-deficient J whose null space is not a variable of its own but a combination of
+/// live ones is a flat direction of the optimum: the felling head's crank counterweight U
+/// against the order-1 balancer pair B₁ (both move the force along the slider axis and the
+/// weight torque alike; they differ only across the axis, where the active maxima at φ = 0
+/// and π see nothing). LU's step then has an arbitrary component along that direction
+/// (finite: the system is consistent to round-off), so Newton wandered along the optimal
+/// face, converged only linearly and left the face where other maxima rise above the level:
+/// the polish failed and the exchange loop ran out of rounds a few 1e-8 short (issue 38).
+/// The minimum-norm step stays where the exchange loop put the design.
+fn kkt_step(jac: &DMatrix<f64>, r: &DVector<f64>, n: usize, rho: f64) -> Option<DVector<f64>> {
     let size = r.len();
     let big = jac.amax();
     let live: Vec<usize> = (0..size)
         .filter(|&j| jac.column(j).amax() > 1e-14 * big)
         .collect();
     let k = live.len();
-    let sub = DMatrix::from_fn(k, k, |a, b| jac[(live[a], live[b])]);
+    let prox = |j: usize| if j < n { rho * big } else { 0.0 };
+    let sub = DMatrix::from_fn(k, k, |a, b| {
+        jac[(live[a], live[b])] + if a == b { prox(live[a]) } else { 0.0 }
+    });
     let rhs = DVector::from_fn(k, |a, _| -r[live[a]]);
-    let solved = sub
-        .clone()
-        .full_piv_lu()
+    let lu = sub.clone().full_piv_lu();
+    let pivots = lu.u().diagonal().abs();
+    let by_lu = lu
         .solve(&rhs)
-        .filter(|s| s.iter().all(|v| v.is_finite()) && s.amax() < 1e8)
-        .or_else(|| {
-            let svd = sub.svd(true, true);
-            let cut = 1e-13 * svd.singular_values.max();
-            svd.solve(&rhs, cut).ok()
-        })?;
+        .filter(|s| s.iter().all(|v| v.is_finite()) && s.amax() < 1e8);
+    let solved = match by_lu {
+        Some(s) if pivots.min() > RANK_CUT * pivots.max() => s,
+        by_lu => {
+            let svd = sub.clone().svd(true, true);
+            let cut = RANK_CUT * svd.singular_values.max();
+            let least = svd.solve(&rhs, cut).ok();
+            match (by_lu, least) {
+                (Some(s), Some(m)) => {
+                    // The minimum-norm step where it solves J Δ = −r as well as LU's.
+                    let miss = |d: &DVector<f64>| (&sub * d - &rhs).norm();
+                    if miss(&m) <= 10.0 * miss(&s) + 1e-10 * rhs.norm() {
+                        m
+                    } else {
+                        s
+                    }
+                }
+                (s, m) => m.or(s)?,
+            }
+        }
+    };
     let mut step = DVector::zeros(size);
     for (a, &j) in live.iter().enumerate() {
         step[j] = solved[a];
     }
     Some(step)
 }
+
+/// The proximal weight of the retry ([`Engine::newton`] with `prox`): ρ = PROX·√|r|∞ times
+/// the largest entry of J is added to the design's diagonal block of the Newton system
+/// (`kkt_step`), so each step also keeps the design near the last one.
+///
+/// It is there for a flat direction of the optimum (the felling head's crank counterweight
+/// against its order-1 balancer pair, `kkt_step`) where J is nearly singular while the
+/// angles settle: the plain step's component along the flat direction is the residual's
+/// over the small singular value, so Newton drifts along the optimal face, converges only
+/// linearly, and lands where maxima it does not hold rise above the level. The proximal
+/// step bounds that component by |r|/ρ ~ √|r| (the drift sums to little as |r| falls) and
+/// leaves the other directions' steps within O(ρ) of Newton's: convergence stays
+/// superlinear (the stabilised Newton of non-isolated solutions: Yamashita–Fukushima,
+/// Wright's stabilised SQP). The point it reaches solves the same optimality conditions to
+/// the same 1e-14 and is certified the same way: nothing rests on ρ.
+const PROX: f64 = 1.0;
+
+/// The numerical rank's threshold of the Newton system ([`kkt_step`]): a pivot or a singular
+/// value below this fraction of the largest counts as zero.
+const RANK_CUT: f64 = 1e-13;
 
 /// The active constraints whose gradients at x̂ are independent, kept in order (equalities
 /// first): each one's gradient, less its projection on the span of those kept, must keep

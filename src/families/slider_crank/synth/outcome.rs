@@ -555,6 +555,9 @@ pub struct ParetoPoint {
     pub unbalance_x_kgm: f64,
     /// See `unbalance_x_kgm`.
     pub unbalance_y_kgm: f64,
+    /// With balancers: each pair's B_n = (B_c, B_s) (kg·m), in the order of `orders`.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub balancers_kgm: Vec<[f64; 2]>,
     /// Solver status.
     pub status: Status,
 }

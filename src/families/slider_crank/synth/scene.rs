@@ -121,6 +121,9 @@ pub struct BalancerSpec {
     /// B_n = (B_c, B_s) (kg·m): zero in the scene as read (the design variable), the
     /// design's value in the scene [`Outcome::designed`] evaluates.
     pub unbalance: [f64; 2],
+    /// The centroid radius of each shaft's eccentric mass (m), when the file gives it: each
+    /// shaft then carries |B_n|/(2r) kg.
+    pub mass_radius: Option<f64>,
 }
 
 /// Peak limits on the joint loads (N); `None`: no limit.

@@ -5,7 +5,7 @@ use super::drive::energy_fluctuation;
 use super::fields::Sampled;
 use super::metrics::{metrics, metrics_sampled};
 use super::optimise::{optimise, optimise_with};
-use super::outcome::{Metrics, ParetoPoint};
+use super::outcome::{Metrics, Optimum, ParetoPoint};
 use super::scene::{check, Objective, Scene, SolveError};
 use crate::geom::P2;
 
@@ -40,8 +40,20 @@ pub(super) fn pareto_sampled(
         g,
     )?;
     let t_opt = optimise_with(scene, traded, scene.max_peak_force, torque_limit, g)?;
-    let fmin = metrics_sampled(scene, f_opt.u, tab)?.peak;
-    let fmax = metrics_sampled(scene, t_opt.u, tab)?.peak;
+    // Each design on its own scene: a joint design's with its balancers (the scene passed
+    // in carries the main design's), else the scene's table.
+    let figures = |o: &Optimum| -> Result<(Metrics, Option<[f64; 2]>), SolveError> {
+        let designed = (!o.balancers.is_empty()).then(|| scene.with_balancers(&o.balancers));
+        let on = designed.as_ref().unwrap_or(scene);
+        let m = match &designed {
+            Some(d) => metrics(d, o.u)?,
+            None => metrics_sampled(scene, o.u, tab)?,
+        };
+        let de = energy.then(|| energy_fluctuation(on, o.u)).transpose()?;
+        Ok((m, de))
+    };
+    let fmin = figures(&f_opt)?.0.peak;
+    let fmax = figures(&t_opt)?.0.peak;
     let n = n.max(2);
     let mut out = Vec::with_capacity(n);
     for k in 0..n {
@@ -52,12 +64,7 @@ pub(super) fn pareto_sampled(
             fmin + (fmax - fmin) * k as f64 / (n - 1) as f64
         };
         let o = optimise_with(scene, traded, Some(eps), torque_limit, g)?;
-        let m = metrics_sampled(scene, o.u, tab)?;
-        let de = if energy {
-            Some(energy_fluctuation(scene, o.u)?)
-        } else {
-            None
-        };
+        let (m, de) = figures(&o)?;
         out.push(ParetoPoint {
             force_limit_n: eps,
             peak_shaking_force_n: m.peak,
@@ -67,6 +74,7 @@ pub(super) fn pareto_sampled(
             gap_j: de.map(|e| o.gap + e[1]),
             unbalance_x_kgm: o.u.x,
             unbalance_y_kgm: o.u.y,
+            balancers_kgm: o.balancers.clone(),
             status: o.status,
         });
     }
