@@ -385,3 +385,40 @@ fn loose_rel_tol_solves_without_panic() {
         );
     }
 }
+
+/// A flat direction of the optimum (issue 37): the six-bar press with a third counterweight, on
+/// its coupler, which buys nothing — the optimum is a whole set of designs, and the polish's
+/// Newton system is rank-deficient there (it ended `inaccurate` after 30 exchange rounds and
+/// 1,227 interior-point iterations before the minimum-norm step). Now `optimal` in a few
+/// rounds, its peak the two-counterweight optimum of the shipped file (more freedom, the
+/// same value) within the two stated errors.
+#[test]
+fn a_counterweight_that_buys_nothing_still_certifies() {
+    let two = include_str!("../problems/linkage-sixbar-press.toml");
+    let two = with(two, "pareto_points = 20", "pareto_points = 0");
+    let three = with(
+        &two,
+        "[[design.counterweights]]\nlink = \"rocker\"",
+        "[[design.counterweights]]\nlink = \"coupler\"\nmass = { min = \"0 kg\", max = \"10 kg\" }\nradius = \"80 mm\"\n\n[[design.counterweights]]\nlink = \"rocker\"",
+    );
+    let (a, b) = (solve_text(&two), solve_text(&three));
+    for r in [&a, &b] {
+        assert_eq!(
+            r.status,
+            cwsynth::report::Status::Optimal,
+            "{:?}",
+            r.warnings
+        );
+    }
+    let key = "peak_shaking_force_n";
+    let (fa, fb) = (a.objectives[key], b.objectives[key]);
+    assert!(
+        (fa - fb).abs() <= a.errors[key] + b.errors[key],
+        "{fa} against {fb}"
+    );
+    assert!(
+        b.derived["socp_rounds"] <= 10.0,
+        "{}",
+        b.derived["socp_rounds"]
+    );
+}
