@@ -114,7 +114,8 @@ fn envelope_table(r: &mut SolveResult, out: &sc::Outcome) {
     });
 }
 
-/// The torque–force front as `<name>-pareto.csv` and its plot.
+/// The torque–force front as `<name>-pareto.csv` and its plot; with balancers each pair's
+/// B_n = (B_c, B_s) of every point as `balancer_<n>_c_kgm`, `balancer_<n>_s_kgm`.
 fn pareto_documents(r: &mut SolveResult, scene: &Scene, sol: &Solution) {
     let out = &sol.out;
     let energy = out.pareto.iter().any(|p| p.energy_fluctuation_j.is_some());
@@ -123,14 +124,20 @@ fn pareto_documents(r: &mut SolveResult, scene: &Scene, sol: &Solution) {
     } else {
         ("gap_nm", "Torque–force Pareto front")
     };
-    let mut csv = format!("force_limit_n,peak_shaking_force_n,peak_drive_torque_nm,{traded},unbalance_x_kgm,unbalance_y_kgm,status\n");
+    let pairs: String = (sol.balancers.iter())
+        .map(|b| format!(",balancer_{0}_c_kgm,balancer_{0}_s_kgm", b.order))
+        .collect();
+    let mut csv = format!("force_limit_n,peak_shaking_force_n,peak_drive_torque_nm,{traded},unbalance_x_kgm,unbalance_y_kgm{pairs},status\n");
     for p in &out.pareto {
         let traded = match p.energy_fluctuation_j {
             Some(e) => format!("{e},{}", p.gap()),
             None => format!("{}", p.gap()),
         };
+        let b: String = (p.balancers_kgm.iter())
+            .map(|[c, s]| format!(",{c},{s}"))
+            .collect();
         csv += &format!(
-            "{},{},{},{},{},{},{}\n",
+            "{},{},{},{},{},{}{b},{}\n",
             p.force_limit_n,
             p.peak_shaking_force_n,
             p.peak_drive_torque_nm,
