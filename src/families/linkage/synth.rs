@@ -811,7 +811,7 @@ fn with_engine<R>(
     let mut built = Built {
         balance_residual: None,
         balance_rows: 0,
-        len: blocks[0].fmt.len() + blocks[0].joints.len() + blocks[0].energy.iter().count(),
+        len: blocks[0].refs([true; 3]).len(),
         energy_at: 3 + blocks[0].joints.len(),
         n: 0,
     };

@@ -14,7 +14,9 @@ use crate::synth::energy::EnergyField;
 use crate::synth::envelope::{
     field_values, multipliers_of, needed_scenarios, scenario_sensitivities, Sensitivity,
 };
-use crate::synth::minimax::{self as mm, AffineField, AffineValue, FnField};
+use crate::synth::minimax::{
+    self as mm, AffineField, AffineValue, FnField, UNUSED_PLANAR, UNUSED_SCALAR,
+};
 use crate::synth::Var;
 
 /// The joint design of the crank counterweight U and the balancers' unbalances B_n by the
@@ -247,25 +249,6 @@ impl FieldSet<'_> {
         kinds.iter().map(|&k| all[k]).collect()
     }
 }
-
-/// A field the problem does not name, zero, of its dimension (1 or 2): its place in a
-/// scenario's [`FieldSet`] without a field built (the engine never sees it).
-struct Unused(usize);
-
-impl AffineField for Unused {
-    fn name(&self) -> &str {
-        "unused"
-    }
-    fn dim(&self) -> usize {
-        self.0
-    }
-    fn eval(&self, _: f64, _: &mut AffineValue) {}
-}
-
-/// An unused scalar field (moment, torque).
-static UNUSED_SCALAR: Unused = Unused(1);
-/// An unused planar field (force, bearing load).
-static UNUSED_PLANAR: Unused = Unused(2);
 
 /// The minimax engine's fields, by index: the shaking force (N).
 const FORCE: usize = 0;
