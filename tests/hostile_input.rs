@@ -226,7 +226,7 @@ fn mutated_problem_files_never_panic_and_rejections_name_a_field_or_line() {
     let seeds = seeds();
     let keys = known_keys(&seeds);
     let cases: u32 = env_or("FUZZ_CASES", 2000);
-    let budget = Duration::from_secs_f64(env_or("FUZZ_SOLVE_BUDGET_S", 12.0));
+    let budget = Duration::from_secs_f64(env_or("FUZZ_SOLVE_BUDGET_S", 6.0));
     let limit = Duration::from_secs_f64(env_or("FUZZ_SOLVE_LIMIT_S", 20.0));
     let tried = AtomicUsize::new(0);
     let (rejected, resolved, solved) = (

@@ -17,6 +17,14 @@ REPO = Path(__file__).resolve().parents[2]
 PROBLEMS = sorted((REPO / "problems").glob("*.toml"))
 CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
 
+# The longest module first: with CI's `pytest -n 2 --dist loadfile` (modules handed out in
+# collection order) it starts at once on one worker and the rest share the other.
+FIRST = "test_designer_scenes.py"
+
+
+def pytest_collection_modifyitems(items):
+    items.sort(key=lambda it: it.path.name != FIRST)
+
 
 def cli_path() -> Path:
     env = os.environ.get("CWSYNTH_CLI")
