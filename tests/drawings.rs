@@ -375,6 +375,27 @@ fn every_drawing_scene_writes_dimensioned_dxf_and_equal_aspect_svg() {
                     assert!(polys[1].is_closed() && polys[2].is_closed());
                 }
             }
+            "multi-cylinder" => {
+                // Seen along the shaft: a throw of length R per cylinder from the axis; from
+                // the side: each plane a line of 2R; the planes' spacings dimensioned.
+                let s = cwsynth::families::load(&problem(&format!("{name}.toml"))).unwrap();
+                let p = s
+                    .machine::<cwsynth::families::multi_cylinder::file::MultiCylinderProblem>()
+                    .unwrap();
+                let r = p.layout.cylinders[0].sc.r;
+                let outline = d.lengths("OUTLINE");
+                let n = p.layout.cylinders.len();
+                let count = |l: f64| outline.iter().filter(|&&x| (x - l).abs() < TOL).count();
+                assert_eq!(count(r), n, "{name}: a throw per cylinder");
+                assert_eq!(count(2.0 * r), n, "{name}: a plane per cylinder");
+                let mut z: Vec<f64> = p.layout.cylinders.iter().map(|c| c.z).collect();
+                z.sort_by(f64::total_cmp);
+                z.dedup();
+                let dims = d.lengths("DIM");
+                for w in z.windows(2) {
+                    has(&dims, w[1] - w[0], TOL, "plane spacing");
+                }
+            }
             "luffing-crane" => {
                 let outline = d.lengths("OUTLINE");
                 let dims = d.lengths("DIM");

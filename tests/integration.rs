@@ -52,6 +52,7 @@ mod linkage_model;
 mod load_cases;
 mod minimax_engine;
 mod motion;
+mod multi_cylinder;
 mod mutants;
 mod outline;
 mod plate_counterweight;

@@ -284,7 +284,7 @@ fn every_shipped_scene_moves_rigidly_and_its_handles_edit_its_keys() {
         handles(f, &std::fs::read_to_string(f).unwrap(), &m);
         families.insert(family);
     }
-    assert_eq!(families.len(), 5, "{families:?}");
+    assert_eq!(families.len(), 6, "{families:?}");
 }
 
 #[test]

@@ -11,6 +11,7 @@ pub mod crane;
 pub mod gear;
 pub mod hypocycloid;
 pub mod linkage;
+pub mod multi_cylinder;
 pub mod slider_crank;
 
 pub mod driver;
@@ -27,12 +28,13 @@ use std::path::Path;
 use std::time::Instant;
 
 /// The registry: every family, one line each. Adding a family is one folder and one line.
-pub static FAMILIES: [&dyn Family; 5] = [
+pub static FAMILIES: [&dyn Family; 6] = [
     &slider_crank::SliderCrank,
     &crane::LuffingCrane,
     &hypocycloid::HypocycloidFamily,
     &gear::EccentricGear,
     &linkage::LinkageFamily,
+    &multi_cylinder::MultiCylinder,
 ];
 
 /// Families added at run time by a program or test that links cwsynth as a library

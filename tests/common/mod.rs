@@ -82,6 +82,7 @@ pub fn integer_key_base(family: &str, key: &str) -> &'static str {
         }
         "hypocycloid" => "hypocycloid-variant1.toml",
         "linkage" => "linkage-piston-1000rpm.toml",
+        "multi-cylinder" => "inline-3-balance-shaft.toml",
         f => panic!("no base file for family {f}"),
     }
 }

@@ -390,6 +390,34 @@ fn resolve_mechanism(
 /// The rod of `[model]`: lumped (its mass m₃ split between the crank pin and the slider by
 /// `rod_split`) or rigid (centroid and inertia), on a rod of length `l`.
 fn resolve_rod(md: &ModelRaw, m3: f64, l: f64) -> Result<Rod, FieldError> {
+    rod_of(
+        RodKeys {
+            masses: md.masses,
+            rod_split: md.rod_split,
+            rod_centroid: md.rod_centroid,
+            rod_inertia: md.rod_inertia,
+        },
+        m3,
+        l,
+    )
+}
+
+/// The `[model]` keys of a rod (the slider-crank's and the multi-cylinder's files).
+#[derive(Debug, Clone, Copy)]
+pub struct RodKeys {
+    /// `masses`.
+    pub masses: Masses,
+    /// `rod_split`.
+    pub rod_split: Option<f64>,
+    /// `rod_centroid`.
+    pub rod_centroid: Option<Qty<Length>>,
+    /// `rod_inertia`.
+    pub rod_inertia: Option<Qty<Inertia>>,
+}
+
+/// The rod of mass m₃ and length `l` the keys `md` describe (see [`resolve_rod`]); errors
+/// name `model.<key>`.
+pub fn rod_of(md: RodKeys, m3: f64, l: f64) -> Result<Rod, FieldError> {
     Ok(match md.masses {
         self::Masses::Lumped => {
             if md.rod_centroid.is_some() || md.rod_inertia.is_some() {

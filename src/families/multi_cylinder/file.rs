@@ -1,0 +1,467 @@
+//! The multi-cylinder problem file — its raw sections and their resolution into a checked
+//! [`MultiCylinderProblem`] (every field documented in `docs/problem-files.md`, family
+//! `multi-cylinder`): the cylinders on one crankshaft (each the slider-crank family's
+//! mechanism with its phase, bank angle and plane), the rotating unbalances to design
+//! (crank-web counterweights and balance shafts), what they minimise and the limits.
+
+use super::model::{Cylinder, Layout, Rotor};
+use crate::families::slider_crank::file::{rod_of, Masses, RodKeys};
+use crate::families::slider_crank::model::{Crank, Kinematics, SliderCrank};
+use crate::problem::limits::{self, c, Count};
+use crate::problem::{
+    check_name, non_negative, positive, Ctx, FieldError, Input, ProblemError, RawFile, Resolved,
+};
+use crate::synth::minimax::Settings;
+use crate::units::{Angle, AngularSpeed, Force, Inertia, Length, Mass, Qty, Torque};
+use serde::Deserialize;
+
+/// The `family = "…"` value of this family's files.
+pub const FAMILY: &str = "multi-cylinder";
+
+/// The problem file `cwsynth new` prints: the shipped inline-3 with its balance shaft.
+pub const TEMPLATE: &str = include_str!("../../../problems/inline-3-balance-shaft.toml");
+
+/// Most cylinders on one shaft.
+pub const MAX_CYLINDERS: usize = 24;
+
+/// Most crank-web counterweights and balance shafts, each.
+pub const MAX_ROTORS: usize = 24;
+
+/// The integer keys of this family's file and their ranges (see [`limits`]).
+pub const COUNTS: &[Count] = &[
+    c("model.orders", 2, 32),
+    c("objective.pareto_points", 0, 100),
+    c("accuracy.initial_samples", 3, 1024),
+    c("accuracy.scan_samples", 16, 20_000),
+    c("accuracy.max_rounds", 1, 1000),
+    c("accuracy.rms_samples", 16, 100_000),
+];
+
+/// The work budget of one scene (see [`limits::check_work`]): cylinder evaluations of the
+/// scan grid and the front, so one machine runs in seconds.
+pub const WORK_BUDGET: f64 = 5e7;
+
+/// `[mechanism]`: what every cylinder shares, and the cylinders.
+#[derive(Debug, Deserialize, schemars::JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct MechanismRaw {
+    /// ω, the constant crank speed.
+    pub speed: Qty<AngularSpeed>,
+    /// R, every throw's radius.
+    pub crank_radius: Qty<Length>,
+    /// L, every rod's length.
+    pub rod_length: Qty<Length>,
+    /// m2, each throw's own mass (crank pin, webs' share) at `crank_centroid`.
+    pub crank_mass: Qty<Mass>,
+    /// r2, its centroid radius (default R: the mass at the crank pin).
+    pub crank_centroid: Option<Qty<Length>>,
+    /// m3, each rod's mass.
+    pub rod_mass: Qty<Mass>,
+    /// m4, each piston's mass (with its pin and rings).
+    pub slider_mass: Qty<Mass>,
+    /// e, each cylinder axis' offset from the shaft (default 0).
+    pub offset: Option<Qty<Length>>,
+    /// z₀, the point of the shaft the couples are taken about (default the middle of the
+    /// cylinders' planes).
+    pub couple_reference: Option<Qty<Length>>,
+    /// The cylinders, at least one.
+    #[schemars(length(min = 1, max = MAX_CYLINDERS))]
+    pub cylinders: Vec<CylinderRaw>,
+}
+
+/// `[[mechanism.cylinders]]`: one throw and its cylinder.
+#[derive(Debug, Deserialize, schemars::JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct CylinderRaw {
+    /// αᵢ, the throw's angle at φ = 0.
+    pub phase: Qty<Angle>,
+    /// γᵢ, the direction of the cylinder axis (default 0: every cylinder along x, inline).
+    pub bank: Option<Qty<Angle>>,
+    /// zᵢ, the throw's plane along the shaft.
+    pub position: Qty<Length>,
+    /// This cylinder's piston mass (default `mechanism.slider_mass`).
+    pub slider_mass: Option<Qty<Mass>>,
+    /// This cylinder's rod mass (default `mechanism.rod_mass`).
+    pub rod_mass: Option<Qty<Mass>>,
+    /// This throw's own mass (default `mechanism.crank_mass`).
+    pub crank_mass: Option<Qty<Mass>>,
+    /// This cylinder's offset (default `mechanism.offset`).
+    pub offset: Option<Qty<Length>>,
+}
+
+/// `[model]`.
+#[derive(Debug, Deserialize, Default, schemars::JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct ModelRaw {
+    /// `exact` (default), `two-harmonic` or `primary` (obliquity neglected).
+    pub kinematics: Option<Kinematics>,
+    /// `lumped` (default) or `rigid`.
+    #[serde(default)]
+    pub masses: Masses,
+    /// Lumped: fraction of the rod mass at the crank pin (default 0.5).
+    pub rod_split: Option<f64>,
+    /// Rigid: rod centre of mass from the crank pin (default L/2).
+    pub rod_centroid: Option<Qty<Length>>,
+    /// Rigid: rod moment of inertia about its centre of mass (default m3 L²/12).
+    pub rod_inertia: Option<Qty<Inertia>>,
+    /// Orders of the harmonic tables (default 4).
+    pub orders: Option<u32>,
+}
+
+/// The order of a balance shaft: its speed over the crank's.
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, Deserialize, serde::Serialize, schemars::JsonSchema,
+)]
+#[serde(rename_all = "kebab-case")]
+pub enum Order {
+    /// At the crank's speed (1×).
+    Primary,
+    /// At twice the crank's speed (2×, a Lanchester shaft).
+    Secondary,
+}
+
+/// Which way a balance shaft turns.
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, Deserialize, serde::Serialize, schemars::JsonSchema,
+)]
+#[serde(rename_all = "kebab-case")]
+pub enum Turning {
+    /// As the crank does.
+    With,
+    /// Against the crank.
+    Against,
+}
+
+/// `[[design.counterweights]]`: a crank-web counterweight, an unbalance turning with the
+/// crank at its plane, designed in size and direction.
+#[derive(Debug, Deserialize, schemars::JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct CounterweightRaw {
+    /// Label (default `web counterweight k`).
+    pub name: Option<String>,
+    /// Its plane along the shaft.
+    pub position: Qty<Length>,
+    /// Its largest mass.
+    pub mass_max: Qty<Mass>,
+    /// Its largest centroid radius (and the body within it).
+    pub radius_max: Qty<Length>,
+}
+
+/// `[[design.shafts]]`: a balance shaft's unbalance, designed in size and phase.
+#[derive(Debug, Deserialize, schemars::JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct ShaftRaw {
+    /// Label (default `balance shaft k`).
+    pub name: Option<String>,
+    /// `primary` (1×) or `secondary` (2×).
+    pub order: Order,
+    /// `with` or `against` the crank.
+    pub turning: Turning,
+    /// Its plane along the shaft.
+    pub position: Qty<Length>,
+    /// Its largest mass.
+    pub mass_max: Qty<Mass>,
+    /// Its largest centroid radius.
+    pub radius_max: Qty<Length>,
+}
+
+/// `[design]`: the unbalances to design (none: the layout is analysed).
+#[derive(Debug, Deserialize, Default, schemars::JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct DesignRaw {
+    /// Crank-web counterweights.
+    #[serde(default)]
+    #[schemars(length(max = MAX_ROTORS))]
+    pub counterweights: Vec<CounterweightRaw>,
+    /// Balance shafts.
+    #[serde(default)]
+    #[schemars(length(max = MAX_ROTORS))]
+    pub shafts: Vec<ShaftRaw>,
+}
+
+/// What the unbalances minimise.
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, Deserialize, serde::Serialize, schemars::JsonSchema,
+)]
+#[serde(rename_all = "kebab-case")]
+pub enum Goal {
+    /// max over φ of |F|.
+    PeakForce,
+    /// max over φ of |M| (the couple about the two axes normal to the shaft).
+    PeakCouple,
+    /// Σ m, the counterweights' and shafts' masses at their largest radii (with limits).
+    CounterweightMass,
+}
+
+/// `[objective]`.
+#[derive(Debug, Deserialize, schemars::JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct ObjectiveRaw {
+    /// What the unbalances minimise (ignored without `[design]` entries).
+    pub minimize: Goal,
+    /// Limit on the peak shaking force.
+    pub max_peak_force: Option<Qty<Force>>,
+    /// Limit on the peak couple.
+    pub max_peak_couple: Option<Qty<Torque>>,
+    /// Points of the peak-force against peak-couple front (0: none).
+    #[serde(default)]
+    pub pareto_points: u32,
+}
+
+/// `[accuracy]`: the minimax engine's [`Settings`] read directly.
+pub type AccuracyRaw = Settings;
+
+/// The whole multi-cylinder file.
+pub type File = RawFile<MechanismRaw, ModelRaw, DesignRaw, ObjectiveRaw, AccuracyRaw>;
+
+/// A designed rotating unbalance: a crank-web counterweight or a balance shaft.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RotorSpec {
+    /// Label.
+    pub name: String,
+    /// How it turns and where.
+    pub rotor: Rotor,
+    /// m_max (kg).
+    pub mass_max: f64,
+    /// r_max (m).
+    pub radius_max: f64,
+    /// `true` for a balance shaft, `false` for a crank-web counterweight.
+    pub shaft: bool,
+}
+
+/// A resolved multi-cylinder scene.
+#[derive(Debug, Clone)]
+pub struct MultiCylinderProblem {
+    /// The cylinders and the couples' reference.
+    pub layout: Layout,
+    /// ω (rad/s).
+    pub omega: f64,
+    /// The unbalances to design: the counterweights, then the shafts.
+    pub rotors: Vec<RotorSpec>,
+    /// The goal.
+    pub goal: Goal,
+    /// Limits (N, N·m).
+    pub max_peak_force: Option<f64>,
+    /// See `max_peak_force`.
+    pub max_peak_couple: Option<f64>,
+    /// Front points.
+    pub pareto_points: u32,
+    /// Harmonic orders reported.
+    pub orders: u32,
+    /// The engine's settings.
+    pub settings: Settings,
+}
+
+/// Reads and checks a multi-cylinder file.
+pub fn resolve(ctx: &Ctx, input: Input) -> Result<Resolved<MultiCylinderProblem>, ProblemError> {
+    File::resolve(ctx, input, resolve_raw)
+}
+
+/// The value checks of a multi-cylinder file.
+pub fn resolve_raw(raw: &File) -> Result<MultiCylinderProblem, FieldError> {
+    check_name(&raw.name)?;
+    let m = &raw.mechanism;
+    let omega = positive("mechanism.speed", m.speed.si())?;
+    let layout = resolve_layout(m, &raw.model)?;
+    let orders = raw.model.orders.unwrap_or(4);
+    limits::check(COUNTS, "model.orders", orders.into())?;
+    let rotors = resolve_rotors(&raw.design)?;
+    let o = &raw.objective;
+    limits::check(COUNTS, "objective.pareto_points", o.pareto_points.into())?;
+    let max_peak_force = o
+        .max_peak_force
+        .map(|q| positive("objective.max_peak_force", q.si()))
+        .transpose()?;
+    let max_peak_couple = o
+        .max_peak_couple
+        .map(|q| positive("objective.max_peak_couple", q.si()))
+        .transpose()?;
+    check_goal(o, !rotors.is_empty(), max_peak_force.or(max_peak_couple))?;
+    let settings = raw.accuracy;
+    limits::check_section(COUNTS, "accuracy", &settings)?;
+    settings.validate().map_err(|(key, message)| {
+        FieldError::new(format!("accuracy.{key}"), format!("{key} {message}"))
+    })?;
+    let work = layout.cylinders.len() as f64
+        * settings.scan_samples as f64
+        * (1.0 + o.pareto_points as f64)
+        * (1.0 + rotors.len() as f64);
+    limits::check_work(
+        WORK_BUDGET,
+        FAMILY,
+        work,
+        "cylinders × accuracy.scan_samples × (1 + objective.pareto_points) × (1 + rotors)",
+        &[
+            limits::term("accuracy.scan_samples", settings.scan_samples as f64, 360.0),
+            limits::term("objective.pareto_points", o.pareto_points as f64, 0.0),
+        ],
+    )?;
+    Ok(MultiCylinderProblem {
+        layout,
+        omega,
+        rotors,
+        goal: o.minimize,
+        max_peak_force,
+        max_peak_couple,
+        pareto_points: o.pareto_points,
+        orders,
+        settings,
+    })
+}
+
+/// The goal's checks: a mass goal needs a limit; a front needs designed unbalances.
+fn check_goal(o: &ObjectiveRaw, designed: bool, limit: Option<f64>) -> Result<(), FieldError> {
+    if o.minimize == Goal::CounterweightMass && designed && limit.is_none() {
+        return Err(FieldError::new(
+            "objective.minimize",
+            "\"counterweight-mass\" needs a limit (max_peak_force or max_peak_couple): the lightest unbalance without one is none",
+        ));
+    }
+    if o.pareto_points == 1 {
+        return Err(FieldError::new(
+            "objective.pareto_points",
+            "1 is no front; allowed: 0 (none) or 2 to 100",
+        ));
+    }
+    if o.pareto_points > 0 && !designed {
+        return Err(FieldError::new(
+            "objective.pareto_points",
+            "a front needs unbalances to design ([[design.counterweights]] or [[design.shafts]])",
+        ));
+    }
+    Ok(())
+}
+
+/// The cylinders: the shared slider-crank with each cylinder's own values.
+fn resolve_layout(m: &MechanismRaw, md: &ModelRaw) -> Result<Layout, FieldError> {
+    if m.cylinders.is_empty() || m.cylinders.len() > MAX_CYLINDERS {
+        return Err(FieldError::new(
+            "mechanism.cylinders",
+            format!(
+                "{} given; allowed: 1 to {MAX_CYLINDERS} [[mechanism.cylinders]]",
+                m.cylinders.len()
+            ),
+        ));
+    }
+    let r = positive("mechanism.crank_radius", m.crank_radius.si())?;
+    let l = positive("mechanism.rod_length", m.rod_length.si())?;
+    let r2 = m
+        .crank_centroid
+        .map_or(Ok(r), |q| non_negative("mechanism.crank_centroid", q.si()))?;
+    let kinematics = md.kinematics.unwrap_or(Kinematics::Exact);
+    let keys = RodKeys {
+        masses: md.masses,
+        rod_split: md.rod_split,
+        rod_centroid: md.rod_centroid,
+        rod_inertia: md.rod_inertia,
+    };
+    let mut cylinders = Vec::with_capacity(m.cylinders.len());
+    for (i, c) in m.cylinders.iter().enumerate() {
+        let key = |k: &str| format!("mechanism.cylinders[{i}].{k}");
+        let mass = |own: Option<Qty<Mass>>, shared: Qty<Mass>, k: &str| {
+            let (q, f) = own.map_or((shared, format!("mechanism.{k}")), |q| (q, key(k)));
+            non_negative(&f, q.si())
+        };
+        let e = c.offset.or(m.offset).map_or(0.0, |q| q.si());
+        let e_key = if c.offset.is_some() {
+            key("offset")
+        } else {
+            "mechanism.offset".into()
+        };
+        if e != 0.0 && kinematics != Kinematics::Exact {
+            return Err(FieldError::new(
+                e_key,
+                "the two-harmonic series and the primary-only model are the in-line slider's; with an offset use model.kinematics = \"exact\"",
+            ));
+        }
+        if (r + e.abs()) / l >= 1.0 {
+            return Err(FieldError::new(
+                e_key,
+                format!("the crank cannot turn a full revolution: (R + |e|)/L = {:.6} ≥ 1; allowed: rod_length > crank_radius + |offset|", (r + e.abs()) / l),
+            ));
+        }
+        let sc = SliderCrank {
+            r,
+            l,
+            e,
+            kinematics,
+            crank: Crank {
+                mass: mass(c.crank_mass, m.crank_mass, "crank_mass")?,
+                centroid: r2,
+            },
+            rod: rod_of(keys, mass(c.rod_mass, m.rod_mass, "rod_mass")?, l)?,
+            slider_mass: mass(c.slider_mass, m.slider_mass, "slider_mass")?,
+        };
+        cylinders.push(Cylinder {
+            phase: c.phase.si(),
+            bank: c.bank.map_or(0.0, |q| q.si()),
+            z: c.position.si(),
+            sc,
+        });
+    }
+    let (lo, hi) = cylinders
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), c| {
+            (a.min(c.z), b.max(c.z))
+        });
+    let z0 = m.couple_reference.map_or(0.5 * (lo + hi), |q| q.si());
+    Ok(Layout { cylinders, z0 })
+}
+
+/// The crank-web counterweights, then the balance shafts.
+fn resolve_rotors(d: &DesignRaw) -> Result<Vec<RotorSpec>, FieldError> {
+    for (n, k) in [
+        (d.counterweights.len(), "design.counterweights"),
+        (d.shafts.len(), "design.shafts"),
+    ] {
+        if n > MAX_ROTORS {
+            return Err(FieldError::new(
+                k,
+                format!("{n} given; allowed: at most {MAX_ROTORS}"),
+            ));
+        }
+    }
+    let limits_of = |key: String, mass: Qty<Mass>, radius: Qty<Length>| {
+        Ok::<_, FieldError>((
+            positive(&format!("{key}.mass_max"), mass.si())?,
+            positive(&format!("{key}.radius_max"), radius.si())?,
+        ))
+    };
+    let mut out = Vec::new();
+    for (j, c) in d.counterweights.iter().enumerate() {
+        let (mass_max, radius_max) = limits_of(
+            format!("design.counterweights[{j}]"),
+            c.mass_max,
+            c.radius_max,
+        )?;
+        out.push(RotorSpec {
+            name: (c.name.clone()).unwrap_or_else(|| format!("web counterweight {}", j + 1)),
+            rotor: Rotor::crank(c.position.si()),
+            mass_max,
+            radius_max,
+            shaft: false,
+        });
+    }
+    for (k, s) in d.shafts.iter().enumerate() {
+        let (mass_max, radius_max) =
+            limits_of(format!("design.shafts[{k}]"), s.mass_max, s.radius_max)?;
+        out.push(RotorSpec {
+            name: (s.name.clone()).unwrap_or_else(|| format!("balance shaft {}", k + 1)),
+            rotor: Rotor {
+                order: match s.order {
+                    Order::Primary => 1,
+                    Order::Secondary => 2,
+                },
+                sense: match s.turning {
+                    Turning::With => 1.0,
+                    Turning::Against => -1.0,
+                },
+                z: s.position.si(),
+            },
+            mass_max,
+            radius_max,
+            shaft: true,
+        });
+    }
+    Ok(out)
+}

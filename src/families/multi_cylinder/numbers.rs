@@ -1,0 +1,241 @@
+//! The multi-cylinder's numbers: the solution's figures into the result's maps — `model`,
+//! design, objectives with their errors, the bare layout's baseline, derived figures (the
+//! certificate's parts, the primary and secondary harmonics by FFT and by the textbook's
+//! sums) and the sections `harmonics` and `pareto` (keys in `docs/results.md`). Arithmetic on
+//! the solution, never a solve.
+
+use super::file::{Goal, MultiCylinderProblem};
+use super::model::{polar, Harmonic};
+use super::solve::{Solution, Spectrum, COUPLE, FORCE};
+use crate::families::family::Scene;
+use crate::report::SolveResult;
+use crate::synth::minimax::{self, var_u};
+use crate::synth::ActiveBound;
+use serde_json::json;
+use std::collections::BTreeMap;
+
+/// The result's `model` section.
+pub fn model(
+    p: &MultiCylinderProblem,
+    _: Option<&Solution>,
+) -> BTreeMap<String, serde_json::Value> {
+    let c = &p.layout.cylinders[0].sc;
+    BTreeMap::from([
+        ("cylinders".into(), json!(p.layout.cylinders.len())),
+        ("kinematics".into(), json!(c.kinematics)),
+        ("couple_reference_m".into(), json!(p.layout.z0)),
+        ("omega_rad_s".into(), json!(p.omega)),
+        ("orders".into(), json!(p.orders)),
+        (
+            "harmonics".into(),
+            json!(format!(
+                "FFT (rustfft) of {} samples of a turn",
+                super::solve::FFT_SAMPLES.max(4 * p.orders as usize).next_power_of_two()
+            )),
+        ),
+        (
+            "frame".into(),
+            json!("rigid ground: the shaking force and couple are what the links and unbalances exert on it"),
+        ),
+    ])
+}
+
+/// The key prefix of rotor j: `counterweight_<k>` or `shaft_<k>` (k from 1 within its kind).
+pub fn rotor_key(p: &MultiCylinderProblem, j: usize) -> String {
+    let r = &p.rotors[j];
+    let k = p.rotors[..j].iter().filter(|o| o.shaft == r.shaft).count() + 1;
+    if r.shaft {
+        format!("shaft_{k}")
+    } else {
+        format!("counterweight_{k}")
+    }
+}
+
+/// The result's numbers.
+pub fn numbers(_: &Scene, p: &MultiCylinderProblem, sol: &Solution, r: &mut SolveResult) {
+    r.baselines.insert(
+        "bare".into(),
+        BTreeMap::from([
+            ("peak_shaking_force_n".into(), sol.bare[FORCE].peak),
+            ("peak_couple_nm".into(), sol.bare[COUPLE].peak),
+        ]),
+    );
+    // An infeasible or failed design has no peaks (and no design): the bare layout's.
+    let found =
+        (sol.design.as_ref()).filter(|d| d.peaks.len() == 2 && d.x.iter().all(|v| v.is_finite()));
+    if sol.design.is_some() && found.is_none() {
+        // No design to report figures of: the bare layout's are its baseline.
+        numbers_of_spectra(sol, r);
+        return;
+    }
+    let peaks = found.map_or(&sol.bare, |d| &d.peaks);
+    r.objectives
+        .insert("peak_shaking_force_n".into(), peaks[FORCE].peak);
+    r.objectives
+        .insert("peak_couple_nm".into(), peaks[COUPLE].peak);
+    r.errors
+        .insert("peak_shaking_force_n".into(), peaks[FORCE].error);
+    r.errors
+        .insert("peak_couple_nm".into(), peaks[COUPLE].error);
+    r.derived
+        .insert("peak_shaking_force_angle_rad".into(), peaks[FORCE].angle);
+    r.derived
+        .insert("peak_couple_angle_rad".into(), peaks[COUPLE].angle);
+    if let Some(d) = found {
+        design_numbers(p, d, r);
+    }
+    numbers_of_spectra(sol, r);
+    if let Some(front) = &sol.front {
+        if let Some(why) = front.stopped() {
+            r.warnings.push(why);
+        }
+        r.extra.insert("pareto".into(), front_rows(front));
+    }
+}
+
+/// The harmonics' figures and the `harmonics` section.
+fn numbers_of_spectra(sol: &Solution, r: &mut SolveResult) {
+    harmonic_numbers(&sol.bare_spectrum, "bare_", r);
+    if let Some(s) = &sol.spectrum {
+        harmonic_numbers(s, "", r);
+    }
+    textbook_numbers(&sol.textbook, r);
+    r.extra.insert("harmonics".into(), harmonic_rows(sol));
+}
+
+/// The design's unbalances, the mass objective and the certificate's parts.
+fn design_numbers(p: &MultiCylinderProblem, d: &minimax::Solution, r: &mut SolveResult) {
+    let mut mass = 0.0;
+    for (j, rot) in p.rotors.iter().enumerate() {
+        let key = rotor_key(p, j);
+        let u = [d.x[var_u(j)], d.x[var_u(j) + 1]];
+        let (size, angle) = polar(u);
+        let m = size / rot.radius_max;
+        mass += m;
+        r.design.insert(format!("{key}_unbalance_kgm"), size);
+        r.design.insert(format!("{key}_angle_rad"), angle);
+        r.design.insert(format!("{key}_mass_at_radius_max_kg"), m);
+        r.bounds.extend(ActiveBound::check(
+            &format!("design.{key}_mass_at_radius_max_kg"),
+            m,
+            (0.0, rot.mass_max),
+            1e-6,
+            ("no unbalance", "the unbalance is not needed"),
+            ("mass_max", "the rotor's mass limit binds"),
+        ));
+    }
+    r.objectives.insert("counterweight_mass_kg".into(), mass);
+    let e = &d.error;
+    for (k, v) in [
+        ("lower_bound", d.lower_bound),
+        ("gap_sampling", e.sampling),
+        ("error_solver", e.solver),
+        ("error_evaluation", e.evaluation),
+        ("error_refinement", e.refinement),
+        ("socp_rounds", d.rounds as f64),
+        ("sampled_angles", d.angles as f64),
+        ("ipm_iterations", d.ipm_iterations as f64),
+        ("design_constraint_violation", d.design_violation),
+    ] {
+        r.derived.insert(k.into(), v);
+    }
+    let head = match p.goal {
+        Goal::PeakForce => "peak_shaking_force_n",
+        Goal::PeakCouple => "peak_couple_nm",
+        Goal::CounterweightMass => "counterweight_mass_kg",
+    };
+    r.errors.insert(head.into(), e.total);
+}
+
+/// The primary and secondary forward and backward amplitudes (`<prefix>primary_force_forward_n`,
+/// …), from the FFT.
+fn harmonic_numbers(s: &Spectrum, prefix: &str, r: &mut SolveResult) {
+    for (h, name) in s.force.iter().zip(["primary", "secondary"]) {
+        r.derived.insert(
+            format!("{prefix}{name}_force_forward_n"),
+            h.forward_amplitude(),
+        );
+        r.derived.insert(
+            format!("{prefix}{name}_force_backward_n"),
+            h.backward_amplitude(),
+        );
+    }
+    for (h, name) in s.couple.iter().zip(["primary", "secondary"]) {
+        r.derived.insert(
+            format!("{prefix}{name}_couple_forward_nm"),
+            h.forward_amplitude(),
+        );
+        r.derived.insert(
+            format!("{prefix}{name}_couple_backward_nm"),
+            h.backward_amplitude(),
+        );
+    }
+    r.derived
+        .insert(format!("{prefix}harmonic_force_error_n"), s.force_error);
+    r.derived
+        .insert(format!("{prefix}harmonic_couple_error_nm"), s.couple_error);
+}
+
+/// The textbook's sums of the bare layout (`textbook_primary_force_forward_n`, …).
+fn textbook_numbers(t: &[Harmonic; 4], r: &mut SolveResult) {
+    for (h, name) in t.iter().zip([
+        "primary_force",
+        "secondary_force",
+        "primary_couple",
+        "secondary_couple",
+    ]) {
+        let unit = if name.ends_with("couple") { "nm" } else { "n" };
+        r.derived.insert(
+            format!("textbook_{name}_forward_{unit}"),
+            h.forward_amplitude(),
+        );
+        r.derived.insert(
+            format!("textbook_{name}_backward_{unit}"),
+            h.backward_amplitude(),
+        );
+    }
+}
+
+/// The `harmonics` section: one row per order, bare and with the design.
+fn harmonic_rows(sol: &Solution) -> serde_json::Value {
+    let rows: Vec<serde_json::Value> = (0..sol.bare_spectrum.force.len())
+        .map(|k| {
+            let b = &sol.bare_spectrum;
+            let mut row = json!({
+                "order": k + 1,
+                "bare_force_forward_n": b.force[k].forward_amplitude(),
+                "bare_force_backward_n": b.force[k].backward_amplitude(),
+                "bare_couple_forward_nm": b.couple[k].forward_amplitude(),
+                "bare_couple_backward_nm": b.couple[k].backward_amplitude(),
+            });
+            if let Some(s) = &sol.spectrum {
+                row["force_forward_n"] = json!(s.force[k].forward_amplitude());
+                row["force_backward_n"] = json!(s.force[k].backward_amplitude());
+                row["couple_forward_nm"] = json!(s.couple[k].forward_amplitude());
+                row["couple_backward_nm"] = json!(s.couple[k].backward_amplitude());
+            }
+            row
+        })
+        .collect();
+    serde_json::Value::Array(rows)
+}
+
+/// The `pareto` section: each point's limit on the couple, its peaks and status.
+fn front_rows(front: &minimax::ParetoFront) -> serde_json::Value {
+    let rows: Vec<serde_json::Value> = front
+        .points
+        .iter()
+        .map(|pt| {
+            let s = &pt.solution;
+            json!({
+                "max_peak_couple_nm": pt.eps,
+                "peak_shaking_force_n": s.peaks[FORCE].peak,
+                "peak_shaking_force_error_n": s.error.total,
+                "peak_couple_nm": s.peaks[COUPLE].peak,
+                "peak_couple_error_nm": s.peaks[COUPLE].error,
+                "status": crate::families::family::cw_status(s.status).as_str(),
+            })
+        })
+        .collect();
+    serde_json::Value::Array(rows)
+}

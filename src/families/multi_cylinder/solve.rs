@@ -1,0 +1,363 @@
+//! The multi-cylinder's whole solve: the shaking force and couple as fields affine in the
+//! designed unbalances ([`Fields`]), their certified minimax by the engine of
+//! [`crate::synth::minimax`] (the crank-web counterweights and the balance shafts are its
+//! counterweights: mass, first moment, inertia, of which only the first moment enters the
+//! fields), the peaks of the bare layout, the harmonics of every order by FFT with and without
+//! the design, the textbook's primary and secondary sums, and a peak-force against
+//! peak-couple front — every number the result reports.
+
+use super::file::{Goal, MultiCylinderProblem};
+use super::model::{self, couple_of, Harmonic, Layout};
+use crate::families::driver::Claim;
+use crate::families::family::cw_status;
+use crate::geom::P2;
+use crate::report::Status;
+use crate::synth::minimax::{
+    self, var_u, AffineField, AffineValue, CounterweightLimits, Engine, FieldPeak, ParetoFront,
+    Problem,
+};
+use crate::synth::Shortfall;
+
+/// Field 0: the shaking force (N); field 1: the couple about z₀ (N·m).
+pub const FORCE: usize = 0;
+/// See [`FORCE`].
+pub const COUPLE: usize = 1;
+
+/// Samples of a turn for the harmonics' FFT (a power of two).
+pub const FFT_SAMPLES: usize = 256;
+
+/// The shaking force or couple of the layout with its designed unbalances, at real speed:
+/// g(φ; x) = ω²·[f(φ) + Σⱼ nⱼ² Rot(βⱼ) uⱼ] (force) or its moment about z₀ (couple), uⱼ the
+/// first moment of the engine's counterweight j.
+pub struct Fields<'a> {
+    /// The scene.
+    pub p: &'a MultiCylinderProblem,
+    /// [`FORCE`] or [`COUPLE`].
+    pub which: usize,
+}
+
+impl Fields<'_> {
+    /// The round-off of the links' part at any φ (N or N·m): per cylinder the slider-crank's
+    /// bound on x'' ([`crate::families::slider_crank::model::SliderCrank::round_off`])
+    /// times its moving mass, plus 8ε of the largest term, scaled by ω² (and |zᵢ − z₀| for the
+    /// couple).
+    fn links_error(&self) -> f64 {
+        let l = &self.p.layout;
+        let w2 = self.p.omega * self.p.omega;
+        l.cylinders
+            .iter()
+            .map(|c| {
+                let ro = c.sc.round_off();
+                let mass = c.sc.crank.mass + c.sc.rod.mass + c.sc.slider_mass;
+                let e = mass * (ro.dx[2] + 8.0 * f64::EPSILON * ro.x[2]);
+                let arm = if self.which == COUPLE {
+                    (c.z - l.z0).abs()
+                } else {
+                    1.0
+                };
+                w2 * e * arm
+            })
+            .sum()
+    }
+}
+
+impl AffineField for Fields<'_> {
+    fn name(&self) -> &str {
+        if self.which == FORCE {
+            "shaking force"
+        } else {
+            "couple"
+        }
+    }
+    fn dim(&self) -> usize {
+        2
+    }
+    fn eval(&self, phi: f64, out: &mut AffineValue) {
+        let (p, w2) = (self.p, self.p.omega * self.p.omega);
+        let s = p.layout.shaking0(phi).unwrap_or(model::Shaking {
+            force: P2::new(f64::NAN, f64::NAN),
+            couple: P2::zeros(),
+        });
+        let b = if self.which == FORCE {
+            s.force
+        } else {
+            s.couple
+        };
+        out.b = [w2 * b.x, w2 * b.y];
+        for (j, r) in p.rotors.iter().enumerate() {
+            let k = w2 * r.rotor.speed2();
+            let (sb, cb) = r.rotor.angle(phi).sin_cos();
+            // Force columns: k·Rot(β) on (u_x, u_y).
+            let mut rows = [[k * cb, -k * sb], [k * sb, k * cb]];
+            if self.which == COUPLE {
+                let arm = r.rotor.z - p.layout.z0;
+                let f = rows;
+                rows = [
+                    [-arm * f[1][0], -arm * f[1][1]],
+                    [arm * f[0][0], arm * f[0][1]],
+                ];
+            }
+            for (row, v) in rows.iter().enumerate() {
+                let a = out.row_mut(row);
+                a[var_u(j)] = v[0];
+                a[var_u(j) + 1] = v[1];
+            }
+        }
+    }
+    fn error(&self, _: f64, _: &[f64]) -> f64 {
+        self.links_error()
+    }
+}
+
+/// The harmonics of one state of the machine (bare, or with the design).
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct Spectrum {
+    /// The force's orders 1..=orders (N).
+    pub force: Vec<Harmonic>,
+    /// The couple's (N·m).
+    pub couple: Vec<Harmonic>,
+    /// A bound on every force coefficient's aliasing and round-off (N).
+    pub force_error: f64,
+    /// The same for the couple (N·m).
+    pub couple_error: f64,
+}
+
+/// Every number of a solved multi-cylinder scene.
+#[derive(Debug, Clone)]
+pub struct Solution {
+    /// The claim: `optimal` with the engine's certificate, `analysed` without a design.
+    pub claim: Claim,
+    /// The bare layout's peaks (force, couple), refined.
+    pub bare: Vec<FieldPeak>,
+    /// The certified design, when the scene has unbalances to design.
+    pub design: Option<minimax::Solution>,
+    /// The harmonics of the bare layout.
+    pub bare_spectrum: Spectrum,
+    /// The harmonics with the design's unbalances.
+    pub spectrum: Option<Spectrum>,
+    /// The textbook's primary and secondary force and couple (N, N·m; the model's λ).
+    pub textbook: [Harmonic; 4],
+    /// The peak-force against peak-couple front, if asked for.
+    pub front: Option<ParetoFront>,
+}
+
+impl Solution {
+    /// The design vector (zeros for an analysis).
+    pub fn x(&self, p: &MultiCylinderProblem) -> Vec<f64> {
+        self.design
+            .as_ref()
+            .map_or_else(|| vec![0.0; n_of(p)], |d| d.x.clone())
+    }
+}
+
+/// The engine's vector length: four per rotor, or one inert extra for an analysis.
+fn n_of(p: &MultiCylinderProblem) -> usize {
+    if p.rotors.is_empty() {
+        1
+    } else {
+        minimax::PER_COUNTERWEIGHT * p.rotors.len()
+    }
+}
+
+/// The engine's problem: the two fields, a counterweight per rotor (or one inert extra for
+/// an analysis), the goal and the limits.
+pub fn problem<'a>(p: &MultiCylinderProblem, fields: [&'a dyn AffineField; 2]) -> Problem<'a> {
+    let goal = match p.goal {
+        Goal::PeakForce => minimax::Goal::MinPeak(vec![(FORCE, 1.0)]),
+        Goal::PeakCouple => minimax::Goal::MinPeak(vec![(COUPLE, 1.0)]),
+        Goal::CounterweightMass => minimax::Goal::MinMass,
+    };
+    let mut limits = Vec::new();
+    if let Some(e) = p.max_peak_force {
+        limits.push((FORCE, e));
+    }
+    if let Some(e) = p.max_peak_couple {
+        limits.push((COUPLE, e));
+    }
+    Problem {
+        fields: fields.to_vec(),
+        counterweights: (p.rotors.iter())
+            .map(|r| CounterweightLimits::new(r.mass_max, r.radius_max))
+            .collect(),
+        extra: if p.rotors.is_empty() {
+            vec![(0.0, 0.0)]
+        } else {
+            Vec::new()
+        },
+        linear: Vec::new(),
+        goal,
+        limits,
+    }
+}
+
+/// Solves the scene.
+pub fn solve(p: &MultiCylinderProblem) -> Result<Solution, String> {
+    if !p.layout.assembles() {
+        return Err("a cylinder does not assemble: (R + |e|)/L ≥ 1".into());
+    }
+    let (f, m) = (Fields { p, which: FORCE }, Fields { p, which: COUPLE });
+    let pb = problem(p, [&f, &m]);
+    let engine = Engine::new(&pb, &p.settings).map_err(|e| e.to_string())?;
+    let bare = engine
+        .peaks(&vec![0.0; pb.n()])
+        .map_err(|e| e.to_string())?;
+    let design = if p.rotors.is_empty() {
+        None
+    } else {
+        Some(engine.solve().map_err(|e| e.to_string())?)
+    };
+    let front = front(p, &engine, design.as_ref())?;
+    let bare_spectrum = spectrum(p, &vec![0.0; pb.n()]);
+    let spectrum = (design.as_ref())
+        .filter(|d| d.x.iter().all(|v| v.is_finite()))
+        .map(|d| spectrum(p, &d.x));
+    let w2 = p.omega * p.omega;
+    let textbook = model::textbook(&p.layout).map(|h| scaled(h, w2));
+    let mut claim = claim(p, design.as_ref());
+    if claim.status == Status::Infeasible {
+        let sf = shortfalls(p, &engine);
+        if !sf.is_empty() {
+            claim.status_detail = None;
+        }
+        claim.infeasible(sf);
+    }
+    Ok(Solution {
+        claim,
+        bare,
+        design,
+        bare_spectrum,
+        spectrum,
+        textbook,
+        front,
+    })
+}
+
+/// A harmonic's coefficients times `k`.
+fn scaled(mut h: Harmonic, k: f64) -> Harmonic {
+    h.forward = h.forward.map(|v| v * k);
+    h.backward = h.backward.map(|v| v * k);
+    h
+}
+
+/// The front, when asked for: min peak force subject to peak couple ≤ ε, ε spread evenly
+/// between the couple's least and its value at the least force.
+fn front(
+    p: &MultiCylinderProblem,
+    engine: &Engine,
+    design: Option<&minimax::Solution>,
+) -> Result<Option<ParetoFront>, String> {
+    let usable = design.is_some_and(|d| d.x.iter().all(|v| v.is_finite()));
+    if p.pareto_points == 0 || !usable {
+        return Ok(None);
+    }
+    engine
+        .pareto_front(FORCE, COUPLE, p.pareto_points as usize)
+        .map(Some)
+        .map_err(|e| e.to_string())
+}
+
+/// The harmonics of the machine with the unbalances x (FFT of [`FFT_SAMPLES`] samples).
+pub fn spectrum(p: &MultiCylinderProblem, x: &[f64]) -> Spectrum {
+    let (f, m) = (Fields { p, which: FORCE }, Fields { p, which: COUPLE });
+    let n = FFT_SAMPLES.max(4 * p.orders as usize).next_power_of_two();
+    let at = |field: &Fields, phi: f64| {
+        let mut v = AffineValue::zeros(x.len());
+        field.eval(phi, &mut v);
+        let g = v.at(2, x);
+        P2::new(g[0], g[1])
+    };
+    let zf = model::samples(n, |phi| at(&f, phi));
+    let zm = model::samples(n, |phi| at(&m, phi));
+    Spectrum {
+        force: model::harmonics(&zf, p.orders),
+        couple: model::harmonics(&zm, p.orders),
+        force_error: model::alias_bound(&zf) + f.links_error(),
+        couple_error: model::alias_bound(&zm) + m.links_error(),
+    }
+}
+
+/// What the solve claims of its design.
+fn claim(p: &MultiCylinderProblem, d: Option<&minimax::Solution>) -> Claim {
+    let Some(d) = d else {
+        return Claim::new(
+            Status::Analysed,
+            "the slider-crank family's kinematics per cylinder; every peak refined from a scan; harmonics by FFT (rustfft)",
+        );
+    };
+    if d.status == minimax::Status::Infeasible {
+        let mut c = Claim::new(
+            Status::Infeasible,
+            format!(
+                "clarabel SOCP + exchange loop: infeasible on {} sampled angles, so on all angles",
+                d.angles
+            ),
+        );
+        c.status_detail = d.note.clone();
+        return c;
+    }
+    let n = p.rotors.len();
+    let what = format!("{n} unbalance{}", if n == 1 { "" } else { "s" });
+    let method = if d.solver_status == minimax::DISC_SOLVER {
+        format!("exact smallest enclosing disc (Welzl, support polished by Newton) of {what}")
+    } else {
+        format!(
+            "clarabel SOCP + exchange loop over {what} ({} rounds, {} angles, {})",
+            d.rounds, d.angles, d.solver_status
+        )
+    };
+    let mut c = Claim::new(
+        cw_status(d.status),
+        format!(
+            "{method}; certificate |V − L| ≤ {:.1e}·V",
+            p.settings.rel_tol
+        ),
+    );
+    c.warnings.extend(d.note.clone());
+    c
+}
+
+/// How far off each limit of an infeasible scene is: the limited peak minimised alone.
+fn shortfalls(p: &MultiCylinderProblem, engine: &Engine) -> Vec<Shortfall> {
+    let mut out = Vec::new();
+    for (limit, field, key, quantity, unit) in [
+        (
+            p.max_peak_force,
+            FORCE,
+            "max_peak_force",
+            "peak shaking force",
+            "N",
+        ),
+        (
+            p.max_peak_couple,
+            COUPLE,
+            "max_peak_couple",
+            "peak couple",
+            "N·m",
+        ),
+    ] {
+        let Some(limit) = limit else { continue };
+        let alone = engine.solve_goal(&minimax::Goal::MinPeak(vec![(field, 1.0)]), &[], None);
+        if let Some(s) = alone.ok().filter(|s| s.status == minimax::Status::Optimal) {
+            out.push(Shortfall::at_most(
+                &format!("objective.{key}"),
+                quantity,
+                limit,
+                s.objective,
+                s.error.total,
+                unit,
+            ));
+        }
+    }
+    out
+}
+
+/// The file-only analyses: none.
+pub type Analyses = ();
+
+/// See [`Analyses`].
+pub fn analyse(_: &MultiCylinderProblem, _: &Solution) -> Analyses {}
+
+/// The layout's couple of a planar force at plane z (for tests and reports).
+pub fn couple_at(layout: &Layout, z: f64, f: P2) -> P2 {
+    couple_of(z - layout.z0, f)
+}
