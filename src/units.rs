@@ -44,6 +44,10 @@ pub enum Dim {
     Time,
     /// Pa (a gas pressure, absolute unless a key says otherwise).
     Pressure,
+    /// N/m (a spring's stiffness: a mount's).
+    Stiffness,
+    /// N·s/m (a viscous damper's coefficient: a mount's).
+    Damping,
 }
 
 impl Dim {
@@ -63,6 +67,8 @@ impl Dim {
             Dim::Acceleration => "linear acceleration",
             Dim::Time => "time",
             Dim::Pressure => "pressure",
+            Dim::Stiffness => "stiffness (force per length)",
+            Dim::Damping => "viscous damping (force per speed)",
         }
     }
 
@@ -334,6 +340,51 @@ pub const UNITS: &[Unit] = &[
         symbol: "ms",
         dim: Dim::Time,
         factor: 1e-3,
+    },
+    Unit {
+        symbol: "N/m",
+        dim: Dim::Stiffness,
+        factor: 1.0,
+    },
+    Unit {
+        symbol: "N/mm",
+        dim: Dim::Stiffness,
+        factor: 1e3,
+    },
+    Unit {
+        symbol: "kN/m",
+        dim: Dim::Stiffness,
+        factor: 1e3,
+    },
+    Unit {
+        symbol: "kN/mm",
+        dim: Dim::Stiffness,
+        factor: 1e6,
+    },
+    Unit {
+        symbol: "MN/m",
+        dim: Dim::Stiffness,
+        factor: 1e6,
+    },
+    Unit {
+        symbol: "N·s/m",
+        dim: Dim::Damping,
+        factor: 1.0,
+    },
+    Unit {
+        symbol: "N*s/m",
+        dim: Dim::Damping,
+        factor: 1.0,
+    },
+    Unit {
+        symbol: "kN·s/m",
+        dim: Dim::Damping,
+        factor: 1e3,
+    },
+    Unit {
+        symbol: "kN*s/m",
+        dim: Dim::Damping,
+        factor: 1e3,
     },
     Unit {
         symbol: "Pa",
@@ -761,7 +812,9 @@ dims!(
     Density,
     Acceleration,
     Time,
-    Pressure
+    Pressure,
+    Stiffness,
+    Damping
 );
 
 /// A quantity read from a problem file: a string with a unit (a plain number only for

@@ -494,6 +494,8 @@ pub fn key_dim(key: &str) -> Dim {
         ("_rad_s", Dim::AngularSpeed),
         ("_m_s2", Dim::Acceleration),
         ("_kg_m3", Dim::Density),
+        ("_n_per_m", Dim::Stiffness),
+        ("_ns_per_m", Dim::Damping),
         ("_kgm2", Dim::Inertia),
         ("_kgm", Dim::Unbalance),
         ("_nm", Dim::Torque),

@@ -12,7 +12,9 @@ use crate::problem::{
     check_name, non_negative, positive, Ctx, FieldError, Input, ProblemError, RawFile, Resolved,
 };
 use crate::synth::minimax::Settings;
-use crate::units::{Angle, AngularSpeed, Force, Inertia, Length, Mass, Qty, Torque};
+use crate::units::{
+    Angle, AngularSpeed, Damping, Force, Inertia, Length, Mass, Qty, Stiffness, Torque,
+};
 use serde::Deserialize;
 
 /// The `family = "…"` value of this family's files.
@@ -26,6 +28,9 @@ pub const MAX_CYLINDERS: usize = 24;
 
 /// Most crank-web counterweights and balance shafts, each.
 pub const MAX_ROTORS: usize = 24;
+
+/// Most mounts.
+pub const MAX_MOUNTS: usize = 16;
 
 /// The integer keys of this family's file and their ranges (see [`limits`]).
 pub const COUNTS: &[Count] = &[
@@ -67,6 +72,36 @@ pub struct MechanismRaw {
     /// The cylinders, at least one.
     #[schemars(length(min = 1, max = MAX_CYLINDERS))]
     pub cylinders: Vec<CylinderRaw>,
+    /// The frame the cylinders shake (with `[[mechanism.mounts]]`; default: rigid ground).
+    pub frame: Option<FrameRaw>,
+    /// The frame's elastic mounts.
+    #[serde(default)]
+    #[schemars(length(max = MAX_MOUNTS))]
+    pub mounts: Vec<MountRaw>,
+}
+
+/// `[mechanism.frame]`: a rigid body, its principal axes along the shaft frame's.
+#[derive(Debug, Deserialize, schemars::JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct FrameRaw {
+    /// M: the frame with everything fixed to it.
+    pub mass: Qty<Mass>,
+    /// Principal moments of inertia about its centre of mass, about x, y, z.
+    pub inertia: [Qty<Inertia>; 3],
+    /// G, its centre of mass (x, y, z in the shaft frame).
+    pub centroid: [Qty<Length>; 3],
+}
+
+/// `[[mechanism.mounts]]`: a spring and a damper along each axis at a point of the frame.
+#[derive(Debug, Deserialize, schemars::JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct MountRaw {
+    /// Its point (x, y, z in the shaft frame).
+    pub position: [Qty<Length>; 3],
+    /// Stiffness along x, y, z.
+    pub stiffness: [Qty<Stiffness>; 3],
+    /// Viscous damping along x, y, z (default none).
+    pub damping: Option<[Qty<Damping>; 3]>,
 }
 
 /// `[[mechanism.cylinders]]`: one throw and its cylinder.
@@ -191,6 +226,9 @@ pub enum Goal {
     PeakCouple,
     /// Σ m, the counterweights' and shafts' masses at their largest radii (with limits).
     CounterweightMass,
+    /// max over φ and the mounts of the force a mount transmits normal to the shaft (needs
+    /// `[mechanism.frame]` and `[[mechanism.mounts]]`).
+    PeakMountForce,
 }
 
 /// `[objective]`.
@@ -203,6 +241,8 @@ pub struct ObjectiveRaw {
     pub max_peak_force: Option<Qty<Force>>,
     /// Limit on the peak couple.
     pub max_peak_couple: Option<Qty<Torque>>,
+    /// Limit on every mount's peak transmitted force normal to the shaft.
+    pub max_mount_force: Option<Qty<Force>>,
     /// Points of the peak-force against peak-couple front (0: none).
     #[serde(default)]
     pub pareto_points: u32,
@@ -244,6 +284,10 @@ pub struct MultiCylinderProblem {
     pub max_peak_force: Option<f64>,
     /// See `max_peak_force`.
     pub max_peak_couple: Option<f64>,
+    /// Every mount's peak transmitted force normal to the shaft (N).
+    pub max_mount_force: Option<f64>,
+    /// The frame on its mounts, if any (else rigid ground).
+    pub frame: Option<super::mounts::Frame>,
     /// Front points.
     pub pareto_points: u32,
     /// Harmonic orders reported.
@@ -276,7 +320,27 @@ pub fn resolve_raw(raw: &File) -> Result<MultiCylinderProblem, FieldError> {
         .max_peak_couple
         .map(|q| positive("objective.max_peak_couple", q.si()))
         .transpose()?;
-    check_goal(o, !rotors.is_empty(), max_peak_force.or(max_peak_couple))?;
+    let max_mount_force = o
+        .max_mount_force
+        .map(|q| positive("objective.max_mount_force", q.si()))
+        .transpose()?;
+    let frame = resolve_frame(m)?;
+    check_goal(
+        o,
+        !rotors.is_empty(),
+        max_peak_force.or(max_peak_couple).or(max_mount_force),
+    )?;
+    if frame.is_none() && (o.minimize == Goal::PeakMountForce || max_mount_force.is_some()) {
+        let key = if max_mount_force.is_some() {
+            "objective.max_mount_force"
+        } else {
+            "objective.minimize"
+        };
+        return Err(FieldError::new(
+            key,
+            "the mount force needs the frame and its mounts: [mechanism.frame] and [[mechanism.mounts]]",
+        ));
+    }
     let settings = raw.accuracy;
     limits::check_section(COUNTS, "accuracy", &settings)?;
     settings.validate().map_err(|(key, message)| {
@@ -303,6 +367,8 @@ pub fn resolve_raw(raw: &File) -> Result<MultiCylinderProblem, FieldError> {
         goal: o.minimize,
         max_peak_force,
         max_peak_couple,
+        max_mount_force,
+        frame,
         pareto_points: o.pareto_points,
         orders,
         settings,
@@ -314,7 +380,7 @@ fn check_goal(o: &ObjectiveRaw, designed: bool, limit: Option<f64>) -> Result<()
     if o.minimize == Goal::CounterweightMass && designed && limit.is_none() {
         return Err(FieldError::new(
             "objective.minimize",
-            "\"counterweight-mass\" needs a limit (max_peak_force or max_peak_couple): the lightest unbalance without one is none",
+            "\"counterweight-mass\" needs a limit (max_peak_force, max_peak_couple or max_mount_force): the lightest unbalance without one is none",
         ));
     }
     if o.pareto_points == 1 {
@@ -464,4 +530,56 @@ fn resolve_rotors(d: &DesignRaw) -> Result<Vec<RotorSpec>, FieldError> {
         });
     }
     Ok(out)
+}
+
+/// The frame and its mounts: both or neither; a positive mass and inertias; stiffnesses and
+/// dampings ≥ 0.
+fn resolve_frame(m: &MechanismRaw) -> Result<Option<super::mounts::Frame>, FieldError> {
+    use super::mounts::{Frame, Mount};
+    let Some(f) = &m.frame else {
+        if m.mounts.is_empty() {
+            return Ok(None);
+        }
+        return Err(FieldError::new(
+            "mechanism.mounts",
+            "mounts need the frame they hold: [mechanism.frame] (mass, inertia, centroid)",
+        ));
+    };
+    if m.mounts.is_empty() || m.mounts.len() > MAX_MOUNTS {
+        return Err(FieldError::new(
+            "mechanism.mounts",
+            format!(
+                "{} given; allowed: 1 to {MAX_MOUNTS} [[mechanism.mounts]] under the frame",
+                m.mounts.len()
+            ),
+        ));
+    }
+    let mass = positive("mechanism.frame.mass", f.mass.si())?;
+    let mut inertia = [0.0; 3];
+    for (k, q) in f.inertia.iter().enumerate() {
+        inertia[k] = positive(&format!("mechanism.frame.inertia[{k}]"), q.si())?;
+    }
+    let mut mounts = Vec::with_capacity(m.mounts.len());
+    for (i, mt) in m.mounts.iter().enumerate() {
+        let key = |k: &str, j: usize| format!("mechanism.mounts[{i}].{k}[{j}]");
+        let mut stiffness = [0.0; 3];
+        let mut damping = [0.0; 3];
+        for j in 0..3 {
+            stiffness[j] = non_negative(&key("stiffness", j), mt.stiffness[j].si())?;
+            if let Some(d) = &mt.damping {
+                damping[j] = non_negative(&key("damping", j), d[j].si())?;
+            }
+        }
+        mounts.push(Mount {
+            at: mt.position.map(|q| q.si()),
+            stiffness,
+            damping,
+        });
+    }
+    Ok(Some(Frame {
+        mass,
+        inertia,
+        centroid: f.centroid.map(|q| q.si()),
+        mounts,
+    }))
 }

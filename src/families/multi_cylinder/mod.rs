@@ -8,6 +8,7 @@
 pub mod file;
 pub mod model;
 pub mod motion;
+pub mod mounts;
 pub mod numbers;
 pub mod report;
 pub mod solve;

@@ -6,10 +6,10 @@
 
 use super::file::{Goal, MultiCylinderProblem};
 use super::model::{polar, Harmonic};
-use super::solve::{Solution, Spectrum, COUPLE, FORCE};
+use super::solve::{Solution, Spectrum, COUPLE, FORCE, MOUNTS};
 use crate::families::family::Scene;
 use crate::report::SolveResult;
-use crate::synth::minimax::{self, var_u};
+use crate::synth::minimax::{self, var_u, FieldPeak};
 use crate::synth::ActiveBound;
 use serde_json::json;
 use std::collections::BTreeMap;
@@ -30,14 +30,26 @@ pub fn model(
             "harmonics".into(),
             json!(format!(
                 "FFT (rustfft) of {} samples of a turn",
-                super::solve::FFT_SAMPLES.max(4 * p.orders as usize).next_power_of_two()
+                super::solve::FFT_SAMPLES
+                    .max(4 * p.orders as usize)
+                    .next_power_of_two()
             )),
         ),
-        (
-            "frame".into(),
-            json!("rigid ground: the shaking force and couple are what the links and unbalances exert on it"),
-        ),
+        ("frame".into(), json!(frame_text(p))),
     ])
+}
+
+/// The frame, in words: ground, or a rigid body on its mounts.
+fn frame_text(p: &MultiCylinderProblem) -> String {
+    match &p.frame {
+        None => "rigid ground: the shaking force and couple are what the links and unbalances exert on it".into(),
+        Some(f) => format!(
+            "a rigid body of {} kg on {} mounts (linear springs and viscous dampers), its steady state order by order (orders 1–{} of the bare layout by FFT)",
+            f.mass,
+            f.mounts.len(),
+            super::solve::MOUNT_ORDERS
+        ),
+    }
 }
 
 /// The key prefix of rotor j: `counterweight_<k>` or `shaft_<k>` (k from 1 within its kind).
@@ -62,7 +74,7 @@ pub fn numbers(_: &Scene, p: &MultiCylinderProblem, sol: &Solution, r: &mut Solv
     );
     // An infeasible or failed design has no peaks (and no design): the bare layout's.
     let found =
-        (sol.design.as_ref()).filter(|d| d.peaks.len() == 2 && d.x.iter().all(|v| v.is_finite()));
+        (sol.design.as_ref()).filter(|d| !d.peaks.is_empty() && d.x.iter().all(|v| v.is_finite()));
     if sol.design.is_some() && found.is_none() {
         // No design to report figures of: the bare layout's are its baseline.
         numbers_of_spectra(sol, r);
@@ -81,6 +93,7 @@ pub fn numbers(_: &Scene, p: &MultiCylinderProblem, sol: &Solution, r: &mut Solv
         .insert("peak_shaking_force_angle_rad".into(), peaks[FORCE].angle);
     r.derived
         .insert("peak_couple_angle_rad".into(), peaks[COUPLE].angle);
+    mount_numbers(p, peaks, &sol.bare, r);
     if let Some(d) = found {
         design_numbers(p, d, r);
     }
@@ -90,6 +103,48 @@ pub fn numbers(_: &Scene, p: &MultiCylinderProblem, sol: &Solution, r: &mut Solv
             r.warnings.push(why);
         }
         r.extra.insert("pareto".into(), front_rows(front));
+    }
+}
+
+/// The mounts' peaks (each, and the largest as the objective `peak_mount_force_n`), the
+/// bare layout's, and the frame's natural frequencies.
+fn mount_numbers(
+    p: &MultiCylinderProblem,
+    peaks: &[FieldPeak],
+    bare: &[FieldPeak],
+    r: &mut SolveResult,
+) {
+    let Some(frame) = &p.frame else { return };
+    let worst = |ps: &[FieldPeak]| {
+        ps[MOUNTS..]
+            .iter()
+            .max_by(|a, b| a.peak.total_cmp(&b.peak))
+            .map(|m| (m.peak, m.error))
+    };
+    if let (Some((v, e)), Some((b, _))) = (worst(peaks), worst(bare)) {
+        r.objectives.insert("peak_mount_force_n".into(), v);
+        r.errors.insert("peak_mount_force_n".into(), e);
+        if let Some(m) = r.baselines.get_mut("bare") {
+            m.insert("peak_mount_force_n".into(), b);
+        }
+    }
+    for (k, m) in peaks[MOUNTS..].iter().enumerate() {
+        r.derived
+            .insert(format!("mount_{}_peak_force_n", k + 1), m.peak);
+        r.derived
+            .insert(format!("mount_{}_peak_force_angle_rad", k + 1), m.angle);
+    }
+    let modes = frame.natural_frequencies();
+    for (i, w) in modes.iter().enumerate() {
+        r.derived.insert(format!("frame_mode_{}_rad_s", i + 1), *w);
+    }
+    for n in [1.0, 2.0] {
+        let speed = n * p.omega;
+        if let Some(w) = modes.iter().find(|w| (speed / **w - 1.0).abs() < 0.15) {
+            r.warnings.push(format!(
+                "order {n} of the speed ({speed:.2} rad/s) is within 15 % of a natural frequency of the frame on its mounts ({w:.2} rad/s): the mount forces there rest on the damping, which is rarely known well"
+            ));
+        }
     }
 }
 
@@ -143,6 +198,7 @@ fn design_numbers(p: &MultiCylinderProblem, d: &minimax::Solution, r: &mut Solve
         Goal::PeakForce => "peak_shaking_force_n",
         Goal::PeakCouple => "peak_couple_nm",
         Goal::CounterweightMass => "counterweight_mass_kg",
+        Goal::PeakMountForce => "peak_mount_force_n",
     };
     r.errors.insert(head.into(), e.total);
 }

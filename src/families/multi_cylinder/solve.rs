@@ -6,8 +6,9 @@
 //! the design, the textbook's primary and secondary sums, and a peak-force against
 //! peak-couple front — every number the result reports.
 
-use super::file::{Goal, MultiCylinderProblem};
+use super::file::{Goal, MultiCylinderProblem, RotorSpec};
 use super::model::{self, couple_of, Harmonic, Layout};
+use super::mounts::{self, Frame};
 use crate::families::driver::Claim;
 use crate::families::family::cw_status;
 use crate::geom::P2;
@@ -17,11 +18,16 @@ use crate::synth::minimax::{
     Problem,
 };
 use crate::synth::Shortfall;
+use nalgebra::SMatrix;
+use rustfft::num_complex::Complex64;
 
-/// Field 0: the shaking force (N); field 1: the couple about z₀ (N·m).
+/// Field 0: the shaking force (N); field 1: the couple about z₀ (N·m); fields from
+/// [`MOUNTS`] on: each mount's transmitted force normal to the shaft (N).
 pub const FORCE: usize = 0;
 /// See [`FORCE`].
 pub const COUPLE: usize = 1;
+/// See [`FORCE`].
+pub const MOUNTS: usize = 2;
 
 /// Samples of a turn for the harmonics' FFT (a power of two).
 pub const FFT_SAMPLES: usize = 256;
@@ -109,6 +115,155 @@ impl AffineField for Fields<'_> {
     }
 }
 
+/// Orders of the bare force and couple the mount fields sum (the rest is in their error).
+pub const MOUNT_ORDERS: usize = 64;
+
+/// The force mount k transmits to the ground normal to the shaft (N), x and y, as a field:
+/// Re Σₙ H_k(nω)·ŝₙ e^{inφ} with ŝₙ the order's (F̂_x, F̂_y, M̂_x, M̂_y) — the bare layout's from
+/// its FFT (orders 1..=[`MOUNT_ORDERS`]), each unbalance's exactly (its one order).
+pub struct MountField {
+    name: String,
+    /// H_k(nω)·ŝₙ of the bare layout, n = 1.. (x, y, z).
+    bare: Vec<[Complex64; 3]>,
+    /// Per rotor: its order and the columns of u_x and u_y.
+    cols: Vec<(u32, [Complex64; 3], [Complex64; 3])>,
+    /// The evaluation error bound (N).
+    err: f64,
+}
+
+impl AffineField for MountField {
+    fn name(&self) -> &str {
+        &self.name
+    }
+    fn dim(&self) -> usize {
+        2
+    }
+    fn eval(&self, phi: f64, out: &mut AffineValue) {
+        let mut b = [0.0; 2];
+        for (n, c) in self.bare.iter().enumerate() {
+            let e = Complex64::from_polar(1.0, (n + 1) as f64 * phi);
+            b[0] += (c[0] * e).re;
+            b[1] += (c[1] * e).re;
+        }
+        out.b = b;
+        for (j, (n, cx, cy)) in self.cols.iter().enumerate() {
+            let e = Complex64::from_polar(1.0, *n as f64 * phi);
+            for row in 0..2 {
+                let a = out.row_mut(row);
+                a[var_u(j)] = (cx[row] * e).re;
+                a[var_u(j) + 1] = (cy[row] * e).re;
+            }
+        }
+    }
+    fn error(&self, _: f64, _: &[f64]) -> f64 {
+        self.err
+    }
+}
+
+/// (F̂_x, F̂_y, M̂_x, M̂_y) of one order from its force and couple coefficients (forward,
+/// backward).
+fn excitation(f: [Complex64; 2], m: [Complex64; 2]) -> SMatrix<Complex64, 4, 1> {
+    let [fx, fy] = mounts::components(f[0], f[1]);
+    let [mx, my] = mounts::components(m[0], m[1]);
+    SMatrix::<Complex64, 4, 1>::new(fx, fy, mx, my)
+}
+
+/// The mount fields of the scene's frame: the transfer of every order up to 2·[`MOUNT_ORDERS`]
+/// (for the error's largest gain), the bare layout's orders by FFT, the unbalances' columns.
+pub fn mount_fields(p: &MultiCylinderProblem, frame: &Frame) -> Result<Vec<MountField>, String> {
+    let c = |v: [f64; 2]| Complex64::new(v[0], v[1]);
+    let n_fft = 4 * MOUNT_ORDERS;
+    let x0 = vec![0.0; n_of(p)];
+    let (fb, mb) = (Fields { p, which: FORCE }, Fields { p, which: COUPLE });
+    let (zf, zm) = (
+        model::samples(n_fft, |phi| value_at(&fb, phi, &x0)),
+        model::samples(n_fft, |phi| value_at(&mb, phi, &x0)),
+    );
+    let (hf, hm) = (
+        model::harmonics(&zf, MOUNT_ORDERS as u32),
+        model::harmonics(&zm, MOUNT_ORDERS as u32),
+    );
+    let transfer = |n: usize| {
+        let w = n as f64 * p.omega;
+        frame.transfer(p.layout.z0, w).ok_or_else(|| {
+            format!("the frame on its mounts has an undamped resonance at order {n} ({w:.6} rad/s): its steady state does not exist")
+        })
+    };
+    let table: Vec<_> = (1..=2 * MOUNT_ORDERS)
+        .map(transfer)
+        .collect::<Result<_, _>>()?;
+    let tail = 2.0 * MOUNT_ORDERS as f64 * (model::alias_bound(&zf) + model::alias_bound(&zm))
+        + fb.links_error()
+        + mb.links_error();
+    Ok((0..frame.mounts.len())
+        .map(|k| {
+            let bare = (0..MOUNT_ORDERS)
+                .map(|n| {
+                    let s = excitation(
+                        [c(hf[n].forward), c(hf[n].backward)],
+                        [c(hm[n].forward), c(hm[n].backward)],
+                    );
+                    let v = table[n][k] * s;
+                    [v[0], v[1], v[2]]
+                })
+                .collect();
+            let cols = (p.rotors.iter())
+                .map(|r| rotor_columns(p, r, &table[r.rotor.order as usize - 1][k]))
+                .collect();
+            MountField {
+                name: format!("mount {} force", k + 1),
+                bare,
+                cols,
+                err: gain(&table, k) * tail,
+            }
+        })
+        .collect())
+}
+
+/// The largest gain over the table's orders of mount k: max over its rows of Σ|H_ij|.
+fn gain(table: &[Vec<SMatrix<Complex64, 3, 4>>], k: usize) -> f64 {
+    let row =
+        |h: &SMatrix<Complex64, 3, 4>, i: usize| (0..4).map(|j| h[(i, j)].norm()).sum::<f64>();
+    table
+        .iter()
+        .map(|h| (0..3).map(|i| row(&h[k], i)).fold(0.0, f64::max))
+        .fold(0.0, f64::max)
+}
+
+/// The columns of a rotor's u_x and u_y in a mount's force: its force ω²n²(1 or i) turning
+/// with (forward) or against (backward) the crank at order n, its couple i(z − z₀) times that.
+fn rotor_columns(
+    p: &MultiCylinderProblem,
+    r: &RotorSpec,
+    h: &SMatrix<Complex64, 3, 4>,
+) -> (u32, [Complex64; 3], [Complex64; 3]) {
+    let k = p.omega * p.omega * r.rotor.speed2();
+    let arm = Complex64::new(0.0, r.rotor.z - p.layout.z0);
+    let col = |c: Complex64| {
+        let zero = Complex64::new(0.0, 0.0);
+        let (f, b) = if r.rotor.sense > 0.0 {
+            (c, zero)
+        } else {
+            (zero, c)
+        };
+        let v = h * excitation([f, b], [arm * f, arm * b]);
+        [v[0], v[1], v[2]]
+    };
+    (
+        r.rotor.order,
+        col(Complex64::new(k, 0.0)),
+        col(Complex64::new(0.0, k)),
+    )
+}
+
+/// g(φ; x) of a planar field as a vector.
+fn value_at(f: &dyn AffineField, phi: f64, x: &[f64]) -> P2 {
+    let mut v = AffineValue::zeros(x.len());
+    f.eval(phi, &mut v);
+    let g = v.at(2, x);
+    P2::new(g[0], g[1])
+}
+
 /// The harmonics of one state of the machine (bare, or with the design).
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct Spectrum {
@@ -161,11 +316,13 @@ fn n_of(p: &MultiCylinderProblem) -> usize {
 
 /// The engine's problem: the two fields, a counterweight per rotor (or one inert extra for
 /// an analysis), the goal and the limits.
-pub fn problem<'a>(p: &MultiCylinderProblem, fields: [&'a dyn AffineField; 2]) -> Problem<'a> {
+pub fn problem<'a>(p: &MultiCylinderProblem, fields: Vec<&'a dyn AffineField>) -> Problem<'a> {
+    let mounts = MOUNTS..fields.len();
     let goal = match p.goal {
         Goal::PeakForce => minimax::Goal::MinPeak(vec![(FORCE, 1.0)]),
         Goal::PeakCouple => minimax::Goal::MinPeak(vec![(COUPLE, 1.0)]),
         Goal::CounterweightMass => minimax::Goal::MinMass,
+        Goal::PeakMountForce => minimax::Goal::MinPeak(mounts.clone().map(|k| (k, 1.0)).collect()),
     };
     let mut limits = Vec::new();
     if let Some(e) = p.max_peak_force {
@@ -174,8 +331,11 @@ pub fn problem<'a>(p: &MultiCylinderProblem, fields: [&'a dyn AffineField; 2]) -
     if let Some(e) = p.max_peak_couple {
         limits.push((COUPLE, e));
     }
+    if let Some(e) = p.max_mount_force {
+        limits.extend(mounts.map(|k| (k, e)));
+    }
     Problem {
-        fields: fields.to_vec(),
+        fields,
         counterweights: (p.rotors.iter())
             .map(|r| CounterweightLimits::new(r.mass_max, r.radius_max))
             .collect(),
@@ -196,7 +356,13 @@ pub fn solve(p: &MultiCylinderProblem) -> Result<Solution, String> {
         return Err("a cylinder does not assemble: (R + |e|)/L ≥ 1".into());
     }
     let (f, m) = (Fields { p, which: FORCE }, Fields { p, which: COUPLE });
-    let pb = problem(p, [&f, &m]);
+    let mounts = match &p.frame {
+        Some(frame) => mount_fields(p, frame)?,
+        None => Vec::new(),
+    };
+    let mut fields: Vec<&dyn AffineField> = vec![&f, &m];
+    fields.extend(mounts.iter().map(|k| k as &dyn AffineField));
+    let pb = problem(p, fields);
     let engine = Engine::new(&pb, &p.settings).map_err(|e| e.to_string())?;
     let bare = engine
         .peaks(&vec![0.0; pb.n()])
@@ -260,14 +426,8 @@ fn front(
 pub fn spectrum(p: &MultiCylinderProblem, x: &[f64]) -> Spectrum {
     let (f, m) = (Fields { p, which: FORCE }, Fields { p, which: COUPLE });
     let n = FFT_SAMPLES.max(4 * p.orders as usize).next_power_of_two();
-    let at = |field: &Fields, phi: f64| {
-        let mut v = AffineValue::zeros(x.len());
-        field.eval(phi, &mut v);
-        let g = v.at(2, x);
-        P2::new(g[0], g[1])
-    };
-    let zf = model::samples(n, |phi| at(&f, phi));
-    let zm = model::samples(n, |phi| at(&m, phi));
+    let zf = model::samples(n, |phi| value_at(&f, phi, x));
+    let zm = model::samples(n, |phi| value_at(&m, phi, x));
     Spectrum {
         force: model::harmonics(&zf, p.orders),
         couple: model::harmonics(&zm, p.orders),

@@ -13,6 +13,7 @@ pub fn headline(p: &MultiCylinderProblem) -> String {
         (true, _) | (false, Goal::PeakForce) => "peak_shaking_force_n",
         (false, Goal::PeakCouple) => "peak_couple_nm",
         (false, Goal::CounterweightMass) => "counterweight_mass_kg",
+        (false, Goal::PeakMountForce) => "peak_mount_force_n",
     };
     format!("objectives.{key}")
 }
@@ -70,10 +71,12 @@ pub fn effects(p: &MultiCylinderProblem, reference: &SolveResult, headline: f64)
             ),
         ),
         (
-            "rigid frame".into(),
-            format!(
-                "the frame is ground: on mounts it moves, and what the mounts transmit differs from the peak force {force:.4e} N by the frame's response (not modelled yet)"
-            ),
+            "frame".into(),
+            if p.frame.is_some() {
+                "a rigid body on linear springs and viscous dampers: the frame's own bending and the mounts' frequency-dependent stiffness are left out".into()
+            } else {
+                format!("the frame is ground: on mounts it moves, and what the mounts transmit differs from the peak force {force:.4e} N by the frame's response (`[mechanism.frame]`, `[[mechanism.mounts]]`)")
+            },
         ),
         (
             "constant speed".into(),
