@@ -212,6 +212,16 @@ pub struct DesignRaw {
     #[serde(default)]
     #[schemars(length(max = MAX_ROTORS))]
     pub shafts: Vec<ShaftRaw>,
+    /// The crank phases chosen by exhaustive search.
+    pub phases: Option<PhasesRaw>,
+}
+
+/// `[design.phases]`: every throw but the first at a multiple of `step`, each layout solved.
+#[derive(Debug, Deserialize, schemars::JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct PhasesRaw {
+    /// The admissible phases' spacing: a whole turn divided by an integer (`"90 deg"`).
+    pub step: Qty<Angle>,
 }
 
 /// What the unbalances minimise.
@@ -288,6 +298,8 @@ pub struct MultiCylinderProblem {
     pub max_mount_force: Option<f64>,
     /// The frame on its mounts, if any (else rigid ground).
     pub frame: Option<super::mounts::Frame>,
+    /// With `[design.phases]`: the admissible phases' spacing (rad).
+    pub phase_step: Option<f64>,
     /// Front points.
     pub pareto_points: u32,
     /// Harmonic orders reported.
@@ -307,6 +319,7 @@ pub fn resolve_raw(raw: &File) -> Result<MultiCylinderProblem, FieldError> {
     let m = &raw.mechanism;
     let omega = positive("mechanism.speed", m.speed.si())?;
     let layout = resolve_layout(m, &raw.model)?;
+    let layout_len = layout.cylinders.len();
     let orders = raw.model.orders.unwrap_or(4);
     limits::check(COUNTS, "model.orders", orders.into())?;
     let rotors = resolve_rotors(&raw.design)?;
@@ -369,6 +382,7 @@ pub fn resolve_raw(raw: &File) -> Result<MultiCylinderProblem, FieldError> {
         max_peak_couple,
         max_mount_force,
         frame,
+        phase_step: resolve_phases(&raw.design, layout_len)?,
         pareto_points: o.pareto_points,
         orders,
         settings,
@@ -582,4 +596,35 @@ fn resolve_frame(m: &MechanismRaw) -> Result<Option<super::mounts::Frame>, Field
         centroid: f.centroid.map(|q| q.si()),
         mounts,
     }))
+}
+
+/// `[design.phases]`: a step that divides the turn, on two cylinders or more, within
+/// [`super::phases::MAX_CANDIDATES`] layouts.
+fn resolve_phases(d: &DesignRaw, cylinders: usize) -> Result<Option<f64>, FieldError> {
+    let Some(ph) = &d.phases else { return Ok(None) };
+    let step = positive("design.phases.step", ph.step.si())?;
+    let m = std::f64::consts::TAU / step;
+    if (m - m.round()).abs() > 1e-9 * m || m.round() < 2.0 {
+        return Err(FieldError::new(
+            "design.phases.step",
+            format!("{:.6} deg does not divide the turn; allowed: 360°/k for an integer k ≥ 2 (\"90 deg\", \"60 deg\")", step.to_degrees()),
+        ));
+    }
+    if cylinders < 2 {
+        return Err(FieldError::new(
+            "design.phases",
+            "one cylinder has no phase to choose (the first throw is held)",
+        ));
+    }
+    let n = super::phases::count(step, cylinders);
+    if n > super::phases::MAX_CANDIDATES as f64 {
+        return Err(FieldError::new(
+            "design.phases.step",
+            format!(
+                "{n:.0} layouts ((360°/step)^(cylinders − 1)); allowed: at most {}: a larger step",
+                super::phases::MAX_CANDIDATES
+            ),
+        ));
+    }
+    Ok(Some(step))
 }

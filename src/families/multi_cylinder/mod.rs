@@ -10,6 +10,7 @@ pub mod model;
 pub mod motion;
 pub mod mounts;
 pub mod numbers;
+pub mod phases;
 pub mod report;
 pub mod solve;
 pub mod study;

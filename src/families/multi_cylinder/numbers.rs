@@ -6,6 +6,7 @@
 
 use super::file::{Goal, MultiCylinderProblem};
 use super::model::{polar, Harmonic};
+use super::phases::PhaseSearch;
 use super::solve::{Solution, Spectrum, COUPLE, FORCE, MOUNTS};
 use crate::families::family::Scene;
 use crate::report::SolveResult;
@@ -17,8 +18,9 @@ use std::collections::BTreeMap;
 /// The result's `model` section.
 pub fn model(
     p: &MultiCylinderProblem,
-    _: Option<&Solution>,
+    sol: Option<&Solution>,
 ) -> BTreeMap<String, serde_json::Value> {
+    let p = sol.map_or(p, |s| s.scene(p));
     let c = &p.layout.cylinders[0].sc;
     BTreeMap::from([
         ("cylinders".into(), json!(p.layout.cylinders.len())),
@@ -37,6 +39,43 @@ pub fn model(
         ),
         ("frame".into(), json!(frame_text(p))),
     ])
+}
+
+/// The chosen phases (`cylinder_<i>_phase_rad`), the headline's error over the search, and
+/// the `phases` section (every layout, best first).
+fn phase_numbers(p: &MultiCylinderProblem, search: &PhaseSearch, r: &mut SolveResult) {
+    for (i, c) in p.layout.cylinders.iter().enumerate() {
+        r.design
+            .insert(format!("cylinder_{}_phase_rad", i + 1), c.phase);
+    }
+    r.derived
+        .insert("phase_layouts".into(), search.candidates.len() as f64);
+    r.derived.insert("phase_search_error".into(), search.error);
+    let mut order: Vec<usize> = (0..search.candidates.len()).collect();
+    order.sort_by(|a, b| {
+        search.candidates[*a]
+            .value
+            .total_cmp(&search.candidates[*b].value)
+    });
+    let rows: Vec<serde_json::Value> = order
+        .iter()
+        .map(|&k| {
+            let c = &search.candidates[k];
+            let deg: Vec<String> = c
+                .phases
+                .iter()
+                .map(|a| format!("{:.1}", a.to_degrees()))
+                .collect();
+            json!({
+                "phases_deg": deg.join(" "),
+                "value": c.value,
+                "error": c.error,
+                "status": c.status.as_str(),
+            })
+        })
+        .collect();
+    r.extra
+        .insert("phases".into(), serde_json::Value::Array(rows));
 }
 
 /// The frame, in words: ground, or a rigid body on its mounts.
@@ -65,6 +104,10 @@ pub fn rotor_key(p: &MultiCylinderProblem, j: usize) -> String {
 
 /// The result's numbers.
 pub fn numbers(_: &Scene, p: &MultiCylinderProblem, sol: &Solution, r: &mut SolveResult) {
+    let p = sol.scene(p);
+    if let Some(search) = &sol.phases {
+        phase_numbers(p, search, r);
+    }
     r.baselines.insert(
         "bare".into(),
         BTreeMap::from([
@@ -98,6 +141,12 @@ pub fn numbers(_: &Scene, p: &MultiCylinderProblem, sol: &Solution, r: &mut Solv
         design_numbers(p, d, r);
     }
     numbers_of_spectra(sol, r);
+    if let Some(search) = &sol.phases {
+        let head = super::study::headline(p);
+        if let Some(k) = head.strip_prefix("objectives.") {
+            r.errors.insert(k.into(), search.error);
+        }
+    }
     if let Some(front) = &sol.front {
         if let Some(why) = front.stopped() {
             r.warnings.push(why);

@@ -27,6 +27,14 @@ pub fn analysis_documents(
 
 /// The tables, plots, drawing and motion of a solved scene.
 pub fn documents(scene: &Scene, p: &MultiCylinderProblem, sol: &Solution, r: &mut SolveResult) {
+    let p = sol.scene(p);
+    if let Some(rows) = r.extra.get("phases").and_then(|v| v.as_array()) {
+        r.tables.push(Table::of_rows(
+            "phases",
+            "Every layout of the phase search, best first (its headline value and error)",
+            rows,
+        ));
+    }
     r.tables.push(cylinders_table(p));
     if let Some(rows) = r.extra.get("harmonics").and_then(|v| v.as_array()) {
         r.tables.push(Table::of_rows(

@@ -9,6 +9,7 @@
 use super::file::{Goal, MultiCylinderProblem, RotorSpec};
 use super::model::{self, couple_of, Harmonic, Layout};
 use super::mounts::{self, Frame};
+use super::phases;
 use crate::families::driver::Claim;
 use crate::families::family::cw_status;
 use crate::geom::P2;
@@ -294,6 +295,18 @@ pub struct Solution {
     pub textbook: [Harmonic; 4],
     /// The peak-force against peak-couple front, if asked for.
     pub front: Option<ParetoFront>,
+    /// With `[design.phases]`: every layout tried.
+    pub phases: Option<phases::PhaseSearch>,
+    /// With `[design.phases]`: the scene with the chosen phases (what the numbers, documents
+    /// and motion describe).
+    pub chosen: Option<Box<MultiCylinderProblem>>,
+}
+
+impl Solution {
+    /// The scene the solution describes: the chosen layout's, or `p` itself.
+    pub fn scene<'a>(&'a self, p: &'a MultiCylinderProblem) -> &'a MultiCylinderProblem {
+        self.chosen.as_deref().unwrap_or(p)
+    }
 }
 
 impl Solution {
@@ -350,8 +363,56 @@ pub fn problem<'a>(p: &MultiCylinderProblem, fields: Vec<&'a dyn AffineField>) -
     }
 }
 
-/// Solves the scene.
+/// Solves the scene: its layout, or with `[design.phases]` the best of every admissible
+/// layout ([`phases::search`]), solved again whole.
 pub fn solve(p: &MultiCylinderProblem) -> Result<Solution, String> {
+    let Some(step) = p.phase_step else {
+        return solve_layout(p);
+    };
+    let search = phases::search(p, step, solve_layout)?;
+    let mut q = p.clone();
+    q.phase_step = None;
+    let best = &search.candidates[search.best];
+    for (c, a) in q.layout.cylinders.iter_mut().zip(&best.phases) {
+        c.phase = *a;
+    }
+    let mut sol = solve_layout(&q)?;
+    let certified =
+        (search.candidates.iter()).all(|c| matches!(c.status, Status::Optimal | Status::Analysed));
+    let n = search.candidates.len();
+    sol.claim.method = format!(
+        "crank phases: the best of {n} layouts (every throw but the first at a multiple of {:.4}°), each solved: {}",
+        step.to_degrees(),
+        sol.claim.method
+    );
+    sol.claim.status = if certified && sol.claim.status != Status::Infeasible {
+        Status::Optimal
+    } else {
+        sol.claim.warnings.push(format!(
+            "{} of the {n} layouts were not certified: the best of the others is kept",
+            search
+                .candidates
+                .iter()
+                .filter(|c| !matches!(c.status, Status::Optimal | Status::Analysed))
+                .count()
+        ));
+        Status::BestFound
+    };
+    let ties = (search.candidates.iter())
+        .filter(|c| c.value - c.error <= best.value + best.error)
+        .count();
+    if ties > 1 {
+        sol.claim.warnings.push(format!(
+            "{ties} layouts are within their errors of the best (mirror images, the same throws in another order along the shaft, or true ties): the first in the search's order is kept; the `phases` table lists them all, with their other figures in each layout's own solve"
+        ));
+    }
+    sol.chosen = Some(Box::new(q));
+    sol.phases = Some(search);
+    Ok(sol)
+}
+
+/// Solves the scene's one layout.
+pub fn solve_layout(p: &MultiCylinderProblem) -> Result<Solution, String> {
     if !p.layout.assembles() {
         return Err("a cylinder does not assemble: (R + |e|)/L ≥ 1".into());
     }
@@ -395,6 +456,8 @@ pub fn solve(p: &MultiCylinderProblem) -> Result<Solution, String> {
         spectrum,
         textbook,
         front,
+        phases: None,
+        chosen: None,
     })
 }
 

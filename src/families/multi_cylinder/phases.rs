@@ -1,0 +1,124 @@
+//! The crank phases as a design choice (`[design.phases]`): every layout whose throws sit at
+//! multiples of `step` (the first throw held at its file's phase: turning every throw by one
+//! angle changes no peak) is solved — each its own certified cone program, or for an analysis
+//! its refined peaks — and the best kept. An exhaustive search of a finite set whose members
+//! are each certified within their errors certifies the best within the largest error of the
+//! candidates that could be it, so the claim stays `optimal` when every candidate's is.
+//! Candidates run in parallel (rayon) and are collected in order, so the choice does not depend
+//! on the thread count; ties go to the first in order.
+
+use super::file::{Goal, MultiCylinderProblem};
+use super::solve::{Solution, COUPLE, FORCE, MOUNTS};
+use crate::numeric::ordered;
+use crate::report::Status;
+use rayon::prelude::*;
+
+/// Most candidate layouts of a phase search (each a whole solve).
+pub const MAX_CANDIDATES: usize = 4096;
+
+/// One candidate layout's outcome.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct Candidate {
+    /// Each throw's phase (rad).
+    pub phases: Vec<f64>,
+    /// The headline value (the objective, or the bare peak of an analysis).
+    pub value: f64,
+    /// Its error bound.
+    pub error: f64,
+    /// Its status.
+    pub status: Status,
+}
+
+/// The search's outcome: every candidate in order, and which is best.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PhaseSearch {
+    /// The candidates, in enumeration order (cylinder 2's phase fastest).
+    pub candidates: Vec<Candidate>,
+    /// The index of the best.
+    pub best: usize,
+    /// The error the best's value carries as the optimum over the set: the largest error of
+    /// the candidates within their errors of it.
+    pub error: f64,
+}
+
+/// The number of candidates: (2π/step)^(N−1).
+pub fn count(step: f64, cylinders: usize) -> f64 {
+    (std::f64::consts::TAU / step)
+        .round()
+        .powi(cylinders as i32 - 1)
+}
+
+/// The phases of candidate `k`: cylinder 1 at `first`, cylinder i at digit i−1 of k in base m,
+/// times `step`.
+fn phases_of(k: usize, m: usize, n: usize, first: f64, step: f64) -> Vec<f64> {
+    let mut out = vec![first];
+    let mut rest = k;
+    for _ in 1..n {
+        out.push((rest % m) as f64 * step);
+        rest /= m;
+    }
+    out
+}
+
+/// The headline value of a solved layout and its error: the design's objective, or the bare
+/// peak the goal names.
+pub fn headline(p: &MultiCylinderProblem, sol: &Solution) -> (f64, f64) {
+    if let Some(d) = &sol.design {
+        return (d.objective, d.error.total);
+    }
+    let field = match p.goal {
+        Goal::PeakCouple => COUPLE,
+        Goal::PeakMountForce => (MOUNTS..sol.bare.len())
+            .max_by(|a, b| sol.bare[*a].peak.total_cmp(&sol.bare[*b].peak))
+            .unwrap_or(FORCE),
+        Goal::PeakForce | Goal::CounterweightMass => FORCE,
+    };
+    (sol.bare[field].peak, sol.bare[field].error)
+}
+
+/// Solves every layout of the search with `solve_layout` and picks the best.
+pub fn search(
+    p: &MultiCylinderProblem,
+    step: f64,
+    solve_layout: impl Fn(&MultiCylinderProblem) -> Result<Solution, String> + Sync,
+) -> Result<PhaseSearch, String> {
+    let n = p.layout.cylinders.len();
+    let m = (std::f64::consts::TAU / step).round() as usize;
+    let total = m.pow(n as u32 - 1);
+    let first = p.layout.cylinders[0].phase;
+    let candidates = ordered((0..total).into_par_iter().map(|k| {
+        let phases = phases_of(k, m, n, first, step);
+        let mut q = p.clone();
+        for (c, a) in q.layout.cylinders.iter_mut().zip(&phases) {
+            c.phase = *a;
+        }
+        let sol = solve_layout(&q)?;
+        let (value, error) = headline(&q, &sol);
+        // A candidate without a design (infeasible, failed) is never the best.
+        let value = if value.is_finite() {
+            value
+        } else {
+            f64::INFINITY
+        };
+        Ok::<_, String>(Candidate {
+            phases,
+            value,
+            error,
+            status: sol.claim.status,
+        })
+    }))?;
+    let best = (0..candidates.len())
+        .min_by(|a, b| candidates[*a].value.total_cmp(&candidates[*b].value))
+        .unwrap_or(0);
+    let b = &candidates[best];
+    let error = candidates
+        .iter()
+        .filter(|c| c.value - c.error <= b.value + b.error)
+        .map(|c| c.error)
+        .fold(b.error, f64::max);
+    Ok(PhaseSearch {
+        candidates,
+        best,
+        error,
+    })
+}
