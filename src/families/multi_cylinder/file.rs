@@ -32,6 +32,16 @@ pub const MAX_ROTORS: usize = 24;
 /// Most mounts.
 pub const MAX_MOUNTS: usize = 16;
 
+/// Most candidate layouts of a phase search (each a whole solve).
+pub const MAX_CANDIDATES: usize = 4096;
+
+/// The number of candidates: (2π/step)^(N−1).
+pub fn phase_layouts(step: f64, cylinders: usize) -> f64 {
+    (std::f64::consts::TAU / step)
+        .round()
+        .powi(cylinders as i32 - 1)
+}
+
 /// The integer keys of this family's file and their ranges (see [`limits`]).
 pub const COUNTS: &[Count] = &[
     c("model.orders", 2, 32),
@@ -599,7 +609,7 @@ fn resolve_frame(m: &MechanismRaw) -> Result<Option<super::mounts::Frame>, Field
 }
 
 /// `[design.phases]`: a step that divides the turn, on two cylinders or more, within
-/// [`super::phases::MAX_CANDIDATES`] layouts.
+/// [`MAX_CANDIDATES`] layouts.
 fn resolve_phases(d: &DesignRaw, cylinders: usize) -> Result<Option<f64>, FieldError> {
     let Some(ph) = &d.phases else { return Ok(None) };
     let step = positive("design.phases.step", ph.step.si())?;
@@ -616,13 +626,13 @@ fn resolve_phases(d: &DesignRaw, cylinders: usize) -> Result<Option<f64>, FieldE
             "one cylinder has no phase to choose (the first throw is held)",
         ));
     }
-    let n = super::phases::count(step, cylinders);
-    if n > super::phases::MAX_CANDIDATES as f64 {
+    let n = phase_layouts(step, cylinders);
+    if n > MAX_CANDIDATES as f64 {
         return Err(FieldError::new(
             "design.phases.step",
             format!(
                 "{n:.0} layouts ((360°/step)^(cylinders − 1)); allowed: at most {}: a larger step",
-                super::phases::MAX_CANDIDATES
+                MAX_CANDIDATES
             ),
         ));
     }

@@ -7,14 +7,10 @@
 //! Candidates run in parallel (rayon) and are collected in order, so the choice does not depend
 //! on the thread count; ties go to the first in order.
 
-use super::file::{Goal, MultiCylinderProblem};
-use super::solve::{Solution, COUPLE, FORCE, MOUNTS};
+use super::file::MultiCylinderProblem;
 use crate::numeric::ordered;
 use crate::report::Status;
 use rayon::prelude::*;
-
-/// Most candidate layouts of a phase search (each a whole solve).
-pub const MAX_CANDIDATES: usize = 4096;
 
 /// One candidate layout's outcome.
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
@@ -41,13 +37,6 @@ pub struct PhaseSearch {
     pub error: f64,
 }
 
-/// The number of candidates: (2π/step)^(N−1).
-pub fn count(step: f64, cylinders: usize) -> f64 {
-    (std::f64::consts::TAU / step)
-        .round()
-        .powi(cylinders as i32 - 1)
-}
-
 /// The phases of candidate `k`: cylinder 1 at `first`, cylinder i at digit i−1 of k in base m,
 /// times `step`.
 fn phases_of(k: usize, m: usize, n: usize, first: f64, step: f64) -> Vec<f64> {
@@ -60,27 +49,12 @@ fn phases_of(k: usize, m: usize, n: usize, first: f64, step: f64) -> Vec<f64> {
     out
 }
 
-/// The headline value of a solved layout and its error: the design's objective, or the bare
-/// peak the goal names.
-pub fn headline(p: &MultiCylinderProblem, sol: &Solution) -> (f64, f64) {
-    if let Some(d) = &sol.design {
-        return (d.objective, d.error.total);
-    }
-    let field = match p.goal {
-        Goal::PeakCouple => COUPLE,
-        Goal::PeakMountForce => (MOUNTS..sol.bare.len())
-            .max_by(|a, b| sol.bare[*a].peak.total_cmp(&sol.bare[*b].peak))
-            .unwrap_or(FORCE),
-        Goal::PeakForce | Goal::CounterweightMass => FORCE,
-    };
-    (sol.bare[field].peak, sol.bare[field].error)
-}
-
-/// Solves every layout of the search with `solve_layout` and picks the best.
+/// Solves every layout of the search with `solve_layout` (its headline value, error and
+/// status) and picks the best.
 pub fn search(
     p: &MultiCylinderProblem,
     step: f64,
-    solve_layout: impl Fn(&MultiCylinderProblem) -> Result<Solution, String> + Sync,
+    solve_layout: impl Fn(&MultiCylinderProblem) -> Result<(f64, f64, Status), String> + Sync,
 ) -> Result<PhaseSearch, String> {
     let n = p.layout.cylinders.len();
     let m = (std::f64::consts::TAU / step).round() as usize;
@@ -92,8 +66,7 @@ pub fn search(
         for (c, a) in q.layout.cylinders.iter_mut().zip(&phases) {
             c.phase = *a;
         }
-        let sol = solve_layout(&q)?;
-        let (value, error) = headline(&q, &sol);
+        let (value, error, status) = solve_layout(&q)?;
         // A candidate without a design (infeasible, failed) is never the best.
         let value = if value.is_finite() {
             value
@@ -104,7 +77,7 @@ pub fn search(
             phases,
             value,
             error,
-            status: sol.claim.status,
+            status,
         })
     }))?;
     let best = (0..candidates.len())

@@ -369,7 +369,11 @@ pub fn solve(p: &MultiCylinderProblem) -> Result<Solution, String> {
     let Some(step) = p.phase_step else {
         return solve_layout(p);
     };
-    let search = phases::search(p, step, solve_layout)?;
+    let search = phases::search(p, step, |q| {
+        let sol = solve_layout(q)?;
+        let (v, e) = headline(q, &sol);
+        Ok((v, e, sol.claim.status))
+    })?;
     let mut q = p.clone();
     q.phase_step = None;
     let best = &search.candidates[search.best];
@@ -409,6 +413,22 @@ pub fn solve(p: &MultiCylinderProblem) -> Result<Solution, String> {
     sol.chosen = Some(Box::new(q));
     sol.phases = Some(search);
     Ok(sol)
+}
+
+/// The headline value of a solved layout and its error: the design's objective, or the bare
+/// peak the goal names.
+pub fn headline(p: &MultiCylinderProblem, sol: &Solution) -> (f64, f64) {
+    if let Some(d) = &sol.design {
+        return (d.objective, d.error.total);
+    }
+    let field = match p.goal {
+        Goal::PeakCouple => COUPLE,
+        Goal::PeakMountForce => (MOUNTS..sol.bare.len())
+            .max_by(|a, b| sol.bare[*a].peak.total_cmp(&sol.bare[*b].peak))
+            .unwrap_or(FORCE),
+        Goal::PeakForce | Goal::CounterweightMass => FORCE,
+    };
+    (sol.bare[field].peak, sol.bare[field].error)
 }
 
 /// Solves the scene's one layout.
