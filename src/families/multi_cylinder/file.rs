@@ -45,7 +45,7 @@ pub fn phase_layouts(step: f64, cylinders: usize) -> f64 {
 /// The integer keys of this family's file and their ranges (see [`limits`]).
 pub const COUNTS: &[Count] = &[
     c("model.orders", 2, 32),
-    c("objective.pareto_points", 0, 100),
+    c("objective.pareto_points", 0, 16),
     c("accuracy.initial_samples", 3, 1024),
     c("accuracy.scan_samples", 16, 20_000),
     c("accuracy.max_rounds", 1, 1000),
@@ -410,7 +410,7 @@ fn check_goal(o: &ObjectiveRaw, designed: bool, limit: Option<f64>) -> Result<()
     if o.pareto_points == 1 {
         return Err(FieldError::new(
             "objective.pareto_points",
-            "1 is no front; allowed: 0 (none) or 2 to 100",
+            "1 is no front; allowed: 0 (none) or 2 to 16",
         ));
     }
     if o.pareto_points > 0 && !designed {
