@@ -608,3 +608,109 @@ fn the_phase_search_finds_the_cross_plane_crank_and_ranks_the_flat_plane() {
     let got = row["value"].as_f64().unwrap();
     assert!((got - bare).abs() <= 1e-9 * bare, "{got} vs {bare}");
 }
+
+/// The shipped layouts' primary and secondary forces and couples against the textbook's
+/// layout formulas, written out by hand here (forward and backward amplitudes; m_rot, m_rec
+/// the lumped masses, a the throws' spacing from the middle): the result's `textbook_…`
+/// figures to 1e-12, and the two-harmonic model's FFT (the same scene with
+/// `kinematics = "two-harmonic"`) to 1e-12 of the largest.
+#[test]
+fn the_shipped_layouts_equal_the_textbook_formulas() {
+    // (file, [F1+, F1−, F2+, F2−, M1+, M1−, M2+, M2−] in units of R ω² (and λ for order 2)).
+    type Formula = fn(f64, f64, f64, f64) -> [f64; 8];
+    let cases: [(&str, Formula); 3] = [
+        // Inline-2 at 180°, planes ±a: F₁ = 0, F₂ = 2·½m_rec λ both ways; M₁ = 2a(m_rot + ½m_rec)
+        // forward, 2a·½m_rec backward; M₂ = 0.
+        ("inline-2-compressor.toml", |rot, rec, lam, a| {
+            [
+                0.0,
+                0.0,
+                rec * lam,
+                rec * lam,
+                2.0 * a * (rot + 0.5 * rec),
+                a * rec,
+                0.0,
+                0.0,
+            ]
+        }),
+        // Inline-3 at 0°, 240°, 120°, planes −a, 0, a: no force; |Σ zᵢe^{iαᵢ}| = √3a, so M₁
+        // √3a(m_rot + ½m_rec) forward and √3a·½m_rec backward, M₂ √3a·½m_rec·λ both ways.
+        ("inline-3-balance-shaft.toml", |rot, rec, lam, a| {
+            let k = 3f64.sqrt() * a;
+            [
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                k * (rot + 0.5 * rec),
+                k * 0.5 * rec,
+                k * 0.5 * rec * lam,
+                k * 0.5 * rec * lam,
+            ]
+        }),
+        // Boxer: opposed banks on throws 180° apart, planes ±a: every force cancels; each
+        // couple is 2a times one cylinder's vector.
+        ("boxer-twin.toml", |rot, rec, lam, a| {
+            let k = 2.0 * a;
+            [
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                k * (rot + 0.5 * rec),
+                k * 0.5 * rec,
+                k * 0.5 * rec * lam,
+                k * 0.5 * rec * lam,
+            ]
+        }),
+    ];
+    let keys = [
+        "textbook_primary_force_forward_n",
+        "textbook_primary_force_backward_n",
+        "textbook_secondary_force_forward_n",
+        "textbook_secondary_force_backward_n",
+        "textbook_primary_couple_forward_nm",
+        "textbook_primary_couple_backward_nm",
+        "textbook_secondary_couple_forward_nm",
+        "textbook_secondary_couple_backward_nm",
+    ];
+    for (file, formula) in cases {
+        let (s, p) = problem_of(file);
+        let c = &p.layout.cylinders[0];
+        let a = (p.layout.cylinders.last().unwrap().z - p.layout.z0).abs();
+        let w2r = p.omega * p.omega * c.sc.r;
+        let want = formula(c.sc.m_rot(), c.sc.m_rec(), c.sc.lambda(), a).map(|v| v * w2r);
+        let big = want.iter().fold(0.0f64, |m, v| m.max(*v));
+        let r = solve_scene(&s);
+        for (k, w) in keys.iter().zip(want) {
+            let got = r.derived[*k];
+            assert!(
+                (got - w).abs() <= 1e-12 * big,
+                "{file}: {k} = {got} against {w}"
+            );
+        }
+        // The two-harmonic model's FFT agrees.
+        let text = std::fs::read_to_string(problem(file))
+            .unwrap()
+            .replace("kinematics = \"exact\"", "kinematics = \"two-harmonic\"");
+        let two = parse_str(&text, Path::new(file)).unwrap();
+        let q = two.machine::<MultiCylinderProblem>().unwrap();
+        let sp = solve::spectrum(q, &vec![0.0; solve::n_engine(q)]);
+        let fft = [
+            sp.force[0].forward_amplitude(),
+            sp.force[0].backward_amplitude(),
+            sp.force[1].forward_amplitude(),
+            sp.force[1].backward_amplitude(),
+            sp.couple[0].forward_amplitude(),
+            sp.couple[0].backward_amplitude(),
+            sp.couple[1].forward_amplitude(),
+            sp.couple[1].backward_amplitude(),
+        ];
+        for ((k, w), g) in keys.iter().zip(want).zip(fft) {
+            assert!(
+                (g - w).abs() <= 1e-12 * big,
+                "{file}: FFT {k} = {g} against {w}"
+            );
+        }
+    }
+}

@@ -174,7 +174,7 @@ fn excitation(f: [Complex64; 2], m: [Complex64; 2]) -> SMatrix<Complex64, 4, 1> 
 pub fn mount_fields(p: &MultiCylinderProblem, frame: &Frame) -> Result<Vec<MountField>, String> {
     let c = |v: [f64; 2]| Complex64::new(v[0], v[1]);
     let n_fft = 4 * MOUNT_ORDERS;
-    let x0 = vec![0.0; n_of(p)];
+    let x0 = vec![0.0; n_engine(p)];
     let (fb, mb) = (Fields { p, which: FORCE }, Fields { p, which: COUPLE });
     let (zf, zm) = (
         model::samples(n_fft, |phi| value_at(&fb, phi, &x0)),
@@ -314,12 +314,12 @@ impl Solution {
     pub fn x(&self, p: &MultiCylinderProblem) -> Vec<f64> {
         self.design
             .as_ref()
-            .map_or_else(|| vec![0.0; n_of(p)], |d| d.x.clone())
+            .map_or_else(|| vec![0.0; n_engine(p)], |d| d.x.clone())
     }
 }
 
 /// The engine's vector length: four per rotor, or one inert extra for an analysis.
-fn n_of(p: &MultiCylinderProblem) -> usize {
+pub fn n_engine(p: &MultiCylinderProblem) -> usize {
     if p.rotors.is_empty() {
         1
     } else {
