@@ -6,7 +6,7 @@
 //! pure couple) against the certified minimax; the 90° V-twin's primary force of constant
 //! magnitude; the inline-4's secondary force 4·m_rec·R·ω²·λ·cos 2φ.
 
-use crate::common::problem;
+use crate::common::{problem, Lcg};
 use cwsynth::families::multi_cylinder::file::MultiCylinderProblem;
 use cwsynth::families::multi_cylinder::model::{self, Cylinder, Harmonic, Layout};
 use cwsynth::families::multi_cylinder::solve::{self, COUPLE};
@@ -17,19 +17,6 @@ use cwsynth::report::Status;
 use rustfft::num_complex::Complex64;
 use std::f64::consts::{PI, TAU};
 use std::path::Path;
-
-/// A small deterministic generator (LCG), uniform in [lo, hi).
-struct Lcg(u64);
-
-impl Lcg {
-    fn range(&mut self, lo: f64, hi: f64) -> f64 {
-        self.0 = self
-            .0
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        lo + (hi - lo) * ((self.0 >> 11) as f64 / (1u64 << 53) as f64)
-    }
-}
 
 /// A random layout of `n` cylinders with the kinematics `k` (offsets only when exact).
 fn random_layout(rng: &mut Lcg, n: usize, k: Kinematics) -> Layout {

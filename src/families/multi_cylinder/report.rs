@@ -4,13 +4,13 @@
 //! from the solution, calling no solver.
 
 use super::file::MultiCylinderProblem;
-use super::solve::{Analyses, Fields, Solution, COUPLE, FORCE};
+use super::solve::{value_at, Analyses, Fields, Solution, COUPLE, FORCE};
 use crate::families::family::Scene;
 use crate::geom::{rot, P2};
 use crate::report::drawing::{Drawing, Layer, Sheet};
 use crate::report::plot::{Panel, PlotError, Series};
 use crate::report::{Plot, SolveResult, Table};
-use crate::synth::minimax::{AffineField, AffineValue};
+use crate::synth::minimax::var_u;
 use serde_json::json;
 use std::f64::consts::TAU;
 use std::sync::Arc;
@@ -90,27 +90,25 @@ fn cylinders_table(p: &MultiCylinderProblem) -> Table {
 /// |g| of a field over a turn at the design x (N or N·m), 361 points, φ in degrees.
 fn magnitude(p: &MultiCylinderProblem, which: usize, x: &[f64]) -> Vec<(f64, f64)> {
     let f = Fields { p, which };
-    (0..=360)
-        .map(|k| {
-            let phi = TAU * k as f64 / 360.0;
-            let mut v = AffineValue::zeros(x.len());
-            f.eval(phi, &mut v);
-            (phi.to_degrees(), v.magnitude(2, x))
-        })
+    turn()
+        .map(|phi| (phi.to_degrees(), value_at(&f, phi, x).norm()))
         .collect()
 }
 
 /// The force's tip over a turn (N, N), 361 points.
 fn locus(p: &MultiCylinderProblem, x: &[f64]) -> Vec<(f64, f64)> {
     let f = Fields { p, which: FORCE };
-    (0..=360)
-        .map(|k| {
-            let mut v = AffineValue::zeros(x.len());
-            f.eval(TAU * k as f64 / 360.0, &mut v);
-            let g = v.at(2, x);
-            (g[0], g[1])
+    turn()
+        .map(|phi| {
+            let g = value_at(&f, phi, x);
+            (g.x, g.y)
         })
         .collect()
+}
+
+/// 361 angles over a turn, both ends included.
+fn turn() -> impl Iterator<Item = f64> {
+    (0..=360).map(|k| TAU * k as f64 / 360.0)
 }
 
 /// |F| and |M| against φ, bare and designed; the force's locus.
@@ -174,7 +172,7 @@ fn layout_drawing(r: &mut SolveResult, name: &str, p: &MultiCylinderProblem, x: 
         }
         d.radius(P2::zeros(), rr, cyl[0].phase, "R");
         for (j, rot_spec) in p.rotors.iter().enumerate().filter(|(_, s)| !s.shaft) {
-            let u = P2::new(x[4 * j + 1], x[4 * j + 2]);
+            let u = P2::new(x[var_u(j)], x[var_u(j) + 1]);
             if u.norm() > 0.0 {
                 let tip = u / u.norm() * rot_spec.radius_max;
                 d.line(Layer::Path, P2::zeros(), tip);

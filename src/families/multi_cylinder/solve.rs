@@ -7,7 +7,7 @@
 //! peak-couple front — every number the result reports.
 
 use super::file::{Goal, MultiCylinderProblem, RotorSpec};
-use super::model::{self, couple_of, Harmonic, Layout};
+use super::model::{self, Harmonic};
 use super::mounts::{self, Frame};
 use super::phases;
 use crate::families::driver::Claim;
@@ -258,7 +258,7 @@ fn rotor_columns(
 }
 
 /// g(φ; x) of a planar field as a vector.
-fn value_at(f: &dyn AffineField, phi: f64, x: &[f64]) -> P2 {
+pub fn value_at(f: &dyn AffineField, phi: f64, x: &[f64]) -> P2 {
     let mut v = AffineValue::zeros(x.len());
     f.eval(phi, &mut v);
     let g = v.at(2, x);
@@ -599,8 +599,3 @@ pub type Analyses = ();
 
 /// See [`Analyses`].
 pub fn analyse(_: &MultiCylinderProblem, _: &Solution) -> Analyses {}
-
-/// The layout's couple of a planar force at plane z (for tests and reports).
-pub fn couple_at(layout: &Layout, z: f64, f: P2) -> P2 {
-    couple_of(z - layout.z0, f)
-}
