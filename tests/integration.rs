@@ -53,6 +53,7 @@ mod load_cases;
 mod minimax_engine;
 mod motion;
 mod multi_cylinder;
+mod multi_cylinder_firing;
 mod mutants;
 mod outline;
 mod plate_counterweight;

@@ -611,8 +611,9 @@ fn check(m: &Mutant, solve: bool) -> (Vec<(Failure, String)>, Duration, Option<S
 /// Fixed, so the same mutants are solved on every run and every machine.
 const SOLVES_PER_FILE: usize = 12;
 
-/// The same for a synthesis scene (a `[design.synthesis]` table): each solve is a whole
-/// search, a second or two in the test profile, 60 % of this test's time when they had 12.
+/// The same for a search scene (a `[design.synthesis]` or `[design.phases]` table): each
+/// solve is a whole search, a second or two in the test profile, 60 % of this test's time
+/// when they had 12.
 const SOLVES_PER_SEARCH_FILE: usize = 4;
 
 /// The file a mutant came from (its description's first part).
@@ -635,7 +636,8 @@ fn to_solve(all: &[Mutant], read: &[Checked]) -> Vec<usize> {
     let mut out: Vec<usize> = per
         .values()
         .flat_map(|v| {
-            let search = String::from_utf8_lossy(&all[v[0]].bytes).contains("[design.synthesis");
+            let text = String::from_utf8_lossy(&all[v[0]].bytes);
+            let search = text.contains("[design.synthesis") || text.contains("[design.phases");
             let cap = if search {
                 SOLVES_PER_SEARCH_FILE
             } else {

@@ -4,6 +4,7 @@
 //! mechanism with its phase, bank angle and plane), the rotating unbalances to design
 //! (crank-web counterweights and balance shafts), what they minimise and the limits.
 
+use super::firing::{candidate_layouts, Admissible, Cycle};
 use super::model::{Cylinder, Layout, Rotor};
 use crate::families::slider_crank::file::{rod_of, Masses, RodKeys};
 use crate::families::slider_crank::model::{Crank, Kinematics, SliderCrank};
@@ -82,6 +83,14 @@ pub struct MechanismRaw {
     /// The cylinders, at least one.
     #[schemars(length(min = 1, max = MAX_CYLINDERS))]
     pub cylinders: Vec<CylinderRaw>,
+    /// The cylinders' cycle, for their firing: `two-stroke` (every cylinder fires once a turn;
+    /// also a single-acting compressor) or `four-stroke` (once every two turns). Default none:
+    /// no firing is reported.
+    pub cycle: Option<Cycle>,
+    /// The firing order, cylinder numbers from 1, cylinder 1 first (`[1, 3, 4, 2]`; needs
+    /// `cycle`): the report says whether the layout fires evenly in it, and with
+    /// `[design.phases] even_firing = true` the search admits only layouts that do.
+    pub firing_order: Option<Vec<u32>>,
     /// The frame the cylinders shake (with `[[mechanism.mounts]]`; default: rigid ground).
     pub frame: Option<FrameRaw>,
     /// The frame's elastic mounts.
@@ -232,6 +241,10 @@ pub struct DesignRaw {
 pub struct PhasesRaw {
     /// The admissible phases' spacing: a whole turn divided by an integer (`"90 deg"`).
     pub step: Qty<Angle>,
+    /// Admit only the layouts that fire evenly in `mechanism.cycle` (in
+    /// `mechanism.firing_order`, if given). Default false: every layout.
+    #[serde(default)]
+    pub even_firing: bool,
 }
 
 /// What the unbalances minimise.
@@ -310,6 +323,12 @@ pub struct MultiCylinderProblem {
     pub frame: Option<super::mounts::Frame>,
     /// With `[design.phases]`: the admissible phases' spacing (rad).
     pub phase_step: Option<f64>,
+    /// The cylinders' cycle, if given.
+    pub cycle: Option<Cycle>,
+    /// The firing order asked for (cylinder numbers from 1), if given.
+    pub firing_order: Option<Vec<usize>>,
+    /// With `even_firing`: what the phase search admits.
+    pub admissible: Option<Admissible>,
     /// Front points.
     pub pareto_points: u32,
     /// Harmonic orders reported.
@@ -348,6 +367,7 @@ pub fn resolve_raw(raw: &File) -> Result<MultiCylinderProblem, FieldError> {
         .map(|q| positive("objective.max_mount_force", q.si()))
         .transpose()?;
     let frame = resolve_frame(m)?;
+    let firing_order = resolve_firing_order(m, layout_len)?;
     check_goal(
         o,
         !rotors.is_empty(),
@@ -384,7 +404,7 @@ pub fn resolve_raw(raw: &File) -> Result<MultiCylinderProblem, FieldError> {
         ],
     )?;
     Ok(MultiCylinderProblem {
-        layout,
+        layout: layout.clone(),
         omega,
         rotors,
         goal: o.minimize,
@@ -393,6 +413,9 @@ pub fn resolve_raw(raw: &File) -> Result<MultiCylinderProblem, FieldError> {
         max_mount_force,
         frame,
         phase_step: resolve_phases(&raw.design, layout_len)?,
+        cycle: m.cycle,
+        admissible: resolve_admissible(m, &raw.design, &layout, &firing_order)?,
+        firing_order,
         pareto_points: o.pareto_points,
         orders,
         settings,
@@ -637,4 +660,67 @@ fn resolve_phases(d: &DesignRaw, cylinders: usize) -> Result<Option<f64>, FieldE
         ));
     }
     Ok(Some(step))
+}
+
+/// `mechanism.firing_order`: with a cycle, every cylinder once, cylinder 1 first.
+fn resolve_firing_order(
+    m: &MechanismRaw,
+    cylinders: usize,
+) -> Result<Option<Vec<usize>>, FieldError> {
+    let Some(order) = &m.firing_order else {
+        return Ok(None);
+    };
+    let key = "mechanism.firing_order";
+    if m.cycle.is_none() {
+        return Err(FieldError::new(
+            key,
+            "a firing order needs the cycle: mechanism.cycle = \"two-stroke\" or \"four-stroke\"",
+        ));
+    }
+    let mut sorted: Vec<u32> = order.clone();
+    sorted.sort_unstable();
+    if order.first() != Some(&1) || sorted != (1..=cylinders as u32).collect::<Vec<_>>() {
+        return Err(FieldError::new(
+            key,
+            format!("{order:?} is no firing order of {cylinders} cylinders; allowed: each of 1 to {cylinders} once, 1 first ([1, 3, 4, 2])"),
+        ));
+    }
+    Ok(Some(order.iter().map(|&c| c as usize).collect()))
+}
+
+/// `[design.phases] even_firing`: with a cycle, and at least one admitted layout.
+fn resolve_admissible(
+    m: &MechanismRaw,
+    d: &DesignRaw,
+    layout: &Layout,
+    order: &Option<Vec<usize>>,
+) -> Result<Option<Admissible>, FieldError> {
+    let Some(ph) = d.phases.as_ref().filter(|ph| ph.even_firing) else {
+        return Ok(None);
+    };
+    let key = "design.phases.even_firing";
+    let Some(cycle) = m.cycle else {
+        return Err(FieldError::new(
+            key,
+            "even firing needs the cycle: mechanism.cycle = \"two-stroke\" or \"four-stroke\"",
+        ));
+    };
+    let a = Admissible {
+        cycle,
+        order: order.clone(),
+    };
+    if candidate_layouts(layout, ph.step.si(), Some(&a)).is_empty() {
+        let how = order.as_ref().map_or(String::new(), |o| {
+            format!(" in the order {}", super::firing::order_text(o))
+        });
+        return Err(FieldError::new(
+            key,
+            format!(
+                "no layout with every throw at a multiple of {:.4}° fires evenly{how} in a {} cycle: a smaller step, another order or another cycle",
+                ph.step.si().to_degrees(),
+                cycle.as_str()
+            ),
+        ));
+    }
+    Ok(Some(a))
 }

@@ -6,6 +6,7 @@
 //! `Machine` traits (issue 39; `shared/domain/multi-cylinder.md`).
 
 pub mod file;
+pub mod firing;
 pub mod model;
 pub mod motion;
 pub mod mounts;

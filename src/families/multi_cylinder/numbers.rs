@@ -5,6 +5,7 @@
 //! the solution, never a solve.
 
 use super::file::{Goal, MultiCylinderProblem};
+use super::firing;
 use super::model::{polar, Harmonic};
 use super::phases::PhaseSearch;
 use super::solve::{Solution, Spectrum, COUPLE, FORCE, MOUNTS};
@@ -22,7 +23,7 @@ pub fn model(
 ) -> BTreeMap<String, serde_json::Value> {
     let p = sol.map_or(p, |s| s.scene(p));
     let c = &p.layout.cylinders[0].sc;
-    BTreeMap::from([
+    let mut out = BTreeMap::from([
         ("cylinders".into(), json!(p.layout.cylinders.len())),
         ("kinematics".into(), json!(c.kinematics)),
         ("couple_reference_m".into(), json!(p.layout.z0)),
@@ -38,7 +39,54 @@ pub fn model(
             )),
         ),
         ("frame".into(), json!(frame_text(p))),
-    ])
+    ]);
+    if let Some(text) = firing_text(p) {
+        out.insert("firing".into(), json!(text));
+    }
+    out
+}
+
+/// The firing the layout admits, in words (with `mechanism.cycle`).
+fn firing_text(p: &MultiCylinderProblem) -> Option<String> {
+    let cycle = p.cycle?;
+    let (orders, count) = firing::even_orders(&p.layout, cycle);
+    let dt = (cycle.period() / p.layout.cylinders.len() as f64).to_degrees();
+    let head = format!("{}: ", cycle.as_str());
+    let text = if count == 0 {
+        format!("{head}no even firing order (the throws' dead centres are not {dt:.4}° apart in any order)")
+    } else {
+        let list: Vec<String> = orders.iter().map(|o| firing::order_text(o)).collect();
+        let more = if count > orders.len() { ", …" } else { "" };
+        format!(
+            "{head}{count} even firing order{}, every {dt:.4}°: {}{more}",
+            if count == 1 { "" } else { "s" },
+            list.join(", ")
+        )
+    };
+    Some(text)
+}
+
+/// The firing figures (with `mechanism.cycle`): `even_firing_orders` and, when there is one,
+/// `firing_interval_rad`; a warning when the layout does not fire evenly in the given order.
+fn firing_numbers(p: &MultiCylinderProblem, r: &mut SolveResult) {
+    let Some(cycle) = p.cycle else { return };
+    let (_, count) = firing::even_orders(&p.layout, cycle);
+    r.derived.insert("even_firing_orders".into(), count as f64);
+    if count > 0 {
+        r.derived.insert(
+            "firing_interval_rad".into(),
+            cycle.period() / p.layout.cylinders.len() as f64,
+        );
+    }
+    if let Some(o) = &p.firing_order {
+        if !firing::fires_evenly_in(&p.layout, cycle, o) {
+            r.warnings.push(format!(
+                "the layout does not fire evenly in the order {} ({} cycle): `model.firing` lists the orders it does fire evenly in",
+                firing::order_text(o),
+                cycle.as_str()
+            ));
+        }
+    }
 }
 
 /// The chosen phases (`cylinder_<i>_phase_rad`), the headline's error over the search, and
@@ -66,16 +114,38 @@ fn phase_numbers(p: &MultiCylinderProblem, search: &PhaseSearch, r: &mut SolveRe
                 .iter()
                 .map(|a| format!("{:.1}", a.to_degrees()))
                 .collect();
-            json!({
+            let mut row = json!({
                 "phases_deg": deg.join(" "),
                 "value": c.value,
                 "error": c.error,
                 "status": c.status.as_str(),
-            })
+            });
+            if let Some(cycle) = p.cycle {
+                row["firing_order"] = json!(first_even_order(p, &c.phases, cycle));
+            }
+            row
         })
         .collect();
     r.extra
         .insert("phases".into(), serde_json::Value::Array(rows));
+}
+
+/// The first even firing order of the layout with `phases` (the given order when it fires
+/// evenly in it), or `uneven`.
+fn first_even_order(p: &MultiCylinderProblem, phases: &[f64], cycle: firing::Cycle) -> String {
+    let mut layout = p.layout.clone();
+    for (c, a) in layout.cylinders.iter_mut().zip(phases) {
+        c.phase = *a;
+    }
+    if let Some(o) = p.firing_order.as_ref() {
+        if firing::fires_evenly_in(&layout, cycle, o) {
+            return firing::order_text(o);
+        }
+    }
+    let (orders, _) = firing::even_orders(&layout, cycle);
+    orders
+        .first()
+        .map_or_else(|| "uneven".into(), |o| firing::order_text(o))
 }
 
 /// The frame, in words: ground, or a rigid body on its mounts.
@@ -108,6 +178,7 @@ pub fn numbers(_: &Scene, p: &MultiCylinderProblem, sol: &Solution, r: &mut Solv
     if let Some(search) = &sol.phases {
         phase_numbers(p, search, r);
     }
+    firing_numbers(p, r);
     r.baselines.insert(
         "bare".into(),
         BTreeMap::from([

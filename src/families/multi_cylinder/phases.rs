@@ -1,6 +1,6 @@
 //! The crank phases as a design choice (`[design.phases]`): every layout whose throws sit at
 //! multiples of `step` (the first throw held at its file's phase: turning every throw by one
-//! angle changes no peak) is solved — each its own certified cone program, or for an analysis
+//! angle changes no peak) and that fires as asked (`even_firing`, [`super::firing`]) is solved — each its own certified cone program, or for an analysis
 //! its refined peaks — and the best kept. An exhaustive search of a finite set whose members
 //! are each certified within their errors certifies the best within the largest error of the
 //! candidates that could be it, so the claim stays `optimal` when every candidate's is.
@@ -8,6 +8,7 @@
 //! on the thread count; ties go to the first in order.
 
 use super::file::MultiCylinderProblem;
+use super::firing::candidate_layouts;
 use crate::numeric::ordered;
 use crate::report::Status;
 use rayon::prelude::*;
@@ -37,18 +38,6 @@ pub struct PhaseSearch {
     pub error: f64,
 }
 
-/// The phases of candidate `k`: cylinder 1 at `first`, cylinder i at digit i−1 of k in base m,
-/// times `step`.
-fn phases_of(k: usize, m: usize, n: usize, first: f64, step: f64) -> Vec<f64> {
-    let mut out = vec![first];
-    let mut rest = k;
-    for _ in 1..n {
-        out.push((rest % m) as f64 * step);
-        rest /= m;
-    }
-    out
-}
-
 /// Solves every layout of the search with `solve_layout` (its headline value, error and
 /// status) and picks the best.
 pub fn search(
@@ -56,12 +45,8 @@ pub fn search(
     step: f64,
     solve_layout: impl Fn(&MultiCylinderProblem) -> Result<(f64, f64, Status), String> + Sync,
 ) -> Result<PhaseSearch, String> {
-    let n = p.layout.cylinders.len();
-    let m = (std::f64::consts::TAU / step).round() as usize;
-    let total = m.pow(n as u32 - 1);
-    let first = p.layout.cylinders[0].phase;
-    let candidates = ordered((0..total).into_par_iter().map(|k| {
-        let phases = phases_of(k, m, n, first, step);
+    let layouts = candidate_layouts(&p.layout, step, p.admissible.as_ref());
+    let candidates = ordered(layouts.into_par_iter().map(|phases| {
         let mut q = p.clone();
         for (c, a) in q.layout.cylinders.iter_mut().zip(&phases) {
             c.phase = *a;

@@ -69,7 +69,8 @@ pub fn documents(scene: &Scene, p: &MultiCylinderProblem, sol: &Solution, r: &mu
     r.motion = serde_json::to_value(super::motion::motion(p, &x)).ok();
 }
 
-/// The `cylinders` table: each cylinder's phase, bank, plane and masses.
+/// The `cylinders` table: each cylinder's phase, bank, outer dead centre (the crank angle φ
+/// of its TDC), plane and masses.
 fn cylinders_table(p: &MultiCylinderProblem) -> Table {
     let rows: Vec<serde_json::Value> = (p.layout.cylinders.iter().enumerate())
         .map(|(i, c)| {
@@ -77,6 +78,7 @@ fn cylinders_table(p: &MultiCylinderProblem) -> Table {
                 "cylinder": i + 1,
                 "phase_deg": c.phase.to_degrees(),
                 "bank_deg": c.bank.to_degrees(),
+                "tdc_deg": super::firing::tdc(c).to_degrees(),
                 "position_m": c.z,
                 "offset_m": c.sc.e,
                 "rotating_mass_kg": c.sc.m_rot(),

@@ -384,8 +384,14 @@ pub fn solve(p: &MultiCylinderProblem) -> Result<Solution, String> {
     let certified =
         (search.candidates.iter()).all(|c| matches!(c.status, Status::Optimal | Status::Analysed));
     let n = search.candidates.len();
+    let firing = p.admissible.as_ref().map_or(String::new(), |a| {
+        let order = (a.order.as_deref()).map_or(String::new(), |o| {
+            format!(" in the order {}", super::firing::order_text(o))
+        });
+        format!(", firing evenly{order} in a {} cycle", a.cycle.as_str())
+    });
     sol.claim.method = format!(
-        "crank phases: the best of {n} layouts (every throw but the first at a multiple of {:.4}°), each solved: {}",
+        "crank phases: the best of {n} layouts (every throw but the first at a multiple of {:.4}°{firing}), each solved: {}",
         step.to_degrees(),
         sol.claim.method
     );
