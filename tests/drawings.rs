@@ -376,18 +376,39 @@ fn every_drawing_scene_writes_dimensioned_dxf_and_equal_aspect_svg() {
                 }
             }
             "multi-cylinder" => {
-                // Seen along the shaft: a throw of length R per cylinder from the axis; from
-                // the side: each plane a line of 2R; the planes' spacings dimensioned.
+                // Seen along the shaft: a line of length R per throw (cylinders of one phase
+                // share it) from the axis; from the side: each plane a line of 2R; the
+                // planes' spacings dimensioned.
                 let s = cwsynth::families::load(&problem(&format!("{name}.toml"))).unwrap();
                 let p = s
                     .machine::<cwsynth::families::multi_cylinder::file::MultiCylinderProblem>()
                     .unwrap();
                 let r = p.layout.cylinders[0].sc.r;
                 let outline = d.lengths("OUTLINE");
-                let n = p.layout.cylinders.len();
+                let distinct =
+                    |f: &dyn Fn(&cwsynth::families::multi_cylinder::model::Cylinder) -> f64| {
+                        let mut v: Vec<f64> = p.layout.cylinders.iter().map(f).collect();
+                        v.sort_by(f64::total_cmp);
+                        v.dedup_by(|a, b| (*a - *b).abs() < 1e-12);
+                        v.len()
+                    };
                 let count = |l: f64| outline.iter().filter(|&&x| (x - l).abs() < TOL).count();
-                assert_eq!(count(r), n, "{name}: a throw per cylinder");
-                assert_eq!(count(2.0 * r), n, "{name}: a plane per cylinder");
+                // A phase search draws the chosen phases (the result's).
+                let chosen = |c: &cwsynth::families::multi_cylinder::model::Cylinder| {
+                    let i = (p.layout.cylinders.iter())
+                        .position(|o| std::ptr::eq(c, o))
+                        .unwrap();
+                    v["design"][format!("cylinder_{}_phase_rad", i + 1)]
+                        .as_f64()
+                        .unwrap_or(c.phase)
+                        .rem_euclid(std::f64::consts::TAU)
+                };
+                assert_eq!(count(r), distinct(&chosen), "{name}: a line per throw");
+                assert_eq!(
+                    count(2.0 * r),
+                    distinct(&|c| c.z),
+                    "{name}: a line per plane"
+                );
                 let mut z: Vec<f64> = p.layout.cylinders.iter().map(|c| c.z).collect();
                 z.sort_by(f64::total_cmp);
                 z.dedup();

@@ -54,6 +54,7 @@ mod minimax_engine;
 mod motion;
 mod multi_cylinder;
 mod multi_cylinder_firing;
+mod multi_cylinder_radial;
 mod mutants;
 mod outline;
 mod plate_counterweight;

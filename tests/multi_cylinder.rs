@@ -44,6 +44,7 @@ fn random_layout(rng: &mut Lcg, n: usize, k: Kinematics) -> Layout {
                     rod: Rod::lumped(rng.range(0.1, 1.0), rng.range(0.2, 0.5), l),
                     slider_mass: rng.range(0.1, 1.5),
                 },
+                articulated: None,
             }
         })
         .collect();

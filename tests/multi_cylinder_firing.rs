@@ -40,6 +40,7 @@ fn layout_with_tdc(rng: &mut Lcg, tdc: &[f64]) -> Layout {
                 bank,
                 z: 0.1 * i as f64,
                 sc: sc.clone(),
+                articulated: None,
             }
         })
         .collect();

@@ -4,6 +4,7 @@
 //! mechanism with its phase, bank angle and plane), the rotating unbalances to design
 //! (crank-web counterweights and balance shafts), what they minimise and the limits.
 
+use super::articulated::Articulated;
 use super::firing::{candidate_layouts, Admissible, Cycle};
 use super::model::{Cylinder, Layout, Rotor};
 use crate::families::slider_crank::file::{rod_of, Masses, RodKeys};
@@ -141,6 +142,22 @@ pub struct CylinderRaw {
     pub crank_mass: Option<Qty<Mass>>,
     /// This cylinder's offset (default `mechanism.offset`).
     pub offset: Option<Qty<Length>>,
+    /// On a radial's throw: this cylinder's rod is pinned to the master rod (the cylinder of
+    /// the same `phase` and `position` without this table) at a knuckle pin.
+    pub articulated: Option<ArticulatedRaw>,
+}
+
+/// `[mechanism.cylinders.articulated]`: an articulated rod and its knuckle pin.
+#[derive(Debug, Deserialize, schemars::JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct ArticulatedRaw {
+    /// r_k, from the crank pin to the knuckle pin on the master rod.
+    pub knuckle_radius: Qty<Length>,
+    /// δ, the knuckle pin's angle on the master rod from its axis (crank pin → piston pin),
+    /// anticlockwise (default: this cylinder's bank minus the master's).
+    pub knuckle_angle: Option<Qty<Angle>>,
+    /// l, the articulated rod's length, knuckle pin to piston pin.
+    pub rod_length: Qty<Length>,
 }
 
 /// `[model]`.
@@ -412,7 +429,11 @@ pub fn resolve_raw(raw: &File) -> Result<MultiCylinderProblem, FieldError> {
         max_peak_couple,
         max_mount_force,
         frame,
-        phase_step: resolve_phases(&raw.design, layout_len)?,
+        phase_step: resolve_phases(
+            &raw.design,
+            layout_len,
+            layout.cylinders.iter().any(|c| c.articulated.is_some()),
+        )?,
         cycle: m.cycle,
         admissible: resolve_admissible(m, &raw.design, &layout, &firing_order)?,
         firing_order,
@@ -510,8 +531,10 @@ fn resolve_layout(m: &MechanismRaw, md: &ModelRaw) -> Result<Layout, FieldError>
             bank: c.bank.map_or(0.0, |q| q.si()),
             z: c.position.si(),
             sc,
+            articulated: None,
         });
     }
+    articulate(m, md, keys, &mut cylinders)?;
     let (lo, hi) = cylinders
         .iter()
         .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), c| {
@@ -519,6 +542,74 @@ fn resolve_layout(m: &MechanismRaw, md: &ModelRaw) -> Result<Layout, FieldError>
         });
     let z0 = m.couple_reference.map_or(0.5 * (lo + hi), |q| q.si());
     Ok(Layout { cylinders, z0 })
+}
+
+/// The articulated rods: each cylinder with an `articulated` table gets its throw's master
+/// (the one cylinder of the same phase and plane without one), its own rod of length l from
+/// the knuckle pin and no throw mass; exact kinematics, no offsets, R + r_k < l.
+fn articulate(
+    m: &MechanismRaw,
+    md: &ModelRaw,
+    keys: RodKeys,
+    cylinders: &mut [Cylinder],
+) -> Result<(), FieldError> {
+    for (i, c) in m.cylinders.iter().enumerate() {
+        let Some(a) = &c.articulated else { continue };
+        let key = |k: &str| format!("mechanism.cylinders[{i}].articulated.{k}");
+        let here = format!("mechanism.cylinders[{i}].articulated");
+        let masters: Vec<usize> = (0..m.cylinders.len())
+            .filter(|&j| {
+                m.cylinders[j].articulated.is_none()
+                    && cylinders[j].z == cylinders[i].z
+                    && cylinders[j].phase == cylinders[i].phase
+            })
+            .collect();
+        let [master] = masters[..] else {
+            return Err(FieldError::new(
+                here,
+                format!("{} cylinders could be this rod's master; allowed: exactly one cylinder of the same phase and position without an `articulated` table", masters.len()),
+            ));
+        };
+        if md.kinematics.is_some_and(|k| k != Kinematics::Exact) {
+            return Err(FieldError::new(
+                "model.kinematics",
+                "articulated rods need model.kinematics = \"exact\" (the two-harmonic series is the slider-crank's)",
+            ));
+        }
+        if cylinders[i].sc.e != 0.0 || cylinders[master].sc.e != 0.0 {
+            return Err(FieldError::new(
+                here,
+                "an articulated rod and its master need cylinder axes through the shaft (offset 0)",
+            ));
+        }
+        if c.crank_mass.is_some() {
+            return Err(FieldError::new(
+                format!("mechanism.cylinders[{i}].crank_mass"),
+                "an articulated cylinder has no throw of its own: its master's crank_mass is the throw's",
+            ));
+        }
+        let r = cylinders[i].sc.r;
+        let rk = non_negative(&key("knuckle_radius"), a.knuckle_radius.si())?;
+        let l = positive(&key("rod_length"), a.rod_length.si())?;
+        if r + rk >= l {
+            return Err(FieldError::new(
+                key("rod_length"),
+                format!("the articulated rod cannot reach its cylinder axis over a whole turn: crank_radius + knuckle_radius = {:.6} m ≥ rod_length = {l:.6} m", r + rk),
+            ));
+        }
+        let (bank, master_bank) = (cylinders[i].bank, cylinders[master].bank);
+        let sc = &mut cylinders[i].sc;
+        sc.rod = rod_of(keys, sc.rod.mass, l)?;
+        sc.l = l;
+        sc.crank.mass = 0.0;
+        cylinders[i].articulated = Some(Articulated {
+            master_bank,
+            master_rod: cylinders[master].sc.l,
+            knuckle_radius: rk,
+            knuckle_angle: a.knuckle_angle.map_or(bank - master_bank, |q| q.si()),
+        });
+    }
+    Ok(())
 }
 
 /// The crank-web counterweights, then the balance shafts.
@@ -633,7 +724,11 @@ fn resolve_frame(m: &MechanismRaw) -> Result<Option<super::mounts::Frame>, Field
 
 /// `[design.phases]`: a step that divides the turn, on two cylinders or more, within
 /// [`MAX_CANDIDATES`] layouts.
-fn resolve_phases(d: &DesignRaw, cylinders: usize) -> Result<Option<f64>, FieldError> {
+fn resolve_phases(
+    d: &DesignRaw,
+    cylinders: usize,
+    articulated: bool,
+) -> Result<Option<f64>, FieldError> {
     let Some(ph) = &d.phases else { return Ok(None) };
     let step = positive("design.phases.step", ph.step.si())?;
     let m = std::f64::consts::TAU / step;
@@ -647,6 +742,12 @@ fn resolve_phases(d: &DesignRaw, cylinders: usize) -> Result<Option<f64>, FieldE
         return Err(FieldError::new(
             "design.phases",
             "one cylinder has no phase to choose (the first throw is held)",
+        ));
+    }
+    if articulated {
+        return Err(FieldError::new(
+            "design.phases",
+            "a radial's articulated cylinders share their master's throw: its phase is not theirs to choose",
         ));
     }
     let n = phase_layouts(step, cylinders);

@@ -5,6 +5,7 @@
 //! its numbers, documents and motion, and its study ladder (`study`), behind the `Family` and
 //! `Machine` traits (issue 39; `shared/domain/multi-cylinder.md`).
 
+pub mod articulated;
 pub mod file;
 pub mod firing;
 pub mod model;

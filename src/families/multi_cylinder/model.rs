@@ -18,6 +18,7 @@
 //! frame of a body turning at angle β) adds ω_b²·Rot(β)·u at its plane z: a crank-web
 //! counterweight turns with the crank (β = φ), a balance shaft of order n at β = ±nφ.
 
+use super::articulated::Articulated;
 use crate::families::slider_crank::model::{Kinematics, SliderCrank};
 use crate::geom::{rot, P2};
 use rustfft::num_complex::Complex64;
@@ -32,8 +33,13 @@ pub struct Cylinder {
     pub bank: f64,
     /// zᵢ, the plane of the throw along the shaft (m).
     pub z: f64,
-    /// The cylinder's mechanism in its own frame (slider on +x).
+    /// The cylinder's mechanism in its own frame (slider on +x); for an articulated
+    /// cylinder its rod is the articulated rod (length l, from the knuckle pin) and it has no
+    /// throw of its own (crank mass 0).
     pub sc: SliderCrank,
+    /// On a radial's throw: the articulated rod's knuckle pin on the master rod (`None`: the
+    /// rod is on the crank pin).
+    pub articulated: Option<Articulated>,
 }
 
 impl Cylinder {
@@ -45,8 +51,38 @@ impl Cylinder {
     /// fᵢ(φ) = Rot(γᵢ)·f₀ᵢ(θᵢ), the cylinder's shaking force per ω² (kg·m); `None` where its
     /// slider-crank does not assemble.
     pub fn force0(&self, phi: f64) -> Option<P2> {
+        if let Some(a) = &self.articulated {
+            let sc = &self.sc;
+            let masses = (sc.slider_mass, sc.rod.mass, sc.rod.centroid / sc.l);
+            let theta = phi + self.phase - a.master_bank;
+            return a.force0(sc.r, sc.l, self.bank, masses, theta);
+        }
         let (_, f) = self.sc.shaking_force0_at(self.theta(phi))?;
         Some(rot(self.bank, f))
+    }
+
+    /// A bound on the round-off of [`Self::force0`] at any φ (kg·m): the slider-crank's bound
+    /// on x″ ([`SliderCrank::round_off`]) times the moving mass, plus 8ε of its largest
+    /// value; for an articulated cylinder 3·(m_p + m_rod) times [`Articulated::acc_error`]
+    /// (the piston's s″ and the rod's G″ = K″ + µ(P″ − K″)).
+    pub fn force_error0(&self) -> f64 {
+        let sc = &self.sc;
+        if let Some(a) = &self.articulated {
+            return 3.0 * (sc.slider_mass + sc.rod.mass) * a.acc_error(sc.r, sc.l);
+        }
+        let ro = sc.round_off();
+        let mass = sc.crank.mass + sc.rod.mass + sc.slider_mass;
+        mass * (ro.dx[2] + 8.0 * f64::EPSILON * ro.x[2])
+    }
+
+    /// Does the cylinder assemble over the whole turn? A slider-crank: R + |e| < L; an
+    /// articulated rod: R + r_k < l (its knuckle pin never farther from its axis than the
+    /// rod reaches) and R < L.
+    pub fn assembles(&self) -> bool {
+        match &self.articulated {
+            Some(a) => self.sc.r + a.knuckle_radius < self.sc.l && self.sc.r < a.master_rod,
+            None => self.sc.assembly_ratio() < 1.0,
+        }
     }
 }
 
@@ -124,9 +160,9 @@ impl Layout {
         Some(s)
     }
 
-    /// Does every cylinder assemble over the whole turn (|e ± R| < L)?
+    /// Does every cylinder assemble over the whole turn ([`Cylinder::assembles`])?
     pub fn assembles(&self) -> bool {
-        self.cylinders.iter().all(|c| c.sc.assembly_ratio() < 1.0)
+        self.cylinders.iter().all(Cylinder::assembles)
     }
 
     /// The largest |fᵢ| scale Σ (m_rot + m_rec)·R over the cylinders (kg·m): a size for

@@ -1,6 +1,7 @@
 //! The cylinders over one turn as the designer draws them (`crate::report::motion`), seen
 //! along the shaft (every throw in the one x–y view, whatever its plane z): each cylinder's
-//! crank O→Aᵢ, rod Aᵢ→Bᵢ and piston at Bᵢ (exact kinematics, turned by its bank angle), its
+//! crank O→Aᵢ, rod Aᵢ→Bᵢ and piston at Bᵢ (exact kinematics, turned by its bank angle; an
+//! articulated cylinder's knuckle arm A→K on its master rod in place of the crank), its
 //! cylinder axis as a guide, the crank-web counterweights' centroids at their largest radius,
 //! and the shared crank radius as a handle on the first throw.
 
@@ -21,6 +22,18 @@ pub fn motion(p: &MultiCylinderProblem, x: &[f64]) -> Motion {
         .filter_map(|phi| {
             let mut links = Vec::new();
             for c in cyl {
+                if let Some(art) = &c.articulated {
+                    // The master rod's knuckle arm A→K, the articulated rod K→B, the piston.
+                    let st = art.state(c.sc.r, c.sc.l, c.bank, phi + c.phase - art.master_bank)?;
+                    let to_world = |v: P2| rot(art.master_bank, v);
+                    let (a, k, b) = (
+                        to_world(st.c),
+                        to_world(st.k[0]),
+                        to_world(st.axis * st.s[0]),
+                    );
+                    links.extend([[xy(a), xy(k)], [xy(k), xy(b)], [xy(b), xy(b)]]);
+                    continue;
+                }
                 let st = exact(&c.sc).state(c.theta(phi))?;
                 let (a, b) = (st.a[0], P2::new(st.x[0], c.sc.e));
                 let (a, b) = (rot(c.bank, a), rot(c.bank, b));
@@ -34,20 +47,25 @@ pub fn motion(p: &MultiCylinderProblem, x: &[f64]) -> Motion {
             })
         })
         .collect();
-    let names = (1..=cyl.len())
-        .flat_map(|i| {
+    let names = (cyl.iter().enumerate())
+        .flat_map(|(i, c)| {
+            let first = if c.articulated.is_some() {
+                "knuckle"
+            } else {
+                "crank"
+            };
             [
-                format!("crank {i}"),
-                format!("rod {i}"),
-                format!("piston {i}"),
+                format!("{first} {}", i + 1),
+                format!("rod {}", i + 1),
+                format!("piston {}", i + 1),
             ]
         })
         .collect();
     let guides = cyl
         .iter()
         .map(|c| {
-            let reach = c.sc.r + c.sc.l;
-            let (lo, hi) = (c.sc.l - c.sc.r, reach * 1.15);
+            let throw = c.sc.r + c.articulated.map_or(0.0, |a| a.knuckle_radius);
+            let (lo, hi) = (c.sc.l - throw, (throw + c.sc.l) * 1.15);
             [
                 xy(rot(c.bank, P2::new(lo, c.sc.e))),
                 xy(rot(c.bank, P2::new(hi, c.sc.e))),

@@ -154,9 +154,11 @@ fn shaking_plot(
     ])
 }
 
-/// The crank layout at φ = 0: seen along the shaft (left: the throws, each labelled, the
-/// cylinder axes, the crank-web counterweights' directions) and from the side (right: the
-/// shaft along z, each throw's plane and the rotors' planes, dimensioned).
+/// The crank layout at φ = 0: seen along the shaft (left: the throws, each labelled with the
+/// cylinders on it, the cylinder axes — labelled where their banks differ —, a radial's
+/// master and articulated rods, the crank-web counterweights' directions), from the side
+/// (right: the shaft along z, each throw's plane and the rotors' planes, dimensioned) and the
+/// frame's mounts in both.
 fn layout_drawing(r: &mut SolveResult, name: &str, p: &MultiCylinderProblem, x: &[f64]) {
     let (name, p, x) = (name.to_string(), p.clone(), x.to_vec());
     r.drawings.push(Sheet::new("drawing", "crank layout", move || {
@@ -165,13 +167,26 @@ fn layout_drawing(r: &mut SolveResult, name: &str, p: &MultiCylinderProblem, x: 
         let reach = cyl.iter().map(|c| c.sc.l + c.sc.r).fold(0.0, f64::max);
         let mut d = Drawing::new(format!("{name}: crank layout at φ = 0"));
         d.mark(P2::zeros()).circle(Layer::Centre, P2::zeros(), rr);
-        for (i, c) in cyl.iter().enumerate() {
-            let a = rot(c.phase, P2::new(rr, 0.0));
+        let throws = groups(cyl.iter().map(|c| c.phase));
+        for (phase, who) in &throws {
+            let a = rot(*phase, P2::new(rr, 0.0));
             d.line(Layer::Outline, P2::zeros(), a);
-            d.label(a * 1.25, format!("{}", i + 1));
+            // One throw: the axes' labels say which cylinder is which.
+            if throws.len() > 1 {
+                d.label(a * 1.25, who.clone());
+            }
+        }
+        let banks = groups(cyl.iter().map(|c| c.bank));
+        for c in cyl {
             let axis = |t: f64| rot(c.bank, P2::new(t, c.sc.e));
             d.line(Layer::Centre, axis(c.sc.l - c.sc.r), axis(reach * 1.1));
         }
+        if banks.len() > 1 {
+            for (bank, who) in &banks {
+                d.label(rot(*bank, P2::new(reach * 1.18, 0.0)), who.clone());
+            }
+        }
+        articulated_rods(&mut d, &p);
         d.radius(P2::zeros(), rr, cyl[0].phase, "R");
         for (j, rot_spec) in p.rotors.iter().enumerate().filter(|(_, s)| !s.shaft) {
             let u = P2::new(x[var_u(j)], x[var_u(j) + 1]);
@@ -181,10 +196,122 @@ fn layout_drawing(r: &mut SolveResult, name: &str, p: &MultiCylinderProblem, x: 
                 d.label(tip * 1.15, format!("cw {}", j + 1));
             }
         }
-        side_view(&mut d, &p, 2.5 * reach);
-        d.note("left: seen along the shaft from +z (throw numbers, cylinder axes); right: the planes along the shaft");
+        // The side view starts right of everything the end view holds (the mounts too).
+        let right = (p.frame.iter().flat_map(|f| f.mounts.iter().map(|m| m.at[0])))
+            .fold(1.25 * reach, f64::max);
+        let x0 = right + 1.25 * reach;
+        side_view(&mut d, &p, x0);
+        mounts(&mut d, &p, x0);
+        d.note("left: seen along the shaft from +z (the cylinders on each throw and axis, the crank-web counterweights); right: the planes along the shaft");
+        if p.frame.is_some() {
+            d.note("M1, M2, …: the frame's mounts (springs and dampers) in both views; G: its centre of mass");
+        }
         Ok(d)
     }));
+}
+
+/// The side view's origin: the lowest z of anything it draws (planes, rotors, mounts, the
+/// frame's centre of mass), so that it starts where it is placed.
+fn side_z0(p: &MultiCylinderProblem) -> f64 {
+    let frame = p
+        .frame
+        .iter()
+        .flat_map(|f| (f.mounts.iter().map(|m| m.at[2])).chain(std::iter::once(f.centroid[2])));
+    (p.layout.cylinders.iter().map(|c| c.z))
+        .chain(p.rotors.iter().map(|r| r.rotor.z))
+        .chain(frame)
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// Equal angles (to 1e-9 rad) grouped in order of first appearance, each with the cylinder
+/// numbers at it (`1, 4`).
+fn groups(angles: impl Iterator<Item = f64>) -> Vec<(f64, String)> {
+    groups_by(angles, |a, b| {
+        (a - b).rem_euclid(TAU).min((b - a).rem_euclid(TAU)) < 1e-9
+    })
+}
+
+/// Values grouped by `same` in order of first appearance, each with the cylinder numbers at
+/// it.
+fn groups_by(
+    values: impl Iterator<Item = f64>,
+    same: impl Fn(f64, f64) -> bool,
+) -> Vec<(f64, String)> {
+    let mut out: Vec<(f64, Vec<usize>)> = Vec::new();
+    for (i, a) in values.enumerate() {
+        match out.iter_mut().find(|(b, _)| same(a, *b)) {
+            Some((_, v)) => v.push(i + 1),
+            None => out.push((a, vec![i + 1])),
+        }
+    }
+    let text = |v: Vec<usize>| {
+        (v.iter().map(usize::to_string))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    out.into_iter().map(|(a, v)| (a, text(v))).collect()
+}
+
+/// A radial's rods at φ = 0: each master rod from the crank pin to its piston pin, each
+/// articulated rod from its knuckle pin (a small circle on the master rod) to its piston pin.
+fn articulated_rods(d: &mut Drawing, p: &MultiCylinderProblem) {
+    let cyl = &p.layout.cylinders;
+    let pin_r = 0.08 * cyl[0].sc.r;
+    let mut masters = Vec::new();
+    for c in cyl {
+        let Some(a) = &c.articulated else { continue };
+        let Some(st) = a.state(c.sc.r, c.sc.l, c.bank, c.phase - a.master_bank) else {
+            continue;
+        };
+        let world = |v: P2| rot(a.master_bank, v);
+        let (k, b) = (world(st.k[0]), world(st.axis * st.s[0]));
+        d.line(Layer::Outline, k, b)
+            .circle(Layer::Outline, k, pin_r);
+        d.line(Layer::Outline, world(st.c), k);
+        let key = (a.master_bank, c.phase);
+        if !masters.contains(&key) {
+            masters.push(key);
+            let h = c.sc.r * (c.phase - a.master_bank).sin();
+            let xm =
+                c.sc.r * (c.phase - a.master_bank).cos() + (a.master_rod.powi(2) - h * h).sqrt();
+            d.line(Layer::Outline, world(st.c), world(P2::new(xm, 0.0)));
+        }
+    }
+}
+
+/// The frame's mounts and centre of mass in both views: a small square at each mount's (x, y)
+/// seen along the shaft and at its (z, y) in the side view (drawn from `x0` as there), the
+/// mounts at one point of a view labelled together.
+fn mounts(d: &mut Drawing, p: &MultiCylinderProblem, x0: f64) {
+    let Some(f) = &p.frame else { return };
+    let rr = p.layout.cylinders[0].sc.r;
+    let side = |z: f64, y: f64| P2::new(x0 + z - side_z0(p), y);
+    let h = 0.15 * rr;
+    let views: [Vec<P2>; 2] = [
+        f.mounts.iter().map(|m| P2::new(m.at[0], m.at[1])).collect(),
+        f.mounts.iter().map(|m| side(m.at[2], m.at[1])).collect(),
+    ];
+    for points in views {
+        let mut done: Vec<P2> = Vec::new();
+        for at in &points {
+            if done.iter().any(|q| (q - at).norm() < 1e-9) {
+                continue;
+            }
+            done.push(*at);
+            let corners = [(-h, -h), (h, -h), (h, h), (-h, h)].map(|(a, b)| at + P2::new(a, b));
+            d.polyline(Layer::Outline, corners.to_vec(), true);
+            let who: Vec<String> = (points.iter().enumerate())
+                .filter(|(_, q)| (*q - at).norm() < 1e-9)
+                .map(|(k, _)| format!("M{}", k + 1))
+                .collect();
+            d.label(at + P2::new(1.5 * h, -2.5 * h), who.join(", "));
+        }
+    }
+    let g = f.centroid;
+    for at in [P2::new(g[0], g[1]), side(g[2], g[1])] {
+        d.mark(at);
+        d.label(at + P2::new(h, h), "G");
+    }
 }
 
 /// The side view: the shaft along z (drawn along x from `x0`), each throw's plane as a
@@ -195,16 +322,16 @@ fn side_view(d: &mut Drawing, p: &MultiCylinderProblem, x0: f64) {
     let zs: Vec<f64> = cyl.iter().map(|c| c.z).collect();
     let lo = zs.iter().copied().fold(f64::INFINITY, f64::min);
     let hi = zs.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-    let at = |z: f64, y: f64| P2::new(x0 + z - lo, y);
+    let at = |z: f64, y: f64| P2::new(x0 + z - side_z0(p), y);
     let span = (hi - lo).max(rr);
     d.line(
         Layer::Centre,
         at(lo - 0.2 * span, 0.0),
         at(hi + 0.2 * span, 0.0),
     );
-    for (i, c) in cyl.iter().enumerate() {
-        d.line(Layer::Outline, at(c.z, -rr), at(c.z, rr));
-        d.label(at(c.z, 1.4 * rr), format!("{}", i + 1));
+    for (z, who) in groups_by(cyl.iter().map(|c| c.z), |a, b| (a - b).abs() < 1e-12) {
+        d.line(Layer::Outline, at(z, -rr), at(z, rr));
+        d.label(at(z, 1.4 * rr), who);
     }
     for s in &p.rotors {
         d.line(

@@ -44,19 +44,15 @@ pub struct Fields<'a> {
 }
 
 impl Fields<'_> {
-    /// The round-off of the links' part at any φ (N or N·m): per cylinder the slider-crank's
-    /// bound on x'' ([`crate::families::slider_crank::model::SliderCrank::round_off`])
-    /// times its moving mass, plus 8ε of the largest term, scaled by ω² (and |zᵢ − z₀| for the
-    /// couple).
+    /// The round-off of the links' part at any φ (N or N·m): per cylinder
+    /// [`model::Cylinder::force_error0`], scaled by ω² (and |zᵢ − z₀| for the couple).
     fn links_error(&self) -> f64 {
         let l = &self.p.layout;
         let w2 = self.p.omega * self.p.omega;
         l.cylinders
             .iter()
             .map(|c| {
-                let ro = c.sc.round_off();
-                let mass = c.sc.crank.mass + c.sc.rod.mass + c.sc.slider_mass;
-                let e = mass * (ro.dx[2] + 8.0 * f64::EPSILON * ro.x[2]);
+                let e = c.force_error0();
                 let arm = if self.which == COUPLE {
                     (c.z - l.z0).abs()
                 } else {
