@@ -8,7 +8,7 @@ use super::file::{Goal, MultiCylinderProblem};
 use super::firing;
 use super::model::{polar, Harmonic};
 use super::phases::PhaseSearch;
-use super::solve::{Solution, Spectrum, COUPLE, FORCE, MOUNTS};
+use super::solve::{axial_mounts, normal_mounts, Solution, Spectrum, COUPLE, FORCE};
 use crate::families::family::Scene;
 use crate::report::SolveResult;
 use crate::synth::minimax::{self, var_u, FieldPeak};
@@ -226,8 +226,9 @@ pub fn numbers(_: &Scene, p: &MultiCylinderProblem, sol: &Solution, r: &mut Solv
     }
 }
 
-/// The mounts' peaks (each, and the largest as the objective `peak_mount_force_n`), the
-/// bare layout's, and the frame's natural frequencies.
+/// The mounts' peaks normal to the shaft (each, and the largest as the objective
+/// `peak_mount_force_n`), the bare layout's, each mount's peak along the shaft with its error,
+/// and the frame's natural frequencies.
 fn mount_numbers(
     p: &MultiCylinderProblem,
     peaks: &[FieldPeak],
@@ -236,7 +237,7 @@ fn mount_numbers(
 ) {
     let Some(frame) = &p.frame else { return };
     let worst = |ps: &[FieldPeak]| {
-        ps[MOUNTS..]
+        ps[normal_mounts(p)]
             .iter()
             .max_by(|a, b| a.peak.total_cmp(&b.peak))
             .map(|m| (m.peak, m.error))
@@ -248,11 +249,17 @@ fn mount_numbers(
             m.insert("peak_mount_force_n".into(), b);
         }
     }
-    for (k, m) in peaks[MOUNTS..].iter().enumerate() {
+    for (k, m) in peaks[normal_mounts(p)].iter().enumerate() {
         r.derived
             .insert(format!("mount_{}_peak_force_n", k + 1), m.peak);
         r.derived
             .insert(format!("mount_{}_peak_force_angle_rad", k + 1), m.angle);
+    }
+    for (k, m) in peaks[axial_mounts(p)].iter().enumerate() {
+        r.derived
+            .insert(format!("mount_{}_peak_axial_force_n", k + 1), m.peak);
+        r.derived
+            .insert(format!("mount_{}_peak_axial_force_error_n", k + 1), m.error);
     }
     let modes = frame.natural_frequencies();
     for (i, w) in modes.iter().enumerate() {

@@ -30,6 +30,18 @@ pub const COUPLE: usize = 1;
 /// See [`FORCE`].
 pub const MOUNTS: usize = 2;
 
+/// The engine's fields of the mounts' forces normal to the shaft (empty without a frame).
+pub fn normal_mounts(p: &MultiCylinderProblem) -> std::ops::Range<usize> {
+    let n = p.frame.as_ref().map_or(0, |f| f.mounts.len());
+    MOUNTS..MOUNTS + n
+}
+
+/// The engine's fields of the mounts' forces along the shaft (reported, not designed for).
+pub fn axial_mounts(p: &MultiCylinderProblem) -> std::ops::Range<usize> {
+    let r = normal_mounts(p);
+    r.end..r.end + r.len()
+}
+
 /// Samples of a turn for the harmonics' FFT (a power of two).
 pub const FFT_SAMPLES: usize = 256;
 
@@ -115,11 +127,14 @@ impl AffineField for Fields<'_> {
 /// Orders of the bare force and couple the mount fields sum (the rest is in their error).
 pub const MOUNT_ORDERS: usize = 64;
 
-/// The force mount k transmits to the ground normal to the shaft (N), x and y, as a field:
+/// The force mount k transmits to the ground as a field: normal to the shaft (N, x and y;
+/// [`MOUNTS`] on) or along it (N, z; after the normal ones, reported only), each component
 /// Re Σₙ H_k(nω)·ŝₙ e^{inφ} with ŝₙ the order's (F̂_x, F̂_y, M̂_x, M̂_y) — the bare layout's from
 /// its FFT (orders 1..=[`MOUNT_ORDERS`]), each unbalance's exactly (its one order).
 pub struct MountField {
     name: String,
+    /// The rows of H_k the field reports: [0, 1] (x, y) or [2] (z).
+    rows: &'static [usize],
     /// H_k(nω)·ŝₙ of the bare layout, n = 1.. (x, y, z).
     bare: Vec<[Complex64; 3]>,
     /// Per rotor: its order and the columns of u_x and u_y.
@@ -133,20 +148,21 @@ impl AffineField for MountField {
         &self.name
     }
     fn dim(&self) -> usize {
-        2
+        self.rows.len()
     }
     fn eval(&self, phi: f64, out: &mut AffineValue) {
         let mut b = [0.0; 2];
         for (n, c) in self.bare.iter().enumerate() {
             let e = Complex64::from_polar(1.0, (n + 1) as f64 * phi);
-            b[0] += (c[0] * e).re;
-            b[1] += (c[1] * e).re;
+            for (i, &row) in self.rows.iter().enumerate() {
+                b[i] += (c[row] * e).re;
+            }
         }
         out.b = b;
         for (j, (n, cx, cy)) in self.cols.iter().enumerate() {
             let e = Complex64::from_polar(1.0, *n as f64 * phi);
-            for row in 0..2 {
-                let a = out.row_mut(row);
+            for (i, &row) in self.rows.iter().enumerate() {
+                let a = out.row_mut(i);
                 a[var_u(j)] = (cx[row] * e).re;
                 a[var_u(j) + 1] = (cy[row] * e).re;
             }
@@ -165,8 +181,9 @@ fn excitation(f: [Complex64; 2], m: [Complex64; 2]) -> SMatrix<Complex64, 4, 1> 
     SMatrix::<Complex64, 4, 1>::new(fx, fy, mx, my)
 }
 
-/// The mount fields of the scene's frame: the transfer of every order up to 2·[`MOUNT_ORDERS`]
-/// (for the error's largest gain), the bare layout's orders by FFT, the unbalances' columns.
+/// The mount fields of the scene's frame — each mount's force normal to the shaft, then each
+/// mount's along it: the transfer of every order up to 2·[`MOUNT_ORDERS`] (for the error's
+/// largest gain), the bare layout's orders by FFT, the unbalances' columns.
 pub fn mount_fields(p: &MultiCylinderProblem, frame: &Frame) -> Result<Vec<MountField>, String> {
     let c = |v: [f64; 2]| Complex64::new(v[0], v[1]);
     let n_fft = 4 * MOUNT_ORDERS;
@@ -192,8 +209,10 @@ pub fn mount_fields(p: &MultiCylinderProblem, frame: &Frame) -> Result<Vec<Mount
     let tail = 2.0 * MOUNT_ORDERS as f64 * (model::alias_bound(&zf) + model::alias_bound(&zm))
         + fb.links_error()
         + mb.links_error();
-    Ok((0..frame.mounts.len())
-        .map(|k| {
+    let axis = |k: usize| (k % frame.mounts.len(), k >= frame.mounts.len());
+    Ok((0..2 * frame.mounts.len())
+        .map(axis)
+        .map(|(k, axial)| {
             let bare = (0..MOUNT_ORDERS)
                 .map(|n| {
                     let s = excitation(
@@ -208,7 +227,12 @@ pub fn mount_fields(p: &MultiCylinderProblem, frame: &Frame) -> Result<Vec<Mount
                 .map(|r| rotor_columns(p, r, &table[r.rotor.order as usize - 1][k]))
                 .collect();
             MountField {
-                name: format!("mount {} force", k + 1),
+                name: if axial {
+                    format!("mount {} axial force", k + 1)
+                } else {
+                    format!("mount {} force", k + 1)
+                },
+                rows: if axial { &[2] } else { &[0, 1] },
                 bare,
                 cols,
                 err: gain(&table, k) * tail,
@@ -326,7 +350,7 @@ pub fn n_engine(p: &MultiCylinderProblem) -> usize {
 /// The engine's problem: the two fields, a counterweight per rotor (or one inert extra for
 /// an analysis), the goal and the limits.
 pub fn problem<'a>(p: &MultiCylinderProblem, fields: Vec<&'a dyn AffineField>) -> Problem<'a> {
-    let mounts = MOUNTS..fields.len();
+    let mounts = normal_mounts(p);
     let goal = match p.goal {
         Goal::PeakForce => minimax::Goal::MinPeak(vec![(FORCE, 1.0)]),
         Goal::PeakCouple => minimax::Goal::MinPeak(vec![(COUPLE, 1.0)]),
@@ -425,7 +449,7 @@ pub fn headline(p: &MultiCylinderProblem, sol: &Solution) -> (f64, f64) {
     }
     let field = match p.goal {
         Goal::PeakCouple => COUPLE,
-        Goal::PeakMountForce => (MOUNTS..sol.bare.len())
+        Goal::PeakMountForce => normal_mounts(p)
             .max_by(|a, b| sol.bare[*a].peak.total_cmp(&sol.bare[*b].peak))
             .unwrap_or(FORCE),
         Goal::PeakForce | Goal::CounterweightMass => FORCE,
