@@ -12,6 +12,7 @@ use super::firing::candidate_layouts;
 use crate::numeric::ordered;
 use crate::report::Status;
 use rayon::prelude::*;
+use std::sync::Mutex;
 
 /// One candidate layout's outcome.
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
@@ -38,26 +39,36 @@ pub struct PhaseSearch {
     pub error: f64,
 }
 
-/// Solves every layout of the search with `solve_layout` (its headline value, error and
-/// status) and picks the best.
-pub fn search(
+/// Solves every layout of the search with `solve_layout` (its headline value, error, status
+/// and whole solution) and picks the best; the best's solution is kept as it finishes (the
+/// least value, ties to the first in order: the same whatever the thread count), the others
+/// dropped, so the chosen layout is not solved twice.
+pub fn search<T: Send>(
     p: &MultiCylinderProblem,
     step: f64,
-    solve_layout: impl Fn(&MultiCylinderProblem) -> Result<(f64, f64, Status), String> + Sync,
-) -> Result<PhaseSearch, String> {
+    solve_layout: impl Fn(&MultiCylinderProblem) -> Result<(f64, f64, Status, T), String> + Sync,
+) -> Result<(PhaseSearch, T), String> {
     let layouts = candidate_layouts(&p.layout, step, p.admissible.as_ref());
-    let candidates = ordered(layouts.into_par_iter().map(|phases| {
+    let kept: Mutex<Option<(f64, usize, T)>> = Mutex::new(None);
+    let candidates = ordered(layouts.into_par_iter().enumerate().map(|(k, phases)| {
         let mut q = p.clone();
         for (c, a) in q.layout.cylinders.iter_mut().zip(&phases) {
             c.phase = *a;
         }
-        let (value, error, status) = solve_layout(&q)?;
+        let (value, error, status, sol) = solve_layout(&q)?;
         // A candidate without a design (infeasible, failed) is never the best.
         let value = if value.is_finite() {
             value
         } else {
             f64::INFINITY
         };
+        let mut best = kept.lock().unwrap_or_else(|e| e.into_inner());
+        let better = best
+            .as_ref()
+            .is_none_or(|(v, i, _)| value.total_cmp(v).then(k.cmp(i)).is_lt());
+        if better {
+            *best = Some((value, k, sol));
+        }
         Ok::<_, String>(Candidate {
             phases,
             value,
@@ -65,18 +76,20 @@ pub fn search(
             status,
         })
     }))?;
-    let best = (0..candidates.len())
-        .min_by(|a, b| candidates[*a].value.total_cmp(&candidates[*b].value))
-        .unwrap_or(0);
+    let (_, best, sol) = (kept.into_inner().unwrap_or_else(|e| e.into_inner()))
+        .ok_or("no layout to search: the admissible set is empty")?;
     let b = &candidates[best];
     let error = candidates
         .iter()
         .filter(|c| c.value - c.error <= b.value + b.error)
         .map(|c| c.error)
         .fold(b.error, f64::max);
-    Ok(PhaseSearch {
-        candidates,
-        best,
-        error,
-    })
+    Ok((
+        PhaseSearch {
+            candidates,
+            best,
+            error,
+        },
+        sol,
+    ))
 }

@@ -384,15 +384,15 @@ pub fn problem<'a>(p: &MultiCylinderProblem, fields: Vec<&'a dyn AffineField>) -
 }
 
 /// Solves the scene: its layout, or with `[design.phases]` the best of every admissible
-/// layout ([`phases::search`]), solved again whole.
+/// layout ([`phases::search`], which keeps the best's whole solution).
 pub fn solve(p: &MultiCylinderProblem) -> Result<Solution, String> {
     let Some(step) = p.phase_step else {
         return solve_layout(p);
     };
-    let search = phases::search(p, step, |q| {
+    let (search, mut sol) = phases::search(p, step, |q| {
         let sol = solve_layout(q)?;
         let (v, e) = headline(q, &sol);
-        Ok((v, e, sol.claim.status))
+        Ok((v, e, sol.claim.status, sol))
     })?;
     let mut q = p.clone();
     q.phase_step = None;
@@ -400,7 +400,6 @@ pub fn solve(p: &MultiCylinderProblem) -> Result<Solution, String> {
     for (c, a) in q.layout.cylinders.iter_mut().zip(&best.phases) {
         c.phase = *a;
     }
-    let mut sol = solve_layout(&q)?;
     let certified =
         (search.candidates.iter()).all(|c| matches!(c.status, Status::Optimal | Status::Analysed));
     let n = search.candidates.len();
