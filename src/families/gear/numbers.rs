@@ -9,6 +9,7 @@ use super::file::*;
 use super::solve::Solution;
 use crate::families::family::Scene;
 use crate::families::gear::synth::{Outcome, TeethOutcome};
+use crate::families::gear::teeth::Involute;
 use crate::report::SolveResult;
 use serde_json::json;
 use std::collections::BTreeMap;
@@ -51,6 +52,22 @@ pub fn numbers(_: &Scene, _: &GearProblem, sol: &Solution, r: &mut SolveResult) 
         r.extra.insert("flank_wear".into(), flank_wear_rows(t));
         r.extra
             .insert("sliding_comparison".into(), sliding_comparison_rows(out, t));
+        if let Some(b) = &t.balanced_shift {
+            let inv = &t.involute;
+            r.warnings.push(format!(
+                "involute comparison: the unshifted involute pair peaks at |µ| = {:.2} only because its {}-tooth pinion, unshifted, is below its undercut limit (x ≥ {:.3} needed: the path starts {:.3} mm from N1); a designer shifts its profile. With the routine shift x1 = +0.5, x2 = −0.5 gear 1's root slides at {:.3} and gear 2's at {:.3}, so the pair peaks at {:.3}; the balanced shift x1 = {:+.4} gives {:.3} (`sliding_comparison`). This pair's peak, {:.3}, is on its working window only: µ has poles at its cusps",
+                inv.peak_mu(),
+                inv.z1,
+                crate::families::gear::teeth::undercut_limit(inv.z1, inv.pressure_angle_rad, 1.0),
+                inv.x_start_m * 1e3,
+                t.routine_shift.mu1_start.abs(),
+                t.routine_shift.mu2_end.abs(),
+                t.routine_shift.peak_mu(),
+                b.pair.shift[0],
+                b.pair.peak_mu(),
+                out.objectives.peak_sliding_coefficient,
+            ));
+        }
         if !t.certified_pole_arches.is_empty() {
             r.warnings.push(format!(
                 "pole correction (the paper's proposal after its eq. 12): not possible by the design parameters. On {} of the {} arches of gear 1 the pole function (K − O_j)·d of µ1 and of µ2 tends to ∓ρ_j sin ψ at one cusp and ±ρ_j sin ψ at the other with ψ of one sign, so it changes sign inside the arch for every generating radius r, pitch radius R and centre distance a (derived.arches_with_certified_pole); only e = 0 (ψ ≡ 0) is free of poles. Removing them needs a profile that is not a full cusp-to-cusp cycloid (e.g. relieved cusps with overlapping contact)",
@@ -94,9 +111,6 @@ fn sliding_comparison_rows(out: &Outcome, t: &TeethOutcome) -> serde_json::Value
         .iter()
         .fold(0.0, |a: f64, b| a.max(b.abs()));
     let inv_max = d.involute_peak_sliding_coefficient.unwrap_or(f64::NAN);
-    let span = |a: f64, b: f64| (a.min(b), a.max(b));
-    let (i1, i1h) = span(inv.mu1_start, inv.mu1_end);
-    let (i2, i2h) = span(inv.mu2_start, inv.mu2_end);
     json!([
         {
             "compared": format!("eccentric cycloidal (this pair, e = {:.4} mm)", out.design.eccentricity_m * 1e3),
@@ -112,12 +126,51 @@ fn sliding_comparison_rows(out: &Outcome, t: &TeethOutcome) -> serde_json::Value
             "max_abs_mu": f(circ_max),
             "poles_per_turn": 0,
         },
-        {
-            "compared": format!("involute (m = {:.4} mm, α = {:.2}°, standard addendum, contact ratio {:.4})", inv.module_m * 1e3, inv.pressure_angle_rad.to_degrees(), inv.contact_ratio),
-            "mu1": format!("{} … {} (root A … tip E of gear 1)", f(i1), f(i1h)),
-            "mu2": format!("{} … {}", f(i2), f(i2h)),
-            "max_abs_mu": f(inv_max),
-            "poles_per_turn": if inv.interference { "on the path (interference)" } else { "0 (N1, N2 off the path)" },
+        involute_row(
+            inv,
+            format!("involute (m = {:.4} mm, α = {:.2}°, standard addendum, unshifted, contact ratio {:.4})", inv.module_m * 1e3, inv.pressure_angle_rad.to_degrees(), inv.contact_ratio),
+            f(inv_max),
+        ),
+        involute_row(
+            &t.routine_shift,
+            format!("involute, routine profile shift x1 = +{:.1}, x2 = −{:.1} (contact ratio {:.4})", t.routine_shift.shift[0], t.routine_shift.shift[0], t.routine_shift.contact_ratio),
+            f(t.routine_shift.peak_mu()),
+        ),
+        match &t.balanced_shift {
+            Some(b) => involute_row(
+                &b.pair,
+                format!(
+                    "involute, balanced profile shift x1 = {:+.4}, x2 = {:+.4} (roots' specific sliding equal{}; no undercut, tips {:.3} and {:.3} mm thick, contact ratio {:.4}; admissible x1 from {:+.4} to {:+.4})",
+                    b.pair.shift[0],
+                    b.pair.shift[1],
+                    b.binding.map_or(String::new(), |w| format!(" as far as {w} allows")),
+                    b.tip_thickness_m[0] * 1e3,
+                    b.tip_thickness_m[1] * 1e3,
+                    b.pair.contact_ratio,
+                    b.interval[0],
+                    b.interval[1],
+                ),
+                f(b.pair.peak_mu()),
+            ),
+            None => json!({
+                "compared": "involute, balanced profile shift: no shift keeps both teeth free of undercut and pointed tips with a contact ratio ≥ 1.1",
+                "mu1": "–", "mu2": "–", "max_abs_mu": "–", "poles_per_turn": "–",
+            }),
         },
     ])
+}
+
+/// One involute pair's row of the `sliding_comparison` section.
+fn involute_row(inv: &Involute, compared: String, max_abs_mu: String) -> serde_json::Value {
+    let f = |x: f64| format!("{x:.6}");
+    let span = |a: f64, b: f64| (a.min(b), a.max(b));
+    let (i1, i1h) = span(inv.mu1_start, inv.mu1_end);
+    let (i2, i2h) = span(inv.mu2_start, inv.mu2_end);
+    json!({
+        "compared": compared,
+        "mu1": format!("{} … {} (root A … tip E of gear 1)", f(i1), f(i1h)),
+        "mu2": format!("{} … {}", f(i2), f(i2h)),
+        "max_abs_mu": max_abs_mu,
+        "poles_per_turn": if inv.interference { "on the path (interference)" } else { "0 (N1, N2 off the path)" },
+    })
 }

@@ -262,7 +262,8 @@ pub fn circular_cycloidal_mu(r_pitch: f64, r_gen: f64, u: f64) -> [(f64, f64); 2
     })
 }
 
-/// The involute pair with the same module and mean ratio (standard, addendum h_a·m).
+/// The involute pair with the same module and mean ratio (addendum h_a·m, profile shifts
+/// x₁ = −x₂: the standard centre distance and pressure angle kept).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Involute {
     /// Module m (m).
@@ -272,6 +273,8 @@ pub struct Involute {
     pub z2: f64,
     /// Pressure angle α (rad).
     pub pressure_angle_rad: f64,
+    /// Profile shift coefficients (x₁, x₂ = −x₁); (0, 0) for the standard pair.
+    pub shift: [f64; 2],
     /// Centre distance m(z1 + z2)/2 (m).
     pub center_distance_m: f64,
     /// N1N2 = a sin α (m): the line of action between the base-circle tangency points.
@@ -293,15 +296,38 @@ pub struct Involute {
     pub interference: bool,
 }
 
-/// The involute equivalent in closed form. Along the line of action x from N1 the flanks'
-/// radii of curvature are x and g − x, so v_t1 = ω1 x, v_t2 = ω2 (g − x), ω2 = ω1/u, and
-/// µ1 = (v_t1 − v_t2)/v_t1, µ2 = (v_t2 − v_t1)/v_t2 are monotonic in x: their extremes are
-/// at the ends of the path, A (gear 1's root) and E (gear 1's tip).
+impl Involute {
+    /// The largest |µ| on the path: µ1 and µ2 are monotonic in x, so an end's.
+    pub fn peak_mu(&self) -> f64 {
+        [self.mu1_start, self.mu1_end, self.mu2_start, self.mu2_end]
+            .iter()
+            .fold(0.0, |a: f64, b| a.max(b.abs()))
+    }
+}
+
+/// The standard involute equivalent in closed form ([`involute_shifted`] with no shift).
 pub fn involute(module: f64, z1: f64, z2: f64, alpha: f64, addendum: f64) -> Involute {
+    involute_shifted(module, z1, z2, alpha, addendum, 0.0)
+}
+
+/// The involute equivalent in closed form, gear 1 shifted by x₁·m and gear 2 by −x₁·m (tip
+/// radii r_ai = r_i + (h_a + x_i)m; the centre distance and α unchanged). Along the line of
+/// action x from N1 the flanks' radii of curvature are x and g − x, so v_t1 = ω1 x,
+/// v_t2 = ω2 (g − x), ω2 = ω1/u, and µ1 = (v_t1 − v_t2)/v_t1, µ2 = (v_t2 − v_t1)/v_t2 are
+/// monotonic in x: their extremes are at the ends of the path, A (gear 1's root) and E
+/// (gear 1's tip).
+pub fn involute_shifted(
+    module: f64,
+    z1: f64,
+    z2: f64,
+    alpha: f64,
+    addendum: f64,
+    x1: f64,
+) -> Involute {
     let (r1, r2) = (0.5 * module * z1, 0.5 * module * z2);
     let u = z2 / z1;
     let (rb1, rb2) = (r1 * alpha.cos(), r2 * alpha.cos());
-    let (ra1, ra2) = (r1 + addendum * module, r2 + addendum * module);
+    let (ra1, ra2) = (r1 + (addendum + x1) * module, r2 + (addendum - x1) * module);
     let a = r1 + r2;
     let g = a * alpha.sin();
     let xa = g - ((ra2 - rb2) * (ra2 + rb2)).sqrt();
@@ -313,6 +339,7 @@ pub fn involute(module: f64, z1: f64, z2: f64, alpha: f64, addendum: f64) -> Inv
         z1,
         z2,
         pressure_angle_rad: alpha,
+        shift: [x1, -x1],
         center_distance_m: a,
         line_of_action_m: g,
         x_start_m: xa,
@@ -324,6 +351,126 @@ pub fn involute(module: f64, z1: f64, z2: f64, alpha: f64, addendum: f64) -> Inv
         mu2_end: mu2(xe),
         interference: xa <= 0.0 || xe >= g,
     }
+}
+
+/// The least profile shift without undercut by a rack cutter of addendum h_a:
+/// x_min = h_a − (z/2) sin²α.
+pub fn undercut_limit(z: f64, alpha: f64, addendum: f64) -> f64 {
+    addendum - 0.5 * z * alpha.sin().powi(2)
+}
+
+/// The tooth's thickness at its tip circle (m): s_a = d_a [π/(2z) + 2x tan α/z + inv α −
+/// inv α_a], inv t = tan t − t, cos α_a = d_b/d_a (the standard tooth-thickness formula).
+pub fn tip_thickness(module: f64, z: f64, alpha: f64, addendum: f64, x: f64) -> f64 {
+    let inv = |t: f64| t.tan() - t;
+    let d = module * z;
+    let da = d + 2.0 * (addendum + x) * module;
+    let alpha_a = (d * alpha.cos() / da).acos();
+    da * (std::f64::consts::PI / (2.0 * z) + 2.0 * x * alpha.tan() / z + inv(alpha) - inv(alpha_a))
+}
+
+/// The least tip thickness a shifted involute pair may have, over the module (the usual
+/// rule against pointed teeth, e.g. Niemann–Winter: 0.2–0.4 m).
+pub const MIN_TIP_THICKNESS: f64 = 0.25;
+
+/// The least contact ratio a shifted involute pair may have.
+pub const MIN_CONTACT_RATIO: f64 = 1.1;
+
+/// The profile-shifted involute pair with the least peak specific sliding: x₁ = −x₂ chosen so
+/// that gear 1's root sliding |µ1(A)| equals gear 2's |µ2(E)| (the usual balance: one rises
+/// and the other falls with x₁, so their larger is least where they meet), within the shifts
+/// that keep both teeth free of undercut ([`undercut_limit`]), their tips at least
+/// [`MIN_TIP_THICKNESS`]·m thick, the contact ratio at least [`MIN_CONTACT_RATIO`] and the
+/// path off N1, N2; at an edge of that interval when the balance lies outside it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BalancedShift {
+    /// The pair at the chosen shift.
+    pub pair: Involute,
+    /// The admissible interval of x₁.
+    pub interval: [f64; 2],
+    /// `None` when balanced inside the interval; else the edge's reason.
+    pub binding: Option<&'static str>,
+    /// Both teeth's tip thickness (m).
+    pub tip_thickness_m: [f64; 2],
+}
+
+/// Why x₁ is not admissible (first reason), or `None`.
+fn shift_fault(m: f64, z1: f64, z2: f64, alpha: f64, ha: f64, x1: f64) -> Option<&'static str> {
+    let p = involute_shifted(m, z1, z2, alpha, ha, x1);
+    if x1 < undercut_limit(z1, alpha, ha) {
+        Some("gear 1's undercut")
+    } else if -x1 < undercut_limit(z2, alpha, ha) {
+        Some("gear 2's undercut")
+    } else if tip_thickness(m, z1, alpha, ha, x1) < MIN_TIP_THICKNESS * m {
+        Some("gear 1's tip thickness")
+    } else if tip_thickness(m, z2, alpha, ha, -x1) < MIN_TIP_THICKNESS * m {
+        Some("gear 2's tip thickness")
+    } else if p.contact_ratio < MIN_CONTACT_RATIO || p.interference {
+        Some("the contact ratio")
+    } else {
+        None
+    }
+}
+
+/// The balanced shift ([`BalancedShift`]): the admissible interval from a scan of x₁ over
+/// [−2, 2] in steps of 0.001 refined to 1e-12 by bisection at both ends, then the balance
+/// |µ1(A)| = |µ2(E)| by bisection (monotonic in x₁). `None` when no shift is admissible.
+pub fn balanced_shift(m: f64, z1: f64, z2: f64, alpha: f64, ha: f64) -> Option<BalancedShift> {
+    let ok = |x: f64| shift_fault(m, z1, z2, alpha, ha, x).is_none();
+    let grid: Vec<f64> = (0..=4000).map(|k| -2.0 + 0.001 * k as f64).collect();
+    let first = grid.iter().position(|&x| ok(x))?;
+    let last = grid.iter().rposition(|&x| ok(x))?;
+    let edge = |inside: f64, outside: f64| {
+        let (mut a, mut b) = (inside, outside);
+        for _ in 0..60 {
+            let c = 0.5 * (a + b);
+            if ok(c) {
+                a = c;
+            } else {
+                b = c;
+            }
+        }
+        a
+    };
+    let lo = if first == 0 {
+        grid[0]
+    } else {
+        edge(grid[first], grid[first - 1])
+    };
+    let hi = if last == grid.len() - 1 {
+        grid[last]
+    } else {
+        edge(grid[last], grid[last + 1])
+    };
+    let g = |x: f64| {
+        let p = involute_shifted(m, z1, z2, alpha, ha, x);
+        p.mu1_start.abs() - p.mu2_end.abs()
+    };
+    let (x1, binding) = if g(lo) <= 0.0 {
+        (lo, shift_fault(m, z1, z2, alpha, ha, lo - 1e-9))
+    } else if g(hi) >= 0.0 {
+        (hi, shift_fault(m, z1, z2, alpha, ha, hi + 1e-9))
+    } else {
+        let (mut a, mut b) = (lo, hi);
+        for _ in 0..100 {
+            let c = 0.5 * (a + b);
+            if g(c) > 0.0 {
+                a = c;
+            } else {
+                b = c;
+            }
+        }
+        (0.5 * (a + b), None)
+    };
+    Some(BalancedShift {
+        pair: involute_shifted(m, z1, z2, alpha, ha, x1),
+        interval: [lo, hi],
+        binding,
+        tip_thickness_m: [
+            tip_thickness(m, z1, alpha, ha, x1),
+            tip_thickness(m, z2, alpha, ha, -x1),
+        ],
+    })
 }
 
 /// Whether µ1 (`j` = 1) or µ2 (`j` = 2) must have a pole on gear 1's arch i, for every

@@ -18,7 +18,9 @@
 use crate::families::gear::model::{
     Closure, GearError, GearPair, MuPeak, Pole, Singularities, ZeroKind,
 };
-use crate::families::gear::teeth::{ContactKinematics, FlankWear, Involute, Profiles};
+use crate::families::gear::teeth::{
+    BalancedShift, ContactKinematics, FlankWear, Involute, Profiles,
+};
 use crate::numeric::SearchError;
 use crate::report::numbers::key;
 use crate::synth::SearchEvidence;
@@ -573,6 +575,18 @@ pub struct Derived {
     /// Contact ratio of the involute equivalent.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub involute_contact_ratio: Option<f64>,
+    /// Largest |µ| of the involute equivalent with the routine shift x₁ = −x₂ = 0.5.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub involute_routine_shift_peak_sliding_coefficient: Option<f64>,
+    /// x₁ (= −x₂) of the balanced profile-shifted involute pair.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub involute_balanced_shift_x1: Option<f64>,
+    /// Largest |µ| of the balanced profile-shifted involute pair.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub involute_balanced_shift_peak_sliding_coefficient: Option<f64>,
+    /// Contact ratio of the balanced profile-shifted involute pair.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub involute_balanced_shift_contact_ratio: Option<f64>,
     /// |µ| of the circular cycloidal equivalent (e = 0), largest of its constant values.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub circular_cycloidal_sliding_coefficient: Option<f64>,
@@ -643,6 +657,11 @@ pub struct TeethOutcome {
     pub wear: FlankWear,
     /// The involute pair with the same module and mean ratio.
     pub involute: Involute,
+    /// The same with the routine profile shift x₁ = −x₂ = 0.5.
+    pub routine_shift: Involute,
+    /// The same with the shift that balances the roots' specific sliding, if any is
+    /// admissible.
+    pub balanced_shift: Option<BalancedShift>,
     /// (µ1, µ2) of the circular cycloidal equivalent on the addendum and the dedendum arch.
     pub circular: [(f64, f64); 2],
     /// Arches of gear 1 with a certified pole of µ1 and µ2 (for every r).

@@ -11,8 +11,8 @@ use crate::families::gear::model::{
     closure_integral, periodic_integral, Alpha2Map, GearPair, Which, Zero, ZeroKind,
 };
 use crate::families::gear::teeth::{
-    certified_pole_arches, circular_cycloidal_mu, contact_kinematics, flank_wear, involute,
-    profiles,
+    balanced_shift, certified_pole_arches, circular_cycloidal_mu, contact_kinematics, flank_wear,
+    involute, involute_shifted, profiles,
 };
 use crate::geom::P2;
 use crate::report::numbers::key;
@@ -247,6 +247,10 @@ fn derived(ctx: &Ctx, a2map: &Alpha2Map, perim2_error: f64) -> Derived {
         sliding_distance_error_m: None,
         involute_peak_sliding_coefficient: None,
         involute_contact_ratio: None,
+        involute_routine_shift_peak_sliding_coefficient: None,
+        involute_balanced_shift_x1: None,
+        involute_balanced_shift_peak_sliding_coefficient: None,
+        involute_balanced_shift_contact_ratio: None,
         circular_cycloidal_sliding_coefficient: None,
         arches_with_certified_pole: None,
         min_abs_cos_beta_sampled: None,
@@ -563,12 +567,14 @@ fn teeth(
             .fold(0.0, f64::max),
     );
     let inv = &out.involute;
-    derived.involute_peak_sliding_coefficient = Some(
-        [inv.mu1_start, inv.mu1_end, inv.mu2_start, inv.mu2_end]
-            .iter()
-            .fold(0.0, |a: f64, b| a.max(b.abs())),
-    );
+    derived.involute_peak_sliding_coefficient = Some(inv.peak_mu());
     derived.involute_contact_ratio = Some(inv.contact_ratio);
+    derived.involute_routine_shift_peak_sliding_coefficient = Some(out.routine_shift.peak_mu());
+    if let Some(b) = &out.balanced_shift {
+        derived.involute_balanced_shift_x1 = Some(b.pair.shift[0]);
+        derived.involute_balanced_shift_peak_sliding_coefficient = Some(b.pair.peak_mu());
+        derived.involute_balanced_shift_contact_ratio = Some(b.pair.contact_ratio);
+    }
     derived.circular_cycloidal_sliding_coefficient = Some(
         out.circular
             .iter()
@@ -591,7 +597,12 @@ fn teeth(
 /// The tooth-level outputs of one analysed pair: outlines (`t.points_per_arch` per arch),
 /// the contact series at `ns` points of one turn of gear 1, the sliding distance per flank
 /// (Simpson to 1e-12 relative), the circular cycloidal and the involute equivalents (module
-/// 4r, z1 = N/2, z2 = z1·n1/n2, standard addendum 1·m) and the pole certificate.
+/// 4r, z1 = N/2, z2 = z1·n1/n2, standard addendum 1·m: unshifted, with the routine shift
+/// x₁ = −x₂ = [`ROUTINE_SHIFT`] and with the balanced shift) and the pole certificate.
+/// The routine profile shift of a small pinion, x₁ = +0.5 (x₂ = −0.5), compared beside the
+/// balanced one.
+pub const ROUTINE_SHIFT: f64 = 0.5;
+
 pub fn teeth_outcome(
     pair: &GearPair,
     a2map: &Alpha2Map,
@@ -609,6 +620,21 @@ pub fn teeth_outcome(
             .collect(),
         wear: flank_wear(pair, n1, n2, 1e-12),
         involute: involute(
+            4.0 * pair.r_gen,
+            z1,
+            z1 * ratio,
+            t.involute_pressure_angle,
+            1.0,
+        ),
+        routine_shift: involute_shifted(
+            4.0 * pair.r_gen,
+            z1,
+            z1 * ratio,
+            t.involute_pressure_angle,
+            1.0,
+            ROUTINE_SHIFT,
+        ),
+        balanced_shift: balanced_shift(
             4.0 * pair.r_gen,
             z1,
             z1 * ratio,
