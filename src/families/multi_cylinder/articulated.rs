@@ -117,6 +117,29 @@ impl Articulated {
         Some(rot(self.master_bank, -(p2 * m_p + g2 * m_rod)))
     }
 
+    /// The shaking moment about the shaft per ω² (kg·m²) of the articulated cylinder — the
+    /// moment its rod and piston exert on the frame, −[m_rod G × G″ + I_rod χ″ + m_p P × P″]
+    /// with P = s·eₐ, G = K + µ(P − K) and the rod's angle χ: P − K = l(cos χ, sin χ), so
+    /// χ″ = (P″ − K″)·(−sin χ, cos χ)/l (the cross products do not depend on the frame).
+    pub fn roll0(
+        &self,
+        r: f64,
+        l: f64,
+        bank: f64,
+        masses: (f64, f64, f64, f64),
+        theta: f64,
+    ) -> Option<f64> {
+        let (m_p, m_rod, mu, inertia) = masses;
+        let st = self.state(r, l, bank, theta)?;
+        let cross = |a: P2, b: P2| a.x * b.y - a.y * b.x;
+        let (p, p2) = (st.axis * st.s[0], st.axis * st.s[2]);
+        let (k, k2) = (st.k[0], st.k[2]);
+        let w = (p - k) / l;
+        let chi2 = (p2 - k2).dot(&P2::new(-w.y, w.x)) / l;
+        let (g, g2) = (k + (p - k) * mu, k2 + (p2 - k2) * mu);
+        Some(-(m_rod * cross(g, g2) + inertia * chi2 + m_p * cross(p, p2)))
+    }
+
     /// A bound on the round-off of s″ and of K″ (m per rad², so per ω²): 64ε·F²·(K₂ + D₂),
     /// with K₂ and D₂ bounds on |K″| and |d″| over the turn, and F = 1 + L²/c_min² + l²/d_min²
     /// the amplification of the two square roots' cancellations (c_min = √(L² − R²),

@@ -61,6 +61,44 @@ impl Cylinder {
         Some(rot(self.bank, f))
     }
 
+    /// The cylinder's shaking moment about the shaft (roll) per ω² (kg·m²): the slider-crank's
+    /// [`SliderCrank::shaking_moment0`] (the crank adds none at constant speed), or the
+    /// articulated rod's and piston's ([`Articulated::roll0`]); `None` where it does not
+    /// assemble.
+    pub fn roll0(&self, phi: f64) -> Option<f64> {
+        let sc = &self.sc;
+        if let Some(a) = &self.articulated {
+            let masses = (
+                sc.slider_mass,
+                sc.rod.mass,
+                sc.rod.centroid / sc.l,
+                sc.rod.inertia,
+            );
+            return a.roll0(
+                sc.r,
+                sc.l,
+                self.bank,
+                masses,
+                phi + self.phase - a.master_bank,
+            );
+        }
+        let st = sc.state(self.theta(phi))?;
+        Some(sc.shaking_moment0(&st))
+    }
+
+    /// A bound on the round-off of [`Self::roll0`] (kg·m²): the force's bound
+    /// ([`Self::force_error0`]) times twice the largest arm (R + L + r_k), plus the rod's
+    /// inertia times twice the acceleration bound over its length for χ″.
+    pub fn roll_error0(&self) -> f64 {
+        let sc = &self.sc;
+        let rk = self.articulated.map_or(0.0, |a| a.knuckle_radius);
+        let acc = match &self.articulated {
+            Some(a) => a.acc_error(sc.r, sc.l),
+            None => sc.round_off().dx[2],
+        };
+        2.0 * self.force_error0() * (sc.r + sc.l + rk) + 2.0 * sc.rod.inertia * 2.0 * acc / sc.l
+    }
+
     /// A bound on the round-off of [`Self::force0`] at any φ (kg·m): the slider-crank's bound
     /// on x″ ([`SliderCrank::round_off`]) times the moving mass, plus 8ε of its largest
     /// value; for an articulated cylinder 3·(m_p + m_rod) times [`Articulated::acc_error`]
@@ -158,6 +196,11 @@ impl Layout {
             s.couple += couple_of(c.z - self.z0, f);
         }
         Some(s)
+    }
+
+    /// The links' shaking moment about the shaft (roll) per ω² at φ (kg·m²).
+    pub fn roll0(&self, phi: f64) -> Option<f64> {
+        self.cylinders.iter().map(|c| c.roll0(phi)).sum()
     }
 
     /// Does every cylinder assemble over the whole turn ([`Cylinder::assembles`])?

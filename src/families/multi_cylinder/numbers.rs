@@ -8,7 +8,7 @@ use super::file::{Goal, MultiCylinderProblem};
 use super::firing;
 use super::model::{polar, Harmonic};
 use super::phases::PhaseSearch;
-use super::solve::{axial_mounts, normal_mounts, Solution, Spectrum, COUPLE, FORCE};
+use super::solve::{axial_mounts, normal_mounts, roll_index, Solution, Spectrum, COUPLE, FORCE};
 use crate::families::family::Scene;
 use crate::report::SolveResult;
 use crate::synth::minimax::{self, var_u, FieldPeak};
@@ -208,6 +208,12 @@ pub fn numbers(_: &Scene, p: &MultiCylinderProblem, sol: &Solution, r: &mut Solv
     r.derived
         .insert("peak_couple_angle_rad".into(), peaks[COUPLE].angle);
     mount_numbers(p, peaks, &sol.bare, r);
+    let roll = &peaks[roll_index(p)];
+    r.derived.insert("peak_roll_moment_nm".into(), roll.peak);
+    r.derived
+        .insert("peak_roll_moment_error_nm".into(), roll.error);
+    r.derived
+        .insert("peak_roll_moment_angle_rad".into(), roll.angle);
     if let Some(d) = found {
         design_numbers(p, d, r);
     }

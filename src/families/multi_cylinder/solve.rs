@@ -42,6 +42,41 @@ pub fn axial_mounts(p: &MultiCylinderProblem) -> std::ops::Range<usize> {
     r.end..r.end + r.len()
 }
 
+/// The engine's field of the roll moment (after the mounts' axial fields).
+pub fn roll_index(p: &MultiCylinderProblem) -> usize {
+    axial_mounts(p).end
+}
+
+/// The links' shaking moment about the shaft (roll, N·m) as a scalar field:
+/// ω²·Σ [`model::Cylinder::roll0`]. Free of the design: a crank-web counterweight or a
+/// balance shaft turning at constant speed about the shaft's axis exerts none (a shaft's own
+/// axis off the crankshaft's is not modelled: its roll is left out, and said so).
+pub struct RollField<'a> {
+    /// The scene.
+    pub p: &'a MultiCylinderProblem,
+}
+
+impl AffineField for RollField<'_> {
+    fn name(&self) -> &str {
+        "roll moment"
+    }
+    fn dim(&self) -> usize {
+        1
+    }
+    fn eval(&self, phi: f64, out: &mut AffineValue) {
+        let w2 = self.p.omega * self.p.omega;
+        let m = self.p.layout.roll0(phi).unwrap_or(f64::NAN);
+        out.b = [w2 * m, 0.0];
+        out.row_mut(0).fill(0.0);
+    }
+    fn error(&self, _: f64, _: &[f64]) -> f64 {
+        let w2 = self.p.omega * self.p.omega;
+        w2 * (self.p.layout.cylinders.iter())
+            .map(model::Cylinder::roll_error0)
+            .sum::<f64>()
+    }
+}
+
 /// Samples of a turn for the harmonics' FFT (a power of two).
 pub const FFT_SAMPLES: usize = 256;
 
@@ -466,8 +501,10 @@ pub fn solve_layout(p: &MultiCylinderProblem) -> Result<Solution, String> {
         Some(frame) => mount_fields(p, frame)?,
         None => Vec::new(),
     };
+    let roll = RollField { p };
     let mut fields: Vec<&dyn AffineField> = vec![&f, &m];
     fields.extend(mounts.iter().map(|k| k as &dyn AffineField));
+    fields.push(&roll);
     let pb = problem(p, fields);
     let engine = Engine::new(&pb, &p.settings).map_err(|e| e.to_string())?;
     let bare = engine
