@@ -415,11 +415,42 @@ fn the_inline_4_secondary_force_is_the_textbooks_and_the_lanchester_pair_cancels
 /// 1e-6 relative.
 #[test]
 fn the_mount_forces_are_a_time_integration_of_the_frame_on_its_mounts() {
+    let (s, p) = problem_of("compressor-2cyl-mounts.toml");
+    mounts_against_rk4(&s, &p);
+}
+
+/// The same with rigid rods (their inertia off the two-mass model's) on throws 90° apart: the
+/// links now exert a roll moment about the shaft, which shakes the frame about z as well.
+#[test]
+fn the_mount_forces_with_a_roll_moment_are_a_time_integration_too() {
+    let text = std::fs::read_to_string(problem("compressor-2cyl-mounts.toml")).unwrap();
+    let text = text.replacen(
+        "[model]",
+        "[model]\nmasses = \"rigid\"\nrod_inertia = \"0.004 kg*m^2\"",
+        1,
+    );
+    let text = text
+        .replace("masses = \"lumped\"\n", "")
+        .replace("rod_split", "# rod_split")
+        // Throws 90° apart: at 180° the two rods' roll moments cancel (M(θ + π) = −M(θ)).
+        .replace("phase = \"180 deg\"", "phase = \"90 deg\"");
+    let s = parse_str(&text, Path::new("rigid.toml")).unwrap_or_else(|e| panic!("{e}"));
+    let p = s.machine::<MultiCylinderProblem>().unwrap().clone();
+    let r = solve_scene(&s);
+    assert!(
+        r.derived["peak_roll_moment_nm"] > 1.0,
+        "{}",
+        r.derived["peak_roll_moment_nm"]
+    );
+    mounts_against_rk4(&s, &p);
+}
+
+fn mounts_against_rk4(s: &cwsynth::families::Scene, p: &MultiCylinderProblem) {
     use cwsynth::families::multi_cylinder::solve::MOUNTS;
     use cwsynth::synth::minimax::{var_u, AffineField, AffineValue};
     use nalgebra::{DMatrix, DVector, Vector6};
-    let (s, p) = problem_of("compressor-2cyl-mounts.toml");
-    let r = solve_scene(&s);
+    let p = p.clone();
+    let r = solve_scene(s);
     assert_eq!(r.status, Status::Optimal, "{:?}", r.warnings);
     let sol = solve::solve(&p).unwrap();
     let x = sol.x(&p);
@@ -434,7 +465,12 @@ fn the_mount_forces_are_a_time_integration_of_the_frame_on_its_mounts() {
             f += fj;
             m += model::couple_of(rot.rotor.z - z0, fj);
         }
-        frame.load(z0, [f.x * w * w, f.y * w * w], [m.x * w * w, m.y * w * w])
+        let roll = p.layout.roll0(phi).unwrap();
+        frame.load(
+            z0,
+            [f.x * w * w, f.y * w * w],
+            [m.x * w * w, m.y * w * w, roll * w * w],
+        )
     };
     let (k, c, mm) = (frame.stiffness(), frame.damping(), frame.mass_matrix());
     let minv = mm.try_inverse().unwrap();

@@ -6,7 +6,8 @@
 //! δ = u + θ × (p − G) = T(p) q with T = [I | −[p − G]×].
 //!
 //! M q̈ + C q̇ + K q = Q(t), K = Σ T_kᵀ diag(k_k) T_k, C likewise, Q = [F; (s − G) × F + M]
-//! for the shaking force F acting at the shaft point s = (0, 0, z₀) and the couple M about it.
+//! for the shaking force F acting at the shaft point s = (0, 0, z₀) and the moment M about it
+//! (the couple about x and y, the roll about the shaft).
 //! At one order n the steady state is the linear solve q̂ = (K − Ω²M + iΩC)⁻¹ Q̂ at Ω = nω, and a
 //! mount transmits f̂_k = (diag(k_k) + iΩ diag(c_k)) T_k q̂ to the ground: linear in Q̂, so in the
 //! design's unbalances. A 6×6 complex solve per order: nalgebra's LU.
@@ -83,30 +84,38 @@ impl Frame {
         Matrix6::from_fn(|i, j| Complex::new(k[(i, j)] - w * w * m[(i, j)], w * c[(i, j)]))
     }
 
-    /// Q from the force F (N) at the shaft point (0, 0, z₀) and the couple M (N·m) about it,
-    /// both as complex amplitudes of one order (or real values at one instant).
+    /// Q from the force F (N) at the shaft point (0, 0, z₀) and the moment M (N·m) about it —
+    /// the couple (M_x, M_y) and the roll M_z about the shaft —, as complex amplitudes of one
+    /// order (or real values at one instant).
     pub fn load<T: nalgebra::ComplexField + Copy>(
         &self,
         z0: f64,
         f: [T; 2],
-        m: [T; 2],
+        m: [T; 3],
     ) -> Vector6<T> {
         let [gx, gy, gz] = self.centroid;
         let s = [-gx, -gy, z0 - gz].map(|v| T::from_real(nalgebra::convert(v)));
         // (s − G) × F with F = (f_x, f_y, 0).
         let arm = [-s[2] * f[1], s[2] * f[0], s[0] * f[1] - s[1] * f[0]];
-        Vector6::new(f[0], f[1], T::zero(), arm[0] + m[0], arm[1] + m[1], arm[2])
+        Vector6::new(
+            f[0],
+            f[1],
+            T::zero(),
+            arm[0] + m[0],
+            arm[1] + m[1],
+            arm[2] + m[2],
+        )
     }
 
-    /// The transfer of one order: from (F̂_x, F̂_y, M̂_x, M̂_y) to each mount's transmitted
+    /// The transfer of one order: from (F̂_x, F̂_y, M̂_x, M̂_y, M̂_z) to each mount's transmitted
     /// force (x, y, z), at Ω; `None` where K − Ω²M + iΩC is singular (an undamped resonance).
-    pub fn transfer(&self, z0: f64, w: f64) -> Option<Vec<SMatrix<Complex<f64>, 3, 4>>> {
+    pub fn transfer(&self, z0: f64, w: f64) -> Option<Vec<SMatrix<Complex<f64>, 3, 5>>> {
         let lu = self.dynamic(w).lu();
         let one = Complex::new(1.0, 0.0);
         let zero = Complex::new(0.0, 0.0);
         let unit = |k: usize| {
             let mut f = [zero; 2];
-            let mut m = [zero; 2];
+            let mut m = [zero; 3];
             if k < 2 {
                 f[k] = one;
             } else {
@@ -114,7 +123,7 @@ impl Frame {
             }
             lu.solve(&self.load(z0, f, m))
         };
-        let q: Vec<Vector6<Complex<f64>>> = (0..4).map(unit).collect::<Option<_>>()?;
+        let q: Vec<Vector6<Complex<f64>>> = (0..5).map(unit).collect::<Option<_>>()?;
         Some(
             self.mounts
                 .iter()
@@ -127,7 +136,7 @@ impl Frame {
                             zero
                         }
                     });
-                    SMatrix::<Complex<f64>, 3, 4>::from_fn(|i, j| (g * t * q[j])[i])
+                    SMatrix::<Complex<f64>, 3, 5>::from_fn(|i, j| (g * t * q[j])[i])
                 })
                 .collect(),
         )

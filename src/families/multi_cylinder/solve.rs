@@ -164,7 +164,7 @@ pub const MOUNT_ORDERS: usize = 64;
 
 /// The force mount k transmits to the ground as a field: normal to the shaft (N, x and y;
 /// [`MOUNTS`] on) or along it (N, z; after the normal ones, reported only), each component
-/// Re Σₙ H_k(nω)·ŝₙ e^{inφ} with ŝₙ the order's (F̂_x, F̂_y, M̂_x, M̂_y) — the bare layout's from
+/// Re Σₙ H_k(nω)·ŝₙ e^{inφ} with ŝₙ the order's (F̂_x, F̂_y, M̂_x, M̂_y, M̂_z) — the bare layout's from
 /// its FFT (orders 1..=[`MOUNT_ORDERS`]), each unbalance's exactly (its one order).
 pub struct MountField {
     name: String,
@@ -208,12 +208,18 @@ impl AffineField for MountField {
     }
 }
 
-/// (F̂_x, F̂_y, M̂_x, M̂_y) of one order from its force and couple coefficients (forward,
-/// backward).
-fn excitation(f: [Complex64; 2], m: [Complex64; 2]) -> SMatrix<Complex64, 4, 1> {
+/// (F̂_x, F̂_y, M̂_x, M̂_y, M̂_z) of one order from its force, couple and roll coefficients
+/// (forward, backward; the roll a real signal sampled as x + 0i, so its amplitude is the
+/// x component's).
+fn excitation(
+    f: [Complex64; 2],
+    m: [Complex64; 2],
+    roll: [Complex64; 2],
+) -> SMatrix<Complex64, 5, 1> {
     let [fx, fy] = mounts::components(f[0], f[1]);
     let [mx, my] = mounts::components(m[0], m[1]);
-    SMatrix::<Complex64, 4, 1>::new(fx, fy, mx, my)
+    let [mz, _] = mounts::components(roll[0], roll[1]);
+    SMatrix::<Complex64, 5, 1>::from_column_slice(&[fx, fy, mx, my, mz])
 }
 
 /// The mount fields of the scene's frame — each mount's force normal to the shaft, then each
@@ -228,9 +234,12 @@ pub fn mount_fields(p: &MultiCylinderProblem, frame: &Frame) -> Result<Vec<Mount
         model::samples(n_fft, |phi| value_at(&fb, phi, &x0)),
         model::samples(n_fft, |phi| value_at(&mb, phi, &x0)),
     );
-    let (hf, hm) = (
+    let rb = RollField { p };
+    let zr = model::samples(n_fft, |phi| value_at(&rb, phi, &x0));
+    let (hf, hm, hr) = (
         model::harmonics(&zf, MOUNT_ORDERS as u32),
         model::harmonics(&zm, MOUNT_ORDERS as u32),
+        model::harmonics(&zr, MOUNT_ORDERS as u32),
     );
     let transfer = |n: usize| {
         let w = n as f64 * p.omega;
@@ -241,9 +250,11 @@ pub fn mount_fields(p: &MultiCylinderProblem, frame: &Frame) -> Result<Vec<Mount
     let table: Vec<_> = (1..=2 * MOUNT_ORDERS)
         .map(transfer)
         .collect::<Result<_, _>>()?;
-    let tail = 2.0 * MOUNT_ORDERS as f64 * (model::alias_bound(&zf) + model::alias_bound(&zm))
+    let alias = model::alias_bound(&zf) + model::alias_bound(&zm) + model::alias_bound(&zr);
+    let tail = 2.0 * MOUNT_ORDERS as f64 * alias
         + fb.links_error()
-        + mb.links_error();
+        + mb.links_error()
+        + rb.error(0.0, &x0);
     let axis = |k: usize| (k % frame.mounts.len(), k >= frame.mounts.len());
     Ok((0..2 * frame.mounts.len())
         .map(axis)
@@ -253,6 +264,7 @@ pub fn mount_fields(p: &MultiCylinderProblem, frame: &Frame) -> Result<Vec<Mount
                     let s = excitation(
                         [c(hf[n].forward), c(hf[n].backward)],
                         [c(hm[n].forward), c(hm[n].backward)],
+                        [c(hr[n].forward), c(hr[n].backward)],
                     );
                     let v = table[n][k] * s;
                     [v[0], v[1], v[2]]
@@ -277,9 +289,9 @@ pub fn mount_fields(p: &MultiCylinderProblem, frame: &Frame) -> Result<Vec<Mount
 }
 
 /// The largest gain over the table's orders of mount k: max over its rows of Σ|H_ij|.
-fn gain(table: &[Vec<SMatrix<Complex64, 3, 4>>], k: usize) -> f64 {
+fn gain(table: &[Vec<SMatrix<Complex64, 3, 5>>], k: usize) -> f64 {
     let row =
-        |h: &SMatrix<Complex64, 3, 4>, i: usize| (0..4).map(|j| h[(i, j)].norm()).sum::<f64>();
+        |h: &SMatrix<Complex64, 3, 5>, i: usize| (0..5).map(|j| h[(i, j)].norm()).sum::<f64>();
     table
         .iter()
         .map(|h| (0..3).map(|i| row(&h[k], i)).fold(0.0, f64::max))
@@ -291,7 +303,7 @@ fn gain(table: &[Vec<SMatrix<Complex64, 3, 4>>], k: usize) -> f64 {
 fn rotor_columns(
     p: &MultiCylinderProblem,
     r: &RotorSpec,
-    h: &SMatrix<Complex64, 3, 4>,
+    h: &SMatrix<Complex64, 3, 5>,
 ) -> (u32, [Complex64; 3], [Complex64; 3]) {
     let k = p.omega * p.omega * r.rotor.speed2();
     let arm = Complex64::new(0.0, r.rotor.z - p.layout.z0);
@@ -302,7 +314,8 @@ fn rotor_columns(
         } else {
             (zero, c)
         };
-        let v = h * excitation([f, b], [arm * f, arm * b]);
+        let zero = Complex64::new(0.0, 0.0);
+        let v = h * excitation([f, b], [arm * f, arm * b], [zero, zero]);
         [v[0], v[1], v[2]]
     };
     (

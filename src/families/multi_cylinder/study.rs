@@ -84,7 +84,7 @@ pub fn effects(p: &MultiCylinderProblem, reference: &SolveResult, headline: f64)
         ),
         (
             "roll moment".into(),
-            "the moment about the shaft is reported (derived.peak_roll_moment_nm: zero for lumped in-line cylinders, from rod inertia, offsets and articulated rods otherwise) but is no design target — crank-web counterweights and balance shafts at constant speed do not change it — and not part of the frame's excitation on its mounts".into(),
+            "the moment about the shaft is reported (derived.peak_roll_moment_nm: zero for lumped in-line cylinders, from rod inertia, offsets and articulated rods otherwise) and shakes the frame on its mounts about the shaft, but is no design target: crank-web counterweights and balance shafts at constant speed do not change it".into(),
         ),
     ]
 }
