@@ -110,7 +110,6 @@ fn sliding_comparison_rows(out: &Outcome, t: &TeethOutcome) -> serde_json::Value
     let circ_max = [m1a, m2a, m1d, m2d]
         .iter()
         .fold(0.0, |a: f64, b| a.max(b.abs()));
-    let inv_max = d.involute_peak_sliding_coefficient.unwrap_or(f64::NAN);
     json!([
         {
             "compared": format!("eccentric cycloidal (this pair, e = {:.4} mm)", out.design.eccentricity_m * 1e3),
@@ -129,12 +128,10 @@ fn sliding_comparison_rows(out: &Outcome, t: &TeethOutcome) -> serde_json::Value
         involute_row(
             inv,
             format!("involute (m = {:.4} mm, α = {:.2}°, standard addendum, unshifted, contact ratio {:.4})", inv.module_m * 1e3, inv.pressure_angle_rad.to_degrees(), inv.contact_ratio),
-            f(inv_max),
         ),
         involute_row(
             &t.routine_shift,
             format!("involute, routine profile shift x1 = +{:.1}, x2 = −{:.1} (contact ratio {:.4})", t.routine_shift.shift[0], t.routine_shift.shift[0], t.routine_shift.contact_ratio),
-            f(t.routine_shift.peak_mu()),
         ),
         match &t.balanced_shift {
             Some(b) => involute_row(
@@ -150,7 +147,6 @@ fn sliding_comparison_rows(out: &Outcome, t: &TeethOutcome) -> serde_json::Value
                     b.interval[0],
                     b.interval[1],
                 ),
-                f(b.pair.peak_mu()),
             ),
             None => json!({
                 "compared": "involute, balanced profile shift: no shift keeps both teeth free of undercut and pointed tips with a contact ratio ≥ 1.1",
@@ -161,7 +157,7 @@ fn sliding_comparison_rows(out: &Outcome, t: &TeethOutcome) -> serde_json::Value
 }
 
 /// One involute pair's row of the `sliding_comparison` section.
-fn involute_row(inv: &Involute, compared: String, max_abs_mu: String) -> serde_json::Value {
+fn involute_row(inv: &Involute, compared: String) -> serde_json::Value {
     let f = |x: f64| format!("{x:.6}");
     let span = |a: f64, b: f64| (a.min(b), a.max(b));
     let (i1, i1h) = span(inv.mu1_start, inv.mu1_end);
@@ -170,7 +166,7 @@ fn involute_row(inv: &Involute, compared: String, max_abs_mu: String) -> serde_j
         "compared": compared,
         "mu1": format!("{} … {} (root A … tip E of gear 1)", f(i1), f(i1h)),
         "mu2": format!("{} … {}", f(i2), f(i2h)),
-        "max_abs_mu": max_abs_mu,
+        "max_abs_mu": f(inv.peak_mu()),
         "poles_per_turn": if inv.interference { "on the path (interference)" } else { "0 (N1, N2 off the path)" },
     })
 }

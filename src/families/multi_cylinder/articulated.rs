@@ -43,6 +43,8 @@ pub struct Articulated {
 pub struct State {
     /// The crank pin C.
     pub c: P2,
+    /// The master piston pin's distance from the shaft along the master's axis, R cos θ + c.
+    pub master: f64,
     /// The knuckle pin K, K′, K″.
     pub k: [P2; 3],
     /// The piston's distance s from the shaft along its axis, s′, s″.
@@ -93,6 +95,7 @@ impl Articulated {
         let dd = -(b[1] * b[1] + b[0] * b[2] + d1 * d1) / d;
         Some(State {
             c,
+            master: r * ct + cc,
             k,
             s: [a[0] + d, a[1] + d1, a[2] + dd],
             axis: ea,

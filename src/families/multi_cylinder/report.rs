@@ -271,10 +271,7 @@ fn articulated_rods(d: &mut Drawing, p: &MultiCylinderProblem) {
         let key = (a.master_bank, c.phase);
         if !masters.contains(&key) {
             masters.push(key);
-            let h = c.sc.r * (c.phase - a.master_bank).sin();
-            let xm =
-                c.sc.r * (c.phase - a.master_bank).cos() + (a.master_rod.powi(2) - h * h).sqrt();
-            d.line(Layer::Outline, world(st.c), world(P2::new(xm, 0.0)));
+            d.line(Layer::Outline, world(st.c), world(P2::new(st.master, 0.0)));
         }
     }
 }
@@ -285,7 +282,8 @@ fn articulated_rods(d: &mut Drawing, p: &MultiCylinderProblem) {
 fn mounts(d: &mut Drawing, p: &MultiCylinderProblem, x0: f64) {
     let Some(f) = &p.frame else { return };
     let rr = p.layout.cylinders[0].sc.r;
-    let side = |z: f64, y: f64| P2::new(x0 + z - side_z0(p), y);
+    let z0 = side_z0(p);
+    let side = |z: f64, y: f64| P2::new(x0 + z - z0, y);
     let h = 0.15 * rr;
     let views: [Vec<P2>; 2] = [
         f.mounts.iter().map(|m| P2::new(m.at[0], m.at[1])).collect(),
@@ -322,7 +320,8 @@ fn side_view(d: &mut Drawing, p: &MultiCylinderProblem, x0: f64) {
     let zs: Vec<f64> = cyl.iter().map(|c| c.z).collect();
     let lo = zs.iter().copied().fold(f64::INFINITY, f64::min);
     let hi = zs.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-    let at = |z: f64, y: f64| P2::new(x0 + z - side_z0(p), y);
+    let z0 = side_z0(p);
+    let at = |z: f64, y: f64| P2::new(x0 + z - z0, y);
     let span = (hi - lo).max(rr);
     d.line(
         Layer::Centre,
