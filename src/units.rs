@@ -402,6 +402,11 @@ pub const UNITS: &[Unit] = &[
         factor: 1e6,
     },
     Unit {
+        symbol: "GPa",
+        dim: Dim::Pressure,
+        factor: 1e9,
+    },
+    Unit {
         symbol: "bar",
         dim: Dim::Pressure,
         factor: 1e5,
@@ -576,8 +581,8 @@ pub enum UnitError {
         "a quantity of {len} bytes; allowed: at most {MAX_QUANTITY_LEN} bytes, e.g. \"35 mm\""
     )]
     TooLong { len: usize },
-    /// The value is beyond [`MAX_MAGNITUDE`] in SI.
-    #[error("`{text}` is {si:e} {unit} in SI, beyond any machine; allowed: a magnitude up to {MAX_MAGNITUDE:e} {unit}", unit = .dim.si())]
+    /// The value is beyond [`Dim::max_magnitude`] in SI.
+    #[error("`{text}` is {si:e} {unit} in SI, beyond any machine; allowed: a magnitude up to {max:e} {unit}", unit = .dim.si(), max = .dim.max_magnitude())]
     OutOfRange { text: String, si: f64, dim: Dim },
     /// The value is nonzero but below [`MIN_MAGNITUDE`] in SI.
     #[error("`{text}` is {si:e} {unit} in SI, below any machine (its squares would lose their digits); allowed: 0 or a magnitude from {MIN_MAGNITUDE:e} {unit}", unit = .dim.si())]
@@ -609,6 +614,18 @@ pub const MIN_MAGNITUDE: f64 = 1e-30;
 /// beyond any machine, and small enough that products of a few such values (m·R·ω²) stay
 /// finite, so a typo such as `1e308 mm` is an error instead of an overflow deep inside.
 pub const MAX_MAGNITUDE: f64 = 1e9;
+
+impl Dim {
+    /// The largest magnitude accepted in SI: [`MAX_MAGNITUDE`], except for a pressure, which
+    /// also names the stiffest materials (steel's Young's modulus is 2.1e11 Pa, diamond's
+    /// 1.2e12 Pa): up to 1e13 Pa.
+    pub fn max_magnitude(self) -> f64 {
+        match self {
+            Dim::Pressure => 1e13,
+            _ => MAX_MAGNITUDE,
+        }
+    }
+}
 
 /// The candidate closest to `word` by edit distance (Damerau–Levenshtein, ignoring case),
 /// if it is close enough to be a misspelling: at most a third of the longer word's length,
@@ -688,7 +705,7 @@ pub fn parse(text: &str, dim: Dim) -> Result<f64, UnitError> {
         return Err(UnitError::TooLong { len: text.len() });
     }
     let si = parse_unbounded(text, dim)?;
-    if dim != Dim::Dimensionless && si.abs() > MAX_MAGNITUDE {
+    if dim != Dim::Dimensionless && si.abs() > dim.max_magnitude() {
         return Err(UnitError::OutOfRange {
             text: text.into(),
             si,

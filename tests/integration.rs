@@ -35,6 +35,7 @@ mod fleet_mutants;
 mod flywheel_design;
 mod gear;
 mod gear_conditioning;
+mod gear_contact_stress;
 mod gear_involute_shift;
 mod gear_io;
 mod gear_teeth;

@@ -3,13 +3,14 @@
 //! `docs/problem-files.md`) — and the shaping of its outcome into a result (keys in
 //! `docs/results.md`): pitch curves, i12(α1), µ1 and µ2 with their poles, the design sweep.
 
+use crate::families::gear::stress::ToothLoad;
 use crate::families::gear::synth::{GearScene, Settings, SolveError, TeethOptions};
 use crate::problem::limits::{self, c, Count};
 use crate::problem::{
     check_name, non_negative, positive, Ctx, FieldError, Input, ProblemError, RawFile, RawVar,
     Resolved,
 };
-use crate::units::{Angle, AngularSpeed, Length, Qty};
+use crate::units::{Angle, AngularSpeed, Length, Pressure, Qty, Torque};
 use serde::Deserialize;
 use std::f64::consts::PI;
 
@@ -68,6 +69,23 @@ pub struct MechanismRaw {
     pub space_width: Option<Qty<Length>>,
     /// Stated centre distance (checked; the pair uses the closing one).
     pub center_distance: Option<Qty<Length>>,
+    /// The driving torque and the teeth's material: Hertz stress and Archard wear per flank
+    /// (only with `model.tooth_profiles = true`).
+    pub load: Option<LoadRaw>,
+}
+
+/// `[mechanism.load]`: what the teeth carry (see [`crate::families::gear::stress`]).
+#[derive(Debug, Deserialize, schemars::JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct LoadRaw {
+    /// T1, the driving torque on gear 1 (constant), > 0.
+    pub torque: Qty<Torque>,
+    /// b, the face width of both gears, > 0.
+    pub face_width: Qty<Length>,
+    /// E, Young's modulus of both gears, > 0.
+    pub youngs_modulus: Qty<Pressure>,
+    /// ν, Poisson's ratio of both gears, in [0, 0.5).
+    pub poisson_ratio: f64,
 }
 
 /// `[model]`.
@@ -232,7 +250,7 @@ pub fn resolve_raw(raw: &File) -> Result<GearProblem, FieldError> {
         Some(q) => non_negative("model.pole_window", q.si())?,
         None => default_pole_window(n_arches),
     };
-    let tooth_outputs = resolve_teeth(&raw.model)?;
+    let tooth_outputs = resolve_teeth(&raw.model, m.load.as_ref())?;
     let o = &raw.objective;
     let Maximize::RatioVariation = o.maximize;
     let gear = GearScene {
@@ -267,11 +285,12 @@ pub fn resolve_raw(raw: &File) -> Result<GearProblem, FieldError> {
     Ok(GearProblem { gear, settings })
 }
 
-/// The `model.tooth_profiles` options: `None` when off; the point count and the involute
-/// pressure angle only with it.
-fn resolve_teeth(m: &ModelRaw) -> Result<Option<TeethOptions>, FieldError> {
+/// The `model.tooth_profiles` options: `None` when off; the point count, the involute
+/// pressure angle and the load only with it.
+fn resolve_teeth(m: &ModelRaw, load: Option<&LoadRaw>) -> Result<Option<TeethOptions>, FieldError> {
     if m.tooth_profiles != Some(true) {
         for (key, given) in [
+            ("mechanism.load", load.is_some()),
             (
                 "model.profile_points_per_arch",
                 m.profile_points_per_arch.is_some(),
@@ -305,7 +324,25 @@ fn resolve_teeth(m: &ModelRaw) -> Result<Option<TeethOptions>, FieldError> {
         }
         t.involute_pressure_angle = a;
     }
+    t.load = load.map(resolve_load).transpose()?;
     Ok(Some(t))
+}
+
+/// `[mechanism.load]` checked: positive torque, width and modulus, 0 ≤ ν < 0.5.
+fn resolve_load(l: &LoadRaw) -> Result<ToothLoad, FieldError> {
+    let nu = l.poisson_ratio;
+    if !(nu.is_finite() && (0.0..0.5).contains(&nu)) {
+        return Err(FieldError::new(
+            "mechanism.load.poisson_ratio",
+            format!("must be in [0, 0.5), got {nu}"),
+        ));
+    }
+    Ok(ToothLoad {
+        torque: positive("mechanism.load.torque", l.torque.si())?,
+        face_width: positive("mechanism.load.face_width", l.face_width.si())?,
+        youngs_modulus: positive("mechanism.load.youngs_modulus", l.youngs_modulus.si())?,
+        poisson_ratio: nu,
+    })
 }
 
 /// The work budget ([`limits::check_work`]): one analysis A = 2·N·n1·(s_arch + s_peak) +

@@ -8,6 +8,7 @@ pub mod motion;
 pub mod numbers;
 pub mod report;
 pub mod solve;
+pub mod stress;
 pub mod study;
 pub mod synth;
 pub mod teeth;

@@ -8,7 +8,8 @@
 use super::file::*;
 use super::solve::Solution;
 use crate::families::family::Scene;
-use crate::families::gear::synth::{Outcome, TeethOutcome};
+use crate::families::gear::stress::{FlankStress, ToothLoad};
+use crate::families::gear::synth::{Derived, Outcome, TeethOutcome};
 use crate::families::gear::teeth::Involute;
 use crate::report::SolveResult;
 use serde_json::json;
@@ -36,7 +37,7 @@ pub fn model(p: &GearProblem, _: Option<&Solution>) -> BTreeMap<String, serde_js
 
 /// The result's numbers from the solution: status, design, objectives, errors, derived
 /// figures, the paper's checks, the poles and zeros, the flank wear.
-pub fn numbers(_: &Scene, _: &GearProblem, sol: &Solution, r: &mut SolveResult) {
+pub fn numbers(_: &Scene, p: &GearProblem, sol: &Solution, r: &mut SolveResult) {
     let out = &sol.out;
     r.set_figures(&out.design, &out.objectives, &out.errors, &out.derived);
     r.paper = out.paper.clone();
@@ -68,6 +69,10 @@ pub fn numbers(_: &Scene, _: &GearProblem, sol: &Solution, r: &mut SolveResult) 
                 out.objectives.peak_sliding_coefficient,
             ));
         }
+        if let (Some(st), Some(load)) = (&t.stress, p.gear.tooth_outputs.and_then(|o| o.load)) {
+            r.extra.insert("contact_stress".into(), stress_rows(st));
+            r.warnings.push(stress_note(st, &load, &out.derived));
+        }
         if !t.certified_pole_arches.is_empty() {
             r.warnings.push(format!(
                 "pole correction (the paper's proposal after its eq. 12): not possible by the design parameters. On {} of the {} arches of gear 1 the pole function (K − O_j)·d of µ1 and of µ2 tends to ∓ρ_j sin ψ at one cusp and ±ρ_j sin ψ at the other with ψ of one sign, so it changes sign inside the arch for every generating radius r, pitch radius R and centre distance a (derived.arches_with_certified_pole); only e = 0 (ψ ≡ 0) is free of poles. Removing them needs a profile that is not a full cusp-to-cusp cycloid (e.g. relieved cusps with overlapping contact)",
@@ -98,6 +103,85 @@ fn flank_wear_rows(t: &TeethOutcome) -> serde_json::Value {
         })
         .collect();
     serde_json::Value::Array(rows)
+}
+
+/// The `contact_stress` section: per arch of gear 1, its loaded stretch, the extremes of p0
+/// on its working window and W over a cycle (gear 2's arches in `<name>-contact-stress.csv`).
+fn stress_rows(st: &FlankStress) -> serde_json::Value {
+    let rows: Vec<serde_json::Value> = st
+        .arches
+        .iter()
+        .zip(&st.gear1)
+        .map(|(a, (w, we))| {
+            json!({
+                "arch": a.arch,
+                "tooth": a.arch / 2,
+                "flank": if a.arch.is_multiple_of(2) { "addendum" } else { "dedendum" },
+                "loaded_from_rad": a.loaded.0,
+                "loaded_to_rad": a.loaded.1,
+                "peak_p0_pa": a.peak.map(|p| p.p0_pa),
+                "peak_alpha1_rad": a.peak.map(|p| p.alpha1),
+                "least_p0_pa": a.least.map(|p| p.p0_pa),
+                "least_alpha1_rad": a.least.map(|p| p.alpha1),
+                "p0_error_pa": a.peak.map(|p| p.error_pa.max(a.least.map_or(0.0, |l| l.error_pa))),
+                "archard_per_engagement_nm": a.archard.value,
+                "archard_per_cycle_nm": w,
+                "archard_error_nm": we,
+            })
+        })
+        .collect();
+    serde_json::Value::Array(rows)
+}
+
+/// The contact-stress finding in plain words: the driving fraction, the stress along the
+/// flanks, and the load-weighted wear against the paper's "even wear".
+fn stress_note(st: &FlankStress, load: &ToothLoad, d: &Derived) -> String {
+    let argmax = |v: &[(f64, f64)], max: bool| {
+        (0..v.len())
+            .reduce(|b, k| {
+                if (v[k].0 > v[b].0) == max && v[k].0 != v[b].0 {
+                    k
+                } else {
+                    b
+                }
+            })
+            .unwrap_or(0)
+    };
+    let (hi, lo) = (argmax(&st.gear1, true), argmax(&st.gear1, false));
+    let flank = |i: usize| {
+        if i.is_multiple_of(2) {
+            "addendum"
+        } else {
+            "dedendum"
+        }
+    };
+    let mpa = |v: Option<f64>| v.unwrap_or(f64::NAN) * 1e-6;
+    format!(
+        "contact stress and wear (mechanism.load: T1 = {} N·m on gear 1, face width {} mm, E = {} GPa, ν = {}; one contact at a time as in the paper's construction, frictionless): the contact can drive gear 2 only on the driving flanks, {:.2} % of each turn (`derived.driving_contact_fraction`); on the rest it is on the back flanks, so under load the teeth part and re-engage once a pitch. Teeth that are single cycloid arches have a transverse contact ratio of 0.5: this pair cannot carry a steady torque without a second pair of flanks in contact. On the driving flanks p0 is least mid-flank, {:.1} to {:.1} MPa depending on where in the turn, and grows without bound towards the pitch point (both flanks' radii of curvature vanish) and the tooth tip (the normal's arm about O1 vanishes): {:.1} MPa at the ends of the working windows (±{} rad). The paper finds the wear even because µ1 and µ2 are symmetric; weighted by the load (Archard, W = ∫F|v_s|dt over the working windows) it is not: gear 1's most worn flank, arch {hi} (tooth {}, {}), takes {:.2} times the least worn, arch {lo} (tooth {}, {}) ({:.4} against {:.4} N·m a cycle, `contact_stress`); the sliding distance alone differs {:.2}-fold. W grows like the logarithm of 1/window at the tip, so the ratio depends on the window; the least mid-flank stress ({:.2}-fold) does not",
+        round6(load.torque),
+        round6(load.face_width * 1e3),
+        round6(load.youngs_modulus * 1e-9),
+        round6(load.poisson_ratio),
+        100.0 * st.driving_fraction.0,
+        mpa(d.hertz_least_stress_min_pa),
+        mpa(d.hertz_least_stress_max_pa),
+        mpa(d.hertz_peak_stress_pa),
+        st.window_rad,
+        hi / 2,
+        flank(hi),
+        st.gear1[hi].0 / st.gear1[lo].0,
+        lo / 2,
+        flank(lo),
+        st.gear1[hi].0,
+        st.gear1[lo].0,
+        d.sliding_distance_max_gear1_m.unwrap_or(f64::NAN) / d.sliding_distance_min_gear1_m.unwrap_or(f64::NAN),
+        d.hertz_least_stress_max_pa.unwrap_or(f64::NAN) / d.hertz_least_stress_min_pa.unwrap_or(f64::NAN),
+    )
+}
+
+/// `v` to 6 significant digits, printed without trailing zeros (a stated input echoed).
+fn round6(v: f64) -> f64 {
+    format!("{v:.6e}").parse().unwrap_or(v)
 }
 
 /// The `sliding_comparison` section: the eccentric pair, its circular cycloidal equivalent

@@ -7,6 +7,7 @@ use super::file::*;
 use super::solve::{Analyses, Solution};
 use crate::families::family::Scene;
 use crate::families::gear::model::{EccentricCircle, GearPair, Which, ZeroKind};
+use crate::families::gear::stress::{ArchStress, FlankStress, StressPoint};
 use crate::families::gear::synth::{self as sg, GearScene, Outcome, TeethOutcome};
 use crate::families::gear::teeth::Arch;
 use crate::geom::P2;
@@ -58,6 +59,16 @@ pub fn documents(scene: &Scene, p: &GearProblem, sol: &Solution, r: &mut SolveRe
             640,
             420,
             move || contact_plot(&d.0, &d.2),
+        ));
+    }
+    if shared.2.teeth.as_ref().is_some_and(|t| t.stress.is_some()) {
+        let d = shared.clone();
+        r.plots.push(Plot::of_panels(
+            "contact-stress",
+            "Hertz pressure p0 along the loaded flanks against α1 (working windows only), and the Archard load-weighted sliding per flank over a cycle",
+            640,
+            420,
+            move || stress_plot(&d.0, &d.2),
         ));
     }
     pitch_drawing(r, &shared.0.name, &shared.2);
@@ -683,7 +694,105 @@ fn teeth_tables(t: &TeethOutcome) -> Vec<Table> {
         caption: "Sliding distance ∫|v_t1 − v_t2| dt per tooth flank (arch) over one cycle".into(),
         csv,
     });
+    if let Some(st) = &t.stress {
+        out.push(stress_table(st));
+    }
     out
+}
+
+/// `<name>-contact-stress.csv`: per arch of both gears, the Archard load-weighted sliding
+/// over a cycle; for gear 1's arches also the loaded stretch and the extremes of p0.
+fn stress_table(st: &FlankStress) -> Table {
+    let mut csv = String::from("gear,arch,flank,loaded_from_rad,loaded_to_rad,peak_p0_pa,peak_alpha1_rad,least_p0_pa,least_alpha1_rad,p0_error_pa,archard_per_cycle_nm,archard_error_nm\n");
+    let opt = |v: Option<f64>| v.map_or(String::new(), num);
+    for (a, (w, we)) in st.arches.iter().zip(&st.gear1) {
+        let _ = writeln!(
+            csv,
+            "1,{},{},{},{},{},{},{},{},{},{},{}",
+            a.arch,
+            if a.arch.is_multiple_of(2) {
+                "addendum"
+            } else {
+                "dedendum"
+            },
+            num(a.loaded.0),
+            num(a.loaded.1),
+            opt(a.peak.map(|p| p.p0_pa)),
+            opt(a.peak.map(|p| p.alpha1)),
+            opt(a.least.map(|p| p.p0_pa)),
+            opt(a.least.map(|p| p.alpha1)),
+            opt(a
+                .peak
+                .map(|p| p.error_pa.max(a.least.map_or(0.0, |l| l.error_pa)))),
+            num(*w),
+            num(*we)
+        );
+    }
+    for (g, (w, we)) in st.gear2.iter().enumerate() {
+        let flank = if g.is_multiple_of(2) {
+            "dedendum"
+        } else {
+            "addendum"
+        };
+        let _ = writeln!(csv, "2,{g},{flank},,,,,,,,{},{}", num(*w), num(*we));
+    }
+    Table {
+        suffix: "contact-stress".into(),
+        caption: "Contact stress and Archard wear per tooth flank (arch): the loaded stretch of each arch of gear 1 (α1), the largest p0 (at a working window's end) and the least, and W = ∫F|v_s|dt over a cycle for both gears".into(),
+        csv,
+    }
+}
+
+/// p0 (MPa) along the loaded flanks against α1 (deg), gaps outside the working windows,
+/// with each window's largest and least marked; and W per arch of both gears over a cycle.
+fn stress_plot(scene: &Scene, out: &Outcome) -> Result<Vec<Panel>, PlotError> {
+    let Some(st) = out.teeth.as_ref().and_then(|t| t.stress.as_ref()) else {
+        return Err(PlotError::data("no contact-stress outputs"));
+    };
+    let mpa = 1e-6;
+    let mut line = Vec::new();
+    for a in &st.arches {
+        line.extend(a.samples.iter().map(|&(x, p)| (x.to_degrees(), p * mpa)));
+        line.push((f64::NAN, f64::NAN));
+    }
+    let mark = |f: &dyn Fn(&ArchStress) -> Option<StressPoint>| {
+        st.arches
+            .iter()
+            .filter_map(|a| f(a).map(|p| (p.alpha1.to_degrees(), p.p0_pa * mpa)))
+            .collect::<Vec<_>>()
+    };
+    let stress = Panel {
+        title: format!("{}: Hertz pressure along the driving flanks", scene.name),
+        x_label: "α1, angle of gear 1 (deg)".into(),
+        y_label: "p0 (MPa)".into(),
+        series: vec![
+            Series::line("p0 on the working windows", line),
+            Series::points("largest (window's end)", mark(&|a| a.peak)),
+            Series::points("least", mark(&|a| a.least)),
+        ],
+        equal_aspect: false,
+    };
+    let bars = |v: &[(f64, f64)]| {
+        v.iter()
+            .enumerate()
+            .map(|(i, w)| (i as f64, w.0))
+            .collect::<Vec<_>>()
+    };
+    let wear = Panel {
+        title: "Archard load-weighted sliding per flank over a cycle".into(),
+        x_label: "arch index (–)".into(),
+        y_label: "W = ∫F|v_s|dt (N·m)".into(),
+        series: vec![
+            Series::points("gear 1", bars(&st.gear1)),
+            Series::points("gear 2", bars(&st.gear2)),
+        ],
+        equal_aspect: false,
+    };
+    for p in [&stress, &wear] {
+        plot::has_unit(&p.x_label)?;
+        plot::has_unit(&p.y_label)?;
+    }
+    Ok(vec![stress, wear])
 }
 
 /// ρ_K1, ρ_K2 (mm) and V_K1, V_K2, v_t1, v_t2, v_s (m/s) against α1, over one turn and on

@@ -18,6 +18,7 @@
 use crate::families::gear::model::{
     Closure, GearError, GearPair, MuPeak, Pole, Singularities, ZeroKind,
 };
+use crate::families::gear::stress::{FlankStress, ToothLoad};
 use crate::families::gear::teeth::{
     BalancedShift, ContactKinematics, FlankWear, Involute, Profiles,
 };
@@ -118,6 +119,10 @@ pub struct TeethOptions {
     /// Pressure angle of the involute pair compared with (rad)
     /// (`model.involute_pressure_angle`).
     pub involute_pressure_angle: f64,
+    /// The stated driving torque and tooth material (`mechanism.load`): the Hertz contact
+    /// stress and Archard wear per flank; `None`: not computed.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub load: Option<ToothLoad>,
 }
 
 impl Default for TeethOptions {
@@ -125,6 +130,7 @@ impl Default for TeethOptions {
         Self {
             points_per_arch: 48,
             involute_pressure_angle: 20f64.to_radians(),
+            load: None,
         }
     }
 }
@@ -487,7 +493,7 @@ impl Objectives {
 }
 
 /// Other figures of a gear result (keys of `derived`, SI); `None` where they do not apply.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Default)]
 pub struct Derived {
     /// a (m): the closing centre distance for n1/n2.
     pub center_distance_m: f64,
@@ -587,6 +593,50 @@ pub struct Derived {
     /// Contact ratio of the balanced profile-shifted involute pair.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub involute_balanced_shift_contact_ratio: Option<f64>,
+    /// With `mechanism.load`: the fraction of a turn of gear 1 over which the one contact
+    /// can carry the driving torque (the rest of the time it is on the back flanks).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub driving_contact_fraction: Option<f64>,
+    /// Its error bound.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub driving_contact_fraction_error: Option<f64>,
+    /// With `mechanism.load`: the largest Hertz pressure p0 on the working windows of the
+    /// loaded flanks (Pa), at a window's end.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub hertz_peak_stress_pa: Option<f64>,
+    /// Its error bound (Pa).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub hertz_peak_stress_error_pa: Option<f64>,
+    /// α1 of the largest p0 (rad).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub hertz_peak_alpha1_rad: Option<f64>,
+    /// Gear 1's arch of the largest p0.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub hertz_peak_arch: Option<f64>,
+    /// The largest over gear 1's arches of each loaded flank's least p0 (Pa): the stress
+    /// the most loaded flank cannot avoid anywhere on its working window.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub hertz_least_stress_max_pa: Option<f64>,
+    /// The smallest such least p0 (Pa).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub hertz_least_stress_min_pa: Option<f64>,
+    /// Error bound of both (Pa).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub hertz_least_stress_error_pa: Option<f64>,
+    /// Largest and smallest Archard load-weighted sliding W = ∫F|v_s|dt of one arch of
+    /// gear 1 over a cycle, on the working windows (N·m).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub archard_max_gear1_nm: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub archard_min_gear1_nm: Option<f64>,
+    /// The same for gear 2's arches (N·m).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub archard_max_gear2_nm: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub archard_min_gear2_nm: Option<f64>,
+    /// The largest per-arch error bound of W (N·m).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub archard_error_nm: Option<f64>,
     /// |µ| of the circular cycloidal equivalent (e = 0), largest of its constant values.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub circular_cycloidal_sliding_coefficient: Option<f64>,
@@ -666,6 +716,8 @@ pub struct TeethOutcome {
     pub circular: [(f64, f64); 2],
     /// Arches of gear 1 with a certified pole of µ1 and µ2 (for every r).
     pub certified_pole_arches: Vec<usize>,
+    /// Hertz stress and Archard wear per flank under `mechanism.load` (absent without it).
+    pub stress: Option<FlankStress>,
 }
 
 /// Full-cycle analysis of one design.

@@ -10,6 +10,7 @@ use super::{
 use crate::families::gear::model::{
     closure_integral, periodic_integral, Alpha2Map, GearPair, Which, Zero, ZeroKind,
 };
+use crate::families::gear::stress::{flank_stress, FlankStress};
 use crate::families::gear::teeth::{
     balanced_shift, certified_pole_arches, circular_cycloidal_mu, contact_kinematics, flank_wear,
     involute, involute_shifted, profiles,
@@ -67,7 +68,8 @@ pub fn report(
     let pitch_curves = pitch_curves(pair, &a2map, ctx.ratio, settings.curve_points);
     let teeth = scene
         .tooth_outputs
-        .map(|t| teeth(&ctx, &a2map, &t, ns, &mut derived));
+        .map(|t| teeth(&ctx, &a2map, &t, ns, &mut derived))
+        .transpose()?;
     let poles = an.sing.poles.clone();
     let zeros = an
         .sing
@@ -239,25 +241,7 @@ fn derived(ctx: &Ctx, a2map: &Alpha2Map, perim2_error: f64) -> Derived {
         min_mu1_mu2_pole_separation_rad: min_sep.is_finite().then_some(min_sep),
         ratio_at_stated_center_distance: None,
         max_obliquity_at_pitch_point_contact_rad: ctx.psi_at_zeros,
-        tooth_profile_closure_gap_m: None,
-        sliding_distance_max_gear1_m: None,
-        sliding_distance_min_gear1_m: None,
-        sliding_distance_max_gear2_m: None,
-        sliding_distance_min_gear2_m: None,
-        sliding_distance_error_m: None,
-        involute_peak_sliding_coefficient: None,
-        involute_contact_ratio: None,
-        involute_routine_shift_peak_sliding_coefficient: None,
-        involute_balanced_shift_x1: None,
-        involute_balanced_shift_peak_sliding_coefficient: None,
-        involute_balanced_shift_contact_ratio: None,
-        circular_cycloidal_sliding_coefficient: None,
-        arches_with_certified_pole: None,
-        min_abs_cos_beta_sampled: None,
-        pole_band_from_cusp_rad: None,
-        eccentricity_error_m: None,
-        sweep_best_feasible_eccentricity_m: None,
-        sweep_feasible_points: None,
+        ..Derived::default()
     }
 }
 
@@ -539,20 +523,10 @@ fn teeth(
     t: &TeethOptions,
     ns: usize,
     derived: &mut Derived,
-) -> TeethOutcome {
+) -> Result<TeethOutcome, SolveError> {
     let (an, pair, n1, n2) = (ctx.an, ctx.pair, ctx.n1, ctx.n2);
-    let out = teeth_outcome(pair, a2map, n1, n2, t, ns);
-    let wear_ext = |v: &[(f64, f64)], max: bool| {
-        v.iter()
-            .map(|x| x.0)
-            .fold(if max { 0.0 } else { f64::INFINITY }, |a, b| {
-                if max {
-                    a.max(b)
-                } else {
-                    a.min(b)
-                }
-            })
-    };
+    let out = teeth_outcome(pair, a2map, n1, n2, t, ns, ctx.scene.pole_window)?;
+    let wear_ext = |v: &[(f64, f64)], max: bool| extreme(v.iter().map(|x| x.0), max);
     derived.tooth_profile_closure_gap_m = Some(out.profiles.gear2_closure_gap_m);
     derived.sliding_distance_max_gear1_m = Some(wear_ext(&out.wear.gear1, true));
     derived.sliding_distance_min_gear1_m = Some(wear_ext(&out.wear.gear1, false));
@@ -591,7 +565,48 @@ fn teeth(
     derived.min_abs_cos_beta_sampled = Some(out.contact.iter().fold(f64::INFINITY, |a, c| {
         a.min(c.cos_beta1.abs()).min(c.cos_beta2.abs())
     }));
-    out
+    if let Some(st) = &out.stress {
+        stress_figures(st, derived);
+    }
+    Ok(out)
+}
+
+/// The largest (`max`) or smallest value of `v` (0 or ∞ when empty).
+fn extreme(v: impl Iterator<Item = f64>, max: bool) -> f64 {
+    if max {
+        v.fold(0.0, f64::max)
+    } else {
+        v.fold(f64::INFINITY, f64::min)
+    }
+}
+
+/// The derived figures of the contact stress and the Archard wear.
+fn stress_figures(st: &FlankStress, derived: &mut Derived) {
+    derived.driving_contact_fraction = Some(st.driving_fraction.0);
+    derived.driving_contact_fraction_error = Some(st.driving_fraction.1);
+    let peak = st
+        .arches
+        .iter()
+        .filter_map(|a| a.peak.map(|p| (a.arch, p)))
+        .max_by(|x, y| x.1.p0_pa.total_cmp(&y.1.p0_pa));
+    if let Some((arch, p)) = peak {
+        derived.hertz_peak_stress_pa = Some(p.p0_pa);
+        derived.hertz_peak_stress_error_pa = Some(p.error_pa);
+        derived.hertz_peak_alpha1_rad = Some(p.alpha1);
+        derived.hertz_peak_arch = Some(arch as f64);
+    }
+    let least = || st.arches.iter().filter_map(|a| a.least);
+    if least().next().is_some() {
+        derived.hertz_least_stress_max_pa = Some(extreme(least().map(|l| l.p0_pa), true));
+        derived.hertz_least_stress_min_pa = Some(extreme(least().map(|l| l.p0_pa), false));
+        derived.hertz_least_stress_error_pa = Some(extreme(least().map(|l| l.error_pa), true));
+    }
+    let vals = |v: &[(f64, f64)], max| extreme(v.iter().map(|x| x.0), max);
+    derived.archard_max_gear1_nm = Some(vals(&st.gear1, true));
+    derived.archard_min_gear1_nm = Some(vals(&st.gear1, false));
+    derived.archard_max_gear2_nm = Some(vals(&st.gear2, true));
+    derived.archard_min_gear2_nm = Some(vals(&st.gear2, false));
+    derived.archard_error_nm = Some(extreme(st.gear1.iter().chain(&st.gear2).map(|x| x.1), true));
 }
 
 /// The tooth-level outputs of one analysed pair: outlines (`t.points_per_arch` per arch),
@@ -610,10 +625,15 @@ pub fn teeth_outcome(
     n2: u32,
     t: &TeethOptions,
     ns: usize,
-) -> TeethOutcome {
+    window: f64,
+) -> Result<TeethOutcome, SolveError> {
     let ratio = n1 as f64 / n2 as f64;
     let z1 = (pair.n_arches / 2) as f64;
-    TeethOutcome {
+    let stress = t
+        .load
+        .map(|load| flank_stress(pair, n1, n2, &load, window))
+        .transpose()?;
+    Ok(TeethOutcome {
         profiles: profiles(pair, a2map, n1, n2, t.points_per_arch),
         contact: (0..ns)
             .map(|k| contact_kinematics(pair, TAU * k as f64 / ns as f64))
@@ -643,7 +663,8 @@ pub fn teeth_outcome(
         ),
         circular: circular_cycloidal_mu(pair.c.r_pitch, pair.r_gen, ratio),
         certified_pole_arches: certified_pole_arches(pair),
-    }
+        stress,
+    })
 }
 
 /// Both pitch curves in the fixed frame at α1 = 0: gear 1's points ρ1(α)(cos α, sin α);
