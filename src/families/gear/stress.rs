@@ -220,7 +220,11 @@ fn loaded_stretches(pair: &GearPair, arch: usize) -> Result<(Vec<(f64, f64)>, f6
     let mut err: f64 = 0.0;
     for w in xs.windows(2) {
         let (fa, fb) = (f(w[0]), f(w[1]));
-        if fa.signum() != fb.signum() && fa != 0.0 && fb != 0.0 {
+        if fa == 0.0 && w[0] > a0 {
+            // A sample on the root itself.
+            cuts.push(w[0]);
+            err = err.max(pair.eval_shift(w[0]));
+        } else if fa * fb < 0.0 {
             let r = brent_root(f, w[0], w[1], 1e-15)?;
             cuts.push(r.x);
             err = err.max(1e-15 + pair.eval_shift(r.x));
