@@ -218,9 +218,15 @@ pub fn effects(
             None => format!("a = {:.9} m closes gear 2 to δa = {da:.2e} m; the re-analysis at a + 1e-7·a failed: no bound on its effect", an.pair.a),
         },
     ));
+    let loaded = sc.tooth_outputs.is_some_and(|t| t.load.is_some());
     out.push((
         "tooth deflection, backlash, load".into(),
-        "left out, no bound: µ is kinematic (rigid teeth, exact cycloidal profiles, no backlash); the scene gives no load, stiffness or tolerance data, so their effect on µ cannot be computed from it".into(),
+        if loaded {
+            "left out, no bound: µ is kinematic (rigid teeth, exact cycloidal profiles, no backlash); the stated load (`mechanism.load`) enters the Hertz stress and the Archard wear, not µ; the scene gives no stiffness or tolerance data, so the teeth's deflection under that load cannot be computed from it"
+        } else {
+            "left out, no bound: µ is kinematic (rigid teeth, exact cycloidal profiles, no backlash); the scene gives no load, stiffness or tolerance data, so their effect on µ cannot be computed from it"
+        }
+        .into(),
     ));
     out
 }
