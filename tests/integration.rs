@@ -24,6 +24,7 @@ mod crane_acceptance;
 mod crane_balance;
 mod crane_drive;
 mod crane_io;
+mod crane_stability;
 mod drawings;
 mod drive;
 mod drive_families;

@@ -5,6 +5,7 @@
 //! the Δh landscape over (k1, k2) as SVG and CSV.
 
 use crate::families::crane::balance::{BalanceScene, CounterweightSpec};
+use crate::families::crane::stability::StabilitySpec;
 use crate::families::crane::statics::{HoistRope, SelfWeight};
 use crate::families::crane::synth::{self as cr, Settings, SizingRule, TiePinLimit};
 use crate::problem::limits::{self, c, Count};
@@ -65,6 +66,29 @@ pub struct MechanismRaw {
     /// The luffing drive at a given luffing speed: with `self_weight`, the drive power
     /// over the luffing stroke beside the work (`[mechanism.drive]`).
     pub drive: Option<CraneDriveRaw>,
+    /// The crane's stability against tipping (`[mechanism.stability]`, needs `self_weight`):
+    /// the slewing part, the base and the tipping lines.
+    pub stability: Option<StabilityRaw>,
+}
+
+/// `[mechanism.stability]`: the weights that are not the boom system's and the tipping lines
+/// (the boom's plane perpendicular to them), against a required stability factor.
+#[derive(Debug, Deserialize, schemars::JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct StabilityRaw {
+    /// M_s, the slewing part's mass without boom, jib, tie, load and boom counterweight (the
+    /// A-frame, machinery house, its ballast), e.g. `"160 t"`.
+    pub slewing_mass: Qty<Mass>,
+    /// x_s, the slewing part's centroid behind the slewing axis (negative: in front, on the
+    /// boom's side), e.g. `"1.5 m"`.
+    pub slewing_centroid: Qty<Length>,
+    /// The non-slewing base (portal) with its centroid on the slewing axis (default 0 kg).
+    pub base_mass: Option<Qty<Mass>>,
+    /// b, the distance of each tipping line (forward and backward) from the slewing axis,
+    /// e.g. half the portal's gauge `"5.25 m"`.
+    pub tipping_distance: Qty<Length>,
+    /// K_min, the required stability factor (stabilising over overturning moment), ≥ 1.
+    pub min_factor: f64,
 }
 
 /// `[mechanism.drive]` of the crane: the luffing speed. Luffing is a stroke, not a cycle, so
@@ -209,6 +233,8 @@ pub struct CraneProblem {
     pub settings: Settings,
     /// t_l, the luffing time from φ_min to φ_max (s), `mechanism.drive.luffing_time`.
     pub luffing_time: Option<f64>,
+    /// The stability data, `mechanism.stability`.
+    pub stability: Option<StabilitySpec>,
 }
 
 /// Reads and resolves a luffing-crane problem file (its text or its table).
@@ -295,7 +321,67 @@ pub fn resolve_raw(raw: &File) -> Result<CraneProblem, FieldError> {
         scene,
         settings,
         luffing_time: luffing_time(raw)?,
+        stability: stability(raw)?,
     })
+}
+
+/// `mechanism.stability` checked: positive masses and distances, the slewing part's centroid
+/// between the tipping lines (else it tips the crane alone), K_min ≥ 1, with the masses.
+fn stability(raw: &File) -> Result<Option<StabilitySpec>, FieldError> {
+    let Some(s) = &raw.mechanism.stability else {
+        return Ok(None);
+    };
+    let key = |k: &str| format!("mechanism.stability.{k}");
+    if raw.mechanism.self_weight.is_none() {
+        return Err(FieldError::new(
+            "mechanism.stability",
+            "needs the boom system's masses; allowed: add [mechanism.self_weight] with boom_mass, jib_mass and tie_mass",
+        ));
+    }
+    let b = s.tipping_distance.si();
+    if !(b.is_finite() && b > 0.0) {
+        return Err(FieldError::new(
+            &key("tipping_distance"),
+            format!("must be a finite length > 0, got {b} m"),
+        ));
+    }
+    let m = s.slewing_mass.si();
+    if !(m.is_finite() && m > 0.0) {
+        return Err(FieldError::new(
+            &key("slewing_mass"),
+            format!("must be a finite mass > 0, got {m} kg"),
+        ));
+    }
+    let x = s.slewing_centroid.si();
+    if !(x.is_finite() && x.abs() < b) {
+        return Err(FieldError::new(
+            &key("slewing_centroid"),
+            format!(
+                "must lie between the tipping lines, |x_s| < tipping_distance = {b} m, got {x} m"
+            ),
+        ));
+    }
+    let base = s.base_mass.map_or(0.0, |q| q.si());
+    if !(base.is_finite() && base >= 0.0) {
+        return Err(FieldError::new(
+            &key("base_mass"),
+            format!("must be a finite mass >= 0, got {base} kg"),
+        ));
+    }
+    let k = s.min_factor;
+    if !(k.is_finite() && (1.0..=100.0).contains(&k)) {
+        return Err(FieldError::new(
+            &key("min_factor"),
+            format!("must be a number in [1, 100] (stabilising over overturning moment), got {k}"),
+        ));
+    }
+    Ok(Some(StabilitySpec {
+        slewing_mass: m,
+        slewing_centroid: x,
+        base_mass: base,
+        tipping_distance: b,
+        min_factor: k,
+    }))
 }
 
 /// `mechanism.drive.luffing_time` t_l checked: a finite time > 0, with the masses whose drive

@@ -10,6 +10,7 @@ pub mod motion;
 pub mod numbers;
 pub mod report;
 pub mod solve;
+pub mod stability;
 pub mod statics;
 pub mod study;
 pub mod synth;

@@ -8,6 +8,7 @@
 use super::file::*;
 use super::luffing::LuffingDrive;
 use super::solve::{Solution, Statics};
+use super::stability::Stability;
 use crate::families::crane::synth::{
     self as cr, Derived, Design, Objectives, Outcome, TiePinLimit,
 };
@@ -191,6 +192,39 @@ fn statics_numbers(
         serde_json::to_value(bal).expect("plain data"),
     );
     luffing_numbers(r, st.luffing.as_ref());
+    stability_numbers(r, st.stability.as_ref());
+}
+
+/// The stability against tipping (`extra.stability`), its smallest factor in `derived`, and a
+/// warning, in plain words, when the required factor is not met. An analysis of the given
+/// design: the status is left as it is.
+fn stability_numbers(r: &mut SolveResult, st: Option<&Result<Stability, String>>) {
+    let s = match st {
+        None => return,
+        Some(Err(e)) => {
+            r.warnings
+                .push(format!("the stability could not be computed: {e}"));
+            return;
+        }
+        Some(Ok(s)) => s,
+    };
+    if let Some(k) = s.min_factor {
+        r.derived.insert("stability_factor_min".into(), k);
+        let e = s
+            .cases
+            .iter()
+            .filter(|l| l.factor == Some(k))
+            .map(|l| l.factor_error)
+            .fold(0.0, f64::max);
+        r.derived.insert("stability_factor_min_error".into(), e);
+    }
+    if !s.pass {
+        r.warnings.push(s.verdict.clone());
+    }
+    r.extra.insert(
+        "stability".into(),
+        serde_json::to_value(s).expect("plain data"),
+    );
 }
 
 /// The luffing drive (`extra.luffing_drive`), and with a luffing time the peak power that
