@@ -4,8 +4,8 @@
 //! written out here on 4001 boom angles; the verdict when the required factor is not met; the
 //! file's errors naming file, line and field.
 
-use crate::common::{self, assert_names, set_key, tukan_linkage, with};
-use cwsynth::families::crane::balance::{self, BalanceScene, CounterweightSpec};
+use crate::common::{self, assert_names, set_key, tukan_linkage, tukan_scene, with};
+use cwsynth::families::crane::balance;
 use cwsynth::families::crane::model::Guide;
 use cwsynth::families::crane::stability::{self, StabilitySpec};
 use cwsynth::families::crane::statics::SelfWeight;
@@ -26,23 +26,6 @@ const SPEC: StabilitySpec = StabilitySpec {
 /// r, the slewing axis from the boom foot (Tukan).
 const R: f64 = 2.5;
 
-/// The Tukan scene with masses `w` and the 40 t load, with the shipped counterweight's limits
-/// when `cw`.
-fn scene(w: SelfWeight, cw: bool) -> BalanceScene {
-    BalanceScene {
-        self_weight: w,
-        jib_centroid: Some(w.jib_centroid),
-        counterweight: cw.then_some(CounterweightSpec {
-            max_mass: 80e3,
-            lever: 6.0,
-            directions: Some((150f64.to_radians(), 210f64.to_radians())),
-        }),
-        load_mass: Some(40e3),
-        rope: None,
-        masses: true,
-    }
-}
-
 /// A weightless boom system: only the slewing part, the portal and the 40 t load at the jib
 /// head. Nothing but the load is in front of the forward line, so its smallest factor is at
 /// the largest reach R_max = 30 m: K = (M_s (b + x_s) + M_base b)/(Q (R_max − b)); empty,
@@ -54,7 +37,7 @@ fn a_weightless_boom_tips_as_the_closed_form_says() {
         jib_centroid: 0.3,
         ..SelfWeight::NONE
     };
-    let sc = scene(w, false);
+    let sc = tukan_scene(w, false);
     let bal = balance::solve(&link, &sc, R, &Settings::default(), 16).unwrap();
     let st = stability::stability(&link, &sc, &SPEC, R, &bal).unwrap();
     let b = SPEC.tipping_distance;
@@ -101,14 +84,8 @@ fn a_weightless_boom_tips_as_the_closed_form_says() {
 #[test]
 fn the_stability_factor_is_the_moment_sum_written_out() {
     let link = tukan_linkage();
-    let w = SelfWeight {
-        boom_mass: 22e3,
-        boom_centroid: 0.45,
-        jib_mass: 9e3,
-        jib_centroid: 0.29,
-        tie_mass: 3.5e3,
-    };
-    let sc = scene(w, true);
+    let w = common::TUKAN_MASSES;
+    let sc = tukan_scene(w, true);
     let bal = balance::solve(&link, &sc, R, &Settings::default(), 16).unwrap();
     let cw = bal.counterweight.as_ref().unwrap();
     let (m, u) = (cw.mass_kg, cw.static_moment_kgm);

@@ -21,6 +21,7 @@ mod certified;
 mod cli;
 mod crane;
 mod crane_acceptance;
+mod crane_actuator;
 mod crane_balance;
 mod crane_drive;
 mod crane_io;

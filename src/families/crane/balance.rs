@@ -205,6 +205,12 @@ pub enum BalanceError {
         /// The boom angle.
         phi: f64,
     },
+    /// A luffing actuator passes its dead centre (its lever arm about A vanishes) in the range.
+    #[error("the luffing actuator passes its dead centre (no lever arm about the boom foot) at phi = {phi} rad: move its attachment points")]
+    DeadCentre {
+        /// The boom angle.
+        phi: f64,
+    },
     /// The engine refused the problem.
     #[error("counterweight solve: {0}")]
     Engine(#[from] mm::MinimaxError),

@@ -4,6 +4,7 @@
 //! `docs/results.md`): design, Δh and its error, the thesis's checks, the jib-head path and
 //! the Δh landscape over (k1, k2) as SVG and CSV.
 
+use crate::families::crane::actuator::{ActuatorKind, ActuatorSpec};
 use crate::families::crane::balance::{BalanceScene, CounterweightSpec};
 use crate::families::crane::stability::StabilitySpec;
 use crate::families::crane::statics::{HoistRope, SelfWeight};
@@ -69,6 +70,37 @@ pub struct MechanismRaw {
     /// The crane's stability against tipping (`[mechanism.stability]`, needs `self_weight`):
     /// the slewing part, the base and the tipping lines.
     pub stability: Option<StabilityRaw>,
+    /// The real luffing drive (`[[mechanism.luffing_actuator]]`, needs `self_weight`): each a
+    /// hydraulic cylinder or a rope tackle between the A-frame and the boom (thesis §1.1).
+    pub luffing_actuator: Option<Vec<ActuatorRaw>>,
+}
+
+/// What a luffing actuator is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, schemars::JsonSchema)]
+#[serde(rename_all = "kebab-case")]
+pub enum ActuatorKindRaw {
+    /// A hydraulic cylinder (pushes; pulls when double-acting).
+    Cylinder,
+    /// A rope tackle from a sheave on the A-frame to the boom (pulls only).
+    Rope,
+}
+
+/// `[[mechanism.luffing_actuator]]`: a cylinder or rope between a point on the A-frame and a
+/// point on the boom.
+#[derive(Debug, Deserialize, schemars::JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct ActuatorRaw {
+    /// `"cylinder"` or `"rope"`.
+    pub kind: ActuatorKindRaw,
+    /// P = [x, y], its point on the A-frame (the cylinder's base pin, the rope's sheave) in
+    /// the frame of A (x behind the foot, y up), e.g. `["-1 m", "-3 m"]`.
+    pub frame_point: Pair<Qty<Length>>,
+    /// Q = [s, n], its point on the boom: s along the boom from A towards D, n across it
+    /// (positive on the boom's underside, the boom's direction turned a quarter turn
+    /// anticlockwise), e.g. `["8 m", "0.5 m"]`.
+    pub boom_point: Pair<Qty<Length>>,
+    /// For a rope: the tackle's parts n between sheave and boom (default 1, 1 to 64).
+    pub parts: Option<u32>,
 }
 
 /// `[mechanism.stability]`: the weights that are not the boom system's and the tipping lines
@@ -235,6 +267,8 @@ pub struct CraneProblem {
     pub luffing_time: Option<f64>,
     /// The stability data, `mechanism.stability`.
     pub stability: Option<StabilitySpec>,
+    /// The luffing actuators, `mechanism.luffing_actuator` (empty: none).
+    pub actuators: Vec<ActuatorSpec>,
 }
 
 /// Reads and resolves a luffing-crane problem file (its text or its table).
@@ -322,7 +356,67 @@ pub fn resolve_raw(raw: &File) -> Result<CraneProblem, FieldError> {
         settings,
         luffing_time: luffing_time(raw)?,
         stability: stability(raw)?,
+        actuators: actuators(raw)?,
     })
+}
+
+/// `mechanism.luffing_actuator` checked: finite points, P not on the boom's line through A
+/// at Q's radius (a zero length), `parts` only for a rope, with the masses.
+fn actuators(raw: &File) -> Result<Vec<ActuatorSpec>, FieldError> {
+    let Some(list) = &raw.mechanism.luffing_actuator else {
+        return Ok(Vec::new());
+    };
+    if raw.mechanism.self_weight.is_none() {
+        return Err(FieldError::new(
+            "mechanism.luffing_actuator[0].kind",
+            "needs the boom system's masses whose torque it carries; allowed: add [mechanism.self_weight] with boom_mass, jib_mass and tie_mass",
+        ));
+    }
+    list.iter()
+        .enumerate()
+        .map(|(i, a)| {
+            let key = |k: &str| format!("mechanism.luffing_actuator[{i}].{k}");
+            let [px, py] = a.frame_point.0.map(|q| q.si());
+            let [s, n] = a.boom_point.0.map(|q| q.si());
+            if !(px.is_finite() && py.is_finite()) {
+                return Err(FieldError::new(
+                    key("frame_point"),
+                    "must be two finite lengths [x, y]",
+                ));
+            }
+            if !(s.is_finite() && n.is_finite() && s.hypot(n) > 0.0) {
+                return Err(FieldError::new(
+                    key("boom_point"),
+                    "must be two finite lengths [s, n], not the boom foot itself",
+                ));
+            }
+            let kind = match a.kind {
+                ActuatorKindRaw::Cylinder => ActuatorKind::Cylinder,
+                ActuatorKindRaw::Rope => ActuatorKind::Rope,
+            };
+            let parts = match (kind, a.parts) {
+                (ActuatorKind::Cylinder, Some(_)) => {
+                    return Err(FieldError::new(
+                        key("parts"),
+                        "only for a rope tackle; allowed: remove it, or kind = \"rope\"",
+                    ))
+                }
+                (_, Some(p)) if !(1..=64).contains(&p) => {
+                    return Err(FieldError::new(
+                        key("parts"),
+                        format!("must be 1 to 64 parts, got {p}"),
+                    ))
+                }
+                (_, p) => p.unwrap_or(1) as f64,
+            };
+            Ok(ActuatorSpec {
+                kind,
+                frame_point: crate::geom::P2::new(px, py),
+                boom_point: [s, n],
+                parts,
+            })
+        })
+        .collect()
 }
 
 /// `mechanism.stability` checked: positive masses and distances, the slewing part's centroid

@@ -2,6 +2,7 @@
 //! (`synth`), its result and plots (`report`) and its study
 //! ladder and left-out effects (`study`), behind the `Family` and `Machine` traits.
 
+pub mod actuator;
 pub mod balance;
 pub mod file;
 pub mod luffing;

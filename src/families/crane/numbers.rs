@@ -5,6 +5,7 @@
 //! time for every result, `--summary-only` included, and `report.rs` draws from the same
 //! solution.
 
+use super::actuator::{ActuatorKind, LuffingActuators};
 use super::file::*;
 use super::luffing::LuffingDrive;
 use super::solve::{Solution, Statics};
@@ -193,6 +194,48 @@ fn statics_numbers(
     );
     luffing_numbers(r, st.luffing.as_ref());
     stability_numbers(r, st.stability.as_ref());
+    actuator_numbers(r, st.actuators.as_ref());
+}
+
+/// The luffing actuators (`extra.luffing_actuators`), each one's largest force in `derived`
+/// (`luffing_actuator_<i>_force_max_n`), and a warning for a rope that goes slack. Analyses of
+/// the given design: the status is left as it is.
+fn actuator_numbers(r: &mut SolveResult, a: Option<&Result<LuffingActuators, String>>) {
+    let a = match a {
+        None => return,
+        Some(Err(e)) => {
+            r.warnings
+                .push(format!("the luffing actuators could not be computed: {e}"));
+            return;
+        }
+        Some(Ok(a)) => a,
+    };
+    for (i, act) in a.actuators.iter().enumerate() {
+        let (f, e) = act
+            .cases
+            .iter()
+            .map(|c| (c.force_max_n, c.force_error_n))
+            .fold(
+                (f64::NEG_INFINITY, 0.0),
+                |a, b| if b.0 > a.0 { b } else { a },
+            );
+        r.derived
+            .insert(format!("luffing_actuator_{i}_force_max_n"), f);
+        r.derived
+            .insert(format!("luffing_actuator_{i}_force_max_error_n"), e);
+        r.derived
+            .insert(format!("luffing_actuator_{i}_stroke_m"), act.stroke_m);
+        let slack =
+            act.spec.kind == ActuatorKind::Rope && act.cases.iter().any(|c| c.force_min_n < 0.0);
+        if slack {
+            r.warnings
+                .push(format!("luffing actuator {i}: {}", act.verdict));
+        }
+    }
+    r.extra.insert(
+        "luffing_actuators".into(),
+        serde_json::to_value(a).expect("plain data"),
+    );
 }
 
 /// The stability against tipping (`extra.stability`), its smallest factor in `derived`, and a

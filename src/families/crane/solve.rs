@@ -6,6 +6,7 @@
 //! The Δh landscape, a diagnostic grid only the result's files carry, is
 //! [`analyse`]'s.
 
+use super::actuator;
 use super::balance;
 use super::file::CraneProblem;
 use super::luffing;
@@ -48,6 +49,9 @@ pub struct Statics {
     /// With the balance and `mechanism.stability`: the stability against tipping, or why it
     /// could not be computed.
     pub stability: Option<Result<stability::Stability, String>>,
+    /// With the balance and `mechanism.luffing_actuator`: the actuators' forces, strokes and
+    /// powers, or why they could not be computed.
+    pub actuators: Option<Result<actuator::LuffingActuators, String>>,
 }
 
 impl Solution {
@@ -246,11 +250,19 @@ fn statics(p: &CraneProblem, out: &cr::Outcome) -> Option<Result<Statics, String
         ),
         _ => None,
     };
+    let actuators = match &masses {
+        Some(Ok(bal)) if !p.actuators.is_empty() => Some(
+            actuator::actuators(&link, bs, bal, &p.actuators, p.luffing_time)
+                .map_err(|e| e.to_string()),
+        ),
+        _ => None,
+    };
     Some(Ok(Statics {
         rope,
         masses,
         luffing,
         stability,
+        actuators,
     }))
 }
 
