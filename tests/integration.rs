@@ -23,6 +23,7 @@ mod crane;
 mod crane_acceptance;
 mod crane_actuator;
 mod crane_balance;
+mod crane_counterweight_types;
 mod crane_drive;
 mod crane_io;
 mod crane_stability;

@@ -326,6 +326,7 @@ pub fn tukan_scene(
             max_mass: 80e3,
             lever: 6.0,
             directions: Some((150f64.to_radians(), 210f64.to_radians())),
+            kind: cwsynth::families::crane::balance::CounterweightKind::Boom,
         }),
         load_mass: Some(40e3),
         rope: None,

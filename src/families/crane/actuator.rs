@@ -24,7 +24,6 @@
 
 use super::balance::{Balance, BalanceError, BalanceScene, Cases};
 use super::model::Linkage;
-use super::statics::boom_frame;
 use crate::geom::{cross, P2};
 use crate::numeric::interval_peak;
 
@@ -56,8 +55,7 @@ pub struct ActuatorSpec {
 impl ActuatorSpec {
     /// Q(φ) = s e_b + n e_n.
     pub fn boom_point_at(&self, phi: f64) -> P2 {
-        let (e_b, e_n) = boom_frame(phi);
-        e_b * self.boom_point[0] + e_n * self.boom_point[1]
+        super::lever::boom_point_at(self.boom_point, phi)
     }
 
     /// ℓ(φ) = |Q(φ) − P|.
@@ -89,6 +87,8 @@ impl ActuatorSpec {
 /// The force of one actuator in one load case.
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct ActuatorCase {
+    /// The actuator's index in the file's order (from 0).
+    pub actuator: usize,
     /// `empty` or `loaded`.
     pub case: String,
     /// The largest force in the working sense over the range (N).
@@ -134,8 +134,10 @@ pub struct Actuator {
     pub lever_arm_max_m: f64,
     /// With a luffing time: v = stroke/t_l (m/s).
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub speed_m_s: Option<f64>,
-    /// Per load case, with the designed counterweight (without one when none is designed).
+    pub speed_m_per_s: Option<f64>,
+    /// Per load case, with the designed counterweight (without one when none is designed);
+    /// in the JSON, the section's `cases`.
+    #[serde(skip)]
     pub cases: Vec<ActuatorCase>,
     /// The finding in plain words.
     pub verdict: String,
@@ -153,6 +155,8 @@ pub struct LuffingActuators {
     pub luffing_time_s: Option<f64>,
     /// One per `[[mechanism.luffing_actuator]]`.
     pub actuators: Vec<Actuator>,
+    /// Every actuator's rows, per load case.
+    pub cases: Vec<ActuatorCase>,
 }
 
 /// Samples of the range for the peaks (refined by Brent to [`XTOL`]).
@@ -175,21 +179,25 @@ pub fn actuators(
         .counterweight
         .as_ref()
         .map_or((0.0, [0.0; 2]), |cw| (cw.mass_kg, cw.static_moment_kgm));
-    let actuators = specs
+    let actuators: Vec<Actuator> = specs
         .iter()
-        .map(|s| actuator(&c, s, m, u, luffing_time))
+        .enumerate()
+        .map(|(i, s)| actuator(&c, i, s, m, u, luffing_time))
         .collect::<Result<_, _>>()?;
+    let cases = actuators.iter().flat_map(|a| a.cases.clone()).collect();
     Ok(LuffingActuators {
         method: "U = T/ℓ′ (virtual work), ℓ′ = −(Q × e) in closed form, T from the statics with the designed counterweight; the extremes of U and of |ℓ′| from 64 samples refined by Brent to 1e-9 rad".into(),
         with_counterweight: m > 0.0,
         luffing_time_s: luffing_time,
         actuators,
+        cases,
     })
 }
 
 /// One actuator: its lengths, lever arms and, per case, its force extremes.
 fn actuator(
     c: &Cases,
+    index: usize,
     s: &ActuatorSpec,
     m: f64,
     u: [f64; 2],
@@ -227,6 +235,7 @@ fn actuator(
             + stated(fmax.peak.x, fmax.peak.fx)?.max(stated(fmin.peak.x, fmin.peak.fx)?);
         let peak = fmax.peak.fx.abs().max(fmin.peak.fx.abs());
         cases.push(ActuatorCase {
+            actuator: index,
             case: name.into(),
             force_max_n: fmax.peak.fx,
             phi_at_force_max_rad: fmax.peak.x,
@@ -247,7 +256,7 @@ fn actuator(
         lever_arm_min_m: arm_min,
         phi_at_lever_arm_min_rad: lo.peak.x,
         lever_arm_max_m: hi.peak.fx,
-        speed_m_s: speed,
+        speed_m_per_s: speed,
         cases,
     })
 }

@@ -5,7 +5,9 @@
 //! the Δh landscape over (k1, k2) as SVG and CSV.
 
 use crate::families::crane::actuator::{ActuatorKind, ActuatorSpec};
-use crate::families::crane::balance::{BalanceScene, CounterweightSpec};
+use crate::families::crane::balance::{
+    BalanceScene, CounterweightKind, CounterweightSpec, LeverSpec,
+};
 use crate::families::crane::stability::StabilitySpec;
 use crate::families::crane::statics::{HoistRope, SelfWeight};
 use crate::families::crane::synth::{self as cr, Settings, SizingRule, TiePinLimit};
@@ -173,8 +175,38 @@ pub struct CounterweightRaw {
     pub lever: Qty<Length>,
     /// Allowed directions of its centroid from A in the boom frame, `[from, to]` at most
     /// 180° apart (0° along the boom towards its head, 90° the boom turned a quarter turn
-    /// anticlockwise, 180° the boom's extension behind A). Default: any direction.
+    /// anticlockwise, 180° the boom's extension behind A). Default: any direction. For a
+    /// lever counterweight: from the lever's pivot in the lever frame (0° towards the rod's
+    /// pin).
     pub directions: Option<Pair<Qty<Angle>>>,
+    /// The type (thesis Fig 1.5): `"boom"` (default, on the boom), `"hanging"` (hung from
+    /// the boom by `hang_length`), `"lever"` (on a lever pivoted on the A-frame, linked to the
+    /// boom by a rod: `lever_pivot`, `lever_arm`, `lever_angle`, `rod_boom_point`).
+    pub kind: Option<CounterweightKindRaw>,
+    /// Hanging: L_h, the rope from the suspension point to the counterweight's centroid.
+    pub hang_length: Option<Qty<Length>>,
+    /// Lever: O = [x, y], its pivot on the A-frame in the frame of A.
+    pub lever_pivot: Option<Pair<Qty<Length>>>,
+    /// Lever: ρ, the pivot to the rod's pin on the lever.
+    pub lever_arm: Option<Qty<Length>>,
+    /// Lever: ψ₁, its direction from the pivot to the rod's pin at maximum reach (from +x,
+    /// behind the foot, anticlockwise); the rod's length follows.
+    pub lever_angle: Option<Qty<Angle>>,
+    /// Lever: K = [s, n], the rod's pin on the boom (s along the boom from A, n across it,
+    /// positive on its underside).
+    pub rod_boom_point: Option<Pair<Qty<Length>>>,
+}
+
+/// The boom counterweight's type (thesis Fig 1.5 a, b, c).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, schemars::JsonSchema)]
+#[serde(rename_all = "kebab-case")]
+pub enum CounterweightKindRaw {
+    /// On the boom (Fig 1.5a).
+    Boom,
+    /// Hung from the boom (Fig 1.5b).
+    Hanging,
+    /// On a lever linked to the boom by a rod (Fig 1.5c).
+    Lever,
 }
 
 /// How the boom length follows from the step-1 angles when `design.boom_length` is absent.
@@ -621,6 +653,7 @@ fn balance_scene(raw: &File) -> Result<Option<BalanceScene>, FieldError> {
                 max_mass,
                 lever,
                 directions,
+                kind: counterweight_kind(c)?,
             })
         }
     };
@@ -679,4 +712,98 @@ fn check_work(scene: &cr::CraneScene, s: &cr::Settings) -> Result<(), FieldError
             t("accuracy.plot_points", s.plot_points as f64, d.plot_points),
         ],
     )
+}
+
+/// `design.counterweight.kind` and its keys: `hang_length` only and required for a hanging
+/// counterweight, the four lever keys only and all for a lever.
+fn counterweight_kind(c: &CounterweightRaw) -> Result<CounterweightKind, FieldError> {
+    let key = |k: &str| format!("design.counterweight.{k}");
+    let kind = c.kind.unwrap_or(CounterweightKindRaw::Boom);
+    let lever_keys = [
+        ("lever_pivot", c.lever_pivot.is_some()),
+        ("lever_arm", c.lever_arm.is_some()),
+        ("lever_angle", c.lever_angle.is_some()),
+        ("rod_boom_point", c.rod_boom_point.is_some()),
+    ];
+    if kind != CounterweightKindRaw::Hanging && c.hang_length.is_some() {
+        return Err(FieldError::new(
+            key("hang_length"),
+            "only for kind = \"hanging\"; allowed: remove it or set the kind",
+        ));
+    }
+    if kind != CounterweightKindRaw::Lever {
+        if let Some((k, _)) = lever_keys.iter().find(|(_, given)| *given) {
+            return Err(FieldError::new(
+                key(k),
+                "only for kind = \"lever\"; allowed: remove it or set the kind",
+            ));
+        }
+    }
+    let length = |k: &str, q: Option<Qty<Length>>| -> Result<f64, FieldError> {
+        let q = q.ok_or_else(|| {
+            FieldError::new(
+                key(k),
+                format!(
+                    "missing: kind = \"{}\" needs it (a length)",
+                    if k == "hang_length" {
+                        "hanging"
+                    } else {
+                        "lever"
+                    }
+                ),
+            )
+        })?;
+        let v = q.si();
+        if v.is_finite() && v > 0.0 {
+            Ok(v)
+        } else {
+            Err(FieldError::new(
+                key(k),
+                format!("must be a finite length > 0, got {v} m"),
+            ))
+        }
+    };
+    let pair = |k: &str, p: Option<Pair<Qty<Length>>>| -> Result<[f64; 2], FieldError> {
+        let p = p.ok_or_else(|| {
+            FieldError::new(
+                key(k),
+                "missing: kind = \"lever\" needs it ([length, length])",
+            )
+        })?;
+        let v = p.0.map(|q| q.si());
+        if v.iter().all(|x| x.is_finite()) {
+            Ok(v)
+        } else {
+            Err(FieldError::new(key(k), "must be two finite lengths"))
+        }
+    };
+    Ok(match kind {
+        CounterweightKindRaw::Boom => CounterweightKind::Boom,
+        CounterweightKindRaw::Hanging => CounterweightKind::Hanging {
+            hang_length_m: length("hang_length", c.hang_length)?,
+        },
+        CounterweightKindRaw::Lever => {
+            let angle = c
+                .lever_angle
+                .ok_or_else(|| {
+                    FieldError::new(
+                        key("lever_angle"),
+                        "missing: kind = \"lever\" needs it (an angle)",
+                    )
+                })?
+                .si();
+            if !angle.is_finite() {
+                return Err(FieldError::new(
+                    key("lever_angle"),
+                    "must be a finite angle",
+                ));
+            }
+            CounterweightKind::Lever(LeverSpec {
+                pivot_m: pair("lever_pivot", c.lever_pivot)?,
+                arm_m: length("lever_arm", c.lever_arm)?,
+                angle_at_max_reach_rad: angle,
+                rod_boom_point_m: pair("rod_boom_point", c.rod_boom_point)?,
+            })
+        }
+    })
 }

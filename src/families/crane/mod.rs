@@ -5,6 +5,7 @@
 pub mod actuator;
 pub mod balance;
 pub mod file;
+pub mod lever;
 pub mod luffing;
 pub mod model;
 pub mod motion;

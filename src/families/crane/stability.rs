@@ -17,7 +17,8 @@
 //! slewing part (mass M_s at x_s behind the slewing axis, with the A-frame, machinery and tie
 //! pin), the non-slewing base (on the axis), boom, jib and tie at their centroids
 //! ([`super::statics::centroids`]), the load at the jib head and the boom counterweight (mass
-//! m, first moment u: at x = U_x/m, U_x = −u_s cos φ − u_n sin φ). The worst pose is the
+//! m, first moment u: at x = U_x/m, U_x = −u_s cos φ − u_n sin φ; on a lever, at the lever's
+//! pivot plus its first moment's x over m). The worst pose is the
 //! smallest K over [φ_min, φ_max]: the largest 1/K = O/S, refined by Brent.
 //!
 //! Static: wind, the inertia forces of slewing, hoisting and luffing, and the elastic
@@ -109,8 +110,12 @@ pub(super) fn weights(
     let pose = c.link.pose(phi).ok_or(BalanceError::NoPose { phi })?;
     let b = tie_pin(c.link).ok_or(BalanceError::StraightGuide)?;
     let [g_b, g_j, g_t] = centroids(&pose, b, &c.w);
-    let u_x = -u[0] * phi.cos() - u[1] * phi.sin();
-    let x_cw = if m > 0.0 { u_x / m } else { 0.0 };
+    let u_x = c.cw_moment(phi, u).ok_or(BalanceError::NoPose { phi })?.x;
+    let x_cw = if m > 0.0 {
+        c.cw_pivot().x + u_x / m
+    } else {
+        0.0
+    };
     Ok([
         (spec.slewing_mass, r + spec.slewing_centroid),
         (spec.base_mass, r),
