@@ -276,7 +276,7 @@ pub struct CounterweightPath {
     /// Lever: its four-bar (pivot, arm, rod, boom point).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub lever: Option<LeverLinkage>,
-    /// Lever: ψ at φ_min and at φ_max (rad).
+    /// Lever: ψ at φ_min (in [0, 2π)) and at φ_max, followed continuously (rad).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub lever_angle_rad: Option<[f64; 2]>,
     /// Lever: the largest |rod force| over the range (N; the counterweight's torque over the
@@ -631,7 +631,18 @@ impl<'a> Cases<'a> {
                 path.kind = "lever".into();
                 path.note = "on a lever linked to the boom by a rod (thesis Fig 1.5c), the counterweight's torque at the boom foot is g ψ′(φ) (w_s cos ψ − w_n sin ψ), affine in its first moment w about the lever's pivot, so the minimax of the drive torque is convex (clarabel SOCP + exchange loop); its status is the certificate's; the lever and the rod are weightless".into();
                 path.lever = Some(lk);
-                path.lever_angle_rad = Some([psi(p0)?, psi(p1)?]);
+                // ψ followed continuously from its value in [0, 2π) at φ_min.
+                let start = psi(p0)?.rem_euclid(std::f64::consts::TAU);
+                let (mut end, mut prev) = (start, start);
+                for i in 1..=64 {
+                    let now = psi(p0 + (p1 - p0) * i as f64 / 64.0)?;
+                    let step = (now - prev + std::f64::consts::PI)
+                        .rem_euclid(std::f64::consts::TAU)
+                        - std::f64::consts::PI;
+                    end += step;
+                    prev = now;
+                }
+                path.lever_angle_rad = Some([start, end]);
                 path.rod_force_max_n = Some(r.peak.fx);
                 path.rod_force_error_n = Some(r.error + 64.0 * f64::EPSILON * r.peak.fx * cond);
             }

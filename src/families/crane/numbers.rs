@@ -53,9 +53,14 @@ pub fn model(s: &CraneProblem, sol: Option<&Solution>) -> BTreeMap<String, serde
         ),
     ]);
     if sol.balance().is_some() {
+        let rope = cs.balance.as_ref().is_some_and(|b| b.rope.is_some());
         m.insert(
             "gravity".into(),
-            json!("boom, jib, tie and load weights (g = 9.80665 m/s²), quasi-static luffing; the hoist rope's pull on the jib is not modelled (the load hangs at the jib head)"),
+            json!(if rope {
+                "boom, jib, tie and load weights (g = 9.80665 m/s²), quasi-static luffing; the inclined hoist rope: the jib head carries the load's weight W and the lead rope's pull W/n towards the sheave S (thesis §2.2), the load hanging at y_C + |S − C|/n"
+            } else {
+                "boom, jib, tie and load weights (g = 9.80665 m/s²), quasi-static luffing; the hoist rope's pull on the jib is not modelled (the load hangs at the jib head)"
+            }),
         );
     }
     m
