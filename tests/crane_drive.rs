@@ -36,6 +36,7 @@ fn scene(rope: Option<HoistRope>) -> BalanceScene {
             max_mass: 80e3,
             lever: 6.0,
             directions: Some((150f64.to_radians(), 210f64.to_radians())),
+            kind: cwsynth::families::crane::balance::CounterweightKind::Boom,
         }),
         load_mass: Some(LOAD),
         rope,

@@ -301,3 +301,35 @@ pub fn tukan_linkage() -> cwsynth::families::crane::model::Linkage {
         0.41627966970417185,
     )
 }
+
+/// The Tukan 40T masses of the shipped scenes (assumed there), jib centroid at 0.29 of DC.
+pub const TUKAN_MASSES: cwsynth::families::crane::statics::SelfWeight =
+    cwsynth::families::crane::statics::SelfWeight {
+        boom_mass: 22e3,
+        boom_centroid: 0.45,
+        jib_mass: 9e3,
+        jib_centroid: 0.29,
+        tie_mass: 3.5e3,
+    };
+
+/// The Tukan scene with masses `w` and the 40 t load, with the shipped counterweight's limits
+/// (at most 80 t, 6 m behind the foot within ±30°) when `cw`, no inclined rope.
+pub fn tukan_scene(
+    w: cwsynth::families::crane::statics::SelfWeight,
+    cw: bool,
+) -> cwsynth::families::crane::balance::BalanceScene {
+    use cwsynth::families::crane::balance::{BalanceScene, CounterweightSpec};
+    BalanceScene {
+        self_weight: w,
+        jib_centroid: Some(w.jib_centroid),
+        counterweight: cw.then_some(CounterweightSpec {
+            max_mass: 80e3,
+            lever: 6.0,
+            directions: Some((150f64.to_radians(), 210f64.to_radians())),
+            kind: cwsynth::families::crane::balance::CounterweightKind::Boom,
+        }),
+        load_mass: Some(40e3),
+        rope: None,
+        masses: true,
+    }
+}

@@ -23,6 +23,7 @@
 //! it. Only u enters the torque: the lightest counterweight with it sits at the full lever,
 //! m = |u|/ℓ, which is what is reported.
 
+use super::lever::LeverLinkage;
 use super::model::Linkage;
 use super::statics::{
     counterweight_torque_row, statics, virtual_work_torque, HoistRope, Loads, SelfWeight, Statics,
@@ -42,6 +43,56 @@ pub struct CounterweightSpec {
     pub lever: f64,
     /// Allowed directions of u in the boom frame (rad, hi − lo ≤ π), if restricted.
     pub directions: Option<(f64, f64)>,
+    /// Where it is and how it moves (thesis Fig 1.5 a, b, c).
+    pub kind: CounterweightKind,
+}
+
+/// The counterweight's type (thesis Fig 1.5).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum CounterweightKind {
+    /// Fig 1.5a, on the boom ("đặt trực tiếp lên cần"): u = m·(centroid) in the boom frame.
+    Boom,
+    /// Fig 1.5b, hung ("treo") from a point of the boom by a rope of this length (m): it acts
+    /// vertically below its suspension point, so quasi-statically as a mass at that point,
+    /// u = m·(suspension point) in the boom frame; its own path is the suspension point's
+    /// less the rope.
+    Hanging {
+        /// L_h, the rope from the suspension point to the counterweight's centroid (m).
+        hang_length_m: f64,
+    },
+    /// Fig 1.5c, on a lever ("xếp") pivoted on the A-frame and linked to the boom by a rod:
+    /// u = w, its first moment about the lever's pivot in the lever frame
+    /// ([`super::lever`]).
+    Lever(LeverSpec),
+}
+
+/// The lever's four-bar as the file states it (SI); the rod's length follows from the lever's
+/// angle at maximum reach ([`LeverLinkage::new`]).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct LeverSpec {
+    /// O, the pivot on the A-frame (m, frame of A).
+    pub pivot_m: [f64; 2],
+    /// ρ, the pivot to the rod's lever pin (m).
+    pub arm_m: f64,
+    /// ψ₁, the lever's direction O → rod pin at maximum reach (rad, from +x anticlockwise).
+    pub angle_at_max_reach_rad: f64,
+    /// K = (s, n), the rod's pin on the boom (m, boom frame).
+    pub rod_boom_point_m: [f64; 2],
+}
+
+impl LeverSpec {
+    /// The four-bar for a boom whose range starts at φ_min.
+    pub fn linkage(&self, phi_min: f64) -> Option<LeverLinkage> {
+        let [x, y] = self.pivot_m;
+        LeverLinkage::new(
+            crate::geom::P2::new(x, y),
+            self.arm_m,
+            self.angle_at_max_reach_rad,
+            self.rod_boom_point_m,
+            phi_min,
+        )
+    }
 }
 
 /// The boom system's masses and the counterweight to design (`None`: forces only).
@@ -188,9 +239,53 @@ pub struct Balance {
     pub forces: Vec<ForcePeak>,
     /// Statics against virtual work.
     pub virtual_work_check: VirtualWorkCheck,
+    /// A hung or lever counterweight's own motion over the range (not for one on the boom).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub counterweight_path: Option<CounterweightPath>,
     /// Series over the range (CSV and plot; not in the JSON).
     #[serde(skip)]
     pub series: Vec<Sample>,
+}
+
+/// A hung or lever counterweight's own kinematics over the luffing range, with the designed
+/// counterweight.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct CounterweightPath {
+    /// `hanging` or `lever`.
+    pub kind: String,
+    /// What the design is, in plain words: how the counterweight acts, that the program is
+    /// convex, and its status.
+    pub note: String,
+    /// The counterweight's lowest centroid height over the range (m above A) and its boom
+    /// angle (rad).
+    pub lowest_y_m: f64,
+    /// See `lowest_y_m`.
+    pub phi_at_lowest_rad: f64,
+    /// Its highest centroid height (m above A).
+    pub highest_y_m: f64,
+    /// The horizontal range of its centroid [min x, max x] (m, frame of A).
+    pub x_range_m: [f64; 2],
+    /// Bound on the error of these (m): refinement (Brent to 1e-9 rad) plus rounding.
+    pub error_m: f64,
+    /// Hanging: the suspension point at φ_min and at φ_max (m, frame of A).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub suspension_point_m: Option<[[f64; 2]; 2]>,
+    /// Hanging: the hanger's tension m g (N), constant quasi-statically.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub hanger_tension_n: Option<f64>,
+    /// Lever: its four-bar (pivot, arm, rod, boom point).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub lever: Option<LeverLinkage>,
+    /// Lever: ψ at φ_min (in [0, 2π)) and at φ_max, followed continuously (rad).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub lever_angle_rad: Option<[f64; 2]>,
+    /// Lever: the largest |rod force| over the range (N; the counterweight's torque over the
+    /// rod's arm about A, the same empty and loaded), and its error (N).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub rod_force_max_n: Option<f64>,
+    /// See `rod_force_max_n`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub rod_force_error_n: Option<f64>,
 }
 
 /// Why the balance cannot be computed.
@@ -202,6 +297,16 @@ pub enum BalanceError {
     /// The linkage does not assemble, or is singular, at a boom angle of the range.
     #[error("no statics at phi = {phi} rad (the linkage does not assemble or the tie and jib tail align)")]
     NoPose {
+        /// The boom angle.
+        phi: f64,
+    },
+    /// The lever counterweight's data give no four-bar (a zero rod, or the rod through the
+    /// pivot at maximum reach).
+    #[error("the lever counterweight's rod and lever give no four-bar at maximum reach: move the pivot, the arm or the lever angle")]
+    NoLever,
+    /// A luffing actuator passes its dead centre (its lever arm about A vanishes) in the range.
+    #[error("the luffing actuator passes its dead centre (no lever arm about the boom foot) at phi = {phi} rad: move its attachment points")]
+    DeadCentre {
         /// The boom angle.
         phi: f64,
     },
@@ -240,6 +345,11 @@ pub fn solve(
         return Err(BalanceError::StraightGuide);
     }
     let c = Cases::new(link, scene);
+    if let Some(CounterweightKind::Lever(_)) = scene.counterweight.map(|c| c.kind) {
+        if c.lever.is_none() {
+            return Err(BalanceError::NoLever);
+        }
+    }
     // Every field must evaluate over the range; a failing pose is an error, not a NaN.
     let [p0, p1] = link.phi_range;
     for k in 0..=64 {
@@ -252,6 +362,7 @@ pub fn solve(
     let forces = c.force_peaks(d.m, d.u)?;
     let series = c.series(d.m, d.u, foot_offset, samples)?;
     let vw = c.virtual_work_check()?;
+    let counterweight_path = c.counterweight_path(d.m, d.u)?;
     Ok(Balance {
         method: "quasi-static equilibrium of boom, jib and tie (2×2 tie–jib system per pose); counterweight: certified minimax of |T| over the luffing range and both load cases (clarabel SOCP + exchange loop, synth::minimax)".into(),
         self_weight: c.w,
@@ -261,6 +372,7 @@ pub fn solve(
         balanced: d.balanced,
         forces,
         virtual_work_check: vw,
+        counterweight_path,
         series,
     })
 }
@@ -272,6 +384,9 @@ pub(super) struct Cases<'a> {
     pub(super) scene: &'a BalanceScene,
     pub(super) w: SelfWeight,
     pub(super) cases: Vec<(&'static str, f64)>,
+    /// A lever counterweight's four-bar (`None`: the counterweight is on the boom or hung,
+    /// or the lever's data give no four-bar, which [`solve`] refuses).
+    pub(super) lever: Option<LeverLinkage>,
 }
 
 /// The drive-torque peaks without and with the counterweight, and the counterweight
@@ -295,6 +410,10 @@ impl<'a> Cases<'a> {
                 Some(q) => vec![("empty", 0.0), ("loaded", q)],
                 None => vec![("empty", 0.0)],
             },
+            lever: match scene.counterweight.map(|c| c.kind) {
+                Some(CounterweightKind::Lever(l)) => l.linkage(link.phi_range[0]),
+                _ => None,
+            },
         }
     }
 
@@ -307,13 +426,57 @@ impl<'a> Cases<'a> {
         u: [f64; 2],
     ) -> Result<Statics, BalanceError> {
         let pose = self.link.pose(phi).ok_or(BalanceError::NoPose { phi })?;
+        let lever = self.lever;
+        // A lever's counterweight weighs on the A-frame, not on the boom: its torque comes
+        // through the rod.
         let loads = Loads {
             load_mass: q,
-            counterweight_mass: m,
-            counterweight_moment: u,
+            counterweight_mass: if lever.is_some() { 0.0 } else { m },
+            counterweight_moment: if lever.is_some() { [0.0; 2] } else { u },
             rope: self.scene.rope,
         };
-        statics(self.link, phi, &pose, &self.w, &loads).ok_or(BalanceError::NoPose { phi })
+        let mut st =
+            statics(self.link, phi, &pose, &self.w, &loads).ok_or(BalanceError::NoPose { phi })?;
+        if let Some(lk) = lever {
+            let lp = lk.pose(phi).ok_or(BalanceError::NoPose { phi })?;
+            let row = LeverLinkage::torque_row(&lp);
+            let t_cw = row[0] * u[0] + row[1] * u[1];
+            // The rod's pull f along d = (L − K)/|L − K| on the boom at K gives K × f d = T_cw.
+            let d = (lp.l - lp.k) / (lp.l - lp.k).norm();
+            let f = t_cw / crate::geom::cross(lp.k, d);
+            st.drive_torque += t_cw;
+            st.drive_torque_error += 64.0 * f64::EPSILON * t_cw.abs() * lp.condition;
+            st.pin_a -= d * f;
+            st.force_error += 64.0 * f64::EPSILON * f.abs() * lp.condition;
+        }
+        Ok(st)
+    }
+
+    /// The counterweight's drive torque per unit u at φ (N·m per kg·m): on the boom or hung,
+    /// g (cos φ, sin φ); on a lever, g ψ′ (cos ψ, −sin ψ). `None` where the lever's pose fails.
+    pub(super) fn cw_row(&self, phi: f64) -> Option<[f64; 2]> {
+        match &self.lever {
+            Some(lk) => Some(LeverLinkage::torque_row(&lk.pose(phi)?)),
+            None => Some(counterweight_torque_row(phi)),
+        }
+    }
+
+    /// The counterweight's first moment m·(centroid − its pivot) in the world at φ (kg·m): on
+    /// the boom u_s e_b + u_n e_n about A (hung: its suspension point's), on a lever the
+    /// lever frame's w about the lever's pivot O.
+    pub(super) fn cw_moment(&self, phi: f64, u: [f64; 2]) -> Option<crate::geom::P2> {
+        match &self.lever {
+            Some(lk) => Some(LeverLinkage::world_moment(&lk.pose(phi)?, u)),
+            None => Some(crate::geom::P2::new(
+                -u[0] * phi.cos() - u[1] * phi.sin(),
+                u[0] * phi.sin() - u[1] * phi.cos(),
+            )),
+        }
+    }
+
+    /// The pivot the counterweight's first moment is taken about: A, or the lever's O.
+    pub(super) fn cw_pivot(&self) -> crate::geom::P2 {
+        self.lever.map_or(crate::geom::P2::zeros(), |lk| lk.pivot)
     }
 
     /// The minimax of the drive torque over the luffing range and the load cases: field k
@@ -333,7 +496,7 @@ impl<'a> Cases<'a> {
                         let phi = phi_of(link, theta);
                         let s = self.at(phi, q, 0.0, [0.0; 2]);
                         out.b[0] = s.map_or(f64::NAN, |s| s.drive_torque);
-                        let row = counterweight_torque_row(phi);
+                        let row = self.cw_row(phi).unwrap_or([f64::NAN; 2]);
                         let r = out.row_mut(0);
                         r[mm::var_u(0)] = row[0];
                         r[mm::var_u(0) + 1] = row[1];
@@ -353,6 +516,7 @@ impl<'a> Cases<'a> {
             max_mass: 1.0,
             lever: 1.0,
             directions: None,
+            kind: CounterweightKind::Boom,
         });
         let mut limits = CounterweightLimits::new(spec.max_mass, spec.lever);
         limits.sector = spec.directions;
@@ -388,6 +552,102 @@ impl<'a> Cases<'a> {
                 }
             }
         })
+    }
+
+    /// A hung or lever counterweight's path with mass m and first moment u (`None` on the
+    /// boom or without a counterweight): its centroid's extremes refined over the range, the
+    /// hanger's tension or the lever's angles and rod force.
+    fn counterweight_path(
+        &self,
+        m: f64,
+        u: [f64; 2],
+    ) -> Result<Option<CounterweightPath>, BalanceError> {
+        let Some(spec) = self.scene.counterweight else {
+            return Ok(None);
+        };
+        let hang = match spec.kind {
+            CounterweightKind::Boom => return Ok(None),
+            CounterweightKind::Hanging { hang_length_m } => hang_length_m,
+            CounterweightKind::Lever(_) => 0.0,
+        };
+        if !(m > 0.0) {
+            return Ok(None);
+        }
+        let [p0, p1] = self.link.phi_range;
+        let nan = crate::geom::P2::new(f64::NAN, f64::NAN);
+        let at = |phi: f64| {
+            self.cw_moment(phi, u).map_or(nan, |w| {
+                self.cw_pivot() + w / m - crate::geom::P2::new(0.0, hang)
+            })
+        };
+        let peak = |f: &dyn Fn(f64) -> f64| {
+            interval_peak(f, p0, p1, 64, PEAK_XTOL).map_err(|_| BalanceError::NoPose { phi: p0 })
+        };
+        let (lo, hi) = (peak(&|p| -at(p).y)?, peak(&|p| at(p).y)?);
+        let (xl, xh) = (peak(&|p| -at(p).x)?, peak(&|p| at(p).x)?);
+        let error = lo.error.max(hi.error).max(xl.error).max(xh.error)
+            + 64.0 * f64::EPSILON * (self.link.length_scale() + self.cw_pivot().norm() + hang);
+        let mut path = CounterweightPath {
+            kind: String::new(),
+            note: String::new(),
+            lowest_y_m: -lo.peak.fx,
+            phi_at_lowest_rad: lo.peak.x,
+            highest_y_m: hi.peak.fx,
+            x_range_m: [-xl.peak.fx, xh.peak.fx],
+            error_m: error,
+            suspension_point_m: None,
+            hanger_tension_n: None,
+            lever: None,
+            lever_angle_rad: None,
+            rod_force_max_n: None,
+            rod_force_error_n: None,
+        };
+        match self.lever {
+            None => {
+                let s = |p: f64| {
+                    let h = at(p) + crate::geom::P2::new(0.0, hang);
+                    [h.x, h.y]
+                };
+                path.kind = "hanging".into();
+                path.note = "hung from the boom (thesis Fig 1.5b), the counterweight acts vertically below its suspension point, quasi-statically as a mass there: its torque g (u_s cos φ + u_n sin φ) is affine in u = m·(suspension point), so the minimax of the drive torque is convex, the same program as on the boom; its status is the certificate's".into();
+                path.suspension_point_m = Some([s(p0), s(p1)]);
+                path.hanger_tension_n = Some(m * crate::units::STANDARD_GRAVITY);
+            }
+            Some(lk) => {
+                let psi = |p: f64| {
+                    lk.pose(p)
+                        .map(|lp| lp.psi)
+                        .ok_or(BalanceError::NoPose { phi: p })
+                };
+                let rod = |p: f64| {
+                    lk.pose(p).map_or(f64::NAN, |lp| {
+                        let row = LeverLinkage::torque_row(&lp);
+                        let d = (lp.l - lp.k) / (lp.l - lp.k).norm();
+                        ((row[0] * u[0] + row[1] * u[1]) / crate::geom::cross(lp.k, d)).abs()
+                    })
+                };
+                let r = peak(&rod)?;
+                let cond = lk.pose(r.peak.x).map_or(f64::INFINITY, |lp| lp.condition);
+                path.kind = "lever".into();
+                path.note = "on a lever linked to the boom by a rod (thesis Fig 1.5c), the counterweight's torque at the boom foot is g ψ′(φ) (w_s cos ψ − w_n sin ψ), affine in its first moment w about the lever's pivot, so the minimax of the drive torque is convex (clarabel SOCP + exchange loop); its status is the certificate's; the lever and the rod are weightless".into();
+                path.lever = Some(lk);
+                // ψ followed continuously from its value in [0, 2π) at φ_min.
+                let start = psi(p0)?.rem_euclid(std::f64::consts::TAU);
+                let (mut end, mut prev) = (start, start);
+                for i in 1..=64 {
+                    let now = psi(p0 + (p1 - p0) * i as f64 / 64.0)?;
+                    let step = (now - prev + std::f64::consts::PI)
+                        .rem_euclid(std::f64::consts::TAU)
+                        - std::f64::consts::PI;
+                    end += step;
+                    prev = now;
+                }
+                path.lever_angle_rad = Some([start, end]);
+                path.rod_force_max_n = Some(r.peak.fx);
+                path.rod_force_error_n = Some(r.error + 64.0 * f64::EPSILON * r.peak.fx * cond);
+            }
+        }
+        Ok(Some(path))
     }
 
     /// The engine's field peaks as the load cases' torque peaks (θ mapped back to φ).

@@ -4,7 +4,11 @@
 //! `docs/results.md`): design, Δh and its error, the thesis's checks, the jib-head path and
 //! the Δh landscape over (k1, k2) as SVG and CSV.
 
-use crate::families::crane::balance::{BalanceScene, CounterweightSpec};
+use crate::families::crane::actuator::{ActuatorKind, ActuatorSpec};
+use crate::families::crane::balance::{
+    BalanceScene, CounterweightKind, CounterweightSpec, LeverSpec,
+};
+use crate::families::crane::stability::StabilitySpec;
 use crate::families::crane::statics::{HoistRope, SelfWeight};
 use crate::families::crane::synth::{self as cr, Settings, SizingRule, TiePinLimit};
 use crate::problem::limits::{self, c, Count};
@@ -65,6 +69,60 @@ pub struct MechanismRaw {
     /// The luffing drive at a given luffing speed: with `self_weight`, the drive power
     /// over the luffing stroke beside the work (`[mechanism.drive]`).
     pub drive: Option<CraneDriveRaw>,
+    /// The crane's stability against tipping (`[mechanism.stability]`, needs `self_weight`):
+    /// the slewing part, the base and the tipping lines.
+    pub stability: Option<StabilityRaw>,
+    /// The real luffing drive (`[[mechanism.luffing_actuator]]`, needs `self_weight`): each a
+    /// hydraulic cylinder or a rope tackle between the A-frame and the boom (thesis §1.1).
+    pub luffing_actuator: Option<Vec<ActuatorRaw>>,
+}
+
+/// What a luffing actuator is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, schemars::JsonSchema)]
+#[serde(rename_all = "kebab-case")]
+pub enum ActuatorKindRaw {
+    /// A hydraulic cylinder (pushes; pulls when double-acting).
+    Cylinder,
+    /// A rope tackle from a sheave on the A-frame to the boom (pulls only).
+    Rope,
+}
+
+/// `[[mechanism.luffing_actuator]]`: a cylinder or rope between a point on the A-frame and a
+/// point on the boom.
+#[derive(Debug, Deserialize, schemars::JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct ActuatorRaw {
+    /// `"cylinder"` or `"rope"`.
+    pub kind: ActuatorKindRaw,
+    /// P = [x, y], its point on the A-frame (the cylinder's base pin, the rope's sheave) in
+    /// the frame of A (x behind the foot, y up), e.g. `["-1 m", "-3 m"]`.
+    pub frame_point: Pair<Qty<Length>>,
+    /// Q = [s, n], its point on the boom: s along the boom from A towards D, n across it
+    /// (positive on the boom's underside, the boom's direction turned a quarter turn
+    /// anticlockwise), e.g. `["8 m", "0.5 m"]`.
+    pub boom_point: Pair<Qty<Length>>,
+    /// For a rope: the tackle's parts n between sheave and boom (default 1, 1 to 64).
+    pub parts: Option<u32>,
+}
+
+/// `[mechanism.stability]`: the weights that are not the boom system's and the tipping lines
+/// (the boom's plane perpendicular to them), against a required stability factor.
+#[derive(Debug, Deserialize, schemars::JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct StabilityRaw {
+    /// M_s, the slewing part's mass without boom, jib, tie, load and boom counterweight (the
+    /// A-frame, machinery house, its ballast), e.g. `"160 t"`.
+    pub slewing_mass: Qty<Mass>,
+    /// x_s, the slewing part's centroid behind the slewing axis (negative: in front, on the
+    /// boom's side), e.g. `"1.5 m"`.
+    pub slewing_centroid: Qty<Length>,
+    /// The non-slewing base (portal) with its centroid on the slewing axis (default 0 kg).
+    pub base_mass: Option<Qty<Mass>>,
+    /// b, the distance of each tipping line (forward and backward) from the slewing axis,
+    /// e.g. half the portal's gauge `"5.25 m"`.
+    pub tipping_distance: Qty<Length>,
+    /// K_min, the required stability factor (stabilising over overturning moment), ≥ 1.
+    pub min_factor: f64,
 }
 
 /// `[mechanism.drive]` of the crane: the luffing speed. Luffing is a stroke, not a cycle, so
@@ -117,8 +175,38 @@ pub struct CounterweightRaw {
     pub lever: Qty<Length>,
     /// Allowed directions of its centroid from A in the boom frame, `[from, to]` at most
     /// 180° apart (0° along the boom towards its head, 90° the boom turned a quarter turn
-    /// anticlockwise, 180° the boom's extension behind A). Default: any direction.
+    /// anticlockwise, 180° the boom's extension behind A). Default: any direction. For a
+    /// lever counterweight: from the lever's pivot in the lever frame (0° towards the rod's
+    /// pin).
     pub directions: Option<Pair<Qty<Angle>>>,
+    /// The type (thesis Fig 1.5): `"boom"` (default, on the boom), `"hanging"` (hung from
+    /// the boom by `hang_length`), `"lever"` (on a lever pivoted on the A-frame, linked to the
+    /// boom by a rod: `lever_pivot`, `lever_arm`, `lever_angle`, `rod_boom_point`).
+    pub kind: Option<CounterweightKindRaw>,
+    /// Hanging: L_h, the rope from the suspension point to the counterweight's centroid.
+    pub hang_length: Option<Qty<Length>>,
+    /// Lever: O = [x, y], its pivot on the A-frame in the frame of A.
+    pub lever_pivot: Option<Pair<Qty<Length>>>,
+    /// Lever: ρ, the pivot to the rod's pin on the lever.
+    pub lever_arm: Option<Qty<Length>>,
+    /// Lever: ψ₁, its direction from the pivot to the rod's pin at maximum reach (from +x,
+    /// behind the foot, anticlockwise); the rod's length follows.
+    pub lever_angle: Option<Qty<Angle>>,
+    /// Lever: K = [s, n], the rod's pin on the boom (s along the boom from A, n across it,
+    /// positive on its underside).
+    pub rod_boom_point: Option<Pair<Qty<Length>>>,
+}
+
+/// The boom counterweight's type (thesis Fig 1.5 a, b, c).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, schemars::JsonSchema)]
+#[serde(rename_all = "kebab-case")]
+pub enum CounterweightKindRaw {
+    /// On the boom (Fig 1.5a).
+    Boom,
+    /// Hung from the boom (Fig 1.5b).
+    Hanging,
+    /// On a lever linked to the boom by a rod (Fig 1.5c).
+    Lever,
 }
 
 /// How the boom length follows from the step-1 angles when `design.boom_length` is absent.
@@ -209,6 +297,10 @@ pub struct CraneProblem {
     pub settings: Settings,
     /// t_l, the luffing time from φ_min to φ_max (s), `mechanism.drive.luffing_time`.
     pub luffing_time: Option<f64>,
+    /// The stability data, `mechanism.stability`.
+    pub stability: Option<StabilitySpec>,
+    /// The luffing actuators, `mechanism.luffing_actuator` (empty: none).
+    pub actuators: Vec<ActuatorSpec>,
 }
 
 /// Reads and resolves a luffing-crane problem file (its text or its table).
@@ -295,7 +387,127 @@ pub fn resolve_raw(raw: &File) -> Result<CraneProblem, FieldError> {
         scene,
         settings,
         luffing_time: luffing_time(raw)?,
+        stability: stability(raw)?,
+        actuators: actuators(raw)?,
     })
+}
+
+/// `mechanism.luffing_actuator` checked: finite points, P not on the boom's line through A
+/// at Q's radius (a zero length), `parts` only for a rope, with the masses.
+fn actuators(raw: &File) -> Result<Vec<ActuatorSpec>, FieldError> {
+    let Some(list) = &raw.mechanism.luffing_actuator else {
+        return Ok(Vec::new());
+    };
+    if raw.mechanism.self_weight.is_none() {
+        return Err(FieldError::new(
+            "mechanism.luffing_actuator[0].kind",
+            "needs the boom system's masses whose torque it carries; allowed: add [mechanism.self_weight] with boom_mass, jib_mass and tie_mass",
+        ));
+    }
+    list.iter()
+        .enumerate()
+        .map(|(i, a)| {
+            let key = |k: &str| format!("mechanism.luffing_actuator[{i}].{k}");
+            let [px, py] = a.frame_point.0.map(|q| q.si());
+            let [s, n] = a.boom_point.0.map(|q| q.si());
+            if !(px.is_finite() && py.is_finite()) {
+                return Err(FieldError::new(
+                    key("frame_point"),
+                    "must be two finite lengths [x, y]",
+                ));
+            }
+            if !(s.is_finite() && n.is_finite() && s.hypot(n) > 0.0) {
+                return Err(FieldError::new(
+                    key("boom_point"),
+                    "must be two finite lengths [s, n], not the boom foot itself",
+                ));
+            }
+            let kind = match a.kind {
+                ActuatorKindRaw::Cylinder => ActuatorKind::Cylinder,
+                ActuatorKindRaw::Rope => ActuatorKind::Rope,
+            };
+            let parts = match (kind, a.parts) {
+                (ActuatorKind::Cylinder, Some(_)) => {
+                    return Err(FieldError::new(
+                        key("parts"),
+                        "only for a rope tackle; allowed: remove it, or kind = \"rope\"",
+                    ))
+                }
+                (_, Some(p)) if !(1..=64).contains(&p) => {
+                    return Err(FieldError::new(
+                        key("parts"),
+                        format!("must be 1 to 64 parts, got {p}"),
+                    ))
+                }
+                (_, p) => p.unwrap_or(1) as f64,
+            };
+            Ok(ActuatorSpec {
+                kind,
+                frame_point: crate::geom::P2::new(px, py),
+                boom_point: [s, n],
+                parts,
+            })
+        })
+        .collect()
+}
+
+/// `mechanism.stability` checked: positive masses and distances, the slewing part's centroid
+/// between the tipping lines (else it tips the crane alone), K_min ≥ 1, with the masses.
+fn stability(raw: &File) -> Result<Option<StabilitySpec>, FieldError> {
+    let Some(s) = &raw.mechanism.stability else {
+        return Ok(None);
+    };
+    let key = |k: &str| format!("mechanism.stability.{k}");
+    if raw.mechanism.self_weight.is_none() {
+        return Err(FieldError::new(
+            "mechanism.stability",
+            "needs the boom system's masses; allowed: add [mechanism.self_weight] with boom_mass, jib_mass and tie_mass",
+        ));
+    }
+    let b = s.tipping_distance.si();
+    if !(b.is_finite() && b > 0.0) {
+        return Err(FieldError::new(
+            &key("tipping_distance"),
+            format!("must be a finite length > 0, got {b} m"),
+        ));
+    }
+    let m = s.slewing_mass.si();
+    if !(m.is_finite() && m > 0.0) {
+        return Err(FieldError::new(
+            &key("slewing_mass"),
+            format!("must be a finite mass > 0, got {m} kg"),
+        ));
+    }
+    let x = s.slewing_centroid.si();
+    if !(x.is_finite() && x.abs() < b) {
+        return Err(FieldError::new(
+            &key("slewing_centroid"),
+            format!(
+                "must lie between the tipping lines, |x_s| < tipping_distance = {b} m, got {x} m"
+            ),
+        ));
+    }
+    let base = s.base_mass.map_or(0.0, |q| q.si());
+    if !(base.is_finite() && base >= 0.0) {
+        return Err(FieldError::new(
+            &key("base_mass"),
+            format!("must be a finite mass >= 0, got {base} kg"),
+        ));
+    }
+    let k = s.min_factor;
+    if !(k.is_finite() && (1.0..=100.0).contains(&k)) {
+        return Err(FieldError::new(
+            &key("min_factor"),
+            format!("must be a number in [1, 100] (stabilising over overturning moment), got {k}"),
+        ));
+    }
+    Ok(Some(StabilitySpec {
+        slewing_mass: m,
+        slewing_centroid: x,
+        base_mass: base,
+        tipping_distance: b,
+        min_factor: k,
+    }))
 }
 
 /// `mechanism.drive.luffing_time` t_l checked: a finite time > 0, with the masses whose drive
@@ -441,6 +653,7 @@ fn balance_scene(raw: &File) -> Result<Option<BalanceScene>, FieldError> {
                 max_mass,
                 lever,
                 directions,
+                kind: counterweight_kind(c)?,
             })
         }
     };
@@ -499,4 +712,98 @@ fn check_work(scene: &cr::CraneScene, s: &cr::Settings) -> Result<(), FieldError
             t("accuracy.plot_points", s.plot_points as f64, d.plot_points),
         ],
     )
+}
+
+/// `design.counterweight.kind` and its keys: `hang_length` only and required for a hanging
+/// counterweight, the four lever keys only and all for a lever.
+fn counterweight_kind(c: &CounterweightRaw) -> Result<CounterweightKind, FieldError> {
+    let key = |k: &str| format!("design.counterweight.{k}");
+    let kind = c.kind.unwrap_or(CounterweightKindRaw::Boom);
+    let lever_keys = [
+        ("lever_pivot", c.lever_pivot.is_some()),
+        ("lever_arm", c.lever_arm.is_some()),
+        ("lever_angle", c.lever_angle.is_some()),
+        ("rod_boom_point", c.rod_boom_point.is_some()),
+    ];
+    if kind != CounterweightKindRaw::Hanging && c.hang_length.is_some() {
+        return Err(FieldError::new(
+            key("hang_length"),
+            "only for kind = \"hanging\"; allowed: remove it or set the kind",
+        ));
+    }
+    if kind != CounterweightKindRaw::Lever {
+        if let Some((k, _)) = lever_keys.iter().find(|(_, given)| *given) {
+            return Err(FieldError::new(
+                key(k),
+                "only for kind = \"lever\"; allowed: remove it or set the kind",
+            ));
+        }
+    }
+    let length = |k: &str, q: Option<Qty<Length>>| -> Result<f64, FieldError> {
+        let q = q.ok_or_else(|| {
+            FieldError::new(
+                key(k),
+                format!(
+                    "missing: kind = \"{}\" needs it (a length)",
+                    if k == "hang_length" {
+                        "hanging"
+                    } else {
+                        "lever"
+                    }
+                ),
+            )
+        })?;
+        let v = q.si();
+        if v.is_finite() && v > 0.0 {
+            Ok(v)
+        } else {
+            Err(FieldError::new(
+                key(k),
+                format!("must be a finite length > 0, got {v} m"),
+            ))
+        }
+    };
+    let pair = |k: &str, p: Option<Pair<Qty<Length>>>| -> Result<[f64; 2], FieldError> {
+        let p = p.ok_or_else(|| {
+            FieldError::new(
+                key(k),
+                "missing: kind = \"lever\" needs it ([length, length])",
+            )
+        })?;
+        let v = p.0.map(|q| q.si());
+        if v.iter().all(|x| x.is_finite()) {
+            Ok(v)
+        } else {
+            Err(FieldError::new(key(k), "must be two finite lengths"))
+        }
+    };
+    Ok(match kind {
+        CounterweightKindRaw::Boom => CounterweightKind::Boom,
+        CounterweightKindRaw::Hanging => CounterweightKind::Hanging {
+            hang_length_m: length("hang_length", c.hang_length)?,
+        },
+        CounterweightKindRaw::Lever => {
+            let angle = c
+                .lever_angle
+                .ok_or_else(|| {
+                    FieldError::new(
+                        key("lever_angle"),
+                        "missing: kind = \"lever\" needs it (an angle)",
+                    )
+                })?
+                .si();
+            if !angle.is_finite() {
+                return Err(FieldError::new(
+                    key("lever_angle"),
+                    "must be a finite angle",
+                ));
+            }
+            CounterweightKind::Lever(LeverSpec {
+                pivot_m: pair("lever_pivot", c.lever_pivot)?,
+                arm_m: length("lever_arm", c.lever_arm)?,
+                angle_at_max_reach_rad: angle,
+                rod_boom_point_m: pair("rod_boom_point", c.rod_boom_point)?,
+            })
+        }
+    })
 }

@@ -179,7 +179,12 @@ pub fn drive(
         check.pass &= diff <= stated;
         let peak = peak_of(if with { &bal.balanced } else { &bal.unbalanced }, name);
         let inertia = match speed {
-            Some(s) => Some(inertia_bound(&c, q, s)?),
+            Some(s) => Some(inertia_bound(
+                &c,
+                q,
+                if with { (m, u) } else { (0.0, [0.0; 2]) },
+                s,
+            )?),
             None => None,
         };
         cases.push(LuffingCase {
@@ -270,13 +275,15 @@ fn works(
 }
 
 /// ΔV = V(φ_max) − V(φ_min) of the weights with load q and the counterweight of first moment
-/// u (boom frame): [`potential`] plus the counterweight's g (u_s sin φ − u_n cos φ).
+/// u: [`potential`] plus the counterweight's g·(its world first moment)_y (on the boom
+/// g (u_s sin φ − u_n cos φ); on a lever about its fixed pivot).
 fn potential_change(c: &Cases, q: f64, u: [f64; 2]) -> Result<f64, BalanceError> {
     let v = |phi: f64| {
         let pose = c.link.pose(phi).ok_or(BalanceError::NoPose { phi })?;
         let v = potential(&pose, c.link, &c.w, q, c.scene.rope.as_ref())
             .ok_or(BalanceError::NoPose { phi })?;
-        Ok::<f64, BalanceError>(v + G * (u[0] * phi.sin() - u[1] * phi.cos()))
+        let cw = c.cw_moment(phi, u).ok_or(BalanceError::NoPose { phi })?;
+        Ok::<f64, BalanceError>(v + G * cw.y)
     };
     let [p0, p1] = c.link.phi_range;
     Ok(v(p1)? - v(p0)?)
@@ -285,16 +292,18 @@ fn potential_change(c: &Cases, q: f64, u: [f64; 2]) -> Result<f64, BalanceError>
 /// The bound on the neglected inertial torque at boom speed `speed` with load q (module doc):
 /// the peak over the range of φ̇² (|Σ m r_G′·r_G″| + Σ (m L²/4) |ψ′ψ″|), plus its refinement
 /// error.
-fn inertia_bound(c: &Cases, q: f64, speed: f64) -> Result<f64, BalanceError> {
+fn inertia_bound(c: &Cases, q: f64, cw: (f64, [f64; 2]), speed: f64) -> Result<f64, BalanceError> {
     let [p0, p1] = c.link.phi_range;
     let (a, b) = (p0 + FD_STEP, p1 - FD_STEP);
-    let f = |phi: f64| inertia_term(c, q, phi).unwrap_or(f64::NAN);
+    let f = |phi: f64| inertia_term(c, q, cw, phi).unwrap_or(f64::NAN);
     let p = interval_peak(f, a, b, 64, 1e-9).map_err(|_| BalanceError::NoPose { phi: a })?;
     Ok(speed * speed * (p.peak.fx + p.error))
 }
 
-/// |Σ m r_G′·r_G″| + Σ (m L²/4) |ψ′ψ″| at φ (kg·m²), by central differences of the poses.
-fn inertia_term(c: &Cases, q: f64, phi: f64) -> Option<f64> {
+/// |Σ m r_G′·r_G″| + Σ (m L²/4) |ψ′ψ″| at φ (kg·m²), by central differences of the poses; a
+/// lever's counterweight (m, w) is a point mass at its centroid, moving with the lever (a
+/// counterweight on the boom or hung turns or translates with the boom: nothing).
+fn inertia_term(c: &Cases, q: f64, cw: (f64, [f64; 2]), phi: f64) -> Option<f64> {
     let h = FD_STEP;
     let super::model::Guide::Circle { centre: pin_b, .. } = c.link.guide else {
         return None;
@@ -337,5 +346,15 @@ fn inertia_term(c: &Cases, q: f64, phi: f64) -> Option<f64> {
             mass * len * len / 4.0 * (rate * acc).abs()
         })
         .sum();
-    Some(translation.abs() + spin)
+    let lever = match c.lever {
+        Some(_) if cw.0 > 0.0 => {
+            let r = |p: f64| c.cw_moment(p, cw.1).map(|w| w / cw.0);
+            let (r_m, r_0, r_p) = (r(phi - h)?, r(phi)?, r(phi + h)?);
+            let v = (r_p - r_m) / (2.0 * h);
+            let acc = (r_p - r_0 * 2.0 + r_m) / (h * h);
+            cw.0 * v.dot(&acc)
+        }
+        _ => 0.0,
+    };
+    Some((translation + lever).abs() + spin)
 }

@@ -5,9 +5,11 @@
 //! time for every result, `--summary-only` included, and `report.rs` draws from the same
 //! solution.
 
+use super::actuator::{ActuatorKind, LuffingActuators};
 use super::file::*;
 use super::luffing::LuffingDrive;
 use super::solve::{Solution, Statics};
+use super::stability::Stability;
 use crate::families::crane::synth::{
     self as cr, Derived, Design, Objectives, Outcome, TiePinLimit,
 };
@@ -51,9 +53,14 @@ pub fn model(s: &CraneProblem, sol: Option<&Solution>) -> BTreeMap<String, serde
         ),
     ]);
     if sol.balance().is_some() {
+        let rope = cs.balance.as_ref().is_some_and(|b| b.rope.is_some());
         m.insert(
             "gravity".into(),
-            json!("boom, jib, tie and load weights (g = 9.80665 m/s²), quasi-static luffing; the hoist rope's pull on the jib is not modelled (the load hangs at the jib head)"),
+            json!(if rope {
+                "boom, jib, tie and load weights (g = 9.80665 m/s²), quasi-static luffing; the inclined hoist rope: the jib head carries the load's weight W and the lead rope's pull W/n towards the sheave S (thesis §2.2), the load hanging at y_C + |S − C|/n"
+            } else {
+                "boom, jib, tie and load weights (g = 9.80665 m/s²), quasi-static luffing; the hoist rope's pull on the jib is not modelled (the load hangs at the jib head)"
+            }),
         );
     }
     m
@@ -191,6 +198,81 @@ fn statics_numbers(
         serde_json::to_value(bal).expect("plain data"),
     );
     luffing_numbers(r, st.luffing.as_ref());
+    stability_numbers(r, st.stability.as_ref());
+    actuator_numbers(r, st.actuators.as_ref());
+}
+
+/// The luffing actuators (`extra.luffing_actuators`), each one's largest force in `derived`
+/// (`luffing_actuator_<i>_force_max_n`), and a warning for a rope that goes slack. Analyses of
+/// the given design: the status is left as it is.
+fn actuator_numbers(r: &mut SolveResult, a: Option<&Result<LuffingActuators, String>>) {
+    let a = match a {
+        None => return,
+        Some(Err(e)) => {
+            r.warnings
+                .push(format!("the luffing actuators could not be computed: {e}"));
+            return;
+        }
+        Some(Ok(a)) => a,
+    };
+    for (i, act) in a.actuators.iter().enumerate() {
+        let (f, e) = act
+            .cases
+            .iter()
+            .map(|c| (c.force_max_n, c.force_error_n))
+            .fold(
+                (f64::NEG_INFINITY, 0.0),
+                |a, b| if b.0 > a.0 { b } else { a },
+            );
+        r.derived
+            .insert(format!("luffing_actuator_{i}_force_max_n"), f);
+        r.derived
+            .insert(format!("luffing_actuator_{i}_force_max_error_n"), e);
+        r.derived
+            .insert(format!("luffing_actuator_{i}_stroke_m"), act.stroke_m);
+        let slack =
+            act.spec.kind == ActuatorKind::Rope && act.cases.iter().any(|c| c.force_min_n < 0.0);
+        if slack {
+            r.warnings
+                .push(format!("luffing actuator {i}: {}", act.verdict));
+        }
+    }
+    r.extra.insert(
+        "luffing_actuators".into(),
+        serde_json::to_value(a).expect("plain data"),
+    );
+}
+
+/// The stability against tipping (`extra.stability`), its smallest factor in `derived`, and a
+/// warning, in plain words, when the required factor is not met. An analysis of the given
+/// design: the status is left as it is.
+fn stability_numbers(r: &mut SolveResult, st: Option<&Result<Stability, String>>) {
+    let s = match st {
+        None => return,
+        Some(Err(e)) => {
+            r.warnings
+                .push(format!("the stability could not be computed: {e}"));
+            return;
+        }
+        Some(Ok(s)) => s,
+    };
+    if let Some(k) = s.min_factor {
+        r.derived.insert("stability_factor_min".into(), k);
+        let e = s
+            .cases
+            .iter()
+            .filter(|l| l.factor == Some(k))
+            .map(|l| l.factor_error)
+            .fold(0.0, f64::max);
+        r.derived.insert("stability_factor_min_error".into(), e);
+    }
+    if !s.pass {
+        r.warnings.push(s.verdict.clone());
+    }
+    r.extra.insert(
+        "stability".into(),
+        serde_json::to_value(s).expect("plain data"),
+    );
 }
 
 /// The luffing drive (`extra.luffing_drive`), and with a luffing time the peak power that

@@ -45,9 +45,17 @@ pub fn documents(scene: &Scene, s: &CraneProblem, sol: &Solution, r: &mut SolveR
     if let Some(bal) = sol.balance() {
         balance_documents(r, scene, s, bal);
     }
+    // The drawing places a counterweight on the boom; a hung or lever one (its path is in
+    // `balance.counterweight_path`) is not drawn.
+    let on_boom = s
+        .scene
+        .balance
+        .and_then(|b| b.counterweight)
+        .is_none_or(|c| c.kind == balance::CounterweightKind::Boom);
     let cw = sol
         .balance()
         .and_then(|b| b.counterweight.as_ref())
+        .filter(|_| on_boom)
         .map(|c| (c.static_moment_kgm, c.mass_kg));
     crane_drawing(r, &scene.name, out, cw);
     r.motion = super::motion::motion(s, out, cw).and_then(|m| serde_json::to_value(m).ok());

@@ -6,9 +6,11 @@
 //! The Δh landscape, a diagnostic grid only the result's files carry, is
 //! [`analyse`]'s.
 
+use super::actuator;
 use super::balance;
 use super::file::CraneProblem;
 use super::luffing;
+use super::stability;
 use super::synth::{self as cr, Landscape, Status as CraneStatus};
 use crate::families::driver::Claim;
 use crate::report::Status;
@@ -44,6 +46,12 @@ pub struct Statics {
     /// With the balance: the luffing drive (work, mean torque, and with a luffing time the
     /// power), or why it could not be computed.
     pub luffing: Option<Result<luffing::LuffingDrive, String>>,
+    /// With the balance and `mechanism.stability`: the stability against tipping, or why it
+    /// could not be computed.
+    pub stability: Option<Result<stability::Stability, String>>,
+    /// With the balance and `mechanism.luffing_actuator`: the actuators' forces, strokes and
+    /// powers, or why they could not be computed.
+    pub actuators: Option<Result<actuator::LuffingActuators, String>>,
 }
 
 impl Solution {
@@ -236,10 +244,25 @@ fn statics(p: &CraneProblem, out: &cr::Outcome) -> Option<Result<Statics, String
         }
         _ => None,
     };
+    let stability = match (&masses, &p.stability) {
+        (Some(Ok(bal)), Some(spec)) => Some(
+            stability::stability(&link, bs, spec, cs.foot_offset, bal).map_err(|e| e.to_string()),
+        ),
+        _ => None,
+    };
+    let actuators = match &masses {
+        Some(Ok(bal)) if !p.actuators.is_empty() => Some(
+            actuator::actuators(&link, bs, bal, &p.actuators, p.luffing_time)
+                .map_err(|e| e.to_string()),
+        ),
+        _ => None,
+    };
     Some(Ok(Statics {
         rope,
         masses,
         luffing,
+        stability,
+        actuators,
     }))
 }
 

@@ -145,11 +145,22 @@ impl HoistRope {
 
 /// The tie pin B; `None` for the straight-guide limit, which pushes E along its normal
 /// only (its "pin" is at infinity).
-fn tie_pin(link: &Linkage) -> Option<P2> {
+pub fn tie_pin(link: &Linkage) -> Option<P2> {
     match link.guide {
         super::model::Guide::Circle { centre, .. } => Some(centre),
         super::model::Guide::Line { .. } => None,
     }
+}
+
+/// The centroids of boom, jib and tie at `pose` with the tie pin `b`: G_b = s_b·D,
+/// G_j = D + f_j (C − D), G_t = (E + B)/2 (module doc).
+pub fn centroids(pose: &Pose, b: P2, w: &SelfWeight) -> [P2; 3] {
+    let Pose { d, e, c } = *pose;
+    [
+        d * w.boom_centroid,
+        d + (c - d) * w.jib_centroid,
+        (e + b) * 0.5,
+    ]
 }
 
 /// The statics at `pose` (boom angle φ) of the linkage `link` (module doc). `None` where the
@@ -170,9 +181,7 @@ pub fn statics(
         down(w.boom_mass),
         down(l.load_mass),
     );
-    let g_t = (e + b) * 0.5;
-    let g_j = d + (c - d) * w.jib_centroid;
-    let g_b = d * w.boom_centroid;
+    let [g_b, g_j, g_t] = centroids(pose, b, w);
     // (E − B) × F = r1, (E − D) × F = r2.
     let (a1, a2) = (e - b, e - d);
     let t_r1 = [cross(g_t - b, w_t)];
