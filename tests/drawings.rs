@@ -439,26 +439,43 @@ fn every_drawing_scene_writes_dimensioned_dxf_and_equal_aspect_svg() {
                     .filter(|(a, _)| a[0] == 0.0 && a[1] == 0.0)
                     .map(|(_, b)| b[0].hypot(b[1]))
                     .collect();
-                // With a boom counterweight, its lever from A at both reaches too (a hung or
-                // lever counterweight, with a `counterweight_path`, is not drawn).
-                let lever = v["design"]["counterweight_lever_m"]
-                    .as_f64()
-                    .filter(|_| v["balance"]["counterweight_path"].is_null());
-                let (booms, levers): (Vec<f64>, Vec<f64>) =
+                // With a boom counterweight, its lever from A at both reaches too; a hung one
+                // hangs from its suspension points on the boom's extension (lines from A to
+                // them); a lever one pivots on the A-frame (no line from A). A hung or lever
+                // counterweight is drawn at its path's centroids (`counterweight_path`).
+                let path = &v["balance"]["counterweight_path"];
+                let pt = |p: &serde_json::Value| [p[0].as_f64().unwrap(), p[1].as_f64().unwrap()];
+                let want: Vec<f64> = if path.is_null() {
+                    v["design"]["counterweight_lever_m"]
+                        .as_f64()
+                        .map_or(Vec::new(), |lv| vec![lv, lv])
+                } else {
+                    path["suspension_point_m"]
+                        .as_array()
+                        .map_or(Vec::new(), |s| {
+                            s.iter().map(|p| pt(p)[0].hypot(pt(p)[1])).collect()
+                        })
+                };
+                let (booms, mut levers): (Vec<f64>, Vec<f64>) =
                     from_a.iter().partition(|&&l| (l - boom).abs() < TOL);
                 assert_eq!(booms.len(), 2, "{name}: the boom at two reaches");
-                match lever {
-                    Some(lv) => {
-                        assert_eq!(
-                            levers.len(),
-                            2,
-                            "{name}: the counterweight's lever at two reaches"
+                assert_eq!(levers.len(), want.len(), "{name}: lines from A {levers:?}");
+                levers.sort_by(f64::total_cmp);
+                let mut want = want;
+                want.sort_by(f64::total_cmp);
+                for (l, w) in levers.iter().zip(&want) {
+                    assert!((l - w).abs() < TOL, "{name}: lever {l} ≠ {w}");
+                }
+                if let Some(cs) = path["centroid_m"].as_array() {
+                    let circles = d.circles("OUTLINE");
+                    for c in cs.iter().map(pt) {
+                        assert!(
+                            circles
+                                .iter()
+                                .any(|(o, _)| (o[0] - c[0]).hypot(o[1] - c[1]) < TOL),
+                            "{name}: no weight drawn at the centroid {c:?}"
                         );
-                        for l in levers {
-                            assert!((l - lv).abs() < TOL, "{name}: lever {l} ≠ {lv}");
-                        }
                     }
-                    None => assert!(levers.is_empty(), "{name}: lines from A {levers:?}"),
                 }
                 has_text(&d, "L_c", boom * 1e3, "");
                 assert!(!outline.is_empty());

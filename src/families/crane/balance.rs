@@ -267,6 +267,8 @@ pub struct CounterweightPath {
     pub x_range_m: [f64; 2],
     /// Bound on the error of these (m): refinement (Brent to 1e-9 rad) plus rounding.
     pub error_m: f64,
+    /// The centroid at φ_min and at φ_max (m, frame of A): what the drawing places.
+    pub centroid_m: [[f64; 2]; 2],
     /// Hanging: the suspension point at φ_min and at φ_max (m, frame of A).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub suspension_point_m: Option<[[f64; 2]; 2]>,
@@ -279,6 +281,10 @@ pub struct CounterweightPath {
     /// Lever: ψ at φ_min (in [0, 2π)) and at φ_max, followed continuously (rad).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub lever_angle_rad: Option<[f64; 2]>,
+    /// Lever: the rod's pins at φ_min and at φ_max, [lever pin L, boom pin K] each (m, frame
+    /// of A): what the drawing places.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub rod_pins_m: Option<[[[f64; 2]; 2]; 2]>,
     /// Lever: the largest |rod force| over the range (N; the counterweight's torque over the
     /// rod's arm about A, the same empty and loaded), and its error (N).
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -595,10 +601,12 @@ impl<'a> Cases<'a> {
             highest_y_m: hi.peak.fx,
             x_range_m: [-xl.peak.fx, xh.peak.fx],
             error_m: error,
+            centroid_m: [p0, p1].map(|p| [at(p).x, at(p).y]),
             suspension_point_m: None,
             hanger_tension_n: None,
             lever: None,
             lever_angle_rad: None,
+            rod_pins_m: None,
             rod_force_max_n: None,
             rod_force_error_n: None,
         };
@@ -643,6 +651,12 @@ impl<'a> Cases<'a> {
                     prev = now;
                 }
                 path.lever_angle_rad = Some([start, end]);
+                let pins = |p: f64| {
+                    lk.pose(p)
+                        .map(|lp| [[lp.l.x, lp.l.y], [lp.k.x, lp.k.y]])
+                        .ok_or(BalanceError::NoPose { phi: p })
+                };
+                path.rod_pins_m = Some([pins(p0)?, pins(p1)?]);
                 path.rod_force_max_n = Some(r.peak.fx);
                 path.rod_force_error_n = Some(r.error + 64.0 * f64::EPSILON * r.peak.fx * cond);
             }

@@ -5,7 +5,7 @@
 
 use super::file::*;
 use super::solve::{Analyses, Solution};
-use crate::families::crane::balance;
+use crate::families::crane::balance::{self, CounterweightPath};
 use crate::families::crane::model::{synthesize, Boom, Guide};
 use crate::families::crane::statics::boom_frame;
 use crate::families::crane::synth::{self as cr, Outcome, TiePinLimit};
@@ -45,8 +45,9 @@ pub fn documents(scene: &Scene, s: &CraneProblem, sol: &Solution, r: &mut SolveR
     if let Some(bal) = sol.balance() {
         balance_documents(r, scene, s, bal);
     }
-    // The drawing places a counterweight on the boom; a hung or lever one (its path is in
-    // `balance.counterweight_path`) is not drawn.
+    // A counterweight on the boom is drawn on its lever from A (and moves in the motion
+    // view); a hung or lever one from its path (`balance.counterweight_path`), at both
+    // reaches.
     let on_boom = s
         .scene
         .balance
@@ -57,7 +58,11 @@ pub fn documents(scene: &Scene, s: &CraneProblem, sol: &Solution, r: &mut SolveR
         .and_then(|b| b.counterweight.as_ref())
         .filter(|_| on_boom)
         .map(|c| (c.static_moment_kgm, c.mass_kg));
-    crane_drawing(r, &scene.name, out, cw);
+    let other = sol.balance().and_then(|b| {
+        let m = b.counterweight.as_ref()?.mass_kg;
+        b.counterweight_path.clone().map(|p| (p, m))
+    });
+    crane_drawing(r, &scene.name, out, cw, other);
     r.motion = super::motion::motion(s, out, cw).and_then(|m| serde_json::to_value(m).ok());
 }
 
@@ -472,11 +477,52 @@ fn path_plot(scene: &Scene, out: &Outcome) -> Result<Vec<Panel>, PlotError> {
     ])
 }
 
+/// A hung counterweight (its suspension point on the boom's extension, the hanger, the
+/// weight) or a lever one (the lever from its pivot O through the rod's lever pin, the rod
+/// to the boom, the weight on the lever) at both reaches, from its path.
+fn hung_or_lever(d: &mut Drawing, path: &CounterweightPath, m: f64, pin: f64) {
+    let p2 = |p: &[f64; 2]| P2::new(p[0], p[1]);
+    let a = P2::zeros();
+    for i in 0..2 {
+        let c = p2(&path.centroid_m[i]);
+        if let Some(s) = &path.suspension_point_m {
+            let s = p2(&s[i]);
+            d.line(Layer::Outline, a, s);
+            d.line(Layer::Outline, s, c);
+            d.circle(Layer::Outline, s, pin);
+        }
+        if let (Some(lk), Some(pins)) = (&path.lever, &path.rod_pins_m) {
+            let (l, k) = (p2(&pins[i][0]), p2(&pins[i][1]));
+            d.line(Layer::Outline, lk.pivot, l);
+            d.line(Layer::Outline, lk.pivot, c);
+            d.line(Layer::Outline, l, k);
+            for j in [l, k] {
+                d.circle(Layer::Outline, j, pin);
+            }
+        }
+        d.circle(Layer::Outline, c, 3.0 * pin);
+    }
+    if let Some(lk) = &path.lever {
+        d.mark(lk.pivot)
+            .label(lk.pivot + P2::new(0.0, 2.0 * pin), "O");
+    }
+    d.label(
+        p2(&path.centroid_m[0]) - P2::new(0.0, 5.0 * pin),
+        format!("counterweight {:.1} t ({})", m / 1e3, path.kind),
+    );
+}
+
 /// The linkage's drawing (`<name>-drawing.dxf`/`.svg`), where the design has a geometry: the
 /// four-bar at maximum and minimum reach (boom A–D, jib E–D–C, tie B–E; A at the origin), the
 /// jib-head and jib-tail paths over the luffing range, with the boom L_c = |AD|, the jib head
 /// L_v = |DC|, the jib tail a = |DE| and the tie b = |BE| dimensioned at maximum reach.
-fn crane_drawing(r: &mut SolveResult, name: &str, out: &Outcome, cw: Option<([f64; 2], f64)>) {
+fn crane_drawing(
+    r: &mut SolveResult,
+    name: &str,
+    out: &Outcome,
+    cw: Option<([f64; 2], f64)>,
+    other: Option<(CounterweightPath, f64)>,
+) {
     let Some(pos) = out.positions.clone() else {
         return;
     };
@@ -528,6 +574,9 @@ fn crane_drawing(r: &mut SolveResult, name: &str, out: &Outcome, cw: Option<([f6
                     p - P2::new(0.0, 5.0 * pin),
                     format!("counterweight {:.1} t", m / 1e3),
                 );
+            }
+            if let Some((path, m)) = other.as_ref().filter(|o| o.1 > 0.0) {
+                hung_or_lever(&mut d, path, *m, pin);
             }
             let (dd, e, c) = (p2(&pos.d[0]), p2(&pos.e[0]), p2(&pos.c[0]));
             d.linear(a, dd, 0.06 * boom, "L_c");
