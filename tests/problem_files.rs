@@ -301,7 +301,7 @@ fn objective_needs_what_it_uses() {
 #[test]
 fn accuracy_settings_are_validated() {
     let t = with(PISTON, "rel_tol = 1e-9", "rel_tol = 2.0");
-    assert_names(&t, "accuracy.rel_tol", "rel_tol", "must be in (0, 1)");
+    assert_names(&t, "accuracy.rel_tol", "rel_tol", "must be in [1e-14, 1)");
 }
 
 #[test]

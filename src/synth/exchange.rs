@@ -33,6 +33,11 @@ pub enum Status {
 /// engine's `synth::minimax::Settings`), checked in one place: `rel_tol` in (0, 1), at
 /// least 3 initial and 16 scan samples, at least one round, `peak_xtol` in (0, 0.01) rad.
 /// The error names the setting as in `[accuracy]`.
+/// The finest `rel_tol` accepted: a gap V − L below 1e-14 of the peak is below the rounding
+/// of the peaks themselves (a few ε times the field's conditioning), so no round can meet it
+/// (`rel_tol = 1e-308` ran 30 rounds and 798 interior-point iterations to `inaccurate`).
+pub const MIN_REL_TOL: f64 = 1e-14;
+
 pub(crate) fn check_exchange(
     rel_tol: f64,
     initial_samples: usize,
@@ -40,8 +45,11 @@ pub(crate) fn check_exchange(
     max_rounds: usize,
     peak_xtol: f64,
 ) -> Result<(), (&'static str, String)> {
-    if !(rel_tol > 0.0 && rel_tol < 1.0) {
-        return Err(("rel_tol", format!("must be in (0, 1), got {rel_tol}")));
+    if !(rel_tol >= MIN_REL_TOL && rel_tol < 1.0) {
+        return Err((
+            "rel_tol",
+            format!("must be in [{MIN_REL_TOL:e}, 1) (a finer gap than 1e-14 of the peak is below what its double-precision evaluation resolves: the exchange loop would run out of rounds), got {rel_tol}"),
+        ));
     }
     if initial_samples < 3 {
         return Err((
