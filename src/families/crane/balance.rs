@@ -601,7 +601,10 @@ impl<'a> Cases<'a> {
             highest_y_m: hi.peak.fx,
             x_range_m: [-xl.peak.fx, xh.peak.fx],
             error_m: error,
-            centroid_m: [p0, p1].map(|p| [at(p).x, at(p).y]),
+            centroid_m: [p0, p1].map(|p| {
+                let c = at(p);
+                [c.x, c.y]
+            }),
             suspension_point_m: None,
             hanger_tension_n: None,
             lever: None,

@@ -8,7 +8,7 @@
 use super::file::*;
 use super::solve::Solution;
 use crate::families::family::Scene;
-use crate::families::gear::stress::{FlankStress, ToothLoad};
+use crate::families::gear::stress::{flank_name, FlankStress, ToothLoad};
 use crate::families::gear::synth::{Derived, Outcome, TeethOutcome};
 use crate::families::gear::teeth::Involute;
 use crate::report::SolveResult;
@@ -95,7 +95,7 @@ fn flank_wear_rows(t: &TeethOutcome) -> serde_json::Value {
             json!({
                 "arch": i,
                 "tooth": i / 2,
-                "flank": if i.is_multiple_of(2) { "addendum" } else { "dedendum" },
+                "flank": flank_name(i),
                 "sliding_distance_per_engagement_m": t.wear.per_engagement[i].value,
                 "sliding_distance_per_cycle_m": v,
                 "error_m": e,
@@ -116,14 +116,14 @@ fn stress_rows(st: &FlankStress) -> serde_json::Value {
             json!({
                 "arch": a.arch,
                 "tooth": a.arch / 2,
-                "flank": if a.arch.is_multiple_of(2) { "addendum" } else { "dedendum" },
+                "flank": flank_name(a.arch),
                 "loaded_from_rad": a.loaded.0,
                 "loaded_to_rad": a.loaded.1,
                 "peak_p0_pa": a.peak.map(|p| p.p0_pa),
                 "peak_alpha1_rad": a.peak.map(|p| p.alpha1),
                 "least_p0_pa": a.least.map(|p| p.p0_pa),
                 "least_alpha1_rad": a.least.map(|p| p.alpha1),
-                "p0_error_pa": a.peak.map(|p| p.error_pa.max(a.least.map_or(0.0, |l| l.error_pa))),
+                "p0_error_pa": a.p0_error(),
                 "archard_per_engagement_nm": a.archard.value,
                 "archard_per_cycle_nm": w,
                 "archard_error_nm": we,
@@ -148,13 +148,6 @@ fn stress_note(st: &FlankStress, load: &ToothLoad, d: &Derived) -> String {
             .unwrap_or(0)
     };
     let (hi, lo) = (argmax(&st.gear1, true), argmax(&st.gear1, false));
-    let flank = |i: usize| {
-        if i.is_multiple_of(2) {
-            "addendum"
-        } else {
-            "dedendum"
-        }
-    };
     let mpa = |v: Option<f64>| v.unwrap_or(f64::NAN) * 1e-6;
     format!(
         "contact stress and wear (mechanism.load: T1 = {} N·m on gear 1, face width {} mm, E = {} GPa, ν = {}; one contact at a time as in the paper's construction, frictionless): the contact can drive gear 2 only on the driving flanks, {:.2} % of each turn (`derived.driving_contact_fraction`); on the rest it is on the back flanks, so under load the teeth part and re-engage once a pitch. Teeth that are single cycloid arches have a transverse contact ratio of 0.5: this pair cannot carry a steady torque without a second pair of flanks in contact. On the driving flanks p0 is least mid-flank, {:.1} to {:.1} MPa depending on where in the turn, and grows without bound towards the pitch point (both flanks' radii of curvature vanish) and the tooth tip (the normal's arm about O1 vanishes): {:.1} MPa at the ends of the working windows (±{} rad). The paper finds the wear even because µ1 and µ2 are symmetric; weighted by the load (Archard, W = ∫F|v_s|dt over the working windows) it is not: gear 1's most worn flank, arch {hi} (tooth {}, {}), takes {:.2} times the least worn, arch {lo} (tooth {}, {}) ({:.4} against {:.4} N·m a cycle, `contact_stress`); the sliding distance alone differs {:.2}-fold. W grows like the logarithm of 1/window at the tip, so the ratio depends on the window; the least mid-flank stress ({:.2}-fold) does not",
@@ -168,10 +161,10 @@ fn stress_note(st: &FlankStress, load: &ToothLoad, d: &Derived) -> String {
         mpa(d.hertz_peak_stress_pa),
         st.window_rad,
         hi / 2,
-        flank(hi),
+        flank_name(hi),
         st.gear1[hi].0 / st.gear1[lo].0,
         lo / 2,
-        flank(lo),
+        flank_name(lo),
         st.gear1[hi].0,
         st.gear1[lo].0,
         d.sliding_distance_max_gear1_m.unwrap_or(f64::NAN) / d.sliding_distance_min_gear1_m.unwrap_or(f64::NAN),

@@ -7,7 +7,7 @@ use super::file::*;
 use super::solve::{Analyses, Solution};
 use crate::families::family::Scene;
 use crate::families::gear::model::{EccentricCircle, GearPair, Which, ZeroKind};
-use crate::families::gear::stress::{ArchStress, FlankStress, StressPoint};
+use crate::families::gear::stress::{flank_name, ArchStress, FlankStress, StressPoint};
 use crate::families::gear::synth::{self as sg, GearScene, Outcome, TeethOutcome};
 use crate::families::gear::teeth::Arch;
 use crate::geom::P2;
@@ -710,20 +710,14 @@ fn stress_table(st: &FlankStress) -> Table {
             csv,
             "1,{},{},{},{},{},{},{},{},{},{},{}",
             a.arch,
-            if a.arch.is_multiple_of(2) {
-                "addendum"
-            } else {
-                "dedendum"
-            },
+            flank_name(a.arch),
             num(a.loaded.0),
             num(a.loaded.1),
             opt(a.peak.map(|p| p.p0_pa)),
             opt(a.peak.map(|p| p.alpha1)),
             opt(a.least.map(|p| p.p0_pa)),
             opt(a.least.map(|p| p.alpha1)),
-            opt(a
-                .peak
-                .map(|p| p.error_pa.max(a.least.map_or(0.0, |l| l.error_pa)))),
+            opt(a.p0_error()),
             num(*w),
             num(*we)
         );

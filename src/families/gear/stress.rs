@@ -44,7 +44,7 @@
 //! contact would need an infinite force) — so both are given on the working window: the
 //! loaded stretch less the pole window w at each end.
 
-use crate::families::gear::model::GearPair;
+use crate::families::gear::model::{Contact, GearPair};
 use crate::families::gear::teeth::{gear2_arch_sums, simpson, Integral};
 use crate::numeric::{brent_max, brent_root, minimize_1d, SearchError};
 use rayon::prelude::*;
@@ -128,8 +128,21 @@ pub fn flank_curvatures(pair: &GearPair, alpha1: f64, arch: usize) -> ([f64; 2],
 
 /// The arm h = −σρ1 d_y of the normal about O1 at α1 on arch i (m).
 pub fn arm(pair: &GearPair, alpha1: f64, arch: usize) -> f64 {
-    let ct = pair.contact_on(alpha1, arch);
+    arm_of(&pair.contact_on(alpha1, arch))
+}
+
+/// The arm h = −σρ1 d_y of a contact state (P = (ρ1, 0)).
+fn arm_of(ct: &Contact) -> f64 {
     -ct.sigma * ct.p.x * ct.d.y
+}
+
+/// "addendum" on gear 1's epicycloid arches (even i), "dedendum" on its hypocycloid ones.
+pub fn flank_name(arch: usize) -> &'static str {
+    if arch.is_multiple_of(2) {
+        "addendum"
+    } else {
+        "dedendum"
+    }
 }
 
 /// The contact at α1 on arch i under the load (module doc).
@@ -190,6 +203,14 @@ pub struct ArchStress {
     pub archard: Integral,
     /// (α1, p0) at 65 evenly spaced points of the window, ends included (for the plot).
     pub samples: Vec<(f64, f64)>,
+}
+
+impl ArchStress {
+    /// The error bound of both extremes of p0 (Pa; `None` with an empty window).
+    pub fn p0_error(&self) -> Option<f64> {
+        self.peak
+            .map(|p| p.error_pa.max(self.least.map_or(0.0, |l| l.error_pa)))
+    }
 }
 
 /// The load-weighted wear and stress of every flank over a cycle.
@@ -297,8 +318,7 @@ fn arch_stress(
     };
     let f = |x: f64| {
         let ct = pair.contact_on(x, arch);
-        let h = -ct.sigma * ct.p.x * ct.d.y;
-        load.torque / h * ct.v_slide.abs() / pair.omega1
+        load.torque / arm_of(&ct) * ct.v_slide.abs() / pair.omega1
     };
     // W: the half of the window next to the tip (where the arm vanishes and F|v_s| grows
     // like 1/|α − tip|) in u = ln|α − tip|, where f·e^u is smooth; the half next to the cusp
