@@ -26,6 +26,7 @@ mod crane_balance;
 mod crane_counterweight_types;
 mod crane_drive;
 mod crane_io;
+mod crane_level_load;
 mod crane_stability;
 mod drawings;
 mod drive;

@@ -8,8 +8,9 @@ use crate::families::crane::actuator::{ActuatorKind, ActuatorSpec};
 use crate::families::crane::balance::{
     BalanceScene, CounterweightKind, CounterweightSpec, LeverSpec,
 };
+use crate::families::crane::model::{HoistRope, Level};
 use crate::families::crane::stability::StabilitySpec;
-use crate::families::crane::statics::{HoistRope, SelfWeight};
+use crate::families::crane::statics::SelfWeight;
 use crate::families::crane::synth::{self as cr, Settings, SizingRule, TiePinLimit};
 use crate::problem::limits::{self, c, Count};
 use crate::problem::{
@@ -253,8 +254,13 @@ pub struct DesignRaw {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, schemars::JsonSchema)]
 #[serde(rename_all = "kebab-case")]
 pub enum Minimize {
-    /// Δh, the height variation of the jib head over the luffing range.
+    /// Δh, the height variation of the jib head over the luffing range; the precision points
+    /// put the head level (thesis §2.1).
     DeltaH,
+    /// Δh_L, the height variation of the load on the inclined hoist rope
+    /// (`mechanism.hoist_rope`); the precision points put the load level (thesis §2.2: the
+    /// head at C2 and C3 higher than at C1 by h2 and h3, the rope's run-out per fall).
+    LoadDeltaH,
 }
 
 /// `[objective.tie_pin]`: where the tie pin B may be (frame of A, x behind the foot).
@@ -273,9 +279,9 @@ pub struct TiePinRaw {
 #[derive(Debug, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ObjectiveRaw {
-    /// Always `delta-h`.
+    /// `delta-h` (the jib head level) or `load-delta-h` (the load on the inclined rope level).
     pub minimize: Minimize,
-    /// Allowed Δh of the check (default 0.1·H).
+    /// Allowed Δh (of the head, or with `load-delta-h` of the load) of the check (default 0.1·H).
     pub max_delta_h: Option<Qty<Length>>,
     /// Tie-pin limit (required when a variable is free).
     pub tie_pin: Option<TiePinRaw>,
@@ -369,6 +375,7 @@ pub fn resolve_raw(raw: &File) -> Result<CraneProblem, FieldError> {
         max_delta_h: o.max_delta_h.map(|q| q.si()),
         load_mass: m.load_mass.map(|q| q.si()),
         balance: balance_scene(raw)?,
+        level: level_of(raw)?,
     };
     scene.validate()?;
     if let Some(t) = &o.tie_pin {
@@ -390,6 +397,45 @@ pub fn resolve_raw(raw: &File) -> Result<CraneProblem, FieldError> {
         stability: stability(raw)?,
         actuators: actuators(raw)?,
     })
+}
+
+/// What `objective.minimize` puts level: `load-delta-h` needs the inclined rope.
+fn level_of(raw: &File) -> Result<Level, FieldError> {
+    match raw.objective.minimize {
+        Minimize::DeltaH => Ok(Level::Head),
+        Minimize::LoadDeltaH => match hoist_rope(raw)? {
+            Some(rope) => Ok(Level::Load(rope)),
+            None => Err(FieldError::new(
+                "objective.minimize",
+                "load-delta-h levels the load on an inclined hoist rope; allowed: add [mechanism.hoist_rope] with its sheave, or minimize = \"delta-h\"",
+            )),
+        },
+    }
+}
+
+/// `mechanism.hoist_rope` checked: a finite sheave, 1 to 64 falls.
+fn hoist_rope(raw: &File) -> Result<Option<HoistRope>, FieldError> {
+    let Some(r) = &raw.mechanism.hoist_rope else {
+        return Ok(None);
+    };
+    let [x, y] = r.sheave.0.map(|q| q.si());
+    if !(x.is_finite() && y.is_finite()) {
+        return Err(FieldError::new(
+            "mechanism.hoist_rope.sheave",
+            "must be two finite lengths [x, y]",
+        ));
+    }
+    let parts = r.parts.unwrap_or(1);
+    if parts == 0 || parts > 64 {
+        return Err(FieldError::new(
+            "mechanism.hoist_rope.parts",
+            format!("must be 1 to 64 falls, got {parts}"),
+        ));
+    }
+    Ok(Some(HoistRope {
+        sheave: crate::geom::P2::new(x, y),
+        parts: parts as f64,
+    }))
 }
 
 /// `mechanism.luffing_actuator` checked: finite points, P not on the boom's line through A
@@ -536,29 +582,7 @@ fn luffing_time(raw: &File) -> Result<Option<f64>, FieldError> {
 /// The balance section of the scene: `mechanism.self_weight` and `design.counterweight`.
 fn balance_scene(raw: &File) -> Result<Option<BalanceScene>, FieldError> {
     let m = &raw.mechanism;
-    let rope = match &m.hoist_rope {
-        None => None,
-        Some(r) => {
-            let [x, y] = r.sheave.0.map(|q| q.si());
-            if !(x.is_finite() && y.is_finite()) {
-                return Err(FieldError::new(
-                    "mechanism.hoist_rope.sheave",
-                    "must be two finite lengths [x, y]",
-                ));
-            }
-            let parts = r.parts.unwrap_or(1);
-            if parts == 0 || parts > 64 {
-                return Err(FieldError::new(
-                    "mechanism.hoist_rope.parts",
-                    format!("must be 1 to 64 falls, got {parts}"),
-                ));
-            }
-            Some(HoistRope {
-                sheave: crate::geom::P2::new(x, y),
-                parts: parts as f64,
-            })
-        }
-    };
+    let rope = hoist_rope(raw)?;
     let Some(sw) = &m.self_weight else {
         return match raw.design.counterweight {
             Some(_) => Err(FieldError::new(

@@ -21,6 +21,13 @@ pub enum CraneGeomError {
     /// heights at the two extreme reaches).
     #[error("the angles give no positive jib/boom ratio: k = {k}")]
     NoJibRatio { k: f64 },
+    /// No positive jib/boom ratio puts the load on the inclined rope at equal heights at both
+    /// extreme reaches ([`Boom::levelled`]).
+    #[error(
+        "no positive jib/boom ratio levels the load: at these angles the jib head would have to rise between maximum and \
+         minimum reach by the rope's run-out per fall, about {run_out:.3} m for the level head's jib, and no jib does it"
+    )]
+    NoLevelJib { run_out: f64 },
     /// The middle design position D2 does not exist: the circle (C2, L_v) misses the boom
     /// circle (A, L_c) on the branch between the extreme boom angles.
     #[error("no middle boom position D2 between phi_min and phi_max for C2 = ({x:.6}, {y:.6})")]
@@ -87,6 +94,78 @@ pub fn boom_head(l_c: f64, phi: f64) -> P2 {
     P2::new(-l_c * phi.cos(), l_c * phi.sin())
 }
 
+/// An inclined hoist rope (thesis §2.2, Fig 2.3): from a fixed sheave S on the frame over
+/// the jib-head sheave C down to the load in `parts` falls. The rope's length is constant,
+/// so the load hangs at y_L = y_C − (L_r − |S − C|)/n below the head, and the jib head
+/// carries the load's weight W downwards plus the lead rope's pull W/n towards S.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct HoistRope {
+    /// S, the fixed sheave the rope comes from (m, frame of A).
+    pub sheave: P2,
+    /// n, the falls between the jib head and the load (≥ 1).
+    pub parts: f64,
+}
+
+impl HoistRope {
+    /// The load's height up to a constant: y_C + |S − C|/n (m).
+    pub fn load_height(&self, c: P2) -> f64 {
+        c.y + (self.sheave - c).norm() / self.parts
+    }
+}
+
+/// What the three precision points of the synthesis put level: the jib head (thesis §2.1,
+/// the hoist rope parallel to the boom or the tie, so the load keeps its distance below the
+/// head) or the load on an inclined rope (§2.2, Fig 2.3), whose hanging length changes by the
+/// rope's run-out over the jib-head sheave.
+#[derive(Debug, Clone, Copy, PartialEq, Default, serde::Serialize)]
+#[serde(rename_all = "kebab-case", tag = "level")]
+pub enum Level {
+    /// y_C, the jib head's height.
+    #[default]
+    Head,
+    /// y_L = y_C + |S − C|/n up to a constant, the load's height on the rope.
+    Load(HoistRope),
+}
+
+impl Level {
+    /// The levelled height at the jib head `c` (m, up to a constant for the load).
+    pub fn height(&self, c: P2) -> f64 {
+        match self {
+            Level::Head => c.y,
+            Level::Load(rope) => rope.load_height(c),
+        }
+    }
+
+    /// ∂height/∂C: (0, 1) for the head, (0, 1) + (C − S)/(n|C − S|) for the load.
+    pub fn gradient(&self, c: P2) -> P2 {
+        match self {
+            Level::Head => P2::new(0.0, 1.0),
+            Level::Load(rope) => {
+                let r = c - rope.sheave;
+                P2::new(0.0, 1.0) + r / (rope.parts * r.norm())
+            }
+        }
+    }
+
+    /// Bound on |∂height/∂C|: 1 for the head, 1 + 1/n for the load (what a head moved by δ
+    /// moves the height by at most, times |δ|).
+    pub fn gain(&self) -> f64 {
+        match self {
+            Level::Head => 1.0,
+            Level::Load(rope) => 1.0 + 1.0 / rope.parts,
+        }
+    }
+
+    /// Length scale the height adds to a pose's rounding: |S|/n for the load (its rope term
+    /// |S − C|/n is rounded relative to |S| + |C|), 0 for the head.
+    pub fn length_scale(&self) -> f64 {
+        match self {
+            Level::Head => 0.0,
+            Level::Load(rope) => rope.sheave.norm() / rope.parts,
+        }
+    }
+}
+
 /// Step 1 resolved: boom length L_c, jib length L_v = k·L_c and the angles.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
 pub struct Boom {
@@ -96,10 +175,12 @@ pub struct Boom {
     pub k: f64,
     /// The step-1 angles.
     pub angles: Angles,
+    /// What the precision points put level (the head unless built by [`Boom::levelled`]).
+    pub level: Level,
 }
 
 impl Boom {
-    /// Build from the boom length and the angles (k from [`Angles::k`]).
+    /// Build from the boom length and the angles (k from [`Angles::k`]): the head level.
     pub fn new(l_c: f64, angles: Angles) -> Result<Boom, CraneGeomError> {
         if !(l_c.is_finite() && l_c > 0.0) {
             return Err(CraneGeomError::Invalid {
@@ -114,7 +195,66 @@ impl Boom {
                 k: if raw.is_finite() { raw } else { 0.0 },
             }
         })?;
-        Ok(Boom { l_c, k, angles })
+        Ok(Boom {
+            l_c,
+            k,
+            angles,
+            level: Level::Head,
+        })
+    }
+
+    /// Build with the extremes' `level` heights equal: for [`Level::Load`] the thesis's
+    /// inclined-rope step 1 (§2.2), the jib head at minimum reach higher than at maximum
+    /// reach by h3 = (|S − C1| − |S − C3|)/n, the rope's run-out over the head sheave shared
+    /// by its n falls. k solves f(k) = y_L(C3(k)) − y_L(C1(k)) = 0 with
+    /// C1(k) = D1 + k L_c(−cos γ3, −sin γ3), C3(k) = D3 + k L_c(−sin γ2, −cos γ2), by
+    /// Newton from the head's closed-form k (f'(k) from [`Level::gradient`]), else by a
+    /// safeguarded Newton on the first bracket found on k·2^(j/2), j = −40..8 (k/2²⁰ to 16k).
+    pub fn levelled(l_c: f64, angles: Angles, level: Level) -> Result<Boom, CraneGeomError> {
+        let head = Boom::new(l_c, angles)?;
+        if level == Level::Head {
+            return Ok(head);
+        }
+        let (g2, g3) = (angles.gamma2, angles.gamma3);
+        let (d1, d3) = (
+            boom_head(l_c, angles.phi_min),
+            boom_head(l_c, angles.phi_max()),
+        );
+        let (u1, u3) = (
+            l_c * P2::new(-g3.cos(), -g3.sin()),
+            l_c * P2::new(-g2.sin(), -g2.cos()),
+        );
+        let f = |k: f64| {
+            let (c1, c3) = (d1 + k * u1, d3 + k * u3);
+            (
+                level.height(c3) - level.height(c1),
+                level.gradient(c3).dot(&u3) - level.gradient(c1).dot(&u1),
+            )
+        };
+        let k0 = head.k;
+        let tol = 1e-15 * k0;
+        let root = crate::numeric::newton_polish(f, k0, 0.0, 16.0 * k0, tol, 40)
+            .map(|r| r.x)
+            .or_else(|| {
+                let ks: Vec<f64> = (-40..=8).map(|j| k0 * 2f64.powf(j as f64 / 2.0)).collect();
+                ks.windows(2)
+                    .find(|w| f(w[0]).0 * f(w[1]).0 <= 0.0)
+                    .and_then(|w| crate::numeric::newton_root(f, w[0], w[1], tol).ok())
+                    .map(|r| r.x)
+            });
+        match root {
+            Some(k) if k.is_finite() && k > 0.0 => Ok(Boom {
+                l_c,
+                k,
+                angles,
+                level,
+            }),
+            _ => {
+                let run_out =
+                    level.height(head.c1()) - head.c1().y - (level.height(head.c3()) - head.c3().y);
+                Err(CraneGeomError::NoLevelJib { run_out })
+            }
+        }
     }
 
     /// Jib head length L_v = k·L_c.
@@ -134,9 +274,14 @@ impl Boom {
         boom_head(self.l_c, self.angles.phi_max()) + self.l_v() * P2::new(-g.sin(), -g.cos())
     }
 
-    /// Head height above A at the extremes, H1 = L_c(sin φ_min − k sin γ3).
+    /// Head height above A at the extremes, H1 = L_c(sin φ_min − k sin γ3) (equal at both
+    /// for the head level; for the load level the lower of y_C1 = H1 and y_C3 = H1 + h3).
     pub fn head_height(&self) -> f64 {
-        self.l_c * self.angles.unit_head_height(self.k)
+        let h1 = self.l_c * self.angles.unit_head_height(self.k);
+        match self.level {
+            Level::Head => h1,
+            Level::Load(_) => h1.min(self.c3().y),
+        }
     }
 }
 
@@ -176,8 +321,8 @@ pub fn design_positions(boom: &Boom, k1: f64, k2: f64) -> Result<DesignPositions
         });
     }
     let (c1, c3) = (boom.c1(), boom.c3());
-    let h1 = c1.y;
-    let c2 = P2::new(c1.x + k1 * (c3.x - c1.x), h1);
+    let x2 = c1.x + k1 * (c3.x - c1.x);
+    let c2 = P2::new(x2, middle_height(boom, x2, k1)?);
     let (p1, p3) = (boom.angles.phi_min, boom.angles.phi_max());
     let (d1, d3) = (boom_head(boom.l_c, p1), boom_head(boom.l_c, p3));
     // The boom–jib dyad A–D–C must stay on one assembly branch: D on the same side of the
@@ -192,7 +337,7 @@ pub fn design_positions(boom: &Boom, k1: f64, k2: f64) -> Result<DesignPositions
     let d2 = circle_circle(P2::zeros(), boom.l_c, c2, boom.l_v(), side).ok_or(no_d2.clone())?;
     let phi2 = d2.y.atan2(-d2.x);
     let tol = 1e-9 * (p3 - p1).abs().max(1.0);
-    if !(phi2 >= p1 - tol && phi2 <= p3 + tol && d2.y >= h1) {
+    if !(phi2 >= p1 - tol && phi2 <= p3 + tol && d2.y >= c2.y) {
         return Err(no_d2);
     }
     // D2 again in difference form from the nearer extreme position a: with w = D_a − C_a
@@ -201,20 +346,25 @@ pub fn design_positions(boom: &Boom, k1: f64, k2: f64) -> Result<DesignPositions
     // δ = φ2 − φ_a solves f(δ) = 2 w·(ΔD − ΔC) + |ΔD − ΔC|² = 0 (|D2 − C2| = L_v) by Newton
     // from the rounded φ2. Every term is relative to |ΔC|, so δ keeps its digits when C2 is
     // within rounding of C1 or C3 (k1 near 0 or 1).
+    // ΔC's height is 0 for the head level (C2 on the line y = H1, exact by construction).
     let (g2, g3) = (boom.angles.gamma2, boom.angles.gamma3);
+    let rise = |ca: P2| match boom.level {
+        Level::Head => 0.0,
+        Level::Load(_) => c2.y - ca.y,
+    };
     let (a, pa, w, dc) = if k1 <= 0.5 {
         (
             0,
             p1,
             boom.l_v() * P2::new(g3.cos(), g3.sin()),
-            P2::new(k1 * (c3.x - c1.x), 0.0),
+            P2::new(k1 * (c3.x - c1.x), rise(c1)),
         )
     } else {
         (
             2,
             p3,
             boom.l_v() * P2::new(g2.sin(), g2.cos()),
-            P2::new((1.0 - k1) * (c1.x - c3.x), 0.0),
+            P2::new((1.0 - k1) * (c1.x - c3.x), rise(c3)),
         )
     };
     let dd = |del: f64| {
@@ -252,6 +402,31 @@ pub fn design_positions(boom: &Boom, k1: f64, k2: f64) -> Result<DesignPositions
         e,
         e_step: (a, (1.0 + k2) * dd2 - k2 * dc),
     })
+}
+
+/// The middle precision point's height y_C2 at x_C2 = `x2`: H1 for the head level; for the
+/// load level the root of y_L(x2, y) = y_L(C1), i.e. y_C2 = H1 + h2 with the thesis's
+/// h2 = (|S − C1| − |S − C2|)/n. y_L is convex and non-decreasing in y (∂y_L/∂y =
+/// 1 − (y_S − y)/(n|S − C|) ≥ 1 − 1/n), so Newton from the chord's height
+/// y_C1 + k1(y_C3 − y_C1) converges; a rope of one fall directly above the head (∂y_L/∂y = 0)
+/// has no such point and is [`CraneGeomError::NoMiddlePosition`].
+fn middle_height(boom: &Boom, x2: f64, k1: f64) -> Result<f64, CraneGeomError> {
+    let (c1, c3) = (boom.c1(), boom.c3());
+    if boom.level == Level::Head {
+        return Ok(c1.y);
+    }
+    let target = boom.level.height(c1);
+    let g = |y: f64| {
+        let c = P2::new(x2, y);
+        (boom.level.height(c) - target, boom.level.gradient(c).y)
+    };
+    let y0 = c1.y + k1 * (c3.y - c1.y);
+    let span = boom.l_c;
+    crate::numeric::newton_polish(g, y0, y0 - span, y0 + span, 1e-15 * span, 60)
+        .or_else(|| crate::numeric::newton_root(g, y0 - span, y0 + span, 1e-15 * span).ok())
+        .map(|r| r.x)
+        .filter(|y| y.is_finite())
+        .ok_or(CraneGeomError::NoMiddlePosition { x: x2, y: y0 })
 }
 
 /// What guides the jib tail E: the tie (a circle about the tie pin B) or, in the limit of
@@ -557,6 +732,17 @@ pub fn head_heights_with(
     n: usize,
     xtol: Option<f64>,
 ) -> Result<HeadHeights, PathError> {
+    level_heights_with(link, &Level::Head, n, xtol)
+}
+
+/// [`head_heights_with`] for the height `level` measures: the jib head's, or the load's on an
+/// inclined rope ([`Level::Load`]); every field then describes that height (y_max, Δh, …).
+pub fn level_heights_with(
+    link: &Linkage,
+    level: &Level,
+    n: usize,
+    xtol: Option<f64>,
+) -> Result<HeadHeights, PathError> {
     let [p0, p1] = link.phi_range;
     let n = n.max(8);
     let mut min_t = f64::INFINITY;
@@ -572,7 +758,7 @@ pub fn head_heights_with(
     }
     // A pose that fails between samples (a gap narrower than the spacing) shows up as NaN
     // here and is reported by interval_peak as not finite.
-    let y = |phi: f64| link.pose(phi).map_or(f64::NAN, |p| p.c.y);
+    let y = |phi: f64| link.pose(phi).map_or(f64::NAN, |p| level.height(p.c));
     let to_path = |e: SearchError| match e {
         SearchError::NotFinite { x } => PathError::CannotAssemble { phi: x },
         other => PathError::Search(other),
@@ -582,7 +768,8 @@ pub fn head_heights_with(
     // A pose within μ of the singular (tangent) one loses digits as 1/sin μ (the circle
     // intersection's height over its rounding), at most to sqrt(ε).
     let tangency = min_t.sin().max(f64::EPSILON.sqrt());
-    let rounding = 64.0 * f64::EPSILON * link.length_scale() / (link.k2 * tangency);
+    let rounding = 64.0 * f64::EPSILON * link.length_scale() / (link.k2 * tangency)
+        + 64.0 * f64::EPSILON * level.length_scale();
     Ok(HeadHeights {
         y_max: hi.peak.fx,
         phi_at_max: hi.peak.x,
@@ -612,6 +799,17 @@ pub struct LocalExtremum {
 /// its two neighbouring intervals. The largest maximum minus the smallest minimum is Δh; the
 /// others are the pieces a local search must watch, since they can take over.
 pub fn head_extrema(link: &Linkage, n: usize, xtol: f64) -> Result<Vec<LocalExtremum>, PathError> {
+    level_extrema(link, &Level::Head, n, xtol)
+}
+
+/// [`head_extrema`] of the height `level` measures (the head's or the load's); `y` is that
+/// height.
+pub fn level_extrema(
+    link: &Linkage,
+    level: &Level,
+    n: usize,
+    xtol: f64,
+) -> Result<Vec<LocalExtremum>, PathError> {
     let [p0, p1] = link.phi_range;
     let n = n.max(8);
     let phi = |i: usize| p0 + (p1 - p0) * i as f64 / n as f64;
@@ -619,11 +817,11 @@ pub fn head_extrema(link: &Linkage, n: usize, xtol: f64) -> Result<Vec<LocalExtr
         .map(|i| {
             let p = phi(i);
             link.pose(p)
-                .map(|q| q.c.y)
+                .map(|q| level.height(q.c))
                 .ok_or(PathError::CannotAssemble { phi: p })
         })
         .collect::<Result<Vec<f64>, _>>()?;
-    let y = |p: f64| link.pose(p).map_or(f64::NAN, |q| q.c.y);
+    let y = |p: f64| link.pose(p).map_or(f64::NAN, |q| level.height(q.c));
     let to_path = |e: SearchError| match e {
         SearchError::NotFinite { x } => PathError::CannotAssemble { phi: x },
         other => PathError::Search(other),
@@ -663,10 +861,23 @@ pub fn head_extrema(link: &Linkage, n: usize, xtol: f64) -> Result<Vec<LocalExtr
 /// |M(φ) − M(c)| ≤ W(|c − φ|·|y''| + ½(c − φ)²|y'''|) (the differences of y at c), and
 /// rounding. `None` if a pose fails.
 pub fn load_moment(link: &Linkage, weight: f64, phi: f64, h: f64) -> Option<(f64, f64)> {
+    level_load_moment(link, &Level::Head, weight, phi, h)
+}
+
+/// [`load_moment`] of a load whose height `level` gives: M_A = W·dy_L/dφ with y_L the
+/// head's height, or the load's on an inclined rope ([`Level::Load`], whose pull on the head
+/// the virtual work includes).
+pub fn level_load_moment(
+    link: &Linkage,
+    level: &Level,
+    weight: f64,
+    phi: f64,
+    h: f64,
+) -> Option<(f64, f64)> {
     let [p0, p1] = link.phi_range;
     let h = h.min((p1 - p0) / 8.0);
     let c = phi.clamp(p0 + 2.0 * h, p1 - 2.0 * h);
-    let y = |p: f64| link.pose(p).map(|q| q.c.y);
+    let y = |p: f64| link.pose(p).map(|q| level.height(q.c));
     let (ym2, ym1, y0, yp1, yp2) = (
         y(c - 2.0 * h)?,
         y(c - h)?,
@@ -678,7 +889,8 @@ pub fn load_moment(link: &Linkage, weight: f64, phi: f64, h: f64) -> Option<(f64
     let d4th = (8.0 * (yp1 - ym1) - (yp2 - ym2)) / (12.0 * h);
     let curv = (yp1 - 2.0 * y0 + ym1) / (h * h);
     let third = (yp2 - 2.0 * yp1 + 2.0 * ym1 - ym2) / (2.0 * h * h * h);
-    let rounding = 64.0 * f64::EPSILON * link.length_scale() / (link.k2 * h * h * h);
+    let rounding = 64.0 * f64::EPSILON * link.length_scale() / (link.k2 * h * h * h)
+        + 64.0 * f64::EPSILON * level.length_scale() / (h * h * h);
     let shift = (c - phi).abs();
     let moved = if shift > 0.0 {
         2.0 * (shift * curv.abs() + 0.5 * shift * shift * (third.abs() + rounding))

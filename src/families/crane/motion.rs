@@ -19,7 +19,7 @@ pub const DISC_THICKNESS: f64 = 1.0;
 /// The crane `p`'s design `out` (and its counterweight's first moment u, boom frame, and
 /// mass) from maximum to minimum reach and back; `None` without a linkage.
 pub fn motion(p: &CraneProblem, out: &Outcome, cw: Option<([f64; 2], f64)>) -> Option<Motion> {
-    let l = linkage(out)?;
+    let l = linkage(p, out)?;
     let cw = cw.filter(|&(_, m)| m > 0.0);
     let [lo, hi] = l.phi_range;
     let frames: Vec<Frame> = (0..FRAMES)
@@ -62,9 +62,9 @@ pub fn motion(p: &CraneProblem, out: &Outcome, cw: Option<([f64; 2], f64)>) -> O
 }
 
 /// The synthesised linkage of the design, if it has one.
-fn linkage(out: &Outcome) -> Option<Linkage> {
+fn linkage(p: &CraneProblem, out: &Outcome) -> Option<Linkage> {
     let v = &out.design.vars;
-    let boom = Boom::new(out.design.boom_length_m?, v.angles()).ok()?;
+    let boom = Boom::levelled(out.design.boom_length_m?, v.angles(), p.scene.level).ok()?;
     synthesize(&boom, v.k1, v.k2).ok().map(|s| s.linkage)
 }
 

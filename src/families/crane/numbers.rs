@@ -10,6 +10,7 @@ use super::file::*;
 use super::luffing::LuffingDrive;
 use super::solve::{Solution, Statics};
 use super::stability::Stability;
+use crate::families::crane::model::Level;
 use crate::families::crane::synth::{
     self as cr, Derived, Design, Objectives, Outcome, TiePinLimit,
 };
@@ -30,7 +31,17 @@ pub fn model(s: &CraneProblem, sol: Option<&Solution>) -> BTreeMap<String, serde
         ("boom_length_sizing".into(), json!(out.sizing_rule)),
         (
             "path".into(),
-            json!("one assembly branch followed continuously from the design positions; extrema of the head height refined by Brent"),
+            json!(match cs.level {
+                Level::Head => "one assembly branch followed continuously from the design positions; extrema of the head height refined by Brent",
+                Level::Load(_) => "one assembly branch followed continuously from the design positions; extrema of the load's height on the inclined rope (y_C + |S − C|/n) and of the head's refined by Brent",
+            }),
+        ),
+        (
+            "level".into(),
+            json!(match cs.level {
+                Level::Head => "the jib head: the precision points C1, C2, C3 on one horizontal line (thesis §2.1)",
+                Level::Load(_) => "the load on the inclined hoist rope: the precision points C2, C3 higher than C1 by h2, h3, the rope's run-out per fall, so the load is at one height at all three (thesis §2.2)",
+            }),
         ),
         ("path_samples".into(), json!(set.path_samples)),
         ("extremum_xtol_rad".into(), json!(set.xtol)),
@@ -125,11 +136,11 @@ fn statics_numbers(
     if let Some(lp) = &st.rope {
         match lp {
             Some(lp) => {
-                if lp.load_delta_h_m > cs.allowed_delta_h() {
+                if lp.load_delta_h_m > cs.allowed_delta_h() && cs.level == Level::Head {
                     r.warnings.push(format!(
                         "with the inclined hoist rope the load's height varies by {:.3} m over the luffing range (the jib head's by {:.3} m): \
                          a level-luffing design for this rope must make the head compensate the rope's run-out (thesis §2.2); \
-                         cwsynth designs the linkage for a level head only",
+                         objective.minimize = \"load-delta-h\" designs the linkage for a level load",
                         lp.load_delta_h_m,
                         out.objectives.delta_h_m.unwrap_or(f64::NAN)
                     ));
@@ -320,7 +331,8 @@ fn thesis_checks(r: &mut SolveResult, scene: &Scene, c: &cr::CraneScene, out: &c
         c.lift_height,
         c.foot_height,
     ];
-    if req.iter().zip(THESIS).any(|(a, b)| (a - b).abs() > 1e-9) {
+    // The thesis's numbers are for the level head: a load-level design is another linkage.
+    if req.iter().zip(THESIS).any(|(a, b)| (a - b).abs() > 1e-9) || c.level != Level::Head {
         return;
     }
     let d = f64::to_radians;

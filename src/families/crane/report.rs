@@ -6,7 +6,7 @@
 use super::file::*;
 use super::solve::{Analyses, Solution};
 use crate::families::crane::balance::{self, CounterweightPath};
-use crate::families::crane::model::{synthesize, Boom, Guide};
+use crate::families::crane::model::{synthesize, Boom, Guide, HoistRope, Level};
 use crate::families::crane::statics::boom_frame;
 use crate::families::crane::synth::{self as cr, Outcome, TiePinLimit};
 use crate::families::family::Scene;
@@ -20,13 +20,26 @@ use serde_json::json;
 /// path, the balance, the drawing (the landscape goes before them: [`analysis_documents`]).
 pub fn documents(scene: &Scene, s: &CraneProblem, sol: &Solution, r: &mut SolveResult) {
     let out = &sol.out;
+    let rope = s.scene.balance.as_ref().and_then(|b| b.rope);
     if !out.path.is_empty() {
-        let mut csv = String::from("phi_rad,head_x_m,head_y_m,tail_x_m,tail_y_m\n");
-        for ((phi, c), e) in out.path_phi_rad.iter().zip(&out.path).zip(&out.tail_path) {
+        let load = rope.map(|r| load_heights(&r, &out.path));
+        let mut csv = String::from("phi_rad,head_x_m,head_y_m,tail_x_m,tail_y_m");
+        csv += if load.is_some() { ",load_y_m\n" } else { "\n" };
+        for (i, ((phi, c), e)) in out
+            .path_phi_rad
+            .iter()
+            .zip(&out.path)
+            .zip(&out.tail_path)
+            .enumerate()
+        {
             csv += &format!(
-                "{phi:.12e},{:.12e},{:.12e},{:.12e},{:.12e}\n",
+                "{phi:.12e},{:.12e},{:.12e},{:.12e},{:.12e}",
                 c[0], c[1], e[0], e[1]
             );
+            csv += &match &load {
+                Some(y) => format!(",{:.12e}\n", y[i]),
+                None => "\n".into(),
+            };
         }
         r.tables.push(Table {
             suffix: "path".into(),
@@ -39,7 +52,7 @@ pub fn documents(scene: &Scene, s: &CraneProblem, sol: &Solution, r: &mut SolveR
             "Jib-head path over the luffing range and its height against the boom angle",
             640,
             520,
-            move || path_plot(&scene, &out),
+            move || path_plot(&scene, &out, rope),
         ));
     }
     if let Some(bal) = sol.balance() {
@@ -64,6 +77,16 @@ pub fn documents(scene: &Scene, s: &CraneProblem, sol: &Solution, r: &mut SolveR
     });
     crane_drawing(r, &scene.name, out, cw, other);
     r.motion = super::motion::motion(s, out, cw).and_then(|m| serde_json::to_value(m).ok());
+}
+
+/// The load's height along the head path `path` on the inclined `rope`, for a rope whose load
+/// hangs at the jib head at maximum reach (the path's first point):
+/// y_C + (|S − C| − |S − C1|)/n (m above A; the hook's real height is lower by the hanging
+/// length there, a constant).
+fn load_heights(rope: &HoistRope, path: &[[f64; 2]]) -> Vec<f64> {
+    let c = |p: &[f64; 2]| P2::new(p[0], p[1]);
+    let y1 = path.first().map_or(0.0, |p| rope.load_height(c(p)) - p[1]);
+    path.iter().map(|p| rope.load_height(c(p)) - y1).collect()
 }
 
 /// The Δh landscape (an analysis only the files carry): its section `extra.landscape`, its
@@ -322,8 +345,12 @@ fn landscape_plot(
         // The tie pin B of every grid point (cheap: step 2 only, no path), at the reported
         // angles and boom length, for the signed margin whose zero contour is the boundary.
         let v = &out.design.vars;
-        let boom = Boom::new(out.design.boom_length_m.unwrap_or(f64::NAN), v.angles())
-            .map_err(PlotError::data)?;
+        let boom = Boom::levelled(
+            out.design.boom_length_m.unwrap_or(f64::NAN),
+            v.angles(),
+            cs.level,
+        )
+        .map_err(PlotError::data)?;
         let margin: Vec<Vec<f64>> =
             l.k2.iter()
                 .map(|&k2| {
@@ -378,8 +405,12 @@ fn landscape_plot(
     let svg = plot::heat_map(
         &Panel {
             title: format!(
-                "{}: log10(Δh / 1 m) over (k1, k2) (−1: 0.1 m, 0: 1 m)",
-                scene.name
+                "{}: log10({} / 1 m) over (k1, k2) (−1: 0.1 m, 0: 1 m)",
+                scene.name,
+                match cs.level {
+                    Level::Head => "Δh",
+                    Level::Load(_) => "the load's Δh",
+                }
             ),
             x_label: "k1 = C1C2/C1C3 (–)".into(),
             y_label: "k2 = a/L_v (–)".into(),
@@ -398,14 +429,24 @@ fn landscape_plot(
     Ok(svg)
 }
 
-fn path_plot(scene: &Scene, out: &Outcome) -> Result<Vec<Panel>, PlotError> {
+fn path_plot(
+    scene: &Scene,
+    out: &Outcome,
+    rope: Option<HoistRope>,
+) -> Result<Vec<Panel>, PlotError> {
     let nan = (f64::NAN, f64::NAN);
     let head: Vec<(f64, f64)> = out.path.iter().map(|p| (p[0], p[1])).collect();
     let tail: Vec<(f64, f64)> = out.tail_path.iter().map(|p| (p[0], p[1])).collect();
+    let load = rope.map(|r| load_heights(&r, &out.path));
     let mut series = vec![
         Series::line("jib-head path C", head.clone()),
         Series::line("jib-tail path E", tail),
     ];
+    const LOAD: &str = "load on the inclined rope (hung at C at max reach)";
+    if let Some(y) = &load {
+        let pts = out.path.iter().zip(y).map(|(p, y)| (p[0], *y)).collect();
+        series.push(Series::line(LOAD, pts));
+    }
     if let Some(p) = &out.positions {
         // The linkage at max reach (1) and min reach (3): boom A–D, jib E–D–C, tie B–E.
         for (i, name) in [(0, "linkage at max reach"), (2, "linkage at min reach")] {
@@ -434,6 +475,13 @@ fn path_plot(scene: &Scene, out: &Outcome) -> Result<Vec<Panel>, PlotError> {
         .collect();
     let d = &out.derived;
     let mut hs = vec![Series::line("head height y_C", height)];
+    if let Some(y) = &load {
+        let pts = out.path_phi_rad.iter().zip(y);
+        hs.push(Series::line(
+            LOAD,
+            pts.map(|(phi, y)| (phi.to_degrees(), *y)).collect(),
+        ));
+    }
     if let (Some(a), Some(ya), Some(b), Some(yb)) = (
         d.phi_at_head_max_rad,
         d.head_y_max_m,
@@ -459,6 +507,10 @@ fn path_plot(scene: &Scene, out: &Outcome) -> Result<Vec<Panel>, PlotError> {
         .map_or("Δh not available".to_string(), |d| {
             format!("Δh = {d:.4} m")
         });
+    let dh = match out.objectives.load_delta_h_m {
+        Some(l) => format!("{dh}, the load's {l:.4} m"),
+        None => dh,
+    };
     Ok(vec![
         Panel {
             title: format!("{}: jib-head path ({dh})", scene.name),

@@ -29,6 +29,7 @@
 //! counterweight's first moment u, so its minimax over the luffing range is convex
 //! ([`super::balance`]).
 
+pub use super::model::HoistRope;
 use super::model::{Linkage, Pose};
 use crate::geom::{cross, P2};
 use crate::units::STANDARD_GRAVITY as G;
@@ -122,25 +123,6 @@ pub struct Loads {
     /// The hoist rope, if inclined (see [`HoistRope`]); `None`: the load hangs at the jib
     /// head and the rope runs parallel to the boom or the tie (thesis §2.1), pulling nothing.
     pub rope: Option<HoistRope>,
-}
-
-/// An inclined hoist rope (thesis §2.2, Fig 2.3): from a fixed sheave S on the frame over
-/// the jib-head sheave C down to the load in `parts` falls. The rope's length is constant,
-/// so the load hangs at y_L = y_C − (L_r − |S − C|)/n below the head, and the jib head
-/// carries the load's weight W downwards plus the lead rope's pull W/n towards S.
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
-pub struct HoistRope {
-    /// S, the fixed sheave the rope comes from (m, frame of A).
-    pub sheave: P2,
-    /// n, the falls between the jib head and the load (≥ 1).
-    pub parts: f64,
-}
-
-impl HoistRope {
-    /// The load's height up to a constant: y_C + |S − C|/n (m).
-    pub fn load_height(&self, c: P2) -> f64 {
-        c.y + (self.sheave - c).norm() / self.parts
-    }
 }
 
 /// The tie pin B; `None` for the straight-guide limit, which pushes E along its normal

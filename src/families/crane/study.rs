@@ -2,7 +2,7 @@
 //! settings — and the effects its model leaves out or includes, each with a bound computed
 //! from the scene as resolved.
 
-use super::model::{head_heights, head_heights_with, Linkage};
+use super::model::{level_heights_with, Level, Linkage};
 use super::synth::{Derived, Vars};
 use crate::families::family::{relative, Effect, Ladder, Rung};
 use crate::problem::edit::{v_int, v_s, Edit};
@@ -13,8 +13,11 @@ use toml_edit::Value;
 
 /// The headline: the dotted result key a design is judged on (see
 /// [`crate::families::Machine::headline`]).
-pub fn headline(_: &super::file::CraneProblem) -> String {
-    format!("objectives.{}", super::synth::Objectives::KEY)
+pub fn headline(p: &super::file::CraneProblem) -> String {
+    format!(
+        "objectives.{}",
+        super::synth::Objectives::key(&p.scene.level)
+    )
 }
 
 /// The reference edits (tightest settings) and the ladder of settings.
@@ -59,14 +62,14 @@ pub fn ladder(_s: &super::file::CraneProblem) -> Ladder {
 /// |y_C''| near a head-height extremum at `phi`: the largest three-point second difference
 /// (step h/4) centred within h/2 of it; 0 at an end of the range, where an extremum is a
 /// sample itself. `None` if a pose fails.
-pub fn extremum_curvature(link: &Linkage, phi: f64, h: f64) -> Option<f64> {
+pub fn extremum_curvature(link: &Linkage, level: &Level, phi: f64, h: f64) -> Option<f64> {
     let [p0, p1] = link.phi_range;
     let tol = 1e-9 * (p1 - p0);
     if phi <= p0 + tol || phi >= p1 - tol {
         return Some(0.0);
     }
     let d = 0.25 * h;
-    let y = |p: f64| link.pose(p).map(|q| q.c.y);
+    let y = |p: f64| link.pose(p).map(|q| level.height(q.c));
     let mut k = 0.0f64;
     for c in [phi - 0.5 * h, phi, phi + 0.5 * h] {
         let c = c.clamp(p0 + d, p1 - d);
@@ -80,11 +83,16 @@ pub fn extremum_curvature(link: &Linkage, phi: f64, h: f64) -> Option<f64> {
 /// for both, (|y''|_max-pt + |y''|_min-pt)·h²/8, h = (φ_max − φ_min)/n, |y''| from
 /// [`extremum_curvature`] at the refined extrema. `None` if the path fails.
 pub fn unrefined_path_bound(link: &Linkage, n: usize, xtol: f64) -> Option<f64> {
+    level_path_bound(link, &Level::Head, n, xtol)
+}
+
+/// [`unrefined_path_bound`] of the height `level` measures (the head's or the load's).
+pub fn level_path_bound(link: &Linkage, level: &Level, n: usize, xtol: f64) -> Option<f64> {
     let [p0, p1] = link.phi_range;
     let h = (p1 - p0) / n as f64;
-    let hh = head_heights(link, n.max(64), xtol).ok()?;
-    let k =
-        extremum_curvature(link, hh.phi_at_max, h)? + extremum_curvature(link, hh.phi_at_min, h)?;
+    let hh = level_heights_with(link, level, n.max(64), Some(xtol)).ok()?;
+    let k = extremum_curvature(link, level, hh.phi_at_max, h)?
+        + extremum_curvature(link, level, hh.phi_at_min, h)?;
     Some(k * h * h / 8.0)
 }
 
@@ -130,15 +138,19 @@ pub fn effects(
             let link = &ev.synthesis.linkage;
             let n = s.path_samples;
             let tol = s.refine_peaks.then_some(s.xtol);
-            let dense = head_heights_with(link, 4 * n, tol).ok();
-            let own = head_heights_with(link, n, tol).ok();
-            let bound = unrefined_path_bound(link, n, s.xtol);
+            let dense = level_heights_with(link, &sc.level, 4 * n, tol).ok();
+            let own = level_heights_with(link, &sc.level, n, tol).ok();
+            let bound = level_path_bound(link, &sc.level, n, s.xtol);
+            let (err_key, y) = match sc.level {
+                Level::Head => ("errors.delta_h_m", "y_C"),
+                Level::Load(_) => ("errors.load_delta_h_m", "y_L"),
+            };
             match (own, dense, bound) {
                 (Some(a), Some(b), Some(bound)) => {
                     out.push((
                         "path sampling".into(),
                         format!(
-                            "{n} samples of the luffing range (h = {:.4e} rad), each extremum {}: |Δh(n) − Δh(4n)| = {:.3e} m ({:.2e} of the headline); the refinement error is in `errors.delta_h_m`; unrefined, the two extremes would be off by at most (|y_C''(φ_max-pt)| + |y_C''(φ_min-pt)|)·h²/8 = {bound:.3e} m ({:.2e} of the headline)",
+                            "{n} samples of the luffing range (h = {:.4e} rad), each extremum {}: |Δh(n) − Δh(4n)| = {:.3e} m ({:.2e} of the headline); the refinement error is in `{err_key}`; unrefined, the two extremes would be off by at most (|{y}''(φ_max-pt)| + |{y}''(φ_min-pt)|)·h²/8 = {bound:.3e} m ({:.2e} of the headline)",
                             (link.phi_range[1] - link.phi_range[0]) / n as f64,
                             if s.refine_peaks { format!("refined by Brent to {:e} rad", s.xtol) } else { "taken at the samples (refine_peaks = false)".into() },
                             (a.delta_h - b.delta_h).abs(),
@@ -165,13 +177,19 @@ pub fn effects(
         out.push((
             "load".into(),
             format!(
-                "the rated load Q = {q} kg enters only the unbalanced load moment about A, W·dy_C/dφ, max {mm:.4e} N·m (virtual work, rope of constant length); it does not move the head path of the rigid linkage"
+                "the rated load Q = {q} kg enters only the unbalanced load moment about A, W·dy/dφ, max {mm:.4e} N·m (virtual work; y the head's height, or with an inclined hoist rope the load's, y_C + |S − C|/n); it does not move the head path of the rigid linkage"
             ),
         ));
     }
+    let masses = sc.balance.as_ref().is_some_and(|b| b.masses);
     out.push((
         "link masses, elasticity".into(),
-        "left out, no bound: the model is geometric (rigid links, no link masses); the scene gives no masses, sections or stiffnesses, so neither the links' weight moment nor the boom/jib deflection under load (which shifts Δh) can be computed from it".into(),
+        if masses {
+            "the links' masses (`mechanism.self_weight`) enter the statics (`balance`: drive torque, pin and member forces), not the head path, which is the rigid linkage's geometry; elasticity is left out, no bound: the scene gives no sections or stiffnesses, so the boom/jib deflection under load (which shifts Δh) cannot be computed from it"
+        } else {
+            "left out, no bound: the model is geometric (rigid links, no link masses); the scene gives no masses, sections or stiffnesses, so neither the links' weight moment nor the boom/jib deflection under load (which shifts Δh) can be computed from it"
+        }
+        .into(),
     ));
     out
 }

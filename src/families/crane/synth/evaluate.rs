@@ -4,8 +4,8 @@
 
 use super::{CraneScene, Settings, REACH_ROUNDING};
 use crate::families::crane::model::{
-    head_heights_with, synthesize, Angles, Boom, Branch, CraneGeomError, Guide, HeadHeights,
-    PathError, Synthesis,
+    level_heights_with, synthesize, Angles, Boom, Branch, CraneGeomError, Guide, HeadHeights,
+    Level, PathError, Synthesis,
 };
 
 /// One design point evaluated: boom, synthesis, heights and constraint violations.
@@ -53,19 +53,7 @@ pub fn evaluate(
 ) -> Result<Evaluation, CraneGeomError> {
     let (boom, synthesis) = build(scene, x)?;
     let (angles, k) = (boom.angles, boom.k);
-    // The tie pin's rounding (its condition, see `tie_circle`) moves the tail by at most
-    // |δB| + |δb| over sin μ (μ the smallest transmission angle) and the head by that over
-    // k2, each extremum: Δh by twice that.
-    let heights = head_heights_with(
-        &synthesis.linkage,
-        settings.path_samples,
-        settings.refine_peaks.then_some(settings.xtol),
-    )
-    .map(|mut h| {
-        let tangency = h.min_transmission.sin().max(f64::EPSILON.sqrt());
-        h.error += 4.0 * synthesis.guide_error / (x[1] * tangency);
-        h
-    });
+    let heights = path_heights(&synthesis, &scene.level, settings);
     let tie_pin_violation = match synthesis.guide {
         Guide::Circle { centre, .. } => scene.tie_pin.violation(centre),
         Guide::Line { .. } if scene.tie_pin.is_bounded() => f64::INFINITY,
@@ -86,6 +74,29 @@ pub fn evaluate(
     })
 }
 
+/// The heights `level` measures over the luffing range of a synthesis, Δh's error including
+/// the tie pin's: its rounding (its condition, see `tie_circle`) moves the tail by at most
+/// |δB| + |δb| over sin μ (μ the smallest transmission angle), the head by that over k2 and
+/// the height by [`Level::gain`] times that, each extremum: Δh by twice that.
+pub(super) fn path_heights(
+    synthesis: &Synthesis,
+    level: &Level,
+    settings: &Settings,
+) -> Result<HeadHeights, PathError> {
+    let link = &synthesis.linkage;
+    level_heights_with(
+        link,
+        level,
+        settings.path_samples,
+        settings.refine_peaks.then_some(settings.xtol),
+    )
+    .map(|mut h| {
+        let tangency = h.min_transmission.sin().max(f64::EPSILON.sqrt());
+        h.error += level.gain() * 4.0 * synthesis.guide_error / (link.k2 * tangency);
+        h
+    })
+}
+
 /// Boom and synthesis of the design x (steps 1 and 2).
 pub(crate) fn build(scene: &CraneScene, x: &[f64; 6]) -> Result<(Boom, Synthesis), CraneGeomError> {
     let angles = Angles {
@@ -95,7 +106,35 @@ pub(crate) fn build(scene: &CraneScene, x: &[f64; 6]) -> Result<(Boom, Synthesis
         gamma3: x[5],
     };
     let k = Boom::new(1.0, angles)?.k;
-    let boom = Boom::new(scene.boom_length(&angles, k), angles)?;
+    let boom = match scene.level {
+        Level::Head => Boom::new(scene.boom_length(&angles, k), angles)?,
+        level => sized_levelled(scene, angles, level, k)?,
+    };
     let synthesis = synthesize(&boom, x[0], x[1])?;
     Ok((boom, synthesis))
+}
+
+/// Step 1 for the load level: its k depends on L_c (the sheave S is fixed, not scaled with
+/// the boom) and the sizing rule's L_c on k, so L_c = rule(k(L_c)) is iterated from the
+/// head's k until L_c moves by less than 1e-14 of itself (the rope's run-out changes k by a
+/// small fraction of itself per unit change of L_c/L_c, so a few rounds suffice; 50 at most).
+fn sized_levelled(
+    scene: &CraneScene,
+    angles: Angles,
+    level: Level,
+    k_head: f64,
+) -> Result<Boom, CraneGeomError> {
+    let mut l_c = scene.boom_length(&angles, k_head);
+    for _ in 0..50 {
+        let boom = Boom::levelled(l_c, angles, level)?;
+        let next = scene.boom_length(&angles, boom.k);
+        if (next - l_c).abs() <= 1e-14 * l_c {
+            return Ok(boom);
+        }
+        l_c = next;
+    }
+    Err(CraneGeomError::Invalid {
+        what: "boom length (sizing with the load level does not settle)",
+        value: l_c,
+    })
 }

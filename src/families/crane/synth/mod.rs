@@ -18,7 +18,7 @@
 //! `design.boom_length`, `objective.tie_pin` (and its `.max_distance`, `.x_range`,
 //! `.y_range`), `objective.max_delta_h`, `accuracy.*`.
 
-use crate::families::crane::model::Angles;
+use crate::families::crane::model::{Angles, Level};
 use crate::geom::P2;
 use crate::problem::FieldError;
 use crate::report::numbers::key;
@@ -134,6 +134,9 @@ pub struct CraneScene {
     /// Masses of the boom system and the boom counterweight to design (keys
     /// `mechanism.self_weight`, `design.counterweight`); `None`: no statics.
     pub balance: Option<crate::families::crane::balance::BalanceScene>,
+    /// What the synthesis puts level and Δh measures: the jib head, or with
+    /// `objective.minimize = "load-delta-h"` the load on `mechanism.hoist_rope`.
+    pub level: crate::families::crane::model::Level,
 }
 
 /// A field error names its problem-file key (`design.k1`, `accuracy.path_samples`): one
@@ -405,11 +408,26 @@ pub struct Objectives {
     /// (m); absent on a branch defect or when the linkage cannot assemble.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub delta_h_m: Option<f64>,
+    /// Δh_L = max − min of the load's height y_L over [φ_min, φ_max] on the inclined hoist
+    /// rope (m): the objective of `minimize = "load-delta-h"`, present only there; absent as
+    /// `delta_h_m` is.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub load_delta_h_m: Option<f64>,
 }
 
 impl Objectives {
-    /// The key objective of every crane scene: Δh.
+    /// The key objective of a crane scene that levels the head: Δh.
     pub const KEY: &'static str = key!(Objectives, delta_h_m);
+    /// The key objective of a scene that levels the load: Δh_L.
+    pub const LOAD_KEY: &'static str = key!(Objectives, load_delta_h_m);
+
+    /// The key objective of a scene levelling `level`.
+    pub fn key(level: &Level) -> &'static str {
+        match level {
+            Level::Head => Self::KEY,
+            Level::Load(_) => Self::LOAD_KEY,
+        }
+    }
 }
 
 /// Other figures of a crane result (keys of `derived`, SI); absent where the design has no
@@ -431,6 +449,14 @@ pub struct Derived {
     /// y_C3: the head above A at minimum reach (m).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub head_height_min_reach_m: Option<f64>,
+    /// The thesis's h2 = y_C2 − y_C1 (§2.2, Fig 2.3): how much higher the jib head is put at
+    /// the middle precision point than at maximum reach so that the load on the inclined rope
+    /// is level there, (|S − C1| − |S − C2|)/n (m; `minimize = "load-delta-h"` only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub h2_m: Option<f64>,
+    /// The thesis's h3 = y_C3 − y_C1, the same at minimum reach (m; load level only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub h3_m: Option<f64>,
     /// H1 + h: the head above the rail (m).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub head_height_above_rail_m: Option<f64>,
@@ -766,6 +792,7 @@ pub fn thesis_example() -> CraneScene {
         max_delta_h: None,
         load_mass: None,
         balance: None,
+        level: Level::Head,
     }
 }
 
@@ -870,6 +897,7 @@ pub fn tukan_40t() -> CraneScene {
         max_delta_h: None,
         load_mass: Some(40_000.0),
         balance: None,
+        level: Level::Head,
     }
 }
 

@@ -2,12 +2,14 @@
 //! the thesis's checks, the path for the plots, Δh with its error and the largest load
 //! moment; and the (k1, k2) landscape around a design, a diagnostic the report asks for.
 
-use super::evaluate::{evaluate, Evaluation};
+use super::evaluate::{evaluate, path_heights, Evaluation};
 use super::{
     is_free, Check, CraneScene, Derived, Design, Landscape, Objectives, Outcome, Positions,
     Settings, SizingRule, Status, TiePinLimit, Var, Vars,
 };
-use crate::families::crane::model::{load_moment, Angles, Branch, Guide, HeadHeights, Linkage};
+use crate::families::crane::model::{
+    level_load_moment, Angles, Branch, Guide, HeadHeights, HoistRope, Level, Linkage,
+};
 use crate::geom::P2;
 use std::f64::consts::FRAC_PI_2;
 
@@ -29,19 +31,29 @@ const DIGITS_WARNING: f64 = 1e-6;
 /// the statics of a weightless boom system with the load W at the jib head (thesis §2.2,
 /// M_Ah = N L_c sin α; exact up to the rounding and conditioning it states) when the tie is a
 /// circle, by the finite difference [`load_moment`] for the straight-guide limit.
-fn load_moment_at(link: &Linkage, w: f64, phi: f64, h: f64) -> Option<(f64, f64)> {
+///
+/// With an inclined hoist rope the load hangs on it: M_A = W dy_L/dφ, the rope's pull on the
+/// jib head included (statics with [`Loads::rope`]).
+fn load_moment_at(
+    link: &Linkage,
+    rope: Option<HoistRope>,
+    w: f64,
+    phi: f64,
+    h: f64,
+) -> Option<(f64, f64)> {
     use crate::families::crane::statics::{statics, Loads, SelfWeight};
     if let Guide::Circle { .. } = link.guide {
         let pose = link.pose(phi)?;
-
         let loads = Loads {
             load_mass: w / crate::units::STANDARD_GRAVITY,
+            rope,
             ..Loads::default()
         };
         let s = statics(link, phi, &pose, &SelfWeight::NONE, &loads)?;
         return Some((s.drive_torque, s.drive_torque_error));
     }
-    load_moment(link, w, phi, h)
+    let level = rope.map_or(Level::Head, Level::Load);
+    level_load_moment(link, &level, w, phi, h)
 }
 
 /// Full evaluation of one design for the result.
@@ -212,16 +224,35 @@ fn thesis_checks(scene: &CraneScene, ev: &Evaluation, tol: f64, out: &mut Outcom
     let (h1, c3) = (boom.head_height(), boom.c3());
     let r_max = scene.foot_offset + boom.l_c * angles.unit_reach_max(boom.k);
     let r_min = scene.foot_offset + boom.l_c * angles.unit_reach_min(boom.k);
-    let equal = (c3.y - h1).abs();
     let equal_tol = EQUAL_HEIGHTS_TOL * boom.l_c;
-    check(
-        out,
-        "equal_head_heights",
-        equal,
-        equal_tol,
-        equal <= equal_tol,
-        "|y_C3 - y_C1| (m)",
-    );
+    match boom.level {
+        Level::Head => {
+            let equal = (c3.y - h1).abs();
+            check(
+                out,
+                "equal_head_heights",
+                equal,
+                equal_tol,
+                equal <= equal_tol,
+                "|y_C3 - y_C1| (m)",
+            );
+        }
+        level @ Level::Load(_) => {
+            let c = ev.synthesis.positions.c;
+            let y = c.map(|ci| level.height(ci));
+            let equal = (y[1] - y[0]).abs().max((y[2] - y[0]).abs());
+            check(
+                out,
+                "level_load_at_precision_points",
+                equal,
+                equal_tol,
+                equal <= equal_tol,
+                "max |y_L(C_i) - y_L(C1)|, the load's heights at the three precision points (m)",
+            );
+            out.derived.h2_m = Some(c[1].y - c[0].y);
+            out.derived.h3_m = Some(c[2].y - c[0].y);
+        }
+    }
     check(
         out,
         "reach_max",
@@ -319,20 +350,35 @@ fn heights(
 ) {
     let syn = &ev.synthesis;
     out.evaluations = 1;
+    // The head's own heights: the levelled ones, or for the load level a second pass.
+    let head = match scene.level {
+        Level::Head => Ok(*hh),
+        Level::Load(_) => path_heights(syn, &Level::Head, settings),
+    };
+    let (what, name) = match scene.level {
+        Level::Head => ("delta h", "delta_h_allowed"),
+        Level::Load(_) => ("the load's delta h", "load_delta_h_allowed"),
+    };
     if out.status != Status::BranchDefect {
-        out.objectives.delta_h_m = Some(hh.delta_h);
-        out.errors.delta_h_m = Some(hh.error);
+        if let Level::Load(_) = scene.level {
+            out.objectives.load_delta_h_m = Some(hh.delta_h);
+            out.errors.load_delta_h_m = Some(hh.error);
+        }
+        if let Ok(h) = &head {
+            out.objectives.delta_h_m = Some(h.delta_h);
+            out.errors.delta_h_m = Some(h.error);
+        }
         let rel = hh.error / hh.delta_h.abs();
         if rel >= 1.0 {
             out.status = Status::Degenerate;
             warnings.push(format!(
-                "ill-conditioned design: the rounding bound of delta h ({:.1e} m) exceeds delta h itself; no \
+                "ill-conditioned design: the rounding bound of {what} ({:.1e} m) exceeds it; no \
                  digit is certain (smallest angle of the triangle E1 E2 E3 {:.2e} rad, tie-pin error bound {:.1e} m)",
                 hh.error, syn.min_angle, syn.guide_error
             ));
         } else if rel > DIGITS_WARNING {
             warnings.push(format!(
-                "ill-conditioned design: delta h is good to {:.1e} m, about {:.0} significant digits (smallest \
+                "ill-conditioned design: {what} is good to {:.1e} m, about {:.0} significant digits (smallest \
                  angle of the triangle E1 E2 E3 {:.2e} rad, tie-pin error bound {:.1e} m)",
                 hh.error,
                 (-rel.log10()).floor(),
@@ -342,17 +388,19 @@ fn heights(
         }
         check(
             out,
-            "delta_h_allowed",
+            name,
             hh.delta_h,
             scene.allowed_delta_h(),
             hh.delta_h <= scene.allowed_delta_h(),
-            "delta h <= [delta h] (0.1 H unless given) (m)",
+            &format!("{what} <= [delta h] (0.1 H unless given) (m)"),
         );
     }
-    out.derived.head_y_max_m = Some(hh.y_max);
-    out.derived.head_y_min_m = Some(hh.y_min);
-    out.derived.phi_at_head_max_rad = Some(hh.phi_at_max);
-    out.derived.phi_at_head_min_rad = Some(hh.phi_at_min);
+    if let Ok(h) = &head {
+        out.derived.head_y_max_m = Some(h.y_max);
+        out.derived.head_y_min_m = Some(h.y_min);
+        out.derived.phi_at_head_max_rad = Some(h.phi_at_max);
+        out.derived.phi_at_head_min_rad = Some(h.phi_at_min);
+    }
     out.derived.min_transmission_angle_rad = Some(hh.min_transmission);
     out.derived.phi_at_min_transmission_rad = Some(hh.phi_at_min_transmission);
     if hh.min_transmission < 10f64.to_radians() {
@@ -364,7 +412,8 @@ fn heights(
         ));
     }
     if let Some(q) = scene.load_mass {
-        max_load_moment(&syn.linkage, q * 9.80665, settings, out);
+        let rope = scene.balance.as_ref().and_then(|b| b.rope);
+        max_load_moment(&syn.linkage, rope, q * 9.80665, settings, out);
     }
 }
 
@@ -373,14 +422,20 @@ fn heights(
 /// [`crate::numeric::brent_max`]) around its sample. With a tie, the moment from the statics
 /// (closed form, its rounding and conditioning bounded); a straight guide by the finite
 /// difference.
-fn max_load_moment(l: &Linkage, w: f64, settings: &Settings, out: &mut Outcome) {
+fn max_load_moment(
+    l: &Linkage,
+    rope: Option<HoistRope>,
+    w: f64,
+    settings: &Settings,
+    out: &mut Outcome,
+) {
     let h = settings.moment_step;
     let [p0, p1] = l.phi_range;
     let mut worst = (0.0f64, 0.0f64, p0);
     let n = settings.path_samples;
     for i in 0..=n {
         let phi = p0 + (p1 - p0) * i as f64 / n as f64;
-        if let Some((mm, e)) = load_moment_at(l, w, phi, h) {
+        if let Some((mm, e)) = load_moment_at(l, rope, w, phi, h) {
             if mm.abs() > worst.0.abs() {
                 worst = (mm, e, phi);
             }
@@ -388,14 +443,14 @@ fn max_load_moment(l: &Linkage, w: f64, settings: &Settings, out: &mut Outcome) 
     }
     // Refine the largest |M| by Brent around the best sample.
     let dphi = (p1 - p0) / n as f64;
-    let f = |phi: f64| load_moment_at(l, w, phi, h).map_or(0.0, |(mm, _)| mm.abs());
+    let f = |phi: f64| load_moment_at(l, rope, w, phi, h).map_or(0.0, |(mm, _)| mm.abs());
     if let Ok(e) = crate::numeric::brent_max(
         f,
         (worst.2 - dphi).max(p0),
         (worst.2 + dphi).min(p1),
         MOMENT_PEAK_XTOL,
     ) {
-        let err = load_moment_at(l, w, e.x, h).map_or(worst.1, |(_, er)| er);
+        let err = load_moment_at(l, rope, w, e.x, h).map_or(worst.1, |(_, er)| er);
         out.derived.max_load_moment_nm = Some(e.fx);
         out.derived.max_load_moment_error_nm = Some(err);
         out.derived.phi_at_max_load_moment_rad = Some(e.x);

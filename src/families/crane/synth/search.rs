@@ -7,7 +7,7 @@
 use super::evaluate::{build, evaluate};
 use super::outcome::report;
 use super::{is_free, Basin, CraneScene, Outcome, Settings, Status, TiePinLimit, Vars, SAME_BASIN};
-use crate::families::crane::model::{head_extrema, Boom, Branch, Guide, Synthesis};
+use crate::families::crane::model::{level_extrema, Boom, Branch, Guide, Synthesis};
 use crate::problem::FieldError;
 use crate::synth::search::starts::{distance, distinct_starts, halton_points, ranked};
 use crate::synth::search::{sqp, Minimax, Probe, SameBasin, SearchEvidence, Sqp};
@@ -113,7 +113,8 @@ impl<'a> Objective<'a> {
     }
 }
 
-/// Δh as a minimax: the pieces are the local extrema of the head height over the
+/// Δh as a minimax: the pieces are the local extrema of the levelled height (the head's, or
+/// the load's with `minimize = "load-delta-h"`) over the
 /// normalised boom angle t = (φ − φ_min)/(φ_max − φ_min), heights and constraints over the
 /// length scale L.
 impl Minimax for Objective<'_> {
@@ -122,7 +123,13 @@ impl Minimax for Objective<'_> {
         let cons = signed_constraints(self.scene, &boom, &syn)?;
         let link = &syn.linkage;
         let [p0, p1] = link.phi_range;
-        let ext = head_extrema(link, self.settings.path_samples, self.settings.xtol).ok()?;
+        let ext = level_extrema(
+            link,
+            &self.scene.level,
+            self.settings.path_samples,
+            self.settings.xtol,
+        )
+        .ok()?;
         let l = self.scene.length_scale();
         let pieces = |m: bool| -> Vec<(f64, f64)> {
             ext.iter()
@@ -140,7 +147,7 @@ impl Minimax for Objective<'_> {
         let [p0, p1] = link.phi_range;
         let l = self.scene.length_scale();
         for &t in ts {
-            v.push(link.pose(p0 + t * (p1 - p0))?.c.y / l);
+            v.push(self.scene.level.height(link.pose(p0 + t * (p1 - p0))?.c) / l);
         }
         Some(v)
     }
@@ -230,11 +237,15 @@ fn multistart(obj: &Objective) -> Found {
     let (x, _) = obj.point(&u);
     let method = format!(
         "multistart: {} Halton points (global stage, penalised cost), then trust-region SQP (Fletcher's Sl1QP: \
-         minimax of the head-height extrema, constraints linearised with elastic slacks, damped BFGS, clarabel QP, \
+         minimax of the {}-height extrema, constraints linearised with elastic slacks, damped BFGS, clarabel QP, \
          second-order correction onto the active constraints) \
          from the {} best distinct points (at most {} iterations each, stop at a predicted gain below {:e} of the \
          merit); l1 penalty {} in the merit",
         settings.global_samples * n,
+        match obj.scene.level {
+            crate::families::crane::model::Level::Head => "head",
+            crate::families::crane::model::Level::Load(_) => "load",
+        },
         basins.len(),
         settings.local_max_iters,
         settings.local_tol,
