@@ -16,20 +16,30 @@ use cwsynth::synth::minimax::Settings;
 /// The Tukan 40T masses of the shipped scene.
 const MASSES: SelfWeight = common::TUKAN_MASSES;
 
-/// The shipped scene's cylinder and rope tackle.
-fn specs() -> [ActuatorSpec; 2] {
+/// The shipped scene's cylinder, rope tackle and rack (at the cylinder's points, a 150 mm
+/// pinion).
+fn specs() -> [ActuatorSpec; 3] {
     [
         ActuatorSpec {
             kind: ActuatorKind::Cylinder,
             frame_point: P2::new(-1.0, -3.0),
             boom_point: [8.0, 0.5],
             parts: 1.0,
+            pinion_radius: None,
         },
         ActuatorSpec {
             kind: ActuatorKind::Rope,
             frame_point: P2::new(4.0, 14.0),
             boom_point: [20.0, 0.0],
             parts: 6.0,
+            pinion_radius: None,
+        },
+        ActuatorSpec {
+            kind: ActuatorKind::Rack,
+            frame_point: P2::new(-1.0, -3.0),
+            boom_point: [8.0, 0.5],
+            parts: 1.0,
+            pinion_radius: Some(0.15),
         },
     ]
 }
@@ -139,6 +149,15 @@ fn the_actuator_forces_are_the_brute_force_extremes() {
             let power = scale * stroke / t_l;
             let p = c.peak_power_w.unwrap();
             assert!((p - power).abs() <= 1e-6 * power, "{p} vs {power}");
+            // A rack's pinion: torque max|U|·r_p, at v/r_p.
+            if let Some(r) = s.pinion_radius {
+                let t = c.pinion_torque_max_nm.unwrap();
+                assert!((t - scale * r).abs() <= 1e-6 * scale * r, "{t}");
+                let rpm = stroke / t_l / r * 60.0 / std::f64::consts::TAU;
+                assert!((act.pinion_speed_rpm.unwrap() - rpm).abs() <= 1e-12 * rpm);
+            } else {
+                assert!(c.pinion_torque_max_nm.is_none() && act.pinion_speed_rpm.is_none());
+            }
             worst = worst
                 .max((c.force_max_n - hi).abs() / scale)
                 .max((c.force_min_n - lo).abs() / scale);
@@ -155,6 +174,18 @@ fn the_actuator_forces_are_the_brute_force_extremes() {
         }
     }
     eprintln!("largest |refined − scan|/max|U|: {worst:.1e}");
+    // The rack at the cylinder's points carries the cylinder's force, both ways.
+    for (c, r) in a.actuators[0].cases.iter().zip(&a.actuators[2].cases) {
+        assert_eq!(
+            (c.force_max_n, c.force_min_n),
+            (r.force_max_n, r.force_min_n)
+        );
+    }
+    let rack = &a.actuators[2].verdict;
+    assert!(
+        rack.starts_with("The rack pushes") && rack.contains("pinion"),
+        "{rack}"
+    );
     // The rope is slack where the optimal counterweight over-balances the boom.
     assert!(
         a.actuators[1].verdict.contains("SLACK"),
@@ -220,10 +251,35 @@ fn a_bad_actuator_key_names_file_line_and_field() {
         "parts = 0",
         "must be 1 to 64 parts",
     );
-    let t = with(&base, "kind = \"rope\"", "kind = \"rack\"");
+    let t = with(&base, "kind = \"rope\"", "kind = \"winch\"");
     let e = cwsynth::families::parse_str(&t, std::path::Path::new("bad.toml"))
-        .expect_err("a rack is not an actuator here");
-    assert!(e.to_string().contains("unknown variant `rack`"), "{e}");
+        .expect_err("a winch is not an actuator kind");
+    assert!(e.to_string().contains("unknown variant `winch`"), "{e}");
+    let t = with(&base, "pinion_radius = \"150 mm\"\n", "");
+    assert_names(
+        &t,
+        "mechanism.luffing_actuator[2].kind",
+        "kind = \"rack\"",
+        "a rack needs its pinion",
+    );
+    let t = with(
+        &base,
+        "pinion_radius = \"150 mm\"",
+        "pinion_radius = \"0 mm\"",
+    );
+    assert_names(
+        &t,
+        "mechanism.luffing_actuator[2].pinion_radius",
+        "pinion_radius = \"0 mm\"",
+        "must be a finite length > 0",
+    );
+    let t = with(&base, "parts = 6", "parts = 6\npinion_radius = \"1 m\"");
+    assert_names(
+        &t,
+        "mechanism.luffing_actuator[1].pinion_radius",
+        "pinion_radius = \"1 m\"",
+        "only for a rack",
+    );
     let path = common::problem("crane-tukan-40t.toml");
     let bare = std::fs::read_to_string(path).unwrap();
     let t = format!("{bare}\n[[mechanism.luffing_actuator]]\nkind = \"cylinder\"\nframe_point = [\"-1 m\", \"-3 m\"]\nboom_point = [\"8 m\", \"0.5 m\"]\n");

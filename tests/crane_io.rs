@@ -147,8 +147,9 @@ fn every_crane_file_solves_with_the_contract_keys_and_sane_values() {
         assert!(
             (num(v, "derived.head_y_max_m") - num(v, "derived.head_y_min_m") - dh).abs() < 1e-12
         );
-        // Compact JSON: no dense series.
-        assert!(v.to_string().len() < 20_000, "{name}: JSON too long");
+        // Compact JSON: no dense series (the luffing-drive scene's three actuators, their six
+        // cases and the balance's sections come to about 21 kB).
+        assert!(v.to_string().len() < 25_000, "{name}: JSON too long");
         for p in v["paper"].as_array().unwrap() {
             assert!(p["computed"].is_f64(), "{name}: {p}");
         }

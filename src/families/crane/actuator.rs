@@ -1,6 +1,6 @@
 //! The crane's real luffing drive (issue 38, thesis §1.1, Fig 1.5–1.7): the ideal torque T(φ)
-//! about the boom foot A of [`super::balance`] carried by a hydraulic cylinder or a rope
-//! tackle between a point P on the A-frame and a point Q on the boom — the force along it over
+//! about the boom foot A of [`super::balance`] carried by a hydraulic cylinder, a rope
+//! tackle or a rack between a point P on the A-frame and a point Q on the boom — the force along it over
 //! the luffing range, its stroke and its power, empty and loaded.
 //!
 //! Q turns with the boom: Q(φ) = s e_b + n e_n ([`boom_frame`]), so dQ/dφ = (Q_y, −Q_x). The
@@ -21,6 +21,12 @@
 //! a winch's constant rope speed): the power is |U| v, and the boom's angular speed v/|ℓ′|
 //! varies over the stroke. A rope tackle of n parts has the winch's line pull S/n and its rope
 //! travel n·stroke (friction neglected).
+//!
+//! A rack (thesis §1.1's third drive) is pinned to the boom at Q and driven by a pinion of
+//! pitch radius r_p in a gearbox that swings about P on the A-frame, so it is kinematically a
+//! member of variable length P–Q like the cylinder: the same U (positive pushing), but it
+//! works both ways without a rod side, its pinion carries the torque U·r_p, and at the rack's
+//! constant speed v the pinion turns at v/r_p (mesh friction neglected).
 
 use super::balance::{Balance, BalanceError, BalanceScene, Cases};
 use super::model::Linkage;
@@ -35,6 +41,9 @@ pub enum ActuatorKind {
     Cylinder,
     /// A rope tackle from a sheave on the A-frame to the boom, working by pulling.
     Rope,
+    /// A rack pinned to the boom, driven by a pinion in a gearbox swinging about the A-frame
+    /// point: pushes and pulls.
+    Rack,
 }
 
 /// An actuator as the problem file states it (SI).
@@ -48,8 +57,11 @@ pub struct ActuatorSpec {
     /// (s, n), its point on the boom: s along the boom from A, n across it along e_n (m).
     #[serde(rename = "boom_point_m")]
     pub boom_point: [f64; 2],
-    /// n, the rope tackle's parts (1 for a cylinder).
+    /// n, the rope tackle's parts (1 for a cylinder or a rack).
     pub parts: f64,
+    /// r_p, the rack pinion's pitch radius (m; a rack only).
+    #[serde(rename = "pinion_radius_m", skip_serializing_if = "Option::is_none")]
+    pub pinion_radius: Option<f64>,
 }
 
 impl ActuatorSpec {
@@ -75,10 +87,10 @@ impl ActuatorSpec {
         self.sense() * torque / self.length_rate(phi)
     }
 
-    /// The working sense: +1 a cylinder pushing, −1 a rope pulling.
+    /// The working sense: +1 a cylinder or a rack pushing, −1 a rope pulling.
     pub fn sense(&self) -> f64 {
         match self.kind {
-            ActuatorKind::Cylinder => 1.0,
+            ActuatorKind::Cylinder | ActuatorKind::Rack => 1.0,
             ActuatorKind::Rope => -1.0,
         }
     }
@@ -106,6 +118,12 @@ pub struct ActuatorCase {
     /// For a rope: the winch's largest line pull, force_max/n (N).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub winch_line_pull_max_n: Option<f64>,
+    /// For a rack: the pinion's largest torque, max |U|·r_p (N·m).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub pinion_torque_max_nm: Option<f64>,
+    /// Its error, the force's times r_p (N·m).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub pinion_torque_error_nm: Option<f64>,
     /// With a luffing time: max |U|·v (W).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub peak_power_w: Option<f64>,
@@ -135,6 +153,9 @@ pub struct Actuator {
     /// With a luffing time: v = stroke/t_l (m/s).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub speed_m_per_s: Option<f64>,
+    /// For a rack with a luffing time: the pinion's speed v/r_p (rpm).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub pinion_speed_rpm: Option<f64>,
     /// Per load case, with the designed counterweight (without one when none is designed);
     /// in the JSON, the section's `cases`.
     #[serde(skip)]
@@ -243,6 +264,8 @@ fn actuator(
             phi_at_force_min_rad: fmin.peak.x,
             force_error_n: err,
             winch_line_pull_max_n: (s.kind == ActuatorKind::Rope).then(|| fmax.peak.fx / s.parts),
+            pinion_torque_max_nm: s.pinion_radius.map(|r| peak * r),
+            pinion_torque_error_nm: s.pinion_radius.map(|r| err * r),
             peak_power_w: speed.map(|v| peak * v),
             peak_power_error_w: speed.map(|v| err * v),
         });
@@ -257,6 +280,9 @@ fn actuator(
         phi_at_lever_arm_min_rad: lo.peak.x,
         lever_arm_max_m: hi.peak.fx,
         speed_m_per_s: speed,
+        pinion_speed_rpm: speed
+            .zip(s.pinion_radius)
+            .map(|(v, r)| v / r * 60.0 / std::f64::consts::TAU),
         cases,
     })
 }
@@ -267,6 +293,7 @@ fn verdict(s: &ActuatorSpec, cases: &[ActuatorCase], stroke: f64) -> String {
     let (what, works) = match s.kind {
         ActuatorKind::Cylinder => ("cylinder", "pushes"),
         ActuatorKind::Rope => ("rope tackle", "pulls"),
+        ActuatorKind::Rack => ("rack", "pushes"),
     };
     let max = cases
         .iter()
@@ -288,7 +315,19 @@ fn verdict(s: &ActuatorSpec, cases: &[ActuatorCase], stroke: f64) -> String {
                 c.case,
                 -c.force_min_n / 1e3
             ),
+            ActuatorKind::Rack => format!(
+                "; {}: it also pulls {:.1} kN (the pinion's torque reverses: the mesh crosses its backlash and loads the other tooth flanks)",
+                c.case,
+                -c.force_min_n / 1e3
+            ),
         };
+    }
+    if let Some(t) = cases
+        .iter()
+        .filter_map(|c| c.pinion_torque_max_nm)
+        .reduce(f64::max)
+    {
+        v += &format!("; its pinion carries at most {:.1} kN·m", t / 1e3);
     }
     v + "."
 }

@@ -74,7 +74,7 @@ pub struct MechanismRaw {
     /// the slewing part, the base and the tipping lines.
     pub stability: Option<StabilityRaw>,
     /// The real luffing drive (`[[mechanism.luffing_actuator]]`, needs `self_weight`): each a
-    /// hydraulic cylinder or a rope tackle between the A-frame and the boom (thesis §1.1).
+    /// hydraulic cylinder, a rope tackle or a rack between the A-frame and the boom (thesis §1.1).
     pub luffing_actuator: Option<Vec<ActuatorRaw>>,
 }
 
@@ -86,16 +86,20 @@ pub enum ActuatorKindRaw {
     Cylinder,
     /// A rope tackle from a sheave on the A-frame to the boom (pulls only).
     Rope,
+    /// A rack pinned to the boom, driven by a pinion in a gearbox swinging about the A-frame
+    /// point (pushes and pulls; needs `pinion_radius`).
+    Rack,
 }
 
-/// `[[mechanism.luffing_actuator]]`: a cylinder or rope between a point on the A-frame and a
-/// point on the boom.
+/// `[[mechanism.luffing_actuator]]`: a cylinder, rope or rack between a point on the A-frame
+/// and a point on the boom.
 #[derive(Debug, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ActuatorRaw {
-    /// `"cylinder"` or `"rope"`.
+    /// `"cylinder"`, `"rope"` or `"rack"`.
     pub kind: ActuatorKindRaw,
-    /// P = [x, y], its point on the A-frame (the cylinder's base pin, the rope's sheave) in
+    /// P = [x, y], its point on the A-frame (the cylinder's base pin, the rope's sheave, the
+    /// rack gearbox's swing pin) in
     /// the frame of A (x behind the foot, y up), e.g. `["-1 m", "-3 m"]`.
     pub frame_point: Pair<Qty<Length>>,
     /// Q = [s, n], its point on the boom: s along the boom from A towards D, n across it
@@ -104,6 +108,8 @@ pub struct ActuatorRaw {
     pub boom_point: Pair<Qty<Length>>,
     /// For a rope: the tackle's parts n between sheave and boom (default 1, 1 to 64).
     pub parts: Option<u32>,
+    /// For a rack: the pitch radius of its pinion, e.g. `"150 mm"` (required for a rack).
+    pub pinion_radius: Option<Qty<Length>>,
 }
 
 /// `[mechanism.stability]`: the weights that are not the boom system's and the tipping lines
@@ -471,9 +477,11 @@ fn actuators(raw: &File) -> Result<Vec<ActuatorSpec>, FieldError> {
             let kind = match a.kind {
                 ActuatorKindRaw::Cylinder => ActuatorKind::Cylinder,
                 ActuatorKindRaw::Rope => ActuatorKind::Rope,
+                ActuatorKindRaw::Rack => ActuatorKind::Rack,
             };
+            let pinion_radius = pinion_radius(kind, a, &key)?;
             let parts = match (kind, a.parts) {
-                (ActuatorKind::Cylinder, Some(_)) => {
+                (ActuatorKind::Cylinder | ActuatorKind::Rack, Some(_)) => {
                     return Err(FieldError::new(
                         key("parts"),
                         "only for a rope tackle; allowed: remove it, or kind = \"rope\"",
@@ -492,9 +500,41 @@ fn actuators(raw: &File) -> Result<Vec<ActuatorSpec>, FieldError> {
                 frame_point: crate::geom::P2::new(px, py),
                 boom_point: [s, n],
                 parts,
+                pinion_radius,
             })
         })
         .collect()
+}
+
+/// A luffing actuator's `pinion_radius`: required, finite and > 0 for a rack, refused for the
+/// others.
+fn pinion_radius(
+    kind: ActuatorKind,
+    a: &ActuatorRaw,
+    key: &dyn Fn(&str) -> String,
+) -> Result<Option<f64>, FieldError> {
+    match (kind, a.pinion_radius) {
+        (ActuatorKind::Rack, None) => Err(FieldError::new(
+            key("kind"),
+            "a rack needs its pinion; allowed: add pinion_radius = \"150 mm\" (the pinion's pitch radius)",
+        )),
+        (ActuatorKind::Rack, Some(q)) => {
+            let r = q.si();
+            if r.is_finite() && r > 0.0 {
+                Ok(Some(r))
+            } else {
+                Err(FieldError::new(
+                    key("pinion_radius"),
+                    format!("must be a finite length > 0, got {r} m"),
+                ))
+            }
+        }
+        (_, Some(_)) => Err(FieldError::new(
+            key("pinion_radius"),
+            "only for a rack; allowed: remove it, or kind = \"rack\"",
+        )),
+        (_, None) => Ok(None),
+    }
 }
 
 /// `mechanism.stability` checked: positive masses and distances, the slewing part's centroid

@@ -8,7 +8,7 @@
 use super::actuator::{ActuatorKind, LuffingActuators};
 use super::file::*;
 use super::luffing::LuffingDrive;
-use super::solve::{Solution, Statics};
+use super::solve::{LevelHead, Solution, Statics};
 use super::stability::Stability;
 use crate::families::crane::model::Level;
 use crate::families::crane::synth::{
@@ -87,6 +87,49 @@ pub fn numbers(scene: &Scene, s: &CraneProblem, sol: &Solution, r: &mut SolveRes
     if let Some(st) = &sol.statics {
         statics_numbers(r, s, out, st);
     }
+    if let Some(lh) = &sol.level_head {
+        level_head_numbers(r, out, lh);
+    }
+}
+
+/// The level-head baseline of a load-level scene (`baselines.level_head`) and the thesis's
+/// §2.2 claim against it, in words: the thesis's remedy levels the load at the three
+/// precision points; between them it moves by Δh_L, against the level head's load travel.
+fn level_head_numbers(r: &mut SolveResult, out: &Outcome, lh: &LevelHead) {
+    let o = &lh.out;
+    let mut b = BTreeMap::new();
+    for (k, v) in [
+        ("delta_h_m", o.objectives.delta_h_m),
+        ("load_delta_h_m", lh.load.as_ref().map(|l| l.load_delta_h_m)),
+        ("max_load_moment_nm", o.derived.max_load_moment_nm),
+        ("boom_length_m", o.design.boom_length_m),
+        ("jib_length_m", o.design.jib_length_m),
+        ("k", o.derived.k),
+    ] {
+        if let Some(v) = v {
+            b.insert(k.to_string(), v);
+        }
+    }
+    let (Some(dh_l), Some(base)) = (out.objectives.load_delta_h_m, b.get("load_delta_h_m")) else {
+        r.baselines.insert("level_head".into(), b);
+        return;
+    };
+    let moment = |o: &Outcome| o.derived.max_load_moment_nm.unwrap_or(f64::NAN);
+    r.paper.push(PaperCheck {
+        quantity: "thesis §2.2: the load's height variation with the jib head raised by h2, h3 (the thesis: the load moves horizontally)".into(),
+        key: key!("objectives", Objectives, load_delta_h_m).into(),
+        paper: 0.0,
+        computed: Some(dh_l),
+        diff_pct: None,
+        note: format!(
+            "the thesis's remedy puts the load at one height at the three precision points only; between them it moves by \
+             {dh_l:.4} m, against {base:.4} m for the level-head design of the same search (thesis §2.1, \
+             baselines.level_head), and the unbalanced load moment falls from {:.4e} to {:.4e} N·m",
+            moment(o),
+            moment(out)
+        ),
+    });
+    r.baselines.insert("level_head".into(), b);
 }
 
 /// The sections of the synthesis: the checks, evaluations, positions and basins.
@@ -241,6 +284,15 @@ fn actuator_numbers(r: &mut SolveResult, a: Option<&Result<LuffingActuators, Str
             .insert(format!("luffing_actuator_{i}_force_max_error_n"), e);
         r.derived
             .insert(format!("luffing_actuator_{i}_stroke_m"), act.stroke_m);
+        if let Some(t) = act
+            .cases
+            .iter()
+            .filter_map(|c| c.pinion_torque_max_nm)
+            .reduce(f64::max)
+        {
+            r.derived
+                .insert(format!("luffing_actuator_{i}_pinion_torque_max_nm"), t);
+        }
         let slack =
             act.spec.kind == ActuatorKind::Rope && act.cases.iter().any(|c| c.force_min_n < 0.0);
         if slack {

@@ -10,6 +10,7 @@ use super::actuator;
 use super::balance;
 use super::file::CraneProblem;
 use super::luffing;
+use super::model::Level;
 use super::stability;
 use super::synth::{self as cr, Landscape, Status as CraneStatus};
 use crate::families::driver::Claim;
@@ -32,6 +33,18 @@ pub struct Solution {
     /// (`mechanism.self_weight`, `design.counterweight`, `mechanism.hoist_rope`) and the
     /// design has positions: `Err` says why the linkage could not be built for them.
     pub statics: Option<Result<Statics, String>>,
+    /// With `minimize = "load-delta-h"`: the baseline the thesis's §2.1 method gives, the
+    /// same scene searched for a level head, with its load's path on the same rope.
+    pub level_head: Option<LevelHead>,
+}
+
+/// The level-head design of a load-level scene, the baseline (`baselines.level_head`).
+#[derive(Debug, Clone)]
+pub struct LevelHead {
+    /// Its synthesis: design, Δh of the head, the load moment with the rope.
+    pub out: cr::Outcome,
+    /// The load's path on the rope at that design (`None`: it could not be evaluated).
+    pub load: Option<balance::LoadPath>,
 }
 
 /// The boom system's statics at the reported design.
@@ -75,7 +88,25 @@ pub fn solve(p: &CraneProblem) -> Result<Solution, String> {
         claim: claim(&p.scene, &out),
         out,
         statics,
+        level_head: level_head(p),
     })
+}
+
+/// For a load-level scene, the same scene searched for a level head (the thesis's §2.1
+/// synthesis, what the rope's sheave would be ignored by) and its load's path on the rope.
+fn level_head(p: &CraneProblem) -> Option<LevelHead> {
+    let Level::Load(rope) = p.scene.level else {
+        return None;
+    };
+    let scene = cr::CraneScene {
+        level: Level::Head,
+        ..p.scene.clone()
+    };
+    let out = cr::solve(&scene, &p.settings).ok()?;
+    let load = cr::build(&scene, &out.x).ok().and_then(|(_, syn)| {
+        balance::load_path(&syn.linkage, &rope, p.settings.path_samples, 1e-9)
+    });
+    Some(LevelHead { out, load })
 }
 
 /// What the solve claims of its design.
