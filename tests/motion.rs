@@ -109,6 +109,10 @@ fn rigid(f: &Path, family: &str, d: &Value, m: &Value) {
                 if let Some(b) = d["tie_length_m"].as_f64() {
                     near(len(fr, 2), b, s, &what);
                 }
+                // A hung counterweight's hanger, a lever's lever and rod keep their lengths.
+                for i in 3..fr["links"].as_array().unwrap().len() {
+                    near(len(fr, i), len(&frames[0], i), s, &what);
+                }
             }
             "hypocycloid" => {
                 let s = g("rod_length_m");
@@ -658,5 +662,48 @@ fn the_lanchester_shafts_turn_their_masses_as_the_model_does() {
                 pair.order
             );
         }
+    }
+}
+
+/// A hung and a lever counterweight move in the motion view along the paths the balance
+/// computes (`balance.counterweight_path`): at maximum reach (the first frame) and at minimum
+/// reach (the middle frame) the drawn centroid is the path's, the hanger runs from the
+/// suspension point straight down, and the lever's rod ends at the path's rod pins.
+#[test]
+fn hung_and_lever_counterweights_move_along_their_paths() {
+    for name in [
+        "crane-tukan-40t-hanging-counterweight.toml",
+        "crane-tukan-40t-lever-counterweight.toml",
+    ] {
+        let (r, m) = solved(&problems().join(name), None);
+        let path = &r["balance"]["counterweight_path"];
+        let frames = m["frames"].as_array().unwrap();
+        let names: Vec<&str> = m["names"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|n| n.as_str().unwrap())
+            .collect();
+        for (i, f) in [(0, &frames[0]), (1, &frames[frames.len() / 2])] {
+            let want = p(&path["centroid_m"][i]);
+            let got = p(&f["counterweights"][0]);
+            assert!(dist(want, got) <= 1e-9, "{name} {i}: {got:?} vs {want:?}");
+            assert_eq!(f["links"].as_array().unwrap().len(), names.len(), "{name}");
+            if path["kind"] == "hanging" {
+                let top = p(&path["suspension_point_m"][i]);
+                assert!(dist(p(&f["links"][3][0]), top) <= 1e-9, "{name}");
+                assert!(dist(p(&f["links"][3][1]), got) <= 1e-9, "{name}");
+                assert!(
+                    (top[0] - got[0]).abs() <= 1e-9,
+                    "{name}: the hanger is vertical"
+                );
+            } else {
+                let [l, k] = [0, 1].map(|j| p(&path["rod_pins_m"][i][j]));
+                assert!(dist(p(&f["links"][4][0]), l) <= 1e-9, "{name}");
+                assert!(dist(p(&f["links"][4][1]), k) <= 1e-9, "{name}");
+            }
+        }
+        let bodies = m["bodies"].as_array().unwrap();
+        assert_eq!(bodies.len(), 1, "{name}");
     }
 }

@@ -4,6 +4,7 @@
 //! `numbers.rs`'.
 
 use super::file::*;
+use super::motion::CounterweightMotion;
 use super::solve::{Analyses, Solution};
 use crate::families::crane::balance::{self, CounterweightPath};
 use crate::families::crane::model::{synthesize, Boom, Guide, HoistRope, Level};
@@ -58,9 +59,8 @@ pub fn documents(scene: &Scene, s: &CraneProblem, sol: &Solution, r: &mut SolveR
     if let Some(bal) = sol.balance() {
         balance_documents(r, scene, s, bal);
     }
-    // A counterweight on the boom is drawn on its lever from A (and moves in the motion
-    // view); a hung or lever one from its path (`balance.counterweight_path`), at both
-    // reaches.
+    // A counterweight on the boom is drawn on its lever from A; a hung or lever one from its
+    // path (`balance.counterweight_path`), at both reaches; all three move in the motion view.
     let on_boom = s
         .scene
         .balance
@@ -76,7 +76,28 @@ pub fn documents(scene: &Scene, s: &CraneProblem, sol: &Solution, r: &mut SolveR
         b.counterweight_path.clone().map(|p| (p, m))
     });
     crane_drawing(r, &scene.name, out, cw, other);
-    r.motion = super::motion::motion(s, out, cw).and_then(|m| serde_json::to_value(m).ok());
+    let moving = counterweight_motion(s, sol);
+    r.motion = super::motion::motion(s, out, moving).and_then(|m| serde_json::to_value(m).ok());
+}
+
+/// The designed counterweight as the motion view moves it, by its kind.
+fn counterweight_motion(s: &CraneProblem, sol: &Solution) -> Option<CounterweightMotion> {
+    let b = sol.balance()?;
+    let c = b.counterweight.as_ref()?;
+    let (u, m) = (c.static_moment_kgm, c.mass_kg);
+    Some(match s.scene.balance?.counterweight?.kind {
+        balance::CounterweightKind::Boom => CounterweightMotion::Boom { u, m },
+        balance::CounterweightKind::Hanging { hang_length_m } => CounterweightMotion::Hanging {
+            u,
+            m,
+            hang: hang_length_m,
+        },
+        balance::CounterweightKind::Lever(_) => CounterweightMotion::Lever {
+            u,
+            m,
+            lever: b.counterweight_path.as_ref()?.lever?,
+        },
+    })
 }
 
 /// The load's height along the head path `path` on the inclined `rope`, for a rope whose load
