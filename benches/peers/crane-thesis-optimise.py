@@ -168,10 +168,11 @@ if A.evaluate:
     raise SystemExit
 
 solver = {"slsqp": solve_slsqp, "de": solve_de}[A.method]
-(x, value), solve_s, ts = c.timed(lambda: (lambda x: (x, delta_h(x, refine=True)))(solver()), A.repeats)
+(x, value), solve_s, ts, first_s = c.timed(lambda: (lambda x: (x, delta_h(x, refine=True)))(solver()), A.repeats)
 B = pin(x)
 c.emit(scene=P["name"], value=value, unit="m", key="objectives.delta_h_m", solve_s=solve_s,
-       import_s=import_s, method=f"{A.method} on the sampled-path Δh + refined extrema at the end",
+       first_call_s=first_s, warm_s=ts, import_s=import_s,
+       method=f"{A.method} on the sampled-path Δh + refined extrema at the end",
        settings={"path_samples": N, "grid": A.grid, "starts": A.starts, "ftol": 1e-12,
                  "extremum_xatol_rad": 1e-10, "repeats": A.repeats},
        extra={"k1": x[0], "k2": x[1], "tie_pin": [B[0], B[1]], "tie_pin_distance_m": np.hypot(*B)})

@@ -124,10 +124,10 @@ if A.evaluate:
     raise SystemExit
 
 solver = {"cvxpy": solve_cvxpy, "slsqp": solve_slsqp, "nelder-mead": solve_nm}[A.method]
-(u, value), solve_s, ts = c.timed(lambda: (lambda u: (u, peak(u)))(solver()), A.repeats)
+(u, value), solve_s, ts, first_s = c.timed(lambda: (lambda u: (u, peak(u)))(solver()), A.repeats)
 c.emit(scene=P["name"], value=value, unit="N", key="objectives.peak_shaking_force_n",
-       solve_s=solve_s, import_s=import_s, method=f"{A.method} minimax on sampled angles + "
-       "refined peak of the result", settings={"samples": N, "scan": 10 * N,
-       "peak_xatol_rad": 1e-12, "repeats": A.repeats},
+       solve_s=solve_s, first_call_s=first_s, warm_s=ts, import_s=import_s,
+       method=f"{A.method} minimax on sampled angles + refined peak of the result",
+       settings={"samples": N, "scan": 10 * N, "peak_xatol_rad": 1e-12, "repeats": A.repeats},
        extra={"unbalance_kgm": float(np.hypot(*u)),
               "unbalance_angle_rad": float(np.arctan2(u[1], u[0]) % (2 * np.pi))})

@@ -1,14 +1,18 @@
 """One paired run of cwsynth against its SciPy/cvxpy peers (issue 21).
 
 For each scene and each round (A B A B …): A = `cwsynth solve FILE --json` as a whole
-process (its in-process `timing.solve_s` read from the JSON), B = each peer script as a
-whole process (its in-process `solve_s`, one solve per process, like cwsynth). Reports
-min/median/max of whole-process wall time, process CPU (user + sys), in-process solve time,
-the speed ratios peer/cwsynth (of the medians), and the peer's headline value against
-cwsynth's with cwsynth's stated error bound. /proc/loadavg is recorded at start and end:
-the machine may be shared, so read the ratios, not the absolute times.
+process (its in-process `timing.solve_s` read from the JSON: the one solve the process does,
+cold), B = each peer script as a whole process, with BLAS/OpenMP pinned to one thread; its
+in-process `solve_s` is the median of `--repeats` warm solves (one warm-up solve first, not
+counted; imports excluded). Reports min/median/max over the rounds of whole-process wall
+time, process CPU (user + sys), in-process solve time, the speed ratios peer/cwsynth (of the
+medians), and the peer's headline value against cwsynth's with cwsynth's stated error bound.
+A peer's whole-process wall and CPU times are counted less its warm repeats: start-up,
+imports, parsing and one (the first) solve, as a cwsynth process does.
+/proc/loadavg is recorded at start and end: the machine may be shared, so read the ratios,
+not the absolute times.
 
-    python benches/peers/run.py --cli target/release/cwsynth [--rounds 7] [--quick]
+    python benches/peers/run.py --cli target/release/cwsynth [--rounds 7] [--repeats 7] [--quick]
 
 Writes benches/peers/results.csv and prints a markdown table.
 """
@@ -56,16 +60,23 @@ SCENES = [
 ]
 
 
+# The environment of every peer process: one thread for each BLAS/OpenMP pool, set before the
+# peer starts (so before it imports NumPy). _common.py sets the same defaults when a peer
+# runs alone.
+PIN = {v: "1" for v in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS",
+                         "VECLIB_MAXIMUM_THREADS", "NUMEXPR_NUM_THREADS")}
+
+
 def loadavg():
     with open("/proc/loadavg") as f:
         return " ".join(f.read().split()[:3])
 
 
-def run(cmd):
+def run(cmd, env=None):
     """(stdout, wall s, CPU s of the child)."""
     r0 = resource.getrusage(resource.RUSAGE_CHILDREN)
     t = time.perf_counter()
-    p = subprocess.run(cmd, cwd=ROOT, capture_output=True, text=True)
+    p = subprocess.run(cmd, cwd=ROOT, capture_output=True, text=True, env=env)
     wall = time.perf_counter() - t
     r1 = resource.getrusage(resource.RUSAGE_CHILDREN)
     if p.returncode != 0:
@@ -82,11 +93,17 @@ def fmt_t(s):
     return f"{s * 1e3:.3g} ms" if s < 1 else f"{s:.3g} s"
 
 
+def fmt_r(x):
+    return f"{x:.2f}×" if x < 10 else f"{x:.0f}×"
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--cli", default="target/release/cwsynth")
     ap.add_argument("--python", default=sys.executable)
     ap.add_argument("--rounds", type=int, default=7)
+    ap.add_argument("--repeats", type=int, default=7,
+                    help="warm in-process solves per peer process (after one warm-up); median reported")
     ap.add_argument("--quick", action="store_true", help="one round")
     ap.add_argument("--only", help="run only scenes whose name contains this")
     ap.add_argument("--out", default=os.path.join(HERE, "results.csv"))
@@ -94,20 +111,30 @@ def main():
     rounds = 1 if a.quick else a.rounds
     cli = os.path.abspath(os.path.join(ROOT, a.cli)) if not os.path.isabs(a.cli) else a.cli
     scenes = [s for s in SCENES if not a.only or a.only in s["scene"]]
+    peer_env = dict(os.environ, **PIN)
+    pin_txt = " ".join(f"{k}={v}" for k, v in PIN.items())
     load0, t0 = loadavg(), time.strftime("%Y-%m-%d %H:%M:%S UTC", time.gmtime())
-    # samples[(scene, tool)] = list of (wall, cpu, inproc)
+    # samples[(scene, tool)] = list of (wall, cpu, inproc, peer's first call, peer's imports)
     samples, last = {}, {}
     for rnd in range(rounds):
         for s in scenes:
-            cmds = [("cwsynth", [cli, "solve", s["problem"], "--json"])]
+            cmds = [("cwsynth", [cli, "solve", s["problem"], "--json"], None)]
             cmds += [(" ".join(p[1:]) or "default",
-                      [a.python, os.path.join(HERE, p[0]), *p[1:], s["problem"], "--repeats", "1"])
+                      [a.python, os.path.join(HERE, p[0]), *p[1:], s["problem"],
+                       "--repeats", str(a.repeats)], peer_env)
                      for p in s["peers"]]
-            for tool, cmd in cmds:
-                out, wall, cpu = run(cmd)
+            for tool, cmd, env in cmds:
+                out, wall, cpu = run(cmd, env)
                 j = json.loads(out.strip().splitlines()[-1])
-                inproc = j["timing"]["solve_s"] if tool == "cwsynth" else j["solve_s"]
-                samples.setdefault((s["scene"], tool), []).append((wall, cpu, inproc))
+                if tool == "cwsynth":
+                    sample = (wall, cpu, j["timing"]["solve_s"], None, None)
+                else:
+                    assert all(j["threads"][k] == v for k, v in PIN.items()), j["threads"]
+                    # whole process as if it solved once, like cwsynth: less the warm repeats
+                    # (single-threaded, so their CPU time is their wall time)
+                    rep_s = sum(j["warm_s"])
+                    sample = (wall - rep_s, cpu - rep_s, j["solve_s"], j["first_call_s"], j["import_s"])
+                samples.setdefault((s["scene"], tool), []).append(sample)
                 last[(s["scene"], tool)] = j
         print(f"round {rnd + 1}/{rounds} done, load {loadavg()}", file=sys.stderr)
     load1, t1 = loadavg(), time.strftime("%Y-%m-%d %H:%M:%S UTC", time.gmtime())
@@ -123,7 +150,8 @@ def main():
             # stops elsewhere" from "cwsynth's value of its design is wrong"
             script, *keys = s["evaluate"]
             design = ",".join(repr(float(dig(cw, k))) for k in keys)
-            out, _, _ = run([a.python, os.path.join(HERE, script), s["problem"], f"--evaluate={design}"])
+            out, _, _ = run([a.python, os.path.join(HERE, script), s["problem"], f"--evaluate={design}"],
+                            peer_env)
             ev = json.loads(out.strip().splitlines()[-1])["value"]
             checks.append((s["scene"], design, cw_val, ev, (ev - cw_val) / abs(cw_val), cw_rel))
         cws = samples[(s["scene"], "cwsynth")]
@@ -140,14 +168,18 @@ def main():
                 diff_abs = pj["value"] - cw_val
                 cmp_what, rel, bound = "relative difference", diff_abs / abs(cw_val), cw_rel
             row = dict(scene=s["scene"], peer=f"{p[0]} {tool}".strip(), peer_method=pj["method"],
-                       peer_settings=json.dumps(pj["settings"]), rounds=rounds)
+                       peer_settings=json.dumps(pj["settings"]), rounds=rounds,
+                       cwsynth_inproc_is="timing.solve_s: the one (cold) solve of its process",
+                       peer_inproc_is=f"median of {a.repeats} warm solves after 1 warm-up",
+                       peer_threads=pin_txt)
             for name, idx in (("wall", 0), ("cpu", 1), ("inproc", 2)):
                 for who, xs in (("cwsynth", cws), ("peer", ps)):
                     lo, med, hi = stats([x[idx] for x in xs])
                     row.update({f"{who}_{name}_min_s": lo, f"{who}_{name}_median_s": med,
                                 f"{who}_{name}_max_s": hi})
                 row[f"ratio_{name}"] = row[f"peer_{name}_median_s"] / row[f"cwsynth_{name}_median_s"]
-            row.update(peer_import_s=statistics.median([last[(s["scene"], tool)]["import_s"]]),
+            row.update(peer_first_call_median_s=statistics.median([x[3] for x in ps]),
+                       peer_import_median_s=statistics.median([x[4] for x in ps]),
                        cwsynth_value=cw_val, peer_value=pj["value"], unit=pj["unit"],
                        compare=cmp_what, difference=rel, cwsynth_stated_error=bound,
                        within_bound=abs(rel) <= bound,
@@ -159,8 +191,9 @@ def main():
         w.writeheader()
         w.writerows(rows)
 
-    print(f"Paired run: {rounds} rounds, A = `cwsynth solve FILE --json`, B = peer (one solve per "
-          f"process); {t0} → {t1}; load average {load0} at start, {load1} at end "
+    print(f"Paired run: {rounds} rounds, A = `cwsynth solve FILE --json` (in-process: its one, cold "
+          f"solve), B = peer (in-process: median of {a.repeats} warm solves after a warm-up; "
+          f"{pin_txt}); {t0} → {t1}; load average {load0} at start, {load1} at end "
           f"({os.cpu_count()} CPUs).\n")
     print("| scene | peer | in-process: cwsynth | peer | ratio | whole process: cwsynth | peer | ratio "
           "| value: cwsynth | peer | difference | cwsynth's bound |")
@@ -172,13 +205,19 @@ def main():
         diff = (f"{r['difference']:.1e} (abs θ)" if r["compare"].startswith("max")
                 else f"{r['difference']:+.1e}")
         print(f"| {r['scene']} | {r['peer']} | {t3('cwsynth', 'inproc')} | {t3('peer', 'inproc')} "
-              f"| {r['ratio_inproc']:.0f}× | {t3('cwsynth', 'wall')} | {t3('peer', 'wall')} "
-              f"| {r['ratio_wall']:.0f}× | {r['cwsynth_value']:.12g} | {r['peer_value']:.12g} "
+              f"| {fmt_r(r['ratio_inproc'])} | {t3('cwsynth', 'wall')} | {t3('peer', 'wall')} "
+              f"| {fmt_r(r['ratio_wall'])} | {r['cwsynth_value']:.12g} | {r['peer_value']:.12g} "
               f"| {diff} | {r['cwsynth_stated_error']:.1e} |")
-    print(f"\nmedian [min–max] of {rounds}; ratio = peer median / cwsynth median; difference = "
+    print(f"\nmedian [min–max] of {rounds} rounds; ratio = peer median / cwsynth median; difference = "
           "(peer − cwsynth)/|cwsynth| (relative), except the zero curve (max |θ_peer − θ_cwsynth|); "
           "cwsynth's bound = its stated error (errors.* over the value; the zero curve: its 1e-12 "
-          f"root tolerance in θ). CPU medians (user + sys) are in {os.path.relpath(a.out, ROOT)}.")
+          f"root tolerance in θ). CPU medians (user + sys), the peers' first (warm-up) solves and "
+          f"import times are in {os.path.relpath(a.out, ROOT)}.")
+    print("\nCold against cold (each peer's first solve in its process, the warm-up not in the "
+          "median above, against cwsynth's): "
+          + "; ".join(f"{r['scene']} / {r['peer']}: {fmt_t(r['peer_first_call_median_s'])}, "
+                      f"{fmt_r(r['peer_first_call_median_s'] / r['cwsynth_inproc_median_s'])}"
+                      for r in rows) + ".")
     if checks:
         print("\nThe peers' models evaluating cwsynth's optimum (no optimisation):\n")
         print("| scene | cwsynth's design | cwsynth's value | peer's evaluation | difference | cwsynth's bound |")
