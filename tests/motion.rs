@@ -691,8 +691,12 @@ fn hung_and_lever_counterweights_move_along_their_paths() {
             assert_eq!(f["links"].as_array().unwrap().len(), names.len(), "{name}");
             if path["kind"] == "hanging" {
                 let top = p(&path["suspension_point_m"][i]);
-                assert!(dist(p(&f["links"][3][0]), top) <= 1e-9, "{name}");
-                assert!(dist(p(&f["links"][3][1]), got) <= 1e-9, "{name}");
+                assert!(
+                    dist(p(&f["links"][3][1]), top) <= 1e-9,
+                    "{name}: the boom's tail"
+                );
+                assert!(dist(p(&f["links"][4][0]), top) <= 1e-9, "{name}");
+                assert!(dist(p(&f["links"][4][1]), got) <= 1e-9, "{name}");
                 assert!(
                     (top[0] - got[0]).abs() <= 1e-9,
                     "{name}: the hanger is vertical"

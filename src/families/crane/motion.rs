@@ -46,7 +46,7 @@ impl CounterweightMotion {
     fn link_names(&self) -> Vec<String> {
         match self {
             Self::Boom { .. } => vec![],
-            Self::Hanging { .. } => vec!["hanger".into()],
+            Self::Hanging { .. } => vec!["boom tail".into(), "hanger".into()],
             Self::Lever { .. } => vec!["lever".into(), "rod".into()],
         }
     }
@@ -132,7 +132,8 @@ fn frame(l: &Linkage, phi: f64, cw: Option<&CounterweightMotion>) -> Option<Fram
 
 /// The counterweight at the boom angle φ: its centroid, its body's pose and the links it
 /// hangs on. A boom counterweight turns with the boom (its body in the boom frame); a hung
-/// one hangs `hang` below its suspension point u/m (boom frame), and a lever's sits at
+/// one hangs `hang` below its suspension point u/m (boom frame, on the boom's tail from A),
+/// and a lever's sits at
 /// O + R(ψ)·u/m on the lever posed by its four-bar (their bodies translate).
 fn counterweight_in(f: &mut Frame, phi: f64, cw: &CounterweightMotion) -> Option<()> {
     let (s, c) = (PI - phi).sin_cos();
@@ -145,6 +146,7 @@ fn counterweight_in(f: &mut Frame, phi: f64, cw: &CounterweightMotion) -> Option
         CounterweightMotion::Hanging { u, m, hang } => {
             let top = on_boom(u, m);
             let g = top - P2::new(0.0, hang);
+            f.links.push([[0.0, 0.0], xy(top)]);
             f.links.push([xy(top), xy(g)]);
             f.poses.push(pose(g, 0.0));
             g
