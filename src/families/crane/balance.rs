@@ -473,10 +473,7 @@ impl<'a> Cases<'a> {
     pub(super) fn cw_moment(&self, phi: f64, u: [f64; 2]) -> Option<crate::geom::P2> {
         match &self.lever {
             Some(lk) => Some(LeverLinkage::world_moment(&lk.pose(phi)?, u)),
-            None => Some(crate::geom::P2::new(
-                -u[0] * phi.cos() - u[1] * phi.sin(),
-                u[0] * phi.sin() - u[1] * phi.cos(),
-            )),
+            None => Some(super::lever::boom_point_at(u, phi)),
         }
     }
 

@@ -322,7 +322,7 @@ pub fn design_positions(boom: &Boom, k1: f64, k2: f64) -> Result<DesignPositions
     }
     let (c1, c3) = (boom.c1(), boom.c3());
     let x2 = c1.x + k1 * (c3.x - c1.x);
-    let c2 = P2::new(x2, middle_height(boom, x2, k1)?);
+    let c2 = P2::new(x2, middle_height(boom, c1, c3, x2, k1)?);
     let (p1, p3) = (boom.angles.phi_min, boom.angles.phi_max());
     let (d1, d3) = (boom_head(boom.l_c, p1), boom_head(boom.l_c, p3));
     // The boom–jib dyad A–D–C must stay on one assembly branch: D on the same side of the
@@ -404,14 +404,14 @@ pub fn design_positions(boom: &Boom, k1: f64, k2: f64) -> Result<DesignPositions
     })
 }
 
-/// The middle precision point's height y_C2 at x_C2 = `x2`: H1 for the head level; for the
+/// The middle precision point's height y_C2 at x_C2 = `x2` between the extremes C1, C3: H1
+/// for the head level; for the
 /// load level the root of y_L(x2, y) = y_L(C1), i.e. y_C2 = H1 + h2 with the thesis's
 /// h2 = (|S − C1| − |S − C2|)/n. y_L is convex and non-decreasing in y (∂y_L/∂y =
 /// 1 − (y_S − y)/(n|S − C|) ≥ 1 − 1/n), so Newton from the chord's height
 /// y_C1 + k1(y_C3 − y_C1) converges; a rope of one fall directly above the head (∂y_L/∂y = 0)
 /// has no such point and is [`CraneGeomError::NoMiddlePosition`].
-fn middle_height(boom: &Boom, x2: f64, k1: f64) -> Result<f64, CraneGeomError> {
-    let (c1, c3) = (boom.c1(), boom.c3());
+fn middle_height(boom: &Boom, c1: P2, c3: P2, x2: f64, k1: f64) -> Result<f64, CraneGeomError> {
     if boom.level == Level::Head {
         return Ok(c1.y);
     }

@@ -8,7 +8,7 @@
 //! the counterweight's lever (on the boom) and an inclined rope's sheave.
 
 use super::file::CraneProblem;
-use super::lever::LeverLinkage;
+use super::lever::{boom_point_at, LeverLinkage};
 use super::model::{synthesize, Boom, Guide, Linkage};
 use super::synth::{Outcome, SizingRule};
 use crate::geom::P2;
@@ -136,8 +136,7 @@ fn frame(l: &Linkage, phi: f64, cw: Option<&CounterweightMotion>) -> Option<Fram
 /// and a lever's sits at
 /// O + R(ψ)·u/m on the lever posed by its four-bar (their bodies translate).
 fn counterweight_in(f: &mut Frame, phi: f64, cw: &CounterweightMotion) -> Option<()> {
-    let (s, c) = (PI - phi).sin_cos();
-    let on_boom = |u: [f64; 2], m: f64| P2::new(c * u[0] - s * u[1], s * u[0] + c * u[1]) / m;
+    let on_boom = |u: [f64; 2], m: f64| boom_point_at(u, phi) / m;
     let centroid = match *cw {
         CounterweightMotion::Boom { u, m } => {
             f.poses.push(boom_pose(phi));

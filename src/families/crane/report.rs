@@ -7,8 +7,8 @@ use super::file::*;
 use super::motion::CounterweightMotion;
 use super::solve::{Analyses, Solution};
 use crate::families::crane::balance::{self, CounterweightPath};
+use crate::families::crane::lever::boom_point_at;
 use crate::families::crane::model::{synthesize, Boom, Guide, HoistRope, Level};
-use crate::families::crane::statics::boom_frame;
 use crate::families::crane::synth::{self as cr, Outcome, TiePinLimit};
 use crate::families::family::Scene;
 use crate::geom::P2;
@@ -61,22 +61,16 @@ pub fn documents(scene: &Scene, s: &CraneProblem, sol: &Solution, r: &mut SolveR
     }
     // A counterweight on the boom is drawn on its lever from A; a hung or lever one from its
     // path (`balance.counterweight_path`), at both reaches; all three move in the motion view.
-    let on_boom = s
-        .scene
-        .balance
-        .and_then(|b| b.counterweight)
-        .is_none_or(|c| c.kind == balance::CounterweightKind::Boom);
-    let cw = sol
-        .balance()
-        .and_then(|b| b.counterweight.as_ref())
-        .filter(|_| on_boom)
-        .map(|c| (c.static_moment_kgm, c.mass_kg));
+    let moving = counterweight_motion(s, sol);
+    let cw = match moving {
+        Some(CounterweightMotion::Boom { u, m }) => Some((u, m)),
+        _ => None,
+    };
     let other = sol.balance().and_then(|b| {
         let m = b.counterweight.as_ref()?.mass_kg;
         b.counterweight_path.clone().map(|p| (p, m))
     });
     crane_drawing(r, &scene.name, out, cw, other);
-    let moving = counterweight_motion(s, sol);
     r.motion = super::motion::motion(s, out, moving).and_then(|m| serde_json::to_value(m).ok());
 }
 
@@ -635,14 +629,12 @@ fn crane_drawing(
             }
             // The boom counterweight's centroid at both reaches, on its lever from A.
             if let Some((u, m)) = cw.filter(|&(_, m)| m > 0.0) {
+                let at = |i: usize| boom_point_at(u, pos.phi_rad[i]) / m;
                 for i in [0, 2] {
-                    let (eb, en) = boom_frame(pos.phi_rad[i]);
-                    let p = (eb * u[0] + en * u[1]) / m;
-                    d.line(Layer::Outline, a, p);
-                    d.circle(Layer::Outline, p, 3.0 * pin);
+                    d.line(Layer::Outline, a, at(i));
+                    d.circle(Layer::Outline, at(i), 3.0 * pin);
                 }
-                let (eb, en) = boom_frame(pos.phi_rad[0]);
-                let p = (eb * u[0] + en * u[1]) / m;
+                let p = at(0);
                 d.label(
                     p - P2::new(0.0, 5.0 * pin),
                     format!("counterweight {:.1} t", m / 1e3),
