@@ -31,6 +31,7 @@ mod crane_stability;
 mod drawings;
 mod drive;
 mod drive_families;
+mod dwell_synthesis;
 mod energy_design;
 mod envelope;
 mod felling_head;

@@ -513,6 +513,7 @@ fn a_search_over_its_work_budget_is_refused() {
         FILE,
         "linkage-crank-rocker-synthesis.toml",
         "linkage-slider-stroke-synthesis.toml",
+        "linkage-sixbar-dwell-synthesis.toml",
     ] {
         let t = std::fs::read_to_string(problem(file)).unwrap();
         let set = |t: &str, key: &str, v: &str| {

@@ -291,6 +291,9 @@ pub struct ObjectiveRaw {
     /// A slider's stroke over the turn: reported, and with `[design.synthesis]` the shape
     /// search's kinematic requirement.
     pub stroke: Option<super::file_synthesis::StrokeRaw>,
+    /// A slider's dwell over a window of the turn, with its stroke: reported, and with
+    /// `[design.synthesis]` the shape search's kinematic requirement.
+    pub dwell: Option<super::file_synthesis::DwellRaw>,
 }
 
 /// `[accuracy]`: the engine's [`Settings`] read directly (every key optional, unknown keys
@@ -317,6 +320,8 @@ pub struct LinkageProblem {
     pub function: Option<super::shape::FunctionSpec>,
     /// The slider's stroke (`[objective.stroke]`), if given.
     pub stroke: Option<super::shape::StrokeSpec>,
+    /// The slider's dwell (`[objective.dwell]`), if given.
+    pub dwell: Option<super::shape::DwellSpec>,
     /// The shape search (`[design.synthesis]`), if given.
     pub synthesis: Option<super::shape::Synthesis>,
     /// What the shape search found, once it has run: the scene is then its chosen geometry
@@ -325,14 +330,15 @@ pub struct LinkageProblem {
 }
 
 impl LinkageProblem {
-    /// The shape search's kinematic requirement: the path, the swing, the function or the
-    /// stroke (a file with a search has one of them).
+    /// The shape search's kinematic requirement: the path, the swing, the function, the
+    /// stroke or the dwell (a file with a search has one of them).
     pub fn requirement(&self) -> Option<super::shape::Requirement<'_>> {
         use super::shape::Requirement;
         (self.path.as_ref().map(Requirement::Path))
             .or(self.swing.as_ref().map(Requirement::Swing))
             .or(self.function.as_ref().map(Requirement::Function))
             .or(self.stroke.as_ref().map(Requirement::Stroke))
+            .or(self.dwell.as_ref().map(Requirement::Dwell))
     }
 }
 
@@ -378,6 +384,9 @@ pub fn resolve_raw(raw: &File, dir: &Path) -> Result<LinkageProblem, FieldError>
     let stroke = (raw.objective.stroke.as_ref())
         .map(|s| super::file_synthesis::resolve_stroke(s, &scene.linkage, &scene.link_names))
         .transpose()?;
+    let dwell = (raw.objective.dwell.as_ref())
+        .map(|d| super::file_synthesis::resolve_dwell(d, &scene.linkage, &scene.link_names))
+        .transpose()?;
     let bars: Vec<bool> = (scene.link_names.iter())
         .map(|n| raw.mechanism.links.get(n).is_some_and(|l| l.uniform_bar))
         .collect();
@@ -389,6 +398,7 @@ pub fn resolve_raw(raw: &File, dir: &Path) -> Result<LinkageProblem, FieldError>
                 swing.is_some(),
                 function.is_some(),
                 stroke.is_some(),
+                dwell.is_some(),
             ];
             super::file_synthesis::resolve_synthesis(r, l, kin, &bars)
         })
@@ -404,6 +414,7 @@ pub fn resolve_raw(raw: &File, dir: &Path) -> Result<LinkageProblem, FieldError>
         swing,
         function,
         stroke,
+        dwell,
         synthesis,
         shape: None,
     })

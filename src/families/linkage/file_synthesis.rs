@@ -1,16 +1,17 @@
-//! `[design.synthesis]`, `[objective.path]`, `[objective.swing]`, `[objective.function]`
-//! and `[objective.stroke]` of a linkage file (issue 36): the geometry the search may move —
+//! `[design.synthesis]`, `[objective.path]`, `[objective.swing]`, `[objective.function]`,
+//! `[objective.stroke]` and `[objective.dwell]` of a linkage file (issue 36): the geometry
+//! the search may move —
 //! link lengths, frame pivots, sliders' offsets, the tracer point — each within its bounds,
 //! the least transmission angle and the largest crank ratio it must keep, and the kinematic
 //! requirement: the path its tracer point must pass through, the swing of a rocker, a
-//! rocker's angle against the crank's, or a slider's stroke. Read, checked and resolved into
-//! [`Synthesis`], [`PathSpec`], [`SwingSpec`], [`FunctionSpec`] and [`StrokeSpec`]; apart
-//! from `file.rs` so that each file stays readable.
+//! rocker's angle against the crank's, a slider's stroke or its dwell. Read, checked and
+//! resolved into [`Synthesis`], [`PathSpec`], [`SwingSpec`], [`FunctionSpec`],
+//! [`StrokeSpec`] and [`DwellSpec`]; apart from `file.rs` so that each file stays readable.
 
 use super::model::{tip_of, Linkage};
 use super::shape::{
-    frame_pivot, slider_line, CrankRatio, FunctionSpec, GeometryParam, JointBox, Kind, PathSpec,
-    StrokeSpec, SwingSpec, Synthesis,
+    frame_pivot, slider_line, CrankRatio, DwellSpec, FunctionSpec, GeometryParam, JointBox, Kind,
+    PathSpec, StrokeSpec, SwingSpec, Synthesis,
 };
 use crate::problem::{positive, FieldError};
 use crate::units::{Angle, Length, Qty};
@@ -158,6 +159,23 @@ pub struct StrokeRaw {
     pub max_error: Qty<Length>,
 }
 
+/// `[objective.dwell]`: a slider that stands still while the crank turns through a window,
+/// and travels a stroke over the turn (a press's ram dwelling at the bottom of its stroke).
+#[derive(Debug, Deserialize, schemars::JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct DwellRaw {
+    /// The slider: the second link of an RRP dyad.
+    pub link: String,
+    /// The window [θ_a, θ_b] of crank angles the slider must dwell over (θ_b below θ_a runs
+    /// through 360°), shorter than a turn, e.g. ["150 deg", "210 deg"].
+    pub crank_angles: crate::problem::Pair<Qty<Angle>>,
+    /// The stroke to meet over the turn: max − min of the slider's place along its line.
+    pub stroke: Qty<Length>,
+    /// The dwell error the design must meet: the larger of the slider's travel inside the
+    /// window and |stroke − target|.
+    pub max_error: Qty<Length>,
+}
+
 /// The tracer point of a path.
 #[derive(Debug, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
@@ -285,6 +303,32 @@ pub fn resolve_stroke(
     })
 }
 
+/// `[objective.dwell]` for the linkage `l` with links `names`.
+pub fn resolve_dwell(d: &DwellRaw, l: &Linkage, names: &[String]) -> Result<DwellSpec, FieldError> {
+    let key = "objective.dwell";
+    let tau = std::f64::consts::TAU;
+    let (a, b) = (d.crank_angles[0].si(), d.crank_angles[1].si());
+    let from = a.rem_euclid(tau);
+    let to = from + (b - a).rem_euclid(tau);
+    if !(a.is_finite() && b.is_finite()) || to == from {
+        return Err(FieldError::new(
+            format!("{key}.crank_angles"),
+            format!(
+                "got [{:.6}°, {:.6}°]; allowed: two different angles, a window shorter than a turn",
+                a.to_degrees(),
+                b.to_degrees()
+            ),
+        ));
+    }
+    Ok(DwellSpec {
+        link: slider(l, names, &d.link, &format!("{key}.link"))?,
+        from,
+        to,
+        stroke: positive(&format!("{key}.stroke"), d.stroke.si())?,
+        max_error: positive(&format!("{key}.max_error"), d.max_error.si())?,
+    })
+}
+
 /// `max_crank_ratio` of the linkage `l` at `key`: 0 < λ < 1, with an RRP dyad whose rod is
 /// pivoted on the crank's tip.
 fn crank_ratio(l: &Linkage, max: f64, key: &str) -> Result<CrankRatio, FieldError> {
@@ -354,18 +398,18 @@ fn interval(lo: f64, hi: f64, key: &str) -> Result<(f64, f64), FieldError> {
 
 /// `[design.synthesis]` for the linkage `l` with links `names`, its crank `crank_length`
 /// long, `bars[i]` true where link i is a uniform bar, and which kinematic requirements
-/// the file has — [path, swing, function, stroke]: exactly one required.
+/// the file has — [path, swing, function, stroke, dwell]: exactly one required.
 pub fn resolve_synthesis(
     r: &SynthesisRaw,
     (l, names, crank_length): (&Linkage, &[String], f64),
-    kin: [bool; 4],
+    kin: [bool; 5],
     bars: &[bool],
 ) -> Result<Synthesis, FieldError> {
     let key = "design.synthesis";
     if kin.iter().filter(|&&k| k).count() != 1 {
         return Err(FieldError::new(
             key,
-            "a shape search needs one kinematic requirement; allowed: [objective.path], [objective.swing], [objective.function] or [objective.stroke]",
+            "a shape search needs one kinematic requirement; allowed: [objective.path], [objective.swing], [objective.function], [objective.stroke] or [objective.dwell]",
         ));
     }
     if r.tracer.is_some() && !kin[0] {

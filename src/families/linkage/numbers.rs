@@ -196,6 +196,35 @@ fn path_numbers(r: &mut SolveResult, p: &LinkageProblem, sol: &Solved) {
     r.extra.insert("synthesis".into(), v);
 }
 
+/// With `[objective.dwell]`: `objectives.dwell_error_m` (max(travel in the window, |stroke −
+/// target|), its error in `errors`) and the section `dwell`.
+fn dwell_numbers(r: &mut SolveResult, p: &LinkageProblem, sol: &Solved) {
+    match (&sol.dwell, &p.dwell) {
+        (Some(Ok(w)), Some(spec)) => {
+            let e = w.error(spec);
+            let section = json!({
+                "travel_m": w.travel.value,
+                "travel_bound_m": w.travel.error,
+                "stroke_m": w.stroke.value,
+                "stroke_bound_m": w.stroke.error,
+                "target_m": spec.stroke,
+                "crank_angles_deg": [spec.from.to_degrees(), spec.to.to_degrees()],
+                "max_error_m": spec.max_error,
+            });
+            let figure = (e, w.error_bound(), spec.max_error);
+            requirement_figure(r, ("dwell_error_m", "dwell"), figure, section, || {
+                format!(
+                    "the dwell error {:.6} mm exceeds objective.dwell.max_error = {:.6} mm",
+                    e * 1e3,
+                    spec.max_error * 1e3
+                )
+            });
+        }
+        (Some(Err(why)), _) => r.warnings.push(format!("the dwell: {why}")),
+        _ => {}
+    }
+}
+
 /// With `[objective.stroke]`: `objectives.stroke_error_m` (|stroke − target|, its error in
 /// `errors`) and the section `stroke`; with `max_crank_ratio`: `derived.crank_ratio` (a
 /// warning above the limit); with `joint_box`: `derived.joint_box_margin_m` and its error (a
@@ -299,6 +328,7 @@ fn swing_numbers(r: &mut SolveResult, p: &LinkageProblem, sol: &Solved) {
         _ => {}
     }
     stroke_numbers(r, p, sol);
+    dwell_numbers(r, p, sol);
     let limit = p.synthesis.as_ref().and_then(|s| s.min_transmission);
     match (&sol.transmission, limit) {
         (Some(Ok(t)), Some(mu)) => {

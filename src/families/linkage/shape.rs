@@ -105,6 +105,22 @@ pub struct StrokeSpec {
     pub max_error: f64,
 }
 
+/// `[objective.dwell]` resolved: a slider that stands still while the crank turns through a
+/// window, and travels a stroke over the turn (a press's ram dwelling at the bottom).
+#[derive(Debug, Clone, PartialEq)]
+pub struct DwellSpec {
+    /// The slider: the second link of an RRP dyad.
+    pub link: usize,
+    /// The window's first crank angle θ_a (rad).
+    pub from: f64,
+    /// Its last, θ_b, with θ_a < θ_b < θ_a + 2π (rad).
+    pub to: f64,
+    /// The stroke to meet over the turn (m).
+    pub stroke: f64,
+    /// The dwell error allowed (m, [`Dwell::error`]).
+    pub max_error: f64,
+}
+
 /// `design.synthesis.max_crank_ratio` resolved: λ = r/l ≤ `max`, r the crank's length and l
 /// that of the rod of the RRP dyad on the crank's tip.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -430,6 +446,15 @@ pub fn stroke_refined(l: &Linkage, link: usize) -> Option<TurnExtreme> {
 /// conditioning.
 pub fn stroke(l: &Linkage, link: usize) -> Option<TurnExtreme> {
     let w = stroke_refined(l, link)?;
+    Some(TurnExtreme {
+        error: w.error + place_round_off(l)?,
+        ..w
+    })
+}
+
+/// The round-off of a place along a line: 1e-15 times the mechanism's size (the largest |P|
+/// over the samples) times its largest dyad conditioning; `None` where it does not assemble.
+fn place_round_off(l: &Linkage) -> Option<f64> {
     let h = std::f64::consts::TAU / PATH_SAMPLES as f64;
     let (mut size, mut kappa) = (0.0f64, 1.0f64);
     for k in 0..PATH_SAMPLES {
@@ -437,9 +462,79 @@ pub fn stroke(l: &Linkage, link: usize) -> Option<TurnExtreme> {
         kappa = kappa.max(pose.kappa());
         size = (pose.links.iter()).fold(size, |m, x| m.max(x.point(P2::zeros())[0].norm()));
     }
-    Some(TurnExtreme {
-        error: w.error + 1e-15 * size * kappa,
-        ..w
+    Some(1e-15 * size * kappa)
+}
+
+/// The crank-angle samples of a dwell window (end points included): 64 steps of at most
+/// 5.6°, so that a maximum of the slider's place narrower than a step is not missed (the
+/// place varies by a fraction of a millimetre inside a dwell).
+const DWELL_STEPS: usize = 64;
+
+/// A dwell's figures ([`dwell`]): the slider's travel inside the window and its stroke over
+/// the turn, each with its error bound.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Dwell {
+    /// max s − min s over θ ∈ [θ_a, θ_b] (m), s the slider's place along its line; its angle
+    /// is that of the window's highest place.
+    pub travel: TurnExtreme,
+    /// max s − min s over the turn (m, [`stroke`]).
+    pub stroke: TurnExtreme,
+}
+
+impl Dwell {
+    /// The dwell error: max(travel in the window, |stroke − target|) (m) — one figure for the
+    /// search, met when the slider stands still within it and travels its stroke within it.
+    pub fn error(&self, spec: &DwellSpec) -> f64 {
+        self.travel
+            .value
+            .max((self.stroke.value - spec.stroke).abs())
+    }
+    /// The bound on [`Dwell::error`]'s error: the larger of its two parts' (the max of two
+    /// figures moves by at most the larger of their moves).
+    pub fn error_bound(&self) -> f64 {
+        self.travel.error.max(self.stroke.error)
+    }
+}
+
+/// The slider's travel in the dwell window and its stroke, without their round-off terms:
+/// each extreme in the window refined by Brent ([`crate::numeric::interval_peak`], on
+/// [`DWELL_STEPS`] samples, to [`ANGLE_TOL`]), with the refinements' error bounds — what the
+/// search asks of every candidate. `None` where the linkage does not assemble.
+pub fn dwell_refined(l: &Linkage, spec: &DwellSpec) -> Option<Dwell> {
+    let stroke = stroke_refined(l, spec.link)?;
+    let d = l.places(0.0).ok()?.get(spec.link)?.e;
+    let placer = Placer::new(l);
+    let placer = &placer;
+    let s = |sign: f64| {
+        move |t: f64| {
+            placer
+                .at(t, |p: &[Place]| sign * p[spec.link].p.dot(&d))
+                .unwrap_or(f64::NAN)
+        }
+    };
+    let (a, b) = (spec.from, spec.to);
+    let hi = crate::numeric::interval_peak(s(1.0), a, b, DWELL_STEPS, ANGLE_TOL).ok()?;
+    let lo = crate::numeric::interval_peak(s(-1.0), a, b, DWELL_STEPS, ANGLE_TOL).ok()?;
+    let travel = TurnExtreme {
+        value: hi.peak.fx + lo.peak.fx,
+        error: hi.error + lo.error,
+        angle: hi.peak.x,
+    };
+    Some(Dwell { travel, stroke })
+}
+
+/// [`dwell_refined`] with the round-off of the places added to both error bounds
+/// ([`place_round_off`]).
+pub fn dwell(l: &Linkage, spec: &DwellSpec) -> Option<Dwell> {
+    let w = dwell_refined(l, spec)?;
+    let r = place_round_off(l)?;
+    let more = |e: TurnExtreme| TurnExtreme {
+        error: e.error + r,
+        ..e
+    };
+    Some(Dwell {
+        travel: more(w.travel),
+        stroke: more(w.stroke),
     })
 }
 
@@ -560,6 +655,9 @@ pub enum KinematicError {
     /// The stroke error |stroke − target| (m, [`stroke`]).
     #[serde(rename = "stroke_error_m")]
     Stroke(f64),
+    /// The dwell error (m, [`Dwell::error`]).
+    #[serde(rename = "dwell_error_m")]
+    Dwell(f64),
 }
 
 impl KinematicError {
@@ -569,7 +667,8 @@ impl KinematicError {
             KinematicError::Path(v)
             | KinematicError::Swing(v)
             | KinematicError::Function(v)
-            | KinematicError::Stroke(v) => v,
+            | KinematicError::Stroke(v)
+            | KinematicError::Dwell(v) => v,
         }
     }
     /// The same kind of error with the value `v` (SI).
@@ -579,9 +678,11 @@ impl KinematicError {
             KinematicError::Swing(_) => KinematicError::Swing(v),
             KinematicError::Function(_) => KinematicError::Function(v),
             KinematicError::Stroke(_) => KinematicError::Stroke(v),
+            KinematicError::Dwell(_) => KinematicError::Dwell(v),
         }
     }
-    /// (its name, its value in the report's unit, that unit): mm for a path or a stroke, °
+    /// (its name, its value in the report's unit, that unit): mm for a path, a stroke or a
+    /// dwell, °
     /// for a swing or a function.
     pub fn shown(self) -> (&'static str, f64, &'static str) {
         match self {
@@ -589,6 +690,7 @@ impl KinematicError {
             KinematicError::Swing(v) => ("swing error", v.to_degrees(), "deg"),
             KinematicError::Function(v) => ("function error", v.to_degrees(), "deg"),
             KinematicError::Stroke(v) => ("stroke error", v * 1e3, "mm"),
+            KinematicError::Dwell(v) => ("dwell error", v * 1e3, "mm"),
         }
     }
 }
@@ -596,7 +698,7 @@ impl KinematicError {
 /// The kinematic error a front point was held to, as the result names it.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
 pub enum HeldTo {
-    /// A length's error: a path's or a stroke's (m).
+    /// A length's error: a path's, a stroke's or a dwell's (m).
     #[serde(rename = "max_error_m")]
     Length(f64),
     /// An angle's error: a swing's or a function's (rad).
@@ -614,7 +716,7 @@ impl HeldTo {
 }
 
 /// The kinematic requirement of a shape search: a tracer's path, a rocker's swing, a
-/// rocker's angle against the crank's or a slider's stroke.
+/// rocker's angle against the crank's, a slider's stroke or its dwell.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Requirement<'a> {
     /// `[objective.path]`.
@@ -625,6 +727,8 @@ pub enum Requirement<'a> {
     Function(&'a FunctionSpec),
     /// `[objective.stroke]`.
     Stroke(&'a StrokeSpec),
+    /// `[objective.dwell]`.
+    Dwell(&'a DwellSpec),
 }
 
 impl Requirement<'_> {
@@ -636,6 +740,7 @@ impl Requirement<'_> {
             Requirement::Swing(s) => swing_refined(l, s.link).map(|w| (w.value - s.angle).abs()),
             Requirement::Function(f) => function_error(l, f).map(|e| e.0.value),
             Requirement::Stroke(s) => stroke_refined(l, s.link).map(|w| (w.value - s.stroke).abs()),
+            Requirement::Dwell(d) => dwell_refined(l, d).map(|w| w.error(d)),
         }
     }
     /// The error `v` (SI) as the result names it.
@@ -645,15 +750,17 @@ impl Requirement<'_> {
             Requirement::Swing(_) => KinematicError::Swing(v),
             Requirement::Function(_) => KinematicError::Function(v),
             Requirement::Stroke(_) => KinematicError::Stroke(v),
+            Requirement::Dwell(_) => KinematicError::Dwell(v),
         }
     }
     /// The tracer's reference: the path's (the origin of its link without a path).
     pub fn tracer(self) -> P2 {
         match self {
             Requirement::Path(p) => p.at,
-            Requirement::Swing(_) | Requirement::Function(_) | Requirement::Stroke(_) => {
-                P2::zeros()
-            }
+            Requirement::Swing(_)
+            | Requirement::Function(_)
+            | Requirement::Stroke(_)
+            | Requirement::Dwell(_) => P2::zeros(),
         }
     }
     /// The error allowed (SI).
@@ -663,12 +770,15 @@ impl Requirement<'_> {
             Requirement::Swing(s) => s.max_error,
             Requirement::Function(f) => f.max_error,
             Requirement::Stroke(s) => s.max_error,
+            Requirement::Dwell(d) => d.max_error,
         }
     }
     /// ε as the bound a front point was held to.
     pub fn held_to(self, eps: f64) -> HeldTo {
         match self {
-            Requirement::Path(_) | Requirement::Stroke(_) => HeldTo::Length(eps),
+            Requirement::Path(_) | Requirement::Stroke(_) | Requirement::Dwell(_) => {
+                HeldTo::Length(eps)
+            }
             Requirement::Swing(_) | Requirement::Function(_) => HeldTo::Angle(eps),
         }
     }
@@ -679,6 +789,7 @@ impl Requirement<'_> {
             Requirement::Swing(_) => "objective.swing",
             Requirement::Function(_) => "objective.function",
             Requirement::Stroke(_) => "objective.stroke",
+            Requirement::Dwell(_) => "objective.dwell",
         }
     }
 }

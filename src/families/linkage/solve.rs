@@ -55,6 +55,8 @@ pub struct Solution {
     pub transmission: Option<Result<super::shape::TurnExtreme, String>>,
     /// The slider's stroke of `[objective.stroke]` (`Err`: the linkage does not turn fully).
     pub stroke: Option<Result<super::shape::TurnExtreme, String>>,
+    /// The slider's dwell of `[objective.dwell]` (`Err`: the linkage does not turn fully).
+    pub dwell: Option<Result<super::shape::Dwell, String>>,
     /// The crank ratio λ = r/l, where `[design.synthesis]` bounds it.
     pub crank_ratio: Option<f64>,
     /// The joints' least margin inside `design.synthesis.joint_box` over the turn.
@@ -184,6 +186,7 @@ pub fn solve(p: &LinkageProblem) -> Result<Solution, String> {
         .map(|f| super::shape::function_error(&sc.linkage, f).ok_or_else(turns));
     let stroke =
         (p.stroke.as_ref()).map(|w| super::shape::stroke(&sc.linkage, w.link).ok_or_else(turns));
+    let dwell = (p.dwell.as_ref()).map(|d| super::shape::dwell(&sc.linkage, d).ok_or_else(turns));
     let crank_ratio = (p.synthesis.as_ref())
         .and_then(|s| s.max_crank_ratio)
         .and_then(|c| c.of(&sc.linkage, sc.crank_length));
@@ -199,6 +202,7 @@ pub fn solve(p: &LinkageProblem) -> Result<Solution, String> {
         function,
         transmission,
         stroke,
+        dwell,
         crank_ratio,
         box_margin,
         load_cases,
