@@ -1,6 +1,7 @@
 //! A slider's dwell as the shape search's requirement (issue 36): the travel inside the
 //! window against the slider-crank's closed form scanned densely (random geometries, windows
-//! across 0°), against a dense scan of the six-bar's places on perturbed geometries, the
+//! across 0°) and against its exact extremes near the toggle, against a dense scan of the
+//! six-bar's places on perturbed geometries, the
 //! shipped dwell scene's requirement met and its design the plain linkage solve of its
 //! geometry, and the file's mistakes located.
 
@@ -94,6 +95,88 @@ fn the_travel_in_the_window_is_the_closed_forms() {
             "case {case}: stroke {} against {stroke}",
             w.stroke.value
         );
+    }
+}
+
+/// The same slider-crank's travel against its exact extremes, near the toggle too: over the
+/// turn y is stationary only where crank and rod are collinear — the top at ±√((l + r)² − e²)
+/// with the crank pointing at the slider, the bottom at ±√((l − r)² − e²) with it pointing
+/// away —, so the travel in a window is max − min of y at its ends and at those of the two
+/// angles that lie inside it. Windows around the bottom, with l − r − |e| of 1e-2, 1e-4 and
+/// 1e-6 mm (the slider's speed at the bottom grows without bound) and at random.
+#[test]
+fn the_travel_near_the_toggle_is_the_exact_extremes() {
+    let mut rng = Lcg(0x7066);
+    let mut cases: Vec<(f64, f64, f64)> = (0..6)
+        .map(|_| {
+            let r = rng.range(20.0, 60.0);
+            let l = r * rng.range(1.5, 4.5);
+            (r, l, (l - r) * rng.range(-0.6, 0.6))
+        })
+        .collect();
+    cases.extend([
+        (50.0, 100.0, 49.99),
+        (50.0, 100.0, -49.9999),
+        (40.0, 90.0, 49.999999),
+    ]);
+    for (r, l, e) in cases {
+        let t = read(STROKE_FILE);
+        let t = with(
+            &t,
+            "crank_length = \"50 mm\"",
+            &format!("crank_length = \"{r} mm\""),
+        );
+        let t = with(&t, "length = \"200 mm\"", &format!("length = \"{l} mm\""));
+        let t = with(
+            &t,
+            "line_point = [\"0 mm\", \"0 mm\"]",
+            &format!("line_point = [\"{e} mm\", \"0 mm\"]"),
+        );
+        let p = parse(&t, STROKE_FILE);
+        let lk = &p.scene.linkage;
+        let (r, l, e) = (r * 1e-3, l * 1e-3, e * 1e-3);
+        let root = |th: f64| (l * l - (e - r * th.cos()).powi(2)).max(0.0).sqrt();
+        let y0 = lk.places(0.0).unwrap()[2].p.y;
+        let sigma = if (y0 - root(0.0)).abs() < (y0 + root(0.0)).abs() {
+            1.0
+        } else {
+            -1.0
+        };
+        let y = |th: f64| r * th.sin() + sigma * root(th);
+        let (yt, yb) = (
+            ((l + r).powi(2) - e * e).sqrt(),
+            ((l - r).powi(2) - e * e).sqrt(),
+        );
+        let top = ((sigma * yt).atan2(e), sigma * yt);
+        let bottom = ((-sigma * yb).atan2(-e), sigma * yb);
+        for (k, width) in [0.3, 1.0, 2.5].into_iter().enumerate() {
+            // Windows about the bottom, shifted so that it is inside, at either end's side.
+            let from = bottom.0 - width * [0.5, 0.1, 0.9][k];
+            let spec = DwellSpec {
+                link: 2,
+                from,
+                to: from + width,
+                stroke: 0.05,
+                max_error: 1e-3,
+            };
+            let inside = |th: f64| (th - from).rem_euclid(TAU) <= width;
+            let mut ys = vec![y(from), y(from + width)];
+            for (th, v) in [top, bottom] {
+                if inside(th) {
+                    ys.push(v);
+                }
+            }
+            let hi = ys.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+            let lo = ys.iter().copied().fold(f64::INFINITY, f64::min);
+            let truth = hi - lo;
+            let w = dwell(lk, &spec).unwrap();
+            assert!(
+                (w.travel.value - truth).abs() <= w.travel.error + 8.0 * f64::EPSILON * yt,
+                "r {r} l {l} e {e} width {width}: {} against {truth} (error {})",
+                w.travel.value,
+                w.travel.error
+            );
+        }
     }
 }
 
