@@ -6,8 +6,7 @@
 //! (target ≤ 5×).
 use criterion::{criterion_group, criterion_main, Criterion};
 use cwsynth::dynamics::{constant_speed, least_flywheel, steady_state, DriveSettings, Motor};
-use cwsynth::families::slider_crank::file::SliderCrankProblem;
-use cwsynth::families::slider_crank::synth::{machine, optimise, paper_piston, Objective};
+use cwsynth::families::slider_crank::synth::{machine, optimise, paper_piston};
 use cwsynth::geom::P2;
 
 #[path = "common/envelope.rs"]
@@ -64,10 +63,7 @@ fn bench(c: &mut Criterion) {
 
 /// The felling head (problems/felling-head-150rpm.toml) minimising ΔE within its plate.
 fn bench_energy_design(c: &mut Criterion) {
-    let text = include_str!("../problems/felling-head-150rpm.toml");
-    let s = cwsynth::families::parse_str(text, std::path::Path::new("felling.toml")).unwrap();
-    let mut sc = s.machine::<SliderCrankProblem>().unwrap().core.clone();
-    sc.objective = Objective::MinEnergyFluctuation;
+    let sc = envelope::felling_head_energy();
     let o = optimise(&sc).unwrap();
     eprintln!("least ΔE design U = {:?}, {:?}", o.u, o.status);
     c.bench_function("drive/least_energy_fluctuation_counterweight", |b| {

@@ -15,8 +15,7 @@
 //!
 //! The last counts `benches/drive.rs::bench_energy_design`: the felling head's counterweight
 //! that minimises ΔE (issue 33: ≤ 1 ms).
-use cwsynth::families::slider_crank::file::SliderCrankProblem;
-use cwsynth::families::slider_crank::synth::{optimise, Objective, Optimum, Scene};
+use cwsynth::families::slider_crank::synth::{optimise, Optimum, Scene};
 
 #[path = "../benches/common/envelope.rs"]
 mod bench_scenes;
@@ -39,15 +38,6 @@ fn energy_design(scene: &Scene) -> Optimum {
     optimise(std::hint::black_box(scene)).unwrap()
 }
 
-/// The felling head of `benches/drive.rs::bench_energy_design`, its objective ΔE.
-fn felling_head() -> Scene {
-    let text = include_str!("../problems/felling-head-150rpm.toml");
-    let s = cwsynth::families::parse_str(text, std::path::Path::new("felling.toml")).unwrap();
-    let mut sc = s.machine::<SliderCrankProblem>().unwrap().core.clone();
-    sc.objective = Objective::MinEnergyFluctuation;
-    sc
-}
-
 /// Solves each scene once outside the counted functions.
 #[inline(never)]
 fn warm_up(scenes: &[&Scene]) {
@@ -59,7 +49,7 @@ fn warm_up(scenes: &[&Scene]) {
 fn main() {
     let (env, nom) = bench_scenes::scenes();
     // Once untimed each first, as criterion's warm-up does (the thread pool, lazy tables).
-    let fh = felling_head();
+    let fh = bench_scenes::felling_head_energy();
     warm_up(&[&env, &nom, &fh]);
     let (e, n, d) = (envelope(&env), nominal(&nom), energy_design(&fh));
     println!(

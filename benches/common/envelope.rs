@@ -1,9 +1,9 @@
 //! The scenes of the envelope bench (`benches/drive.rs`, issue 33: an envelope of 8 vertices
-//! ≤ 5× the single-scenario solve), shared with `examples/envelope_ratio.rs`, which counts
-//! their instructions.
+//! ≤ 5× the single-scenario solve) and of its ΔE-optimal counterweight (≤ 1 ms), shared with
+//! `examples/envelope_ratio.rs`, which counts their instructions.
 
 use cwsynth::families::slider_crank::file::SliderCrankProblem;
-use cwsynth::families::slider_crank::synth::Scene;
+use cwsynth::families::slider_crank::synth::{Objective, Scene};
 
 /// The piston of `problems/piston-1000rpm-envelope.toml` without its length tolerance
 /// (800–1200 rpm, ±2 % slider and rod masses: 8 vertices and the nominal scene) and the same
@@ -20,4 +20,13 @@ pub fn scenes() -> (Scene, Scene) {
         ..env.clone()
     };
     (env, nominal)
+}
+
+/// The felling head (`problems/felling-head-150rpm.toml`) minimising ΔE within its plate.
+pub fn felling_head_energy() -> Scene {
+    let text = include_str!("../../problems/felling-head-150rpm.toml");
+    let s = cwsynth::families::parse_str(text, std::path::Path::new("felling.toml")).unwrap();
+    let mut sc = s.machine::<SliderCrankProblem>().unwrap().core.clone();
+    sc.objective = Objective::MinEnergyFluctuation;
+    sc
 }

@@ -322,12 +322,16 @@ fn verdict(s: &ActuatorSpec, cases: &[ActuatorCase], stroke: f64) -> String {
             ),
         };
     }
-    if let Some(t) = cases
-        .iter()
-        .filter_map(|c| c.pinion_torque_max_nm)
-        .reduce(f64::max)
-    {
+    if let Some(t) = pinion_torque_max(cases) {
         v += &format!("; its pinion carries at most {:.1} kN·m", t / 1e3);
     }
     v + "."
+}
+
+/// A rack's largest pinion torque over the load cases (N·m); `None` for a cylinder or rope.
+pub(super) fn pinion_torque_max(cases: &[ActuatorCase]) -> Option<f64> {
+    cases
+        .iter()
+        .filter_map(|c| c.pinion_torque_max_nm)
+        .reduce(f64::max)
 }

@@ -284,12 +284,7 @@ fn actuator_numbers(r: &mut SolveResult, a: Option<&Result<LuffingActuators, Str
             .insert(format!("luffing_actuator_{i}_force_max_error_n"), e);
         r.derived
             .insert(format!("luffing_actuator_{i}_stroke_m"), act.stroke_m);
-        if let Some(t) = act
-            .cases
-            .iter()
-            .filter_map(|c| c.pinion_torque_max_nm)
-            .reduce(f64::max)
-        {
+        if let Some(t) = super::actuator::pinion_torque_max(&act.cases) {
             r.derived
                 .insert(format!("luffing_actuator_{i}_pinion_torque_max_nm"), t);
         }
