@@ -897,6 +897,54 @@ impl<'de, D: Dimension> serde::Deserialize<'de> for Qty<D> {
     }
 }
 
+/// A quantity that is a length or an angle, its unit saying which (`"0.5 mm"`, `"0.5 deg"`):
+/// for a figure whose dimension follows another key of the file (a dwell's error is a
+/// slider's travel or a rocker's angle). A bare number, or a unit of any other dimension,
+/// is an error, never a guess.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LengthOrAngle {
+    /// The SI value (m or rad).
+    pub si: f64,
+    /// [`Dim::Length`] or [`Dim::Angle`].
+    pub dim: Dim,
+}
+
+impl<'de> serde::Deserialize<'de> for LengthOrAngle {
+    fn deserialize<De: Deserializer<'de>>(d: De) -> Result<Self, De::Error> {
+        struct V;
+        impl Visitor<'_> for V {
+            type Value = LengthOrAngle;
+            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                write!(
+                    f,
+                    "a length or an angle with its unit (\"0.5 mm\", \"0.5 deg\")"
+                )
+            }
+            fn visit_f64<E: de::Error>(self, v: f64) -> Result<Self::Value, E> {
+                Err(E::custom(format!(
+                    "got the bare number {v}; allowed: a length or an angle with its unit (\"0.5 mm\", \"0.5 deg\")"
+                )))
+            }
+            fn visit_i64<E: de::Error>(self, v: i64) -> Result<Self::Value, E> {
+                self.visit_f64(v as f64)
+            }
+            fn visit_u64<E: de::Error>(self, v: u64) -> Result<Self::Value, E> {
+                self.visit_f64(v as f64)
+            }
+            fn visit_str<E: de::Error>(self, v: &str) -> Result<Self::Value, E> {
+                match parse_any(v).map_err(E::custom)? {
+                    (si, dim @ (Dim::Length | Dim::Angle)) => Ok(LengthOrAngle { si, dim }),
+                    (_, dim) => Err(E::custom(format!(
+                        "got \"{v}\", a {}; allowed: a length or an angle with its unit (\"0.5 mm\", \"0.5 deg\")",
+                        dim.name()
+                    ))),
+                }
+            }
+        }
+        d.deserialize_any(V)
+    }
+}
+
 /// Serde for an `f64` setting that is an angle (a tolerance or a step in rad): read as a
 /// [`Qty<Angle>`], so `"1e-10 rad"` or `"1e-8 deg"` and never a bare number (units are never
 /// guessed, tolerances included); written back as `"<value> rad"`.

@@ -514,6 +514,7 @@ fn a_search_over_its_work_budget_is_refused() {
         "linkage-crank-rocker-synthesis.toml",
         "linkage-slider-stroke-synthesis.toml",
         "linkage-sixbar-dwell-synthesis.toml",
+        "linkage-sixbar-rocker-dwell-synthesis.toml",
     ] {
         let t = std::fs::read_to_string(problem(file)).unwrap();
         let set = |t: &str, key: &str, v: &str| {

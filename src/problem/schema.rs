@@ -118,6 +118,18 @@ impl<D: Dimension> JsonSchema for RawVar<D> {
     }
 }
 
+impl JsonSchema for crate::units::LengthOrAngle {
+    fn inline_schema() -> bool {
+        true
+    }
+    fn schema_name() -> Cow<'static, str> {
+        "LengthOrAngle".into()
+    }
+    fn json_schema(_: &mut SchemaGenerator) -> Schema {
+        schema(json!({ "anyOf": [quantity(Dim::Length), quantity(Dim::Angle)] }))
+    }
+}
+
 impl JsonSchema for PaperValue {
     fn inline_schema() -> bool {
         true

@@ -291,8 +291,8 @@ pub struct ObjectiveRaw {
     /// A slider's stroke over the turn: reported, and with `[design.synthesis]` the shape
     /// search's kinematic requirement.
     pub stroke: Option<super::file_synthesis::StrokeRaw>,
-    /// A slider's dwell over a window of the turn, with its stroke: reported, and with
-    /// `[design.synthesis]` the shape search's kinematic requirement.
+    /// A slider's or a rocker's dwell over a window of the turn, with its stroke or swing:
+    /// reported, and with `[design.synthesis]` the shape search's kinematic requirement.
     pub dwell: Option<super::file_synthesis::DwellRaw>,
 }
 
@@ -320,7 +320,7 @@ pub struct LinkageProblem {
     pub function: Option<super::shape::FunctionSpec>,
     /// The slider's stroke (`[objective.stroke]`), if given.
     pub stroke: Option<super::shape::StrokeSpec>,
-    /// The slider's dwell (`[objective.dwell]`), if given.
+    /// The slider's or rocker's dwell (`[objective.dwell]`), if given.
     pub dwell: Option<super::shape::DwellSpec>,
     /// The shape search (`[design.synthesis]`), if given.
     pub synthesis: Option<super::shape::Synthesis>,

@@ -4,17 +4,18 @@
 //! link lengths, frame pivots, sliders' offsets, the tracer point — each within its bounds,
 //! the least transmission angle and the largest crank ratio it must keep, and the kinematic
 //! requirement: the path its tracer point must pass through, the swing of a rocker, a
-//! rocker's angle against the crank's, a slider's stroke or its dwell. Read, checked and
+//! rocker's angle against the crank's, a slider's stroke, or a slider's or a rocker's dwell.
+//! Read, checked and
 //! resolved into [`Synthesis`], [`PathSpec`], [`SwingSpec`], [`FunctionSpec`],
 //! [`StrokeSpec`] and [`DwellSpec`]; apart from `file.rs` so that each file stays readable.
 
 use super::model::{tip_of, Linkage};
 use super::shape::{
-    frame_pivot, slider_line, CrankRatio, DwellSpec, FunctionSpec, GeometryParam, JointBox, Kind,
-    PathSpec, StrokeSpec, SwingSpec, Synthesis,
+    frame_pivot, slider_line, CrankRatio, DwellOf, DwellSpec, FunctionSpec, GeometryParam,
+    JointBox, Kind, PathSpec, StrokeSpec, SwingSpec, Synthesis,
 };
 use crate::problem::{positive, FieldError};
-use crate::units::{Angle, Length, Qty};
+use crate::units::{Angle, Dim, Length, Qty};
 
 /// A pair of lengths: a point (x, y).
 type XyRaw = crate::problem::Pair<Qty<Length>>;
@@ -159,21 +160,26 @@ pub struct StrokeRaw {
     pub max_error: Qty<Length>,
 }
 
-/// `[objective.dwell]`: a slider that stands still while the crank turns through a window,
-/// and travels a stroke over the turn (a press's ram dwelling at the bottom of its stroke).
+/// `[objective.dwell]`: a slider or a rocker that stands still while the crank turns through
+/// a window, and travels a stroke (a slider) or swings an angle (a rocker) over the turn (a
+/// press's ram dwelling at the bottom of its stroke, an indexing arm at the end of its swing).
 #[derive(Debug, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct DwellRaw {
-    /// The slider: the second link of an RRP dyad.
+    /// The output: a slider (the second link of an RRP dyad) or a rocker (a dyad link
+    /// pivoted on a frame point).
     pub link: String,
-    /// The window [θ_a, θ_b] of crank angles the slider must dwell over (θ_b below θ_a runs
+    /// The window [θ_a, θ_b] of crank angles the output must dwell over (θ_b below θ_a runs
     /// through 360°), shorter than a turn, e.g. ["150 deg", "210 deg"].
     pub crank_angles: crate::problem::Pair<Qty<Angle>>,
-    /// The stroke to meet over the turn: max − min of the slider's place along its line.
-    pub stroke: Qty<Length>,
-    /// The dwell error the design must meet: the larger of the slider's travel inside the
-    /// window and |stroke − target|.
-    pub max_error: Qty<Length>,
+    /// A slider's stroke to meet over the turn: max − min of its place along its line.
+    pub stroke: Option<Qty<Length>>,
+    /// A rocker's swing to meet over the turn: max − min of its angle (below 180°).
+    pub swing: Option<Qty<Angle>>,
+    /// The dwell error the design must meet: the larger of the output's travel inside the
+    /// window and |stroke − target| (a length, for a slider) or |swing − target| (an angle,
+    /// for a rocker).
+    pub max_error: crate::units::LengthOrAngle,
 }
 
 /// The tracer point of a path.
@@ -303,7 +309,8 @@ pub fn resolve_stroke(
     })
 }
 
-/// `[objective.dwell]` for the linkage `l` with links `names`.
+/// `[objective.dwell]` for the linkage `l` with links `names`: a slider with its `stroke` and
+/// an error in length, or a rocker with its `swing` and an error in angle.
 pub fn resolve_dwell(d: &DwellRaw, l: &Linkage, names: &[String]) -> Result<DwellSpec, FieldError> {
     let key = "objective.dwell";
     let tau = std::f64::consts::TAU;
@@ -320,12 +327,72 @@ pub fn resolve_dwell(d: &DwellRaw, l: &Linkage, names: &[String]) -> Result<Dwel
             ),
         ));
     }
+    let link = link_named(names, &d.link, &format!("{key}.link"))?;
+    let is_slider = slider_line(l, link).is_some();
+    if !is_slider && rocker(l, names, &d.link, "").is_err() {
+        return Err(FieldError::new(
+            format!("{key}.link"),
+            format!("link \"{}\" is neither a slider nor a rocker; allowed: the second link of an RRP dyad, or a dyad link pivoted on a frame point", d.link),
+        ));
+    }
+    let wrong = |k: &str, why: &str| Err(FieldError::new(format!("{key}.{k}"), why.to_string()));
+    let (of, range, dim) = match (is_slider, &d.stroke, &d.swing) {
+        (true, Some(s), None) => (DwellOf::Slider, s.si(), Dim::Length),
+        (false, None, Some(w)) => (DwellOf::Rocker, w.si(), Dim::Angle),
+        (true, _, Some(_)) => {
+            return wrong(
+                "swing",
+                "the output is a slider: give its stroke (a length), not a swing",
+            )
+        }
+        (true, None, None) => {
+            return wrong(
+                "stroke",
+                "a slider's dwell needs its stroke over the turn (a length, e.g. \"40 mm\")",
+            )
+        }
+        (false, Some(_), _) => {
+            return wrong(
+                "stroke",
+                "the output is a rocker: give its swing (an angle), not a stroke",
+            )
+        }
+        (false, None, None) => {
+            return wrong(
+                "swing",
+                "a rocker's dwell needs its swing over the turn (an angle, e.g. \"30 deg\")",
+            )
+        }
+    };
+    if of == DwellOf::Rocker && range >= std::f64::consts::PI {
+        return wrong(
+            "swing",
+            &format!("got {}°; allowed: below 180°", range.to_degrees()),
+        );
+    }
+    if d.max_error.dim != dim {
+        return Err(FieldError::new(
+            format!("{key}.max_error"),
+            format!(
+                "got a {}; allowed: a {} for a {} (e.g. \"{}\")",
+                d.max_error.dim.name(),
+                dim.name(),
+                of.name(),
+                if dim == Dim::Length {
+                    "0.5 mm"
+                } else {
+                    "0.5 deg"
+                }
+            ),
+        ));
+    }
     Ok(DwellSpec {
-        link: slider(l, names, &d.link, &format!("{key}.link"))?,
+        link,
+        of,
         from,
         to,
-        stroke: positive(&format!("{key}.stroke"), d.stroke.si())?,
-        max_error: positive(&format!("{key}.max_error"), d.max_error.si())?,
+        range: positive(&format!("{key}.{}", of.range_key()), range)?,
+        max_error: positive(&format!("{key}.max_error"), d.max_error.si)?,
     })
 }
 

@@ -10,6 +10,7 @@ use super::solve::{JointLoads, Solution as Solved};
 use super::synth::{self as ls, FORCE, MOMENT, TORQUE};
 use crate::families::family::{cw_status, Scene};
 use crate::families::linkage::model::JointKind;
+use crate::families::linkage::shape::DwellOf;
 use crate::geom::plate::{PlateShape, Realised};
 use crate::geom::P2;
 use crate::report::{ActiveBound, SolveResult};
@@ -196,27 +197,41 @@ fn path_numbers(r: &mut SolveResult, p: &LinkageProblem, sol: &Solved) {
     r.extra.insert("synthesis".into(), v);
 }
 
-/// With `[objective.dwell]`: `objectives.dwell_error_m` (max(travel in the window, |stroke −
-/// target|), its error in `errors`) and the section `dwell`.
+/// With `[objective.dwell]`: `objectives.dwell_error_m` for a slider, `dwell_error_rad` for a
+/// rocker (max(travel in the window, |stroke or swing − target|), its error in `errors`) and
+/// the section `dwell`, its figures in the same unit: `travel_m`, `travel_bound_m`,
+/// `stroke_m`, `stroke_bound_m`, `target_m`, `max_error_m` for a slider; `travel_rad`,
+/// `travel_bound_rad`, `swing_rad`, `swing_bound_rad`, `target_rad`, `max_error_rad` for a
+/// rocker; with `output` ("slider" or "rocker") and `crank_angles_deg`.
 fn dwell_numbers(r: &mut SolveResult, p: &LinkageProblem, sol: &Solved) {
     match (&sol.dwell, &p.dwell) {
         (Some(Ok(w)), Some(spec)) => {
             let e = w.error(spec);
+            let (u, range) = match spec.of {
+                DwellOf::Slider => ("m", "stroke"),
+                DwellOf::Rocker => ("rad", "swing"),
+            };
             let section = json!({
-                "travel_m": w.travel.value,
-                "travel_bound_m": w.travel.error,
-                "stroke_m": w.stroke.value,
-                "stroke_bound_m": w.stroke.error,
-                "target_m": spec.stroke,
+                "output": spec.of.name(),
+                format!("travel_{u}"): w.travel.value,
+                format!("travel_bound_{u}"): w.travel.error,
+                format!("{range}_{u}"): w.range.value,
+                format!("{range}_bound_{u}"): w.range.error,
+                format!("target_{u}"): spec.range,
                 "crank_angles_deg": [spec.from.to_degrees(), spec.to.to_degrees()],
-                "max_error_m": spec.max_error,
+                format!("max_error_{u}"): spec.max_error,
             });
+            let (shown, unit) = match spec.of {
+                DwellOf::Slider => (1e3, "mm"),
+                DwellOf::Rocker => (180.0 / std::f64::consts::PI, "°"),
+            };
+            let key = format!("dwell_error_{u}");
             let figure = (e, w.error_bound(), spec.max_error);
-            requirement_figure(r, ("dwell_error_m", "dwell"), figure, section, || {
+            requirement_figure(r, (&key, "dwell"), figure, section, || {
                 format!(
-                    "the dwell error {:.6} mm exceeds objective.dwell.max_error = {:.6} mm",
-                    e * 1e3,
-                    spec.max_error * 1e3
+                    "the dwell error {:.6} {unit} exceeds objective.dwell.max_error = {:.6} {unit}",
+                    e * shown,
+                    spec.max_error * shown
                 )
             });
         }

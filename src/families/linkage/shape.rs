@@ -105,19 +105,48 @@ pub struct StrokeSpec {
     pub max_error: f64,
 }
 
-/// `[objective.dwell]` resolved: a slider that stands still while the crank turns through a
-/// window, and travels a stroke over the turn (a press's ram dwelling at the bottom).
+/// What dwells ([`DwellSpec`]): a slider's place along its line or a rocker's angle.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum DwellOf {
+    /// A slider (the second link of an RRP dyad): its place s = P·d along its line (m).
+    Slider,
+    /// A rocker (a link pivoted on the frame): its angle ψ from its direction at θ = 0 (rad).
+    Rocker,
+}
+
+impl DwellOf {
+    /// "slider" or "rocker".
+    pub fn name(self) -> &'static str {
+        match self {
+            DwellOf::Slider => "slider",
+            DwellOf::Rocker => "rocker",
+        }
+    }
+    /// The file's key of the range over the turn: `stroke` or `swing`.
+    pub fn range_key(self) -> &'static str {
+        match self {
+            DwellOf::Slider => "stroke",
+            DwellOf::Rocker => "swing",
+        }
+    }
+}
+
+/// `[objective.dwell]` resolved: a slider or a rocker that stands still while the crank
+/// turns through a window, and travels a stroke or swings an angle over the turn (a press's
+/// ram dwelling at the bottom, an indexing arm at the end of its swing).
 #[derive(Debug, Clone, PartialEq)]
 pub struct DwellSpec {
-    /// The slider: the second link of an RRP dyad.
+    /// The output: a slider or a rocker ([`DwellSpec::of`]).
     pub link: usize,
+    /// Which of the two the output is.
+    pub of: DwellOf,
     /// The window's first crank angle θ_a (rad).
     pub from: f64,
     /// Its last, θ_b, with θ_a < θ_b < θ_a + 2π (rad).
     pub to: f64,
-    /// The stroke to meet over the turn (m).
-    pub stroke: f64,
-    /// The dwell error allowed (m, [`Dwell::error`]).
+    /// The range to meet over the turn: a slider's stroke (m) or a rocker's swing (rad).
+    pub range: f64,
+    /// The dwell error allowed (m for a slider, rad for a rocker; [`Dwell::error`]).
     pub max_error: f64,
 }
 
@@ -418,16 +447,22 @@ fn turn_range(l: &Linkage, g: impl Fn(&[Place]) -> f64) -> Option<TurnExtreme> {
 /// times the largest dyad conditioning over the samples ([`Linkage::pose`]'s κ).
 pub fn swing(l: &Linkage, link: usize) -> Option<TurnExtreme> {
     let w = swing_refined(l, link)?;
+    Some(TurnExtreme {
+        error: w.error + angle_round_off(l)?,
+        ..w
+    })
+}
+
+/// The round-off of a link's direction: 1e-15 times the largest dyad conditioning over the
+/// samples ([`Linkage::pose`]'s κ); `None` where the linkage does not assemble.
+fn angle_round_off(l: &Linkage) -> Option<f64> {
     let h = std::f64::consts::TAU / PATH_SAMPLES as f64;
     let kappa = (0..PATH_SAMPLES)
         .map(|k| l.pose(k as f64 * h).map(|p| p.kappa()).ok())
         .collect::<Option<Vec<f64>>>()?
         .into_iter()
         .fold(1.0, f64::max);
-    Some(TurnExtreme {
-        error: w.error + 1e-15 * kappa,
-        ..w
-    })
+    Some(1e-15 * kappa)
 }
 
 /// The stroke of the slider `link` of `l` without its round-off term: max s − min s (m) of
@@ -470,48 +505,51 @@ fn place_round_off(l: &Linkage) -> Option<f64> {
 /// place varies by a fraction of a millimetre inside a dwell).
 const DWELL_STEPS: usize = 64;
 
-/// A dwell's figures ([`dwell`]): the slider's travel inside the window and its stroke over
-/// the turn, each with its error bound.
+/// A dwell's figures ([`dwell`]): the output's travel inside the window and its range over
+/// the turn, each with its error bound (m for a slider, rad for a rocker).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Dwell {
-    /// max s − min s over θ ∈ [θ_a, θ_b] (m), s the slider's place along its line; its angle
-    /// is that of the window's highest place.
+    /// max g − min g over θ ∈ [θ_a, θ_b], g the slider's place along its line or the
+    /// rocker's angle; its angle is that of the window's highest g.
     pub travel: TurnExtreme,
-    /// max s − min s over the turn (m, [`stroke`]).
-    pub stroke: TurnExtreme,
+    /// max g − min g over the turn: the slider's [`stroke`] or the rocker's [`swing`].
+    pub range: TurnExtreme,
 }
 
 impl Dwell {
-    /// The dwell error: max(travel in the window, |stroke − target|) (m) — one figure for the
-    /// search, met when the slider stands still within it and travels its stroke within it.
+    /// The dwell error: max(travel in the window, |range − target|) — one figure for the
+    /// search, met when the output stands still within it and travels its stroke (swings its
+    /// angle) within it.
     pub fn error(&self, spec: &DwellSpec) -> f64 {
-        self.travel
-            .value
-            .max((self.stroke.value - spec.stroke).abs())
+        self.travel.value.max((self.range.value - spec.range).abs())
     }
     /// The bound on [`Dwell::error`]'s error: the larger of its two parts' (the max of two
     /// figures moves by at most the larger of their moves).
     pub fn error_bound(&self) -> f64 {
-        self.travel.error.max(self.stroke.error)
+        self.travel.error.max(self.range.error)
     }
 }
 
-/// The slider's travel in the dwell window and its stroke, without their round-off terms:
-/// each extreme in the window refined by Brent ([`crate::numeric::interval_peak`], on
-/// [`DWELL_STEPS`] samples, to [`ANGLE_TOL`]), with the refinements' error bounds — what the
-/// search asks of every candidate. `None` where the linkage does not assemble.
+/// The output's travel in the dwell window and its range over the turn, without their
+/// round-off terms: each extreme in the window refined by Brent
+/// ([`crate::numeric::interval_peak`], on [`DWELL_STEPS`] samples, to [`ANGLE_TOL`]), with
+/// the refinements' error bounds — what the search asks of every candidate. The slider's
+/// place is s = P·d (d its line's direction), the rocker's angle ψ its turn from its
+/// direction at θ = 0 (as [`swing_refined`]'s). `None` where the linkage does not assemble.
 pub fn dwell_refined(l: &Linkage, spec: &DwellSpec) -> Option<Dwell> {
-    let stroke = stroke_refined(l, spec.link)?;
-    let d = l.places(0.0).ok()?.get(spec.link)?.e;
+    let (link, of) = (spec.link, spec.of);
+    let range = match of {
+        DwellOf::Slider => stroke_refined(l, link)?,
+        DwellOf::Rocker => swing_refined(l, link)?,
+    };
+    let d = l.places(0.0).ok()?.get(link)?.e;
+    let g = move |p: &[Place]| match of {
+        DwellOf::Slider => p[link].p.dot(&d),
+        DwellOf::Rocker => crate::geom::turn(d, p[link].e),
+    };
     let placer = Placer::new(l);
     let placer = &placer;
-    let s = |sign: f64| {
-        move |t: f64| {
-            placer
-                .at(t, |p: &[Place]| sign * p[spec.link].p.dot(&d))
-                .unwrap_or(f64::NAN)
-        }
-    };
+    let s = |sign: f64| move |t: f64| placer.at(t, |p| sign * g(p)).unwrap_or(f64::NAN);
     let (a, b) = (spec.from, spec.to);
     let hi = crate::numeric::interval_peak(s(1.0), a, b, DWELL_STEPS, ANGLE_TOL).ok()?;
     let lo = crate::numeric::interval_peak(s(-1.0), a, b, DWELL_STEPS, ANGLE_TOL).ok()?;
@@ -520,21 +558,24 @@ pub fn dwell_refined(l: &Linkage, spec: &DwellSpec) -> Option<Dwell> {
         error: hi.error + lo.error,
         angle: hi.peak.x,
     };
-    Some(Dwell { travel, stroke })
+    Some(Dwell { travel, range })
 }
 
-/// [`dwell_refined`] with the round-off of the places added to both error bounds
-/// ([`place_round_off`]).
+/// [`dwell_refined`] with the round-off added to both error bounds: a slider's places'
+/// ([`place_round_off`]) or a rocker's directions' ([`angle_round_off`]).
 pub fn dwell(l: &Linkage, spec: &DwellSpec) -> Option<Dwell> {
     let w = dwell_refined(l, spec)?;
-    let r = place_round_off(l)?;
+    let r = match spec.of {
+        DwellOf::Slider => place_round_off(l)?,
+        DwellOf::Rocker => angle_round_off(l)?,
+    };
     let more = |e: TurnExtreme| TurnExtreme {
         error: e.error + r,
         ..e
     };
     Some(Dwell {
         travel: more(w.travel),
-        stroke: more(w.stroke),
+        range: more(w.range),
     })
 }
 
@@ -655,9 +696,12 @@ pub enum KinematicError {
     /// The stroke error |stroke − target| (m, [`stroke`]).
     #[serde(rename = "stroke_error_m")]
     Stroke(f64),
-    /// The dwell error (m, [`Dwell::error`]).
+    /// A slider's dwell error (m, [`Dwell::error`]).
     #[serde(rename = "dwell_error_m")]
     Dwell(f64),
+    /// A rocker's dwell error (rad, [`Dwell::error`]).
+    #[serde(rename = "dwell_error_rad")]
+    DwellAngle(f64),
 }
 
 impl KinematicError {
@@ -668,7 +712,8 @@ impl KinematicError {
             | KinematicError::Swing(v)
             | KinematicError::Function(v)
             | KinematicError::Stroke(v)
-            | KinematicError::Dwell(v) => v,
+            | KinematicError::Dwell(v)
+            | KinematicError::DwellAngle(v) => v,
         }
     }
     /// The same kind of error with the value `v` (SI).
@@ -679,11 +724,11 @@ impl KinematicError {
             KinematicError::Function(_) => KinematicError::Function(v),
             KinematicError::Stroke(_) => KinematicError::Stroke(v),
             KinematicError::Dwell(_) => KinematicError::Dwell(v),
+            KinematicError::DwellAngle(_) => KinematicError::DwellAngle(v),
         }
     }
     /// (its name, its value in the report's unit, that unit): mm for a path, a stroke or a
-    /// dwell, °
-    /// for a swing or a function.
+    /// slider's dwell, ° for a swing, a function or a rocker's dwell.
     pub fn shown(self) -> (&'static str, f64, &'static str) {
         match self {
             KinematicError::Path(v) => ("path error", v * 1e3, "mm"),
@@ -691,6 +736,7 @@ impl KinematicError {
             KinematicError::Function(v) => ("function error", v.to_degrees(), "deg"),
             KinematicError::Stroke(v) => ("stroke error", v * 1e3, "mm"),
             KinematicError::Dwell(v) => ("dwell error", v * 1e3, "mm"),
+            KinematicError::DwellAngle(v) => ("dwell error", v.to_degrees(), "deg"),
         }
     }
 }
@@ -698,10 +744,10 @@ impl KinematicError {
 /// The kinematic error a front point was held to, as the result names it.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
 pub enum HeldTo {
-    /// A length's error: a path's, a stroke's or a dwell's (m).
+    /// A length's error: a path's, a stroke's or a slider's dwell's (m).
     #[serde(rename = "max_error_m")]
     Length(f64),
-    /// An angle's error: a swing's or a function's (rad).
+    /// An angle's error: a swing's, a function's or a rocker's dwell's (rad).
     #[serde(rename = "max_error_rad")]
     Angle(f64),
 }
@@ -716,7 +762,7 @@ impl HeldTo {
 }
 
 /// The kinematic requirement of a shape search: a tracer's path, a rocker's swing, a
-/// rocker's angle against the crank's, a slider's stroke or its dwell.
+/// rocker's angle against the crank's, a slider's stroke, or a slider's or a rocker's dwell.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Requirement<'a> {
     /// `[objective.path]`.
@@ -750,6 +796,7 @@ impl Requirement<'_> {
             Requirement::Swing(_) => KinematicError::Swing(v),
             Requirement::Function(_) => KinematicError::Function(v),
             Requirement::Stroke(_) => KinematicError::Stroke(v),
+            Requirement::Dwell(d) if d.of == DwellOf::Rocker => KinematicError::DwellAngle(v),
             Requirement::Dwell(_) => KinematicError::Dwell(v),
         }
     }
@@ -776,6 +823,7 @@ impl Requirement<'_> {
     /// ε as the bound a front point was held to.
     pub fn held_to(self, eps: f64) -> HeldTo {
         match self {
+            Requirement::Dwell(d) if d.of == DwellOf::Rocker => HeldTo::Angle(eps),
             Requirement::Path(_) | Requirement::Stroke(_) | Requirement::Dwell(_) => {
                 HeldTo::Length(eps)
             }
