@@ -172,6 +172,41 @@ pub struct Motion {
     /// The rigid bodies, placed in each frame by [`Frame::poses`].
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub bodies: Vec<Body>,
+    /// What a kinematic requirement asks, drawn over the mechanism (fixed in the world).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub marks: Vec<Mark>,
+}
+
+/// A kinematic requirement drawn over the mechanism: a stretch of a point's path (`trace`:
+/// the tracer's path, the output's path over a dwell window) or points to pass near
+/// (`points`: a path's precision points, a function's), with what it is (`label`).
+#[derive(Debug, Clone, Serialize)]
+pub struct Mark {
+    /// `"trace"` (a polyline) or `"points"` (each marked and numbered).
+    pub kind: &'static str,
+    /// What it is, for the legend ("dwell of arm over θ = 150°–210°: 0.43° of travel").
+    pub label: String,
+    /// Its points (m, world).
+    pub points: Vec<[f64; 2]>,
+}
+
+impl Mark {
+    /// A stretch of a path.
+    pub fn trace(label: impl Into<String>, points: Vec<[f64; 2]>) -> Mark {
+        Mark {
+            kind: "trace",
+            label: label.into(),
+            points,
+        }
+    }
+    /// Points to pass near.
+    pub fn points(label: impl Into<String>, points: Vec<[f64; 2]>) -> Mark {
+        Mark {
+            kind: "points",
+            label: label.into(),
+            points,
+        }
+    }
 }
 
 /// A point as the frames write it.

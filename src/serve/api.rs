@@ -309,7 +309,7 @@ async fn solve(Shared(st): Shared<Arc<State>>, req: Request) -> Response {
 /// without its `svg`).
 ///
 /// `digits=D` (1–17; the page asks for 7): the drawing's and the plots' numbers — the
-/// motion's `bodies`, `frames` and `guides`, the panels' points — rounded to D significant
+/// motion's `bodies`, `frames`, `guides` and `marks`, the panels' points — rounded to D significant
 /// digits ([`round_drawn`]), which a screen cannot tell apart and which halves the answer of
 /// a scene with long outlines; the result's numbers and the handles' values stay exact.
 async fn report(Shared(st): Shared<Arc<State>>, req: Request) -> Response {

@@ -96,6 +96,7 @@ pub fn motion(p: &CraneProblem, out: &Outcome, cw: Option<CounterweightMotion>) 
         frames,
         handles,
         bodies: cw.map(body).into_iter().collect(),
+        marks: Vec::new(),
     })
 }
 

@@ -54,6 +54,7 @@ pub fn motion(s: &GearScene, out: &Outcome) -> Option<Motion> {
         guides: vec![[xy(o1), xy(line_end(s, o1, o2))]],
         handles,
         bodies: bodies.into_iter().map(|(_, b)| b).collect(),
+        marks: Vec::new(),
     })
 }
 

@@ -170,6 +170,7 @@ pub fn motion(
         handles: handles(p, big_r, &cws, &frames),
         frames,
         bodies,
+        marks: Vec::new(),
     })
 }
 

@@ -8,14 +8,15 @@
 //! point at the link's reference joint, in the drawing's frame). Shared with the report's
 //! position plot ([`segments`]).
 
-use super::file::{DrawnLink, LinkageScene};
+use super::file::{DrawnLink, LinkageProblem, LinkageScene};
 use super::model::{tip_of, Dyad, Linkage, Point, Pose};
 use super::synth as ls;
 use crate::geom::plate::Realised;
 use crate::geom::{rot, P2};
 use crate::problem::outline::Placement;
-use crate::report::motion::{self as mo, pose, xy, Body, BodyKind, Frame, Handle, Motion};
+use crate::report::motion::{self as mo, pose, xy, Body, BodyKind, Frame, Handle, Mark, Motion};
 use crate::synth::Var;
+use std::f64::consts::TAU;
 
 /// Per counterweight: its annular sector (rᵢ, rₒ, θ) and its plate, where it has them.
 pub type Bodies<'a> = (&'a [Option<(f64, f64, f64)>], &'a [Option<Realised>]);
@@ -110,7 +111,95 @@ pub fn motion(sc: &LinkageScene, x: Option<&[f64]>, bodies: Bodies) -> Motion {
         frames,
         handles,
         bodies: cws.into_iter().map(|(_, b)| b).collect(),
+        marks: Vec::new(),
     }
+}
+
+/// The kinematic requirement of `p` drawn over its mechanism ([`Mark`]): a path's tracer path
+/// over the turn and its precision points; a function's rocker tip at its crank angles; a
+/// swing's or a stroke's output point (the rocker's tip, the slider's pin) over the turn; a
+/// dwell's over its window, with the crank's tip over that window. None without a
+/// requirement.
+pub fn requirement_marks(p: &LinkageProblem) -> Vec<Mark> {
+    let (sc, deg) = (&p.scene, f64::to_degrees);
+    let name = |i: usize| sc.link_names.get(i).cloned().unwrap_or_default();
+    // The whole turn, closed (the last point the first again).
+    let turn: Vec<f64> = mo::turn().chain([TAU]).collect();
+    let mut marks = Vec::new();
+    if let Some(path) = &p.path {
+        let label = format!("path of {}'s tracer", name(path.link));
+        marks.push(Mark::trace(label, trace(sc, path.link, path.at, &turn)));
+        let label = format!(
+            "precision points Q1–Q{}, within {:.3} mm",
+            path.points.len(),
+            path.max_error * 1e3
+        );
+        marks.push(Mark::points(
+            label,
+            path.points.iter().map(|q| xy(*q)).collect(),
+        ));
+    }
+    if let Some(f) = &p.function {
+        let at = output_point(sc, f.link);
+        let label = format!(
+            "{}'s tip at the function's {} crank angles",
+            name(f.link),
+            f.crank_angles.len()
+        );
+        marks.push(Mark::points(label, trace(sc, f.link, at, &f.crank_angles)));
+    }
+    if let Some(s) = &p.swing {
+        let label = format!("swing of {}: {:.3}° to meet", name(s.link), deg(s.angle));
+        marks.push(Mark::trace(
+            label,
+            trace(sc, s.link, output_point(sc, s.link), &turn),
+        ));
+    }
+    if let Some(s) = &p.stroke {
+        let label = format!(
+            "stroke of {}: {:.3} mm to meet",
+            name(s.link),
+            s.stroke * 1e3
+        );
+        marks.push(Mark::trace(label, trace(sc, s.link, P2::zeros(), &turn)));
+    }
+    if let Some(d) = &p.dwell {
+        let window: Vec<f64> = (0..=64)
+            .map(|k| d.from + (d.to - d.from) * k as f64 / 64.0)
+            .collect();
+        let label = format!(
+            "dwell of {} over θ = {:.0}°–{:.0}°",
+            name(d.link),
+            deg(d.from),
+            deg(d.to)
+        );
+        marks.push(Mark::trace(
+            label,
+            trace(sc, d.link, output_point(sc, d.link), &window),
+        ));
+        // Where the crank is while the output dwells: its tip over the same window.
+        let label = format!("crank over θ = {:.0}°–{:.0}°", deg(d.from), deg(d.to));
+        marks.push(Mark::trace(
+            label,
+            trace(sc, 0, output_point(sc, 0), &window),
+        ));
+    }
+    marks
+}
+
+/// The point that carries a link's output: its tip where it has one (a rocker's), else its
+/// reference joint (a slider's pin), in its frame.
+fn output_point(sc: &LinkageScene, link: usize) -> P2 {
+    tip_of(sc.linkage.dyads(), sc.crank_length, link).unwrap_or_else(P2::zeros)
+}
+
+/// The point `at` of link `link` (its frame) at the crank angles `thetas` where the linkage
+/// assembles (m, world).
+fn trace(sc: &LinkageScene, link: usize, at: P2, thetas: &[f64]) -> Vec<[f64; 2]> {
+    (thetas.iter())
+        .filter_map(|&t| sc.linkage.pose(t).ok())
+        .map(|pose| xy(pose.point(&Point::On { link, at })[0]))
+        .collect()
 }
 
 /// Link `i`'s frame on `pose`: its reference joint and its axis's angle.

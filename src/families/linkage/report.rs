@@ -51,6 +51,7 @@ pub fn documents(scene: &Scene, p: &LinkageProblem, sol: &Solved, r: &mut SolveR
     curves(r, scene, p, sol);
     let bodies = (&sol.sectors[..], &sol.out.plates[..]);
     let mut motion = super::motion::motion(&p.scene, sol.design_x(), bodies);
+    motion.marks = super::motion::requirement_marks(p);
     if p.shape.is_some() {
         // The geometry drawn is the shape search's, not the file's: a drag of a pivot or a
         // length would write the file's value, the search's seed, not what is drawn.

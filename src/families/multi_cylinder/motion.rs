@@ -86,6 +86,7 @@ pub fn motion(p: &MultiCylinderProblem, x: &[f64]) -> Motion {
             Handle::length("mechanism.crank_radius", r * x_axis, x_axis, r, "mm").on(crank),
         ],
         bodies: Vec::new(),
+        marks: Vec::new(),
     }
 }
 

@@ -47,6 +47,7 @@ pub fn motion(s: &Scene, d: &Design, plate: Option<Sector>, rod_given: bool) -> 
         frames,
         handles,
         bodies: body.into_iter().collect(),
+        marks: Vec::new(),
     }
 }
 

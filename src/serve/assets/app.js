@@ -138,6 +138,7 @@ function showMotion(m) {
   }
   for (const h of m.handles) pts.push(handleAt(h, 0));
   for (const [a, b] of m.guides || []) pts.push(a, b);
+  for (const mk of m.marks || []) pts.push(...mk.points);
   let [x0, x1, y0, y1] = [Infinity, -Infinity, Infinity, -Infinity];
   for (const p of pts) {
     x0 = Math.min(x0, p[0] * scale); x1 = Math.max(x1, p[0] * scale);
@@ -177,13 +178,16 @@ function handleAt(h, k) {
 function showLegend(m) {
   const ul = $("legend");
   ul.replaceChildren();
-  for (const b of m.bodies || []) {
+  const item = (kind, text) => {
     const li = document.createElement("li");
     const sw = document.createElement("span");
-    sw.className = "swatch " + b.kind;
-    li.append(sw, b.name + ": " + b.note);
+    sw.className = "swatch " + kind;
+    li.append(sw, text);
     ul.appendChild(li);
-  }
+  };
+  for (const b of m.bodies || []) item(b.kind, b.name + ": " + b.note);
+  // The kinematic requirement drawn over the mechanism (a path's points, a dwell's window).
+  for (const mk of m.marks || []) item("mark", mk.label);
   ul.hidden = !ul.children.length;
 }
 
@@ -210,6 +214,8 @@ function drawFrame() {
     if (b.kind === "pitch") path.setAttribute("stroke-dasharray", 4 * w + " " + 2 * w);
     el("title", {}, path).textContent = b.name + ": " + b.note;
   });
+  // Over the bodies (a crank's window lies inside its counterweight), under the links.
+  drawMarks(m, g, svg, w);
   for (const [a, b] of f.links) {
     el("line", { x1: a[0] * scale, y1: a[1] * scale, x2: b[0] * scale, y2: b[1] * scale, class: "link", "stroke-width": 2.5 * w }, g);
   }
@@ -247,6 +253,33 @@ function drawFrame() {
   $("theta").value = String(frame);
   $("theta-label").textContent = "θ = " + (f.theta * 180 / Math.PI).toFixed(0) + "°";
   cwPlots.setAngle((f.theta * 180) / Math.PI);
+}
+
+// The kinematic requirement's marks, fixed in the world: a trace as a thick line (the
+// output's path over a dwell window, a tracer's path), points as numbered circles (a path's
+// precision points Q1, Q2, …); the label as the mark's title.
+function drawMarks(m, g, svg, w) {
+  for (const mk of m.marks || []) {
+    if (mk.kind === "trace") {
+      const d = mk.points.map((p, k) => (k ? "L" : "M") + p[0] * scale + " " + p[1] * scale).join(" ");
+      // Thick, with round ends: a dwell's output stands nearly still, its trace a blob.
+      const path = el("path", { d: d, class: "mark", "stroke-width": 3 * w }, g);
+      el("title", {}, path).textContent = mk.label;
+      // A trace shorter than a few line widths (an output that dwells) is ringed too.
+      const xs = mk.points.map((p) => p[0] * scale), ys = mk.points.map((p) => p[1] * scale);
+      if (xs.length && Math.max(Math.max(...xs) - Math.min(...xs), Math.max(...ys) - Math.min(...ys)) < 6 * w) {
+        const c = el("circle", { cx: xs[0], cy: ys[0], r: 5 * w, class: "mark-point", "stroke-width": w }, g);
+        el("title", {}, c).textContent = mk.label;
+      }
+      continue;
+    }
+    mk.points.forEach((p, k) => {
+      const c = el("circle", { cx: p[0] * scale, cy: p[1] * scale, r: 4 * w, class: "mark-point", "stroke-width": w }, g);
+      el("title", {}, c).textContent = mk.label;
+      const t = el("text", { x: p[0] * scale + 5 * w, y: -p[1] * scale - 5 * w, class: "mark-label", "font-size": 7 * w }, svg);
+      t.textContent = "Q" + (k + 1);
+    });
+  }
 }
 
 function drag(e, c, h) {
