@@ -210,7 +210,8 @@ def test_the_report_and_the_drawing_download(page, tmp_path):
 def test_the_requirement_is_drawn_over_the_mechanism(page):
     """A shape search's kinematic requirement on the drawing (issue 36): the rocker dwell
     scene's arm over its window as a trace, titled and in the legend; the path scene's five
-    precision points circled and numbered Q1–Q5, each where the file puts it."""
+    precision points circled and numbered Q1–Q5, each where the file puts it, and its tracer
+    point moving with the coupler."""
     name = "linkage-sixbar-rocker-dwell-synthesis.toml"
     solved_after(page, lambda: page.select_option("#open", "file:" + name))
     playwright.expect(page.locator("#status")).to_have_text("best_found")
@@ -220,11 +221,19 @@ def test_the_requirement_is_drawn_over_the_mechanism(page):
     playwright.expect(page.locator("#legend")).to_contain_text("dwell of arm")
     solved_after(page, lambda: page.select_option("#open", "file:linkage-fourbar-path-synthesis.toml"))
     playwright.expect(page.locator("#status")).to_have_text("best_found")
-    playwright.expect(page.locator("#mech circle.mark-point")).to_have_count(5)
+    qs = page.locator("#mech circle.mark-point:not(.tracer)")
+    playwright.expect(qs).to_have_count(5)
     playwright.expect(page.locator("#mech text.mark-label")).to_have_text(["Q1", "Q2", "Q3", "Q4", "Q5"])
+    # The tracer point rides its coupler: another crank angle, another place.
+    tracer = page.locator("#mech circle.mark-point.tracer")
+    playwright.expect(tracer).to_have_count(1)
+    before = (tracer.get_attribute("cx"), tracer.get_attribute("cy"))
+    page.locator("#theta").fill("18")
+    playwright.expect(page.locator("#theta-label")).to_have_text("θ = 90°")
+    assert (tracer.get_attribute("cx"), tracer.get_attribute("cy")) != before
     spec = tomllib.loads((REPO / "problems" / "linkage-fourbar-path-synthesis.toml").read_text())
     first = spec["objective"]["path"]["points"][0]
     want = [float(v.split()[0]) for v in first]  # mm
-    c = page.locator("#mech circle.mark-point").first
+    c = qs.first
     got = [float(c.get_attribute("cx")), float(c.get_attribute("cy"))]
     assert all(abs(g - w) <= 1e-3 for g, w in zip(got, want)), (got, want)

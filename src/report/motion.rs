@@ -178,33 +178,46 @@ pub struct Motion {
 }
 
 /// A kinematic requirement drawn over the mechanism: a stretch of a point's path (`trace`:
-/// the tracer's path, the output's path over a dwell window) or points to pass near
-/// (`points`: a path's precision points, a function's), with what it is (`label`).
+/// the tracer's path, the output's path over a dwell window), points to pass near
+/// (`points`: a path's precision points, a function's), or a point that moves with a part
+/// (`tracer`: a path's tracer point on its link, placed in each frame by `poses`), with
+/// what it is (`label`).
 #[derive(Debug, Clone, Serialize)]
 pub struct Mark {
-    /// `"trace"` (a polyline) or `"points"` (each marked and numbered).
+    /// `"trace"` (a polyline), `"points"` (each marked and numbered) or `"tracer"` (one
+    /// point on a moving part).
     pub kind: &'static str,
-    /// What it is, for the legend ("dwell of arm over θ = 150°–210°: 0.43° of travel").
+    /// What it is, for the legend ("dwell of arm over θ = 150°–210°").
     pub label: String,
-    /// Its points (m, world).
+    /// Its points (m): in the world, or in the part's frame where `poses` is given.
     pub points: Vec<[f64; 2]>,
+    /// The part's frame `[x, y, angle]` in each frame of the motion (a `tracer`'s).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub poses: Vec<[f64; 3]>,
 }
 
 impl Mark {
-    /// A stretch of a path.
-    pub fn trace(label: impl Into<String>, points: Vec<[f64; 2]>) -> Mark {
+    fn new(kind: &'static str, label: impl Into<String>, points: Vec<[f64; 2]>) -> Mark {
         Mark {
-            kind: "trace",
+            kind,
             label: label.into(),
             points,
+            poses: Vec::new(),
         }
+    }
+    /// A stretch of a path.
+    pub fn trace(label: impl Into<String>, points: Vec<[f64; 2]>) -> Mark {
+        Mark::new("trace", label, points)
     }
     /// Points to pass near.
     pub fn points(label: impl Into<String>, points: Vec<[f64; 2]>) -> Mark {
+        Mark::new("points", label, points)
+    }
+    /// The point `at` of a part placed at `poses` (one per frame).
+    pub fn tracer(label: impl Into<String>, at: P2, poses: Vec<[f64; 3]>) -> Mark {
         Mark {
-            kind: "points",
-            label: label.into(),
-            points,
+            poses,
+            ..Mark::new("tracer", label, vec![xy(at)])
         }
     }
 }

@@ -116,7 +116,7 @@ pub fn motion(sc: &LinkageScene, x: Option<&[f64]>, bodies: Bodies) -> Motion {
 }
 
 /// The kinematic requirement of `p` drawn over its mechanism ([`Mark`]): a path's tracer path
-/// over the turn and its precision points; a function's rocker tip at its crank angles; a
+/// over the turn, its precision points and the tracer point on its moving link; a function's rocker tip at its crank angles; a
 /// swing's or a stroke's output point (the rocker's tip, the slider's pin) over the turn; a
 /// dwell's over its window, with the crank's tip over that window. None without a
 /// requirement.
@@ -129,6 +129,12 @@ pub fn requirement_marks(p: &LinkageProblem) -> Vec<Mark> {
     if let Some(path) = &p.path {
         let label = format!("path of {}'s tracer", name(path.link));
         marks.push(Mark::trace(label, trace(sc, path.link, path.at, &turn)));
+        // The tracer itself, moving with its link (the frames' angles).
+        let poses = (mo::turn().filter_map(|t| sc.linkage.pose(t).ok()))
+            .map(|pose| pose_of(&pose, path.link))
+            .collect();
+        let label = format!("{}'s tracer point", name(path.link));
+        marks.push(Mark::tracer(label, path.at, poses));
         let label = format!(
             "precision points Q1–Q{}, within {:.3} mm",
             path.points.len(),

@@ -138,7 +138,7 @@ function showMotion(m) {
   }
   for (const h of m.handles) pts.push(handleAt(h, 0));
   for (const [a, b] of m.guides || []) pts.push(a, b);
-  for (const mk of m.marks || []) pts.push(...mk.points);
+  for (const mk of m.marks || []) pts.push(...mk.points.map((p) => placed(mk.poses && mk.poses.length ? mk.poses[0] : null, p)));
   let [x0, x1, y0, y1] = [Infinity, -Infinity, Infinity, -Infinity];
   for (const p of pts) {
     x0 = Math.min(x0, p[0] * scale); x1 = Math.max(x1, p[0] * scale);
@@ -255,9 +255,9 @@ function drawFrame() {
   cwPlots.setAngle((f.theta * 180) / Math.PI);
 }
 
-// The kinematic requirement's marks, fixed in the world: a trace as a thick line (the
-// output's path over a dwell window, a tracer's path), points as numbered circles (a path's
-// precision points Q1, Q2, …); the label as the mark's title.
+// The kinematic requirement's marks: a trace as a thick line (the output's path over a dwell
+// window, a tracer's path), points as numbered circles (a path's precision points Q1, Q2, …),
+// both fixed in the world; a tracer as a dot on its moving link; the label as the title.
 function drawMarks(m, g, svg, w) {
   for (const mk of m.marks || []) {
     if (mk.kind === "trace") {
@@ -271,6 +271,16 @@ function drawMarks(m, g, svg, w) {
         const c = el("circle", { cx: xs[0], cy: ys[0], r: 5 * w, class: "mark-point", "stroke-width": w }, g);
         el("title", {}, c).textContent = mk.label;
       }
+      continue;
+    }
+    if (mk.kind === "tracer") {
+      // A point of a moving part, with a line to the part's reference joint (the tracer on
+      // its coupler): placed in this frame.
+      const pose = mk.poses[frame];
+      const p = placed(pose, mk.points[0]);
+      el("line", { x1: pose[0] * scale, y1: pose[1] * scale, x2: p[0] * scale, y2: p[1] * scale, class: "mark", "stroke-width": w }, g);
+      const c = el("circle", { cx: p[0] * scale, cy: p[1] * scale, r: 2.5 * w, class: "mark-point tracer", "stroke-width": w }, g);
+      el("title", {}, c).textContent = mk.label;
       continue;
     }
     mk.points.forEach((p, k) => {
