@@ -5,9 +5,9 @@
 //! the least transmission angle and the largest crank ratio it must keep, and the kinematic
 //! requirement: the path its tracer point must pass through, the swing of a rocker, a
 //! rocker's angle against the crank's, a slider's stroke, or a slider's or a rocker's dwell.
-//! Read, checked and
-//! resolved into [`Synthesis`], [`PathSpec`], [`SwingSpec`], [`FunctionSpec`],
-//! [`StrokeSpec`] and [`DwellSpec`]; apart from `file.rs` so that each file stays readable.
+//! Read, checked and resolved into [`Synthesis`], [`PathSpec`], [`SwingSpec`],
+//! [`FunctionSpec`], [`StrokeSpec`] and [`DwellSpec`]; apart from `file.rs` so that each file
+//! stays readable.
 
 use super::model::{tip_of, Linkage};
 use super::shape::{
@@ -242,13 +242,31 @@ pub fn resolve_path(p: &PathRaw, names: &[String]) -> Result<PathSpec, FieldErro
 /// The rocker `of` of `l` (a dyad link pivoted on a frame point) at `key`.
 fn rocker(l: &Linkage, names: &[String], of: &str, key: &str) -> Result<usize, FieldError> {
     let link = link_named(names, of, key)?;
-    if link == 0 || frame_pivot(l, link).is_none() {
+    if !is_rocker(l, link) {
         return Err(FieldError::new(
             key,
             format!("link \"{of}\" is not a rocker; allowed: a dyad link pivoted on a frame point"),
         ));
     }
     Ok(link)
+}
+
+/// Whether link `link` of `l` is a rocker: a dyad link pivoted on a frame point.
+fn is_rocker(l: &Linkage, link: usize) -> bool {
+    link != 0 && frame_pivot(l, link).is_some()
+}
+
+/// A rocker's swing at `key`: positive and below 180° (the angle ψ is measured continuously
+/// from its direction at θ = 0).
+fn swing_angle(key: &str, v: f64) -> Result<f64, FieldError> {
+    let angle = positive(key, v)?;
+    if angle >= std::f64::consts::PI {
+        return Err(FieldError::new(
+            key,
+            format!("got {}°; allowed: below 180°", angle.to_degrees()),
+        ));
+    }
+    Ok(angle)
 }
 
 /// `[objective.function]` for the linkage `l` with links `names`.
@@ -329,7 +347,7 @@ pub fn resolve_dwell(d: &DwellRaw, l: &Linkage, names: &[String]) -> Result<Dwel
     }
     let link = link_named(names, &d.link, &format!("{key}.link"))?;
     let is_slider = slider_line(l, link).is_some();
-    if !is_slider && rocker(l, names, &d.link, "").is_err() {
+    if !is_slider && !is_rocker(l, link) {
         return Err(FieldError::new(
             format!("{key}.link"),
             format!("link \"{}\" is neither a slider nor a rocker; allowed: the second link of an RRP dyad, or a dyad link pivoted on a frame point", d.link),
@@ -364,12 +382,6 @@ pub fn resolve_dwell(d: &DwellRaw, l: &Linkage, names: &[String]) -> Result<Dwel
             )
         }
     };
-    if of == DwellOf::Rocker && range >= std::f64::consts::PI {
-        return wrong(
-            "swing",
-            &format!("got {}°; allowed: below 180°", range.to_degrees()),
-        );
-    }
     if d.max_error.dim != dim {
         return Err(FieldError::new(
             format!("{key}.max_error"),
@@ -391,7 +403,10 @@ pub fn resolve_dwell(d: &DwellRaw, l: &Linkage, names: &[String]) -> Result<Dwel
         of,
         from,
         to,
-        range: positive(&format!("{key}.{}", of.range_key()), range)?,
+        range: match of {
+            DwellOf::Slider => positive(&format!("{key}.stroke"), range)?,
+            DwellOf::Rocker => swing_angle(&format!("{key}.swing"), range)?,
+        },
         max_error: positive(&format!("{key}.max_error"), d.max_error.si)?,
     })
 }
@@ -419,13 +434,7 @@ fn crank_ratio(l: &Linkage, max: f64, key: &str) -> Result<CrankRatio, FieldErro
 pub fn resolve_swing(s: &SwingRaw, l: &Linkage, names: &[String]) -> Result<SwingSpec, FieldError> {
     let key = "objective.swing";
     let link = rocker(l, names, &s.link, &format!("{key}.link"))?;
-    let angle = positive(&format!("{key}.angle"), s.angle.si())?;
-    if angle >= std::f64::consts::PI {
-        return Err(FieldError::new(
-            format!("{key}.angle"),
-            format!("got {}°; allowed: below 180°", angle.to_degrees()),
-        ));
-    }
+    let angle = swing_angle(&format!("{key}.angle"), s.angle.si())?;
     Ok(SwingSpec {
         link,
         angle,

@@ -116,10 +116,10 @@ pub fn motion(sc: &LinkageScene, x: Option<&[f64]>, bodies: Bodies) -> Motion {
 }
 
 /// The kinematic requirement of `p` drawn over its mechanism ([`Mark`]): a path's tracer path
-/// over the turn, its precision points and the tracer point on its moving link; a function's rocker tip at its crank angles; a
-/// swing's or a stroke's output point (the rocker's tip, the slider's pin) over the turn; a
-/// dwell's over its window, with the crank's tip over that window. None without a
-/// requirement.
+/// over the turn, its precision points and the tracer point on its moving link; a function's
+/// rocker tip at its crank angles; a swing's or a stroke's output point (the rocker's tip,
+/// the slider's pin) over the turn; a dwell's over its window, with the crank's tip over that
+/// window. None without a requirement.
 pub fn requirement_marks(p: &LinkageProblem) -> Vec<Mark> {
     let (sc, deg) = (&p.scene, f64::to_degrees);
     let name = |i: usize| sc.link_names.get(i).cloned().unwrap_or_default();

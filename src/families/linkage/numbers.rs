@@ -10,7 +10,7 @@ use super::solve::{JointLoads, Solution as Solved};
 use super::synth::{self as ls, FORCE, MOMENT, TORQUE};
 use crate::families::family::{cw_status, Scene};
 use crate::families::linkage::model::JointKind;
-use crate::families::linkage::shape::DwellOf;
+use crate::families::linkage::shape::Requirement;
 use crate::geom::plate::{PlateShape, Realised};
 use crate::geom::P2;
 use crate::report::{ActiveBound, SolveResult};
@@ -207,10 +207,7 @@ fn dwell_numbers(r: &mut SolveResult, p: &LinkageProblem, sol: &Solved) {
     match (&sol.dwell, &p.dwell) {
         (Some(Ok(w)), Some(spec)) => {
             let e = w.error(spec);
-            let (u, range) = match spec.of {
-                DwellOf::Slider => ("m", "stroke"),
-                DwellOf::Rocker => ("rad", "swing"),
-            };
+            let (u, range) = (spec.of.si_unit(), spec.of.range_key());
             let section = json!({
                 "output": spec.of.name(),
                 format!("travel_{u}"): w.travel.value,
@@ -221,17 +218,14 @@ fn dwell_numbers(r: &mut SolveResult, p: &LinkageProblem, sol: &Solved) {
                 "crank_angles_deg": [spec.from.to_degrees(), spec.to.to_degrees()],
                 format!("max_error_{u}"): spec.max_error,
             });
-            let (shown, unit) = match spec.of {
-                DwellOf::Slider => (1e3, "mm"),
-                DwellOf::Rocker => (180.0 / std::f64::consts::PI, "°"),
-            };
             let key = format!("dwell_error_{u}");
             let figure = (e, w.error_bound(), spec.max_error);
             requirement_figure(r, (&key, "dwell"), figure, section, || {
+                // In the report's unit (mm or deg), as the front's table shows it.
+                let shown = |v| Requirement::Dwell(spec).named(v).shown();
+                let ((_, e, unit), (_, limit, _)) = (shown(e), shown(spec.max_error));
                 format!(
-                    "the dwell error {:.6} {unit} exceeds objective.dwell.max_error = {:.6} {unit}",
-                    e * shown,
-                    spec.max_error * shown
+                    "the dwell error {e:.6} {unit} exceeds objective.dwell.max_error = {limit:.6} {unit}"
                 )
             });
         }

@@ -129,6 +129,13 @@ impl DwellOf {
             DwellOf::Rocker => "swing",
         }
     }
+    /// The SI unit of its figures, as the result's keys end: `m` or `rad`.
+    pub fn si_unit(self) -> &'static str {
+        match self {
+            DwellOf::Slider => "m",
+            DwellOf::Rocker => "rad",
+        }
+    }
 }
 
 /// `[objective.dwell]` resolved: a slider or a rocker that stands still while the crank
