@@ -6,7 +6,7 @@
 //! (target ≤ 5×).
 use criterion::{criterion_group, criterion_main, Criterion};
 use cwsynth::dynamics::{constant_speed, least_flywheel, steady_state, DriveSettings, Motor};
-use cwsynth::families::slider_crank::synth::{machine, optimise, paper_piston};
+use cwsynth::families::slider_crank::synth::{machine, optimise, paper_piston, sensitivity_table};
 use cwsynth::geom::P2;
 
 #[path = "common/envelope.rs"]
@@ -80,6 +80,15 @@ fn bench_envelope(c: &mut Criterion) {
     });
     c.bench_function("drive/envelope_nominal_only_minimax_force", |b| {
         b.iter(|| optimise(std::hint::black_box(&nominal)).unwrap())
+    });
+    // The envelope's sensitivity table from the optimum's duals (the solve's report stage
+    // computes it where the problem asks: `sensitivities = true`).
+    let duals = optimise(&env)
+        .unwrap()
+        .duals
+        .expect("an envelope solve's duals");
+    c.bench_function("drive/envelope_sensitivity_table", |b| {
+        b.iter(|| sensitivity_table(std::hint::black_box(&env), &duals).unwrap())
     });
     // The same single scenario through the engine the envelope uses (clarabel's rounds, not
     // the exact disc path that only a single turning counterweight's force allows).

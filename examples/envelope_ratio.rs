@@ -11,11 +11,16 @@
 //!     target/release/examples/envelope_ratio
 //! valgrind --tool=callgrind --toggle-collect='*envelope_ratio::energy_design' \
 //!     target/release/examples/envelope_ratio
+//! valgrind --tool=callgrind --toggle-collect='*envelope_ratio::sensitivities' \
+//!     target/release/examples/envelope_ratio
 //! ```
 //!
-//! The last counts `benches/drive.rs::bench_energy_design`: the felling head's counterweight
-//! that minimises ΔE (issue 33: ≤ 1 ms).
-use cwsynth::families::slider_crank::synth::{optimise, Optimum, Scene};
+//! The third counts `benches/drive.rs::bench_energy_design`: the felling head's counterweight
+//! that minimises ΔE (issue 33: ≤ 1 ms); the last the envelope's sensitivity table from its
+//! optimum's duals (`drive/envelope_sensitivity_table`).
+use cwsynth::families::slider_crank::synth::{
+    optimise, sensitivity_table, EnvelopeDuals, Optimum, Scene, Sensitivity,
+};
 
 #[path = "../benches/common/envelope.rs"]
 mod bench_scenes;
@@ -38,6 +43,13 @@ fn energy_design(scene: &Scene) -> Optimum {
     optimise(std::hint::black_box(scene)).unwrap()
 }
 
+/// The envelope's sensitivity table from its optimum's duals (computed by the solve's report
+/// stage where the problem asks for it, not by `optimise`).
+#[inline(never)]
+fn sensitivities(scene: &Scene, duals: &EnvelopeDuals) -> Vec<Sensitivity> {
+    sensitivity_table(std::hint::black_box(scene), duals).unwrap()
+}
+
 /// Solves each scene once outside the counted functions.
 #[inline(never)]
 fn warm_up(scenes: &[&Scene]) {
@@ -52,6 +64,8 @@ fn main() {
     let fh = bench_scenes::felling_head_energy();
     warm_up(&[&env, &nom, &fh]);
     let (e, n, d) = (envelope(&env), nominal(&nom), energy_design(&fh));
+    let table = sensitivities(&env, e.duals.as_ref().expect("an envelope solve's duals"));
+    println!("sensitivity table: {} rows", table.len());
     println!(
         "least ΔE U = {:?} {:?} {} rounds, {}",
         d.u, d.status, d.rounds, d.method

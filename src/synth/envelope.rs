@@ -241,13 +241,20 @@ pub fn step(v: f64, range: (f64, f64), dependence: Dependence) -> f64 {
 /// certified by Newton's polish of its optimality conditions (its status says how it
 /// ended), or its design was moved off the optimum (a plate cut to realise it).
 pub fn multipliers_of(sol: &Solution) -> Result<&[Multiplier], String> {
-    if sol.multipliers.is_empty() {
+    multipliers_with(&sol.multipliers, sol.status)
+}
+
+/// [`multipliers_of`] of an optimum kept as its multipliers and its status.
+pub fn multipliers_with(
+    multipliers: &[Multiplier],
+    status: crate::synth::minimax::Status,
+) -> Result<&[Multiplier], String> {
+    if multipliers.is_empty() {
         return Err(format!(
-            "the optimum has no multipliers: its status is {:?}, and it was not certified by Newton's polish of the optimality conditions, or its design was moved to a plate that realises it",
-            sol.status
+            "the optimum has no multipliers: its status is {status:?}, and it was not certified by Newton's polish of the optimality conditions, or its design was moved to a plate that realises it"
         ));
     }
-    Ok(&sol.multipliers)
+    Ok(multipliers)
 }
 
 /// How well a polished maximum's angle is known (rad): the disc path's weights are perturbed
@@ -347,8 +354,11 @@ pub fn scenario_sensitivities<E>(
     mut fields_at: impl FnMut(usize, &[f64], &[&Multiplier]) -> Result<Vec<FieldValue>, E>,
 ) -> Result<Vec<Sensitivity>, E> {
     let vs = vertices(ranges);
-    // Each scenario's own values at its vertex, evaluated once for all its parameters.
-    let mut own: Vec<(usize, Vec<FieldValue>)> = Vec::new();
+    // Each scenario's own values at its vertex, evaluated once for all its parameters at
+    // the same angles (the moved angles of `sensitivities` are another key: the slope
+    // between the vertex and its partner is taken at one angle).
+    type Own = (usize, Vec<f64>, Vec<FieldValue>);
+    let mut own: Vec<Own> = Vec::new();
     sensitivities(names, ranges, stride, multipliers, |k, i, ms| {
         let v = (k - 1) % vs.len();
         let (lo, hi) = ranges[i];
@@ -356,16 +366,17 @@ pub fn scenario_sensitivities<E>(
         let phi = |x: f64| if square { x * x } else { x };
         if i < first_general && phi(hi) != phi(lo) {
             let partner = &vs[v ^ (1 << i)];
-            let at = match own.iter().position(|o| o.0 == k) {
+            let angles: Vec<f64> = ms.iter().map(|m| m.angle).collect();
+            let at = match own.iter().position(|o| o.0 == k && o.1 == angles) {
                 Some(j) => j,
                 None => {
-                    own.push((k, fields_at(k, &vs[v], ms)?));
+                    own.push((k, angles, fields_at(k, &vs[v], ms)?));
                     own.len() - 1
                 }
             };
             let other = fields_at(k, partner, ms)?;
             return Ok(vertex_slopes(
-                vs[v][i], partner[i], square, &own[at].1, &other,
+                vs[v][i], partner[i], square, &own[at].2, &other,
             ));
         }
         let dependence = match i >= first_general {

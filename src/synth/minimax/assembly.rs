@@ -4,8 +4,9 @@
 //! same constraints as smooth functions for the Newton polish, `design_constraints`).
 
 use super::constraints::Design;
+use super::grid::FieldGrid;
 use super::plate::{body_rows, Cuts};
-use super::validate::{bad, check_finite, validate_structure};
+use super::validate::{bad, validate_structure};
 use super::{
     var_i, var_m, var_u, AffineValue, Engine, Goal, LinearConstraint, MinimaxError, Problem,
     Relation, Settings, PER_COUNTERWEIGHT,
@@ -399,25 +400,18 @@ impl<'p, 'a> Engine<'p, 'a> {
 
 /// Each field on the scan grid θ_k = 2πk/`scan_samples`, checked finite: each value
 /// written in its place.
-fn scan_grid(pb: &Problem, s: &Settings, n: usize) -> Result<Vec<Vec<AffineValue>>, MinimaxError> {
+fn scan_grid(pb: &Problem, s: &Settings, n: usize) -> Result<Vec<FieldGrid>, MinimaxError> {
     let angles = uniform_angles(s.scan_samples);
     pb.fields
         .iter()
-        .map(|f| {
-            let mut g: Vec<AffineValue> = angles.iter().map(|_| AffineValue::zeros(n)).collect();
-            for (v, &theta) in g.iter_mut().zip(&angles) {
-                f.eval(theta, v);
-                check_finite(*f, theta, v)?;
-            }
-            Ok(g)
-        })
+        .map(|f| FieldGrid::eval(*f, &angles, n))
         .collect()
 }
 
 /// The column scales s_j (x = s ⊙ x̂): a counterweight's s_m = m_max, s_u = s_m ℓ,
 /// s_I = s_m ℓ²; an extra variable's largest finite bound, else the largest field size over
 /// its sensitivity (G_f⁰ = `g0`, the unbalanced peak), else 1.
-fn variable_scales(pb: &Problem, grid: &[Vec<AffineValue>], g0: &[f64]) -> Vec<f64> {
+fn variable_scales(pb: &Problem, grid: &[FieldGrid], g0: &[f64]) -> Vec<f64> {
     let nf = pb.fields.len();
     let mut scale = vec![1.0; pb.n()];
     for (j, c) in pb.counterweights.iter().enumerate() {
@@ -461,7 +455,7 @@ fn variable_scales(pb: &Problem, grid: &[Vec<AffineValue>], g0: &[f64]) -> Vec<f
 
 /// G_f, each field's size over the design box: max over the grid of
 /// ‖b_f‖ + Σ_j ‖A_f,j‖ s_j (1 for a field that is zero).
-fn field_sizes(pb: &Problem, grid: &[Vec<AffineValue>], scale: &[f64]) -> Vec<f64> {
+fn field_sizes(pb: &Problem, grid: &[FieldGrid], scale: &[f64]) -> Vec<f64> {
     let n = scale.len();
     (0..pb.fields.len())
         .map(|f| {

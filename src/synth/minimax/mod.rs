@@ -154,6 +154,7 @@ mod assembly;
 mod certificate;
 mod constraints;
 mod exchange_loop;
+mod grid;
 mod pareto;
 mod peaks;
 mod plate;
@@ -229,14 +230,7 @@ impl AffineValue {
     /// |b + A x|: abs for dim 1, Euclidean for dim 2 (the numbers of [`AffineValue::at`],
     /// its rows read from one slice: the scans ask for it at every grid angle).
     pub fn magnitude(&self, dim: usize, x: &[f64]) -> f64 {
-        let a: &[f64] = &self.a;
-        let n = a.len() / 2;
-        let v0 = self.b[0] + dot(&a[..n], x);
-        if dim == 2 {
-            v0.hypot(self.b[1] + dot(&a[n..], x))
-        } else {
-            v0.abs()
-        }
+        magnitude(&self.b, &self.a, dim, x)
     }
     /// ‖(|b_r| + Σ_j |A_rj x_j|)_r‖: the size the round-off of b + A x is relative to.
     fn size(&self, dim: usize, x: &[f64]) -> f64 {
@@ -252,6 +246,18 @@ impl AffineValue {
             s += t * t;
         }
         s.sqrt()
+    }
+}
+
+/// |b + A x| of a value with A's rows 0 and 1 in `a` (n entries each): abs for dim 1,
+/// Euclidean for dim 2 (an [`AffineValue`]'s and a scan grid's, one function).
+fn magnitude(b: &[f64; 2], a: &[f64], dim: usize, x: &[f64]) -> f64 {
+    let n = a.len() / 2;
+    let v0 = b[0] + dot(&a[..n], x);
+    if dim == 2 {
+        v0.hypot(b[1] + dot(&a[n..], x))
+    } else {
+        v0.abs()
     }
 }
 
@@ -789,7 +795,7 @@ pub struct Engine<'p, 'a> {
     /// max over the grid of |b_f|: the unbalanced peak (sampled).
     g0: Vec<f64>,
     /// Each field on the scan grid θ_k = 2πk/`scan_samples`.
-    grid: Vec<Vec<AffineValue>>,
+    grid: Vec<grid::FieldGrid>,
     /// Bounds on |x̂_j| implied by the design constraints (∞ for an unbounded extra).
     xbound: Vec<f64>,
     /// Each field on its RMS grid, built on first use (`rms`).

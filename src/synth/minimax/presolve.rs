@@ -4,6 +4,7 @@
 //! (an operating envelope's scenarios at one speed) are one disc over the union of their
 //! curves; the goal's other fields are only scanned for the certificate.
 
+use super::grid::GridValue;
 use super::{
     var_i, var_m, var_u, AffineValue, Engine, Goal, MinimaxError, Multiplier, Solution, Stop,
     DISC_SOLVER,
@@ -41,7 +42,7 @@ pub(super) struct DiscGroup {
 }
 
 /// The u block of counterweight 0 in a field's value: the 2×2 map u ↦ A_u u + b.
-fn u_block(v: &AffineValue) -> Affine {
+fn u_block(v: GridValue) -> Affine {
     let ux = var_u(0);
     Affine {
         a: [
@@ -81,7 +82,7 @@ impl<'p, 'a> Engine<'p, 'a> {
         let point = |k: usize, t: f64| {
             let mut v = AffineValue::zeros(self.n);
             self.pb.fields[list[group.members[k]].0].eval(t, &mut v);
-            group.forms[k].point_of(&u_block(&v))
+            group.forms[k].point_of(&u_block(v.view()))
         };
         // The sampled points: the scan grids' (already evaluated), then the angles added.
         let mut pts = Vec::with_capacity(group.members.len());
@@ -89,7 +90,7 @@ impl<'p, 'a> Engine<'p, 'a> {
             let grid = &self.grid[list[i].0];
             // Room for the grid and the angles a few rounds add.
             let mut s = DiscSamples::with_capacity(grid.len() + 16);
-            for (t, v) in uniform_angles(grid.len()).into_iter().zip(grid) {
+            for (t, v) in uniform_angles(grid.len()).into_iter().zip(grid.iter()) {
                 match group.forms[k].point_of(&u_block(v)) {
                     Some(p) => s.push(t, p),
                     None => return Ok(None),
@@ -177,14 +178,17 @@ impl<'p, 'a> Engine<'p, 'a> {
             return None;
         }
         let (m, ii) = (var_m(0), var_i(0));
-        let only_u = |v: &AffineValue| (0..2).all(|r| v.row(r)[m] == 0.0 && v.row(r)[ii] == 0.0);
+        let only_u = |v: GridValue| (0..2).all(|r| v.row(r)[m] == 0.0 && v.row(r)[ii] == 0.0);
         let mut forms = Vec::with_capacity(list.len());
         for &(f, w) in list {
             if pb.fields[f].dim() != 2 || !self.grid[f].iter().all(only_u) {
                 return None;
             }
             // c from the scan grid's first value (θ = 0), already evaluated.
-            let form = DiscForm::scaled_by(&u_block(self.grid[f].first()?))?;
+            if self.grid[f].len() == 0 {
+                return None;
+            }
+            let form = DiscForm::scaled_by(&u_block(self.grid[f].get(0)))?;
             forms.push((form, w * form.c()));
         }
         let top = forms.iter().map(|f| f.1).fold(0.0, f64::max);
@@ -319,7 +323,7 @@ impl<'p, 'a> Engine<'p, 'a> {
         let point = |k: usize, t: f64| {
             let mut v = AffineValue::zeros(self.n);
             self.pb.fields[field(k).0].eval(t, &mut v);
-            group.forms[k].point_of(&u_block(&v))
+            group.forms[k].point_of(&u_block(v.view()))
         };
         let at = |on: &[(Tag, P2)]| -> Option<Vec<f64>> {
             let b = barycentric(u, on);

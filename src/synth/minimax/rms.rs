@@ -90,7 +90,7 @@ impl<'p, 'a> Engine<'p, 'a> {
         let d = self.pb.fields[f].dim();
         let n0 = self.s.rms_samples;
         let mut values = if n0 == self.s.scan_samples {
-            self.grid[f].clone()
+            self.grid[f].to_values()
         } else {
             (0..n0)
                 .map(|k| self.eval_raw(f, TAU * k as f64 / n0 as f64))

@@ -12,7 +12,7 @@ use crate::geom::P2;
 use crate::synth::counterweight::Status;
 use crate::synth::energy::EnergyField;
 use crate::synth::envelope::{
-    field_values, multipliers_of, needed_scenarios, scenario_sensitivities, Sensitivity,
+    field_values, multipliers_with, needed_scenarios, scenario_sensitivities, Sensitivity,
 };
 use crate::synth::minimax::{
     self as mm, AffineField, AffineValue, FnField, UNUSED_PLANAR, UNUSED_SCALAR,
@@ -60,15 +60,8 @@ pub(super) fn optimise_joint(
         scene.load_limits.main_bearing.is_some(),
     ];
     let energy = objective == Objective::MinEnergyFluctuation;
-    let (scenes, values, keep) = scenarios(scene, used, energy);
-    // Without balancers a scene is its own balancer-free copy (no clone).
-    let zeros_owned: Vec<Scene> = match nb {
-        0 => Vec::new(),
-        _ => scenes
-            .iter()
-            .map(|s| s.with_balancers(&vec![[0.0; 2]; nb]))
-            .collect(),
-    };
+    let (scenes, _, keep) = scenarios(scene, used, energy);
+    let zeros_owned = balancer_free(&scenes, nb);
     let zeros: &[Scene] = if nb == 0 { &scenes } else { &zeros_owned };
     let (grids, grid_of) = StateGrid::shared(&scenes, &keep, minimax_settings(scene).scan_samples);
     let jss: Vec<JointScene> = scenes
@@ -153,16 +146,15 @@ pub(super) fn optimise_joint(
         m.field = keep[m.field / stride] * stride + m.field % stride;
     }
     let mut optimum = jss[0].optimum(&sol, &bounds)?;
-    if scene.envelope.sensitivities && jss.len() > 1 {
-        let at = energy.then_some((n, offset0));
-        let built = Built {
-            scenes: &jss,
-            values: &values,
-            keep: &keep,
+    if jss.len() > 1 {
+        optimum.duals = Some(EnvelopeDuals {
+            multipliers: sol.multipliers.clone(),
+            status: sol.status,
+            x: sol.x.clone(),
+            kinds: kinds.clone(),
+            energy: energy.then_some((n, offset0)),
             used,
-        };
-        optimum.sensitivities =
-            Some(sensitivity_table(scene, &sol, &kinds, at, &built).map_err(|e| e.to_string()));
+        });
     }
     if let Some(e) = sets[0].energy.as_ref() {
         optimum.method = format!(
@@ -180,6 +172,34 @@ pub(super) fn optimise_joint(
         );
     }
     Ok(optimum)
+}
+
+/// What an envelope solve's sensitivity table is computed from ([`sensitivity_table`]):
+/// the optimum's multipliers, each on its field in every scenario's block, the design, and
+/// how the program was built.
+#[derive(Debug, Clone, PartialEq)]
+pub struct EnvelopeDuals {
+    multipliers: Vec<mm::Multiplier>,
+    status: Status,
+    x: Vec<f64>,
+    /// The engine's fields per scenario ([`FORCE`] … [`ENERGY`]), in order.
+    kinds: Vec<usize>,
+    /// For a ΔE design: (the variables, the first energy offset's index).
+    energy: Option<(usize, usize)>,
+    /// The fields the problem names (the multipliers are on no others).
+    used: [bool; 4],
+}
+
+/// The scenes with their balancers at 0 (empty without balancers: each scene is then its
+/// own balancer-free copy, not cloned).
+fn balancer_free(scenes: &[Scene], nb: usize) -> Vec<Scene> {
+    match nb {
+        0 => Vec::new(),
+        _ => scenes
+            .iter()
+            .map(|s| s.with_balancers(&vec![[0.0; 2]; nb]))
+            .collect(),
+    }
 }
 
 /// The scenes of a joint design — the scene alone, or the nominal scene and every vertex of
@@ -206,16 +226,6 @@ fn scenarios(
     );
     let (values, scenes) = all.into_iter().map(|s| (s.values, s.scene)).unzip();
     (scenes, values, keep)
-}
-
-/// The scenarios an envelope solve built: each one's fields on its scene, its parameters'
-/// values, and the indices of those the program kept.
-struct Built<'b, 'a> {
-    scenes: &'b [JointScene<'a>],
-    values: &'b [Vec<f64>],
-    keep: &'b [usize],
-    /// The fields the problem names (the multipliers are on no others).
-    used: [bool; 4],
 }
 
 /// One scenario's fields, in the engine's order within its stride: the force, the moment,
@@ -285,6 +295,9 @@ struct JointScene<'a> {
 /// closure with its square root and sine) are the same for all of them.
 struct StateGrid {
     states: Vec<State>,
+    /// N/(2π): a grid angle's index per radian (a product, not a division, per lookup:
+    /// every field of every scenario looks its states up here).
+    per_radian: f64,
 }
 
 impl StateGrid {
@@ -312,6 +325,7 @@ impl StateGrid {
                     .into_iter()
                     .map(|phi| scenes[o].mech.state(phi).expect("assembly checked"))
                     .collect(),
+                per_radian: n as f64 / std::f64::consts::TAU,
             })
             .collect();
         (grids, grid_of)
@@ -321,8 +335,7 @@ impl StateGrid {
     /// index by a truncating cast (a negative φ casts to 0, whose angle then differs), the
     /// angle's bits checked.
     fn get(&self, phi: f64) -> Option<&State> {
-        let n = self.states.len();
-        let k = (phi * n as f64 / std::f64::consts::TAU + 0.5) as usize;
+        let k = (phi * self.per_radian + 0.5) as usize;
         let s = self.states.get(k)?;
         (s.phi.to_bits() == phi.to_bits()).then_some(s)
     }
@@ -707,7 +720,7 @@ impl<'a> JointScene<'a> {
             rounds: sol.rounds,
             warnings,
             balancers: b,
-            sensitivities: None,
+            duals: None,
         })
     }
 }
@@ -729,45 +742,48 @@ fn minimax_settings(scene: &Scene) -> mm::Settings {
 }
 
 /// What each interval of the operating envelope costs (issue 33, item 3): the sensitivity
-/// table of the envelope solve `sol` of `scene` (the engine's fields `kinds` per scenario,
-/// `energy` = (n, the first offset's index) for a ΔE design), dV*/d(end) for every interval
+/// table of an envelope solve of `scene` from its `duals`, dV*/d(end) for every interval
 /// end, so a designer sees which tolerance or speed limit to tighten first. By the envelope
-/// theorem from the optimum's multipliers (`synth::envelope::sensitivities`): free once the
-/// program is solved. The part here is the family's: one active maximum's field evaluated
-/// with one parameter of its scenario moved, the design and the angle held — on the scene
-/// `built` already has where the values are a vertex's (the partner vertex of a mass or the
-/// speed: every figure is affine in a mass and in ω²), else on the scene rebuilt at θ ± h
-/// (a length). An error when the optimum has no multipliers (not certified by Newton's
-/// polish). The tests check the table against whole re-solves.
-fn sensitivity_table(
+/// theorem from the optimum's multipliers (`synth::envelope::sensitivities`): no re-solve.
+/// The part here is the family's: one active maximum's field evaluated with one parameter
+/// of its scenario moved, the design and the angle held — on the scenario's vertex partner
+/// where the values are a vertex's (a mass or the speed: every figure is affine in a mass
+/// and in ω²), else on the scene rebuilt at θ ± h (a length). An error when the optimum
+/// has no multipliers (not certified by Newton's polish). The tests check the table
+/// against whole re-solves.
+pub fn sensitivity_table(
     scene: &Scene,
-    sol: &mm::Solution,
-    kinds: &[usize],
-    energy: Option<(usize, usize)>,
-    built: &Built,
+    duals: &EnvelopeDuals,
 ) -> Result<Vec<Sensitivity>, SolveError> {
-    let stride = kinds.len();
-    let multipliers = multipliers_of(sol).map_err(SolveError::Numeric)?;
+    let stride = duals.kinds.len();
+    let multipliers =
+        multipliers_with(&duals.multipliers, duals.status).map_err(SolveError::Numeric)?;
     let env = &scene.envelope;
     let nb = scene.balancers.len();
-    let fields_at = |k: usize, values: &[f64], ms: &[&mm::Multiplier]| {
+    let energy = duals.energy.is_some();
+    let (scenes, values, keep) = scenarios(scene, duals.used, energy);
+    let zeros_owned = balancer_free(&scenes, nb);
+    let zeros: &[Scene] = if nb == 0 { &scenes } else { &zeros_owned };
+    let built: Vec<JointScene> = (scenes.iter().zip(zeros))
+        .map(|(s, z)| JointScene::new(s, z, nb))
+        .collect();
+    let fields_at = |k: usize, at_values: &[f64], ms: &[&mm::Multiplier]| {
         // Scenario k's energy offset is the engine's variable of its place among `keep`.
-        let place = built
-            .keep
+        let place = keep
             .iter()
             .position(|&j| j == k)
             .expect("an active scenario is kept");
-        let energy = energy.map(|(n, o)| (n, o + place));
-        let at = ms.iter().map(|m| (kinds[m.field % stride], m.angle));
-        if let Some(j) = built.values.iter().position(|v| v == values) {
-            let set = built.scenes[j].fields(built.used, energy)?;
-            return Ok(field_values(&set.all(), at, &sol.x));
+        let energy = duals.energy.map(|(n, o)| (n, o + place));
+        let at = ms.iter().map(|m| (duals.kinds[m.field % stride], m.angle));
+        if let Some(j) = values.iter().position(|v| v == at_values) {
+            let set = built[j].fields(duals.used, energy)?;
+            return Ok(field_values(&set.all(), at, &duals.x));
         }
-        let s = env.at(scene, values.to_vec()).scene;
+        let s = env.at(scene, at_values.to_vec()).scene;
         let zero = s.with_balancers(&vec![[0.0; 2]; nb]);
         let js = JointScene::new(&s, &zero, nb);
         let set = js.fields([true; 4], energy)?;
-        Ok(field_values(&set.all(), at, &sol.x))
+        Ok(field_values(&set.all(), at, &duals.x))
     };
     scenario_sensitivities(
         &env.names(),

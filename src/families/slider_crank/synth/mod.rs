@@ -39,6 +39,7 @@ pub use envelope::{
     WorstCase, MAX_PARAMETERS,
 };
 pub use fields::{drive_torque, force0, moment0, scene_force, shaking_force};
+pub use joint::{sensitivity_table, EnvelopeDuals};
 pub use metrics::metrics;
 pub use optimise::optimise;
 pub use outcome::{

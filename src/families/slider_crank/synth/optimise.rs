@@ -114,7 +114,7 @@ pub(super) fn optimise_with(
         rounds: found.rounds,
         warnings,
         balancers: Vec::new(),
-        sensitivities: None,
+        duals: None,
     })
 }
 

@@ -593,7 +593,8 @@ pub struct Optimum {
     pub warnings: Vec<String>,
     /// The balancers' unbalances B_n = (B_c, B_s) (kg·m), in the scene's order.
     pub balancers: Vec<[f64; 2]>,
-    /// The envelope's sensitivity table from the optimum's multipliers (`[mechanism.envelope]
-    /// sensitivities = true`): `Err` says why it could not be computed.
-    pub sensitivities: Option<Result<Vec<super::Sensitivity>, String>>,
+    /// What the envelope's sensitivity table is computed from, for an envelope solve by the
+    /// joint engine ([`super::sensitivity_table`], in the solve's report stage as the
+    /// linkage does: a sweep or a front of optima does not pay for tables it never shows).
+    pub duals: Option<super::EnvelopeDuals>,
 }

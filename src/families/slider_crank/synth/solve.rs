@@ -4,6 +4,7 @@
 use super::baselines::{baselines_sampled, judge_baseline};
 use super::drive::energy_fluctuation;
 use super::fields::{moment0, torque_independent_of_counterweight, Normalised, Sampled};
+use super::joint::sensitivity_table;
 use super::loads::{check_load_limits, joint_load_peaks};
 use super::metrics::{grid_extremes, metrics, metrics_sampled};
 use super::optimise::optimise_with;
@@ -62,9 +63,13 @@ pub fn solve(scene: &Scene) -> Result<Outcome, SolveError> {
         method,
         mut warnings,
         balancers,
-        sensitivities,
+        duals,
         ..
     } = optimum;
+    // The envelope's sensitivity table, where asked: the duals' report figure.
+    let sensitivities = duals
+        .filter(|_| scene.envelope.sensitivities)
+        .map(|d| sensitivity_table(scene, &d).map_err(|e| e.to_string()));
     // The design's figures on the scene with its balancers (the scene itself without any);
     // the baselines on the scene as read (no balancers).
     let designed = scene.with_balancers(&balancers);
