@@ -439,8 +439,7 @@ pub fn field_values(
     let mut out = AffineValue::zeros(x.len());
     at.into_iter()
         .map(|(f, theta)| {
-            out.b = [0.0; 2];
-            out.a.iter_mut().for_each(|v| *v = 0.0);
+            out.clear();
             fields[f].eval(theta, &mut out);
             (out.at(fields[f].dim(), x), fields[f].error(theta, x))
         })

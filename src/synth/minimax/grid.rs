@@ -70,8 +70,7 @@ impl FieldGrid {
         let mut a = vec![0.0; w * angles.len()];
         let mut v = AffineValue::zeros(n);
         for (&theta, row) in angles.iter().zip(a.chunks_exact_mut(w.max(1))) {
-            v.b = [0.0; 2];
-            v.a.iter_mut().for_each(|a| *a = 0.0);
+            v.clear();
             field.eval(theta, &mut v);
             check_finite(field, theta, &v)?;
             b.push(v.b);
@@ -86,13 +85,9 @@ impl FieldGrid {
         self.b.len()
     }
 
-    /// The value at angle k.
-    pub(super) fn get(&self, k: usize) -> GridValue<'_> {
-        let w = 2 * self.n;
-        GridValue {
-            b: self.b[k],
-            a: &self.a[k * w..(k + 1) * w],
-        }
+    /// The value at the first angle (θ = 0), if any.
+    pub(super) fn first(&self) -> Option<GridValue<'_>> {
+        self.iter().next()
     }
 
     /// The values in the order of the angles.

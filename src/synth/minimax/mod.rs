@@ -205,14 +205,18 @@ impl AffineValue {
         };
         AffineValue { b: [0.0; 2], a }
     }
+    /// Every entry back to zero (a field's `eval` writes into a zeroed value), n kept.
+    pub fn clear(&mut self) {
+        self.b = [0.0; 2];
+        self.a.iter_mut().for_each(|a| *a = 0.0);
+    }
     /// n.
     pub fn n(&self) -> usize {
         self.a.len() / 2
     }
     /// Row r of A.
     pub fn row(&self, r: usize) -> &[f64] {
-        let n = self.n();
-        &self.a[r * n..(r + 1) * n]
+        self.view().row(r)
     }
     /// Row r of A, to fill in.
     pub fn row_mut(&mut self, r: usize) -> &mut [f64] {

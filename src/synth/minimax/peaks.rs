@@ -41,8 +41,7 @@ impl<'p, 'a> Engine<'p, 'a> {
             &ys,
             |theta| {
                 let mut v = buf.borrow_mut();
-                v.b = [0.0; 2];
-                v.a.iter_mut().for_each(|a| *a = 0.0);
+                v.clear();
                 field.eval(theta, &mut v);
                 v.magnitude(d, x)
             },

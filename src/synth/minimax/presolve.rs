@@ -185,10 +185,7 @@ impl<'p, 'a> Engine<'p, 'a> {
                 return None;
             }
             // c from the scan grid's first value (θ = 0), already evaluated.
-            if self.grid[f].len() == 0 {
-                return None;
-            }
-            let form = DiscForm::scaled_by(&u_block(self.grid[f].get(0)))?;
+            let form = DiscForm::scaled_by(&u_block(self.grid[f].first()?))?;
             forms.push((form, w * form.c()));
         }
         let top = forms.iter().map(|f| f.1).fold(0.0, f64::max);
