@@ -4,6 +4,10 @@
 //! map is not part of a solve (it is report data, computed when files are written) and is
 //! timed on its own; one Δh evaluation is benchmarked for scale.
 
+// The shipped builds' allocator (src/main.rs, python/src/lib.rs): benches time what users run.
+#[global_allocator]
+static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;
+
 use criterion::{criterion_group, criterion_main, Criterion};
 use cwsynth::families::crane::synth::*;
 use std::hint::black_box;

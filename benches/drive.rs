@@ -4,6 +4,10 @@
 //! that minimises ΔE (certified). Targets: the steady state ≤ 2 ms, the ΔE-optimal
 //! counterweight ≤ 1 ms; the piston over an envelope of 8 vertices against the nominal piston
 //! (target ≤ 5×).
+
+// The shipped builds' allocator (src/main.rs, python/src/lib.rs): benches time what users run.
+#[global_allocator]
+static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;
 use criterion::{criterion_group, criterion_main, Criterion};
 use cwsynth::dynamics::{constant_speed, least_flywheel, steady_state, DriveSettings, Motor};
 use cwsynth::families::slider_crank::synth::{machine, optimise, paper_piston, sensitivity_table};

@@ -2,6 +2,10 @@
 //! µ1, µ2 located (closure of a, all poles and zeros, peak |µ| on the working window,
 //! gear 2's convexity) under 10 ms median.
 
+// The shipped builds' allocator (src/main.rs, python/src/lib.rs): benches time what users run.
+#[global_allocator]
+static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;
+
 use criterion::{criterion_group, criterion_main, Criterion};
 use cwsynth::families::gear::model::{
     closing_center_distance, singularities, EccentricCircle, GearPair,

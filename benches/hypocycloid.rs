@@ -1,6 +1,10 @@
 //! Speed targets of issue 5: tracing a zero curve of 100 points at 1e-12 (< 50 ms median),
 //! plus the cost of one exact coefficient table and of a full `solve` of the paper example.
 
+// The shipped builds' allocator (src/main.rs, python/src/lib.rs): benches time what users run.
+#[global_allocator]
+static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;
+
 use criterion::{criterion_group, criterion_main, Criterion};
 use cwsynth::families::hypocycloid::model::{Hypocycloid, ALPHA0_VARIANT2};
 use cwsynth::families::hypocycloid::synth::{

@@ -26,6 +26,10 @@
 //!   candidates, each its path error and its balancing, over rayon's pool (all cores),
 //!   reported as candidates per second.
 
+// The shipped builds' allocator (src/main.rs, python/src/lib.rs): benches time what users run.
+#[global_allocator]
+static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;
+
 use criterion::{criterion_group, criterion_main, Criterion};
 use cwsynth::families::linkage::file::LinkageProblem;
 use cwsynth::families::linkage::synth::{

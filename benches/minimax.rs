@@ -2,6 +2,10 @@
 //! (force and moment fields), a 20-point force–moment Pareto front (each point its own
 //! certified SOCP exchange loop).
 
+// The shipped builds' allocator (src/main.rs, python/src/lib.rs): benches time what users run.
+#[global_allocator]
+static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;
+
 #[path = "../tests/common/synthetic_linkage.rs"]
 mod synthetic_linkage;
 

@@ -1,6 +1,10 @@
 //! The full minimax counterweight solve of the paper's piston (Table 1, 1000 rpm, rod split
 //! half–half) to 1e-9 relative: presolve + exact disc rounds (the default) or clarabel's SOCP
 //! (`exact_disc = false`) + exchange loop + verified refined peak.
+
+// The shipped builds' allocator (src/main.rs, python/src/lib.rs): benches time what users run.
+#[global_allocator]
+static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;
 use criterion::{criterion_group, criterion_main, Criterion};
 use cwsynth::families::slider_crank::synth::{optimise, shaking_force, solve, Scene};
 

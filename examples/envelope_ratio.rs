@@ -18,6 +18,10 @@
 //! The third counts `benches/drive.rs::bench_energy_design`: the felling head's counterweight
 //! that minimises ΔE (issue 33: ≤ 1 ms); the last the envelope's sensitivity table from its
 //! optimum's duals (`drive/envelope_sensitivity_table`).
+// The shipped builds' allocator (src/main.rs, python/src/lib.rs), as in the benches.
+#[global_allocator]
+static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;
+
 use cwsynth::families::slider_crank::synth::{
     optimise, sensitivity_table, EnvelopeDuals, Optimum, Scene, Sensitivity,
 };

@@ -1,7 +1,8 @@
 //! `batch` (`src/batch/`): a fleet CSV read the fast way and the slow way, units from cells
 //! and headers, row hashes and record lines (`fleet.rs`); formula escaping of a summary row
 //! (`row.rs`); the shard from a job array's variables (`inputs.rs`); the hash of a written
-//! file (`hash.rs`); the size a run with per-machine files announces (`mod.rs`).
+//! file (`hash.rs`); the size a run with per-machine files announces (`mod.rs`); the names
+//! taken twice (`names.rs`).
 //!
 //! These were the library's unit tests (`#[cfg(test)] mod tests` in the source file), moved
 //! here so that the library is compiled once, not a second time as its unit-test harness
@@ -503,4 +504,65 @@ fn the_input_hash_covers_the_drawings_a_problem_reads() {
         problem_hash("x = 1\n", &path),
         cwsynth::batch::content_hash("x = 1\n")
     );
+}
+
+/// `src/batch/names.rs`: the names taken twice, found by the spilled radix split exactly as
+/// by a hash map of every key (the old way, memory growing with the run).
+mod names {
+    use cwsynth::batch::first_of_repeated;
+    use std::collections::HashMap;
+
+    /// The brute force: every key remembered with its first index.
+    fn brute(claims: &[(u64, u64)]) -> HashMap<u64, u64> {
+        let mut first: HashMap<u64, (u64, u32)> = HashMap::new();
+        for &(k, i) in claims {
+            first.entry(k).or_insert((i, 0)).1 += 1;
+        }
+        first
+            .into_iter()
+            .filter(|(_, (_, n))| *n > 1)
+            .map(|(k, (i, _))| (k, i))
+            .collect()
+    }
+
+    /// Random keys (a 64-bit LCG), some repeated up to four times, some sharing their top
+    /// bits (one bucket), indices ascending.
+    fn claims(n: u64) -> Vec<(u64, u64)> {
+        let mut s = 0x9E37_79B9_7F4A_7C15u64;
+        let mut next = || {
+            s = s
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            s
+        };
+        let mut out: Vec<(u64, u64)> = Vec::new();
+        for i in 0..n {
+            let r = next();
+            let k = match r % 10 {
+                0 if i > 0 => out[(next() % i) as usize].0, // an earlier name again
+                1 => r & 0x00FF_FFFF,                       // top bits all zero
+                _ => next(),
+            };
+            out.push((k, i));
+        }
+        out
+    }
+
+    #[test]
+    fn the_spilled_split_finds_the_repeats_a_hash_map_finds() {
+        let dir = tempfile::tempdir().unwrap();
+        let c = claims(200_000);
+        let expect = brute(&c);
+        assert!(expect.len() > 10_000, "{} repeated keys", expect.len());
+        // In memory (a small run), then spilled to 2 and to the most files.
+        for expected in [1_000, 100_000, 10_000_000] {
+            let got = first_of_repeated(c.iter().copied(), expected, dir.path()).unwrap();
+            assert_eq!(got, expect, "expected size {expected}");
+        }
+        // The spill files are anonymous: nothing is left in the directory.
+        assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0);
+        // No claims, no repeats.
+        let none = first_of_repeated(std::iter::empty(), 10_000_000, dir.path()).unwrap();
+        assert!(none.is_empty());
+    }
 }

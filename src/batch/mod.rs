@@ -35,6 +35,7 @@ mod inputs;
 mod isolate;
 mod layout;
 mod merge;
+mod names;
 mod overview;
 mod progress;
 mod reports;
@@ -53,6 +54,8 @@ pub use inputs::{expand, expand_inputs, parse_shard, shard_from_env, Input};
 pub use isolate::{isolate, test_panic};
 pub use layout::{Layout, LARGE_RUN, MACHINES_DIR, MACHINES_PER_FOLDER};
 pub use merge::merge;
+#[doc(hidden)]
+pub use names::first_of_repeated;
 pub use overview::{REPORT_PLOTS, REPORT_ROWS};
 pub use reports::write_reports;
 pub use row::{
@@ -63,6 +66,7 @@ pub use summary::summary_name;
 
 use crate::families::{parse_str, solve_scene};
 use inputs::{count_machines, Jobs, Work};
+use names::Names;
 use progress::Progress;
 use rayon::prelude::*;
 use resume::{
@@ -92,70 +96,6 @@ pub struct Options {
     pub summary_only: bool,
     /// Units of the machines' reports (their JSON is SI).
     pub units: crate::report::Units,
-}
-
-/// Names already taken in this run, keyed by a 64-bit hash (SipHash with fixed keys, so the
-/// same in every run) instead of the name: 16 bytes per machine plus the table's overhead
-/// (≈ 3 MB for 100 000), and the source only for files (few). Two different names colliding
-/// (probability ~n²/2⁶⁵) would be reported as a duplicate, never silently overwritten. Each
-/// shard checks its own machines only.
-#[derive(Default)]
-struct Names {
-    index: std::collections::HashMap<u64, u64>,
-    file: std::collections::HashMap<u64, String>,
-}
-
-impl Names {
-    /// Claims `name` (compared without case) for machine `index` (from the file `file`, if
-    /// any); a name already claimed gives the first claimant's index and file ("" for a fleet row).
-    fn claim(&mut self, name: &str, index: u64, file: Option<String>) -> Option<(u64, String)> {
-        use std::hash::{Hash, Hasher};
-        // Without case: names equal but for case clash on case-insensitive file systems.
-        let mut h = std::collections::hash_map::DefaultHasher::new();
-        for b in name.bytes() {
-            b.to_ascii_lowercase().hash(&mut h);
-        }
-        let key = h.finish();
-        match self.index.entry(key) {
-            std::collections::hash_map::Entry::Occupied(e) => {
-                Some((*e.get(), self.file.get(&key).cloned().unwrap_or_default()))
-            }
-            std::collections::hash_map::Entry::Vacant(v) => {
-                v.insert(index);
-                if let Some(f) = file {
-                    self.file.insert(key, f);
-                }
-                None
-            }
-        }
-    }
-
-    /// The work of machine `index`, or, if its name (known before solving) is taken by an
-    /// earlier machine, an error row's work saying so: both would write the same files.
-    fn check(&mut self, index: u64, work: Work) -> Work {
-        let Some(name) = work.name() else {
-            return work;
-        };
-        let file = match &work {
-            Work::File { .. } => Some(work.source()),
-            _ => None,
-        };
-        match self.claim(&name, index, file) {
-            Some((first, first_src)) => Work::Broken {
-                message: format!(
-                    "{}: duplicate name `{name}`: machine {first}{} already has it, and both would write `{name}.json`; give this machine another name",
-                    work.source(),
-                    if first_src.is_empty() {
-                        String::new()
-                    } else {
-                        format!(" ({first_src})")
-                    }
-                ),
-                name,
-            },
-            None => work,
-        }
-    }
 }
 
 /// One machine to solve: its index, its work, and its row of the previous run, if any.
@@ -333,11 +273,13 @@ pub fn run(inputs: Vec<Input>, opts: &Options) -> Result<Counts, BatchError> {
         .filter(|i| matches!(i, Input::Fleet { .. }))
         .cloned()
         .collect();
-    let mut jobs = Jobs::new(inputs).filter(|(i, _)| i % sn == si);
     // Two machines with one name would write the same result files: the first (in input
-    // order) keeps the name, every later one is reported and not solved. Decided here, in
-    // input order before the parallel solve, so the outcome does not depend on threads.
-    let mut names = Names::default();
+    // order) keeps the name, every later one is reported and not solved. Decided in a pass
+    // before the solve, in memory that does not grow with the run, so the outcome does
+    // not depend on threads.
+    let mine_only = move |(i, _): &(u64, Work)| i % sn == si;
+    let mut names = Names::scan(Jobs::new(inputs.clone()).filter(mine_only), mine, &opts.out)?;
+    let mut jobs = Jobs::new(inputs).filter(mine_only);
     loop {
         let chunk: Vec<Job> = jobs
             .by_ref()

@@ -67,15 +67,16 @@ impl FieldGrid {
     ) -> Result<FieldGrid, MinimaxError> {
         let w = 2 * n;
         let mut b = Vec::with_capacity(angles.len());
-        let mut a = vec![0.0; w * angles.len()];
+        // Extended value by value, not zeroed first and then written (the zeroing cost
+        // ~2.5 % of the envelope bench's instructions; element-wise pushes cost more).
+        let mut a = Vec::with_capacity(w * angles.len());
         let mut v = AffineValue::zeros(n);
-        for (&theta, row) in angles.iter().zip(a.chunks_exact_mut(w.max(1))) {
+        for &theta in angles {
             v.clear();
             field.eval(theta, &mut v);
             check_finite(field, theta, &v)?;
             b.push(v.b);
-            // Element by element: a call to memcpy per value cost more than the copy.
-            row.iter_mut().zip(&v.a).for_each(|(r, a)| *r = *a);
+            a.extend_from_slice(&v.a);
         }
         Ok(FieldGrid { n, b, a })
     }
