@@ -8,7 +8,7 @@
 use super::error::BatchError;
 use super::fleet::{csv_reader, Lines, Template};
 use super::inputs::Input;
-use super::row::{escape_formula, Row};
+use super::row::escape_formula;
 use crate::report::write_atomic_with;
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
@@ -58,19 +58,6 @@ pub fn write_fleet_tables(dir: &Path, inputs: &[Input]) -> Result<(), BatchError
         // the columns (the union of the design and objective keys), once for the rows — so
         // the memory stays flat however long the fleet.
         let prefix = format!("{}:", csv.display());
-        let fleet_rows = |rdr: csv::Reader<std::fs::File>| {
-            let prefix = prefix.clone();
-            rdr.into_deserialize::<Row>()
-                .flatten()
-                .filter_map(move |row| {
-                    let row = row.csv_unescaped();
-                    let line = row
-                        .source
-                        .strip_prefix(&prefix)
-                        .and_then(|l| l.parse::<u64>().ok())?;
-                    Some((line, row))
-                })
-        };
         // The first pass reads only the three cells it needs, as raw records (the keys are
         // plain words: no text escaping applies to them).
         let mut design_keys: BTreeSet<String> = BTreeSet::new();
@@ -120,7 +107,7 @@ pub fn write_fleet_tables(dir: &Path, inputs: &[Input]) -> Result<(), BatchError
         head.extend(design_keys.iter().map(|k| format!("design.{k}")));
         head.extend(objective_keys.iter().map(|k| format!("objectives.{k}")));
         head.extend(["objective".into(), "error".into(), "message".into()]);
-        let rows = fleet_rows(read_summary()?);
+        let rows = SummaryCells::read(read_summary()?, &prefix);
         let to_io = std::io::Error::other;
         write_atomic_with(&fleet_table_path(dir, csv), |out| {
             let mut w = csv::Writer::from_writer(out);
@@ -142,10 +129,10 @@ pub fn write_fleet_tables(dir: &Path, inputs: &[Input]) -> Result<(), BatchError
                     continue;
                 }
                 let cells: Vec<String> = rec.iter().map(str::to_string).collect();
-                let r = r.csv_escaped();
-                let (d, o) = (split(&r.design), split(&r.objectives));
-                let mut out: Vec<String> =
-                    vec![r.index.to_string(), r.name.clone(), r.status.clone()];
+                let (d, o) = (split(r.get(Col::Design)), split(r.get(Col::Objectives)));
+                let mut out: Vec<String> = [Col::Index, Col::Name, Col::Status]
+                    .map(|c| r.get(c).to_string())
+                    .into();
                 out.extend(inputs.iter().map(|&k| {
                     let mut c = tpl.effective_cell(k, &cells);
                     // The fleet's cells are text from outside: escaped like the summary's
@@ -157,9 +144,9 @@ pub fn write_fleet_tables(dir: &Path, inputs: &[Input]) -> Result<(), BatchError
                 }));
                 out.extend(design_keys.iter().map(|k| get(&d, k)));
                 out.extend(objective_keys.iter().map(|k| get(&o, k)));
-                out.push(r.objective.clone());
-                out.push(r.error.map(|e| e.to_string()).unwrap_or_default());
-                out.push(r.message.clone());
+                out.push(r.get(Col::Objective).to_string());
+                out.push(r.error());
+                out.push(r.get(Col::Message).to_string());
                 w.write_record(&out).map_err(to_io)?;
             }
             w.flush()
@@ -167,4 +154,80 @@ pub fn write_fleet_tables(dir: &Path, inputs: &[Input]) -> Result<(), BatchError
         .map_err(BatchError::Written)?;
     }
     Ok(())
+}
+
+/// The summary cells the fleet table shows, by their header's position.
+#[derive(Clone, Copy)]
+enum Col {
+    Index,
+    Name,
+    Status,
+    Objective,
+    Error,
+    Design,
+    Objectives,
+    Source,
+    Message,
+}
+
+const COLS: [&str; 9] = [
+    "index",
+    "name",
+    "status",
+    "objective",
+    "error",
+    "design",
+    "objectives",
+    "source",
+    "message",
+];
+
+/// One summary row's cells as written (formula-escaped, as the table shows them): no
+/// deserialisation into a [`super::row::Row`] and no copy of its texts per row.
+struct SummaryCells {
+    rec: csv::StringRecord,
+    at: [usize; 9],
+}
+
+impl SummaryCells {
+    /// The rows of `rdr` from the fleet whose sources start with `prefix` (`fleet.csv:`), with
+    /// their CSV line; a summary without one of the columns gives none.
+    fn read(
+        mut rdr: csv::Reader<std::fs::File>,
+        prefix: &str,
+    ) -> impl Iterator<Item = (u64, SummaryCells)> + '_ {
+        let head = rdr.headers().cloned().unwrap_or_default();
+        let at = COLS.map(|c| head.iter().position(|h| h == c));
+        let at = at
+            .iter()
+            .all(Option::is_some)
+            .then(|| at.map(|p| p.unwrap_or(0)));
+        rdr.into_records()
+            .take_while(move |_| at.is_some())
+            .flatten()
+            .filter_map(move |rec| {
+                let row = SummaryCells {
+                    rec,
+                    at: at.unwrap_or_default(),
+                };
+                // A source starting like a formula is written with a leading `'`.
+                let source = row.get(Col::Source);
+                let source = source.strip_prefix('\'').unwrap_or(source);
+                let line = source.strip_prefix(prefix)?.parse::<u64>().ok()?;
+                row.get(Col::Index).parse::<u64>().ok()?;
+                Some((line, row))
+            })
+    }
+
+    fn get(&self, c: Col) -> &str {
+        self.rec.get(self.at[c as usize]).unwrap_or("")
+    }
+
+    /// The error column as the table has always written it (a number's `Display`).
+    fn error(&self) -> String {
+        self.get(Col::Error)
+            .parse::<f64>()
+            .map(|e| e.to_string())
+            .unwrap_or_default()
+    }
 }
