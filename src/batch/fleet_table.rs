@@ -58,34 +58,17 @@ pub fn write_fleet_tables(dir: &Path, inputs: &[Input]) -> Result<(), BatchError
         // the columns (the union of the design and objective keys), once for the rows — so
         // the memory stays flat however long the fleet.
         let prefix = format!("{}:", csv.display());
-        // The first pass reads only the three cells it needs, as raw records (the keys are
-        // plain words: no text escaping applies to them).
+        let rows = || SummaryCells::read(read_summary()?, &prefix, &summary);
         let mut design_keys: BTreeSet<String> = BTreeSet::new();
         let mut objective_keys: BTreeSet<String> = BTreeSet::new();
-        {
-            let mut rdr = read_summary()?;
-            let head = rdr
-                .headers()
-                .map_err(|e| BatchError::io("cannot read", &summary, std::io::Error::other(e)))?;
-            let col = |name: &str| head.iter().position(|h| h == name);
-            if let (Some(cs), Some(cd), Some(co)) =
-                (col("source"), col("design"), col("objectives"))
-            {
-                let mut rec = csv::StringRecord::new();
-                while rdr.read_record(&mut rec).unwrap_or(false) {
-                    let in_fleet = rec
-                        .get(cs)
-                        .and_then(|c| c.strip_prefix(&prefix))
-                        .is_some_and(|l| l.parse::<u64>().is_ok());
-                    if !in_fleet {
-                        continue;
-                    }
-                    for (set, c) in [(&mut design_keys, cd), (&mut objective_keys, co)] {
-                        for (k, _) in split(rec.get(c).unwrap_or("")) {
-                            if !set.contains(k) {
-                                set.insert(k.to_string());
-                            }
-                        }
+        for (_, r) in rows()? {
+            for (set, c) in [
+                (&mut design_keys, Col::Design),
+                (&mut objective_keys, Col::Objectives),
+            ] {
+                for (k, _) in split(r.get(c)) {
+                    if !set.contains(k) {
+                        set.insert(k.to_string());
                     }
                 }
             }
@@ -107,7 +90,7 @@ pub fn write_fleet_tables(dir: &Path, inputs: &[Input]) -> Result<(), BatchError
         head.extend(design_keys.iter().map(|k| format!("design.{k}")));
         head.extend(objective_keys.iter().map(|k| format!("objectives.{k}")));
         head.extend(["objective".into(), "error".into(), "message".into()]);
-        let rows = SummaryCells::read(read_summary()?, &prefix);
+        let rows = rows()?;
         let to_io = std::io::Error::other;
         write_atomic_with(&fleet_table_path(dir, csv), |out| {
             let mut w = csv::Writer::from_writer(out);
@@ -190,33 +173,31 @@ struct SummaryCells {
 }
 
 impl SummaryCells {
-    /// The rows of `rdr` from the fleet whose sources start with `prefix` (`fleet.csv:`), with
-    /// their CSV line; a summary without one of the columns gives none.
-    fn read(
+    /// The rows of `rdr` (the summary `path`) from the fleet whose sources start with
+    /// `prefix` (`fleet.csv:`), with their CSV line; a summary without one of the columns
+    /// gives none.
+    fn read<'p>(
         mut rdr: csv::Reader<std::fs::File>,
-        prefix: &str,
-    ) -> impl Iterator<Item = (u64, SummaryCells)> + '_ {
-        let head = rdr.headers().cloned().unwrap_or_default();
+        prefix: &'p str,
+        path: &Path,
+    ) -> Result<impl Iterator<Item = (u64, SummaryCells)> + 'p, BatchError> {
+        let head = rdr
+            .headers()
+            .map_err(|e| BatchError::io("cannot read", path, std::io::Error::other(e)))?;
         let at = COLS.map(|c| head.iter().position(|h| h == c));
-        let at = at
+        let at: Option<[usize; 9]> = at
             .iter()
             .all(Option::is_some)
-            .then(|| at.map(|p| p.unwrap_or(0)));
-        rdr.into_records()
-            .take_while(move |_| at.is_some())
-            .flatten()
-            .filter_map(move |rec| {
-                let row = SummaryCells {
-                    rec,
-                    at: at.unwrap_or_default(),
-                };
-                // A source starting like a formula is written with a leading `'`.
-                let source = row.get(Col::Source);
-                let source = source.strip_prefix('\'').unwrap_or(source);
-                let line = source.strip_prefix(prefix)?.parse::<u64>().ok()?;
-                row.get(Col::Index).parse::<u64>().ok()?;
-                Some((line, row))
-            })
+            .then(|| at.map(Option::unwrap_or_default));
+        Ok(rdr.into_records().flatten().filter_map(move |rec| {
+            let row = SummaryCells { rec, at: at? };
+            // A source starting like a formula is written with a leading `'`.
+            let source = row.get(Col::Source);
+            let source = source.strip_prefix('\'').unwrap_or(source);
+            let line = source.strip_prefix(prefix)?.parse::<u64>().ok()?;
+            row.get(Col::Index).parse::<u64>().ok()?;
+            Some((line, row))
+        }))
     }
 
     fn get(&self, c: Col) -> &str {

@@ -28,7 +28,7 @@ const IN_MEMORY: u64 = 1 << 16;
 /// Target entries per spilled bucket; the bucket count is the run's size over this.
 const PER_BUCKET: u64 = 1 << 15;
 /// At most this many spill files (each with an 8 KB write buffer).
-pub(super) const MAX_BUCKETS: u64 = 256;
+const MAX_BUCKETS: u64 = 256;
 
 /// The names taken twice or more in a run, with their first claimant.
 #[derive(Default)]
@@ -39,8 +39,8 @@ pub(super) struct Names {
 /// The first machine (in input order) with a name that later machines also have.
 struct Claim {
     first: u64,
-    /// Its source (a file's path, "" for a fleet row), once the solve loop has met it.
-    source: Option<String>,
+    /// Its source (a file's path; empty for a fleet row, or until the solve loop meets it).
+    source: String,
 }
 
 /// The key of a machine's name: case-insensitive (names equal but for case clash on
@@ -70,7 +70,7 @@ impl Names {
                     k,
                     Claim {
                         first,
-                        source: None,
+                        source: String::new(),
                     },
                 )
             })
@@ -91,15 +91,14 @@ impl Names {
             return work;
         };
         if claim.first == index {
-            claim.source = Some(match &work {
-                Work::File { .. } => work.source(),
-                _ => String::new(),
-            });
+            if let Work::File { .. } = work {
+                claim.source = work.source();
+            }
             return work;
         }
-        let first_src = match claim.source.as_deref() {
-            None | Some("") => String::new(),
-            Some(s) => format!(" ({s})"),
+        let first_src = match claim.source.as_str() {
+            "" => String::new(),
+            s => format!(" ({s})"),
         };
         Work::Broken {
             message: format!(
