@@ -7,7 +7,8 @@
 //! * [`nelder_mead`] — argmin's `NelderMead` (Nelder & Mead 1965) driven by argmin's
 //!   `Executor`; the cost evaluations are counted here, once.
 //! * [`sqp`] — a trust-region Sℓ1QP (Fletcher 1987, §14.5) for a minimax of smooth pieces
-//!   under constraints; hand-written, see its module for why no crate serves.
+//!   under constraints; hand-written, see its module for why no crate serves. Its steps
+//!   are small dense QPs, solved by the primal active-set method of [`qp`].
 //! * 1-D: argmin's `BrentOpt` and `BrentRoot` through [`crate::numeric::minimize_1d`] and
 //!   [`crate::numeric::brent_root`]; the innermost peak loops use the hand-written
 //!   [`crate::numeric::brent_max`] (Brent's fmin) for speed.
@@ -23,6 +24,7 @@
 pub mod constrained;
 mod evidence;
 mod nelder_mead;
+pub mod qp;
 pub mod sqp;
 pub mod starts;
 

@@ -7,18 +7,23 @@
 //! ed., Wiley 1987, §14.5, with the second-order correction of §14.4): every piece a
 //! linearised row of a QP, the constraints linearised with elastic slacks, an exact ℓ1
 //! merit, a trust region in the ∞-norm, and a damped BFGS Hessian of the Lagrangian (Powell
-//! 1978). Each QP is solved by clarabel.
+//! 1978). Each QP is solved by the dense primal active-set method of [`super::qp`] (tens of
+//! thousands of instructions for the crane's ~11 variables and ~25 rows, where clarabel's
+//! interior point costs ~0.86 M), with clarabel as the fallback when that answer fails its
+//! check.
 //!
 //! It is hand-written because no well-kept crate provides it: argmin has unconstrained
 //! methods (its trust region takes no constraints) and none of them for a minimax of
 //! pieces that appear and vanish; the SQP crates on crates.io are unmaintained or wrap a C
 //! or Fortran library (NLopt's SLSQP, IPOPT), which would neither see the minimax structure
-//! nor keep the build pure Rust. The subproblems are convex QPs, which clarabel solves.
+//! nor keep the build pure Rust. The subproblems are small convex QPs ([`super::qp`]).
 //!
 //! The problem supplies its pieces and constraints through [`Minimax`]; the search moves u
 //! in the unit box (the caller maps it onto its variables) and counts its evaluations.
 
 use std::cell::Cell;
+
+use super::qp::{active_set, solve_dense, DenseQp, QpSolution};
 
 /// Step (in the unit box) of the central differences of the Jacobian. With values good to
 /// ~1e-15 of their scale the derivative's rounding is ~1e-9 relative and its truncation
@@ -398,15 +403,11 @@ fn second_order_correction<P: Minimax + ?Sized>(
         }
         let a = |r: usize, j: usize| jac[rows[r]][free[j]];
         let k = rows.len();
-        let gram: Vec<Vec<f64>> = (0..k)
-            .map(|r| {
-                (0..k)
-                    .map(|q| (0..free.len()).map(|j| a(r, j) * a(q, j)).sum())
-                    .collect()
-            })
+        let gram: Vec<f64> = (0..k * k)
+            .map(|e| (0..free.len()).map(|j| a(e / k, j) * a(e % k, j)).sum())
             .collect();
         let rhs: Vec<f64> = rows.iter().map(|&m| c[m]).collect();
-        let Some(w) = solve_small(gram, rhs) else {
+        let Some(w) = solve_dense(gram, rhs) else {
             break;
         };
         for (j, &col) in free.iter().enumerate() {
@@ -428,11 +429,13 @@ struct QpStep {
 }
 
 /// The SQP subproblem of the minimax max_i y_i − min_k y_k (elastic ℓ1 form, trust
-/// region Δ in the ∞-norm, inside the unit box), solved by clarabel:
+/// region Δ in the ∞-norm, inside the unit box):
 ///
 /// min ½dᵀBd + s − r + μ Σ v  s.t.  y_i + g_i·d ≤ s,  y_k + g_k·d ≥ r,
 /// c_m + a_m·d ≤ v_m,  v ≥ 0,  max(−Δ, −u) ≤ d ≤ min(Δ, 1 − u).
-#[allow(clippy::needless_range_loop)]
+///
+/// Solved by the dense active-set method ([`super::qp`]) from the feasible start d = 0 with
+/// s, r and every v on one of their rows; by clarabel where that fails its check.
 fn qp_step(
     u: &[f64],
     p: &Probe,
@@ -441,100 +444,199 @@ fn qp_step(
     delta: f64,
     mu: f64,
 ) -> Option<QpStep> {
-    use clarabel::algebra::CscMatrix;
-    use clarabel::solver::{
-        DefaultSettingsBuilder, DefaultSolver, IPSolver, SolverStatus, SupportedConeT,
+    let sub = Subproblem::new(u, p, jac, b, delta, mu);
+    let (x, z, model) = match sub.dense() {
+        Some(sol) => (sol.x, sol.lambda, sol.objective),
+        None => sub.clarabel()?,
     };
     let n = u.len();
     let (nc, nx, nn) = (p.cons.len(), p.maxima.len(), p.minima.len());
-    let nv = n + 2 + nc;
-    let (is, ir) = (n, n + 1);
-    let y0 = 0.5
-        * (p.maxima.iter().map(|q| q.1).fold(f64::MIN, f64::max)
-            + p.minima.iter().map(|q| q.1).fold(f64::MAX, f64::min));
-    let mut q = vec![0.0; nv];
-    q[is] = 1.0;
-    q[ir] = -1.0;
-    for m in 0..nc {
-        q[n + 2 + m] = mu;
-    }
-    let (mut ai, mut aj, mut av, mut rhs) = (vec![], vec![], vec![], vec![]);
-    let mut row = 0;
-    let mut push = |coefs: &[(usize, f64)], r: f64, rhs: &mut Vec<f64>| {
-        for &(j, v) in coefs {
-            ai.push(row);
-            aj.push(j);
-            av.push(v);
-        }
-        rhs.push(r);
-        row += 1;
-    };
-    for (m, c) in p.cons.iter().enumerate() {
-        let mut co: Vec<(usize, f64)> = (0..n).map(|j| (j, jac[m][j])).collect();
-        co.push((n + 2 + m, -1.0));
-        push(&co, -c, &mut rhs);
-    }
-    for (i, (_, y)) in p.maxima.iter().enumerate() {
-        let mut co: Vec<(usize, f64)> = (0..n).map(|j| (j, jac[nc + i][j])).collect();
-        co.push((is, -1.0));
-        push(&co, -(y - y0), &mut rhs);
-    }
-    for (k, (_, y)) in p.minima.iter().enumerate() {
-        let mut co: Vec<(usize, f64)> = (0..n).map(|j| (j, -jac[nc + nx + k][j])).collect();
-        co.push((ir, 1.0));
-        push(&co, y - y0, &mut rhs);
-    }
-    for m in 0..nc {
-        push(&[(n + 2 + m, -1.0)], 0.0, &mut rhs);
-    }
-    for j in 0..n {
-        push(&[(j, 1.0)], delta.min(1.0 - u[j]), &mut rhs);
-        push(&[(j, -1.0)], delta.min(u[j]), &mut rhs);
-    }
-    let a = CscMatrix::new_from_triplets(row, nv, ai, aj, av);
-    let pm = hessian_block(b, nv);
-    let cones = [SupportedConeT::NonnegativeConeT(row)];
-    let settings = DefaultSettingsBuilder::default()
-        .verbose(false)
-        .tol_gap_abs(1e-13)
-        .tol_gap_rel(1e-11)
-        .tol_feas(1e-11)
-        .max_iter(60)
-        .build()
-        .ok()?;
-    let mut solver = DefaultSolver::new(&pm, &q, &a, &rhs, &cones, settings).ok()?;
-    solver.solve();
-    let sol = &solver.solution;
-    if !matches!(
-        sol.status,
-        SolverStatus::Solved | SolverStatus::AlmostSolved
-    ) {
-        return None;
-    }
-    let z = &sol.z;
     let v0: f64 = p.cons.iter().map(|c| c.max(0.0)).sum();
-    let v: f64 = sol.x[n + 2..].iter().sum();
+    let v: f64 = x[n + 2..].iter().sum();
     Some(QpStep {
         slack: (v - v0).max(0.0).max(if v0 == 0.0 { v } else { 0.0 }),
-        d: sol.x[..n].to_vec(),
-        model: sol.obj_val,
+        d: x[..n].to_vec(),
+        model,
         lam_con: z[..nc].to_vec(),
         lam_max: z[nc..nc + nx].to_vec(),
         lam_min: z[nc + nx..nc + nx + nn].to_vec(),
     })
 }
 
-/// The QP's quadratic term: the upper triangle of B in the first n of `nv` variables.
-#[allow(clippy::needless_range_loop)]
-fn hessian_block(b: &[Vec<f64>], nv: usize) -> clarabel::algebra::CscMatrix<f64> {
-    let n = b.len();
+/// The subproblem of [`qp_step`] written out densely: variables (d, s, r, v), rows A x ≤ b
+/// in the order constraints, maxima, minima, v ≥ 0, then the box of d (upper, lower).
+struct Subproblem {
+    /// Variables: n + 2 + the constraints.
+    nv: usize,
+    /// Steps d.
+    n: usize,
+    /// H (nv×nv, row-major): B in the d block.
+    h: Vec<f64>,
+    /// The linear term.
+    q: Vec<f64>,
+    /// A (rows × nv, row-major).
+    a: Vec<f64>,
+    /// Right-hand sides.
+    rhs: Vec<f64>,
+    /// The feasible start and its working set.
+    x0: Vec<f64>,
+    /// See `x0`.
+    w0: Vec<usize>,
+}
+
+impl Subproblem {
+    #[allow(clippy::needless_range_loop)]
+    fn new(u: &[f64], p: &Probe, jac: &[Vec<f64>], b: &[Vec<f64>], delta: f64, mu: f64) -> Self {
+        let n = u.len();
+        let (nc, nx) = (p.cons.len(), p.maxima.len());
+        let nv = n + 2 + nc;
+        let (is, ir) = (n, n + 1);
+        let top = p.maxima.iter().map(|q| q.1).fold(f64::MIN, f64::max);
+        let bottom = p.minima.iter().map(|q| q.1).fold(f64::MAX, f64::min);
+        // The shift y0 keeps s and r near 0 (s − r does not depend on it).
+        let y0 = 0.5 * (top + bottom);
+        let mut q = vec![0.0; nv];
+        q[is] = 1.0;
+        q[ir] = -1.0;
+        q[n + 2..].fill(mu);
+        let mut h = vec![0.0; nv * nv];
+        for i in 0..n {
+            h[i * nv..i * nv + n].copy_from_slice(&b[i]);
+        }
+        let (mut a, mut rhs) = (Vec::new(), Vec::new());
+        let mut push = |coefs: &[(usize, f64)], r: f64| {
+            let start = a.len();
+            a.resize(start + nv, 0.0);
+            for &(j, v) in coefs {
+                a[start + j] += v;
+            }
+            rhs.push(r);
+        };
+        let d = |row: usize, sign: f64| (0..n).map(move |j| (j, sign * jac[row][j]));
+        for (m, c) in p.cons.iter().enumerate() {
+            push(
+                &d(m, 1.0).chain([(n + 2 + m, -1.0)]).collect::<Vec<_>>(),
+                -c,
+            );
+        }
+        for (i, (_, y)) in p.maxima.iter().enumerate() {
+            push(
+                &d(nc + i, 1.0).chain([(is, -1.0)]).collect::<Vec<_>>(),
+                -(y - y0),
+            );
+        }
+        for (k, (_, y)) in p.minima.iter().enumerate() {
+            push(
+                &d(nc + nx + k, -1.0).chain([(ir, 1.0)]).collect::<Vec<_>>(),
+                y - y0,
+            );
+        }
+        for m in 0..nc {
+            push(&[(n + 2 + m, -1.0)], 0.0);
+        }
+        for j in 0..n {
+            push(&[(j, 1.0)], delta.min(1.0 - u[j]));
+            push(&[(j, -1.0)], delta.min(u[j]));
+        }
+        // The start: d = 0, s on its highest maximum, r on its lowest minimum, each v on
+        // its constraint's row where that is violated, else on v ≥ 0.
+        let mut x0 = vec![0.0; nv];
+        x0[is] = top - y0;
+        x0[ir] = bottom - y0;
+        let first = |set: &[(f64, f64)], v: f64| set.iter().position(|q| q.1 == v).unwrap_or(0);
+        let mut w0 = vec![
+            nc + first(&p.maxima, top),
+            nc + nx + first(&p.minima, bottom),
+        ];
+        for (m, &c) in p.cons.iter().enumerate() {
+            x0[n + 2 + m] = c.max(0.0);
+            w0.push(if c > 0.0 {
+                m
+            } else {
+                nc + nx + p.minima.len() + m
+            });
+        }
+        Subproblem {
+            nv,
+            n,
+            h,
+            q,
+            a,
+            rhs,
+            x0,
+            w0,
+        }
+    }
+
+    /// The dense active-set solution ([`super::qp::active_set`]); `None` to fall back.
+    fn dense(&self) -> Option<QpSolution> {
+        let qp = DenseQp {
+            n: self.nv,
+            h: &self.h,
+            c: &self.q,
+            a: &self.a,
+            b: &self.rhs,
+        };
+        active_set(
+            &qp,
+            self.x0.clone(),
+            self.w0.clone(),
+            20 * (self.rhs.len() + 1),
+        )
+    }
+
+    /// The interior-point solution by clarabel: (x, row multipliers, objective).
+    fn clarabel(&self) -> Option<(Vec<f64>, Vec<f64>, f64)> {
+        use clarabel::algebra::CscMatrix;
+        use clarabel::solver::{
+            DefaultSettingsBuilder, DefaultSolver, IPSolver, SolverStatus, SupportedConeT,
+        };
+        let (nv, rows) = (self.nv, self.rhs.len());
+        let (mut ai, mut aj, mut av) = (vec![], vec![], vec![]);
+        for r in 0..rows {
+            for j in 0..nv {
+                let v = self.a[r * nv + j];
+                if v != 0.0 {
+                    ai.push(r);
+                    aj.push(j);
+                    av.push(v);
+                }
+            }
+        }
+        let a = CscMatrix::new_from_triplets(rows, nv, ai, aj, av);
+        let pm = hessian_block(&self.h, self.n, nv);
+        let cones = [SupportedConeT::NonnegativeConeT(rows)];
+        let settings = DefaultSettingsBuilder::default()
+            .verbose(false)
+            .tol_gap_abs(1e-13)
+            .tol_gap_rel(1e-11)
+            .tol_feas(1e-11)
+            .max_iter(60)
+            .build()
+            .ok()?;
+        let mut solver = DefaultSolver::new(&pm, &self.q, &a, &self.rhs, &cones, settings).ok()?;
+        solver.solve();
+        let sol = &solver.solution;
+        if !matches!(
+            sol.status,
+            SolverStatus::Solved | SolverStatus::AlmostSolved
+        ) {
+            return None;
+        }
+        Some((sol.x.clone(), sol.z.clone(), sol.obj_val))
+    }
+}
+
+/// The QP's quadratic term for clarabel: the upper triangle of the d block (n×n) of the
+/// dense H (nv×nv).
+fn hessian_block(h: &[f64], n: usize, nv: usize) -> clarabel::algebra::CscMatrix<f64> {
     let (mut pi, mut pj, mut pv) = (vec![], vec![], vec![]);
     for i in 0..n {
         for j in i..n {
-            if b[i][j] != 0.0 {
+            if h[i * nv + j] != 0.0 {
                 pi.push(i);
                 pj.push(j);
-                pv.push(b[i][j]);
+                pv.push(h[i * nv + j]);
             }
         }
     }
@@ -570,33 +672,4 @@ fn lagrangian_gradient(p: &Probe, jac: &[Vec<f64>], old: &Probe, st: &QpStep) ->
         }
     }
     g
-}
-
-/// Solves the small dense system M w = b by Gaussian elimination with partial pivoting;
-/// `None` when M is singular to working precision.
-#[allow(clippy::needless_range_loop)]
-fn solve_small(mut m: Vec<Vec<f64>>, mut b: Vec<f64>) -> Option<Vec<f64>> {
-    let k = b.len();
-    let scale = m.iter().flatten().fold(0.0f64, |a, v| a.max(v.abs()));
-    for col in 0..k {
-        let piv = (col..k).max_by(|&i, &j| m[i][col].abs().total_cmp(&m[j][col].abs()))?;
-        m.swap(col, piv);
-        b.swap(col, piv);
-        if !(m[col][col].abs() > 1e-12 * scale) {
-            return None;
-        }
-        for r in col + 1..k {
-            let f = m[r][col] / m[col][col];
-            for c in col..k {
-                m[r][c] -= f * m[col][c];
-            }
-            b[r] -= f * b[col];
-        }
-    }
-    let mut w = vec![0.0; k];
-    for r in (0..k).rev() {
-        let s: f64 = (r + 1..k).map(|c| m[r][c] * w[c]).sum();
-        w[r] = (b[r] - s) / m[r][r];
-    }
-    w.iter().all(|v| v.is_finite()).then_some(w)
 }

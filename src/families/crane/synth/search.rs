@@ -237,7 +237,7 @@ fn multistart(obj: &Objective) -> Found {
     let (x, _) = obj.point(&u);
     let method = format!(
         "multistart: {} Halton points (global stage, penalised cost), then trust-region SQP (Fletcher's Sl1QP: \
-         minimax of the {}-height extrema, constraints linearised with elastic slacks, damped BFGS, clarabel QP, \
+         minimax of the {}-height extrema, constraints linearised with elastic slacks, damped BFGS, each QP by a dense active-set method (clarabel where its check fails), \
          second-order correction onto the active constraints) \
          from the {} best distinct points (at most {} iterations each, stop at a predicted gain below {:e} of the \
          merit); l1 penalty {} in the merit",
