@@ -331,6 +331,12 @@ fn claim(out: &Outcome) -> Claim {
         (Some(d), None) => {
             let mut c = Claim::new(cw_status(d.status), method(out, d));
             c.warnings.extend(d.note.clone());
+            if let Some(l) = out.lighter {
+                c.warnings.push(format!(
+                    "the optimum is not unique (the counterweights can move along a set of designs with the same certified peak): the design shown is the lightest of that set, {:.6} kg in all, by a second program (least Σm with every objective peak at most the optimum); the exchange loop's design weighed {:.6} kg",
+                    l.lightest, l.first
+                ));
+            }
             if let (Some(why), Status::Optimal) = (&out.degenerate, c.status) {
                 c.status = Status::Degenerate;
                 c.status_detail = Some(why.clone());

@@ -603,6 +603,9 @@ pub struct Outcome {
     /// Why the objective cannot be moved by a counterweight the scene leaves free, if it
     /// cannot ([`idle_counterweights`]): the result is then `degenerate`.
     pub degenerate: Option<String>,
+    /// The two masses where the optimum is not unique and the design is the lightest of the
+    /// optimal set ([`Engine::lightest_of_optimum`]).
+    pub lighter: Option<mm::Lighter>,
     /// Per counterweight, the plate that is the design's where it has a `thickness`
     /// ([`realise_plates`]).
     pub plates: Vec<Option<Realised>>,
@@ -903,10 +906,13 @@ pub fn solve(scene: &LinkageScene, settings: &Settings) -> Result<Outcome, Linka
             block_len: built.len,
             kappa_max: 1.0,
             degenerate: None,
+            lighter: None,
             plates: Vec::new(),
         };
         if !cws.is_empty() && built.balance_residual.is_none() {
-            let (sol, plates) = realise_plates(engine, cws, engine.solve()?)?;
+            let (first, lighter) = engine.lightest_of_optimum(engine.solve()?)?;
+            out.lighter = lighter;
+            let (sol, plates) = realise_plates(engine, cws, first)?;
             out.plates = plates;
             if sol.x.iter().all(|v| v.is_finite()) {
                 out.design_rms = Some([0, 1, 2].map(|k| engine.rms(k, &sol.x)));

@@ -416,6 +416,7 @@ impl<'p, 'a> Engine<'p, 'a> {
             solver_status,
             note,
             multipliers: Vec::new(),
+            flat: false,
         })
     }
 
@@ -450,6 +451,7 @@ impl<'p, 'a> Engine<'p, 'a> {
             solver_status,
             note: Some(note),
             multipliers: Vec::new(),
+            flat: false,
         }
     }
 }
@@ -510,6 +512,7 @@ impl<'p, 'a> Engine<'p, 'a> {
             design_violation: self.design_violation(x),
             // The multipliers are the optimum's, not this design's.
             multipliers: Vec::new(),
+            flat: false,
             ..base.clone()
         })
     }

@@ -149,12 +149,14 @@ use crate::synth::exchange::check_exchange;
 
 /// How a solve ended (the exchange vocabulary shared with `synth::counterweight`).
 pub use crate::synth::exchange::Status;
+pub use lightest::Lighter;
 
 mod assembly;
 mod certificate;
 mod constraints;
 mod exchange_loop;
 mod grid;
+mod lightest;
 mod pareto;
 mod peaks;
 mod plate;
@@ -686,6 +688,11 @@ pub struct Solution {
     /// certified it (empty otherwise): the envelope theorem's weights ([`Multiplier`]).
     #[serde(skip)]
     pub multipliers: Vec<Multiplier>,
+    /// Whether Newton's polish found the optimum not isolated: a direction of the design
+    /// along which the optimality conditions hold to first order (`polish::flat_design`).
+    /// [`Engine::lightest_of_optimum`] then looks for the lightest design of that set.
+    #[serde(skip)]
+    pub flat: bool,
 }
 
 /// An active maximum of the optimum with its multiplier, in the caller's units: the weight

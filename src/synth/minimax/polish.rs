@@ -67,6 +67,9 @@ pub(super) struct Polished {
     /// The largest change of a term's multiplier in the Newton step from the last iterate:
     /// the multipliers' error (Newton converges quadratically).
     pub weight_error: f64,
+    /// Whether the optimum is not isolated: the converged Newton system has a null
+    /// direction that moves the design ([`flat_design`]).
+    pub flat: bool,
 }
 
 /// φ = c|g_f(θ; S x̂)| and its derivatives at (θ, x̂).
@@ -292,6 +295,7 @@ impl Engine<'_, '_> {
         let mut last = f64::INFINITY;
         let mut stalls = 0;
         let mut weight_error = f64::INFINITY;
+        let mut flat = false;
         // The step's largest change of a term's multiplier.
         let dw = |jac: &DMatrix<f64>, r: &DVector<f64>| {
             kkt_step(jac, r, n, 0.0).map_or(f64::INFINITY, |s| {
@@ -307,6 +311,7 @@ impl Engine<'_, '_> {
             if res <= 1e-14 {
                 last = res;
                 weight_error = dw(&jac, &r);
+                flat = flat_design(&jac, n);
                 break;
             }
             if res >= 0.99 * last {
@@ -314,6 +319,7 @@ impl Engine<'_, '_> {
                 if stalls >= 3 {
                     last = last.min(res);
                     weight_error = dw(&jac, &r);
+                    flat = flat_design(&jac, n);
                     break;
                 }
             }
@@ -349,6 +355,7 @@ impl Engine<'_, '_> {
         if !weight_error.is_finite() {
             let (r, jac) = self.kkt_system(&terms, cons, active, &x, t, &nu)?;
             weight_error = dw(&jac, &r);
+            flat = flat_design(&jac, n);
         }
         for term in &mut terms {
             term.theta = term.theta.rem_euclid(std::f64::consts::TAU);
@@ -360,6 +367,7 @@ impl Engine<'_, '_> {
             design: active.iter().copied().zip(nu).collect(),
             design_nu: None,
             weight_error,
+            flat,
         }))
     }
 
@@ -453,6 +461,8 @@ pub(super) struct PolishOutcome {
     pub(super) terms: Vec<Term>,
     /// The active maxima's multipliers in the caller's units.
     pub(super) multipliers: Vec<Multiplier>,
+    /// The polish's [`Polished::flat`].
+    pub(super) flat: bool,
 }
 
 /// The polished terms' multipliers in the caller's units (`t_scale` T): weight T·λ·c with
@@ -514,6 +524,7 @@ impl<'p, 'a> Engine<'p, 'a> {
             solver_status,
         )?;
         sol.multipliers = po.multipliers;
+        sol.flat = po.flat;
         Ok((
             sol,
             KktStart {
@@ -631,6 +642,7 @@ impl<'p, 'a> Engine<'p, 'a> {
             };
             return Ok(Some(PolishOutcome {
                 multipliers: multipliers(&p, t_scale),
+                flat: p.flat,
                 x: xp,
                 pk: pkp,
                 value,
@@ -754,6 +766,41 @@ fn kkt_step(jac: &DMatrix<f64>, r: &DVector<f64>, n: usize, rho: f64) -> Option<
         step[j] = solved[a];
     }
     Some(step)
+}
+
+/// Whether the converged Newton system J of the optimality conditions (unknowns x̂ first, `n`
+/// of them) leaves the design free to move: a singular value of J's live block below
+/// [`RANK_CUT`] of the largest whose singular vector has at least a tenth of its length in
+/// x̂. Such a null direction moves the design along the optimal set without changing the
+/// conditions to first order: the optimum is not unique (a counterweight that buys nothing,
+/// the felling head's crank counterweight against its balancer pair). A null direction in
+/// the angles or multipliers alone (a tie of maxima, a weakly active one) is not.
+fn flat_design(jac: &DMatrix<f64>, n: usize) -> bool {
+    let size = jac.ncols();
+    let big = jac.amax();
+    let live: Vec<usize> = (0..size)
+        .filter(|&j| jac.column(j).amax() > 1e-14 * big)
+        .collect();
+    let sub = DMatrix::from_fn(live.len(), live.len(), |a, b| jac[(live[a], live[b])]);
+    // Full rank by LU's pivots (the common case) needs no SVD.
+    let pivots = sub.clone().full_piv_lu().u().diagonal().abs();
+    if pivots.min() > RANK_CUT * pivots.max() {
+        return false;
+    }
+    let svd = sub.svd(false, true);
+    let Some(vt) = svd.v_t else {
+        return false;
+    };
+    let cut = RANK_CUT * svd.singular_values.max();
+    svd.singular_values.iter().enumerate().any(|(k, &sv)| {
+        let in_x: f64 = live
+            .iter()
+            .enumerate()
+            .filter(|&(_, &j)| j < n)
+            .map(|(a, _)| vt[(k, a)] * vt[(k, a)])
+            .sum();
+        sv <= cut && in_x.sqrt() >= 0.1
+    })
 }
 
 /// The proximal weight of the retry ([`Engine::newton`] with `prox`): ρ = PROX·√|r|∞ times
