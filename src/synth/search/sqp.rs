@@ -478,10 +478,11 @@ struct Subproblem {
     a: Vec<f64>,
     /// Right-hand sides.
     rhs: Vec<f64>,
-    /// The feasible start and its working set.
+    /// The feasible start and its working set (`None` without a maximum or a minimum to pin
+    /// s or r on: the QP is then unbounded, and clarabel says so).
     x0: Vec<f64>,
     /// See `x0`.
-    w0: Vec<usize>,
+    w0: Option<Vec<usize>>,
 }
 
 impl Subproblem {
@@ -543,18 +544,19 @@ impl Subproblem {
         let mut x0 = vec![0.0; nv];
         x0[is] = top - y0;
         x0[ir] = bottom - y0;
-        let first = |set: &[(f64, f64)], v: f64| set.iter().position(|q| q.1 == v).unwrap_or(0);
-        let mut w0 = vec![
-            nc + first(&p.maxima, top),
-            nc + nx + first(&p.minima, bottom),
-        ];
+        let first = |set: &[(f64, f64)], v: f64| set.iter().position(|q| q.1 == v);
+        let mut w0 = first(&p.maxima, top)
+            .zip(first(&p.minima, bottom))
+            .map(|(i, k)| vec![nc + i, nc + nx + k]);
         for (m, &c) in p.cons.iter().enumerate() {
             x0[n + 2 + m] = c.max(0.0);
-            w0.push(if c > 0.0 {
-                m
-            } else {
-                nc + nx + p.minima.len() + m
-            });
+            if let Some(w) = w0.as_mut() {
+                w.push(if c > 0.0 {
+                    m
+                } else {
+                    nc + nx + p.minima.len() + m
+                });
+            }
         }
         Subproblem {
             nv,
@@ -580,7 +582,7 @@ impl Subproblem {
         active_set(
             &qp,
             self.x0.clone(),
-            self.w0.clone(),
+            self.w0.clone()?,
             20 * (self.rhs.len() + 1),
         )
     }
