@@ -296,11 +296,13 @@ impl Engine<'_, '_> {
         let mut stalls = 0;
         let mut weight_error = f64::INFINITY;
         let mut flat = false;
-        // The step's largest change of a term's multiplier.
-        let dw = |jac: &DMatrix<f64>, r: &DVector<f64>| {
-            kkt_step(jac, r, n, 0.0).map_or(f64::INFINITY, |s| {
+        // At the converged system: the step's largest change of a term's multiplier, and
+        // whether the optimum is flat.
+        let converged = |jac: &DMatrix<f64>, r: &DVector<f64>| {
+            let dw = kkt_step(jac, r, n, 0.0).map_or(f64::INFINITY, |s| {
                 (0..np).map(|p| s[iw + p].abs()).fold(0.0, f64::max)
-            })
+            });
+            (dw, flat_design(jac, n))
         };
         for _ in 0..MAX_NEWTON {
             let (r, jac) = self.kkt_system(&terms, cons, active, &x, t, &nu)?;
@@ -310,16 +312,14 @@ impl Engine<'_, '_> {
             }
             if res <= 1e-14 {
                 last = res;
-                weight_error = dw(&jac, &r);
-                flat = flat_design(&jac, n);
+                (weight_error, flat) = converged(&jac, &r);
                 break;
             }
             if res >= 0.99 * last {
                 stalls += 1;
                 if stalls >= 3 {
                     last = last.min(res);
-                    weight_error = dw(&jac, &r);
-                    flat = flat_design(&jac, n);
+                    (weight_error, flat) = converged(&jac, &r);
                     break;
                 }
             }
@@ -354,8 +354,7 @@ impl Engine<'_, '_> {
         }
         if !weight_error.is_finite() {
             let (r, jac) = self.kkt_system(&terms, cons, active, &x, t, &nu)?;
-            weight_error = dw(&jac, &r);
-            flat = flat_design(&jac, n);
+            (weight_error, flat) = converged(&jac, &r);
         }
         for term in &mut terms {
             term.theta = term.theta.rem_euclid(std::f64::consts::TAU);
@@ -726,23 +725,14 @@ impl<'p, 'a> Engine<'p, 'a> {
 /// The minimum-norm step stays where the exchange loop put the design.
 fn kkt_step(jac: &DMatrix<f64>, r: &DVector<f64>, n: usize, rho: f64) -> Option<DVector<f64>> {
     let size = r.len();
-    let big = jac.amax();
-    let live: Vec<usize> = (0..size)
-        .filter(|&j| jac.column(j).amax() > 1e-14 * big)
-        .collect();
-    let k = live.len();
-    let prox = |j: usize| if j < n { rho * big } else { 0.0 };
-    let sub = DMatrix::from_fn(k, k, |a, b| {
-        jac[(live[a], live[b])] + if a == b { prox(live[a]) } else { 0.0 }
-    });
-    let rhs = DVector::from_fn(k, |a, _| -r[live[a]]);
+    let (live, sub) = live_block(jac, n, rho);
+    let rhs = DVector::from_fn(live.len(), |a, _| -r[live[a]]);
     let lu = sub.clone().full_piv_lu();
-    let pivots = lu.u().diagonal().abs();
     let by_lu = lu
         .solve(&rhs)
         .filter(|s| s.iter().all(|v| v.is_finite()) && s.amax() < 1e8);
     let solved = match by_lu {
-        Some(s) if pivots.min() > RANK_CUT * pivots.max() => s,
+        Some(s) if full_rank(&lu) => s,
         by_lu => {
             let svd = sub.clone().svd(true, true);
             let cut = RANK_CUT * svd.singular_values.max();
@@ -776,15 +766,9 @@ fn kkt_step(jac: &DMatrix<f64>, r: &DVector<f64>, n: usize, rho: f64) -> Option<
 /// the felling head's crank counterweight against its balancer pair). A null direction in
 /// the angles or multipliers alone (a tie of maxima, a weakly active one) is not.
 fn flat_design(jac: &DMatrix<f64>, n: usize) -> bool {
-    let size = jac.ncols();
-    let big = jac.amax();
-    let live: Vec<usize> = (0..size)
-        .filter(|&j| jac.column(j).amax() > 1e-14 * big)
-        .collect();
-    let sub = DMatrix::from_fn(live.len(), live.len(), |a, b| jac[(live[a], live[b])]);
+    let (live, sub) = live_block(jac, n, 0.0);
     // Full rank by LU's pivots (the common case) needs no SVD.
-    let pivots = sub.clone().full_piv_lu().u().diagonal().abs();
-    if pivots.min() > RANK_CUT * pivots.max() {
+    if full_rank(&sub.clone().full_piv_lu()) {
         return false;
     }
     let svd = sub.svd(false, true);
@@ -801,6 +785,28 @@ fn flat_design(jac: &DMatrix<f64>, n: usize) -> bool {
             .sum();
         sv <= cut && in_x.sqrt() >= 0.1
     })
+}
+
+/// J's live block: the unknowns whose column of J is not zero (to 1e-14 of its largest
+/// entry: a variable no active constraint involves), with ρ·max|J| added to the diagonal of
+/// the design's first `n` unknowns (the proximal step, [`PROX`]; 0 for Newton's own).
+fn live_block(jac: &DMatrix<f64>, n: usize, rho: f64) -> (Vec<usize>, DMatrix<f64>) {
+    let big = jac.amax();
+    let live: Vec<usize> = (0..jac.ncols())
+        .filter(|&j| jac.column(j).amax() > 1e-14 * big)
+        .collect();
+    let prox = |j: usize| if j < n { rho * big } else { 0.0 };
+    let k = live.len();
+    let sub = DMatrix::from_fn(k, k, |a, b| {
+        jac[(live[a], live[b])] + if a == b { prox(live[a]) } else { 0.0 }
+    });
+    (live, sub)
+}
+
+/// Whether LU's pivots show full rank: the smallest |U_kk| above [`RANK_CUT`] of the largest.
+fn full_rank(lu: &nalgebra::linalg::FullPivLU<f64, nalgebra::Dyn, nalgebra::Dyn>) -> bool {
+    let pivots = lu.u().diagonal().abs();
+    pivots.min() > RANK_CUT * pivots.max()
 }
 
 /// The proximal weight of the retry ([`Engine::newton`] with `prox`): ρ = PROX·√|r|∞ times

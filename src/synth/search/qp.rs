@@ -52,8 +52,6 @@ pub struct QpSolution {
     pub lambda: Vec<f64>,
     /// ½xᵀHx + cᵀx.
     pub objective: f64,
-    /// Active-set iterations.
-    pub iterations: usize,
 }
 
 impl DenseQp<'_> {
@@ -111,7 +109,7 @@ pub fn active_set(
     let mut x = x0;
     let mut w = w0;
     let mut at_minimum = false;
-    for it in 1..=max_iter {
+    for _ in 0..max_iter {
         let (p, lam) = qp.eqp(&x, &w)?;
         let pn = p.iter().fold(0.0f64, |a, v| a.max(v.abs()));
         let xn = x.iter().fold(1.0f64, |a, v| a.max(v.abs()));
@@ -123,7 +121,7 @@ pub fn active_set(
                     w.remove(j);
                     at_minimum = false;
                 }
-                _ => return certified(qp, x, &w, &lam, it),
+                _ => return certified(qp, x, &w, &lam),
             }
             continue;
         }
@@ -172,13 +170,7 @@ fn ratio_test(qp: &DenseQp, x: &[f64], p: &[f64], w: &[usize]) -> (f64, Option<u
 /// The solution at x with W's multipliers, if it passes its check: every row met to 1e-12
 /// of |b| + |a|₁|x|∞ and λ ≥ 0, and the stationarity residual Hx + c + Aᵀλ within 1e-10 of the
 /// gradient's scale.
-fn certified(
-    qp: &DenseQp,
-    x: Vec<f64>,
-    w: &[usize],
-    lam_w: &[f64],
-    it: usize,
-) -> Option<QpSolution> {
+fn certified(qp: &DenseQp, x: Vec<f64>, w: &[usize], lam_w: &[f64]) -> Option<QpSolution> {
     let mut lambda = vec![0.0; qp.m()];
     for (&row, &l) in w.iter().zip(lam_w) {
         lambda[row] = l.max(0.0);
@@ -208,7 +200,6 @@ fn certified(
         x,
         lambda,
         objective,
-        iterations: it,
     })
 }
 

@@ -466,10 +466,8 @@ fn qp_step(
 /// The subproblem of [`qp_step`] written out densely: variables (d, s, r, v), rows A x ≤ b
 /// in the order constraints, maxima, minima, v ≥ 0, then the box of d (upper, lower).
 struct Subproblem {
-    /// Variables: n + 2 + the constraints.
+    /// Variables: the steps d, s, r, then one slack per constraint.
     nv: usize,
-    /// Steps d.
-    n: usize,
     /// H (nv×nv, row-major): B in the d block.
     h: Vec<f64>,
     /// The linear term.
@@ -560,7 +558,6 @@ impl Subproblem {
         }
         Subproblem {
             nv,
-            n,
             h,
             q,
             a,
@@ -606,7 +603,7 @@ impl Subproblem {
             }
         }
         let a = CscMatrix::new_from_triplets(rows, nv, ai, aj, av);
-        let pm = hessian_block(&self.h, self.n, nv);
+        let pm = upper_triangle(&self.h, nv);
         let cones = [SupportedConeT::NonnegativeConeT(rows)];
         let settings = DefaultSettingsBuilder::default()
             .verbose(false)
@@ -629,12 +626,11 @@ impl Subproblem {
     }
 }
 
-/// The QP's quadratic term for clarabel: the upper triangle of the d block (n×n) of the
-/// dense H (nv×nv).
-fn hessian_block(h: &[f64], n: usize, nv: usize) -> clarabel::algebra::CscMatrix<f64> {
+/// The QP's quadratic term for clarabel: the nonzero upper triangle of the dense H (nv×nv).
+fn upper_triangle(h: &[f64], nv: usize) -> clarabel::algebra::CscMatrix<f64> {
     let (mut pi, mut pj, mut pv) = (vec![], vec![], vec![]);
-    for i in 0..n {
-        for j in i..n {
+    for i in 0..nv {
+        for j in i..nv {
             if h[i * nv + j] != 0.0 {
                 pi.push(i);
                 pj.push(j);
